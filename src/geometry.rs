@@ -1,0 +1,22 @@
+//! Small value types shared by the design and the lattice.
+
+use glam::DVec3;
+
+/// A leg direction as a designer gives it for a row's start site.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Direction {
+    /// `v2` at the start site in world coordinates (any length).
+    Vector(DVec3),
+    /// Angles in the front-local frame (see `lattice::front_frame`):
+    /// `angle_deg` from the cone axis towards the growth side, then
+    /// `tilt_deg` rotates out of the front's plane (3-D only).
+    Angles { angle_deg: f64, tilt_deg: f64 },
+}
+
+/// A free boundary leg (MATH.md 4.5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Leg {
+    Length(f64),
+    /// The next row's boundary kappa is 0.
+    Match,
+}

@@ -1,0 +1,83 @@
+//! Joints at the vertex pivots: which rod ends meet there and in what
+//! stacking order (MATH.md 10.2).
+
+use super::{Lattice, RodType};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RodEnd {
+    Start,
+    End,
+}
+
+impl RodEnd {
+    pub fn name(self) -> &'static str {
+        match self {
+            RodEnd::Start => "start",
+            RodEnd::End => "end",
+        }
+    }
+}
+
+/// One rod end at a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct JointEnd {
+    pub rod: usize,
+    pub kind: RodType,
+    pub end: RodEnd,
+    /// Stacking index: strips go on in increasing layer order.
+    pub layer: u32,
+}
+
+/// A vertex pivot and the rod ends it joins.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Joint {
+    pub vertex: u32,
+    /// In the order of MATH.md 10.2: A(i,j) start, B(i,j-1) start,
+    /// B(i-1,j) end, A(i-1,j-1) end.
+    pub ends: Vec<JointEnd>,
+}
+
+impl Joint {
+    /// Corners (a single rod end) need no eyelet.
+    pub fn needs_eyelet(&self) -> bool {
+        self.ends.len() >= 2
+    }
+}
+
+/// Stacking layer of a rod of cell row `row` (sheets and tubes).
+pub fn layer(row: u32, kind: RodType) -> u32 {
+    2 * (row % 2)
+        + match kind {
+            RodType::A => 0,
+            RodType::B => 1,
+        }
+}
+
+/// The joint of every vertex, in vertex order.
+pub fn joints(lattice: &Lattice) -> Vec<Joint> {
+    let n = lattice.vertices.len();
+    // Slots in the order of MATH.md 10.2, filled from the cells' corners.
+    let mut slots: Vec<[Option<JointEnd>; 4]> = vec![[None; 4]; n];
+    for (index, cell) in lattice.cells.iter().enumerate() {
+        let end = |kind, end| {
+            Some(JointEnd {
+                rod: 2 * index + (kind == RodType::B) as usize,
+                kind,
+                end,
+                layer: layer(cell.row, kind),
+            })
+        };
+        slots[cell.ul as usize][0] = end(RodType::A, RodEnd::Start);
+        slots[cell.ur as usize][1] = end(RodType::B, RodEnd::Start);
+        slots[cell.ll as usize][2] = end(RodType::B, RodEnd::End);
+        slots[cell.lr as usize][3] = end(RodType::A, RodEnd::End);
+    }
+    slots
+        .into_iter()
+        .enumerate()
+        .map(|(v, s)| Joint {
+            vertex: v as u32,
+            ends: s.into_iter().flatten().collect(),
+        })
+        .collect()
+}

@@ -1,0 +1,312 @@
+//! Verification of a grown lattice (MATH.md 8.0-8.3). Every residual is
+//! recomputed from the stored positions and z values, never copied from the
+//! construction, and made relative (lengths over the cell's mean leg).
+
+use super::{Cell, Lattice, Legs};
+use std::collections::VecDeque;
+
+/// A lattice passes when every relative residual is at most this.
+pub const TOLERANCE: f64 = 1e-9;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Invariant {
+    RodStraightness,
+    LegsMatchZ,
+    SeedKappa,
+    HorizontalPores,
+    VerticalPores,
+    CompatibilitySlope,
+    CompatibilityIntercept,
+    CompatibilityInterceptNatural,
+    CollapsedSingleValued,
+    CollapsedMatchesConstruction,
+    CollapsedRodLength,
+}
+
+impl Invariant {
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::RodStraightness => "rod straightness |LR-UL|-(l1+l3), |LL-UR|-(l4+l2)",
+            Self::LegsMatchZ => "legs equal collapsed-z differences",
+            Self::SeedKappa => "first row: l4 - l1 = seed kappa",
+            Self::HorizontalPores => "collapsibility (H) at horizontal pores",
+            Self::VerticalPores => "collapsibility (V) at vertical pores",
+            Self::CompatibilitySlope => "four-map composition: slope - 1",
+            Self::CompatibilityIntercept => "four-map composition: intercept / |s|^2",
+            Self::CompatibilityInterceptNatural => "four-map composition: intercept / its magnitude",
+            Self::CollapsedSingleValued => "collapsed state: z single-valued",
+            Self::CollapsedMatchesConstruction => "collapsed state: z equals construction z",
+            Self::CollapsedRodLength => "collapsed state: rods keep their length",
+        }
+    }
+
+    pub fn key(self) -> &'static str {
+        match self {
+            Self::RodStraightness => "rod_straightness",
+            Self::LegsMatchZ => "legs_match_z",
+            Self::SeedKappa => "seed_kappa",
+            Self::HorizontalPores => "pores_h",
+            Self::VerticalPores => "pores_v",
+            Self::CompatibilitySlope => "compatibility_slope",
+            Self::CompatibilityIntercept => "compatibility_intercept",
+            Self::CompatibilityInterceptNatural => "compatibility_intercept_natural",
+            Self::CollapsedSingleValued => "collapsed_single_valued",
+            Self::CollapsedMatchesConstruction => "collapsed_matches_construction",
+            Self::CollapsedRodLength => "collapsed_rod_length",
+        }
+    }
+}
+
+/// The largest residual of one invariant and where it occurs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Check {
+    pub invariant: Invariant,
+    /// How many places were checked.
+    pub count: usize,
+    pub max: f64,
+    pub site: Option<String>,
+}
+
+impl Check {
+    fn new(invariant: Invariant) -> Self {
+        Self {
+            invariant,
+            count: 0,
+            max: 0.0,
+            site: None,
+        }
+    }
+
+    fn record(&mut self, residual: f64, site: impl FnOnce() -> String) {
+        self.count += 1;
+        // A NaN residual must fail the check, so it sticks once seen.
+        if self.max.is_nan() {
+            return;
+        }
+        if residual.is_nan() || residual.abs() > self.max {
+            self.max = residual.abs();
+            self.site = Some(site());
+        }
+    }
+
+    pub fn passed(&self) -> bool {
+        self.max <= TOLERANCE
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    pub cells: usize,
+    pub vertices: usize,
+    pub rods: usize,
+    pub horizontal_pores: usize,
+    pub vertical_pores: usize,
+    pub interior_vertices: usize,
+    pub checks: Vec<Check>,
+}
+
+impl Report {
+    pub fn passed(&self) -> bool {
+        self.checks.iter().all(Check::passed)
+    }
+
+    pub fn check(&self, invariant: Invariant) -> &Check {
+        self.checks
+            .iter()
+            .find(|c| c.invariant == invariant)
+            .expect("every invariant is checked")
+    }
+
+    /// The largest residual over all invariants.
+    pub fn worst(&self) -> f64 {
+        self.checks.iter().map(|c| c.max).fold(0.0, |a, b| if b.is_nan() { b } else { a.max(b) })
+    }
+}
+
+const NONE: u32 = u32::MAX;
+
+/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE).
+struct Incidence {
+    ul: Vec<u32>,
+    ur: Vec<u32>,
+    ll: Vec<u32>,
+    lr: Vec<u32>,
+}
+
+impl Incidence {
+    fn new(lattice: &Lattice) -> Self {
+        let n = lattice.vertices.len();
+        let mut inc = Self {
+            ul: vec![NONE; n],
+            ur: vec![NONE; n],
+            ll: vec![NONE; n],
+            lr: vec![NONE; n],
+        };
+        for (c, cell) in lattice.cells.iter().enumerate() {
+            inc.ul[cell.ul as usize] = c as u32;
+            inc.ur[cell.ur as usize] = c as u32;
+            inc.ll[cell.ll as usize] = c as u32;
+            inc.lr[cell.lr as usize] = c as u32;
+        }
+        inc
+    }
+}
+
+fn cell_site(cell: &Cell) -> String {
+    format!("cell (row {}, column {})", cell.row, cell.col)
+}
+
+fn vertex_site(lattice: &Lattice, v: usize) -> String {
+    let k = lattice.vertices[v].key;
+    format!("vertex [{}, {}]", k.row, k.col)
+}
+
+fn mean(legs: &Legs) -> f64 {
+    legs.iter().sum::<f64>() / 4.0
+}
+
+/// Check every invariant of MATH.md 8.0-8.3.
+pub fn verify(lattice: &Lattice) -> Report {
+    use Invariant as I;
+    let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+    let inc = Incidence::new(lattice);
+    let z = |v: u32| lattice.vertices[v as usize].z;
+    let pos = |v: u32| lattice.vertices[v as usize].pos;
+
+    let mut straight = Check::new(I::RodStraightness);
+    let mut legs_z = Check::new(I::LegsMatchZ);
+    let mut seed = Check::new(I::SeedKappa);
+    let mut pores_h = Check::new(I::HorizontalPores);
+    let mut pores_v = Check::new(I::VerticalPores);
+    for (c, cell) in lattice.cells.iter().enumerate() {
+        let [l1, l2, l3, l4] = legs[c];
+        let scale = mean(&legs[c]);
+        let site = || cell_site(cell);
+        let rel = |x: f64| x / scale;
+        straight.record(rel(pos(cell.lr).distance(pos(cell.ul)) - (l1 + l3)), site);
+        straight.record(rel(pos(cell.ll).distance(pos(cell.ur)) - (l4 + l2)), site);
+        let zp = cell.z_pivot;
+        legs_z.record(rel(zp - z(cell.ul) - l1), site);
+        legs_z.record(rel(zp - z(cell.ur) - l4), site);
+        legs_z.record(rel(z(cell.ll) - zp - l2), site);
+        legs_z.record(rel(z(cell.lr) - zp - l3), site);
+        if cell.row == 0 {
+            seed.record(rel((l4 - l1) - lattice.kappa(cell)), site);
+        }
+        // Right neighbour: B.UL = A.UR and B.LL = A.LR.
+        let right = inc.ul[cell.ur as usize];
+        if right != NONE && lattice.cells[right as usize].ll == cell.lr {
+            let [m1, m2, _, _] = legs[right as usize];
+            let s = 0.5 * (scale + mean(&legs[right as usize]));
+            pores_h.record(((l3 + l4) - (m1 + m2)) / s, site);
+        }
+        // Neighbour below: B.UL = A.LL and B.UR = A.LR.
+        let below = inc.ul[cell.ll as usize];
+        if below != NONE && lattice.cells[below as usize].ur == cell.lr {
+            let [m1, _, _, m4] = legs[below as usize];
+            let s = 0.5 * (scale + mean(&legs[below as usize]));
+            pores_v.record(((l2 + m1) - (l3 + m4)) / s, site);
+        }
+    }
+
+    let mut slope = Check::new(I::CompatibilitySlope);
+    let mut intercept = Check::new(I::CompatibilityIntercept);
+    let mut natural = Check::new(I::CompatibilityInterceptNatural);
+    for v in 0..lattice.vertices.len() {
+        let (a, b, c, d) = (inc.ul[v], inc.ll[v], inc.lr[v], inc.ur[v]);
+        if [a, b, c, d].contains(&NONE) {
+            continue;
+        }
+        let [a, b, c, d] = [a, b, c, d].map(|k| legs[k as usize]);
+        // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
+        let f = |la: f64, lb: f64, lc: f64| (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb));
+        let maps = [
+            f(a[1], a[0], a[3]), // f_a^(2,1,4): left edge -> top edge
+            f(b[2], b[1], b[0]), // f_b^(3,2,1): bottom edge -> left edge
+            f(c[3], c[2], c[1]), // f_c^(4,3,2): right edge -> bottom edge
+            f(d[0], d[3], d[2]), // f_d^(1,4,3): top edge -> right edge
+        ];
+        let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
+        for (mi, ci) in maps.iter().rev() {
+            // Outermost map first: accumulate the product of the slopes
+            // applied after each intercept, as in the natural magnitude.
+            magnitude += (m * ci).abs();
+            k += m * ci;
+            m *= mi;
+        }
+        let s2 = pos(v as u32).distance_squared(pos(lattice.cells[inc.ul[v] as usize].ll));
+        let site = || vertex_site(lattice, v);
+        slope.record(m - 1.0, site);
+        intercept.record(k / s2, site);
+        natural.record(k / magnitude, site);
+    }
+
+    let collapsed = collapsed_state(lattice, &legs, &inc);
+    Report {
+        cells: lattice.cells.len(),
+        vertices: lattice.vertices.len(),
+        rods: 2 * lattice.cells.len(),
+        horizontal_pores: pores_h.count,
+        vertical_pores: pores_v.count,
+        interior_vertices: slope.count,
+        checks: [straight, legs_z, seed, pores_h, pores_v, slope, intercept, natural]
+            .into_iter()
+            .chain(collapsed)
+            .collect(),
+    }
+}
+
+/// MATH.md 8.3: z from leg lengths alone by breadth-first search, then
+/// compared with the construction and with the deployed rod lengths.
+fn collapsed_state(lattice: &Lattice, legs: &[Legs], inc: &Incidence) -> [Check; 3] {
+    use Invariant as I;
+    let mut single = Check::new(I::CollapsedSingleValued);
+    let mut matches = Check::new(I::CollapsedMatchesConstruction);
+    let mut rods = Check::new(I::CollapsedRodLength);
+    let n = lattice.vertices.len();
+    let mut z = vec![f64::NAN; n];
+    let mut z_pivot = vec![f64::NAN; lattice.cells.len()];
+    let mut queue = VecDeque::new();
+    if n > 0 {
+        z[0] = 0.0;
+        queue.push_back(0usize);
+    }
+    while let Some(v) = queue.pop_front() {
+        for (role, map) in [&inc.ul, &inc.ur, &inc.ll, &inc.lr].into_iter().enumerate() {
+            let c = map[v];
+            if c == NONE || !z_pivot[c as usize].is_nan() {
+                continue;
+            }
+            let cell = &lattice.cells[c as usize];
+            let [l1, l2, l3, l4] = legs[c as usize];
+            // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
+            let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
+            let zp = z[v] - offsets[role].1;
+            z_pivot[c as usize] = zp;
+            let scale = mean(&legs[c as usize]);
+            for (corner, offset) in offsets {
+                let expect = zp + offset;
+                let slot = &mut z[corner as usize];
+                if slot.is_nan() {
+                    *slot = expect;
+                    queue.push_back(corner as usize);
+                } else {
+                    single.record((*slot - expect) / scale, || cell_site(cell));
+                }
+            }
+        }
+    }
+    let global = legs.iter().map(mean).sum::<f64>() / legs.len().max(1) as f64;
+    for (v, vertex) in lattice.vertices.iter().enumerate() {
+        matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || vertex_site(lattice, v));
+    }
+    for (c, cell) in lattice.cells.iter().enumerate() {
+        let site = || cell_site(cell);
+        matches.record((z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()), site);
+        let scale = mean(&legs[c]);
+        let deployed = |a: u32, b: u32| lattice.vertex(a).pos.distance(lattice.vertex(b).pos);
+        rods.record((z[cell.lr as usize] - z[cell.ul as usize] - deployed(cell.ul, cell.lr)) / scale, site);
+        rods.record((z[cell.ll as usize] - z[cell.ur as usize] - deployed(cell.ur, cell.ll)) / scale, site);
+    }
+    [single, matches, rods]
+}

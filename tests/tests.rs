@@ -1,0 +1,4 @@
+//! One integration-test binary (fewer link steps on small machines).
+
+mod golden;
+mod util;
