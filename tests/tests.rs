@@ -1,4 +1,5 @@
 //! One integration-test binary (fewer link steps on small machines).
 
 mod golden;
+mod property;
 mod util;

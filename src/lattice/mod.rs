@@ -11,7 +11,7 @@ mod joints;
 mod rods;
 mod verify;
 
-pub use grow::{GrowthError, GrowthErrorKind, RowParams, grow_sheet};
+pub use grow::{FrontFrame, GrowthError, GrowthErrorKind, RowParams, front_frame, grow_sheet};
 pub use joints::{Joint, JointEnd, RodEnd, joints, layer};
 pub use rods::{Rod, RodType};
 pub use verify::{Invariant, Report, TOLERANCE, verify};

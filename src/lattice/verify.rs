@@ -3,6 +3,7 @@
 //! construction, and made relative (lengths over the cell's mean leg).
 
 use super::{Cell, Lattice, Legs};
+use glam::DVec3;
 use std::collections::VecDeque;
 
 /// A lattice passes when every relative residual is at most this.
@@ -26,7 +27,7 @@ pub enum Invariant {
 impl Invariant {
     pub fn describe(self) -> &'static str {
         match self {
-            Self::RodStraightness => "rod straightness |LR-UL|-(l1+l3), |LL-UR|-(l4+l2)",
+            Self::RodStraightness => "rod straightness (sine of the bend at the pivot)",
             Self::LegsMatchZ => "legs equal collapsed-z differences",
             Self::SeedKappa => "first row: l4 - l1 = seed kappa",
             Self::HorizontalPores => "collapsibility (H) at horizontal pores",
@@ -161,6 +162,11 @@ fn vertex_site(lattice: &Lattice, v: usize) -> String {
     format!("vertex [{}, {}]", k.row, k.col)
 }
 
+/// Sine of the angle between two consecutive legs of one rod.
+fn bend(a: DVec3, b: DVec3) -> f64 {
+    a.normalize().cross(b.normalize()).length()
+}
+
 fn mean(legs: &Legs) -> f64 {
     legs.iter().sum::<f64>() / 4.0
 }
@@ -183,8 +189,11 @@ pub fn verify(lattice: &Lattice) -> Report {
         let scale = mean(&legs[c]);
         let site = || cell_site(cell);
         let rel = |x: f64| x / scale;
-        straight.record(rel(pos(cell.lr).distance(pos(cell.ul)) - (l1 + l3)), site);
-        straight.record(rel(pos(cell.ll).distance(pos(cell.ur)) - (l4 + l2)), site);
+        // The sine of each rod's bend at the pivot: first order in a sideways
+        // offset of the pivot, where MATH.md's |LR-UL| - (l1+l3) is second order.
+        let p = cell.pivot;
+        straight.record(bend(p - pos(cell.ul), pos(cell.lr) - p), site);
+        straight.record(bend(p - pos(cell.ur), pos(cell.ll) - p), site);
         let zp = cell.z_pivot;
         legs_z.record(rel(zp - z(cell.ul) - l1), site);
         legs_z.record(rel(zp - z(cell.ur) - l4), site);
