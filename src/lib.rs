@@ -5,3 +5,7 @@
 
 pub mod geometry;
 pub mod lattice;
+pub mod design;
+pub mod diagnostic;
+pub mod write;
+pub mod report;

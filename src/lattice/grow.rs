@@ -13,7 +13,7 @@ use std::fmt;
 pub const EPS_ANGLE: f64 = 1e-6;
 /// Upper bound on lattice size, so an absurd recipe fails with a message
 /// instead of exhausting memory (about 150 bytes a cell).
-pub const MAX_CELLS: usize = 20_000_000;
+pub const MAX_CELLS: usize = 4_000_000;
 
 /// The free parameters of one open-front row (MATH.md 5).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,10 +63,24 @@ impl GrowthErrorKind {
     }
 }
 
+/// The design parameter a growth error is about, so the recipe layer can
+/// point at the text that sets it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    SeedPoints,
+    /// The kappa of one seed edge.
+    SeedKappa(usize),
+    Start,
+    Direction,
+    LeftLeg,
+    RightLeg,
+}
+
 /// A design that cannot be grown, with the place it fails.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthError {
     pub kind: GrowthErrorKind,
+    pub param: Param,
     /// The row being grown (`None` for a problem of the seed itself).
     pub row: Option<usize>,
     /// The column (cell, or seed edge) where it fails, when there is one.
@@ -78,6 +92,7 @@ pub struct GrowthError {
 impl GrowthError {
     fn new(
         kind: GrowthErrorKind,
+        param: Param,
         row: Option<usize>,
         col: Option<usize>,
         message: impl Into<String>,
@@ -85,6 +100,7 @@ impl GrowthError {
     ) -> Self {
         Self {
             kind,
+            param,
             row,
             col,
             message: message.into(),
@@ -123,6 +139,7 @@ pub fn grow_sheet(
     if points.len() < 2 {
         return Err(GrowthError::new(
             K::SeedTooShort,
+            Param::SeedPoints,
             None,
             None,
             format!("a sheet seed needs at least 2 points, this one has {}", points.len()),
@@ -134,6 +151,7 @@ pub fn grow_sheet(
     if m.saturating_mul(rows.len()) > MAX_CELLS {
         return Err(GrowthError::new(
             K::TooLarge,
+            Param::SeedPoints,
             None,
             None,
             format!("{m} x {} cells is more than the limit of {MAX_CELLS}", rows.len()),
@@ -155,6 +173,7 @@ pub fn grow_sheet(
             if !(k.abs() < t.length()) {
                 return Err(GrowthError::new(
                     K::SeedEdgeNotSpacelike,
+                    Param::SeedKappa(j - 1),
                     None,
                     Some(j - 1),
                     format!(
@@ -212,6 +231,7 @@ impl RowGrower {
         if j0 >= m {
             return Err(GrowthError::new(
                 K::StartOutOfRange,
+                Param::Start,
                 row,
                 None,
                 format!("start = {j0}, but a row has cells 0 to {}", m - 1),
@@ -219,7 +239,7 @@ impl RowGrower {
             ));
         }
         let v2 = resolve_direction(params.direction, x[j0].pos, x[j0 + 1].pos, lattice.dim)
-            .map_err(|(msg, hint)| GrowthError::new(K::BadDirection, row, Some(j0), msg, hint))?;
+            .map_err(|(msg, hint)| GrowthError::new(K::BadDirection, Param::Direction, row, Some(j0), msg, hint))?;
         let start = pivot_from_v2(x[j0], x[j0 + 1], v2).map_err(|_| {
             let t = x[j0 + 1].pos - x[j0].pos;
             let kappa = x[j0].z - x[j0 + 1].z;
@@ -227,6 +247,7 @@ impl RowGrower {
             let axis = angle_between(v2, -t.normalize()).to_degrees();
             GrowthError::new(
                 K::InadmissibleDirection,
+                Param::Direction,
                 row,
                 Some(j0),
                 format!(
@@ -277,6 +298,7 @@ impl RowGrower {
                 _ => {
                     return Err(GrowthError::new(
                         K::MatchNeedsLength,
+                        Param::LeftLeg,
                         row,
                         Some(0),
                         "both end legs are \"match\", but in a one-cell-wide row each end matches the other",
@@ -285,8 +307,8 @@ impl RowGrower {
                 }
             },
         };
-        check_boundary_leg(l2, "left_leg (L2)", i, 0)?;
-        check_boundary_leg(l3, "right_leg (L3)", i, m - 1)?;
+        check_boundary_leg(l2, Param::LeftLeg, i, 0)?;
+        check_boundary_leg(l3, Param::RightLeg, i, m - 1)?;
         let v2_first = (p_first.pos - x[1].pos).normalize();
         let v1_last = (p_last.pos - x[m - 1].pos).normalize();
         self.next[0] = Some(Point { pos: p_first.pos + l2 * v2_first, z: p_first.z + l2 });
@@ -339,6 +361,7 @@ impl RowGrower {
             let state = if phi < 1.0 { "collapsed (phi near 0)" } else { "flat-open (phi near 180 deg)" };
             return Err(GrowthError::new(
                 GrowthErrorKind::DegenerateCell,
+                Param::Direction,
                 Some(i),
                 Some(j),
                 format!("the cell is {state}: phi = {:.6} deg", phi.to_degrees()),
@@ -352,6 +375,7 @@ impl RowGrower {
                 Some(s) if s != sign => {
                     return Err(GrowthError::new(
                         GrowthErrorKind::InvertedCell,
+                        Param::Direction,
                         Some(i),
                         Some(j),
                         "the cell is mirrored relative to the first cell of the lattice (its rods cross the other way)",
@@ -432,6 +456,7 @@ fn transfer_error(refusal: Refusal, i: usize, j: usize, side: &str) -> GrowthErr
     match refusal {
         Refusal::NotSpacelike => GrowthError::new(
             GrowthErrorKind::DoubleEdgeNotSpacelike,
+            Param::Direction,
             Some(i),
             Some(j),
             format!(
@@ -448,6 +473,7 @@ fn transfer_error(refusal: Refusal, i: usize, j: usize, side: &str) -> GrowthErr
 fn propagated_cone(i: usize, j: usize) -> GrowthError {
     GrowthError::new(
         GrowthErrorKind::InadmissibleDirection,
+        Param::Direction,
         Some(i),
         Some(j),
         "the leg direction carried over from the neighbouring cell falls outside this cell's admissible cone (the pivot would be at infinity)",
@@ -464,6 +490,7 @@ fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError
     }
     Err(GrowthError::new(
         GrowthErrorKind::NonPositiveLeg,
+        Param::Direction,
         Some(i),
         Some(j),
         format!("leg {name} would be {} (the pivot lies beyond the corner)", fmt_len(leg)),
@@ -471,12 +498,14 @@ fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError
     ))
 }
 
-fn check_boundary_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError> {
+fn check_boundary_leg(leg: f64, param: Param, i: usize, j: usize) -> Result<(), GrowthError> {
     if leg.is_finite() && leg > 0.0 {
         return Ok(());
     }
+    let name = if param == Param::LeftLeg { "left_leg (L2)" } else { "right_leg (L3)" };
     Err(GrowthError::new(
         GrowthErrorKind::NonPositiveLeg,
+        param,
         Some(i),
         Some(j),
         format!("{name} is {} but must be a positive length", fmt_len(leg)),
@@ -487,6 +516,7 @@ fn check_boundary_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), Gr
 fn breakdown(i: usize, j: usize) -> GrowthError {
     GrowthError::new(
         GrowthErrorKind::NumericalBreakdown,
+        Param::Direction,
         Some(i),
         Some(j),
         "the construction produced a non-finite number",

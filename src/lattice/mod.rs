@@ -11,7 +11,9 @@ mod joints;
 mod rods;
 mod verify;
 
-pub use grow::{FrontFrame, GrowthError, GrowthErrorKind, RowParams, front_frame, grow_sheet};
+pub use grow::{
+    FrontFrame, GrowthError, GrowthErrorKind, MAX_CELLS, Param, RowParams, fmt_len, front_frame, grow_sheet,
+};
 pub use joints::{Joint, JointEnd, RodEnd, joints, layer};
 pub use rods::{Rod, RodType};
 pub use verify::{Invariant, Report, TOLERANCE, verify};

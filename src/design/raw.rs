@@ -1,0 +1,176 @@
+//! The recipe as written: serde types that keep the TOML spans, so every
+//! later check can point at the text it is about. Validation lives in
+//! `design::mod`; nothing here interprets the numbers.
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+use toml::Spanned;
+
+pub type Num = Spanned<f64>;
+pub type Coords = Spanned<Vec<Num>>;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDesign {
+    pub name: Option<Spanned<String>>,
+    pub lattice: Spanned<RawLattice>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLattice {
+    pub seed: Spanned<String>,
+    pub points: Option<Spanned<Vec<Coords>>>,
+    pub line: Option<Spanned<RawLine>>,
+    pub arc: Option<Spanned<RawArc>>,
+    pub polyline: Option<Spanned<RawPolyline>>,
+    pub kappa: Option<Spanned<RawKappa>>,
+    pub grow: Option<Spanned<RawRow>>,
+    pub rows: Option<Vec<Spanned<RawRow>>>,
+}
+
+/// `cells` evenly spaced edges from `from` to `to`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLine {
+    pub from: Coords,
+    pub to: Coords,
+    pub cells: Spanned<i64>,
+}
+
+/// `cells` equal edges on a circular arc, angles in degrees.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawArc {
+    pub center: Coords,
+    pub radius: Num,
+    pub from: Num,
+    pub to: Num,
+    pub cells: Spanned<i64>,
+    pub plane: Option<Spanned<String>>,
+}
+
+/// A polyline whose segments are each split into `cells_per_segment` edges.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPolyline {
+    pub points: Spanned<Vec<Coords>>,
+    pub cells_per_segment: Option<Spanned<i64>>,
+}
+
+/// One row (in `[[lattice.rows]]`) or the default row (`[lattice.grow]`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRow {
+    /// `[[lattice.rows]]` only: the 0-based row this entry describes.
+    pub row: Option<Spanned<i64>>,
+    /// `[[lattice.rows]]` only: how many consecutive rows it describes.
+    pub repeat: Option<Spanned<i64>>,
+    /// `[lattice.grow]` only: how many rows the lattice has.
+    pub rows: Option<Spanned<i64>>,
+    pub start: Option<Spanned<i64>>,
+    pub direction: Option<Coords>,
+    pub angle: Option<Spanned<RawAngle>>,
+    pub left_leg: Option<Spanned<RawLeg>>,
+    pub right_leg: Option<Spanned<RawLeg>>,
+}
+
+/// `kappa = 0.5` (every seed edge) or `kappa = [..]` (one per edge).
+#[derive(Debug)]
+pub enum RawKappa {
+    Uniform(f64),
+    PerEdge(Vec<Num>),
+}
+
+/// `angle = 30` or, in 3-D, `angle = [30, 10]` (angle, tilt).
+#[derive(Debug, Clone, Copy)]
+pub struct RawAngle {
+    pub angle: f64,
+    pub tilt: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub enum RawLeg {
+    Length(f64),
+    Match,
+}
+
+impl<'de> Deserialize<'de> for RawKappa {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawKappa;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number (the same kappa for every seed edge) or an array of numbers, one per seed edge")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawKappa, E> {
+                Ok(RawKappa::Uniform(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawKappa, E> {
+                Ok(RawKappa::Uniform(v as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawKappa, A::Error> {
+                let mut out = Vec::new();
+                while let Some(k) = seq.next_element::<Num>()? {
+                    out.push(k);
+                }
+                Ok(RawKappa::PerEdge(out))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for RawAngle {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawAngle;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an angle in degrees, or [angle, tilt] in degrees for 3-D")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawAngle, E> {
+                Ok(RawAngle { angle: v, tilt: None })
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawAngle, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawAngle, A::Error> {
+                let angle = seq.next_element::<f64>()?.ok_or_else(|| de::Error::invalid_length(0, &self))?;
+                let tilt = seq.next_element::<f64>()?.ok_or_else(|| de::Error::invalid_length(1, &self))?;
+                if seq.next_element::<f64>()?.is_some() {
+                    return Err(de::Error::invalid_length(3, &self));
+                }
+                Ok(RawAngle { angle, tilt: Some(tilt) })
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for RawLeg {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawLeg;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a leg length in mm or \"match\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawLeg, E> {
+                Ok(RawLeg::Length(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawLeg, E> {
+                Ok(RawLeg::Length(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawLeg, E> {
+                if v == "match" {
+                    Ok(RawLeg::Match)
+                } else {
+                    Err(de::Error::invalid_value(de::Unexpected::Str(v), &self))
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}

@@ -1,0 +1,138 @@
+//! Errors that point: a message, where it happened (a span of the recipe
+//! and/or a lattice site), and what to change. Rendered like rustc/cargo.
+
+use std::fmt::Write as _;
+use std::ops::Range;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    /// Error class, e.g. "SeedEdgeNotSpacelike" or "toml".
+    pub class: String,
+    pub message: String,
+    /// Byte range in the recipe.
+    pub span: Option<Range<usize>>,
+    /// Lattice site, e.g. "row 3, column 2".
+    pub site: Option<String>,
+    pub hint: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn new(class: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            class: class.into(),
+            message: message.into(),
+            span: None,
+            site: None,
+            hint: None,
+        }
+    }
+
+    pub fn at(mut self, span: Range<usize>) -> Self {
+        self.span = Some(span);
+        self
+    }
+
+    pub fn at_opt(mut self, span: Option<Range<usize>>) -> Self {
+        self.span = span;
+        self
+    }
+
+    pub fn site(mut self, site: impl Into<String>) -> Self {
+        self.site = Some(site.into());
+        self
+    }
+
+    pub fn hint(mut self, hint: impl Into<String>) -> Self {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    /// 1-based line and column of the start of the span.
+    pub fn line_col(&self, source: &str) -> Option<(usize, usize)> {
+        self.span.as_ref().map(|s| line_col(source, s.start))
+    }
+
+    /// The diagnostic with the file name and, when there is a span, the
+    /// offending line with the text underlined.
+    pub fn render(&self, file: &str, source: &str) -> String {
+        let mut out = format!("error[{}]: {}\n", self.class, self.message);
+        match self.line_col(source) {
+            Some((line, col)) => {
+                let _ = write!(out, "  --> {file}:{line}:{col}");
+            }
+            None => {
+                let _ = write!(out, "  --> {file}");
+            }
+        }
+        if let Some(site) = &self.site {
+            let _ = write!(out, " (lattice {site})");
+        }
+        out.push('\n');
+        if let Some(span) = &self.span {
+            out.push_str(&snippet(source, span.clone()));
+        }
+        if let Some(hint) = &self.hint {
+            let _ = writeln!(out, "   = help: {hint}");
+        }
+        out
+    }
+}
+
+fn line_col(source: &str, offset: usize) -> (usize, usize) {
+    let offset = floor_char_boundary(source, offset.min(source.len()));
+    let before = &source[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    (line, source[line_start..offset].chars().count() + 1)
+}
+
+fn floor_char_boundary(s: &str, mut i: usize) -> usize {
+    while !s.is_char_boundary(i) {
+        i -= 1;
+    }
+    i
+}
+
+/// The first line of the span with carets under the spanned text.
+fn snippet(source: &str, span: Range<usize>) -> String {
+    let start = floor_char_boundary(source, span.start.min(source.len()));
+    let (line_no, col) = line_col(source, start);
+    let line_start = source[..start].rfind('\n').map_or(0, |i| i + 1);
+    let line_end = source[line_start..].find('\n').map_or(source.len(), |i| line_start + i);
+    let text = source[line_start..line_end].trim_end_matches('\r');
+    let end = floor_char_boundary(source, span.end.clamp(start, line_end.max(start)));
+    let width = source[start..end].chars().count().max(1);
+    let gutter = line_no.to_string().len();
+    let pad = " ".repeat(gutter);
+    format!(
+        "{pad} |\n{line_no} | {text}\n{pad} | {}{}\n",
+        " ".repeat(col - 1),
+        "^".repeat(width)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_file_line_column_and_underline() {
+        let src = "a = 1\nkappa = [2.0, -30.0]\n";
+        let start = src.find("-30.0").unwrap();
+        let d = Diagnostic::new("SeedEdgeNotSpacelike", "too big")
+            .at(start..start + 5)
+            .site("seed edge 1")
+            .hint("lower it");
+        let text = d.render("d.toml", src);
+        assert!(text.contains("--> d.toml:2:15 (lattice seed edge 1)"), "{text}");
+        assert!(text.contains("2 | kappa = [2.0, -30.0]\n  |               ^^^^^"), "{text}");
+        assert!(text.contains("= help: lower it"));
+    }
+
+    #[test]
+    fn spans_past_the_end_do_not_panic() {
+        let d = Diagnostic::new("x", "y").at(100..200);
+        let text = d.render("f", "short");
+        assert!(text.contains("f:1:6"), "{text}");
+    }
+}

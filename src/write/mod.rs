@@ -1,0 +1,3 @@
+//! Writers: each turns a model into bytes. No writer touches the filesystem.
+
+pub mod lattice_json;
