@@ -1,5 +1,6 @@
 //! One integration-test binary (fewer link steps on small machines).
 
+mod errors;
 mod golden;
 mod property;
 mod util;

@@ -60,7 +60,7 @@ impl FieldSpans {
             Param::Direction => self.direction.clone(),
             Param::LeftLeg => self.left_leg.clone(),
             Param::RightLeg => self.right_leg.clone(),
-            Param::SeedPoints | Param::SeedKappa(_) => None,
+            Param::SeedPoints | Param::SeedKappa(_) | Param::Front => None,
         }
     }
 }
@@ -71,7 +71,7 @@ pub fn parse(source: &str, default_name: &str) -> Result<Design, Diagnostic> {
     let raw: RawDesign = toml::from_str(source).map_err(|e| {
         Diagnostic::new("toml", e.message().trim_end().to_string())
             .at_opt(e.span())
-            .hint("see the recipe format in README.md, or start from `karigami new`")
+            .hint("see the recipe format in README.md")
     })?;
     let name = match &raw.name {
         Some(n) if n.get_ref().trim().is_empty() => {
@@ -128,6 +128,10 @@ impl Design {
         let span = match e.param {
             Param::SeedPoints => Some(self.spans.points.clone()),
             Param::SeedKappa(j) => Some(self.spans.kappa_edges.get(j).unwrap_or(&self.spans.kappa).clone()),
+            Param::Front => Some(match e.row {
+                Some(i) if i > 0 => self.row_span(i - 1, Param::Direction),
+                _ => self.spans.points.clone(),
+            }),
             param => e.row.map(|i| self.row_span(i, param)),
         };
         let site = e.site();

@@ -70,6 +70,8 @@ pub enum Param {
     SeedPoints,
     /// The kappa of one seed edge.
     SeedKappa(usize),
+    /// The front a row grows on: the seed for row 0, else the previous row.
+    Front,
     Start,
     Direction,
     LeftLeg,
@@ -263,7 +265,7 @@ impl RowGrower {
         for j in j0..m.saturating_sub(1) {
             let p = self.pivots[j].expect("pivot grown");
             let v1 = (p.pos - x[j].pos).normalize();
-            let lr = lower_right(x[j], x[j + 2], v1).map_err(|r| transfer_error(r, i, j, "right"))?;
+            let lr = lower_right(x[j], x[j + 2], v1).map_err(|r| transfer_error(r, x, j, j + 2, i, j))?;
             check_leg(lr.z - p.z, "l3", i, j)?;
             self.next[j + 1] = Some(lr);
             let v2 = (lr.pos - x[j + 2].pos).normalize();
@@ -275,7 +277,7 @@ impl RowGrower {
         for j in (1..=j0).rev() {
             let p = self.pivots[j].expect("pivot grown");
             let v2 = (p.pos - x[j + 1].pos).normalize();
-            let ll = lower_left(x[j - 1], x[j + 1], v2).map_err(|r| transfer_error(r, i, j, "left"))?;
+            let ll = lower_left(x[j - 1], x[j + 1], v2).map_err(|r| transfer_error(r, x, j - 1, j + 1, i, j))?;
             check_leg(ll.z - p.z, "l2", i, j)?;
             self.next[j] = Some(ll);
             let v1 = (ll.pos - x[j - 1].pos).normalize();
@@ -452,19 +454,20 @@ pub fn front_frame(ul: DVec3, ur: DVec3) -> Option<FrontFrame> {
     })
 }
 
-fn transfer_error(refusal: Refusal, i: usize, j: usize, side: &str) -> GrowthError {
+/// A refused transfer across the double edge from front vertex `a` to `b`.
+fn transfer_error(refusal: Refusal, x: &[Point], a: usize, b: usize, i: usize, j: usize) -> GrowthError {
     match refusal {
         Refusal::NotSpacelike => GrowthError::new(
             GrowthErrorKind::DoubleEdgeNotSpacelike,
-            Param::Direction,
+            Param::Front,
             Some(i),
             Some(j),
             format!(
-                "the {side} transfer from cell {j} is impossible: the double edge across columns {} to {} is shorter than |kappa| summed over it",
-                if side == "right" { j } else { j - 1 },
-                if side == "right" { j + 2 } else { j + 1 },
+                "the front is too folded at cell {j}: front vertices {a} and {b} are {} apart, not more than |kappa| summed between them ({})",
+                fmt_len(x[a].pos.distance(x[b].pos)),
+                fmt_len((x[a].z - x[b].z).abs()),
             ),
-            "the front is too folded here: change the previous row (its legs or direction) or the seed",
+            "unfold the front here: change the seed points or kappa (row 0), or the previous row's direction or legs",
         ),
         Refusal::MissesCone => propagated_cone(i, j),
     }

@@ -1,0 +1,72 @@
+//! Every file in fixtures/designs/bad/ must be refused with the error its
+//! first line announces: `# expect: CLASS LINE:COL "part of the message"`.
+//! To add a case, drop a recipe there with such a line.
+
+use karigami::design;
+use std::fs;
+use std::path::PathBuf;
+
+pub struct Expectation {
+    pub class: String,
+    pub line_col: (usize, usize),
+    pub message: String,
+}
+
+pub fn expectation(source: &str, file: &str) -> Expectation {
+    let line = source.lines().next().unwrap_or_default();
+    let rest = line.strip_prefix("# expect: ").unwrap_or_else(|| panic!("{file}: first line must be `# expect: ...`"));
+    let (class, rest) = rest.split_once(' ').expect("class");
+    let (pos, message) = rest.split_once(' ').expect("position");
+    let (l, c) = pos.split_once(':').expect("LINE:COL");
+    Expectation {
+        class: class.to_string(),
+        line_col: (l.parse().unwrap(), c.parse().unwrap()),
+        message: message
+            .strip_prefix('"')
+            .and_then(|m| m.strip_suffix('"'))
+            .expect("message in quotes")
+            .replace("\\\"", "\""),
+    }
+}
+
+pub fn bad_fixtures() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = fs::read_dir("fixtures/designs/bad")
+        .expect("fixtures/designs/bad exists")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_bad_fixture_is_refused_where_and_why_it_says() {
+    let files = bad_fixtures();
+    assert!(files.len() >= 15, "expected the error fixtures, found {}", files.len());
+    let mut failures = Vec::new();
+    for path in &files {
+        let file = path.display().to_string();
+        let source = fs::read_to_string(path).unwrap();
+        let want = expectation(&source, &file);
+        let got = design::parse(&source, "bad").and_then(|d| d.grow().map(|_| ()));
+        let Err(diag) = got else {
+            failures.push(format!("{file}: was accepted"));
+            continue;
+        };
+        let line_col = diag.line_col(&source);
+        if diag.class != want.class || line_col != Some(want.line_col) || !diag.message.contains(&want.message) {
+            failures.push(format!(
+                "{file}: expected {} {:?} {:?}\n  got {} {:?} {:?}",
+                want.class, want.line_col, want.message, diag.class, line_col, diag.message
+            ));
+        }
+        let rendered = diag.render(&file, &source);
+        if !rendered.contains(&format!("{file}:{}:{}", want.line_col.0, want.line_col.1)) {
+            failures.push(format!("{file}: rendered without its location\n{rendered}"));
+        }
+        if !(rendered.contains("= help: ") || diag.class == "toml") {
+            failures.push(format!("{file}: no hint\n{rendered}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
