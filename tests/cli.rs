@@ -1,0 +1,213 @@
+//! The real `karigami` binary, run as a user would.
+
+use crate::errors::{bad_fixtures, expectation};
+use serde_json::Value;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub fn karigami(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_karigami"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("runs karigami")
+}
+
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh empty folder under the target dir, unique to the test.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = repo().join("target").join("test-scratch").join(name);
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+pub fn recipes(folder: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = fs::read_dir(repo().join(folder))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn check_passes_on_every_example_and_template() {
+    let files: Vec<PathBuf> = recipes("examples").into_iter().chain(recipes("templates")).collect();
+    assert!(files.len() >= 4, "examples/ and templates/ hold the recipes");
+    for f in files {
+        let out = karigami(&["check", f.to_str().unwrap()], &repo());
+        let stdout = text(&out.stdout);
+        assert!(out.status.success(), "{}: {}{}", f.display(), stdout, text(&out.stderr));
+        assert!(stdout.contains("result: PASS"), "{stdout}");
+    }
+}
+
+#[test]
+fn check_fails_on_bad_fixtures_with_exit_1_and_the_place() {
+    for f in bad_fixtures() {
+        let rel = f.display().to_string();
+        let source = fs::read_to_string(&f).unwrap();
+        let want = expectation(&source, &rel);
+        let out = karigami(&["check", &rel], &repo());
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{rel}: {stderr}");
+        let place = format!("{rel}:{}:{}", want.line_col.0, want.line_col.1);
+        assert!(stderr.contains(&place), "{rel}: expected {place} in\n{stderr}");
+        assert!(stderr.contains(&format!("error[{}]", want.class)), "{stderr}");
+        assert!(!text(&out.stdout).contains("PASS"));
+    }
+}
+
+#[test]
+fn missing_recipe_is_an_io_error() {
+    let out = karigami(&["check", "no/such/design.toml"], &repo());
+    assert_eq!(out.status.code(), Some(3));
+    assert!(text(&out.stderr).contains("cannot read no/such/design.toml"));
+}
+
+#[test]
+fn bad_usage_exits_2() {
+    let out = karigami(&["frobnicate"], &repo());
+    assert_eq!(out.status.code(), Some(2));
+}
+
+/// Keys of the first object on the line that starts with `prefix`, in file order.
+fn key_order(json: &str, prefix: &str) -> Vec<String> {
+    let line = json.lines().find(|l| l.trim_start().starts_with(prefix)).expect("record line");
+    let record = line.trim().trim_end_matches(',');
+    let value: Value = serde_json::from_str(record).unwrap();
+    let mut keys: Vec<(usize, String)> = value
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| (record.find(&format!("\"{k}\":")).unwrap(), k.clone()))
+        .collect();
+    keys.sort();
+    keys.into_iter().map(|(_, k)| k).collect()
+}
+
+#[test]
+fn build_writes_lattice_json_in_the_documented_schema() {
+    let dir = scratch("build-schema");
+    let recipe = repo().join("examples/flat-sheet.toml");
+    let out = karigami(&["build", recipe.to_str().unwrap(), "--out", "out"], &dir);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let raw = fs::read_to_string(dir.join("out/lattice.json")).unwrap();
+    let json: Value = serde_json::from_str(&raw).unwrap();
+
+    let top: Vec<&str> = raw.lines().next().unwrap().split('"').skip(1).step_by(2).collect();
+    assert_eq!(top, ["kind", "sheet", "dim", "extrinsic"]);
+    assert_eq!(json["kind"], "sheet");
+    assert_eq!(json["dim"], 2);
+    assert_eq!(json["extrinsic"], true);
+    assert_eq!(key_order(&raw, "{\"key\":[0,0],\"pos\""), ["key", "pos", "z"]);
+    assert_eq!(
+        key_order(&raw, "{\"key\":[0,0],\"ul\""),
+        ["key", "ul", "ur", "ll", "lr", "frame", "pivot", "z_pivot", "corners", "legs", "kappa", "phi"]
+    );
+    assert_eq!(
+        key_order(&raw, "{\"id\":0,"),
+        ["id", "cell", "type", "start", "end", "legs", "length", "holes", "hole_pos"]
+    );
+    assert_eq!(key_order(&raw, "{\"vertex\":[0,0]"), ["vertex", "n_rods", "needs_eyelet", "rods"]);
+
+    let vertices = json["vertices"].as_array().unwrap();
+    let cells = json["cells"].as_array().unwrap();
+    let rods = json["rods"].as_array().unwrap();
+    let eyelets = json["eyelets"].as_array().unwrap();
+    assert_eq!(vertices.len(), 7 * 9);
+    assert_eq!(cells.len(), 6 * 8);
+    assert_eq!(rods.len(), 2 * cells.len());
+    assert_eq!(eyelets.len(), vertices.len());
+    assert_eq!(vertices[0]["z"], 0.0, "z = 0 at the first seed vertex");
+    // Creation order: seed front, then row by row, left to right.
+    for (n, v) in vertices.iter().enumerate() {
+        assert_eq!(v["key"], serde_json::json!([n / 9, n % 9]));
+        assert_eq!(v["pos"].as_array().unwrap().len(), 2);
+    }
+    let f = |v: &Value| v.as_f64().unwrap();
+    let pos = |v: &Value| -> Vec<f64> { v.as_array().unwrap().iter().map(f).collect() };
+    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let by_key = |key: &Value| vertices.iter().find(|v| &v["key"] == key).unwrap();
+    for (c, cell) in cells.iter().enumerate() {
+        assert_eq!(cell["key"], serde_json::json!([c / 8, c % 8]));
+        let legs: Vec<f64> = pos(&cell["legs"]);
+        let pivot = pos(&cell["pivot"]);
+        for (k, corner) in ["ul", "ll", "lr", "ur"].iter().enumerate() {
+            let v = pos(&by_key(&cell[*corner])["pos"]);
+            assert!((dist(&v, &pivot) - legs[k]).abs() < 1e-9, "leg {k} of cell {c}");
+        }
+        let kappa = f(&by_key(&cell["ul"])["z"]) - f(&by_key(&cell["ur"])["z"]);
+        assert!((f(&cell["kappa"]) - kappa).abs() < 1e-12);
+        let phi = f(&cell["phi"]);
+        assert!(phi > 0.0 && phi < std::f64::consts::PI);
+        // Rods A then B; holes at 0, first leg, length.
+        for (r, kind, legs_of) in [(2 * c, "A", [0, 2]), (2 * c + 1, "B", [3, 1])] {
+            let rod = &rods[r];
+            assert_eq!(rod["id"], r);
+            assert_eq!(rod["type"], kind);
+            assert_eq!(rod["cell"], cell["key"]);
+            let rl = pos(&rod["legs"]);
+            assert_eq!(rl, [legs[legs_of[0]], legs[legs_of[1]]]);
+            assert_eq!(pos(&rod["holes"]), [0.0, rl[0], rl[0] + rl[1]]);
+            assert_eq!(f(&rod["length"]), rl[0] + rl[1]);
+            assert_eq!(pos(&rod["hole_pos"][1]), pivot);
+        }
+    }
+    // Eyelets: an interior vertex joins 4 rod ends, a corner 1; layers distinct.
+    let interior = eyelets.iter().find(|e| e["vertex"] == serde_json::json!([2, 3])).unwrap();
+    assert_eq!(interior["n_rods"], 4);
+    assert_eq!(interior["needs_eyelet"], true);
+    let mut layers: Vec<u64> = interior["rods"].as_array().unwrap().iter().map(|r| r["layer"].as_u64().unwrap()).collect();
+    layers.sort();
+    layers.dedup();
+    assert_eq!(layers.len(), 4);
+    assert_eq!(eyelets[0]["n_rods"], 1);
+    assert_eq!(eyelets[0]["needs_eyelet"], false);
+}
+
+#[test]
+fn build_is_deterministic() {
+    let dir = scratch("build-determinism");
+    let recipe = repo().join("examples/curved-sheet.toml");
+    for out in ["a", "b"] {
+        assert!(karigami(&["build", recipe.to_str().unwrap(), "--out", out], &dir).status.success());
+    }
+    assert_eq!(fs::read(dir.join("a/lattice.json")).unwrap(), fs::read(dir.join("b/lattice.json")).unwrap());
+}
+
+#[test]
+fn build_without_a_design_builds_the_default_into_karigami_out() {
+    let dir = scratch("build-default");
+    let out = karigami(&["build"], &dir);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let json: Value = serde_json::from_slice(&fs::read(dir.join("karigami-out/lattice.json")).unwrap()).unwrap();
+    assert!(!json["cells"].as_array().unwrap().is_empty());
+    // No temporary files left behind.
+    let names: Vec<String> = fs::read_dir(dir.join("karigami-out")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert_eq!(names, ["lattice.json"]);
+}
+
+#[test]
+fn full_precision_numbers_round_trip() {
+    let dir = scratch("build-precision");
+    let recipe = repo().join("examples/curved-sheet.toml");
+    assert!(karigami(&["build", recipe.to_str().unwrap(), "--out", "o"], &dir).status.success());
+    let raw = fs::read_to_string(dir.join("o/lattice.json")).unwrap();
+    let json: Value = serde_json::from_str(&raw).unwrap();
+    // A 3-D position written with fewer than ~15 significant digits would
+    // have been rounded; shortest round-trip output keeps them all.
+    let x = json["cells"][0]["pivot"][0].as_f64().unwrap();
+    assert!(raw.contains(&format!("{x:?}")));
+    assert!(!raw.contains("NaN") && !raw.contains("null") && !raw.contains("inf"));
+}
