@@ -355,12 +355,15 @@ impl RowGrower {
         }
         let ul = lattice.vertex(cell.ul).pos - cell.pivot;
         let ur = lattice.vertex(cell.ur).pos - cell.pivot;
-        let phi = angle_between(ul.normalize(), ur.normalize());
-        if !phi.is_finite() {
+        let (cross, dot) = (ul.cross(ur), ul.dot(ur));
+        let norms = ul.length() * ur.length();
+        let sin_phi = cross.length() / norms;
+        if !sin_phi.is_finite() {
             return Err(breakdown(i, j));
         }
-        if phi.sin() < EPS_ANGLE {
-            let state = if phi < 1.0 { "collapsed (phi near 0)" } else { "flat-open (phi near 180 deg)" };
+        if sin_phi < EPS_ANGLE {
+            let phi = angle_between(ul / ul.length(), ur / ur.length());
+            let state = if dot > 0.0 { "collapsed (phi near 0)" } else { "flat-open (phi near 180 deg)" };
             return Err(GrowthError::new(
                 GrowthErrorKind::DegenerateCell,
                 Param::Direction,
@@ -371,7 +374,7 @@ impl RowGrower {
             ));
         }
         if lattice.dim == 2 {
-            let sign = ul.cross(ur).z.signum();
+            let sign = cross.z.signum();
             match self.orientation {
                 None => self.orientation = Some(sign),
                 Some(s) if s != sign => {

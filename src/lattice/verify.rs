@@ -4,7 +4,6 @@
 
 use super::{Cell, Lattice, Legs};
 use glam::DVec3;
-use std::collections::VecDeque;
 
 /// A lattice passes when every relative residual is at most this.
 pub const TOLERANCE: f64 = 1e-9;
@@ -162,9 +161,10 @@ fn vertex_site(lattice: &Lattice, v: usize) -> String {
     format!("vertex [{}, {}]", k.row, k.col)
 }
 
-/// Sine of the angle between two consecutive legs of one rod.
-fn bend(a: DVec3, b: DVec3) -> f64 {
-    a.normalize().cross(b.normalize()).length()
+/// Sine of the angle between two consecutive legs `a`, `b` of one rod,
+/// given their lengths.
+fn bend(a: DVec3, la: f64, b: DVec3, lb: f64) -> f64 {
+    a.cross(b).length() / (la * lb)
 }
 
 fn mean(legs: &Legs) -> f64 {
@@ -187,13 +187,14 @@ pub fn verify(lattice: &Lattice) -> Report {
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
+        let inv = 1.0 / scale;
         let site = || cell_site(cell);
-        let rel = |x: f64| x / scale;
+        let rel = |x: f64| x * inv;
         // The sine of each rod's bend at the pivot: first order in a sideways
         // offset of the pivot, where MATH.md's |LR-UL| - (l1+l3) is second order.
         let p = cell.pivot;
-        straight.record(bend(p - pos(cell.ul), pos(cell.lr) - p), site);
-        straight.record(bend(p - pos(cell.ur), pos(cell.ll) - p), site);
+        straight.record(bend(p - pos(cell.ul), l1, pos(cell.lr) - p, l3), site);
+        straight.record(bend(p - pos(cell.ur), l4, pos(cell.ll) - p, l2), site);
         let zp = cell.z_pivot;
         legs_z.record(rel(zp - z(cell.ul) - l1), site);
         legs_z.record(rel(zp - z(cell.ur) - l4), site);
@@ -250,7 +251,7 @@ pub fn verify(lattice: &Lattice) -> Report {
         natural.record(k / magnitude, site);
     }
 
-    let collapsed = collapsed_state(lattice, &legs, &inc);
+    let collapsed = collapsed_state(lattice, &legs);
     Report {
         cells: lattice.cells.len(),
         vertices: lattice.vertices.len(),
@@ -265,43 +266,42 @@ pub fn verify(lattice: &Lattice) -> Report {
     }
 }
 
-/// MATH.md 8.3: z from leg lengths alone by breadth-first search, then
-/// compared with the construction and with the deployed rod lengths.
-fn collapsed_state(lattice: &Lattice, legs: &[Legs], inc: &Incidence) -> [Check; 3] {
+/// MATH.md 8.3: z from leg lengths alone, starting from `z = 0` at vertex 0,
+/// then compared with the construction and with the deployed rod lengths.
+/// Cells are stored in growth order, so sweeping them in that order reaches
+/// every cell through a corner that already has a z (a breadth-first search
+/// would visit the same offsets; this needs no queue). A cell reached
+/// through no corner is a disconnected lattice and fails the check.
+fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
     use Invariant as I;
     let mut single = Check::new(I::CollapsedSingleValued);
     let mut matches = Check::new(I::CollapsedMatchesConstruction);
     let mut rods = Check::new(I::CollapsedRodLength);
-    let n = lattice.vertices.len();
-    let mut z = vec![f64::NAN; n];
+    let mut z = vec![f64::NAN; lattice.vertices.len()];
     let mut z_pivot = vec![f64::NAN; lattice.cells.len()];
-    let mut queue = VecDeque::new();
-    if n > 0 {
-        z[0] = 0.0;
-        queue.push_back(0usize);
+    if let Some(first) = z.first_mut() {
+        *first = 0.0;
     }
-    while let Some(v) = queue.pop_front() {
-        for (role, map) in [&inc.ul, &inc.ur, &inc.ll, &inc.lr].into_iter().enumerate() {
-            let c = map[v];
-            if c == NONE || !z_pivot[c as usize].is_nan() {
-                continue;
-            }
-            let cell = &lattice.cells[c as usize];
-            let [l1, l2, l3, l4] = legs[c as usize];
-            // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
-            let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
-            let zp = z[v] - offsets[role].1;
-            z_pivot[c as usize] = zp;
-            let scale = mean(&legs[c as usize]);
-            for (corner, offset) in offsets {
-                let expect = zp + offset;
-                let slot = &mut z[corner as usize];
-                if slot.is_nan() {
-                    *slot = expect;
-                    queue.push_back(corner as usize);
-                } else {
-                    single.record((*slot - expect) / scale, || cell_site(cell));
-                }
+    for (c, cell) in lattice.cells.iter().enumerate() {
+        let [l1, l2, l3, l4] = legs[c];
+        // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
+        let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
+        let Some(zp) = offsets.iter().find_map(|&(v, off)| {
+            let zv = z[v as usize];
+            (!zv.is_nan()).then_some(zv - off)
+        }) else {
+            single.record(f64::NAN, || format!("{} (not connected to vertex 0)", cell_site(cell)));
+            continue;
+        };
+        z_pivot[c] = zp;
+        let inv = 1.0 / mean(&legs[c]);
+        for (corner, offset) in offsets {
+            let expect = zp + offset;
+            let slot = &mut z[corner as usize];
+            if slot.is_nan() {
+                *slot = expect;
+            } else {
+                single.record((*slot - expect) * inv, || cell_site(cell));
             }
         }
     }
@@ -312,10 +312,10 @@ fn collapsed_state(lattice: &Lattice, legs: &[Legs], inc: &Incidence) -> [Check;
     for (c, cell) in lattice.cells.iter().enumerate() {
         let site = || cell_site(cell);
         matches.record((z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()), site);
-        let scale = mean(&legs[c]);
+        let inv = 1.0 / mean(&legs[c]);
         let deployed = |a: u32, b: u32| lattice.vertex(a).pos.distance(lattice.vertex(b).pos);
-        rods.record((z[cell.lr as usize] - z[cell.ul as usize] - deployed(cell.ul, cell.lr)) / scale, site);
-        rods.record((z[cell.ll as usize] - z[cell.ur as usize] - deployed(cell.ur, cell.ll)) / scale, site);
+        rods.record((z[cell.lr as usize] - z[cell.ul as usize] - deployed(cell.ul, cell.lr)) * inv, site);
+        rods.record((z[cell.ll as usize] - z[cell.ur as usize] - deployed(cell.ur, cell.ll)) * inv, site);
     }
     [single, matches, rods]
 }
