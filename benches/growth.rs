@@ -12,12 +12,21 @@ use std::time::Instant;
 /// (wide rows with non-zero kappa drift out of the cone: MATH.md 4.6).
 fn design(n: usize) -> (Vec<DVec3>, Vec<f64>, Vec<RowParams>) {
     let points: Vec<DVec3> = (0..=n)
-        .map(|j| DVec3::new(11.0 * j as f64 - if j % 2 == 1 { 1.0 } else { 0.0 }, 0.0, 0.0))
+        .map(|j| {
+            DVec3::new(
+                11.0 * j as f64 - if j % 2 == 1 { 1.0 } else { 0.0 },
+                0.0,
+                0.0,
+            )
+        })
         .collect();
     let kappa = vec![0.0; n];
     let row = RowParams {
         start: n / 2,
-        direction: Direction::Angles { angle_deg: 45.0, tilt_deg: 0.0 },
+        direction: Direction::Angles {
+            angle_deg: 45.0,
+            tilt_deg: 0.0,
+        },
         left_leg: Leg::Match,
         right_leg: Leg::Match,
     };
@@ -37,8 +46,22 @@ fn main() {
         .skip(1)
         .filter_map(|a| a.parse().ok())
         .collect();
-    let sizes = if sizes.is_empty() { vec![250, 500, 1000] } else { sizes };
-    println!("{:>6} {:>10} {:>10} {:>10} {:>14} {:>14} {:>12} {:>10}", "N", "cells", "grow s", "verify s", "grown cells/s", "grown+verified/s", "peak MiB", "worst");
+    let sizes = if sizes.is_empty() {
+        vec![250, 500, 1000]
+    } else {
+        sizes
+    };
+    println!(
+        "{:>6} {:>10} {:>10} {:>10} {:>14} {:>14} {:>12} {:>10}",
+        "N",
+        "cells",
+        "grow s",
+        "verify s",
+        "grown cells/s",
+        "grown+verified/s",
+        "peak MiB",
+        "worst"
+    );
     for n in sizes {
         let (points, kappa, rows) = design(n);
         let t0 = Instant::now();
@@ -48,7 +71,9 @@ fn main() {
         let report = verify(&lattice);
         let verify_s = t1.elapsed().as_secs_f64();
         let cells = lattice.cells.len() as f64;
-        let peak = peak_rss().map_or("n/a".to_string(), |b| format!("{:.1}", b as f64 / 1048576.0));
+        let peak = peak_rss().map_or("n/a".to_string(), |b| {
+            format!("{:.1}", b as f64 / 1048576.0)
+        });
         println!(
             "{:>6} {:>10} {:>10.3} {:>10.3} {:>14.0} {:>14.0} {:>12} {:>10.1e}",
             n,

@@ -98,7 +98,9 @@ fn snippet(source: &str, span: Range<usize>) -> String {
     let start = floor_char_boundary(source, span.start.min(source.len()));
     let (line_no, col) = line_col(source, start);
     let line_start = source[..start].rfind('\n').map_or(0, |i| i + 1);
-    let line_end = source[line_start..].find('\n').map_or(source.len(), |i| line_start + i);
+    let line_end = source[line_start..]
+        .find('\n')
+        .map_or(source.len(), |i| line_start + i);
     let text = source[line_start..line_end].trim_end_matches('\r');
     let end = floor_char_boundary(source, span.end.clamp(start, line_end.max(start)));
     let width = source[start..end].chars().count().max(1);
@@ -124,8 +126,14 @@ mod tests {
             .site("seed edge 1")
             .hint("lower it");
         let text = d.render("d.toml", src);
-        assert!(text.contains("--> d.toml:2:15 (lattice seed edge 1)"), "{text}");
-        assert!(text.contains("2 | kappa = [2.0, -30.0]\n  |               ^^^^^"), "{text}");
+        assert!(
+            text.contains("--> d.toml:2:15 (lattice seed edge 1)"),
+            "{text}"
+        );
+        assert!(
+            text.contains("2 | kappa = [2.0, -30.0]\n  |               ^^^^^"),
+            "{text}"
+        );
         assert!(text.contains("= help: lower it"));
     }
 

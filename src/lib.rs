@@ -3,9 +3,9 @@
 //! design -> lattice -> parts -> layout -> drawing -> bytes.
 //! Everything here is pure; only the binary touches files and the terminal.
 
-pub mod geometry;
-pub mod lattice;
 pub mod design;
 pub mod diagnostic;
-pub mod write;
+pub mod geometry;
+pub mod lattice;
 pub mod report;
+pub mod write;

@@ -35,7 +35,11 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
         "checked: {} horizontal pores, {} vertical pores, {} interior vertices",
         report.horizontal_pores, report.vertical_pores, report.interior_vertices
     );
-    let _ = writeln!(out, "{:<48} {:>10}  {:<6} at", "invariant (relative residual)", "max", "");
+    let _ = writeln!(
+        out,
+        "{:<48} {:>10}  {:<6} at",
+        "invariant (relative residual)", "max", ""
+    );
     for c in &report.checks {
         let _ = writeln!(
             out,
@@ -47,6 +51,10 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
         );
     }
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
-    let _ = writeln!(out, "result: {verdict} (tolerance {TOLERANCE:.0e}, largest residual {:.2e})", report.worst());
+    let _ = writeln!(
+        out,
+        "result: {verdict} (tolerance {TOLERANCE:.0e}, largest residual {:.2e})",
+        report.worst()
+    );
     out
 }

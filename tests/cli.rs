@@ -42,12 +42,24 @@ fn text(bytes: &[u8]) -> String {
 
 #[test]
 fn check_passes_on_every_example_and_template() {
-    let files: Vec<PathBuf> = recipes("examples").into_iter().chain(recipes("templates")).collect();
-    assert!(files.len() >= 4, "examples/ and templates/ hold the recipes");
+    let files: Vec<PathBuf> = recipes("examples")
+        .into_iter()
+        .chain(recipes("templates"))
+        .collect();
+    assert!(
+        files.len() >= 4,
+        "examples/ and templates/ hold the recipes"
+    );
     for f in files {
         let out = karigami(&["check", f.to_str().unwrap()], &repo());
         let stdout = text(&out.stdout);
-        assert!(out.status.success(), "{}: {}{}", f.display(), stdout, text(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}: {}{}",
+            f.display(),
+            stdout,
+            text(&out.stderr)
+        );
         assert!(stdout.contains("result: PASS"), "{stdout}");
     }
 }
@@ -62,8 +74,14 @@ fn check_fails_on_bad_fixtures_with_exit_1_and_the_place() {
         let stderr = text(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{rel}: {stderr}");
         let place = format!("{rel}:{}:{}", want.line_col.0, want.line_col.1);
-        assert!(stderr.contains(&place), "{rel}: expected {place} in\n{stderr}");
-        assert!(stderr.contains(&format!("error[{}]", want.class)), "{stderr}");
+        assert!(
+            stderr.contains(&place),
+            "{rel}: expected {place} in\n{stderr}"
+        );
+        assert!(
+            stderr.contains(&format!("error[{}]", want.class)),
+            "{stderr}"
+        );
         assert!(!text(&out.stdout).contains("PASS"));
     }
 }
@@ -83,7 +101,10 @@ fn bad_usage_exits_2() {
 
 /// Keys of the first object on the line that starts with `prefix`, in file order.
 fn key_order(json: &str, prefix: &str) -> Vec<String> {
-    let line = json.lines().find(|l| l.trim_start().starts_with(prefix)).expect("record line");
+    let line = json
+        .lines()
+        .find(|l| l.trim_start().starts_with(prefix))
+        .expect("record line");
     let record = line.trim().trim_end_matches(',');
     let value: Value = serde_json::from_str(record).unwrap();
     let mut keys: Vec<(usize, String)> = value
@@ -105,21 +126,39 @@ fn build_writes_lattice_json_in_the_documented_schema() {
     let raw = fs::read_to_string(dir.join("out/lattice.json")).unwrap();
     let json: Value = serde_json::from_str(&raw).unwrap();
 
-    let top: Vec<&str> = raw.lines().next().unwrap().split('"').skip(1).step_by(2).collect();
+    let top: Vec<&str> = raw
+        .lines()
+        .next()
+        .unwrap()
+        .split('"')
+        .skip(1)
+        .step_by(2)
+        .collect();
     assert_eq!(top, ["kind", "sheet", "dim", "extrinsic"]);
     assert_eq!(json["kind"], "sheet");
     assert_eq!(json["dim"], 2);
     assert_eq!(json["extrinsic"], true);
-    assert_eq!(key_order(&raw, "{\"key\":[0,0],\"pos\""), ["key", "pos", "z"]);
+    assert_eq!(
+        key_order(&raw, "{\"key\":[0,0],\"pos\""),
+        ["key", "pos", "z"]
+    );
     assert_eq!(
         key_order(&raw, "{\"key\":[0,0],\"ul\""),
-        ["key", "ul", "ur", "ll", "lr", "frame", "pivot", "z_pivot", "corners", "legs", "kappa", "phi"]
+        [
+            "key", "ul", "ur", "ll", "lr", "frame", "pivot", "z_pivot", "corners", "legs", "kappa",
+            "phi"
+        ]
     );
     assert_eq!(
         key_order(&raw, "{\"id\":0,"),
-        ["id", "cell", "type", "start", "end", "legs", "length", "holes", "hole_pos"]
+        [
+            "id", "cell", "type", "start", "end", "legs", "length", "holes", "hole_pos"
+        ]
     );
-    assert_eq!(key_order(&raw, "{\"vertex\":[0,0]"), ["vertex", "n_rods", "needs_eyelet", "rods"]);
+    assert_eq!(
+        key_order(&raw, "{\"vertex\":[0,0]"),
+        ["vertex", "n_rods", "needs_eyelet", "rods"]
+    );
 
     let vertices = json["vertices"].as_array().unwrap();
     let cells = json["cells"].as_array().unwrap();
@@ -137,7 +176,13 @@ fn build_writes_lattice_json_in_the_documented_schema() {
     }
     let f = |v: &Value| v.as_f64().unwrap();
     let pos = |v: &Value| -> Vec<f64> { v.as_array().unwrap().iter().map(f).collect() };
-    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let dist = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
     let by_key = |key: &Value| vertices.iter().find(|v| &v["key"] == key).unwrap();
     for (c, cell) in cells.iter().enumerate() {
         assert_eq!(cell["key"], serde_json::json!([c / 8, c % 8]));
@@ -145,7 +190,10 @@ fn build_writes_lattice_json_in_the_documented_schema() {
         let pivot = pos(&cell["pivot"]);
         for (k, corner) in ["ul", "ll", "lr", "ur"].iter().enumerate() {
             let v = pos(&by_key(&cell[*corner])["pos"]);
-            assert!((dist(&v, &pivot) - legs[k]).abs() < 1e-9, "leg {k} of cell {c}");
+            assert!(
+                (dist(&v, &pivot) - legs[k]).abs() < 1e-9,
+                "leg {k} of cell {c}"
+            );
         }
         let kappa = f(&by_key(&cell["ul"])["z"]) - f(&by_key(&cell["ur"])["z"]);
         assert!((f(&cell["kappa"]) - kappa).abs() < 1e-12);
@@ -165,10 +213,18 @@ fn build_writes_lattice_json_in_the_documented_schema() {
         }
     }
     // Eyelets: an interior vertex joins 4 rod ends, a corner 1; layers distinct.
-    let interior = eyelets.iter().find(|e| e["vertex"] == serde_json::json!([2, 3])).unwrap();
+    let interior = eyelets
+        .iter()
+        .find(|e| e["vertex"] == serde_json::json!([2, 3]))
+        .unwrap();
     assert_eq!(interior["n_rods"], 4);
     assert_eq!(interior["needs_eyelet"], true);
-    let mut layers: Vec<u64> = interior["rods"].as_array().unwrap().iter().map(|r| r["layer"].as_u64().unwrap()).collect();
+    let mut layers: Vec<u64> = interior["rods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["layer"].as_u64().unwrap())
+        .collect();
     layers.sort();
     layers.dedup();
     assert_eq!(layers.len(), 4);
@@ -181,9 +237,16 @@ fn build_is_deterministic() {
     let dir = scratch("build-determinism");
     let recipe = repo().join("examples/curved-sheet.toml");
     for out in ["a", "b"] {
-        assert!(karigami(&["build", recipe.to_str().unwrap(), "--out", out], &dir).status.success());
+        assert!(
+            karigami(&["build", recipe.to_str().unwrap(), "--out", out], &dir)
+                .status
+                .success()
+        );
     }
-    assert_eq!(fs::read(dir.join("a/lattice.json")).unwrap(), fs::read(dir.join("b/lattice.json")).unwrap());
+    assert_eq!(
+        fs::read(dir.join("a/lattice.json")).unwrap(),
+        fs::read(dir.join("b/lattice.json")).unwrap()
+    );
 }
 
 #[test]
@@ -191,10 +254,14 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
     let dir = scratch("build-default");
     let out = karigami(&["build"], &dir);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let json: Value = serde_json::from_slice(&fs::read(dir.join("karigami-out/lattice.json")).unwrap()).unwrap();
+    let json: Value =
+        serde_json::from_slice(&fs::read(dir.join("karigami-out/lattice.json")).unwrap()).unwrap();
     assert!(!json["cells"].as_array().unwrap().is_empty());
     // No temporary files left behind.
-    let names: Vec<String> = fs::read_dir(dir.join("karigami-out")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let names: Vec<String> = fs::read_dir(dir.join("karigami-out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     assert_eq!(names, ["lattice.json"]);
 }
 
@@ -202,7 +269,11 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
 fn full_precision_numbers_round_trip() {
     let dir = scratch("build-precision");
     let recipe = repo().join("examples/curved-sheet.toml");
-    assert!(karigami(&["build", recipe.to_str().unwrap(), "--out", "o"], &dir).status.success());
+    assert!(
+        karigami(&["build", recipe.to_str().unwrap(), "--out", "o"], &dir)
+            .status
+            .success()
+    );
     let raw = fs::read_to_string(dir.join("o/lattice.json")).unwrap();
     let json: Value = serde_json::from_str(&raw).unwrap();
     // A 3-D position written with fewer than ~15 significant digits would

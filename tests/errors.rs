@@ -14,7 +14,9 @@ pub struct Expectation {
 
 pub fn expectation(source: &str, file: &str) -> Expectation {
     let line = source.lines().next().unwrap_or_default();
-    let rest = line.strip_prefix("# expect: ").unwrap_or_else(|| panic!("{file}: first line must be `# expect: ...`"));
+    let rest = line
+        .strip_prefix("# expect: ")
+        .unwrap_or_else(|| panic!("{file}: first line must be `# expect: ...`"));
     let (class, rest) = rest.split_once(' ').expect("class");
     let (pos, message) = rest.split_once(' ').expect("position");
     let (l, c) = pos.split_once(':').expect("LINE:COL");
@@ -42,7 +44,11 @@ pub fn bad_fixtures() -> Vec<PathBuf> {
 #[test]
 fn every_bad_fixture_is_refused_where_and_why_it_says() {
     let files = bad_fixtures();
-    assert!(files.len() >= 15, "expected the error fixtures, found {}", files.len());
+    assert!(
+        files.len() >= 15,
+        "expected the error fixtures, found {}",
+        files.len()
+    );
     let mut failures = Vec::new();
     for path in &files {
         let file = path.display().to_string();
@@ -54,7 +60,10 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
             continue;
         };
         let line_col = diag.line_col(&source);
-        if diag.class != want.class || line_col != Some(want.line_col) || !diag.message.contains(&want.message) {
+        if diag.class != want.class
+            || line_col != Some(want.line_col)
+            || !diag.message.contains(&want.message)
+        {
             failures.push(format!(
                 "{file}: expected {} {:?} {:?}\n  got {} {:?} {:?}",
                 want.class, want.line_col, want.message, diag.class, line_col, diag.message

@@ -21,10 +21,23 @@ fn check_worked_example(scale: f64) {
     let d = 30f64.to_radians();
     let lat = worked_example(scale, 0, v2(-d.cos(), -d.sin()));
     let tol = 1e-9 * scale;
-    let pivots = [v2(0.880761466250, -0.646192668748), v2(3.155892279165, -0.487752711272)];
+    let pivots = [
+        v2(0.880761466250, -0.646192668748),
+        v2(3.155892279165, -0.487752711272),
+    ];
     let legs = [
-        [1.092385337495, 1.000000000000, 1.461916132324, 1.292385337495],
-        [1.254587449477, 1.499714020343, 1.300000000000, 1.154587449477],
+        [
+            1.092385337495,
+            1.000000000000,
+            1.461916132324,
+            1.292385337495,
+        ],
+        [
+            1.254587449477,
+            1.499714020343,
+            1.300000000000,
+            1.154587449477,
+        ],
     ];
     let z_pivot = [1.092385337495, 1.054587449477];
     let phi = [1.985022897110, 1.991412945673];
@@ -49,9 +62,9 @@ fn check_worked_example(scale: f64) {
     }
     // Next-row kappa = z(x[1][j]) - z(x[1][j+1]).
     let next_kappa = [-0.461916132324, 0.199714020343];
-    for j in 0..2 {
+    for (j, want) in next_kappa.iter().enumerate() {
         let k = lat.vertices[3 + j].z - lat.vertices[4 + j].z;
-        close(k, next_kappa[j] * scale, tol, &format!("next kappa {j}"));
+        close(k, want * scale, tol, &format!("next kappa {j}"));
     }
     let report = verify(&lat);
     assert!(report.passed(), "{report:#?}");

@@ -33,12 +33,17 @@ fn direction_in_cone(rng: &mut Rng, dim: usize, ul: DVec3, ur: DVec3, kappa: f64
     let angle = rng.range(0.2, 0.8) * half;
     let frame = front_frame(ul, ur).unwrap();
     let tilt = if dim == 3 { rng.range(-0.6, 0.6) } else { 0.0 };
-    let v = angle.cos() * frame.axis + angle.sin() * (tilt.cos() * frame.down + tilt.sin() * frame.out);
+    let v =
+        angle.cos() * frame.axis + angle.sin() * (tilt.cos() * frame.down + tilt.sin() * frame.out);
     Direction::Vector(v * rng.range(0.5, 3.0))
 }
 
 fn random_leg(rng: &mut Rng) -> Leg {
-    if rng.below(3) == 0 { Leg::Match } else { Leg::Length(rng.range(0.4, 1.4)) }
+    if rng.below(3) == 0 {
+        Leg::Match
+    } else {
+        Leg::Length(rng.range(0.4, 1.4))
+    }
 }
 
 /// Grow a random design one row at a time, drawing each row's direction in
@@ -52,7 +57,10 @@ fn random_lattice(rng: &mut Rng, dim: usize) -> Result<(Lattice, RandomDesign), 
     for i in 0..nrows {
         let start = rng.below(m);
         let base = i * (m + 1);
-        let (a, b) = (lattice.vertices[base + start], lattice.vertices[base + start + 1]);
+        let (a, b) = (
+            lattice.vertices[base + start],
+            lattice.vertices[base + start + 1],
+        );
         rows.push(RowParams {
             start,
             direction: direction_in_cone(rng, dim, a.pos, b.pos, a.z - b.z),
@@ -61,7 +69,15 @@ fn random_lattice(rng: &mut Rng, dim: usize) -> Result<(Lattice, RandomDesign), 
         });
         lattice = grow_sheet(dim, &points, &kappa, &rows).map_err(|e| e.to_string())?;
     }
-    Ok((lattice, RandomDesign { dim, points, kappa, rows }))
+    Ok((
+        lattice,
+        RandomDesign {
+            dim,
+            points,
+            kappa,
+            rows,
+        },
+    ))
 }
 
 /// Regrow every row from a different start site with the direction the
@@ -82,7 +98,10 @@ fn assert_start_site_independent(lattice: &Lattice, design: &RandomDesign, rng: 
         let scale = lattice.legs(cell).iter().sum::<f64>();
         for (a, b) in lattice.vertices.iter().zip(&again.vertices) {
             let d = a.pos.distance(b.pos).max((a.z - b.z).abs()) / scale;
-            assert!(d < TOLERANCE, "row {i} regrown from column {other}: vertex differs by {d:e} relative");
+            assert!(
+                d < TOLERANCE,
+                "row {i} regrown from column {other}: vertex differs by {d:e} relative"
+            );
         }
     }
 }
@@ -108,7 +127,10 @@ fn run(dim: usize, cases: usize, seed: u64) {
     }
     // Directions are drawn in the start cone, so most designs must grow;
     // a generator that only produced refusals would test nothing.
-    assert!(grown * 2 > cases, "only {grown} of {cases} random {dim}-D designs grew ({refused} refused)");
+    assert!(
+        grown * 2 > cases,
+        "only {grown} of {cases} random {dim}-D designs grew ({refused} refused)"
+    );
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! One integration-test binary (fewer link steps on small machines).
 
-mod errors;
 mod cli;
+mod errors;
 mod golden;
 mod property;
 mod util;

@@ -17,7 +17,11 @@ pub const EXIT_IO: i32 = 3;
 const DEFAULT_DESIGN: &str = include_str!("../../templates/sheet.toml");
 
 #[derive(Parser)]
-#[command(name = "karigami", version, about = "Grow, verify and fabricate scissor lattices from TOML recipes")]
+#[command(
+    name = "karigami",
+    version,
+    about = "Grow, verify and fabricate scissor lattices from TOML recipes"
+)]
 struct Args {
     #[command(subcommand)]
     command: Command,
@@ -33,7 +37,9 @@ enum Command {
         designs: Vec<PathBuf>,
     },
     /// Grow, verify and write the build files (lattice.json) into a folder.
-    #[command(after_help = "Examples:\n  karigami build                      # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat")]
+    #[command(
+        after_help = "Examples:\n  karigami build                      # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat"
+    )]
     Build {
         /// Recipe file (TOML); without one, a built-in example sheet.
         design: Option<PathBuf>,
@@ -49,7 +55,10 @@ struct Failed(i32);
 pub fn run() -> i32 {
     let args = Args::parse();
     let result = match args.command {
-        Command::Check { designs } => designs.iter().map(|d| check(d)).fold(Ok(()), |acc, r| acc.and(r)),
+        Command::Check { designs } => designs
+            .iter()
+            .map(|d| check(d))
+            .fold(Ok(()), |acc, r| acc.and(r)),
         Command::Build { design, out } => build(design.as_deref(), &out),
     };
     match result {
@@ -64,7 +73,9 @@ fn load(path: &Path) -> Result<Design, Failed> {
         eprintln!("error: cannot read {}: {e}", path.display());
         Failed(EXIT_IO)
     })?;
-    let stem = path.file_stem().map_or("design".into(), |s| s.to_string_lossy().into_owned());
+    let stem = path
+        .file_stem()
+        .map_or("design".into(), |s| s.to_string_lossy().into_owned());
     parse(&source, &stem, &path.display().to_string())
 }
 
@@ -88,18 +99,30 @@ fn check(path: &Path) -> Result<(), Failed> {
     let lattice = grow(&design, &path.display().to_string(), &source)?;
     let report = verify(&lattice);
     print!("{}", report::check_text(&design, &lattice, &report));
-    if report.passed() { Ok(()) } else { Err(Failed(EXIT_INVALID)) }
+    if report.passed() {
+        Ok(())
+    } else {
+        Err(Failed(EXIT_INVALID))
+    }
 }
 
 fn build(path: Option<&Path>, out: &Path) -> Result<(), Failed> {
     let (design, source, file) = match path {
         Some(p) => {
             let design = load(p)?;
-            (design, files::read(p).unwrap_or_default(), p.display().to_string())
+            (
+                design,
+                files::read(p).unwrap_or_default(),
+                p.display().to_string(),
+            )
         }
         None => {
             let file = "(built-in sheet)".to_string();
-            (parse(DEFAULT_DESIGN, "karigami-sheet", &file)?, DEFAULT_DESIGN.to_string(), file)
+            (
+                parse(DEFAULT_DESIGN, "karigami-sheet", &file)?,
+                DEFAULT_DESIGN.to_string(),
+                file,
+            )
         }
     };
     let lattice = grow(&design, &file, &source)?;

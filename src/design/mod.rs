@@ -87,14 +87,19 @@ pub fn parse(source: &str, default_name: &str) -> Result<Design, Diagnostic> {
     let kind = match lat.seed.get_ref().as_str() {
         "sheet" => Kind::Sheet,
         "loop" | "helix" => {
-            return Err(Diagnostic::new("design", format!("seed = \"{}\" is not supported yet", lat.seed.get_ref()))
-                .at(lat.seed.span())
-                .hint("use seed = \"sheet\""));
+            return Err(Diagnostic::new(
+                "design",
+                format!("seed = \"{}\" is not supported yet", lat.seed.get_ref()),
+            )
+            .at(lat.seed.span())
+            .hint("use seed = \"sheet\""));
         }
         other => {
-            return Err(Diagnostic::new("design", format!("unknown seed \"{other}\""))
-                .at(lat.seed.span())
-                .hint("seed must be \"sheet\""));
+            return Err(
+                Diagnostic::new("design", format!("unknown seed \"{other}\""))
+                    .at(lat.seed.span())
+                    .hint("seed must be \"sheet\""),
+            );
         }
     };
     let (points, points_span) = seed_points(&lat, lattice_span.clone())?;
@@ -127,7 +132,13 @@ impl Design {
     fn locate(&self, e: GrowthError) -> Diagnostic {
         let span = match e.param {
             Param::SeedPoints => Some(self.spans.points.clone()),
-            Param::SeedKappa(j) => Some(self.spans.kappa_edges.get(j).unwrap_or(&self.spans.kappa).clone()),
+            Param::SeedKappa(j) => Some(
+                self.spans
+                    .kappa_edges
+                    .get(j)
+                    .unwrap_or(&self.spans.kappa)
+                    .clone(),
+            ),
             Param::Front => Some(match e.row {
                 Some(i) if i > 0 => self.row_span(i - 1, Param::Direction),
                 _ => self.spans.points.clone(),
@@ -164,9 +175,11 @@ fn finite(n: &Num, what: &str) -> Result<f64, Diagnostic> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(Diagnostic::new("design", format!("{what} is {v}, not a finite number"))
-            .at(n.span())
-            .hint("use an ordinary number"))
+        Err(
+            Diagnostic::new("design", format!("{what} is {v}, not a finite number"))
+                .at(n.span())
+                .hint("use an ordinary number"),
+        )
     }
 }
 
@@ -175,9 +188,12 @@ fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<usize, Diag
     if (min..=max).contains(&v) {
         Ok(v as usize)
     } else {
-        Err(Diagnostic::new("design", format!("{what} is {v}, but must be between {min} and {max}"))
-            .at(n.span())
-            .hint(format!("give {what} a whole number from {min} to {max}")))
+        Err(Diagnostic::new(
+            "design",
+            format!("{what} is {v}, but must be between {min} and {max}"),
+        )
+        .at(n.span())
+        .hint(format!("give {what} a whole number from {min} to {max}")))
     }
 }
 
@@ -185,9 +201,11 @@ fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<usize, Diag
 fn coords(c: &Coords, what: &str) -> Result<(DVec3, usize), Diagnostic> {
     let v = c.get_ref();
     if !(2..=3).contains(&v.len()) {
-        return Err(Diagnostic::new("design", format!("{what} has {} coordinates", v.len()))
-            .at(c.span())
-            .hint("give 2 coordinates (a planar lattice) or 3 (a lattice in space)"));
+        return Err(
+            Diagnostic::new("design", format!("{what} has {} coordinates", v.len()))
+                .at(c.span())
+                .hint("give 2 coordinates (a planar lattice) or 3 (a lattice in space)"),
+        );
     }
     let mut out = DVec3::ZERO;
     for (k, n) in v.iter().enumerate() {
@@ -200,7 +218,10 @@ type SeedPoint = (DVec3, (usize, Range<usize>));
 
 /// The seed front from exactly one of `points`, `[lattice.line]`,
 /// `[lattice.arc]`, `[lattice.polyline]`; each point with its dimension and span.
-fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<SeedPoint>, Range<usize>), Diagnostic> {
+fn seed_points(
+    lat: &RawLattice,
+    lattice_span: Range<usize>,
+) -> Result<(Vec<SeedPoint>, Range<usize>), Diagnostic> {
     let given = [
         lat.points.as_ref().map(|p| p.span()),
         lat.line.as_ref().map(|p| p.span()),
@@ -218,7 +239,9 @@ fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<Seed
             .at(second.clone())
             .hint("keep only one of `points`, [lattice.line], [lattice.arc], [lattice.polyline]"));
     }
-    let all = |pts: Vec<DVec3>, dim: usize, span: Range<usize>| pts.into_iter().map(|p| (p, (dim, span.clone()))).collect();
+    let all = |pts: Vec<DVec3>, dim: usize, span: Range<usize>| {
+        pts.into_iter().map(|p| (p, (dim, span.clone()))).collect()
+    };
     let points = if let Some(p) = &lat.points {
         p.get_ref()
             .iter()
@@ -230,7 +253,11 @@ fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<Seed
         let (from, d1) = coords(&l.from, "line.from")?;
         let (to, d2) = coords(&l.to, "line.to")?;
         if d1 != d2 {
-            return Err(Diagnostic::new("design", "line.from and line.to have different numbers of coordinates").at(l.to.span()));
+            return Err(Diagnostic::new(
+                "design",
+                "line.from and line.to have different numbers of coordinates",
+            )
+            .at(l.to.span()));
         }
         let cells = count(&l.cells, "line.cells", 1, MAX_CELLS as i64)?;
         all(seed::line(from, to, cells), d1, first.clone())
@@ -239,14 +266,18 @@ fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<Seed
         let (center, dim) = coords(&a.center, "arc.center")?;
         let radius = finite(&a.radius, "arc.radius")?;
         if radius <= 0.0 {
-            return Err(Diagnostic::new("design", "arc.radius must be positive").at(a.radius.span()));
+            return Err(
+                Diagnostic::new("design", "arc.radius must be positive").at(a.radius.span())
+            );
         }
         let plane = match &a.plane {
             None => seed::Plane::Xy,
             Some(p) if dim == 2 && p.get_ref() != "xy" => {
-                return Err(Diagnostic::new("design", "a planar arc lies in the xy plane")
-                    .at(p.span())
-                    .hint("give arc.center 3 coordinates to use another plane"));
+                return Err(
+                    Diagnostic::new("design", "a planar arc lies in the xy plane")
+                        .at(p.span())
+                        .hint("give arc.center 3 coordinates to use another plane"),
+                );
             }
             Some(p) => seed::Plane::parse(p.get_ref()).ok_or_else(|| {
                 Diagnostic::new("design", format!("unknown plane \"{}\"", p.get_ref()))
@@ -256,9 +287,17 @@ fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<Seed
         };
         let cells = count(&a.cells, "arc.cells", 1, MAX_CELLS as i64)?;
         let (from, to) = (finite(&a.from, "arc.from")?, finite(&a.to, "arc.to")?);
-        all(seed::arc(center, radius, from, to, cells, plane), dim, first.clone())
+        all(
+            seed::arc(center, radius, from, to, cells, plane),
+            dim,
+            first.clone(),
+        )
     } else {
-        let p = lat.polyline.as_ref().expect("one generator is given").get_ref();
+        let p = lat
+            .polyline
+            .as_ref()
+            .expect("one generator is given")
+            .get_ref();
         let corners = p
             .points
             .get_ref()
@@ -267,26 +306,41 @@ fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<Seed
             .map(|(k, c)| coords(c, &format!("polyline point {k}")))
             .collect::<Result<Vec<_>, _>>()?;
         if corners.len() < 2 {
-            return Err(Diagnostic::new("SeedTooShort", "a polyline needs at least 2 points").at(p.points.span()));
+            return Err(
+                Diagnostic::new("SeedTooShort", "a polyline needs at least 2 points")
+                    .at(p.points.span()),
+            );
         }
         if corners.iter().any(|c| c.1 != corners[0].1) {
-            return Err(Diagnostic::new("design", "polyline points have different numbers of coordinates")
-                .at(p.points.span()));
+            return Err(Diagnostic::new(
+                "design",
+                "polyline points have different numbers of coordinates",
+            )
+            .at(p.points.span()));
         }
         let per = match &p.cells_per_segment {
             Some(n) => count(n, "polyline.cells_per_segment", 1, MAX_CELLS as i64)?,
             None => 1,
         };
         if per.saturating_mul(corners.len() - 1) > MAX_CELLS {
-            return Err(Diagnostic::new("TooLarge", "the polyline makes too many seed edges").at(p.points.span()));
+            return Err(
+                Diagnostic::new("TooLarge", "the polyline makes too many seed edges")
+                    .at(p.points.span()),
+            );
         }
         let pts: Vec<DVec3> = corners.iter().map(|c| c.0).collect();
         all(seed::polyline(&pts, per), corners[0].1, first.clone())
     };
     if points.len() < 2 {
-        return Err(Diagnostic::new("SeedTooShort", format!("a sheet seed needs at least 2 points, this one has {}", points.len()))
-            .at(first.clone())
-            .hint("add seed points: a sheet of m cells has m + 1"));
+        return Err(Diagnostic::new(
+            "SeedTooShort",
+            format!(
+                "a sheet seed needs at least 2 points, this one has {}",
+                points.len()
+            ),
+        )
+        .at(first.clone())
+        .hint("add seed points: a sheet of m cells has m + 1"));
     }
     Ok((points, first.clone()))
 }
@@ -295,9 +349,12 @@ fn seed_points(lat: &RawLattice, lattice_span: Range<usize>) -> Result<(Vec<Seed
 fn dimension(points: &[SeedPoint]) -> Result<usize, Diagnostic> {
     let dim = points[0].1.0;
     if let Some((_, (d, span))) = points.iter().find(|p| p.1.0 != dim) {
-        return Err(Diagnostic::new("design", format!("this seed point has {d} coordinates but the first has {dim}"))
-            .at(span.clone())
-            .hint("give every seed point the same number of coordinates"));
+        return Err(Diagnostic::new(
+            "design",
+            format!("this seed point has {d} coordinates but the first has {dim}"),
+        )
+        .at(span.clone())
+        .hint("give every seed point the same number of coordinates"));
     }
     Ok(dim)
 }
@@ -318,26 +375,45 @@ fn seed_kappa(lat: &RawLattice, npoints: usize, spans: &mut Spans) -> Result<Vec
         }
         RawKappa::PerEdge(list) => {
             if list.len() != edges {
-                return Err(Diagnostic::new("design", format!("kappa has {} values but the seed has {edges} edges", list.len()))
-                    .at(k.span())
-                    .hint(format!("give one kappa per seed edge ({edges}), or one number for all")));
+                return Err(Diagnostic::new(
+                    "design",
+                    format!(
+                        "kappa has {} values but the seed has {edges} edges",
+                        list.len()
+                    ),
+                )
+                .at(k.span())
+                .hint(format!(
+                    "give one kappa per seed edge ({edges}), or one number for all"
+                )));
             }
             spans.kappa_edges = list.iter().map(|n| n.span()).collect();
-            list.iter().enumerate().map(|(j, n)| finite(n, &format!("kappa of seed edge {j}"))).collect()
+            list.iter()
+                .enumerate()
+                .map(|(j, n)| finite(n, &format!("kappa of seed edge {j}")))
+                .collect()
         }
     }
 }
 
 /// One `RowParams` per row: `[lattice.grow]` defaults overridden by the
 /// `[[lattice.rows]]` entries.
-fn rows(lat: &RawLattice, dim: usize, width: usize, spans: &mut Spans) -> Result<Vec<RowParams>, Diagnostic> {
+fn rows(
+    lat: &RawLattice,
+    dim: usize,
+    width: usize,
+    spans: &mut Spans,
+) -> Result<Vec<RowParams>, Diagnostic> {
     let defaults = lat.grow.as_ref().map(|g| g.get_ref());
     if let Some(g) = &lat.grow {
         for (field, name) in [(&g.get_ref().row, "row"), (&g.get_ref().repeat, "repeat")] {
             if let Some(f) = field {
-                return Err(Diagnostic::new("design", format!("`{name}` belongs in a [[lattice.rows]] entry, not in [lattice.grow]"))
-                    .at(f.span())
-                    .hint("[lattice.grow] takes `rows` (how many) and the default row fields"));
+                return Err(Diagnostic::new(
+                    "design",
+                    format!("`{name}` belongs in a [[lattice.rows]] entry, not in [lattice.grow]"),
+                )
+                .at(f.span())
+                .hint("[lattice.grow] takes `rows` (how many) and the default row fields"));
             }
         }
         spans.grow = Some(field_spans(g));
@@ -353,9 +429,13 @@ fn rows(lat: &RawLattice, dim: usize, width: usize, spans: &mut Spans) -> Result
     for (e, entry) in entries.iter().enumerate() {
         let r = entry.get_ref();
         if let Some(n) = &r.rows {
-            return Err(Diagnostic::new("design", "`rows` belongs in [lattice.grow]")
-                .at(n.span())
-                .hint("in a [[lattice.rows]] entry use `row` (which row) or `repeat` (how many)"));
+            return Err(
+                Diagnostic::new("design", "`rows` belongs in [lattice.grow]")
+                    .at(n.span())
+                    .hint(
+                        "in a [[lattice.rows]] entry use `row` (which row) or `repeat` (how many)",
+                    ),
+            );
         }
         let index = match &r.row {
             Some(n) => count(n, "row", 0, max_rows as i64 - 1)?,
@@ -363,9 +443,12 @@ fn rows(lat: &RawLattice, dim: usize, width: usize, spans: &mut Spans) -> Result
         };
         if index < row_entry.len() {
             let span = r.row.as_ref().map_or(entry.span(), |n| n.span());
-            return Err(Diagnostic::new("design", format!("row {index} is already described by an earlier [[lattice.rows]] entry"))
-                .at(span)
-                .hint("list [[lattice.rows]] entries in increasing row order"));
+            return Err(Diagnostic::new(
+                "design",
+                format!("row {index} is already described by an earlier [[lattice.rows]] entry"),
+            )
+            .at(span)
+            .hint("list [[lattice.rows]] entries in increasing row order"));
         }
         let repeat = match &r.repeat {
             Some(n) => count(n, "repeat", 1, max_rows as i64)?,
@@ -373,9 +456,15 @@ fn rows(lat: &RawLattice, dim: usize, width: usize, spans: &mut Spans) -> Result
         };
         if index + repeat > total.unwrap_or(max_rows) {
             let limit = total.unwrap_or(max_rows);
-            return Err(Diagnostic::new("design", format!("this entry reaches row {}, but the lattice has {limit} rows", index + repeat - 1))
-                .at(entry.span())
-                .hint("raise grow.rows, or lower `row` / `repeat`"));
+            return Err(Diagnostic::new(
+                "design",
+                format!(
+                    "this entry reaches row {}, but the lattice has {limit} rows",
+                    index + repeat - 1
+                ),
+            )
+            .at(entry.span())
+            .hint("raise grow.rows, or lower `row` / `repeat`"));
         }
         row_entry.resize(index, NO_ENTRY);
         row_entry.resize(index + repeat, e as u32);
@@ -422,7 +511,11 @@ fn field_spans(table: &Spanned<RawRow>) -> FieldSpans {
     FieldSpans {
         table: table.span(),
         start: r.start.as_ref().map(|s| s.span()),
-        direction: r.direction.as_ref().map(|s| s.span()).or_else(|| r.angle.as_ref().map(|s| s.span())),
+        direction: r
+            .direction
+            .as_ref()
+            .map(|s| s.span())
+            .or_else(|| r.angle.as_ref().map(|s| s.span())),
         left_leg: r.left_leg.as_ref().map(|s| s.span()),
         right_leg: r.right_leg.as_ref().map(|s| s.span()),
     }
@@ -430,11 +523,19 @@ fn field_spans(table: &Spanned<RawRow>) -> FieldSpans {
 
 /// A row's parameters from its own fields, falling back on `defaults`.
 /// `None` when neither gives a direction (reported per row by the caller).
-fn resolve(defaults: Option<&RawRow>, row: &RawRow, dim: usize) -> Result<Option<RowParams>, Diagnostic> {
+fn resolve(
+    defaults: Option<&RawRow>,
+    row: &RawRow,
+    dim: usize,
+) -> Result<Option<RowParams>, Diagnostic> {
     if let (Some(_), Some(a)) = (&row.direction, &row.angle) {
-        return Err(Diagnostic::new("design", "both `direction` and `angle` are given")
-            .at(a.span())
-            .hint("give the leg direction one way: `angle` in degrees or `direction` as a vector"));
+        return Err(
+            Diagnostic::new("design", "both `direction` and `angle` are given")
+                .at(a.span())
+                .hint(
+                    "give the leg direction one way: `angle` in degrees or `direction` as a vector",
+                ),
+        );
     }
     let pick = |own: bool| if own { Some(row) } else { defaults };
     let dir_source = pick(row.direction.is_some() || row.angle.is_some());
@@ -443,9 +544,12 @@ fn resolve(defaults: Option<&RawRow>, row: &RawRow, dim: usize) -> Result<Option
             let c = r.direction.as_ref().expect("checked");
             let (v, d) = coords(c, "direction")?;
             if d != dim {
-                return Err(Diagnostic::new("design", format!("direction has {d} coordinates but the lattice is {dim}-D"))
-                    .at(c.span())
-                    .hint(format!("give {dim} coordinates")));
+                return Err(Diagnostic::new(
+                    "design",
+                    format!("direction has {d} coordinates but the lattice is {dim}-D"),
+                )
+                .at(c.span())
+                .hint(format!("give {dim} coordinates")));
             }
             Some(Direction::Vector(v))
         }
@@ -454,34 +558,64 @@ fn resolve(defaults: Option<&RawRow>, row: &RawRow, dim: usize) -> Result<Option
             let raw = *a.get_ref();
             let tilt = raw.tilt.unwrap_or(0.0);
             if !(raw.angle.is_finite() && tilt.is_finite()) {
-                return Err(Diagnostic::new("design", "the angle is not a finite number").at(a.span()));
+                return Err(
+                    Diagnostic::new("design", "the angle is not a finite number").at(a.span()),
+                );
             }
             if dim == 2 && raw.tilt.is_some() {
-                return Err(Diagnostic::new("design", "a tilt angle needs a 3-D lattice")
-                    .at(a.span())
-                    .hint("in 2-D give `angle` as one number of degrees"));
+                return Err(
+                    Diagnostic::new("design", "a tilt angle needs a 3-D lattice")
+                        .at(a.span())
+                        .hint("in 2-D give `angle` as one number of degrees"),
+                );
             }
-            Some(Direction::Angles { angle_deg: raw.angle, tilt_deg: tilt })
+            Some(Direction::Angles {
+                angle_deg: raw.angle,
+                tilt_deg: tilt,
+            })
         }
         _ => None,
     };
-    let start = match row.start.as_ref().or(defaults.and_then(|d| d.start.as_ref())) {
+    let start = match row
+        .start
+        .as_ref()
+        .or(defaults.and_then(|d| d.start.as_ref()))
+    {
         Some(s) => count(s, "start", 0, MAX_CELLS as i64)?,
         None => 0,
     };
-    let leg = |own: &Option<Spanned<RawLeg>>, default: Option<&Spanned<RawLeg>>, name: &str| -> Result<Leg, Diagnostic> {
+    let leg = |own: &Option<Spanned<RawLeg>>,
+               default: Option<&Spanned<RawLeg>>,
+               name: &str|
+     -> Result<Leg, Diagnostic> {
         match own.as_ref().or(default) {
             None => Ok(Leg::Match),
             Some(l) => match *l.get_ref() {
                 RawLeg::Match => Ok(Leg::Match),
                 RawLeg::Length(v) if v.is_finite() && v > 0.0 => Ok(Leg::Length(v)),
-                RawLeg::Length(v) => Err(Diagnostic::new("NonPositiveLeg", format!("{name} is {v}, but must be a positive length"))
-                    .at(l.span())
-                    .hint(format!("give {name} a positive length in mm, or \"match\""))),
+                RawLeg::Length(v) => Err(Diagnostic::new(
+                    "NonPositiveLeg",
+                    format!("{name} is {v}, but must be a positive length"),
+                )
+                .at(l.span())
+                .hint(format!("give {name} a positive length in mm, or \"match\""))),
             },
         }
     };
-    let left_leg = leg(&row.left_leg, defaults.and_then(|d| d.left_leg.as_ref()), "left_leg")?;
-    let right_leg = leg(&row.right_leg, defaults.and_then(|d| d.right_leg.as_ref()), "right_leg")?;
-    Ok(direction.map(|direction| RowParams { start, direction, left_leg, right_leg }))
+    let left_leg = leg(
+        &row.left_leg,
+        defaults.and_then(|d| d.left_leg.as_ref()),
+        "left_leg",
+    )?;
+    let right_leg = leg(
+        &row.right_leg,
+        defaults.and_then(|d| d.right_leg.as_ref()),
+        "right_leg",
+    )?;
+    Ok(direction.map(|direction| RowParams {
+        start,
+        direction,
+        left_leg,
+        right_leg,
+    }))
 }

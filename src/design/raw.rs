@@ -2,8 +2,8 @@
 //! later check can point at the text it is about. Validation lives in
 //! `design::mod`; nothing here interprets the numbers.
 
-use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use std::fmt;
 use toml::Spanned;
 
@@ -131,18 +131,28 @@ impl<'de> Deserialize<'de> for RawAngle {
                 f.write_str("an angle in degrees, or [angle, tilt] in degrees for 3-D")
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawAngle, E> {
-                Ok(RawAngle { angle: v, tilt: None })
+                Ok(RawAngle {
+                    angle: v,
+                    tilt: None,
+                })
             }
             fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawAngle, E> {
                 self.visit_f64(v as f64)
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawAngle, A::Error> {
-                let angle = seq.next_element::<f64>()?.ok_or_else(|| de::Error::invalid_length(0, &self))?;
-                let tilt = seq.next_element::<f64>()?.ok_or_else(|| de::Error::invalid_length(1, &self))?;
+                let angle = seq
+                    .next_element::<f64>()?
+                    .ok_or_else(|| de::Error::invalid_length(0, &self))?;
+                let tilt = seq
+                    .next_element::<f64>()?
+                    .ok_or_else(|| de::Error::invalid_length(1, &self))?;
                 if seq.next_element::<f64>()?.is_some() {
                     return Err(de::Error::invalid_length(3, &self));
                 }
-                Ok(RawAngle { angle, tilt: Some(tilt) })
+                Ok(RawAngle {
+                    angle,
+                    tilt: Some(tilt),
+                })
             }
         }
         d.deserialize_any(V)

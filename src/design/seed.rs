@@ -38,7 +38,14 @@ impl Plane {
 
 /// `cells + 1` points on a circular arc from angle `from_deg` to `to_deg`
 /// (counter-clockwise when `to > from`), measured in `plane` from its first axis.
-pub fn arc(center: DVec3, radius: f64, from_deg: f64, to_deg: f64, cells: usize, plane: Plane) -> Vec<DVec3> {
+pub fn arc(
+    center: DVec3,
+    radius: f64,
+    from_deg: f64,
+    to_deg: f64,
+    cells: usize,
+    plane: Plane,
+) -> Vec<DVec3> {
     let (e1, e2) = plane.axes();
     (0..=cells)
         .map(|k| {

@@ -104,8 +104,14 @@ mod tests {
         let p = pivot_from_v2(ul, ur, v2).unwrap();
         assert!((p.z - ur.z - 2.25).abs() < 1e-12, "l4");
         assert!((p.z - ul.z - 1.75).abs() < 1e-12, "l1");
-        assert!((p.pos.distance(ur.pos) - 2.25).abs() < 1e-12, "l4 as a distance");
-        assert!((p.pos.distance(ul.pos) - 1.75).abs() < 1e-12, "l1 as a distance");
+        assert!(
+            (p.pos.distance(ur.pos) - 2.25).abs() < 1e-12,
+            "l4 as a distance"
+        );
+        assert!(
+            (p.pos.distance(ul.pos) - 1.75).abs() < 1e-12,
+            "l1 as a distance"
+        );
         assert!(p.pos.distance(DVec3::new(0.5, -1.5, -0.75)) < 1e-12);
         // The mirror form from the resulting v1 lands on the same pivot.
         let v1 = (p.pos - ul.pos).normalize();

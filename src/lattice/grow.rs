@@ -1,9 +1,7 @@
 //! Growing a sheet row by row on an open front (MATH.md section 5), with the
 //! validity rules of section 9 reported at the row and column where they fail.
 
-use super::construct::{
-    Point, Refusal, lower_left, lower_right, pivot_from_v1, pivot_from_v2,
-};
+use super::construct::{Point, Refusal, lower_left, lower_right, pivot_from_v1, pivot_from_v2};
 use super::{Cell, Kind, Lattice, Vertex, VertexKey, angle_between};
 use crate::geometry::{Direction, Leg};
 use glam::DVec3;
@@ -123,7 +121,13 @@ impl GrowthError {
 
 impl fmt::Display for GrowthError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} at {}: {}", self.kind.name(), self.site(), self.message)
+        write!(
+            f,
+            "{} at {}: {}",
+            self.kind.name(),
+            self.site(),
+            self.message
+        )
     }
 }
 
@@ -144,19 +148,29 @@ pub fn grow_sheet(
             Param::SeedPoints,
             None,
             None,
-            format!("a sheet seed needs at least 2 points, this one has {}", points.len()),
+            format!(
+                "a sheet seed needs at least 2 points, this one has {}",
+                points.len()
+            ),
             "add points to the seed front",
         ));
     }
     let m = points.len() - 1;
-    assert_eq!(kappa.len(), m, "the design layer checks one kappa per seed edge");
+    assert_eq!(
+        kappa.len(),
+        m,
+        "the design layer checks one kappa per seed edge"
+    );
     if m.saturating_mul(rows.len()) > MAX_CELLS {
         return Err(GrowthError::new(
             K::TooLarge,
             Param::SeedPoints,
             None,
             None,
-            format!("{m} x {} cells is more than the limit of {MAX_CELLS}", rows.len()),
+            format!(
+                "{m} x {} cells is more than the limit of {MAX_CELLS}",
+                rows.len()
+            ),
             "grow fewer rows or use fewer seed points",
         ));
     }
@@ -189,7 +203,10 @@ pub fn grow_sheet(
             z -= k;
         }
         lattice.vertices.push(Vertex {
-            key: VertexKey { row: 0, col: j as u32 },
+            key: VertexKey {
+                row: 0,
+                col: j as u32,
+            },
             pos,
             z,
         });
@@ -218,12 +235,21 @@ struct RowGrower {
 }
 
 impl RowGrower {
-    fn grow(&mut self, lattice: &mut Lattice, i: usize, params: &RowParams) -> Result<(), GrowthError> {
+    fn grow(
+        &mut self,
+        lattice: &mut Lattice,
+        i: usize,
+        params: &RowParams,
+    ) -> Result<(), GrowthError> {
         use GrowthErrorKind as K;
         let m = self.m;
         let base = i * (m + 1);
         self.front.clear();
-        self.front.extend(lattice.vertices[base..base + m + 1].iter().map(|v| Point { pos: v.pos, z: v.z }));
+        self.front.extend(
+            lattice.vertices[base..base + m + 1]
+                .iter()
+                .map(|v| Point { pos: v.pos, z: v.z }),
+        );
         self.pivots.iter_mut().for_each(|p| *p = None);
         self.next.iter_mut().for_each(|p| *p = None);
         let x = &self.front;
@@ -241,7 +267,9 @@ impl RowGrower {
             ));
         }
         let v2 = resolve_direction(params.direction, x[j0].pos, x[j0 + 1].pos, lattice.dim)
-            .map_err(|(msg, hint)| GrowthError::new(K::BadDirection, Param::Direction, row, Some(j0), msg, hint))?;
+            .map_err(|(msg, hint)| {
+                GrowthError::new(K::BadDirection, Param::Direction, row, Some(j0), msg, hint)
+            })?;
         let start = pivot_from_v2(x[j0], x[j0 + 1], v2).map_err(|_| {
             let t = x[j0 + 1].pos - x[j0].pos;
             let kappa = x[j0].z - x[j0 + 1].z;
@@ -265,11 +293,13 @@ impl RowGrower {
         for j in j0..m.saturating_sub(1) {
             let p = self.pivots[j].expect("pivot grown");
             let v1 = (p.pos - x[j].pos).normalize();
-            let lr = lower_right(x[j], x[j + 2], v1).map_err(|r| transfer_error(r, x, j, j + 2, i, j))?;
+            let lr = lower_right(x[j], x[j + 2], v1)
+                .map_err(|r| transfer_error(r, x, j, j + 2, i, j))?;
             check_leg(lr.z - p.z, "l3", i, j)?;
             self.next[j + 1] = Some(lr);
             let v2 = (lr.pos - x[j + 2].pos).normalize();
-            let cell = pivot_from_v2(x[j + 1], x[j + 2], v2).map_err(|_| propagated_cone(i, j + 1))?;
+            let cell =
+                pivot_from_v2(x[j + 1], x[j + 2], v2).map_err(|_| propagated_cone(i, j + 1))?;
             check_leg(lr.z - cell.z, "l2", i, j + 1)?;
             self.pivots[j + 1] = Some(cell);
         }
@@ -277,7 +307,8 @@ impl RowGrower {
         for j in (1..=j0).rev() {
             let p = self.pivots[j].expect("pivot grown");
             let v2 = (p.pos - x[j + 1].pos).normalize();
-            let ll = lower_left(x[j - 1], x[j + 1], v2).map_err(|r| transfer_error(r, x, j - 1, j + 1, i, j))?;
+            let ll = lower_left(x[j - 1], x[j + 1], v2)
+                .map_err(|r| transfer_error(r, x, j - 1, j + 1, i, j))?;
             check_leg(ll.z - p.z, "l2", i, j)?;
             self.next[j] = Some(ll);
             let v1 = (ll.pos - x[j - 1].pos).normalize();
@@ -313,8 +344,14 @@ impl RowGrower {
         check_boundary_leg(l3, Param::RightLeg, i, m - 1)?;
         let v2_first = (p_first.pos - x[1].pos).normalize();
         let v1_last = (p_last.pos - x[m - 1].pos).normalize();
-        self.next[0] = Some(Point { pos: p_first.pos + l2 * v2_first, z: p_first.z + l2 });
-        self.next[m] = Some(Point { pos: p_last.pos + l3 * v1_last, z: p_last.z + l3 });
+        self.next[0] = Some(Point {
+            pos: p_first.pos + l2 * v2_first,
+            z: p_first.z + l2,
+        });
+        self.next[m] = Some(Point {
+            pos: p_last.pos + l3 * v1_last,
+            z: p_last.z + l3,
+        });
 
         // Commit the row: new front vertices, then cells left to right.
         let next_base = (i + 1) * (m + 1);
@@ -324,7 +361,10 @@ impl RowGrower {
                 return Err(breakdown(i, j));
             }
             lattice.vertices.push(Vertex {
-                key: VertexKey { row: (i + 1) as u32, col: j as u32 },
+                key: VertexKey {
+                    row: (i + 1) as u32,
+                    col: j as u32,
+                },
                 pos: q.pos,
                 z: q.z,
             });
@@ -363,7 +403,11 @@ impl RowGrower {
         }
         if sin_phi < EPS_ANGLE {
             let phi = angle_between(ul / ul.length(), ur / ur.length());
-            let state = if dot > 0.0 { "collapsed (phi near 0)" } else { "flat-open (phi near 180 deg)" };
+            let state = if dot > 0.0 {
+                "collapsed (phi near 0)"
+            } else {
+                "flat-open (phi near 180 deg)"
+            };
             return Err(GrowthError::new(
                 GrowthErrorKind::DegenerateCell,
                 Param::Direction,
@@ -412,7 +456,10 @@ fn resolve_direction(
             }
             Ok(v / len)
         }
-        Direction::Angles { angle_deg, tilt_deg } => {
+        Direction::Angles {
+            angle_deg,
+            tilt_deg,
+        } => {
             if dim == 2 && tilt_deg != 0.0 {
                 return Err((
                     "a tilt angle needs a 3-D lattice".into(),
@@ -458,7 +505,14 @@ pub fn front_frame(ul: DVec3, ur: DVec3) -> Option<FrontFrame> {
 }
 
 /// A refused transfer across the double edge from front vertex `a` to `b`.
-fn transfer_error(refusal: Refusal, x: &[Point], a: usize, b: usize, i: usize, j: usize) -> GrowthError {
+fn transfer_error(
+    refusal: Refusal,
+    x: &[Point],
+    a: usize,
+    b: usize,
+    i: usize,
+    j: usize,
+) -> GrowthError {
     match refusal {
         Refusal::NotSpacelike => GrowthError::new(
             GrowthErrorKind::DoubleEdgeNotSpacelike,
@@ -499,7 +553,10 @@ fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError
         Param::Direction,
         Some(i),
         Some(j),
-        format!("leg {name} would be {} (the pivot lies beyond the corner)", fmt_len(leg)),
+        format!(
+            "leg {name} would be {} (the pivot lies beyond the corner)",
+            fmt_len(leg)
+        ),
         "choose a direction nearer the cone axis for this row",
     ))
 }
@@ -508,14 +565,21 @@ fn check_boundary_leg(leg: f64, param: Param, i: usize, j: usize) -> Result<(), 
     if leg.is_finite() && leg > 0.0 {
         return Ok(());
     }
-    let name = if param == Param::LeftLeg { "left_leg (L2)" } else { "right_leg (L3)" };
+    let name = if param == Param::LeftLeg {
+        "left_leg (L2)"
+    } else {
+        "right_leg (L3)"
+    };
     Err(GrowthError::new(
         GrowthErrorKind::NonPositiveLeg,
         param,
         Some(i),
         Some(j),
         format!("{name} is {} but must be a positive length", fmt_len(leg)),
-        format!("give {} a positive length in mm, or \"match\"", name.split(' ').next().unwrap_or(name)),
+        format!(
+            "give {} a positive length in mm, or \"match\"",
+            name.split(' ').next().unwrap_or(name)
+        ),
     ))
 }
 

@@ -12,7 +12,8 @@ mod rods;
 mod verify;
 
 pub use grow::{
-    FrontFrame, GrowthError, GrowthErrorKind, MAX_CELLS, Param, RowParams, fmt_len, front_frame, grow_sheet,
+    FrontFrame, GrowthError, GrowthErrorKind, MAX_CELLS, Param, RowParams, fmt_len, front_frame,
+    grow_sheet,
 };
 pub use joints::{Joint, JointEnd, RodEnd, joints, layer};
 pub use rods::{Rod, RodType};
@@ -83,11 +84,7 @@ pub struct Lattice {
 impl Lattice {
     /// Number of grown rows of cells.
     pub fn rows(&self) -> usize {
-        if self.width == 0 {
-            0
-        } else {
-            self.cells.len() / self.width
-        }
+        self.cells.len().checked_div(self.width).unwrap_or(0)
     }
 
     pub fn vertex(&self, index: u32) -> &Vertex {
@@ -104,7 +101,12 @@ impl Lattice {
     pub fn legs(&self, cell: &Cell) -> Legs {
         let [ul, ur, ll, lr] = self.corners(cell);
         let p = cell.pivot;
-        [p.distance(ul), p.distance(ll), p.distance(lr), p.distance(ur)]
+        [
+            p.distance(ul),
+            p.distance(ll),
+            p.distance(lr),
+            p.distance(ur),
+        ]
     }
 
     /// The collapsibility parameter `kappa = z(UL) - z(UR)` of a cell.

@@ -33,7 +33,9 @@ impl Invariant {
             Self::VerticalPores => "collapsibility (V) at vertical pores",
             Self::CompatibilitySlope => "four-map composition: slope - 1",
             Self::CompatibilityIntercept => "four-map composition: intercept / |s|^2",
-            Self::CompatibilityInterceptNatural => "four-map composition: intercept / its magnitude",
+            Self::CompatibilityInterceptNatural => {
+                "four-map composition: intercept / its magnitude"
+            }
             Self::CollapsedSingleValued => "collapsed state: z single-valued",
             Self::CollapsedMatchesConstruction => "collapsed state: z equals construction z",
             Self::CollapsedRodLength => "collapsed state: rods keep their length",
@@ -119,7 +121,10 @@ impl Report {
 
     /// The largest residual over all invariants.
     pub fn worst(&self) -> f64 {
-        self.checks.iter().map(|c| c.max).fold(0.0, |a, b| if b.is_nan() { b } else { a.max(b) })
+        self.checks
+            .iter()
+            .map(|c| c.max)
+            .fold(0.0, |a, b| if b.is_nan() { b } else { a.max(b) })
     }
 }
 
@@ -229,7 +234,9 @@ pub fn verify(lattice: &Lattice) -> Report {
         }
         let [a, b, c, d] = [a, b, c, d].map(|k| legs[k as usize]);
         // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-        let f = |la: f64, lb: f64, lc: f64| (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb));
+        let f = |la: f64, lb: f64, lc: f64| {
+            (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
+        };
         let maps = [
             f(a[1], a[0], a[3]), // f_a^(2,1,4): left edge -> top edge
             f(b[2], b[1], b[0]), // f_b^(3,2,1): bottom edge -> left edge
@@ -259,10 +266,12 @@ pub fn verify(lattice: &Lattice) -> Report {
         horizontal_pores: pores_h.count,
         vertical_pores: pores_v.count,
         interior_vertices: slope.count,
-        checks: [straight, legs_z, seed, pores_h, pores_v, slope, intercept, natural]
-            .into_iter()
-            .chain(collapsed)
-            .collect(),
+        checks: [
+            straight, legs_z, seed, pores_h, pores_v, slope, intercept, natural,
+        ]
+        .into_iter()
+        .chain(collapsed)
+        .collect(),
     }
 }
 
@@ -290,7 +299,9 @@ fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
             let zv = z[v as usize];
             (!zv.is_nan()).then_some(zv - off)
         }) else {
-            single.record(f64::NAN, || format!("{} (not connected to vertex 0)", cell_site(cell)));
+            single.record(f64::NAN, || {
+                format!("{} (not connected to vertex 0)", cell_site(cell))
+            });
             continue;
         };
         z_pivot[c] = zp;
@@ -307,15 +318,26 @@ fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
     }
     let global = legs.iter().map(mean).sum::<f64>() / legs.len().max(1) as f64;
     for (v, vertex) in lattice.vertices.iter().enumerate() {
-        matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || vertex_site(lattice, v));
+        matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
+            vertex_site(lattice, v)
+        });
     }
     for (c, cell) in lattice.cells.iter().enumerate() {
         let site = || cell_site(cell);
-        matches.record((z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()), site);
+        matches.record(
+            (z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()),
+            site,
+        );
         let inv = 1.0 / mean(&legs[c]);
         let deployed = |a: u32, b: u32| lattice.vertex(a).pos.distance(lattice.vertex(b).pos);
-        rods.record((z[cell.lr as usize] - z[cell.ul as usize] - deployed(cell.ul, cell.lr)) * inv, site);
-        rods.record((z[cell.ll as usize] - z[cell.ur as usize] - deployed(cell.ur, cell.ll)) * inv, site);
+        rods.record(
+            (z[cell.lr as usize] - z[cell.ul as usize] - deployed(cell.ul, cell.lr)) * inv,
+            site,
+        );
+        rods.record(
+            (z[cell.ll as usize] - z[cell.ur as usize] - deployed(cell.ur, cell.ll)) * inv,
+            site,
+        );
     }
     [single, matches, rods]
 }

@@ -75,59 +75,75 @@ pub fn write(lattice: &Lattice) -> Vec<u8> {
         lattice.kind.name(),
         dim
     ));
-    section(&mut out, "vertices", lattice.vertices.iter().map(|v| VertexJson {
-        key: key(v.key),
-        pos: pos(v.pos),
-        z: v.z,
-    }));
+    section(
+        &mut out,
+        "vertices",
+        lattice.vertices.iter().map(|v| VertexJson {
+            key: key(v.key),
+            pos: pos(v.pos),
+            z: v.z,
+        }),
+    );
     out.push_str(",\n");
-    section(&mut out, "cells", lattice.cells.iter().map(|c| CellJson {
-        key: [c.row, c.col],
-        ul: vkey(c.ul),
-        ur: vkey(c.ur),
-        ll: vkey(c.ll),
-        lr: vkey(c.lr),
-        // An extrinsic lattice has one global frame; the frame index is the
-        // row, as for intrinsic lattices whose rows each have their own.
-        frame: c.row,
-        pivot: pos(c.pivot),
-        z_pivot: c.z_pivot,
-        corners: lattice.corners(c).map(pos),
-        legs: lattice.legs(c),
-        kappa: lattice.kappa(c),
-        phi: lattice.phi(c),
-    }));
+    section(
+        &mut out,
+        "cells",
+        lattice.cells.iter().map(|c| CellJson {
+            key: [c.row, c.col],
+            ul: vkey(c.ul),
+            ur: vkey(c.ur),
+            ll: vkey(c.ll),
+            lr: vkey(c.lr),
+            // An extrinsic lattice has one global frame; the frame index is the
+            // row, as for intrinsic lattices whose rows each have their own.
+            frame: c.row,
+            pivot: pos(c.pivot),
+            z_pivot: c.z_pivot,
+            corners: lattice.corners(c).map(pos),
+            legs: lattice.legs(c),
+            kappa: lattice.kappa(c),
+            phi: lattice.phi(c),
+        }),
+    );
     out.push_str(",\n");
-    section(&mut out, "rods", lattice.rods().map(|r| {
-        let cell = &lattice.cells[r.cell];
-        RodJson {
-            id: r.id,
-            cell: [cell.row, cell.col],
-            kind: r.kind.letter(),
-            start: vkey(r.start),
-            end: vkey(r.end),
-            legs: r.legs,
-            length: r.length(),
-            holes: r.holes(),
-            hole_pos: r.hole_pos.map(pos),
-        }
-    }));
+    section(
+        &mut out,
+        "rods",
+        lattice.rods().map(|r| {
+            let cell = &lattice.cells[r.cell];
+            RodJson {
+                id: r.id,
+                cell: [cell.row, cell.col],
+                kind: r.kind.letter(),
+                start: vkey(r.start),
+                end: vkey(r.end),
+                legs: r.legs,
+                length: r.length(),
+                holes: r.holes(),
+                hole_pos: r.hole_pos.map(pos),
+            }
+        }),
+    );
     out.push_str(",\n");
-    section(&mut out, "eyelets", joints(lattice).into_iter().map(|j| EyeletJson {
-        vertex: vkey(j.vertex),
-        n_rods: j.ends.len(),
-        needs_eyelet: j.needs_eyelet(),
-        rods: j
-            .ends
-            .iter()
-            .map(|e| EyeletRodJson {
-                rod: e.rod,
-                kind: e.kind.letter(),
-                end: e.end.name(),
-                layer: e.layer,
-            })
-            .collect(),
-    }));
+    section(
+        &mut out,
+        "eyelets",
+        joints(lattice).into_iter().map(|j| EyeletJson {
+            vertex: vkey(j.vertex),
+            n_rods: j.ends.len(),
+            needs_eyelet: j.needs_eyelet(),
+            rods: j
+                .ends
+                .iter()
+                .map(|e| EyeletRodJson {
+                    rod: e.rod,
+                    kind: e.kind.letter(),
+                    end: e.end.name(),
+                    layer: e.layer,
+                })
+                .collect(),
+        }),
+    );
     out.push_str("\n}\n");
     out.into_bytes()
 }
