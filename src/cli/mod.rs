@@ -55,10 +55,11 @@ struct Failed(i32);
 pub fn run() -> i32 {
     let args = Args::parse();
     let result = match args.command {
-        Command::Check { designs } => designs
-            .iter()
-            .map(|d| check(d))
-            .fold(Ok(()), |acc, r| acc.and(r)),
+        Command::Check { designs } => {
+            // Check every design, even after one fails; report the first failure.
+            let results: Vec<_> = designs.iter().map(|d| check(d)).collect();
+            results.into_iter().find(Result::is_err).unwrap_or(Ok(()))
+        }
         Command::Build { design, out } => build(design.as_deref(), &out),
     };
     match result {
