@@ -3,9 +3,14 @@
 //! design -> lattice -> parts -> layout -> drawing -> bytes.
 //! Everything here is pure; only the binary touches files and the terminal.
 
+pub mod build;
 pub mod design;
 pub mod diagnostic;
+pub mod drawing;
+pub mod fabrication;
 pub mod geometry;
 pub mod lattice;
+pub mod layout;
+pub mod parts;
 pub mod report;
 pub mod write;

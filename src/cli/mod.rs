@@ -3,14 +3,15 @@
 
 mod files;
 
-use clap::{Parser, Subcommand};
-use karigami::design::{self, Design};
+use clap::{Args as ClapArgs, Parser, Subcommand};
+use karigami::build::build as build_design;
+use karigami::design::{self, Design, Overrides};
 use karigami::lattice::{Lattice, verify};
 use karigami::report;
-use karigami::write::lattice_json;
 use std::path::{Path, PathBuf};
 
 pub const EXIT_INVALID: i32 = 1;
+pub const EXIT_USAGE: i32 = 2;
 pub const EXIT_IO: i32 = 3;
 
 /// The design `karigami build` uses when given none.
@@ -43,10 +44,52 @@ enum Command {
     Build {
         /// Recipe file (TOML); without one, a built-in example sheet.
         design: Option<PathBuf>,
-        /// Output folder.
+        /// Output folder. It is replaced as a whole; a folder that is not a
+        /// previous karigami build is refused unless --force is given.
         #[arg(long, short, default_value = "karigami-out")]
         out: PathBuf,
+        /// Replace the output folder even if it is not a previous karigami build.
+        #[arg(long)]
+        force: bool,
+        #[command(flatten)]
+        fabrication: FabricationFlags,
     },
+}
+
+/// Fabrication settings that replace the recipe's.
+#[derive(ClapArgs, Debug, Default)]
+struct FabricationFlags {
+    /// Sheet: a preset (600x400, glowforge, 12x24in, 12x20in, a3, a4) or WxH in mm.
+    #[arg(long)]
+    sheet: Option<String>,
+    /// Eyelet preset: 1/8in, 5/32in or 3/16in.
+    #[arg(long)]
+    eyelet: Option<String>,
+    /// Strip width in mm.
+    #[arg(long, value_name = "MM")]
+    strip_width: Option<f64>,
+    /// Laser kerf in mm.
+    #[arg(long, value_name = "MM")]
+    kerf: Option<f64>,
+    /// Offset the cut geometry by half the kerf (instead of leaving it nominal).
+    #[arg(long)]
+    compensate_kerf: bool,
+    /// What to engrave on strips: id, compact or none.
+    #[arg(long)]
+    label: Option<String>,
+}
+
+impl FabricationFlags {
+    fn overrides(&self) -> Overrides {
+        Overrides {
+            sheet: self.sheet.clone(),
+            eyelet: self.eyelet.clone(),
+            strip_width: self.strip_width,
+            kerf: self.kerf,
+            compensate_kerf: self.compensate_kerf.then_some(true),
+            label: self.label.clone(),
+        }
+    }
 }
 
 /// Why a command stopped: already reported to the user, with an exit code.
@@ -60,7 +103,12 @@ pub fn run() -> i32 {
             let results: Vec<_> = designs.iter().map(|d| check(d)).collect();
             results.into_iter().find(Result::is_err).unwrap_or(Ok(()))
         }
-        Command::Build { design, out } => build(design.as_deref(), &out),
+        Command::Build {
+            design,
+            out,
+            force,
+            fabrication,
+        } => build(design.as_deref(), &out, force, &fabrication.overrides()),
     };
     match result {
         Ok(()) => 0,
@@ -68,36 +116,59 @@ pub fn run() -> i32 {
     }
 }
 
-/// A recipe read and parsed, or the error already printed.
-fn load(path: &Path) -> Result<Design, Failed> {
-    let source = files::read(path).map_err(|e| {
-        eprintln!("error: cannot read {}: {e}", path.display());
-        Failed(EXIT_IO)
-    })?;
-    let stem = path
-        .file_stem()
-        .map_or("design".into(), |s| s.to_string_lossy().into_owned());
-    parse(&source, &stem, &path.display().to_string())
+/// A recipe as read: its text, its name for messages, its default design name.
+struct Recipe {
+    source: String,
+    file: String,
+    stem: String,
 }
 
-fn parse(source: &str, name: &str, file: &str) -> Result<Design, Failed> {
-    design::parse(source, name).map_err(|d| {
-        eprint!("{}", d.render(file, source));
-        Failed(EXIT_INVALID)
-    })
+impl Recipe {
+    fn read(path: &Path) -> Result<Self, Failed> {
+        let source = files::read(path).map_err(|e| {
+            eprintln!("error: cannot read {}: {e}", path.display());
+            Failed(EXIT_IO)
+        })?;
+        Ok(Self {
+            source,
+            file: path.display().to_string(),
+            stem: path
+                .file_stem()
+                .map_or("design".into(), |s| s.to_string_lossy().into_owned()),
+        })
+    }
+
+    fn built_in() -> Self {
+        Self {
+            source: DEFAULT_DESIGN.to_string(),
+            file: "(built-in sheet)".to_string(),
+            stem: "karigami-sheet".to_string(),
+        }
+    }
+
+    fn parse(&self, overrides: &Overrides) -> Result<Design, Failed> {
+        design::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.fail(&d))
+    }
+
+    /// Print a diagnostic against this recipe.
+    fn fail(&self, d: &karigami::diagnostic::Diagnostic) -> Failed {
+        eprint!("{}", d.render(&self.file, &self.source));
+        Failed(if d.class == "usage" {
+            EXIT_USAGE
+        } else {
+            EXIT_INVALID
+        })
+    }
 }
 
-fn grow(design: &Design, file: &str, source: &str) -> Result<Lattice, Failed> {
-    design.grow().map_err(|d| {
-        eprint!("{}", d.render(file, source));
-        Failed(EXIT_INVALID)
-    })
+fn grow(design: &Design, recipe: &Recipe) -> Result<Lattice, Failed> {
+    design.grow().map_err(|d| recipe.fail(&d))
 }
 
 fn check(path: &Path) -> Result<(), Failed> {
-    let design = load(path)?;
-    let source = files::read(path).unwrap_or_default();
-    let lattice = grow(&design, &path.display().to_string(), &source)?;
+    let recipe = Recipe::read(path)?;
+    let design = recipe.parse(&Overrides::default())?;
+    let lattice = grow(&design, &recipe)?;
     let report = verify(&lattice);
     print!("{}", report::check_text(&design, &lattice, &report));
     if report.passed() {
@@ -107,44 +178,24 @@ fn check(path: &Path) -> Result<(), Failed> {
     }
 }
 
-fn build(path: Option<&Path>, out: &Path) -> Result<(), Failed> {
-    let (design, source, file) = match path {
-        Some(p) => {
-            let design = load(p)?;
-            (
-                design,
-                files::read(p).unwrap_or_default(),
-                p.display().to_string(),
-            )
-        }
-        None => {
-            let file = "(built-in sheet)".to_string();
-            (
-                parse(DEFAULT_DESIGN, "karigami-sheet", &file)?,
-                DEFAULT_DESIGN.to_string(),
-                file,
-            )
-        }
+fn build(
+    path: Option<&Path>,
+    out: &Path,
+    force: bool,
+    overrides: &Overrides,
+) -> Result<(), Failed> {
+    let recipe = match path {
+        Some(p) => Recipe::read(p)?,
+        None => Recipe::built_in(),
     };
-    let lattice = grow(&design, &file, &source)?;
-    let report = verify(&lattice);
-    if !report.passed() {
-        print!("{}", report::check_text(&design, &lattice, &report));
-        eprintln!("error: {file} failed verification; nothing written");
-        return Err(Failed(EXIT_INVALID));
-    }
-    let io = |e: std::io::Error| {
-        eprintln!("error: cannot write into {}: {e}", out.display());
+    let design = recipe.parse(overrides)?;
+    let built = build_design(design).map_err(|d| recipe.fail(&d))?;
+    let outputs = built.files();
+    files::replace_dir(out, &outputs, force).map_err(|e| {
+        eprintln!("error: cannot write {}: {e}", out.display());
         Failed(EXIT_IO)
-    };
-    files::create_dir(out).map_err(io)?;
-    files::write_atomic(&out.join("lattice.json"), &lattice_json::write(&lattice)).map_err(io)?;
-    println!(
-        "built {}: {} cells, {} rods -> {}",
-        design.name,
-        lattice.cells.len(),
-        2 * lattice.cells.len(),
-        out.join("lattice.json").display()
-    );
+    })?;
+    print!("{}", built.summary());
+    println!("wrote {} files to {}", outputs.len(), out.display());
     Ok(())
 }

@@ -2,10 +2,14 @@
 //! whose every problem is reported as a `Diagnostic` pointing at the text;
 //! `Design::grow` grows it and points lattice errors back at the recipe.
 
+mod fabrication;
 mod raw;
 pub mod seed;
 
+pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
+
 use crate::diagnostic::Diagnostic;
+use crate::fabrication::Fabrication;
 use crate::geometry::{Direction, Leg};
 use crate::lattice::{GrowthError, Kind, Lattice, MAX_CELLS, Param, RowParams, grow_sheet};
 use glam::DVec3;
@@ -24,6 +28,9 @@ pub struct Design {
     pub kappa: Vec<f64>,
     /// One parameter set per grown row, in growth order.
     pub rows: Vec<RowParams>,
+    pub fabrication: Fabrication,
+    /// FNV-1a hash of the recipe text, written into the files' metadata.
+    pub recipe_hash: u64,
     spans: Spans,
 }
 
@@ -35,6 +42,7 @@ struct Spans {
     kappa: Range<usize>,
     /// Per seed edge, when kappa is written as an array.
     kappa_edges: Vec<Range<usize>>,
+    fabrication: FabricationSpans,
     grow: Option<FieldSpans>,
     /// One per `[[lattice.rows]]` entry.
     entries: Vec<FieldSpans>,
@@ -68,6 +76,15 @@ impl FieldSpans {
 /// Parse and validate a recipe. `default_name` names the design when the
 /// recipe has no `name` (the CLI passes the file stem).
 pub fn parse(source: &str, default_name: &str) -> Result<Design, Diagnostic> {
+    parse_with(source, default_name, &Overrides::default())
+}
+
+/// `parse`, with fabrication settings from the command line replacing the recipe's.
+pub fn parse_with(
+    source: &str,
+    default_name: &str,
+    overrides: &Overrides,
+) -> Result<Design, Diagnostic> {
     let raw: RawDesign = toml::from_str(source).map_err(|e| {
         Diagnostic::new("toml", e.message().trim_end().to_string())
             .at_opt(e.span())
@@ -82,6 +99,7 @@ pub fn parse(source: &str, default_name: &str) -> Result<Design, Diagnostic> {
         Some(n) => n.get_ref().clone(),
         None => default_name.to_string(),
     };
+    let (fabrication, fabrication_spans) = fabrication::fabrication(&raw, overrides)?;
     let lattice_span = raw.lattice.span();
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {
@@ -108,6 +126,7 @@ pub fn parse(source: &str, default_name: &str) -> Result<Design, Diagnostic> {
     let mut spans = Spans {
         lattice: lattice_span.clone(),
         points: points_span,
+        fabrication: fabrication_spans,
         ..Spans::default()
     };
     let kappa = seed_kappa(&lat, points.len(), &mut spans)?;
@@ -119,7 +138,16 @@ pub fn parse(source: &str, default_name: &str) -> Result<Design, Diagnostic> {
         points,
         kappa,
         rows,
+        fabrication,
+        recipe_hash: fnv1a(source.as_bytes()),
         spans,
+    })
+}
+
+/// 64-bit FNV-1a: a stable fingerprint of the recipe for file metadata.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
     })
 }
 
@@ -127,6 +155,16 @@ impl Design {
     /// Grow the lattice; errors point at the recipe text that caused them.
     pub fn grow(&self) -> Result<Lattice, Diagnostic> {
         grow_sheet(self.dim, &self.points, &self.kappa, &self.rows).map_err(|e| self.locate(e))
+    }
+
+    /// Where the fabrication settings were written.
+    pub fn fabrication_spans(&self) -> &FabricationSpans {
+        &self.spans.fabrication
+    }
+
+    /// The text that sets row `i`'s leg direction, for errors about a row's strips.
+    pub fn row_direction_span(&self, i: usize) -> Range<usize> {
+        self.row_span(i, Param::Direction)
     }
 
     fn locate(&self, e: GrowthError) -> Diagnostic {

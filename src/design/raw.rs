@@ -15,6 +15,56 @@ pub type Coords = Spanned<Vec<Num>>;
 pub struct RawDesign {
     pub name: Option<Spanned<String>>,
     pub lattice: Spanned<RawLattice>,
+    pub material: Option<Spanned<RawMaterial>>,
+    pub eyelet: Option<Spanned<RawEyelet>>,
+    pub strip: Option<Spanned<RawStrip>>,
+    pub laser: Option<Spanned<RawLaser>>,
+    pub sheet: Option<Spanned<RawSheet>>,
+}
+
+/// `[material]`: the strip stock.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMaterial {
+    pub name: Option<Spanned<String>>,
+    pub thickness: Option<Num>,
+    pub width: Option<Num>,
+}
+
+/// `[eyelet]`: a preset and/or explicit diameters.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawEyelet {
+    pub preset: Option<Spanned<String>>,
+    pub hole: Option<Num>,
+    pub flange: Option<Num>,
+}
+
+/// `[strip]`: end margin and engraving.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawStrip {
+    pub end_margin: Option<Num>,
+    pub label: Option<Spanned<String>>,
+}
+
+/// `[laser]`: kerf and whether the geometry is compensated for it.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawLaser {
+    pub kerf: Option<Num>,
+    pub compensate: Option<Spanned<bool>>,
+}
+
+/// `[sheet]`: the bed or stock sheet.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSheet {
+    pub preset: Option<Spanned<String>>,
+    pub width: Option<Num>,
+    pub height: Option<Num>,
+    pub margin: Option<Num>,
+    pub gap: Option<Num>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -1,3 +1,8 @@
 //! Writers: each turns a model into bytes. No writer touches the filesystem.
 
+pub mod dxf;
 pub mod lattice_json;
+mod number;
+pub mod parts_csv;
+pub mod pdf;
+pub mod svg;

@@ -1,0 +1,150 @@
+//! The whole pipeline for one design, pure: design -> lattice -> parts ->
+//! layout -> pages -> file bytes. The CLI only writes what this returns.
+
+use crate::design::Design;
+use crate::diagnostic::Diagnostic;
+use crate::drawing::{Meta, Page, sheet_page};
+use crate::lattice::{Lattice, Report, verify};
+use crate::layout::{Bounds, Layout, nest};
+use crate::parts::{Outline, Parts, PartsError, parts};
+use crate::write::{dxf, lattice_json, parts_csv, pdf, svg};
+use std::fmt::Write as _;
+
+pub struct Build {
+    pub design: Design,
+    pub lattice: Lattice,
+    pub report: Report,
+    pub parts: Parts,
+    pub layout: Layout,
+    /// One page per sheet.
+    pub pages: Vec<Page>,
+}
+
+/// Grow, verify, make the parts and nest them. A design that fails
+/// verification or a fabrication check is refused with a located error.
+pub fn build(design: Design) -> Result<Build, Diagnostic> {
+    let lattice = design.grow()?;
+    let report = verify(&lattice);
+    if !report.passed() {
+        let worst = report
+            .checks
+            .iter()
+            .filter(|c| !c.passed())
+            .max_by(|a, b| a.max.total_cmp(&b.max))
+            .expect("a failed check");
+        return Err(Diagnostic::new(
+            "VerificationFailed",
+            format!(
+                "{} is {:.2e}, above the tolerance",
+                worst.invariant.describe(),
+                worst.max
+            ),
+        )
+        .site(worst.site.clone().unwrap_or_default())
+        .hint("run `karigami check` for the full report; the design is too close to degenerate"));
+    }
+    let fab = &design.fabrication;
+    let parts = parts(&lattice, fab).map_err(|e| locate(&design, e))?;
+    let lengths: Vec<f64> = parts
+        .strips
+        .iter()
+        .map(|s| Outline::of(s.length, fab).length)
+        .collect();
+    let width = Outline::of(0.0, fab).width;
+    let layout = nest(&lengths, width, &fab.sheet);
+    let meta = Meta {
+        design: design.name.clone(),
+        recipe_hash: design.recipe_hash,
+    };
+    let pages = (0..layout.sheets.len())
+        .map(|i| sheet_page(&parts.strips, &layout, i, fab, &meta))
+        .collect();
+    Ok(Build {
+        design,
+        lattice,
+        report,
+        parts,
+        layout,
+        pages,
+    })
+}
+
+fn locate(design: &Design, e: PartsError) -> Diagnostic {
+    Diagnostic::new(e.class, e.message)
+        .at(design.row_direction_span(e.row as usize))
+        .site(format!("row {}, strip {}", e.row, e.strip))
+        .hint(e.hint)
+}
+
+impl Build {
+    /// Every output file: a path relative to the output folder and its bytes.
+    pub fn files(&self) -> Vec<(String, Vec<u8>)> {
+        let mut files = vec![(
+            "lattice.json".to_string(),
+            lattice_json::write(&self.lattice),
+        )];
+        for (i, page) in self.pages.iter().enumerate() {
+            files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
+            files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
+        }
+        files.push((
+            "cut.pdf".to_string(),
+            pdf::write(&format!("{} cut sheets", self.design.name), &self.pages),
+        ));
+        files.push((
+            "parts.csv".to_string(),
+            parts_csv::write(&self.parts.strips, &self.layout),
+        ));
+        files
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        self.layout.bounds()
+    }
+
+    pub fn cut_length(&self) -> f64 {
+        self.pages.iter().map(Page::cut_length).sum()
+    }
+
+    /// A few lines for the terminal.
+    pub fn summary(&self) -> String {
+        let mut out = String::new();
+        let b = self.bounds();
+        let fab = &self.design.fabrication;
+        let _ = writeln!(
+            out,
+            "{}: {} cells, {} strips, {} eyelets ({} at vertices, {} at pivots); verified (largest residual {:.1e})",
+            self.design.name,
+            self.lattice.cells.len(),
+            self.parts.strips.len(),
+            self.parts.eyelets(),
+            self.parts.vertex_eyelets,
+            self.parts.pivot_eyelets,
+            self.report.worst()
+        );
+        let _ = writeln!(
+            out,
+            "sheets: {} of {} x {} mm ({}), lower bounds {} (area) and {} (lanes), utilisation {:.1}%, cut length {:.2} m",
+            self.layout.sheets.len(),
+            fab.sheet.width,
+            fab.sheet.height,
+            fab.sheet.name,
+            b.area,
+            b.lanes,
+            100.0 * self.layout.utilisation(),
+            self.cut_length() / 1000.0
+        );
+        for w in &self.parts.warnings {
+            let _ = writeln!(
+                out,
+                "warning: {}{}",
+                w.strip
+                    .as_ref()
+                    .map(|s| format!("strip {s}: "))
+                    .unwrap_or_default(),
+                w.message
+            );
+        }
+        out
+    }
+}

@@ -1,0 +1,280 @@
+//! `[material]`, `[eyelet]`, `[strip]`, `[laser]`, `[sheet]`: validated into
+//! `Fabrication`, with command-line overrides applied first so every check
+//! sees the values that will be used.
+
+use super::raw::{Num, RawDesign};
+use crate::diagnostic::Diagnostic;
+use crate::fabrication::{
+    EYELET_PRESETS, Fabrication, LabelStyle, SHEET_PRESETS, eyelet_preset, preset_names, sheet_size,
+};
+use std::ops::Range;
+
+/// Fabrication settings given on the command line; each replaces the
+/// recipe's value.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overrides {
+    /// A sheet preset name or `WxH` in mm.
+    pub sheet: Option<String>,
+    pub eyelet: Option<String>,
+    pub strip_width: Option<f64>,
+    pub kerf: Option<f64>,
+    pub compensate_kerf: Option<bool>,
+    pub label: Option<String>,
+}
+
+/// Where the settings were written, for errors found later (per strip).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FabricationSpans {
+    pub width: Option<Range<usize>>,
+    pub eyelet: Option<Range<usize>>,
+    pub end_margin: Option<Range<usize>>,
+    pub sheet: Option<Range<usize>>,
+}
+
+/// Thinnest wall of material kept between a hole and a strip edge or tip.
+pub const MIN_WALL: f64 = 1.0;
+
+fn length(n: &Num, what: &str, min_exclusive: f64) -> Result<f64, Diagnostic> {
+    let v = *n.get_ref();
+    if v.is_finite() && v > min_exclusive {
+        Ok(v)
+    } else {
+        let bound = if min_exclusive == 0.0 {
+            "positive".to_string()
+        } else {
+            format!("more than {min_exclusive}")
+        };
+        Err(
+            Diagnostic::new("design", format!("{what} is {v}, but must be {bound} (mm)"))
+                .at(n.span())
+                .hint(format!("give {what} a {bound} length in mm")),
+        )
+    }
+}
+
+fn non_negative(n: &Num, what: &str) -> Result<f64, Diagnostic> {
+    let v = *n.get_ref();
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(Diagnostic::new(
+            "design",
+            format!("{what} is {v}, but must be zero or more (mm)"),
+        )
+        .at(n.span()))
+    }
+}
+
+fn from_override(v: f64, what: &str) -> Result<f64, Diagnostic> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(Diagnostic::new(
+            "usage",
+            format!("--{what} is {v}, but must be a length of zero or more"),
+        ))
+    }
+}
+
+pub fn fabrication(
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(Fabrication, FabricationSpans), Diagnostic> {
+    let mut f = Fabrication::default();
+    let mut spans = FabricationSpans::default();
+
+    if let Some(m) = &raw.material {
+        let m = m.get_ref();
+        if let Some(n) = &m.name {
+            f.material.name = n.get_ref().clone();
+        }
+        if let Some(t) = &m.thickness {
+            f.material.thickness = length(t, "material.thickness", 0.0)?;
+        }
+        if let Some(w) = &m.width {
+            f.material.width = length(w, "material.width", 0.0)?;
+            spans.width = Some(w.span());
+        }
+    }
+    if let Some(w) = o.strip_width {
+        f.material.width = from_override(w, "strip-width")?;
+        spans.width = None;
+    }
+    // The default end margin follows the strip width (half of it).
+    f.end_margin = f.material.width / 2.0;
+
+    if let Some(e) = &raw.eyelet {
+        spans.eyelet = Some(e.span());
+        let e = e.get_ref();
+        if let Some(p) = &e.preset {
+            f.eyelet = eyelet_preset(p.get_ref()).ok_or_else(|| {
+                Diagnostic::new(
+                    "design",
+                    format!("unknown eyelet preset \"{}\"", p.get_ref()),
+                )
+                .at(p.span())
+                .hint(format!(
+                    "use one of {}, or give `hole` and `flange` in mm",
+                    preset_names(EYELET_PRESETS)
+                ))
+            })?;
+        }
+        if e.hole.is_some() || e.flange.is_some() {
+            f.eyelet.name = "custom".into();
+        }
+        if let Some(h) = &e.hole {
+            f.eyelet.hole = length(h, "eyelet.hole", 0.0)?;
+        }
+        if let Some(fl) = &e.flange {
+            f.eyelet.flange = length(fl, "eyelet.flange", 0.0)?;
+        }
+    }
+    if let Some(name) = &o.eyelet {
+        f.eyelet = eyelet_preset(name).ok_or_else(|| {
+            Diagnostic::new("usage", format!("unknown eyelet preset \"{name}\""))
+                .hint(format!("use one of {}", preset_names(EYELET_PRESETS)))
+        })?;
+        spans.eyelet = None;
+    }
+
+    if let Some(s) = &raw.strip {
+        let s = s.get_ref();
+        if let Some(m) = &s.end_margin {
+            f.end_margin = length(m, "strip.end_margin", 0.0)?;
+            spans.end_margin = Some(m.span());
+        }
+        if let Some(l) = &s.label {
+            f.label = LabelStyle::parse(l.get_ref()).ok_or_else(|| {
+                Diagnostic::new("design", format!("unknown label style \"{}\"", l.get_ref()))
+                    .at(l.span())
+                    .hint("use \"id\" (e.g. R03-C05-A), \"compact\" (e.g. 3.5A) or \"none\"")
+            })?;
+        }
+    }
+    if let Some(l) = &o.label {
+        f.label = LabelStyle::parse(l).ok_or_else(|| {
+            Diagnostic::new("usage", format!("unknown label style \"{l}\""))
+                .hint("use id, compact or none")
+        })?;
+    }
+
+    if let Some(l) = &raw.laser {
+        let l = l.get_ref();
+        if let Some(k) = &l.kerf {
+            f.kerf = non_negative(k, "laser.kerf")?;
+        }
+        if let Some(c) = &l.compensate {
+            f.compensate_kerf = *c.get_ref();
+        }
+    }
+    if let Some(k) = o.kerf {
+        f.kerf = from_override(k, "kerf")?;
+    }
+    if let Some(c) = o.compensate_kerf {
+        f.compensate_kerf = c;
+    }
+
+    if let Some(s) = &raw.sheet {
+        spans.sheet = Some(s.span());
+        let s = s.get_ref();
+        if let Some(p) = &s.preset {
+            let (name, w, h) = sheet_size(p.get_ref()).ok_or_else(|| {
+                Diagnostic::new(
+                    "design",
+                    format!("unknown sheet preset \"{}\"", p.get_ref()),
+                )
+                .at(p.span())
+                .hint(format!(
+                    "use one of {}, or \"WxH\" in mm such as \"500x300\"",
+                    preset_names(SHEET_PRESETS)
+                ))
+            })?;
+            (f.sheet.name, f.sheet.width, f.sheet.height) = (name, w, h);
+        }
+        if let Some(w) = &s.width {
+            f.sheet.width = length(w, "sheet.width", 0.0)?;
+            f.sheet.name = "custom".into();
+        }
+        if let Some(h) = &s.height {
+            f.sheet.height = length(h, "sheet.height", 0.0)?;
+            f.sheet.name = "custom".into();
+        }
+        if let Some(m) = &s.margin {
+            f.sheet.margin = non_negative(m, "sheet.margin")?;
+        }
+        if let Some(g) = &s.gap {
+            f.sheet.gap = non_negative(g, "sheet.gap")?;
+        }
+    }
+    if let Some(name) = &o.sheet {
+        let (n, w, h) = sheet_size(name).ok_or_else(|| {
+            Diagnostic::new("usage", format!("unknown sheet \"{name}\"")).hint(format!(
+                "use one of {}, or WxH in mm such as 500x300",
+                preset_names(SHEET_PRESETS)
+            ))
+        })?;
+        (f.sheet.name, f.sheet.width, f.sheet.height) = (n, w, h);
+        spans.sheet = None;
+    }
+
+    check_settings(&f, raw, &spans)?;
+    Ok((f, spans))
+}
+
+/// Checks that concern every strip alike, pointing at the setting.
+fn check_settings(
+    f: &Fabrication,
+    raw: &RawDesign,
+    spans: &FabricationSpans,
+) -> Result<(), Diagnostic> {
+    let w = f.material.width;
+    let d = f.eyelet.hole;
+    let eyelet_span = raw
+        .eyelet
+        .as_ref()
+        .and_then(|e| e.get_ref().hole.as_ref().map(|h| h.span()))
+        .or(spans.eyelet.clone());
+    if d > w - 2.0 * MIN_WALL {
+        return Err(Diagnostic::new(
+            "HoleWiderThanStrip",
+            format!(
+                "the {d} mm eyelet hole leaves less than {MIN_WALL} mm of material on each side of a {w} mm strip"
+            ),
+        )
+        .at_opt(eyelet_span.or(spans.width.clone()))
+        .hint(format!("use wider strips (material.width >= {}) or a smaller eyelet", d + 2.0 * MIN_WALL)));
+    }
+    if f.end_margin < w / 2.0 {
+        return Err(Diagnostic::new(
+            "EndMarginTooSmall",
+            format!(
+                "strip.end_margin is {} mm, less than half the strip width ({} mm)",
+                f.end_margin,
+                w / 2.0
+            ),
+        )
+        .at_opt(spans.end_margin.clone())
+        .hint("the rounded strip end needs end_margin >= width / 2"));
+    }
+    if f.end_margin - d / 2.0 < MIN_WALL {
+        return Err(Diagnostic::new(
+            "HoleTooCloseToEnd",
+            format!(
+                "every strip's end holes would be {:.2} mm from its tips (less than {MIN_WALL} mm of material)",
+                f.end_margin - d / 2.0
+            ),
+        )
+        .at_opt(spans.end_margin.clone().or(eyelet_span))
+        .hint("raise strip.end_margin or use a smaller eyelet"));
+    }
+    let (uw, uh) = f.sheet.usable();
+    if uw < w || uh < w {
+        return Err(Diagnostic::new(
+            "SheetTooSmall",
+            format!("the sheet's usable area ({uw} x {uh} mm inside the margins) is narrower than one strip ({w} mm)"),
+        )
+        .at_opt(spans.sheet.clone())
+        .hint("use a larger sheet or a smaller sheet.margin"));
+    }
+    Ok(())
+}

@@ -1,0 +1,246 @@
+//! A cut sheet as a page: each strip's holes, outline and engraving moved
+//! from the strip's frame to its place on the sheet, and a scale bar.
+
+use super::{Group, Item, Layer, Page, Segment, Shape};
+use crate::fabrication::Fabrication;
+use crate::layout::{Layout, Placement};
+use crate::parts::{Outline, Strip, font};
+use glam::DVec2;
+
+/// Provenance for the files' metadata.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Meta {
+    pub design: String,
+    pub recipe_hash: u64,
+}
+
+/// Maps a strip's frame (x along the axis from the start tip, y across,
+/// down) onto the sheet: a translation, plus a quarter turn clockwise for
+/// strips that run down the sheet. Both keep handedness, so engraved text
+/// is never mirrored.
+struct Frame {
+    origin: DVec2,
+    rotated: bool,
+}
+
+impl Frame {
+    fn of(p: &Placement, outline: &Outline) -> Self {
+        let half = outline.width / 2.0;
+        let (x, y) = if p.rotated {
+            (p.x + half, p.y + outline.grow)
+        } else {
+            (p.x + outline.grow, p.y + half)
+        };
+        Frame {
+            origin: DVec2::new(x, y),
+            rotated: p.rotated,
+        }
+    }
+
+    fn map(&self, local: DVec2) -> DVec2 {
+        self.origin
+            + if self.rotated {
+                DVec2::new(-local.y, local.x)
+            } else {
+                local
+            }
+    }
+}
+
+/// The closed stadium outline of a strip in its own frame, as cut.
+fn stadium(strip: &Strip, outline: &Outline, frame: &Frame) -> Shape {
+    let r = outline.width / 2.0;
+    let left = -outline.grow + r;
+    let right = strip.length + outline.grow - r;
+    let m = |x: f64, y: f64| frame.map(DVec2::new(x, y));
+    Shape::Path {
+        start: m(left, -r),
+        segments: vec![
+            Segment::Line(m(right, -r)),
+            Segment::Arc {
+                to: m(right, r),
+                center: m(right, 0.0),
+                clockwise: true,
+            },
+            Segment::Line(m(left, r)),
+            Segment::Arc {
+                to: m(left, -r),
+                center: m(left, 0.0),
+                clockwise: true,
+            },
+        ],
+        closed: true,
+    }
+}
+
+fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group {
+    let outline = Outline::of(strip.length, fab);
+    let frame = Frame::of(placement, &outline);
+    // Holes first: a laser that cuts in file order frees no part before its holes.
+    let mut items: Vec<Item> = strip
+        .holes
+        .iter()
+        .map(|&s| Item {
+            layer: Layer::Holes,
+            shape: Shape::Circle {
+                center: frame.map(DVec2::new(s, 0.0)),
+                radius: outline.hole / 2.0,
+            },
+        })
+        .collect();
+    items.push(Item {
+        layer: Layer::Outlines,
+        shape: stadium(strip, &outline, &frame),
+    });
+    items.extend(strip.engraving.iter().map(|stroke| {
+        let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
+        Item {
+            layer: Layer::Labels,
+            shape: Shape::polyline(&points, false),
+        }
+    }));
+    Group {
+        id: strip.id.clone(),
+        items,
+    }
+}
+
+/// Text strokes with the baseline starting at `origin` on a y-down page.
+fn caption(text: &str, origin: DVec2, height: f64) -> Vec<Item> {
+    font::text(text, height)
+        .into_iter()
+        .map(|stroke| {
+            let points: Vec<DVec2> = stroke
+                .iter()
+                .map(|p| origin + DVec2::new(p.x, -p.y))
+                .collect();
+            Item {
+                layer: Layer::Reference,
+                shape: Shape::polyline(&points, false),
+            }
+        })
+        .collect()
+}
+
+/// A scale bar with end ticks and its caption, in the bottom margin.
+fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
+    let bar = if page_w >= 140.0 {
+        100.0
+    } else if page_w >= 80.0 {
+        50.0
+    } else {
+        10.0
+    };
+    let y = page_h - margin / 2.0;
+    let tick = (margin * 0.3).clamp(0.3, 2.0);
+    let x0 = margin.max(2.0);
+    let text_h = (margin * 0.5).clamp(0.8, 2.5);
+    let mut items = vec![
+        Item {
+            layer: Layer::Reference,
+            shape: Shape::polyline(&[DVec2::new(x0, y), DVec2::new(x0 + bar, y)], false),
+        },
+        Item {
+            layer: Layer::Reference,
+            shape: Shape::polyline(&[DVec2::new(x0, y - tick), DVec2::new(x0, y + tick)], false),
+        },
+        Item {
+            layer: Layer::Reference,
+            shape: Shape::polyline(
+                &[
+                    DVec2::new(x0 + bar, y - tick),
+                    DVec2::new(x0 + bar, y + tick),
+                ],
+                false,
+            ),
+        },
+    ];
+    let label = format!("{bar} mm   {title}");
+    items.extend(caption(
+        &label,
+        DVec2::new(x0 + bar + 3.0, y + text_h / 2.0),
+        text_h,
+    ));
+    Group {
+        id: "reference".into(),
+        items,
+    }
+}
+
+/// The page of sheet `index` (0-based) of a layout.
+pub fn sheet_page(
+    strips: &[Strip],
+    layout: &Layout,
+    index: usize,
+    fab: &Fabrication,
+    meta: &Meta,
+) -> Page {
+    let spec = &layout.sheet;
+    let count = layout.sheets.len();
+    let title = format!("{} sheet {:02}/{:02}", meta.design, index + 1, count);
+    let mut groups: Vec<Group> = layout.sheets[index]
+        .placements
+        .iter()
+        .map(|p| strip_group(&strips[p.part], p, fab))
+        .collect();
+    let caption = format!(
+        "{}  {} x {} mm",
+        title.to_uppercase(),
+        spec.width,
+        spec.height
+    );
+    groups.push(reference(spec.width, spec.height, spec.margin, &caption));
+    let kerf = if fab.compensate_kerf {
+        format!(
+            "{} mm, compensated (outlines offset out and holes in by {} mm)",
+            fab.kerf,
+            fab.kerf / 2.0
+        )
+    } else {
+        format!(
+            "{} mm, not compensated (nominal geometry: set the offset in the laser software)",
+            fab.kerf
+        )
+    };
+    Page {
+        width: spec.width,
+        height: spec.height,
+        title,
+        metadata: vec![
+            (
+                "generator".into(),
+                format!("karigami {}", env!("CARGO_PKG_VERSION")),
+            ),
+            ("design".into(), meta.design.clone()),
+            (
+                "recipe-hash".into(),
+                format!("fnv1a64:{:016x}", meta.recipe_hash),
+            ),
+            ("units".into(), "mm".into()),
+            ("kerf".into(), kerf),
+            (
+                "material".into(),
+                format!(
+                    "{} {} mm, strips {} mm wide",
+                    fab.material.name, fab.material.thickness, fab.material.width
+                ),
+            ),
+            (
+                "eyelet".into(),
+                format!(
+                    "{}: hole {} mm, flange {} mm",
+                    fab.eyelet.name, fab.eyelet.hole, fab.eyelet.flange
+                ),
+            ),
+            (
+                "layers".into(),
+                Layer::ALL
+                    .iter()
+                    .map(|l| format!("{} {} = {}", l.name(), l.hex(), l.operation()))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+            ),
+        ],
+        groups,
+    }
+}

@@ -1,0 +1,181 @@
+//! Fabrication settings: the strip material, eyelets, laser and sheet, with
+//! the presets makers think in. All lengths in mm.
+
+/// Flat strip stock.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub thickness: f64,
+    /// Strip width w.
+    pub width: f64,
+}
+
+/// An eyelet (grommet) size: the hole it needs and the flange it covers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Eyelet {
+    pub name: String,
+    pub hole: f64,
+    pub flange: f64,
+}
+
+/// Eyelet presets: typical hole and flange diameters for common eyelets
+/// (measure yours: brands differ).
+pub const EYELET_PRESETS: &[(&str, f64, f64)] = &[
+    ("1/8in", 3.2, 6.5),
+    ("5/32in", 4.0, 8.0),
+    ("3/16in", 4.8, 9.5),
+];
+
+/// Sheet (laser bed) presets: name, width, height.
+pub const SHEET_PRESETS: &[(&str, f64, f64)] = &[
+    ("600x400", 600.0, 400.0),
+    ("glowforge", 495.0, 279.0),
+    ("12x24in", 609.6, 304.8),
+    ("12x20in", 508.0, 304.8),
+    ("a3", 420.0, 297.0),
+    ("a4", 297.0, 210.0),
+];
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SheetSpec {
+    pub name: String,
+    pub width: f64,
+    pub height: f64,
+    /// Border kept free of parts.
+    pub margin: f64,
+    /// Minimum gap between parts.
+    pub gap: f64,
+}
+
+impl SheetSpec {
+    /// The usable area inside the margins.
+    pub fn usable(&self) -> (f64, f64) {
+        (
+            self.width - 2.0 * self.margin,
+            self.height - 2.0 * self.margin,
+        )
+    }
+}
+
+/// What is engraved on each strip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LabelStyle {
+    /// The full strip ID, e.g. `R03-C05-A`, with an orientation arrow.
+    Id,
+    /// A shorter ID, e.g. `3.5A`, with the arrow.
+    Compact,
+    /// Only the orientation arrow.
+    None,
+}
+
+impl LabelStyle {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "id" => Some(Self::Id),
+            "compact" => Some(Self::Compact),
+            "none" => Some(Self::None),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Id => "id",
+            Self::Compact => "compact",
+            Self::None => "none",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fabrication {
+    pub material: Material,
+    pub eyelet: Eyelet,
+    /// Distance from a strip's tip to its end hole centre (>= width / 2).
+    pub end_margin: f64,
+    pub label: LabelStyle,
+    /// Laser kerf (width of the cut).
+    pub kerf: f64,
+    /// Whether the cut geometry is offset by half the kerf (outlines out,
+    /// holes in) or left nominal for the laser software to offset.
+    pub compensate_kerf: bool,
+    pub sheet: SheetSpec,
+}
+
+impl Default for Fabrication {
+    /// The paper's build: 1 mm ABS strips 10 mm wide, 1/8 in eyelets, on a
+    /// 600 x 400 mm bed.
+    fn default() -> Self {
+        let (name, hole, flange) = EYELET_PRESETS[0];
+        let (sname, w, h) = SHEET_PRESETS[0];
+        Self {
+            material: Material {
+                name: "ABS".into(),
+                thickness: 1.0,
+                width: 10.0,
+            },
+            eyelet: Eyelet {
+                name: name.into(),
+                hole,
+                flange,
+            },
+            end_margin: 5.0,
+            label: LabelStyle::Id,
+            kerf: 0.15,
+            compensate_kerf: false,
+            sheet: SheetSpec {
+                name: sname.into(),
+                width: w,
+                height: h,
+                margin: 5.0,
+                gap: 2.0,
+            },
+        }
+    }
+}
+
+pub fn eyelet_preset(name: &str) -> Option<Eyelet> {
+    EYELET_PRESETS
+        .iter()
+        .find(|p| p.0 == name)
+        .map(|&(n, hole, flange)| Eyelet {
+            name: n.into(),
+            hole,
+            flange,
+        })
+}
+
+/// A sheet preset by name, or `WxH` in mm (e.g. `500x300`).
+pub fn sheet_size(name: &str) -> Option<(String, f64, f64)> {
+    if let Some(&(n, w, h)) = SHEET_PRESETS.iter().find(|p| p.0 == name) {
+        return Some((n.into(), w, h));
+    }
+    let (w, h) = name.split_once('x')?;
+    let (w, h): (f64, f64) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
+    (w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0).then(|| (name.into(), w, h))
+}
+
+pub fn preset_names(presets: &[(&str, f64, f64)]) -> String {
+    presets
+        .iter()
+        .map(|p| format!("\"{}\"", p.0))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sheet_sizes_from_presets_and_dimensions() {
+        assert_eq!(sheet_size("glowforge").unwrap().1, 495.0);
+        assert_eq!(
+            sheet_size("500x300").unwrap(),
+            ("500x300".into(), 500.0, 300.0)
+        );
+        assert!(sheet_size("500x").is_none());
+        assert!(sheet_size("-5x3").is_none());
+        assert!(sheet_size("nanx3").is_none());
+    }
+}

@@ -1,0 +1,284 @@
+//! Nesting strips onto sheets. Strips are long thin stadiums, so parts go in
+//! lanes: each lane is a 1-D bin (cutting stock). Each sheet tries every split
+//! of k lanes in one orientation plus lanes of the other orientation in the
+//! rest of the sheet, fills the lanes best-fit decreasing, and keeps the split
+//! that places the most material. Deterministic: ties break by order.
+
+mod bounds;
+
+pub use bounds::{Bounds, area_bound, lane_bound, stadium_area};
+
+use crate::fabrication::SheetSpec;
+use std::cmp::Ordering;
+use std::collections::BTreeSet;
+
+/// One strip on a sheet: the top-left corner of its outline's bounding box,
+/// and whether it runs along y (start end at the top) instead of x (start
+/// end on the left).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    pub part: usize,
+    pub x: f64,
+    pub y: f64,
+    pub rotated: bool,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Sheet {
+    pub placements: Vec<Placement>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub sheet: SheetSpec,
+    /// Outline width of every part.
+    pub part_width: f64,
+    /// Outline length of each part, by part index.
+    pub lengths: Vec<f64>,
+    pub sheets: Vec<Sheet>,
+}
+
+impl Layout {
+    /// Fraction of the sheets' full area covered by parts.
+    pub fn utilisation(&self) -> f64 {
+        let parts: f64 = self
+            .lengths
+            .iter()
+            .map(|&l| stadium_area(l, self.part_width))
+            .sum();
+        parts / (self.sheets.len() as f64 * self.sheet.width * self.sheet.height)
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        Bounds {
+            area: area_bound(&self.lengths, self.part_width, &self.sheet),
+            lanes: lane_bound(&self.lengths, self.part_width, &self.sheet),
+        }
+    }
+}
+
+/// A lane: a straight run of parts end to end.
+#[derive(Clone, Copy, Debug)]
+struct Lane {
+    x: f64,
+    y: f64,
+    rotated: bool,
+    /// Capacity in "length + gap" units (the usable run plus one gap).
+    capacity: f64,
+}
+
+/// f64 with a total order, for the best-fit search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Len(f64);
+impl Eq for Len {}
+impl PartialOrd for Len {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Len {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// Nest parts of outline width `width` and the given outline lengths.
+/// Every length must fit the sheet (checked by `parts`); a part that fits
+/// nowhere panics, which would be a bug.
+pub fn nest(lengths: &[f64], width: f64, sheet: &SheetSpec) -> Layout {
+    let mut order: Vec<usize> = (0..lengths.len()).collect();
+    // Longest first; equal lengths keep part order.
+    order.sort_by(|&a, &b| lengths[b].total_cmp(&lengths[a]).then(a.cmp(&b)));
+    let mut sheets = Vec::new();
+    while !order.is_empty() {
+        let (placed, rest) = fill_sheet(&order, lengths, width, sheet);
+        assert!(
+            !placed.placements.is_empty(),
+            "a part longer than the sheet reached nesting"
+        );
+        sheets.push(placed);
+        order = rest;
+    }
+    Layout {
+        sheet: sheet.clone(),
+        part_width: width,
+        lengths: lengths.to_vec(),
+        sheets,
+    }
+}
+
+/// The lanes of one split of the usable area: `k` lanes along `major`
+/// (x when not rotated) and lanes of the other orientation in the rest.
+fn lanes(k: usize, major_rotated: bool, width: f64, sheet: &SheetSpec) -> Vec<Lane> {
+    let (uw, uh) = sheet.usable();
+    let (g, m) = (sheet.gap, sheet.margin);
+    let pitch = width + g;
+    let mut out = Vec::new();
+    // Along x: lanes stacked in y. Along y: lanes side by side in x.
+    let (major_run, minor_span) = if major_rotated { (uh, uw) } else { (uw, uh) };
+    for r in 0..k {
+        let offset = m + r as f64 * pitch;
+        out.push(if major_rotated {
+            Lane {
+                x: offset,
+                y: m,
+                rotated: true,
+                capacity: major_run + g,
+            }
+        } else {
+            Lane {
+                x: m,
+                y: offset,
+                rotated: false,
+                capacity: major_run + g,
+            }
+        });
+    }
+    let rest = minor_span - k as f64 * pitch;
+    if rest >= width {
+        let count = ((major_run + g) / pitch).floor() as usize;
+        for c in 0..count {
+            let offset = m + c as f64 * pitch;
+            let start = m + k as f64 * pitch;
+            out.push(if major_rotated {
+                Lane {
+                    x: start,
+                    y: offset,
+                    rotated: false,
+                    capacity: rest + g,
+                }
+            } else {
+                Lane {
+                    x: offset,
+                    y: start,
+                    rotated: true,
+                    capacity: rest + g,
+                }
+            });
+        }
+    }
+    out
+}
+
+/// Best-fit decreasing of `order` into `lanes`: for each part, the lane with
+/// the least room that still takes it. Returns each part's lane (or None).
+fn best_fit(order: &[usize], lengths: &[f64], lanes: &[Lane], gap: f64) -> Vec<Option<usize>> {
+    let mut room: BTreeSet<(Len, usize)> = lanes
+        .iter()
+        .enumerate()
+        .map(|(i, l)| (Len(l.capacity), i))
+        .collect();
+    order
+        .iter()
+        .map(|&p| {
+            let need = lengths[p] + gap;
+            let &(Len(left), lane) = room.range((Len(need), 0)..).next()?;
+            room.remove(&(Len(left), lane));
+            room.insert((Len(left - need), lane));
+            Some(lane)
+        })
+        .collect()
+}
+
+/// Fill one sheet; returns it and the parts left over (still in order).
+fn fill_sheet(
+    order: &[usize],
+    lengths: &[f64],
+    width: f64,
+    sheet: &SheetSpec,
+) -> (Sheet, Vec<usize>) {
+    let (uw, uh) = sheet.usable();
+    let pitch = width + sheet.gap;
+    let mut best: Option<(f64, Vec<Lane>, Vec<Option<usize>>)> = None;
+    for major_rotated in [false, true] {
+        let span = if major_rotated { uw } else { uh };
+        let max_k = ((span + sheet.gap) / pitch).floor() as usize;
+        for k in (0..=max_k).rev() {
+            let lanes = lanes(k, major_rotated, width, sheet);
+            if lanes.is_empty() {
+                continue;
+            }
+            let fit = best_fit(order, lengths, &lanes, sheet.gap);
+            let placed: f64 = order
+                .iter()
+                .zip(&fit)
+                .filter(|(_, f)| f.is_some())
+                .map(|(&p, _)| lengths[p])
+                .sum();
+            if best.as_ref().is_none_or(|b| placed > b.0) {
+                let all = fit.iter().all(Option::is_some);
+                best = Some((placed, lanes, fit));
+                if all {
+                    break;
+                }
+            }
+        }
+        if best
+            .as_ref()
+            .is_some_and(|b| b.2.iter().all(Option::is_some))
+        {
+            break;
+        }
+    }
+    let (_, lanes, fit) = best.expect("a sheet has at least one lane");
+    let mut cursor: Vec<f64> = vec![0.0; lanes.len()];
+    let mut placements = Vec::new();
+    let mut rest = Vec::new();
+    for (&p, lane) in order.iter().zip(&fit) {
+        match lane {
+            Some(l) => {
+                let lane = &lanes[*l];
+                let along = cursor[*l];
+                cursor[*l] += lengths[p] + sheet.gap;
+                let (x, y) = if lane.rotated {
+                    (lane.x, lane.y + along)
+                } else {
+                    (lane.x + along, lane.y)
+                };
+                placements.push(Placement {
+                    part: p,
+                    x,
+                    y,
+                    rotated: lane.rotated,
+                });
+            }
+            None => rest.push(p),
+        }
+    }
+    placements.sort_by_key(|p| p.part);
+    (Sheet { placements }, rest)
+}
+
+/// Strip packing (fixed sheet height, minimise the used length), for
+/// comparing against strip-packing tools on the same parts: the better of
+/// lanes along the length (longest part first onto the least loaded lane)
+/// and columns across it (best-fit decreasing into columns of the height).
+pub fn strip_length(lengths: &[f64], width: f64, gap: f64, height: f64) -> f64 {
+    let pitch = width + gap;
+    let mut sorted = lengths.to_vec();
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    let lanes = ((height + gap) / pitch).floor() as usize;
+    let mut load: BTreeSet<(Len, usize)> = (0..lanes).map(|i| (Len(0.0), i)).collect();
+    for &l in &sorted {
+        let (Len(x), i) = load.pop_first().expect("at least one lane");
+        load.insert((Len(x + l + gap), i));
+    }
+    let along = load.last().map_or(0.0, |(Len(x), _)| x - gap);
+    let mut columns: BTreeSet<(Len, usize)> = BTreeSet::new();
+    let mut count = 0;
+    for &l in &sorted {
+        let need = l + gap;
+        match columns.range((Len(need), 0)..).next().copied() {
+            Some((Len(room), c)) => {
+                columns.remove(&(Len(room), c));
+                columns.insert((Len(room - need), c));
+            }
+            None => {
+                columns.insert((Len(height + gap - need), count));
+                count += 1;
+            }
+        }
+    }
+    let across = count as f64 * pitch - gap;
+    along.min(across)
+}

@@ -1,0 +1,141 @@
+//! A single-stroke font for engraving IDs on strips: every glyph is a few
+//! open polylines, so labels need no font files and cut as one pass.
+//! Glyphs sit on a 4 x 6 grid (y up from the baseline); the advance is 5.
+
+use glam::DVec2;
+
+/// Grid units from the baseline to the cap height.
+pub const CAP: f64 = 6.0;
+/// Grid units from one glyph's origin to the next.
+pub const ADVANCE: f64 = 5.0;
+
+const OCTAGON: &str = "1,0 3,0 4,1 4,5 3,6 1,6 0,5 0,1 1,0";
+
+/// Strokes of a glyph, as `x,y` points separated by spaces, strokes by `|`.
+fn strokes(c: char) -> Option<&'static str> {
+    Some(match c {
+        '0' => "1,0 3,0 4,1 4,5 3,6 1,6 0,5 0,1 1,0|0.6,1.2 3.4,4.8",
+        '1' => "1,5 2,6 2,0|1,0 3,0",
+        '2' => "0,5 1,6 3,6 4,5 4,4 0,0 4,0",
+        '3' => "0,6 4,6 2,3.5 3,3.5 4,2.5 4,1 3,0 1,0 0,1",
+        '4' => "3,0 3,6 0,2 4,2",
+        '5' => "4,6 0,6 0,3.5 3,3.5 4,2.5 4,1 3,0 0,0",
+        '6' => "3,6 1,6 0,5 0,1 1,0 3,0 4,1 4,2.5 3,3.5 0,3.5",
+        '7' => "0,6 4,6 1.5,0",
+        '8' => "1,3.5 0,4.5 0,5 1,6 3,6 4,5 4,4.5 3,3.5 1,3.5 0,2.5 0,1 1,0 3,0 4,1 4,2.5 3,3.5",
+        '9' => "1,0 3,0 4,1 4,5 3,6 1,6 0,5 0,3.5 1,2.5 4,2.5",
+        'A' => "0,0 0,4 2,6 4,4 4,0|0,3 4,3",
+        'B' => "0,0 0,6 3,6 4,5 4,4 3,3 0,3|3,3 4,2 4,1 3,0 0,0",
+        'C' => "4,5 3,6 1,6 0,5 0,1 1,0 3,0 4,1",
+        'D' => "0,0 0,6 2.5,6 4,4.5 4,1.5 2.5,0 0,0",
+        'E' => "4,6 0,6 0,0 4,0|0,3 3,3",
+        'F' => "4,6 0,6 0,0|0,3 3,3",
+        'G' => "4,5 3,6 1,6 0,5 0,1 1,0 3,0 4,1 4,3 2,3",
+        'H' => "0,0 0,6|4,0 4,6|0,3 4,3",
+        'I' => "1,6 3,6|2,6 2,0|1,0 3,0",
+        'J' => "4,6 4,1 3,0 1,0 0,1",
+        'K' => "0,0 0,6|4,6 0,2|1.3,3.3 4,0",
+        'L' => "0,6 0,0 4,0",
+        'M' => "0,0 0,6 2,3 4,6 4,0",
+        'N' => "0,0 0,6 4,0 4,6",
+        'O' => OCTAGON,
+        'P' => "0,0 0,6 3,6 4,5 4,4 3,3 0,3",
+        'Q' => "1,0 3,0 4,1 4,5 3,6 1,6 0,5 0,1 1,0|2.5,1.5 4,0",
+        'R' => "0,0 0,6 3,6 4,5 4,4 3,3 0,3|2,3 4,0",
+        'S' => "4,5 3,6 1,6 0,5 0,4 1,3 3,3 4,2 4,1 3,0 1,0 0,1",
+        'T' => "0,6 4,6|2,6 2,0",
+        'U' => "0,6 0,1 1,0 3,0 4,1 4,6",
+        'V' => "0,6 2,0 4,6",
+        'W' => "0,6 1,0 2,4 3,0 4,6",
+        'X' => "0,0 4,6|0,6 4,0",
+        'Y' => "0,6 2,3 4,6|2,3 2,0",
+        'Z' => "0,6 4,6 0,0 4,0",
+        'm' => "0,0 0,4|0,3 1,4 1.5,4 2,3 2,0|2,3 2.5,4 3,4 4,3 4,0",
+        '-' => "1,3 3,3",
+        '<' => "3,5 0,3 3,1",
+        '>' => "1,5 4,3 1,1",
+        '.' => "1.6,0 2.4,0 2.4,0.8 1.6,0.8 1.6,0",
+        ',' => "2.4,0.8 2.4,0 1.6,-1",
+        ':' => "1.6,1 2.4,1 2.4,1.8 1.6,1.8 1.6,1|1.6,4 2.4,4 2.4,4.8 1.6,4.8 1.6,4",
+        '/' => "0,0 4,6",
+        '_' => "0,0 4,0",
+        '(' => "3,6 2,5 2,1 3,0",
+        ')' => "1,6 2,5 2,1 1,0",
+        '+' => "2,1 2,5|0,3 4,3",
+        '=' => "0,2 4,2|0,4 4,4",
+        '#' => "1,0 1.5,6|2.5,0 3,6|0,2 4,2|0,4 4,4",
+        '?' => "0,5 1,6 3,6 4,5 4,4 2,2.5 2,1.5|2,0 2,0.5",
+        ' ' => "",
+        _ => return None,
+    })
+}
+
+/// Strokes of `text` with its baseline origin at (0, 0), cap height `height`,
+/// y up. Lower-case letters other than `m` are drawn as capitals; characters
+/// the font lacks are drawn as `?`.
+pub fn text(text: &str, height: f64) -> Vec<Vec<DVec2>> {
+    let scale = height / CAP;
+    let mut out = Vec::new();
+    for (k, c) in text.chars().enumerate() {
+        let c = if c == 'm' { c } else { c.to_ascii_uppercase() };
+        let glyph = strokes(c).unwrap_or_else(|| strokes('?').expect("? exists"));
+        let x0 = k as f64 * ADVANCE;
+        for stroke in glyph.split('|').filter(|s| !s.is_empty()) {
+            let points = stroke
+                .split(' ')
+                .map(|p| {
+                    let (x, y) = p.split_once(',').expect("x,y");
+                    let (x, y): (f64, f64) =
+                        (x.parse().expect("number"), y.parse().expect("number"));
+                    DVec2::new((x0 + x) * scale, y * scale)
+                })
+                .collect();
+            out.push(points);
+        }
+    }
+    out
+}
+
+/// Width of `text` at cap height `height` (no trailing spacing).
+pub fn width(text: &str, height: f64) -> f64 {
+    let n = text.chars().count() as f64;
+    if n == 0.0 {
+        0.0
+    } else {
+        (n * ADVANCE - (ADVANCE - 4.0)) * height / CAP
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_glyph_parses_and_stays_in_its_box() {
+        let all = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZm-<>.,:/_()+=#? ";
+        for (k, c) in all.chars().enumerate() {
+            for stroke in text(&c.to_string(), CAP) {
+                assert!(stroke.len() >= 2, "{c}: a stroke needs two points");
+                for p in stroke {
+                    assert!(
+                        (-0.01..=4.01).contains(&p.x) && (-1.01..=6.01).contains(&p.y),
+                        "{c} (#{k}) at {p}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn width_matches_the_strokes() {
+        let strokes = text("R03-C05-A", 3.0);
+        let max_x = strokes.iter().flatten().map(|p| p.x).fold(0.0, f64::max);
+        assert!(max_x <= width("R03-C05-A", 3.0) + 1e-12);
+        assert!((width("R03-C05-A", 3.0) - (9.0 * 5.0 - 1.0) * 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn unknown_characters_become_question_marks() {
+        assert_eq!(text("é", 6.0), text("?", 6.0));
+    }
+}

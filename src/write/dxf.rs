@@ -1,0 +1,346 @@
+//! DXF cut files, R2000 (AC1015): the oldest version that declares its units
+//! ($INSUNITS = 4, millimetres), so importers need not guess the scale. Holes
+//! are CIRCLE entities; outlines are closed LWPOLYLINEs of lines and
+//! semicircular arcs (bulges), one closed path per strip; engraving and the
+//! scale bar are open LWPOLYLINEs on their own layers. No SPLINE, no TEXT.
+//! y points up in DXF, so page coordinates are flipped (y' = height - y).
+
+use super::number::num;
+use crate::drawing::{Layer, Page, Segment, Shape, arc_angles};
+use glam::DVec2;
+use std::fmt::Write as _;
+
+/// Writes group-code/value pairs and hands out entity handles.
+struct Dxf {
+    out: String,
+    next_handle: u32,
+}
+
+impl Dxf {
+    fn pair(&mut self, code: u16, value: impl std::fmt::Display) {
+        let _ = write!(self.out, "{code}\n{value}\n");
+    }
+
+    fn handle(&mut self) -> String {
+        let h = format!("{:X}", self.next_handle);
+        self.next_handle += 1;
+        h
+    }
+
+    /// A table entry or entity header: type, its handle, its owner.
+    fn head(&mut self, kind: &str, owner: &str) -> String {
+        self.pair(0, kind);
+        let h = self.handle();
+        self.pair(5, &h);
+        self.pair(330, owner);
+        h
+    }
+
+    fn table(&mut self, name: &str, entries: impl FnOnce(&mut Dxf, &str) -> usize) {
+        self.pair(0, "TABLE");
+        self.pair(2, name);
+        let h = self.handle();
+        self.pair(5, &h);
+        self.pair(330, "0");
+        self.pair(100, "AcDbSymbolTable");
+        // Entries are written after the count, so count them on a copy first.
+        let mut probe = Dxf {
+            out: String::new(),
+            next_handle: self.next_handle,
+        };
+        let n = entries(&mut probe, &h);
+        self.pair(70, n);
+        self.out.push_str(&probe.out);
+        self.next_handle = probe.next_handle;
+        self.pair(0, "ENDTAB");
+    }
+}
+
+/// The page as DXF (R2000) bytes.
+pub fn write(page: &Page) -> Vec<u8> {
+    let mut d = Dxf {
+        out: String::new(),
+        next_handle: 0x20,
+    };
+    let h = page.height;
+    let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
+
+    // Handles fixed up front so tables, blocks and objects can refer to them.
+    let (model_record, paper_record) = ("1A", "1B");
+    let (root_dict, group_dict) = ("C", "D");
+
+    d.pair(
+        999,
+        format!("karigami {}: {}", env!("CARGO_PKG_VERSION"), page.title),
+    );
+    for (k, v) in &page.metadata {
+        d.pair(999, format!("{k}: {v}"));
+    }
+    d.pair(0, "SECTION");
+    d.pair(2, "HEADER");
+    d.pair(9, "$ACADVER");
+    d.pair(1, "AC1015");
+    d.pair(9, "$HANDSEED");
+    d.pair(5, "FFFF");
+    d.pair(9, "$INSUNITS");
+    d.pair(70, 4);
+    d.pair(9, "$MEASUREMENT");
+    d.pair(70, 1);
+    d.pair(9, "$EXTMIN");
+    d.pair(10, 0);
+    d.pair(20, 0);
+    d.pair(30, 0);
+    d.pair(9, "$EXTMAX");
+    d.pair(10, num(page.width));
+    d.pair(20, num(page.height));
+    d.pair(30, 0);
+    d.pair(0, "ENDSEC");
+
+    d.pair(0, "SECTION");
+    d.pair(2, "TABLES");
+    d.table("VPORT", |d, owner| {
+        d.head("VPORT", owner);
+        d.pair(100, "AcDbSymbolTableRecord");
+        d.pair(100, "AcDbViewportTableRecord");
+        d.pair(2, "*Active");
+        d.pair(70, 0);
+        for (code, v) in [(10, 0.0), (20, 0.0), (11, 1.0), (21, 1.0)] {
+            d.pair(code, num(v));
+        }
+        d.pair(12, num(page.width / 2.0));
+        d.pair(22, num(page.height / 2.0));
+        d.pair(40, num(page.height * 1.05));
+        d.pair(41, num(page.width / page.height));
+        1
+    });
+    d.table("LTYPE", |d, owner| {
+        for name in ["ByBlock", "ByLayer", "Continuous"] {
+            d.head("LTYPE", owner);
+            d.pair(100, "AcDbSymbolTableRecord");
+            d.pair(100, "AcDbLinetypeTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+            d.pair(
+                3,
+                if name == "Continuous" {
+                    "Solid line"
+                } else {
+                    ""
+                },
+            );
+            d.pair(72, 65);
+            d.pair(73, 0);
+            d.pair(40, "0.0");
+        }
+        3
+    });
+    d.table("LAYER", |d, owner| {
+        // Layer "0" must exist; ours follow, the reference layer not plotted.
+        let layers: Vec<(&str, u8, bool)> = std::iter::once(("0", 7, true))
+            .chain(
+                Layer::ALL
+                    .iter()
+                    .map(|l| (l.name(), l.aci(), *l != Layer::Reference)),
+            )
+            .collect();
+        for &(name, colour, plot) in &layers {
+            d.head("LAYER", owner);
+            d.pair(100, "AcDbSymbolTableRecord");
+            d.pair(100, "AcDbLayerTableRecord");
+            d.pair(2, name);
+            d.pair(70, 0);
+            d.pair(62, colour);
+            d.pair(6, "Continuous");
+            d.pair(290, plot as u8);
+            d.pair(370, -3);
+            d.pair(390, "0");
+        }
+        layers.len()
+    });
+    d.table("STYLE", |d, owner| {
+        d.head("STYLE", owner);
+        d.pair(100, "AcDbSymbolTableRecord");
+        d.pair(100, "AcDbTextStyleTableRecord");
+        d.pair(2, "Standard");
+        d.pair(70, 0);
+        d.pair(40, "0.0");
+        d.pair(41, "1.0");
+        d.pair(50, "0.0");
+        d.pair(71, 0);
+        d.pair(42, "2.5");
+        d.pair(3, "txt");
+        d.pair(4, "");
+        1
+    });
+    d.table("VIEW", |_, _| 0);
+    d.table("UCS", |_, _| 0);
+    d.table("APPID", |d, owner| {
+        d.head("APPID", owner);
+        d.pair(100, "AcDbSymbolTableRecord");
+        d.pair(100, "AcDbRegAppTableRecord");
+        d.pair(2, "ACAD");
+        d.pair(70, 0);
+        1
+    });
+    // DIMSTYLE uses 105 for its entries' handles.
+    d.pair(0, "TABLE");
+    d.pair(2, "DIMSTYLE");
+    let dimstyle = d.handle();
+    d.pair(5, &dimstyle);
+    d.pair(330, "0");
+    d.pair(100, "AcDbSymbolTable");
+    d.pair(70, 1);
+    d.pair(100, "AcDbDimStyleTable");
+    d.pair(0, "DIMSTYLE");
+    let std_dim = d.handle();
+    d.pair(105, &std_dim);
+    d.pair(330, &dimstyle);
+    d.pair(100, "AcDbSymbolTableRecord");
+    d.pair(100, "AcDbDimStyleTableRecord");
+    d.pair(2, "Standard");
+    d.pair(70, 0);
+    d.pair(0, "ENDTAB");
+    // Block records with fixed handles, referred to by the blocks.
+    d.pair(0, "TABLE");
+    d.pair(2, "BLOCK_RECORD");
+    let records = d.handle();
+    d.pair(5, &records);
+    d.pair(330, "0");
+    d.pair(100, "AcDbSymbolTable");
+    d.pair(70, 2);
+    for (handle, name) in [
+        (model_record, "*Model_Space"),
+        (paper_record, "*Paper_Space"),
+    ] {
+        d.pair(0, "BLOCK_RECORD");
+        d.pair(5, handle);
+        d.pair(330, &records);
+        d.pair(100, "AcDbSymbolTableRecord");
+        d.pair(100, "AcDbBlockTableRecord");
+        d.pair(2, name);
+    }
+    d.pair(0, "ENDTAB");
+    d.pair(0, "ENDSEC");
+
+    d.pair(0, "SECTION");
+    d.pair(2, "BLOCKS");
+    for (record, name) in [
+        (model_record, "*Model_Space"),
+        (paper_record, "*Paper_Space"),
+    ] {
+        d.head("BLOCK", record);
+        d.pair(100, "AcDbEntity");
+        d.pair(8, "0");
+        d.pair(100, "AcDbBlockBegin");
+        d.pair(2, name);
+        d.pair(70, 0);
+        for code in [10, 20, 30] {
+            d.pair(code, "0.0");
+        }
+        d.pair(3, name);
+        d.pair(1, "");
+        d.head("ENDBLK", record);
+        d.pair(100, "AcDbEntity");
+        d.pair(8, "0");
+        d.pair(100, "AcDbBlockEnd");
+    }
+    d.pair(0, "ENDSEC");
+
+    d.pair(0, "SECTION");
+    d.pair(2, "ENTITIES");
+    for item in page.groups.iter().flat_map(|g| &g.items) {
+        let layer = item.layer;
+        match &item.shape {
+            Shape::Circle { center, radius } => {
+                d.head("CIRCLE", model_record);
+                d.pair(100, "AcDbEntity");
+                d.pair(8, layer.name());
+                d.pair(62, layer.aci());
+                d.pair(100, "AcDbCircle");
+                let c = flip(*center);
+                d.pair(10, num(c.x));
+                d.pair(20, num(c.y));
+                d.pair(30, "0.0");
+                d.pair(40, num(*radius));
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                // Vertices with the bulge of the segment that leaves each.
+                let mut vertices: Vec<(DVec2, f64)> = vec![(*start, 0.0)];
+                let mut current = *start;
+                for s in segments {
+                    match *s {
+                        Segment::Line(p) => {
+                            vertices.push((p, 0.0));
+                            current = p;
+                        }
+                        Segment::Arc {
+                            to,
+                            center,
+                            clockwise,
+                        } => {
+                            let (_, sweep) = arc_angles(current, to, center, clockwise);
+                            // Clockwise on the y-down page is counter-clockwise
+                            // once flipped, and DXF bulges are positive counter-clockwise.
+                            vertices.last_mut().expect("a start vertex").1 = (sweep / 4.0).tan();
+                            vertices.push((to, 0.0));
+                            current = to;
+                        }
+                    }
+                }
+                if *closed
+                    && vertices.len() > 1
+                    && vertices.last().expect("vertices").0.distance(*start) < 1e-9
+                {
+                    // The closing segment is implied; keep the last bulge on its vertex.
+                    vertices.pop();
+                }
+                d.head("LWPOLYLINE", model_record);
+                d.pair(100, "AcDbEntity");
+                d.pair(8, layer.name());
+                d.pair(62, layer.aci());
+                d.pair(100, "AcDbPolyline");
+                d.pair(90, vertices.len());
+                d.pair(70, if *closed { 1 } else { 0 });
+                for (p, bulge) in vertices {
+                    let p = flip(p);
+                    d.pair(10, num(p.x));
+                    d.pair(20, num(p.y));
+                    if bulge != 0.0 {
+                        d.pair(42, num(bulge));
+                    }
+                }
+            }
+        }
+    }
+    d.pair(0, "ENDSEC");
+
+    d.pair(0, "SECTION");
+    d.pair(2, "OBJECTS");
+    d.pair(0, "DICTIONARY");
+    d.pair(5, root_dict);
+    d.pair(330, "0");
+    d.pair(100, "AcDbDictionary");
+    d.pair(281, 1);
+    d.pair(3, "ACAD_GROUP");
+    d.pair(350, group_dict);
+    d.pair(0, "DICTIONARY");
+    d.pair(5, group_dict);
+    d.pair(330, root_dict);
+    d.pair(100, "AcDbDictionary");
+    d.pair(281, 1);
+    d.pair(0, "ENDSEC");
+    d.pair(0, "EOF");
+    // Fix the handle seed now that every handle is known.
+    let seed = format!("{:X}", d.next_handle);
+    d.out
+        .replacen(
+            "$HANDSEED\n5\nFFFF\n",
+            &format!("$HANDSEED\n5\n{seed}\n"),
+            1,
+        )
+        .into_bytes()
+}
