@@ -53,7 +53,7 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
-        "result: {verdict} (tolerance {TOLERANCE:.0e}, largest residual {:.2e})",
+        "verification: {verdict} (tolerance {TOLERANCE:.0e}, largest residual {:.2e})",
         report.worst()
     );
     out

@@ -82,7 +82,7 @@ fn check_fails_on_bad_fixtures_with_exit_1_and_the_place() {
             stderr.contains(&format!("error[{}]", want.class)),
             "{stderr}"
         );
-        assert!(!text(&out.stdout).contains("PASS"));
+        assert!(!text(&out.stdout).contains("result: PASS"));
     }
 }
 
@@ -257,12 +257,24 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
     let json: Value =
         serde_json::from_slice(&fs::read(dir.join("karigami-out/lattice.json")).unwrap()).unwrap();
     assert!(!json["cells"].as_array().unwrap().is_empty());
-    // No temporary files left behind.
-    let names: Vec<String> = fs::read_dir(dir.join("karigami-out"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    assert_eq!(names, ["lattice.json"]);
+    // The whole build, and no temporary files or folders left behind.
+    let list = |d: &Path| {
+        let mut names: Vec<String> = fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(
+        list(&dir.join("karigami-out")),
+        ["cut.pdf", "lattice.json", "parts.csv", "sheets"]
+    );
+    assert_eq!(
+        list(&dir.join("karigami-out/sheets")),
+        ["sheet-01.dxf", "sheet-01.svg"]
+    );
+    assert_eq!(list(&dir), ["karigami-out"]);
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! first line announces: `# expect: CLASS LINE:COL "part of the message"`.
 //! To add a case, drop a recipe there with such a line.
 
+use karigami::build::build;
 use karigami::design;
 use std::fs;
 use std::path::PathBuf;
@@ -54,7 +55,7 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
         let file = path.display().to_string();
         let source = fs::read_to_string(path).unwrap();
         let want = expectation(&source, &file);
-        let got = design::parse(&source, "bad").and_then(|d| d.grow().map(|_| ()));
+        let got = design::parse(&source, "bad").and_then(|d| build(d).map(|_| ()));
         let Err(diag) = got else {
             failures.push(format!("{file}: was accepted"));
             continue;

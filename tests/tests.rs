@@ -1,7 +1,9 @@
 //! One integration-test binary (fewer link steps on small machines).
 
 mod cli;
+mod cutfiles;
 mod errors;
 mod golden;
 mod property;
+mod thirdparty;
 mod util;

@@ -244,28 +244,19 @@ fn check_settings(
         .at_opt(eyelet_span.or(spans.width.clone()))
         .hint(format!("use wider strips (material.width >= {}) or a smaller eyelet", d + 2.0 * MIN_WALL)));
     }
+    // The rounded end needs end_margin >= w / 2; with the hole check above
+    // that also leaves at least MIN_WALL between an end hole and the tip.
     if f.end_margin < w / 2.0 {
         return Err(Diagnostic::new(
-            "EndMarginTooSmall",
+            "HoleTooCloseToEnd",
             format!(
-                "strip.end_margin is {} mm, less than half the strip width ({} mm)",
+                "strip.end_margin is {} mm: the end holes would sit closer to the tips than the rounded end allows (at least half the {w} mm width, {} mm)",
                 f.end_margin,
                 w / 2.0
             ),
         )
         .at_opt(spans.end_margin.clone())
-        .hint("the rounded strip end needs end_margin >= width / 2"));
-    }
-    if f.end_margin - d / 2.0 < MIN_WALL {
-        return Err(Diagnostic::new(
-            "HoleTooCloseToEnd",
-            format!(
-                "every strip's end holes would be {:.2} mm from its tips (less than {MIN_WALL} mm of material)",
-                f.end_margin - d / 2.0
-            ),
-        )
-        .at_opt(spans.end_margin.clone().or(eyelet_span))
-        .hint("raise strip.end_margin or use a smaller eyelet"));
+        .hint(format!("raise strip.end_margin to {} mm or more", w / 2.0)));
     }
     let (uw, uh) = f.sheet.usable();
     if uw < w || uh < w {

@@ -12,6 +12,9 @@ use glam::DVec2;
 
 /// Eyelet flanges closer than this (mm) get a near-miss warning.
 pub const FLANGE_CLEARANCE_WARNING: f64 = 1.0;
+/// Hole centre to strip tip, in hole diameters, below which a warning says
+/// the end may tear out (the usual edge-distance rule for holes).
+pub const EDGE_DISTANCE: f64 = 1.5;
 /// Smallest engraved text height (mm) before a label falls back to a shorter form.
 pub const MIN_LABEL_HEIGHT: f64 = 2.0;
 
@@ -188,6 +191,17 @@ fn check(
                 ),
             });
         }
+    }
+    let d = fab.eyelet.hole;
+    if fab.end_margin < EDGE_DISTANCE * d {
+        warnings.push(Warning {
+            strip: None,
+            message: format!(
+                "end holes are {} mm from the tips, less than {EDGE_DISTANCE} hole diameters ({:.1} mm): strip ends may tear under load (raise strip.end_margin)",
+                fab.end_margin,
+                EDGE_DISTANCE * d
+            ),
+        });
     }
     let (uw, uh) = fab.sheet.usable();
     let longest = uw.max(uh);

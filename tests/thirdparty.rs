@@ -1,0 +1,238 @@
+//! Our files checked by tools nobody here wrote: librsvg and svgelements for
+//! SVG, poppler and qpdf for PDF, ezdxf for DXF. `scripts/test` installs them
+//! and sets KARIGAMI_REQUIRE_TOOLS, so in CI a missing tool fails the test;
+//! a plain `cargo test` without them skips with a note.
+
+use crate::cli::{karigami, recipes, repo, scratch};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const PT_PER_MM: f64 = 72.0 / 25.4;
+
+/// Run a tool; None (after a note) when it is missing and not required.
+fn run(tool: &str, args: &[&str]) -> Option<std::process::Output> {
+    match Command::new(tool).args(args).output() {
+        Ok(out) => Some(out),
+        Err(e) => {
+            assert!(
+                std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none(),
+                "{tool} is required: {e}"
+            );
+            eprintln!("note: {tool} not available ({e}); skipped");
+            None
+        }
+    }
+}
+
+fn python_check(script: &str, file: &Path) -> Option<Value> {
+    let script = repo().join("tests/tools").join(script);
+    let out = run(
+        "python3",
+        &[script.to_str().unwrap(), file.to_str().unwrap()],
+    )?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none()
+                && err.contains("ModuleNotFoundError"),
+            "{}: {err}",
+            script.display()
+        );
+        eprintln!("note: {} needs a Python module: {err}", script.display());
+        return None;
+    }
+    Some(serde_json::from_slice(&out.stdout).unwrap())
+}
+
+/// Build every example once into a scratch folder; (folder, sheet width, height).
+fn built_examples(tag: &str) -> Vec<(PathBuf, f64, f64)> {
+    recipes("examples")
+        .into_iter()
+        .map(|recipe| {
+            let name = recipe.file_stem().unwrap().to_string_lossy().into_owned();
+            let dir = scratch(&format!("{tag}-{name}"));
+            let out = karigami(&["build", recipe.to_str().unwrap(), "--out", "out"], &dir);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let text = std::fs::read_to_string(&recipe).unwrap();
+            let sheet = karigami::design::parse(&text, "x")
+                .unwrap()
+                .fabrication
+                .sheet;
+            (dir.join("out"), sheet.width, sheet.height)
+        })
+        .collect()
+}
+
+fn sheets(dir: &Path, ext: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("sheets"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == ext))
+        .collect();
+    files.sort();
+    assert!(!files.is_empty());
+    files
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+#[test]
+fn svg_renders_at_true_size_and_holes_measure_their_diameter() {
+    for (dir, w, h) in built_examples("svg") {
+        for svg in sheets(&dir, "svg") {
+            let png = svg.with_extension("png");
+            let Some(out) = run(
+                "rsvg-convert",
+                &[
+                    "-d",
+                    "96",
+                    "-p",
+                    "96",
+                    svg.to_str().unwrap(),
+                    "-o",
+                    png.to_str().unwrap(),
+                ],
+            ) else {
+                return;
+            };
+            assert!(
+                out.status.success(),
+                "rsvg-convert: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let (pw, ph) = png_size(&png);
+            let px = |mm: f64| mm * 96.0 / 25.4;
+            assert!(
+                (pw as f64 - px(w)).abs() <= 1.0 && (ph as f64 - px(h)).abs() <= 1.0,
+                "{}: {pw} x {ph} px",
+                svg.display()
+            );
+            let Some(m) = python_check("check_svg.py", &svg) else {
+                return;
+            };
+            // svgelements converts with a rounded px-per-mm constant: allow 1 micrometre.
+            assert!((m["width_mm"].as_f64().unwrap() - w).abs() < 1e-3, "{m}");
+            assert!((m["height_mm"].as_f64().unwrap() - h).abs() < 1e-3, "{m}");
+            let holes: Vec<f64> = m["hole_diameters_mm"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            assert_eq!(holes.len(), 1, "one hole size: {m}");
+            assert!(
+                (holes[0] - 3.2).abs() < 0.001,
+                "the 1/8 in eyelet hole measures {}",
+                holes[0]
+            );
+        }
+    }
+}
+
+#[test]
+fn pdf_pages_are_the_sheet_size_and_qpdf_finds_no_errors() {
+    for (dir, w, h) in built_examples("pdf") {
+        let pdf = dir.join("cut.pdf");
+        let pdf_s = pdf.to_str().unwrap();
+        let Some(info) = run("pdfinfo", &["-f", "1", "-l", "999", pdf_s]) else {
+            return;
+        };
+        let info = String::from_utf8_lossy(&info.stdout).into_owned();
+        let pages: usize = info.lines().find(|l| l.starts_with("Pages:")).unwrap()[6..]
+            .trim()
+            .parse()
+            .unwrap();
+        assert_eq!(pages, sheets(&dir, "svg").len(), "one page per sheet");
+        for line in info
+            .lines()
+            .filter(|l| l.starts_with("Page") && l.contains("size:"))
+        {
+            let nums: Vec<f64> = line
+                .split_whitespace()
+                .filter_map(|t| t.parse().ok())
+                .collect();
+            let (pw, ph) = (nums[nums.len() - 2], nums[nums.len() - 1]);
+            assert!(
+                (pw - w * PT_PER_MM).abs() < 0.01 && (ph - h * PT_PER_MM).abs() < 0.01,
+                "{line}: expected {w} x {h} mm"
+            );
+        }
+        let Some(check) = run("qpdf", &["--check", pdf_s]) else {
+            return;
+        };
+        let text = String::from_utf8_lossy(&check.stdout);
+        assert!(
+            check.status.success() && text.contains("No syntax or stream encoding errors"),
+            "{text}"
+        );
+        let prefix = dir.join("page");
+        let Some(render) = run(
+            "pdftoppm",
+            &["-r", "20", "-png", pdf_s, prefix.to_str().unwrap()],
+        ) else {
+            return;
+        };
+        assert!(render.status.success());
+        let rendered = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .starts_with("page")
+            })
+            .count();
+        assert_eq!(rendered, pages);
+    }
+}
+
+#[test]
+fn dxf_passes_ezdxf_audit_in_millimetres() {
+    for (dir, w, h) in built_examples("dxf") {
+        for dxf in sheets(&dir, "dxf") {
+            let Some(m) = python_check("check_dxf.py", &dxf) else {
+                return;
+            };
+            assert_eq!(m["errors"], 0, "{}: {m}", dxf.display());
+            assert_eq!(m["version"], "AC1015");
+            assert_eq!(m["units"], 4, "millimetres");
+            assert_eq!(
+                m["radii"],
+                serde_json::json!([1.6]),
+                "true circles of the hole radius"
+            );
+            let layers: Vec<&str> = m["entity_layers"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_str().unwrap())
+                .collect();
+            assert!(
+                layers.contains(&"CIRCLE:holes")
+                    && layers.contains(&"LWPOLYLINE:outlines")
+                    && layers.contains(&"LWPOLYLINE:labels"),
+                "{layers:?}"
+            );
+            let (min, max) = (&m["extmin"], &m["extmax"]);
+            assert!(
+                min[0].as_f64().unwrap() >= 0.0 && min[1].as_f64().unwrap() >= 0.0,
+                "{m}"
+            );
+            assert!(
+                max[0].as_f64().unwrap() <= w && max[1].as_f64().unwrap() <= h,
+                "{m}"
+            );
+        }
+    }
+}
