@@ -79,11 +79,20 @@ fn sparrow(set: &Set, height: f64, seconds: u32) -> Option<serde_json::Value> {
     let file = std::env::temp_dir().join(format!("karigami-nest-{}.json", set.name));
     std::fs::write(&file, instance.to_string()).ok()?;
     let out = Command::new("python3")
-        .args([script.to_str()?, file.to_str()?, "--seconds", &seconds.to_string()])
+        .args([
+            script.to_str()?,
+            file.to_str()?,
+            "--seconds",
+            &seconds.to_string(),
+        ])
         .output()
         .ok()?;
     if !out.status.success() {
-        eprintln!("sparrow failed on {}: {}", set.name, String::from_utf8_lossy(&out.stderr));
+        eprintln!(
+            "sparrow failed on {}: {}",
+            set.name,
+            String::from_utf8_lossy(&out.stderr)
+        );
         return None;
     }
     serde_json::from_slice(&out.stdout).ok()

@@ -194,13 +194,12 @@ pub fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
                 .map(|v| v.as_f64().unwrap())
                 .collect();
             assert_eq!(s.holes.len(), 3, "{id}: three holes");
-            for k in 0..2 {
+            for (k, leg) in legs.iter().enumerate() {
                 let measured = s.holes[k].0.distance(s.holes[k + 1].0);
                 assert!(
-                    (measured - legs[k]).abs() < 0.01,
-                    "{name} {id}: holes {k}-{} are {measured} apart, leg is {}",
-                    k + 1,
-                    legs[k]
+                    (measured - leg).abs() < 0.01,
+                    "{name} {id}: holes {k}-{} are {measured} apart, leg is {leg}",
+                    k + 1
                 );
             }
             let (a, b, r) = s.spine.expect("an outline");
