@@ -3,6 +3,7 @@
 //! this model and nothing else, so no writer re-derives geometry.
 
 mod sheet;
+pub mod text;
 
 pub use sheet::{Meta, sheet_page};
 
@@ -20,6 +21,8 @@ pub enum Layer {
     Labels,
     /// Not for cutting: the scale bar and the sheet caption.
     Reference,
+    /// Pictures and text of guides and previews; never on a cut sheet.
+    Art,
 }
 
 impl Layer {
@@ -36,6 +39,7 @@ impl Layer {
             Layer::Outlines => "outlines",
             Layer::Labels => "labels",
             Layer::Reference => "reference",
+            Layer::Art => "art",
         }
     }
 
@@ -46,6 +50,7 @@ impl Layer {
             Layer::Outlines => [255, 0, 0],
             Layer::Labels => [0, 0, 0],
             Layer::Reference => [0, 255, 0],
+            Layer::Art => [0, 0, 0],
         }
     }
 
@@ -61,6 +66,7 @@ impl Layer {
             Layer::Outlines => 1,
             Layer::Labels => 7,
             Layer::Reference => 3,
+            Layer::Art => 7,
         }
     }
 
@@ -70,6 +76,7 @@ impl Layer {
             Layer::Outlines => "cut (outer: strip outlines)",
             Layer::Labels => "score or engrave (strip IDs and arrows)",
             Layer::Reference => "do not output (100 mm scale bar, caption)",
+            Layer::Art => "picture (never cut)",
         }
     }
 }
@@ -87,6 +94,21 @@ pub enum Segment {
     },
 }
 
+/// Built-in PDF fonts (no font files); other writers draw text with the
+/// single-stroke font.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Font {
+    Regular,
+    Bold,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Align {
+    Left,
+    Center,
+    Right,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     Circle {
@@ -98,12 +120,54 @@ pub enum Shape {
         segments: Vec<Segment>,
         closed: bool,
     },
+    /// A line of text; `at` is on the baseline, `size` the font size in mm.
+    Text {
+        at: DVec2,
+        size: f64,
+        text: String,
+        font: Font,
+        align: Align,
+    },
+}
+
+/// How an item is painted: stroke colour and width (mm), optional fill.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ink {
+    pub stroke: Option<[u8; 3]>,
+    pub width: f64,
+    pub fill: Option<[u8; 3]>,
+}
+
+impl Ink {
+    /// A hairline in a layer's colour: how cut sheets are drawn.
+    pub const HAIRLINE: f64 = 0.025;
+
+    pub fn line(colour: [u8; 3], width: f64) -> Self {
+        Self {
+            stroke: Some(colour),
+            width,
+            fill: None,
+        }
+    }
+
+    pub fn fill(colour: [u8; 3]) -> Self {
+        Self {
+            stroke: None,
+            width: 0.0,
+            fill: Some(colour),
+        }
+    }
+
+    pub fn of(layer: Layer) -> Self {
+        Self::line(layer.rgb(), Self::HAIRLINE)
+    }
 }
 
 impl Shape {
     /// Length of the shape's path (mm): what a laser travels cutting it.
     pub fn length(&self) -> f64 {
         match self {
+            Shape::Text { .. } => 0.0,
             Shape::Circle { radius, .. } => 2.0 * PI * radius,
             Shape::Path {
                 start,
@@ -151,7 +215,27 @@ impl Shape {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Item {
     pub layer: Layer,
+    pub ink: Ink,
     pub shape: Shape,
+}
+
+impl Item {
+    /// An item painted in its layer's own colour, as a hairline.
+    pub fn on(layer: Layer, shape: Shape) -> Self {
+        Self {
+            layer,
+            ink: Ink::of(layer),
+            shape,
+        }
+    }
+
+    pub fn art(ink: Ink, shape: Shape) -> Self {
+        Self {
+            layer: Layer::Art,
+            ink,
+            shape,
+        }
+    }
 }
 
 /// Items that belong together (one strip), named by `id`.

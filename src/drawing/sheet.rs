@@ -80,24 +80,20 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
     let mut items: Vec<Item> = strip
         .holes
         .iter()
-        .map(|&s| Item {
-            layer: Layer::Holes,
-            shape: Shape::Circle {
-                center: frame.map(DVec2::new(s, 0.0)),
-                radius: outline.hole / 2.0,
-            },
+        .map(|&s| {
+            Item::on(
+                Layer::Holes,
+                Shape::Circle {
+                    center: frame.map(DVec2::new(s, 0.0)),
+                    radius: outline.hole / 2.0,
+                },
+            )
         })
         .collect();
-    items.push(Item {
-        layer: Layer::Outlines,
-        shape: stadium(strip, &outline, &frame),
-    });
+    items.push(Item::on(Layer::Outlines, stadium(strip, &outline, &frame)));
     items.extend(strip.engraving.iter().map(|stroke| {
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
-        Item {
-            layer: Layer::Labels,
-            shape: Shape::polyline(&points, false),
-        }
+        Item::on(Layer::Labels, Shape::polyline(&points, false))
     }));
     Group {
         id: strip.id.clone(),
@@ -114,10 +110,7 @@ fn caption(text: &str, origin: DVec2, height: f64) -> Vec<Item> {
                 .iter()
                 .map(|p| origin + DVec2::new(p.x, -p.y))
                 .collect();
-            Item {
-                layer: Layer::Reference,
-                shape: Shape::polyline(&points, false),
-            }
+            Item::on(Layer::Reference, Shape::polyline(&points, false))
         })
         .collect()
 }
@@ -136,24 +129,24 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
     let x0 = margin.max(2.0);
     let text_h = (margin * 0.5).clamp(0.8, 2.5);
     let mut items = vec![
-        Item {
-            layer: Layer::Reference,
-            shape: Shape::polyline(&[DVec2::new(x0, y), DVec2::new(x0 + bar, y)], false),
-        },
-        Item {
-            layer: Layer::Reference,
-            shape: Shape::polyline(&[DVec2::new(x0, y - tick), DVec2::new(x0, y + tick)], false),
-        },
-        Item {
-            layer: Layer::Reference,
-            shape: Shape::polyline(
+        Item::on(
+            Layer::Reference,
+            Shape::polyline(&[DVec2::new(x0, y), DVec2::new(x0 + bar, y)], false),
+        ),
+        Item::on(
+            Layer::Reference,
+            Shape::polyline(&[DVec2::new(x0, y - tick), DVec2::new(x0, y + tick)], false),
+        ),
+        Item::on(
+            Layer::Reference,
+            Shape::polyline(
                 &[
                     DVec2::new(x0 + bar, y - tick),
                     DVec2::new(x0 + bar, y + tick),
                 ],
                 false,
             ),
-        },
+        ),
     ];
     let label = format!("{bar} mm   {title}");
     items.extend(caption(

@@ -56,6 +56,62 @@ impl Dxf {
     }
 }
 
+/// A path's vertices, each with the bulge of the segment that leaves it.
+fn bulged(start: DVec2, segments: &[Segment], closed: bool) -> Vec<(DVec2, f64)> {
+    let mut vertices: Vec<(DVec2, f64)> = vec![(start, 0.0)];
+    let mut current = start;
+    for s in segments {
+        match *s {
+            Segment::Line(p) => {
+                vertices.push((p, 0.0));
+                current = p;
+            }
+            Segment::Arc {
+                to,
+                center,
+                clockwise,
+            } => {
+                let (_, sweep) = arc_angles(current, to, center, clockwise);
+                // Clockwise on the y-down page is counter-clockwise once
+                // flipped, and DXF bulges are positive counter-clockwise.
+                vertices.last_mut().expect("a start vertex").1 = (sweep / 4.0).tan();
+                vertices.push((to, 0.0));
+                current = to;
+            }
+        }
+    }
+    if closed && vertices.len() > 1 && vertices.last().expect("vertices").0.distance(start) < 1e-9 {
+        // The closing segment is implied; the last bulge stays on its vertex.
+        vertices.pop();
+    }
+    vertices
+}
+
+fn lwpolyline(
+    d: &mut Dxf,
+    owner: &str,
+    layer: Layer,
+    vertices: &[(DVec2, f64)],
+    closed: bool,
+    flip: &dyn Fn(DVec2) -> DVec2,
+) {
+    d.head("LWPOLYLINE", owner);
+    d.pair(100, "AcDbEntity");
+    d.pair(8, layer.name());
+    d.pair(62, layer.aci());
+    d.pair(100, "AcDbPolyline");
+    d.pair(90, vertices.len());
+    d.pair(70, if closed { 1 } else { 0 });
+    for &(p, bulge) in vertices {
+        let p = flip(p);
+        d.pair(10, num(p.x));
+        d.pair(20, num(p.y));
+        if bulge != 0.0 {
+            d.pair(42, num(bulge));
+        }
+    }
+}
+
 /// The page as DXF (R2000) bytes.
 pub fn write(page: &Page) -> Vec<u8> {
     let mut d = Dxf {
@@ -268,50 +324,21 @@ pub fn write(page: &Page) -> Vec<u8> {
                 segments,
                 closed,
             } => {
-                // Vertices with the bulge of the segment that leaves each.
-                let mut vertices: Vec<(DVec2, f64)> = vec![(*start, 0.0)];
-                let mut current = *start;
-                for s in segments {
-                    match *s {
-                        Segment::Line(p) => {
-                            vertices.push((p, 0.0));
-                            current = p;
-                        }
-                        Segment::Arc {
-                            to,
-                            center,
-                            clockwise,
-                        } => {
-                            let (_, sweep) = arc_angles(current, to, center, clockwise);
-                            // Clockwise on the y-down page is counter-clockwise
-                            // once flipped, and DXF bulges are positive counter-clockwise.
-                            vertices.last_mut().expect("a start vertex").1 = (sweep / 4.0).tan();
-                            vertices.push((to, 0.0));
-                            current = to;
-                        }
-                    }
-                }
-                if *closed
-                    && vertices.len() > 1
-                    && vertices.last().expect("vertices").0.distance(*start) < 1e-9
-                {
-                    // The closing segment is implied; keep the last bulge on its vertex.
-                    vertices.pop();
-                }
-                d.head("LWPOLYLINE", model_record);
-                d.pair(100, "AcDbEntity");
-                d.pair(8, layer.name());
-                d.pair(62, layer.aci());
-                d.pair(100, "AcDbPolyline");
-                d.pair(90, vertices.len());
-                d.pair(70, if *closed { 1 } else { 0 });
-                for (p, bulge) in vertices {
-                    let p = flip(p);
-                    d.pair(10, num(p.x));
-                    d.pair(20, num(p.y));
-                    if bulge != 0.0 {
-                        d.pair(42, num(bulge));
-                    }
+                lwpolyline(
+                    &mut d,
+                    model_record,
+                    layer,
+                    &bulged(*start, segments, *closed),
+                    *closed,
+                    &flip,
+                );
+            }
+            // No TEXT entities: text is drawn with the single-stroke font.
+            text @ Shape::Text { .. } => {
+                for stroke in crate::drawing::text::strokes(text) {
+                    let vertices: Vec<(DVec2, f64)> =
+                        stroke.into_iter().map(|p| (p, 0.0)).collect();
+                    lwpolyline(&mut d, model_record, layer, &vertices, false, &flip);
                 }
             }
         }

@@ -2,10 +2,13 @@
 //! true scale (mm x 72 / 25.4 pt), hairline strokes in the layer colours.
 
 use crate::design::fnv1a;
-use crate::drawing::{Item, Page, Segment, Shape, arc_to_cubics, circle_to_cubics};
+use crate::drawing::{
+    Font, Ink, Item, Page, Segment, Shape, arc_to_cubics, circle_to_cubics, text,
+};
 use glam::DVec2;
 use printpdf::{
-    Color, Line, LinePoint, Mm, Op, PdfDocument, PdfPage, PdfSaveOptions, Point, Pt, Rgb,
+    BuiltinFont, Color, Line, LinePoint, Mm, Op, PaintMode, PdfDocument, PdfFontHandle, PdfPage,
+    PdfSaveOptions, Point, Polygon, PolygonRing, Pt, Rgb, TextItem, WindingOrder,
 };
 
 /// Points per millimetre.
@@ -48,9 +51,11 @@ impl ToPdf {
         }
     }
 
-    fn line(&self, shape: &Shape) -> Line {
+    /// A path or circle as a line; None for text.
+    fn line(&self, shape: &Shape) -> Option<Line> {
         let mut points = Vec::new();
         let closed = match shape {
+            Shape::Text { .. } => return None,
             Shape::Circle { center, radius } => {
                 let (start, pieces) = circle_to_cubics(*center, *radius);
                 points.push(self.plain(start));
@@ -86,37 +91,112 @@ impl ToPdf {
                 *closed
             }
         };
-        Line {
+        Some(Line {
             points,
             is_closed: closed,
-        }
+        })
     }
 }
 
+fn colour([r, g, b]: [u8; 3]) -> Color {
+    Color::Rgb(Rgb {
+        r: r as f32 / 255.0,
+        g: g as f32 / 255.0,
+        b: b as f32 / 255.0,
+        icc_profile: None,
+    })
+}
+
+/// Text the built-in fonts can show (their widths table is ASCII).
+fn ascii(s: &str) -> String {
+    s.chars()
+        .map(|c| if (' '..='~').contains(&c) { c } else { '?' })
+        .collect()
+}
+
+/// Drawing ops for one page; paint state is set only when it changes.
 fn ops(page: &Page) -> Vec<Op> {
     let to = ToPdf {
         height: page.height,
     };
-    let mut ops = vec![Op::SetOutlineThickness {
-        pt: Pt((HAIRLINE_MM * PT_PER_MM) as f32),
-    }];
-    let mut colour = None;
-    for Item { layer, shape } in page.groups.iter().flat_map(|g| &g.items) {
-        if colour != Some(*layer) {
-            let [r, g, b] = layer.rgb();
-            ops.push(Op::SetOutlineColor {
-                col: Color::Rgb(Rgb {
-                    r: r as f32 / 255.0,
-                    g: g as f32 / 255.0,
-                    b: b as f32 / 255.0,
-                    icc_profile: None,
-                }),
-            });
-            colour = Some(*layer);
+    let mut ops = Vec::new();
+    let (mut stroke, mut fill, mut width) = (None, None, None);
+    for Item { ink, shape, .. } in page.groups.iter().flat_map(|g| &g.items) {
+        let Ink {
+            stroke: s,
+            fill: f,
+            width: w,
+        } = *ink;
+        if let Some(c) = s.filter(|_| !matches!(shape, Shape::Text { .. })) {
+            if stroke != Some(c) {
+                ops.push(Op::SetOutlineColor { col: colour(c) });
+                stroke = Some(c);
+            }
+            if width != Some(w) {
+                ops.push(Op::SetOutlineThickness {
+                    pt: Pt((w * PT_PER_MM) as f32),
+                });
+                width = Some(w);
+            }
         }
-        ops.push(Op::DrawLine {
-            line: to.line(shape),
-        });
+        let fill_colour = match shape {
+            Shape::Text { .. } => f.or(s),
+            _ => f,
+        };
+        if let Some(c) = fill_colour {
+            if fill != Some(c) {
+                ops.push(Op::SetFillColor { col: colour(c) });
+                fill = Some(c);
+            }
+        }
+        if let Shape::Text {
+            at,
+            size,
+            text: t,
+            font,
+            align,
+        } = shape
+        {
+            let t = ascii(t);
+            let start = text::start(*at, &t, *font, *size, *align);
+            let builtin = match font {
+                Font::Regular => BuiltinFont::Helvetica,
+                Font::Bold => BuiltinFont::HelveticaBold,
+            };
+            ops.extend([
+                Op::StartTextSection,
+                Op::SetFont {
+                    font: PdfFontHandle::Builtin(builtin),
+                    size: Pt((size * PT_PER_MM) as f32),
+                },
+                Op::SetTextCursor {
+                    pos: to.point(start),
+                },
+                Op::ShowText {
+                    items: vec![TextItem::Text(t)],
+                },
+                Op::EndTextSection,
+            ]);
+            continue;
+        }
+        let line = to.line(shape).expect("not text");
+        match (f.is_some(), s.is_some()) {
+            (true, stroked) => ops.push(Op::DrawPolygon {
+                polygon: Polygon {
+                    rings: vec![PolygonRing {
+                        points: line.points,
+                    }],
+                    mode: if stroked {
+                        PaintMode::FillStroke
+                    } else {
+                        PaintMode::Fill
+                    },
+                    winding_order: WindingOrder::NonZero,
+                },
+            }),
+            (false, true) => ops.push(Op::DrawLine { line }),
+            (false, false) => {}
+        }
     }
     ops
 }

@@ -48,9 +48,13 @@ fn path_data(start: glam::DVec2, segments: &[Segment], closed: bool) -> String {
     d
 }
 
+fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02X}{g:02X}{b:02X}")
+}
+
+/// One item, painted with its ink (cut layers: a hairline in the layer colour).
 fn item(item: &Item) -> Element {
-    let stroke = item.layer.hex();
-    let el: Element = match &item.shape {
+    let mut el: Element = match &item.shape {
         Shape::Circle { center, radius } => Circle::new()
             .set("cx", num(center.x))
             .set("cy", num(center.y))
@@ -63,11 +67,42 @@ fn item(item: &Item) -> Element {
         } => Path::new()
             .set("d", path_data(*start, segments, *closed))
             .into(),
+        // Text as single strokes: no fonts needed, and a laser scores it in one pass.
+        text @ Shape::Text { .. } => {
+            let d: Vec<String> = crate::drawing::text::strokes(text)
+                .iter()
+                .map(|s| {
+                    let segments: Vec<Segment> = s[1..].iter().map(|&p| Segment::Line(p)).collect();
+                    path_data(s[0], &segments, false)
+                })
+                .collect();
+            Path::new().set("d", d.join(" ")).into()
+        }
     };
-    let mut el = el;
-    el.assign("fill", "none");
-    el.assign("stroke", stroke);
-    el.assign("stroke-width", num(HAIRLINE));
+    let ink = item.ink;
+    let is_text = matches!(item.shape, Shape::Text { .. });
+    el.assign(
+        "fill",
+        if is_text {
+            "none".into()
+        } else {
+            ink.fill.map_or("none".into(), hex)
+        },
+    );
+    match ink.stroke.or(if is_text { ink.fill } else { None }) {
+        Some(c) => {
+            el.assign("stroke", hex(c));
+            el.assign(
+                "stroke-width",
+                num(if is_text {
+                    ink.width.max(HAIRLINE)
+                } else {
+                    ink.width
+                }),
+            );
+        }
+        None => el.assign("stroke", "none"),
+    }
     el.assign("class", item.layer.name());
     el
 }
