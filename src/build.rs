@@ -3,12 +3,20 @@
 
 use crate::design::Design;
 use crate::diagnostic::Diagnostic;
+use crate::drawing::picture::preview;
 use crate::drawing::{Meta, Page, sheet_page};
+use crate::guide::guide;
 use crate::lattice::{Lattice, Report, verify};
 use crate::layout::{Bounds, Layout, nest};
+use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
-use crate::write::{dxf, lattice_json, parts_csv, pdf, svg};
+use crate::write::{dxf, lattice_json, obj, parts_csv, pdf, png, svg};
 use std::fmt::Write as _;
+
+/// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px).
+pub const SHEET_PX_PER_MM: f64 = 2.0;
+/// Resolution of preview.png: 8 px/mm on a 160 x 120 mm page (1280 x 960 px).
+pub const PREVIEW_PX_PER_MM: f64 = 8.0;
 
 pub struct Build {
     pub design: Design,
@@ -79,6 +87,8 @@ fn locate(design: &Design, e: PartsError) -> Diagnostic {
 impl Build {
     /// Every output file: a path relative to the output folder and its bytes.
     pub fn files(&self) -> Vec<(String, Vec<u8>)> {
+        let name = &self.design.name;
+        let fab = &self.design.fabrication;
         let mut files = vec![(
             "lattice.json".to_string(),
             lattice_json::write(&self.lattice),
@@ -86,14 +96,38 @@ impl Build {
         for (i, page) in self.pages.iter().enumerate() {
             files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
             files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
+            files.push((
+                format!("sheets/sheet-{:02}.png", i + 1),
+                png::write(page, SHEET_PX_PER_MM, 1.0),
+            ));
         }
         files.push((
             "cut.pdf".to_string(),
-            pdf::write(&format!("{} cut sheets", self.design.name), &self.pages),
+            pdf::write(&format!("{name} cut sheets"), &self.pages),
         ));
         files.push((
             "parts.csv".to_string(),
             parts_csv::write(&self.parts.strips, &self.layout),
+        ));
+        files.push((
+            "assembly.pdf".to_string(),
+            pdf::write(&format!("{name} assembly guide"), &guide(self)),
+        ));
+        let picture = preview(&self.lattice, fab.material.width, name);
+        files.push((
+            "preview.png".to_string(),
+            png::write(&picture, PREVIEW_PX_PER_MM, 1.0),
+        ));
+        let solids: Vec<_> = self
+            .parts
+            .strips
+            .iter()
+            .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
+            .collect();
+        files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
+        files.push((
+            "report.txt".to_string(),
+            crate::report::build_text(self).into_bytes(),
         ));
         files
     }

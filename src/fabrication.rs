@@ -87,6 +87,31 @@ impl LabelStyle {
     }
 }
 
+/// Paper for the printed assembly guide.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Paper {
+    A4,
+    Letter,
+}
+
+impl Paper {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s.to_ascii_lowercase().as_str() {
+            "a4" => Some(Paper::A4),
+            "letter" | "us-letter" => Some(Paper::Letter),
+            _ => None,
+        }
+    }
+
+    /// Width and height in mm (portrait).
+    pub fn size(self) -> (f64, f64) {
+        match self {
+            Paper::A4 => (210.0, 297.0),
+            Paper::Letter => (215.9, 279.4),
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fabrication {
     pub material: Material,
@@ -100,6 +125,8 @@ pub struct Fabrication {
     /// holes in) or left nominal for the laser software to offset.
     pub compensate_kerf: bool,
     pub sheet: SheetSpec,
+    /// Paper of the assembly guide.
+    pub paper: Paper,
 }
 
 impl Default for Fabrication {
@@ -130,6 +157,7 @@ impl Default for Fabrication {
                 margin: 5.0,
                 gap: 2.0,
             },
+            paper: Paper::A4,
         }
     }
 }

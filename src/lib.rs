@@ -9,6 +9,7 @@ pub mod diagnostic;
 pub mod drawing;
 pub mod fabrication;
 pub mod geometry;
+pub mod guide;
 pub mod lattice;
 pub mod layout;
 pub mod parts;

@@ -1,5 +1,6 @@
 //! Human-readable summaries of a build (pure text; the CLI prints it).
 
+use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::{Lattice, Report, TOLERANCE, joints};
 use std::fmt::Write as _;
@@ -56,5 +57,52 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
         "verification: {verdict} (tolerance {TOLERANCE:.0e}, largest residual {:.2e})",
         report.worst()
     );
+    out
+}
+
+/// report.txt: the verification report, the fabrication summary with its
+/// warnings, the sheets, and the eyelets of each assembly step.
+pub fn build_text(b: &Build) -> String {
+    let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
+    out.push_str(&check_text(&b.design, &b.lattice, &b.report));
+    out.push('\n');
+    out.push_str(&b.summary());
+    let fab = &b.design.fabrication;
+    let _ = writeln!(
+        out,
+        "\nmaterial: {} {} mm, strips {} mm wide, end margin {} mm; eyelet {} (hole {} mm, flange {} mm)",
+        fab.material.name,
+        fab.material.thickness,
+        fab.material.width,
+        fab.end_margin,
+        fab.eyelet.name,
+        fab.eyelet.hole,
+        fab.eyelet.flange
+    );
+    let _ = writeln!(
+        out,
+        "kerf: {} mm, {}",
+        fab.kerf,
+        if fab.compensate_kerf {
+            "compensated in the geometry"
+        } else {
+            "not compensated (set it in the laser software)"
+        }
+    );
+    for (i, sheet) in b.layout.sheets.iter().enumerate() {
+        let _ = writeln!(out, "sheet {:02}: {} strips", i + 1, sheet.placements.len());
+    }
+    out.push_str("\nassembly steps (eyelets this step / running total):\n");
+    for s in crate::guide::steps(&b.lattice) {
+        let _ = writeln!(
+            out,
+            "step {:>3}: row {:>3}, {:>4} strips, {:>4} / {}",
+            s.number,
+            s.row,
+            s.strips.len(),
+            s.eyelets,
+            s.total
+        );
+    }
     out
 }

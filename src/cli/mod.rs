@@ -77,6 +77,9 @@ struct FabricationFlags {
     /// What to engrave on strips: id, compact or none.
     #[arg(long)]
     label: Option<String>,
+    /// Paper of the assembly guide: a4 or letter.
+    #[arg(long)]
+    paper: Option<String>,
 }
 
 impl FabricationFlags {
@@ -88,6 +91,7 @@ impl FabricationFlags {
             kerf: self.kerf,
             compensate_kerf: self.compensate_kerf.then_some(true),
             label: self.label.clone(),
+            paper: self.paper.clone(),
         }
     }
 }

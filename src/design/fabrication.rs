@@ -5,7 +5,8 @@
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::Diagnostic;
 use crate::fabrication::{
-    EYELET_PRESETS, Fabrication, LabelStyle, SHEET_PRESETS, eyelet_preset, preset_names, sheet_size,
+    EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_PRESETS, eyelet_preset, preset_names,
+    sheet_size,
 };
 use std::ops::Range;
 
@@ -20,6 +21,8 @@ pub struct Overrides {
     pub kerf: Option<f64>,
     pub compensate_kerf: Option<bool>,
     pub label: Option<String>,
+    /// Paper of the assembly guide: a4 or letter.
+    pub paper: Option<String>,
 }
 
 /// Where the settings were written, for errors found later (per strip).
@@ -215,6 +218,21 @@ pub fn fabrication(
         })?;
         (f.sheet.name, f.sheet.width, f.sheet.height) = (n, w, h);
         spans.sheet = None;
+    }
+
+    if let Some(g) = &raw.guide {
+        if let Some(p) = &g.get_ref().paper {
+            f.paper = Paper::parse(p.get_ref()).ok_or_else(|| {
+                Diagnostic::new("design", format!("unknown paper \"{}\"", p.get_ref()))
+                    .at(p.span())
+                    .hint("use \"a4\" or \"letter\"")
+            })?;
+        }
+    }
+    if let Some(p) = &o.paper {
+        f.paper = Paper::parse(p).ok_or_else(|| {
+            Diagnostic::new("usage", format!("unknown paper \"{p}\"")).hint("use a4 or letter")
+        })?;
     }
 
     check_settings(&f, raw, &spans)?;

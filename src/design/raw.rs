@@ -20,6 +20,14 @@ pub struct RawDesign {
     pub strip: Option<Spanned<RawStrip>>,
     pub laser: Option<Spanned<RawLaser>>,
     pub sheet: Option<Spanned<RawSheet>>,
+    pub guide: Option<Spanned<RawGuide>>,
+}
+
+/// `[guide]`: the printed assembly guide.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawGuide {
+    pub paper: Option<Spanned<String>>,
 }
 
 /// `[material]`: the strip stock.

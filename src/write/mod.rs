@@ -3,6 +3,8 @@
 pub mod dxf;
 pub mod lattice_json;
 mod number;
+pub mod obj;
 pub mod parts_csv;
 pub mod pdf;
+pub mod png;
 pub mod svg;

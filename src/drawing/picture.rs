@@ -1,0 +1,231 @@
+//! Pictures of the deployed lattice: an orthographic view fitted into a box
+//! on a page, rods drawn far to near with a depth cue, pivots as dots.
+
+use super::{Ink, Item, Shape};
+use crate::lattice::Lattice;
+use glam::{DVec2, DVec3};
+
+/// An orthographic camera: page x along `right`, page y down along `-up`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub right: DVec3,
+    pub up: DVec3,
+    /// Where the viewer looks; larger `depth` is farther away.
+    pub forward: DVec3,
+}
+
+impl Camera {
+    /// Planar lattices from above; lattices in space along their mean facet
+    /// normal, tilted 30 degrees so their relief shows.
+    pub fn for_lattice(lattice: &Lattice) -> Self {
+        if lattice.dim == 2 {
+            return Self {
+                right: DVec3::X,
+                up: DVec3::Y,
+                forward: DVec3::NEG_Z,
+            };
+        }
+        let normal: DVec3 = lattice
+            .cells
+            .iter()
+            .map(|c| {
+                let [ul, ur, ll, _] = lattice.corners(c);
+                (ur - ul).cross(ll - ul).normalize_or_zero()
+            })
+            .sum();
+        let n = if normal.length() > 1e-6 * lattice.cells.len() as f64 {
+            normal.normalize()
+        } else {
+            DVec3::Z
+        };
+        let forward = -n;
+        let along = lattice
+            .vertices
+            .get(1)
+            .map_or(DVec3::X, |v| v.pos - lattice.vertices[0].pos);
+        let right = (along - along.dot(forward) * forward)
+            .try_normalize()
+            .unwrap_or_else(|| forward.any_orthonormal_vector());
+        let up = right.cross(forward);
+        let tilt = 30f64.to_radians();
+        let forward = tilt.cos() * forward + tilt.sin() * up;
+        Self {
+            right,
+            up: right.cross(forward),
+            forward,
+        }
+    }
+
+    fn project(&self, p: DVec3) -> DVec2 {
+        DVec2::new(p.dot(self.right), -p.dot(self.up))
+    }
+}
+
+/// How to draw the rods of one cell (None hides them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodStyle {
+    pub colour: [u8; 3],
+    /// Stroke width in mm on the page.
+    pub width: f64,
+}
+
+/// A camera view fitted into a box of the page.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    camera: Camera,
+    scale: f64,
+    offset: DVec2,
+    depth: (f64, f64),
+}
+
+impl Fit {
+    /// Fit the whole lattice into the box at `origin` (top-left) of `size` mm.
+    pub fn new(lattice: &Lattice, camera: Camera, origin: DVec2, size: DVec2) -> Self {
+        let points = lattice
+            .vertices
+            .iter()
+            .map(|v| v.pos)
+            .chain(lattice.cells.iter().map(|c| c.pivot));
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in points {
+            let q = camera.project(p);
+            lo = lo.min(q);
+            hi = hi.max(q);
+            let d = p.dot(camera.forward);
+            near = near.min(d);
+            far = far.max(d);
+        }
+        let extent = (hi - lo).max(DVec2::splat(1e-9));
+        let scale = (size.x / extent.x).min(size.y / extent.y);
+        let offset = origin + (size - extent * scale) / 2.0 - lo * scale;
+        Self {
+            camera,
+            scale,
+            offset,
+            depth: (near, far),
+        }
+    }
+
+    pub fn map(&self, p: DVec3) -> DVec2 {
+        self.offset + self.camera.project(p) * self.scale
+    }
+
+    /// 0 at the nearest point, 1 at the farthest.
+    fn depth(&self, p: DVec3) -> f64 {
+        let (near, far) = self.depth;
+        if far - near < 1e-9 {
+            0.0
+        } else {
+            (p.dot(self.camera.forward) - near) / (far - near)
+        }
+    }
+
+    /// Millimetres on the page per millimetre of the lattice.
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+}
+
+/// Blend a colour towards white by `t` (0 keeps it, 1 is white).
+fn pale(c: [u8; 3], t: f64) -> [u8; 3] {
+    c.map(|v| (v as f64 + (255.0 - v as f64) * t).round() as u8)
+}
+
+pub const PIVOT: [u8; 3] = [230, 120, 20];
+pub const VERTEX: [u8; 3] = [30, 90, 200];
+
+/// Rods of every cell `style` shows, far ones first and paler, then dots at
+/// the pivots and vertices of the cells shown.
+pub fn lattice_picture(
+    lattice: &Lattice,
+    fit: &Fit,
+    style: impl Fn(usize) -> Option<RodStyle>,
+    dots: f64,
+) -> Vec<Item> {
+    let mut rods: Vec<(f64, Item)> = Vec::new();
+    let mut shown_vertices = vec![false; lattice.vertices.len()];
+    let mut pivots = Vec::new();
+    for (c, cell) in lattice.cells.iter().enumerate() {
+        let Some(s) = style(c) else { continue };
+        for rod in lattice.cell_rods(c) {
+            let [a, _, b] = rod.hole_pos;
+            let depth = fit.depth((a + b) / 2.0);
+            let ink = Ink::line(pale(s.colour, 0.55 * depth), s.width * (1.0 - 0.35 * depth));
+            rods.push((
+                depth,
+                Item::art(ink, Shape::polyline(&[fit.map(a), fit.map(b)], false)),
+            ));
+        }
+        pivots.push(cell.pivot);
+        for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+            shown_vertices[v as usize] = true;
+        }
+    }
+    rods.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut items: Vec<Item> = rods.into_iter().map(|(_, i)| i).collect();
+    if dots > 0.0 {
+        let dot = |p: DVec3, colour| {
+            Item::art(
+                Ink::fill(colour),
+                Shape::Circle {
+                    center: fit.map(p),
+                    radius: dots,
+                },
+            )
+        };
+        items.extend(pivots.into_iter().map(|p| dot(p, PIVOT)));
+        items.extend(
+            lattice
+                .vertices
+                .iter()
+                .zip(&shown_vertices)
+                .filter(|(_, shown)| **shown)
+                .map(|(v, _)| dot(v.pos, VERTEX)),
+        );
+    }
+    items
+}
+
+/// The preview picture: the deployed lattice filling a page, with a title.
+pub fn preview(lattice: &Lattice, strip_width: f64, title: &str) -> super::Page {
+    let (w, h) = (160.0, 120.0);
+    let fit = Fit::new(
+        lattice,
+        Camera::for_lattice(lattice),
+        DVec2::new(6.0, 12.0),
+        DVec2::new(w - 12.0, h - 18.0),
+    );
+    let width = (0.7 * fit.scale() * strip_width).clamp(0.25, 1.5);
+    let mut items = lattice_picture(
+        lattice,
+        &fit,
+        |_| {
+            Some(RodStyle {
+                colour: [40, 40, 40],
+                width,
+            })
+        },
+        width * 0.9,
+    );
+    items.push(Item::art(
+        Ink::fill([40, 40, 40]),
+        Shape::Text {
+            at: DVec2::new(6.0, 8.0),
+            size: 4.0,
+            text: title.to_string(),
+            font: super::Font::Bold,
+            align: super::Align::Left,
+        },
+    ));
+    super::Page {
+        width: w,
+        height: h,
+        title: title.to_string(),
+        metadata: Vec::new(),
+        groups: vec![super::Group {
+            id: "preview".into(),
+            items,
+        }],
+    }
+}

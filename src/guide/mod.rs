@@ -1,0 +1,747 @@
+//! The printable assembly guide, as drawing-model pages: a cover, the bill
+//! of materials with a 1:1 ruler, one step per row, the collapsed state as a
+//! 1:1 inspection gauge, and a checklist. Everything a maker needs to build
+//! the lattice on a table without a screen.
+
+pub mod steps;
+
+use crate::build::Build;
+use crate::drawing::picture::{Camera, Fit, PIVOT, RodStyle, VERTEX, lattice_picture};
+use crate::drawing::{Align, Font, Group, Ink, Item, Page, Shape};
+use crate::lattice::VertexKey;
+use glam::DVec2;
+pub use steps::{Step, steps};
+
+const MARGIN: f64 = 15.0;
+const BODY: f64 = 3.6;
+const SMALL: f64 = 3.0;
+const LINE: f64 = 5.0;
+const BLACK: [u8; 3] = [0, 0, 0];
+const GREY: [u8; 3] = [110, 110, 110];
+const FAINT: [u8; 3] = [185, 185, 185];
+const NEW: [u8; 3] = [214, 40, 40];
+
+/// Builds pages top to bottom, starting a new page when one is full.
+struct Writer {
+    size: (f64, f64),
+    title: String,
+    pages: Vec<Page>,
+    items: Vec<Item>,
+    y: f64,
+    /// Drawn at the top of every continuation page.
+    running_head: Option<String>,
+}
+
+impl Writer {
+    fn new(size: (f64, f64), title: String) -> Self {
+        Self {
+            size,
+            title,
+            pages: Vec::new(),
+            items: Vec::new(),
+            y: MARGIN,
+            running_head: None,
+        }
+    }
+
+    fn width(&self) -> f64 {
+        self.size.0 - 2.0 * MARGIN
+    }
+
+    fn bottom(&self) -> f64 {
+        self.size.1 - MARGIN - 6.0
+    }
+
+    fn finish_page(&mut self) {
+        if self.items.is_empty() {
+            return;
+        }
+        let number = self.pages.len() + 1;
+        let footer = format!("{} - page {number}", self.title);
+        let at = DVec2::new(self.size.0 / 2.0, self.size.1 - MARGIN / 2.0);
+        self.items.push(text_item(
+            at,
+            SMALL,
+            &footer,
+            Font::Regular,
+            Align::Center,
+            GREY,
+        ));
+        self.pages.push(Page {
+            width: self.size.0,
+            height: self.size.1,
+            title: format!("{} page {number}", self.title),
+            metadata: Vec::new(),
+            groups: vec![Group {
+                id: format!("page-{number}"),
+                items: std::mem::take(&mut self.items),
+            }],
+        });
+        self.y = MARGIN;
+    }
+
+    fn new_page(&mut self) {
+        self.finish_page();
+        self.y = MARGIN;
+    }
+
+    /// Room for `height` more mm, else continue on a new page.
+    fn need(&mut self, height: f64) {
+        if self.y + height > self.bottom() {
+            self.new_page();
+            if let Some(head) = self.running_head.clone() {
+                self.text(&format!("{head} (continued)"), BODY, Font::Bold, GREY);
+                self.y += 2.0;
+            }
+        }
+    }
+
+    fn text_at(&mut self, x: f64, text: &str, size: f64, font: Font, colour: [u8; 3]) {
+        self.items.push(text_item(
+            DVec2::new(x, self.y + size * 0.75),
+            size,
+            text,
+            font,
+            Align::Left,
+            colour,
+        ));
+    }
+
+    /// A line of text at the left margin; moves down.
+    fn text(&mut self, text: &str, size: f64, font: Font, colour: [u8; 3]) {
+        self.need(size * 1.4);
+        self.text_at(MARGIN, text, size, font, colour);
+        self.y += size * 1.4;
+    }
+
+    fn heading(&mut self, text: &str) {
+        self.need(14.0);
+        self.text(text, 7.0, Font::Bold, BLACK);
+        self.y += 2.0;
+    }
+
+    /// A paragraph wrapped to the text width.
+    fn paragraph(&mut self, text: &str, size: f64, colour: [u8; 3]) {
+        let mut line = String::new();
+        for word in text.split_whitespace() {
+            let candidate = if line.is_empty() {
+                word.to_string()
+            } else {
+                format!("{line} {word}")
+            };
+            if crate::drawing::text::width(&candidate, Font::Regular, size) > self.width()
+                && !line.is_empty()
+            {
+                self.text(&line, size, Font::Regular, colour);
+                line = word.to_string();
+            } else {
+                line = candidate;
+            }
+        }
+        if !line.is_empty() {
+            self.text(&line, size, Font::Regular, colour);
+        }
+        self.y += size * 0.4;
+    }
+
+    /// Table rows in fixed columns (x offsets from the margin).
+    fn row(&mut self, columns: &[f64], cells: &[String], font: Font, colour: [u8; 3]) {
+        self.need(LINE);
+        for (x, cell) in columns.iter().zip(cells) {
+            self.text_at(MARGIN + x, cell, SMALL, font, colour);
+        }
+        self.y += LINE * 0.85;
+    }
+
+    fn rule(&mut self) {
+        let y = self.y;
+        self.items.push(Item::art(
+            Ink::line(FAINT, 0.2),
+            Shape::polyline(
+                &[DVec2::new(MARGIN, y), DVec2::new(self.size.0 - MARGIN, y)],
+                false,
+            ),
+        ));
+        self.y += 1.5;
+    }
+
+    fn push(&mut self, items: Vec<Item>) {
+        self.items.extend(items);
+    }
+}
+
+fn text_item(at: DVec2, size: f64, text: &str, font: Font, align: Align, colour: [u8; 3]) -> Item {
+    Item::art(
+        Ink::fill(colour),
+        Shape::Text {
+            at,
+            size,
+            text: text.to_string(),
+            font,
+            align,
+        },
+    )
+}
+
+fn key(k: VertexKey) -> String {
+    format!("[{},{}]", k.row, k.col)
+}
+
+fn mm(x: f64) -> String {
+    format!("{x:.1} mm")
+}
+
+/// How many spares to buy: a tenth more, at least two.
+pub fn spares(n: usize) -> usize {
+    n.div_ceil(10).max(2)
+}
+
+/// The guide for a build, on its paper (A4 or US Letter, portrait).
+pub fn guide(b: &Build) -> Vec<Page> {
+    let fab = &b.design.fabrication;
+    let mut w = Writer::new(
+        fab.paper.size(),
+        format!("{} assembly guide", b.design.name),
+    );
+    let steps = steps(&b.lattice);
+    cover(&mut w, b, &steps);
+    materials(&mut w, b);
+    for step in &steps {
+        step_pages(&mut w, b, step, steps.len());
+    }
+    gauge(&mut w, b);
+    checklist(&mut w, b, &steps);
+    w.finish_page();
+    w.pages
+}
+
+fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
+    let fab = &b.design.fabrication;
+    w.text(&b.design.name, 10.0, Font::Bold, BLACK);
+    w.text("Scissor lattice - assembly guide", 5.0, Font::Regular, GREY);
+    w.y += 4.0;
+    let box_size = DVec2::new(w.width(), 120.0);
+    let fit = Fit::new(
+        &b.lattice,
+        Camera::for_lattice(&b.lattice),
+        DVec2::new(MARGIN, w.y),
+        box_size,
+    );
+    let width = (0.6 * fit.scale() * fab.material.width).clamp(0.3, 1.6);
+    w.push(lattice_picture(
+        &b.lattice,
+        &fit,
+        |_| {
+            Some(RodStyle {
+                colour: [60, 60, 60],
+                width,
+            })
+        },
+        width * 0.9,
+    ));
+    w.y += box_size.y + 8.0;
+    let (lo, hi) = b.lattice.extent();
+    let size = hi - lo;
+    let dims: Vec<String> = size.to_array()[..b.lattice.dim]
+        .iter()
+        .map(|x| format!("{x:.0}"))
+        .collect();
+    let vertex = b.parts.vertex_eyelets;
+    let pivot = b.parts.pivot_eyelets;
+    let facts = [
+        format!("Deployed size: {} mm", dims.join(" x ")),
+        format!(
+            "Cells: {} in {} rows of {}",
+            b.lattice.cells.len(),
+            b.lattice.rows(),
+            b.lattice.width
+        ),
+        format!(
+            "Strips: {} of {} {} mm, {} mm wide, cut from {} sheet{} of {} x {} mm",
+            b.parts.strips.len(),
+            fab.material.name,
+            fab.material.thickness,
+            fab.material.width,
+            b.layout.sheets.len(),
+            if b.layout.sheets.len() == 1 { "" } else { "s" },
+            fab.sheet.width,
+            fab.sheet.height
+        ),
+        format!(
+            "Eyelets ({}): {} - {pivot} at scissor pivots, {vertex} at vertex pivots",
+            fab.eyelet.name,
+            pivot + vertex
+        ),
+        format!(
+            "Steps: {}, one for each row, in the order the lattice was grown",
+            steps.len()
+        ),
+    ];
+    for f in &facts {
+        w.text(f, BODY, Font::Regular, BLACK);
+    }
+    w.y += 3.0;
+    w.text("Tools", 4.5, Font::Bold, BLACK);
+    for t in [
+        "A laser cutter, with cut.pdf or the files in sheets/ (SVG or DXF).".to_string(),
+        format!(
+            "An eyelet setter for {} eyelets and a small hammer or an eyelet press.",
+            fab.eyelet.name
+        ),
+        "A flat table, and this guide printed at 100 % (actual size): its gauges are 1:1."
+            .to_string(),
+    ] {
+        w.text(&format!("-  {t}"), BODY, Font::Regular, BLACK);
+    }
+    w.y += 3.0;
+    w.paragraph(
+        "Every strip carries its ID, e.g. R03-C05-A: cell row 3, column 5, rod A. The arrow < in front of it points \
+         to the strip's upper end, the vertex of the earlier row. Strips of a cell cross at its scissor pivot with \
+         rod A under rod B.",
+        BODY,
+        GREY,
+    );
+    w.new_page();
+}
+
+fn materials(w: &mut Writer, b: &Build) {
+    let fab = &b.design.fabrication;
+    w.heading("Bill of materials");
+    w.running_head = Some("Bill of materials".into());
+    let columns = [0.0, 30.0, 58.0, 110.0, 128.0];
+    let header = [
+        "Strip",
+        "Tip to tip",
+        "Hole pitch",
+        "Sheet",
+        "Position on the sheet",
+    ]
+    .map(String::from);
+    w.row(&columns, &header, Font::Bold, BLACK);
+    w.rule();
+    let mut place = vec![None; b.parts.strips.len()];
+    for (s, sheet) in b.layout.sheets.iter().enumerate() {
+        for p in &sheet.placements {
+            place[p.part] = Some((s + 1, *p));
+        }
+    }
+    for (strip, place) in b.parts.strips.iter().zip(place) {
+        let (sheet, p) = place.expect("every strip is placed");
+        w.row(
+            &columns,
+            &[
+                strip.id.clone(),
+                mm(strip.length),
+                format!("{:.1} + {:.1} mm", strip.legs[0], strip.legs[1]),
+                sheet.to_string(),
+                format!(
+                    "x {:.0}, y {:.0} mm{}",
+                    p.x,
+                    p.y,
+                    if p.rotated { ", upright" } else { "" }
+                ),
+            ],
+            Font::Regular,
+            BLACK,
+        );
+    }
+    w.running_head = None;
+    w.y += 4.0;
+    w.need(60.0);
+    w.text("Eyelets", 4.5, Font::Bold, BLACK);
+    let mut by_stack = std::collections::BTreeMap::new();
+    for j in crate::lattice::joints(&b.lattice)
+        .iter()
+        .filter(|j| j.needs_eyelet())
+    {
+        *by_stack.entry(j.ends.len()).or_insert(0usize) += 1;
+    }
+    let mut kinds = vec![(
+        "scissor pivots, through 2 strips".to_string(),
+        b.parts.pivot_eyelets,
+    )];
+    kinds.extend(
+        by_stack
+            .iter()
+            .map(|(k, n)| (format!("vertex pivots, through {k} strips"), *n)),
+    );
+    for (kind, n) in &kinds {
+        w.text(
+            &format!("{n:>5}  {kind}  (+{} spares)", spares(*n)),
+            BODY,
+            Font::Regular,
+            BLACK,
+        );
+    }
+    let total: usize = kinds.iter().map(|k| k.1).sum();
+    let spare: usize = kinds.iter().map(|k| spares(k.1)).sum();
+    w.text(
+        &format!(
+            "{total:>5}  {} eyelets in all; buy {} with spares",
+            fab.eyelet.name,
+            total + spare
+        ),
+        BODY,
+        Font::Bold,
+        BLACK,
+    );
+    w.paragraph(
+        "Stacks of 3 and 4 strips need eyelets with a longer barrel than the pivots' 2: check them on a test stack.",
+        SMALL,
+        GREY,
+    );
+    ruler(w);
+}
+
+/// A 1:1 ruler: print at 100 % and it must measure what it says.
+fn ruler(w: &mut Writer) {
+    let length = 150.0f64.min(w.width() - 10.0).floor();
+    w.need(22.0);
+    w.y += 3.0;
+    w.text(
+        &format!("Length gauge (1:1): this ruler must measure {length:.0} mm on paper"),
+        BODY,
+        Font::Bold,
+        BLACK,
+    );
+    let y = w.y + 8.0;
+    let x0 = MARGIN;
+    let mut items = vec![Item::art(
+        Ink::line(BLACK, 0.25),
+        Shape::polyline(&[DVec2::new(x0, y), DVec2::new(x0 + length, y)], false),
+    )];
+    for k in 0..=(length as usize) {
+        let tick = if k % 10 == 0 {
+            5.0
+        } else if k % 5 == 0 {
+            3.5
+        } else {
+            2.0
+        };
+        let x = x0 + k as f64;
+        items.push(Item::art(
+            Ink::line(BLACK, 0.15),
+            Shape::polyline(&[DVec2::new(x, y), DVec2::new(x, y - tick)], false),
+        ));
+        if k % 10 == 0 {
+            items.push(text_item(
+                DVec2::new(x, y + 3.5),
+                2.5,
+                &k.to_string(),
+                Font::Regular,
+                Align::Center,
+                BLACK,
+            ));
+        }
+    }
+    w.push(items);
+    w.y = y + 8.0;
+}
+
+fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
+    let strips = &b.parts.strips;
+    w.new_page();
+    // Step number and progress bar.
+    w.text_at(
+        MARGIN,
+        &format!("Step {}", step.number),
+        14.0,
+        Font::Bold,
+        BLACK,
+    );
+    let bar_x = MARGIN + 70.0;
+    let bar_w = w.width() - 70.0;
+    let fraction = step.number as f64 / count as f64;
+    let y = w.y + 4.0;
+    w.push(vec![
+        Item::art(
+            Ink {
+                stroke: Some(GREY),
+                width: 0.3,
+                fill: None,
+            },
+            rect(bar_x, y, bar_w, 5.0),
+        ),
+        Item::art(Ink::fill(NEW), rect(bar_x, y, bar_w * fraction, 5.0)),
+        text_item(
+            DVec2::new(bar_x, y + 10.0),
+            SMALL,
+            &format!("step {} of {count}", step.number),
+            Font::Regular,
+            Align::Left,
+            GREY,
+        ),
+    ]);
+    w.y += 18.0;
+    w.text(
+        &format!(
+            "Row {}: {} cells, {} strips, {} eyelets",
+            step.row,
+            step.cells.len(),
+            step.strips.len(),
+            step.eyelets
+        ),
+        BODY + 0.6,
+        Font::Bold,
+        BLACK,
+    );
+    // The lattice so far: this row in colour, earlier rows grey, later rows not yet there.
+    let box_size = DVec2::new(w.width(), 95.0);
+    let fit = Fit::new(
+        &b.lattice,
+        Camera::for_lattice(&b.lattice),
+        DVec2::new(MARGIN, w.y + 2.0),
+        box_size,
+    );
+    let width = (0.6 * fit.scale() * b.design.fabrication.material.width).clamp(0.3, 1.4);
+    let row = step.row;
+    w.push(lattice_picture(
+        &b.lattice,
+        &fit,
+        |c| {
+            let r = b.lattice.cells[c].row;
+            (r <= row).then(|| RodStyle {
+                colour: if r == row { NEW } else { FAINT },
+                width: if r == row { width * 1.3 } else { width },
+            })
+        },
+        width * 0.8,
+    ));
+    w.y += box_size.y + 6.0;
+    w.running_head = Some(format!("Step {}", step.number));
+
+    w.text(
+        "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
+        BODY,
+        Font::Bold,
+        BLACK,
+    );
+    let pairs: Vec<String> = step
+        .cells
+        .iter()
+        .map(|&c| format!("{} + {}", strips[2 * c].id, strips[2 * c + 1].id))
+        .collect();
+    columns(w, &pairs, 2);
+    w.y += 2.0;
+    if step.joints.is_empty() {
+        w.text(
+            "2. No vertex joint closes in this step.",
+            BODY,
+            Font::Bold,
+            BLACK,
+        );
+    } else {
+        w.text(
+            "2. Close these vertex joints, strips stacked from the table up, one eyelet each:",
+            BODY,
+            Font::Bold,
+            BLACK,
+        );
+        let lines: Vec<String> = step
+            .joints
+            .iter()
+            .map(|j| {
+                let stack: Vec<&str> = j.ends.iter().map(|e| strips[e.rod].id.as_str()).collect();
+                format!(
+                    "{}  {}",
+                    key(b.lattice.vertex(j.vertex).key),
+                    stack.join(" / ")
+                )
+            })
+            .collect();
+        columns(w, &lines, 1);
+    }
+    w.y += 2.0;
+    w.text(
+        &format!(
+            "Eyelets in this step: {}   -   set so far: {} of {}",
+            step.eyelets,
+            step.total,
+            b.parts.eyelets()
+        ),
+        BODY,
+        Font::Bold,
+        NEW,
+    );
+    w.running_head = None;
+}
+
+fn rect(x: f64, y: f64, w: f64, h: f64) -> Shape {
+    Shape::polyline(
+        &[
+            DVec2::new(x, y),
+            DVec2::new(x + w, y),
+            DVec2::new(x + w, y + h),
+            DVec2::new(x, y + h),
+        ],
+        true,
+    )
+}
+
+/// Short lines in `n` columns across the text width.
+fn columns(w: &mut Writer, lines: &[String], n: usize) {
+    let col = w.width() / n as f64;
+    for chunk in lines.chunks(n) {
+        w.need(LINE);
+        for (k, line) in chunk.iter().enumerate() {
+            w.text_at(
+                MARGIN + 4.0 + k as f64 * col,
+                line,
+                SMALL,
+                Font::Regular,
+                BLACK,
+            );
+        }
+        w.y += LINE * 0.85;
+    }
+}
+
+/// The collapsed state at 1:1 (MATH.md 3.2, 10.3): every hole of the folded
+/// lattice on one line, at its collapsed coordinate z. A folded stack of
+/// strips laid on the line must show a hole over every tick.
+fn gauge(w: &mut Writer, b: &Build) {
+    w.new_page();
+    w.heading("Inspection gauge: the folded lattice (1:1)");
+    let first = b
+        .lattice
+        .vertices
+        .iter()
+        .min_by(|a, b| a.z.total_cmp(&b.z))
+        .map_or(String::new(), |v| key(v.key));
+    w.paragraph(
+        &format!(
+            "Folded flat, every strip of the lattice lies on one line and every hole sits at a fixed distance along it. \
+             Blue ticks are vertex pivots [row,column], orange ticks scissor pivots (row,column). Fold a finished part \
+             of the lattice flat, lay it on the line with vertex {first} on 0, and check that the holes fall on the \
+             ticks before setting the last eyelets. Print at 100 %: 10 mm on the scale is 10 mm on paper."
+        ),
+        SMALL,
+        GREY,
+    );
+    let z0 = b
+        .lattice
+        .vertices
+        .iter()
+        .map(|v| v.z)
+        .chain(b.lattice.cells.iter().map(|c| c.z_pivot))
+        .fold(f64::INFINITY, f64::min);
+    let mut marks: Vec<(f64, String, bool)> = b
+        .lattice
+        .vertices
+        .iter()
+        .map(|v| (v.z - z0, key(v.key), true))
+        .collect();
+    marks.extend(
+        b.lattice
+            .cells
+            .iter()
+            .map(|c| (c.z_pivot - z0, format!("({},{})", c.row, c.col), false)),
+    );
+    marks.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.2.cmp(&a.2)));
+    // Holes closer than 0.05 mm share a tick.
+    let mut ticks: Vec<(f64, Vec<String>, bool)> = Vec::new();
+    for (z, label, vertex) in marks {
+        match ticks.last_mut() {
+            Some(t) if (z - t.0).abs() < 0.05 && t.2 == vertex => t.1.push(label),
+            _ => ticks.push((z, vec![label], vertex)),
+        }
+    }
+    let total = ticks.last().map_or(0.0, |t| t.0);
+    let span = (w.width() - 10.0).floor();
+    let lines = (total / span).floor() as usize + 1;
+    for line in 0..lines {
+        let (from, to) = (line as f64 * span, (line as f64 + 1.0) * span);
+        w.need(34.0);
+        let y = w.y + 14.0;
+        let x0 = MARGIN + 5.0;
+        let end = (total.min(to) - from).max(0.0);
+        let mut items = vec![Item::art(
+            Ink::line(BLACK, 0.25),
+            Shape::polyline(&[DVec2::new(x0, y), DVec2::new(x0 + end, y)], false),
+        )];
+        let mut k = (from / 10.0).ceil() as usize;
+        while (k as f64) * 10.0 <= total.min(to) + 1e-9 {
+            let x = x0 + k as f64 * 10.0 - from;
+            items.push(Item::art(
+                Ink::line(GREY, 0.15),
+                Shape::polyline(&[DVec2::new(x, y), DVec2::new(x, y + 2.0)], false),
+            ));
+            items.push(text_item(
+                DVec2::new(x, y + 5.0),
+                2.2,
+                &format!("{}", k * 10),
+                Font::Regular,
+                Align::Center,
+                GREY,
+            ));
+            k += 1;
+        }
+        let mut last_label = [f64::NEG_INFINITY; 2];
+        for (z, labels, vertex) in ticks.iter().filter(|t| t.0 >= from - 1e-9 && t.0 < to) {
+            let x = x0 + z - from;
+            let (colour, reach) = if *vertex { (VERTEX, 7.0) } else { (PIVOT, 4.5) };
+            items.push(Item::art(
+                Ink::line(colour, 0.3),
+                Shape::polyline(&[DVec2::new(x, y), DVec2::new(x, y - reach)], false),
+            ));
+            // Labels alternate between two heights and skip when crowded.
+            let slot = *vertex as usize;
+            let text = if labels.len() > 1 {
+                format!("{} +{}", labels[0], labels.len() - 1)
+            } else {
+                labels[0].clone()
+            };
+            let size = 1.8;
+            if x - last_label[slot] > crate::drawing::text::width(&text, Font::Regular, size) + 1.0
+            {
+                items.push(text_item(
+                    DVec2::new(x, y - reach - 1.0),
+                    size,
+                    &text,
+                    Font::Regular,
+                    Align::Center,
+                    colour,
+                ));
+                last_label[slot] = x;
+            }
+        }
+        w.push(items);
+        w.y = y + 12.0;
+    }
+}
+
+fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
+    w.new_page();
+    w.heading("Checklist");
+    let pivot = b.parts.pivot_eyelets;
+    let vertex = b.parts.vertex_eyelets;
+    let items = [
+        format!(
+            "All {} strips cut, each with its ID and arrow legible.",
+            b.parts.strips.len()
+        ),
+        format!("{pivot} scissor-pivot eyelets set, rod A under rod B in every cell."),
+        format!("{vertex} vertex eyelets set, each stack in the order its step lists."),
+        format!("All {} steps done; no strip left over.", steps.len()),
+        "Folded flat, the holes lie on the inspection gauge's ticks.".to_string(),
+        "Open the lattice slowly from one corner; stop at any joint that binds.".to_string(),
+    ];
+    for item in items {
+        w.need(8.0);
+        let y = w.y;
+        w.push(vec![Item::art(
+            Ink::line(BLACK, 0.3),
+            rect(MARGIN, y, 4.0, 4.0),
+        )]);
+        w.text_at(MARGIN + 7.0, &item, BODY, Font::Regular, BLACK);
+        w.y += 8.0;
+    }
+    w.y += 4.0;
+    let note = if b.lattice.width == 1 {
+        "This chain is a true mechanism: it opens and closes through every angle without bending a strip."
+    } else {
+        "A lattice of several rows generally reaches its deployed shape by bending its strips slightly on the way \
+         (MATH.md 8.4): that is expected, not a fault."
+    };
+    w.paragraph(note, BODY, GREY);
+}

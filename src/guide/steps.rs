@@ -1,0 +1,61 @@
+//! Assembly steps in growth order (MATH.md 10.3): one step a row. Each step
+//! pairs the row's strips at their scissor pivots, then closes every vertex
+//! joint whose last strip arrives in this row, stacked in layer order.
+
+use crate::lattice::{Joint, Lattice, joints};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// 1-based.
+    pub number: usize,
+    pub row: u32,
+    /// Cells of this step, by index.
+    pub cells: Vec<usize>,
+    /// Strips of this step (strip index = rod id).
+    pub strips: Vec<usize>,
+    /// Vertex joints closed in this step (two or more rod ends), each with
+    /// its ends sorted bottom to top.
+    pub joints: Vec<Joint>,
+    /// Eyelets set in this step: one per scissor pivot and per joint.
+    pub eyelets: usize,
+    /// Eyelets set up to and including this step.
+    pub total: usize,
+}
+
+pub fn steps(lattice: &Lattice) -> Vec<Step> {
+    let rows = lattice.rows();
+    let mut steps: Vec<Step> = (0..rows)
+        .map(|i| {
+            let cells: Vec<usize> = (0..lattice.cells.len())
+                .filter(|&c| lattice.cells[c].row as usize == i)
+                .collect();
+            Step {
+                number: i + 1,
+                row: i as u32,
+                strips: cells.iter().flat_map(|&c| [2 * c, 2 * c + 1]).collect(),
+                cells,
+                joints: Vec::new(),
+                eyelets: 0,
+                total: 0,
+            }
+        })
+        .collect();
+    for mut joint in joints(lattice).into_iter().filter(Joint::needs_eyelet) {
+        // A joint can close once its last strip is in place.
+        let row = joint
+            .ends
+            .iter()
+            .map(|e| lattice.cells[e.rod / 2].row)
+            .max()
+            .expect("a joint has ends");
+        joint.ends.sort_by_key(|e| e.layer);
+        steps[row as usize].joints.push(joint);
+    }
+    let mut total = 0;
+    for s in &mut steps {
+        s.eyelets = s.cells.len() + s.joints.len();
+        total += s.eyelets;
+        s.total = total;
+    }
+    steps
+}

@@ -1,0 +1,36 @@
+//! lattice.obj: the deployed lattice for Blender or MeshLab, one object per
+//! strip (named by its ID) as a box of the strip's size, stacked at joints.
+
+use super::number::num;
+use glam::DVec3;
+use std::fmt::Write as _;
+
+/// Quads of a box whose corner k has bits (along, across, normal), wound
+/// counter-clockwise seen from outside.
+const FACES: [[usize; 4]; 6] = [
+    [0, 2, 3, 1], // bottom
+    [4, 5, 7, 6], // top
+    [0, 1, 5, 4], // one side
+    [2, 6, 7, 3], // other side
+    [0, 4, 6, 2], // start end
+    [1, 3, 7, 5], // far end
+];
+
+/// `solids`: each strip's ID and box corners (see `parts::solid`).
+pub fn write(title: &str, solids: &[(String, [DVec3; 8])]) -> Vec<u8> {
+    let mut out = format!(
+        "# {title}\n# karigami {}; units mm; one object per strip\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    for (n, (id, corners)) in solids.iter().enumerate() {
+        let _ = writeln!(out, "o {id}");
+        for c in corners {
+            let _ = writeln!(out, "v {} {} {}", num(c.x), num(c.y), num(c.z));
+        }
+        for f in FACES {
+            let i = |k: usize| 8 * n + f[k] + 1;
+            let _ = writeln!(out, "f {} {} {} {}", i(0), i(1), i(2), i(3));
+        }
+    }
+    out.into_bytes()
+}

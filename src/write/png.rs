@@ -1,0 +1,111 @@
+//! PNG pictures of pages (tiny-skia): the same drawing model as the cut
+//! files and the guide, rasterised on white. Hairlines are widened to a
+//! visible minimum; text is drawn with the single-stroke font.
+
+use crate::drawing::{Page, Segment, Shape, arc_to_cubics, text};
+use tiny_skia::{
+    Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
+};
+
+/// Render `page` at `px_per_mm`, strokes at least `min_stroke_px` wide.
+pub fn write(page: &Page, px_per_mm: f64, min_stroke_px: f64) -> Vec<u8> {
+    let w = (page.width * px_per_mm).round().max(1.0) as u32;
+    let h = (page.height * px_per_mm).round().max(1.0) as u32;
+    let mut pixmap = Pixmap::new(w, h).expect("a page of positive size");
+    pixmap.fill(Color::WHITE);
+    let transform = Transform::from_scale(px_per_mm as f32, px_per_mm as f32);
+    let min_width = min_stroke_px / px_per_mm;
+    for item in page.groups.iter().flat_map(|g| &g.items) {
+        let ink = item.ink;
+        let (paths, filled, stroke_colour, width) = match &item.shape {
+            Shape::Text { size, .. } => {
+                let mut pb = PathBuilder::new();
+                for s in text::strokes(&item.shape) {
+                    pb.move_to(s[0].x as f32, s[0].y as f32);
+                    for p in &s[1..] {
+                        pb.line_to(p.x as f32, p.y as f32);
+                    }
+                }
+                (
+                    pb.finish(),
+                    false,
+                    ink.fill.or(ink.stroke),
+                    (0.09 * size).max(min_width),
+                )
+            }
+            Shape::Circle { center, radius } => (
+                PathBuilder::from_circle(center.x as f32, center.y as f32, *radius as f32),
+                ink.fill.is_some(),
+                ink.stroke,
+                ink.width.max(min_width),
+            ),
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                let mut pb = PathBuilder::new();
+                pb.move_to(start.x as f32, start.y as f32);
+                let mut current = *start;
+                for s in segments {
+                    match *s {
+                        Segment::Line(p) => {
+                            pb.line_to(p.x as f32, p.y as f32);
+                            current = p;
+                        }
+                        Segment::Arc {
+                            to,
+                            center,
+                            clockwise,
+                        } => {
+                            for [c1, c2, end] in arc_to_cubics(current, to, center, clockwise) {
+                                pb.cubic_to(
+                                    c1.x as f32,
+                                    c1.y as f32,
+                                    c2.x as f32,
+                                    c2.y as f32,
+                                    end.x as f32,
+                                    end.y as f32,
+                                );
+                            }
+                            current = to;
+                        }
+                    }
+                }
+                if *closed {
+                    pb.close();
+                }
+                (
+                    pb.finish(),
+                    ink.fill.is_some(),
+                    ink.stroke,
+                    ink.width.max(min_width),
+                )
+            }
+        };
+        let Some(path) = paths else { continue };
+        let paint = |[r, g, b]: [u8; 3]| {
+            let mut p = Paint::default();
+            p.set_color_rgba8(r, g, b, 255);
+            p.anti_alias = true;
+            p
+        };
+        if filled {
+            if let Some(c) = ink.fill {
+                pixmap.fill_path(&path, &paint(c), FillRule::Winding, transform, None);
+            }
+        }
+        if let Some(c) = stroke_colour {
+            let stroke = Stroke {
+                width: width as f32,
+                line_cap: LineCap::Round,
+                line_join: LineJoin::Round,
+                ..Stroke::default()
+            };
+            pixmap.stroke_path(&path, &paint(c), &stroke, transform, None);
+        }
+    }
+    pixmap
+        .encode_png()
+        .expect("PNG encoding of an in-memory pixmap")
+}
