@@ -268,11 +268,20 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
     };
     assert_eq!(
         list(&dir.join("karigami-out")),
-        ["cut.pdf", "lattice.json", "parts.csv", "sheets"]
+        [
+            "assembly.pdf",
+            "cut.pdf",
+            "lattice.json",
+            "lattice.obj",
+            "parts.csv",
+            "preview.png",
+            "report.txt",
+            "sheets"
+        ]
     );
     assert_eq!(
         list(&dir.join("karigami-out/sheets")),
-        ["sheet-01.dxf", "sheet-01.svg"]
+        ["sheet-01.dxf", "sheet-01.png", "sheet-01.svg"]
     );
     assert_eq!(list(&dir), ["karigami-out"]);
 }

@@ -4,6 +4,7 @@ mod cli;
 mod cutfiles;
 mod errors;
 mod golden;
+mod guide;
 mod property;
 mod thirdparty;
 mod util;

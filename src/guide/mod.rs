@@ -500,7 +500,7 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
         &fit,
         |c| {
             let r = b.lattice.cells[c].row;
-            (r <= row).then(|| RodStyle {
+            (r <= row).then_some(RodStyle {
                 colour: if r == row { NEW } else { FAINT },
                 width: if r == row { width * 1.3 } else { width },
             })

@@ -294,6 +294,30 @@ fn engrave(
     )
 }
 
+/// A strip as a solid in the deployed lattice: the 8 corners of a box
+/// `length x width x thickness` along its rod, lying in its cell's facet
+/// plane and lifted by its stacking layer so strips stack at the joints.
+/// Corner `k` is at `(k & 1) * length`, `((k >> 1) & 1) * width`,
+/// `(k >> 2) * thickness` in the strip's (along, across, normal) frame.
+pub fn solid(lattice: &Lattice, strip: &Strip, fab: &Fabrication) -> [glam::DVec3; 8] {
+    use glam::DVec3;
+    let cell = &lattice.cells[strip.rod / 2];
+    let [ul, ur, ll, _] = lattice.corners(cell);
+    let rod = lattice.cell_rods(strip.rod / 2)[strip.rod % 2];
+    let [start, _, end] = rod.hole_pos;
+    let along = (end - start).normalize();
+    let normal = (ur - ul).cross(ll - ul).try_normalize().unwrap_or(DVec3::Z);
+    let across = normal.cross(along).normalize();
+    let t = fab.material.thickness;
+    let base = start - fab.end_margin * along - 0.5 * fab.material.width * across
+        + crate::lattice::layer(cell.row, strip.kind) as f64 * t * normal;
+    std::array::from_fn(|k| {
+        base + ((k & 1) as f64 * strip.length) * along
+            + (((k >> 1) & 1) as f64 * fab.material.width) * across
+            + ((k >> 2) as f64 * t) * normal
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -328,28 +352,4 @@ mod tests {
         assert!(w.unwrap().contains("only the orientation arrow"));
         assert!(!strokes.is_empty());
     }
-}
-
-/// A strip as a solid in the deployed lattice: the 8 corners of a box
-/// `length x width x thickness` along its rod, lying in its cell's facet
-/// plane and lifted by its stacking layer so strips stack at the joints.
-/// Corner `k` is at `(k & 1) * length`, `((k >> 1) & 1) * width`,
-/// `(k >> 2) * thickness` in the strip's (along, across, normal) frame.
-pub fn solid(lattice: &Lattice, strip: &Strip, fab: &Fabrication) -> [glam::DVec3; 8] {
-    use glam::DVec3;
-    let cell = &lattice.cells[strip.rod / 2];
-    let [ul, ur, ll, _] = lattice.corners(cell);
-    let rod = lattice.cell_rods(strip.rod / 2)[strip.rod % 2];
-    let [start, _, end] = rod.hole_pos;
-    let along = (end - start).normalize();
-    let normal = (ur - ul).cross(ll - ul).try_normalize().unwrap_or(DVec3::Z);
-    let across = normal.cross(along).normalize();
-    let t = fab.material.thickness;
-    let base = start - fab.end_margin * along - 0.5 * fab.material.width * across
-        + crate::lattice::layer(cell.row, strip.kind) as f64 * t * normal;
-    std::array::from_fn(|k| {
-        base + ((k & 1) as f64 * strip.length) * along
-            + (((k >> 1) & 1) as f64 * fab.material.width) * across
-            + ((k >> 2) as f64 * t) * normal
-    })
 }
