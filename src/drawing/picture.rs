@@ -47,6 +47,18 @@ impl Camera {
             .try_normalize()
             .unwrap_or_else(|| forward.any_orthonormal_vector());
         let up = right.cross(forward);
+        // Seed row at the top, as in planar pictures: if growth runs up the
+        // page, turn the view half a turn about `right` (a rotation, never a
+        // mirror image).
+        let mean = |vs: &[crate::lattice::Vertex]| {
+            vs.iter().map(|v| v.pos).sum::<DVec3>() / vs.len().max(1) as f64
+        };
+        let seed = mean(&lattice.vertices[..(lattice.width + 1).min(lattice.vertices.len())]);
+        let (forward, up) = if (seed - mean(&lattice.vertices)).dot(up) < 0.0 {
+            (-forward, -up)
+        } else {
+            (forward, up)
+        };
         let tilt = 30f64.to_radians();
         let forward = tilt.cos() * forward + tilt.sin() * up;
         Self {

@@ -268,7 +268,7 @@ fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
             fab.sheet.height
         ),
         format!(
-            "Eyelets ({}): {} - {pivot} at scissor pivots, {vertex} at vertex pivots",
+            "Eyelets ({}): {} ({pivot} at scissor pivots, {vertex} at vertex pivots)",
             fab.eyelet.name,
             pivot + vertex
         ),
@@ -554,7 +554,7 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
     w.y += 2.0;
     w.text(
         &format!(
-            "Eyelets in this step: {}   -   set so far: {} of {}",
+            "Eyelets in this step: {}. Set so far: {} of {}.",
             step.eyelets,
             step.total,
             b.parts.eyelets()
