@@ -14,9 +14,10 @@ pub enum Direction {
 }
 
 /// A free boundary leg (MATH.md 4.5).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Leg {
     Length(f64),
     /// The next row's boundary kappa is 0.
+    #[default]
     Match,
 }

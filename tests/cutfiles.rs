@@ -29,7 +29,7 @@ pub fn recipe(d: &RandomDesign, scale: f64, extra: &str) -> String {
     let k: Vec<String> = d.kappa.iter().map(|k| format!("{:?}", k * scale)).collect();
     t += &format!("kappa = [{}]\n", k.join(", "));
     for r in &d.rows {
-        let Direction::Vector(v) = r.direction else {
+        let Some(Direction::Vector(v)) = r.direction else {
             panic!("random rows use vectors")
         };
         let leg = |l: Leg| match l {

@@ -10,9 +10,10 @@ fn worked_example(scale: f64, start: usize, direction: DVec3) -> karigami::latti
     let kappa = [0.2 * scale, -0.1 * scale];
     let row = RowParams {
         start,
-        direction: Direction::Vector(direction),
+        direction: Some(Direction::Vector(direction)),
         left_leg: Leg::Length(1.0 * scale),
         right_leg: Leg::Length(1.3 * scale),
+        ..RowParams::default()
     };
     grow_sheet(2, &points, &kappa, &[row]).expect("the worked example grows")
 }
@@ -99,9 +100,10 @@ fn single_cell_3d() {
     // MATH.md 5: UL = 0, UR = (2,0,0), kappa = 0.5, v2 = unit(-1,-1,-0.5).
     let row = RowParams {
         start: 0,
-        direction: Direction::Vector(DVec3::new(-1.0, -1.0, -0.5)),
+        direction: Some(Direction::Vector(DVec3::new(-1.0, -1.0, -0.5))),
         left_leg: Leg::Match,
         right_leg: Leg::Length(1.0),
+        ..RowParams::default()
     };
     let lat = grow_sheet(3, &[DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0)], &[0.5], &[row]).unwrap();
     let cell = &lat.cells[0];

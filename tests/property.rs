@@ -63,9 +63,10 @@ pub fn random_lattice(rng: &mut Rng, dim: usize) -> Result<(Lattice, RandomDesig
         );
         rows.push(RowParams {
             start,
-            direction: direction_in_cone(rng, dim, a.pos, b.pos, a.z - b.z),
+            direction: Some(direction_in_cone(rng, dim, a.pos, b.pos, a.z - b.z)),
             left_leg: random_leg(rng),
             right_leg: random_leg(rng),
+            ..RowParams::default()
         });
         lattice = grow_sheet(dim, &points, &kappa, &rows).map_err(|e| e.to_string())?;
     }
@@ -91,8 +92,8 @@ fn assert_start_site_independent(lattice: &Lattice, design: &RandomDesign, rng: 
         let mut rows = design.rows.clone();
         rows[i] = RowParams {
             start: other,
-            direction: Direction::Vector(cell.pivot - ur),
-            ..*row
+            direction: Some(Direction::Vector(cell.pivot - ur)),
+            ..row.clone()
         };
         let again = grow_sheet(design.dim, &design.points, &design.kappa, &rows).expect("regrows");
         let scale = lattice.legs(cell).iter().sum::<f64>();

@@ -3,6 +3,7 @@
 //! `Design::grow` grows it and points lattice errors back at the recipe.
 
 mod fabrication;
+pub mod fit;
 mod raw;
 pub mod seed;
 
@@ -11,9 +12,12 @@ pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
 use crate::diagnostic::Diagnostic;
 use crate::fabrication::Fabrication;
 use crate::geometry::{Direction, Leg};
-use crate::lattice::{GrowthError, Kind, Lattice, MAX_CELLS, Param, RowParams, grow_sheet};
+use crate::lattice::{
+    Crank, FrontMoves, GrowthError, Kind, Lattice, MAX_CELLS, Param, PivotMove, RowParams, grow,
+    grow_helix,
+};
 use glam::DVec3;
-use raw::{Coords, Num, RawDesign, RawKappa, RawLattice, RawLeg, RawRow};
+use raw::{Coords, Num, RawDesign, RawFront, RawKappa, RawLattice, RawLeg, RawRow};
 use std::ops::Range;
 use toml::Spanned;
 
@@ -26,8 +30,12 @@ pub struct Design {
     pub points: Vec<DVec3>,
     /// One collapsibility parameter per seed edge (mm).
     pub kappa: Vec<f64>,
-    /// One parameter set per grown row, in growth order.
+    /// One parameter set per grown row, in growth order (sheets, loops).
     pub rows: Vec<RowParams>,
+    /// Helix seeds: the number of cells to grow.
+    pub helix_cells: usize,
+    /// Target fitting: rows are found by a search instead of written out.
+    pub fit: Option<fit::Fit>,
     pub fabrication: Fabrication,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub recipe_hash: u64,
@@ -48,6 +56,10 @@ struct Spans {
     entries: Vec<FieldSpans>,
     /// For each row, its entry (or `NO_ENTRY` for the `[lattice.grow]` default).
     row_entry: Vec<u32>,
+    /// Helix `cells`.
+    cells: Range<usize>,
+    /// `[lattice.fit]`.
+    fit: Range<usize>,
 }
 
 const NO_ENTRY: u32 = u32::MAX;
@@ -59,6 +71,9 @@ struct FieldSpans {
     direction: Option<Range<usize>>,
     left_leg: Option<Range<usize>>,
     right_leg: Option<Range<usize>>,
+    target: Option<Range<usize>>,
+    candidate: Option<Range<usize>>,
+    front: Option<Range<usize>>,
 }
 
 impl FieldSpans {
@@ -68,7 +83,10 @@ impl FieldSpans {
             Param::Direction => self.direction.clone(),
             Param::LeftLeg => self.left_leg.clone(),
             Param::RightLeg => self.right_leg.clone(),
-            Param::SeedPoints | Param::SeedKappa(_) | Param::Front => None,
+            Param::Target => self.target.clone(),
+            Param::Candidate => self.candidate.clone(),
+            Param::FrontMoves => self.front.clone(),
+            Param::SeedPoints | Param::SeedKappa(_) | Param::Front | Param::Cells => None,
         }
     }
 }
@@ -104,23 +122,17 @@ pub fn parse_with(
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {
         "sheet" => Kind::Sheet,
-        "loop" | "helix" => {
-            return Err(Diagnostic::new(
-                "design",
-                format!("seed = \"{}\" is not supported yet", lat.seed.get_ref()),
-            )
-            .at(lat.seed.span())
-            .hint("use seed = \"sheet\""));
-        }
+        "loop" => Kind::Loop,
+        "helix" => Kind::Helix,
         other => {
             return Err(
                 Diagnostic::new("design", format!("unknown seed \"{other}\""))
                     .at(lat.seed.span())
-                    .hint("seed must be \"sheet\""),
+                    .hint("seed must be \"sheet\", \"loop\" or \"helix\""),
             );
         }
     };
-    let (points, points_span) = seed_points(&lat, lattice_span.clone())?;
+    let (points, points_span) = seed_points(&lat, kind, lattice_span.clone())?;
     let dim = dimension(&points)?;
     let points: Vec<DVec3> = points.into_iter().map(|(p, _)| p).collect();
     let mut spans = Spans {
@@ -129,8 +141,28 @@ pub fn parse_with(
         fabrication: fabrication_spans,
         ..Spans::default()
     };
-    let kappa = seed_kappa(&lat, points.len(), &mut spans)?;
-    let rows = rows(&lat, dim, points.len().saturating_sub(1), &mut spans)?;
+    let edges = if kind == Kind::Loop {
+        points.len()
+    } else {
+        points.len() - 1
+    };
+    let kappa = seed_kappa(&lat, edges, &mut spans)?;
+    let (mut rows, mut helix_cells, mut fit) = (Vec::new(), 0, None);
+    if kind == Kind::Helix {
+        helix_cells = helix_cell_count(&lat, &spans)?;
+    } else if let Some(f) = &lat.fit {
+        if lat.grow.is_some() || lat.rows.is_some() {
+            return Err(
+                Diagnostic::new("design", "a fitted lattice finds its own rows")
+                    .at(f.span())
+                    .hint("remove [lattice.grow] and [[lattice.rows]], or remove [lattice.fit]"),
+            );
+        }
+        fit = Some(fit::parse(f, kind, dim)?);
+        spans.fit = f.span();
+    } else {
+        rows = self::rows(&lat, kind, dim, points.len(), &mut spans)?;
+    }
     Ok(Design {
         name,
         kind,
@@ -138,6 +170,8 @@ pub fn parse_with(
         points,
         kappa,
         rows,
+        helix_cells,
+        fit,
         fabrication,
         recipe_hash: fnv1a(source.as_bytes()),
         spans,
@@ -154,7 +188,17 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 impl Design {
     /// Grow the lattice; errors point at the recipe text that caused them.
     pub fn grow(&self) -> Result<Lattice, Diagnostic> {
-        grow_sheet(self.dim, &self.points, &self.kappa, &self.rows).map_err(|e| self.locate(e))
+        self.grow_with(&mut |_| {})
+    }
+
+    /// `grow`, telling `progress` about each fitted row (long fits).
+    pub fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
+        let result = match (self.kind, &self.fit) {
+            (Kind::Helix, _) => grow_helix(self.dim, &self.points, &self.kappa, self.helix_cells),
+            (_, Some(f)) => fit::grow(self, f, progress).map(|(lattice, _)| lattice),
+            _ => grow(self.kind, self.dim, &self.points, &self.kappa, &self.rows),
+        };
+        result.map_err(|e| self.locate(e))
     }
 
     /// Where the fabrication settings were written.
@@ -178,9 +222,11 @@ impl Design {
                     .clone(),
             ),
             Param::Front => Some(match e.row {
-                Some(i) if i > 0 => self.row_span(i - 1, Param::Direction),
+                Some(i) if i > 0 && self.fit.is_none() => self.row_span(i - 1, Param::Direction),
                 _ => self.spans.points.clone(),
             }),
+            Param::Cells => Some(self.spans.cells.clone()),
+            _ if self.fit.is_some() => Some(self.spans.fit.clone()),
             param => e.row.map(|i| self.row_span(i, param)),
         };
         let site = e.site();
@@ -258,6 +304,7 @@ type SeedPoint = (DVec3, (usize, Range<usize>));
 /// `[lattice.arc]`, `[lattice.polyline]`; each point with its dimension and span.
 fn seed_points(
     lat: &RawLattice,
+    kind: Kind,
     lattice_span: Range<usize>,
 ) -> Result<(Vec<SeedPoint>, Range<usize>), Diagnostic> {
     let given = [
@@ -265,17 +312,18 @@ fn seed_points(
         lat.line.as_ref().map(|p| p.span()),
         lat.arc.as_ref().map(|p| p.span()),
         lat.polyline.as_ref().map(|p| p.span()),
+        lat.circle.as_ref().map(|p| p.span()),
     ];
     let mut spans = given.iter().flatten();
     let Some(first) = spans.next() else {
         return Err(Diagnostic::new("design", "the lattice has no seed points")
             .at(lattice_span)
-            .hint("give `points = [[x, y], ...]` or a [lattice.line], [lattice.arc] or [lattice.polyline] table"));
+            .hint("give `points = [[x, y], ...]` or a [lattice.line], [lattice.arc], [lattice.polyline] or [lattice.circle] table"));
     };
     if let Some(second) = spans.next() {
         return Err(Diagnostic::new("design", "the seed points are given twice")
             .at(second.clone())
-            .hint("keep only one of `points`, [lattice.line], [lattice.arc], [lattice.polyline]"));
+            .hint("keep only one of `points`, [lattice.line], [lattice.arc], [lattice.polyline], [lattice.circle]"));
     }
     let all = |pts: Vec<DVec3>, dim: usize, span: Range<usize>| {
         pts.into_iter().map(|p| (p, (dim, span.clone()))).collect()
@@ -308,21 +356,7 @@ fn seed_points(
                 Diagnostic::new("design", "arc.radius must be positive").at(a.radius.span())
             );
         }
-        let plane = match &a.plane {
-            None => seed::Plane::Xy,
-            Some(p) if dim == 2 && p.get_ref() != "xy" => {
-                return Err(
-                    Diagnostic::new("design", "a planar arc lies in the xy plane")
-                        .at(p.span())
-                        .hint("give arc.center 3 coordinates to use another plane"),
-                );
-            }
-            Some(p) => seed::Plane::parse(p.get_ref()).ok_or_else(|| {
-                Diagnostic::new("design", format!("unknown plane \"{}\"", p.get_ref()))
-                    .at(p.span())
-                    .hint("plane must be \"xy\", \"xz\" or \"yz\"")
-            })?,
-        };
+        let plane = plane(&a.plane, dim, "arc")?;
         let cells = count(&a.cells, "arc.cells", 1, MAX_CELLS as i64)?;
         let (from, to) = (finite(&a.from, "arc.from")?, finite(&a.to, "arc.to")?);
         all(
@@ -330,6 +364,24 @@ fn seed_points(
             dim,
             first.clone(),
         )
+    } else if let Some(c) = &lat.circle {
+        let c = c.get_ref();
+        let (center, dim) = coords(&c.center, "circle.center")?;
+        let radius = finite(&c.radius, "circle.radius")?;
+        if radius <= 0.0 {
+            return Err(
+                Diagnostic::new("design", "circle.radius must be positive").at(c.radius.span())
+            );
+        }
+        let plane = plane(&c.plane, dim, "circle")?;
+        let n = count(&c.points, "circle.points", 3, MAX_CELLS as i64)?;
+        let from = match &c.start {
+            Some(a) => finite(a, "circle.start")?,
+            None => 0.0,
+        };
+        let mut pts = seed::arc(center, radius, from, from + 360.0, n, plane);
+        pts.pop();
+        all(pts, dim, first.clone())
     } else {
         let p = lat
             .polyline
@@ -369,18 +421,73 @@ fn seed_points(
         let pts: Vec<DVec3> = corners.iter().map(|c| c.0).collect();
         all(seed::polyline(&pts, per), corners[0].1, first.clone())
     };
-    if points.len() < 2 {
+    let (min, hint) = match kind {
+        Kind::Sheet => (2, "a sheet of m cells has m + 1"),
+        Kind::Loop => (3, "a loop of N cells a row has N points"),
+        Kind::Helix => (3, "a helix of loop length N has N + 1 points y_0 .. y_N"),
+    };
+    if points.len() < min {
         return Err(Diagnostic::new(
             "SeedTooShort",
             format!(
-                "a sheet seed needs at least 2 points, this one has {}",
+                "a {} seed needs at least {min} points, this one has {}",
+                kind.name(),
                 points.len()
             ),
         )
         .at(first.clone())
-        .hint("add seed points: a sheet of m cells has m + 1"));
+        .hint(format!("add seed points: {hint}")));
     }
     Ok((points, first.clone()))
+}
+
+/// The coordinate plane of an arc or circle.
+fn plane(p: &Option<Spanned<String>>, dim: usize, what: &str) -> Result<seed::Plane, Diagnostic> {
+    match p {
+        None => Ok(seed::Plane::Xy),
+        Some(p) if dim == 2 && p.get_ref() != "xy" => Err(Diagnostic::new(
+            "design",
+            format!("a planar {what} lies in the xy plane"),
+        )
+        .at(p.span())
+        .hint(format!(
+            "give {what}.center 3 coordinates to use another plane"
+        ))),
+        Some(p) => seed::Plane::parse(p.get_ref()).ok_or_else(|| {
+            Diagnostic::new("design", format!("unknown plane \"{}\"", p.get_ref()))
+                .at(p.span())
+                .hint("plane must be \"xy\", \"xz\" or \"yz\"")
+        }),
+    }
+}
+
+/// A helix grows `cells` cells from its seed.
+fn helix_cell_count(lat: &RawLattice, spans: &Spans) -> Result<usize, Diagnostic> {
+    for (given, what) in [
+        (lat.grow.as_ref().map(|g| g.span()), "[lattice.grow]"),
+        (
+            lat.rows.as_ref().and_then(|r| r.first()).map(|r| r.span()),
+            "[[lattice.rows]]",
+        ),
+        (lat.fit.as_ref().map(|f| f.span()), "[lattice.fit]"),
+    ] {
+        if let Some(span) = given {
+            return Err(Diagnostic::new(
+                "design",
+                format!("a helix is fully determined by its seed, so it takes no {what}"),
+            )
+            .at(span)
+            .hint("give `cells = K` in [lattice] instead"));
+        }
+    }
+    match &lat.cells {
+        Some(n) => count(n, "cells", 1, MAX_CELLS as i64),
+        None => Err(
+            Diagnostic::new("design", "a helix needs the number of cells to grow")
+                .at(spans.lattice.clone())
+                .hint("give `cells = K` in [lattice]"),
+        ),
+    }
 }
 
 /// All seed points must have the same number of coordinates.
@@ -397,8 +504,7 @@ fn dimension(points: &[SeedPoint]) -> Result<usize, Diagnostic> {
     Ok(dim)
 }
 
-fn seed_kappa(lat: &RawLattice, npoints: usize, spans: &mut Spans) -> Result<Vec<f64>, Diagnostic> {
-    let edges = npoints - 1;
+fn seed_kappa(lat: &RawLattice, edges: usize, spans: &mut Spans) -> Result<Vec<f64>, Diagnostic> {
     let Some(k) = &lat.kappa else {
         return Err(Diagnostic::new("design", "the seed has no kappa")
             .at(spans.lattice.clone())
@@ -438,10 +544,23 @@ fn seed_kappa(lat: &RawLattice, npoints: usize, spans: &mut Spans) -> Result<Vec
 /// `[[lattice.rows]]` entries.
 fn rows(
     lat: &RawLattice,
+    kind: Kind,
     dim: usize,
-    width: usize,
+    npoints: usize,
     spans: &mut Spans,
 ) -> Result<Vec<RowParams>, Diagnostic> {
+    if let Some(c) = &lat.cells {
+        return Err(Diagnostic::new("design", "`cells` is for helix seeds")
+            .at(c.span())
+            .hint("grow rows with [lattice.grow] or [[lattice.rows]]"));
+    }
+    let width = if kind == Kind::Loop {
+        npoints
+    } else {
+        npoints - 1
+    };
+    // The front's last vertex index (N, vertex 0 again, on a loop).
+    let last = width;
     let defaults = lat.grow.as_ref().map(|g| g.get_ref());
     if let Some(g) = &lat.grow {
         for (field, name) in [(&g.get_ref().row, "row"), (&g.get_ref().repeat, "repeat")] {
@@ -517,17 +636,23 @@ fn rows(
     row_entry.resize(total, NO_ENTRY);
 
     // Resolve each distinct (entry or default) once, then copy per row.
-    let default_row = defaults.map(|g| resolve(None, g, dim)).transpose()?;
-    let resolved: Vec<Option<RowParams>> = entries
+    let default_row = defaults
+        .map(|g| resolve(None, g, dim, last))
+        .transpose()?
+        .unwrap_or_default();
+    let resolved: Vec<RowParams> = entries
         .iter()
-        .map(|e| resolve(defaults, e.get_ref(), dim))
+        .map(|e| resolve(defaults, e.get_ref(), dim, last))
         .collect::<Result<_, _>>()?;
     let rows = row_entry
         .iter()
         .enumerate()
         .map(|(i, &e)| {
-            let params = if e == NO_ENTRY { default_row.flatten() } else { resolved[e as usize] };
-            params.ok_or_else(|| {
+            let params = if e == NO_ENTRY { &default_row } else { &resolved[e as usize] };
+            // Only an open front must be given a direction; a loop row's
+            // comes from closure.
+            let needed = kind == Kind::Sheet && params.direction.is_none();
+            (!needed).then(|| params.clone()).ok_or_else(|| {
                 let span = if e == NO_ENTRY {
                     spans.grow.as_ref().map_or(spans.lattice.clone(), |g| g.table.clone())
                 } else {
@@ -556,16 +681,20 @@ fn field_spans(table: &Spanned<RawRow>) -> FieldSpans {
             .or_else(|| r.angle.as_ref().map(|s| s.span())),
         left_leg: r.left_leg.as_ref().map(|s| s.span()),
         right_leg: r.right_leg.as_ref().map(|s| s.span()),
+        target: r.target.as_ref().map(|s| s.span()),
+        candidate: r.candidate.as_ref().map(|s| s.span()),
+        front: r.front.as_ref().map(|s| s.span()),
     }
 }
 
 /// A row's parameters from its own fields, falling back on `defaults`.
-/// `None` when neither gives a direction (reported per row by the caller).
+/// A missing direction is reported per row by the caller.
 fn resolve(
     defaults: Option<&RawRow>,
     row: &RawRow,
     dim: usize,
-) -> Result<Option<RowParams>, Diagnostic> {
+    last: usize,
+) -> Result<RowParams, Diagnostic> {
     if let (Some(_), Some(a)) = (&row.direction, &row.angle) {
         return Err(
             Diagnostic::new("design", "both `direction` and `angle` are given")
@@ -650,10 +779,104 @@ fn resolve(
         defaults.and_then(|d| d.right_leg.as_ref()),
         "right_leg",
     )?;
-    Ok(direction.map(|direction| RowParams {
+    let own = |f: fn(&RawRow) -> bool| {
+        if f(row) {
+            Some(row)
+        } else {
+            defaults.filter(|d| f(d))
+        }
+    };
+    let target = match own(|r| r.target.is_some()).and_then(|r| r.target.as_ref()) {
+        Some(c) => {
+            let (v, d) = coords(c, "target")?;
+            if d != dim {
+                return Err(Diagnostic::new(
+                    "design",
+                    format!("target has {d} coordinates but the lattice is {dim}-D"),
+                )
+                .at(c.span())
+                .hint(format!("give {dim} coordinates")));
+            }
+            Some(v)
+        }
+        None => None,
+    };
+    let candidate = match own(|r| r.candidate.is_some()).and_then(|r| r.candidate.as_ref()) {
+        Some(c) => Some(count(c, "candidate", 1, 2)?),
+        None => None,
+    };
+    let front = match own(|r| r.front.is_some()).and_then(|r| r.front.as_ref()) {
+        Some(f) => Some(front_moves(f, last)?),
+        None => None,
+    };
+    Ok(RowParams {
         start,
         direction,
         left_leg,
         right_leg,
-    }))
+        target,
+        candidate,
+        front,
+    })
+}
+
+/// The generators of a rebuilt front (MATH.md 7), from `front = { ... }`.
+/// `last` is the index of the front's last vertex (N, i.e. vertex 0 again, on a loop).
+fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnostic> {
+    let raw = f.get_ref();
+    let angles = |a: &Option<Spanned<raw::RawAngles>>,
+                  what: &str|
+     -> Result<Option<Vec<f64>>, Diagnostic> {
+        match a {
+            None => Ok(None),
+            Some(a) if a.get_ref().0.iter().all(|v| v.is_finite()) && !a.get_ref().0.is_empty() => {
+                Ok(Some(a.get_ref().0.clone()))
+            }
+            Some(a) => Err(
+                Diagnostic::new("design", format!("front.{what} needs finite angles"))
+                    .at(a.span())
+                    .hint("give an angle in degrees, or one per interior front vertex"),
+            ),
+        }
+    };
+    let index = |n: &Spanned<i64>, what: &str| count(n, what, 0, last as i64);
+    let mut moves = FrontMoves {
+        turn: angles(&raw.turn, "turn")?,
+        bend: angles(&raw.bend, "bend")?,
+        twist: angles(&raw.twist, "twist")?,
+        ..FrontMoves::default()
+    };
+    for p in raw.pivot.iter().flatten() {
+        let p = p.get_ref();
+        moves.pivots.push(PivotMove {
+            at: index(&p.at, "front.pivot.at")?,
+            axis: p
+                .axis
+                .as_ref()
+                .map(|a| coords(a, "front.pivot.axis").map(|c| c.0))
+                .transpose()?,
+            angle_deg: finite(&p.angle, "front.pivot.angle")?,
+        });
+    }
+    for c in raw.crank.iter().flatten() {
+        let c = c.get_ref();
+        moves.cranks.push(Crank {
+            from: index(&c.from, "front.crank.from")?,
+            to: index(&c.to, "front.crank.to")?,
+            angle_deg: finite(&c.angle, "front.crank.angle")?,
+        });
+    }
+    if let Some(z) = &raw.zigzag {
+        let a = finite(z, "front.zigzag")?;
+        // Odd vertices alternately up and down: sub-units of 4 edges.
+        for j in (1..last).step_by(2) {
+            let sign = if j % 4 == 1 { 1.0 } else { -1.0 };
+            moves.cranks.push(Crank {
+                from: j - 1,
+                to: j + 1,
+                angle_deg: sign * a,
+            });
+        }
+    }
+    Ok(moves)
 }

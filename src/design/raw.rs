@@ -83,7 +83,12 @@ pub struct RawLattice {
     pub line: Option<Spanned<RawLine>>,
     pub arc: Option<Spanned<RawArc>>,
     pub polyline: Option<Spanned<RawPolyline>>,
+    pub circle: Option<Spanned<RawCircle>>,
     pub kappa: Option<Spanned<RawKappa>>,
+    /// Helix seeds: how many cells to grow.
+    pub cells: Option<Spanned<i64>>,
+    /// Target fitting instead of explicit rows.
+    pub fit: Option<Spanned<RawFit>>,
     pub grow: Option<Spanned<RawRow>>,
     pub rows: Option<Vec<Spanned<RawRow>>>,
 }
@@ -109,6 +114,35 @@ pub struct RawArc {
     pub plane: Option<Spanned<String>>,
 }
 
+/// `points` evenly spaced points round a full circle (loop seeds).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCircle {
+    pub center: Coords,
+    pub radius: Num,
+    pub points: Spanned<i64>,
+    pub plane: Option<Spanned<String>>,
+    /// Angle of the first point, degrees (default 0).
+    pub start: Option<Num>,
+}
+
+/// `[lattice.fit]`: grow rows that approximate a target surface.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFit {
+    /// "disk", "ellipsoid" or "revolution".
+    pub surface: Spanned<String>,
+    pub rows: Spanned<i64>,
+    /// disk: its radius; revolution: not used.
+    pub radius: Option<Num>,
+    /// ellipsoid semi-axes [a, b, c] (the half with z <= 0 is fitted).
+    pub axes: Option<Coords>,
+    /// revolution: the profile curve as [r, z] points, in growth order.
+    pub profile: Option<Spanned<Vec<Coords>>>,
+    /// disk and ellipsoid: candidate leg directions tried per row.
+    pub samples: Option<Spanned<i64>>,
+}
+
 /// A polyline whose segments are each split into `cells_per_segment` edges.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -132,6 +166,72 @@ pub struct RawRow {
     pub angle: Option<Spanned<RawAngle>>,
     pub left_leg: Option<Spanned<RawLeg>>,
     pub right_leg: Option<Spanned<RawLeg>>,
+    /// Loops: where the row's new vertex x[i+1][1] goes.
+    pub target: Option<Coords>,
+    /// Loops: which closing direction, 1 or 2.
+    pub candidate: Option<Spanned<i64>>,
+    /// Intrinsic growth: how to rebuild the front before this row.
+    pub front: Option<Spanned<RawFront>>,
+}
+
+/// `front = { ... }`: the generators of MATH.md 7. Angles in degrees.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFront {
+    pub turn: Option<Spanned<RawAngles>>,
+    pub bend: Option<Spanned<RawAngles>>,
+    pub twist: Option<Spanned<RawAngles>>,
+    pub pivot: Option<Vec<Spanned<RawPivot>>>,
+    pub crank: Option<Vec<Spanned<RawCrank>>>,
+    /// Crank every odd vertex about its two neighbours, alternately by
+    /// +angle and -angle: identical up-down sub-units along the front.
+    pub zigzag: Option<Num>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawPivot {
+    pub at: Spanned<i64>,
+    pub angle: Num,
+    pub axis: Option<Coords>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCrank {
+    pub from: Spanned<i64>,
+    pub to: Spanned<i64>,
+    pub angle: Num,
+}
+
+/// One angle for every vertex, or a list.
+#[derive(Debug)]
+pub struct RawAngles(pub Vec<f64>);
+
+impl<'de> Deserialize<'de> for RawAngles {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawAngles;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an angle in degrees, or an array of angles")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawAngles, E> {
+                Ok(RawAngles(vec![v]))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawAngles, E> {
+                Ok(RawAngles(vec![v as f64]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawAngles, A::Error> {
+                let mut out = Vec::new();
+                while let Some(a) = seq.next_element::<f64>()? {
+                    out.push(a);
+                }
+                Ok(RawAngles(out))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// `kappa = 0.5` (every seed edge) or `kappa = [..]` (one per edge).

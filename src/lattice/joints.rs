@@ -44,15 +44,6 @@ impl Joint {
     }
 }
 
-/// Stacking layer of a rod of cell row `row` (sheets and tubes).
-pub fn layer(row: u32, kind: RodType) -> u32 {
-    2 * (row % 2)
-        + match kind {
-            RodType::A => 0,
-            RodType::B => 1,
-        }
-}
-
 /// The joint of every vertex, in vertex order.
 pub fn joints(lattice: &Lattice) -> Vec<Joint> {
     let n = lattice.vertices.len();
@@ -64,7 +55,7 @@ pub fn joints(lattice: &Lattice) -> Vec<Joint> {
                 rod: 2 * index + (kind == RodType::B) as usize,
                 kind,
                 end,
-                layer: layer(cell.row, kind),
+                layer: lattice.layer(cell, kind),
             })
         };
         slots[cell.ul as usize][0] = end(RodType::A, RodEnd::Start);

@@ -5,17 +5,22 @@
 //! keeps its third coordinate at exactly 0 and `dim` says how many
 //! coordinates are meaningful.
 
+mod closure;
 mod construct;
+mod front;
 mod grow;
+mod helix;
 mod joints;
 mod rods;
 mod verify;
 
+pub use front::{Crank, FrontMoves, PivotMove};
 pub use grow::{
-    FrontFrame, GrowthError, GrowthErrorKind, MAX_CELLS, Param, RowParams, fmt_len, front_frame,
-    grow_sheet,
+    CLOSURE_TOL, ClosureRecord, FrontFrame, Grower, GrowthError, GrowthErrorKind, MAX_CELLS, Param,
+    RowParams, fmt_len, front_frame, grow, grow_sheet,
 };
-pub use joints::{Joint, JointEnd, RodEnd, joints, layer};
+pub use helix::{grow_helix, seed_defect};
+pub use joints::{Joint, JointEnd, RodEnd, joints};
 pub use rods::{Rod, RodType};
 pub use verify::{Invariant, Report, TOLERANCE, verify};
 
@@ -26,17 +31,24 @@ use glam::DVec3;
 pub enum Kind {
     /// Open front with two free edges (MATH.md 6.1).
     Sheet,
+    /// Periodic front: a tube or annulus (MATH.md 6.2).
+    Loop,
+    /// A single front wrapping onto itself, one cell a step (MATH.md 6.3).
+    Helix,
 }
 
 impl Kind {
     pub fn name(self) -> &'static str {
         match self {
             Kind::Sheet => "sheet",
+            Kind::Loop => "loop",
+            Kind::Helix => "helix",
         }
     }
 }
 
-/// How a vertex is named in lattice.json: `[i, j]` for sheets.
+/// How a vertex is named in lattice.json: `[i, j]` for sheets and loops;
+/// a helix vertex `y_k` has `row = 0`, `col = k` and is written `[k]`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct VertexKey {
     pub row: u32,
@@ -52,7 +64,8 @@ pub struct Vertex {
 }
 
 /// Cell `(row, col)`: four corner vertices (indices into `Lattice::vertices`)
-/// and the scissor pivot where its two rods cross.
+/// and the scissor pivot where its two rods cross. Helix cell `k` has
+/// `row = k / N` (the turn) and `col = k % N`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cell {
     pub row: u32,
@@ -73,27 +86,114 @@ pub struct Lattice {
     pub kind: Kind,
     /// Embedding dimension, 2 or 3.
     pub dim: usize,
-    /// Cells per row (m); a sheet row has m + 1 vertices.
+    /// Cells per row: m for a sheet (m + 1 vertices a row), N for a loop
+    /// (N vertices a row) and for a helix (its loop length).
     pub width: usize,
     /// Vertices in creation order: the seed front, then row by row, left to right.
     pub vertices: Vec<Vertex>,
-    /// Cells row by row, left to right.
+    /// Cells row by row, left to right (helix cells in k order).
     pub cells: Vec<Cell>,
+    /// Intrinsic growth (MATH.md 7): for each row grown on a rebuilt front,
+    /// that front's positions (one per front vertex, in the row's own
+    /// frame); empty for a row grown on the previous row's vertices. Empty
+    /// altogether for an extrinsic lattice.
+    pub fronts: Vec<Vec<DVec3>>,
 }
 
 impl Lattice {
-    /// Number of grown rows of cells.
+    /// Number of grown rows of cells (started turns, for a helix).
     pub fn rows(&self) -> usize {
-        self.cells.len().checked_div(self.width).unwrap_or(0)
+        self.cells.len().div_ceil(self.width.max(1))
+    }
+
+    /// Number of growth steps: a row for sheets and loops, a cell for helices.
+    pub fn steps(&self) -> usize {
+        match self.kind {
+            Kind::Helix => self.cells.len(),
+            _ => self.rows(),
+        }
+    }
+
+    /// The growth step that adds cell `index`.
+    pub fn step_of(&self, index: usize) -> usize {
+        match self.kind {
+            Kind::Helix => index,
+            _ => self.cells[index].row as usize,
+        }
+    }
+
+    /// Number of vertices of the seed front.
+    pub fn seed_len(&self) -> usize {
+        match self.kind {
+            Kind::Sheet | Kind::Helix => self.width + 1,
+            Kind::Loop => self.width,
+        }
+        .min(self.vertices.len())
+    }
+
+    /// True unless some row grew on a rebuilt front (MATH.md 7).
+    pub fn extrinsic(&self) -> bool {
+        self.fronts.iter().all(Vec::is_empty)
     }
 
     pub fn vertex(&self, index: u32) -> &Vertex {
         &self.vertices[index as usize]
     }
 
-    /// Corner positions `[UL, UR, LL, LR]`.
+    /// Corner positions `[UL, UR, LL, LR]` in the cell's own frame: the top
+    /// corners come from the row's rebuilt front when it has one.
     pub fn corners(&self, cell: &Cell) -> [DVec3; 4] {
-        [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| self.vertex(v).pos)
+        let [ul, ur, ll, lr] = [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| self.vertex(v).pos);
+        match self.fronts.get(cell.row as usize).filter(|f| !f.is_empty()) {
+            Some(front) => [
+                front[self.vertex(cell.ul).key.col as usize],
+                front[self.vertex(cell.ur).key.col as usize],
+                ll,
+                lr,
+            ],
+            None => [ul, ur, ll, lr],
+        }
+    }
+
+    /// A vertex as lattice.json and messages name it: `[i, j]`, or `[k]`.
+    pub fn vertex_name(&self, index: u32) -> String {
+        let k = self.vertex(index).key;
+        match self.kind {
+            Kind::Helix => format!("[{}]", k.col),
+            _ => format!("[{}, {}]", k.row, k.col),
+        }
+    }
+
+    /// A cell as messages name it.
+    pub fn cell_name(&self, cell: &Cell) -> String {
+        match self.kind {
+            Kind::Helix => format!(
+                "cell {}",
+                cell.row as usize * self.width + cell.col as usize
+            ),
+            _ => format!("cell (row {}, column {})", cell.row, cell.col),
+        }
+    }
+
+    /// Stacking layer of a rod (MATH.md 10.2): all strips meeting at any
+    /// joint get distinct layers.
+    pub fn layer(&self, cell: &Cell, kind: RodType) -> u32 {
+        let ab = match kind {
+            RodType::A => 0,
+            RodType::B => 1,
+        };
+        match self.kind {
+            Kind::Helix => {
+                let n = self.width as u32;
+                let k = cell.row * n + cell.col;
+                // The smallest q >= 2 dividing neither N - 1 nor N + 1.
+                let q = (2..)
+                    .find(|q| (n - 1) % q != 0 && (n + 1) % q != 0)
+                    .expect("some q divides neither");
+                2 * (k % q) + ab
+            }
+            _ => 2 * (cell.row % 2) + ab,
+        }
     }
 
     /// Legs as distances from the pivot to the stored corners (never copied
@@ -116,8 +216,9 @@ impl Lattice {
 
     /// Opening angle `phi` at the pivot between legs 1 and 4 (MATH.md 1.3).
     pub fn phi(&self, cell: &Cell) -> f64 {
-        let v1 = (cell.pivot - self.vertex(cell.ul).pos).normalize();
-        let v2 = (cell.pivot - self.vertex(cell.ur).pos).normalize();
+        let [ul, ur, _, _] = self.corners(cell);
+        let v1 = (cell.pivot - ul).normalize();
+        let v2 = (cell.pivot - ur).normalize();
         angle_between(v1, v2)
     }
 

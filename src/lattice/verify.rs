@@ -2,7 +2,7 @@
 //! recomputed from the stored positions and z values, never copied from the
 //! construction, and made relative (lengths over the cell's mean leg).
 
-use super::{Cell, Lattice, Legs};
+use super::{Lattice, Legs};
 use glam::DVec3;
 
 /// A lattice passes when every relative residual is at most this.
@@ -15,6 +15,7 @@ pub enum Invariant {
     SeedKappa,
     HorizontalPores,
     VerticalPores,
+    SharedEdges,
     CompatibilitySlope,
     CompatibilityIntercept,
     CompatibilityInterceptNatural,
@@ -31,6 +32,7 @@ impl Invariant {
             Self::SeedKappa => "first row: l4 - l1 = seed kappa",
             Self::HorizontalPores => "collapsibility (H) at horizontal pores",
             Self::VerticalPores => "collapsibility (V) at vertical pores",
+            Self::SharedEdges => "shared edges equal in both cells",
             Self::CompatibilitySlope => "four-map composition: slope - 1",
             Self::CompatibilityIntercept => "four-map composition: intercept / |s|^2",
             Self::CompatibilityInterceptNatural => {
@@ -49,6 +51,7 @@ impl Invariant {
             Self::SeedKappa => "seed_kappa",
             Self::HorizontalPores => "pores_h",
             Self::VerticalPores => "pores_v",
+            Self::SharedEdges => "shared_edges",
             Self::CompatibilitySlope => "compatibility_slope",
             Self::CompatibilityIntercept => "compatibility_intercept",
             Self::CompatibilityInterceptNatural => "compatibility_intercept_natural",
@@ -157,13 +160,8 @@ impl Incidence {
     }
 }
 
-fn cell_site(cell: &Cell) -> String {
-    format!("cell (row {}, column {})", cell.row, cell.col)
-}
-
 fn vertex_site(lattice: &Lattice, v: usize) -> String {
-    let k = lattice.vertices[v].key;
-    format!("vertex [{}, {}]", k.row, k.col)
+    format!("vertex {}", lattice.vertex_name(v as u32))
 }
 
 /// Sine of the angle between two consecutive legs `a`, `b` of one rod,
@@ -182,24 +180,25 @@ pub fn verify(lattice: &Lattice) -> Report {
     let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
     let inc = Incidence::new(lattice);
     let z = |v: u32| lattice.vertices[v as usize].z;
-    let pos = |v: u32| lattice.vertices[v as usize].pos;
 
     let mut straight = Check::new(I::RodStraightness);
     let mut legs_z = Check::new(I::LegsMatchZ);
     let mut seed = Check::new(I::SeedKappa);
     let mut pores_h = Check::new(I::HorizontalPores);
     let mut pores_v = Check::new(I::VerticalPores);
+    let mut edges = Check::new(I::SharedEdges);
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
         let inv = 1.0 / scale;
-        let site = || cell_site(cell);
+        let site = || lattice.cell_name(cell);
         let rel = |x: f64| x * inv;
         // The sine of each rod's bend at the pivot: first order in a sideways
         // offset of the pivot, where MATH.md's |LR-UL| - (l1+l3) is second order.
         let p = cell.pivot;
-        straight.record(bend(p - pos(cell.ul), l1, pos(cell.lr) - p, l3), site);
-        straight.record(bend(p - pos(cell.ur), l4, pos(cell.ll) - p, l2), site);
+        let [ul, ur, ll, lr] = lattice.corners(cell);
+        straight.record(bend(p - ul, l1, lr - p, l3), site);
+        straight.record(bend(p - ur, l4, ll - p, l2), site);
         let zp = cell.z_pivot;
         legs_z.record(rel(zp - z(cell.ul) - l1), site);
         legs_z.record(rel(zp - z(cell.ur) - l4), site);
@@ -211,16 +210,25 @@ pub fn verify(lattice: &Lattice) -> Report {
         // Right neighbour: B.UL = A.UR and B.LL = A.LR.
         let right = inc.ul[cell.ur as usize];
         if right != NONE && lattice.cells[right as usize].ll == cell.lr {
+            let b = &lattice.cells[right as usize];
             let [m1, m2, _, _] = legs[right as usize];
             let s = 0.5 * (scale + mean(&legs[right as usize]));
             pores_h.record(((l3 + l4) - (m1 + m2)) / s, site);
+            // Shared edge: A's right edge UR-LR and B's left edge UL-LL.
+            let [bul, _, bll, _] = lattice.corners(b);
+            edges.record((ur.distance(lr) - bul.distance(bll)) / s, site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
         let below = inc.ul[cell.ll as usize];
         if below != NONE && lattice.cells[below as usize].ur == cell.lr {
+            let b = &lattice.cells[below as usize];
             let [m1, _, _, m4] = legs[below as usize];
             let s = 0.5 * (scale + mean(&legs[below as usize]));
             pores_v.record(((l2 + m1) - (l3 + m4)) / s, site);
+            // Shared edge: A's bottom edge LL-LR and B's top edge UL-UR; in an
+            // intrinsic lattice the two are in different frames.
+            let [bul, bur, _, _] = lattice.corners(b);
+            edges.record((ll.distance(lr) - bul.distance(bur)) / s, site);
         }
     }
 
@@ -251,7 +259,8 @@ pub fn verify(lattice: &Lattice) -> Report {
             k += m * ci;
             m *= mi;
         }
-        let s2 = pos(v as u32).distance_squared(pos(lattice.cells[inc.ul[v] as usize].ll));
+        let [ul, _, ll, _] = lattice.corners(&lattice.cells[inc.ul[v] as usize]);
+        let s2 = ul.distance_squared(ll);
         let site = || vertex_site(lattice, v);
         slope.record(m - 1.0, site);
         intercept.record(k / s2, site);
@@ -267,7 +276,7 @@ pub fn verify(lattice: &Lattice) -> Report {
         vertical_pores: pores_v.count,
         interior_vertices: slope.count,
         checks: [
-            straight, legs_z, seed, pores_h, pores_v, slope, intercept, natural,
+            straight, legs_z, seed, pores_h, pores_v, edges, slope, intercept, natural,
         ]
         .into_iter()
         .chain(collapsed)
@@ -300,7 +309,7 @@ fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
             (!zv.is_nan()).then_some(zv - off)
         }) else {
             single.record(f64::NAN, || {
-                format!("{} (not connected to vertex 0)", cell_site(cell))
+                format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
             });
             continue;
         };
@@ -312,7 +321,7 @@ fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
             if slot.is_nan() {
                 *slot = expect;
             } else {
-                single.record((*slot - expect) * inv, || cell_site(cell));
+                single.record((*slot - expect) * inv, || lattice.cell_name(cell));
             }
         }
     }
@@ -323,19 +332,19 @@ fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
         });
     }
     for (c, cell) in lattice.cells.iter().enumerate() {
-        let site = || cell_site(cell);
+        let site = || lattice.cell_name(cell);
         matches.record(
             (z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()),
             site,
         );
         let inv = 1.0 / mean(&legs[c]);
-        let deployed = |a: u32, b: u32| lattice.vertex(a).pos.distance(lattice.vertex(b).pos);
+        let [ul, ur, ll, lr] = lattice.corners(cell);
         rods.record(
-            (z[cell.lr as usize] - z[cell.ul as usize] - deployed(cell.ul, cell.lr)) * inv,
+            (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
             site,
         );
         rods.record(
-            (z[cell.ll as usize] - z[cell.ur as usize] - deployed(cell.ur, cell.ll)) * inv,
+            (z[cell.ll as usize] - z[cell.ur as usize] - ur.distance(ll)) * inv,
             site,
         );
     }

@@ -310,7 +310,7 @@ pub fn solid(lattice: &Lattice, strip: &Strip, fab: &Fabrication) -> [glam::DVec
     let across = normal.cross(along).normalize();
     let t = fab.material.thickness;
     let base = start - fab.end_margin * along - 0.5 * fab.material.width * across
-        + crate::lattice::layer(cell.row, strip.kind) as f64 * t * normal;
+        + lattice.layer(cell, strip.kind) as f64 * t * normal;
     std::array::from_fn(|k| {
         base + ((k & 1) as f64 * strip.length) * along
             + (((k >> 1) & 1) as f64 * fab.material.width) * across

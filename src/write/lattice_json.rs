@@ -2,24 +2,24 @@
 //! vertices/cells/rods/eyelets in lattice order, numbers at full f64
 //! round-trip precision. One record per line keeps large files diffable.
 
-use crate::lattice::{Lattice, VertexKey, joints};
+use crate::lattice::{Cell, Kind, Lattice, VertexKey, joints};
 use glam::DVec3;
 use serde::Serialize;
 
 #[derive(Serialize)]
 struct VertexJson {
-    key: [u32; 2],
+    key: Vec<u32>,
     pos: Vec<f64>,
     z: f64,
 }
 
 #[derive(Serialize)]
 struct CellJson {
-    key: [u32; 2],
-    ul: [u32; 2],
-    ur: [u32; 2],
-    ll: [u32; 2],
-    lr: [u32; 2],
+    key: Vec<u32>,
+    ul: Vec<u32>,
+    ur: Vec<u32>,
+    ll: Vec<u32>,
+    lr: Vec<u32>,
     frame: u32,
     pivot: Vec<f64>,
     z_pivot: f64,
@@ -32,11 +32,11 @@ struct CellJson {
 #[derive(Serialize)]
 struct RodJson {
     id: usize,
-    cell: [u32; 2],
+    cell: Vec<u32>,
     #[serde(rename = "type")]
     kind: &'static str,
-    start: [u32; 2],
-    end: [u32; 2],
+    start: Vec<u32>,
+    end: Vec<u32>,
     legs: [f64; 2],
     length: f64,
     holes: [f64; 3],
@@ -45,7 +45,7 @@ struct RodJson {
 
 #[derive(Serialize)]
 struct EyeletJson {
-    vertex: [u32; 2],
+    vertex: Vec<u32>,
     n_rods: usize,
     needs_eyelet: bool,
     rods: Vec<EyeletRodJson>,
@@ -60,26 +60,47 @@ struct EyeletRodJson {
     layer: u32,
 }
 
-fn key(k: VertexKey) -> [u32; 2] {
-    [k.row, k.col]
+/// `[i, j]`, or `[k]` for a helix.
+fn key(lattice: &Lattice, k: VertexKey) -> Vec<u32> {
+    match lattice.kind {
+        Kind::Helix => vec![k.col],
+        _ => vec![k.row, k.col],
+    }
+}
+
+fn cell_key(lattice: &Lattice, c: &Cell) -> Vec<u32> {
+    match lattice.kind {
+        Kind::Helix => vec![c.row * lattice.width as u32 + c.col],
+        _ => vec![c.row, c.col],
+    }
+}
+
+/// The frame a row's cells are stored in: the last row at or before it
+/// that grew on a rebuilt front (0 when none did).
+fn frame(lattice: &Lattice, row: u32) -> u32 {
+    (0..=row as usize)
+        .rev()
+        .find(|&r| lattice.fronts.get(r).is_some_and(|f| !f.is_empty()))
+        .unwrap_or(0) as u32
 }
 
 /// The lattice as lattice.json bytes.
 pub fn write(lattice: &Lattice) -> Vec<u8> {
     let dim = lattice.dim;
     let pos = |p: DVec3| p.to_array()[..dim].to_vec();
-    let vkey = |v: u32| key(lattice.vertex(v).key);
+    let vkey = |v: u32| key(lattice, lattice.vertex(v).key);
     let mut out = String::new();
     out.push_str(&format!(
-        "{{\"kind\": \"{}\", \"dim\": {}, \"extrinsic\": true,\n",
+        "{{\"kind\": \"{}\", \"dim\": {}, \"extrinsic\": {},\n",
         lattice.kind.name(),
-        dim
+        dim,
+        lattice.extrinsic()
     ));
     section(
         &mut out,
         "vertices",
         lattice.vertices.iter().map(|v| VertexJson {
-            key: key(v.key),
+            key: key(lattice, v.key),
             pos: pos(v.pos),
             z: v.z,
         }),
@@ -89,14 +110,12 @@ pub fn write(lattice: &Lattice) -> Vec<u8> {
         &mut out,
         "cells",
         lattice.cells.iter().map(|c| CellJson {
-            key: [c.row, c.col],
+            key: cell_key(lattice, c),
             ul: vkey(c.ul),
             ur: vkey(c.ur),
             ll: vkey(c.ll),
             lr: vkey(c.lr),
-            // An extrinsic lattice has one global frame; the frame index is the
-            // row, as for intrinsic lattices whose rows each have their own.
-            frame: c.row,
+            frame: frame(lattice, c.row),
             pivot: pos(c.pivot),
             z_pivot: c.z_pivot,
             corners: lattice.corners(c).map(pos),
@@ -113,7 +132,7 @@ pub fn write(lattice: &Lattice) -> Vec<u8> {
             let cell = &lattice.cells[r.cell];
             RodJson {
                 id: r.id,
-                cell: [cell.row, cell.col],
+                cell: cell_key(lattice, cell),
                 kind: r.kind.letter(),
                 start: vkey(r.start),
                 end: vkey(r.end),
