@@ -54,6 +54,24 @@ enum Command {
         #[command(flatten)]
         fabrication: FabricationFlags,
     },
+    /// Tune a helix seed until it grows the cells the recipe asks for, and
+    /// write the recipe with the tuned seed.
+    #[command(
+        after_help = "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nThe recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the points and kappa change; comments and other settings are kept."
+    )]
+    Tune {
+        /// Helix recipe file (TOML).
+        design: PathBuf,
+        /// Grow this many cells instead of the recipe's `cells`.
+        #[arg(long)]
+        cells: Option<usize>,
+        /// Write the tuned recipe here (default: print it).
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+        /// Give up after this many tries.
+        #[arg(long, default_value_t = 50_000)]
+        iterations: usize,
+    },
 }
 
 /// Fabrication settings that replace the recipe's.
@@ -113,6 +131,12 @@ pub fn run() -> i32 {
             force,
             fabrication,
         } => build(design.as_deref(), &out, force, &fabrication.overrides()),
+        Command::Tune {
+            design,
+            cells,
+            out,
+            iterations,
+        } => tune(&design, cells, out.as_deref(), iterations),
     };
     match result {
         Ok(()) => 0,
@@ -205,5 +229,64 @@ fn build(
     })?;
     print!("{}", built.summary());
     println!("wrote {} files to {}", outputs.len(), out.display());
+    Ok(())
+}
+
+fn tune(
+    path: &Path,
+    cells: Option<usize>,
+    out: Option<&Path>,
+    iterations: usize,
+) -> Result<(), Failed> {
+    let recipe = Recipe::read(path)?;
+    let design = recipe.parse(&Overrides::default())?;
+    if design.kind != karigami::lattice::Kind::Helix {
+        eprintln!(
+            "error: {}: `karigami tune` tunes helix seeds; this recipe's seed is \"{}\"",
+            recipe.file,
+            design.kind.name()
+        );
+        return Err(Failed(EXIT_USAGE));
+    }
+    let target = cells.unwrap_or(design.helix_cells);
+    // Legs shorter than the eyelet flange (plus a wall) cannot be built.
+    let min_leg = design.fabrication.eyelet.flange + 2.0 * design::MIN_WALL;
+    let tuned = design::tune::tune_helix(
+        design.dim,
+        &design.points,
+        &design.kappa,
+        target,
+        min_leg,
+        iterations,
+    );
+    let Some(text) = design.with_seed(&recipe.source, &tuned.points, &tuned.kappa) else {
+        eprintln!(
+            "error: {}: write the seed as `points = [...]` and `kappa = [...]` to tune it",
+            recipe.file
+        );
+        return Err(Failed(EXIT_USAGE));
+    };
+    eprintln!(
+        "tuned {} in {} tries: grows {} of {target} cells with legs of at least {min_leg:.1} mm (was {}); points moved up to {:.3} mm, kappa changed up to {:.3} mm",
+        recipe.file,
+        tuned.iterations,
+        tuned.cells_after,
+        tuned.cells_before,
+        tuned.max_move,
+        tuned.max_kappa_change
+    );
+    match out {
+        Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
+            eprintln!("error: cannot write {}: {e}", o.display());
+            Failed(EXIT_IO)
+        })?,
+        None => print!("{text}"),
+    }
+    if tuned.cells_after < target {
+        eprintln!(
+            "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed"
+        );
+        return Err(Failed(EXIT_INVALID));
+    }
     Ok(())
 }

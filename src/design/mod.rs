@@ -6,6 +6,7 @@ mod fabrication;
 pub mod fit;
 mod raw;
 pub mod seed;
+pub mod tune;
 
 pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
 
@@ -199,6 +200,47 @@ impl Design {
             _ => grow(self.kind, self.dim, &self.points, &self.kappa, &self.rows),
         };
         result.map_err(|e| self.locate(e))
+    }
+
+    /// The recipe text with its seed `points` and `kappa` replaced, all else
+    /// (comments included) kept. Only for seeds written as `points = [...]`.
+    pub fn with_seed(&self, source: &str, points: &[DVec3], kappa: &[f64]) -> Option<String> {
+        let (p, k) = (self.spans.points.clone(), self.spans.kappa.clone());
+        if !source.get(p.clone())?.trim_start().starts_with('[')
+            || p.start < k.end && k.start < p.end
+        {
+            return None;
+        }
+        let point = |v: &DVec3| {
+            let c: Vec<String> = v.to_array()[..self.dim]
+                .iter()
+                .map(|x| format!("{x:?}"))
+                .collect();
+            format!("[{}]", c.join(", "))
+        };
+        let points_text = format!(
+            "[\n{}\n]",
+            points
+                .iter()
+                .map(|v| format!("    {},", point(v)))
+                .collect::<Vec<_>>()
+                .join("\n")
+        );
+        let kappa_text = format!(
+            "[{}]",
+            kappa
+                .iter()
+                .map(|k| format!("{k:?}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let mut edits = [(p, points_text), (k, kappa_text)];
+        edits.sort_by_key(|e| std::cmp::Reverse(e.0.start));
+        let mut out = source.to_string();
+        for (range, text) in edits {
+            out.replace_range(range, &text);
+        }
+        Some(out)
     }
 
     /// Where the fabrication settings were written.

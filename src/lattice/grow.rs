@@ -119,7 +119,7 @@ pub struct GrowthError {
 }
 
 impl GrowthError {
-    pub(super) fn new(
+    pub fn new(
         kind: GrowthErrorKind,
         param: Param,
         row: Option<usize>,

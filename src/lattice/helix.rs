@@ -25,6 +25,21 @@ pub fn grow_helix(
     kappa: &[f64],
     cells: usize,
 ) -> Result<Lattice, GrowthError> {
+    match grow_helix_partial(dim, points, kappa, cells)? {
+        (lattice, None) => Ok(lattice),
+        (_, Some(e)) => Err(e),
+    }
+}
+
+/// As `grow_helix`, but a cell that cannot grow ends the helix there: the
+/// cells grown so far, and why the next one failed. Errors of the seed
+/// itself are still errors.
+pub fn grow_helix_partial(
+    dim: usize,
+    points: &[DVec3],
+    kappa: &[f64],
+    cells: usize,
+) -> Result<(Lattice, Option<GrowthError>), GrowthError> {
     use GrowthErrorKind as K;
     let n = points.len().saturating_sub(1);
     if n < 2 {
@@ -107,11 +122,25 @@ pub fn grow_helix(
             ),
         ));
     }
+    let mut failure = None;
+    for k in 0..cells {
+        if let Err(e) = grow_cell(&mut lattice, k) {
+            failure = Some(e);
+            break;
+        }
+    }
+    Ok((lattice, failure))
+}
+
+/// Cell k of a helix and its new vertex y_(k+N+1).
+fn grow_cell(lattice: &mut Lattice, k: usize) -> Result<(), GrowthError> {
+    use GrowthErrorKind as K;
+    let n = lattice.width;
     let at = |l: &Lattice, k: usize| {
         let v = &l.vertices[k];
         Point { pos: v.pos, z: v.z }
     };
-    for k in 0..cells {
+    {
         let (ul, ur, ll, y2) = (
             at(&lattice, k),
             at(&lattice, k + 1),
@@ -121,7 +150,7 @@ pub fn grow_helix(
         let fail = |kind: K, message: String| {
             GrowthError::new(
                 kind,
-                Param::SeedPoints,
+                Param::Cells,
                 Some(k / n),
                 Some(k % n),
                 format!("cell {k}: {message}"),
@@ -173,8 +202,8 @@ pub fn grow_helix(
             pivot: p.pos,
             z_pivot: p.z,
         };
-        check_cell(&lattice, &cell)?;
+        check_cell(lattice, &cell)?;
         lattice.cells.push(cell);
     }
-    Ok(lattice)
+    Ok(())
 }

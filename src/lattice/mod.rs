@@ -19,7 +19,7 @@ pub use grow::{
     CLOSURE_TOL, ClosureRecord, FrontFrame, Grower, GrowthError, GrowthErrorKind, MAX_CELLS, Param,
     RowParams, fmt_len, front_frame, grow, grow_sheet,
 };
-pub use helix::{grow_helix, seed_defect};
+pub use helix::{grow_helix, grow_helix_partial, seed_defect};
 pub use joints::{Joint, JointEnd, RodEnd, joints};
 pub use rods::{Rod, RodType};
 pub use verify::{Invariant, Report, TOLERANCE, verify};

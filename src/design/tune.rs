@@ -1,0 +1,237 @@
+//! The helix seed tuner (MATH.md 6.3): untuned helix seeds degenerate after
+//! about two turns, so a seeded hill climb moves the seed points (in
+//! cylindrical coordinates about the seed's axis) and redistributes kappa
+//! until the helix grows the cells the recipe asks for. Deterministic: the
+//! same seed always tunes to the same numbers.
+
+use crate::lattice::{Lattice, angle_between, grow_helix_partial};
+use glam::DVec3;
+
+/// The result of tuning, and how it differs from the start.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tuned {
+    pub points: Vec<DVec3>,
+    pub kappa: Vec<f64>,
+    /// Admissible cells before and after (capped at the target).
+    pub cells_before: usize,
+    pub cells_after: usize,
+    pub iterations: usize,
+    /// Largest point move (mm) and largest kappa change (mm).
+    pub max_move: f64,
+    pub max_kappa_change: f64,
+}
+
+/// SplitMix64: a tiny, fixed random sequence.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [-1, 1).
+    fn signed(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// Seed parameters: cylindrical coordinates of every point about the axis,
+/// kappa_0, and the share of each kappa_1..kappa_(N-1) in their sum (which
+/// the seed condition fixes).
+#[derive(Clone, Debug)]
+struct Params {
+    rho: Vec<f64>,
+    theta: Vec<f64>,
+    height: Vec<f64>,
+    kappa0: f64,
+    share: Vec<f64>,
+}
+
+struct Frame {
+    centre: DVec3,
+    dim: usize,
+}
+
+impl Frame {
+    fn params(&self, points: &[DVec3], kappa: &[f64]) -> Params {
+        let n = points.len() - 1;
+        let rel: Vec<DVec3> = points.iter().map(|p| *p - self.centre).collect();
+        let rod_dz: f64 = -kappa[1..n].iter().sum::<f64>();
+        Params {
+            rho: rel.iter().map(|p| p.x.hypot(p.y)).collect(),
+            theta: rel.iter().map(|p| p.y.atan2(p.x)).collect(),
+            height: rel.iter().map(|p| p.z).collect(),
+            kappa0: kappa[0],
+            share: kappa[1..n].iter().map(|k| -k / rod_dz).collect(),
+        }
+    }
+
+    /// Points and kappa, with kappa_1..kappa_(N-1) scaled to meet the seed
+    /// condition exactly.
+    fn seed(&self, p: &Params) -> (Vec<DVec3>, Vec<f64>) {
+        let points: Vec<DVec3> = (0..p.rho.len())
+            .map(|k| {
+                let h = if self.dim == 3 { p.height[k] } else { 0.0 };
+                self.centre
+                    + DVec3::new(p.rho[k] * p.theta[k].cos(), p.rho[k] * p.theta[k].sin(), h)
+            })
+            .collect();
+        let n = points.len() - 1;
+        let rod = points[n].distance(points[1]);
+        let total: f64 = p.share.iter().sum();
+        let mut kappa = vec![p.kappa0];
+        kappa.extend(p.share.iter().map(|s| -rod * s / total));
+        (points, kappa)
+    }
+}
+
+/// Admissible cells (up to `target`, and only while every leg is at least
+/// `min_leg`, so the eyelets fit) plus a quality in [0, 1): the worst cell's
+/// opening (sine of phi) and leg balance, so ties prefer robust cells.
+fn score(dim: usize, points: &[DVec3], kappa: &[f64], target: usize, min_leg: f64) -> (usize, f64) {
+    match grow_helix_partial(dim, points, kappa, target) {
+        Ok((mut lattice, _)) => {
+            let usable = lattice
+                .cells
+                .iter()
+                .position(|c| lattice.legs(c).iter().any(|&l| l < min_leg))
+                .unwrap_or(lattice.cells.len());
+            lattice.cells.truncate(usable);
+            (usable, quality(&lattice))
+        }
+        Err(_) => (0, 0.0),
+    }
+}
+
+fn quality(lattice: &Lattice) -> f64 {
+    lattice
+        .cells
+        .iter()
+        .map(|c| {
+            let legs = lattice.legs(c);
+            let lo = legs.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = legs.iter().copied().fold(0.0, f64::max);
+            let [ul, ur, _, _] = lattice.corners(c);
+            let phi = angle_between((c.pivot - ul).normalize(), (c.pivot - ur).normalize());
+            phi.sin().min(lo / hi)
+        })
+        .fold(1.0, f64::min)
+        * 0.999
+}
+
+/// Tune a helix seed until it grows `target` cells with legs of at least
+/// `min_leg` (or `max_iterations` pass).
+pub fn tune_helix(
+    dim: usize,
+    points: &[DVec3],
+    kappa: &[f64],
+    target: usize,
+    min_leg: f64,
+    max_iterations: usize,
+) -> Tuned {
+    let n = points.len() - 1;
+    let centre = points[..n].iter().sum::<DVec3>() / n as f64;
+    let frame = Frame { centre, dim };
+    let start = frame.params(points, kappa);
+    let (s_points, s_kappa) = frame.seed(&start);
+    let before = score(dim, &s_points, &s_kappa, target, min_leg);
+    let edge = (0..n)
+        .map(|k| points[k].distance(points[k + 1]))
+        .sum::<f64>()
+        / n as f64;
+    let mut best = (start.clone(), before);
+    let mut rng = Rng(0x6b61_7269_6761_6d69);
+    let mut step = 0.02;
+    let mut iterations = 0;
+    let mut polish = 0;
+    while iterations < max_iterations {
+        if best.1.0 >= target {
+            // Reached: a few hundred more tries to open up the worst cell.
+            polish += 1;
+            if polish > 300 {
+                break;
+            }
+        }
+        iterations += 1;
+        let mut p = best.0.clone();
+        for k in 0..=n {
+            p.rho[k] = (p.rho[k] + step * edge * rng.signed()).max(1e-3 * edge);
+            p.theta[k] += step * edge / p.rho[k].max(edge) * rng.signed();
+            p.height[k] += step * edge * rng.signed();
+        }
+        p.kappa0 += step * edge * 0.2 * rng.signed();
+        for s in &mut p.share {
+            *s = (*s + step * rng.signed() / n as f64).max(0.0);
+        }
+        if p.share.iter().sum::<f64>() <= 1e-9 {
+            continue;
+        }
+        let (tp, tk) = frame.seed(&p);
+        let s = score(dim, &tp, &tk, target, min_leg);
+        if (s.0, s.1) > (best.1.0, best.1.1) {
+            best = (p, s);
+            step = (step * 1.3).min(0.2);
+        } else {
+            step = (step * 0.985).max(1e-4);
+        }
+    }
+    let (t_points, t_kappa) = frame.seed(&best.0);
+    let max_move = t_points
+        .iter()
+        .zip(points)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0, f64::max);
+    let max_kappa_change = t_kappa
+        .iter()
+        .zip(kappa)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    Tuned {
+        points: t_points,
+        kappa: t_kappa,
+        cells_before: before.0,
+        cells_after: best.1.0,
+        iterations,
+        max_move,
+        max_kappa_change,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lattice::{grow_helix, seed_defect, verify};
+
+    #[test]
+    fn tuning_grows_more_cells_and_keeps_the_seed_condition() {
+        let n = 9;
+        let points: Vec<DVec3> = (0..=n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                let r = 150.0 * 0.75f64.powf(k as f64 / n as f64);
+                DVec3::new(r * a.cos(), r * a.sin(), -40.0 * k as f64 / n as f64)
+            })
+            .collect();
+        let rod = points[n].distance(points[1]);
+        let mut kappa = vec![0.0];
+        kappa.extend(std::iter::repeat_n(-rod / (n - 1) as f64, n - 1));
+        let tuned = tune_helix(3, &points, &kappa, 30, 8.0, 20_000);
+        assert!(tuned.cells_before < 30);
+        assert_eq!(tuned.cells_after, 30, "{tuned:?}");
+        assert!(seed_defect(&tuned.points, &tuned.kappa).abs() < 1e-12);
+        let lattice = grow_helix(3, &tuned.points, &tuned.kappa, 30).unwrap();
+        assert!(verify(&lattice).passed());
+        // Deterministic.
+        assert_eq!(tune_helix(3, &points, &kappa, 30, 8.0, 20_000), tuned);
+        let lattice = grow_helix(3, &tuned.points, &tuned.kappa, 30).unwrap();
+        assert!(
+            lattice
+                .cells
+                .iter()
+                .all(|c| lattice.legs(c).iter().all(|&l| l >= 8.0))
+        );
+    }
+}
