@@ -12,14 +12,27 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
     let size = hi - lo;
     let eyelets = joints(lattice).iter().filter(|j| j.needs_eyelet()).count();
     let _ = writeln!(out, "design: {}", design.name);
+    let shape = match lattice.kind {
+        crate::lattice::Kind::Helix => {
+            format!("loop length {}, {} cells", lattice.width, report.cells)
+        }
+        _ => format!(
+            "{} rows x {} cells = {} cells",
+            lattice.rows(),
+            lattice.width,
+            report.cells
+        ),
+    };
     let _ = writeln!(
         out,
-        "lattice: {}, {}-D, {} rows x {} cells = {} cells, {} vertices, {} rods",
+        "lattice: {}, {}-D, {}, {shape}, {} vertices, {} rods",
         lattice.kind.name(),
         lattice.dim,
-        lattice.rows(),
-        lattice.width,
-        report.cells,
+        if lattice.extrinsic() {
+            "extrinsic"
+        } else {
+            "intrinsic (bent facets)"
+        },
         report.vertices,
         report.rods
     );
@@ -41,7 +54,8 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
         "{:<48} {:>10}  {:<6} at",
         "invariant (relative residual)", "max", ""
     );
-    for c in &report.checks {
+    // Checks with nothing to check (no loop rows, say) are left out.
+    for c in report.checks.iter().filter(|c| c.count > 0) {
         let _ = writeln!(
             out,
             "{:<48} {:>10.2e}  {:<6} {}",
@@ -49,6 +63,13 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
             c.max,
             if c.passed() { "ok" } else { "FAIL" },
             c.site.as_deref().unwrap_or("-")
+        );
+    }
+    if let Some(fit) = &design.fit {
+        let (abs, rel) = crate::design::fit::error(fit, lattice);
+        let _ = writeln!(
+            out,
+            "fit to the target: largest vertex distance {abs:.3e} mm ({rel:.2e} of the target's size)"
         );
     }
     let verdict = if report.passed() { "PASS" } else { "FAIL" };

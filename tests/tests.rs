@@ -3,6 +3,7 @@
 mod cli;
 mod cutfiles;
 mod errors;
+mod gallery;
 mod golden;
 mod guide;
 mod property;

@@ -252,12 +252,22 @@ fn ellipsoid_distance(e: DVec3, p: DVec3) -> f64 {
 /// The fit error of a lattice: the largest vertex distance to the target,
 /// absolute (mm) and relative to the target's size.
 pub fn error(fit: &Fit, lattice: &Lattice) -> (f64, f64) {
+    // A profile runs from the seed's circle through every row's point.
+    let surface = match &fit.surface {
+        Surface::Revolution { profile } => {
+            let seed = lattice.vertices[0].pos;
+            let mut curve = vec![DVec2::new(seed.truncate().length(), seed.z)];
+            curve.extend(profile);
+            Surface::Revolution { profile: curve }
+        }
+        other => other.clone(),
+    };
     let worst = lattice
         .vertices
         .iter()
-        .map(|v| fit.surface.distance(v.pos))
+        .map(|v| surface.distance(v.pos))
         .fold(0.0, f64::max);
-    (worst, worst / fit.surface.size())
+    (worst, worst / surface.size())
 }
 
 /// Grow the fitted lattice; `progress` hears about each row.

@@ -475,7 +475,12 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
     w.y += 18.0;
     w.text(
         &format!(
-            "Row {}: {} cells, {} strips, {} eyelets",
+            "{} {}: {} cells, {} strips, {} eyelets",
+            if b.lattice.kind == crate::lattice::Kind::Helix {
+                "Cell"
+            } else {
+                "Row"
+            },
             step.row,
             step.cells.len(),
             step.strips.len(),
@@ -499,7 +504,7 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
         &b.lattice,
         &fit,
         |c| {
-            let r = b.lattice.cells[c].row;
+            let r = b.lattice.step_of(c) as u32;
             (r <= row).then_some(RodStyle {
                 colour: if r == row { NEW } else { FAINT },
                 width: if r == row { width * 1.3 } else { width },

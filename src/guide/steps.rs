@@ -1,4 +1,5 @@
-//! Assembly steps in growth order (MATH.md 10.3): one step a row. Each step
+//! Assembly steps in growth order (MATH.md 10.3): one step a row (a cell for
+//! helices). Each step
 //! pairs the row's strips at their scissor pivots, then closes every vertex
 //! joint whose last strip arrives in this row, stacked in layer order.
 
@@ -8,6 +9,7 @@ use crate::lattice::{Joint, Lattice, joints};
 pub struct Step {
     /// 1-based.
     pub number: usize,
+    /// The growth step: the row, or the helix cell.
     pub row: u32,
     /// Cells of this step, by index.
     pub cells: Vec<usize>,
@@ -23,11 +25,10 @@ pub struct Step {
 }
 
 pub fn steps(lattice: &Lattice) -> Vec<Step> {
-    let rows = lattice.rows();
-    let mut steps: Vec<Step> = (0..rows)
+    let mut steps: Vec<Step> = (0..lattice.steps())
         .map(|i| {
             let cells: Vec<usize> = (0..lattice.cells.len())
-                .filter(|&c| lattice.cells[c].row as usize == i)
+                .filter(|&c| lattice.step_of(c) == i)
                 .collect();
             Step {
                 number: i + 1,
@@ -45,7 +46,7 @@ pub fn steps(lattice: &Lattice) -> Vec<Step> {
         let row = joint
             .ends
             .iter()
-            .map(|e| lattice.cells[e.rod / 2].row)
+            .map(|e| lattice.step_of(e.rod / 2))
             .max()
             .expect("a joint has ends");
         joint.ends.sort_by_key(|e| e.layer);

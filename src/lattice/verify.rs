@@ -16,6 +16,7 @@ pub enum Invariant {
     HorizontalPores,
     VerticalPores,
     SharedEdges,
+    LoopClosure,
     CompatibilitySlope,
     CompatibilityIntercept,
     CompatibilityInterceptNatural,
@@ -33,6 +34,7 @@ impl Invariant {
             Self::HorizontalPores => "collapsibility (H) at horizontal pores",
             Self::VerticalPores => "collapsibility (V) at vertical pores",
             Self::SharedEdges => "shared edges equal in both cells",
+            Self::LoopClosure => "loop closure: sine of rod B's bend in cell 0",
             Self::CompatibilitySlope => "four-map composition: slope - 1",
             Self::CompatibilityIntercept => "four-map composition: intercept / |s|^2",
             Self::CompatibilityInterceptNatural => {
@@ -52,6 +54,7 @@ impl Invariant {
             Self::HorizontalPores => "pores_h",
             Self::VerticalPores => "pores_v",
             Self::SharedEdges => "shared_edges",
+            Self::LoopClosure => "loop_closure",
             Self::CompatibilitySlope => "compatibility_slope",
             Self::CompatibilityIntercept => "compatibility_intercept",
             Self::CompatibilityInterceptNatural => "compatibility_intercept_natural",
@@ -187,6 +190,7 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut pores_h = Check::new(I::HorizontalPores);
     let mut pores_v = Check::new(I::VerticalPores);
     let mut edges = Check::new(I::SharedEdges);
+    let mut closure = Check::new(I::LoopClosure);
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
@@ -199,6 +203,10 @@ pub fn verify(lattice: &Lattice) -> Report {
         let [ul, ur, ll, lr] = lattice.corners(cell);
         straight.record(bend(p - ul, l1, lr - p, l3), site);
         straight.record(bend(p - ur, l4, ll - p, l2), site);
+        if lattice.kind == super::Kind::Loop && cell.col == 0 {
+            // Rod B of cell 0 ends where the round of transfers came back.
+            closure.record(bend(p - ur, l4, ll - p, l2), site);
+        }
         let zp = cell.z_pivot;
         legs_z.record(rel(zp - z(cell.ul) - l1), site);
         legs_z.record(rel(zp - z(cell.ur) - l4), site);
@@ -276,7 +284,7 @@ pub fn verify(lattice: &Lattice) -> Report {
         vertical_pores: pores_v.count,
         interior_vertices: slope.count,
         checks: [
-            straight, legs_z, seed, pores_h, pores_v, edges, slope, intercept, natural,
+            straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
         ]
         .into_iter()
         .chain(collapsed)

@@ -1,0 +1,245 @@
+//! Loops, helices, rebuilt (intrinsic) fronts, Lorentz boosts and fitting
+//! (MATH.md 3.3, 6, 7): property tests over random cases and the gallery.
+
+use crate::property::random_lattice;
+use crate::util::Rng;
+use glam::DVec3;
+use karigami::design;
+use karigami::geometry::Direction;
+use karigami::lattice::{
+    FrontMoves, Grower, GrowthErrorKind, Kind, Lattice, RowParams, TOLERANCE, grow, verify,
+};
+use std::fs;
+
+fn ring(rng: &mut Rng, n: usize, wobble: f64) -> (Vec<DVec3>, Vec<f64>) {
+    let points: Vec<DVec3> = (0..n)
+        .map(|j| {
+            let a = std::f64::consts::TAU * (j as f64 + wobble * rng.range(-0.2, 0.2)) / n as f64;
+            let r = 50.0 * (1.0 + wobble * rng.range(-0.1, 0.1));
+            DVec3::new(r * a.cos(), r * a.sin(), wobble * rng.range(-4.0, 4.0))
+        })
+        .collect();
+    // Random kappa summing to exactly 0 (pairs +k, -k), well inside each edge.
+    let mut kappa = vec![0.0; n];
+    for j in 0..n / 2 {
+        let k = wobble * rng.range(-1.5, 1.5);
+        kappa[2 * j] += k;
+        kappa[2 * j + 1] -= k;
+    }
+    (points, kappa)
+}
+
+#[track_caller]
+fn assert_valid(lattice: &Lattice, what: &str) {
+    let report = verify(lattice);
+    for c in &report.checks {
+        assert!(
+            c.max <= TOLERANCE,
+            "{what}: {} = {:e} at {:?}",
+            c.invariant.describe(),
+            c.max,
+            c.site
+        );
+    }
+}
+
+#[test]
+fn generic_loops_close_from_every_admissible_direction() {
+    let mut rng = Rng::new(7);
+    let (mut closed, mut tried) = (0, 0);
+    while closed < 12 && tried < 400 {
+        tried += 1;
+        let n = 5 + rng.below(6);
+        let (points, kappa) = ring(&mut rng, n, 1.0);
+        for candidate in [1, 2] {
+            let row = RowParams {
+                candidate: Some(candidate),
+                ..RowParams::default()
+            };
+            let Ok(mut grower) = Grower::new(Kind::Loop, 3, &points, &kappa) else {
+                continue;
+            };
+            if grower.grow_row(&row).is_err() {
+                continue;
+            }
+            let record = grower.closures[0];
+            assert!(!record.free, "a perturbed ring is generic");
+            assert!(
+                record.residual < 1e-9,
+                "closure residual {:e}",
+                record.residual
+            );
+            let lattice = grower.into_lattice();
+            // Closing means rod B of cell 0 is straight from x[0][1] to x[1][0].
+            assert_valid(&lattice, "generic loop");
+            closed += 1;
+        }
+    }
+    assert!(
+        closed >= 12,
+        "only {closed} closing rows in {tried} random loops"
+    );
+}
+
+#[test]
+fn symmetric_loops_need_a_direction_and_take_any() {
+    let mut rng = Rng::new(3);
+    let (points, kappa) = ring(&mut rng, 10, 0.0);
+    let free = grow(Kind::Loop, 3, &points, &kappa, &[RowParams::default()]).unwrap_err();
+    assert_eq!(free.kind, GrowthErrorKind::LoopClosureFree);
+    for _ in 0..10 {
+        let rows: Vec<RowParams> = (0..4)
+            .map(|_| RowParams {
+                direction: Some(Direction::Angles {
+                    angle_deg: rng.range(20.0, 60.0),
+                    tilt_deg: rng.range(-40.0, 40.0),
+                }),
+                ..RowParams::default()
+            })
+            .collect();
+        let lattice = grow(Kind::Loop, 3, &points, &kappa, &rows).unwrap();
+        assert_valid(&lattice, "symmetric loop");
+    }
+}
+
+/// MATH.md 3.3: a boost of the lifted lattice (x, z) is again a valid lattice.
+fn boost(lattice: &Lattice, axis: DVec3, rapidity: f64) -> Lattice {
+    let (c, s) = (rapidity.cosh(), rapidity.sinh());
+    let lift = |x: DVec3, z: f64| {
+        let a = axis.dot(x);
+        (x + (c * a + s * z - a) * axis, s * a + c * z)
+    };
+    let mut out = lattice.clone();
+    for v in &mut out.vertices {
+        (v.pos, v.z) = lift(v.pos, v.z);
+    }
+    for cell in &mut out.cells {
+        (cell.pivot, cell.z_pivot) = lift(cell.pivot, cell.z_pivot);
+    }
+    out
+}
+
+#[test]
+fn lorentz_boosts_of_valid_lattices_stay_valid() {
+    let mut rng = Rng::new(11);
+    let mut boosted = 0;
+    while boosted < 40 {
+        let dim = 3;
+        let Ok((lattice, _)) = random_lattice(&mut rng, dim) else {
+            continue;
+        };
+        let axis = DVec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+        .normalize();
+        let b = boost(&lattice, axis, 0.3);
+        assert_valid(&b, "boosted sheet");
+        // The boost really moved it: legs changed length.
+        let before = lattice.legs(&lattice.cells[0]);
+        let after = b.legs(&b.cells[0]);
+        assert!(before.iter().zip(after).any(|(x, y)| (x - y).abs() > 1e-6));
+        boosted += 1;
+    }
+}
+
+#[test]
+fn rebuilt_fronts_keep_every_invariant_but_not_shared_corners() {
+    let mut rng = Rng::new(5);
+    let mut grown = 0;
+    while grown < 30 {
+        let Ok((lattice, design)) = random_lattice(&mut rng, 3) else {
+            continue;
+        };
+        let mut grower = Grower::new(Kind::Sheet, 3, &design.points, &design.kappa).unwrap();
+        let mut ok = true;
+        for (i, row) in design.rows.iter().enumerate() {
+            let mut row = row.clone();
+            if i > 0 {
+                // Bend the front: a crank on every odd vertex and a little twist.
+                let m = lattice.width;
+                row.front = Some(FrontMoves {
+                    cranks: (1..m)
+                        .step_by(2)
+                        .map(|j| karigami::lattice::Crank {
+                            from: j - 1,
+                            to: j + 1,
+                            angle_deg: rng.range(-25.0, 25.0),
+                        })
+                        .collect(),
+                    ..FrontMoves::default()
+                });
+                // The direction was drawn for the old front: give it as an
+                // angle in the new front's frame instead.
+                row.direction = Some(Direction::Angles {
+                    angle_deg: 35.0,
+                    tilt_deg: 0.0,
+                });
+            }
+            if grower.grow_row(&row).is_err() {
+                ok = false;
+                break;
+            }
+        }
+        if !ok {
+            continue;
+        }
+        let lattice = grower.into_lattice();
+        assert_valid(&lattice, "intrinsic sheet");
+        if lattice.rows() > 1 && lattice.width > 1 {
+            assert!(!lattice.extrinsic());
+        }
+        grown += 1;
+    }
+}
+
+fn example(name: &str) -> design::Design {
+    let source = fs::read_to_string(format!("examples/{name}.toml")).unwrap();
+    design::parse(&source, name).unwrap()
+}
+
+#[test]
+fn the_fitted_disk_has_its_boundary_on_the_circle() {
+    let d = example("disk");
+    let lattice = d.grow().unwrap();
+    assert_valid(&lattice, "disk");
+    let n = lattice.width + 1;
+    for row in lattice.vertices.chunks(n) {
+        for v in [row[0], row[n - 1]] {
+            assert!(
+                (v.pos.length() - 150.0).abs() < 1e-9,
+                "{:?} is {} from the centre",
+                v.pos,
+                v.pos.length()
+            );
+        }
+    }
+}
+
+#[test]
+fn fitted_examples_stay_within_their_error_bounds() {
+    // Relative fit error: largest vertex distance to the target over its size.
+    for (name, bound) in [("torus", 1e-12), ("disk", 1e-12), ("half-ellipsoid", 0.02)] {
+        let d = example(name);
+        let fit = d.fit.as_ref().expect("a fitted example");
+        let lattice = d.grow().unwrap();
+        let (abs, rel) = design::fit::error(fit, &lattice);
+        assert!(
+            rel < bound,
+            "{name}: fit error {abs:.3e} mm = {rel:.3e} of its size, above {bound:e}"
+        );
+        assert_valid(&lattice, name);
+    }
+}
+
+#[test]
+fn the_bowl_helix_grows_all_its_cells() {
+    let d = example("bowl");
+    assert_eq!(d.kind, Kind::Helix);
+    let lattice = d.grow().unwrap();
+    assert_eq!(lattice.cells.len(), 32);
+    assert_eq!(lattice.width, 9);
+    assert_valid(&lattice, "bowl");
+    assert!(karigami::lattice::seed_defect(&d.points, &d.kappa).abs() < 1e-12);
+}
