@@ -211,27 +211,27 @@ mod tests {
         let points: Vec<DVec3> = (0..=n)
             .map(|k| {
                 let a = std::f64::consts::TAU * k as f64 / n as f64;
-                let r = 150.0 * 0.75f64.powf(k as f64 / n as f64);
-                DVec3::new(r * a.cos(), r * a.sin(), -40.0 * k as f64 / n as f64)
+                // examples/bowl.toml's start seed.
+                let r = 150.0 * 0.9f64.powf(k as f64 / n as f64);
+                DVec3::new(r * a.cos(), r * a.sin(), -80.0 * k as f64 / n as f64)
             })
             .collect();
         let rod = points[n].distance(points[1]);
         let mut kappa = vec![0.0];
         kappa.extend(std::iter::repeat_n(-rod / (n - 1) as f64, n - 1));
-        let tuned = tune_helix(3, &points, &kappa, 30, 8.0, 20_000);
-        assert!(tuned.cells_before < 30);
-        assert_eq!(tuned.cells_after, 30, "{tuned:?}");
+        let tuned = tune_helix(3, &points, &kappa, 32, 8.5, 20_000);
+        assert!(tuned.cells_before < 32);
+        assert_eq!(tuned.cells_after, 32, "{tuned:?}");
         assert!(seed_defect(&tuned.points, &tuned.kappa).abs() < 1e-12);
-        let lattice = grow_helix(3, &tuned.points, &tuned.kappa, 30).unwrap();
+        let lattice = grow_helix(3, &tuned.points, &tuned.kappa, 32).unwrap();
         assert!(verify(&lattice).passed());
         // Deterministic.
-        assert_eq!(tune_helix(3, &points, &kappa, 30, 8.0, 20_000), tuned);
-        let lattice = grow_helix(3, &tuned.points, &tuned.kappa, 30).unwrap();
+        assert_eq!(tune_helix(3, &points, &kappa, 32, 8.5, 20_000), tuned);
         assert!(
             lattice
                 .cells
                 .iter()
-                .all(|c| lattice.legs(c).iter().all(|&l| l >= 8.0))
+                .all(|c| lattice.legs(c).iter().all(|&l| l >= 8.5))
         );
     }
 }
