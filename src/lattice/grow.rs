@@ -284,23 +284,8 @@ impl Grower {
                 z,
             });
             if j < width {
-                let t = points[(j + 1) % points.len()] - pos;
-                let k = kappa[j];
-                if !(k.abs() < t.length()) {
-                    return Err(GrowthError::new(
-                        K::SeedEdgeNotSpacelike,
-                        Param::SeedKappa(j),
-                        None,
-                        Some(j),
-                        format!(
-                            "|kappa| = {} is not smaller than the edge length |t| = {}",
-                            fmt_len(k.abs()),
-                            fmt_len(t.length())
-                        ),
-                        "every seed edge must be longer than its |kappa|: lower kappa or move the points apart",
-                    ));
-                }
-                z -= k;
+                seed_edge(pos, points[(j + 1) % points.len()], kappa[j], j)?;
+                z -= kappa[j];
             }
         }
         if closed {
@@ -743,6 +728,26 @@ impl Grower {
         check_leg(ll.z - p0.z, "l2", i, 0)?;
         Ok((ll.pos - x[1].pos).normalize().distance(v2))
     }
+}
+
+/// A seed edge must be spacelike: longer than its |kappa| (MATH.md 9).
+pub(super) fn seed_edge(a: DVec3, b: DVec3, kappa: f64, j: usize) -> Result<(), GrowthError> {
+    let t = b - a;
+    if kappa.abs() < t.length() {
+        return Ok(());
+    }
+    Err(GrowthError::new(
+        GrowthErrorKind::SeedEdgeNotSpacelike,
+        Param::SeedKappa(j),
+        None,
+        Some(j),
+        format!(
+            "|kappa| = {} is not smaller than the edge length |t| = {}",
+            fmt_len(kappa.abs()),
+            fmt_len(t.length())
+        ),
+        "every seed edge must be longer than its |kappa|: lower kappa or move the points apart",
+    ))
 }
 
 /// Largest closure residual `|v2' - v2|` a loop row may keep.

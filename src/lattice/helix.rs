@@ -2,7 +2,7 @@
 //! step, fully determined by the seed `y_0 .. y_N` and its kappa.
 
 use super::construct::{Point, lower_right, pivot_from_v2};
-use super::grow::{GrowthError, GrowthErrorKind, MAX_CELLS, Param, check_cell, fmt_len};
+use super::grow::{GrowthError, GrowthErrorKind, MAX_CELLS, Param, check_cell, fmt_len, seed_edge};
 use super::{Cell, Kind, Lattice, Vertex, VertexKey};
 use glam::DVec3;
 
@@ -84,21 +84,7 @@ pub fn grow_helix_partial(
             z,
         });
         if k < n {
-            let t = points[k + 1] - pos;
-            if !(kappa[k].abs() < t.length()) {
-                return Err(GrowthError::new(
-                    K::SeedEdgeNotSpacelike,
-                    Param::SeedKappa(k),
-                    None,
-                    Some(k),
-                    format!(
-                        "|kappa| = {} is not smaller than the edge length |t| = {}",
-                        fmt_len(kappa[k].abs()),
-                        fmt_len(t.length())
-                    ),
-                    "every seed edge must be longer than its |kappa|",
-                ));
-            }
+            seed_edge(pos, points[k + 1], kappa[k], k)?;
             z -= kappa[k];
         }
     }
