@@ -275,7 +275,7 @@ pub fn grow(
     design: &Design,
     fit: &Fit,
     progress: &mut dyn FnMut(&str),
-) -> Result<(Lattice, f64), GrowthError> {
+) -> Result<Lattice, GrowthError> {
     let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
     for i in 0..fit.rows {
         let params = match &fit.surface {
@@ -302,9 +302,7 @@ pub fn grow(
             fit.rows
         ));
     }
-    let lattice = grower.into_lattice();
-    let (abs, _) = error(fit, &lattice);
-    Ok((lattice, abs))
+    Ok(grower.into_lattice())
 }
 
 /// Scan the start direction of an open row; for each, put the end vertices

@@ -196,7 +196,7 @@ impl Design {
     pub fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
         let result = match (self.kind, &self.fit) {
             (Kind::Helix, _) => grow_helix(self.dim, &self.points, &self.kappa, self.helix_cells),
-            (_, Some(f)) => fit::grow(self, f, progress).map(|(lattice, _)| lattice),
+            (_, Some(f)) => fit::grow(self, f, progress),
             _ => grow(self.kind, self.dim, &self.points, &self.kappa, &self.rows),
         };
         result.map_err(|e| self.locate(e))

@@ -273,21 +273,7 @@ impl Grower {
             cells: Vec::new(),
             fronts: Vec::new(),
         };
-        let mut z = 0.0;
-        for (j, &pos) in points.iter().enumerate() {
-            lattice.vertices.push(Vertex {
-                key: VertexKey {
-                    row: 0,
-                    col: j as u32,
-                },
-                pos,
-                z,
-            });
-            if j < width {
-                seed_edge(pos, points[(j + 1) % points.len()], kappa[j], j)?;
-                z -= kappa[j];
-            }
-        }
+        seed_front(&mut lattice, points, kappa)?;
         if closed {
             let perimeter: f64 = (0..width)
                 .map(|j| points[j].distance(points[(j + 1) % width]))
@@ -545,7 +531,7 @@ impl Grower {
         let row = Some(i);
         let axis = -(x[1].pos - x[0].pos).normalize();
         let holonomy = Holonomy::new(&x);
-        let (v2, record) = match closure(&holonomy, axis, dim) {
+        let record = match closure(&holonomy, axis, dim) {
             Closure::Free => {
                 let v2 = if let Some(target) = params.target {
                     // Place x[i+1][1] towards the target: rod A of cell 0 points at it.
@@ -575,17 +561,14 @@ impl Grower {
                         "give this row an `angle`, a `direction`, or a `target` point for its vertex x[i+1][1]",
                     ));
                 };
-                self.build_loop(&x, v2, i)?;
-                (
-                    v2,
-                    ClosureRecord {
-                        row: i,
-                        free: true,
-                        candidates: 0,
-                        residual: 0.0,
-                        ill_conditioned: false,
-                    },
-                )
+                let residual = self.build_loop(&x, v2, i)?;
+                ClosureRecord {
+                    row: i,
+                    free: true,
+                    candidates: 0,
+                    residual,
+                    ill_conditioned: false,
+                }
             }
             Closure::Fixed {
                 directions,
@@ -680,16 +663,13 @@ impl Grower {
                 let count = admissible.len();
                 let v2 = admissible[pick].0;
                 let residual = self.build_loop(&x, v2, i)?;
-                (
-                    v2,
-                    ClosureRecord {
-                        row: i,
-                        free: false,
-                        candidates: count,
-                        residual,
-                        ill_conditioned,
-                    },
-                )
+                ClosureRecord {
+                    row: i,
+                    free: false,
+                    candidates: count,
+                    residual,
+                    ill_conditioned,
+                }
             }
         };
         if record.residual > CLOSURE_TOL {
@@ -705,7 +685,6 @@ impl Grower {
                 "the closure is ill-conditioned here: make the front more or less symmetric",
             ));
         }
-        let _ = v2;
         self.closures.push(record);
         Ok(())
     }
@@ -730,8 +709,34 @@ impl Grower {
     }
 }
 
+/// Push the seed front as row 0 (z = 0 at its first point, then
+/// `z(x[j+1]) = z(x[j]) - kappa[j]`), checking each of its `kappa.len()`
+/// edges; the edge after the last point wraps to the first (loops).
+pub(super) fn seed_front(
+    lattice: &mut Lattice,
+    points: &[DVec3],
+    kappa: &[f64],
+) -> Result<(), GrowthError> {
+    let mut z = 0.0;
+    for (j, &pos) in points.iter().enumerate() {
+        lattice.vertices.push(Vertex {
+            key: VertexKey {
+                row: 0,
+                col: j as u32,
+            },
+            pos,
+            z,
+        });
+        if let Some(&k) = kappa.get(j) {
+            seed_edge(pos, points[(j + 1) % points.len()], k, j)?;
+            z -= k;
+        }
+    }
+    Ok(())
+}
+
 /// A seed edge must be spacelike: longer than its |kappa| (MATH.md 9).
-pub(super) fn seed_edge(a: DVec3, b: DVec3, kappa: f64, j: usize) -> Result<(), GrowthError> {
+fn seed_edge(a: DVec3, b: DVec3, kappa: f64, j: usize) -> Result<(), GrowthError> {
     let t = b - a;
     if kappa.abs() < t.length() {
         return Ok(());

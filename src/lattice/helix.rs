@@ -2,7 +2,9 @@
 //! step, fully determined by the seed `y_0 .. y_N` and its kappa.
 
 use super::construct::{Point, lower_right, pivot_from_v2};
-use super::grow::{GrowthError, GrowthErrorKind, MAX_CELLS, Param, check_cell, fmt_len, seed_edge};
+use super::grow::{
+    GrowthError, GrowthErrorKind, MAX_CELLS, Param, check_cell, fmt_len, seed_front,
+};
 use super::{Cell, Kind, Lattice, Vertex, VertexKey};
 use glam::DVec3;
 
@@ -73,21 +75,7 @@ pub fn grow_helix_partial(
         cells: Vec::with_capacity(cells),
         fronts: Vec::new(),
     };
-    let mut z = 0.0;
-    for (k, &pos) in points.iter().enumerate() {
-        lattice.vertices.push(Vertex {
-            key: VertexKey {
-                row: 0,
-                col: k as u32,
-            },
-            pos,
-            z,
-        });
-        if k < n {
-            seed_edge(pos, points[k + 1], kappa[k], k)?;
-            z -= kappa[k];
-        }
-    }
+    seed_front(&mut lattice, points, kappa)?;
     let defect = seed_defect(points, kappa);
     if !(defect.abs() <= SEED_TOL) {
         let rod = points[n].distance(points[1]);
