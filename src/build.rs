@@ -31,8 +31,18 @@ pub struct Build {
 /// Grow, verify, make the parts and nest them. A design that fails
 /// verification or a fabrication check is refused with a located error.
 pub fn build(design: Design) -> Result<Build, Diagnostic> {
-    let lattice = design.grow()?;
+    build_with(design, &mut |_| {})
+}
+
+/// `build`, telling `progress` about each fitted row (long fits).
+pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Build, Diagnostic> {
+    let lattice = design.grow_with(progress)?;
     let report = verify(&lattice);
+    assemble(design, lattice, report)
+}
+
+/// The parts, layout and pages of a grown and verified lattice.
+pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
     if !report.passed() {
         let worst = report
             .checks

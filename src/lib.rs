@@ -14,4 +14,5 @@ pub mod lattice;
 pub mod layout;
 pub mod parts;
 pub mod report;
+pub mod templates;
 pub mod write;

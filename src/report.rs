@@ -127,3 +127,74 @@ pub fn build_text(b: &Build) -> String {
     }
     out
 }
+
+/// A finite number for JSON (serde_json writes non-finite floats as null;
+/// a residual can be infinite when a design is degenerate).
+fn num(x: f64) -> serde_json::Value {
+    serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into)
+}
+
+/// The verification report as JSON, for `karigami check --json`.
+pub fn check_json(design: &Design, lattice: &Lattice, report: &Report) -> serde_json::Value {
+    use serde_json::json;
+    let checks: Vec<_> = report
+        .checks
+        .iter()
+        .filter(|c| c.count > 0)
+        .map(|c| {
+            json!({
+                "invariant": format!("{:?}", c.invariant),
+                "description": c.invariant.describe(),
+                "count": c.count,
+                "max": num(c.max),
+                "passed": c.passed(),
+                "site": c.site,
+            })
+        })
+        .collect();
+    let fit = design.fit.as_ref().map(|f| {
+        let (abs, rel) = crate::design::fit::error(f, lattice);
+        json!({ "max_distance_mm": num(abs), "relative": num(rel) })
+    });
+    json!({
+        "design": design.name,
+        "kind": lattice.kind.name(),
+        "dim": lattice.dim,
+        "extrinsic": lattice.extrinsic(),
+        "rows": lattice.rows(),
+        "width": lattice.width,
+        "cells": report.cells,
+        "vertices": report.vertices,
+        "rods": report.rods,
+        "tolerance": TOLERANCE,
+        "largest_residual": num(report.worst()),
+        "passed": report.passed(),
+        "checks": checks,
+        "fit": fit,
+    })
+}
+
+/// The fabrication summary of a build as JSON.
+pub fn build_json(b: &Build) -> serde_json::Value {
+    use serde_json::json;
+    let bounds = b.bounds();
+    let sheet = &b.design.fabrication.sheet;
+    let warnings: Vec<_> = b
+        .parts
+        .warnings
+        .iter()
+        .map(|w| json!({ "strip": w.strip, "message": w.message }))
+        .collect();
+    json!({
+        "strips": b.parts.strips.len(),
+        "eyelets": b.parts.eyelets(),
+        "vertex_eyelets": b.parts.vertex_eyelets,
+        "pivot_eyelets": b.parts.pivot_eyelets,
+        "sheets": b.layout.sheets.len(),
+        "sheet": { "name": sheet.name, "width_mm": num(sheet.width), "height_mm": num(sheet.height) },
+        "sheet_lower_bounds": { "area": bounds.area, "lanes": bounds.lanes },
+        "utilisation": num(b.layout.utilisation()),
+        "cut_length_mm": num(b.cut_length()),
+        "warnings": warnings,
+    })
+}

@@ -9,3 +9,4 @@ mod guide;
 mod property;
 mod thirdparty;
 mod util;
+mod workflow;

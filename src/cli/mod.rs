@@ -1,64 +1,89 @@
 //! Command-line interface. Exit codes: 0 ok, 1 design invalid or a check
 //! failed, 2 usage error, 3 I/O error.
 
+mod batch;
 mod files;
+mod progress;
 
-use clap::{Args as ClapArgs, Parser, Subcommand};
-use karigami::build::build as build_design;
+use clap::{Args as ClapArgs, CommandFactory, Parser, Subcommand};
+use karigami::build::{Build, assemble, build_with};
 use karigami::design::{self, Design, Overrides};
-use karigami::lattice::{Lattice, verify};
-use karigami::report;
+use karigami::diagnostic::Diagnostic;
+use karigami::lattice::verify;
+use karigami::{report, templates};
+use progress::Progress;
+use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 pub const EXIT_INVALID: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
 pub const EXIT_IO: i32 = 3;
 
 /// The design `karigami build` uses when given none.
-const DEFAULT_DESIGN: &str = include_str!("../../templates/sheet.toml");
+const DEFAULT_TEMPLATE: &str = "sheet";
+
+const EXIT_CODES: &str =
+    "Exit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error.";
 
 #[derive(Parser)]
 #[command(
     name = "karigami",
     version,
-    about = "Grow, verify and fabricate scissor lattices from TOML recipes"
+    about = "Grow, verify and fabricate scissor lattices from TOML recipes",
+    after_help = "Examples:\n  karigami new my-sheet                 # a starter recipe, my-sheet.toml\n  karigami check my-sheet.toml\n  karigami build my-sheet.toml --out my-sheet\n  karigami build examples/ --out gallery --jobs 2\n\nExit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error."
 )]
 struct Args {
     #[command(subcommand)]
     command: Command,
+    /// Print only errors.
+    #[arg(long, short, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Print more: the full verification report of each build, fit progress.
+    #[arg(long, short, global = true)]
+    verbose: bool,
 }
 
 #[derive(Subcommand)]
 enum Command {
-    /// Grow a design and verify collapsibility, compatibility and the collapsed state.
-    #[command(after_help = "Example:\n  karigami check examples/flat-sheet.toml")]
+    /// Grow designs and verify collapsibility, compatibility, the collapsed
+    /// state and that every strip can be cut. Writes nothing.
+    #[command(after_help = format!("Examples:\n  karigami check examples/flat-sheet.toml\n  karigami check examples/          # every recipe in the folder\n  karigami check my.toml --json     # a machine-readable report\n\n{EXIT_CODES}"))]
     Check {
-        /// Recipe files (TOML).
+        /// Recipe files (TOML) or folders of them.
         #[arg(required = true)]
         designs: Vec<PathBuf>,
+        /// Print a JSON report on stdout instead of text.
+        #[arg(long)]
+        json: bool,
     },
-    /// Grow, verify and write the build files (lattice.json) into a folder.
-    #[command(
-        after_help = "Examples:\n  karigami build                      # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat"
-    )]
+    /// Grow, verify and write the cut files, assembly guide and previews.
+    #[command(after_help = format!(
+        "Examples:\n  karigami build                          # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat\n  karigami build examples/ --out gallery  # a batch: gallery/<recipe>/ for each\n  karigami build a.toml b.toml --jobs 1 --json\n\nOne recipe builds into --out itself. Several recipes, or a folder, build\ninto a subfolder of --out each, named after the recipe file; --out then\nholds batch.json, the status of every recipe. A failing recipe does not\nstop the others. The output folder is always replaced as a whole, and\nonly once everything is written; a folder that is not a previous karigami\nbuild is refused unless --force is given.\n\n{EXIT_CODES}"
+    ))]
     Build {
-        /// Recipe file (TOML); without one, a built-in example sheet.
-        design: Option<PathBuf>,
-        /// Output folder. It is replaced as a whole; a folder that is not a
-        /// previous karigami build is refused unless --force is given.
+        /// Recipe files (TOML) or folders of them; without any, a built-in sheet.
+        designs: Vec<PathBuf>,
+        /// Output folder, replaced as a whole.
         #[arg(long, short, default_value = "karigami-out")]
         out: PathBuf,
         /// Replace the output folder even if it is not a previous karigami build.
         #[arg(long)]
         force: bool,
+        /// Recipes built at once (default: all cores). The files do not depend on it.
+        #[arg(long, short, value_name = "N")]
+        jobs: Option<usize>,
+        /// Print a JSON report on stdout instead of text.
+        #[arg(long)]
+        json: bool,
         #[command(flatten)]
         fabrication: FabricationFlags,
     },
     /// Tune a helix seed until it grows the cells the recipe asks for, and
     /// write the recipe with the tuned seed.
-    #[command(
-        after_help = "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nThe recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the points and kappa change; comments and other settings are kept."
-    )]
+    #[command(after_help = format!(
+        "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nThe recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the points and kappa change; comments and other settings are kept.\n\n{EXIT_CODES}"
+    ))]
     Tune {
         /// Helix recipe file (TOML).
         design: PathBuf,
@@ -72,6 +97,28 @@ enum Command {
         #[arg(long, default_value_t = 50_000)]
         iterations: usize,
     },
+    /// Write a starter recipe from a template.
+    #[command(after_help = format!(
+        "Examples:\n  karigami new my-sheet                   # writes my-sheet.toml\n  karigami new arm --template chain\n  karigami templates                      # what there is\n\n{EXIT_CODES}"
+    ))]
+    New {
+        /// Name of the design; the recipe is NAME.toml (or NAME if it ends in .toml).
+        name: String,
+        /// Which template (see `karigami templates`).
+        #[arg(long, short, default_value = DEFAULT_TEMPLATE)]
+        template: String,
+        /// Overwrite an existing file.
+        #[arg(long)]
+        force: bool,
+    },
+    /// List the templates of `karigami new`.
+    #[command(after_help = "Example:\n  karigami templates")]
+    Templates,
+    /// Print a shell completion script.
+    #[command(
+        after_help = "Examples:\n  karigami completions bash > ~/.local/share/bash-completion/completions/karigami\n  karigami completions zsh > ~/.zfunc/_karigami\n  karigami completions fish > ~/.config/fish/completions/karigami.fish"
+    )]
+    Completions { shell: clap_complete::Shell },
 }
 
 /// Fabrication settings that replace the recipe's.
@@ -114,29 +161,71 @@ impl FabricationFlags {
     }
 }
 
+/// How much to print.
+#[derive(Clone, Copy)]
+pub struct Verbosity {
+    pub quiet: bool,
+    pub verbose: bool,
+}
+
 /// Why a command stopped: already reported to the user, with an exit code.
-struct Failed(i32);
+pub struct Failed(pub i32);
 
 pub fn run() -> i32 {
     let args = Args::parse();
+    let v = Verbosity {
+        quiet: args.quiet,
+        verbose: args.verbose,
+    };
     let result = match args.command {
-        Command::Check { designs } => {
-            // Check every design, even after one fails; report the first failure.
-            let results: Vec<_> = designs.iter().map(|d| check(d)).collect();
-            results.into_iter().find(Result::is_err).unwrap_or(Ok(()))
-        }
+        Command::Check { designs, json } => check(&designs, json, v),
         Command::Build {
-            design,
+            designs,
             out,
             force,
+            jobs,
+            json,
             fabrication,
-        } => build(design.as_deref(), &out, force, &fabrication.overrides()),
+        } => {
+            let jobs = jobs
+                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+                .max(1);
+            build(
+                &designs,
+                &out,
+                force,
+                jobs,
+                json,
+                &fabrication.overrides(),
+                v,
+            )
+        }
         Command::Tune {
             design,
             cells,
             out,
             iterations,
-        } => tune(&design, cells, out.as_deref(), iterations),
+        } => tune(&design, cells, out.as_deref(), iterations, v),
+        Command::New {
+            name,
+            template,
+            force,
+        } => new(&name, &template, force, v),
+        Command::Templates => {
+            for t in templates::TEMPLATES {
+                println!("{:<8} {}", t.name, t.about);
+            }
+            Ok(())
+        }
+        Command::Completions { shell } => {
+            clap_complete::generate(
+                shell,
+                &mut Args::command(),
+                "karigami",
+                &mut std::io::stdout(),
+            );
+            Ok(())
+        }
     };
     match result {
         Ok(()) => 0,
@@ -145,90 +234,245 @@ pub fn run() -> i32 {
 }
 
 /// A recipe as read: its text, its name for messages, its default design name.
-struct Recipe {
-    source: String,
-    file: String,
-    stem: String,
+pub struct Recipe {
+    pub source: String,
+    pub file: String,
+    pub stem: String,
 }
 
 impl Recipe {
-    fn read(path: &Path) -> Result<Self, Failed> {
-        let source = files::read(path).map_err(|e| {
-            eprintln!("error: cannot read {}: {e}", path.display());
-            Failed(EXIT_IO)
+    pub fn read(path: &Path) -> Result<Self, RecipeError> {
+        let file = path.display().to_string();
+        let source = files::read(path).map_err(|e| RecipeError {
+            code: EXIT_IO,
+            text: format!("error: cannot read {file}: {e}\n"),
+            json: json!({ "class": "io", "message": format!("cannot read {file}: {e}"), "file": file }),
         })?;
         Ok(Self {
             source,
-            file: path.display().to_string(),
-            stem: path
-                .file_stem()
-                .map_or("design".into(), |s| s.to_string_lossy().into_owned()),
+            file,
+            stem: stem(path),
         })
     }
 
     fn built_in() -> Self {
         Self {
-            source: DEFAULT_DESIGN.to_string(),
+            source: templates::find(DEFAULT_TEMPLATE)
+                .expect("the default template exists")
+                .text
+                .to_string(),
             file: "(built-in sheet)".to_string(),
             stem: "karigami-sheet".to_string(),
         }
     }
 
-    fn parse(&self, overrides: &Overrides) -> Result<Design, Failed> {
-        design::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.fail(&d))
+    pub fn parse(&self, overrides: &Overrides) -> Result<Design, RecipeError> {
+        design::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.error(&d))
     }
 
-    /// Print a diagnostic against this recipe.
-    fn fail(&self, d: &karigami::diagnostic::Diagnostic) -> Failed {
-        eprint!("{}", d.render(&self.file, &self.source));
-        Failed(if d.class == "usage" {
-            EXIT_USAGE
-        } else {
-            EXIT_INVALID
-        })
+    /// A diagnostic against this recipe, rendered and as JSON.
+    pub fn error(&self, d: &Diagnostic) -> RecipeError {
+        let (line, column) = d.line_col(&self.source).unzip();
+        RecipeError {
+            code: if d.class == "usage" {
+                EXIT_USAGE
+            } else {
+                EXIT_INVALID
+            },
+            text: d.render(&self.file, &self.source),
+            json: json!({
+                "class": d.class,
+                "message": d.message,
+                "file": self.file,
+                "line": line,
+                "column": column,
+                "site": d.site,
+                "hint": d.hint,
+            }),
+        }
     }
 }
 
-fn grow(design: &Design, recipe: &Recipe) -> Result<Lattice, Failed> {
-    design.grow().map_err(|d| recipe.fail(&d))
+/// The file name without its extension: a recipe's default design name and
+/// its subfolder in a batch.
+pub fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map_or("design".into(), |s| s.to_string_lossy().into_owned())
 }
 
-/// Verify a design, then run the fabrication checks and nesting (nothing
-/// is written): a design a maker cannot cut is not valid either.
-fn check(path: &Path) -> Result<(), Failed> {
-    let recipe = Recipe::read(path)?;
-    let design = recipe.parse(&Overrides::default())?;
-    let lattice = grow(&design, &recipe)?;
+/// A recipe that failed: its exit code, the rendered error, and the error as JSON.
+pub struct RecipeError {
+    pub code: i32,
+    pub text: String,
+    pub json: Value,
+}
+
+/// Grow, verify and assemble one recipe. The verification report text is
+/// returned too (check prints it even when the design fails).
+pub fn run_recipe(
+    recipe: &Recipe,
+    overrides: &Overrides,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Build, RecipeError> {
+    let design = recipe.parse(overrides)?;
+    build_with(design, progress).map_err(|d| recipe.error(&d))
+}
+
+fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
+    let paths = files::recipes(paths).map_err(|e| usage(&e))?;
+    let mut reports = Vec::new();
+    let mut worst = 0;
+    let mut bar = Progress::new(paths.len(), v.quiet || json);
+    for path in &paths {
+        let (code, report) = check_one(path, json, v, &mut bar);
+        worst = worst.max(code);
+        reports.push(report);
+    }
+    bar.clear();
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&Value::Array(reports)).expect("JSON")
+        );
+    }
+    match worst {
+        0 => Ok(()),
+        code => Err(Failed(code)),
+    }
+}
+
+/// Check one recipe: print its report (text unless `json`), return the exit
+/// code and the JSON report.
+fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32, Value) {
+    let file = path.display().to_string();
+    let fail = |e: RecipeError, bar: &mut Progress| {
+        if !json {
+            bar.print(&e.text);
+        }
+        (
+            e.code,
+            json!({ "file": file, "status": "error", "error": e.json }),
+        )
+    };
+    let recipe = match Recipe::read(path) {
+        Ok(r) => r,
+        Err(e) => return fail(e, bar),
+    };
+    let design = match recipe.parse(&Overrides::default()) {
+        Ok(d) => d,
+        Err(e) => return fail(e, bar),
+    };
+    let lattice = match design.grow_with(&mut |note| fit_note(note, v, bar)) {
+        Ok(l) => l,
+        Err(d) => return fail(recipe.error(&d), bar),
+    };
+    bar.clear();
     let report = verify(&lattice);
-    print!("{}", report::check_text(&design, &lattice, &report));
-    if !report.passed() {
-        return Err(Failed(EXIT_INVALID));
+    let check = report::check_json(&design, &lattice, &report);
+    if !json && !v.quiet {
+        print!("{}", report::check_text(&design, &lattice, &report));
     }
-    let built = build_design(design).map_err(|d| recipe.fail(&d))?;
-    print!("{}", built.summary());
-    println!("result: PASS (geometry verified, every strip can be cut)");
-    Ok(())
+    if !report.passed() {
+        return (
+            EXIT_INVALID,
+            json!({ "file": file, "status": "fail", "check": check }),
+        );
+    }
+    match assemble(design, lattice, report) {
+        Ok(built) => {
+            if !json && !v.quiet {
+                print!("{}", built.summary());
+                println!("result: PASS (geometry verified, every strip can be cut)");
+            }
+            (
+                0,
+                json!({ "file": file, "status": "pass", "check": check, "build": report::build_json(&built) }),
+            )
+        }
+        Err(d) => {
+            let (code, mut value) = fail(recipe.error(&d), bar);
+            value["check"] = check;
+            (code, value)
+        }
+    }
+}
+
+/// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
+fn fit_note(note: &str, v: Verbosity, bar: &mut Progress) {
+    if v.verbose {
+        eprintln!("{note}");
+    } else {
+        bar.note(note);
+    }
+}
+
+fn usage(message: &str) -> Failed {
+    eprintln!("error: {message}");
+    Failed(EXIT_USAGE)
 }
 
 fn build(
-    path: Option<&Path>,
+    paths: &[PathBuf],
     out: &Path,
     force: bool,
+    jobs: usize,
+    json: bool,
     overrides: &Overrides,
+    v: Verbosity,
 ) -> Result<(), Failed> {
-    let recipe = match path {
-        Some(p) => Recipe::read(p)?,
-        None => Recipe::built_in(),
+    let batch = paths.len() > 1 || paths.iter().any(|p| p.is_dir());
+    if batch {
+        let recipes = files::recipes(paths).map_err(|e| usage(&e))?;
+        return batch::build(&recipes, out, force, jobs, json, overrides, v);
+    }
+    let recipe = match paths.first() {
+        Some(p) => Recipe::read(p),
+        None => Ok(Recipe::built_in()),
     };
-    let design = recipe.parse(overrides)?;
-    let built = build_design(design).map_err(|d| recipe.fail(&d))?;
+    let started = Instant::now();
+    let mut bar = Progress::new(1, v.quiet || json);
+    let built = recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)));
+    bar.clear();
+    let built = match built {
+        Ok(b) => b,
+        Err(e) => {
+            eprint!("{}", e.text);
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&json!({ "status": "error", "error": e.json }))
+                        .expect("JSON")
+                );
+            }
+            return Err(Failed(e.code));
+        }
+    };
     let outputs = built.files();
     files::replace_dir(out, &outputs, force).map_err(|e| {
         eprintln!("error: cannot write {}: {e}", out.display());
         Failed(EXIT_IO)
     })?;
-    print!("{}", built.summary());
-    println!("wrote {} files to {}", outputs.len(), out.display());
+    if json {
+        let value = json!({
+            "file": paths.first().map(|p| p.display().to_string()),
+            "status": "ok",
+            "out": out.display().to_string(),
+            "files": outputs.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
+            "seconds": started.elapsed().as_secs_f64(),
+            "check": report::check_json(&built.design, &built.lattice, &built.report),
+            "build": report::build_json(&built),
+        });
+        println!("{}", serde_json::to_string_pretty(&value).expect("JSON"));
+    } else if !v.quiet {
+        if v.verbose {
+            print!(
+                "{}",
+                report::check_text(&built.design, &built.lattice, &built.report)
+            );
+        }
+        print!("{}", built.summary());
+        println!("wrote {} files to {}", outputs.len(), out.display());
+    }
     Ok(())
 }
 
@@ -237,16 +481,16 @@ fn tune(
     cells: Option<usize>,
     out: Option<&Path>,
     iterations: usize,
+    v: Verbosity,
 ) -> Result<(), Failed> {
-    let recipe = Recipe::read(path)?;
-    let design = recipe.parse(&Overrides::default())?;
+    let recipe = Recipe::read(path).map_err(report_error)?;
+    let design = recipe.parse(&Overrides::default()).map_err(report_error)?;
     if design.kind != karigami::lattice::Kind::Helix {
-        eprintln!(
-            "error: {}: `karigami tune` tunes helix seeds; this recipe's seed is \"{}\"",
+        return Err(usage(&format!(
+            "{}: `karigami tune` tunes helix seeds; this recipe's seed is \"{}\"",
             recipe.file,
             design.kind.name()
-        );
-        return Err(Failed(EXIT_USAGE));
+        )));
     }
     let target = cells.unwrap_or(design.helix_cells);
     // Legs shorter than the eyelet flange (plus a wall) cannot be built.
@@ -260,21 +504,22 @@ fn tune(
         iterations,
     );
     let Some(text) = design.with_seed(&recipe.source, &tuned.points, &tuned.kappa) else {
-        eprintln!(
-            "error: {}: write the seed as `points = [...]` and `kappa = [...]` to tune it",
+        return Err(usage(&format!(
+            "{}: write the seed as `points = [...]` and `kappa = [...]` to tune it",
             recipe.file
-        );
-        return Err(Failed(EXIT_USAGE));
+        )));
     };
-    eprintln!(
-        "tuned {} in {} tries: grows {} of {target} cells with legs of at least {min_leg:.1} mm (was {}); points moved up to {:.3} mm, kappa changed up to {:.3} mm",
-        recipe.file,
-        tuned.iterations,
-        tuned.cells_after,
-        tuned.cells_before,
-        tuned.max_move,
-        tuned.max_kappa_change
-    );
+    if !v.quiet {
+        eprintln!(
+            "tuned {} in {} tries: grows {} of {target} cells with legs of at least {min_leg:.1} mm (was {}); points moved up to {:.3} mm, kappa changed up to {:.3} mm",
+            recipe.file,
+            tuned.iterations,
+            tuned.cells_after,
+            tuned.cells_before,
+            tuned.max_move,
+            tuned.max_kappa_change
+        );
+    }
     match out {
         Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
             eprintln!("error: cannot write {}: {e}", o.display());
@@ -287,6 +532,47 @@ fn tune(
             "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed"
         );
         return Err(Failed(EXIT_INVALID));
+    }
+    Ok(())
+}
+
+fn report_error(e: RecipeError) -> Failed {
+    eprint!("{}", e.text);
+    Failed(e.code)
+}
+
+fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Failed> {
+    let Some(t) = templates::find(template) else {
+        let names: Vec<_> = templates::TEMPLATES.iter().map(|t| t.name).collect();
+        return Err(usage(&format!(
+            "no template \"{template}\"; there are: {}",
+            names.join(", ")
+        )));
+    };
+    let path = if name.ends_with(".toml") {
+        PathBuf::from(name)
+    } else {
+        PathBuf::from(format!("{name}.toml"))
+    };
+    if path.exists() && !force {
+        return Err(usage(&format!(
+            "{} exists; choose another name or pass --force to overwrite it",
+            path.display()
+        )));
+    }
+    let design_name = stem(&path);
+    files::write_atomic(&path, templates::instantiate(t, &design_name).as_bytes()).map_err(
+        |e| {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            Failed(EXIT_IO)
+        },
+    )?;
+    if !v.quiet {
+        println!(
+            "wrote {} from the {} template; next: karigami check {0}",
+            path.display(),
+            t.name
+        );
     }
     Ok(())
 }

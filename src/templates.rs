@@ -1,0 +1,99 @@
+//! Starter recipes for `karigami new`: the files in templates/, built into
+//! the binary so that a new design needs nothing but the program.
+
+pub struct Template {
+    pub name: &'static str,
+    /// One line for `karigami templates`.
+    pub about: &'static str,
+    pub text: &'static str,
+}
+
+pub const TEMPLATES: &[Template] = &[
+    Template {
+        name: "sheet",
+        about: "a flat sheet, 6 cells wide and 5 rows, one row opening wider",
+        text: include_str!("../templates/sheet.toml"),
+    },
+    Template {
+        name: "chain",
+        about: "a one-cell-wide chain of equal scissors (a lazy-tongs arm)",
+        text: include_str!("../templates/chain.toml"),
+    },
+    Template {
+        name: "curved",
+        about: "a sheet in space, seeded on an arc, its rows tilted so it wraps",
+        text: include_str!("../templates/curved.toml"),
+    },
+    Template {
+        name: "tube",
+        about: "a straight tube grown from a loop seed round a circle",
+        text: include_str!("../templates/tube.toml"),
+    },
+    Template {
+        name: "helix",
+        about: "a helix seed on a shrinking spiral, one cell a growth step (see `karigami tune`)",
+        text: include_str!("../templates/helix.toml"),
+    },
+    Template {
+        name: "disk",
+        about: "a flat disk fitted to a circle from a quarter-arc seed",
+        text: include_str!("../templates/disk.toml"),
+    },
+    Template {
+        name: "bumps",
+        about: "an intrinsic (bent-facet) sheet whose rebuilt fronts zig-zag into bumps",
+        text: include_str!("../templates/bumps.toml"),
+    },
+];
+
+pub fn find(name: &str) -> Option<&'static Template> {
+    TEMPLATES.iter().find(|t| t.name == name)
+}
+
+/// The template's text with its `name = "..."` line set to `name`.
+pub fn instantiate(template: &Template, name: &str) -> String {
+    let mut out = String::with_capacity(template.text.len());
+    let mut renamed = false;
+    for line in template.text.split_inclusive('\n') {
+        if !renamed && line.starts_with("name = ") {
+            out.push_str(&format!("name = {}\n", toml_string(name)));
+            renamed = true;
+        } else {
+            out.push_str(line);
+        }
+    }
+    out
+}
+
+/// A TOML basic string.
+fn toml_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_template_is_listed_once_and_renames() {
+        let mut names: Vec<_> = TEMPLATES.iter().map(|t| t.name).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), TEMPLATES.len());
+        for t in TEMPLATES {
+            let text = instantiate(t, "my \"arm\"");
+            let d = crate::design::parse(&text, "x").unwrap();
+            assert_eq!(d.name, "my \"arm\"", "{}", t.name);
+        }
+    }
+}

@@ -1,0 +1,277 @@
+//! The maker workflow: batch builds, templates, JSON reports, completions.
+
+use crate::cli::{karigami, recipes, repo, scratch};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::Path;
+
+/// Every file under `dir` with its bytes, by relative path.
+fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn a_batch_gives_the_same_files_with_one_job_or_two() {
+    let dir = scratch("batch-jobs");
+    let examples = repo().join("examples");
+    let examples = examples.to_str().unwrap();
+    for (jobs, out) in [("1", "one"), ("2", "two")] {
+        let o = karigami(&["build", examples, "--out", out, "--jobs", jobs], &dir);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let stdout = text(&o.stdout);
+        assert!(
+            stdout.contains("recipe") && stdout.contains("strips"),
+            "{stdout}"
+        );
+    }
+    let (one, two) = (tree(&dir.join("one")), tree(&dir.join("two")));
+    let n = recipes("examples").len();
+    assert!(one.len() > 8 * n, "{} files for {n} recipes", one.len());
+    assert_eq!(
+        one.keys().collect::<Vec<_>>(),
+        two.keys().collect::<Vec<_>>()
+    );
+    for (name, bytes) in &one {
+        assert!(
+            bytes == &two[name],
+            "{name} differs between --jobs 1 and --jobs 2"
+        );
+    }
+    for r in recipes("examples") {
+        let stem = r.file_stem().unwrap().to_str().unwrap();
+        assert!(one.contains_key(&format!("{stem}/lattice.json")), "{stem}");
+        assert!(one.contains_key(&format!("{stem}/cut.pdf")), "{stem}");
+    }
+}
+
+#[test]
+fn a_broken_recipe_fails_alone_and_is_named() {
+    let dir = scratch("batch-broken");
+    let recipes_dir = dir.join("recipes");
+    fs::create_dir_all(&recipes_dir).unwrap();
+    for name in ["flat-sheet.toml", "mirror-arm.toml"] {
+        fs::copy(repo().join("examples").join(name), recipes_dir.join(name)).unwrap();
+    }
+    fs::write(
+        recipes_dir.join("broken.toml"),
+        "name = \"broken\"\n[lattice]\nseed = \"sheet\"\npoints = [[0.0, 0.0], [10.0, 0.0]]\nkappa = [25.0]\n[lattice.grow]\nrows = 2\nangle = 45.0\nleft_leg = 10.0\n",
+    )
+    .unwrap();
+    let o = karigami(&["build", "recipes", "--out", "out", "--jobs", "2"], &dir);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("broken.toml:5:"),
+        "the error points at the line: {stderr}"
+    );
+    assert!(
+        stderr.contains("1 of 3 recipes failed: recipes/broken.toml"),
+        "{stderr}"
+    );
+    let stdout = text(&o.stdout);
+    let row = stdout.lines().find(|l| l.contains("broken.toml")).unwrap();
+    assert!(row.contains("FAILED"), "{stdout}");
+    assert!(dir.join("out/flat-sheet/cut.pdf").is_file());
+    assert!(dir.join("out/mirror-arm/lattice.json").is_file());
+    assert!(!dir.join("out/broken").exists());
+    let batch: Value =
+        serde_json::from_slice(&fs::read(dir.join("out/batch.json")).unwrap()).unwrap();
+    let statuses: Vec<(&str, &str)> = batch
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["folder"].as_str().unwrap(), r["status"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        statuses,
+        [
+            ("broken", "error"),
+            ("flat-sheet", "ok"),
+            ("mirror-arm", "ok")
+        ]
+    );
+    assert_eq!(batch[0]["error"]["line"], 5);
+}
+
+#[test]
+fn a_batch_output_folder_is_replaced_whole_and_foreign_folders_refused() {
+    let dir = scratch("batch-replace");
+    let a = repo().join("examples/mirror-arm.toml");
+    let b = repo().join("examples/flat-sheet.toml");
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    assert!(
+        karigami(&["build", a, b, "--out", "out"], &dir)
+            .status
+            .success()
+    );
+    let o = karigami(&["build", a, a, "--out", "out"], &dir);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "the same recipe twice is a usage error"
+    );
+    fs::create_dir_all(dir.join("mine")).unwrap();
+    fs::write(dir.join("mine/notes.txt"), "keep").unwrap();
+    let o = karigami(&["build", a, b, "--out", "mine"], &dir);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("--force"));
+    assert_eq!(
+        fs::read_to_string(dir.join("mine/notes.txt")).unwrap(),
+        "keep"
+    );
+    let o = karigami(
+        &[
+            "build",
+            repo().join("templates/chain.toml").to_str().unwrap(),
+            a,
+            "--out",
+            "out",
+        ],
+        &dir,
+    );
+    assert!(o.status.success());
+    assert!(
+        !dir.join("out/flat-sheet").exists(),
+        "the old batch is replaced as a whole"
+    );
+    assert!(dir.join("out/chain/lattice.json").is_file());
+    let leftovers: Vec<_> = fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(
+        leftovers.is_empty(),
+        "temporary folders left: {leftovers:?}"
+    );
+}
+
+#[test]
+fn recipes_of_the_same_name_get_their_folder_in_front() {
+    let dir = scratch("batch-same-name");
+    let o = karigami(
+        &[
+            "build",
+            repo().join("examples/disk.toml").to_str().unwrap(),
+            repo().join("templates/disk.toml").to_str().unwrap(),
+            "--out",
+            "out",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.stdout.is_empty(), "--quiet prints nothing on success");
+    assert!(dir.join("out/examples-disk/lattice.json").is_file());
+    assert!(dir.join("out/templates-disk/lattice.json").is_file());
+}
+
+#[test]
+fn every_template_is_listed_and_new_writes_a_recipe_that_checks() {
+    let dir = scratch("templates");
+    let o = karigami(&["templates"], &dir);
+    assert!(o.status.success());
+    let listing = text(&o.stdout);
+    let names: Vec<&str> = listing
+        .lines()
+        .map(|l| l.split_whitespace().next().unwrap())
+        .collect();
+    for t in ["sheet", "chain", "tube", "helix", "disk"] {
+        assert!(names.contains(&t), "{t} missing from {listing}");
+    }
+    for name in &names {
+        let file = format!("my-{name}");
+        let o = karigami(&["new", &file, "--template", name], &dir);
+        assert!(o.status.success(), "{name}: {}", text(&o.stderr));
+        let recipe = format!("{file}.toml");
+        let source = fs::read_to_string(dir.join(&recipe)).unwrap();
+        assert!(source.contains(&format!("name = \"{file}\"")), "{source}");
+        let o = karigami(&["check", &recipe], &dir);
+        assert!(
+            o.status.success(),
+            "{name}: {}{}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+    }
+    let o = karigami(&["new", "my-sheet"], &dir);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "an existing file is not overwritten"
+    );
+    let o = karigami(&["new", "x", "--template", "nope"], &dir);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("sheet, chain"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+#[test]
+fn check_and_build_report_json() {
+    let dir = scratch("json");
+    let recipe = repo().join("examples/flat-sheet.toml");
+    let o = karigami(&["check", recipe.to_str().unwrap(), "--json"], &dir);
+    assert!(o.status.success());
+    let v: Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v[0]["status"], "pass");
+    assert_eq!(v[0]["check"]["cells"], 48);
+    assert_eq!(v[0]["check"]["passed"], true);
+    assert!(v[0]["check"]["largest_residual"].as_f64().unwrap() < 1e-9);
+    assert_eq!(v[0]["build"]["strips"], 96);
+    let o = karigami(
+        &["build", recipe.to_str().unwrap(), "--out", "o", "--json"],
+        &dir,
+    );
+    assert!(o.status.success());
+    let v: Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["status"], "ok");
+    assert_eq!(v["build"]["sheets"], 1);
+    assert!(
+        v["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|f| f == "cut.pdf")
+    );
+    let bad = repo().join("fixtures/designs/bad/seed-edge-not-spacelike.toml");
+    let o = karigami(&["check", bad.to_str().unwrap(), "--json"], &dir);
+    assert_eq!(o.status.code(), Some(1));
+    let v: Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v[0]["status"], "error");
+    assert_eq!(v[0]["error"]["class"], "SeedEdgeNotSpacelike");
+    assert!(v[0]["error"]["line"].as_u64().is_some());
+}
+
+#[test]
+fn completions_are_printed_for_each_shell() {
+    for shell in ["bash", "zsh", "fish"] {
+        let o = karigami(&["completions", shell], &repo());
+        assert!(o.status.success());
+        let script = text(&o.stdout);
+        assert!(
+            script.contains("templates") && script.contains("jobs"),
+            "{shell}"
+        );
+    }
+}
