@@ -41,8 +41,23 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
     assemble(design, lattice, report)
 }
 
+/// The most cells karigami makes parts for (two strips a cell). Growth and
+/// verification go to `MAX_CELLS`; cut files for more than this would be
+/// thousands of sheets, and the pictures would not fit in memory.
+pub const MAX_FABRICATED_CELLS: usize = 20_000;
+
 /// The parts, layout and pages of a grown and verified lattice.
 pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
+    if lattice.cells.len() > MAX_FABRICATED_CELLS {
+        return Err(Diagnostic::new(
+            "TooLarge",
+            format!(
+                "the lattice has {} cells; karigami makes cut files for at most {MAX_FABRICATED_CELLS} cells",
+                lattice.cells.len()
+            ),
+        )
+        .hint("grow fewer rows or a narrower seed; `karigami check` verifies the geometry of lattices up to 4,000,000 cells"));
+    }
     if !report.passed() {
         let worst = report
             .checks

@@ -3,6 +3,7 @@
 mod cli;
 mod cutfiles;
 mod errors;
+mod fuzz;
 mod gallery;
 mod golden;
 mod guide;

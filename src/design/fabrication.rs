@@ -37,6 +37,10 @@ pub struct FabricationSpans {
 /// Thinnest wall of material kept between a hole and a strip edge or tip.
 pub const MIN_WALL: f64 = 1.0;
 
+/// The largest sheet side: beyond the beds of large-format lasers (3 x 2 m),
+/// and it bounds the memory of the sheet pictures.
+pub const MAX_SHEET: f64 = 5000.0;
+
 fn length(n: &Num, what: &str, min_exclusive: f64) -> Result<f64, Diagnostic> {
     let v = *n.get_ref();
     if v.is_finite() && v > min_exclusive {
@@ -275,6 +279,17 @@ fn check_settings(
         )
         .at_opt(spans.end_margin.clone())
         .hint(format!("raise strip.end_margin to {} mm or more", w / 2.0)));
+    }
+    if f.sheet.width.max(f.sheet.height) > MAX_SHEET {
+        return Err(Diagnostic::new(
+            "SheetTooLarge",
+            format!(
+                "the sheet is {} x {} mm; karigami lays out sheets of at most {MAX_SHEET} mm a side",
+                f.sheet.width, f.sheet.height
+            ),
+        )
+        .at_opt(spans.sheet.clone())
+        .hint("give the size of your laser's bed or of the stock you cut, in mm"));
     }
     let (uw, uh) = f.sheet.usable();
     if uw < w || uh < w {
