@@ -23,12 +23,13 @@ fn design(n: usize) -> (Vec<DVec3>, Vec<f64>, Vec<RowParams>) {
     let kappa = vec![0.0; n];
     let row = RowParams {
         start: n / 2,
-        direction: Direction::Angles {
+        direction: Some(Direction::Angles {
             angle_deg: 45.0,
             tilt_deg: 0.0,
-        },
+        }),
         left_leg: Leg::Match,
         right_leg: Leg::Match,
+        ..RowParams::default()
     };
     (points, kappa, vec![row; n])
 }

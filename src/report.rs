@@ -2,6 +2,7 @@
 
 use crate::build::Build;
 use crate::design::Design;
+use crate::lattice::deploy::deployment;
 use crate::lattice::{Lattice, Report, TOLERANCE, joints};
 use std::fmt::Write as _;
 
@@ -72,6 +73,7 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
             "fit to the target: largest vertex distance {abs:.3e} mm ({rel:.2e} of the target's size)"
         );
     }
+    deployment_text(&mut out, lattice);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -79,6 +81,39 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
         report.worst()
     );
     out
+}
+
+/// MATH.md 8.4: the intrinsic configuration, the mobility verdict and, in
+/// the plane, the placement misfit.
+fn deployment_text(out: &mut String, lattice: &Lattice) {
+    let d = deployment(lattice);
+    let c = &d.config;
+    let _ = writeln!(
+        out,
+        "deployment C(theta), theta = opening of {}: design {:.2} deg, valid for 0 < theta < {:.2} deg; residuals: paths {:.1e}, design {:.1e}, theta = 0 collapsed {:.1e}",
+        lattice
+            .cells
+            .first()
+            .map_or("cell 0".into(), |c| lattice.cell_name(c)),
+        c.theta_design.to_degrees(),
+        c.theta_max.to_degrees(),
+        c.path_residual,
+        c.design_residual,
+        c.collapse_residual
+    );
+    if !d.misfits.is_empty() {
+        let parts: Vec<String> = d
+            .misfits
+            .iter()
+            .map(|(f, m)| format!("{m:.1e} at {f} theta"))
+            .collect();
+        let _ = writeln!(
+            out,
+            "planar placement misfit (largest corner miss / mean leg): {}",
+            parts.join(", ")
+        );
+    }
+    let _ = writeln!(out, "mechanism: {}", d.verdict(lattice));
 }
 
 /// report.txt: the verification report, the fabrication summary with its
@@ -156,6 +191,18 @@ pub fn check_json(design: &Design, lattice: &Lattice, report: &Report) -> serde_
         let (abs, rel) = crate::design::fit::error(f, lattice);
         json!({ "max_distance_mm": num(abs), "relative": num(rel) })
     });
+    let dep = deployment(lattice);
+    let deploy = json!({
+        "theta_design_deg": num(dep.config.theta_design.to_degrees()),
+        "theta_max_deg": num(dep.config.theta_max.to_degrees()),
+        "path_residual": num(dep.config.path_residual),
+        "design_residual": num(dep.config.design_residual),
+        "collapse_residual": num(dep.config.collapse_residual),
+        "mobility": dep.mobility,
+        "mechanism": dep.is_mechanism(),
+        "planar_misfit": dep.misfits.iter().map(|(f, m)| json!({ "fraction": f, "misfit": num(*m) })).collect::<Vec<_>>(),
+        "verdict": dep.verdict(lattice),
+    });
     json!({
         "design": design.name,
         "kind": lattice.kind.name(),
@@ -171,6 +218,7 @@ pub fn check_json(design: &Design, lattice: &Lattice, report: &Report) -> serde_
         "passed": report.passed(),
         "checks": checks,
         "fit": fit,
+        "deployment": deploy,
     })
 }
 

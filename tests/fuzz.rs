@@ -36,15 +36,57 @@ impl Rng {
 
 /// Numbers that break naive code: non-finite, huge, tiny, negative, counts.
 const EXTREMES: &[&str] = &[
-    "nan", "inf", "-inf", "+nan", "0", "-0.0", "1e308", "-1e308", "1e-308", "5e-324",
-    "9007199254740993", "-1", "999999999", "2147483648", "100000", "4000001", "1e6", "1e-9",
-    "0.5", "3", "7.0", "90.0", "-90.0", "180", "1e4",
+    "nan",
+    "inf",
+    "-inf",
+    "+nan",
+    "0",
+    "-0.0",
+    "1e308",
+    "-1e308",
+    "1e-308",
+    "5e-324",
+    "9007199254740993",
+    "-1",
+    "999999999",
+    "2147483648",
+    "100000",
+    "4000001",
+    "1e6",
+    "1e-9",
+    "0.5",
+    "3",
+    "7.0",
+    "90.0",
+    "-90.0",
+    "180",
+    "1e4",
 ];
 
 const STRINGS: &[&str] = &[
-    "sheet", "loop", "helix", "match", "xz", "yz", "disk", "ellipsoid", "revolution", "", "ßπ",
-    "compact", "none", "id", "a4", "letter", "glowforge", "1/8in", "12x24in", "0x0", "1e9x1e9",
-    "abs", "3/16in",
+    "sheet",
+    "loop",
+    "helix",
+    "match",
+    "xz",
+    "yz",
+    "disk",
+    "ellipsoid",
+    "revolution",
+    "",
+    "ßπ",
+    "compact",
+    "none",
+    "id",
+    "a4",
+    "letter",
+    "glowforge",
+    "1/8in",
+    "12x24in",
+    "0x0",
+    "1e9x1e9",
+    "abs",
+    "3/16in",
 ];
 
 /// Lines a recipe may have, for random recipes and insertions.
@@ -132,7 +174,9 @@ fn tokens(s: &str) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
             }
             strings.push((start, i));
             i += 1;
-        } else if b[i].is_ascii_digit() || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit)) {
+        } else if b[i].is_ascii_digit()
+            || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit))
+        {
             let start = i;
             i += 1;
             while i < b.len() && (b[i].is_ascii_digit() || b"._eE+-".contains(&b[i])) {
@@ -189,7 +233,10 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
                 while !s.is_char_boundary(at) {
                     at -= 1;
                 }
-                let junk = rng.pick(&["[", "]", "=", "\"", "{", "}", ",", "\n", "#", "é", "\u{0}", "0x", "1_000", "'''", "\\"]);
+                let junk = rng.pick(&[
+                    "[", "]", "=", "\"", "{", "}", ",", "\n", "#", "é", "\u{0}", "0x", "1_000",
+                    "'''", "\\",
+                ]);
                 format!("{}{junk}{}", &s[..at], &s[at..])
             }
             _ => {
@@ -205,7 +252,10 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
 }
 
 fn random_recipe(rng: &mut Rng) -> String {
-    (0..3 + rng.below(25)).map(|_| *rng.pick(LINES)).collect::<Vec<_>>().join("\n")
+    (0..3 + rng.below(25))
+        .map(|_| *rng.pick(LINES))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// One case through the whole pipeline: Err describes what went wrong.
@@ -215,7 +265,11 @@ fn run_case(text: &str) -> Result<&'static str, String> {
             Ok(d) => d,
             Err(d) => {
                 let rendered = d.render("fuzz.toml", text);
-                return if rendered.is_empty() { Err("an empty error".to_string()) } else { Ok("refused") };
+                return if rendered.is_empty() {
+                    Err("an empty error".to_string())
+                } else {
+                    Ok("refused")
+                };
             }
         };
         let built = match build(design) {
@@ -245,7 +299,10 @@ fn run_case(text: &str) -> Result<&'static str, String> {
         Ok(r) => r,
         Err(p) => Err(format!(
             "panic: {}",
-            p.downcast_ref::<String>().map(String::as_str).or(p.downcast_ref::<&str>().copied()).unwrap_or("?")
+            p.downcast_ref::<String>()
+                .map(String::as_str)
+                .or(p.downcast_ref::<&str>().copied())
+                .unwrap_or("?")
         )),
     }
 }
@@ -297,7 +354,10 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
                     };
                     match run_case(&text) {
                         Ok(kind) => {
-                            let k = ["refused", "refused later", "built"].iter().position(|&x| x == kind).unwrap();
+                            let k = ["refused", "refused later", "built"]
+                                .iter()
+                                .position(|&x| x == kind)
+                                .unwrap();
                             tally.lock().unwrap()[k] += 1;
                         }
                         Err(why) => failures.lock().unwrap().push((i, why, text)),
@@ -324,7 +384,10 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
         let dir = repo().join("target/fuzz-failures");
         let _ = std::fs::create_dir_all(&dir);
         for (i, why, text) in &failures {
-            let _ = std::fs::write(dir.join(format!("case-{i}.toml")), format!("# {why}\n{text}"));
+            let _ = std::fs::write(
+                dir.join(format!("case-{i}.toml")),
+                format!("# {why}\n{text}"),
+            );
         }
         panic!(
             "{} of {cases} cases failed (all in target/fuzz-failures/); the first, case {i}: {why}\n{text}",

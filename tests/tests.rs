@@ -2,6 +2,7 @@
 
 mod cli;
 mod cutfiles;
+mod deploy;
 mod errors;
 mod fuzz;
 mod gallery;

@@ -7,6 +7,7 @@
 
 mod closure;
 mod construct;
+pub mod deploy;
 mod front;
 mod grow;
 mod helix;
