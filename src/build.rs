@@ -21,6 +21,9 @@ pub const PREVIEW_PX_PER_MM: f64 = 8.0;
 pub struct Build {
     pub design: Design,
     pub lattice: Lattice,
+    /// The lattice as assembled, for pictures: rows grown on rebuilt fronts
+    /// placed onto the rows they hang from (`Lattice::placed`).
+    pub assembled: Lattice,
     pub report: Report,
     pub parts: Parts,
     pub layout: Layout,
@@ -94,6 +97,7 @@ pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Buil
         .collect();
     Ok(Build {
         design,
+        assembled: lattice.placed(),
         lattice,
         report,
         parts,
@@ -138,7 +142,7 @@ impl Build {
             "assembly.pdf".to_string(),
             pdf::write(&format!("{name} assembly guide"), &guide(self)),
         ));
-        let picture = preview(&self.lattice, fab.material.width, name);
+        let picture = preview(&self.assembled, fab.material.width, name);
         files.push((
             "preview.png".to_string(),
             png::write(&picture, PREVIEW_PX_PER_MM, 1.0),

@@ -222,14 +222,14 @@ fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
     w.y += 4.0;
     let box_size = DVec2::new(w.width(), 120.0);
     let fit = Fit::new(
-        &b.lattice,
-        Camera::for_lattice(&b.lattice),
+        &b.assembled,
+        Camera::for_lattice(&b.assembled),
         DVec2::new(MARGIN, w.y),
         box_size,
     );
     let width = (0.6 * fit.scale() * fab.material.width).clamp(0.3, 1.6);
     w.push(lattice_picture(
-        &b.lattice,
+        &b.assembled,
         &fit,
         |_| {
             Some(RodStyle {
@@ -493,15 +493,15 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
     // The lattice so far: this row in colour, earlier rows grey, later rows not yet there.
     let box_size = DVec2::new(w.width(), 95.0);
     let fit = Fit::new(
-        &b.lattice,
-        Camera::for_lattice(&b.lattice),
+        &b.assembled,
+        Camera::for_lattice(&b.assembled),
         DVec2::new(MARGIN, w.y + 2.0),
         box_size,
     );
     let width = (0.6 * fit.scale() * b.design.fabrication.material.width).clamp(0.3, 1.4);
     let row = step.row;
     w.push(lattice_picture(
-        &b.lattice,
+        &b.assembled,
         &fit,
         |c| {
             let r = b.lattice.step_of(c) as u32;

@@ -12,6 +12,7 @@ mod front;
 mod grow;
 mod helix;
 mod joints;
+mod placed;
 mod rods;
 mod verify;
 

@@ -1,0 +1,179 @@
+//! The assembled shape of an intrinsic lattice, for pictures: each row
+//! grown on a rebuilt front is stored in its own frame (MATH.md 7); here it
+//! is moved rigidly so that its rebuilt front lies as close as possible
+//! (least squares) on the row it hangs from. Where the two differ the real
+//! strips bend; the picture joins them halfway.
+
+use super::Lattice;
+use glam::{DMat3, DQuat, DVec3};
+
+impl Lattice {
+    /// This lattice with every rebuilt row placed onto the one above it;
+    /// an extrinsic lattice is returned as it is.
+    pub fn placed(&self) -> Lattice {
+        let mut out = self.clone();
+        if self.extrinsic() {
+            return out;
+        }
+        let mut by_row: Vec<Vec<usize>> = vec![Vec::new(); self.rows() + 1];
+        for (i, v) in self.vertices.iter().enumerate() {
+            if let Some(r) = by_row.get_mut(v.key.row as usize) {
+                r.push(i);
+            }
+        }
+        // The motion of the current frame: identity until the first rebuilt row.
+        let mut motion = (DQuat::IDENTITY, DVec3::ZERO);
+        let apply = |m: (DQuat, DVec3), p: DVec3| m.0 * p + m.1;
+        for row in 0..self.rows() {
+            if let Some(front) = self.fronts.get(row).filter(|f| !f.is_empty()) {
+                // The rebuilt front onto this row's vertices as already placed.
+                let pairs: Vec<(DVec3, DVec3)> = by_row[row]
+                    .iter()
+                    .map(|&i| {
+                        let col = self.vertices[i].key.col as usize;
+                        (front[col], out.vertices[i].pos)
+                    })
+                    .collect();
+                motion = rigid_fit(&pairs, motion.0);
+                out.fronts[row] = front.iter().map(|&p| apply(motion, p)).collect();
+                // The strips bend to meet halfway: draw both at the midpoint.
+                for &i in &by_row[row] {
+                    let col = self.vertices[i].key.col as usize;
+                    let mid = (out.fronts[row][col] + out.vertices[i].pos) / 2.0;
+                    out.fronts[row][col] = mid;
+                    out.vertices[i].pos = mid;
+                }
+            }
+            for &i in &by_row[row + 1] {
+                out.vertices[i].pos = apply(motion, self.vertices[i].pos);
+            }
+            for (c, cell) in self.cells.iter().enumerate() {
+                if cell.row as usize == row {
+                    out.cells[c].pivot = apply(motion, cell.pivot);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The proper rotation and translation taking the first points of `pairs`
+/// onto the second in the least-squares sense (Horn's quaternion method).
+/// A pull towards `prefer` (the previous row's rotation) keeps the rows
+/// facing one way: a front on a line leaves the turn about the line free,
+/// and a zig-zag front fits a zig-zag of the other phase best upside down.
+fn rigid_fit(pairs: &[(DVec3, DVec3)], prefer: DQuat) -> (DQuat, DVec3) {
+    let n = pairs.len().max(1) as f64;
+    let cp = pairs.iter().map(|p| p.0).sum::<DVec3>() / n;
+    let cq = pairs.iter().map(|p| p.1).sum::<DVec3>() / n;
+    let mut s = [[0.0f64; 3]; 3];
+    for (p, q) in pairs {
+        let (p, q) = (*p - cp, *q - cq);
+        for (a, pa) in p.to_array().into_iter().enumerate() {
+            for (b, qb) in q.to_array().into_iter().enumerate() {
+                s[a][b] += pa * qb;
+            }
+        }
+    }
+    let spread: f64 = pairs.iter().map(|p| (p.0 - cp).length_squared()).sum();
+    let pull = DMat3::from_quat(prefer);
+    for (b, row) in s.iter_mut().enumerate() {
+        for (a, x) in row.iter_mut().enumerate() {
+            // Maximise sum q.Rp + lambda tr(R^T R_prefer): s[b][a] += lambda R_ab.
+            *x += 0.05 * spread.max(1e-12) * pull.col(b)[a];
+        }
+    }
+    let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = s;
+    let k = [
+        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
+        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
+        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
+        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
+    ];
+    let [w, x, y, z] = largest_eigenvector(k);
+    let rotation = DQuat::from_xyzw(x, y, z, w).normalize();
+    let rotation = if rotation.is_finite() { rotation } else { DQuat::IDENTITY };
+    (rotation, cq - rotation * cp)
+}
+
+/// The eigenvector of the largest eigenvalue of a symmetric 4 x 4 matrix
+/// (cyclic Jacobi rotations).
+fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
+    let mut v = [[0.0; 4]; 4];
+    for (i, row) in v.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    for _ in 0..50 {
+        let off: f64 = (0..4)
+            .flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| a[i][j] * a[i][j])
+            .sum();
+        if off < 1e-30 {
+            break;
+        }
+        for p in 0..3 {
+            for q in p + 1..4 {
+                if a[p][q].abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..4 {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..4 {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for row in v.iter_mut() {
+                    let (vp, vq) = (row[p], row[q]);
+                    row[p] = c * vp - s * vq;
+                    row[q] = s * vp + c * vq;
+                }
+            }
+        }
+    }
+    let best = (0..4).max_by(|&i, &j| a[i][i].total_cmp(&a[j][j])).unwrap_or(0);
+    [v[0][best], v[1][best], v[2][best], v[3][best]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rigid_fit_recovers_a_rotation_and_translation() {
+        let q = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 1.1);
+        let t = DVec3::new(3.0, -4.0, 7.0);
+        let pts = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(10.0, 1.0, 0.0),
+            DVec3::new(2.0, 8.0, 1.0),
+            DVec3::new(-3.0, 2.0, 5.0),
+        ];
+        let pairs: Vec<_> = pts.iter().map(|&p| (p, q * p + t)).collect();
+        let (r, s) = rigid_fit(&pairs, q);
+        for (p, target) in &pairs {
+            assert!((r * *p + s).distance(*target) < 1e-9);
+        }
+    }
+
+    #[test]
+    fn points_on_a_line_keep_the_preferred_turn() {
+        let pairs: Vec<_> = (0..5)
+            .map(|i| {
+                let p = DVec3::new(10.0 * i as f64, 0.0, 0.0);
+                (p, p + DVec3::new(0.0, -40.0, 0.0))
+            })
+            .collect();
+        let (r, t) = rigid_fit(&pairs, DQuat::IDENTITY);
+        assert!(r.angle_between(DQuat::IDENTITY) < 1e-6, "{r:?}");
+        assert!(t.distance(DVec3::new(0.0, -40.0, 0.0)) < 1e-6);
+    }
+}
