@@ -171,6 +171,11 @@ impl Build {
 
     /// A few lines for the terminal.
     pub fn summary(&self) -> String {
+        self.summary_with(false)
+    }
+
+    /// The summary with every warning (for report.txt) or the first few.
+    pub fn summary_with(&self, full: bool) -> String {
         let mut out = String::new();
         let b = self.bounds();
         let fab = &self.design.fabrication;
@@ -197,7 +202,9 @@ impl Build {
             100.0 * self.layout.utilisation(),
             self.cut_length() / 1000.0
         );
-        for w in &self.parts.warnings {
+        // A terminal gets the first few warnings; report.txt has them all.
+        let shown = if full { self.parts.warnings.len() } else { 5 };
+        for w in self.parts.warnings.iter().take(shown) {
             let _ = writeln!(
                 out,
                 "warning: {}{}",
@@ -206,6 +213,13 @@ impl Build {
                     .map(|s| format!("strip {s}: "))
                     .unwrap_or_default(),
                 w.message
+            );
+        }
+        if self.parts.warnings.len() > shown {
+            let _ = writeln!(
+                out,
+                "warning: ... and {} more (every warning is in report.txt)",
+                self.parts.warnings.len() - shown
             );
         }
         out

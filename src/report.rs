@@ -122,7 +122,7 @@ pub fn build_text(b: &Build) -> String {
     let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
     out.push_str(&check_text(&b.design, &b.lattice, &b.report));
     out.push('\n');
-    out.push_str(&b.summary());
+    out.push_str(&b.summary_with(true));
     let fab = &b.design.fabrication;
     let _ = writeln!(
         out,

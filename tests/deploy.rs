@@ -127,13 +127,23 @@ fn the_gallery_mobility_verdicts_match_math_md() {
         ("examples/torus.toml", 1, true),
         ("examples/disk.toml", 0, false),
         ("examples/bowl.toml", 0, false),
-        ("examples/half-ellipsoid.toml", 0, false),
+        // Axisymmetric like the torus: a mechanism too.
+        ("examples/half-ellipsoid.toml", 1, true),
     ] {
         let lattice = example(name);
         assert_configuration_valid(&lattice, name);
         let d = deployment(&lattice);
         assert_eq!(d.mobility, Some(dof), "{name}");
         assert_eq!(d.is_mechanism(), mechanism, "{name}");
+    }
+    // Bent facets: no rigid deployed state, so no linkage count.
+    for name in ["examples/eggbox.toml", "examples/saddle-ring.toml"] {
+        let lattice = example(name);
+        assert_configuration_valid(&lattice, name);
+        let d = deployment(&lattice);
+        assert_eq!(d.mobility, None, "{name}");
+        assert!(!d.is_mechanism());
+        assert!(d.verdict(&lattice).contains("strip bending"));
     }
     // A uniform square grid moves as one (1 DOF) and places without misfit.
     let grid = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.line]\nfrom = [0.0, 0.0]\nto = [100.0, 0.0]\ncells = 5\n[lattice.grow]\nrows = 5\nangle = 45.0\n";

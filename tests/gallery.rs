@@ -220,8 +220,20 @@ fn the_fitted_disk_has_its_boundary_on_the_circle() {
 #[test]
 fn fitted_examples_stay_within_their_error_bounds() {
     // Relative fit error: largest vertex distance to the target over its size.
-    for (name, bound) in [("torus", 1e-12), ("disk", 1e-12), ("half-ellipsoid", 0.02)] {
-        let d = example(name);
+    const PATCH: &str = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.arc]\ncenter = [0.0, 0.0, 0.0]\nradius = 200.0\nfrom = 180.0\nto = 90.0\ncells = 8\n[lattice.fit]\nsurface = \"ellipsoid\"\naxes = [200.0, 200.0, 120.0]\nrows = 6\n";
+    let patch = design::parse(PATCH, "ellipsoid-patch").unwrap();
+    for (name, bound) in [
+        ("torus", 1e-12),
+        ("disk", 1e-12),
+        ("half-ellipsoid", 1e-12),
+        // An open sheet fitted by a direction scan lands near, not on, the surface.
+        ("ellipsoid-patch", 0.02),
+    ] {
+        let d = if name == "ellipsoid-patch" {
+            patch.clone()
+        } else {
+            example(name)
+        };
         let fit = d.fit.as_ref().expect("a fitted example");
         let lattice = d.grow().unwrap();
         let (abs, rel) = design::fit::error(fit, &lattice);
@@ -230,6 +242,32 @@ fn fitted_examples_stay_within_their_error_bounds() {
             "{name}: fit error {abs:.3e} mm = {rel:.3e} of its size, above {bound:e}"
         );
         assert_valid(&lattice, name);
+    }
+}
+
+#[test]
+fn the_half_ellipsoid_rings_shrink_with_near_square_cells() {
+    let d = example("half-ellipsoid");
+    let lattice = d.grow().unwrap();
+    let n = lattice.width;
+    // Every ring is a circle (a symmetric loop) lower and smaller than the last.
+    let rings: Vec<(f64, f64)> = lattice
+        .vertices
+        .chunks(n)
+        .map(|r| (r[0].pos.truncate().length(), r[0].pos.z))
+        .collect();
+    for w in rings.windows(2) {
+        assert!(w[1].0 < w[0].0 && w[1].1 < w[0].1, "{rings:?}");
+    }
+    // One edge length down the meridian: the cells are near square.
+    for c in &lattice.cells {
+        let [ul, ur, ll, _] = lattice.corners(c);
+        let ratio = ul.distance(ll) / ul.distance(ur);
+        assert!(
+            (0.8..1.25).contains(&ratio),
+            "cell {:?}: side ratio {ratio}",
+            (c.row, c.col)
+        );
     }
 }
 

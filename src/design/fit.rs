@@ -6,7 +6,10 @@
 //!   the circle; the leg direction is scanned for the most even legs.
 //! * ellipsoid (3-D sheet, the half with z <= 0): the boundary legs put the
 //!   end vertices on the ellipsoid; the direction (angle and tilt) is
-//!   scanned for the new vertices nearest the surface.
+//!   scanned for the new vertices nearest the surface. With a loop seed
+//!   round the rim of a spheroid (a = b), each ring's vertex x[i+1][1] goes
+//!   on the meridian of x[i][1], one edge length further down, so that the
+//!   cells stay near square as the rings shrink.
 //! * revolution (loop): each row's vertex x[i+1][1] is placed on the next
 //!   profile point, in the meridian plane of x[i][1] (the paper's torus).
 
@@ -118,7 +121,10 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             );
         }
     };
-    if (kind, dim) != want {
+    // A loop seed round the rim of a spheroid climbs it ring by ring.
+    let spheroid_loop = matches!(surface, Surface::Ellipsoid { axes } if (axes.x - axes.y).abs() <= 1e-9 * axes.x)
+        && (kind, dim) == (Kind::Loop, 3);
+    if (kind, dim) != want && !spheroid_loop {
         return Err(Diagnostic::new(
             "design",
             format!(
@@ -279,6 +285,14 @@ pub fn grow(
     let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
     for i in 0..fit.rows {
         let params = match &fit.surface {
+            Surface::Ellipsoid { axes } if design.kind == Kind::Loop => {
+                let front = grower.front();
+                let next = meridian_step(*axes, front[0].pos, front[1].pos);
+                RowParams {
+                    target: Some(next),
+                    ..RowParams::default()
+                }
+            }
             Surface::Revolution { profile } => {
                 let front = grower.front();
                 let theta = front[1].pos.y.atan2(front[1].pos.x);
@@ -303,6 +317,27 @@ pub fn grow(
         ));
     }
     Ok(grower.into_lattice())
+}
+
+/// The point one front edge (|x1 - x0|) further down the spheroid's meridian
+/// through `x1`, towards z < 0: where the next ring's vertex goes.
+fn meridian_step(axes: DVec3, x0: DVec3, x1: DVec3) -> DVec3 {
+    let (a, c) = (axes.x, axes.z);
+    let theta = x1.y.atan2(x1.x);
+    // Meridian (a cos t, c sin t), t from 0 at the rim to -pi/2 at the pole.
+    let r = x1.truncate().length();
+    let mut t = -(r / a).clamp(-1.0, 1.0).acos() * if x1.z > 0.0 { -1.0 } else { 1.0 };
+    let edge = x0.distance(x1);
+    // Walk down the meridian in small steps until one edge length is covered.
+    let mut walked = 0.0;
+    let dt = 1e-4;
+    while walked < edge && t > -std::f64::consts::FRAC_PI_2 {
+        let speed = (a * a * t.sin().powi(2) + c * c * t.cos().powi(2)).sqrt();
+        walked += speed * dt;
+        t -= dt;
+    }
+    let r = a * t.cos();
+    DVec3::new(r * theta.cos(), r * theta.sin(), c * t.sin())
 }
 
 /// Scan the start direction of an open row; for each, put the end vertices

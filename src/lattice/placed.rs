@@ -92,7 +92,11 @@ fn rigid_fit(pairs: &[(DVec3, DVec3)], prefer: DQuat) -> (DQuat, DVec3) {
     ];
     let [w, x, y, z] = largest_eigenvector(k);
     let rotation = DQuat::from_xyzw(x, y, z, w).normalize();
-    let rotation = if rotation.is_finite() { rotation } else { DQuat::IDENTITY };
+    let rotation = if rotation.is_finite() {
+        rotation
+    } else {
+        DQuat::IDENTITY
+    };
     (rotation, cq - rotation * cp)
 }
 
@@ -139,7 +143,9 @@ fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
             }
         }
     }
-    let best = (0..4).max_by(|&i, &j| a[i][i].total_cmp(&a[j][j])).unwrap_or(0);
+    let best = (0..4)
+        .max_by(|&i, &j| a[i][i].total_cmp(&a[j][j]))
+        .unwrap_or(0);
     [v[0][best], v[1][best], v[2][best], v[3][best]]
 }
 
