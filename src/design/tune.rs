@@ -88,10 +88,80 @@ impl Frame {
     }
 }
 
+/// How the start seed winds: its axis, and per turn the factor its radius
+/// shrinks by and the height it drops. The tuner keeps the grown helix
+/// winding the same way, turn after turn, so that a bowl stays a bowl.
+#[derive(Clone, Debug)]
+struct Winding {
+    centre: DVec3,
+    /// The start seed's radii.
+    radii: Vec<f64>,
+    shrink: f64,
+    drop: f64,
+    edge: f64,
+}
+
+impl Winding {
+    fn of(points: &[DVec3], centre: DVec3, edge: f64) -> Self {
+        let n = points.len() - 1;
+        let r = |p: DVec3| (p - centre).truncate().length();
+        Self {
+            centre,
+            radii: points.iter().map(|p| r(*p)).collect(),
+            shrink: r(points[n]) / r(points[0]).max(1e-9),
+            drop: points[0].z - points[n].z,
+            edge,
+        }
+    }
+
+    /// Mean departure (in edge lengths) of every vertex after the first
+    /// from one turn earlier scaled by `shrink` and lowered by `drop` (the
+    /// seed's own turn against the spiral it started as, so that tuning
+    /// keeps the seed regular too).
+    fn departure(&self, lattice: &Lattice) -> f64 {
+        let n = lattice.width;
+        let pos: Vec<DVec3> = lattice
+            .vertices
+            .iter()
+            .map(|v| v.pos - self.centre)
+            .collect();
+        let grown = pos.len().saturating_sub(n + 1);
+        if grown == 0 {
+            return 0.0;
+        }
+        let seed: f64 = (1..=n)
+            .map(|k| {
+                let (r0, r) = (self.radii[k], pos[k].truncate().length());
+                let z = pos[k].z - (pos[0].z - self.drop * k as f64 / n as f64);
+                (r - r0).hypot(z)
+            })
+            .sum();
+        let total: f64 = seed
+            + (n + 1..pos.len())
+                .map(|k| {
+                    let (now, before) = (pos[k], pos[k - n]);
+                    let r = now.truncate().length() - self.shrink * before.truncate().length();
+                    let z = now.z - (before.z - self.drop);
+                    r.hypot(z)
+                })
+                .sum::<f64>();
+        total / (grown + n) as f64 / self.edge
+    }
+}
+
 /// Admissible cells (up to `target`, and only while every leg is at least
-/// `min_leg`, so the eyelets fit) plus a quality in [0, 1): the worst cell's
-/// opening (sine of phi) and leg balance, so ties prefer robust cells.
-fn score(dim: usize, points: &[DVec3], kappa: &[f64], target: usize, min_leg: f64) -> (usize, f64) {
+/// `min_leg`, so the eyelets fit) plus a quality below 1: the worst cell's
+/// opening (sine of phi) and leg balance, so ties prefer robust cells. Once
+/// the target is reached, the helix's departure from the start seed's
+/// winding counts against the quality (first reach, then shape).
+fn score(
+    dim: usize,
+    points: &[DVec3],
+    kappa: &[f64],
+    target: usize,
+    min_leg: f64,
+    winding: &Winding,
+) -> (usize, f64) {
     match grow_helix_partial(dim, points, kappa, target) {
         Ok((mut lattice, _)) => {
             let usable = lattice
@@ -100,7 +170,14 @@ fn score(dim: usize, points: &[DVec3], kappa: &[f64], target: usize, min_leg: f6
                 .position(|c| lattice.legs(c).iter().any(|&l| l < min_leg))
                 .unwrap_or(lattice.cells.len());
             lattice.cells.truncate(usable);
-            (usable, quality(&lattice))
+            let grown = lattice.width + 1 + usable;
+            lattice.vertices.truncate(grown.min(lattice.vertices.len()));
+            let shape = if usable >= target {
+                winding.departure(&lattice)
+            } else {
+                0.0
+            };
+            (usable, quality(&lattice) - shape)
         }
         Err(_) => (0, 0.0),
     }
@@ -137,11 +214,12 @@ pub fn tune_helix(
     let frame = Frame { centre, dim };
     let start = frame.params(points, kappa);
     let (s_points, s_kappa) = frame.seed(&start);
-    let before = score(dim, &s_points, &s_kappa, target, min_leg);
     let edge = (0..n)
         .map(|k| points[k].distance(points[k + 1]))
         .sum::<f64>()
         / n as f64;
+    let winding = Winding::of(points, centre, edge);
+    let before = score(dim, &s_points, &s_kappa, target, min_leg, &winding);
     let mut best = (start.clone(), before);
     let mut rng = Rng(0x6b61_7269_6761_6d69);
     let mut step = 0.02;
@@ -149,9 +227,10 @@ pub fn tune_helix(
     let mut polish = 0;
     while iterations < max_iterations {
         if best.1.0 >= target {
-            // Reached: a few hundred more tries to open up the worst cell.
+            // Reached: more tries to open up the worst cell and follow the
+            // start seed's winding.
             polish += 1;
-            if polish > 300 {
+            if polish > 3000 {
                 break;
             }
         }
@@ -170,10 +249,13 @@ pub fn tune_helix(
             continue;
         }
         let (tp, tk) = frame.seed(&p);
-        let s = score(dim, &tp, &tk, target, min_leg);
+        let s = score(dim, &tp, &tk, target, min_leg, &winding);
         if (s.0, s.1) > (best.1.0, best.1.1) {
             best = (p, s);
             step = (step * 1.3).min(0.2);
+        } else if step < 1.5e-4 {
+            // Stuck at the smallest step: kick the search wider again.
+            step = 0.1;
         } else {
             step = (step * 0.985).max(1e-4);
         }
