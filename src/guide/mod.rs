@@ -248,14 +248,23 @@ fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
         .collect();
     let vertex = b.parts.vertex_eyelets;
     let pivot = b.parts.pivot_eyelets;
+    let helix = b.lattice.kind == crate::lattice::Kind::Helix;
     let facts = [
         format!("Deployed size: {} mm", dims.join(" x ")),
-        format!(
-            "Cells: {} in {} rows of {}",
-            b.lattice.cells.len(),
-            b.lattice.rows(),
-            b.lattice.width
-        ),
+        if helix {
+            format!(
+                "Cells: {} on a helix, {} to a turn",
+                b.lattice.cells.len(),
+                b.lattice.width
+            )
+        } else {
+            format!(
+                "Cells: {} in {} rows of {}",
+                b.lattice.cells.len(),
+                b.lattice.rows(),
+                b.lattice.width
+            )
+        },
         format!(
             "Strips: {} of {} {} mm, {} mm wide, cut from {} sheet{} of {} x {} mm",
             b.parts.strips.len(),
@@ -273,8 +282,9 @@ fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
             pivot + vertex
         ),
         format!(
-            "Steps: {}, one for each row, in the order the lattice was grown",
-            steps.len()
+            "Steps: {}, one for each {}, in the order the lattice was grown",
+            steps.len(),
+            if helix { "cell" } else { "row" }
         ),
     ];
     for f in &facts {
@@ -475,16 +485,16 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
     w.y += 18.0;
     w.text(
         &format!(
-            "{} {}: {} cells, {} strips, {} eyelets",
+            "{} {}: {}, {}, {}",
             if b.lattice.kind == crate::lattice::Kind::Helix {
                 "Cell"
             } else {
                 "Row"
             },
             step.row,
-            step.cells.len(),
-            step.strips.len(),
-            step.eyelets
+            plural(step.cells.len(), "cell"),
+            plural(step.strips.len(), "strip"),
+            plural(step.eyelets, "eyelet")
         ),
         BODY + 0.6,
         Font::Bold,
@@ -749,4 +759,13 @@ fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
          (MATH.md 8.4): that is expected, not a fault."
     };
     w.paragraph(note, BODY, GREY);
+}
+
+/// "1 cell", "3 cells".
+fn plural(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
 }
