@@ -156,8 +156,11 @@ const LINES: &[&str] = &[
     "name = \"x\"",
 ];
 
+/// A byte range `[start, end)` of a recipe.
+type Span = (usize, usize);
+
 /// Byte ranges of number tokens and of string contents in `s`.
-fn tokens(s: &str) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
+fn tokens(s: &str) -> (Vec<Span>, Vec<Span>) {
     let b = s.as_bytes();
     let (mut numbers, mut strings) = (Vec::new(), Vec::new());
     let mut i = 0;
@@ -190,7 +193,7 @@ fn tokens(s: &str) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
     (numbers, strings)
 }
 
-fn splice(s: &str, (a, b): (usize, usize), with: &str) -> String {
+fn splice(s: &str, (a, b): Span, with: &str) -> String {
     format!("{}{with}{}", &s[..a], &s[b..])
 }
 
@@ -202,14 +205,14 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
         // Number changes are most likely to reach the geometry; junk and
         // truncation exercise the parser.
         s = match rng.below(12) {
-            0..=3 if !numbers.is_empty() => splice(&s, *rng.pick(&numbers), *rng.pick(EXTREMES)),
+            0..=3 if !numbers.is_empty() => splice(&s, *rng.pick(&numbers), rng.pick(EXTREMES)),
             4 | 5 if !numbers.is_empty() => {
                 let span = *rng.pick(&numbers);
                 let v: f64 = s[span.0..span.1].parse().unwrap_or(1.0);
                 let factor = *rng.pick(&[-1.0, 10.0, 0.1, 1.001, 0.999, 2.0, 0.0]);
                 splice(&s, span, &format!("{:?}", v * factor))
             }
-            6 if !strings.is_empty() => splice(&s, *rng.pick(&strings), *rng.pick(STRINGS)),
+            6 if !strings.is_empty() => splice(&s, *rng.pick(&strings), rng.pick(STRINGS)),
             7 if !lines.is_empty() => {
                 let k = rng.below(lines.len());
                 let mut l = lines.clone();

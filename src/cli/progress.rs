@@ -61,11 +61,7 @@ impl Progress {
 
     fn draw(&mut self, what: &str) {
         const WIDTH: usize = 24;
-        let filled = if self.total == 0 {
-            WIDTH
-        } else {
-            WIDTH * self.done / self.total
-        };
+        let filled = (WIDTH * self.done).checked_div(self.total).unwrap_or(WIDTH);
         let mut line = format!(
             "[{}{}] {}/{} {what}",
             "#".repeat(filled),

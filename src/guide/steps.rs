@@ -50,7 +50,7 @@ pub fn steps(lattice: &Lattice) -> Vec<Step> {
             .max()
             .expect("a joint has ends");
         joint.ends.sort_by_key(|e| e.layer);
-        steps[row as usize].joints.push(joint);
+        steps[row].joints.push(joint);
     }
     let mut total = 0;
     for s in &mut steps {

@@ -40,6 +40,9 @@ fn edges(cell: &Cell, legs: [f64; 4]) -> [((u32, u32), f64, f64); 4] {
     ]
 }
 
+/// A cell using an edge, with the edge's `alpha` and `beta` in that cell.
+type EdgeUse = (usize, f64, f64);
+
 fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
@@ -95,7 +98,7 @@ impl Configuration {
 pub fn configuration(lattice: &Lattice) -> Configuration {
     let n = lattice.cells.len();
     let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
-    let mut by_edge: HashMap<(u32, u32), Vec<(usize, f64, f64)>> = HashMap::new();
+    let mut by_edge: HashMap<(u32, u32), Vec<EdgeUse>> = HashMap::new();
     for (i, cell) in lattice.cells.iter().enumerate() {
         for (k, alpha, beta) in edges(cell, legs[i]) {
             by_edge.entry(k).or_default().push((i, alpha, beta));

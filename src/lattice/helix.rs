@@ -116,10 +116,10 @@ fn grow_cell(lattice: &mut Lattice, k: usize) -> Result<(), GrowthError> {
     };
     {
         let (ul, ur, ll, y2) = (
-            at(&lattice, k),
-            at(&lattice, k + 1),
-            at(&lattice, k + n),
-            at(&lattice, k + 2),
+            at(lattice, k),
+            at(lattice, k + 1),
+            at(lattice, k + n),
+            at(lattice, k + 2),
         );
         let fail = |kind: K, message: String| {
             GrowthError::new(
