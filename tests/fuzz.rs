@@ -205,14 +205,16 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
         // Number changes are most likely to reach the geometry; junk and
         // truncation exercise the parser.
         s = match rng.below(12) {
-            0..=3 if !numbers.is_empty() => splice(&s, *rng.pick(&numbers), rng.pick(EXTREMES)),
+            0..=3 if !numbers.is_empty() => {
+                splice(&s, *rng.pick(&numbers), rng.pick::<&str>(EXTREMES))
+            }
             4 | 5 if !numbers.is_empty() => {
                 let span = *rng.pick(&numbers);
                 let v: f64 = s[span.0..span.1].parse().unwrap_or(1.0);
                 let factor = *rng.pick(&[-1.0, 10.0, 0.1, 1.001, 0.999, 2.0, 0.0]);
                 splice(&s, span, &format!("{:?}", v * factor))
             }
-            6 if !strings.is_empty() => splice(&s, *rng.pick(&strings), rng.pick(STRINGS)),
+            6 if !strings.is_empty() => splice(&s, *rng.pick(&strings), rng.pick::<&str>(STRINGS)),
             7 if !lines.is_empty() => {
                 let k = rng.below(lines.len());
                 let mut l = lines.clone();
