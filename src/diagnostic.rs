@@ -93,8 +93,10 @@ fn floor_char_boundary(s: &str, mut i: usize) -> usize {
     i
 }
 
-/// The first line of the span with carets under the spanned text.
+/// The first line of the span with carets under the spanned text. A long
+/// line (a one-line list of points) is cut to a window round the span.
 fn snippet(source: &str, span: Range<usize>) -> String {
+    const CONTEXT: usize = 40;
     let start = floor_char_boundary(source, span.start.min(source.len()));
     let (line_no, col) = line_col(source, start);
     let line_start = source[..start].rfind('\n').map_or(0, |i| i + 1);
@@ -104,11 +106,25 @@ fn snippet(source: &str, span: Range<usize>) -> String {
     let text = source[line_start..line_end].trim_end_matches('\r');
     let end = floor_char_boundary(source, span.end.clamp(start, line_end.max(start)));
     let width = source[start..end].chars().count().max(1);
+    let chars: Vec<char> = text.chars().collect();
+    // Characters of the line shown: [from, to).
+    let from = (col - 1).saturating_sub(CONTEXT);
+    let to = (col - 1 + width.min(2 * CONTEXT) + CONTEXT).min(chars.len());
+    let mut shown: String = chars[from.min(chars.len())..to].iter().collect();
+    let mut offset = col - 1 - from;
+    if from > 0 {
+        shown.insert_str(0, "...");
+        offset += 3;
+    }
+    if to < chars.len() {
+        shown.push_str("...");
+    }
+    let width = width.min(2 * CONTEXT);
     let gutter = line_no.to_string().len();
     let pad = " ".repeat(gutter);
     format!(
-        "{pad} |\n{line_no} | {text}\n{pad} | {}{}\n",
-        " ".repeat(col - 1),
+        "{pad} |\n{line_no} | {shown}\n{pad} | {}{}\n",
+        " ".repeat(offset),
         "^".repeat(width)
     )
 }
@@ -135,6 +151,27 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("= help: lower it"));
+    }
+
+    #[test]
+    fn long_lines_are_cut_round_the_span() {
+        let src = format!(
+            "points = [{}[9.0, 9.0]{}]\n",
+            "[1.0, 2.0], ".repeat(30),
+            ", [3.0, 4.0]".repeat(30)
+        );
+        let start = src.find("[9.0").unwrap();
+        let d = Diagnostic::new("x", "y").at(start..start + 10);
+        let text = d.render("f", &src);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[3].len() < 110, "{text}");
+        assert!(
+            lines[3].starts_with("1 | ...") && lines[3].ends_with("..."),
+            "{text}"
+        );
+        assert!(lines[3].contains("[1.0, 2.0], [9.0, 9.0], [3.0"), "{text}");
+        let caret = lines[4].find('^').unwrap();
+        assert_eq!(&lines[3][caret..caret + 10], "[9.0, 9.0]", "{text}");
     }
 
     #[test]

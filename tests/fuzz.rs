@@ -5,6 +5,7 @@
 //! (`KARIGAMI_FUZZ_CASES=N`, optional `KARIGAMI_FUZZ_SEED=S`).
 
 use crate::cli::{recipes, repo};
+use crate::util::Rng;
 use karigami::build::build;
 use karigami::design;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -12,27 +13,6 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 const FUZZ_CASES: usize = 400;
-
-/// splitmix64: small, seeded, the same on every machine.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
-        &items[self.below(items.len())]
-    }
-}
 
 /// Numbers that break naive code: non-finite, huge, tiny, negative, counts.
 const EXTREMES: &[&str] = &[
@@ -351,7 +331,7 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
                     if i >= cases {
                         break;
                     }
-                    let mut rng = Rng(seed.wrapping_mul(1_000_003).wrapping_add(i as u64));
+                    let mut rng = Rng::new(seed.wrapping_mul(1_000_003).wrapping_add(i as u64));
                     let text = if rng.below(10) == 0 {
                         random_recipe(&mut rng)
                     } else {
