@@ -208,7 +208,7 @@ fn the_fitted_disk_has_its_boundary_on_the_circle() {
     for row in lattice.vertices.chunks(n) {
         for v in [row[0], row[n - 1]] {
             assert!(
-                (v.pos.length() - 150.0).abs() < 1e-9,
+                (v.pos.length() - 250.0).abs() < 1e-9,
                 "{:?} is {} from the centre",
                 v.pos,
                 v.pos.length()
