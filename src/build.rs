@@ -13,8 +13,11 @@ use crate::parts::{Outline, Parts, PartsError, parts};
 use crate::write::{dxf, lattice_json, obj, parts_csv, pdf, png, svg};
 use std::fmt::Write as _;
 
-/// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px).
+/// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
 pub const SHEET_PX_PER_MM: f64 = 2.0;
+/// ...but at most this many pixels a side (a 5000 mm sheet gets 0.8 px/mm),
+/// so that a picture never takes more than 64 MB to draw.
+pub const SHEET_MAX_PX: f64 = 4000.0;
 /// Resolution of preview.png: 8 px/mm on a 160 x 120 mm page (1280 x 960 px).
 pub const PREVIEW_PX_PER_MM: f64 = 8.0;
 
@@ -49,6 +52,10 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
 /// thousands of sheets, and the pictures would not fit in memory.
 pub const MAX_FABRICATED_CELLS: usize = 20_000;
 
+/// The assembly guide draws the lattice once per growth step: at most this
+/// many cells in all (a 100 x 100 sheet draws 1,000,000).
+pub const MAX_GUIDE_CELLS: usize = 2_000_000;
+
 /// The parts, layout and pages of a grown and verified lattice.
 pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
     if lattice.cells.len() > MAX_FABRICATED_CELLS {
@@ -59,7 +66,21 @@ pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Buil
                 lattice.cells.len()
             ),
         )
+        .at(design.size_span())
         .hint("grow fewer rows or a narrower seed; `karigami check` verifies the geometry of lattices up to 4,000,000 cells"));
+    }
+    let drawn = lattice.steps().saturating_mul(lattice.cells.len());
+    if drawn > MAX_GUIDE_CELLS {
+        return Err(Diagnostic::new(
+            "TooLarge",
+            format!(
+                "the assembly guide would draw the {} cells once for each of {} steps; karigami draws at most {MAX_GUIDE_CELLS} cells in a guide",
+                lattice.cells.len(),
+                lattice.steps()
+            ),
+        )
+        .at(design.size_span())
+        .hint("grow fewer rows (a long, narrow lattice has a step for every row); `karigami check` still verifies it"));
     }
     if !report.passed() {
         let worst = report
@@ -127,7 +148,11 @@ impl Build {
             files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
             files.push((
                 format!("sheets/sheet-{:02}.png", i + 1),
-                png::write(page, SHEET_PX_PER_MM, 1.0),
+                png::write(
+                    page,
+                    SHEET_PX_PER_MM.min(SHEET_MAX_PX / page.width.max(page.height)),
+                    1.0,
+                ),
             ));
         }
         files.push((

@@ -319,7 +319,14 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
         .collect();
     // Panics are caught and reported per case; keep the default hook quiet.
     std::panic::set_hook(Box::new(|_| {}));
-    let next = AtomicUsize::new(0);
+    // KARIGAMI_FUZZ_START skips to a case; KARIGAMI_FUZZ_LOG prints each
+    // case number first (to find a case that kills the process).
+    let start: usize = std::env::var("KARIGAMI_FUZZ_START")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    let log = std::env::var_os("KARIGAMI_FUZZ_LOG").is_some();
+    let next = AtomicUsize::new(start);
     let tally = Mutex::new([0usize; 3]);
     let failures = Mutex::new(Vec::new());
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -337,7 +344,14 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
                     } else {
                         mutate(rng.pick(corpus.as_slice()).as_str(), &mut rng)
                     };
-                    match run_case(&text) {
+                    if log {
+                        eprintln!("fuzz case {i}:\n{text}\n");
+                    }
+                    let result = run_case(&text);
+                    if log {
+                        eprintln!("fuzz case {i} done");
+                    }
+                    match result {
                         Ok(kind) => {
                             let k = ["refused", "refused later", "built"]
                                 .iter()

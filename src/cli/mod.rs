@@ -6,7 +6,7 @@ mod files;
 mod progress;
 
 use clap::{Args as ClapArgs, CommandFactory, Parser, Subcommand};
-use karigami::build::{Build, MAX_FABRICATED_CELLS, assemble, build_with};
+use karigami::build::{Build, MAX_FABRICATED_CELLS, MAX_GUIDE_CELLS, assemble, build_with};
 use karigami::design::{self, Design, Overrides};
 use karigami::diagnostic::Diagnostic;
 use karigami::lattice::verify;
@@ -378,11 +378,12 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
             json!({ "file": file, "status": "fail", "check": check }),
         );
     }
-    if lattice.cells.len() > MAX_FABRICATED_CELLS {
+    if !fabricable(&lattice) {
         if !json && !v.quiet {
             println!(
-                "fabrication: not checked ({} cells; cut files are made for at most {MAX_FABRICATED_CELLS})\nresult: PASS (geometry verified)",
-                lattice.cells.len()
+                "fabrication: not checked ({} cells in {} steps; cut files are made for at most {MAX_FABRICATED_CELLS} cells, and a guide draws at most {MAX_GUIDE_CELLS})\nresult: PASS (geometry verified)",
+                lattice.cells.len(),
+                lattice.steps()
             );
         }
         return (0, json!({ "file": file, "status": "pass", "check": check }));
@@ -404,6 +405,12 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
             (code, value)
         }
     }
+}
+
+/// Whether `assemble` makes cut files for a lattice this size.
+fn fabricable(lattice: &karigami::lattice::Lattice) -> bool {
+    lattice.cells.len() <= MAX_FABRICATED_CELLS
+        && lattice.steps().saturating_mul(lattice.cells.len()) <= MAX_GUIDE_CELLS
 }
 
 /// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.

@@ -283,6 +283,25 @@ pub fn grow(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Lattice, GrowthError> {
     let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
+    let open = matches!(fit.surface, Surface::Disk { .. })
+        || matches!(fit.surface, Surface::Ellipsoid { .. }) && design.kind == Kind::Sheet;
+    if open {
+        // Legs shorter than the eyelet flange (plus a wall) cannot be built.
+        let min_leg = design.fabrication.eyelet.flange + 2.0 * super::MIN_WALL;
+        let mut search = Search {
+            fit,
+            dim: design.dim,
+            min_leg,
+            budget: SEARCH_BUDGET,
+            deepest: (0, None),
+            progress,
+        };
+        return if search.rows(&mut grower, 0) {
+            Ok(grower.into_lattice())
+        } else {
+            Err(search.deepest.1.unwrap_or_else(|| no_row(search.deepest.0)))
+        };
+    }
     for i in 0..fit.rows {
         let params = match &fit.surface {
             Surface::Ellipsoid { axes } if design.kind == Kind::Loop => {
@@ -302,11 +321,7 @@ pub fn grow(
                     ..RowParams::default()
                 }
             }
-            surface => {
-                // Legs shorter than the eyelet flange (plus a wall) cannot be built.
-                let min_leg = design.fabrication.eyelet.flange + 2.0 * super::MIN_WALL;
-                best_open_row(&mut grower, surface, fit.samples, design.dim, i, min_leg)?
-            }
+            _ => unreachable!("open surfaces are searched above"),
         };
         grower.grow_row(&params)?;
         let (abs, _) = error(fit, grower.lattice());
@@ -340,16 +355,87 @@ fn meridian_step(axes: DVec3, x0: DVec3, x1: DVec3) -> DVec3 {
     DVec3::new(r * theta.cos(), r * theta.sin(), c * t.sin())
 }
 
+/// Rows tried in all, over every backtrack of a fit.
+const SEARCH_BUDGET: usize = 5_000;
+/// The best rows of each scan that are tried in turn when a later row has
+/// no admissible direction.
+const BRANCHES: usize = 6;
+
+/// A depth-first search over the rows of an open fit: at each row the
+/// scan's best candidates in order, backing up when a later row finds none
+/// (a greedy choice can leave a front no row grows on).
+struct Search<'a> {
+    fit: &'a Fit,
+    dim: usize,
+    min_leg: f64,
+    /// Rows left to try.
+    budget: usize,
+    /// The deepest row that found no candidate, and why.
+    deepest: (usize, Option<GrowthError>),
+    progress: &'a mut dyn FnMut(&str),
+}
+
+impl Search<'_> {
+    /// Grow rows `i..` onto `grower`; false (with the rows taken back) if
+    /// they cannot all be grown within the budget.
+    fn rows(&mut self, grower: &mut Grower, i: usize) -> bool {
+        if i == self.fit.rows {
+            return true;
+        }
+        let (candidates, why) = ranked_rows(
+            grower,
+            &self.fit.surface,
+            self.fit.samples,
+            self.dim,
+            self.min_leg,
+        );
+        if candidates.is_empty() && i >= self.deepest.0 {
+            self.deepest = (i, why);
+        }
+        for params in candidates.into_iter().take(BRANCHES) {
+            if self.budget == 0 {
+                return false;
+            }
+            self.budget -= 1;
+            if grower.grow_row(&params).is_err() {
+                continue;
+            }
+            let (abs, _) = error(self.fit, grower.lattice());
+            (self.progress)(&format!(
+                "fit row {}/{}: largest vertex distance so far {abs:.3e} mm",
+                i + 1,
+                self.fit.rows
+            ));
+            if self.rows(grower, i + 1) {
+                return true;
+            }
+            grower.undo_row();
+        }
+        false
+    }
+}
+
+fn no_row(i: usize) -> GrowthError {
+    GrowthError::new(
+        crate::lattice::GrowthErrorKind::InadmissibleDirection,
+        crate::lattice::Param::Direction,
+        Some(i),
+        None,
+        "no leg direction keeps this row's end vertices on the target boundary with legs long enough for the eyelets",
+        "fit fewer rows, or start from another seed arc",
+    )
+}
+
 /// Scan the start direction of an open row; for each, put the end vertices
-/// on the boundary (circle or ellipsoid) and score the row.
-fn best_open_row(
+/// on the boundary (circle or ellipsoid) and score the row. The candidates
+/// best first, and the last growth error met (for a row with none).
+fn ranked_rows(
     grower: &mut Grower,
     surface: &Surface,
     samples: usize,
     dim: usize,
-    i: usize,
     min_leg: f64,
-) -> Result<RowParams, GrowthError> {
+) -> (Vec<RowParams>, Option<GrowthError>) {
     let tilts: Vec<f64> = if dim == 3 {
         (0..samples.div_ceil(4).max(3))
             .map(|k| -60.0 + 120.0 * k as f64 / (samples.div_ceil(4).max(3) - 1) as f64)
@@ -357,7 +443,7 @@ fn best_open_row(
     } else {
         vec![0.0]
     };
-    let mut best: Option<(f64, RowParams)> = None;
+    let mut scored: Vec<(f64, RowParams)> = Vec::new();
     let mut last_error = None;
     for &tilt in &tilts {
         for k in 1..samples {
@@ -403,23 +489,14 @@ fn best_open_row(
             }
             let score = row_score(grower.lattice(), surface, min_leg);
             grower.undo_row();
-            if score.is_finite() && best.as_ref().is_none_or(|b| score < b.0) {
-                best = Some((score, params));
+            if score.is_finite() {
+                scored.push((score, params));
             }
         }
     }
-    best.map(|b| b.1).ok_or_else(|| {
-        last_error.unwrap_or_else(|| {
-            GrowthError::new(
-                crate::lattice::GrowthErrorKind::InadmissibleDirection,
-                crate::lattice::Param::Direction,
-                Some(i),
-                None,
-                "no leg direction keeps this row's end vertices on the target boundary with legs long enough for the eyelets",
-                "fit fewer rows, or start from another seed arc",
-            )
-        })
-    })
+    // A stable sort keeps scan order among equal scores: deterministic.
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    (scored.into_iter().map(|s| s.1).collect(), last_error)
 }
 
 /// Lower is better: distance of the new vertices to the surface (3-D), then

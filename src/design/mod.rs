@@ -248,6 +248,28 @@ impl Design {
         &self.spans.fabrication
     }
 
+    /// The text that sets the lattice's size, for errors about a lattice too
+    /// large to build: a helix's `cells`, `[lattice.fit]`, or the table that
+    /// gives the last row.
+    pub fn size_span(&self) -> Range<usize> {
+        match (self.kind, &self.fit) {
+            (Kind::Helix, _) => self.spans.cells.clone(),
+            (_, Some(_)) => self.spans.fit.clone(),
+            _ => {
+                let last = self.rows.len().saturating_sub(1);
+                let entry = self
+                    .spans
+                    .row_entry
+                    .get(last)
+                    .filter(|&&e| e != NO_ENTRY)
+                    .map(|&e| self.spans.entries[e as usize].table.clone());
+                entry
+                    .or_else(|| self.spans.grow.as_ref().map(|g| g.table.clone()))
+                    .unwrap_or_else(|| self.spans.lattice.clone())
+            }
+        }
+    }
+
     /// The text that sets row `i`'s leg direction, for errors about a row's strips.
     pub fn row_direction_span(&self, i: usize) -> Range<usize> {
         self.row_span(i, Param::Direction)
