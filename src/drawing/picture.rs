@@ -15,8 +15,10 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// Planar lattices from above; lattices in space along their mean facet
-    /// normal, tilted 30 degrees so their relief shows.
+    /// Planar lattices from above; helices from the side, their seed turn
+    /// at the top, looking 35 degrees down into them; other lattices in
+    /// space along their mean facet normal, tilted 30 degrees so their
+    /// relief shows.
     pub fn for_lattice(lattice: &Lattice) -> Self {
         if lattice.dim == 2 {
             return Self {
@@ -24,6 +26,11 @@ impl Camera {
                 up: DVec3::Y,
                 forward: DVec3::NEG_Z,
             };
+        }
+        if lattice.kind == crate::lattice::Kind::Helix {
+            if let Some(camera) = Self::down_the_axis(lattice) {
+                return camera;
+            }
         }
         let normal: DVec3 = lattice
             .cells
@@ -66,6 +73,39 @@ impl Camera {
             up: right.cross(forward),
             forward,
         }
+    }
+
+    /// A helix's growth runs down its axis (from the seed turn's centre to
+    /// the whole lattice's): view it from the side, seed turn up, from 35
+    /// degrees above. None when the axis is not defined.
+    fn down_the_axis(lattice: &Lattice) -> Option<Self> {
+        let n = (lattice.width + 1).min(lattice.vertices.len());
+        let mean = |vs: &[crate::lattice::Vertex]| {
+            vs.iter().map(|v| v.pos).sum::<DVec3>() / vs.len().max(1) as f64
+        };
+        let seed = mean(&lattice.vertices[..n]);
+        // The seed turn's plane normal, pointing the way the helix grows.
+        let turn = &lattice.vertices[..n];
+        let normal: DVec3 = turn
+            .iter()
+            .zip(turn.iter().skip(1))
+            .map(|(a, b)| (a.pos - seed).cross(b.pos - seed))
+            .sum();
+        let normal = normal.try_normalize()?;
+        let growth = mean(&lattice.vertices) - seed;
+        let axis = if growth.dot(normal) < 0.0 { -normal } else { normal };
+        let along = lattice.vertices[0].pos - seed;
+        let right = (along - along.dot(axis) * axis).try_normalize()?;
+        let side = axis.cross(right);
+        let look = 35f64.to_radians();
+        let forward = look.cos() * side + look.sin() * axis;
+        // right x forward points down the axis; half a turn about `forward`
+        // (a rotation, not a mirror) puts the seed turn at the top.
+        Some(Self {
+            right: -right,
+            up: -right.cross(forward),
+            forward,
+        })
     }
 
     fn project(&self, p: DVec3) -> DVec2 {
