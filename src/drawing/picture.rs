@@ -93,7 +93,11 @@ impl Camera {
             .sum();
         let normal = normal.try_normalize()?;
         let growth = mean(&lattice.vertices) - seed;
-        let axis = if growth.dot(normal) < 0.0 { -normal } else { normal };
+        let axis = if growth.dot(normal) < 0.0 {
+            -normal
+        } else {
+            normal
+        };
         let along = lattice.vertices[0].pos - seed;
         let right = (along - along.dot(axis) * axis).try_normalize()?;
         let side = axis.cross(right);
