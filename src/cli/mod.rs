@@ -307,8 +307,8 @@ pub struct RecipeError {
     pub json: Value,
 }
 
-/// Grow, verify and assemble one recipe. The verification report text is
-/// returned too (check prints it even when the design fails).
+/// Parse, grow, verify and assemble one recipe (the build and batch paths;
+/// `check` goes step by step to print the report even when it fails).
 pub fn run_recipe(
     recipe: &Recipe,
     overrides: &Overrides,
