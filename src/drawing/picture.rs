@@ -66,7 +66,7 @@ impl Camera {
         } else {
             (forward, up)
         };
-        let tilt = 30f64.to_radians();
+        let tilt = 50f64.to_radians();
         let forward = tilt.cos() * forward + tilt.sin() * up;
         Self {
             right,
@@ -205,12 +205,17 @@ pub fn lattice_picture(
     for (c, cell) in lattice.cells.iter().enumerate() {
         let Some(s) = style(c) else { continue };
         for rod in lattice.cell_rods(c) {
-            let [a, _, b] = rod.hole_pos;
+            // Through the pivot: straight in an extrinsic lattice, bent
+            // where a placed intrinsic lattice's strips bend.
+            let [a, p, b] = rod.hole_pos;
             let depth = fit.depth((a + b) / 2.0);
             let ink = Ink::line(pale(s.colour, 0.55 * depth), s.width * (1.0 - 0.35 * depth));
             rods.push((
                 depth,
-                Item::art(ink, Shape::polyline(&[fit.map(a), fit.map(b)], false)),
+                Item::art(
+                    ink,
+                    Shape::polyline(&[fit.map(a), fit.map(p), fit.map(b)], false),
+                ),
             ));
         }
         pivots.push(cell.pivot);

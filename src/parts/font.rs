@@ -70,14 +70,32 @@ fn strokes(c: char) -> Option<&'static str> {
     })
 }
 
+/// Whether the `m` at `k` belongs to a word that is just `m` or `mm`.
+fn is_unit(chars: &[char], k: usize) -> bool {
+    let start = chars[..k]
+        .iter()
+        .rposition(|c| !c.is_alphabetic())
+        .map_or(0, |i| i + 1);
+    let end = chars[k..]
+        .iter()
+        .position(|c| !c.is_alphabetic())
+        .map_or(chars.len(), |i| k + i);
+    matches!(&chars[start..end], ['m'] | ['m', 'm'])
+}
+
 /// Strokes of `text` with its baseline origin at (0, 0), cap height `height`,
-/// y up. Lower-case letters other than `m` are drawn as capitals; characters
-/// the font lacks are drawn as `?`.
+/// y up. Lower-case letters are drawn as capitals, except the unit `m` or
+/// `mm` (a word of its own); characters the font lacks are drawn as `?`.
 pub fn text(text: &str, height: f64) -> Vec<Vec<DVec2>> {
     let scale = height / CAP;
     let mut out = Vec::new();
-    for (k, c) in text.chars().enumerate() {
-        let c = if c == 'm' { c } else { c.to_ascii_uppercase() };
+    let chars: Vec<char> = text.chars().collect();
+    for (k, &c) in chars.iter().enumerate() {
+        let c = if c == 'm' && is_unit(&chars, k) {
+            c
+        } else {
+            c.to_ascii_uppercase()
+        };
         let glyph = strokes(c).unwrap_or_else(|| strokes('?').expect("? exists"));
         let x0 = k as f64 * ADVANCE;
         for stroke in glyph.split('|').filter(|s| !s.is_empty()) {
@@ -132,6 +150,13 @@ mod tests {
         let max_x = strokes.iter().flatten().map(|p| p.x).fold(0.0, f64::max);
         assert!(max_x <= width("R03-C05-A", 3.0) + 1e-12);
         assert!((width("R03-C05-A", 3.0) - (9.0 * 5.0 - 1.0) * 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn only_the_unit_keeps_a_small_m() {
+        assert_eq!(text("mirror-arm", 6.0), text("MIRROR-ARM", 6.0));
+        assert_ne!(text("12 mm", 6.0), text("12 MM", 6.0));
+        assert_ne!(text("3.5m", 6.0), text("3.5M", 6.0));
     }
 
     #[test]
