@@ -281,3 +281,109 @@ fn the_bowl_helix_grows_all_its_cells() {
     assert_valid(&lattice, "bowl");
     assert!(karigami::lattice::seed_defect(&d.points, &d.kappa).abs() < 1e-12);
 }
+
+#[test]
+fn random_helices_keep_every_invariant_as_far_as_they_grow() {
+    // Spirals of random loop length, radius, shrink and drop, jittered, with
+    // random kappa shares that meet the seed condition exactly.
+    let mut rng = Rng::new(17);
+    let (mut helices, mut cells) = (0, 0);
+    for _ in 0..60 {
+        let n = 5 + rng.below(6);
+        let (r0, shrink, drop) = (
+            rng.range(80.0, 200.0),
+            rng.range(0.8, 1.0),
+            rng.range(30.0, 120.0),
+        );
+        let points: Vec<DVec3> = (0..=n)
+            .map(|k| {
+                let t = k as f64 / n as f64;
+                let a = std::f64::consts::TAU * (t + rng.range(-0.02, 0.02));
+                let r = r0 * shrink.powf(t) * (1.0 + rng.range(-0.03, 0.03));
+                DVec3::new(r * a.cos(), r * a.sin(), -drop * t + rng.range(-3.0, 3.0))
+            })
+            .collect();
+        let rod = points[n].distance(points[1]);
+        let shares: Vec<f64> = (1..n).map(|_| rng.range(0.5, 1.5)).collect();
+        let total: f64 = shares.iter().sum();
+        let mut kappa = vec![rng.range(-5.0, 5.0)];
+        kappa.extend(shares.iter().map(|s| -rod * s / total));
+        assert!(karigami::lattice::seed_defect(&points, &kappa).abs() < 1e-9);
+        let Ok((lattice, _)) = karigami::lattice::grow_helix_partial(3, &points, &kappa, 3 * n)
+        else {
+            continue;
+        };
+        if lattice.cells.is_empty() {
+            continue;
+        }
+        assert_valid(&lattice, "random helix");
+        helices += 1;
+        cells += lattice.cells.len();
+    }
+    assert!(
+        helices >= 30 && cells >= 150,
+        "{helices} helices, {cells} cells"
+    );
+}
+
+#[test]
+fn random_intrinsic_loops_close_and_keep_every_invariant() {
+    // Symmetric rings whose later fronts are rebuilt from cranked sub-units
+    // (as in the saddle ring), with random sizes and angles.
+    let mut rng = Rng::new(23);
+    let mut grown = 0;
+    for _ in 0..40 {
+        let quarter = 2 + rng.below(4);
+        let n = 4 * quarter;
+        let (points, kappa) = {
+            let r = rng.range(60.0, 150.0);
+            let pts: Vec<DVec3> = (0..n)
+                .map(|j| {
+                    let a = std::f64::consts::TAU * j as f64 / n as f64;
+                    DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+                })
+                .collect();
+            (pts, vec![0.0; n])
+        };
+        let mut grower = Grower::new(Kind::Loop, 3, &points, &kappa).unwrap();
+        let angle = rng.range(15.0, 40.0);
+        let crank = rng.range(-15.0, 15.0);
+        let mut ok = true;
+        for i in 0..3 {
+            let row = RowParams {
+                direction: Some(Direction::Angles {
+                    angle_deg: angle,
+                    tilt_deg: 0.0,
+                }),
+                front: (i > 0).then(|| FrontMoves {
+                    cranks: (0..n)
+                        .step_by(quarter)
+                        .map(|f| karigami::lattice::Crank {
+                            from: f,
+                            to: f + quarter,
+                            angle_deg: if (f / quarter) % 2 == 0 {
+                                crank
+                            } else {
+                                -crank
+                            },
+                        })
+                        .collect(),
+                    ..FrontMoves::default()
+                }),
+                ..RowParams::default()
+            };
+            if grower.grow_row(&row).is_err() {
+                ok = false;
+                break;
+            }
+        }
+        if !ok {
+            continue;
+        }
+        let lattice = grower.into_lattice();
+        assert_valid(&lattice, "intrinsic loop");
+        assert!(!lattice.extrinsic());
+        grown += 1;
+    }
+    assert!(grown >= 20, "{grown} of 40 grew");
+}
