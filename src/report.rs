@@ -9,7 +9,8 @@ use std::fmt::Write as _;
 /// The verification report of `karigami check`.
 pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String {
     let mut out = String::new();
-    let (lo, hi) = lattice.extent();
+    // An intrinsic lattice is measured as assembled (rows placed onto each other).
+    let (lo, hi) = lattice.placed().extent();
     let size = hi - lo;
     let eyelets = joints(lattice).iter().filter(|j| j.needs_eyelet()).count();
     let _ = writeln!(out, "design: {}", design.name);

@@ -240,7 +240,7 @@ fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
         width * 0.9,
     ));
     w.y += box_size.y + 8.0;
-    let (lo, hi) = b.lattice.extent();
+    let (lo, hi) = b.assembled.extent();
     let size = hi - lo;
     let dims: Vec<String> = size.to_array()[..b.lattice.dim]
         .iter()
