@@ -29,6 +29,14 @@ fn ring(rng: &mut Rng, n: usize, wobble: f64) -> (Vec<DVec3>, Vec<f64>) {
     (points, kappa)
 }
 
+/// Grow every row in turn; None if one is refused.
+fn grow_rows(mut grower: Grower, rows: &[RowParams]) -> Option<Lattice> {
+    for row in rows {
+        grower.grow_row(row).ok()?;
+    }
+    Some(grower.into_lattice())
+}
+
 #[track_caller]
 fn assert_valid(lattice: &Lattice, what: &str) {
     let report = verify(lattice);
@@ -152,8 +160,8 @@ fn rebuilt_fronts_keep_every_invariant_but_not_shared_corners() {
         let Ok((lattice, design)) = random_lattice(&mut rng, 3) else {
             continue;
         };
-        let mut grower = Grower::new(Kind::Sheet, 3, &design.points, &design.kappa).unwrap();
-        let mut ok = true;
+        let grower = Grower::new(Kind::Sheet, 3, &design.points, &design.kappa).unwrap();
+        let mut rows = Vec::new();
         for (i, row) in design.rows.iter().enumerate() {
             let mut row = row.clone();
             if i > 0 {
@@ -177,15 +185,11 @@ fn rebuilt_fronts_keep_every_invariant_but_not_shared_corners() {
                     tilt_deg: 0.0,
                 });
             }
-            if grower.grow_row(&row).is_err() {
-                ok = false;
-                break;
-            }
+            rows.push(row);
         }
-        if !ok {
+        let Some(lattice) = grow_rows(grower, &rows) else {
             continue;
-        }
-        let lattice = grower.into_lattice();
+        };
         assert_valid(&lattice, "intrinsic sheet");
         if lattice.rows() > 1 && lattice.width > 1 {
             assert!(!lattice.extrinsic());
@@ -345,12 +349,11 @@ fn random_intrinsic_loops_close_and_keep_every_invariant() {
                 .collect();
             (pts, vec![0.0; n])
         };
-        let mut grower = Grower::new(Kind::Loop, 3, &points, &kappa).unwrap();
+        let grower = Grower::new(Kind::Loop, 3, &points, &kappa).unwrap();
         let angle = rng.range(15.0, 40.0);
         let crank = rng.range(-15.0, 15.0);
-        let mut ok = true;
-        for i in 0..3 {
-            let row = RowParams {
+        let rows: Vec<RowParams> = (0..3)
+            .map(|i| RowParams {
                 direction: Some(Direction::Angles {
                     angle_deg: angle,
                     tilt_deg: 0.0,
@@ -371,16 +374,11 @@ fn random_intrinsic_loops_close_and_keep_every_invariant() {
                     ..FrontMoves::default()
                 }),
                 ..RowParams::default()
-            };
-            if grower.grow_row(&row).is_err() {
-                ok = false;
-                break;
-            }
-        }
-        if !ok {
+            })
+            .collect();
+        let Some(lattice) = grow_rows(grower, &rows) else {
             continue;
-        }
-        let lattice = grower.into_lattice();
+        };
         assert_valid(&lattice, "intrinsic loop");
         assert!(!lattice.extrinsic());
         grown += 1;
