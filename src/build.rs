@@ -6,6 +6,7 @@ use crate::diagnostic::Diagnostic;
 use crate::drawing::picture::preview;
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::guide::guide;
+use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Lattice, Report, verify};
 use crate::layout::{Bounds, Layout, nest};
 use crate::parts::solid;
@@ -28,6 +29,8 @@ pub struct Build {
     /// placed onto the rows they hang from (`Lattice::placed`).
     pub assembled: Lattice,
     pub report: Report,
+    /// How it deploys (MATH.md 8.4), for the reports.
+    pub deployment: Deployment,
     pub parts: Parts,
     pub layout: Layout,
     /// One page per sheet.
@@ -56,31 +59,40 @@ pub const MAX_FABRICATED_CELLS: usize = 20_000;
 /// many cells in all (a 100 x 100 sheet draws 1,000,000).
 pub const MAX_GUIDE_CELLS: usize = 2_000_000;
 
-/// The parts, layout and pages of a grown and verified lattice.
-pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
-    if lattice.cells.len() > MAX_FABRICATED_CELLS {
-        return Err(Diagnostic::new(
-            "TooLarge",
+/// Why karigami makes no cut files for a lattice this size (None when it
+/// does): more than `MAX_FABRICATED_CELLS` cells, or a guide that would
+/// draw more than `MAX_GUIDE_CELLS`. `karigami check` still verifies it.
+pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diagnostic> {
+    let cells = lattice.cells.len();
+    let (message, hint) = if cells > MAX_FABRICATED_CELLS {
+        (
             format!(
-                "the lattice has {} cells; karigami makes cut files for at most {MAX_FABRICATED_CELLS} cells",
-                lattice.cells.len()
+                "the lattice has {cells} cells; karigami makes cut files for at most {MAX_FABRICATED_CELLS} cells"
             ),
+            "grow fewer rows or a narrower seed; `karigami check` verifies the geometry of lattices up to 4,000,000 cells",
         )
-        .at(design.size_span())
-        .hint("grow fewer rows or a narrower seed; `karigami check` verifies the geometry of lattices up to 4,000,000 cells"));
-    }
-    let drawn = lattice.steps().saturating_mul(lattice.cells.len());
-    if drawn > MAX_GUIDE_CELLS {
-        return Err(Diagnostic::new(
-            "TooLarge",
+    } else if lattice.steps().saturating_mul(cells) > MAX_GUIDE_CELLS {
+        (
             format!(
-                "the assembly guide would draw the {} cells once for each of {} steps; karigami draws at most {MAX_GUIDE_CELLS} cells in a guide",
-                lattice.cells.len(),
+                "the assembly guide would draw the {cells} cells once for each of {} steps; karigami draws at most {MAX_GUIDE_CELLS} cells in a guide",
                 lattice.steps()
             ),
+            "grow fewer rows (a long, narrow lattice has a step for every row); `karigami check` still verifies it",
         )
-        .at(design.size_span())
-        .hint("grow fewer rows (a long, narrow lattice has a step for every row); `karigami check` still verifies it"));
+    } else {
+        return None;
+    };
+    Some(
+        Diagnostic::new("TooLarge", message)
+            .at(design.size_span())
+            .hint(hint),
+    )
+}
+
+/// The parts, layout and pages of a grown and verified lattice.
+pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
+    if let Some(e) = too_large_to_fabricate(&design, &lattice) {
+        return Err(e);
     }
     if !report.passed() {
         let worst = report
@@ -119,6 +131,7 @@ pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Buil
     Ok(Build {
         design,
         assembled: lattice.placed(),
+        deployment: deployment(&lattice),
         lattice,
         report,
         parts,

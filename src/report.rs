@@ -2,12 +2,17 @@
 
 use crate::build::Build;
 use crate::design::Design;
-use crate::lattice::deploy::deployment;
+use crate::lattice::deploy::Deployment;
 use crate::lattice::{Lattice, Report, TOLERANCE, joints};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
-pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String {
+pub fn check_text(
+    design: &Design,
+    lattice: &Lattice,
+    report: &Report,
+    deploy: &Deployment,
+) -> String {
     let mut out = String::new();
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
     let (lo, hi) = lattice.placed().extent();
@@ -74,7 +79,7 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
             "fit to the target: largest vertex distance {abs:.3e} mm ({rel:.2e} of the target's size)"
         );
     }
-    deployment_text(&mut out, lattice);
+    deployment_text(&mut out, lattice, deploy);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -86,8 +91,7 @@ pub fn check_text(design: &Design, lattice: &Lattice, report: &Report) -> String
 
 /// MATH.md 8.4: the intrinsic configuration, the mobility verdict and, in
 /// the plane, the placement misfit.
-fn deployment_text(out: &mut String, lattice: &Lattice) {
-    let d = deployment(lattice);
+fn deployment_text(out: &mut String, lattice: &Lattice, d: &Deployment) {
     let c = &d.config;
     let _ = writeln!(
         out,
@@ -121,7 +125,7 @@ fn deployment_text(out: &mut String, lattice: &Lattice) {
 /// warnings, the sheets, and the eyelets of each assembly step.
 pub fn build_text(b: &Build) -> String {
     let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
-    out.push_str(&check_text(&b.design, &b.lattice, &b.report));
+    out.push_str(&check_text(&b.design, &b.lattice, &b.report, &b.deployment));
     out.push('\n');
     out.push_str(&b.summary_with(true));
     let fab = &b.design.fabrication;
@@ -171,7 +175,12 @@ fn num(x: f64) -> serde_json::Value {
 }
 
 /// The verification report as JSON, for `karigami check --json`.
-pub fn check_json(design: &Design, lattice: &Lattice, report: &Report) -> serde_json::Value {
+pub fn check_json(
+    design: &Design,
+    lattice: &Lattice,
+    report: &Report,
+    dep: &Deployment,
+) -> serde_json::Value {
     use serde_json::json;
     let checks: Vec<_> = report
         .checks
@@ -192,7 +201,6 @@ pub fn check_json(design: &Design, lattice: &Lattice, report: &Report) -> serde_
         let (abs, rel) = crate::design::fit::error(f, lattice);
         json!({ "max_distance_mm": num(abs), "relative": num(rel) })
     });
-    let dep = deployment(lattice);
     let deploy = json!({
         "theta_design_deg": num(dep.config.theta_design.to_degrees()),
         "theta_max_deg": num(dep.config.theta_max.to_degrees()),

@@ -275,3 +275,31 @@ fn completions_are_printed_for_each_shell() {
         );
     }
 }
+
+#[test]
+fn lattices_too_large_to_fabricate_are_verified_but_not_built() {
+    // 2 cells wide and 10,000 rows: 20,000 cells, but a guide of 10,000
+    // steps that would draw them all each time.
+    let dir = scratch("too-large");
+    fs::write(
+        dir.join("long.toml"),
+        "[lattice]\nseed = \"sheet\"\npoints = [[0.0, 0.0], [20.0, 0.0], [40.0, 0.0]]\nkappa = 0.0\n[lattice.grow]\nangle = 45.0\nrows = 10000\n",
+    )
+    .unwrap();
+    let o = karigami(&["build", "long.toml", "--out", "out"], &dir);
+    assert_eq!(o.status.code(), Some(1));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("error[TooLarge]") && stderr.contains("long.toml:5:1"),
+        "{stderr}"
+    );
+    assert!(!dir.join("out").exists(), "nothing is written");
+    let o = karigami(&["check", "long.toml"], &dir);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("fabrication: not checked"), "{stdout}");
+    assert!(
+        stdout.contains("result: PASS (geometry verified)"),
+        "{stdout}"
+    );
+}

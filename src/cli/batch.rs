@@ -171,7 +171,12 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
                 strips: built.parts.strips.len(),
                 sheets: built.layout.sheets.len(),
                 json: json!({
-                    "check": report::check_json(&built.design, &built.lattice, &built.report),
+                    "check": report::check_json(
+                        &built.design,
+                        &built.lattice,
+                        &built.report,
+                        &built.deployment,
+                    ),
                     "build": report::build_json(&built),
                 }),
             })

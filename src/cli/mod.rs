@@ -6,9 +6,10 @@ mod files;
 mod progress;
 
 use clap::{Args as ClapArgs, CommandFactory, Parser, Subcommand};
-use karigami::build::{Build, MAX_FABRICATED_CELLS, MAX_GUIDE_CELLS, assemble, build_with};
+use karigami::build::{Build, assemble, build_with, too_large_to_fabricate};
 use karigami::design::{self, Design, Overrides};
 use karigami::diagnostic::Diagnostic;
+use karigami::lattice::deploy::deployment;
 use karigami::lattice::verify;
 use karigami::{report, templates};
 use progress::Progress;
@@ -368,9 +369,13 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     };
     bar.clear();
     let report = verify(&lattice);
-    let check = report::check_json(&design, &lattice, &report);
+    let deploy = deployment(&lattice);
+    let check = report::check_json(&design, &lattice, &report, &deploy);
     if !json && !v.quiet {
-        print!("{}", report::check_text(&design, &lattice, &report));
+        print!(
+            "{}",
+            report::check_text(&design, &lattice, &report, &deploy)
+        );
     }
     if !report.passed() {
         return (
@@ -378,12 +383,11 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
             json!({ "file": file, "status": "fail", "check": check }),
         );
     }
-    if !fabricable(&lattice) {
+    if let Some(why) = too_large_to_fabricate(&design, &lattice) {
         if !json && !v.quiet {
             println!(
-                "fabrication: not checked ({} cells in {} steps; cut files are made for at most {MAX_FABRICATED_CELLS} cells, and a guide draws at most {MAX_GUIDE_CELLS})\nresult: PASS (geometry verified)",
-                lattice.cells.len(),
-                lattice.steps()
+                "fabrication: not checked ({})\nresult: PASS (geometry verified)",
+                why.message
             );
         }
         return (0, json!({ "file": file, "status": "pass", "check": check }));
@@ -405,12 +409,6 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
             (code, value)
         }
     }
-}
-
-/// Whether `assemble` makes cut files for a lattice this size.
-fn fabricable(lattice: &karigami::lattice::Lattice) -> bool {
-    lattice.cells.len() <= MAX_FABRICATED_CELLS
-        && lattice.steps().saturating_mul(lattice.cells.len()) <= MAX_GUIDE_CELLS
 }
 
 /// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
@@ -475,7 +473,12 @@ fn build(
             "out": out.display().to_string(),
             "files": outputs.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>(),
             "seconds": started.elapsed().as_secs_f64(),
-            "check": report::check_json(&built.design, &built.lattice, &built.report),
+            "check": report::check_json(
+                &built.design,
+                &built.lattice,
+                &built.report,
+                &built.deployment,
+            ),
             "build": report::build_json(&built),
         });
         println!("{}", serde_json::to_string_pretty(&value).expect("JSON"));
@@ -483,7 +486,12 @@ fn build(
         if v.verbose {
             print!(
                 "{}",
-                report::check_text(&built.design, &built.lattice, &built.report)
+                report::check_text(
+                    &built.design,
+                    &built.lattice,
+                    &built.report,
+                    &built.deployment,
+                )
             );
         }
         print!("{}", built.summary());

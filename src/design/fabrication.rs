@@ -37,6 +37,15 @@ pub struct FabricationSpans {
 /// Thinnest wall of material kept between a hole and a strip edge or tip.
 pub const MIN_WALL: f64 = 1.0;
 
+/// A size for a message: as written, or in e-notation when it is huge.
+fn short(mm: f64) -> String {
+    if mm.abs() < 1e6 {
+        format!("{mm}")
+    } else {
+        format!("{mm:e}")
+    }
+}
+
 /// The largest sheet side: beyond the beds of large-format lasers (3 x 2 m),
 /// and it bounds the memory of the sheet pictures.
 pub const MAX_SHEET: f64 = 5000.0;
@@ -285,7 +294,8 @@ fn check_settings(
             "SheetTooLarge",
             format!(
                 "the sheet is {} x {} mm; karigami lays out sheets of at most {MAX_SHEET} mm a side",
-                f.sheet.width, f.sheet.height
+                short(f.sheet.width),
+                short(f.sheet.height)
             ),
         )
         .at_opt(spans.sheet.clone())

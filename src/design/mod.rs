@@ -292,18 +292,7 @@ impl Design {
         match (self.kind, &self.fit) {
             (Kind::Helix, _) => self.spans.cells.clone(),
             (_, Some(_)) => self.spans.fit.clone(),
-            _ => {
-                let last = self.rows.len().saturating_sub(1);
-                let entry = self
-                    .spans
-                    .row_entry
-                    .get(last)
-                    .filter(|&&e| e != NO_ENTRY)
-                    .map(|&e| self.spans.entries[e as usize].table.clone());
-                entry
-                    .or_else(|| self.spans.grow.as_ref().map(|g| g.table.clone()))
-                    .unwrap_or_else(|| self.spans.lattice.clone())
-            }
+            _ => self.row_table(self.rows.len().saturating_sub(1)),
         }
     }
 
@@ -340,16 +329,25 @@ impl Design {
     /// The text that sets `param` for row `i`: the row's own entry if it
     /// gives it, else `[lattice.grow]`, else the entry (or lattice) table.
     fn row_span(&self, i: usize, param: Param) -> Range<usize> {
-        let entry = self
-            .spans
+        self.row_entry(i)
+            .and_then(|f| f.of(param))
+            .or_else(|| self.spans.grow.as_ref().and_then(|g| g.of(param)))
+            .unwrap_or_else(|| self.row_table(i))
+    }
+
+    /// Row `i`'s `[[lattice.rows]]` entry, if it has one.
+    fn row_entry(&self, i: usize) -> Option<&FieldSpans> {
+        self.spans
             .row_entry
             .get(i)
             .filter(|&&e| e != NO_ENTRY)
-            .map(|&e| &self.spans.entries[e as usize]);
-        entry
-            .and_then(|f| f.of(param))
-            .or_else(|| self.spans.grow.as_ref().and_then(|g| g.of(param)))
-            .or_else(|| entry.map(|f| f.table.clone()))
+            .map(|&e| &self.spans.entries[e as usize])
+    }
+
+    /// The table that describes row `i`: its entry, `[lattice.grow]`, or `[lattice]`.
+    fn row_table(&self, i: usize) -> Range<usize> {
+        self.row_entry(i)
+            .map(|f| f.table.clone())
             .or_else(|| self.spans.grow.as_ref().map(|g| g.table.clone()))
             .unwrap_or_else(|| self.spans.lattice.clone())
     }
