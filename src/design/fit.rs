@@ -324,12 +324,7 @@ pub fn grow(
             _ => unreachable!("open surfaces are searched above"),
         };
         grower.grow_row(&params)?;
-        let (abs, _) = error(fit, grower.lattice());
-        progress(&format!(
-            "fit row {}/{}: largest vertex distance so far {abs:.3e} mm",
-            i + 1,
-            fit.rows
-        ));
+        progress(&row_note(fit, grower.lattice(), i));
     }
     Ok(grower.into_lattice())
 }
@@ -370,7 +365,7 @@ struct Search<'a> {
     min_leg: f64,
     /// Rows left to try.
     budget: usize,
-    /// The deepest row that found no candidate, and why.
+    /// The deepest row reached, and why it found no candidate (when it did not).
     deepest: (usize, Option<GrowthError>),
     progress: &'a mut dyn FnMut(&str),
 }
@@ -389,8 +384,8 @@ impl Search<'_> {
             self.dim,
             self.min_leg,
         );
-        if candidates.is_empty() && i >= self.deepest.0 {
-            self.deepest = (i, why);
+        if i > self.deepest.0 || candidates.is_empty() && i == self.deepest.0 {
+            self.deepest = (i, why.filter(|_| candidates.is_empty()));
         }
         for params in candidates.into_iter().take(BRANCHES) {
             if self.budget == 0 {
@@ -400,12 +395,7 @@ impl Search<'_> {
             if grower.grow_row(&params).is_err() {
                 continue;
             }
-            let (abs, _) = error(self.fit, grower.lattice());
-            (self.progress)(&format!(
-                "fit row {}/{}: largest vertex distance so far {abs:.3e} mm",
-                i + 1,
-                self.fit.rows
-            ));
+            (self.progress)(&row_note(self.fit, grower.lattice(), i));
             if self.rows(grower, i + 1) {
                 return true;
             }
@@ -415,13 +405,27 @@ impl Search<'_> {
     }
 }
 
+/// The progress note for fitted row `i`.
+fn row_note(fit: &Fit, lattice: &Lattice, i: usize) -> String {
+    let (abs, _) = error(fit, lattice);
+    format!(
+        "fit row {}/{}: largest vertex distance so far {abs:.3e} mm",
+        i + 1,
+        fit.rows
+    )
+}
+
+/// No row `i` was found: none admissible there, or the search ran out of
+/// tries on the way.
 fn no_row(i: usize) -> GrowthError {
     GrowthError::new(
         crate::lattice::GrowthErrorKind::InadmissibleDirection,
         crate::lattice::Param::Direction,
         Some(i),
         None,
-        "no leg direction keeps this row's end vertices on the target boundary with legs long enough for the eyelets",
+        format!(
+            "no leg direction found for this row (the deepest the fit reached in {SEARCH_BUDGET} tries) that keeps its end vertices on the target boundary with legs long enough for the eyelets"
+        ),
         "fit fewer rows, or start from another seed arc",
     )
 }
