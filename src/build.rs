@@ -91,6 +91,17 @@ pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diag
 
 /// The parts, layout and pages of a grown and verified lattice.
 pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
+    let deployment = deployment(&lattice);
+    assemble_with(design, lattice, report, deployment)
+}
+
+/// `assemble`, with the lattice's deployment already worked out.
+pub fn assemble_with(
+    design: Design,
+    lattice: Lattice,
+    report: Report,
+    deployment: Deployment,
+) -> Result<Build, Diagnostic> {
     if let Some(e) = too_large_to_fabricate(&design, &lattice) {
         return Err(e);
     }
@@ -131,7 +142,7 @@ pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Buil
     Ok(Build {
         design,
         assembled: lattice.placed(),
-        deployment: deployment(&lattice),
+        deployment,
         lattice,
         report,
         parts,

@@ -6,7 +6,7 @@ mod files;
 mod progress;
 
 use clap::{Args as ClapArgs, CommandFactory, Parser, Subcommand};
-use karigami::build::{Build, assemble, build_with, too_large_to_fabricate};
+use karigami::build::{Build, assemble_with, build_with, too_large_to_fabricate};
 use karigami::design::{self, Design, Overrides};
 use karigami::diagnostic::Diagnostic;
 use karigami::lattice::deploy::deployment;
@@ -392,7 +392,7 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
         }
         return (0, json!({ "file": file, "status": "pass", "check": check }));
     }
-    match assemble(design, lattice, report) {
+    match assemble_with(design, lattice, report, deploy) {
         Ok(built) => {
             if !json && !v.quiet {
                 print!("{}", built.summary());
