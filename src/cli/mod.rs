@@ -2,6 +2,7 @@
 //! failed, 2 usage error, 3 I/O error.
 
 mod batch;
+mod fault;
 mod files;
 mod progress;
 
@@ -436,9 +437,10 @@ fn build(
 ) -> Result<(), Failed> {
     let batch = paths.len() > 1 || paths.iter().any(|p| p.is_dir());
     if batch {
-        let recipes = files::recipes(paths).map_err(|e| usage(&e))?;
+        let recipes = files::recipes(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
         return batch::build(&recipes, out, force, jobs, json, overrides, v);
     }
+    let dir = open_out(out, paths, force, json, v)?;
     let recipe = match paths.first() {
         Some(p) => Recipe::read(p),
         None => Ok(Recipe::built_in()),
@@ -462,10 +464,18 @@ fn build(
         }
     };
     let outputs = built.files();
-    files::replace_dir(out, &outputs, force).map_err(|e| {
-        eprintln!("error: cannot write {}: {e}", out.display());
-        Failed(EXIT_IO)
-    })?;
+    let written = files::Staged::new(&dir, "single").and_then(|staged| {
+        staged.write("", &outputs)?;
+        staged.commit()
+    });
+    if let Err(e) = written {
+        return Err(fail(
+            json,
+            "io",
+            &format!("cannot write {}: {e}; {}", out.display(), dir.kept()),
+            EXIT_IO,
+        ));
+    }
     if json {
         let value = json!({
             "file": paths.first().map(|p| p.display().to_string()),
@@ -498,6 +508,43 @@ fn build(
         println!("wrote {} files to {}", outputs.len(), out.display());
     }
     Ok(())
+}
+
+/// Check and lock the output folder before any work; say what interrupted
+/// runs left and was repaired, and what `--force` deletes.
+pub fn open_out(
+    out: &Path,
+    inputs: &[PathBuf],
+    force: bool,
+    json: bool,
+    v: Verbosity,
+) -> Result<files::OutDir, Failed> {
+    let dir = files::OutDir::open(out, inputs, force).map_err(|e| fail(json, "io", &e, EXIT_IO))?;
+    if !v.quiet {
+        for note in &dir.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    if let Some(warning) = dir.force_warning() {
+        eprintln!("{warning}");
+    }
+    Ok(dir)
+}
+
+/// Report a failure that has no recipe: a line on stderr and, with
+/// `--json`, the one JSON document on stdout.
+pub fn fail(json: bool, class: &str, message: &str, code: i32) -> Failed {
+    eprintln!("error: {message}");
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(
+                &json!({ "status": "error", "error": { "class": class, "message": message } })
+            )
+            .expect("JSON")
+        );
+    }
+    Failed(code)
 }
 
 fn tune(
@@ -544,18 +591,21 @@ fn tune(
             tuned.max_kappa_change
         );
     }
+    // Only a seed that reached the target is written: a failed tune leaves
+    // the --out file (often the recipe itself) as it was.
+    if tuned.cells_after < target {
+        let kept = out.map_or(String::new(), |o| format!("; {} was not written", o.display()));
+        eprintln!(
+            "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed{kept}"
+        );
+        return Err(Failed(EXIT_INVALID));
+    }
     match out {
         Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
-            eprintln!("error: cannot write {}: {e}", o.display());
+            eprintln!("error: cannot write {}: {e}; it was left as it was", o.display());
             Failed(EXIT_IO)
         })?,
         None => print!("{text}"),
-    }
-    if tuned.cells_after < target {
-        eprintln!(
-            "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed"
-        );
-        return Err(Failed(EXIT_INVALID));
     }
     Ok(())
 }
@@ -573,6 +623,15 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
             names.join(", ")
         )));
     };
+    let file = Path::new(name).file_name().map(|f| f.to_string_lossy().into_owned());
+    let plain = file.as_deref().filter(|f| {
+        !f.starts_with('.') && !f.chars().any(char::is_control) && *f != ".toml"
+    });
+    if plain.is_none() || name.chars().any(char::is_control) {
+        return Err(usage(&format!(
+            "{name:?} is not a usable recipe name: give a name that does not start with a dot and has no control characters, such as `karigami new my-sheet`"
+        )));
+    }
     let path = if name.ends_with(".toml") {
         PathBuf::from(name)
     } else {
