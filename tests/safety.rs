@@ -1,0 +1,545 @@
+//! Data safety, tried as a hostile user would: kills at every step of a
+//! write and commit, full disks, two runs into one folder, hostile file
+//! names, folders that are not builds, files given as --out. After each,
+//! --out holds a complete old or a complete new build, nothing is left
+//! beside it, and nothing outside it changed.
+
+use crate::cli::{repo, scratch};
+use crate::thirdparty;
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+type Tree = BTreeMap<String, Vec<u8>>;
+
+fn run(args: &[&str], cwd: &Path, fault: Option<&str>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_karigami"));
+    c.args(args).current_dir(cwd);
+    match fault {
+        Some(f) => c.env("KARIGAMI_FAULT", f),
+        None => c.env_remove("KARIGAMI_FAULT"),
+    };
+    c.output().expect("runs karigami")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Every file under `dir` (hidden ones too) with its bytes.
+pub fn tree(dir: &Path) -> Tree {
+    let mut out = Tree::new();
+    if !dir.exists() {
+        return out;
+    }
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let e = e.unwrap();
+            let p = e.path();
+            let kind = e.file_type().unwrap();
+            if kind.is_dir() {
+                stack.push(p);
+            } else if kind.is_symlink() {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                let to = fs::read_link(&p).unwrap();
+                out.insert(rel, format!("-> {}", to.display()).into_bytes());
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+fn put_tree(dir: &Path, t: &Tree) {
+    let _ = fs::remove_dir_all(dir);
+    fs::create_dir_all(dir).unwrap();
+    for (rel, bytes) in t {
+        let p = dir.join(rel);
+        fs::create_dir_all(p.parent().unwrap()).unwrap();
+        fs::write(p, bytes).unwrap();
+    }
+}
+
+/// Entries of `dir` whose names start with a dot: staging folders, locks.
+fn hidden(dir: &Path) -> Vec<String> {
+    fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect()
+}
+
+/// A folder with small recipes: a.toml, b.toml, c.toml (chains of 3, 4 and
+/// 5 cells) and broken.toml, which fails to parse.
+fn workspace(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    let chain = fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    for (file, rows) in [("a.toml", 3), ("b.toml", 4), ("c.toml", 5)] {
+        let text = chain.replace("rows = 6 ", &format!("rows = {rows} "));
+        assert_ne!(text, chain, "the template sets rows = 6");
+        fs::write(dir.join(file), text).unwrap();
+    }
+    fs::write(dir.join("broken.toml"), "name = \n").unwrap();
+    dir
+}
+
+/// The files of a build of `args` into a fresh folder.
+fn reference(dir: &Path, args: &[&str], into: &str) -> Tree {
+    let mut full: Vec<&str> = args.to_vec();
+    full.extend(["--out", into, "--jobs", "1"]);
+    let o = run(&full, dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let t = tree(&dir.join(into));
+    fs::remove_dir_all(dir.join(into)).unwrap();
+    t
+}
+
+/// Kill a build of `new_args` into `out` (which holds `old`) at step k for
+/// every k until the build completes; after each kill --out must hold the
+/// old or the new build (at once when the commit swaps atomically; after
+/// the next run's repair with the two-rename fallback), and the next run
+/// (here a failing recipe, which commits nothing) leaves nothing beside it.
+/// Starts at step `from` (the steps before a commit are the same in both
+/// commit modes). Returns the number of steps.
+fn kill_sweep(
+    dir: &Path,
+    old: &Tree,
+    new_args: &[&str],
+    new: &Tree,
+    extra: &str,
+    from: usize,
+) -> usize {
+    let out = dir.join("out");
+    let mut args: Vec<&str> = new_args.to_vec();
+    args.extend(["--out", "out", "--jobs", "1"]);
+    let (mut saw_old, mut saw_new) = (false, false);
+    for k in from..200 {
+        put_tree(&out, old);
+        let o = run(&args, dir, Some(&format!("abort@{k}{extra}")));
+        if o.status.success() {
+            assert!(tree(&out) == *new, "k={k}: the completed build");
+            assert_eq!(hidden(dir), Vec::<String>::new(), "k={k}");
+            assert!(saw_old && saw_new, "kills left both old and new builds");
+            return k - 1;
+        }
+        assert_eq!(o.status.code(), None, "k={k}: killed: {}", text(&o.stderr));
+        assert!(text(&o.stderr).contains(&format!("abort at step {k}")));
+        let now = tree(&out);
+        if extra.is_empty() {
+            assert!(now == *old || now == *new, "k={k}: a mixed --out");
+        }
+        let next = run(&["build", "broken.toml", "--out", "out"], dir, None);
+        assert_eq!(next.status.code(), Some(1), "{}", text(&next.stderr));
+        let now = tree(&out);
+        saw_old |= now == *old;
+        saw_new |= now == *new;
+        assert!(
+            now == *old || now == *new,
+            "k={k}: after the next run, --out is neither build: {:?}",
+            now.keys().collect::<Vec<_>>()
+        );
+        assert_eq!(hidden(dir), Vec::<String>::new(), "k={k}: left beside --out");
+    }
+    panic!("the build never completed");
+}
+
+#[test]
+fn a_killed_single_build_leaves_the_old_or_the_new_build() {
+    let dir = workspace("kill-single");
+    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let new = reference(&dir, &["build", "b.toml"], "ref-new");
+    let steps = kill_sweep(&dir, &old, &["build", "b.toml"], &new, "", 1);
+    assert!(steps >= new.len(), "one step per file at least: {steps}");
+    let fallback = kill_sweep(
+        &dir,
+        &old,
+        &["build", "b.toml"],
+        &new,
+        ",noexchange",
+        steps - 2,
+    );
+    assert_eq!(fallback, steps + 1, "the fallback renames twice");
+}
+
+#[test]
+fn a_killed_batch_leaves_the_old_or_the_new_batch() {
+    let dir = workspace("kill-batch");
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    let new = reference(&dir, &["build", "a.toml", "c.toml"], "ref-new");
+    let steps = kill_sweep(&dir, &old, &["build", "a.toml", "c.toml"], &new, "", 1);
+    assert!(steps >= new.len(), "{steps}");
+    let fallback = kill_sweep(
+        &dir,
+        &old,
+        &["build", "a.toml", "c.toml"],
+        &new,
+        ",noexchange",
+        steps - 2,
+    );
+    assert_eq!(fallback, steps + 1);
+}
+
+/// Fail every write from step k on (a disk that fills up), for every k:
+/// exit 3, the disk error named, --out as it was, nothing left beside it,
+/// and no claim that anything was written.
+fn full_disk_sweep(dir: &Path, old: &Tree, args: &[&str]) {
+    let out = dir.join("out");
+    let mut args: Vec<&str> = args.to_vec();
+    args.extend(["--out", "out", "--jobs", "1"]);
+    for k in 1..200 {
+        put_tree(&out, old);
+        let o = run(&args, dir, Some(&format!("enospc@{k}")));
+        if o.status.success() {
+            assert!(k > 2, "the sweep covered the writes");
+            return;
+        }
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "k={k}: {stderr}");
+        assert!(
+            stderr.contains("No space left on device") && stderr.contains("out was left as it was"),
+            "k={k}: {stderr}"
+        );
+        assert!(!text(&o.stdout).contains("wrote"), "k={k}");
+        assert!(tree(&out) == *old, "k={k}: --out changed");
+        assert_eq!(hidden(dir), Vec::<String>::new(), "k={k}");
+    }
+    panic!("the build never completed");
+}
+
+#[test]
+fn a_full_disk_keeps_the_previous_build_single_and_batch() {
+    let dir = workspace("full-disk");
+    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    full_disk_sweep(&dir, &old, &["build", "b.toml"]);
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    full_disk_sweep(&dir, &old, &["build", "a.toml", "c.toml"]);
+    // Into a folder that did not exist: it still does not.
+    fs::remove_dir_all(dir.join("out")).unwrap();
+    let o = run(&["build", "b.toml", "--out", "out"], &dir, Some("enospc@3"));
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("nothing was written to out"));
+    assert!(!dir.join("out").exists());
+}
+
+/// A real full disk where the machine lets us mount a small tmpfs (root on
+/// Linux); the write hook above covers every step everywhere.
+#[test]
+fn a_real_full_disk_keeps_the_previous_batch() {
+    let dir = workspace("tmpfs");
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    let pages: usize = old.values().map(|b| b.len().div_ceil(4096)).sum();
+    // Room for one batch and a half: the first build fits, a second one
+    // (old and new side by side until the swap) does not.
+    let kib = (pages * 3 / 2 + 4) * 4;
+    let mnt = dir.join("disk");
+    fs::create_dir_all(&mnt).unwrap();
+    let mounted = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", &format!("size={kib}k"), "tmpfs"])
+        .arg(&mnt)
+        .output();
+    if !mounted.as_ref().is_ok_and(|o| o.status.success()) {
+        eprintln!("note: cannot mount a tmpfs here; the write hook covers full disks");
+        return;
+    }
+    struct Unmount(PathBuf);
+    impl Drop for Unmount {
+        fn drop(&mut self) {
+            let _ = Command::new("umount").arg(&self.0).status();
+        }
+    }
+    let _guard = Unmount(mnt.clone());
+    let first = run(&["build", "a.toml", "b.toml", "--out", "disk/out"], &dir, None);
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    assert!(tree(&mnt.join("out")) == old);
+    let second = run(&["build", "a.toml", "c.toml", "--out", "disk/out"], &dir, None);
+    let stderr = text(&second.stderr);
+    assert_eq!(second.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("No space left on device"), "{stderr}");
+    assert!(stderr.contains("was left as it was"), "{stderr}");
+    assert!(!text(&second.stdout).contains("wrote"));
+    assert!(tree(&mnt.join("out")) == old, "the first batch is intact");
+    assert_eq!(hidden(&mnt), Vec::<String>::new());
+}
+
+#[test]
+fn two_builds_into_one_folder_at_once_never_mix() {
+    let dir = workspace("concurrent");
+    let a = reference(&dir, &["build", "a.toml"], "ref-a");
+    let b = reference(&dir, &["build", "b.toml"], "ref-b");
+    let mut refused = 0;
+    for round in 0..8 {
+        let spawn = |recipe: &str| {
+            Command::new(env!("CARGO_BIN_EXE_karigami"))
+                .args(["build", recipe, "--out", "out", "-q"])
+                .current_dir(&dir)
+                .env_remove("KARIGAMI_FAULT")
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        };
+        let (pa, pb) = (spawn("a.toml"), spawn("b.toml"));
+        let mut ok = 0;
+        for child in [pa, pb] {
+            let o = child.wait_with_output().unwrap();
+            if o.status.success() {
+                ok += 1;
+            } else {
+                let stderr = text(&o.stderr);
+                assert_eq!(o.status.code(), Some(3), "round {round}: {stderr}");
+                assert!(
+                    stderr.contains("another karigami run is writing out right now"),
+                    "round {round}: {stderr}"
+                );
+                refused += 1;
+            }
+        }
+        assert!(ok >= 1, "round {round}: the lock holder finishes");
+        let now = tree(&dir.join("out"));
+        assert!(now == a || now == b, "round {round}: a mixed folder");
+        assert_eq!(hidden(&dir), Vec::<String>::new());
+    }
+    eprintln!("two builds at once: {refused} of 16 runs found the folder locked");
+}
+
+#[test]
+fn hostile_recipe_file_names_build_only_inside_out() {
+    let root = scratch("hostile-names");
+    let recipes = root.join("r");
+    let work = root.join("p");
+    fs::create_dir_all(&recipes).unwrap();
+    fs::create_dir_all(&work).unwrap();
+    let chain = fs::read_to_string(repo().join("templates/chain.toml"))
+        .unwrap()
+        .replace("rows = 6 ", "rows = 2 ");
+    let long = "l".repeat(240);
+    let names = [
+        "...toml".to_string(),
+        "a\nb.toml".into(),
+        "esc\u{1b}[31m.toml".into(),
+        "CON.toml".into(),
+        "batch.json.toml".into(),
+        "ボウル 🍜.toml".into(),
+        format!("{long}.toml"),
+        "back\\slash.toml".into(),
+        " spaced .toml".into(),
+        ".hidden.toml".into(),
+        "colon:star*.toml".into(),
+    ];
+    for n in &names {
+        fs::write(recipes.join(n), &chain).unwrap();
+    }
+    let before = tree(&root);
+    let o = run(&["build", "../r", "--out", "out", "--jobs", "2"], &work, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let after = tree(&root);
+    for path in after.keys() {
+        assert!(
+            before.contains_key(path) || path.starts_with("p/out/"),
+            "written outside --out: {path:?}"
+        );
+    }
+    for (path, bytes) in &before {
+        assert_eq!(after.get(path), Some(bytes), "changed: {path:?}");
+    }
+    let mut folders: Vec<String> = fs::read_dir(work.join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    folders.sort();
+    for f in &folders {
+        assert!(
+            f == ".karigami-build" || f == "batch.json" || !f.starts_with('.'),
+            "{f:?}"
+        );
+        assert!(f.len() <= 100 && !f.chars().any(|c| c.is_control() || "/\\:*".contains(c)));
+    }
+    assert_eq!(folders.len(), names.len() + 2, "{folders:?}");
+    assert!(folders.contains(&"CON_".to_string()), "{folders:?}");
+    assert!(folders.contains(&"batch.json_".to_string()), "{folders:?}");
+    assert!(folders.contains(&"ボウル 🍜".to_string()), "{folders:?}");
+    check_outputs(&work.join("out"));
+}
+
+/// Every file under `dir` opens in a reader we did not write.
+pub fn check_outputs(dir: &Path) {
+    for (rel, bytes) in tree(dir) {
+        let path = dir.join(&rel);
+        let p = path.to_str().unwrap();
+        match rel.rsplit('.').next().unwrap() {
+            "json" => {
+                serde_json::from_slice::<serde_json::Value>(&bytes)
+                    .unwrap_or_else(|e| panic!("{rel}: {e}"));
+            }
+            "svg" => {
+                if let Some(o) = thirdparty::run("rsvg-convert", &[p]) {
+                    assert!(o.status.success(), "{rel}: {}", text(&o.stderr));
+                }
+            }
+            "pdf" => {
+                if let Some(o) = thirdparty::run("qpdf", &["--check", p]) {
+                    assert!(o.status.success(), "{rel}: {}", text(&o.stdout));
+                }
+            }
+            "dxf" => {
+                let script = repo().join("tests/tools/check_dxf.py");
+                if let Some(o) = thirdparty::run("python3", &[script.to_str().unwrap(), p]) {
+                    let out = text(&o.stdout);
+                    assert!(
+                        o.status.success() && out.contains("\"errors\": 0"),
+                        "{rel}: {out}{}",
+                        text(&o.stderr)
+                    );
+                }
+            }
+            "csv" | "txt" | "obj" => {
+                let t = String::from_utf8(bytes).unwrap_or_else(|e| panic!("{rel}: {e}"));
+                for word in ["NaN", "inf"] {
+                    assert!(
+                        !t.split(|c: char| !c.is_alphanumeric()).any(|w| w.eq_ignore_ascii_case(word)),
+                        "{rel}: {word}"
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn a_folder_holding_an_input_is_never_replaced() {
+    let dir = workspace("inputs");
+    // A project folder with a stray batch.json is not a build.
+    fs::create_dir_all(dir.join("proj")).unwrap();
+    fs::copy(dir.join("a.toml"), dir.join("proj/design.toml")).unwrap();
+    fs::write(dir.join("proj/batch.json"), "[]").unwrap();
+    let before = tree(&dir);
+    for force in [false, true] {
+        let mut args = vec!["build", "proj/design.toml", "--out", "proj"];
+        if force {
+            args.push("--force");
+        }
+        let o = run(&args, &dir, None);
+        assert_eq!(o.status.code(), Some(3));
+        assert!(
+            text(&o.stderr).contains("holds proj/design.toml, an input of this run"),
+            "{}",
+            text(&o.stderr)
+        );
+        assert!(tree(&dir) == before, "a refusal writes nothing");
+    }
+    // A folder of recipes as its own --out, even with --force.
+    fs::create_dir_all(dir.join("recipes")).unwrap();
+    fs::copy(dir.join("a.toml"), dir.join("recipes/a.toml")).unwrap();
+    fs::copy(dir.join("b.toml"), dir.join("recipes/b.toml")).unwrap();
+    let before = tree(&dir);
+    let o = run(&["build", "recipes", "--out", "recipes", "--force"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("an input of this run"));
+    assert!(tree(&dir) == before);
+    // --out the current folder.
+    let o = run(&["build", "../a.toml", "--out", "../proj"], &dir.join("proj"), None);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("is the current folder"), "{}", text(&o.stderr));
+    for bad in [".", "..", "/"] {
+        let o = run(&["build", "a.toml", "--out", bad], &dir, None);
+        assert_eq!(o.status.code(), Some(3), "{bad}");
+        assert!(text(&o.stderr).contains("not a folder name"), "{bad}");
+    }
+    assert!(tree(&dir) == before);
+}
+
+#[test]
+fn force_says_what_it_deletes_and_older_builds_are_named() {
+    let dir = workspace("force");
+    fs::create_dir_all(dir.join("mine/deep")).unwrap();
+    fs::write(dir.join("mine/notes.txt"), "keep").unwrap();
+    fs::write(dir.join("mine/deep/photo.jpg"), "jpg").unwrap();
+    let o = run(&["build", "a.toml", "--out", "mine"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("mine exists and is not a karigami build folder")
+            && stderr.contains("--force")
+            && stderr.contains("its 2 files would be deleted"),
+        "{stderr}"
+    );
+    assert_eq!(fs::read_to_string(dir.join("mine/notes.txt")).unwrap(), "keep");
+    let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
+    assert!(o.status.success());
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("deletes its 2 files: deep/photo.jpg, notes.txt"),
+        "{stderr}"
+    );
+    // Once a build, no more questions.
+    let o = run(&["build", "b.toml", "--out", "mine"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
+    // A build of an older karigami (lattice.json, no marker) is named as such.
+    fs::create_dir_all(dir.join("older")).unwrap();
+    fs::write(dir.join("older/lattice.json"), "{}").unwrap();
+    let o = run(&["build", "a.toml", "--out", "older"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("may be a build of an older karigami"));
+    // An empty folder is fine.
+    fs::create_dir_all(dir.join("empty")).unwrap();
+    assert!(run(&["build", "a.toml", "--out", "empty"], &dir, None).status.success());
+}
+
+#[test]
+fn a_file_or_a_link_as_out_is_refused_and_nothing_written() {
+    let dir = workspace("out-file");
+    fs::write(dir.join("f"), "mine").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("nowhere", dir.join("dangling")).unwrap();
+    let before = tree(&dir);
+    let cases: [(&[&str], &str); 5] = [
+        (&["--out", "f", "--force"], "--out f is a file, not a folder"),
+        (&["--out", "f"], "--out f is a file, not a folder"),
+        (&["--out", "f/sub"], "cannot create f/sub: f is a file, not a folder"),
+        (&["--out", "f/sub/deeper"], "cannot create f/sub/deeper: f is a file"),
+        (
+            &["--out", "dangling", "--force"],
+            "--out dangling is a symbolic link (to nowhere, which does not exist)",
+        ),
+    ];
+    for (extra, message) in cases {
+        for batch in [false, true] {
+            let mut args = vec!["build", "a.toml"];
+            if batch {
+                args.push("b.toml");
+            }
+            args.extend(extra);
+            let o = run(&args, &dir, None);
+            assert_eq!(o.status.code(), Some(3), "{args:?}");
+            assert!(text(&o.stderr).contains(message), "{args:?}: {}", text(&o.stderr));
+            assert!(tree(&dir) == before, "{args:?} wrote something");
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
+        }
+    }
+    // A long but legal name: the staging names beside it stay legal.
+    let long = "o".repeat(250);
+    let o = run(&["build", "a.toml", "--out", &long], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(run(&["build", "b.toml", "--out", &long], &dir, None).status.success());
+}
+
+#[test]
+fn a_failed_tune_leaves_the_recipe_as_it_was() {
+    let dir = scratch("tune-fail");
+    let seed = fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    fs::write(dir.join("x.toml"), &seed).unwrap();
+    let o = run(
+        &["tune", "x.toml", "--out", "x.toml", "--cells", "400", "--iterations", "3"],
+        &dir,
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("x.toml was not written"), "{}", text(&o.stderr));
+    assert_eq!(fs::read_to_string(dir.join("x.toml")).unwrap(), seed);
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
