@@ -1,5 +1,5 @@
 //! Command-line interface. Exit codes: 0 ok, 1 design invalid or a check
-//! failed, 2 usage error, 3 I/O error.
+//! failed, 2 usage error, 3 I/O error or --out refused.
 
 mod batch;
 mod fault;
@@ -61,7 +61,7 @@ enum Command {
     },
     /// Grow, verify and write the cut files, assembly guide and previews.
     #[command(after_help = format!(
-        "Examples:\n  karigami build                          # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat\n  karigami build examples/ --out gallery  # a batch: gallery/<recipe>/ for each\n  karigami build a.toml b.toml --jobs 1 --json\n\nOne recipe builds into --out itself. Several recipes, or a folder, build\ninto a subfolder of --out each, named after the recipe file; --out then\nholds batch.json, the status of every recipe. A failing recipe does not\nstop the others. The output folder is always replaced as a whole, and\nonly once everything is written; a folder that is not a previous karigami\nbuild is refused unless --force is given.\n\n{EXIT_CODES}"
+        "Examples:\n  karigami build                          # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat\n  karigami build examples/ --out gallery  # a batch: gallery/<recipe>/ for each\n  karigami build a.toml b.toml --jobs 1 --json\n\nOne recipe builds into --out itself. Several recipes, or a folder, build\ninto a subfolder of --out each, named after the recipe file; --out then\nholds batch.json, the status of every recipe. A failing recipe does not\nstop the others. The output folder is always replaced as a whole, and\nonly once everything is written, so a kill or a full disk leaves the old\nbuild; a folder that is not a karigami build (no .karigami-build marker)\nis refused unless --force is given, which lists what it deletes, and a\nfolder holding an input recipe is always refused.\n\n{EXIT_CODES}"
     ))]
     Build {
         /// Recipe files (TOML) or folders of them; without any, a built-in sheet.
@@ -174,7 +174,33 @@ pub struct Verbosity {
 pub struct Failed(pub i32);
 
 pub fn run() -> i32 {
-    let args = Args::parse();
+    let args = match Args::try_parse() {
+        Ok(args) => args,
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            // A usage error is still one JSON document when --json was asked.
+            if std::env::args_os().any(|a| a == "--json") {
+                let rendered = e.to_string();
+                let message = rendered
+                    .lines()
+                    .next()
+                    .unwrap_or_default()
+                    .trim_start_matches("error: ")
+                    .to_string();
+                let _ = e.print();
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&json!({
+                        "status": "error",
+                        "error": { "class": "usage", "message": message, "detail": e.to_string() }
+                    }))
+                    .expect("JSON")
+                );
+                return EXIT_USAGE;
+            }
+            e.exit()
+        }
+    };
     let v = Verbosity {
         quiet: args.quiet,
         verbose: args.verbose,
@@ -321,7 +347,7 @@ pub fn run_recipe(
 }
 
 fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
-    let paths = files::recipes(paths).map_err(|e| usage(&e))?;
+    let paths = files::recipes(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
     let mut reports = Vec::new();
     let mut worst = 0;
     let mut bar = Progress::new(paths.len(), v.quiet || json);
