@@ -142,7 +142,11 @@ fn kill_sweep(
             "k={k}: after the next run, --out is neither build: {:?}",
             now.keys().collect::<Vec<_>>()
         );
-        assert_eq!(hidden(dir), Vec::<String>::new(), "k={k}: left beside --out");
+        assert_eq!(
+            hidden(dir),
+            Vec::<String>::new(),
+            "k={k}: left beside --out"
+        );
     }
     panic!("the build never completed");
 }
@@ -252,10 +256,18 @@ fn a_real_full_disk_keeps_the_previous_batch() {
         }
     }
     let _guard = Unmount(mnt.clone());
-    let first = run(&["build", "a.toml", "b.toml", "--out", "disk/out"], &dir, None);
+    let first = run(
+        &["build", "a.toml", "b.toml", "--out", "disk/out"],
+        &dir,
+        None,
+    );
     assert!(first.status.success(), "{}", text(&first.stderr));
     assert!(tree(&mnt.join("out")) == old);
-    let second = run(&["build", "a.toml", "c.toml", "--out", "disk/out"], &dir, None);
+    let second = run(
+        &["build", "a.toml", "c.toml", "--out", "disk/out"],
+        &dir,
+        None,
+    );
     let stderr = text(&second.stderr);
     assert_eq!(second.status.code(), Some(3), "{stderr}");
     assert!(stderr.contains("No space left on device"), "{stderr}");
@@ -333,7 +345,11 @@ fn hostile_recipe_file_names_build_only_inside_out() {
         fs::write(recipes.join(n), &chain).unwrap();
     }
     let before = tree(&root);
-    let o = run(&["build", "../r", "--out", "out", "--jobs", "2"], &work, None);
+    let o = run(
+        &["build", "../r", "--out", "out", "--jobs", "2"],
+        &work,
+        None,
+    );
     assert!(o.status.success(), "{}", text(&o.stderr));
     let after = tree(&root);
     for path in after.keys() {
@@ -399,7 +415,8 @@ pub fn check_outputs(dir: &Path) {
                 let t = String::from_utf8(bytes).unwrap_or_else(|e| panic!("{rel}: {e}"));
                 for word in ["NaN", "inf"] {
                     assert!(
-                        !t.split(|c: char| !c.is_alphanumeric()).any(|w| w.eq_ignore_ascii_case(word)),
+                        !t.split(|c: char| !c.is_alphanumeric())
+                            .any(|w| w.eq_ignore_ascii_case(word)),
                         "{rel}: {word}"
                     );
                 }
@@ -436,14 +453,26 @@ fn a_folder_holding_an_input_is_never_replaced() {
     fs::copy(dir.join("a.toml"), dir.join("recipes/a.toml")).unwrap();
     fs::copy(dir.join("b.toml"), dir.join("recipes/b.toml")).unwrap();
     let before = tree(&dir);
-    let o = run(&["build", "recipes", "--out", "recipes", "--force"], &dir, None);
+    let o = run(
+        &["build", "recipes", "--out", "recipes", "--force"],
+        &dir,
+        None,
+    );
     assert_eq!(o.status.code(), Some(3));
     assert!(text(&o.stderr).contains("an input of this run"));
     assert!(tree(&dir) == before);
     // --out the current folder.
-    let o = run(&["build", "../a.toml", "--out", "../proj"], &dir.join("proj"), None);
+    let o = run(
+        &["build", "../a.toml", "--out", "../proj"],
+        &dir.join("proj"),
+        None,
+    );
     assert_eq!(o.status.code(), Some(3));
-    assert!(text(&o.stderr).contains("is the current folder"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("is the current folder"),
+        "{}",
+        text(&o.stderr)
+    );
     for bad in [".", "..", "/"] {
         let o = run(&["build", "a.toml", "--out", bad], &dir, None);
         assert_eq!(o.status.code(), Some(3), "{bad}");
@@ -467,7 +496,10 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
             && stderr.contains("its 2 files would be deleted"),
         "{stderr}"
     );
-    assert_eq!(fs::read_to_string(dir.join("mine/notes.txt")).unwrap(), "keep");
+    assert_eq!(
+        fs::read_to_string(dir.join("mine/notes.txt")).unwrap(),
+        "keep"
+    );
     let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
     assert!(o.status.success());
     let stderr = text(&o.stderr);
@@ -487,7 +519,11 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
     assert!(text(&o.stderr).contains("may be a build of an older karigami"));
     // An empty folder is fine.
     fs::create_dir_all(dir.join("empty")).unwrap();
-    assert!(run(&["build", "a.toml", "--out", "empty"], &dir, None).status.success());
+    assert!(
+        run(&["build", "a.toml", "--out", "empty"], &dir, None)
+            .status
+            .success()
+    );
 }
 
 #[test]
@@ -498,10 +534,19 @@ fn a_file_or_a_link_as_out_is_refused_and_nothing_written() {
     std::os::unix::fs::symlink("nowhere", dir.join("dangling")).unwrap();
     let before = tree(&dir);
     let cases: [(&[&str], &str); 5] = [
-        (&["--out", "f", "--force"], "--out f is a file, not a folder"),
+        (
+            &["--out", "f", "--force"],
+            "--out f is a file, not a folder",
+        ),
         (&["--out", "f"], "--out f is a file, not a folder"),
-        (&["--out", "f/sub"], "cannot create f/sub: f is a file, not a folder"),
-        (&["--out", "f/sub/deeper"], "cannot create f/sub/deeper: f is a file"),
+        (
+            &["--out", "f/sub"],
+            "cannot create f/sub: f is a file, not a folder",
+        ),
+        (
+            &["--out", "f/sub/deeper"],
+            "cannot create f/sub/deeper: f is a file",
+        ),
         (
             &["--out", "dangling", "--force"],
             "--out dangling is a symbolic link (to nowhere, which does not exist)",
@@ -516,7 +561,11 @@ fn a_file_or_a_link_as_out_is_refused_and_nothing_written() {
             args.extend(extra);
             let o = run(&args, &dir, None);
             assert_eq!(o.status.code(), Some(3), "{args:?}");
-            assert!(text(&o.stderr).contains(message), "{args:?}: {}", text(&o.stderr));
+            assert!(
+                text(&o.stderr).contains(message),
+                "{args:?}: {}",
+                text(&o.stderr)
+            );
             assert!(tree(&dir) == before, "{args:?} wrote something");
             assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
         }
@@ -525,7 +574,11 @@ fn a_file_or_a_link_as_out_is_refused_and_nothing_written() {
     let long = "o".repeat(250);
     let o = run(&["build", "a.toml", "--out", &long], &dir, None);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    assert!(run(&["build", "b.toml", "--out", &long], &dir, None).status.success());
+    assert!(
+        run(&["build", "b.toml", "--out", &long], &dir, None)
+            .status
+            .success()
+    );
 }
 
 #[test]
@@ -534,12 +587,126 @@ fn a_failed_tune_leaves_the_recipe_as_it_was() {
     let seed = fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
     fs::write(dir.join("x.toml"), &seed).unwrap();
     let o = run(
-        &["tune", "x.toml", "--out", "x.toml", "--cells", "400", "--iterations", "3"],
+        &[
+            "tune",
+            "x.toml",
+            "--out",
+            "x.toml",
+            "--cells",
+            "400",
+            "--iterations",
+            "3",
+        ],
         &dir,
         None,
     );
     assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
-    assert!(text(&o.stderr).contains("x.toml was not written"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("x.toml was not written"),
+        "{}",
+        text(&o.stderr)
+    );
     assert_eq!(fs::read_to_string(dir.join("x.toml")).unwrap(), seed);
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
+
+/// Every bad command line or input file of the safety review: exit code,
+/// message, and with --json one JSON document on stdout.
+#[test]
+fn bad_inputs_get_their_exit_code_message_and_one_json_document() {
+    let dir = workspace("bad-inputs");
+    fs::write(dir.join("binary.toml"), b"name = \"a\"\n\x00\x01\xff").unwrap();
+    fs::write(dir.join("latin1.toml"), b"name = \"caf\xe9\"\n").unwrap();
+    fs::write(dir.join("huge.toml"), vec![b'#'; 2 << 20]).unwrap();
+    fs::create_dir_all(dir.join("empty")).unwrap();
+    fs::write(dir.join("afile"), "x").unwrap();
+    let cases: Vec<(Vec<&str>, i32, &str)> = vec![
+        (
+            vec!["check", "binary.toml"],
+            3,
+            "binary data, not a TOML recipe: byte 0x00 at line 2, column 1",
+        ),
+        (
+            vec!["check", "latin1.toml"],
+            3,
+            "not UTF-8 text: byte 0xE9 at line 1, column 12",
+        ),
+        (
+            vec!["check", "huge.toml"],
+            3,
+            "larger than the limit of 1 MiB for a recipe",
+        ),
+        (
+            vec!["check", "/dev/zero"],
+            3,
+            "larger than the limit of 1 MiB for a recipe",
+        ),
+        (
+            vec!["check", "empty"],
+            2,
+            "folder empty holds no .toml recipes",
+        ),
+        (
+            vec!["check", "empty", "--bogus"],
+            2,
+            "unexpected argument '--bogus'",
+        ),
+        (
+            vec!["build", "a.toml", "--out", "afile/sub"],
+            3,
+            "afile is a file, not a folder",
+        ),
+        (
+            vec!["build", "a.toml", "--out", "afile", "--force"],
+            3,
+            "--out afile is a file, not a folder",
+        ),
+        (
+            vec!["build", "a.toml", "b.toml", "--out", "afile"],
+            3,
+            "--out afile is a file",
+        ),
+        (
+            vec!["build", "broken.toml", "--out", "o"],
+            1,
+            "broken.toml:1:8",
+        ),
+        (
+            vec!["build", "a.toml", "--out", "o", "--kerf", "1e300"],
+            2,
+            "--kerf is 1e300, but must be a length from 0 to 5",
+        ),
+    ];
+    for (args, code, message) in cases {
+        for json in [false, true] {
+            let mut full = args.clone();
+            if json {
+                full.push("--json");
+            }
+            let o = run(&full, &dir, None);
+            let stderr = text(&o.stderr);
+            assert_eq!(o.status.code(), Some(code), "{full:?}: {stderr}");
+            let said = format!("{stderr}{}", text(&o.stdout));
+            assert!(said.contains(message), "{full:?}: {said}");
+            if json {
+                let doc: serde_json::Value =
+                    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
+                        panic!("{full:?}: no JSON document ({e}): {}", text(&o.stdout))
+                    });
+                assert!(doc.to_string().contains("error"), "{full:?}: {doc}");
+            } else {
+                assert!(o.stdout.is_empty(), "{full:?}");
+            }
+        }
+    }
+    // `new` with no usable name writes nothing.
+    for name in ["", ".toml", ".hidden", "a\nb"] {
+        let o = run(&["new", name], &dir, None);
+        assert_eq!(o.status.code(), Some(2), "{name:?}");
+        assert!(
+            text(&o.stderr).contains("is not a usable recipe name"),
+            "{name:?}"
+        );
+    }
     assert_eq!(hidden(&dir), Vec::<String>::new());
 }

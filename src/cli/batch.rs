@@ -5,8 +5,8 @@
 use super::files::{Staged, safe_component};
 use super::progress::Progress;
 use super::{
-    EXIT_INVALID, EXIT_IO, EXIT_USAGE, Failed, Recipe, RecipeError, Verbosity, fail, open_out, run_recipe,
-    stem,
+    EXIT_INVALID, EXIT_IO, EXIT_USAGE, Failed, Recipe, RecipeError, Verbosity, fail, open_out,
+    run_recipe, stem,
 };
 use karigami::design::Overrides;
 use karigami::report;
@@ -154,7 +154,9 @@ pub fn build(
 fn folders(paths: &[PathBuf]) -> Result<Vec<String>, String> {
     let mut count: BTreeMap<String, usize> = BTreeMap::new();
     for p in paths {
-        *count.entry(safe_component(&stem(p)).to_lowercase()).or_default() += 1;
+        *count
+            .entry(safe_component(&stem(p)).to_lowercase())
+            .or_default() += 1;
     }
     let names: Vec<String> = paths
         .iter()

@@ -46,20 +46,35 @@ pub fn read(path: &Path) -> io::Result<String> {
             MAX_RECIPE_BYTES >> 20
         )));
     }
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        let before = &e.as_bytes()[..at];
-        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-        let col = at - before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1) + 1;
-        let what = if e.as_bytes().contains(&0) {
-            "binary data, not a TOML recipe"
-        } else {
-            "not UTF-8 text"
-        };
-        io::Error::other(format!(
-            "{what}: invalid UTF-8 at line {line}, byte {col}; save the recipe as UTF-8 text"
-        ))
-    })
+    // The first NUL (binary data) or invalid UTF-8 byte, by line and column.
+    let nul = bytes.iter().position(|&b| b == 0);
+    let bad = match std::str::from_utf8(&bytes) {
+        Ok(_) => nul,
+        Err(e) => Some(nul.map_or(e.valid_up_to(), |n| n.min(e.valid_up_to()))),
+    };
+    let Some(at) = bad else {
+        return Ok(String::from_utf8(bytes).expect("checked above"));
+    };
+    let before = &bytes[..at];
+    let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+    let line_start = before
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    // Characters before it on its line (the prefix is valid UTF-8).
+    let col = String::from_utf8_lossy(&before[line_start..])
+        .chars()
+        .count()
+        + 1;
+    let what = if nul.is_some() {
+        "binary data, not a TOML recipe"
+    } else {
+        "not UTF-8 text"
+    };
+    Err(io::Error::other(format!(
+        "{what}: byte 0x{:02X} at line {line}, column {col}; save the recipe as UTF-8 text",
+        bytes[at]
+    )))
 }
 
 /// A hidden name beside `name` for the tool's own temporary entries; long
@@ -113,8 +128,7 @@ pub fn safe_component(raw: &str) -> String {
     let mapped: String = raw
         .chars()
         .map(|c| {
-            if c.is_control() || matches!(c, '/' | '\\' | ':' | '*' | '?' | '"' | '<' | '>' | '|')
-            {
+            if c.is_control() || matches!(c, '/' | '\\' | ':' | '*' | '?' | '"' | '<' | '>' | '|') {
                 '_'
             } else {
                 c
@@ -192,16 +206,16 @@ fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), String> {
             .truncate(false)
             .open(path)
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        match file.try_lock() {
-            Ok(()) => {}
-            Err(fs::TryLockError::WouldBlock) => {
+        match try_lock(&file) {
+            Ok(true) => {}
+            Ok(false) => {
                 return Err(format!(
                     "another karigami run is writing {} right now (it holds {}); wait for it to finish or choose another --out",
                     out.display(),
                     path.display()
                 ));
             }
-            Err(fs::TryLockError::Error(e)) => {
+            Err(e) => {
                 return Err(format!("cannot lock {}: {e}", path.display()));
             }
         }
@@ -210,6 +224,29 @@ fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), String> {
         }
     }
     Err(format!("cannot lock {}: it keeps changing", path.display()))
+}
+
+/// An exclusive lock without waiting: false when another process holds it.
+/// Released when the file is closed, so a killed run releases it too.
+#[cfg(unix)]
+fn try_lock(file: &File) -> io::Result<bool> {
+    use rustix::fs::{FlockOperation, flock};
+    match flock(file, FlockOperation::NonBlockingLockExclusive) {
+        Ok(()) => Ok(true),
+        Err(e) if e == rustix::io::Errno::WOULDBLOCK => Ok(false),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// Elsewhere std's lock (Rust 1.89 and later).
+#[cfg(not(unix))]
+#[allow(clippy::incompatible_msrv)]
+fn try_lock(file: &File) -> io::Result<bool> {
+    match file.try_lock() {
+        Ok(()) => Ok(true),
+        Err(fs::TryLockError::WouldBlock) => Ok(false),
+        Err(fs::TryLockError::Error(e)) => Err(e),
+    }
 }
 
 #[cfg(unix)]
@@ -250,10 +287,10 @@ impl OutDir {
             _ => PathBuf::from("."),
         };
         // The first existing ancestor must be a folder.
-        if let Some(existing) = parent.ancestors().find(|a| {
-            !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_ok()
-        }) && !existing.is_dir()
-        {
+        let existing = parent
+            .ancestors()
+            .find(|a| !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_ok());
+        if let Some(existing) = existing.filter(|e| !e.is_dir()) {
             return Err(format!(
                 "cannot create {shown}: {} is a file, not a folder",
                 existing.display()
@@ -293,18 +330,16 @@ impl OutDir {
             let entry = entry?;
             let file = entry.file_name().to_string_lossy().into_owned();
             for (prefix, list) in [(&new_prefix, &mut stale), (&old_prefix, &mut old)] {
-                if let Some(pid) = file.strip_prefix(prefix.as_str())
-                    && !pid.is_empty()
-                    && pid.bytes().all(|b| b.is_ascii_digit())
-                {
+                let pid = file.strip_prefix(prefix.as_str()).unwrap_or_default();
+                if !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) {
                     list.push(entry.path());
                 }
             }
         }
         old.sort();
-        if fs::symlink_metadata(&self.target).is_err()
-            && let Some(back) = old.pop()
-        {
+        let missing = fs::symlink_metadata(&self.target).is_err();
+        let back = if missing { old.pop() } else { None };
+        if let Some(back) = back {
             fs::rename(&back, &self.target)?;
             self.notes.push(format!(
                 "restored the previous {} that an interrupted run had set aside",
@@ -325,83 +360,81 @@ impl OutDir {
         }
         Ok(())
     }
-
 }
 
 /// What `target` holds, or why a build must not replace it.
 fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, String> {
-        let shown = target.display();
-        let meta = match fs::symlink_metadata(target) {
-            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Previous::Nothing),
-            Err(e) => return Err(format!("cannot read {shown}: {e}")),
-            Ok(m) => m,
-        };
-        if meta.file_type().is_symlink() {
-            let to = fs::read_link(target)
-                .map(|t| t.display().to_string())
-                .unwrap_or_default();
-            let dangling = if target.exists() {
-                ""
-            } else {
-                ", which does not exist"
-            };
-            return Err(format!(
-                "--out {shown} is a symbolic link (to {to}{dangling}); give the real folder as --out"
-            ));
-        }
-        if !meta.is_dir() {
-            return Err(format!(
-                "--out {shown} is a file, not a folder; choose another --out (--force replaces only folders)"
-            ));
-        }
-        let real = fs::canonicalize(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
-        for input in inputs {
-            if let Ok(i) = fs::canonicalize(input)
-                && i.starts_with(&real)
-            {
-                return Err(format!(
-                    "--out {shown} holds {}, an input of this run, and building would replace the folder with it; choose another --out",
-                    input.display()
-                ));
-            }
-        }
-        if let Ok(cwd) = std::env::current_dir().and_then(fs::canonicalize)
-            && cwd.starts_with(&real)
-        {
-            return Err(format!(
-                "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
-            ));
-        }
-        let marker = target.join(MARKER);
-        if fs::read_to_string(&marker).is_ok_and(|t| t.starts_with(MARKER_HEAD)) {
-            return Ok(Previous::Build);
-        }
-        let files = list_files(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
-        let empty = fs::read_dir(target)
-            .map_err(|e| format!("cannot read {shown}: {e}"))?
-            .next()
-            .is_none();
-        if empty {
-            return Ok(Previous::Nothing);
-        }
-        if force {
-            return Ok(Previous::Foreign(files));
-        }
-        let older = ["lattice.json", "batch.json"]
-            .iter()
-            .any(|m| target.join(m).is_file());
-        let what = if older {
-            format!(
-                "{shown} has no {MARKER} marker: it may be a build of an older karigami, or a folder of yours"
-            )
+    let shown = target.display();
+    let meta = match fs::symlink_metadata(target) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Previous::Nothing),
+        Err(e) => return Err(format!("cannot read {shown}: {e}")),
+        Ok(m) => m,
+    };
+    if meta.file_type().is_symlink() {
+        let to = fs::read_link(target)
+            .map(|t| t.display().to_string())
+            .unwrap_or_default();
+        let dangling = if target.exists() {
+            ""
         } else {
-            format!("{shown} exists and is not a karigami build folder (it has no {MARKER} marker)")
+            ", which does not exist"
         };
-        Err(format!(
-            "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
-            count(files.len(), "file")
-        ))
+        return Err(format!(
+            "--out {shown} is a symbolic link (to {to}{dangling}); give the real folder as --out"
+        ));
     }
+    if !meta.is_dir() {
+        return Err(format!(
+            "--out {shown} is a file, not a folder; choose another --out (--force replaces only folders)"
+        ));
+    }
+    let real = fs::canonicalize(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    for input in inputs {
+        if fs::canonicalize(input).is_ok_and(|i| i.starts_with(&real)) {
+            return Err(format!(
+                "--out {shown} holds {}, an input of this run, and building would replace the folder with it; choose another --out",
+                input.display()
+            ));
+        }
+    }
+    if std::env::current_dir()
+        .and_then(fs::canonicalize)
+        .is_ok_and(|cwd| cwd.starts_with(&real))
+    {
+        return Err(format!(
+            "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
+        ));
+    }
+    let marker = target.join(MARKER);
+    if fs::read_to_string(&marker).is_ok_and(|t| t.starts_with(MARKER_HEAD)) {
+        return Ok(Previous::Build);
+    }
+    let files = list_files(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let empty = fs::read_dir(target)
+        .map_err(|e| format!("cannot read {shown}: {e}"))?
+        .next()
+        .is_none();
+    if empty {
+        return Ok(Previous::Nothing);
+    }
+    if force {
+        return Ok(Previous::Foreign(files));
+    }
+    let older = ["lattice.json", "batch.json"]
+        .iter()
+        .any(|m| target.join(m).is_file());
+    let what = if older {
+        format!(
+            "{shown} has no {MARKER} marker: it may be a build of an older karigami, or a folder of yours"
+        )
+    } else {
+        format!("{shown} exists and is not a karigami build folder (it has no {MARKER} marker)")
+    };
+    Err(format!(
+        "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
+        count(files.len(), "file")
+    ))
+}
 
 impl OutDir {
     /// A warning for `--force` replacing a folder that is not a build.
@@ -548,10 +581,10 @@ impl<'a> Staged<'a> {
             fault::commit("remove the old build");
             remove_any(&self.fresh)?;
         } else {
-            let old = self
-                .out
-                .parent
-                .join(hidden(&self.out.name, &format!("old-{}", std::process::id())));
+            let old = self.out.parent.join(hidden(
+                &self.out.name,
+                &format!("old-{}", std::process::id()),
+            ));
             remove_any(&old)?;
             fault::commit("set the old build aside");
             fs::rename(target, &old)?;

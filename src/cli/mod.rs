@@ -279,7 +279,8 @@ impl Recipe {
         Ok(Self {
             source,
             file,
-            stem: stem(path),
+            // The default design name reaches every output: plain text only.
+            stem: files::safe_component(&stem(path)),
         })
     }
 
@@ -620,7 +621,9 @@ fn tune(
     // Only a seed that reached the target is written: a failed tune leaves
     // the --out file (often the recipe itself) as it was.
     if tuned.cells_after < target {
-        let kept = out.map_or(String::new(), |o| format!("; {} was not written", o.display()));
+        let kept = out.map_or(String::new(), |o| {
+            format!("; {} was not written", o.display())
+        });
         eprintln!(
             "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed{kept}"
         );
@@ -628,7 +631,10 @@ fn tune(
     }
     match out {
         Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
-            eprintln!("error: cannot write {}: {e}; it was left as it was", o.display());
+            eprintln!(
+                "error: cannot write {}: {e}; it was left as it was",
+                o.display()
+            );
             Failed(EXIT_IO)
         })?,
         None => print!("{text}"),
@@ -649,10 +655,12 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
             names.join(", ")
         )));
     };
-    let file = Path::new(name).file_name().map(|f| f.to_string_lossy().into_owned());
-    let plain = file.as_deref().filter(|f| {
-        !f.starts_with('.') && !f.chars().any(char::is_control) && *f != ".toml"
-    });
+    let file = Path::new(name)
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned());
+    let plain = file
+        .as_deref()
+        .filter(|f| !f.starts_with('.') && !f.chars().any(char::is_control) && *f != ".toml");
     if plain.is_none() || name.chars().any(char::is_control) {
         return Err(usage(&format!(
             "{name:?} is not a usable recipe name: give a name that does not start with a dot and has no control characters, such as `karigami new my-sheet`"
