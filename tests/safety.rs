@@ -710,3 +710,57 @@ fn bad_inputs_get_their_exit_code_message_and_one_json_document() {
     }
     assert_eq!(hidden(&dir), Vec::<String>::new());
 }
+
+/// MATH.md 8.5: residuals of exact constructions drift with the distance
+/// from the origin in legs. The tolerance stays 1e-9 for every lattice of
+/// ordinary size and grows with the extent only beyond that; a real defect
+/// still fails.
+#[test]
+fn the_tolerance_scales_with_extent_only_where_rounding_needs_it() {
+    use karigami::lattice::{DRIFT_PER_LEG, TOLERANCE, verify};
+    let source = fs::read_to_string(repo().join("examples/flat-sheet.toml")).unwrap();
+    let lattice = karigami::design::parse(&source, "t")
+        .unwrap()
+        .grow()
+        .unwrap();
+    let report = verify(&lattice);
+    assert_eq!(report.tolerance, TOLERANCE);
+    assert!(report.passed());
+    // The same lattice a thousand kilometres from the origin (z is
+    // measured from vertex 0 and stays): its exact geometry now rounds to
+    // residuals beyond 1e-9.
+    let mut far = lattice.clone();
+    let shift = glam::DVec3::splat(1e9);
+    for v in &mut far.vertices {
+        v.pos += shift;
+    }
+    for c in &mut far.cells {
+        c.pivot += shift;
+    }
+    let report = verify(&far);
+    assert!(report.worst() > TOLERANCE, "{}", report.worst());
+    assert!(
+        report.tolerance > report.worst(),
+        "{} {}",
+        report.tolerance,
+        report.worst()
+    );
+    let legs: f64 = far
+        .cells
+        .iter()
+        .map(|c| far.legs(c).iter().sum::<f64>() / 4.0)
+        .sum::<f64>()
+        / far.cells.len() as f64;
+    let extent = 1e9
+        + lattice
+            .vertices
+            .iter()
+            .map(|v| v.pos.max_element())
+            .fold(0.0, f64::max);
+    assert!((report.tolerance / (DRIFT_PER_LEG * extent / legs) - 1.0).abs() < 1e-3);
+    assert!(report.passed(), "exact geometry passes wherever it is");
+    // A pivot off its rods by a millionth of a leg fails at ordinary size.
+    let mut bent = lattice.clone();
+    bent.cells[0].pivot.y += 1e-6 * legs;
+    assert!(!verify(&bent).passed());
+}
