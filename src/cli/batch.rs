@@ -59,31 +59,37 @@ pub fn build(
     // A write that failed (a full disk) stops the batch: it cannot commit.
     let stop = AtomicBool::new(false);
     let bar = Mutex::new(Progress::new(paths.len(), v.quiet || json));
-    std::thread::scope(|s| {
-        for _ in 0..jobs.min(paths.len()) {
-            s.spawn(|| {
-                loop {
-                    if stop.load(Ordering::SeqCst) {
-                        break;
-                    }
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(path) = paths.get(i) else { break };
-                    let outcome = build_one(path, &folders[i], &staged, overrides);
-                    if outcome.write_failed.is_some() {
-                        stop.store(true, Ordering::SeqCst);
-                    }
-                    let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
-                    match &outcome.result {
-                        Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
-                        Err(e) => {
-                            bar.print(&e.text);
-                            bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+    let what = format!("building {}", plural(paths.len(), "recipe"));
+    // On a terminal the bar shows progress; off one, finished recipes are
+    // lines and a long one still gets a line now and then.
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    super::progress::heartbeat(&what, v.quiet || json || tty, || {
+        std::thread::scope(|s| {
+            for _ in 0..jobs.min(paths.len()) {
+                s.spawn(|| {
+                    loop {
+                        if stop.load(Ordering::SeqCst) {
+                            break;
                         }
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(path) = paths.get(i) else { break };
+                        let outcome = build_one(path, &folders[i], &staged, overrides);
+                        if outcome.write_failed.is_some() {
+                            stop.store(true, Ordering::SeqCst);
+                        }
+                        let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
+                        match &outcome.result {
+                            Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
+                            Err(e) => {
+                                bar.print(&e.text);
+                                bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+                            }
+                        }
+                        *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
                     }
-                    *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
-                }
-            });
-        }
+                });
+            }
+        })
     });
     bar.into_inner().unwrap_or_else(|e| e.into_inner()).clear();
     let outcomes: Vec<Outcome> = outcomes

@@ -22,6 +22,12 @@ pub const EXIT_INVALID: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
 pub const EXIT_IO: i32 = 3;
 
+/// Bounds of `karigami tune`: each try grows the helix, so a billion tries
+/// would run for days; a helix of more cells than this is not tuned by
+/// hand-held search.
+const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
+const MAX_TUNE_CELLS: u64 = 100_000;
+
 /// The design `karigami build` uses when given none.
 const DEFAULT_TEMPLATE: &str = "sheet";
 
@@ -90,13 +96,13 @@ enum Command {
         /// Helix recipe file (TOML).
         design: PathBuf,
         /// Grow this many cells instead of the recipe's `cells`.
-        #[arg(long)]
+        #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_CELLS))]
         cells: Option<usize>,
         /// Write the tuned recipe here (default: print it).
         #[arg(long, short)]
         out: Option<PathBuf>,
-        /// Give up after this many tries.
-        #[arg(long, default_value_t = 50_000)]
+        /// Give up after this many tries (at most 5000000).
+        #[arg(long, default_value_t = 50_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_ITERATIONS))]
         iterations: usize,
     },
     /// Write a starter recipe from a template.
@@ -353,7 +359,10 @@ fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
     let mut worst = 0;
     let mut bar = Progress::new(paths.len(), v.quiet || json);
     for path in &paths {
-        let (code, report) = check_one(path, json, v, &mut bar);
+        let what = format!("checking {}", path.display());
+        let (code, report) = progress::heartbeat(&what, v.quiet || json, || {
+            check_one(path, json, v, &mut bar)
+        });
         worst = worst.max(code);
         reports.push(report);
     }
@@ -474,7 +483,15 @@ fn build(
     };
     let started = Instant::now();
     let mut bar = Progress::new(1, v.quiet || json);
-    let built = recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)));
+    let what = format!(
+        "building {}",
+        paths
+            .first()
+            .map_or("the built-in sheet".into(), |p| p.display().to_string())
+    );
+    let built = progress::heartbeat(&what, v.quiet || json, || {
+        recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)))
+    });
     bar.clear();
     let built = match built {
         Ok(b) => b,
@@ -490,7 +507,7 @@ fn build(
             return Err(Failed(e.code));
         }
     };
-    let outputs = built.files();
+    let outputs = progress::heartbeat("drawing the files", v.quiet || json, || built.files());
     let written = files::Staged::new(&dir, "single").and_then(|staged| {
         staged.write("", &outputs)?;
         staged.commit()
@@ -593,14 +610,17 @@ fn tune(
     let target = cells.unwrap_or(design.helix_cells);
     // Legs shorter than the eyelet flange (plus a wall) cannot be built.
     let min_leg = design.fabrication.eyelet.flange + 2.0 * design::MIN_WALL;
-    let tuned = design::tune::tune_helix(
-        design.dim,
-        &design.points,
-        &design.kappa,
-        target,
-        min_leg,
-        iterations,
-    );
+    let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
+    let tuned = progress::heartbeat(&what, v.quiet, || {
+        design::tune::tune_helix(
+            design.dim,
+            &design.points,
+            &design.kappa,
+            target,
+            min_leg,
+            iterations,
+        )
+    });
     let Some(text) = design.with_seed(&recipe.source, &tuned.points, &tuned.kappa) else {
         return Err(usage(&format!(
             "{}: write the seed as `points = [...]` and `kappa = [...]` to tune it",
