@@ -771,21 +771,36 @@ fn the_tolerance_scales_with_extent_only_where_rounding_needs_it() {
 fn long_phases_say_so_and_budgets_are_bounded() {
     let dir = scratch("progress");
     let torus = repo().join("examples/torus.toml");
-    let o = run(&["build", torus.to_str().unwrap(), "--out", "o"], &dir, None);
+    let o = run(
+        &["build", torus.to_str().unwrap(), "--out", "o"],
+        &dir,
+        None,
+    );
     assert!(o.status.success());
     let stderr = text(&o.stderr);
     assert!(
-        stderr
-            .lines()
-            .any(|l| (l.starts_with("drawing the files: ") || l.starts_with("building "))
-                && l.ends_with(" s")),
+        stderr.lines().any(|l| (l.starts_with("drawing the files: ")
+            || l.starts_with("building "))
+            && l.ends_with(" s")),
         "no progress line: {stderr}"
     );
-    let quiet = run(&["build", torus.to_str().unwrap(), "--out", "o", "-q"], &dir, None);
-    assert!(quiet.status.success() && quiet.stderr.is_empty(), "{}", text(&quiet.stderr));
+    let quiet = run(
+        &["build", torus.to_str().unwrap(), "--out", "o", "-q"],
+        &dir,
+        None,
+    );
+    assert!(
+        quiet.status.success() && quiet.stderr.is_empty(),
+        "{}",
+        text(&quiet.stderr)
+    );
     let helix = repo().join("templates/helix.toml");
     for (flag, value, limit) in [
-        ("--iterations", "1000000000", "1000000000 is not in 1..=5000000"),
+        (
+            "--iterations",
+            "1000000000",
+            "1000000000 is not in 1..=5000000",
+        ),
         ("--cells", "1000000000", "1000000000 is not in 1..=100000"),
     ] {
         let o = run(&["tune", helix.to_str().unwrap(), flag, value], &dir, None);

@@ -130,10 +130,10 @@ pub fn build(
     }
     if json {
         let timed: Vec<Value> = outcomes.iter().map(|o| o.record(true)).collect();
-        println!("{}", serde_json::to_string_pretty(&timed).expect("JSON"));
+        outln!("{}", serde_json::to_string_pretty(&timed).expect("JSON"));
     } else if !v.quiet {
-        print!("{}", table(&outcomes));
-        println!("wrote {} to {shown}", plural(outcomes.len(), "build"));
+        out!("{}", table(&outcomes));
+        outln!("wrote {} to {shown}", plural(outcomes.len(), "build"));
     }
     let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_err()).collect();
     if failed.is_empty() {

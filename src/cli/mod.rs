@@ -1,6 +1,21 @@
 //! Command-line interface. Exit codes: 0 ok, 1 design invalid or a check
 //! failed, 2 usage error, 3 I/O error or --out refused.
 
+/// Print on stdout, ignoring a closed pipe (`karigami check --json | head`):
+/// what was asked for has been said, and a panic would be noise.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 mod batch;
 mod fault;
 mod files;
@@ -194,7 +209,7 @@ pub fn run() -> i32 {
                     .trim_start_matches("error: ")
                     .to_string();
                 let _ = e.print();
-                println!(
+                outln!(
                     "{}",
                     serde_json::to_string_pretty(&json!({
                         "status": "error",
@@ -247,7 +262,7 @@ pub fn run() -> i32 {
         } => new(&name, &template, force, v),
         Command::Templates => {
             for t in templates::TEMPLATES {
-                println!("{:<8} {}", t.name, t.about);
+                outln!("{:<8} {}", t.name, t.about);
             }
             Ok(())
         }
@@ -368,7 +383,7 @@ fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
     }
     bar.clear();
     if json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&Value::Array(reports)).expect("JSON")
         );
@@ -409,7 +424,7 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     let deploy = deployment(&lattice);
     let check = report::check_json(&design, &lattice, &report, &deploy);
     if !json && !v.quiet {
-        print!(
+        out!(
             "{}",
             report::check_text(&design, &lattice, &report, &deploy)
         );
@@ -422,7 +437,7 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     }
     if let Some(why) = too_large_to_fabricate(&design, &lattice) {
         if !json && !v.quiet {
-            println!(
+            outln!(
                 "fabrication: not checked ({})\nresult: PASS (geometry verified)",
                 why.message
             );
@@ -432,8 +447,8 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     match assemble_with(design, lattice, report, deploy) {
         Ok(built) => {
             if !json && !v.quiet {
-                print!("{}", built.summary());
-                println!("result: PASS (geometry verified, every strip can be cut)");
+                out!("{}", built.summary());
+                outln!("result: PASS (geometry verified, every strip can be cut)");
             }
             (
                 0,
@@ -498,7 +513,7 @@ fn build(
         Err(e) => {
             eprint!("{}", e.text);
             if json {
-                println!(
+                outln!(
                     "{}",
                     serde_json::to_string_pretty(&json!({ "status": "error", "error": e.json }))
                         .expect("JSON")
@@ -535,10 +550,10 @@ fn build(
             ),
             "build": report::build_json(&built),
         });
-        println!("{}", serde_json::to_string_pretty(&value).expect("JSON"));
+        outln!("{}", serde_json::to_string_pretty(&value).expect("JSON"));
     } else if !v.quiet {
         if v.verbose {
-            print!(
+            out!(
                 "{}",
                 report::check_text(
                     &built.design,
@@ -548,8 +563,8 @@ fn build(
                 )
             );
         }
-        print!("{}", built.summary());
-        println!("wrote {} files to {}", outputs.len(), out.display());
+        out!("{}", built.summary());
+        outln!("wrote {} files to {}", outputs.len(), out.display());
     }
     Ok(())
 }
@@ -580,7 +595,7 @@ pub fn open_out(
 pub fn fail(json: bool, class: &str, message: &str, code: i32) -> Failed {
     eprintln!("error: {message}");
     if json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(
                 &json!({ "status": "error", "error": { "class": class, "message": message } })
@@ -657,7 +672,7 @@ fn tune(
             );
             Failed(EXIT_IO)
         })?,
-        None => print!("{text}"),
+        None => out!("{text}"),
     }
     Ok(())
 }
@@ -705,7 +720,7 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
         },
     )?;
     if !v.quiet {
-        println!(
+        outln!(
             "wrote {} from the {} template; next: karigami check {0}",
             path.display(),
             t.name
