@@ -344,13 +344,55 @@ fn hostile_recipe_file_names_build_only_inside_out() {
     for n in &names {
         fs::write(recipes.join(n), &chain).unwrap();
     }
+    // Hostile but legal strings: markup and DXF/PDF specials, wide and
+    // right-to-left text, the longest name allowed.
+    let with_strings = |name: &str, material: &str| {
+        chain.replace(
+            "name = \"chain\"",
+            &format!("name = \"{name}\"\n[material]\nname = \"{material}\""),
+        )
+    };
+    let strings = [
+        (
+            "strings-markup.toml",
+            with_strings(
+                r#"<title>&amp; \"q\" 'a' ]]> -- %%c \\P {\\}"#,
+                r#"ABS <b>1/8\"</b> & co"#,
+            ),
+        ),
+        (
+            "strings-wide.toml",
+            with_strings(r"ボウル 🍜 \u202eevil", "アクリル"),
+        ),
+        (
+            "strings-long.toml",
+            with_strings(&"ä".repeat(200), &"m".repeat(200)),
+        ),
+    ];
+    for (file, text) in &strings {
+        assert_ne!(text, &chain);
+        fs::write(recipes.join(file), text).unwrap();
+    }
+    // Control characters are refused, located; the batch builds the rest.
+    fs::write(
+        recipes.join("strings-control.toml"),
+        with_strings(r"two\nlines", "ABS"),
+    )
+    .unwrap();
     let before = tree(&root);
     let o = run(
         &["build", "../r", "--out", "out", "--jobs", "2"],
         &work,
         None,
     );
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("this string holds the control character U+000A")
+            && stderr.contains("strings-control.toml:3:8")
+            && stderr.contains("1 of 15 recipes failed"),
+        "{stderr}"
+    );
     let after = tree(&root);
     for path in after.keys() {
         assert!(
@@ -373,7 +415,11 @@ fn hostile_recipe_file_names_build_only_inside_out() {
         );
         assert!(f.len() <= 100 && !f.chars().any(|c| c.is_control() || "/\\:*".contains(c)));
     }
-    assert_eq!(folders.len(), names.len() + 2, "{folders:?}");
+    assert_eq!(
+        folders.len(),
+        names.len() + strings.len() + 2,
+        "{folders:?}"
+    );
     assert!(folders.contains(&"CON_".to_string()), "{folders:?}");
     assert!(folders.contains(&"batch.json_".to_string()), "{folders:?}");
     assert!(folders.contains(&"ボウル 🍜".to_string()), "{folders:?}");
@@ -382,6 +428,7 @@ fn hostile_recipe_file_names_build_only_inside_out() {
 
 /// Every file under `dir` opens in a reader we did not write.
 pub fn check_outputs(dir: &Path) {
+    let mut dxfs: Vec<String> = Vec::new();
     for (rel, bytes) in tree(dir) {
         let path = dir.join(&rel);
         let p = path.to_str().unwrap();
@@ -400,17 +447,7 @@ pub fn check_outputs(dir: &Path) {
                     assert!(o.status.success(), "{rel}: {}", text(&o.stdout));
                 }
             }
-            "dxf" => {
-                let script = repo().join("tests/tools/check_dxf.py");
-                if let Some(o) = thirdparty::run("python3", &[script.to_str().unwrap(), p]) {
-                    let out = text(&o.stdout);
-                    assert!(
-                        o.status.success() && out.contains("\"errors\": 0"),
-                        "{rel}: {out}{}",
-                        text(&o.stderr)
-                    );
-                }
-            }
+            "dxf" => dxfs.push(p.to_string()),
             "csv" | "txt" | "obj" => {
                 let t = String::from_utf8(bytes).unwrap_or_else(|e| panic!("{rel}: {e}"));
                 for word in ["NaN", "inf"] {
@@ -423,6 +460,18 @@ pub fn check_outputs(dir: &Path) {
             }
             _ => {}
         }
+    }
+    // One Python for every DXF: ezdxf reads each and its audit finds no error.
+    let script = "import sys, ezdxf\nfor f in sys.argv[1:]:\n    e = len(ezdxf.readfile(f).audit().errors)\n    assert e == 0, (f, e)\nprint(len(sys.argv) - 1)";
+    let mut args = vec!["-c", script];
+    args.extend(dxfs.iter().map(String::as_str));
+    if let Some(o) = thirdparty::run("python3", &args) {
+        assert!(
+            o.status.success() && text(&o.stdout).trim() == dxfs.len().to_string(),
+            "ezdxf: {}{}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
     }
 }
 
