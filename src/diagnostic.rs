@@ -83,7 +83,33 @@ fn line_col(source: &str, offset: usize) -> (usize, usize) {
     let before = &source[..offset];
     let line = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    (line, source[line_start..offset].chars().count() + 1)
+    // A byte-order mark is not a column editors count.
+    let text = source[line_start..offset].trim_start_matches('\u{FEFF}');
+    (line, text.chars().count() + 1)
+}
+
+/// Columns a character takes in a terminal: 2 for East Asian wide and
+/// full-width characters (CJK, Hangul, full-width forms, most emoji), 0
+/// for a byte-order mark and combining marks, else 1. A short table
+/// rather than a crate: carets only need the common scripts right.
+fn columns(c: char) -> usize {
+    let u = u32::from(c);
+    let wide = matches!(u,
+        0x1100..=0x115F | 0x2E80..=0x303E | 0x3041..=0x33FF | 0x3400..=0x4DBF
+        | 0x4E00..=0x9FFF | 0xA000..=0xA4CF | 0xAC00..=0xD7A3 | 0xF900..=0xFAFF
+        | 0xFE30..=0xFE4F | 0xFF00..=0xFF60 | 0xFFE0..=0xFFE6 | 0x1F300..=0x1F64F
+        | 0x1F900..=0x1F9FF | 0x20000..=0x3FFFD);
+    if wide {
+        2
+    } else if c == '\u{FEFF}' || (0x0300..=0x036F).contains(&u) {
+        0
+    } else {
+        1
+    }
+}
+
+fn display_width(s: impl IntoIterator<Item = char>) -> usize {
+    s.into_iter().map(columns).sum()
 }
 
 fn floor_char_boundary(s: &str, mut i: usize) -> usize {
@@ -119,13 +145,16 @@ fn snippet(source: &str, span: Range<usize>) -> String {
     if to < chars.len() {
         shown.push_str("...");
     }
-    let width = width.min(2 * CONTEXT);
+    // Carets in terminal columns: wide characters take two.
+    let lead: usize = display_width(shown.chars().take(offset));
+    let under: usize =
+        display_width(shown.chars().skip(offset).take(width.min(2 * CONTEXT))).max(1);
     let gutter = line_no.to_string().len();
     let pad = " ".repeat(gutter);
     format!(
         "{pad} |\n{line_no} | {shown}\n{pad} | {}{}\n",
-        " ".repeat(offset),
-        "^".repeat(width)
+        " ".repeat(lead),
+        "^".repeat(under)
     )
 }
 
@@ -172,6 +201,20 @@ mod tests {
         assert!(lines[3].contains("[1.0, 2.0], [9.0, 9.0], [3.0"), "{text}");
         let caret = lines[4].find('^').unwrap();
         assert_eq!(&lines[3][caret..caret + 10], "[9.0, 9.0]", "{text}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_a_column_and_wide_text_gets_wide_carets() {
+        let src = "\u{FEFF}name = 5\n";
+        let d = Diagnostic::new("x", "y").at(src.find('5').unwrap()..src.len() - 1);
+        assert_eq!(d.line_col(src), Some((1, 8)));
+        let src = "seed = \"円円\"\n";
+        let d = Diagnostic::new("x", "y").at(7..src.len() - 1);
+        let text = d.render("f", src);
+        assert!(
+            text.contains("| seed = \"円円\"\n  |        ^^^^^^\n"),
+            "{text}"
+        );
     }
 
     #[test]

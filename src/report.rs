@@ -3,7 +3,7 @@
 use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Lattice, Report, TOLERANCE, joints};
+use crate::lattice::{Lattice, Report, joints};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
@@ -83,7 +83,8 @@ pub fn check_text(
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
-        "verification: {verdict} (tolerance {TOLERANCE:.0e}, largest residual {:.2e})",
+        "verification: {verdict} (tolerance {:.0e}, largest residual {:.2e})",
+        report.tolerance,
         report.worst()
     );
     out
@@ -222,7 +223,7 @@ pub fn check_json(
         "cells": report.cells,
         "vertices": report.vertices,
         "rods": report.rods,
-        "tolerance": TOLERANCE,
+        "tolerance": report.tolerance,
         "largest_residual": num(report.worst()),
         "passed": report.passed(),
         "checks": checks,

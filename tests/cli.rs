@@ -269,6 +269,7 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
     assert_eq!(
         list(&dir.join("karigami-out")),
         [
+            ".karigami-build",
             "assembly.pdf",
             "cut.pdf",
             "lattice.json",

@@ -14,7 +14,11 @@ pub struct Expectation {
 }
 
 pub fn expectation(source: &str, file: &str) -> Expectation {
-    let line = source.lines().next().unwrap_or_default();
+    let line = source
+        .trim_start_matches('\u{FEFF}')
+        .lines()
+        .next()
+        .unwrap_or_default();
     let rest = line
         .strip_prefix("# expect: ")
         .unwrap_or_else(|| panic!("{file}: first line must be `# expect: ...`"));

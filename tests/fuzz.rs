@@ -1,5 +1,8 @@
 //! Robustness: random and mutated recipes thrown at parsing and the whole
-//! pipeline. Never a panic, never NaN or infinity in a file.
+//! pipeline. Never a panic, never NaN or infinity in a file, and every file
+//! parses: JSON, well-formed SVG (balanced tags, no control characters),
+//! DXF group structure, CSV rows of one width, OBJ records of finite
+//! numbers. Strings get control characters, numbers their extremes.
 //!
 //! CI runs `FUZZ_CASES` cases; the long run is `scripts/fuzz 100000`
 //! (`KARIGAMI_FUZZ_CASES=N`, optional `KARIGAMI_FUZZ_SEED=S`).
@@ -41,6 +44,17 @@ const EXTREMES: &[&str] = &[
     "-90.0",
     "180",
     "1e4",
+    "1e300",
+    "-1e300",
+    "1e15",
+    "1000001",
+    "-1e6",
+    "1e-300",
+    "0.0001",
+    "5000.0001",
+    "500.0001",
+    "-0.0001",
+    "18446744073709551616",
 ];
 
 const STRINGS: &[&str] = &[
@@ -67,6 +81,18 @@ const STRINGS: &[&str] = &[
     "1e9x1e9",
     "abs",
     "3/16in",
+    // Control characters (as TOML escapes), markup, and long or wide text.
+    "two\\nlines",
+    "esc\\u001b[31m",
+    "tab\\there",
+    "nul\\u0000",
+    "cr\\r\\nlf",
+    "del\\u007f",
+    "<title>&amp;</title>]]>--",
+    "%%c\\\\P{\\\\}",
+    "ボウル 🍜",
+    "\\u202eevil",
+    "\\ufeffbom",
 ];
 
 /// Lines a recipe may have, for random recipes and insertions.
@@ -134,6 +160,12 @@ const LINES: &[&str] = &[
     "[guide]",
     "paper = \"letter\"",
     "name = \"x\"",
+    "name = \"two\\nlines\"",
+    "name = \"<&>\\\"'\"",
+    "name = \"\\u001b[2J\"",
+    "name = \"ボウル\"",
+    "[material]\nname = \"ABS\\r\\n0 EOF\"",
+    "[material]\nname = \"\\u0000\"",
 ];
 
 /// A byte range `[start, end)` of a recipe.
@@ -194,7 +226,14 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
                 let factor = *rng.pick(&[-1.0, 10.0, 0.1, 1.001, 0.999, 2.0, 0.0]);
                 splice(&s, span, &format!("{:?}", v * factor))
             }
-            6 if !strings.is_empty() => splice(&s, *rng.pick(&strings), rng.pick::<&str>(STRINGS)),
+            6 if !strings.is_empty() => {
+                let with = if rng.below(8) == 0 {
+                    "x".repeat(150 + rng.below(100))
+                } else {
+                    rng.pick::<&str>(STRINGS).to_string()
+                };
+                splice(&s, *rng.pick(&strings), &with)
+            }
             7 if !lines.is_empty() => {
                 let k = rng.below(lines.len());
                 let mut l = lines.clone();
@@ -275,6 +314,7 @@ fn run_case(text: &str) -> Result<&'static str, String> {
             {
                 return Err(format!("{name} contains {bad}"));
             }
+            parses(&name, &t).map_err(|e| format!("{name} does not parse: {e}"))?;
         }
         Ok("built")
     }));
@@ -287,6 +327,119 @@ fn run_case(text: &str) -> Result<&'static str, String> {
                 .or(p.downcast_ref::<&str>().copied())
                 .unwrap_or("?")
         )),
+    }
+}
+
+/// The file parses in its format (readers of our own, kept strict and
+/// fast enough for every fuzz case; the third-party readers check the
+/// examples and hostile names in tests/thirdparty.rs and tests/safety.rs).
+pub fn parses(name: &str, text: &str) -> Result<(), String> {
+    let ext = name.rsplit('.').next().unwrap_or_default();
+    let control = |t: &str| t.chars().find(|&c| c.is_control() && !"\n\r\t".contains(c));
+    match ext {
+        "json" => serde_json::from_str::<serde_json::Value>(text)
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
+        "svg" => {
+            if let Some(c) = control(text) {
+                return Err(format!("control character U+{:04X}", u32::from(c)));
+            }
+            let mut open: Vec<String> = Vec::new();
+            for event in svg::read(text).map_err(|e| e.to_string())? {
+                match event {
+                    svg::parser::Event::Error(e) => return Err(e.to_string()),
+                    svg::parser::Event::Tag(tag, kind, _) => match kind {
+                        svg::node::element::tag::Type::Start => open.push(tag.to_string()),
+                        svg::node::element::tag::Type::End => {
+                            if open.pop().as_deref() != Some(tag) {
+                                return Err(format!("</{tag}> closes nothing open"));
+                            }
+                        }
+                        svg::node::element::tag::Type::Empty => {}
+                    },
+                    _ => {}
+                }
+            }
+            if open.is_empty() {
+                Ok(())
+            } else {
+                Err(format!("unclosed {open:?}"))
+            }
+        }
+        "dxf" => {
+            // Pairs of lines: an integer group code, then its value.
+            let lines: Vec<&str> = text.lines().collect();
+            if lines.len() % 2 != 0 || lines.last() != Some(&"EOF") {
+                return Err("not whole code/value pairs ending in EOF".to_string());
+            }
+            for pair in lines.chunks(2) {
+                let code: i32 = pair[0]
+                    .trim()
+                    .parse()
+                    .map_err(|_| format!("group code {:?}", pair[0]))?;
+                if let Some(c) = control(pair[1]) {
+                    return Err(format!(
+                        "code {code}: control character U+{:04X}",
+                        u32::from(c)
+                    ));
+                }
+                if (10..60).contains(&code) && pair[1].trim().parse::<f64>().is_err() {
+                    return Err(format!("code {code}: not a number: {:?}", pair[1]));
+                }
+            }
+            Ok(())
+        }
+        "csv" => {
+            let mut width = None;
+            for line in text.lines() {
+                let mut fields = 1;
+                let mut quoted = false;
+                for c in line.chars() {
+                    match c {
+                        '"' => quoted = !quoted,
+                        ',' if !quoted => fields += 1,
+                        _ => {}
+                    }
+                }
+                if quoted {
+                    return Err(format!("unclosed quote: {line}"));
+                }
+                if *width.get_or_insert(fields) != fields {
+                    return Err(format!("{fields} fields: {line}"));
+                }
+            }
+            Ok(())
+        }
+        "obj" => {
+            for line in text.lines() {
+                let mut words = line.split_whitespace();
+                match words.next() {
+                    None | Some("#" | "o" | "g" | "s" | "mtllib" | "usemtl") => {}
+                    Some("v" | "vn") => {
+                        for w in words {
+                            if !w.parse::<f64>().is_ok_and(f64::is_finite) {
+                                return Err(format!("{line}"));
+                            }
+                        }
+                    }
+                    Some("f" | "l") => {
+                        for w in words {
+                            let i = w.split('/').next().unwrap_or_default();
+                            if i.parse::<i64>().is_err() {
+                                return Err(format!("{line}"));
+                            }
+                        }
+                    }
+                    Some(w) if w.starts_with('#') => {}
+                    Some(other) => return Err(format!("unknown record {other:?}")),
+                }
+            }
+            Ok(())
+        }
+        _ => match control(text) {
+            Some(c) => Err(format!("control character U+{:04X}", u32::from(c))),
+            None => Ok(()),
+        },
     }
 }
 
@@ -393,4 +546,34 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
     }
     // The corpus must reach every stage, or the test proves little.
     assert!(tally.iter().all(|&n| n > 0), "{tally:?}");
+}
+
+#[test]
+fn the_format_checks_catch_broken_files() {
+    let good = [
+        ("a.json", "{\"a\": [1, 2]}"),
+        (
+            "a.svg",
+            "<?xml version=\"1.0\"?>\n<svg><title>a &amp; b</title><g><path d=\"M0 0\"/></g></svg>",
+        ),
+        ("a.dxf", "999\nkarigami: two lines\n0\nEOF"),
+        ("a.csv", "id,name\n1,\"a, b\"\n"),
+        ("a.obj", "# x\no strip\nv 1 2 3\nf 1 2 3\n"),
+    ];
+    for (name, text) in good {
+        assert_eq!(parses(name, text), Ok(()), "{name}");
+    }
+    let bad = [
+        ("a.json", "{\"a\": [1, 2}"),
+        ("a.svg", "<svg><title>a\u{1b}[31m</title></svg>"),
+        ("a.svg", "<svg><g></svg>"),
+        ("a.dxf", "999\nkarigami: two\nlines\n0\nEOF"),
+        ("a.dxf", "10\nx\n0\nEOF"),
+        ("a.csv", "id,name\n1,a,b\n"),
+        ("a.obj", "v 1 inf 0\n"),
+        ("report.txt", "name: esc\u{1b}\n"),
+    ];
+    for (name, text) in bad {
+        assert!(parses(name, text).is_err(), "{name}: {text:?} passed");
+    }
 }

@@ -9,6 +9,7 @@ mod gallery;
 mod golden;
 mod guide;
 mod property;
+mod safety;
 mod thirdparty;
 mod util;
 mod workflow;

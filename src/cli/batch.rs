@@ -2,10 +2,11 @@
 //! subfolder of one output folder, which replaces the old one as a whole.
 //! The files written do not depend on the number of jobs or their order.
 
-use super::files::Staged;
+use super::files::{Staged, safe_component};
 use super::progress::Progress;
 use super::{
-    EXIT_INVALID, EXIT_IO, EXIT_USAGE, Failed, Recipe, RecipeError, Verbosity, run_recipe, stem,
+    EXIT_INVALID, EXIT_IO, EXIT_USAGE, Failed, Recipe, RecipeError, Verbosity, fail, open_out,
+    run_recipe, stem,
 };
 use karigami::design::Overrides;
 use karigami::report;
@@ -13,7 +14,7 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// What became of one recipe.
@@ -22,6 +23,8 @@ struct Outcome {
     folder: String,
     seconds: f64,
     result: Result<Summary, RecipeError>,
+    /// Writing its files failed: the batch must not commit.
+    write_failed: Option<String>,
 }
 
 struct Summary {
@@ -40,45 +43,73 @@ pub fn build(
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Failed> {
-    let folders = folders(paths)?;
-    let staged = Staged::new(out, force).map_err(|e| {
-        eprintln!("error: cannot write {}: {e}", out.display());
-        Failed(EXIT_IO)
+    let folders = folders(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
+    let out = &open_out(out, paths, force, json, v)?;
+    let shown = out.path().display();
+    let staged = Staged::new(out, "batch").map_err(|e| {
+        fail(
+            json,
+            "io",
+            &format!("cannot write {shown}: {e}; {}", out.kept()),
+            EXIT_IO,
+        )
     })?;
     let outcomes: Vec<Mutex<Option<Outcome>>> = paths.iter().map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
+    // A write that failed (a full disk) stops the batch: it cannot commit.
+    let stop = AtomicBool::new(false);
     let bar = Mutex::new(Progress::new(paths.len(), v.quiet || json));
-    std::thread::scope(|s| {
-        for _ in 0..jobs.min(paths.len()) {
-            s.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(path) = paths.get(i) else { break };
-                    let outcome = build_one(path, &folders[i], &staged, overrides);
-                    let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
-                    match &outcome.result {
-                        Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
-                        Err(e) => {
-                            bar.print(&e.text);
-                            bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+    let what = format!("building {}", plural(paths.len(), "recipe"));
+    // On a terminal the bar shows progress; off one, finished recipes are
+    // lines and a long one still gets a line now and then.
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    super::progress::heartbeat(&what, v.quiet || json || tty, || {
+        std::thread::scope(|s| {
+            for _ in 0..jobs.min(paths.len()) {
+                s.spawn(|| {
+                    loop {
+                        if stop.load(Ordering::SeqCst) {
+                            break;
                         }
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(path) = paths.get(i) else { break };
+                        let outcome = build_one(path, &folders[i], &staged, overrides);
+                        if outcome.write_failed.is_some() {
+                            stop.store(true, Ordering::SeqCst);
+                        }
+                        let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
+                        match &outcome.result {
+                            Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
+                            Err(e) => {
+                                bar.print(&e.text);
+                                bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+                            }
+                        }
+                        *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
                     }
-                    *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
-                }
-            });
-        }
+                });
+            }
+        })
     });
     bar.into_inner().unwrap_or_else(|e| e.into_inner()).clear();
     let outcomes: Vec<Outcome> = outcomes
         .into_iter()
-        .map(|m| {
-            m.into_inner()
-                .unwrap_or_else(|e| e.into_inner())
-                .expect("every recipe was built")
-        })
+        .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
         .collect();
-    // batch.json marks the folder as a karigami batch and records every
-    // recipe's status; no times, so that it is the same on every run.
+    if let Some(why) = outcomes.iter().find_map(|o| o.write_failed.as_ref()) {
+        drop(staged);
+        return Err(fail(
+            json,
+            "io",
+            &format!(
+                "cannot write {shown}/{why}; the batch was not committed and {}",
+                out.kept()
+            ),
+            EXIT_IO,
+        ));
+    }
+    // batch.json records every recipe's status; no times, so that it is
+    // the same on every run.
     let record: Vec<Value> = outcomes.iter().map(|o| o.record(false)).collect();
     let written = staged
         .write(
@@ -90,19 +121,19 @@ pub fn build(
         )
         .and_then(|()| staged.commit());
     if let Err(e) = written {
-        eprintln!("error: cannot write {}: {e}", out.display());
-        return Err(Failed(EXIT_IO));
+        return Err(fail(
+            json,
+            "io",
+            &format!("cannot write {shown}: {e}; {}", out.kept()),
+            EXIT_IO,
+        ));
     }
     if json {
         let timed: Vec<Value> = outcomes.iter().map(|o| o.record(true)).collect();
-        println!("{}", serde_json::to_string_pretty(&timed).expect("JSON"));
+        outln!("{}", serde_json::to_string_pretty(&timed).expect("JSON"));
     } else if !v.quiet {
-        print!("{}", table(&outcomes));
-        println!(
-            "wrote {} to {}",
-            plural(outcomes.len(), "build"),
-            out.display()
-        );
+        out!("{}", table(&outcomes));
+        outln!("wrote {} to {shown}", plural(outcomes.len(), "build"));
     }
     let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_err()).collect();
     if failed.is_empty() {
@@ -121,34 +152,48 @@ pub fn build(
     Err(Failed(if io { EXIT_IO } else { EXIT_INVALID }))
 }
 
-/// Each recipe's subfolder: its file name without `.toml`; recipes of the
-/// same name from different folders get the folder's name in front
-/// (`examples-disk`, `templates-disk`).
-fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Failed> {
+/// Each recipe's subfolder: its file name without `.toml`, made a safe
+/// single path component (see `safe_component`); recipes of the same name
+/// from different folders get the folder's name in front (`examples-disk`,
+/// `templates-disk`). Names that differ only in case are refused too, as
+/// they would share a folder on macOS and Windows.
+fn folders(paths: &[PathBuf]) -> Result<Vec<String>, String> {
     let mut count: BTreeMap<String, usize> = BTreeMap::new();
     for p in paths {
-        *count.entry(stem(p)).or_default() += 1;
+        *count
+            .entry(safe_component(&stem(p)).to_lowercase())
+            .or_default() += 1;
     }
     let names: Vec<String> = paths
         .iter()
         .map(|p| {
-            let name = stem(p);
-            let parent = p.parent().and_then(Path::file_name);
-            match parent {
-                Some(dir) if count[&name] > 1 => format!("{}-{name}", dir.to_string_lossy()),
+            let name = safe_component(&stem(p));
+            let parent = p
+                .parent()
+                .and_then(|d| d.canonicalize().ok())
+                .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()));
+            let name = match parent {
+                Some(dir) if count[&name.to_lowercase()] > 1 => {
+                    safe_component(&format!("{dir}-{name}"))
+                }
                 _ => name,
+            };
+            // The batch's own file keeps its name.
+            if name.eq_ignore_ascii_case("batch.json") {
+                format!("{name}_")
+            } else {
+                name
             }
         })
         .collect();
-    let mut seen: BTreeMap<&str, &Path> = BTreeMap::new();
+    let mut seen: BTreeMap<String, &Path> = BTreeMap::new();
     for (name, p) in names.iter().zip(paths) {
-        if let Some(first) = seen.insert(name, p) {
-            eprintln!(
-                "error: {} and {} would both build into the subfolder {name}/; give one another file name",
+        if let Some(first) = seen.insert(name.to_lowercase(), p) {
+            return Err(format!(
+                "{} and {} would both build into the subfolder {name}/; give one another file name",
                 first.display(),
                 p.display()
-            );
-            return Err(Failed(EXIT_USAGE));
+            ));
         }
     }
     Ok(names)
@@ -156,15 +201,19 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Failed> {
 
 fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) -> Outcome {
     let started = Instant::now();
+    let write_failed = std::cell::RefCell::new(None);
     let result = Recipe::read(path)
         .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}))
         .and_then(|built| {
             staged
                 .write(folder, &built.files())
-                .map_err(|e| RecipeError {
-                    code: EXIT_IO,
-                    text: format!("error: cannot write {folder}/: {e}\n"),
-                    json: json!({ "class": "io", "message": format!("cannot write {folder}/: {e}") }),
+                .map_err(|e| {
+                    *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
+                    RecipeError {
+                        code: EXIT_IO,
+                        text: format!("error: cannot write {folder}/: {e}\n"),
+                        json: json!({ "class": "io", "message": format!("cannot write {folder}/: {e}") }),
+                    }
                 })?;
             Ok(Summary {
                 cells: built.lattice.cells.len(),
@@ -186,6 +235,7 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
         folder: folder.to_string(),
         seconds: started.elapsed().as_secs_f64(),
         result,
+        write_failed: write_failed.into_inner(),
     }
 }
 

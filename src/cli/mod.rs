@@ -1,7 +1,23 @@
 //! Command-line interface. Exit codes: 0 ok, 1 design invalid or a check
-//! failed, 2 usage error, 3 I/O error.
+//! failed, 2 usage error, 3 I/O error or --out refused.
+
+/// Print on stdout, ignoring a closed pipe (`karigami check --json | head`):
+/// what was asked for has been said, and a panic would be noise.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($arg)*);
+    }};
+}
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
 
 mod batch;
+mod fault;
 mod files;
 mod progress;
 
@@ -20,6 +36,12 @@ use std::time::Instant;
 pub const EXIT_INVALID: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
 pub const EXIT_IO: i32 = 3;
+
+/// Bounds of `karigami tune`: each try grows the helix, so a billion tries
+/// would run for days; a helix of more cells than this is not tuned by
+/// hand-held search.
+const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
+const MAX_TUNE_CELLS: u64 = 100_000;
 
 /// The design `karigami build` uses when given none.
 const DEFAULT_TEMPLATE: &str = "sheet";
@@ -60,7 +82,7 @@ enum Command {
     },
     /// Grow, verify and write the cut files, assembly guide and previews.
     #[command(after_help = format!(
-        "Examples:\n  karigami build                          # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat\n  karigami build examples/ --out gallery  # a batch: gallery/<recipe>/ for each\n  karigami build a.toml b.toml --jobs 1 --json\n\nOne recipe builds into --out itself. Several recipes, or a folder, build\ninto a subfolder of --out each, named after the recipe file; --out then\nholds batch.json, the status of every recipe. A failing recipe does not\nstop the others. The output folder is always replaced as a whole, and\nonly once everything is written; a folder that is not a previous karigami\nbuild is refused unless --force is given.\n\n{EXIT_CODES}"
+        "Examples:\n  karigami build                          # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat\n  karigami build examples/ --out gallery  # a batch: gallery/<recipe>/ for each\n  karigami build a.toml b.toml --jobs 1 --json\n\nOne recipe builds into --out itself. Several recipes, or a folder, build\ninto a subfolder of --out each, named after the recipe file; --out then\nholds batch.json, the status of every recipe. A failing recipe does not\nstop the others. The output folder is always replaced as a whole, and\nonly once everything is written, so a kill or a full disk leaves the old\nbuild; a folder that is not a karigami build (no .karigami-build marker)\nis refused unless --force is given, which lists what it deletes, and a\nfolder holding an input recipe is always refused.\n\n{EXIT_CODES}"
     ))]
     Build {
         /// Recipe files (TOML) or folders of them; without any, a built-in sheet.
@@ -89,13 +111,13 @@ enum Command {
         /// Helix recipe file (TOML).
         design: PathBuf,
         /// Grow this many cells instead of the recipe's `cells`.
-        #[arg(long)]
+        #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_CELLS))]
         cells: Option<usize>,
         /// Write the tuned recipe here (default: print it).
         #[arg(long, short)]
         out: Option<PathBuf>,
-        /// Give up after this many tries.
-        #[arg(long, default_value_t = 50_000)]
+        /// Give up after this many tries (at most 5000000).
+        #[arg(long, default_value_t = 50_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_ITERATIONS))]
         iterations: usize,
     },
     /// Write a starter recipe from a template.
@@ -173,7 +195,33 @@ pub struct Verbosity {
 pub struct Failed(pub i32);
 
 pub fn run() -> i32 {
-    let args = Args::parse();
+    let args = match Args::try_parse() {
+        Ok(args) => args,
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            // A usage error is still one JSON document when --json was asked.
+            if std::env::args_os().any(|a| a == "--json") {
+                let rendered = e.to_string();
+                let message = rendered
+                    .lines()
+                    .next()
+                    .unwrap_or_default()
+                    .trim_start_matches("error: ")
+                    .to_string();
+                let _ = e.print();
+                outln!(
+                    "{}",
+                    serde_json::to_string_pretty(&json!({
+                        "status": "error",
+                        "error": { "class": "usage", "message": message, "detail": e.to_string() }
+                    }))
+                    .expect("JSON")
+                );
+                return EXIT_USAGE;
+            }
+            e.exit()
+        }
+    };
     let v = Verbosity {
         quiet: args.quiet,
         verbose: args.verbose,
@@ -214,7 +262,7 @@ pub fn run() -> i32 {
         } => new(&name, &template, force, v),
         Command::Templates => {
             for t in templates::TEMPLATES {
-                println!("{:<8} {}", t.name, t.about);
+                outln!("{:<8} {}", t.name, t.about);
             }
             Ok(())
         }
@@ -252,7 +300,8 @@ impl Recipe {
         Ok(Self {
             source,
             file,
-            stem: stem(path),
+            // The default design name reaches every output: plain text only.
+            stem: files::safe_component(&stem(path)),
         })
     }
 
@@ -320,18 +369,21 @@ pub fn run_recipe(
 }
 
 fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
-    let paths = files::recipes(paths).map_err(|e| usage(&e))?;
+    let paths = files::recipes(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
     let mut reports = Vec::new();
     let mut worst = 0;
     let mut bar = Progress::new(paths.len(), v.quiet || json);
     for path in &paths {
-        let (code, report) = check_one(path, json, v, &mut bar);
+        let what = format!("checking {}", path.display());
+        let (code, report) = progress::heartbeat(&what, v.quiet || json, || {
+            check_one(path, json, v, &mut bar)
+        });
         worst = worst.max(code);
         reports.push(report);
     }
     bar.clear();
     if json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&Value::Array(reports)).expect("JSON")
         );
@@ -372,7 +424,7 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     let deploy = deployment(&lattice);
     let check = report::check_json(&design, &lattice, &report, &deploy);
     if !json && !v.quiet {
-        print!(
+        out!(
             "{}",
             report::check_text(&design, &lattice, &report, &deploy)
         );
@@ -385,7 +437,7 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     }
     if let Some(why) = too_large_to_fabricate(&design, &lattice) {
         if !json && !v.quiet {
-            println!(
+            outln!(
                 "fabrication: not checked ({})\nresult: PASS (geometry verified)",
                 why.message
             );
@@ -395,8 +447,8 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
     match assemble_with(design, lattice, report, deploy) {
         Ok(built) => {
             if !json && !v.quiet {
-                print!("{}", built.summary());
-                println!("result: PASS (geometry verified, every strip can be cut)");
+                out!("{}", built.summary());
+                outln!("result: PASS (geometry verified, every strip can be cut)");
             }
             (
                 0,
@@ -436,23 +488,32 @@ fn build(
 ) -> Result<(), Failed> {
     let batch = paths.len() > 1 || paths.iter().any(|p| p.is_dir());
     if batch {
-        let recipes = files::recipes(paths).map_err(|e| usage(&e))?;
+        let recipes = files::recipes(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
         return batch::build(&recipes, out, force, jobs, json, overrides, v);
     }
+    let dir = open_out(out, paths, force, json, v)?;
     let recipe = match paths.first() {
         Some(p) => Recipe::read(p),
         None => Ok(Recipe::built_in()),
     };
     let started = Instant::now();
     let mut bar = Progress::new(1, v.quiet || json);
-    let built = recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)));
+    let what = format!(
+        "building {}",
+        paths
+            .first()
+            .map_or("the built-in sheet".into(), |p| p.display().to_string())
+    );
+    let built = progress::heartbeat(&what, v.quiet || json, || {
+        recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)))
+    });
     bar.clear();
     let built = match built {
         Ok(b) => b,
         Err(e) => {
             eprint!("{}", e.text);
             if json {
-                println!(
+                outln!(
                     "{}",
                     serde_json::to_string_pretty(&json!({ "status": "error", "error": e.json }))
                         .expect("JSON")
@@ -461,11 +522,19 @@ fn build(
             return Err(Failed(e.code));
         }
     };
-    let outputs = built.files();
-    files::replace_dir(out, &outputs, force).map_err(|e| {
-        eprintln!("error: cannot write {}: {e}", out.display());
-        Failed(EXIT_IO)
-    })?;
+    let outputs = progress::heartbeat("drawing the files", v.quiet || json, || built.files());
+    let written = files::Staged::new(&dir, "single").and_then(|staged| {
+        staged.write("", &outputs)?;
+        staged.commit()
+    });
+    if let Err(e) = written {
+        return Err(fail(
+            json,
+            "io",
+            &format!("cannot write {}: {e}; {}", out.display(), dir.kept()),
+            EXIT_IO,
+        ));
+    }
     if json {
         let value = json!({
             "file": paths.first().map(|p| p.display().to_string()),
@@ -481,10 +550,10 @@ fn build(
             ),
             "build": report::build_json(&built),
         });
-        println!("{}", serde_json::to_string_pretty(&value).expect("JSON"));
+        outln!("{}", serde_json::to_string_pretty(&value).expect("JSON"));
     } else if !v.quiet {
         if v.verbose {
-            print!(
+            out!(
                 "{}",
                 report::check_text(
                     &built.design,
@@ -494,10 +563,47 @@ fn build(
                 )
             );
         }
-        print!("{}", built.summary());
-        println!("wrote {} files to {}", outputs.len(), out.display());
+        out!("{}", built.summary());
+        outln!("wrote {} files to {}", outputs.len(), out.display());
     }
     Ok(())
+}
+
+/// Check and lock the output folder before any work; say what interrupted
+/// runs left and was repaired, and what `--force` deletes.
+pub fn open_out(
+    out: &Path,
+    inputs: &[PathBuf],
+    force: bool,
+    json: bool,
+    v: Verbosity,
+) -> Result<files::OutDir, Failed> {
+    let dir = files::OutDir::open(out, inputs, force).map_err(|e| fail(json, "io", &e, EXIT_IO))?;
+    if !v.quiet {
+        for note in &dir.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    if let Some(warning) = dir.force_warning() {
+        eprintln!("{warning}");
+    }
+    Ok(dir)
+}
+
+/// Report a failure that has no recipe: a line on stderr and, with
+/// `--json`, the one JSON document on stdout.
+pub fn fail(json: bool, class: &str, message: &str, code: i32) -> Failed {
+    eprintln!("error: {message}");
+    if json {
+        outln!(
+            "{}",
+            serde_json::to_string_pretty(
+                &json!({ "status": "error", "error": { "class": class, "message": message } })
+            )
+            .expect("JSON")
+        );
+    }
+    Failed(code)
 }
 
 fn tune(
@@ -519,14 +625,17 @@ fn tune(
     let target = cells.unwrap_or(design.helix_cells);
     // Legs shorter than the eyelet flange (plus a wall) cannot be built.
     let min_leg = design.fabrication.eyelet.flange + 2.0 * design::MIN_WALL;
-    let tuned = design::tune::tune_helix(
-        design.dim,
-        &design.points,
-        &design.kappa,
-        target,
-        min_leg,
-        iterations,
-    );
+    let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
+    let tuned = progress::heartbeat(&what, v.quiet, || {
+        design::tune::tune_helix(
+            design.dim,
+            &design.points,
+            &design.kappa,
+            target,
+            min_leg,
+            iterations,
+        )
+    });
     let Some(text) = design.with_seed(&recipe.source, &tuned.points, &tuned.kappa) else {
         return Err(usage(&format!(
             "{}: write the seed as `points = [...]` and `kappa = [...]` to tune it",
@@ -544,18 +653,26 @@ fn tune(
             tuned.max_kappa_change
         );
     }
-    match out {
-        Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
-            eprintln!("error: cannot write {}: {e}", o.display());
-            Failed(EXIT_IO)
-        })?,
-        None => print!("{text}"),
-    }
+    // Only a seed that reached the target is written: a failed tune leaves
+    // the --out file (often the recipe itself) as it was.
     if tuned.cells_after < target {
+        let kept = out.map_or(String::new(), |o| {
+            format!("; {} was not written", o.display())
+        });
         eprintln!(
-            "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed"
+            "error: the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed{kept}"
         );
         return Err(Failed(EXIT_INVALID));
+    }
+    match out {
+        Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
+            eprintln!(
+                "error: cannot write {}: {e}; it was left as it was",
+                o.display()
+            );
+            Failed(EXIT_IO)
+        })?,
+        None => out!("{text}"),
     }
     Ok(())
 }
@@ -573,6 +690,17 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
             names.join(", ")
         )));
     };
+    let file = Path::new(name)
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned());
+    let plain = file
+        .as_deref()
+        .filter(|f| !f.starts_with('.') && !f.chars().any(char::is_control) && *f != ".toml");
+    if plain.is_none() || name.chars().any(char::is_control) {
+        return Err(usage(&format!(
+            "{name:?} is not a usable recipe name: give a name that does not start with a dot and has no control characters, such as `karigami new my-sheet`"
+        )));
+    }
     let path = if name.ends_with(".toml") {
         PathBuf::from(name)
     } else {
@@ -592,7 +720,7 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
         },
     )?;
     if !v.quiet {
-        println!(
+        outln!(
             "wrote {} from the {} template; next: karigami check {0}",
             path.display(),
             t.name

@@ -2,6 +2,8 @@
 //! plain lines otherwise (logs, CI), nothing with --quiet.
 
 use std::io::{IsTerminal, Write};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
 
 pub struct Progress {
     total: usize,
@@ -10,6 +12,8 @@ pub struct Progress {
     quiet: bool,
     /// Width of the line last drawn in place, to clear it.
     drawn: usize,
+    /// When a note was last printed as a line (off a terminal).
+    noted: Option<Instant>,
 }
 
 impl Progress {
@@ -20,6 +24,7 @@ impl Progress {
             tty: std::io::stderr().is_terminal(),
             quiet,
             drawn: 0,
+            noted: None,
         }
     }
 
@@ -43,10 +48,14 @@ impl Progress {
         }
     }
 
-    /// A note while a single long job runs (a fit's rows).
+    /// A note while a single long job runs (a fit's rows): drawn in place
+    /// on a terminal, else printed as a line every few seconds at most.
     pub fn note(&mut self, text: &str) {
         if self.is_tty() {
             self.draw(text);
+        } else if !self.quiet && self.noted.is_none_or(|t| t.elapsed() >= NOTE_EVERY) {
+            eprintln!("{text}");
+            self.noted = Some(Instant::now());
         }
     }
 
@@ -84,4 +93,55 @@ impl Progress {
             self.drawn = 0;
         }
     }
+}
+
+/// How often a line of progress is printed off a terminal.
+const NOTE_EVERY: Duration = Duration::from_secs(5);
+
+/// Run `work`, and while it runs longer than a second say so on stderr:
+/// the elapsed time redrawn in place on a terminal, a line every
+/// `NOTE_EVERY` otherwise (logs, CI); nothing when `quiet`. For phases that
+/// report no progress of their own (growing, verifying, laying out,
+/// tuning).
+pub fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) -> T {
+    if quiet {
+        return work();
+    }
+    let tty = std::io::stderr().is_terminal();
+    let (done, wait) = mpsc::channel::<()>();
+    std::thread::scope(|s| {
+        s.spawn(move || {
+            let started = Instant::now();
+            let (first, every) = if tty {
+                (Duration::from_secs(1), Duration::from_millis(500))
+            } else {
+                (Duration::from_secs(2), NOTE_EVERY)
+            };
+            let mut next = first;
+            let mut drawn = 0;
+            loop {
+                let left = next.saturating_sub(started.elapsed());
+                match wait.recv_timeout(left) {
+                    Err(mpsc::RecvTimeoutError::Timeout) => {}
+                    _ => break,
+                }
+                let line = format!("{what}: {} s", started.elapsed().as_secs());
+                if tty {
+                    eprint!("\r{line}");
+                    let _ = std::io::stderr().flush();
+                    drawn = line.chars().count();
+                } else {
+                    eprintln!("{line}");
+                }
+                next += every;
+            }
+            if drawn > 0 {
+                eprint!("\r{}\r", " ".repeat(drawn));
+                let _ = std::io::stderr().flush();
+            }
+        });
+        let result = work();
+        drop(done);
+        result
+    })
 }

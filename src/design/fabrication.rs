@@ -50,44 +50,72 @@ fn short(mm: f64) -> String {
 /// and it bounds the memory of the sheet pictures.
 pub const MAX_SHEET: f64 = 5000.0;
 
-fn length(n: &Num, what: &str, min_exclusive: f64) -> Result<f64, Diagnostic> {
+/// The physical range of each length setting (mm): beyond these no laser
+/// cuts, no stock is sold, and later arithmetic (solids, layout) would
+/// lose its meaning. Sheet sides are bounded by `MAX_SHEET`.
+pub const MAX_THICKNESS: f64 = 50.0;
+pub const MAX_STRIP_WIDTH: f64 = 500.0;
+pub const MAX_EYELET: f64 = 100.0;
+pub const MAX_END_MARGIN: f64 = 1000.0;
+pub const MAX_KERF: f64 = 5.0;
+pub const MAX_SHEET_MARGIN: f64 = 1000.0;
+
+fn length(n: &Num, what: &str, min_exclusive: f64, max: f64) -> Result<f64, Diagnostic> {
     let v = *n.get_ref();
-    if v.is_finite() && v > min_exclusive {
+    if v.is_finite() && v > min_exclusive && v <= max {
         Ok(v)
     } else {
-        let bound = if min_exclusive == 0.0 {
+        let low = if min_exclusive == 0.0 {
             "positive".to_string()
         } else {
             format!("more than {min_exclusive}")
         };
-        Err(
-            Diagnostic::new("design", format!("{what} is {v}, but must be {bound} (mm)"))
-                .at(n.span())
-                .hint(format!("give {what} a {bound} length in mm")),
+        let bound = if max.is_finite() {
+            format!("{low} and at most {}", short(max))
+        } else {
+            low
+        };
+        Err(Diagnostic::new(
+            "design",
+            format!("{what} is {}, but must be {bound} (mm)", short(v)),
         )
+        .at(n.span())
+        .hint(format!("give {what} a length in mm, {bound}")))
     }
 }
 
-fn non_negative(n: &Num, what: &str) -> Result<f64, Diagnostic> {
+fn non_negative(n: &Num, what: &str, max: f64) -> Result<f64, Diagnostic> {
     let v = *n.get_ref();
-    if v.is_finite() && v >= 0.0 {
+    if v.is_finite() && (0.0..=max).contains(&v) {
         Ok(v)
     } else {
         Err(Diagnostic::new(
             "design",
-            format!("{what} is {v}, but must be zero or more (mm)"),
+            format!(
+                "{what} is {}, but must be between 0 and {} (mm)",
+                short(v),
+                short(max)
+            ),
         )
-        .at(n.span()))
+        .at(n.span())
+        .hint(format!(
+            "give {what} a length in mm from 0 to {}",
+            short(max)
+        )))
     }
 }
 
-fn from_override(v: f64, what: &str) -> Result<f64, Diagnostic> {
-    if v.is_finite() && v >= 0.0 {
+fn from_override(v: f64, what: &str, max: f64) -> Result<f64, Diagnostic> {
+    if v.is_finite() && (0.0..=max).contains(&v) {
         Ok(v)
     } else {
         Err(Diagnostic::new(
             "usage",
-            format!("--{what} is {v}, but must be a length of zero or more"),
+            format!(
+                "--{what} is {}, but must be a length from 0 to {} (mm)",
+                short(v),
+                short(max)
+            ),
         ))
     }
 }
@@ -105,15 +133,15 @@ pub fn fabrication(
             f.material.name = n.get_ref().clone();
         }
         if let Some(t) = &m.thickness {
-            f.material.thickness = length(t, "material.thickness", 0.0)?;
+            f.material.thickness = length(t, "material.thickness", 0.0, MAX_THICKNESS)?;
         }
         if let Some(w) = &m.width {
-            f.material.width = length(w, "material.width", 0.0)?;
+            f.material.width = length(w, "material.width", 0.0, MAX_STRIP_WIDTH)?;
             spans.width = Some(w.span());
         }
     }
     if let Some(w) = o.strip_width {
-        f.material.width = from_override(w, "strip-width")?;
+        f.material.width = from_override(w, "strip-width", MAX_STRIP_WIDTH)?;
         spans.width = None;
     }
     // The default end margin follows the strip width (half of it).
@@ -139,10 +167,10 @@ pub fn fabrication(
             f.eyelet.name = "custom".into();
         }
         if let Some(h) = &e.hole {
-            f.eyelet.hole = length(h, "eyelet.hole", 0.0)?;
+            f.eyelet.hole = length(h, "eyelet.hole", 0.0, MAX_EYELET)?;
         }
         if let Some(fl) = &e.flange {
-            f.eyelet.flange = length(fl, "eyelet.flange", 0.0)?;
+            f.eyelet.flange = length(fl, "eyelet.flange", 0.0, 2.0 * MAX_EYELET)?;
         }
     }
     if let Some(name) = &o.eyelet {
@@ -156,7 +184,7 @@ pub fn fabrication(
     if let Some(s) = &raw.strip {
         let s = s.get_ref();
         if let Some(m) = &s.end_margin {
-            f.end_margin = length(m, "strip.end_margin", 0.0)?;
+            f.end_margin = length(m, "strip.end_margin", 0.0, MAX_END_MARGIN)?;
             spans.end_margin = Some(m.span());
         }
         if let Some(l) = &s.label {
@@ -177,14 +205,14 @@ pub fn fabrication(
     if let Some(l) = &raw.laser {
         let l = l.get_ref();
         if let Some(k) = &l.kerf {
-            f.kerf = non_negative(k, "laser.kerf")?;
+            f.kerf = non_negative(k, "laser.kerf", MAX_KERF)?;
         }
         if let Some(c) = &l.compensate {
             f.compensate_kerf = *c.get_ref();
         }
     }
     if let Some(k) = o.kerf {
-        f.kerf = from_override(k, "kerf")?;
+        f.kerf = from_override(k, "kerf", MAX_KERF)?;
     }
     if let Some(c) = o.compensate_kerf {
         f.compensate_kerf = c;
@@ -208,18 +236,18 @@ pub fn fabrication(
             (f.sheet.name, f.sheet.width, f.sheet.height) = (name, w, h);
         }
         if let Some(w) = &s.width {
-            f.sheet.width = length(w, "sheet.width", 0.0)?;
+            f.sheet.width = length(w, "sheet.width", 0.0, f64::INFINITY)?;
             f.sheet.name = "custom".into();
         }
         if let Some(h) = &s.height {
-            f.sheet.height = length(h, "sheet.height", 0.0)?;
+            f.sheet.height = length(h, "sheet.height", 0.0, f64::INFINITY)?;
             f.sheet.name = "custom".into();
         }
         if let Some(m) = &s.margin {
-            f.sheet.margin = non_negative(m, "sheet.margin")?;
+            f.sheet.margin = non_negative(m, "sheet.margin", MAX_SHEET_MARGIN)?;
         }
         if let Some(g) = &s.gap {
-            f.sheet.gap = non_negative(g, "sheet.gap")?;
+            f.sheet.gap = non_negative(g, "sheet.gap", MAX_SHEET_MARGIN)?;
         }
     }
     if let Some(name) = &o.sheet {

@@ -138,6 +138,7 @@ pub fn parse_with(
     default_name: &str,
     overrides: &Overrides,
 ) -> Result<Design, Diagnostic> {
+    raw::check_values(source)?;
     let raw: RawDesign = toml::from_str(source).map_err(|e| {
         let message = e.message().trim_end().to_string();
         let hint = did_you_mean(&message)
@@ -923,6 +924,13 @@ fn resolve(
 /// `last` is the index of the front's last vertex (N, i.e. vertex 0 again, on a loop).
 fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnostic> {
     let raw = f.get_ref();
+    if raw.is_empty() {
+        return Err(
+            Diagnostic::new("design", "front = { } rebuilds the front with no move")
+                .at(f.span())
+                .hint("give turn, bend, twist, pivot, crank or zigzag, or leave `front` out"),
+        );
+    }
     let angles = |a: &Option<Spanned<raw::RawAngles>>,
                   what: &str|
      -> Result<Option<Vec<f64>>, Diagnostic> {

@@ -188,6 +188,18 @@ pub struct RawFront {
     pub zigzag: Option<Num>,
 }
 
+impl RawFront {
+    /// `front = { }`: no generator given.
+    pub fn is_empty(&self) -> bool {
+        self.turn.is_none()
+            && self.bend.is_none()
+            && self.twist.is_none()
+            && self.pivot.is_none()
+            && self.crank.is_none()
+            && self.zigzag.is_none()
+    }
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawPivot {
@@ -340,5 +352,111 @@ impl<'de> Deserialize<'de> for RawLeg {
             }
         }
         d.deserialize_any(V)
+    }
+}
+
+/// Largest size of any number in a recipe: lengths are in mm, and a
+/// kilometre is beyond anything karigami makes; larger numbers would only
+/// overflow to infinity in later arithmetic.
+pub const MAX_NUMBER: f64 = 1e6;
+/// Longest string in a recipe, in characters (names, presets, keywords).
+pub const MAX_STRING: usize = 200;
+/// Deepest nesting of arrays and tables.
+pub const MAX_DEPTH: usize = 8;
+
+/// Bounds every value of the recipe, wherever it is, before any field is
+/// read: numbers finite and within `MAX_NUMBER`, strings within
+/// `MAX_STRING` characters and free of control characters (they would
+/// break the DXF and SVG files a name reaches), nesting within
+/// `MAX_DEPTH`. A recipe TOML cannot parse is left to the typed parse,
+/// which says why.
+pub fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
+    use toml::de::{DeTable, DeValue};
+    let Ok(table) = DeTable::parse(source) else {
+        return Ok(());
+    };
+    fn key_error(
+        key: &Spanned<std::borrow::Cow<'_, str>>,
+    ) -> Option<crate::diagnostic::Diagnostic> {
+        text_error(key.get_ref(), "a key", key.span())
+    }
+    fn text_error(
+        s: &str,
+        what: &str,
+        span: std::ops::Range<usize>,
+    ) -> Option<crate::diagnostic::Diagnostic> {
+        use crate::diagnostic::Diagnostic;
+        if let Some(c) = s.chars().find(|c| c.is_control()) {
+            return Some(
+                Diagnostic::new(
+                    "design",
+                    format!("{what} holds the control character U+{:04X}", u32::from(c)),
+                )
+                .at(span)
+                .hint("remove it: names and settings are one line of printable text"),
+            );
+        }
+        let n = s.chars().count();
+        (n > MAX_STRING).then(|| {
+            Diagnostic::new(
+                "design",
+                format!("{what} is {n} characters long; karigami accepts at most {MAX_STRING}"),
+            )
+            .at(span)
+            .hint("shorten it")
+        })
+    }
+    fn walk(v: &Spanned<DeValue<'_>>, depth: usize) -> Option<crate::diagnostic::Diagnostic> {
+        use crate::diagnostic::Diagnostic;
+        if depth > MAX_DEPTH {
+            return Some(
+                Diagnostic::new(
+                    "design",
+                    format!("arrays and tables are nested more than {MAX_DEPTH} deep"),
+                )
+                .at(v.span())
+                .hint("no recipe field nests that deep; check the brackets"),
+            );
+        }
+        match v.get_ref() {
+            DeValue::String(s) => text_error(s, "this string", v.span()),
+            DeValue::Float(f) => {
+                let x: f64 = f.as_str().replace('_', "").parse().unwrap_or(f64::NAN);
+                if !x.is_finite() {
+                    Some(
+                        Diagnostic::new("design", format!("{} is not a finite number", f.as_str()))
+                            .at(v.span())
+                            .hint("give a number"),
+                    )
+                } else if x.abs() > MAX_NUMBER {
+                    Some(
+                        Diagnostic::new(
+                            "design",
+                            format!(
+                                "{} is larger than any size karigami accepts (at most {MAX_NUMBER:e} in magnitude; lengths are in mm)",
+                                f.as_str()
+                            ),
+                        )
+                        .at(v.span())
+                        .hint("check the value and its unit: lengths are in millimetres"),
+                    )
+                } else {
+                    None
+                }
+            }
+            DeValue::Array(a) => a.into_iter().find_map(|x| walk(x, depth + 1)),
+            DeValue::Table(t) => t
+                .iter()
+                .find_map(|(k, x)| key_error(k).or_else(|| walk(x, depth + 1))),
+            _ => None,
+        }
+    }
+    let root = table.get_ref();
+    match root
+        .iter()
+        .find_map(|(k, x)| key_error(k).or_else(|| walk(x, 1)))
+    {
+        Some(d) => Err(d),
+        None => Ok(()),
     }
 }

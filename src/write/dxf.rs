@@ -125,12 +125,23 @@ pub fn write(page: &Page) -> Vec<u8> {
     let (model_record, paper_record) = ("1A", "1B");
     let (root_dict, group_dict) = ("C", "D");
 
+    // A line break in a value would end the group early and shift every
+    // code after it: comments hold one line of printable text.
+    let line = |s: &str| -> String {
+        s.chars()
+            .map(|c| if c.is_control() { '?' } else { c })
+            .collect()
+    };
     d.pair(
         999,
-        format!("karigami {}: {}", env!("CARGO_PKG_VERSION"), page.title),
+        line(&format!(
+            "karigami {}: {}",
+            env!("CARGO_PKG_VERSION"),
+            page.title
+        )),
     );
     for (k, v) in &page.metadata {
-        d.pair(999, format!("{k}: {v}"));
+        d.pair(999, line(&format!("{k}: {v}")));
     }
     d.pair(0, "SECTION");
     d.pair(2, "HEADER");

@@ -121,7 +121,7 @@ pub fn write(page: &Page) -> Vec<u8> {
     let text: String = page
         .metadata
         .iter()
-        .map(|(k, v)| format!("{k}: {v}"))
+        .map(|(k, v)| format!("{}: {}", printable(k), printable(v)))
         .collect::<Vec<_>>()
         .join("\n");
     metadata.append(Text::new(format!("\n{text}\n")));
@@ -133,7 +133,7 @@ pub fn write(page: &Page) -> Vec<u8> {
                 "viewBox",
                 format!("0 0 {} {}", num(page.width), num(page.height)),
             )
-            .add(Title::new(page.title.as_str()))
+            .add(Title::new(printable(&page.title)))
             .add(metadata),
         |doc, g| doc.add(group(g)),
     );
@@ -141,4 +141,13 @@ pub fn write(page: &Page) -> Vec<u8> {
     out.push_str(&doc.to_string());
     out.push('\n');
     out.into_bytes()
+}
+
+/// Text with control characters replaced: XML 1.0 forbids most of them
+/// even escaped. (Recipes cannot hold them; this keeps the file well formed
+/// whatever the caller passes.)
+fn printable(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { '\u{FFFD}' } else { c })
+        .collect()
 }

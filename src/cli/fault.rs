@@ -1,0 +1,69 @@
+//! Fault injection for the safety tests, inert unless `KARIGAMI_FAULT` is
+//! set. Every file write and every rename or removal of a build commit is a
+//! numbered step; the variable (comma-separated) can
+//! - `abort@K`: abort the process at step K, as a kill would (no cleanup);
+//! - `enospc@K`: fail every write from step K on with "No space left on
+//!   device", as a full disk would;
+//! - `noexchange`: commit without the atomic folder swap, as on systems
+//!   that lack it, to test the fallback and its recovery.
+//!
+//! It is compiled in so that the tests exercise the shipped binary.
+
+use std::io;
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+#[derive(Default)]
+struct Plan {
+    abort_at: Option<usize>,
+    enospc_from: Option<usize>,
+    no_exchange: bool,
+}
+
+fn plan() -> &'static Plan {
+    static PLAN: OnceLock<Plan> = OnceLock::new();
+    PLAN.get_or_init(|| {
+        let mut plan = Plan::default();
+        let Ok(spec) = std::env::var("KARIGAMI_FAULT") else {
+            return plan;
+        };
+        for item in spec.split(',') {
+            match item.split_once('@') {
+                Some(("abort", k)) => plan.abort_at = k.parse().ok(),
+                Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
+                _ if item == "noexchange" => plan.no_exchange = true,
+                _ => {}
+            }
+        }
+        plan
+    })
+}
+
+static STEP: AtomicUsize = AtomicUsize::new(0);
+
+fn next(what: &str) -> usize {
+    let k = STEP.fetch_add(1, Ordering::SeqCst) + 1;
+    if plan().abort_at == Some(k) {
+        eprintln!("fault: abort at step {k} ({what})");
+        std::process::abort();
+    }
+    k
+}
+
+/// A file is about to be written.
+pub fn write(what: &str) -> io::Result<()> {
+    let k = next(what);
+    match plan().enospc_from {
+        Some(from) if k >= from => Err(io::Error::from_raw_os_error(28)),
+        _ => Ok(()),
+    }
+}
+
+/// A rename or removal of the commit is about to happen.
+pub fn commit(what: &str) {
+    next(what);
+}
+
+pub fn no_exchange() -> bool {
+    plan().no_exchange
+}

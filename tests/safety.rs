@@ -1,0 +1,859 @@
+//! Data safety, tried as a hostile user would: kills at every step of a
+//! write and commit, full disks, two runs into one folder, hostile file
+//! names, folders that are not builds, files given as --out. After each,
+//! --out holds a complete old or a complete new build, nothing is left
+//! beside it, and nothing outside it changed.
+
+use crate::cli::{repo, scratch};
+use crate::thirdparty;
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+type Tree = BTreeMap<String, Vec<u8>>;
+
+fn run(args: &[&str], cwd: &Path, fault: Option<&str>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_karigami"));
+    c.args(args).current_dir(cwd);
+    match fault {
+        Some(f) => c.env("KARIGAMI_FAULT", f),
+        None => c.env_remove("KARIGAMI_FAULT"),
+    };
+    c.output().expect("runs karigami")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Every file under `dir` (hidden ones too) with its bytes.
+pub fn tree(dir: &Path) -> Tree {
+    let mut out = Tree::new();
+    if !dir.exists() {
+        return out;
+    }
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let e = e.unwrap();
+            let p = e.path();
+            let kind = e.file_type().unwrap();
+            if kind.is_dir() {
+                stack.push(p);
+            } else if kind.is_symlink() {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                let to = fs::read_link(&p).unwrap();
+                out.insert(rel, format!("-> {}", to.display()).into_bytes());
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+fn put_tree(dir: &Path, t: &Tree) {
+    let _ = fs::remove_dir_all(dir);
+    fs::create_dir_all(dir).unwrap();
+    for (rel, bytes) in t {
+        let p = dir.join(rel);
+        fs::create_dir_all(p.parent().unwrap()).unwrap();
+        fs::write(p, bytes).unwrap();
+    }
+}
+
+/// Entries of `dir` whose names start with a dot: staging folders, locks.
+fn hidden(dir: &Path) -> Vec<String> {
+    fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect()
+}
+
+/// A folder with small recipes: a.toml, b.toml, c.toml (chains of 3, 4 and
+/// 5 cells) and broken.toml, which fails to parse.
+fn workspace(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    let chain = fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    for (file, rows) in [("a.toml", 3), ("b.toml", 4), ("c.toml", 5)] {
+        let text = chain.replace("rows = 6 ", &format!("rows = {rows} "));
+        assert_ne!(text, chain, "the template sets rows = 6");
+        fs::write(dir.join(file), text).unwrap();
+    }
+    fs::write(dir.join("broken.toml"), "name = \n").unwrap();
+    dir
+}
+
+/// The files of a build of `args` into a fresh folder.
+fn reference(dir: &Path, args: &[&str], into: &str) -> Tree {
+    let mut full: Vec<&str> = args.to_vec();
+    full.extend(["--out", into, "--jobs", "1"]);
+    let o = run(&full, dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let t = tree(&dir.join(into));
+    fs::remove_dir_all(dir.join(into)).unwrap();
+    t
+}
+
+/// Kill a build of `new_args` into `out` (which holds `old`) at step k for
+/// every k until the build completes; after each kill --out must hold the
+/// old or the new build (at once when the commit swaps atomically; after
+/// the next run's repair with the two-rename fallback), and the next run
+/// (here a failing recipe, which commits nothing) leaves nothing beside it.
+/// Starts at step `from` (the steps before a commit are the same in both
+/// commit modes). Returns the number of steps.
+fn kill_sweep(
+    dir: &Path,
+    old: &Tree,
+    new_args: &[&str],
+    new: &Tree,
+    extra: &str,
+    from: usize,
+) -> usize {
+    let out = dir.join("out");
+    let mut args: Vec<&str> = new_args.to_vec();
+    args.extend(["--out", "out", "--jobs", "1"]);
+    let (mut saw_old, mut saw_new) = (false, false);
+    for k in from..200 {
+        put_tree(&out, old);
+        let o = run(&args, dir, Some(&format!("abort@{k}{extra}")));
+        if o.status.success() {
+            assert!(tree(&out) == *new, "k={k}: the completed build");
+            assert_eq!(hidden(dir), Vec::<String>::new(), "k={k}");
+            assert!(saw_old && saw_new, "kills left both old and new builds");
+            return k - 1;
+        }
+        assert_eq!(o.status.code(), None, "k={k}: killed: {}", text(&o.stderr));
+        assert!(text(&o.stderr).contains(&format!("abort at step {k}")));
+        let now = tree(&out);
+        if extra.is_empty() {
+            assert!(now == *old || now == *new, "k={k}: a mixed --out");
+        }
+        let next = run(&["build", "broken.toml", "--out", "out"], dir, None);
+        assert_eq!(next.status.code(), Some(1), "{}", text(&next.stderr));
+        let now = tree(&out);
+        saw_old |= now == *old;
+        saw_new |= now == *new;
+        assert!(
+            now == *old || now == *new,
+            "k={k}: after the next run, --out is neither build: {:?}",
+            now.keys().collect::<Vec<_>>()
+        );
+        assert_eq!(
+            hidden(dir),
+            Vec::<String>::new(),
+            "k={k}: left beside --out"
+        );
+    }
+    panic!("the build never completed");
+}
+
+#[test]
+fn a_killed_single_build_leaves_the_old_or_the_new_build() {
+    let dir = workspace("kill-single");
+    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let new = reference(&dir, &["build", "b.toml"], "ref-new");
+    let steps = kill_sweep(&dir, &old, &["build", "b.toml"], &new, "", 1);
+    assert!(steps >= new.len(), "one step per file at least: {steps}");
+    let fallback = kill_sweep(
+        &dir,
+        &old,
+        &["build", "b.toml"],
+        &new,
+        ",noexchange",
+        steps - 2,
+    );
+    assert_eq!(fallback, steps + 1, "the fallback renames twice");
+}
+
+#[test]
+fn a_killed_batch_leaves_the_old_or_the_new_batch() {
+    let dir = workspace("kill-batch");
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    let new = reference(&dir, &["build", "a.toml", "c.toml"], "ref-new");
+    let steps = kill_sweep(&dir, &old, &["build", "a.toml", "c.toml"], &new, "", 1);
+    assert!(steps >= new.len(), "{steps}");
+    let fallback = kill_sweep(
+        &dir,
+        &old,
+        &["build", "a.toml", "c.toml"],
+        &new,
+        ",noexchange",
+        steps - 2,
+    );
+    assert_eq!(fallback, steps + 1);
+}
+
+/// Fail every write from step k on (a disk that fills up), for every k:
+/// exit 3, the disk error named, --out as it was, nothing left beside it,
+/// and no claim that anything was written.
+fn full_disk_sweep(dir: &Path, old: &Tree, args: &[&str]) {
+    let out = dir.join("out");
+    let mut args: Vec<&str> = args.to_vec();
+    args.extend(["--out", "out", "--jobs", "1"]);
+    for k in 1..200 {
+        put_tree(&out, old);
+        let o = run(&args, dir, Some(&format!("enospc@{k}")));
+        if o.status.success() {
+            assert!(k > 2, "the sweep covered the writes");
+            return;
+        }
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "k={k}: {stderr}");
+        assert!(
+            stderr.contains("No space left on device") && stderr.contains("out was left as it was"),
+            "k={k}: {stderr}"
+        );
+        assert!(!text(&o.stdout).contains("wrote"), "k={k}");
+        assert!(tree(&out) == *old, "k={k}: --out changed");
+        assert_eq!(hidden(dir), Vec::<String>::new(), "k={k}");
+    }
+    panic!("the build never completed");
+}
+
+#[test]
+fn a_full_disk_keeps_the_previous_build_single_and_batch() {
+    let dir = workspace("full-disk");
+    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    full_disk_sweep(&dir, &old, &["build", "b.toml"]);
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    full_disk_sweep(&dir, &old, &["build", "a.toml", "c.toml"]);
+    // Into a folder that did not exist: it still does not.
+    fs::remove_dir_all(dir.join("out")).unwrap();
+    let o = run(&["build", "b.toml", "--out", "out"], &dir, Some("enospc@3"));
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("nothing was written to out"));
+    assert!(!dir.join("out").exists());
+}
+
+/// A real full disk where the machine lets us mount a small tmpfs (root on
+/// Linux); the write hook above covers every step everywhere.
+#[test]
+fn a_real_full_disk_keeps_the_previous_batch() {
+    let dir = workspace("tmpfs");
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    let pages: usize = old.values().map(|b| b.len().div_ceil(4096)).sum();
+    // Room for one batch and a half: the first build fits, a second one
+    // (old and new side by side until the swap) does not.
+    let kib = (pages * 3 / 2 + 4) * 4;
+    let mnt = dir.join("disk");
+    fs::create_dir_all(&mnt).unwrap();
+    let mounted = Command::new("mount")
+        .args(["-t", "tmpfs", "-o", &format!("size={kib}k"), "tmpfs"])
+        .arg(&mnt)
+        .output();
+    if !mounted.as_ref().is_ok_and(|o| o.status.success()) {
+        eprintln!("note: cannot mount a tmpfs here; the write hook covers full disks");
+        return;
+    }
+    struct Unmount(PathBuf);
+    impl Drop for Unmount {
+        fn drop(&mut self) {
+            let _ = Command::new("umount").arg(&self.0).status();
+        }
+    }
+    let _guard = Unmount(mnt.clone());
+    let first = run(
+        &["build", "a.toml", "b.toml", "--out", "disk/out"],
+        &dir,
+        None,
+    );
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    assert!(tree(&mnt.join("out")) == old);
+    let second = run(
+        &["build", "a.toml", "c.toml", "--out", "disk/out"],
+        &dir,
+        None,
+    );
+    let stderr = text(&second.stderr);
+    assert_eq!(second.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("No space left on device"), "{stderr}");
+    assert!(stderr.contains("was left as it was"), "{stderr}");
+    assert!(!text(&second.stdout).contains("wrote"));
+    assert!(tree(&mnt.join("out")) == old, "the first batch is intact");
+    assert_eq!(hidden(&mnt), Vec::<String>::new());
+}
+
+#[test]
+fn two_builds_into_one_folder_at_once_never_mix() {
+    let dir = workspace("concurrent");
+    let a = reference(&dir, &["build", "a.toml"], "ref-a");
+    let b = reference(&dir, &["build", "b.toml"], "ref-b");
+    let mut refused = 0;
+    for round in 0..8 {
+        let spawn = |recipe: &str| {
+            Command::new(env!("CARGO_BIN_EXE_karigami"))
+                .args(["build", recipe, "--out", "out", "-q"])
+                .current_dir(&dir)
+                .env_remove("KARIGAMI_FAULT")
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap()
+        };
+        let (pa, pb) = (spawn("a.toml"), spawn("b.toml"));
+        let mut ok = 0;
+        for child in [pa, pb] {
+            let o = child.wait_with_output().unwrap();
+            if o.status.success() {
+                ok += 1;
+            } else {
+                let stderr = text(&o.stderr);
+                assert_eq!(o.status.code(), Some(3), "round {round}: {stderr}");
+                assert!(
+                    stderr.contains("another karigami run is writing out right now"),
+                    "round {round}: {stderr}"
+                );
+                refused += 1;
+            }
+        }
+        assert!(ok >= 1, "round {round}: the lock holder finishes");
+        let now = tree(&dir.join("out"));
+        assert!(now == a || now == b, "round {round}: a mixed folder");
+        assert_eq!(hidden(&dir), Vec::<String>::new());
+    }
+    eprintln!("two builds at once: {refused} of 16 runs found the folder locked");
+}
+
+#[test]
+fn hostile_recipe_file_names_build_only_inside_out() {
+    let root = scratch("hostile-names");
+    let recipes = root.join("r");
+    let work = root.join("p");
+    fs::create_dir_all(&recipes).unwrap();
+    fs::create_dir_all(&work).unwrap();
+    let chain = fs::read_to_string(repo().join("templates/chain.toml"))
+        .unwrap()
+        .replace("rows = 6 ", "rows = 2 ");
+    let long = "l".repeat(240);
+    let names = [
+        "...toml".to_string(),
+        "a\nb.toml".into(),
+        "esc\u{1b}[31m.toml".into(),
+        "CON.toml".into(),
+        "batch.json.toml".into(),
+        "ボウル 🍜.toml".into(),
+        format!("{long}.toml"),
+        "back\\slash.toml".into(),
+        " spaced .toml".into(),
+        ".hidden.toml".into(),
+        "colon:star*.toml".into(),
+    ];
+    for n in &names {
+        fs::write(recipes.join(n), &chain).unwrap();
+    }
+    // Hostile but legal strings: markup and DXF/PDF specials, wide and
+    // right-to-left text, the longest name allowed.
+    let with_strings = |name: &str, material: &str| {
+        chain.replace(
+            "name = \"chain\"",
+            &format!("name = \"{name}\"\n[material]\nname = \"{material}\""),
+        )
+    };
+    let strings = [
+        (
+            "strings-markup.toml",
+            with_strings(
+                r#"<title>&amp; \"q\" 'a' ]]> -- %%c \\P {\\}"#,
+                r#"ABS <b>1/8\"</b> & co"#,
+            ),
+        ),
+        (
+            "strings-wide.toml",
+            with_strings(r"ボウル 🍜 \u202eevil", "アクリル"),
+        ),
+        (
+            "strings-long.toml",
+            with_strings(&"ä".repeat(200), &"m".repeat(200)),
+        ),
+    ];
+    for (file, text) in &strings {
+        assert_ne!(text, &chain);
+        fs::write(recipes.join(file), text).unwrap();
+    }
+    // Control characters are refused, located; the batch builds the rest.
+    fs::write(
+        recipes.join("strings-control.toml"),
+        with_strings(r"two\nlines", "ABS"),
+    )
+    .unwrap();
+    let before = tree(&root);
+    let o = run(
+        &["build", "../r", "--out", "out", "--jobs", "2"],
+        &work,
+        None,
+    );
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("this string holds the control character U+000A")
+            && stderr.contains("strings-control.toml:3:8")
+            && stderr.contains("1 of 15 recipes failed"),
+        "{stderr}"
+    );
+    let after = tree(&root);
+    for path in after.keys() {
+        assert!(
+            before.contains_key(path) || path.starts_with("p/out/"),
+            "written outside --out: {path:?}"
+        );
+    }
+    for (path, bytes) in &before {
+        assert_eq!(after.get(path), Some(bytes), "changed: {path:?}");
+    }
+    let mut folders: Vec<String> = fs::read_dir(work.join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    folders.sort();
+    for f in &folders {
+        assert!(
+            f == ".karigami-build" || f == "batch.json" || !f.starts_with('.'),
+            "{f:?}"
+        );
+        assert!(f.len() <= 100 && !f.chars().any(|c| c.is_control() || "/\\:*".contains(c)));
+    }
+    assert_eq!(
+        folders.len(),
+        names.len() + strings.len() + 2,
+        "{folders:?}"
+    );
+    assert!(folders.contains(&"CON_".to_string()), "{folders:?}");
+    assert!(folders.contains(&"batch.json_".to_string()), "{folders:?}");
+    assert!(folders.contains(&"ボウル 🍜".to_string()), "{folders:?}");
+    check_outputs(&work.join("out"));
+}
+
+/// Every file under `dir` opens in a reader we did not write.
+pub fn check_outputs(dir: &Path) {
+    let mut dxfs: Vec<String> = Vec::new();
+    for (rel, bytes) in tree(dir) {
+        let path = dir.join(&rel);
+        let p = path.to_str().unwrap();
+        match rel.rsplit('.').next().unwrap() {
+            "json" => {
+                serde_json::from_slice::<serde_json::Value>(&bytes)
+                    .unwrap_or_else(|e| panic!("{rel}: {e}"));
+            }
+            "svg" => {
+                if let Some(o) = thirdparty::run("rsvg-convert", &[p]) {
+                    assert!(o.status.success(), "{rel}: {}", text(&o.stderr));
+                }
+            }
+            "pdf" => {
+                if let Some(o) = thirdparty::run("qpdf", &["--check", p]) {
+                    assert!(o.status.success(), "{rel}: {}", text(&o.stdout));
+                }
+            }
+            "dxf" => dxfs.push(p.to_string()),
+            "csv" | "txt" | "obj" => {
+                let t = String::from_utf8(bytes).unwrap_or_else(|e| panic!("{rel}: {e}"));
+                for word in ["NaN", "inf"] {
+                    assert!(
+                        !t.split(|c: char| !c.is_alphanumeric())
+                            .any(|w| w.eq_ignore_ascii_case(word)),
+                        "{rel}: {word}"
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+    // One Python for every DXF: ezdxf reads each and its audit finds no error.
+    let script = "import sys, ezdxf\nfor f in sys.argv[1:]:\n    e = len(ezdxf.readfile(f).audit().errors)\n    assert e == 0, (f, e)\nprint(len(sys.argv) - 1)";
+    let mut args = vec!["-c", script];
+    args.extend(dxfs.iter().map(String::as_str));
+    if let Some(o) = thirdparty::run("python3", &args) {
+        assert!(
+            o.status.success() && text(&o.stdout).trim() == dxfs.len().to_string(),
+            "ezdxf: {}{}",
+            text(&o.stdout),
+            text(&o.stderr)
+        );
+    }
+}
+
+#[test]
+fn a_folder_holding_an_input_is_never_replaced() {
+    let dir = workspace("inputs");
+    // A project folder with a stray batch.json is not a build.
+    fs::create_dir_all(dir.join("proj")).unwrap();
+    fs::copy(dir.join("a.toml"), dir.join("proj/design.toml")).unwrap();
+    fs::write(dir.join("proj/batch.json"), "[]").unwrap();
+    let before = tree(&dir);
+    for force in [false, true] {
+        let mut args = vec!["build", "proj/design.toml", "--out", "proj"];
+        if force {
+            args.push("--force");
+        }
+        let o = run(&args, &dir, None);
+        assert_eq!(o.status.code(), Some(3));
+        assert!(
+            text(&o.stderr).contains("holds proj/design.toml, an input of this run"),
+            "{}",
+            text(&o.stderr)
+        );
+        assert!(tree(&dir) == before, "a refusal writes nothing");
+    }
+    // A folder of recipes as its own --out, even with --force.
+    fs::create_dir_all(dir.join("recipes")).unwrap();
+    fs::copy(dir.join("a.toml"), dir.join("recipes/a.toml")).unwrap();
+    fs::copy(dir.join("b.toml"), dir.join("recipes/b.toml")).unwrap();
+    let before = tree(&dir);
+    let o = run(
+        &["build", "recipes", "--out", "recipes", "--force"],
+        &dir,
+        None,
+    );
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("an input of this run"));
+    assert!(tree(&dir) == before);
+    // --out the current folder.
+    let o = run(
+        &["build", "../a.toml", "--out", "../proj"],
+        &dir.join("proj"),
+        None,
+    );
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        text(&o.stderr).contains("is the current folder"),
+        "{}",
+        text(&o.stderr)
+    );
+    for bad in [".", "..", "/"] {
+        let o = run(&["build", "a.toml", "--out", bad], &dir, None);
+        assert_eq!(o.status.code(), Some(3), "{bad}");
+        assert!(text(&o.stderr).contains("not a folder name"), "{bad}");
+    }
+    assert!(tree(&dir) == before);
+}
+
+#[test]
+fn force_says_what_it_deletes_and_older_builds_are_named() {
+    let dir = workspace("force");
+    fs::create_dir_all(dir.join("mine/deep")).unwrap();
+    fs::write(dir.join("mine/notes.txt"), "keep").unwrap();
+    fs::write(dir.join("mine/deep/photo.jpg"), "jpg").unwrap();
+    let o = run(&["build", "a.toml", "--out", "mine"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("mine exists and is not a karigami build folder")
+            && stderr.contains("--force")
+            && stderr.contains("its 2 files would be deleted"),
+        "{stderr}"
+    );
+    assert_eq!(
+        fs::read_to_string(dir.join("mine/notes.txt")).unwrap(),
+        "keep"
+    );
+    let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
+    assert!(o.status.success());
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains("deletes its 2 files: deep/photo.jpg, notes.txt"),
+        "{stderr}"
+    );
+    // Once a build, no more questions.
+    let o = run(&["build", "b.toml", "--out", "mine"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
+    // A build of an older karigami (lattice.json, no marker) is named as such.
+    fs::create_dir_all(dir.join("older")).unwrap();
+    fs::write(dir.join("older/lattice.json"), "{}").unwrap();
+    let o = run(&["build", "a.toml", "--out", "older"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(text(&o.stderr).contains("may be a build of an older karigami"));
+    // An empty folder is fine.
+    fs::create_dir_all(dir.join("empty")).unwrap();
+    assert!(
+        run(&["build", "a.toml", "--out", "empty"], &dir, None)
+            .status
+            .success()
+    );
+}
+
+#[test]
+fn a_file_or_a_link_as_out_is_refused_and_nothing_written() {
+    let dir = workspace("out-file");
+    fs::write(dir.join("f"), "mine").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("nowhere", dir.join("dangling")).unwrap();
+    let before = tree(&dir);
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--out", "f", "--force"],
+            "--out f is a file, not a folder",
+        ),
+        (&["--out", "f"], "--out f is a file, not a folder"),
+        (
+            &["--out", "f/sub"],
+            "cannot create f/sub: f is a file, not a folder",
+        ),
+        (
+            &["--out", "f/sub/deeper"],
+            "cannot create f/sub/deeper: f is a file",
+        ),
+        (
+            &["--out", "dangling", "--force"],
+            "--out dangling is a symbolic link (to nowhere, which does not exist)",
+        ),
+    ];
+    for (extra, message) in cases {
+        for batch in [false, true] {
+            let mut args = vec!["build", "a.toml"];
+            if batch {
+                args.push("b.toml");
+            }
+            args.extend(extra);
+            let o = run(&args, &dir, None);
+            assert_eq!(o.status.code(), Some(3), "{args:?}");
+            assert!(
+                text(&o.stderr).contains(message),
+                "{args:?}: {}",
+                text(&o.stderr)
+            );
+            assert!(tree(&dir) == before, "{args:?} wrote something");
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
+        }
+    }
+    // A long but legal name: the staging names beside it stay legal.
+    let long = "o".repeat(250);
+    let o = run(&["build", "a.toml", "--out", &long], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        run(&["build", "b.toml", "--out", &long], &dir, None)
+            .status
+            .success()
+    );
+}
+
+#[test]
+fn a_failed_tune_leaves_the_recipe_as_it_was() {
+    let dir = scratch("tune-fail");
+    let seed = fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    fs::write(dir.join("x.toml"), &seed).unwrap();
+    let o = run(
+        &[
+            "tune",
+            "x.toml",
+            "--out",
+            "x.toml",
+            "--cells",
+            "400",
+            "--iterations",
+            "3",
+        ],
+        &dir,
+        None,
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("x.toml was not written"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(fs::read_to_string(dir.join("x.toml")).unwrap(), seed);
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
+
+/// Every bad command line or input file of the safety review: exit code,
+/// message, and with --json one JSON document on stdout.
+#[test]
+fn bad_inputs_get_their_exit_code_message_and_one_json_document() {
+    let dir = workspace("bad-inputs");
+    fs::write(dir.join("binary.toml"), b"name = \"a\"\n\x00\x01\xff").unwrap();
+    fs::write(dir.join("latin1.toml"), b"name = \"caf\xe9\"\n").unwrap();
+    fs::write(dir.join("huge.toml"), vec![b'#'; 2 << 20]).unwrap();
+    fs::create_dir_all(dir.join("empty")).unwrap();
+    fs::write(dir.join("afile"), "x").unwrap();
+    let cases: Vec<(Vec<&str>, i32, &str)> = vec![
+        (
+            vec!["check", "binary.toml"],
+            3,
+            "binary data, not a TOML recipe: byte 0x00 at line 2, column 1",
+        ),
+        (
+            vec!["check", "latin1.toml"],
+            3,
+            "not UTF-8 text: byte 0xE9 at line 1, column 12",
+        ),
+        (
+            vec!["check", "huge.toml"],
+            3,
+            "larger than the limit of 1 MiB for a recipe",
+        ),
+        (
+            vec!["check", "/dev/zero"],
+            3,
+            "larger than the limit of 1 MiB for a recipe",
+        ),
+        (
+            vec!["check", "empty"],
+            2,
+            "folder empty holds no .toml recipes",
+        ),
+        (
+            vec!["check", "empty", "--bogus"],
+            2,
+            "unexpected argument '--bogus'",
+        ),
+        (
+            vec!["build", "a.toml", "--out", "afile/sub"],
+            3,
+            "afile is a file, not a folder",
+        ),
+        (
+            vec!["build", "a.toml", "--out", "afile", "--force"],
+            3,
+            "--out afile is a file, not a folder",
+        ),
+        (
+            vec!["build", "a.toml", "b.toml", "--out", "afile"],
+            3,
+            "--out afile is a file",
+        ),
+        (
+            vec!["build", "broken.toml", "--out", "o"],
+            1,
+            "broken.toml:1:8",
+        ),
+        (
+            vec!["build", "a.toml", "--out", "o", "--kerf", "1e300"],
+            2,
+            "--kerf is 1e300, but must be a length from 0 to 5",
+        ),
+    ];
+    for (args, code, message) in cases {
+        for json in [false, true] {
+            let mut full = args.clone();
+            if json {
+                full.push("--json");
+            }
+            let o = run(&full, &dir, None);
+            let stderr = text(&o.stderr);
+            assert_eq!(o.status.code(), Some(code), "{full:?}: {stderr}");
+            let said = format!("{stderr}{}", text(&o.stdout));
+            assert!(said.contains(message), "{full:?}: {said}");
+            if json {
+                let doc: serde_json::Value =
+                    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
+                        panic!("{full:?}: no JSON document ({e}): {}", text(&o.stdout))
+                    });
+                assert!(doc.to_string().contains("error"), "{full:?}: {doc}");
+            } else {
+                assert!(o.stdout.is_empty(), "{full:?}");
+            }
+        }
+    }
+    // `new` with no usable name writes nothing.
+    for name in ["", ".toml", ".hidden", "a\nb"] {
+        let o = run(&["new", name], &dir, None);
+        assert_eq!(o.status.code(), Some(2), "{name:?}");
+        assert!(
+            text(&o.stderr).contains("is not a usable recipe name"),
+            "{name:?}"
+        );
+    }
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
+
+/// MATH.md 8.5: residuals of exact constructions drift with the distance
+/// from the origin in legs. The tolerance stays 1e-9 for every lattice of
+/// ordinary size and grows with the extent only beyond that; a real defect
+/// still fails.
+#[test]
+fn the_tolerance_scales_with_extent_only_where_rounding_needs_it() {
+    use karigami::lattice::{DRIFT_PER_LEG, TOLERANCE, verify};
+    let source = fs::read_to_string(repo().join("examples/flat-sheet.toml")).unwrap();
+    let lattice = karigami::design::parse(&source, "t")
+        .unwrap()
+        .grow()
+        .unwrap();
+    let report = verify(&lattice);
+    assert_eq!(report.tolerance, TOLERANCE);
+    assert!(report.passed());
+    // The same lattice a thousand kilometres from the origin (z is
+    // measured from vertex 0 and stays): its exact geometry now rounds to
+    // residuals beyond 1e-9.
+    let mut far = lattice.clone();
+    let shift = glam::DVec3::splat(1e9);
+    for v in &mut far.vertices {
+        v.pos += shift;
+    }
+    for c in &mut far.cells {
+        c.pivot += shift;
+    }
+    let report = verify(&far);
+    assert!(report.worst() > TOLERANCE, "{}", report.worst());
+    assert!(
+        report.tolerance > report.worst(),
+        "{} {}",
+        report.tolerance,
+        report.worst()
+    );
+    let legs: f64 = far
+        .cells
+        .iter()
+        .map(|c| far.legs(c).iter().sum::<f64>() / 4.0)
+        .sum::<f64>()
+        / far.cells.len() as f64;
+    let extent = 1e9
+        + lattice
+            .vertices
+            .iter()
+            .map(|v| v.pos.max_element())
+            .fold(0.0, f64::max);
+    assert!((report.tolerance / (DRIFT_PER_LEG * extent / legs) - 1.0).abs() < 1e-3);
+    assert!(report.passed(), "exact geometry passes wherever it is");
+    // A pivot off its rods by a millionth of a leg fails at ordinary size.
+    let mut bent = lattice.clone();
+    bent.cells[0].pivot.y += 1e-6 * legs;
+    assert!(!verify(&bent).passed());
+}
+
+/// Off a terminal, phases longer than a couple of seconds print a line now
+/// and then; search budgets are bounded with the limit in the message.
+#[test]
+fn long_phases_say_so_and_budgets_are_bounded() {
+    let dir = scratch("progress");
+    let torus = repo().join("examples/torus.toml");
+    let o = run(
+        &["build", torus.to_str().unwrap(), "--out", "o"],
+        &dir,
+        None,
+    );
+    assert!(o.status.success());
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.lines().any(|l| (l.starts_with("drawing the files: ")
+            || l.starts_with("building "))
+            && l.ends_with(" s")),
+        "no progress line: {stderr}"
+    );
+    let quiet = run(
+        &["build", torus.to_str().unwrap(), "--out", "o", "-q"],
+        &dir,
+        None,
+    );
+    assert!(
+        quiet.status.success() && quiet.stderr.is_empty(),
+        "{}",
+        text(&quiet.stderr)
+    );
+    let helix = repo().join("templates/helix.toml");
+    for (flag, value, limit) in [
+        (
+            "--iterations",
+            "1000000000",
+            "1000000000 is not in 1..=5000000",
+        ),
+        ("--cells", "1000000000", "1000000000 is not in 1..=100000"),
+    ] {
+        let o = run(&["tune", helix.to_str().unwrap(), flag, value], &dir, None);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(text(&o.stderr).contains(limit), "{}", text(&o.stderr));
+    }
+}
