@@ -8,10 +8,10 @@ use crate::drawing::{Meta, Page, sheet_page};
 use crate::guide::guide;
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Lattice, Report, verify};
-use crate::layout::{Bounds, Layout, nest};
+use crate::layout::{Bounds, Layout, nest_with};
 use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
-use crate::write::{dxf, lattice_json, obj, parts_csv, pdf, png, svg};
+use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg};
 use std::fmt::Write as _;
 
 /// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
@@ -131,7 +131,8 @@ pub fn assemble_with(
         .map(|s| Outline::of(s.length, fab).length)
         .collect();
     let width = Outline::of(0.0, fab).width;
-    let layout = nest(&lengths, width, &fab.sheet);
+    let piece = crate::parts::test_piece(fab).map(|p| Outline::of(p.length, fab).length);
+    let layout = nest_with(&lengths, width, &fab.sheet, piece);
     let meta = Meta {
         design: design.name.clone(),
         recipe_hash: design.recipe_hash,
@@ -186,6 +187,10 @@ impl Build {
         files.push((
             "parts.csv".to_string(),
             parts_csv::write(&self.parts.strips, &self.layout),
+        ));
+        files.push((
+            "parts-types.csv".to_string(),
+            part_types_csv::write(&self.parts),
         ));
         files.push((
             "assembly.pdf".to_string(),

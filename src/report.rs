@@ -80,6 +80,7 @@ pub fn check_text(
         );
     }
     deployment_text(&mut out, lattice, deploy);
+    part_types_text(&mut out, design, lattice);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -87,6 +88,18 @@ pub fn check_text(
         report.worst()
     );
     out
+}
+
+/// The part types (interchangeable strips) and what is engraved on the
+/// strips, when the lattice is small enough to make parts for.
+fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
+    if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
+        return;
+    }
+    let Ok(p) = crate::parts::parts(lattice, &design.fabrication) else {
+        return;
+    };
+    let _ = writeln!(out, "{}", crate::parts::types::summary(&p));
 }
 
 /// MATH.md 8.4: the intrinsic configuration, the mobility verdict and, in
@@ -252,6 +265,7 @@ pub fn build_json(b: &Build) -> serde_json::Value {
         "sheet_lower_bounds": { "area": bounds.area, "lanes": bounds.lanes },
         "utilisation": num(b.layout.utilisation()),
         "cut_length_mm": num(b.cut_length()),
+        "part_types": b.parts.types.iter().map(|t| json!({ "type": t.code, "count": t.strips.len() })).collect::<Vec<_>>(),
         "warnings": warnings,
     })
 }

@@ -146,6 +146,12 @@ struct FabricationFlags {
     /// Paper of the assembly guide: a4 or letter.
     #[arg(long)]
     paper: Option<String>,
+    /// Leave the kerf and eyelet test piece off the first sheet.
+    #[arg(long)]
+    no_test_piece: bool,
+    /// Cut-file colours: karigami (outlines red) or boxes (outlines black, as box generators use).
+    #[arg(long, value_name = "PRESET")]
+    colours: Option<String>,
 }
 
 impl FabricationFlags {
@@ -158,6 +164,8 @@ impl FabricationFlags {
             compensate_kerf: self.compensate_kerf.then_some(true),
             label: self.label.clone(),
             paper: self.paper.clone(),
+            test_piece: self.no_test_piece.then_some(false),
+            colours: self.colours.clone(),
         }
     }
 }

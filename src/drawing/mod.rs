@@ -6,7 +6,7 @@ pub mod picture;
 mod sheet;
 pub mod text;
 
-pub use sheet::{Meta, sheet_page};
+pub use sheet::{Meta, TEST_PIECE_ID, sheet_page};
 
 use glam::DVec2;
 use std::f64::consts::{FRAC_PI_2, PI};

@@ -4,6 +4,7 @@ pub mod dxf;
 pub mod lattice_json;
 mod number;
 pub mod obj;
+pub mod part_types_csv;
 pub mod parts_csv;
 pub mod pdf;
 pub mod png;
