@@ -493,6 +493,9 @@ mod tests {
             assert!(p.y.abs() < fab.material.width / 2.0 - 0.2, "{p}");
             assert!(p.x > 0.0 && p.x < 26.0, "{p}");
         }
-        assert_eq!(dot_offsets(6), vec![0.0, 1.2, 2.4, 3.6, 4.8, 7.2]);
+        let steps: Vec<f64> = dot_offsets(6).iter().map(|o| o / DOT_PITCH).collect();
+        for (s, want) in steps.iter().zip([0.0, 1.0, 2.0, 3.0, 4.0, 6.0]) {
+            assert!((s - want).abs() < 1e-12, "{steps:?}");
+        }
     }
 }
