@@ -138,7 +138,11 @@ pub fn assemble_with(
         recipe_hash: design.recipe_hash,
     };
     let pages = (0..layout.sheets.len())
-        .map(|i| sheet_page(&parts.strips, &layout, i, fab, &meta))
+        .map(|i| {
+            let mut page = sheet_page(&parts.strips, &layout, i, fab, &meta);
+            crate::drawing::colours::apply(&mut page, fab.colours);
+            page
+        })
         .collect();
     Ok(Build {
         design,
@@ -171,6 +175,10 @@ impl Build {
         for (i, page) in self.pages.iter().enumerate() {
             files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
             files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
+            files.push((
+                format!("sheets/sheet-{:02}.lbrn2", i + 1),
+                crate::write::lbrn2::write(page),
+            ));
             files.push((
                 format!("sheets/sheet-{:02}.png", i + 1),
                 png::write(

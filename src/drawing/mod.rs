@@ -2,6 +2,7 @@
 //! down from the top-left corner. Every writer (SVG, PDF, DXF, PNG) renders
 //! this model and nothing else, so no writer re-derives geometry.
 
+pub mod colours;
 pub mod picture;
 mod sheet;
 pub mod text;

@@ -2,6 +2,7 @@
 
 pub mod dxf;
 pub mod lattice_json;
+pub mod lbrn2;
 mod number;
 pub mod obj;
 pub mod part_types_csv;
