@@ -534,3 +534,14 @@ fn lightburn_projects_are_well_formed_xml() {
     let items = b.pages[0].groups.iter().flat_map(|g| &g.items).count();
     assert_eq!(shapes, items);
 }
+
+#[test]
+fn a_helix_that_degenerates_points_at_its_cell_count() {
+    let template = karigami::templates::find("helix").unwrap();
+    let text = karigami::templates::instantiate(template, "hx").replace("cells = 12", "cells = 60");
+    let design = design::parse(&text, "hx").unwrap();
+    let e = design.grow().unwrap_err();
+    assert_eq!(e.class, "DoubleEdgeNotSpacelike", "{e:?}");
+    let span = e.span.clone().expect("a place in the recipe");
+    assert_eq!(&text[span], "60", "{}", e.render("hx.toml", &text));
+}

@@ -593,7 +593,7 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
         )));
     }
     let design_name = stem(&path);
-    files::write_atomic(&path, templates::instantiate(t, &design_name).as_bytes()).map_err(
+    files::write_atomic(&path, templates::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes()).map_err(
         |e| {
             eprintln!("error: cannot write {}: {e}", path.display());
             Failed(EXIT_IO)
