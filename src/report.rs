@@ -164,7 +164,17 @@ pub fn build_text(b: &Build) -> String {
         }
     );
     for (i, sheet) in b.layout.sheets.iter().enumerate() {
-        let _ = writeln!(out, "sheet {:02}: {} strips", i + 1, sheet.placements.len());
+        let piece = if sheet.test_piece.is_some() {
+            " and the test piece"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            out,
+            "sheet {:02}: {} strips{piece}",
+            i + 1,
+            sheet.placements.len()
+        );
     }
     out.push_str("\nassembly steps (eyelets this step / running total):\n");
     for s in crate::guide::steps(&b.lattice) {

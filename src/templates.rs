@@ -139,8 +139,14 @@ mod tests {
             }
         }
         let helix = instantiate_as(find("helix").unwrap(), "spiral", "spiral.toml");
-        assert!(helix.contains("karigami tune spiral.toml --out spiral.toml"), "{helix}");
+        assert!(
+            helix.contains("karigami tune spiral.toml --out spiral.toml"),
+            "{helix}"
+        );
         let sheet = instantiate_as(find("sheet").unwrap(), "my-sheet", "my-sheet.toml");
-        assert!(sheet.contains("`karigami build my-sheet.toml --out my-sheet`"), "{sheet}");
+        assert!(
+            sheet.contains("`karigami build my-sheet.toml --out my-sheet`"),
+            "{sheet}"
+        );
     }
 }

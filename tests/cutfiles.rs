@@ -188,7 +188,10 @@ pub fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
             if id.as_str() == karigami::drawing::TEST_PIECE_ID {
                 // The test piece: on the first sheet, within the margins and
                 // clear of every strip like a part (checked below).
-                assert!(name.ends_with("sheet-01.svg"), "{name}: test piece off sheet 1");
+                assert!(
+                    name.ends_with("sheet-01.svg"),
+                    "{name}: test piece off sheet 1"
+                );
                 assert!(!s.holes.is_empty(), "{name}: test piece without holes");
                 let (a, b, r) = s.spine.expect("a test piece outline");
                 for p in [a, b] {

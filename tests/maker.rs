@@ -144,7 +144,11 @@ fn measure(g: &Group) -> [f64; 3] {
         .collect();
     let spine = along.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - along.iter().cloned().fold(f64::INFINITY, f64::min);
-    [holes[0].distance(holes[1]), holes[1].distance(holes[2]), spine]
+    [
+        holes[0].distance(holes[1]),
+        holes[1].distance(holes[2]),
+        spine,
+    ]
 }
 
 #[test]
@@ -164,7 +168,11 @@ fn every_strip_of_every_example_can_be_told_apart_once_cut() {
         let mut by_engraving: BTreeMap<Read, Vec<(String, [f64; 3])>> = BTreeMap::new();
         let (mut ids, mut types, mut dotted) = (0, 0, 0);
         for page in &b.pages {
-            for g in page.groups.iter().filter(|g| index.contains_key(g.id.as_str())) {
+            for g in page
+                .groups
+                .iter()
+                .filter(|g| index.contains_key(g.id.as_str()))
+            {
                 let s = &parts.strips[index[g.id.as_str()]];
                 let t = &parts.types[s.part_type];
                 let code = if t.symmetric {
@@ -172,8 +180,13 @@ fn every_strip_of_every_example_can_be_told_apart_once_cut() {
                 } else {
                     format!("<{}", t.code)
                 };
-                let said = read(g, &[format!("<{}", s.id), code.clone()])
-                    .unwrap_or_else(|| panic!("{}: {} carries no ID, type or dot code", path.display(), s.id));
+                let said = read(g, &[format!("<{}", s.id), code.clone()]).unwrap_or_else(|| {
+                    panic!(
+                        "{}: {} carries no ID, type or dot code",
+                        path.display(),
+                        s.id
+                    )
+                });
                 match &said {
                     Read::Text(t) if *t == format!("<{}", s.id) => ids += 1,
                     Read::Text(t) => {
@@ -191,7 +204,12 @@ fn every_strip_of_every_example_can_be_told_apart_once_cut() {
                     .push((s.id.clone(), measure(g)));
             }
         }
-        assert_eq!(ids + types + dotted, parts.strips.len(), "{}", path.display());
+        assert_eq!(
+            ids + types + dotted,
+            parts.strips.len(),
+            "{}",
+            path.display()
+        );
         // Strips that read the same are interchangeable, measured on the sheet.
         for (said, strips) in &by_engraving {
             if strips.len() == 1 {
@@ -227,7 +245,11 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
     let fab = &b.design.fabrication;
     let piece = karigami::parts::test_piece(fab).unwrap();
     let page = &b.pages[0];
-    let g = page.groups.iter().find(|g| g.id == TEST_PIECE_ID).expect("a test piece");
+    let g = page
+        .groups
+        .iter()
+        .find(|g| g.id == TEST_PIECE_ID)
+        .expect("a test piece");
     // Its holes: the stepped diameters, nominal among them.
     let diameters: Vec<f64> = g
         .items
@@ -246,7 +268,10 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
     // 100 mm tip to tip: the outline's extent along its axis.
     let (o, axis) = frame(g);
     let outline = g.items.iter().find(|i| i.layer == Layer::Outlines).unwrap();
-    let along: Vec<f64> = points(&outline.shape).iter().map(|p| (*p - o).dot(axis)).collect();
+    let along: Vec<f64> = points(&outline.shape)
+        .iter()
+        .map(|p| (*p - o).dot(axis))
+        .collect();
     let spine = along.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
         - along.iter().cloned().fold(f64::INFINITY, f64::min);
     assert!((spine + fab.material.width - 100.0).abs() < 1e-9, "{spine}");
@@ -258,12 +283,23 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
     // Nested like a part: inside the margins and clear of every strip.
     let spec = &b.layout.sheet;
     let bbox = |g: &Group| {
-        let pts: Vec<DVec2> = g.items.iter().filter(|i| i.layer.is_cut()).flat_map(|i| match i.shape {
-            Shape::Circle { center, radius } => vec![center - DVec2::splat(radius), center + DVec2::splat(radius)],
-            _ => points(&i.shape),
-        }).collect();
-        let lo = pts.iter().fold(DVec2::splat(f64::INFINITY), |a, &p| a.min(p));
-        let hi = pts.iter().fold(DVec2::splat(f64::NEG_INFINITY), |a, &p| a.max(p));
+        let pts: Vec<DVec2> = g
+            .items
+            .iter()
+            .filter(|i| i.layer.is_cut())
+            .flat_map(|i| match i.shape {
+                Shape::Circle { center, radius } => {
+                    vec![center - DVec2::splat(radius), center + DVec2::splat(radius)]
+                }
+                _ => points(&i.shape),
+            })
+            .collect();
+        let lo = pts
+            .iter()
+            .fold(DVec2::splat(f64::INFINITY), |a, &p| a.min(p));
+        let hi = pts
+            .iter()
+            .fold(DVec2::splat(f64::NEG_INFINITY), |a, &p| a.max(p));
         (lo - DVec2::splat(fab.material.width / 2.0) * 0.0, hi)
     };
     let (lo, hi) = bbox(g);
@@ -274,14 +310,22 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
     let p = b.layout.sheets[0].test_piece.unwrap();
     let len = b.layout.test_piece.unwrap();
     let rect = |x: f64, y: f64, rotated: bool, l: f64| {
-        let (w, h) = if rotated { (b.layout.part_width, l) } else { (l, b.layout.part_width) };
+        let (w, h) = if rotated {
+            (b.layout.part_width, l)
+        } else {
+            (l, b.layout.part_width)
+        };
         (x, y, x + w, y + h)
     };
     let t = rect(p.x, p.y, p.rotated, len);
     for q in &b.layout.sheets[0].placements {
         let r = rect(q.x, q.y, q.rotated, b.layout.lengths[q.part]);
         let apart = (r.0 - t.2).max(t.0 - r.2).max(r.1 - t.3).max(t.1 - r.3);
-        assert!(apart >= spec.gap - 1e-9, "test piece {apart} mm from strip {}", q.part);
+        assert!(
+            apart >= spec.gap - 1e-9,
+            "test piece {apart} mm from strip {}",
+            q.part
+        );
     }
     // Left out on request.
     let o = Overrides {
@@ -289,7 +333,11 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
         ..Overrides::default()
     };
     let b = build_example(&path, &o);
-    assert!(b.pages.iter().all(|p| p.groups.iter().all(|g| g.id != TEST_PIECE_ID)));
+    assert!(
+        b.pages
+            .iter()
+            .all(|p| p.groups.iter().all(|g| g.id != TEST_PIECE_ID))
+    );
     assert!(b.layout.test_piece.is_none());
 }
 
@@ -319,7 +367,10 @@ fn colour_presets_change_only_colours() {
     };
     let b = build_example(&path, &o);
     let svgs = |b: &Build| -> Vec<(String, Vec<u8>)> {
-        b.files().into_iter().filter(|f| f.0.ends_with(".svg")).collect()
+        b.files()
+            .into_iter()
+            .filter(|f| f.0.ends_with(".svg"))
+            .collect()
     };
     let (sa, sb) = (svgs(&a), svgs(&b));
     assert_eq!(sa.len(), sb.len());
@@ -330,7 +381,14 @@ fn colour_presets_change_only_colours() {
     // The box-generator convention: outer cut black, inner cut blue,
     // annotation red.
     let colour = |page: &Page, layer: Layer| {
-        page.groups.iter().flat_map(|g| &g.items).find(|i| i.layer == layer).unwrap().ink.stroke.unwrap()
+        page.groups
+            .iter()
+            .flat_map(|g| &g.items)
+            .find(|i| i.layer == layer)
+            .unwrap()
+            .ink
+            .stroke
+            .unwrap()
     };
     assert_eq!(colour(&b.pages[0], Layer::Outlines), [0, 0, 0]);
     assert_eq!(colour(&b.pages[0], Layer::Holes), [0, 0, 255]);
@@ -343,7 +401,10 @@ fn colour_presets_change_only_colours() {
         ..Overrides::default()
     };
     let e = design::parse_with(&text, "x", &bad).unwrap_err();
-    assert!(e.message.contains("rainbow") && e.hint.as_deref().unwrap_or("").contains("boxes"), "{e:?}");
+    assert!(
+        e.message.contains("rainbow") && e.hint.as_deref().unwrap_or("").contains("boxes"),
+        "{e:?}"
+    );
 }
 
 /// A LightBurn project read back: layers and shapes.
@@ -363,7 +424,10 @@ fn numbers_after(s: &str, key: char) -> Vec<f64> {
         .skip(1)
         .flat_map(|chunk| {
             let chunk = chunk.split('c').next().unwrap();
-            chunk.split_whitespace().map(|t| t.parse::<f64>().unwrap()).collect::<Vec<_>>()
+            chunk
+                .split_whitespace()
+                .map(|t| t.parse::<f64>().unwrap())
+                .collect::<Vec<_>>()
         })
         .collect()
 }
@@ -412,14 +476,20 @@ fn read_lbrn(xml: &str) -> Lbrn {
             }
             Event::Tag("Shape", Type::End, _) => {
                 let (kind, cut, r) = shape.take().unwrap();
-                let x: Vec<f64> = xform.split_whitespace().map(|t| t.parse().unwrap()).collect();
+                let x: Vec<f64> = xform
+                    .split_whitespace()
+                    .map(|t| t.parse().unwrap())
+                    .collect();
                 assert_eq!(&x[..4], &[1.0, 0.0, 0.0, 1.0]);
                 if kind == "Ellipse" {
                     out.circles.push((cut, DVec2::new(x[4], x[5]), r));
                 } else {
                     assert_eq!(kind, "Path");
                     let n = numbers_after(&verts, 'V');
-                    let v = n.chunks(2).map(|c| DVec2::new(c[0] + x[4], c[1] + x[5])).collect();
+                    let v = n
+                        .chunks(2)
+                        .map(|c| DVec2::new(c[0] + x[4], c[1] + x[5]))
+                        .collect();
                     out.paths.push((cut, v, prims.clone()));
                 }
             }
@@ -452,13 +522,21 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
             let files = b.files();
             for (i, page) in b.pages.iter().enumerate() {
                 let file = format!("sheets/sheet-{:02}.lbrn2", i + 1);
-                let bytes = &files.iter().find(|f| f.0 == file).expect("a project per sheet").1;
+                let bytes = &files
+                    .iter()
+                    .find(|f| f.0 == file)
+                    .expect("a project per sheet")
+                    .1;
                 let lb = read_lbrn(std::str::from_utf8(bytes).unwrap());
                 let h = page.height;
                 let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
                 // Layers: labels, holes, outlines in that order; the reference not output.
                 let layer_of = |prefix: &str| {
-                    lb.layers.iter().find(|(_, v)| v.0.starts_with(prefix)).map(|(&i, v)| (i, v.1, v.2)).unwrap()
+                    lb.layers
+                        .iter()
+                        .find(|(_, v)| v.0.starts_with(prefix))
+                        .map(|(&i, v)| (i, v.1, v.2))
+                        .unwrap()
                 };
                 let (li, lp, lo) = layer_of("labels");
                 let (hi, hp, ho) = layer_of("holes");
@@ -467,7 +545,11 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                 assert!(lp < hp && hp < op, "holes before outlines, labels first");
                 assert!(lo && ho && oo && !ro, "only the reference is not output");
                 // LightBurn's palette: the layer index is its colour.
-                let expected = if colours == "boxes" { [3, 1, 0, 2] } else { [0, 1, 2, 3] };
+                let expected = if colours == "boxes" {
+                    [3, 1, 0, 2]
+                } else {
+                    [0, 1, 2, 3]
+                };
                 assert_eq!([li, hi, oi, ri], expected, "{colours}");
                 // Every hole: same centre and radius.
                 let holes: Vec<(DVec2, f64)> = page
@@ -475,14 +557,19 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                     .iter()
                     .flat_map(|g| &g.items)
                     .filter_map(|i| match i.shape {
-                        Shape::Circle { center, radius } if i.layer == Layer::Holes => Some((flip(center), radius)),
+                        Shape::Circle { center, radius } if i.layer == Layer::Holes => {
+                            Some((flip(center), radius))
+                        }
                         _ => None,
                     })
                     .collect();
                 let circles: Vec<_> = lb.circles.iter().filter(|c| c.0 == hi).collect();
                 assert_eq!(circles.len(), holes.len(), "{name} {file}");
                 for ((c, r), (_, lc, lr)) in holes.iter().zip(&circles) {
-                    assert!(c.distance(*lc) < 1e-4 && (r - lr).abs() < 1e-4, "{file}: hole at {c}");
+                    assert!(
+                        c.distance(*lc) < 1e-4 && (r - lr).abs() < 1e-4,
+                        "{file}: hole at {c}"
+                    );
                 }
                 // Every outline: its corner points among the path's vertices,
                 // closed, lines and Beziers.
@@ -497,12 +584,20 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                 assert_eq!(paths.len(), outlines.len(), "{name} {file}");
                 for (pts, (_, verts, prims)) in outlines.iter().zip(&paths) {
                     for p in pts {
-                        assert!(verts.iter().any(|v| v.distance(*p) < 1e-4), "{file}: outline point {p} lost");
+                        assert!(
+                            verts.iter().any(|v| v.distance(*p) < 1e-4),
+                            "{file}: outline point {p} lost"
+                        );
                     }
                     assert!(prims.contains('B') && prims.contains('L'), "{prims}");
                     assert!(prims.ends_with(" 0"), "closed: {prims}");
                 }
-                let labels = page.groups.iter().flat_map(|g| &g.items).filter(|i| i.layer == Layer::Labels).count();
+                let labels = page
+                    .groups
+                    .iter()
+                    .flat_map(|g| &g.items)
+                    .filter(|i| i.layer == Layer::Labels)
+                    .count();
                 assert_eq!(lb.paths.iter().filter(|p| p.0 == li).count(), labels);
             }
         }
@@ -515,7 +610,11 @@ fn lightburn_projects_are_well_formed_xml() {
     let dir = crate::cli::scratch("lbrn2-xml");
     let path = crate::cli::repo().join("examples/flat-sheet.toml");
     let b = build_example(&path, &Overrides::default());
-    let (name, bytes) = b.files().into_iter().find(|f| f.0.ends_with(".lbrn2")).unwrap();
+    let (name, bytes) = b
+        .files()
+        .into_iter()
+        .find(|f| f.0.ends_with(".lbrn2"))
+        .unwrap();
     let file = dir.join(name.rsplit('/').next().unwrap());
     std::fs::write(&file, bytes).unwrap();
     let Some(out) = crate::thirdparty::run(
@@ -529,7 +628,11 @@ fn lightburn_projects_are_well_formed_xml() {
     ) else {
         return;
     };
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let shapes: usize = String::from_utf8_lossy(&out.stdout).trim().parse().unwrap();
     let items = b.pages[0].groups.iter().flat_map(|g| &g.items).count();
     assert_eq!(shapes, items);

@@ -131,11 +131,16 @@ fn svg_renders_at_true_size_and_holes_measure_their_diameter() {
                 .collect();
             // One hole size, plus the test piece's stepped holes on sheet 1.
             let first = svg.ends_with("sheet-01.svg");
-            assert!(holes.iter().any(|d| (d - 3.2).abs() < 0.001), "the 1/8 in eyelet hole: {m}");
+            assert!(
+                holes.iter().any(|d| (d - 3.2).abs() < 0.001),
+                "the 1/8 in eyelet hole: {m}"
+            );
             for d in &holes {
                 let step = ((d - 3.2) / 0.1).round();
                 assert!(
-                    (d - 3.2 - step * 0.1).abs() < 0.001 && step.abs() <= 2.0 && (first || step == 0.0),
+                    (d - 3.2 - step * 0.1).abs() < 0.001
+                        && step.abs() <= 2.0
+                        && (first || step == 0.0),
                     "{}: hole of {d} mm",
                     svg.display()
                 );
@@ -213,7 +218,12 @@ fn dxf_passes_ezdxf_audit_in_millimetres() {
             assert_eq!(m["version"], "AC1015");
             assert_eq!(m["units"], 4, "millimetres");
             // True circles of the hole radius (and the test piece's steps on sheet 1).
-            let radii: Vec<f64> = m["radii"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+            let radii: Vec<f64> = m["radii"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
             let expected: &[f64] = if dxf.ends_with("sheet-01.dxf") {
                 &[1.5, 1.55, 1.6, 1.65, 1.7]
             } else {

@@ -593,12 +593,14 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
         )));
     }
     let design_name = stem(&path);
-    files::write_atomic(&path, templates::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes()).map_err(
-        |e| {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            Failed(EXIT_IO)
-        },
-    )?;
+    files::write_atomic(
+        &path,
+        templates::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes(),
+    )
+    .map_err(|e| {
+        eprintln!("error: cannot write {}: {e}", path.display());
+        Failed(EXIT_IO)
+    })?;
     if !v.quiet {
         println!(
             "wrote {} from the {} template; next: karigami check {0}",

@@ -5,8 +5,8 @@
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::Diagnostic;
 use crate::fabrication::{
-    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_PRESETS, eyelet_preset, preset_names,
-    sheet_size,
+    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_PRESETS, eyelet_preset,
+    preset_names, sheet_size,
 };
 use std::ops::Range;
 
@@ -267,20 +267,35 @@ fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result
             .collect::<Vec<_>>()
             .join(" or ")
     };
-    if let Some(t) = raw.strip.as_ref().and_then(|s| s.get_ref().part_tolerance.as_ref()) {
+    if let Some(t) = raw
+        .strip
+        .as_ref()
+        .and_then(|s| s.get_ref().part_tolerance.as_ref())
+    {
         f.part_tolerance = non_negative(t, "strip.part_tolerance")?;
     }
-    if let Some(t) = raw.sheet.as_ref().and_then(|s| s.get_ref().test_piece.as_ref()) {
+    if let Some(t) = raw
+        .sheet
+        .as_ref()
+        .and_then(|s| s.get_ref().test_piece.as_ref())
+    {
         f.test_piece = *t.get_ref();
     }
     if let Some(t) = o.test_piece {
         f.test_piece = t;
     }
-    if let Some(c) = raw.laser.as_ref().and_then(|l| l.get_ref().colours.as_ref()) {
+    if let Some(c) = raw
+        .laser
+        .as_ref()
+        .and_then(|l| l.get_ref().colours.as_ref())
+    {
         f.colours = ColourPreset::parse(c.get_ref()).ok_or_else(|| {
-            Diagnostic::new("design", format!("unknown colour preset \"{}\"", c.get_ref()))
-                .at(c.span())
-                .hint(format!("use {}", presets()))
+            Diagnostic::new(
+                "design",
+                format!("unknown colour preset \"{}\"", c.get_ref()),
+            )
+            .at(c.span())
+            .hint(format!("use {}", presets()))
         })?;
     }
     if let Some(c) = &o.colours {

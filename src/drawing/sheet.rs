@@ -90,7 +90,10 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
             )
         })
         .collect();
-    items.push(Item::on(Layer::Outlines, stadium(strip.length, &outline, &frame)));
+    items.push(Item::on(
+        Layer::Outlines,
+        stadium(strip.length, &outline, &frame),
+    ));
     items.extend(strip.engraving.iter().map(|stroke| {
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))
@@ -112,10 +115,19 @@ fn test_piece_group(piece: &TestPiece, placement: &Placement, fab: &Fabrication)
         .iter()
         .map(|&(x, d)| {
             let center = frame.map(DVec2::new(x, 0.0));
-            Item::on(Layer::Holes, Shape::Circle { center, radius: (d - shrink) / 2.0 })
+            Item::on(
+                Layer::Holes,
+                Shape::Circle {
+                    center,
+                    radius: (d - shrink) / 2.0,
+                },
+            )
         })
         .collect();
-    items.push(Item::on(Layer::Outlines, stadium(piece.length, &outline, &frame)));
+    items.push(Item::on(
+        Layer::Outlines,
+        stadium(piece.length, &outline, &frame),
+    ));
     items.extend(piece.engraving.iter().map(|stroke| {
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))

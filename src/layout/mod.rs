@@ -64,7 +64,11 @@ impl Layout {
 
     /// The parts' lengths and the test piece's: everything the sheets hold.
     pub fn all_lengths(&self) -> Vec<f64> {
-        self.lengths.iter().copied().chain(self.test_piece).collect()
+        self.lengths
+            .iter()
+            .copied()
+            .chain(self.test_piece)
+            .collect()
     }
 }
 
@@ -103,7 +107,12 @@ pub fn nest(lengths: &[f64], width: f64, sheet: &SheetSpec) -> Layout {
 /// `nest`, with a test piece of outline length `test_piece` that must go on
 /// the first sheet: it is placed first, and a split of the first sheet's
 /// lanes counts only if it takes the piece. The caller checks it fits.
-pub fn nest_with(lengths: &[f64], width: f64, sheet: &SheetSpec, test_piece: Option<f64>) -> Layout {
+pub fn nest_with(
+    lengths: &[f64],
+    width: f64,
+    sheet: &SheetSpec,
+    test_piece: Option<f64>,
+) -> Layout {
     let n = lengths.len();
     let all: Vec<f64> = lengths.iter().copied().chain(test_piece).collect();
     let mut order: Vec<usize> = (0..n).collect();
@@ -229,9 +238,8 @@ fn fill_sheet(
                 continue;
             }
             let fit = best_fit(order, lengths, &lanes, sheet.gap);
-            let takes_must = must.is_none_or(|m| {
-                order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some())
-            });
+            let takes_must =
+                must.is_none_or(|m| order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some()));
             if !takes_must {
                 continue;
             }

@@ -169,7 +169,10 @@ pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> 
             format!("<{}", ty.code)
         };
         let forms: Vec<(String, Marking)> = match fab.label {
-            LabelStyle::Id => vec![(format!("<{}", s.id), Marking::Id), (type_text, Marking::Type)],
+            LabelStyle::Id => vec![
+                (format!("<{}", s.id), Marking::Id),
+                (type_text, Marking::Type),
+            ],
             LabelStyle::Compact => vec![
                 (format!("<{compact}"), Marking::Compact),
                 (type_text, Marking::Type),
@@ -178,7 +181,11 @@ pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> 
         };
         let gap = label_gap(&s.holes, fab);
         let found = forms.into_iter().find_map(|(text, marking)| {
-            let min = if marking == Marking::Arrow { 0.5 } else { MIN_LABEL_HEIGHT };
+            let min = if marking == Marking::Arrow {
+                0.5
+            } else {
+                MIN_LABEL_HEIGHT
+            };
             engrave_text(&text, gap, min, fab).map(|strokes| (strokes, marking))
         });
         match found {
@@ -363,9 +370,7 @@ pub const DOT_PITCH: f64 = 1.2;
 /// in groups of five, with one extra pitch between groups so they count
 /// like tally marks.
 pub fn dot_offsets(n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|k| (k + k / 5) as f64 * DOT_PITCH)
-        .collect()
+    (0..n).map(|k| (k + k / 5) as f64 * DOT_PITCH).collect()
 }
 
 /// The fallback code: `n` dots, in the label gap when they fit there, else
@@ -405,8 +410,10 @@ fn dot_code(
     if start + span > end {
         return None;
     }
-    let mut strokes: Vec<Vec<DVec2>> =
-        offsets.iter().map(|&o| square(start + o, y, size)).collect();
+    let mut strokes: Vec<Vec<DVec2>> = offsets
+        .iter()
+        .map(|&o| square(start + o, y, size))
+        .collect();
     if let Some(arrow) = engrave_text("<", gap, 0.5, fab) {
         strokes.extend(arrow);
     }

@@ -148,8 +148,10 @@ mod tests {
 
     #[test]
     fn it_can_be_left_out() {
-        let mut fab = Fabrication::default();
-        fab.test_piece = false;
+        let fab = Fabrication {
+            test_piece: false,
+            ..Fabrication::default()
+        };
         assert!(test_piece(&fab).is_none());
     }
 }

@@ -77,16 +77,14 @@ pub fn group(strips: &[Strip], tolerance: f64) -> (Vec<usize>, Vec<PartType>) {
         while first_open < groups.len() && groups[first_open].lo[0] < k[0] - tolerance {
             first_open += 1;
         }
-        let fits = |g: &Open| {
-            (0..3).all(|c| g.hi[c].max(k[c]) - g.lo[c].min(k[c]) <= tolerance)
-        };
+        let fits = |g: &Open| (0..3).all(|c| g.hi[c].max(k[c]) - g.lo[c].min(k[c]) <= tolerance);
         match groups[first_open..].iter().position(fits) {
             Some(p) => {
                 let g = &mut groups[first_open + p];
                 g.members.push(i);
-                for c in 0..3 {
-                    g.lo[c] = g.lo[c].min(k[c]);
-                    g.hi[c] = g.hi[c].max(k[c]);
+                for (c, &v) in k.iter().enumerate() {
+                    g.lo[c] = g.lo[c].min(v);
+                    g.hi[c] = g.hi[c].max(v);
                 }
             }
             None => groups.push(Open {

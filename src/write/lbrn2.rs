@@ -30,11 +30,7 @@ const ORDER: [(Layer, &str); 4] = [
 
 /// The palette index nearest a colour.
 fn palette_index(c: [u8; 3]) -> usize {
-    let d = |p: [u8; 3]| -> i32 {
-        (0..3)
-            .map(|k| (p[k] as i32 - c[k] as i32).pow(2))
-            .sum()
-    };
+    let d = |p: [u8; 3]| -> i32 { (0..3).map(|k| (p[k] as i32 - c[k] as i32).pow(2)).sum() };
     (0..PALETTE.len())
         .min_by_key(|&i| d(PALETTE[i]))
         .expect("a palette")
@@ -147,7 +143,8 @@ fn shape(out: &mut String, cut: usize, item: &Item, flip: &dyn Fn(DVec2) -> DVec
                         let pieces = arc_to_cubics(current, to, center, clockwise);
                         let m = pieces.len();
                         for (j, [c1, c2, p]) in pieces.into_iter().enumerate() {
-                            let closing = last && j + 1 == m && *closed && p.distance(*start) < 1e-9;
+                            let closing =
+                                last && j + 1 == m && *closed && p.distance(*start) < 1e-9;
                             data.cubic_to(c1, c2, p, closing);
                         }
                         current = to;
@@ -221,7 +218,8 @@ pub fn write(page: &Page) -> Vec<u8> {
     let _ = writeln!(
         out,
         "    <Notes ShowOnLoad=\"0\" Notes=\"{}\"/>",
-        escape(&format!("{}&#10;{}", page.title, notes.join("&#10;"))).replace("&amp;#10;", "&#10;")
+        escape(&format!("{}&#10;{}", page.title, notes.join("&#10;")))
+            .replace("&amp;#10;", "&#10;")
     );
     out.push_str("</LightBurnProject>\n");
     out.into_bytes()

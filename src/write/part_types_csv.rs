@@ -22,7 +22,11 @@ pub fn write(parts: &Parts) -> Vec<u8> {
                 .count()
                 .to_string()
         };
-        let ids: Vec<&str> = t.strips.iter().map(|&i| parts.strips[i].id.as_str()).collect();
+        let ids: Vec<&str> = t
+            .strips
+            .iter()
+            .map(|&i| parts.strips[i].id.as_str())
+            .collect();
         let fields = [
             t.code.clone(),
             t.strips.len().to_string(),
