@@ -648,3 +648,61 @@ fn a_helix_that_degenerates_points_at_its_cell_count() {
     let span = e.span.clone().expect("a place in the recipe");
     assert_eq!(&text[span], "60", "{}", e.render("hx.toml", &text));
 }
+
+#[test]
+fn random_designs_leave_no_strip_unidentifiable() {
+    use crate::property::random_lattice;
+    let mut rng = crate::util::Rng::new(13);
+    let mut built = 0;
+    for case in 0..40 {
+        let Ok((_, d)) = random_lattice(&mut rng, 2 + case % 2) else {
+            continue;
+        };
+        let text = crate::cutfiles::recipe(&d, 40.0, "");
+        let Ok(b) = build(design::parse(&text, "random").unwrap()) else {
+            continue;
+        };
+        built += 1;
+        let parts = &b.parts;
+        let index: BTreeMap<&str, usize> = parts
+            .strips
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (s.id.as_str(), i))
+            .collect();
+        for g in b.pages.iter().flat_map(|p| &p.groups) {
+            let Some(&i) = index.get(g.id.as_str()) else {
+                continue;
+            };
+            let s = &parts.strips[i];
+            let t = &parts.types[s.part_type];
+            let code = if t.symmetric {
+                t.code.clone()
+            } else {
+                format!("<{}", t.code)
+            };
+            let said = read(g, &[format!("<{}", s.id), code]);
+            assert!(
+                said.is_some(),
+                "case {case}: {} carries nothing readable\n{text}",
+                s.id
+            );
+            if let Some(Read::Dots(n)) = said {
+                assert_eq!(Some(n), t.dots);
+            }
+        }
+        // Every type is interchangeable: pitches and length within the tolerance.
+        let tol = b.design.fabrication.part_tolerance;
+        for t in &parts.types {
+            for &a in &t.strips {
+                for &c in &t.strips {
+                    let (x, y) = (&parts.strips[a], &parts.strips[c]);
+                    assert!((x.legs[0] - y.legs[0]).abs() <= tol);
+                    assert!((x.legs[1] - y.legs[1]).abs() <= tol);
+                    assert!((x.length - y.length).abs() <= tol);
+                }
+            }
+        }
+    }
+    assert!(built >= 10, "only {built} random designs built");
+}

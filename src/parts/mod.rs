@@ -375,8 +375,9 @@ pub fn dot_offsets(n: usize) -> Vec<f64> {
 
 /// The fallback code: `n` dots, in the label gap when they fit there, else
 /// along the strip beside the holes (under the eyelet flanges, readable
-/// until the eyelets are set), starting at the start end, with the arrow in
-/// the label gap when it fits. None only if the strip is too short for the dots.
+/// until the eyelets are set), starting at the start end and continuing on
+/// the other edge when one is too short, with the arrow in the label gap when
+/// it fits. None only if the strip is too short for the dots.
 fn dot_code(
     n: usize,
     strip: &Strip,
@@ -407,12 +408,25 @@ fn dot_code(
     let size = DOT.min(0.6 * band);
     let y = r + band / 2.0;
     let (start, end) = (w / 2.0 + size, strip.length - w / 2.0 - size);
-    if start + span > end {
+    // Whole groups of five along one edge; what does not fit continues
+    // along the other edge, again from the start end.
+    let group = 6.0 * DOT_PITCH;
+    let groups_per_band = ((end - start + DOT_PITCH) / group).floor() as usize;
+    let fits_one = start + span <= end;
+    if !fits_one && 2 * groups_per_band * 5 < n {
         return None;
     }
     let mut strokes: Vec<Vec<DVec2>> = offsets
         .iter()
-        .map(|&o| square(start + o, y, size))
+        .enumerate()
+        .map(|(k, &o)| {
+            let g = k / 5;
+            if fits_one || g < groups_per_band {
+                square(start + o, y, size)
+            } else {
+                square(start + o - (groups_per_band as f64) * group, -y, size)
+            }
+        })
         .collect();
     if let Some(arrow) = engrave_text("<", gap, 0.5, fab) {
         strokes.extend(arrow);
@@ -499,6 +513,25 @@ mod tests {
             }
             assert!(p.y.abs() < fab.material.width / 2.0 - 0.2, "{p}");
             assert!(p.x > 0.0 && p.x < 26.0, "{p}");
+        }
+        // Many dots on a short strip: both edges, never on a hole.
+        let many = dot_code(17, &strip, gap, &fab).unwrap();
+        let squares: Vec<&Vec<DVec2>> = many.iter().filter(|s| s.len() == 5).collect();
+        assert_eq!(squares.len(), 17);
+        assert!(squares.iter().any(|s| s[0].y > 0.0) && squares.iter().any(|s| s[0].y < 0.0));
+        for p in squares.iter().copied().flatten() {
+            for h in holes {
+                assert!(p.distance(DVec2::new(h, 0.0)) > r + 0.2, "{p} on a hole");
+            }
+            assert!(
+                p.x > 0.0 && p.x < 26.0 && p.y.abs() < fab.material.width / 2.0,
+                "{p}"
+            );
+        }
+        for (i, a) in squares.iter().enumerate() {
+            for b in &squares[i + 1..] {
+                assert!(a[0].distance(b[0]) > DOT, "overlapping dots");
+            }
         }
         let steps: Vec<f64> = dot_offsets(6).iter().map(|o| o / DOT_PITCH).collect();
         for (s, want) in steps.iter().zip([0.0, 1.0, 2.0, 3.0, 4.0, 6.0]) {
