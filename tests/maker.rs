@@ -416,6 +416,8 @@ struct Lbrn {
     circles: Vec<(usize, DVec2, f64)>,
     /// (layer, vertices) of each path
     paths: Vec<(usize, Vec<DVec2>, String)>,
+    /// Group shapes (the test piece).
+    groups: usize,
 }
 
 fn numbers_after(s: &str, key: char) -> Vec<f64> {
@@ -460,6 +462,11 @@ fn read_lbrn(xml: &str) -> Lbrn {
                     _ => s.3 = v == "1",
                 }
             }
+            Event::Tag("Shape", Type::Start, a)
+                if a.get("Type").unwrap().to_string() == "Group" =>
+            {
+                out.groups += 1;
+            }
             Event::Tag("Shape", Type::Start, a) => {
                 let r = a.get("Rx").map_or(0.0, |v| v.to_string().parse().unwrap());
                 if let Some(ry) = a.get("Ry") {
@@ -475,7 +482,10 @@ fn read_lbrn(xml: &str) -> Lbrn {
                 xform.clear();
             }
             Event::Tag("Shape", Type::End, _) => {
-                let (kind, cut, r) = shape.take().unwrap();
+                // The end of a group (its children are already read).
+                let Some((kind, cut, r)) = shape.take() else {
+                    continue;
+                };
                 let x: Vec<f64> = xform
                     .split_whitespace()
                     .map(|t| t.parse().unwrap())
@@ -592,6 +602,10 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                     assert!(prims.contains('B') && prims.contains('L'), "{prims}");
                     assert!(prims.ends_with(" 0"), "closed: {prims}");
                 }
+                // The test piece, on sheet 1 only, is one group.
+                let pieces = page.groups.iter().filter(|g| g.id == TEST_PIECE_ID).count();
+                assert_eq!(lb.groups, pieces, "{file}");
+                assert_eq!(pieces, usize::from(i == 0), "{file}");
                 let labels = page
                     .groups
                     .iter()
@@ -622,7 +636,8 @@ fn lightburn_projects_are_well_formed_xml() {
         &[
             "-c",
             "import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1]).getroot(); \
-             assert r.tag == 'LightBurnProject'; print(len(r.findall('Shape')))",
+             assert r.tag == 'LightBurnProject'; \
+             print(sum(1 for s in r.iter('Shape') if s.get('Type') != 'Group'))",
             file.to_str().unwrap(),
         ],
     ) else {

@@ -9,10 +9,12 @@
 //! shapes placed by their `XForm`; paths are `Path` shapes whose `VertList`
 //! holds the vertices (with Bezier control points `c0` leaving and `c1`
 //! arriving) and whose `PrimList` joins them with lines (`L a b`) or cubic
-//! Beziers (`B a b`). LightBurn's y axis points up, so y is flipped.
+//! Beziers (`B a b`). LightBurn's y axis points up, so y is flipped. The
+//! test piece is a `Group` shape whose `Children` are its holes, outline and
+//! labels.
 
 use super::number::num;
-use crate::drawing::{Item, Layer, Page, Segment, Shape, arc_to_cubics, text};
+use crate::drawing::{Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, text};
 use glam::DVec2;
 use std::fmt::Write as _;
 
@@ -203,12 +205,19 @@ pub fn write(page: &Page) -> Vec<u8> {
             output as u8
         );
     }
-    // Holes before outlines within each part, as in the SVG.
-    for item in page.groups.iter().flat_map(|g| &g.items) {
-        if item.layer == Layer::Art {
-            continue;
+    // Holes before outlines within each part, as in the SVG. The test piece
+    // is one LightBurn group, so one click selects it to cut it alone.
+    for g in &page.groups {
+        let grouped = g.id == TEST_PIECE_ID;
+        if grouped {
+            out.push_str("    <Shape Type=\"Group\">\n        <XForm>1 0 0 1 0 0</XForm>\n        <Children>\n");
         }
-        shape(&mut out, index[item.layer as usize], item, &flip);
+        for item in g.items.iter().filter(|i| i.layer != Layer::Art) {
+            shape(&mut out, index[item.layer as usize], item, &flip);
+        }
+        if grouped {
+            out.push_str("        </Children>\n    </Shape>\n");
+        }
     }
     let notes: Vec<String> = page
         .metadata
