@@ -150,7 +150,7 @@ struct FabricationFlags {
     #[arg(long)]
     no_test_piece: bool,
     /// Cut-file colours: karigami (outlines red) or boxes (outlines black, as box generators use).
-    #[arg(long, value_name = "PRESET")]
+    #[arg(long, value_name = "PRESET", visible_alias = "colors")]
     colours: Option<String>,
 }
 
