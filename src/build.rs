@@ -8,10 +8,10 @@ use crate::drawing::{Meta, Page, sheet_page};
 use crate::guide::guide;
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Lattice, Report, verify};
-use crate::layout::{Bounds, Layout, nest};
+use crate::layout::{Bounds, Layout, nest_with};
 use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
-use crate::write::{dxf, lattice_json, obj, parts_csv, pdf, png, svg};
+use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg};
 use std::fmt::Write as _;
 
 /// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
@@ -131,13 +131,18 @@ pub fn assemble_with(
         .map(|s| Outline::of(s.length, fab).length)
         .collect();
     let width = Outline::of(0.0, fab).width;
-    let layout = nest(&lengths, width, &fab.sheet);
+    let piece = crate::parts::test_piece(fab).map(|p| Outline::of(p.length, fab).length);
+    let layout = nest_with(&lengths, width, &fab.sheet, piece);
     let meta = Meta {
         design: design.name.clone(),
         recipe_hash: design.recipe_hash,
     };
     let pages = (0..layout.sheets.len())
-        .map(|i| sheet_page(&parts.strips, &layout, i, fab, &meta))
+        .map(|i| {
+            let mut page = sheet_page(&parts.strips, &layout, i, fab, &meta);
+            crate::drawing::colours::apply(&mut page, fab.colours);
+            page
+        })
         .collect();
     Ok(Build {
         design,
@@ -171,6 +176,10 @@ impl Build {
             files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
             files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
             files.push((
+                format!("sheets/sheet-{:02}.lbrn2", i + 1),
+                crate::write::lbrn2::write(page),
+            ));
+            files.push((
                 format!("sheets/sheet-{:02}.png", i + 1),
                 png::write(
                     page,
@@ -186,6 +195,10 @@ impl Build {
         files.push((
             "parts.csv".to_string(),
             parts_csv::write(&self.parts.strips, &self.layout),
+        ));
+        files.push((
+            "parts-types.csv".to_string(),
+            part_types_csv::write(&self.parts),
         ));
         files.push((
             "assembly.pdf".to_string(),

@@ -127,6 +127,41 @@ pub struct Fabrication {
     pub sheet: SheetSpec,
     /// Paper of the assembly guide.
     pub paper: Paper,
+    // Parts, test piece and colours (issue 13): one block.
+    /// Strips whose length and hole pitches agree within this (mm) are one part type.
+    pub part_tolerance: f64,
+    /// Whether the first sheet carries the kerf and eyelet test piece.
+    pub test_piece: bool,
+    /// Which colour each layer of the cut files gets.
+    pub colours: ColourPreset,
+}
+
+/// Default tolerance (mm) within which two strips are the same part.
+pub const PART_TOLERANCE: f64 = 0.05;
+
+/// Named mappings of the cut-file layers to colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColourPreset {
+    /// karigami's own: holes blue, outlines red, labels black, reference green.
+    Karigami,
+    /// The box-generator convention (boxes.py): outer cut black, inner cut
+    /// blue, etching green, annotation red.
+    Boxes,
+}
+
+impl ColourPreset {
+    pub const ALL: [ColourPreset; 2] = [ColourPreset::Karigami, ColourPreset::Boxes];
+
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|p| p.name() == s)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Karigami => "karigami",
+            Self::Boxes => "boxes",
+        }
+    }
 }
 
 impl Default for Fabrication {
@@ -158,6 +193,9 @@ impl Default for Fabrication {
                 gap: 2.0,
             },
             paper: Paper::A4,
+            part_tolerance: PART_TOLERANCE,
+            test_piece: true,
+            colours: ColourPreset::Karigami,
         }
     }
 }

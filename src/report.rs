@@ -80,6 +80,7 @@ pub fn check_text(
         );
     }
     deployment_text(&mut out, lattice, deploy);
+    part_types_text(&mut out, design, lattice);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -88,6 +89,18 @@ pub fn check_text(
         report.worst()
     );
     out
+}
+
+/// The part types (interchangeable strips) and what is engraved on the
+/// strips, when the lattice is small enough to make parts for.
+fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
+    if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
+        return;
+    }
+    let Ok(p) = crate::parts::parts(lattice, &design.fabrication) else {
+        return;
+    };
+    let _ = writeln!(out, "{}", crate::parts::types::summary(&p));
 }
 
 /// MATH.md 8.4: the intrinsic configuration, the mobility verdict and, in
@@ -152,7 +165,17 @@ pub fn build_text(b: &Build) -> String {
         }
     );
     for (i, sheet) in b.layout.sheets.iter().enumerate() {
-        let _ = writeln!(out, "sheet {:02}: {} strips", i + 1, sheet.placements.len());
+        let piece = if sheet.test_piece.is_some() {
+            " and the test piece"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            out,
+            "sheet {:02}: {} strips{piece}",
+            i + 1,
+            sheet.placements.len()
+        );
     }
     out.push_str("\nassembly steps (eyelets this step / running total):\n");
     for s in crate::guide::steps(&b.lattice) {
@@ -253,6 +276,7 @@ pub fn build_json(b: &Build) -> serde_json::Value {
         "sheet_lower_bounds": { "area": bounds.area, "lanes": bounds.lanes },
         "utilisation": num(b.layout.utilisation()),
         "cut_length_mm": num(b.cut_length()),
+        "part_types": b.parts.types.iter().map(|t| json!({ "type": t.code, "count": t.strips.len() })).collect::<Vec<_>>(),
         "warnings": warnings,
     })
 }

@@ -50,14 +50,41 @@ pub fn find(name: &str) -> Option<&'static Template> {
     TEMPLATES.iter().find(|t| t.name == name)
 }
 
-/// The template's text with its `name = "..."` line set to `name`.
+/// The template's text with its `name = "..."` line set to `name`, as the
+/// file `<name>.toml`.
 pub fn instantiate(template: &Template, name: &str) -> String {
+    instantiate_as(template, name, &format!("{name}.toml"))
+}
+
+/// The template's text with its `name = "..."` line set to `name`, and the
+/// commands in its comments naming `file` (the recipe as written) and
+/// `--out <name>` instead of the template's own file and design name.
+pub fn instantiate_as(template: &Template, name: &str, file: &str) -> String {
+    let own_file = format!("{}.toml", template.name);
+    let own_out = format!("--out {}", template.name);
+    let out_dir = file.strip_suffix(".toml").unwrap_or(file);
     let mut out = String::with_capacity(template.text.len());
     let mut renamed = false;
     for line in template.text.split_inclusive('\n') {
         if !renamed && line.starts_with("name = ") {
             out.push_str(&format!("name = {}\n", toml_string(name)));
             renamed = true;
+        } else if line.starts_with('#') && line.contains("karigami ") {
+            // Whole words only: `helix.toml` but not `my-helix.toml`.
+            let words: Vec<String> = line
+                .split(' ')
+                .map(|w| {
+                    let bare = w.trim_end_matches(['`', '.', ',', '\n']);
+                    let tail = &w[bare.len()..];
+                    if bare == own_file {
+                        format!("{file}{tail}")
+                    } else {
+                        w.to_string()
+                    }
+                })
+                .collect();
+            let line = words.join(" ");
+            out.push_str(&line.replace(&own_out, &format!("--out {out_dir}")));
         } else {
             out.push_str(line);
         }
@@ -95,5 +122,31 @@ mod tests {
             let d = crate::design::parse(&text, "x").unwrap();
             assert_eq!(d.name, "my \"arm\"", "{}", t.name);
         }
+    }
+
+    #[test]
+    fn commands_in_the_comments_name_the_new_file() {
+        for t in TEMPLATES {
+            let text = instantiate_as(t, "bridge", "bridge.toml");
+            for line in text.lines().filter(|l| l.contains("karigami ")) {
+                assert!(
+                    !line.contains(&format!(" {}.toml", t.name))
+                        && !line.contains("templates/")
+                        && line.contains("bridge.toml"),
+                    "{}: {line}",
+                    t.name
+                );
+            }
+        }
+        let helix = instantiate_as(find("helix").unwrap(), "spiral", "spiral.toml");
+        assert!(
+            helix.contains("karigami tune spiral.toml --out spiral.toml"),
+            "{helix}"
+        );
+        let sheet = instantiate_as(find("sheet").unwrap(), "my-sheet", "my-sheet.toml");
+        assert!(
+            sheet.contains("`karigami build my-sheet.toml --out my-sheet`"),
+            "{sheet}"
+        );
     }
 }

@@ -274,6 +274,7 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
             "cut.pdf",
             "lattice.json",
             "lattice.obj",
+            "parts-types.csv",
             "parts.csv",
             "preview.png",
             "report.txt",
@@ -282,7 +283,12 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
     );
     assert_eq!(
         list(&dir.join("karigami-out/sheets")),
-        ["sheet-01.dxf", "sheet-01.png", "sheet-01.svg"]
+        [
+            "sheet-01.dxf",
+            "sheet-01.lbrn2",
+            "sheet-01.png",
+            "sheet-01.svg"
+        ]
     );
     assert_eq!(list(&dir), ["karigami-out"]);
 }

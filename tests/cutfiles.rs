@@ -185,6 +185,26 @@ pub fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
         );
         let strips: Vec<(&String, &SvgStrip)> = sheet.strips.iter().collect();
         for (id, s) in &strips {
+            if id.as_str() == karigami::drawing::TEST_PIECE_ID {
+                // The test piece: on the first sheet, within the margins and
+                // clear of every strip like a part (checked below).
+                assert!(
+                    name.ends_with("sheet-01.svg"),
+                    "{name}: test piece off sheet 1"
+                );
+                assert!(!s.holes.is_empty(), "{name}: test piece without holes");
+                let (a, b, r) = s.spine.expect("a test piece outline");
+                for p in [a, b] {
+                    assert!(
+                        p.x - r >= margin - 1e-6
+                            && p.x + r <= sheet.width_mm - margin + 1e-6
+                            && p.y - r >= margin - 1e-6
+                            && p.y + r <= sheet.height_mm - margin + 1e-6,
+                        "{name}: test piece outside the margins"
+                    );
+                }
+                continue;
+            }
             seen += 1;
             let rod = &rods[rod_of[id.as_str()]];
             let legs: Vec<f64> = rod["legs"]

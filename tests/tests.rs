@@ -8,6 +8,7 @@ mod fuzz;
 mod gallery;
 mod golden;
 mod guide;
+mod maker;
 mod property;
 mod safety;
 mod thirdparty;

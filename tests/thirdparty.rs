@@ -129,12 +129,22 @@ fn svg_renders_at_true_size_and_holes_measure_their_diameter() {
                 .iter()
                 .map(|v| v.as_f64().unwrap())
                 .collect();
-            assert_eq!(holes.len(), 1, "one hole size: {m}");
+            // One hole size, plus the test piece's stepped holes on sheet 1.
+            let first = svg.ends_with("sheet-01.svg");
             assert!(
-                (holes[0] - 3.2).abs() < 0.001,
-                "the 1/8 in eyelet hole measures {}",
-                holes[0]
+                holes.iter().any(|d| (d - 3.2).abs() < 0.001),
+                "the 1/8 in eyelet hole: {m}"
             );
+            for d in &holes {
+                let step = ((d - 3.2) / 0.1).round();
+                assert!(
+                    (d - 3.2 - step * 0.1).abs() < 0.001
+                        && step.abs() <= 2.0
+                        && (first || step == 0.0),
+                    "{}: hole of {d} mm",
+                    svg.display()
+                );
+            }
         }
     }
 }
@@ -207,11 +217,22 @@ fn dxf_passes_ezdxf_audit_in_millimetres() {
             assert_eq!(m["errors"], 0, "{}: {m}", dxf.display());
             assert_eq!(m["version"], "AC1015");
             assert_eq!(m["units"], 4, "millimetres");
-            assert_eq!(
-                m["radii"],
-                serde_json::json!([1.6]),
-                "true circles of the hole radius"
-            );
+            // True circles of the hole radius (and the test piece's steps on sheet 1).
+            let radii: Vec<f64> = m["radii"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            let expected: &[f64] = if dxf.ends_with("sheet-01.dxf") {
+                &[1.5, 1.55, 1.6, 1.65, 1.7]
+            } else {
+                &[1.6]
+            };
+            assert_eq!(radii.len(), expected.len(), "{m}");
+            for (r, e) in radii.iter().zip(expected) {
+                assert!((r - e).abs() < 1e-6, "{m}");
+            }
             let layers: Vec<&str> = m["entity_layers"]
                 .as_array()
                 .unwrap()

@@ -168,6 +168,12 @@ struct FabricationFlags {
     /// Paper of the assembly guide: a4 or letter.
     #[arg(long)]
     paper: Option<String>,
+    /// Leave the kerf and eyelet test piece off the first sheet.
+    #[arg(long)]
+    no_test_piece: bool,
+    /// Cut-file colours: karigami (outlines red) or boxes (outlines black, as box generators use).
+    #[arg(long, value_name = "PRESET", visible_alias = "colors")]
+    colours: Option<String>,
 }
 
 impl FabricationFlags {
@@ -180,6 +186,8 @@ impl FabricationFlags {
             compensate_kerf: self.compensate_kerf.then_some(true),
             label: self.label.clone(),
             paper: self.paper.clone(),
+            test_piece: self.no_test_piece.then_some(false),
+            colours: self.colours.clone(),
         }
     }
 }
@@ -713,12 +721,14 @@ fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Fail
         )));
     }
     let design_name = stem(&path);
-    files::write_atomic(&path, templates::instantiate(t, &design_name).as_bytes()).map_err(
-        |e| {
-            eprintln!("error: cannot write {}: {e}", path.display());
-            Failed(EXIT_IO)
-        },
-    )?;
+    files::write_atomic(
+        &path,
+        templates::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes(),
+    )
+    .map_err(|e| {
+        eprintln!("error: cannot write {}: {e}", path.display());
+        Failed(EXIT_IO)
+    })?;
     if !v.quiet {
         outln!(
             "wrote {} from the {} template; next: karigami check {0}",

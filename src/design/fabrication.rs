@@ -5,8 +5,8 @@
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::Diagnostic;
 use crate::fabrication::{
-    EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_PRESETS, eyelet_preset, preset_names,
-    sheet_size,
+    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_PRESETS, eyelet_preset,
+    preset_names, sheet_size,
 };
 use std::ops::Range;
 
@@ -23,6 +23,10 @@ pub struct Overrides {
     pub label: Option<String>,
     /// Paper of the assembly guide: a4 or letter.
     pub paper: Option<String>,
+    /// `--no-test-piece`: Some(false) leaves the test piece out.
+    pub test_piece: Option<bool>,
+    /// `--colours`: a colour preset name.
+    pub colours: Option<String>,
 }
 
 /// Where the settings were written, for errors found later (per strip).
@@ -276,8 +280,59 @@ pub fn fabrication(
         })?;
     }
 
+    parts_settings(&mut f, raw, o)?;
     check_settings(&f, raw, &spans)?;
     Ok((f, spans))
+}
+
+/// Part types, the test piece and the colour preset (issue 13), recipe
+/// then command line.
+fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result<(), Diagnostic> {
+    let presets = || {
+        ColourPreset::ALL
+            .iter()
+            .map(|p| format!("\"{}\"", p.name()))
+            .collect::<Vec<_>>()
+            .join(" or ")
+    };
+    if let Some(t) = raw
+        .strip
+        .as_ref()
+        .and_then(|s| s.get_ref().part_tolerance.as_ref())
+    {
+        f.part_tolerance = non_negative(t, "strip.part_tolerance")?;
+    }
+    if let Some(t) = raw
+        .sheet
+        .as_ref()
+        .and_then(|s| s.get_ref().test_piece.as_ref())
+    {
+        f.test_piece = *t.get_ref();
+    }
+    if let Some(t) = o.test_piece {
+        f.test_piece = t;
+    }
+    if let Some(c) = raw
+        .laser
+        .as_ref()
+        .and_then(|l| l.get_ref().colours.as_ref())
+    {
+        f.colours = ColourPreset::parse(c.get_ref()).ok_or_else(|| {
+            Diagnostic::new(
+                "design",
+                format!("unknown colour preset \"{}\"", c.get_ref()),
+            )
+            .at(c.span())
+            .hint(format!("use {}", presets()))
+        })?;
+    }
+    if let Some(c) = &o.colours {
+        f.colours = ColourPreset::parse(c).ok_or_else(|| {
+            Diagnostic::new("usage", format!("unknown colour preset \"{c}\""))
+                .hint(format!("use {}", presets()))
+        })?;
+    }
+    Ok(())
 }
 
 /// Checks that concern every strip alike, pointing at the setting.

@@ -189,6 +189,11 @@ pub fn parse_with(
     let (mut rows, mut helix_cells, mut fit) = (Vec::new(), 0, None);
     if kind == Kind::Helix {
         helix_cells = helix_cell_count(&lat, &spans)?;
+        // Growth errors of a helix point at its cell count (grow fewer cells).
+        spans.cells = lat
+            .cells
+            .as_ref()
+            .map_or(spans.lattice.clone(), |c| c.span());
     } else if let Some(f) = &lat.fit {
         if lat.grow.is_some() || lat.rows.is_some() {
             return Err(

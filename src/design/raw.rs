@@ -54,6 +54,8 @@ pub struct RawEyelet {
 pub struct RawStrip {
     pub end_margin: Option<Num>,
     pub label: Option<Spanned<String>>,
+    /// Strips agreeing within this (mm) are one part type.
+    pub part_tolerance: Option<Num>,
 }
 
 /// `[laser]`: kerf and whether the geometry is compensated for it.
@@ -62,6 +64,8 @@ pub struct RawStrip {
 pub struct RawLaser {
     pub kerf: Option<Num>,
     pub compensate: Option<Spanned<bool>>,
+    /// Colour preset of the cut files: "karigami" or "boxes".
+    pub colours: Option<Spanned<String>>,
 }
 
 /// `[sheet]`: the bed or stock sheet.
@@ -73,6 +77,8 @@ pub struct RawSheet {
     pub height: Option<Num>,
     pub margin: Option<Num>,
     pub gap: Option<Num>,
+    /// Whether the first sheet carries the test piece (default true).
+    pub test_piece: Option<Spanned<bool>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -2,11 +2,12 @@
 //! down from the top-left corner. Every writer (SVG, PDF, DXF, PNG) renders
 //! this model and nothing else, so no writer re-derives geometry.
 
+pub mod colours;
 pub mod picture;
 mod sheet;
 pub mod text;
 
-pub use sheet::{Meta, sheet_page};
+pub use sheet::{Meta, TEST_PIECE_ID, sheet_page};
 
 use glam::DVec2;
 use std::f64::consts::{FRAC_PI_2, PI};

@@ -4,7 +4,7 @@
 use super::{Group, Item, Layer, Page, Segment, Shape};
 use crate::fabrication::Fabrication;
 use crate::layout::{Layout, Placement};
-use crate::parts::{Outline, Strip, font};
+use crate::parts::{Outline, Strip, TestPiece, font, test_piece};
 use glam::DVec2;
 
 /// Provenance for the files' metadata.
@@ -48,10 +48,10 @@ impl Frame {
 }
 
 /// The closed stadium outline of a strip in its own frame, as cut.
-fn stadium(strip: &Strip, outline: &Outline, frame: &Frame) -> Shape {
+fn stadium(length: f64, outline: &Outline, frame: &Frame) -> Shape {
     let r = outline.width / 2.0;
     let left = -outline.grow + r;
-    let right = strip.length + outline.grow - r;
+    let right = length + outline.grow - r;
     let m = |x: f64, y: f64| frame.map(DVec2::new(x, y));
     Shape::Path {
         start: m(left, -r),
@@ -90,7 +90,10 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
             )
         })
         .collect();
-    items.push(Item::on(Layer::Outlines, stadium(strip, &outline, &frame)));
+    items.push(Item::on(
+        Layer::Outlines,
+        stadium(strip.length, &outline, &frame),
+    ));
     items.extend(strip.engraving.iter().map(|stroke| {
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))
@@ -100,6 +103,43 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
         items,
     }
 }
+
+/// The test piece: its stepped holes (each offset by the kerf like the
+/// strips' holes), its outline and labels, cut holes first like a strip.
+fn test_piece_group(piece: &TestPiece, placement: &Placement, fab: &Fabrication) -> Group {
+    let outline = Outline::of(piece.length, fab);
+    let frame = Frame::of(placement, &outline);
+    let shrink = fab.eyelet.hole - outline.hole;
+    let mut items: Vec<Item> = piece
+        .holes
+        .iter()
+        .map(|&(x, d)| {
+            let center = frame.map(DVec2::new(x, 0.0));
+            Item::on(
+                Layer::Holes,
+                Shape::Circle {
+                    center,
+                    radius: (d - shrink) / 2.0,
+                },
+            )
+        })
+        .collect();
+    items.push(Item::on(
+        Layer::Outlines,
+        stadium(piece.length, &outline, &frame),
+    ));
+    items.extend(piece.engraving.iter().map(|stroke| {
+        let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
+        Item::on(Layer::Labels, Shape::polyline(&points, false))
+    }));
+    Group {
+        id: TEST_PIECE_ID.into(),
+        items,
+    }
+}
+
+/// The group id of the test piece on sheet 1.
+pub const TEST_PIECE_ID: &str = "test-piece";
 
 /// Text strokes with the baseline starting at `origin` on a y-down page.
 fn caption(text: &str, origin: DVec2, height: f64) -> Vec<Item> {
@@ -176,6 +216,9 @@ pub fn sheet_page(
         .iter()
         .map(|p| strip_group(&strips[p.part], p, fab))
         .collect();
+    if let (Some(p), Some(piece)) = (layout.sheets[index].test_piece, test_piece(fab)) {
+        groups.push(test_piece_group(&piece, &p, fab));
+    }
     let caption = format!(
         "{}  {} x {} mm",
         title.to_uppercase(),

@@ -26,6 +26,9 @@ pub struct Placement {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sheet {
     pub placements: Vec<Placement>,
+    /// The test piece (first sheet only), nested in a lane like a part;
+    /// its `part` is `Layout::lengths.len()`.
+    pub test_piece: Option<Placement>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -35,6 +38,8 @@ pub struct Layout {
     pub part_width: f64,
     /// Outline length of each part, by part index.
     pub lengths: Vec<f64>,
+    /// Outline length of the test piece, when there is one.
+    pub test_piece: Option<f64>,
     pub sheets: Vec<Sheet>,
 }
 
@@ -42,7 +47,7 @@ impl Layout {
     /// Fraction of the sheets' full area covered by parts.
     pub fn utilisation(&self) -> f64 {
         let parts: f64 = self
-            .lengths
+            .all_lengths()
             .iter()
             .map(|&l| stadium_area(l, self.part_width))
             .sum();
@@ -50,10 +55,20 @@ impl Layout {
     }
 
     pub fn bounds(&self) -> Bounds {
+        let all = self.all_lengths();
         Bounds {
-            area: area_bound(&self.lengths, self.part_width, &self.sheet),
-            lanes: lane_bound(&self.lengths, self.part_width, &self.sheet),
+            area: area_bound(&all, self.part_width, &self.sheet),
+            lanes: lane_bound(&all, self.part_width, &self.sheet),
         }
+    }
+
+    /// The parts' lengths and the test piece's: everything the sheets hold.
+    pub fn all_lengths(&self) -> Vec<f64> {
+        self.lengths
+            .iter()
+            .copied()
+            .chain(self.test_piece)
+            .collect()
     }
 }
 
@@ -86,16 +101,38 @@ impl Ord for Len {
 /// Every length must fit the sheet (checked by `parts`); a part that fits
 /// nowhere panics, which would be a bug.
 pub fn nest(lengths: &[f64], width: f64, sheet: &SheetSpec) -> Layout {
-    let mut order: Vec<usize> = (0..lengths.len()).collect();
+    nest_with(lengths, width, sheet, None)
+}
+
+/// `nest`, with a test piece of outline length `test_piece` that must go on
+/// the first sheet: it is placed first, and a split of the first sheet's
+/// lanes counts only if it takes the piece. The caller checks it fits.
+pub fn nest_with(
+    lengths: &[f64],
+    width: f64,
+    sheet: &SheetSpec,
+    test_piece: Option<f64>,
+) -> Layout {
+    let n = lengths.len();
+    let all: Vec<f64> = lengths.iter().copied().chain(test_piece).collect();
+    let mut order: Vec<usize> = (0..n).collect();
     // Longest first; equal lengths keep part order.
-    order.sort_by(|&a, &b| lengths[b].total_cmp(&lengths[a]).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| all[b].total_cmp(&all[a]).then(a.cmp(&b)));
+    let mut must = None;
+    if test_piece.is_some() {
+        order.insert(0, n);
+        must = Some(n);
+    }
     let mut sheets = Vec::new();
     while !order.is_empty() {
-        let (placed, rest) = fill_sheet(&order, lengths, width, sheet);
+        let (mut placed, rest) = fill_sheet(&order, &all, width, sheet, must.take());
         assert!(
             !placed.placements.is_empty(),
             "a part longer than the sheet reached nesting"
         );
+        if let Some(i) = placed.placements.iter().position(|p| p.part == n) {
+            placed.test_piece = Some(placed.placements.remove(i));
+        }
         sheets.push(placed);
         order = rest;
     }
@@ -103,6 +140,7 @@ pub fn nest(lengths: &[f64], width: f64, sheet: &SheetSpec) -> Layout {
         sheet: sheet.clone(),
         part_width: width,
         lengths: lengths.to_vec(),
+        test_piece,
         sheets,
     }
 }
@@ -186,6 +224,7 @@ fn fill_sheet(
     lengths: &[f64],
     width: f64,
     sheet: &SheetSpec,
+    must: Option<usize>,
 ) -> (Sheet, Vec<usize>) {
     let (uw, uh) = sheet.usable();
     let pitch = width + sheet.gap;
@@ -199,6 +238,11 @@ fn fill_sheet(
                 continue;
             }
             let fit = best_fit(order, lengths, &lanes, sheet.gap);
+            let takes_must =
+                must.is_none_or(|m| order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some()));
+            if !takes_must {
+                continue;
+            }
             let placed: f64 = order
                 .iter()
                 .zip(&fit)
@@ -246,7 +290,13 @@ fn fill_sheet(
         }
     }
     placements.sort_by_key(|p| p.part);
-    (Sheet { placements }, rest)
+    (
+        Sheet {
+            placements,
+            test_piece: None,
+        },
+        rest,
+    )
 }
 
 /// Strip packing (fixed sheet height, minimise the used length), for

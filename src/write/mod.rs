@@ -2,8 +2,10 @@
 
 pub mod dxf;
 pub mod lattice_json;
+pub mod lbrn2;
 mod number;
 pub mod obj;
+pub mod part_types_csv;
 pub mod parts_csv;
 pub mod pdf;
 pub mod png;

@@ -1,0 +1,235 @@
+//! LightBurn projects (.lbrn2): one per sheet, with its layers set up so the
+//! sheet cuts as it should without any setup: labels scored first while the
+//! sheet is whole, then the holes, then the outlines (a part falls free only
+//! after its holes are cut), and the reference on a layer that is not output.
+//!
+//! The format is LightBurn's XML: a `LightBurnProject` root, one
+//! `CutSetting` per layer (its `index` is also the layer's colour in
+//! LightBurn's palette) and one `Shape` per item. Circles are `Ellipse`
+//! shapes placed by their `XForm`; paths are `Path` shapes whose `VertList`
+//! holds the vertices (with Bezier control points `c0` leaving and `c1`
+//! arriving) and whose `PrimList` joins them with lines (`L a b`) or cubic
+//! Beziers (`B a b`). LightBurn's y axis points up, so y is flipped. The
+//! test piece is a `Group` shape whose `Children` are its holes, outline and
+//! labels.
+
+use super::number::num;
+use crate::drawing::{Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, text};
+use glam::DVec2;
+use std::fmt::Write as _;
+
+/// LightBurn's first palette entries (layer index = colour), for choosing
+/// the layer index whose colour matches the item's.
+const PALETTE: [[u8; 3]; 4] = [[0, 0, 0], [0, 0, 255], [255, 0, 0], [0, 224, 0]];
+
+/// The layers in the order LightBurn runs them, with what each does.
+const ORDER: [(Layer, &str); 4] = [
+    (Layer::Labels, "labels: score or engrave"),
+    (Layer::Holes, "holes: cut (inner)"),
+    (Layer::Outlines, "outlines: cut (outer)"),
+    (Layer::Reference, "reference: do not output"),
+];
+
+/// The palette index nearest a colour.
+fn palette_index(c: [u8; 3]) -> usize {
+    let d = |p: [u8; 3]| -> i32 { (0..3).map(|k| (p[k] as i32 - c[k] as i32).pow(2)).sum() };
+    (0..PALETTE.len())
+        .min_by_key(|&i| d(PALETTE[i]))
+        .expect("a palette")
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Vertices and primitives of a path, y flipped by `h`.
+struct PathData {
+    verts: Vec<(DVec2, Option<DVec2>, Option<DVec2>)>,
+    prims: Vec<(bool, usize, usize)>,
+}
+
+impl PathData {
+    fn new(start: DVec2) -> Self {
+        Self {
+            verts: vec![(start, None, None)],
+            prims: Vec::new(),
+        }
+    }
+
+    fn line_to(&mut self, p: DVec2, close_to_start: bool) {
+        let from = self.verts.len() - 1;
+        let to = if close_to_start {
+            0
+        } else {
+            self.verts.push((p, None, None));
+            self.verts.len() - 1
+        };
+        self.prims.push((false, from, to));
+    }
+
+    fn cubic_to(&mut self, c1: DVec2, c2: DVec2, p: DVec2, close_to_start: bool) {
+        let from = self.verts.len() - 1;
+        self.verts[from].1 = Some(c1);
+        let to = if close_to_start {
+            self.verts[0].2 = Some(c2);
+            0
+        } else {
+            self.verts.push((p, None, Some(c2)));
+            self.verts.len() - 1
+        };
+        self.prims.push((true, from, to));
+    }
+}
+
+fn path_shape(out: &mut String, cut: usize, data: &PathData, flip: &dyn Fn(DVec2) -> DVec2) {
+    let mut verts = String::new();
+    for &(p, c0, c1) in &data.verts {
+        let p = flip(p);
+        let _ = write!(verts, "V{} {}", num(p.x), num(p.y));
+        if let Some(c) = c0 {
+            let c = flip(c);
+            let _ = write!(verts, "c0x{}c0y{}", num(c.x), num(c.y));
+        }
+        if let Some(c) = c1 {
+            let c = flip(c);
+            let _ = write!(verts, "c1x{}c1y{}", num(c.x), num(c.y));
+        }
+    }
+    let prims: String = data
+        .prims
+        .iter()
+        .map(|&(bezier, a, b)| format!("{}{a} {b}", if bezier { 'B' } else { 'L' }))
+        .collect();
+    let _ = writeln!(
+        out,
+        "    <Shape Type=\"Path\" CutIndex=\"{cut}\">\n        <XForm>1 0 0 1 0 0</XForm>\n        <VertList>{verts}</VertList>\n        <PrimList>{prims}</PrimList>\n    </Shape>"
+    );
+}
+
+fn shape(out: &mut String, cut: usize, item: &Item, flip: &dyn Fn(DVec2) -> DVec2) {
+    match &item.shape {
+        Shape::Circle { center, radius } => {
+            let c = flip(*center);
+            let _ = writeln!(
+                out,
+                "    <Shape Type=\"Ellipse\" CutIndex=\"{cut}\" Rx=\"{r}\" Ry=\"{r}\">\n        <XForm>1 0 0 1 {} {}</XForm>\n    </Shape>",
+                num(c.x),
+                num(c.y),
+                r = num(*radius)
+            );
+        }
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => {
+            let mut data = PathData::new(*start);
+            let mut current = *start;
+            let n = segments.len();
+            for (k, s) in segments.iter().enumerate() {
+                // A closed path whose last segment ends on its start closes onto vertex 0.
+                let last = k + 1 == n;
+                match *s {
+                    Segment::Line(p) => {
+                        data.line_to(p, last && *closed && p.distance(*start) < 1e-9);
+                        current = p;
+                    }
+                    Segment::Arc {
+                        to,
+                        center,
+                        clockwise,
+                    } => {
+                        let pieces = arc_to_cubics(current, to, center, clockwise);
+                        let m = pieces.len();
+                        for (j, [c1, c2, p]) in pieces.into_iter().enumerate() {
+                            let closing =
+                                last && j + 1 == m && *closed && p.distance(*start) < 1e-9;
+                            data.cubic_to(c1, c2, p, closing);
+                        }
+                        current = to;
+                    }
+                }
+            }
+            if *closed && current.distance(*start) >= 1e-9 {
+                data.line_to(*start, true);
+            }
+            path_shape(out, cut, &data, flip);
+        }
+        t @ Shape::Text { .. } => {
+            for stroke in text::strokes(t) {
+                let mut data = PathData::new(stroke[0]);
+                for &p in &stroke[1..] {
+                    data.line_to(p, false);
+                }
+                path_shape(out, cut, &data, flip);
+            }
+        }
+    }
+}
+
+/// A cut sheet page as a LightBurn project.
+pub fn write(page: &Page) -> Vec<u8> {
+    let h = page.height;
+    let flip = move |p: DVec2| DVec2::new(p.x, h - p.y);
+    // Each layer's colour as drawn (the preset already applied).
+    let colour = |layer: Layer| {
+        page.groups
+            .iter()
+            .flat_map(|g| &g.items)
+            .find(|i| i.layer == layer)
+            .and_then(|i| i.ink.stroke)
+            .unwrap_or(layer.rgb())
+    };
+    let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    out.push_str(
+        "<LightBurnProject AppVersion=\"1.7.00\" FormatVersion=\"1\" MaterialHeight=\"0\" MirrorX=\"False\" MirrorY=\"False\">\n",
+    );
+    let mut index = [0usize; 5];
+    let mut used: Vec<usize> = Vec::new();
+    for (priority, (layer, name)) in ORDER.iter().enumerate() {
+        let mut i = palette_index(colour(*layer));
+        // Two layers never share a LightBurn layer: take the next free index.
+        while used.contains(&i) {
+            i += 1;
+        }
+        used.push(i);
+        index[*layer as usize] = i;
+        let output = *layer != Layer::Reference;
+        let _ = writeln!(
+            out,
+            "    <CutSetting type=\"Cut\">\n        <index Value=\"{i}\"/>\n        <name Value=\"{}\"/>\n        <priority Value=\"{priority}\"/>\n        <doOutput Value=\"{}\"/>\n    </CutSetting>",
+            escape(name),
+            output as u8
+        );
+    }
+    // Holes before outlines within each part, as in the SVG. The test piece
+    // is one LightBurn group, so one click selects it to cut it alone.
+    for g in &page.groups {
+        let grouped = g.id == TEST_PIECE_ID;
+        if grouped {
+            out.push_str("    <Shape Type=\"Group\">\n        <XForm>1 0 0 1 0 0</XForm>\n        <Children>\n");
+        }
+        for item in g.items.iter().filter(|i| i.layer != Layer::Art) {
+            shape(&mut out, index[item.layer as usize], item, &flip);
+        }
+        if grouped {
+            out.push_str("        </Children>\n    </Shape>\n");
+        }
+    }
+    let notes: Vec<String> = page
+        .metadata
+        .iter()
+        .map(|(k, v)| format!("{k}: {v}"))
+        .collect();
+    let _ = writeln!(
+        out,
+        "    <Notes ShowOnLoad=\"0\" Notes=\"{}\"/>",
+        escape(&format!("{}&#10;{}", page.title, notes.join("&#10;")))
+            .replace("&amp;#10;", "&#10;")
+    );
+    out.push_str("</LightBurnProject>\n");
+    out.into_bytes()
+}
