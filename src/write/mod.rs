@@ -8,3 +8,4 @@ pub mod parts_csv;
 pub mod pdf;
 pub mod png;
 pub mod svg;
+pub mod viewer;
