@@ -11,4 +11,5 @@ mod guide;
 mod property;
 mod thirdparty;
 mod util;
+mod viewer;
 mod workflow;

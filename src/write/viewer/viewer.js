@@ -169,8 +169,10 @@
       "void main(){ if (v_col.a < 0.5) discard; gl_FragColor = vec4(v_col.rgb, 1.0); }");
     eyeProg = program(
       "attribute vec3 a_pos; attribute vec4 a_col; uniform mat4 u_mvp; uniform float u_size;" +
-      "varying vec4 v_col;" +
-      "void main(){ gl_Position = u_mvp * vec4(a_pos, 1.0);" +
+      "uniform vec3 u_eye; uniform float u_lift; varying vec4 v_col;" +
+      // A ring is drawn facing the eye, lifted towards it by its radius so
+      // that the strips it holds do not cut it.
+      "void main(){ gl_Position = u_mvp * vec4(a_pos + normalize(u_eye - a_pos) * u_lift, 1.0);" +
       " gl_PointSize = a_col.a > 0.5 ? max(3.0, u_size / gl_Position.w) : 0.0; v_col = a_col; }",
       "precision mediump float; varying vec4 v_col; uniform float u_hole;" +
       "void main(){ if (v_col.a < 0.5) discard; vec2 q = gl_PointCoord * 2.0 - 1.0; float r = length(q);" +
@@ -211,10 +213,16 @@
   var cam = { target: [0, 0, 0], dist: 1, right: [1, 0, 0], up: [0, 1, 0], fwd: [0, 0, -1] };
   var axisSign = { x: 1, y: 1, z: 1 };
   function cssSize() { return [Math.max(1, canvas.clientWidth), Math.max(1, canvas.clientHeight)]; }
+  // Back off until every point is in view (with a margin for the strips).
   function fitDistance() {
-    var s = cssSize(), aspect = s[0] / s[1];
-    var half = Math.min(FOV / 2, Math.atan(Math.tan(FOV / 2) * aspect));
-    return geo.radius / Math.sin(half) * 1.02;
+    var s = cssSize(), aspect = s[0] / s[1], t = Math.tan(FOV / 2), need = 0;
+    var L = geo.line;
+    for (var k = 0; k < L.length; k += 3) {
+      var p = [L[k], L[k + 1], L[k + 2]];
+      var x = Math.abs(dot(p, cam.right)) + W, y = Math.abs(dot(p, cam.up)) + W, z = dot(p, cam.fwd);
+      need = Math.max(need, y / t - z, x / (t * aspect) - z);
+    }
+    return Math.max(need * 1.04, geo.radius * 0.1);
   }
   function setBasis(fwd, up) {
     cam.fwd = norm(fwd);
@@ -293,6 +301,8 @@
     gl.uniformMatrix4fv(gl.getUniformLocation(eyeProg, "u_mvp"), false, mx.m);
     gl.uniform1f(gl.getUniformLocation(eyeProg, "u_size"), D.fab.flange * mx.f * h / 2);
     gl.uniform1f(gl.getUniformLocation(eyeProg, "u_hole"), D.fab.hole / D.fab.flange);
+    gl.uniform3fv(gl.getUniformLocation(eyeProg, "u_eye"), sub(cam.target, mul(cam.fwd, cam.dist)));
+    gl.uniform1f(gl.getUniformLocation(eyeProg, "u_lift"), D.fab.flange * 0.6);
     attr(eyeProg, "a_pos", buf.eye, 3, gl.FLOAT, false);
     attr(eyeProg, "a_col", buf.eyeCol, 4, gl.UNSIGNED_BYTE, true);
     gl.drawArrays(gl.POINTS, 0, eyelets.length);
@@ -308,8 +318,10 @@
 
   // ---- Picking: the nearest drawn strip under a point -----------------------
   function linePoint(i, j) { var o = 12 * i + 3 * j, L = geo.line; return [L[o], L[o + 1], L[o + 2]]; }
+  // On a strip's ribbon, the nearest to the eye wins; failing that (a
+  // finger is wider than a strip), the nearest on screen within `slop` px.
   function pick(x, y, slop) {
-    var mx = matrices(), best = -1, bestDepth = Infinity;
+    var mx = matrices(), best = -1, bestDepth = Infinity, near = -1, nearDist = Infinity;
     strips.forEach(function (s) {
       if (!shown(s)) return;
       var a = project(mx, linePoint(s.i, 0)), q = project(mx, linePoint(s.i, 1)), e = project(mx, linePoint(s.i, 2));
@@ -318,15 +330,17 @@
         if (p0[2] <= 0 || p1[2] <= 0) return;
         var dx = p1[0] - p0[0], dy = p1[1] - p0[1], l2 = dx * dx + dy * dy;
         var t = l2 > 0 ? Math.max(0, Math.min(1, ((x - p0[0]) * dx + (y - p0[1]) * dy) / l2)) : 0;
-        var cx = p0[0] + t * dx - x, cy = p0[1] + t * dy - y;
+        var dist = Math.hypot(p0[0] + t * dx - x, p0[1] + t * dy - y);
         var depth = p0[2] + t * (p1[2] - p0[2]);
-        var halfPx = W / 2 * mx.f * mx.size[1] / 2 / depth;
-        if (Math.sqrt(cx * cx + cy * cy) <= Math.max(halfPx, 2) + slop && depth < bestDepth) {
-          best = s.i; bestDepth = depth;
+        var halfPx = Math.max(W / 2 * mx.f * mx.size[1] / 2 / depth, 2);
+        if (dist <= halfPx) {
+          if (depth < bestDepth) { best = s.i; bestDepth = depth; }
+        } else if (dist - halfPx <= slop && dist - halfPx < nearDist) {
+          near = s.i; nearDist = dist - halfPx;
         }
       });
     });
-    return best;
+    return best >= 0 ? best : near;
   }
   function clientOf(p) {
     var r = canvas.getBoundingClientRect();
@@ -514,6 +528,7 @@
       });
       info.appendChild(t);
       state.sheet = s.sheet;
+      if (from === "view" && info.scrollIntoView) info.scrollIntoView({ block: "nearest" });
     }
     refresh();
   }
