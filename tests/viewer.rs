@@ -147,6 +147,8 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
         &layout,
         &deployment,
     ));
+    // Kept for a look in a browser (the page's speed is not a test).
+    std::fs::write(shots().join("sheet-100x100.html"), &html).unwrap();
     eprintln!("10,000-cell sheet viewer.html: {} bytes", html.len());
     assert!(html.len() < 15_000_000, "{} bytes", html.len());
 }
@@ -294,6 +296,9 @@ fn viewer_works_in_headless_chromium() {
         // Search: a type, then an ID prefix.
         actions.extend(search("b"));
         actions.push(shot("search-type"));
+        actions.push(json!({"eval": "document.getElementById('sheet').scrollIntoView(), karigami.sheetHighlighted()"}));
+        actions.push(json!({"eval": "karigami.sheet()"}));
+        actions.push(shot("sheet"));
         actions.extend(search(&prefix.to_lowercase()));
         actions.push(shot("search-prefix"));
         actions.push(json!({"eval": "!document.getElementById('deploy').hidden"}));
@@ -304,6 +309,15 @@ fn viewer_works_in_headless_chromium() {
             actions.push(json!({"eval": "karigami.theta()"}));
             actions.push(shot("deployed"));
         }
+        // Axis views and reset.
+        let button = |sel: &str| json!({"click": format!("(r => [r.left + r.width / 2, r.top + r.height / 2])(document.querySelector('{sel}').getBoundingClientRect())")});
+        actions.push(button("#views [data-axis=z]"));
+        actions.push(json!({"eval": "karigami.viewDirection()"}));
+        actions.push(shot("axis-z"));
+        actions.push(button("#views [data-axis=x]"));
+        actions.push(json!({"eval": "karigami.viewDirection()"}));
+        actions.push(button("#view-reset"));
+        actions.push(json!({"eval": "karigami.viewDirection()"}));
         // Orbit with a drag; the picture changes, nothing breaks.
         actions.push(json!({"drag": [500, 400, 620, 330]}));
         actions.push(shot("turned"));
@@ -394,6 +408,17 @@ fn viewer_works_in_headless_chromium() {
             .collect();
         assert_eq!(by_type, expected, "{name}: search by type B");
         next(); // shot
+        let marked = ids(next());
+        let shown_sheet = next().as_u64().unwrap() as usize;
+        let on_sheet: BTreeSet<String> = b.layout.sheets[shown_sheet - 1]
+            .placements
+            .iter()
+            .map(|p| b.parts.strips[p.part].id.clone())
+            .filter(|id| expected.contains(id) || id == target)
+            .collect();
+        assert!(!on_sheet.is_empty(), "{name}: the sheet shown has a match");
+        assert_eq!(marked, on_sheet, "{name}: the sheet view highlights the matches and the selection");
+        next(); // shot
         next();
         next();
         let by_prefix = ids(next());
@@ -422,6 +447,21 @@ fn viewer_works_in_headless_chromium() {
             let expected = 0.4 * b.deployment.config.theta_max.to_degrees();
             assert!((theta - expected).abs() < 1e-9, "{theta} {expected}");
             next();
+        }
+        next(); // click Z
+        let dir = |v: &Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
+        let z = dir(next());
+        assert!((z[2] + 1.0).abs() < 1e-9, "{name}: Z looks down z: {z:?}");
+        next(); // shot
+        next(); // click X
+        let x = dir(next());
+        assert!((x[0] + 1.0).abs() < 1e-9, "{name}: X looks along x: {x:?}");
+        next(); // reset
+        let reset = dir(next());
+        let first = b.assembled.clone();
+        let camera = karigami::drawing::picture::Camera::for_lattice(&first);
+        for (a, e) in reset.iter().zip(camera.forward.to_array()) {
+            assert!((a - e).abs() < 1e-4, "{name}: reset view {reset:?} vs {:?}", camera.forward);
         }
         next(); // drag
         let turned = PathBuf::from(next().as_str().unwrap());

@@ -321,6 +321,19 @@ fn deploy_json(out: &mut String, s: &Scene) {
         out.push_str("null\n");
         return;
     }
+    let affine: Vec<(f64, f64)> = c1
+        .iter()
+        .zip(&c2)
+        .map(|(p1, p2)| {
+            let b = (p1.cos() - p2.cos()) / (t1.cos() - t2.cos());
+            (p1.cos() - b * t1.cos(), b)
+        })
+        .collect();
+    // Never NaN or inf in a file: no slider rather than a broken one.
+    if affine.iter().any(|(a, b)| !a.is_finite() || !b.is_finite()) {
+        out.push_str("null\n");
+        return;
+    }
     let _ = write!(
         out,
         "{{\"theta_design\":{},\"theta_max\":{},\"cells\":[",
@@ -331,9 +344,7 @@ fn deploy_json(out: &mut String, s: &Scene) {
         if i > 0 {
             out.push(',');
         }
-        let (x1, x2) = (c1[i].cos(), c2[i].cos());
-        let b = (x1 - x2) / (t1.cos() - t2.cos());
-        let a = x1 - b * t1.cos();
+        let (a, b) = affine[i];
         let [ul, ur, _, _] = lattice.corners(cell);
         let (u, v) = (ul - cell.pivot, ur - cell.pivot);
         let side = if u.x * v.y - u.y * v.x < 0.0 { -1 } else { 1 };

@@ -81,7 +81,7 @@
     var line = new Float64Array(NS * 12); // start tip, pivot, end tip, start hole
     var cn = [];
     for (var c = 0; c < NC; c++) cn.push(mul(cellNormalRaw(c), stackSign));
-    var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    var BIG = Number.MAX_VALUE, lo = [BIG, BIG, BIG], hi = [-BIG, -BIG, -BIG];
     for (var k = 0; k < P.length / 3; k++) {
       for (var a = 0; a < 3; a++) { lo[a] = Math.min(lo[a], P[3 * k + a]); hi[a] = Math.max(hi[a], P[3 * k + a]); }
     }
@@ -321,7 +321,7 @@
   // On a strip's ribbon, the nearest to the eye wins; failing that (a
   // finger is wider than a strip), the nearest on screen within `slop` px.
   function pick(x, y, slop) {
-    var mx = matrices(), best = -1, bestDepth = Infinity, near = -1, nearDist = Infinity;
+    var mx = matrices(), best = -1, bestDepth = Number.MAX_VALUE, near = -1, nearDist = Number.MAX_VALUE;
     strips.forEach(function (s) {
       if (!shown(s)) return;
       var a = project(mx, linePoint(s.i, 0)), q = project(mx, linePoint(s.i, 1)), e = project(mx, linePoint(s.i, 2));
@@ -569,6 +569,7 @@
 
   // ---- Cut sheets ---------------------------------------------------------------
   var sheetCanvas = $("sheet-view");
+  var sheetMarked = []; // strips highlighted on the sheet shown
   function sheetScale() {
     var w = Math.max(1, sheetCanvas.clientWidth);
     return w / D.fab.sheet_width;
@@ -592,12 +593,13 @@
     g.font = fontPx + "px ui-monospace, Menlo, Consolas, monospace";
     g.textAlign = "center";
     g.textBaseline = "middle";
+    sheetMarked = [];
     strips.forEach(function (s) {
       if (s.sheet !== state.sheet) return;
       var b = stripBox(s), r = D.fab.part_width / 2;
       var colour = "#d9d7d0", ink = "#6d6b64";
-      if (s.i === state.selected) { colour = "rgb(" + SEL + ")"; ink = "#fff"; }
-      else if (state.matchSet !== null && state.matchSet[s.i]) { colour = "rgb(" + FOUND + ")"; ink = "#1d1d1b"; }
+      if (s.i === state.selected) { colour = "rgb(" + SEL + ")"; ink = "#fff"; sheetMarked.push(s.i); }
+      else if (state.matchSet !== null && state.matchSet[s.i]) { colour = "rgb(" + FOUND + ")"; ink = "#1d1d1b"; sheetMarked.push(s.i); }
       else if (s.step === state.step - 1) { colour = "#f0b4b4"; ink = "#8a1c1c"; }
       g.fillStyle = colour;
       g.beginPath();
@@ -748,6 +750,8 @@
     selected: function () { return state.selected >= 0 ? strips[state.selected].id : null; },
     highlighted: function () { return ids(state.matches); },
     sheet: function () { return state.sheet; },
+    // Strips highlighted (selected or found) on the sheet shown.
+    sheetHighlighted: function () { return ids(sheetMarked); },
     // Client (CSS) pixels of the middle of a strip's first leg, halfway
     // between its start eyelet and its scissor pivot, where no other strip crosses it.
     pickPoint: function (id) {
@@ -764,6 +768,8 @@
       var r = canvas.getBoundingClientRect(), hit = pick(x - r.left, y - r.top, 3);
       return hit >= 0 ? strips[hit].id : null;
     },
+    // The direction the camera looks, in the lattice's coordinates.
+    viewDirection: function () { return cam.fwd.slice(); },
     theta: function () { return state.theta === null ? null : state.theta * 180 / Math.PI; },
     // How well the drawn deployed state keeps the strips: the largest change
     // of a hole pitch and the largest misfit of a shared vertex (mm), and the
