@@ -324,6 +324,9 @@ fn viewer_works_in_headless_chromium() {
         actions.push(json!({"eval": "!document.getElementById('deploy').hidden"}));
         let deploys = b.deployment.is_mechanism() && b.lattice.dim == 2;
         if deploys {
+            // The whole piece, nothing found or selected, then opened wider.
+            actions.push(json!({"eval": format!("{}, (s => {{ s.value = ''; s.dispatchEvent(new Event('input')); }})(document.getElementById('search')), document.getElementById('view').focus(), 1", slide("step", n))}));
+            actions.push(json!({"key": "Escape"}));
             actions.push(json!({"eval": slide("theta", 400)}));
             actions.push(json!({"eval": "karigami.deployCheck()"}));
             actions.push(json!({"eval": "karigami.theta()"}));
@@ -454,6 +457,8 @@ fn viewer_works_in_headless_chromium() {
         next(); // shot
         assert_eq!(next(), &json!(deploys), "{name}: deployment slider shown");
         if *deploys {
+            next(); // whole piece
+            next(); // Escape
             assert_eq!(next(), &json!(400));
             let check = next();
             let (pitch, misfit, moved) = (
