@@ -327,6 +327,7 @@ fn viewer_works_in_headless_chromium() {
             // The whole piece, nothing found or selected, then opened wider.
             actions.push(json!({"eval": format!("{}, (s => {{ s.value = ''; s.dispatchEvent(new Event('input')); }})(document.getElementById('search')), document.getElementById('view').focus(), 1", slide("step", n))}));
             actions.push(json!({"key": "Escape"}));
+            actions.push(json!({"eval": format!("karigami.shapeAt({})", b.deployment.config.theta_design.to_degrees())}));
             actions.push(json!({"eval": slide("theta", 400)}));
             actions.push(json!({"eval": "karigami.deployCheck()"}));
             actions.push(json!({"eval": "karigami.theta()"}));
@@ -459,6 +460,11 @@ fn viewer_works_in_headless_chromium() {
         if *deploys {
             next(); // whole piece
             next(); // Escape
+            let design = next();
+            assert!(
+                design["fromDesign"].as_f64().unwrap() < 2e-3 && design["misfit"].as_f64().unwrap() < 1e-6,
+                "{name}: C(theta) at the design angle places the designed shape: {design}"
+            );
             assert_eq!(next(), &json!(400));
             let check = next();
             let (pitch, misfit, moved) = (
@@ -494,4 +500,30 @@ fn viewer_works_in_headless_chromium() {
     }
     let phone = pages.last().unwrap()["results"].as_array().unwrap();
     assert_eq!(phone[1], json!(phone_target), "a tap on a phone selects");
+}
+
+#[test]
+fn the_page_opens_cells_by_the_checks_c_theta() {
+    let b = built("mirror-arm");
+    let d = data(&String::from_utf8(page(&b)).unwrap());
+    let config = &b.deployment.config;
+    let cells = d["deploy"]["cells"].as_array().unwrap();
+    assert_eq!(cells.len(), 7 * b.lattice.cells.len());
+    for k in 1..20 {
+        let theta = config.theta_max * k as f64 / 20.0;
+        let phis = config.angles(theta).unwrap();
+        for (i, phi) in phis.iter().enumerate() {
+            let (a, bb) = (
+                cells[7 * i].as_f64().unwrap(),
+                cells[7 * i + 1].as_f64().unwrap(),
+            );
+            let page_phi = (a + bb * theta.cos()).clamp(-1.0, 1.0).acos();
+            assert!((page_phi - phi).abs() < 1e-9, "cell {i} at {theta}: {page_phi} vs {phi}");
+        }
+    }
+    // Lattices that are not planar true mechanisms get no slider.
+    for name in ["flat-sheet", "torus", "eggbox"] {
+        let d = data(&String::from_utf8(page(&built(name))).unwrap());
+        assert_eq!(d["deploy"], Value::Null, "{name}");
+    }
 }

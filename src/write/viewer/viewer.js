@@ -768,6 +768,14 @@
       var r = canvas.getBoundingClientRect(), hit = pick(x - r.left, y - r.top, 3);
       return hit >= 0 ? strips[hit].id : null;
     },
+    // The shape C(theta) places at an opening (degrees), without showing
+    // it: its largest distance from the designed shape and its misfit (mm).
+    shapeAt: function (deg) {
+      if (!D.deploy) return null;
+      var q = deployedShape(deg * Math.PI / 180), far = 0;
+      for (var k = 0; k < q.length; k++) far = Math.max(far, Math.abs(q[k] - designed[k]));
+      return { fromDesign: far, misfit: deployMisfit };
+    },
     // The direction the camera looks, in the lattice's coordinates.
     viewDirection: function () { return cam.fwd.slice(); },
     theta: function () { return state.theta === null ? null : state.theta * 180 / Math.PI; },
