@@ -332,7 +332,7 @@
         var t = l2 > 0 ? Math.max(0, Math.min(1, ((x - p0[0]) * dx + (y - p0[1]) * dy) / l2)) : 0;
         var dist = Math.hypot(p0[0] + t * dx - x, p0[1] + t * dy - y);
         var depth = p0[2] + t * (p1[2] - p0[2]);
-        var halfPx = Math.max(W / 2 * mx.f * mx.size[1] / 2 / depth, 2);
+        var halfPx = Math.max(W / 2 * mx.f * mx.size[1] / 2 / depth, 0.5);
         if (dist <= halfPx) {
           if (depth < bestDepth) { best = s.i; bestDepth = depth; }
         } else if (dist - halfPx <= slop && dist - halfPx < nearDist) {
