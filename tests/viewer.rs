@@ -47,7 +47,11 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
     let b = built("flat-sheet");
     let html = page(&b);
     assert_eq!(html, page(&built("flat-sheet")), "same recipe, same bytes");
-    let file = b.files().into_iter().find(|f| f.0 == "viewer.html").unwrap();
+    let file = b
+        .files()
+        .into_iter()
+        .find(|f| f.0 == "viewer.html")
+        .unwrap();
     assert_eq!(file.1, html, "the build writes this page");
     let text = String::from_utf8(html).unwrap();
     eprintln!("flat-sheet viewer.html: {} bytes", text.len());
@@ -59,7 +63,10 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
     let d = data(&text);
     assert_eq!(d["strips"].as_array().unwrap().len(), b.parts.strips.len());
     assert_eq!(d["steps"].as_array().unwrap().len(), b.lattice.steps());
-    assert_eq!(d["cells"].as_array().unwrap().len(), 7 * b.lattice.cells.len());
+    assert_eq!(
+        d["cells"].as_array().unwrap().len(),
+        7 * b.lattice.cells.len()
+    );
     assert_eq!(
         d["points"].as_array().unwrap().len(),
         3 * (b.lattice.vertices.len() + b.lattice.cells.len())
@@ -162,9 +169,9 @@ fn shots() -> PathBuf {
 
 /// Run the driver on a plan; None when Chromium is missing and not required.
 fn drive(plan: &Value) -> Option<Value> {
-    let exe = ["chromium", "chromium-browser"]
-        .into_iter()
-        .find(|e| run("sh", &["-c", &format!("command -v {e}")]).is_some_and(|o| o.status.success()));
+    let exe = ["chromium", "chromium-browser"].into_iter().find(|e| {
+        run("sh", &["-c", &format!("command -v {e}")]).is_some_and(|o| o.status.success())
+    });
     let Some(exe) = exe else {
         assert!(
             std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none(),
@@ -284,7 +291,11 @@ fn viewer_works_in_headless_chromium() {
             .layout
             .sheets
             .iter()
-            .position(|s| s.placements.iter().any(|p| p.part == steps[k - 1].strips[0]))
+            .position(|s| {
+                s.placements
+                    .iter()
+                    .any(|p| p.part == steps[k - 1].strips[0])
+            })
             .unwrap()
             + 1;
         let prefix = target[..target.find('-').unwrap()].to_string();
@@ -313,6 +324,10 @@ fn viewer_works_in_headless_chromium() {
         actions.push(json!({"eval": "document.getElementById('info').textContent"}));
         actions.push(json!({"eval": "karigami.sheet()"}));
         actions.push(shot("selected"));
+        // Centre the view on it: its centre comes to the middle of the view.
+        actions.push(json!({"click": "(r => [r.left + r.width / 2, r.top + r.height / 2])(document.querySelector('#info button').getBoundingClientRect())"}));
+        actions.push(json!({"eval": format!("(c => {{ const r = document.getElementById('view').getBoundingClientRect(); return Math.hypot(c[0] - r.left - r.width / 2, c[1] - r.top - r.height / 2); }})(karigami.centre('{target}'))")}));
+        actions.push(shot("centred"));
         // Search: a type, then an ID prefix.
         actions.extend(search("b"));
         actions.push(shot("search-type"));
@@ -402,13 +417,21 @@ fn viewer_works_in_headless_chromium() {
         let all_shot = PathBuf::from(next().as_str().unwrap());
         let (count, drawn) = colours(&all_shot);
         eprintln!("{name}: {count} colours, {:.1} % drawn", 100.0 * drawn);
-        assert!(count > 50 && drawn > 0.05, "{name}: a blank view? {count} colours, {drawn}");
+        assert!(
+            count > 50 && drawn > 0.05,
+            "{name}: a blank view? {count} colours, {drawn}"
+        );
         assert_eq!(next(), &json!(k), "{name}: slider");
         assert_eq!(&ids(next()), upto_k, "{name}: strips of steps 1..{k}");
         next(); // shot
         next(); // blur
         next(); // ArrowLeft
-        assert_eq!(&ids(next()), before_k, "{name}: ArrowLeft shows steps 1..{}", k - 1);
+        assert_eq!(
+            &ids(next()),
+            before_k,
+            "{name}: ArrowLeft shows steps 1..{}",
+            k - 1
+        );
         next(); // ArrowRight
         assert_eq!(next(), &json!(k), "{name}: ArrowRight");
         next(); // click on next
@@ -417,8 +440,20 @@ fn viewer_works_in_headless_chromium() {
         next(); // click
         assert_eq!(next(), &json!(target), "{name}: a click selects {target}");
         let info = next().as_str().unwrap();
-        assert!(info.contains(target.as_str()) && info.contains(&format!("{sheet} of {}", b.layout.sheets.len())), "{name}: {info}");
-        assert_eq!(next(), &json!(sheet), "{name}: the sheet view shows its sheet");
+        assert!(
+            info.contains(target.as_str())
+                && info.contains(&format!("{sheet} of {}", b.layout.sheets.len())),
+            "{name}: {info}"
+        );
+        assert_eq!(
+            next(),
+            &json!(sheet),
+            "{name}: the sheet view shows its sheet"
+        );
+        next(); // shot
+        next(); // click "Centre the view on it"
+        let off = next().as_f64().unwrap();
+        assert!(off < 2.0, "{name}: centred {off} px off the middle");
         next(); // shot
         next(); // clear the search box
         next(); // type
@@ -441,7 +476,10 @@ fn viewer_works_in_headless_chromium() {
             .filter(|id| expected.contains(id) || id == target)
             .collect();
         assert!(!on_sheet.is_empty(), "{name}: the sheet shown has a match");
-        assert_eq!(marked, on_sheet, "{name}: the sheet view highlights the matches and the selection");
+        assert_eq!(
+            marked, on_sheet,
+            "{name}: the sheet view highlights the matches and the selection"
+        );
         next(); // shot
         next();
         next();
@@ -462,7 +500,8 @@ fn viewer_works_in_headless_chromium() {
             next(); // Escape
             let design = next();
             assert!(
-                design["fromDesign"].as_f64().unwrap() < 2e-3 && design["misfit"].as_f64().unwrap() < 1e-6,
+                design["fromDesign"].as_f64().unwrap() < 2e-3
+                    && design["misfit"].as_f64().unwrap() < 1e-6,
                 "{name}: C(theta) at the design angle places the designed shape: {design}"
             );
             assert_eq!(next(), &json!(400));
@@ -480,7 +519,13 @@ fn viewer_works_in_headless_chromium() {
             next();
         }
         next(); // click Z
-        let dir = |v: &Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
+        let dir = |v: &Value| -> Vec<f64> {
+            v.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
         let z = dir(next());
         assert!((z[2] + 1.0).abs() < 1e-9, "{name}: Z looks down z: {z:?}");
         next(); // shot
@@ -492,7 +537,11 @@ fn viewer_works_in_headless_chromium() {
         let first = b.assembled.clone();
         let camera = karigami::drawing::picture::Camera::for_lattice(&first);
         for (a, e) in reset.iter().zip(camera.forward.to_array()) {
-            assert!((a - e).abs() < 1e-4, "{name}: reset view {reset:?} vs {:?}", camera.forward);
+            assert!(
+                (a - e).abs() < 1e-4,
+                "{name}: reset view {reset:?} vs {:?}",
+                camera.forward
+            );
         }
         next(); // drag
         let turned = PathBuf::from(next().as_str().unwrap());
@@ -518,7 +567,10 @@ fn the_page_opens_cells_by_the_checks_c_theta() {
                 cells[7 * i + 1].as_f64().unwrap(),
             );
             let page_phi = (a + bb * theta.cos()).clamp(-1.0, 1.0).acos();
-            assert!((page_phi - phi).abs() < 1e-9, "cell {i} at {theta}: {page_phi} vs {phi}");
+            assert!(
+                (page_phi - phi).abs() < 1e-9,
+                "cell {i} at {theta}: {page_phi} vs {phi}"
+            );
         }
     }
     // Lattices that are not planar true mechanisms get no slider.

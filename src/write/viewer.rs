@@ -275,7 +275,9 @@ fn steps_json(out: &mut String, s: &Scene) {
             out,
             "{{\"title\":{},\"pair\":{},\"close\":{},\"eyelets\":{},\"cells\":{:?},\"joints\":[",
             text(&title),
-            text("1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:"),
+            text(
+                "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:"
+            ),
             text(close),
             text(&eyelets),
             step.cells
@@ -337,8 +339,7 @@ fn deploy_json(out: &mut String, s: &Scene) {
     let _ = write!(
         out,
         "{{\"theta_design\":{},\"theta_max\":{},\"cells\":[",
-        config.theta_design,
-        config.theta_max
+        config.theta_design, config.theta_max
     );
     for (i, cell) in lattice.cells.iter().enumerate() {
         if i > 0 {

@@ -527,10 +527,22 @@
         tr.appendChild(th); tr.appendChild(td); t.appendChild(tr);
       });
       info.appendChild(t);
+      var go = document.createElement("button");
+      go.type = "button";
+      go.textContent = "Centre the view on it";
+      go.addEventListener("click", function () { focusOn(i); });
+      info.appendChild(go);
       state.sheet = s.sheet;
       if (from === "view" && info.scrollIntoView) info.scrollIntoView({ block: "nearest" });
     }
     refresh();
+  }
+  // Turn about and close in on a strip, keeping the direction of view.
+  function focusOn(i) {
+    cam.target = mul(add(linePoint(i, 0), linePoint(i, 2)), 0.5);
+    var t = Math.tan(FOV / 2), size = Math.max(strips[i].length, 4 * W) * 2.5;
+    cam.dist = Math.min(cam.dist, size / t);
+    render();
   }
   function fmt(x, d) { return x.toFixed(d === undefined ? 1 : d); }
   var search = $("search");
