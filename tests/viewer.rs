@@ -397,6 +397,13 @@ fn viewer_works_in_headless_chromium() {
     let pages = report["pages"].as_array().unwrap();
     for p in pages {
         let url = p["url"].as_str().unwrap();
+        // Warnings are shown, not failed on: SwiftShader warns of a GPU
+        // stall whenever a screenshot reads the canvas back.
+        for w in p["warnings"].as_array().unwrap() {
+            if !w.as_str().unwrap().contains("GPU stall due to ReadPixels") {
+                eprintln!("{url}: warning: {w}");
+            }
+        }
         assert_eq!(p["console_errors"], json!([]), "{url}");
         assert_eq!(p["exceptions"], json!([]), "{url}");
         assert_eq!(p["failed_requests"], json!([]), "{url}");

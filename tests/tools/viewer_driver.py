@@ -217,7 +217,7 @@ def run_page(browser, spec):
         else:
             raise ValueError("unknown action " + kind)
     page.frames(2)
-    out = {"url": spec["url"], "results": results, "console_errors": [], "exceptions": [],
+    out = {"url": spec["url"], "results": results, "console_errors": [], "warnings": [], "exceptions": [],
            "failed_requests": [], "requests": []}
     for e in browser.events:
         if e.get("sessionId") != page.s:
@@ -227,6 +227,10 @@ def run_page(browser, spec):
             out["console_errors"].append(" ".join(str(a.get("value", a.get("description", ""))) for a in p.get("args", [])))
         elif m == "Log.entryAdded" and p["entry"].get("level") == "error":
             out["console_errors"].append(p["entry"].get("text", ""))
+        elif m == "Log.entryAdded" and p["entry"].get("level") == "warning":
+            out["warnings"].append(p["entry"].get("text", ""))
+        elif m == "Runtime.consoleAPICalled" and p.get("type") == "warning":
+            out["warnings"].append(" ".join(str(a.get("value", "")) for a in p.get("args", [])))
         elif m == "Runtime.exceptionThrown":
             d = p["exceptionDetails"]
             out["exceptions"].append(d.get("exception", {}).get("description", d.get("text", "")))
