@@ -359,6 +359,7 @@ fn viewer_works_in_headless_chromium() {
         actions.push(json!({"eval": "karigami.viewDirection()"}));
         // Orbit with a drag; the picture changes, nothing breaks.
         actions.push(json!({"drag": [500, 400, 620, 330]}));
+        actions.push(json!({"eval": "karigami.viewDirection()"}));
         actions.push(shot("turned"));
         plan_pages.push(json!({
             "url": format!("file://{}", file.display()),
@@ -381,6 +382,13 @@ fn viewer_works_in_headless_chromium() {
             {"tap": format!("karigami.pickPoint('{phone_target}')")},
             {"eval": "karigami.selected()"},
             {"shot": shots.join("torus-phone.png")},
+            // Two fingers spread: closer. A wheel turn back: farther.
+            {"eval": "karigami.viewDistance()"},
+            {"pinch": [195, 250, 40, 120]},
+            {"eval": "karigami.viewDistance()"},
+            {"wheel": [195, 250, 300]},
+            {"eval": "karigami.viewDistance()"},
+            {"shot": shots.join("torus-phone-pinched.png")},
         ],
     }));
     let started = std::time::Instant::now();
@@ -551,11 +559,17 @@ fn viewer_works_in_headless_chromium() {
             );
         }
         next(); // drag
+        let turned_dir = dir(next());
+        let turn: f64 = turned_dir.iter().zip(&reset).map(|(a, b)| a * b).sum();
+        assert!(turn < 0.99, "{name}: a drag turns the view ({turn})");
         let turned = PathBuf::from(next().as_str().unwrap());
         assert!(colours(&turned).0 > 50);
     }
     let phone = pages.last().unwrap()["results"].as_array().unwrap();
     assert_eq!(phone[1], json!(phone_target), "a tap on a phone selects");
+    let d = |i: usize| phone[i].as_f64().unwrap();
+    assert!(d(5) < 0.6 * d(3), "a pinch zooms in: {} -> {}", d(3), d(5));
+    assert!(d(7) > d(5), "the wheel zooms out: {} -> {}", d(5), d(7));
 }
 
 #[test]
@@ -584,5 +598,39 @@ fn the_page_opens_cells_by_the_checks_c_theta() {
     for name in ["flat-sheet", "torus", "eggbox"] {
         let d = data(&String::from_utf8(page(&built(name))).unwrap());
         assert_eq!(d["deploy"], Value::Null, "{name}");
+    }
+}
+
+#[test]
+fn a_simulated_shape_has_its_slot_beside_the_designed_one() {
+    let b = built("flat-sheet");
+    let mut scene = Scene::new(
+        &b.design,
+        &b.lattice,
+        &b.assembled,
+        &b.parts,
+        &b.layout,
+        &b.deployment,
+    );
+    let d = data(&String::from_utf8(write(&scene)).unwrap());
+    assert_eq!(d["simulated"], Value::Null, "no simulation, no slot filled");
+    let shape: Vec<glam::DVec3> = b
+        .assembled
+        .vertices
+        .iter()
+        .map(|v| v.pos)
+        .chain(b.assembled.cells.iter().map(|c| c.pivot))
+        .map(|p| p + glam::DVec3::new(0.0, 0.0, 1.5))
+        .collect();
+    scene.simulated = Some(shape);
+    let d = data(&String::from_utf8(write(&scene)).unwrap());
+    let (designed, simulated) = (
+        d["points"].as_array().unwrap(),
+        d["simulated"].as_array().unwrap(),
+    );
+    assert_eq!(simulated.len(), designed.len());
+    for (k, (a, s)) in designed.iter().zip(simulated).enumerate() {
+        let lift = if k % 3 == 2 { 1.5 } else { 0.0 };
+        assert!((s.as_f64().unwrap() - a.as_f64().unwrap() - lift).abs() < 2e-3);
     }
 }

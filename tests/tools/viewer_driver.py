@@ -8,7 +8,8 @@ Reads a plan as JSON on stdin:
               "actions": [{"eval": "expr"}, {"click": "expr -> [x, y]"},
                           {"tap": "expr -> [x, y]"}, {"key": "ArrowLeft"},
                           {"type": "text"}, {"wait": "expr"},
-                          {"drag": [x0, y0, x1, y1]}, {"shot": "file.png"}]}]}
+                          {"drag": [x0, y0, x1, y1]}, {"pinch": [cx, cy, r0, r1]},
+                          {"wheel": [x, y, dy]}, {"shot": "file.png"}]}]}
 Prints JSON: the browser version and, per page, each action's result, the
 console errors, uncaught exceptions, failed requests and every URL requested.
 """
@@ -159,6 +160,18 @@ class Page:
         self.send("Input.dispatchTouchEvent", {"type": "touchStart", "touchPoints": pt})
         self.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
 
+    def pinch(self, cx, cy, r0, r1):
+        """Two fingers from r0 to r1 px either side of (cx, cy)."""
+        def points(r):
+            return [{"x": cx - r, "y": cy, "id": 1}, {"x": cx + r, "y": cy, "id": 2}]
+        self.send("Input.dispatchTouchEvent", {"type": "touchStart", "touchPoints": points(r0)})
+        for k in range(1, 9):
+            self.send("Input.dispatchTouchEvent", {"type": "touchMove", "touchPoints": points(r0 + (r1 - r0) * k / 8)})
+        self.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
+
+    def wheel(self, x, y, dy):
+        self.send("Input.dispatchMouseEvent", {"type": "mouseWheel", "x": x, "y": y, "deltaX": 0, "deltaY": dy})
+
     def drag(self, x0, y0, x1, y1):
         self.mouse("mouseMoved", x0, y0, "none")
         self.mouse("mousePressed", x0, y0, "left", 1)
@@ -198,6 +211,10 @@ def run_page(browser, spec):
             (page.click if kind == "click" else page.tap)(x, y)
             page.frames(2)
             results.append([x, y])
+        elif kind in ("pinch", "wheel"):
+            getattr(page, kind)(*arg)
+            page.frames(2)
+            results.append(None)
         elif kind == "drag":
             page.drag(*arg)
             page.frames(2)

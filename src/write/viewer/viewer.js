@@ -788,6 +788,8 @@
       for (var k = 0; k < q.length; k++) far = Math.max(far, Math.abs(q[k] - designed[k]));
       return { fromDesign: far, misfit: deployMisfit };
     },
+    // How far the camera is from the point it turns about (mm).
+    viewDistance: function () { return cam.dist; },
     // The direction the camera looks, in the lattice's coordinates.
     viewDirection: function () { return cam.fwd.slice(); },
     theta: function () { return state.theta === null ? null : state.theta * 180 / Math.PI; },
