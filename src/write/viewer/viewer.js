@@ -568,7 +568,7 @@
     state.matchSet = new Uint8Array(NS);
     found.forEach(function (i) { state.matchSet[i] = 1; });
     box.appendChild(document.createTextNode(found.length === 1 ? "1 strip matches: " : found.length + " strips match" + (found.length ? ": " : ".")));
-    found.slice(0, 60).forEach(function (i) { box.appendChild(idLink(i)); });
+    found.slice(0, 60).forEach(function (i) { box.appendChild(idLink(i)); box.appendChild(document.createTextNode(" ")); });
     if (found.length > 60) box.appendChild(document.createTextNode(" ..."));
     if (found.length) state.sheet = strips[found[0]].sheet;
     refresh();
