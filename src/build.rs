@@ -11,7 +11,7 @@ use crate::lattice::{Lattice, Report, verify};
 use crate::layout::{Bounds, Layout, nest_with};
 use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
-use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg};
+use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
 use std::fmt::Write as _;
 
 /// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
@@ -216,6 +216,15 @@ impl Build {
             .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
             .collect();
         files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
+        let scene = viewer::Scene::new(
+            &self.design,
+            &self.lattice,
+            &self.assembled,
+            &self.parts,
+            &self.layout,
+            &self.deployment,
+        );
+        files.push(("viewer.html".to_string(), viewer::write(&scene)));
         files.push((
             "report.txt".to_string(),
             crate::report::build_text(self).into_bytes(),

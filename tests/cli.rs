@@ -278,7 +278,8 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
             "parts.csv",
             "preview.png",
             "report.txt",
-            "sheets"
+            "sheets",
+            "viewer.html"
         ]
     );
     assert_eq!(

@@ -13,4 +13,5 @@ mod property;
 mod safety;
 mod thirdparty;
 mod util;
+mod viewer;
 mod workflow;

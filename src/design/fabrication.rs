@@ -63,6 +63,8 @@ pub const MAX_EYELET: f64 = 100.0;
 pub const MAX_END_MARGIN: f64 = 1000.0;
 pub const MAX_KERF: f64 = 5.0;
 pub const MAX_SHEET_MARGIN: f64 = 1000.0;
+/// Largest tolerance for grouping strips into one part type, mm.
+pub const MAX_PART_TOLERANCE: f64 = 10.0;
 
 fn length(n: &Num, what: &str, min_exclusive: f64, max: f64) -> Result<f64, Diagnostic> {
     let v = *n.get_ref();
@@ -300,7 +302,7 @@ fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result
         .as_ref()
         .and_then(|s| s.get_ref().part_tolerance.as_ref())
     {
-        f.part_tolerance = non_negative(t, "strip.part_tolerance")?;
+        f.part_tolerance = non_negative(t, "strip.part_tolerance", MAX_PART_TOLERANCE)?;
     }
     if let Some(t) = raw
         .sheet

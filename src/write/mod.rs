@@ -10,3 +10,4 @@ pub mod parts_csv;
 pub mod pdf;
 pub mod png;
 pub mod svg;
+pub mod viewer;
