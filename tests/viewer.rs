@@ -141,9 +141,11 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
                         rotated: part % 7 == 0,
                     })
                     .collect(),
+                test_piece: None,
             })
             .collect(),
         lengths,
+        test_piece: None,
     };
     let deployment = deployment(&lattice);
     let html = write(&Scene::new(
