@@ -857,3 +857,22 @@ fn long_phases_say_so_and_budgets_are_bounded() {
         assert!(text(&o.stderr).contains(limit), "{}", text(&o.stderr));
     }
 }
+
+/// `new` and `tune --out` write one file atomically: killed before the
+/// rename, the file is as it was, and the next run removes the temporary.
+#[test]
+fn a_killed_single_file_write_leaves_the_file_and_the_next_run_tidies() {
+    let dir = scratch("kill-new");
+    let o = run(&["new", "x"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let before = fs::read(dir.join("x.toml")).unwrap();
+    for k in [1, 2] {
+        let o = run(&["new", "x", "--template", "chain", "--force"], &dir, Some(&format!("abort@{k}")));
+        assert_eq!(o.status.code(), None, "k={k}: killed");
+        assert_eq!(fs::read(dir.join("x.toml")).unwrap(), before, "k={k}");
+    }
+    let o = run(&["new", "x", "--template", "chain", "--force"], &dir, None);
+    assert!(o.status.success());
+    assert_ne!(fs::read(dir.join("x.toml")).unwrap(), before);
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
