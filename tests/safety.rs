@@ -16,9 +16,11 @@ type Tree = BTreeMap<String, Vec<u8>>;
 fn run(args: &[&str], cwd: &Path, fault: Option<&str>) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_karigami"));
     c.args(args).current_dir(cwd);
+    // Without fsync: these runs simulate kills and full disks, not power
+    // loss (tests/cli.rs and tests/workflow.rs build with it).
     match fault {
-        Some(f) => c.env("KARIGAMI_FAULT", f),
-        None => c.env_remove("KARIGAMI_FAULT"),
+        Some(f) => c.env("KARIGAMI_FAULT", format!("nosync,{f}")),
+        None => c.env("KARIGAMI_FAULT", "nosync"),
     };
     c.output().expect("runs karigami")
 }
@@ -288,7 +290,7 @@ fn two_builds_into_one_folder_at_once_never_mix() {
             Command::new(env!("CARGO_BIN_EXE_karigami"))
                 .args(["build", recipe, "--out", "out", "-q"])
                 .current_dir(&dir)
-                .env_remove("KARIGAMI_FAULT")
+                .env("KARIGAMI_FAULT", "nosync")
                 .stderr(std::process::Stdio::piped())
                 .spawn()
                 .unwrap()
@@ -867,7 +869,11 @@ fn a_killed_single_file_write_leaves_the_file_and_the_next_run_tidies() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let before = fs::read(dir.join("x.toml")).unwrap();
     for k in [1, 2] {
-        let o = run(&["new", "x", "--template", "chain", "--force"], &dir, Some(&format!("abort@{k}")));
+        let o = run(
+            &["new", "x", "--template", "chain", "--force"],
+            &dir,
+            Some(&format!("abort@{k}")),
+        );
         assert_eq!(o.status.code(), None, "k={k}: killed");
         assert_eq!(fs::read(dir.join("x.toml")).unwrap(), before, "k={k}");
     }

@@ -111,7 +111,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         fault::write(&path.display().to_string())?;
         let mut f = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_all()?;
+        fault::sync(&f)?;
         fault::commit("rename over the target");
         fs::rename(&tmp, path)
     })();
@@ -590,14 +590,14 @@ impl<'a> Staged<'a> {
             fault::write(&rel.display().to_string())?;
             let mut f = File::create(&path)?;
             f.write_all(bytes)?;
-            f.sync_all()?;
+            fault::sync(&f)?;
         }
         Ok(())
     }
 
     /// Put the staging folder in the target's place.
     pub fn commit(mut self) -> io::Result<()> {
-        File::open(&self.fresh)?.sync_all()?;
+        fault::sync(&File::open(&self.fresh)?)?;
         let target = &self.out.target;
         if fs::symlink_metadata(target).is_err() {
             fault::commit("rename into place");
@@ -626,7 +626,7 @@ impl<'a> Staged<'a> {
             remove_any(&old)?;
         }
         if let Ok(parent) = File::open(&self.out.parent) {
-            let _ = parent.sync_all();
+            let _ = fault::sync(&parent);
         }
         Ok(())
     }
