@@ -555,13 +555,34 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
     assert!(o.status.success());
     let stderr = text(&o.stderr);
     assert!(
-        stderr.contains("deletes its 2 files: deep/photo.jpg, notes.txt"),
+        stderr.contains("is not a karigami build folder; replacing it deletes 2 files: deep/photo.jpg, notes.txt"),
         "{stderr}"
     );
     // Once a build, no more questions.
     let o = run(&["build", "b.toml", "--out", "mine"], &dir, None);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
+    // A file added to a build folder is not the tool's to delete unasked.
+    fs::write(dir.join("mine/sheets/my-notes.txt"), "mine").unwrap();
+    let o = run(&["build", "a.toml", "--out", "mine"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        text(&o.stderr).contains(
+            "mine is a karigami build folder but holds 1 file the build did not write: sheets/my-notes.txt"
+        ),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(dir.join("mine/sheets/my-notes.txt").is_file());
+    let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
+    assert!(o.status.success());
+    assert!(
+        text(&o.stderr).contains(
+            "mine holds files the build did not write; replacing it deletes 1 file: sheets/my-notes.txt"
+        ),
+        "{}",
+        text(&o.stderr)
+    );
     // A build of an older karigami (lattice.json, no marker) is named as such.
     fs::create_dir_all(dir.join("older")).unwrap();
     fs::write(dir.join("older/lattice.json"), "{}").unwrap();
