@@ -418,7 +418,7 @@ pub fn parses(name: &str, text: &str) -> Result<(), String> {
                     Some("v" | "vn") => {
                         for w in words {
                             if !w.parse::<f64>().is_ok_and(f64::is_finite) {
-                                return Err(format!("{line}"));
+                                return Err(format!("bad record: {line}"));
                             }
                         }
                     }
@@ -426,7 +426,7 @@ pub fn parses(name: &str, text: &str) -> Result<(), String> {
                         for w in words {
                             let i = w.split('/').next().unwrap_or_default();
                             if i.parse::<i64>().is_err() {
-                                return Err(format!("{line}"));
+                                return Err(format!("bad record: {line}"));
                             }
                         }
                     }

@@ -16,9 +16,11 @@ type Tree = BTreeMap<String, Vec<u8>>;
 fn run(args: &[&str], cwd: &Path, fault: Option<&str>) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_karigami"));
     c.args(args).current_dir(cwd);
+    // Without fsync: these runs simulate kills and full disks, not power
+    // loss (tests/cli.rs and tests/workflow.rs build with it).
     match fault {
-        Some(f) => c.env("KARIGAMI_FAULT", f),
-        None => c.env_remove("KARIGAMI_FAULT"),
+        Some(f) => c.env("KARIGAMI_FAULT", format!("nosync,{f}")),
+        None => c.env("KARIGAMI_FAULT", "nosync"),
     };
     c.output().expect("runs karigami")
 }
@@ -288,7 +290,7 @@ fn two_builds_into_one_folder_at_once_never_mix() {
             Command::new(env!("CARGO_BIN_EXE_karigami"))
                 .args(["build", recipe, "--out", "out", "-q"])
                 .current_dir(&dir)
-                .env_remove("KARIGAMI_FAULT")
+                .env("KARIGAMI_FAULT", "nosync")
                 .stderr(std::process::Stdio::piped())
                 .spawn()
                 .unwrap()
@@ -553,13 +555,34 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
     assert!(o.status.success());
     let stderr = text(&o.stderr);
     assert!(
-        stderr.contains("deletes its 2 files: deep/photo.jpg, notes.txt"),
+        stderr.contains("is not a karigami build folder; replacing it deletes 2 files: deep/photo.jpg, notes.txt"),
         "{stderr}"
     );
     // Once a build, no more questions.
     let o = run(&["build", "b.toml", "--out", "mine"], &dir, None);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stderr).is_empty(), "{}", text(&o.stderr));
+    // A file added to a build folder is not the tool's to delete unasked.
+    fs::write(dir.join("mine/sheets/my-notes.txt"), "mine").unwrap();
+    let o = run(&["build", "a.toml", "--out", "mine"], &dir, None);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        text(&o.stderr).contains(
+            "mine is a karigami build folder but holds 1 file the build did not write: sheets/my-notes.txt"
+        ),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(dir.join("mine/sheets/my-notes.txt").is_file());
+    let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
+    assert!(o.status.success());
+    assert!(
+        text(&o.stderr).contains(
+            "mine holds files the build did not write; replacing it deletes 1 file: sheets/my-notes.txt"
+        ),
+        "{}",
+        text(&o.stderr)
+    );
     // A build of an older karigami (lattice.json, no marker) is named as such.
     fs::create_dir_all(dir.join("older")).unwrap();
     fs::write(dir.join("older/lattice.json"), "{}").unwrap();
@@ -856,4 +879,27 @@ fn long_phases_say_so_and_budgets_are_bounded() {
         assert_eq!(o.status.code(), Some(2));
         assert!(text(&o.stderr).contains(limit), "{}", text(&o.stderr));
     }
+}
+
+/// `new` and `tune --out` write one file atomically: killed before the
+/// rename, the file is as it was, and the next run removes the temporary.
+#[test]
+fn a_killed_single_file_write_leaves_the_file_and_the_next_run_tidies() {
+    let dir = scratch("kill-new");
+    let o = run(&["new", "x"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let before = fs::read(dir.join("x.toml")).unwrap();
+    for k in [1, 2] {
+        let o = run(
+            &["new", "x", "--template", "chain", "--force"],
+            &dir,
+            Some(&format!("abort@{k}")),
+        );
+        assert_eq!(o.status.code(), None, "k={k}: killed");
+        assert_eq!(fs::read(dir.join("x.toml")).unwrap(), before, "k={k}");
+    }
+    let o = run(&["new", "x", "--template", "chain", "--force"], &dir, None);
+    assert!(o.status.success());
+    assert_ne!(fs::read(dir.join("x.toml")).unwrap(), before);
+    assert_eq!(hidden(&dir), Vec::<String>::new());
 }

@@ -5,7 +5,9 @@
 //! - `enospc@K`: fail every write from step K on with "No space left on
 //!   device", as a full disk would;
 //! - `noexchange`: commit without the atomic folder swap, as on systems
-//!   that lack it, to test the fallback and its recovery.
+//!   that lack it, to test the fallback and its recovery;
+//! - `nosync`: skip fsync, which guards against power loss, not the kills
+//!   and full disks simulated here (hundreds of runs on a busy CI disk).
 //!
 //! It is compiled in so that the tests exercise the shipped binary.
 
@@ -18,6 +20,7 @@ struct Plan {
     abort_at: Option<usize>,
     enospc_from: Option<usize>,
     no_exchange: bool,
+    no_sync: bool,
 }
 
 fn plan() -> &'static Plan {
@@ -32,6 +35,7 @@ fn plan() -> &'static Plan {
                 Some(("abort", k)) => plan.abort_at = k.parse().ok(),
                 Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
                 _ if item == "noexchange" => plan.no_exchange = true,
+                _ if item == "nosync" => plan.no_sync = true,
                 _ => {}
             }
         }
@@ -66,4 +70,12 @@ pub fn commit(what: &str) {
 
 pub fn no_exchange() -> bool {
     plan().no_exchange
+}
+
+/// Flush a file or folder to the disk (unless `nosync`).
+pub fn sync(file: &std::fs::File) -> io::Result<()> {
+    if plan().no_sync {
+        return Ok(());
+    }
+    file.sync_all()
 }

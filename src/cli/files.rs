@@ -106,11 +106,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?;
     let tmp = path.with_file_name(hidden(name, &format!("tmp-{}", std::process::id())));
+    remove_stale_temporaries(path, &hidden(name, "tmp-"));
     let result = (|| {
         fault::write(&path.display().to_string())?;
         let mut f = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_all()?;
+        fault::sync(&f)?;
         fault::commit("rename over the target");
         fs::rename(&tmp, path)
     })();
@@ -118,6 +119,33 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         let _ = fs::remove_file(&tmp);
     }
     result
+}
+
+/// Temporary files beside `path` (`prefix` + PID) of runs that were
+/// killed: where the system lists live processes in /proc, those of dead
+/// ones are removed.
+fn remove_stale_temporaries(path: &Path, prefix: &str) {
+    let proc = Path::new("/proc/self");
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    if !proc.exists() {
+        return;
+    }
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let pid = file.strip_prefix(prefix).unwrap_or_default();
+        if !pid.is_empty()
+            && pid.bytes().all(|b| b.is_ascii_digit())
+            && !Path::new("/proc").join(pid).exists()
+        {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
 }
 
 /// `raw` (a recipe's file name, a folder's name) as a plain, portable,
@@ -179,6 +207,9 @@ pub enum Previous {
     /// A folder that is not a build folder, replaced because of `--force`:
     /// the files that will be deleted (relative paths).
     Foreign(Vec<String>),
+    /// A build folder holding files the build did not write, replaced
+    /// because of `--force`: those files.
+    Added(Vec<String>),
 }
 
 /// The checked, locked output folder of one run. Taken before any work, so
@@ -405,11 +436,37 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
             "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
         ));
     }
-    let marker = target.join(MARKER);
-    if fs::read_to_string(&marker).is_ok_and(|t| t.starts_with(MARKER_HEAD)) {
-        return Ok(Previous::Build);
-    }
     let files = list_files(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    if let Some(ours) = fs::read_to_string(target.join(MARKER))
+        .ok()
+        .filter(|t| t.starts_with(MARKER_HEAD))
+    {
+        // Files someone added to a build folder are not the tool's to delete
+        // without asking.
+        let listed: std::collections::BTreeSet<&str> = ours
+            .split_once("\nfiles:\n")
+            .map_or("", |(_, l)| l)
+            .lines()
+            .collect();
+        let added: Vec<String> = files
+            .iter()
+            .filter(|f| f.as_str() != MARKER && !listed.contains(f.as_str()))
+            .cloned()
+            .collect();
+        if added.is_empty() {
+            return Ok(Previous::Build);
+        }
+        if force {
+            return Ok(Previous::Added(added));
+        }
+        return Err(format!(
+            "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
+            count(added.len(), "file"),
+            shortlist(&added),
+            if added.len() == 1 { "it" } else { "them" },
+            if added.len() == 1 { "it" } else { "them" },
+        ));
+    }
     let empty = fs::read_dir(target)
         .map_err(|e| format!("cannot read {shown}: {e}"))?
         .next()
@@ -437,22 +494,18 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
 }
 
 impl OutDir {
-    /// A warning for `--force` replacing a folder that is not a build.
+    /// A warning for `--force` replacing files that are not the tool's.
     pub fn force_warning(&self) -> Option<String> {
-        let Previous::Foreign(files) = &self.previous else {
-            return None;
+        let (what, files) = match &self.previous {
+            Previous::Foreign(files) => ("is not a karigami build folder", files),
+            Previous::Added(files) => ("holds files the build did not write", files),
+            _ => return None,
         };
-        const SHOWN: usize = 10;
-        let mut list: Vec<&str> = files.iter().take(SHOWN).map(String::as_str).collect();
-        let more = format!("and {} more", files.len().saturating_sub(SHOWN));
-        if files.len() > SHOWN {
-            list.push(&more);
-        }
         Some(format!(
-            "warning: --force: {} is not a karigami build folder; replacing it deletes its {}: {}",
+            "warning: --force: {} {what}; replacing it deletes {}: {}",
             self.target.display(),
             count(files.len(), "file"),
-            list.join(", ")
+            shortlist(files)
         ))
     }
 
@@ -467,6 +520,17 @@ impl OutDir {
             _ => format!("{} was left as it was", self.target.display()),
         }
     }
+}
+
+/// The first few of `files`, and how many more.
+fn shortlist(files: &[String]) -> String {
+    const SHOWN: usize = 10;
+    let mut list: Vec<&str> = files.iter().take(SHOWN).map(String::as_str).collect();
+    let more = format!("and {} more", files.len().saturating_sub(SHOWN));
+    if files.len() > SHOWN {
+        list.push(&more);
+    }
+    list.join(", ")
 }
 
 fn count(n: usize, what: &str) -> String {
@@ -513,6 +577,9 @@ fn remove_any(path: &Path) -> io::Result<()> {
 pub struct Staged<'a> {
     out: &'a OutDir,
     fresh: PathBuf,
+    kind: String,
+    /// Every file written (relative paths), for the marker.
+    written: std::sync::Mutex<Vec<String>>,
     committed: bool,
 }
 
@@ -524,23 +591,35 @@ impl<'a> Staged<'a> {
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
         remove_any(&fresh)?;
         fs::create_dir(&fresh)?;
-        let staged = Self {
+        Ok(Self {
             out,
             fresh,
+            kind: kind.to_string(),
+            written: std::sync::Mutex::new(Vec::new()),
             committed: false,
-        };
-        staged.write(
-            "",
-            &[(
-                MARKER.to_string(),
-                format!(
-                    "{MARKER_HEAD}\nformat {FORMAT}\nkind {kind}\nwritten by karigami {}; a build replaces this folder whole\n",
-                    env!("CARGO_PKG_VERSION")
-                )
-                .into_bytes(),
-            )],
-        )?;
-        Ok(staged)
+        })
+    }
+
+    /// The marker, written last: what the folder is and every file the
+    /// build wrote, so that a later build can tell them from files someone
+    /// added.
+    fn write_marker(&self) -> io::Result<()> {
+        let mut files = self
+            .written
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone();
+        files.sort();
+        let text = format!(
+            "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by karigami {}; a build replaces this folder whole\nfiles:\n{}",
+            self.kind,
+            env!("CARGO_PKG_VERSION"),
+            files.iter().map(|f| format!("{f}\n")).collect::<String>()
+        );
+        fault::write(MARKER)?;
+        let mut f = File::create(self.fresh.join(MARKER))?;
+        f.write_all(text.as_bytes())?;
+        fault::sync(&f)
     }
 
     /// Write files (paths relative to `sub` inside the folder). Each path
@@ -562,14 +641,19 @@ impl<'a> Staged<'a> {
             fault::write(&rel.display().to_string())?;
             let mut f = File::create(&path)?;
             f.write_all(bytes)?;
-            f.sync_all()?;
+            fault::sync(&f)?;
+            self.written
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(rel.display().to_string());
         }
         Ok(())
     }
 
     /// Put the staging folder in the target's place.
     pub fn commit(mut self) -> io::Result<()> {
-        File::open(&self.fresh)?.sync_all()?;
+        self.write_marker()?;
+        fault::sync(&File::open(&self.fresh)?)?;
         let target = &self.out.target;
         if fs::symlink_metadata(target).is_err() {
             fault::commit("rename into place");
@@ -598,7 +682,7 @@ impl<'a> Staged<'a> {
             remove_any(&old)?;
         }
         if let Ok(parent) = File::open(&self.out.parent) {
-            let _ = parent.sync_all();
+            let _ = fault::sync(&parent);
         }
         Ok(())
     }
