@@ -187,9 +187,10 @@ impl Build {
             "parts.csv".to_string(),
             parts_csv::write(&self.parts.strips, &self.layout),
         ));
+        let g = guide(self);
         files.push((
             "assembly.pdf".to_string(),
-            pdf::write(&format!("{name} assembly guide"), &guide(self)),
+            pdf::write_with_symbols(&format!("{name} assembly guide"), &g.pages, &g.symbols),
         ));
         let picture = preview(&self.assembled, fab.material.width, name);
         files.push((

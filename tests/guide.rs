@@ -83,7 +83,7 @@ fn pdf_pages(path: &std::path::Path) -> Option<(usize, String)> {
 #[test]
 fn the_guide_pdf_has_every_page_and_every_strip_id() {
     let b = example("flat-sheet");
-    let pages = guide(&b);
+    let pages = guide(&b).pages;
     let steps = steps(&b.lattice).len();
     // Cover, bill of materials, one or more pages a step, the gauge, the checklist.
     assert!(pages.len() >= steps + 4, "{} pages", pages.len());
@@ -266,7 +266,14 @@ fn sheet_30x30_guide(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
     let dir = scratch(tag);
     let recipe = repo().join("tests/golden/sheet-30x30.toml");
     let o = karigami(
-        &["build", recipe.to_str().unwrap(), "--out", "out", "--jobs", "1"],
+        &[
+            "build",
+            recipe.to_str().unwrap(),
+            "--out",
+            "out",
+            "--jobs",
+            "1",
+        ],
         &dir,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -301,7 +308,11 @@ fn guide_golden_30x30_pages_and_text() {
         .expect("tests/golden/guide-30x30.txt (KARIGAMI_BLESS=1 writes it)");
     if actual != expected {
         let (e, a): (Vec<&str>, Vec<&str>) = (expected.lines().collect(), actual.lines().collect());
-        let at = e.iter().zip(&a).position(|(x, y)| x != y).unwrap_or(e.len().min(a.len()));
+        let at = e
+            .iter()
+            .zip(&a)
+            .position(|(x, y)| x != y)
+            .unwrap_or(e.len().min(a.len()));
         panic!(
             "the 30 x 30 guide differs from tests/golden/guide-30x30.txt at line {}: expected {:?}, got {:?} ({} vs {} lines)",
             at + 1,
@@ -313,18 +324,39 @@ fn guide_golden_30x30_pages_and_text() {
     }
 }
 
+/// Bytes of the guide per cell at most: each row's drawing is written once
+/// and placed by reference on later step pages, so the guide grows with the
+/// cells (about 420 bytes a cell for 30 x 30, text included). Drawing every
+/// row again on every step page took 1,943 bytes a cell at 30 x 30, and
+/// rows times that per cell in general.
+const GUIDE_BYTES_PER_CELL: u64 = 600;
+
 /// Every page of the 30 x 30 guide renders with poppler without a word on
-/// stderr (a broken content stream or a missing resource is reported there).
+/// stderr (a broken content stream or a missing resource is reported
+/// there), and the guide's size is at most a fixed multiple of its cells.
 #[test]
-fn guide_30x30_renders_every_page() {
+fn guide_30x30_renders_every_page_and_grows_with_the_cells() {
     let (dir, pdf) = sheet_30x30_guide("guide-render");
+    let size = std::fs::metadata(&pdf).unwrap().len();
+    let cells = 30 * 30;
+    assert!(
+        size <= GUIDE_BYTES_PER_CELL * cells,
+        "assembly.pdf is {size} bytes, {} a cell: more than {GUIDE_BYTES_PER_CELL}",
+        size / cells
+    );
     let Some((pages, _)) = pdf_pages(&pdf) else {
         return;
     };
     let prefix = dir.join("page");
     let Some(r) = run(
         "pdftoppm",
-        &["-r", "20", "-png", pdf.to_str().unwrap(), prefix.to_str().unwrap()],
+        &[
+            "-r",
+            "20",
+            "-png",
+            pdf.to_str().unwrap(),
+            prefix.to_str().unwrap(),
+        ],
     ) else {
         return;
     };

@@ -95,10 +95,7 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))
     }));
-    Group {
-        id: strip.id.clone(),
-        items,
-    }
+    Group::new(strip.id.clone(), items)
 }
 
 /// Text strokes with the baseline starting at `origin` on a y-down page.
@@ -154,10 +151,7 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
         DVec2::new(x0 + bar + 3.0, y + text_h / 2.0),
         text_h,
     ));
-    Group {
-        id: "reference".into(),
-        items,
-    }
+    Group::new("reference", items)
 }
 
 /// The page of sheet `index` (0-based) of a layout.
