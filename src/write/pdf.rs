@@ -21,17 +21,19 @@ pub const PT_PER_MM: f64 = 72.0 / 25.4;
 /// anything at or below 0.001 in as a vector cut).
 pub const HAIRLINE_MM: f64 = 0.025;
 
-/// Deflate level of content streams: 6 (zlib's default) writes files a
-/// tenth smaller than 1 at a small cost next to drawing them.
-const DEFLATE_LEVEL: u8 = 6;
+/// Deflate level of content streams. Measured on the 42 MB of content of a
+/// 100 x 100 build's two PDFs: level 1 deflates them 5 times faster than
+/// zlib's default 6, into files 23% larger.
+const DEFLATE_LEVEL: u8 = 1;
 
 const REGULAR: Name = Name(b"F1");
 const BOLD: Name = Name(b"F2");
 
-/// Coordinates to points, rounded to a thousandth of a point (0.35 um):
-/// far below a laser's or a printer's resolution, and shorter numbers.
+/// Coordinates to points, rounded to a hundredth of a point (3.5 um): far
+/// below a laser's kerf or a printer's dot, and shorter numbers to write
+/// and deflate.
 fn pt(mm: f64) -> f32 {
-    ((mm * PT_PER_MM * 1000.0).round() / 1000.0) as f32
+    ((mm * PT_PER_MM * 100.0).round() / 100.0) as f32
 }
 
 /// Page coordinates (mm, y down from `origin`) to PDF points (y up): the
@@ -300,7 +302,12 @@ pub fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]) -> Ve
         pdf.stream(*content_ref, &data).filter(Filter::FlateDecode);
         let mut p = pdf.page(*page_ref);
         p.parent(tree)
-            .media_box(Rect::new(0.0, 0.0, pt(page.width), pt(page.height)))
+            .media_box(Rect::new(
+                0.0,
+                0.0,
+                (page.width * PT_PER_MM) as f32,
+                (page.height * PT_PER_MM) as f32,
+            ))
             .contents(*content_ref);
         resources(p.resources(), s.fonts, &s.symbols, &fonts, &symbol_refs);
         p.finish();

@@ -105,7 +105,32 @@ pub fn write(page: &Page, px_per_mm: f64, min_stroke_px: f64) -> Vec<u8> {
             pixmap.stroke_path(&path, &paint(c), &stroke, transform, None);
         }
     }
-    pixmap
-        .encode_png()
-        .expect("PNG encoding of an in-memory pixmap")
+    encode(&pixmap)
+}
+
+/// PNG bytes of an opaque pixmap, deflated with png's fast mode (fdeflate):
+/// a 4000 x 2667 px sheet encodes several times faster than tiny-skia's
+/// default (zlib level 6), which took a fifth of a 100 x 100 build.
+fn encode(pixmap: &Pixmap) -> Vec<u8> {
+    let rgba: Vec<u8> = pixmap
+        .pixels()
+        .iter()
+        .flat_map(|p| {
+            let c = p.demultiply();
+            [c.red(), c.green(), c.blue(), c.alpha()]
+        })
+        .collect();
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, pixmap.width(), pixmap.height());
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    let mut writer = encoder
+        .write_header()
+        .expect("PNG header of an in-memory pixmap");
+    writer
+        .write_image_data(&rgba)
+        .expect("PNG encoding of an in-memory pixmap");
+    writer.finish().expect("PNG end of an in-memory pixmap");
+    bytes
 }
