@@ -326,7 +326,7 @@ fn guide_golden_30x30_pages_and_text() {
 
 /// Bytes of the guide per cell at most: each row's drawing is written once
 /// and placed by reference on later step pages, so the guide grows with the
-/// cells (about 420 bytes a cell for 30 x 30, text included). Drawing every
+/// cells (about 510 bytes a cell for 30 x 30, text included). Drawing every
 /// row again on every step page took 1,943 bytes a cell at 30 x 30, and
 /// rows times that per cell in general.
 const GUIDE_BYTES_PER_CELL: u64 = 600;
