@@ -1,14 +1,20 @@
-//! Whole-pipeline benchmark: `cargo bench --bench pipeline [-- N...]`.
+//! Whole-pipeline benchmark: `cargo bench --bench pipeline [-- CASE...]`.
 //!
-//! For every recipe in examples/ and for flat N x N-cell sheets (default N =
-//! 10, 30 and 100, on a 3000 x 2000 mm sheet so that long strips fit):
-//! growth + verification time, whole-pipeline wall time (grow, verify,
-//! parts, nesting, every output file rendered in memory), peak memory and
-//! output bytes. Each case runs in a child process of its own so that its
-//! peak resident memory is its own.
+//! Cases: every recipe in examples/, flat sheets of C x R cells (default
+//! 10x10, 30x30, 100x100 and 200x100, the largest `build` accepts, on a
+//! 3000 x 2000 mm sheet so that long strips fit) built end to end, and
+//! `check` of a 1000 x 1000 sheet (grow, verify, deployment: what
+//! `karigami check` computes). A case given on the command line is `CxR`
+//! (a build) or `check:CxR`.
+//!
+//! Each case runs in a child process of its own, so that its peak resident
+//! memory is its own; it prints wall time, CPU time (the process's, from
+//! /proc: robust when other work shares the cores), peak memory, bytes
+//! written, cells per second, and bytes and memory per cell.
 
 use karigami::build::build;
 use karigami::design::{self, Overrides};
+use karigami::lattice::deploy::deployment;
 use karigami::lattice::verify;
 use std::process::Command;
 use std::time::Instant;
@@ -21,30 +27,46 @@ fn peak_rss() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// A flat sheet recipe of n x n square cells (20 mm seed edges).
-fn sheet_recipe(n: usize) -> String {
+/// CPU time this thread has run, in seconds (Linux schedstat, ns).
+fn cpu_seconds() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .map_or(f64::NAN, |ns| ns as f64 * 1e-9)
+}
+
+/// A flat sheet recipe of `cols` x `rows` square cells (20 mm seed edges).
+fn sheet_recipe(cols: usize, rows: usize) -> String {
     format!(
-        "name = \"sheet-{n}x{n}\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.line]\nfrom = [0.0, 0.0]\nto = [{}.0, 0.0]\ncells = {n}\n[lattice.grow]\nrows = {n}\nstart = {}\nangle = 45.0\n[sheet]\nwidth = 3000.0\nheight = 2000.0\n",
-        20 * n,
-        n / 2
+        "name = \"sheet-{cols}x{rows}\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.line]\nfrom = [0.0, 0.0]\nto = [{}.0, 0.0]\ncells = {cols}\n[lattice.grow]\nrows = {rows}\nstart = {}\nangle = 45.0\n[sheet]\nwidth = 3000.0\nheight = 2000.0\n",
+        20 * cols,
+        cols / 2
     )
 }
 
-/// The child: build one recipe and print its figures on one line.
+/// `CxR` as (cols, rows).
+fn size(s: &str) -> Option<(usize, usize)> {
+    let (c, r) = s.split_once('x')?;
+    Some((c.parse().ok()?, r.parse().ok()?))
+}
+
+/// The child: build one recipe and print its figures on one line:
+/// cells strips sheets files bytes grow+verify-s wall-s cpu-s peak-bytes.
 fn one(name: &str, text: &str) {
-    let t0 = Instant::now();
+    let (t0, c0) = (Instant::now(), cpu_seconds());
     let d = design::parse_with(text, name, &Overrides::default()).expect("benchmark recipe parses");
     let lattice = d.grow().expect("grows");
     let report = verify(&lattice);
     let grow_verify = t0.elapsed().as_secs_f64();
     assert!(report.passed());
+    let cells = lattice.cells.len();
+    drop(lattice);
     let built = build(d).expect("builds");
     let files = built.files();
-    let total = t0.elapsed().as_secs_f64();
+    let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     let bytes: usize = files.iter().map(|(_, b)| b.len()).sum();
     println!(
-        "{} {} {} {grow_verify} {total} {bytes} {} {}",
-        lattice.cells.len(),
+        "{cells} {} {} {} {bytes} {grow_verify} {wall} {cpu} {}",
         built.parts.strips.len(),
         built.layout.sheets.len(),
         files.len(),
@@ -52,56 +74,94 @@ fn one(name: &str, text: &str) {
     );
 }
 
+/// The child for `check`: what `karigami check` computes, no files.
+fn check(text: &str) {
+    let (t0, c0) = (Instant::now(), cpu_seconds());
+    let d = design::parse_with(text, "check", &Overrides::default()).expect("parses");
+    let lattice = d.grow().expect("grows");
+    let report = verify(&lattice);
+    let grow_verify = t0.elapsed().as_secs_f64();
+    let deploy = deployment(&lattice);
+    let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
+    assert!(report.passed());
+    std::hint::black_box(&deploy);
+    println!(
+        "{} 0 0 0 0 {grow_verify} {wall} {cpu} {}",
+        lattice.cells.len(),
+        peak_rss().unwrap_or(0)
+    );
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if let [flag, what] = &args[..] {
-        if flag == "--one-file" {
-            let text = std::fs::read_to_string(what).expect("recipe");
-            let stem = std::path::Path::new(what)
-                .file_stem()
-                .unwrap()
-                .to_string_lossy()
-                .into_owned();
-            return one(&stem, &text);
-        }
-        if flag == "--one-sheet" {
-            return one("sheet", &sheet_recipe(what.parse().expect("N")));
+        match flag.as_str() {
+            "--one-file" => {
+                let text = std::fs::read_to_string(what).expect("recipe");
+                let stem = std::path::Path::new(what)
+                    .file_stem()
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
+                return one(&stem, &text);
+            }
+            "--one-sheet" => {
+                let (c, r) = size(what).expect("CxR");
+                return one("sheet", &sheet_recipe(c, r));
+            }
+            "--one-check" => {
+                let (c, r) = size(what).expect("CxR");
+                return check(&sheet_recipe(c, r));
+            }
+            _ => {}
         }
     }
-    let sizes: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
-    let sizes = if sizes.is_empty() {
-        vec![10, 30, 100]
-    } else {
-        sizes
-    };
+    let asked: Vec<&String> = args.iter().filter(|a| !a.starts_with('-')).collect();
     let mut cases: Vec<(String, Vec<String>)> = Vec::new();
-    let mut files: Vec<_> = std::fs::read_dir("examples")
-        .expect("run from the repository root")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    for f in files {
-        let name = f.file_stem().unwrap().to_string_lossy().into_owned();
-        cases.push((name, vec!["--one-file".into(), f.display().to_string()]));
+    if asked.is_empty() {
+        let mut files: Vec<_> = std::fs::read_dir("examples")
+            .expect("run from the repository root")
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
+        files.sort();
+        for f in files {
+            let name = f.file_stem().unwrap().to_string_lossy().into_owned();
+            cases.push((name, vec!["--one-file".into(), f.display().to_string()]));
+        }
     }
-    for n in sizes {
-        cases.push((
-            format!("sheet {n}x{n}"),
-            vec!["--one-sheet".into(), n.to_string()],
-        ));
+    let defaults = ["10x10", "30x30", "100x100", "200x100", "check:1000x1000"];
+    let wanted: Vec<String> = if asked.is_empty() {
+        defaults.iter().map(|s| s.to_string()).collect()
+    } else {
+        asked.iter().map(|s| s.to_string()).collect()
+    };
+    for w in wanted {
+        match w.strip_prefix("check:") {
+            Some(s) if size(s).is_some() => {
+                cases.push((format!("check {s}"), vec!["--one-check".into(), s.into()]))
+            }
+            None if size(&w).is_some() => {
+                cases.push((format!("sheet {w}"), vec!["--one-sheet".into(), w.clone()]))
+            }
+            _ => panic!("a case is CxR or check:CxR, not {w:?}"),
+        }
     }
     println!(
-        "{:<16} {:>7} {:>7} {:>6} {:>12} {:>14} {:>10} {:>9} {:>11}",
+        "{:<16} {:>9} {:>7} {:>6} {:>5} {:>9} {:>9} {:>9} {:>9} {:>10} {:>11} {:>10} {:>9}",
         "case",
         "cells",
         "strips",
         "sheets",
-        "grow+verify s",
-        "cells/s",
-        "total s",
+        "files",
+        "g+v s",
+        "wall s",
+        "cpu s",
         "peak MiB",
-        "output KiB"
+        "output KiB",
+        "cells/s cpu",
+        "B out/cell",
+        "KiB/cell"
     );
     let exe = std::env::current_exe().expect("own path");
     for (name, args) in cases {
@@ -124,17 +184,25 @@ fn main() {
             .split_whitespace()
             .map(|x| x.parse().unwrap_or(f64::NAN))
             .collect();
+        let [cells, strips, sheets, files, bytes, gv, wall, cpu, peak] = f[..] else {
+            println!("{name:<16} unreadable: {line}");
+            continue;
+        };
         println!(
-            "{:<16} {:>7} {:>7} {:>6} {:>12.3} {:>14.0} {:>10.3} {:>9.1} {:>11.0}",
+            "{:<16} {:>9} {:>7} {:>6} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.1} {:>10.0} {:>11.0} {:>10.0} {:>9.2}",
             name,
-            f[0],
-            f[1],
-            f[2],
-            f[3],
-            f[0] / f[3],
-            f[4],
-            f[7] / 1048576.0,
-            f[5] / 1024.0
+            cells,
+            strips,
+            sheets,
+            files,
+            gv,
+            wall,
+            cpu,
+            peak / 1048576.0,
+            bytes / 1024.0,
+            cells / cpu,
+            bytes / cells,
+            peak / 1024.0 / cells
         );
     }
 }

@@ -83,7 +83,7 @@ fn pdf_pages(path: &std::path::Path) -> Option<(usize, String)> {
 #[test]
 fn the_guide_pdf_has_every_page_and_every_strip_id() {
     let b = example("flat-sheet");
-    let pages = guide(&b);
+    let pages = guide(&b).pages;
     let steps = steps(&b.lattice).len();
     // Cover, bill of materials, one or more pages a step, the gauge, the checklist.
     assert!(pages.len() >= steps + 4, "{} pages", pages.len());
@@ -259,4 +259,120 @@ fn lattice_obj_has_one_box_per_strip() {
         assert!((d(c[0], c[2]) - fab.material.width).abs() < 1e-3);
         assert!((d(c[0], c[4]) - fab.material.thickness).abs() < 1e-3);
     }
+}
+
+/// The 30 x 30-cell sheet's guide, built by the CLI; (folder, assembly.pdf).
+fn sheet_30x30_guide(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = scratch(tag);
+    let recipe = repo().join("tests/golden/sheet-30x30.toml");
+    let o = karigami(
+        &[
+            "build",
+            recipe.to_str().unwrap(),
+            "--out",
+            "out",
+            "--jobs",
+            "1",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let pdf = dir.join("out/assembly.pdf");
+    (dir, pdf)
+}
+
+/// The guide's pages and text are pinned: a change to how the guide is
+/// drawn or serialised must not change what it says. The golden file holds
+/// the page count and `pdftotext` output; `KARIGAMI_BLESS=1 cargo test
+/// --test tests guide_golden` rewrites it after a deliberate change.
+#[test]
+fn guide_golden_30x30_pages_and_text() {
+    let (_dir, pdf) = sheet_30x30_guide("guide-golden");
+    let Some((pages, _)) = pdf_pages(&pdf) else {
+        return;
+    };
+    let Some(text) = run("pdftotext", &[pdf.to_str().unwrap(), "-"]) else {
+        return;
+    };
+    assert!(text.status.success());
+    let actual = format!(
+        "pages: {pages}\n{}",
+        String::from_utf8(text.stdout).expect("pdftotext writes UTF-8")
+    );
+    let golden = repo().join("tests/golden/guide-30x30.txt");
+    if std::env::var_os("KARIGAMI_BLESS").is_some() {
+        std::fs::write(&golden, &actual).unwrap();
+        return;
+    }
+    let expected = std::fs::read_to_string(&golden)
+        .expect("tests/golden/guide-30x30.txt (KARIGAMI_BLESS=1 writes it)");
+    if actual != expected {
+        let (e, a): (Vec<&str>, Vec<&str>) = (expected.lines().collect(), actual.lines().collect());
+        let at = e
+            .iter()
+            .zip(&a)
+            .position(|(x, y)| x != y)
+            .unwrap_or(e.len().min(a.len()));
+        panic!(
+            "the 30 x 30 guide differs from tests/golden/guide-30x30.txt at line {}: expected {:?}, got {:?} ({} vs {} lines)",
+            at + 1,
+            e.get(at),
+            a.get(at),
+            e.len(),
+            a.len()
+        );
+    }
+}
+
+/// Bytes of the guide per cell at most: each row's drawing is written once
+/// and placed by reference on later step pages, so the guide grows with the
+/// cells (about 510 bytes a cell for 30 x 30, text included). Drawing every
+/// row again on every step page took 1,943 bytes a cell at 30 x 30, and
+/// rows times that per cell in general.
+const GUIDE_BYTES_PER_CELL: u64 = 600;
+
+/// Every page of the 30 x 30 guide renders with poppler without a word on
+/// stderr (a broken content stream or a missing resource is reported
+/// there), and the guide's size is at most a fixed multiple of its cells.
+#[test]
+fn guide_30x30_renders_every_page_and_grows_with_the_cells() {
+    let (dir, pdf) = sheet_30x30_guide("guide-render");
+    let size = std::fs::metadata(&pdf).unwrap().len();
+    let cells = 30 * 30;
+    assert!(
+        size <= GUIDE_BYTES_PER_CELL * cells,
+        "assembly.pdf is {size} bytes, {} a cell: more than {GUIDE_BYTES_PER_CELL}",
+        size / cells
+    );
+    let Some((pages, _)) = pdf_pages(&pdf) else {
+        return;
+    };
+    let prefix = dir.join("page");
+    let Some(r) = run(
+        "pdftoppm",
+        &[
+            "-r",
+            "20",
+            "-png",
+            pdf.to_str().unwrap(),
+            prefix.to_str().unwrap(),
+        ],
+    ) else {
+        return;
+    };
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(
+        r.stderr.is_empty(),
+        "pdftoppm: {}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let rendered = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            let name = name.to_string_lossy();
+            name.starts_with("page") && name.ends_with(".png")
+        })
+        .count();
+    assert_eq!(rendered, pages, "pdftoppm renders every page");
 }

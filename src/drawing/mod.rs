@@ -244,7 +244,40 @@ impl Item {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Group {
     pub id: String,
+    /// Shared drawings placed before the items (guide pages only: the PDF
+    /// writer places them; cut sheets and pictures have none).
+    pub symbols: Vec<Place>,
     pub items: Vec<Item>,
+}
+
+impl Group {
+    pub fn new(id: impl Into<String>, items: Vec<Item>) -> Self {
+        Self {
+            id: id.into(),
+            symbols: Vec::new(),
+            items,
+        }
+    }
+}
+
+/// A drawing shared by several pages of one document (a row of the
+/// lattice on every later step page of the guide): written once and placed
+/// by reference, so that the document grows with the drawing, not with the
+/// pages times the drawing. Coordinates are page mm relative to the point
+/// where it is placed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Symbol {
+    /// Symbols drawn first, by index; each earlier in the list than this one.
+    pub uses: Vec<usize>,
+    pub items: Vec<Item>,
+}
+
+/// Symbol `symbol` (an index into the document's symbols) drawn with its
+/// origin at `at` on the page.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Place {
+    pub symbol: usize,
+    pub at: DVec2,
 }
 
 impl Layer {

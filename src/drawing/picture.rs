@@ -199,10 +199,35 @@ pub fn lattice_picture(
     style: impl Fn(usize) -> Option<RodStyle>,
     dots: f64,
 ) -> Vec<Item> {
-    let mut rods: Vec<(f64, Item)> = Vec::new();
-    let mut shown_vertices = vec![false; lattice.vertices.len()];
-    let mut pivots = Vec::new();
-    for (c, cell) in lattice.cells.iter().enumerate() {
+    let shown: Vec<usize> = (0..lattice.cells.len())
+        .filter(|&c| style(c).is_some())
+        .collect();
+    let mut items = rods(lattice, fit, &shown, style);
+    if dots > 0.0 {
+        let mut shown_vertices = vec![false; lattice.vertices.len()];
+        for &c in &shown {
+            let cell = &lattice.cells[c];
+            for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+                shown_vertices[v as usize] = true;
+            }
+        }
+        let vertices: Vec<usize> = (0..lattice.vertices.len())
+            .filter(|&v| shown_vertices[v])
+            .collect();
+        items.extend(pivots_and_vertices(lattice, fit, &shown, &vertices, dots));
+    }
+    items
+}
+
+/// The rods of `cells` that `style` shows, far ones first and paler.
+pub fn rods(
+    lattice: &Lattice,
+    fit: &Fit,
+    cells: &[usize],
+    style: impl Fn(usize) -> Option<RodStyle>,
+) -> Vec<Item> {
+    let mut rods: Vec<(f64, Item)> = Vec::with_capacity(2 * cells.len());
+    for &c in cells {
         let Some(s) = style(c) else { continue };
         for rod in lattice.cell_rods(c) {
             // Through the pivot: straight in an extrinsic lattice, bent
@@ -218,34 +243,37 @@ pub fn lattice_picture(
                 ),
             ));
         }
-        pivots.push(cell.pivot);
-        for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
-            shown_vertices[v as usize] = true;
-        }
     }
     rods.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let mut items: Vec<Item> = rods.into_iter().map(|(_, i)| i).collect();
-    if dots > 0.0 {
-        let dot = |p: DVec3, colour| {
-            Item::art(
-                Ink::fill(colour),
-                Shape::Circle {
-                    center: fit.map(p),
-                    radius: dots,
-                },
-            )
-        };
-        items.extend(pivots.into_iter().map(|p| dot(p, PIVOT)));
-        items.extend(
-            lattice
-                .vertices
+    rods.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Dots of radius `radius` at the pivots of `cells`, then at `vertices`.
+pub fn pivots_and_vertices(
+    lattice: &Lattice,
+    fit: &Fit,
+    cells: &[usize],
+    vertices: &[usize],
+    radius: f64,
+) -> Vec<Item> {
+    let dot = |p: DVec3, colour| {
+        Item::art(
+            Ink::fill(colour),
+            Shape::Circle {
+                center: fit.map(p),
+                radius,
+            },
+        )
+    };
+    cells
+        .iter()
+        .map(|&c| dot(lattice.cells[c].pivot, PIVOT))
+        .chain(
+            vertices
                 .iter()
-                .zip(&shown_vertices)
-                .filter(|(_, shown)| **shown)
-                .map(|(v, _)| dot(v.pos, VERTEX)),
-        );
-    }
-    items
+                .map(|&v| dot(lattice.vertices[v].pos, VERTEX)),
+        )
+        .collect()
 }
 
 /// The preview picture: the deployed lattice filling a page, with a title.
@@ -284,9 +312,6 @@ pub fn preview(lattice: &Lattice, strip_width: f64, title: &str) -> super::Page 
         height: h,
         title: title.to_string(),
         metadata: Vec::new(),
-        groups: vec![super::Group {
-            id: "preview".into(),
-            items,
-        }],
+        groups: vec![super::Group::new("preview", items)],
     }
 }

@@ -98,10 +98,7 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))
     }));
-    Group {
-        id: strip.id.clone(),
-        items,
-    }
+    Group::new(strip.id.clone(), items)
 }
 
 /// The test piece: its stepped holes (each offset by the kerf like the
@@ -132,10 +129,7 @@ fn test_piece_group(piece: &TestPiece, placement: &Placement, fab: &Fabrication)
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))
     }));
-    Group {
-        id: TEST_PIECE_ID.into(),
-        items,
-    }
+    Group::new(TEST_PIECE_ID, items)
 }
 
 /// The group id of the test piece on sheet 1.
@@ -194,10 +188,7 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
         DVec2::new(x0 + bar + 3.0, y + text_h / 2.0),
         text_h,
     ));
-    Group {
-        id: "reference".into(),
-        items,
-    }
+    Group::new("reference", items)
 }
 
 /// The page of sheet `index` (0-based) of a layout.

@@ -6,8 +6,10 @@
 pub mod steps;
 
 use crate::build::Build;
-use crate::drawing::picture::{Camera, Fit, PIVOT, RodStyle, VERTEX, lattice_picture};
-use crate::drawing::{Align, Font, Group, Ink, Item, Page, Shape};
+use crate::drawing::picture::{
+    Camera, Fit, PIVOT, RodStyle, VERTEX, lattice_picture, pivots_and_vertices, rods,
+};
+use crate::drawing::{Align, Font, Group, Ink, Item, Page, Place, Shape, Symbol};
 use crate::lattice::VertexKey;
 use glam::DVec2;
 pub use steps::{Step, steps};
@@ -26,6 +28,8 @@ struct Writer {
     size: (f64, f64),
     title: String,
     pages: Vec<Page>,
+    /// This page's finished groups, then the items of its open one.
+    groups: Vec<Group>,
     items: Vec<Item>,
     y: f64,
     /// Drawn at the top of every continuation page.
@@ -38,6 +42,7 @@ impl Writer {
             size,
             title,
             pages: Vec::new(),
+            groups: Vec::new(),
             items: Vec::new(),
             y: MARGIN,
             running_head: None,
@@ -53,7 +58,7 @@ impl Writer {
     }
 
     fn finish_page(&mut self) {
-        if self.items.is_empty() {
+        if self.items.is_empty() && self.groups.is_empty() {
             return;
         }
         let number = self.pages.len() + 1;
@@ -67,15 +72,13 @@ impl Writer {
             Align::Center,
             GREY,
         ));
+        self.close_group();
         self.pages.push(Page {
             width: self.size.0,
             height: self.size.1,
             title: format!("{} page {number}", self.title),
             metadata: Vec::new(),
-            groups: vec![Group {
-                id: format!("page-{number}"),
-                items: std::mem::take(&mut self.items),
-            }],
+            groups: std::mem::take(&mut self.groups),
         });
         self.y = MARGIN;
     }
@@ -168,6 +171,26 @@ impl Writer {
     fn push(&mut self, items: Vec<Item>) {
         self.items.extend(items);
     }
+
+    /// The open items become a group of their own.
+    fn close_group(&mut self) {
+        if !self.items.is_empty() {
+            let id = format!("page-{}-{}", self.pages.len() + 1, self.groups.len() + 1);
+            self.groups
+                .push(Group::new(id, std::mem::take(&mut self.items)));
+        }
+    }
+
+    /// Draw shared symbols here, after what the page has so far.
+    fn place(&mut self, places: Vec<Place>) {
+        self.close_group();
+        let id = format!("page-{}-{}", self.pages.len() + 1, self.groups.len() + 1);
+        self.groups.push(Group {
+            id,
+            symbols: places,
+            items: Vec::new(),
+        });
+    }
 }
 
 fn text_item(at: DVec2, size: f64, text: &str, font: Font, align: Align, colour: [u8; 3]) -> Item {
@@ -196,8 +219,17 @@ pub fn spares(n: usize) -> usize {
     n.div_ceil(10).max(2)
 }
 
+/// The guide's pages and the drawings they share.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Guide {
+    pub pages: Vec<Page>,
+    /// The lattice's rows, drawn once each and placed on every step page
+    /// that shows them (see `StepPictures`).
+    pub symbols: Vec<Symbol>,
+}
+
 /// The guide for a build, on its paper (A4 or US Letter, portrait).
-pub fn guide(b: &Build) -> Vec<Page> {
+pub fn guide(b: &Build) -> Guide {
     let fab = &b.design.fabrication;
     let mut w = Writer::new(
         fab.paper.size(),
@@ -206,13 +238,129 @@ pub fn guide(b: &Build) -> Vec<Page> {
     let steps = steps(&b.lattice);
     cover(&mut w, b, &steps);
     materials(&mut w, b);
+    let pictures = StepPictures::new(b, &steps, w.width());
     for step in &steps {
-        step_pages(&mut w, b, step, steps.len());
+        step_pages(&mut w, b, step, steps.len(), &pictures);
     }
     gauge(&mut w, b);
     checklist(&mut w, b, &steps);
     w.finish_page();
-    w.pages
+    Guide {
+        pages: w.pages,
+        symbols: pictures.symbols,
+    }
+}
+
+/// The height of a step page's picture of the lattice (mm).
+const STEP_PICTURE: f64 = 95.0;
+
+/// The step pages' pictures of the lattice, as shared symbols: step k shows
+/// rows 0..k grey (faint), row k in colour on top, then the dots at the
+/// pivots and vertices of rows 0..=k. Each row's grey rods and its dots are
+/// one symbol each, drawn once; blocks of about sqrt(steps) consecutive
+/// rows are symbols too, so that a page places at most about 2 sqrt(steps)
+/// symbols and the whole guide grows with the cells, not rows x cells.
+struct StepPictures {
+    symbols: Vec<Symbol>,
+    /// Symbol of each row's grey rods, and of its dots.
+    faint: Vec<usize>,
+    dots: Vec<usize>,
+    /// Symbols of whole blocks of `block` rows: grey rods, dots.
+    faint_blocks: Vec<usize>,
+    dot_blocks: Vec<usize>,
+    block: usize,
+    /// Rod width of the grey rods (mm); the new row's is 1.3 times wider.
+    width: f64,
+}
+
+impl StepPictures {
+    fn new(b: &Build, steps: &[Step], text_width: f64) -> Self {
+        let lattice = &b.assembled;
+        // Symbols are drawn with the picture box's top-left corner at 0.
+        let fit = Self::fit(b, DVec2::ZERO, text_width);
+        let width = Self::rod_width(b, &fit);
+        // Each vertex's dot belongs to the first step that shows it.
+        let mut first = vec![usize::MAX; lattice.vertices.len()];
+        let mut new_vertices: Vec<Vec<usize>> = vec![Vec::new(); steps.len()];
+        for (k, step) in steps.iter().enumerate() {
+            for &c in &step.cells {
+                let cell = &lattice.cells[c];
+                for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+                    if first[v as usize] == usize::MAX {
+                        first[v as usize] = k;
+                        new_vertices[k].push(v as usize);
+                    }
+                }
+            }
+            new_vertices[k].sort_unstable();
+        }
+        let mut symbols = Vec::with_capacity(2 * steps.len() + 16);
+        let (mut faint, mut dots) = (Vec::new(), Vec::new());
+        for (step, vertices) in steps.iter().zip(&new_vertices) {
+            let style = |_| {
+                Some(RodStyle {
+                    colour: FAINT,
+                    width,
+                })
+            };
+            faint.push(symbols.len());
+            symbols.push(Symbol {
+                uses: Vec::new(),
+                items: rods(lattice, &fit, &step.cells, style),
+            });
+            dots.push(symbols.len());
+            symbols.push(Symbol {
+                uses: Vec::new(),
+                items: pivots_and_vertices(lattice, &fit, &step.cells, vertices, width * 0.8),
+            });
+        }
+        let block = (steps.len() as f64).sqrt().ceil().max(1.0) as usize;
+        let (mut faint_blocks, mut dot_blocks) = (Vec::new(), Vec::new());
+        for start in (0..steps.len()).step_by(block) {
+            if start + block > steps.len() {
+                break;
+            }
+            for (rows, blocks) in [(&faint, &mut faint_blocks), (&dots, &mut dot_blocks)] {
+                blocks.push(symbols.len());
+                symbols.push(Symbol {
+                    uses: rows[start..start + block].to_vec(),
+                    items: Vec::new(),
+                });
+            }
+        }
+        Self {
+            symbols,
+            faint,
+            dots,
+            faint_blocks,
+            dot_blocks,
+            block,
+            width,
+        }
+    }
+
+    fn fit(b: &Build, origin: DVec2, text_width: f64) -> Fit {
+        Fit::new(
+            &b.assembled,
+            Camera::for_lattice(&b.assembled),
+            origin,
+            DVec2::new(text_width, STEP_PICTURE),
+        )
+    }
+
+    fn rod_width(b: &Build, fit: &Fit) -> f64 {
+        (0.6 * fit.scale() * b.design.fabrication.material.width).clamp(0.3, 1.4)
+    }
+
+    /// Symbols showing rows `0..end`, from `rows` and whole `blocks`.
+    fn prefix(&self, rows: &[usize], blocks: &[usize], end: usize, at: DVec2) -> Vec<Place> {
+        let whole = (end / self.block).min(blocks.len());
+        blocks[..whole]
+            .iter()
+            .chain(&rows[whole * self.block..end])
+            .map(|&symbol| Place { symbol, at })
+            .collect()
+    }
 }
 
 fn cover(w: &mut Writer, b: &Build, steps: &[Step]) {
@@ -448,7 +596,7 @@ fn ruler(w: &mut Writer) {
     w.y = y + 8.0;
 }
 
-fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
+fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize, pictures: &StepPictures) {
     let strips = &b.parts.strips;
     w.new_page();
     // Step number and progress bar.
@@ -500,29 +648,21 @@ fn step_pages(w: &mut Writer, b: &Build, step: &Step, count: usize) {
         Font::Bold,
         BLACK,
     );
-    // The lattice so far: this row in colour, earlier rows grey, later rows not yet there.
-    let box_size = DVec2::new(w.width(), 95.0);
-    let fit = Fit::new(
-        &b.assembled,
-        Camera::for_lattice(&b.assembled),
-        DVec2::new(MARGIN, w.y + 2.0),
-        box_size,
-    );
-    let width = (0.6 * fit.scale() * b.design.fabrication.material.width).clamp(0.3, 1.4);
-    let row = step.row;
-    w.push(lattice_picture(
-        &b.assembled,
-        &fit,
-        |c| {
-            let r = b.lattice.step_of(c) as u32;
-            (r <= row).then_some(RodStyle {
-                colour: if r == row { NEW } else { FAINT },
-                width: if r == row { width * 1.3 } else { width },
-            })
-        },
-        width * 0.8,
-    ));
-    w.y += box_size.y + 6.0;
+    // The lattice so far: earlier rows grey, this row in colour on top of
+    // them, later rows not yet there; then the dots of the rows shown.
+    let at = DVec2::new(MARGIN, w.y + 2.0);
+    let k = step.number - 1;
+    w.place(pictures.prefix(&pictures.faint, &pictures.faint_blocks, k, at));
+    let fit = StepPictures::fit(b, at, w.width());
+    let width = pictures.width;
+    w.push(rods(&b.assembled, &fit, &step.cells, |_| {
+        Some(RodStyle {
+            colour: NEW,
+            width: width * 1.3,
+        })
+    }));
+    w.place(pictures.prefix(&pictures.dots, &pictures.dot_blocks, k + 1, at));
+    w.y += STEP_PICTURE + 6.0;
     w.running_head = Some(format!("Step {}", step.number));
 
     w.text(

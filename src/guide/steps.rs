@@ -25,20 +25,22 @@ pub struct Step {
 }
 
 pub fn steps(lattice: &Lattice) -> Vec<Step> {
-    let mut steps: Vec<Step> = (0..lattice.steps())
-        .map(|i| {
-            let cells: Vec<usize> = (0..lattice.cells.len())
-                .filter(|&c| lattice.step_of(c) == i)
-                .collect();
-            Step {
-                number: i + 1,
-                row: i as u32,
-                strips: cells.iter().flat_map(|&c| [2 * c, 2 * c + 1]).collect(),
-                cells,
-                joints: Vec::new(),
-                eyelets: 0,
-                total: 0,
-            }
+    // Cells by step in one pass (in index order within each step).
+    let mut by_step: Vec<Vec<usize>> = vec![Vec::new(); lattice.steps()];
+    for c in 0..lattice.cells.len() {
+        by_step[lattice.step_of(c)].push(c);
+    }
+    let mut steps: Vec<Step> = by_step
+        .into_iter()
+        .enumerate()
+        .map(|(i, cells)| Step {
+            number: i + 1,
+            row: i as u32,
+            strips: cells.iter().flat_map(|&c| [2 * c, 2 * c + 1]).collect(),
+            cells,
+            joints: Vec::new(),
+            eyelets: 0,
+            total: 0,
         })
         .collect();
     for mut joint in joints(lattice).into_iter().filter(Joint::needs_eyelet) {

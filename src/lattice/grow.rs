@@ -200,6 +200,9 @@ pub fn grow(
         ));
     }
     let mut grower = Grower::new(kind, dim, points, kappa)?;
+    // Room for every row at once: no reallocation copies the lattice, and
+    // the peak memory is the lattice's own size, not up to twice it.
+    grower.reserve_rows(rows.len());
     for params in rows {
         grower.grow_row(params)?;
     }
@@ -300,6 +303,15 @@ impl Grower {
             pivots: vec![None; width],
             next: vec![None; width + 1],
         })
+    }
+
+    /// Reserve room for `rows` more rows.
+    pub fn reserve_rows(&mut self, rows: usize) {
+        let n = self.front_len();
+        let lattice = &mut self.lattice;
+        lattice.cells.reserve_exact(rows * lattice.width);
+        lattice.vertices.reserve_exact(rows * n);
+        lattice.fronts.reserve_exact(rows);
     }
 
     pub fn lattice(&self) -> &Lattice {
@@ -879,8 +891,8 @@ pub(super) fn check_cell(lattice: &Lattice, cell: &Cell) -> Result<(), GrowthErr
     let ul = lattice.vertex(cell.ul).pos - cell.pivot;
     let ur = lattice.vertex(cell.ur).pos - cell.pivot;
     let (cross, dot) = (ul.cross(ur), ul.dot(ur));
-    let norms = ul.length() * ur.length();
-    let sin_phi = cross.length() / norms;
+    // One square root where |ul x ur| / (|ul| |ur|) takes three.
+    let sin_phi = (cross.length_squared() / (ul.length_squared() * ur.length_squared())).sqrt();
     if !sin_phi.is_finite() {
         return Err(breakdown(i, j));
     }

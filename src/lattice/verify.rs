@@ -222,6 +222,9 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut pores_v = Check::new(I::VerticalPores);
     let mut edges = Check::new(I::SharedEdges);
     let mut closure = Check::new(I::LoopClosure);
+    let mut slope = Check::new(I::CompatibilitySlope);
+    let mut intercept = Check::new(I::CompatibilityIntercept);
+    let mut natural = Check::new(I::CompatibilityInterceptNatural);
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
@@ -269,41 +272,37 @@ pub fn verify(lattice: &Lattice) -> Report {
             let [bul, bur, _, _] = lattice.corners(b);
             edges.record((ll.distance(lr) - bul.distance(bur)) / s, site);
         }
-    }
-
-    let mut slope = Check::new(I::CompatibilitySlope);
-    let mut intercept = Check::new(I::CompatibilityIntercept);
-    let mut natural = Check::new(I::CompatibilityInterceptNatural);
-    for v in 0..lattice.vertices.len() {
-        let (a, b, c, d) = (inc.ul[v], inc.ll[v], inc.lr[v], inc.ur[v]);
-        if [a, b, c, d].contains(&NONE) {
-            continue;
+        // Compatibility at the vertex this cell is the UL of (MATH.md 8.2):
+        // each vertex once, at the cell its incidence names, in the order
+        // of the cells (that of their UL vertices), without a pass of its own.
+        let v = cell.ul as usize;
+        let (a, b, cc, d) = (c as u32, inc.ll[v], inc.lr[v], inc.ur[v]);
+        if inc.ul[v] == a && ![b, cc, d].contains(&NONE) {
+            let [a, b, cc, d] = [a, b, cc, d].map(|k| legs[k as usize]);
+            // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
+            let f = |la: f64, lb: f64, lc: f64| {
+                (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
+            };
+            let maps = [
+                f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
+                f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
+                f(cc[3], cc[2], cc[1]), // f_c^(4,3,2): right edge -> bottom edge
+                f(d[0], d[3], d[2]),    // f_d^(1,4,3): top edge -> right edge
+            ];
+            let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
+            for (mi, ci) in maps.iter().rev() {
+                // Outermost map first: accumulate the product of the slopes
+                // applied after each intercept, as in the natural magnitude.
+                magnitude += (m * ci).abs();
+                k += m * ci;
+                m *= mi;
+            }
+            let s2 = ul.distance_squared(ll);
+            let site = || vertex_site(lattice, v);
+            slope.record(m - 1.0, site);
+            intercept.record(k / s2, site);
+            natural.record(k / magnitude, site);
         }
-        let [a, b, c, d] = [a, b, c, d].map(|k| legs[k as usize]);
-        // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-        let f = |la: f64, lb: f64, lc: f64| {
-            (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
-        };
-        let maps = [
-            f(a[1], a[0], a[3]), // f_a^(2,1,4): left edge -> top edge
-            f(b[2], b[1], b[0]), // f_b^(3,2,1): bottom edge -> left edge
-            f(c[3], c[2], c[1]), // f_c^(4,3,2): right edge -> bottom edge
-            f(d[0], d[3], d[2]), // f_d^(1,4,3): top edge -> right edge
-        ];
-        let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
-        for (mi, ci) in maps.iter().rev() {
-            // Outermost map first: accumulate the product of the slopes
-            // applied after each intercept, as in the natural magnitude.
-            magnitude += (m * ci).abs();
-            k += m * ci;
-            m *= mi;
-        }
-        let [ul, _, ll, _] = lattice.corners(&lattice.cells[inc.ul[v] as usize]);
-        let s2 = ul.distance_squared(ll);
-        let site = || vertex_site(lattice, v);
-        slope.record(m - 1.0, site);
-        intercept.record(k / s2, site);
-        natural.record(k / magnitude, site);
     }
 
     let collapsed = collapsed_state(lattice, &legs);
