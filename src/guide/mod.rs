@@ -896,7 +896,7 @@ fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
         "This chain is a true mechanism: it opens and closes through every angle without bending a strip."
     } else {
         "A lattice of several rows generally reaches its deployed shape by bending its strips slightly on the way \
-         (MATH.md 8.4): that is expected, not a fault."
+         (docs/verification.md, Deployment): that is expected, not a fault."
     };
     w.paragraph(note, BODY, GREY);
 }

@@ -447,7 +447,7 @@ impl Deployment {
                 "{m} internal degree{} of freedom at the design state, but the cells do not stay in place as it opens; it deploys through strip bending",
                 if m == 1 { "" } else { "s" }
             ),
-            Some(_) => "rigid as an ideal linkage (0 internal degrees of freedom): it deploys and collapses through strip bending, passing through incompatible states (MATH.md 8.4)".into(),
+            Some(_) => "rigid as an ideal linkage (0 internal degrees of freedom): it deploys and collapses through strip bending, passing through incompatible states (docs/verification.md, Deployment)".into(),
         }
     }
 }
