@@ -79,6 +79,7 @@ pub fn check_text(
             "fit to the target: largest vertex distance {abs:.3e} mm ({rel:.2e} of the target's size)"
         );
     }
+    out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
     deployment_text(&mut out, lattice, deploy);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
@@ -227,6 +228,7 @@ pub fn check_json(
         "passed": report.passed(),
         "checks": checks,
         "fit": fit,
+        "shape": crate::design::measure::measure(design, lattice).json(lattice),
         "deployment": deploy,
     })
 }

@@ -9,6 +9,7 @@ mod gallery;
 mod golden;
 mod guide;
 mod property;
+mod shape;
 mod thirdparty;
 mod util;
 mod workflow;
