@@ -125,3 +125,25 @@ fn an_infeasible_target_is_refused_naming_the_constraint_and_its_shortfall() {
     assert!(e.message.contains(&want.message), "{}", e.message);
     assert!(e.message.contains("short by"), "{}", e.message);
 }
+
+#[test]
+fn saddle_ring_is_negatively_curved_nearly_constantly() {
+    let (d, lattice, m) = example("saddle-ring");
+    assert!(!lattice.extrinsic(), "grown on rebuilt fronts");
+    assert_eq!(d.kind, karigami::lattice::Kind::Loop);
+    let c = m.curvature.unwrap();
+    assert!(c.negative >= 0.9, "{c:?}");
+    assert!(c.mean_deg <= -2.0, "{c:?}");
+    assert!(c.k_std / c.k_mean.abs() <= 0.5, "{c:?}");
+    // Every ring's front is rebuilt from four identical sub-units.
+    for row in d.rows.iter().skip(1) {
+        let cranks = &row.front.as_ref().unwrap().cranks;
+        assert_eq!(cranks.len(), 4);
+        for k in cranks {
+            assert_eq!(k.angle_deg.abs(), cranks[0].angle_deg.abs());
+            assert_eq!(k.to - k.from, 6);
+        }
+    }
+    let g = m.shape.front_gaps.unwrap();
+    assert!(g.max_rel < 0.4, "{g:?}");
+}

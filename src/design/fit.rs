@@ -608,10 +608,11 @@ fn ranked_rows(
                 continue;
             }
             let score = row_score(grower.lattice(), surface, min_leg);
-            // Rows whose strips overlap others of their layer come last.
+            // A disk's rows whose strips overlap others of their layer come
+            // last (on a curved patch the distance to the surface decides).
             let lattice = grower.lattice();
             let first_new = 2 * (lattice.cells.len() - lattice.width);
-            let clashes = if score.is_finite() {
+            let clashes = if score.is_finite() && matches!(surface, Surface::Disk { .. }) {
                 crate::parts::clash::clashes(lattice, strip.0, strip.1, strip.2)
                     .iter()
                     .filter(|c| c.rods[1] >= first_new)
