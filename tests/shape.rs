@@ -147,3 +147,27 @@ fn saddle_ring_is_negatively_curved_nearly_constantly() {
     let g = m.shape.front_gaps.unwrap();
     assert!(g.max_rel < 0.4, "{g:?}");
 }
+
+#[test]
+fn eggbox_has_bumps_and_dimples_in_a_checkerboard() {
+    let (_, lattice, m) = example("eggbox");
+    assert!(!lattice.extrinsic(), "grown on rebuilt fronts");
+    assert!(m.bumps >= 0.2 && m.dimples >= 0.2, "{} {}", m.bumps, m.dimples);
+    assert!(m.bump_rows >= 3 && m.bump_cols >= 3, "{} {}", m.bump_rows, m.bump_cols);
+    assert!(m.shape.distinct_strips > 1);
+    let g = m.shape.front_gaps.unwrap();
+    assert!(g.max_rel <= 0.4, "{g:?}");
+    // Neighbours along a row curve the other way (a checkerboard).
+    let k = lattice.curvature();
+    let (mut alternating, mut pairs) = (0, 0);
+    for w in k.windows(2) {
+        let (a, b) = (lattice.vertex(w[0].vertex).key, lattice.vertex(w[1].vertex).key);
+        if a.row == b.row && b.col == a.col + 1 && w[0].defect.abs().to_degrees() >= 3.0 {
+            pairs += 1;
+            if w[0].defect * w[1].defect < 0.0 {
+                alternating += 1;
+            }
+        }
+    }
+    assert!(alternating * 10 >= pairs * 8, "{alternating} of {pairs}");
+}
