@@ -171,3 +171,18 @@ fn eggbox_has_bumps_and_dimples_in_a_checkerboard() {
     }
     assert!(alternating * 10 >= pairs * 8, "{alternating} of {pairs}");
 }
+
+#[test]
+fn bowl_turns_shrink_and_drop() {
+    let (d, lattice, m) = example("bowl");
+    assert_eq!(d.kind, karigami::lattice::Kind::Helix);
+    assert_eq!((lattice.width, lattice.cells.len()), (9, 32));
+    // Four complete turns of vertices: each smaller and lower than the last.
+    assert_eq!(m.turns.len(), 4);
+    for w in m.turns.windows(2) {
+        assert!(w[1].radius < w[0].radius && w[1].height < w[0].height, "{:?}", m.turns);
+    }
+    // Not yet a bowl in its curvature: measured, and reported as not met.
+    let c = m.curvature.unwrap();
+    assert!(c.positive < 0.8, "update the bowl's test: {c:?}");
+}
