@@ -35,7 +35,12 @@ fn a_lattice_fitted_to_a_sphere_has_k_near_one_over_r_squared() {
     let want = 1.0 / (r * r);
     for v in &k {
         // Planar quads inscribed in the sphere: K within 10 % of 1/R^2.
-        assert!((v.k - want).abs() < 0.1 * want, "K = {} at {}, want {want}", v.k, v.vertex);
+        assert!(
+            (v.k - want).abs() < 0.1 * want,
+            "K = {} at {}, want {want}",
+            v.k,
+            v.vertex
+        );
     }
 }
 
@@ -70,8 +75,15 @@ fn half_ellipsoid_is_on_its_surface_below_its_rim() {
 fn disk_is_planar_on_its_circle_and_covered() {
     let (d, lattice, m) = example("disk");
     assert_eq!(d.dim, 2);
-    assert!(m.fit_distance.unwrap() <= 1e-9, "a vertex outside the circle");
-    assert!(m.boundary_distance.unwrap() < 0.01, "{:?}", m.boundary_distance);
+    assert!(
+        m.fit_distance.unwrap() <= 1e-9,
+        "a vertex outside the circle"
+    );
+    assert!(
+        m.boundary_distance.unwrap() < 0.01,
+        "{:?}",
+        m.boundary_distance
+    );
     let share = m.coverage.unwrap().share;
     assert!(share >= 0.97, "{share}");
     for v in &lattice.vertices {
@@ -102,7 +114,10 @@ fn the_optimiser_reaches_a_known_admissible_design_and_repeats_itself() {
     let text = recipe(start, reached - 0.005);
     let d = design::parse(&text, "start").unwrap();
     let before = measure(&d, &d.grow().unwrap()).coverage.unwrap().share;
-    assert!(before < reached - 0.005, "the start already meets it: {before} vs {reached}");
+    assert!(
+        before < reached - 0.005,
+        "the start already meets it: {before} vs {reached}"
+    );
     let once = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
     assert!(once.measures.coverage.unwrap().share >= reached - 0.005);
     assert!(once.cost_after < once.cost_before);
@@ -152,8 +167,18 @@ fn saddle_ring_is_negatively_curved_nearly_constantly() {
 fn eggbox_has_bumps_and_dimples_in_a_checkerboard() {
     let (_, lattice, m) = example("eggbox");
     assert!(!lattice.extrinsic(), "grown on rebuilt fronts");
-    assert!(m.bumps >= 0.2 && m.dimples >= 0.2, "{} {}", m.bumps, m.dimples);
-    assert!(m.bump_rows >= 3 && m.bump_cols >= 3, "{} {}", m.bump_rows, m.bump_cols);
+    assert!(
+        m.bumps >= 0.2 && m.dimples >= 0.2,
+        "{} {}",
+        m.bumps,
+        m.dimples
+    );
+    assert!(
+        m.bump_rows >= 3 && m.bump_cols >= 3,
+        "{} {}",
+        m.bump_rows,
+        m.bump_cols
+    );
     assert!(m.shape.distinct_strips > 1);
     let g = m.shape.front_gaps.unwrap();
     assert!(g.max_rel <= 0.4, "{g:?}");
@@ -161,7 +186,10 @@ fn eggbox_has_bumps_and_dimples_in_a_checkerboard() {
     let k = lattice.curvature();
     let (mut alternating, mut pairs) = (0, 0);
     for w in k.windows(2) {
-        let (a, b) = (lattice.vertex(w[0].vertex).key, lattice.vertex(w[1].vertex).key);
+        let (a, b) = (
+            lattice.vertex(w[0].vertex).key,
+            lattice.vertex(w[1].vertex).key,
+        );
         if a.row == b.row && b.col == a.col + 1 && w[0].defect.abs().to_degrees() >= 3.0 {
             pairs += 1;
             if w[0].defect * w[1].defect < 0.0 {
@@ -180,7 +208,11 @@ fn bowl_turns_shrink_and_drop() {
     // Four complete turns of vertices: each smaller and lower than the last.
     assert_eq!(m.turns.len(), 4);
     for w in m.turns.windows(2) {
-        assert!(w[1].radius < w[0].radius && w[1].height < w[0].height, "{:?}", m.turns);
+        assert!(
+            w[1].radius < w[0].radius && w[1].height < w[0].height,
+            "{:?}",
+            m.turns
+        );
     }
     // Not yet a bowl in its curvature: measured, and reported as not met.
     let c = m.curvature.unwrap();

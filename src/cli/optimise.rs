@@ -8,7 +8,12 @@ use karigami::design::Design;
 use std::path::Path;
 use std::time::Instant;
 
-pub fn run(recipe: &Recipe, design: &Design, out: Option<&Path>, v: Verbosity) -> Result<(), Failed> {
+pub fn run(
+    recipe: &Recipe,
+    design: &Design,
+    out: Option<&Path>,
+    v: Verbosity,
+) -> Result<(), Failed> {
     let mut bar = Progress::new(1, v.quiet);
     let started = Instant::now();
     let result = karigami::solve::optimise(design, &recipe.source, &mut |note| {

@@ -135,19 +135,23 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             (Surface::Revolution { profile: pts }, (Kind::Loop, 3))
         }
         "torus" => {
-            let r = raw
-                .radius
-                .as_ref()
-                .ok_or_else(|| need("`radius`", "give the radius of the tube's centre circle in mm"))?;
+            let r = raw.radius.as_ref().ok_or_else(|| {
+                need(
+                    "`radius`",
+                    "give the radius of the tube's centre circle in mm",
+                )
+            })?;
             let t = raw
                 .tube
                 .as_ref()
                 .ok_or_else(|| need("`tube`", "give the tube's radius in mm"))?;
             let (major, minor) = (positive(r, "fit.radius")?, positive(t, "fit.tube")?);
             if minor >= major {
-                return Err(Diagnostic::new("design", "fit.tube must be smaller than fit.radius")
-                    .at(t.span())
-                    .hint("a torus's tube is narrower than its centre circle"));
+                return Err(
+                    Diagnostic::new("design", "fit.tube must be smaller than fit.radius")
+                        .at(t.span())
+                        .hint("a torus's tube is narrower than its centre circle"),
+                );
             }
             let step = match &raw.step {
                 Some(s) => super::finite(s, "fit.step")?,
@@ -155,9 +159,12 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             };
             if !(step > 0.0 && step < 90.0) {
                 let span = raw.step.as_ref().map_or(f.span(), |s| s.span());
-                return Err(Diagnostic::new("design", format!("fit.step is {step}, but must be between 0 and 90 degrees"))
-                    .at(span)
-                    .hint("the tube angle each row adds, in degrees"));
+                return Err(Diagnostic::new(
+                    "design",
+                    format!("fit.step is {step}, but must be between 0 and 90 degrees"),
+                )
+                .at(span)
+                .hint("the tube angle each row adds, in degrees"));
             }
             let rows = super::count(&raw.rows, "fit.rows", 1, 10_000)?;
             let profile = (1..=rows)
@@ -166,7 +173,14 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
                     DVec2::new(major + minor * psi.sin(), minor * psi.cos())
                 })
                 .collect();
-            (Surface::Torus { major, minor, profile }, (Kind::Loop, 3))
+            (
+                Surface::Torus {
+                    major,
+                    minor,
+                    profile,
+                },
+                (Kind::Loop, 3),
+            )
         }
         other => {
             return Err(
@@ -215,7 +229,10 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
         Some(n) => super::count(n, "fit.samples", 3, 2000)?,
         None => 61,
     };
-    let list = |l: &Option<Spanned<Vec<super::raw::Num>>>, what: &str, open: bool| -> Result<Option<Vec<f64>>, Diagnostic> {
+    let list = |l: &Option<Spanned<Vec<super::raw::Num>>>,
+                what: &str,
+                open: bool|
+     -> Result<Option<Vec<f64>>, Diagnostic> {
         let Some(l) = l else { return Ok(None) };
         if !open {
             return Err(Diagnostic::new("design", format!("fit.{what} is not used by this target"))
@@ -225,7 +242,10 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
         if l.get_ref().len() != rows {
             return Err(Diagnostic::new(
                 "design",
-                format!("fit.{what} has {} values but fit.rows is {rows}", l.get_ref().len()),
+                format!(
+                    "fit.{what} has {} values but fit.rows is {rows}",
+                    l.get_ref().len()
+                ),
             )
             .at(l.span())
             .hint("give one value per grown row"));
@@ -236,15 +256,18 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             .collect::<Result<Vec<_>, _>>()
             .map(Some)
     };
-    let open = matches!(surface, Surface::Disk { .. }) || (matches!(surface, Surface::Ellipsoid { .. }) && kind == Kind::Sheet);
+    let open = matches!(surface, Surface::Disk { .. })
+        || (matches!(surface, Surface::Ellipsoid { .. }) && kind == Kind::Sheet);
     let angles = list(&raw.angles, "angles", open)?;
     let steps = list(&raw.steps, "steps", spheroid_loop)?;
     if let (Some(st), Some(l)) = (&steps, &raw.steps)
         && st.iter().any(|x| *x <= 0.0)
     {
-        return Err(Diagnostic::new("design", "fit.steps must be positive lengths")
-            .at(l.span())
-            .hint("each ring's step down the meridian, in mm"));
+        return Err(
+            Diagnostic::new("design", "fit.steps must be positive lengths")
+                .at(l.span())
+                .hint("each ring's step down the meridian, in mm"),
+        );
     }
     Ok(Fit {
         surface,
@@ -405,8 +428,15 @@ fn grow_recorded(
         let min_leg = design.fabrication.eyelet.flange + 2.0 * super::MIN_WALL;
         if let Some(angles) = &fit.angles {
             for (i, &a) in angles.iter().enumerate() {
-                let params = row_on_boundary(&mut grower, &fit.surface, Some(Direction::Angles { angle_deg: a, tilt_deg: 0.0 }))
-                    .map_err(|e| e.unwrap_or_else(|| no_row(i)))?;
+                let params = row_on_boundary(
+                    &mut grower,
+                    &fit.surface,
+                    Some(Direction::Angles {
+                        angle_deg: a,
+                        tilt_deg: 0.0,
+                    }),
+                )
+                .map_err(|e| e.unwrap_or_else(|| no_row(i)))?;
                 grower.grow_row(&params)?;
                 progress(&row_note(fit, grower.lattice(), i));
             }
@@ -697,7 +727,9 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
     let balance = 1.0 - worst;
     // A disk's vertices stay inside (or on) its circle.
     if let Surface::Disk { radius } = surface
-        && new.iter().any(|v| v.pos.truncate().length() > radius * (1.0 + 1e-9))
+        && new
+            .iter()
+            .any(|v| v.pos.truncate().length() > radius * (1.0 + 1e-9))
     {
         return f64::INFINITY;
     }
@@ -778,8 +810,14 @@ fn plan_coverage(lattice: &Lattice, a: f64, b: f64) -> f64 {
     let origin = DVec2::new(-a.max(b), -a.max(b));
     let index = |x: f64| ((x / (h * bin as f64)).floor().max(0.0) as usize).min(bins - 1);
     for (q, quad) in quads.iter().enumerate() {
-        let lo = quad.iter().fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p)) - origin;
-        let hi = quad.iter().fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p)) - origin;
+        let lo = quad
+            .iter()
+            .fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p))
+            - origin;
+        let hi = quad
+            .iter()
+            .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p))
+            - origin;
         if !(lo.is_finite() && hi.is_finite()) {
             continue;
         }
@@ -875,4 +913,3 @@ pub fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
             .fold(0.0, f64::max),
     )
 }
-

@@ -63,8 +63,18 @@ pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
         design.clash.clearance,
     );
     let n = shape.curvature.len().max(1) as f64;
-    let bumps = shape.curvature.iter().filter(|v| v.defect.to_degrees() >= BUMP_DEG).count() as f64 / n;
-    let dimples = shape.curvature.iter().filter(|v| v.defect.to_degrees() <= -BUMP_DEG).count() as f64 / n;
+    let bumps = shape
+        .curvature
+        .iter()
+        .filter(|v| v.defect.to_degrees() >= BUMP_DEG)
+        .count() as f64
+        / n;
+    let dimples = shape
+        .curvature
+        .iter()
+        .filter(|v| v.defect.to_degrees() <= -BUMP_DEG)
+        .count() as f64
+        / n;
     let mut rows = std::collections::BTreeSet::new();
     let mut cols = std::collections::BTreeSet::new();
     for v in &shape.curvature {
@@ -100,7 +110,10 @@ fn turns(lattice: &Lattice) -> Vec<Turn> {
     let centre = pts[..n].iter().copied().sum::<glam::DVec3>() / n as f64;
     pts.chunks_exact(n)
         .map(|turn| {
-            let r: Vec<f64> = turn.iter().map(|p| (*p - centre).truncate().length()).collect();
+            let r: Vec<f64> = turn
+                .iter()
+                .map(|p| (*p - centre).truncate().length())
+                .collect();
             let radius = r.iter().sum::<f64>() / n as f64;
             Turn {
                 radius,
@@ -180,7 +193,12 @@ impl Measures {
         if let Some(c) = &self.coverage {
             match c.degrees {
                 Some(deg) => {
-                    let _ = writeln!(out, "  coverage: {deg:.1} deg of {} ({:.1}%)", c.of, 100.0 * c.share);
+                    let _ = writeln!(
+                        out,
+                        "  coverage: {deg:.1} deg of {} ({:.1}%)",
+                        c.of,
+                        100.0 * c.share
+                    );
                 }
                 None => {
                     let _ = writeln!(out, "  coverage: {:.1}% of {}", 100.0 * c.share, c.of);
@@ -210,7 +228,11 @@ impl Measures {
                     out,
                     "  strip clashes: {} pairs{}; closest {} and {}, {:.2} mm apart at ({:.1}, {:.1}, {:.1})",
                     self.clashes.len(),
-                    if design.clash.allow { " (allowed by [clash])" } else { "" },
+                    if design.clash.allow {
+                        " (allowed by [clash])"
+                    } else {
+                        ""
+                    },
                     crate::parts::clash::rod_name(lattice, c.rods[0]),
                     crate::parts::clash::rod_name(lattice, c.rods[1]),
                     c.distance,
@@ -226,7 +248,8 @@ impl Measures {
     /// The same numbers for `--json`.
     pub fn json(&self, lattice: &Lattice) -> serde_json::Value {
         use serde_json::json;
-        let num = |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
+        let num =
+            |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
         let s = &self.shape;
         json!({
             "curvature": self.curvature.map(|c| json!({
@@ -268,7 +291,11 @@ impl Measures {
     }
 
     /// The clash refusal of `build` and `check`, unless the recipe allows them.
-    pub fn clash_error(&self, lattice: &Lattice, design: &Design) -> Option<crate::diagnostic::Diagnostic> {
+    pub fn clash_error(
+        &self,
+        lattice: &Lattice,
+        design: &Design,
+    ) -> Option<crate::diagnostic::Diagnostic> {
         let c = self.clashes.first()?;
         if design.clash.allow {
             return None;

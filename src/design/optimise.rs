@@ -173,9 +173,11 @@ pub fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnos
         Some(c) => {
             let v = super::finite(c, "clash.clearance")?;
             if v < 0.0 {
-                return Err(Diagnostic::new("design", "clash.clearance must not be negative")
-                    .at(c.span())
-                    .hint("the gap in mm wanted between neighbouring strips of one layer"));
+                return Err(
+                    Diagnostic::new("design", "clash.clearance must not be negative")
+                        .at(c.span())
+                        .hint("the gap in mm wanted between neighbouring strips of one layer"),
+                );
             }
             v
         }
@@ -224,7 +226,9 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
         Some(s) => {
             let v = super::finite(s, "optimise.step")?;
             if v <= 0.0 {
-                return Err(Diagnostic::new("design", "optimise.step must be positive").at(s.span()));
+                return Err(
+                    Diagnostic::new("design", "optimise.step must be positive").at(s.span())
+                );
             }
             v
         }
@@ -237,9 +241,11 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
             Some(n) => {
                 let v = super::finite(n, what)?;
                 if v < 0.0 {
-                    return Err(Diagnostic::new("design", format!("{what} must not be negative"))
-                        .at(n.span())
-                        .hint("a weight is 0 (ignored) or more"));
+                    return Err(
+                        Diagnostic::new("design", format!("{what} must not be negative"))
+                            .at(n.span())
+                            .hint("a weight is 0 (ignored) or more"),
+                    );
                 }
                 Ok(v)
             }
@@ -270,9 +276,12 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
                 "constant" => Pattern::Constant,
                 "checkerboard" => Pattern::Checkerboard,
                 other => {
-                    return Err(Diagnostic::new("design", format!("unknown curvature pattern \"{other}\""))
-                        .at(p.span())
-                        .hint("pattern is \"constant\" or \"checkerboard\""));
+                    return Err(Diagnostic::new(
+                        "design",
+                        format!("unknown curvature pattern \"{other}\""),
+                    )
+                    .at(p.span())
+                    .hint("pattern is \"constant\" or \"checkerboard\""));
                 }
             };
         }

@@ -142,7 +142,10 @@ impl Lattice {
             area_ratio: amax / amin,
             leg_ratio: hi / lo,
             min_leg: lo,
-            cell_leg_ratio_median: cell_ratios.get(cell_ratios.len() / 2).copied().unwrap_or(1.0),
+            cell_leg_ratio_median: cell_ratios
+                .get(cell_ratios.len() / 2)
+                .copied()
+                .unwrap_or(1.0),
             cell_leg_ratio_max: cell_ratios.last().copied().unwrap_or(1.0),
             front_gaps: self.front_gaps(),
             distinct_strips: distinct(&mut strips),
@@ -270,7 +273,9 @@ mod tests {
     use crate::lattice::{RowParams, grow};
 
     fn grid(rows: usize) -> Lattice {
-        let points: Vec<DVec3> = (0..6).map(|j| DVec3::new(40.0 * j as f64, 0.0, 0.0)).collect();
+        let points: Vec<DVec3> = (0..6)
+            .map(|j| DVec3::new(40.0 * j as f64, 0.0, 0.0))
+            .collect();
         let row = RowParams {
             direction: Some(Direction::Angles {
                 angle_deg: 45.0,

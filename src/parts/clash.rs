@@ -47,7 +47,11 @@ pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Ve
                 a: s - margin * dir,
                 b: e + margin * dir,
                 // Vertices are numbered below 2^32, pivots above.
-                joints: [rod.start as u64, rod.end as u64, (1 << 32) + rod.cell as u64],
+                joints: [
+                    rod.start as u64,
+                    rod.end as u64,
+                    (1 << 32) + rod.cell as u64,
+                ],
                 rod,
             }
         })
@@ -169,17 +173,34 @@ mod tests {
     #[test]
     fn closest_points_of_crossing_parallel_and_skew_segments() {
         let o = DVec3::ZERO;
-        let (p, q) = closest_points(o, DVec3::X * 2.0, DVec3::new(1.0, -1.0, 3.0), DVec3::new(1.0, 1.0, 3.0));
+        let (p, q) = closest_points(
+            o,
+            DVec3::X * 2.0,
+            DVec3::new(1.0, -1.0, 3.0),
+            DVec3::new(1.0, 1.0, 3.0),
+        );
         assert!(p.distance(DVec3::X) < 1e-12 && q.distance(DVec3::new(1.0, 0.0, 3.0)) < 1e-12);
-        let (p, q) = closest_points(o, DVec3::X, DVec3::new(0.5, 2.0, 0.0), DVec3::new(3.0, 2.0, 0.0));
+        let (p, q) = closest_points(
+            o,
+            DVec3::X,
+            DVec3::new(0.5, 2.0, 0.0),
+            DVec3::new(3.0, 2.0, 0.0),
+        );
         assert!((p.distance(q) - 2.0).abs() < 1e-12);
-        let (p, q) = closest_points(o, DVec3::X, DVec3::new(3.0, 0.0, 0.0), DVec3::new(5.0, 0.0, 0.0));
+        let (p, q) = closest_points(
+            o,
+            DVec3::X,
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(5.0, 0.0, 0.0),
+        );
         assert!((p.distance(q) - 2.0).abs() < 1e-12);
     }
 
     /// A sheet of `rows` rows of 40 mm cells, legs at `angle` degrees.
     fn sheet(rows: usize, angle: f64) -> Lattice {
-        let points: Vec<DVec3> = (0..5).map(|j| DVec3::new(40.0 * j as f64, 0.0, 0.0)).collect();
+        let points: Vec<DVec3> = (0..5)
+            .map(|j| DVec3::new(40.0 * j as f64, 0.0, 0.0))
+            .collect();
         let row = RowParams {
             direction: Some(Direction::Angles {
                 angle_deg: angle,
@@ -218,7 +239,12 @@ mod tests {
         let lat = sheet(1, 30.0);
         let rods: Vec<Rod> = lat.rods().collect();
         let (a0, a1) = (rods[0], rods[2]);
-        let (p, q) = closest_points(a0.hole_pos[0], a0.hole_pos[2], a1.hole_pos[0], a1.hole_pos[2]);
+        let (p, q) = closest_points(
+            a0.hole_pos[0],
+            a0.hole_pos[2],
+            a1.hole_pos[0],
+            a1.hole_pos[2],
+        );
         let gap = p.distance(q);
         assert!(gap > 15.0, "{gap}");
         assert!(clashes(&lat, gap - 1.0 - 1e-6, 0.0, 1.0).is_empty());
@@ -236,7 +262,10 @@ mod tests {
             for j in i + 1..lines.len() {
                 let (a, b) = (&lines[i], &lines[j]);
                 let (ca, cb) = (&lat.cells[a.cell], &lat.cells[b.cell]);
-                let shared = [a.start, a.end].iter().any(|v| [b.start, b.end].contains(v)) || a.cell == b.cell;
+                let shared = [a.start, a.end]
+                    .iter()
+                    .any(|v| [b.start, b.end].contains(v))
+                    || a.cell == b.cell;
                 if lat.layer(ca, a.kind) != lat.layer(cb, b.kind) || shared {
                     continue;
                 }

@@ -27,7 +27,10 @@ use std::ops::Range;
 #[derive(Clone, Debug)]
 enum Slot {
     /// A row table's `angle`: the rows it sets, the text to rewrite.
-    Angle { rows: Vec<usize>, span: Range<usize> },
+    Angle {
+        rows: Vec<usize>,
+        span: Range<usize>,
+    },
     /// A row table's `front`: its distinct magnitudes are the variables.
     Front {
         rows: Vec<usize>,
@@ -133,7 +136,8 @@ impl Problem<'_> {
                     p.height.copy_from_slice(&v[k + 2 * n..k + 3 * n]);
                     p.kappa0 = v[k + 3 * n];
                     let m = p.share.len();
-                    p.share.copy_from_slice(&v[k + 3 * n + 1..k + 3 * n + 1 + m]);
+                    p.share
+                        .copy_from_slice(&v[k + 3 * n + 1..k + 3 * n + 1 + m]);
                     let (points, kappa) = frame.seed(&p);
                     d.points = points;
                     d.kappa = kappa;
@@ -180,17 +184,25 @@ impl CostFunction for Cost<'_, '_> {
 /// Grow a design; the error says how many rows or cells it missed.
 fn grown(d: &Design) -> Result<Lattice, usize> {
     if d.kind == Kind::Helix {
-        let (lattice, _) = crate::lattice::grow_helix_partial(d.dim, &d.points, &d.kappa, d.helix_cells)
-            .map_err(|_| d.helix_cells)?;
+        let (lattice, _) =
+            crate::lattice::grow_helix_partial(d.dim, &d.points, &d.kappa, d.helix_cells)
+                .map_err(|_| d.helix_cells)?;
         let missing = d.helix_cells.saturating_sub(lattice.cells.len());
-        return if missing == 0 { Ok(lattice) } else { Err(missing) };
+        return if missing == 0 {
+            Ok(lattice)
+        } else {
+            Err(missing)
+        };
     }
     d.grow().map_err(|_| 1)
 }
 
 /// Every angle of a front's moves, in a fixed order.
 fn map_front(f: &mut FrontMoves, mut g: impl FnMut(f64) -> f64) {
-    for list in [&mut f.turn, &mut f.bend, &mut f.twist].into_iter().flatten() {
+    for list in [&mut f.turn, &mut f.bend, &mut f.twist]
+        .into_iter()
+        .flatten()
+    {
         for a in list.iter_mut() {
             *a = g(*a);
         }
@@ -213,10 +225,7 @@ pub fn cost(
 ) -> (f64, Vec<(&'static str, f64, f64, f64)>) {
     let w = &opt.weights;
     let mut c = 0.0;
-    let size = d
-        .fit
-        .as_ref()
-        .map_or(1.0, |f| f.surface.size());
+    let size = d.fit.as_ref().map_or(1.0, |f| f.surface.size());
     if w.surface > 0.0 {
         c += w.surface * m.fit_distance.unwrap_or(0.0) / size;
     }
@@ -235,7 +244,11 @@ pub fn cost(
     }
     if w.clashes > 0.0 {
         let reach = d.fabrication.material.width + d.clash.clearance;
-        c += w.clashes * m.clashes.iter().map(|k| 1.0 + (reach - k.distance) / reach).sum::<f64>();
+        c += w.clashes
+            * m.clashes
+                .iter()
+                .map(|k| 1.0 + (reach - k.distance) / reach)
+                .sum::<f64>();
     }
     if w.curvature > 0.0 && !m.shape.curvature.is_empty() {
         let scale = opt.defect_deg.abs().max(1.0);
@@ -299,7 +312,11 @@ fn constraints(opt: &Optimise, m: &Measures) -> Vec<(&'static str, f64, f64, f64
                 "min_dimples" => (m.dimples, false),
                 other => unreachable!("unknown requirement {other}"),
             };
-            let miss = if at_most { value - r.bound } else { r.bound - value };
+            let miss = if at_most {
+                value - r.bound
+            } else {
+                r.bound - value
+            };
             // Shares, counts, degrees and mm alike: a shortfall of 1 (or of
             // the bound, when larger) weighs 1.
             let scale = r.bound.abs().max(1.0);
@@ -344,8 +361,9 @@ fn slots(design: &Design, source: &str, opt: &Optimise) -> (Vec<Slot>, Vec<f64>,
         {
             let span = design.row_direction_span(i);
             let written = source.get(span.clone()).unwrap_or("");
-            if written.trim_start().starts_with(['[', '-', '+', '0', '1', '2', '3', '4', '5', '6', '7', '8', '9'])
-                && group(span.clone(), i, 0, &mut slots)
+            if written.trim_start().starts_with([
+                '[', '-', '+', '0', '1', '2', '3', '4', '5', '6', '7', '8', '9',
+            ]) && group(span.clone(), i, 0, &mut slots)
             {
                 slots.push(Slot::Angle {
                     rows: vec![i],
@@ -363,7 +381,9 @@ fn slots(design: &Design, source: &str, opt: &Optimise) -> (Vec<Slot>, Vec<f64>,
             && let Some(f) = &row.front
         {
             let span = design.row_front_span(i);
-            if source.get(span.clone()).is_some_and(|t| t.trim_start().starts_with('{'))
+            if source
+                .get(span.clone())
+                .is_some_and(|t| t.trim_start().starts_with('{'))
                 && group(span.clone(), i, 1, &mut slots)
             {
                 let mut magnitudes: Vec<f64> = Vec::new();
@@ -386,13 +406,23 @@ fn slots(design: &Design, source: &str, opt: &Optimise) -> (Vec<Slot>, Vec<f64>,
     if opt.vary.contains(&Vary::Fit)
         && let Some(fit) = &design.fit
     {
-        if let Some(a) = fit.angles.clone().or_else(|| crate::design::fit::searched_angles(design, fit)) {
+        if let Some(a) = fit
+            .angles
+            .clone()
+            .or_else(|| crate::design::fit::searched_angles(design, fit))
+        {
             unit.extend(std::iter::repeat_n(1.0, a.len()));
-            slots.push(Slot::Fit { angles: true, rows: a.len() });
+            slots.push(Slot::Fit {
+                angles: true,
+                rows: a.len(),
+            });
             x0.extend(a);
         } else if let Some(s) = fit.steps.clone().or_else(|| default_steps(design)) {
             unit.extend(std::iter::repeat_n(1.0, s.len()));
-            slots.push(Slot::Fit { angles: false, rows: s.len() });
+            slots.push(Slot::Fit {
+                angles: false,
+                rows: s.len(),
+            });
             x0.extend(s);
         }
     }
@@ -405,14 +435,20 @@ fn slots(design: &Design, source: &str, opt: &Optimise) -> (Vec<Slot>, Vec<f64>,
 /// An ellipsoid loop's ring steps as grown by default: one front edge each.
 fn default_steps(design: &Design) -> Option<Vec<f64>> {
     let fit = design.fit.as_ref()?;
-    if design.kind != Kind::Loop || !matches!(fit.surface, crate::design::fit::Surface::Ellipsoid { .. }) {
+    if design.kind != Kind::Loop
+        || !matches!(fit.surface, crate::design::fit::Surface::Ellipsoid { .. })
+    {
         return None;
     }
     let lattice = design.grow().ok()?;
     let n = lattice.width;
     Some(
         (0..fit.rows)
-            .map(|i| lattice.vertices[i * n].pos.distance(lattice.vertices[i * n + 1].pos))
+            .map(|i| {
+                lattice.vertices[i * n]
+                    .pos
+                    .distance(lattice.vertices[i * n + 1].pos)
+            })
             .collect(),
     )
 }
@@ -502,7 +538,11 @@ pub fn optimise(
         let mut simplex = vec![from.clone()];
         for i in 0..dims {
             let mut v = from.clone();
-            let sign = if splitmix(&mut rng) & 1 == 0 { 1.0 } else { -1.0 };
+            let sign = if splitmix(&mut rng) & 1 == 0 {
+                1.0
+            } else {
+                -1.0
+            };
             v[i] += sign * step;
             simplex.push(v);
         }
@@ -573,11 +613,18 @@ fn fmt(x: f64) -> String {
     let s = format!("{:.6}", x);
     let s = s.trim_end_matches('0').trim_end_matches('.');
     let s = if s == "-0" { "0" } else { s };
-    if s.contains('.') { s.to_string() } else { format!("{s}.0") }
+    if s.contains('.') {
+        s.to_string()
+    } else {
+        format!("{s}.0")
+    }
 }
 
 fn list(v: &[f64]) -> String {
-    format!("[{}]", v.iter().map(|x| fmt(*x)).collect::<Vec<_>>().join(", "))
+    format!(
+        "[{}]",
+        v.iter().map(|x| fmt(*x)).collect::<Vec<_>>().join(", ")
+    )
 }
 
 /// The recipe text with each slot's numbers replaced, everything else kept.
@@ -619,7 +666,9 @@ fn rewrite(p: &Problem, d: &Design, source: &str, _x: &[f64]) -> String {
                             // A new line at the end of the [lattice.fit] table:
                             // before the next table header, after its last line.
                             let from = f.spans.table.end.min(source.len());
-                            let next = source[from..].find("\n[").map_or(source.len(), |i| from + i);
+                            let next = source[from..]
+                                .find("\n[")
+                                .map_or(source.len(), |i| from + i);
                             let end = source[..next].trim_end().len();
                             edits.push((end..end, format!("\n{name} = {text}")));
                         }
@@ -678,7 +727,14 @@ fn front_text(f: &FrontMoves) -> String {
         let c: Vec<String> = f
             .cranks
             .iter()
-            .map(|c| format!("{{ from = {}, to = {}, angle = {} }}", c.from, c.to, fmt(c.angle_deg)))
+            .map(|c| {
+                format!(
+                    "{{ from = {}, to = {}, angle = {} }}",
+                    c.from,
+                    c.to,
+                    fmt(c.angle_deg)
+                )
+            })
             .collect();
         parts.push(format!("crank = [{}]", c.join(", ")));
     }
