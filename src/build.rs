@@ -127,6 +127,11 @@ pub fn assemble_with(
     }
     let fab = &design.fabrication;
     let parts = parts(&lattice, fab).map_err(|e| locate(&design, e))?;
+    if let Some(e) =
+        crate::design::measure::measure(&design, &lattice).clash_error(&lattice, &design)
+    {
+        return Err(e);
+    }
     let lengths: Vec<f64> = parts
         .strips
         .iter()

@@ -79,6 +79,7 @@ pub fn check_text(
             "fit to the target: largest vertex distance {abs:.3e} mm ({rel:.2e} of the target's size)"
         );
     }
+    out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
     deployment_text(&mut out, lattice, deploy);
     part_types_text(&mut out, design, lattice);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
@@ -251,6 +252,7 @@ pub fn check_json(
         "passed": report.passed(),
         "checks": checks,
         "fit": fit,
+        "shape": crate::design::measure::measure(design, lattice).json(lattice),
         "deployment": deploy,
     })
 }

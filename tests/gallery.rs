@@ -250,7 +250,7 @@ fn fitted_examples_stay_within_their_error_bounds() {
 }
 
 #[test]
-fn the_half_ellipsoid_rings_shrink_with_near_square_cells() {
+fn the_half_ellipsoid_rings_shrink_with_open_cells() {
     let d = example("half-ellipsoid");
     let lattice = d.grow().unwrap();
     let n = lattice.width;
@@ -263,12 +263,13 @@ fn the_half_ellipsoid_rings_shrink_with_near_square_cells() {
     for w in rings.windows(2) {
         assert!(w[1].0 < w[0].0 && w[1].1 < w[0].1, "{rings:?}");
     }
-    // One edge length down the meridian: the cells are near square.
+    // The optimised steps down the meridian keep the cells open: no side
+    // more than two and a half times the other.
     for c in &lattice.cells {
         let [ul, ur, ll, _] = lattice.corners(c);
         let ratio = ul.distance(ll) / ul.distance(ur);
         assert!(
-            (0.8..1.25).contains(&ratio),
+            (0.4..2.5).contains(&ratio),
             "cell {:?}: side ratio {ratio}",
             (c.row, c.col)
         );

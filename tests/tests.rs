@@ -11,6 +11,7 @@ mod guide;
 mod maker;
 mod property;
 mod safety;
+mod shape;
 mod thirdparty;
 mod util;
 mod viewer;

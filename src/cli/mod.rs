@@ -19,6 +19,7 @@ macro_rules! outln {
 mod batch;
 mod fault;
 mod files;
+mod optimise;
 mod progress;
 
 use clap::{Args as ClapArgs, CommandFactory, Parser, Subcommand};
@@ -623,6 +624,9 @@ fn tune(
 ) -> Result<(), Failed> {
     let recipe = Recipe::read(path).map_err(report_error)?;
     let design = recipe.parse(&Overrides::default()).map_err(report_error)?;
+    if design.optimise.is_some() {
+        return optimise::run(&recipe, &design, out, v);
+    }
     if design.kind != karigami::lattice::Kind::Helix {
         return Err(usage(&format!(
             "{}: `karigami tune` tunes helix seeds; this recipe's seed is \"{}\"",

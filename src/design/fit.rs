@@ -33,6 +33,14 @@ pub enum Surface {
     Revolution {
         profile: Vec<DVec2>,
     },
+    /// A torus about the z axis (centre-circle radius `major`, tube radius
+    /// `minor`): a revolution whose profile walks round the tube from the
+    /// top (`psi = 0`) outwards by `step` degrees a row.
+    Torus {
+        major: f64,
+        minor: f64,
+        profile: Vec<DVec2>,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +49,19 @@ pub struct Fit {
     pub rows: usize,
     /// Directions tried per row (per axis, for the ellipsoid).
     pub samples: usize,
+    /// Open fits: each row's leg angle, given instead of searched for.
+    pub angles: Option<Vec<f64>>,
+    /// Ellipsoid loops: each ring's step down the meridian (mm).
+    pub steps: Option<Vec<f64>>,
+    /// Where the table and those lists were written (for rewriting them).
+    pub spans: FitSpans,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FitSpans {
+    pub table: std::ops::Range<usize>,
+    pub angles: Option<std::ops::Range<usize>>,
+    pub steps: Option<std::ops::Range<usize>>,
 }
 
 pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnostic> {
@@ -113,11 +134,59 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
                 .collect::<Result<Vec<_>, _>>()?;
             (Surface::Revolution { profile: pts }, (Kind::Loop, 3))
         }
+        "torus" => {
+            let r = raw.radius.as_ref().ok_or_else(|| {
+                need(
+                    "`radius`",
+                    "give the radius of the tube's centre circle in mm",
+                )
+            })?;
+            let t = raw
+                .tube
+                .as_ref()
+                .ok_or_else(|| need("`tube`", "give the tube's radius in mm"))?;
+            let (major, minor) = (positive(r, "fit.radius")?, positive(t, "fit.tube")?);
+            if minor >= major {
+                return Err(
+                    Diagnostic::new("design", "fit.tube must be smaller than fit.radius")
+                        .at(t.span())
+                        .hint("a torus's tube is narrower than its centre circle"),
+                );
+            }
+            let step = match &raw.step {
+                Some(s) => super::finite(s, "fit.step")?,
+                None => 18.0,
+            };
+            if !(step > 0.0 && step < 90.0) {
+                let span = raw.step.as_ref().map_or(f.span(), |s| s.span());
+                return Err(Diagnostic::new(
+                    "design",
+                    format!("fit.step is {step}, but must be between 0 and 90 degrees"),
+                )
+                .at(span)
+                .hint("the tube angle each row adds, in degrees"));
+            }
+            let rows = super::count(&raw.rows, "fit.rows", 1, 10_000)?;
+            let profile = (1..=rows)
+                .map(|i| {
+                    let psi = (i as f64 * step).to_radians();
+                    DVec2::new(major + minor * psi.sin(), minor * psi.cos())
+                })
+                .collect();
+            (
+                Surface::Torus {
+                    major,
+                    minor,
+                    profile,
+                },
+                (Kind::Loop, 3),
+            )
+        }
         other => {
             return Err(
                 Diagnostic::new("design", format!("unknown fit surface \"{other}\""))
                     .at(raw.surface.span())
-                    .hint("surface must be \"disk\", \"ellipsoid\" or \"revolution\""),
+                    .hint("surface must be \"disk\", \"ellipsoid\", \"torus\" or \"revolution\""),
             );
         }
     };
@@ -160,10 +229,57 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
         Some(n) => super::count(n, "fit.samples", 3, 2000)?,
         None => 61,
     };
+    let list = |l: &Option<Spanned<Vec<super::raw::Num>>>,
+                what: &str,
+                open: bool|
+     -> Result<Option<Vec<f64>>, Diagnostic> {
+        let Some(l) = l else { return Ok(None) };
+        if !open {
+            return Err(Diagnostic::new("design", format!("fit.{what} is not used by this target"))
+                .at(l.span())
+                .hint("fit.angles is for disk and ellipsoid sheets, fit.steps for an ellipsoid grown from a loop"));
+        }
+        if l.get_ref().len() != rows {
+            return Err(Diagnostic::new(
+                "design",
+                format!(
+                    "fit.{what} has {} values but fit.rows is {rows}",
+                    l.get_ref().len()
+                ),
+            )
+            .at(l.span())
+            .hint("give one value per grown row"));
+        }
+        l.get_ref()
+            .iter()
+            .map(|n| super::finite(n, &format!("a value of fit.{what}")))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    };
+    let open = matches!(surface, Surface::Disk { .. })
+        || (matches!(surface, Surface::Ellipsoid { .. }) && kind == Kind::Sheet);
+    let angles = list(&raw.angles, "angles", open)?;
+    let steps = list(&raw.steps, "steps", spheroid_loop)?;
+    if let (Some(st), Some(l)) = (&steps, &raw.steps)
+        && st.iter().any(|x| *x <= 0.0)
+    {
+        return Err(
+            Diagnostic::new("design", "fit.steps must be positive lengths")
+                .at(l.span())
+                .hint("each ring's step down the meridian, in mm"),
+        );
+    }
     Ok(Fit {
         surface,
         rows,
         samples,
+        angles,
+        steps,
+        spans: FitSpans {
+            table: f.span(),
+            angles: raw.angles.as_ref().map(|a| a.span()),
+            steps: raw.steps.as_ref().map(|a| a.span()),
+        },
     })
 }
 
@@ -173,6 +289,9 @@ impl Surface {
         match self {
             Surface::Disk { radius } => (p.truncate().length() - radius).max(0.0),
             Surface::Ellipsoid { axes } => ellipsoid_distance(*axes, p),
+            Surface::Torus { major, minor, .. } => {
+                (DVec2::new(p.truncate().length() - major, p.z).length() - minor).abs()
+            }
             Surface::Revolution { profile } => {
                 let q = DVec2::new(p.truncate().length(), p.z);
                 profile
@@ -194,6 +313,7 @@ impl Surface {
             Surface::Revolution { profile } => {
                 2.0 * profile.iter().map(|p| p.x).fold(0.0, f64::max)
             }
+            Surface::Torus { major, minor, .. } => 2.0 * (major + minor),
         }
     }
 
@@ -203,7 +323,7 @@ impl Surface {
         let (p, v) = match self {
             Surface::Disk { radius } => (p / *radius, v / *radius),
             Surface::Ellipsoid { axes } => (p / *axes, v / *axes),
-            Surface::Revolution { .. } => return None,
+            Surface::Revolution { .. } | Surface::Torus { .. } => return None,
         };
         // |p + t v|^2 = 1 in scaled coordinates.
         let (a, b, c) = (v.length_squared(), p.dot(v), p.length_squared() - 1.0);
@@ -282,22 +402,59 @@ pub fn grow(
     fit: &Fit,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Lattice, GrowthError> {
+    grow_recorded(design, fit, progress).map(|(l, _)| l)
+}
+
+/// The row angles an open fit's search chose (None for other fits): where
+/// the optimiser starts when the recipe gives no `fit.angles`.
+pub fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
+    // A 3-D search also chooses a tilt, which fit.angles does not hold.
+    if design.dim != 2 {
+        return None;
+    }
+    grow_recorded(design, fit, &mut |_| {}).ok()?.1
+}
+
+fn grow_recorded(
+    design: &Design,
+    fit: &Fit,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(Lattice, Option<Vec<f64>>), GrowthError> {
     let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
     let open = matches!(fit.surface, Surface::Disk { .. })
         || matches!(fit.surface, Surface::Ellipsoid { .. }) && design.kind == Kind::Sheet;
     if open {
         // Legs shorter than the eyelet flange (plus a wall) cannot be built.
         let min_leg = design.fabrication.eyelet.flange + 2.0 * super::MIN_WALL;
+        if let Some(angles) = &fit.angles {
+            for (i, &a) in angles.iter().enumerate() {
+                let params = row_on_boundary(
+                    &mut grower,
+                    &fit.surface,
+                    Some(Direction::Angles {
+                        angle_deg: a,
+                        tilt_deg: 0.0,
+                    }),
+                )
+                .map_err(|e| e.unwrap_or_else(|| no_row(i)))?;
+                grower.grow_row(&params)?;
+                progress(&row_note(fit, grower.lattice(), i));
+            }
+            return Ok((grower.into_lattice(), Some(angles.clone())));
+        }
+        let fab = &design.fabrication;
         let mut search = Search {
             fit,
             dim: design.dim,
             min_leg,
+            strip: (fab.material.width, fab.end_margin, design.clash.clearance),
             budget: SEARCH_BUDGET,
             deepest: (0, None),
             progress,
+            chosen: Vec::new(),
         };
         return if search.rows(&mut grower, 0) {
-            Ok(grower.into_lattice())
+            Ok((grower.into_lattice(), Some(search.chosen)))
         } else {
             Err(search.deepest.1.unwrap_or_else(|| no_row(search.deepest.0)))
         };
@@ -306,13 +463,17 @@ pub fn grow(
         let params = match &fit.surface {
             Surface::Ellipsoid { axes } if design.kind == Kind::Loop => {
                 let front = grower.front();
-                let next = meridian_step(*axes, front[0].pos, front[1].pos);
+                let step = match &fit.steps {
+                    Some(s) => s[i],
+                    None => front[0].pos.distance(front[1].pos),
+                };
+                let next = meridian_step(*axes, front[1].pos, step);
                 RowParams {
                     target: Some(next),
                     ..RowParams::default()
                 }
             }
-            Surface::Revolution { profile } => {
+            Surface::Revolution { profile } | Surface::Torus { profile, .. } => {
                 let front = grower.front();
                 let theta = front[1].pos.y.atan2(front[1].pos.x);
                 let q = profile[i];
@@ -326,18 +487,17 @@ pub fn grow(
         grower.grow_row(&params)?;
         progress(&row_note(fit, grower.lattice(), i));
     }
-    Ok(grower.into_lattice())
+    Ok((grower.into_lattice(), None))
 }
 
 /// The point one front edge (|x1 - x0|) further down the spheroid's meridian
 /// through `x1`, towards z < 0: where the next ring's vertex goes.
-fn meridian_step(axes: DVec3, x0: DVec3, x1: DVec3) -> DVec3 {
+fn meridian_step(axes: DVec3, x1: DVec3, edge: f64) -> DVec3 {
     let (a, c) = (axes.x, axes.z);
     let theta = x1.y.atan2(x1.x);
     // Meridian (a cos t, c sin t), t from 0 at the rim to -pi/2 at the pole.
     let r = x1.truncate().length();
     let mut t = -(r / a).clamp(-1.0, 1.0).acos() * if x1.z > 0.0 { -1.0 } else { 1.0 };
-    let edge = x0.distance(x1);
     // Walk down the meridian in small steps until one edge length is covered.
     let mut walked = 0.0;
     let dt = 1e-4;
@@ -363,11 +523,15 @@ struct Search<'a> {
     fit: &'a Fit,
     dim: usize,
     min_leg: f64,
+    /// Strip width, end margin and clearance: rows whose strips clash come last.
+    strip: (f64, f64, f64),
     /// Rows left to try.
     budget: usize,
     /// The deepest row reached, and why it found no candidate (when it did not).
     deepest: (usize, Option<GrowthError>),
     progress: &'a mut dyn FnMut(&str),
+    /// The leg angle of each row grown so far.
+    chosen: Vec<f64>,
 }
 
 impl Search<'_> {
@@ -383,6 +547,7 @@ impl Search<'_> {
             self.fit.samples,
             self.dim,
             self.min_leg,
+            self.strip,
         );
         if i > self.deepest.0 || candidates.is_empty() && i == self.deepest.0 {
             self.deepest = (i, why.filter(|_| candidates.is_empty()));
@@ -395,11 +560,15 @@ impl Search<'_> {
             if grower.grow_row(&params).is_err() {
                 continue;
             }
+            if let Some(Direction::Angles { angle_deg, .. }) = params.direction {
+                self.chosen.push(angle_deg);
+            }
             (self.progress)(&row_note(self.fit, grower.lattice(), i));
             if self.rows(grower, i + 1) {
                 return true;
             }
             grower.undo_row();
+            self.chosen.pop();
         }
         false
     }
@@ -439,6 +608,7 @@ fn ranked_rows(
     samples: usize,
     dim: usize,
     min_leg: f64,
+    strip: (f64, f64, f64),
 ) -> (Vec<RowParams>, Option<GrowthError>) {
     let tilts: Vec<f64> = if dim == 3 {
         (0..samples.div_ceil(4).max(3))
@@ -456,43 +626,32 @@ fn ranked_rows(
                 angle_deg: angle,
                 tilt_deg: tilt,
             });
-            // Pivots do not depend on the end legs: grow once to find them.
-            let probe = RowParams {
-                direction,
-                left_leg: Leg::Length(1.0),
-                right_leg: Leg::Length(1.0),
-                ..RowParams::default()
-            };
-            if let Err(e) = grower.grow_row(&probe) {
-                last_error = Some(e);
-                continue;
-            }
-            let lattice = grower.lattice();
-            let w = lattice.width;
-            let cells = &lattice.cells[lattice.cells.len() - w..];
-            let (first, last) = (&cells[0], &cells[w - 1]);
-            let [_, ur0, _, _] = lattice.corners(first);
-            let [ul1, _, _, _] = lattice.corners(last);
-            let v2 = (first.pivot - ur0).normalize();
-            let v1 = (last.pivot - ul1).normalize();
-            let legs = (
-                surface.ray_exit(first.pivot, v2),
-                surface.ray_exit(last.pivot, v1),
-            );
-            grower.undo_row();
-            let (Some(l2), Some(l3)) = legs else { continue };
-            let params = RowParams {
-                direction,
-                left_leg: Leg::Length(l2),
-                right_leg: Leg::Length(l3),
-                ..RowParams::default()
+            let params = match row_on_boundary(grower, surface, direction) {
+                Ok(p) => p,
+                Err(e) => {
+                    last_error = e.or(last_error);
+                    continue;
+                }
             };
             if let Err(e) = grower.grow_row(&params) {
                 last_error = Some(e);
                 continue;
             }
             let score = row_score(grower.lattice(), surface, min_leg);
+            // A disk's rows whose strips overlap others of their layer come
+            // last (on a curved patch the distance to the surface decides).
+            let lattice = grower.lattice();
+            let first_new = 2 * (lattice.cells.len() - lattice.width);
+            let clashes = if score.is_finite() && matches!(surface, Surface::Disk { .. }) {
+                crate::parts::clash::clashes(lattice, strip.0, strip.1, strip.2)
+                    .iter()
+                    .filter(|c| c.rods[1] >= first_new)
+                    .count()
+            } else {
+                0
+            };
             grower.undo_row();
+            let score = score + clashes as f64;
             if score.is_finite() {
                 scored.push((score, params));
             }
@@ -501,6 +660,45 @@ fn ranked_rows(
     // A stable sort keeps scan order among equal scores: deterministic.
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
     (scored.into_iter().map(|s| s.1).collect(), last_error)
+}
+
+/// The row with leg direction `direction` whose two end vertices lie on the
+/// surface's boundary (circle or ellipsoid); the growth error met, if any.
+fn row_on_boundary(
+    grower: &mut Grower,
+    surface: &Surface,
+    direction: Option<Direction>,
+) -> Result<RowParams, Option<GrowthError>> {
+    // Pivots do not depend on the end legs: grow once to find them.
+    let probe = RowParams {
+        direction,
+        left_leg: Leg::Length(1.0),
+        right_leg: Leg::Length(1.0),
+        ..RowParams::default()
+    };
+    grower.grow_row(&probe).map_err(Some)?;
+    let lattice = grower.lattice();
+    let w = lattice.width;
+    let cells = &lattice.cells[lattice.cells.len() - w..];
+    let (first, last) = (&cells[0], &cells[w - 1]);
+    let [_, ur0, _, _] = lattice.corners(first);
+    let [ul1, _, _, _] = lattice.corners(last);
+    let v2 = (first.pivot - ur0).normalize();
+    let v1 = (last.pivot - ul1).normalize();
+    let legs = (
+        surface.ray_exit(first.pivot, v2),
+        surface.ray_exit(last.pivot, v1),
+    );
+    grower.undo_row();
+    let (Some(l2), Some(l3)) = legs else {
+        return Err(None);
+    };
+    Ok(RowParams {
+        direction,
+        left_leg: Leg::Length(l2),
+        right_leg: Leg::Length(l3),
+        ..RowParams::default()
+    })
 }
 
 /// Lower is better: distance of the new vertices to the surface (3-D), then
@@ -527,6 +725,14 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
         return f64::INFINITY;
     }
     let balance = 1.0 - worst;
+    // A disk's vertices stay inside (or on) its circle.
+    if let Surface::Disk { radius } = surface
+        && new
+            .iter()
+            .any(|v| v.pos.truncate().length() > radius * (1.0 + 1e-9))
+    {
+        return f64::INFINITY;
+    }
     match surface {
         Surface::Ellipsoid { .. } => {
             let d = new
@@ -537,4 +743,173 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
         }
         _ => balance,
     }
+}
+
+/// How much of the target the cells cover, measured from the cells' own
+/// corners.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coverage {
+    /// Covered share, 0 to 1.
+    pub share: f64,
+    /// What is covered: "the disk's area", "the half's area in plan",
+    /// "the tube's circumference".
+    pub of: &'static str,
+    /// For a torus: the tube angle covered (degrees).
+    pub degrees: Option<f64>,
+}
+
+/// Samples per axis of the area coverage grid (a 1/300 of the target's width).
+const COVERAGE_SAMPLES: usize = 300;
+
+/// The share of the target the lattice covers: the disk's area, the
+/// ellipsoid's half in plan (projected onto z = 0), or the torus's tube
+/// circumference. None for a free revolution profile.
+pub fn coverage(fit: &Fit, lattice: &Lattice) -> Option<Coverage> {
+    match &fit.surface {
+        Surface::Disk { radius } => Some(Coverage {
+            share: plan_coverage(lattice, *radius, *radius),
+            of: "the disk's area",
+            degrees: None,
+        }),
+        Surface::Ellipsoid { axes } => Some(Coverage {
+            share: plan_coverage(lattice, axes.x, axes.y),
+            of: "the half's area in plan",
+            degrees: None,
+        }),
+        Surface::Torus { major, .. } => {
+            let deg = tube_coverage(lattice, *major);
+            Some(Coverage {
+                share: deg / 360.0,
+                of: "the tube's circumference",
+                degrees: Some(deg),
+            })
+        }
+        Surface::Revolution { .. } => None,
+    }
+}
+
+/// The share of the ellipse x^2/a^2 + y^2/b^2 <= 1 under the cells,
+/// projected onto the xy-plane: the centres of a square grid of samples,
+/// each tested against the cells that a bin grid says are near it.
+fn plan_coverage(lattice: &Lattice, a: f64, b: f64) -> f64 {
+    let n = COVERAGE_SAMPLES;
+    let h = 2.0 * a.max(b) / n as f64;
+    let quads: Vec<[DVec2; 4]> = lattice
+        .cells
+        .iter()
+        .map(|c| {
+            let [ul, ur, ll, lr] = lattice.corners(c);
+            // In order round the quad.
+            [ul, ur, lr, ll].map(|p| p.truncate())
+        })
+        .collect();
+    // Bins of 8 x 8 samples hold the cells whose boxes reach them.
+    let bin = 8;
+    let bins = n.div_ceil(bin);
+    let mut grid: Vec<Vec<u32>> = vec![Vec::new(); bins * bins];
+    let origin = DVec2::new(-a.max(b), -a.max(b));
+    let index = |x: f64| ((x / (h * bin as f64)).floor().max(0.0) as usize).min(bins - 1);
+    for (q, quad) in quads.iter().enumerate() {
+        let lo = quad
+            .iter()
+            .fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p))
+            - origin;
+        let hi = quad
+            .iter()
+            .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p))
+            - origin;
+        if !(lo.is_finite() && hi.is_finite()) {
+            continue;
+        }
+        for y in index(lo.y)..=index(hi.y) {
+            for x in index(lo.x)..=index(hi.x) {
+                grid[y * bins + x].push(q as u32);
+            }
+        }
+    }
+    let (mut inside, mut covered) = (0usize, 0usize);
+    for iy in 0..n {
+        for ix in 0..n {
+            let p = origin + h * DVec2::new(ix as f64 + 0.5, iy as f64 + 0.5);
+            if (p.x / a).powi(2) + (p.y / b).powi(2) > 1.0 {
+                continue;
+            }
+            inside += 1;
+            let cell = &grid[(iy / bin) * bins + ix / bin];
+            if cell.iter().any(|&q| in_quad(&quads[q as usize], p)) {
+                covered += 1;
+            }
+        }
+    }
+    covered as f64 / inside.max(1) as f64
+}
+
+/// Inside (or on) a convex quad given in order round it, either orientation.
+fn in_quad(q: &[DVec2; 4], p: DVec2) -> bool {
+    let mut sign = 0.0f64;
+    for k in 0..4 {
+        let (a, b) = (q[k], q[(k + 1) % 4]);
+        let c = (b - a).perp_dot(p - a);
+        if c != 0.0 {
+            if sign * c < 0.0 {
+                return false;
+            }
+            sign = c;
+        }
+    }
+    true
+}
+
+/// Degrees of the tube's circumference under the cells: each cell spans
+/// the tube angles of its corners (psi = atan2(rho - R, z), 0 at the top);
+/// the union of those arcs.
+fn tube_coverage(lattice: &Lattice, major: f64) -> f64 {
+    let psi = |p: DVec3| (p.truncate().length() - major).atan2(p.z).to_degrees();
+    let mut arcs: Vec<(f64, f64)> = Vec::new();
+    for c in &lattice.cells {
+        let angles = lattice.corners(c).map(psi);
+        // The shortest arc holding all four: unwrap about the first.
+        let a0 = angles[0];
+        let rel: Vec<f64> = angles
+            .iter()
+            .map(|a| (a - a0 + 540.0).rem_euclid(360.0) - 180.0)
+            .collect();
+        let lo = (rel.iter().copied().fold(f64::INFINITY, f64::min) + a0).rem_euclid(360.0);
+        let span = rel.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - rel.iter().copied().fold(f64::INFINITY, f64::min);
+        if lo + span > 360.0 {
+            arcs.push((lo, 360.0));
+            arcs.push((0.0, lo + span - 360.0));
+        } else {
+            arcs.push((lo, lo + span));
+        }
+    }
+    arcs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut total, mut end) = (0.0, f64::NEG_INFINITY);
+    for (a, b) in arcs {
+        if b <= end {
+            continue;
+        }
+        total += b - a.max(end);
+        end = b;
+    }
+    total
+}
+
+/// The largest distance of a boundary vertex (the seed's and each row's
+/// two ends) from the target's boundary curve (the disk's circle), or None
+/// for targets without one.
+pub fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
+    let Surface::Disk { radius } = fit.surface else {
+        return None;
+    };
+    let m = lattice.width as u32;
+    Some(
+        lattice
+            .vertices
+            .iter()
+            .filter(|v| v.key.row == 0 || v.key.col == 0 || v.key.col == m)
+            .map(|v| (v.pos.truncate().length() - radius).abs())
+            .fold(0.0, f64::max),
+    )
 }

@@ -4,6 +4,8 @@
 
 mod fabrication;
 pub mod fit;
+pub mod measure;
+pub mod optimise;
 mod raw;
 pub mod seed;
 pub mod tune;
@@ -38,6 +40,10 @@ pub struct Design {
     /// Target fitting: rows are found by a search instead of written out.
     pub fit: Option<fit::Fit>,
     pub fabrication: Fabrication,
+    /// How close strips of one layer may come (`[clash]`).
+    pub clash: optimise::ClashRule,
+    /// The design optimiser's settings (`[optimise]`), for `karigami tune`.
+    pub optimise: Option<optimise::Optimise>,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub recipe_hash: u64,
     spans: Spans,
@@ -157,6 +163,8 @@ pub fn parse_with(
         None => default_name.to_string(),
     };
     let (fabrication, fabrication_spans) = fabrication::fabrication(&raw, overrides)?;
+    let clash = optimise::parse_clash(raw.clash.as_ref())?;
+    let optimise = raw.optimise.as_ref().map(optimise::parse).transpose()?;
     let lattice_span = raw.lattice.span();
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {
@@ -217,6 +225,8 @@ pub fn parse_with(
         helix_cells,
         fit,
         fabrication,
+        clash,
+        optimise,
         recipe_hash: fnv1a(source.as_bytes()),
         spans,
     })
@@ -300,6 +310,11 @@ impl Design {
             (_, Some(_)) => self.spans.fit.clone(),
             _ => self.row_table(self.rows.len().saturating_sub(1)),
         }
+    }
+
+    /// The text that sets row `i`'s front moves (its table when it has none).
+    pub fn row_front_span(&self, i: usize) -> Range<usize> {
+        self.row_span(i, Param::FrontMoves)
     }
 
     /// The text that sets row `i`'s leg direction, for errors about a row's strips.

@@ -21,6 +21,8 @@ pub struct RawDesign {
     pub laser: Option<Spanned<RawLaser>>,
     pub sheet: Option<Spanned<RawSheet>>,
     pub guide: Option<Spanned<RawGuide>>,
+    pub clash: Option<Spanned<super::optimise::RawClash>>,
+    pub optimise: Option<Spanned<super::optimise::RawOptimise>>,
 }
 
 /// `[guide]`: the printed assembly guide.
@@ -147,6 +149,15 @@ pub struct RawFit {
     pub profile: Option<Spanned<Vec<Coords>>>,
     /// disk and ellipsoid: candidate leg directions tried per row.
     pub samples: Option<Spanned<i64>>,
+    /// torus: the tube's radius (`radius` is the centre circle's)...
+    pub tube: Option<Num>,
+    /// ...and the tube angle each row adds (degrees).
+    pub step: Option<Num>,
+    /// Open fits: each row's leg angle (degrees) instead of a search.
+    pub angles: Option<Spanned<Vec<Num>>>,
+    /// Ellipsoid loops: each ring's step down the meridian (mm) instead of
+    /// one front edge.
+    pub steps: Option<Spanned<Vec<Num>>>,
 }
 
 /// A polyline whose segments are each split into `cells_per_segment` edges.

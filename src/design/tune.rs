@@ -42,21 +42,21 @@ impl Rng {
 /// kappa_0, and the share of each kappa_1..kappa_(N-1) in their sum (which
 /// the seed condition fixes).
 #[derive(Clone, Debug)]
-struct Params {
-    rho: Vec<f64>,
-    theta: Vec<f64>,
-    height: Vec<f64>,
-    kappa0: f64,
-    share: Vec<f64>,
+pub(crate) struct Params {
+    pub(crate) rho: Vec<f64>,
+    pub(crate) theta: Vec<f64>,
+    pub(crate) height: Vec<f64>,
+    pub(crate) kappa0: f64,
+    pub(crate) share: Vec<f64>,
 }
 
-struct Frame {
-    centre: DVec3,
-    dim: usize,
+pub(crate) struct Frame {
+    pub(crate) centre: DVec3,
+    pub(crate) dim: usize,
 }
 
 impl Frame {
-    fn params(&self, points: &[DVec3], kappa: &[f64]) -> Params {
+    pub(crate) fn params(&self, points: &[DVec3], kappa: &[f64]) -> Params {
         let n = points.len() - 1;
         let rel: Vec<DVec3> = points.iter().map(|p| *p - self.centre).collect();
         let rod_dz: f64 = -kappa[1..n].iter().sum::<f64>();
@@ -71,7 +71,7 @@ impl Frame {
 
     /// Points and kappa, with kappa_1..kappa_(N-1) scaled to meet the seed
     /// condition exactly.
-    fn seed(&self, p: &Params) -> (Vec<DVec3>, Vec<f64>) {
+    pub(crate) fn seed(&self, p: &Params) -> (Vec<DVec3>, Vec<f64>) {
         let points: Vec<DVec3> = (0..p.rho.len())
             .map(|k| {
                 let h = if self.dim == 3 { p.height[k] } else { 0.0 };

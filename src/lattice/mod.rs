@@ -14,6 +14,7 @@ mod helix;
 mod joints;
 mod placed;
 mod rods;
+pub mod shape;
 mod verify;
 
 pub use front::{Crank, FrontMoves, PivotMove};

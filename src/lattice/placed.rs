@@ -11,9 +11,17 @@ impl Lattice {
     /// This lattice with every rebuilt row placed onto the one above it;
     /// an extrinsic lattice is returned as it is.
     pub fn placed(&self) -> Lattice {
+        self.placed_with_gaps().0
+    }
+
+    /// `placed`, with how far each rebuilt front vertex missed its row's
+    /// vertex before the two were joined halfway (one list per row; empty
+    /// for a row grown on the row above).
+    pub fn placed_with_gaps(&self) -> (Lattice, Vec<Vec<f64>>) {
         let mut out = self.clone();
+        let mut gaps = vec![Vec::new(); self.rows()];
         if self.extrinsic() {
-            return out;
+            return (out, gaps);
         }
         let mut by_row: Vec<Vec<usize>> = vec![Vec::new(); self.rows() + 1];
         for (i, v) in self.vertices.iter().enumerate() {
@@ -39,6 +47,7 @@ impl Lattice {
                 // The strips bend to meet halfway: draw both at the midpoint.
                 for &i in &by_row[row] {
                     let col = self.vertices[i].key.col as usize;
+                    gaps[row].push(out.fronts[row][col].distance(out.vertices[i].pos));
                     let mid = (out.fronts[row][col] + out.vertices[i].pos) / 2.0;
                     out.fronts[row][col] = mid;
                     out.vertices[i].pos = mid;
@@ -53,7 +62,7 @@ impl Lattice {
                 }
             }
         }
-        out
+        (out, gaps)
     }
 }
 

@@ -1,0 +1,54 @@
+//! `karigami tune` on a recipe with an `[optimise]` table: run the design
+//! optimiser and write the recipe back with the optimised numbers, its
+//! comments and every other setting kept.
+
+use super::progress::Progress;
+use super::{EXIT_INVALID, EXIT_IO, Failed, Recipe, Verbosity, files};
+use karigami::design::Design;
+use std::path::Path;
+use std::time::Instant;
+
+pub fn run(
+    recipe: &Recipe,
+    design: &Design,
+    out: Option<&Path>,
+    v: Verbosity,
+) -> Result<(), Failed> {
+    let mut bar = Progress::new(1, v.quiet);
+    let started = Instant::now();
+    let result = karigami::solve::optimise(design, &recipe.source, &mut |note| {
+        if v.verbose {
+            eprintln!("{note}");
+        } else {
+            bar.note(note);
+        }
+    });
+    bar.clear();
+    let done = match result {
+        Ok(d) => d,
+        Err(e) => {
+            eprint!("{}", recipe.error(&e).text);
+            return Err(Failed(EXIT_INVALID));
+        }
+    };
+    if !v.quiet {
+        eprintln!(
+            "optimised {} in {:.1} s: {} variables, {} Nelder-Mead iterations, {} designs grown; cost {:.6} -> {:.6}; every hard constraint met",
+            recipe.file,
+            started.elapsed().as_secs_f64(),
+            done.variables,
+            done.iterations,
+            done.evaluations,
+            done.cost_before,
+            done.cost_after
+        );
+    }
+    match out {
+        Some(o) => files::write_atomic(o, done.text.as_bytes()).map_err(|e| {
+            eprintln!("error: cannot write {}: {e}", o.display());
+            Failed(EXIT_IO)
+        })?,
+        None => print!("{}", done.text),
+    }
+    Ok(())
+}

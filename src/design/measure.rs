@@ -1,0 +1,321 @@
+//! Every shape and fit number of a grown design in one place, for
+//! `check`, report.txt, `--json`, the optimiser's objectives and the
+//! gallery's tests: curvature, regularity, target fit and coverage, the
+//! bending of intrinsic rows, strip clashes and identical strips.
+
+use super::Design;
+use super::fit::{self, Coverage};
+use crate::lattice::shape::{CurvatureSummary, Shape, summary};
+use crate::lattice::{Kind, Lattice};
+use crate::parts::clash::{Clash, clashes};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measures {
+    pub shape: Shape,
+    pub curvature: Option<CurvatureSummary>,
+    /// Largest vertex distance to the target surface (mm).
+    pub fit_distance: Option<f64>,
+    /// Largest boundary-vertex distance to the target's boundary curve (mm).
+    pub boundary_distance: Option<f64>,
+    pub coverage: Option<Coverage>,
+    /// Same-layer strips closer than the strip width plus the clearance.
+    pub clashes: Vec<Clash>,
+    /// Helix: each complete turn's mean radius, mean height and largest
+    /// relative departure of a vertex's radius from that mean.
+    pub turns: Vec<Turn>,
+    /// Distinct rows and columns holding a vertex with defect >= +3 deg.
+    pub bump_rows: usize,
+    pub bump_cols: usize,
+    /// Shares of interior vertices with defect >= +3 deg and <= -3 deg.
+    pub bumps: f64,
+    pub dimples: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Turn {
+    pub radius: f64,
+    pub height: f64,
+    /// max |r - mean| / mean over the turn's vertices.
+    pub spread: f64,
+}
+
+/// A defect of at least this (degrees) is a bump of an eggbox.
+pub const BUMP_DEG: f64 = 3.0;
+
+pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
+    let shape = lattice.shape();
+    let curvature = summary(&shape.curvature);
+    let (fit_distance, boundary_distance, coverage) = match &design.fit {
+        Some(f) => (
+            Some(fit::error(f, lattice).0),
+            fit::boundary_error(f, lattice),
+            fit::coverage(f, lattice),
+        ),
+        None => (None, None, None),
+    };
+    let fab = &design.fabrication;
+    // An intrinsic lattice meets itself as assembled: rows placed onto each other.
+    let assembled = lattice.placed();
+    let clashes = clashes(
+        &assembled,
+        fab.material.width,
+        fab.end_margin,
+        design.clash.clearance,
+    );
+    let n = shape.curvature.len().max(1) as f64;
+    let bumps = shape
+        .curvature
+        .iter()
+        .filter(|v| v.defect.to_degrees() >= BUMP_DEG)
+        .count() as f64
+        / n;
+    let dimples = shape
+        .curvature
+        .iter()
+        .filter(|v| v.defect.to_degrees() <= -BUMP_DEG)
+        .count() as f64
+        / n;
+    let mut rows = std::collections::BTreeSet::new();
+    let mut cols = std::collections::BTreeSet::new();
+    for v in &shape.curvature {
+        if v.defect.to_degrees() >= BUMP_DEG {
+            let key = lattice.vertex(v.vertex).key;
+            rows.insert(key.row);
+            cols.insert(key.col);
+        }
+    }
+    Measures {
+        turns: turns(lattice),
+        shape,
+        curvature,
+        fit_distance,
+        boundary_distance,
+        coverage,
+        clashes,
+        bump_rows: rows.len(),
+        bump_cols: cols.len(),
+        bumps,
+        dimples,
+    }
+}
+
+/// A helix's vertices turn by turn (N a turn, only complete turns), about
+/// the axis through the mean of the first turn's points, along z.
+fn turns(lattice: &Lattice) -> Vec<Turn> {
+    if lattice.kind != Kind::Helix || lattice.width == 0 {
+        return Vec::new();
+    }
+    let n = lattice.width;
+    let pts: Vec<_> = lattice.vertices.iter().map(|v| v.pos).collect();
+    let centre = pts[..n].iter().copied().sum::<glam::DVec3>() / n as f64;
+    pts.chunks_exact(n)
+        .map(|turn| {
+            let r: Vec<f64> = turn
+                .iter()
+                .map(|p| (*p - centre).truncate().length())
+                .collect();
+            let radius = r.iter().sum::<f64>() / n as f64;
+            Turn {
+                radius,
+                height: turn.iter().map(|p| p.z).sum::<f64>() / n as f64,
+                spread: r.iter().map(|x| (x - radius).abs()).fold(0.0, f64::max) / radius,
+            }
+        })
+        .collect()
+}
+
+impl Measures {
+    /// The shape section of `check` and report.txt.
+    pub fn text(&self, lattice: &Lattice, design: &Design) -> String {
+        use std::fmt::Write as _;
+        let mut out = String::from("shape, measured from each cell's own corners:\n");
+        let s = &self.shape;
+        match &self.curvature {
+            Some(c) => {
+                let _ = writeln!(
+                    out,
+                    "  angle defect at {} interior vertices: min {:.2} deg at {}, mean {:.2} deg, max {:.2} deg at {}",
+                    c.interior,
+                    c.min_deg,
+                    lattice.vertex_name(c.min_at),
+                    c.mean_deg,
+                    c.max_deg,
+                    lattice.vertex_name(c.max_at)
+                );
+                let _ = writeln!(
+                    out,
+                    "  curved beyond +-{} deg: {:.0}% positive, {:.0}% negative; K mean {:.3e} /mm^2, std {:.3e}",
+                    crate::lattice::shape::CURVED_DEG,
+                    100.0 * c.positive,
+                    100.0 * c.negative,
+                    c.k_mean,
+                    c.k_std
+                );
+            }
+            None => out.push_str("  no interior vertex (none is shared by four cells)\n"),
+        }
+        let _ = writeln!(
+            out,
+            "  regularity: cell areas {:.2}x largest/smallest, legs {:.2}x (shortest {:.1} mm), leg ratio within a cell median {:.2}, largest {:.2}",
+            s.area_ratio, s.leg_ratio, s.min_leg, s.cell_leg_ratio_median, s.cell_leg_ratio_max
+        );
+        let _ = writeln!(
+            out,
+            "  strips: {} distinct of {} (legs equal within {} mm)",
+            s.distinct_strips,
+            s.strips,
+            crate::lattice::shape::SAME_STRIP_MM
+        );
+        if let Some(g) = &s.front_gaps {
+            let _ = writeln!(
+                out,
+                "  rebuilt fronts miss their rows by up to {:.2} mm ({:.0}% of an edge, row {}), {:.2} mm ({:.0}%) on average: the bending the strips take",
+                g.max,
+                100.0 * g.max_rel,
+                g.worst_row,
+                g.mean,
+                100.0 * g.mean_rel
+            );
+        }
+        if self.bumps > 0.0 || self.dimples > 0.0 {
+            let _ = writeln!(
+                out,
+                "  bumps (defect >= +{BUMP_DEG} deg): {:.0}% over {} rows and {} columns; dimples (<= -{BUMP_DEG} deg): {:.0}%",
+                100.0 * self.bumps,
+                self.bump_rows,
+                self.bump_cols,
+                100.0 * self.dimples
+            );
+        }
+        if let Some(d) = self.boundary_distance {
+            let _ = writeln!(out, "  boundary vertices on the target's rim to {d:.2e} mm");
+        }
+        if let Some(c) = &self.coverage {
+            match c.degrees {
+                Some(deg) => {
+                    let _ = writeln!(
+                        out,
+                        "  coverage: {deg:.1} deg of {} ({:.1}%)",
+                        c.of,
+                        100.0 * c.share
+                    );
+                }
+                None => {
+                    let _ = writeln!(out, "  coverage: {:.1}% of {}", 100.0 * c.share, c.of);
+                }
+            }
+        }
+        for (k, t) in self.turns.iter().enumerate() {
+            let _ = writeln!(
+                out,
+                "  turn {k}: mean radius {:.1} mm, mean height {:.1} mm, radii within {:.0}% of the mean",
+                t.radius,
+                t.height,
+                100.0 * t.spread
+            );
+        }
+        let fab = &design.fabrication;
+        match self.clashes.first() {
+            None => {
+                let _ = writeln!(
+                    out,
+                    "  strip clashes: none (same-layer strips at least {} mm + {} mm clearance apart)",
+                    fab.material.width, design.clash.clearance
+                );
+            }
+            Some(c) => {
+                let _ = writeln!(
+                    out,
+                    "  strip clashes: {} pairs{}; closest {} and {}, {:.2} mm apart at ({:.1}, {:.1}, {:.1})",
+                    self.clashes.len(),
+                    if design.clash.allow {
+                        " (allowed by [clash])"
+                    } else {
+                        ""
+                    },
+                    crate::parts::clash::rod_name(lattice, c.rods[0]),
+                    crate::parts::clash::rod_name(lattice, c.rods[1]),
+                    c.distance,
+                    c.at.x,
+                    c.at.y,
+                    c.at.z
+                );
+            }
+        }
+        out
+    }
+
+    /// The same numbers for `--json`.
+    pub fn json(&self, lattice: &Lattice) -> serde_json::Value {
+        use serde_json::json;
+        let num =
+            |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
+        let s = &self.shape;
+        json!({
+            "curvature": self.curvature.map(|c| json!({
+                "interior_vertices": c.interior,
+                "defect_min_deg": num(c.min_deg),
+                "defect_min_at": lattice.vertex_name(c.min_at),
+                "defect_mean_deg": num(c.mean_deg),
+                "defect_max_deg": num(c.max_deg),
+                "defect_max_at": lattice.vertex_name(c.max_at),
+                "threshold_deg": crate::lattice::shape::CURVED_DEG,
+                "positive_share": num(c.positive),
+                "negative_share": num(c.negative),
+                "k_mean": num(c.k_mean),
+                "k_std": num(c.k_std),
+            })),
+            "area_ratio": num(s.area_ratio),
+            "leg_ratio": num(s.leg_ratio),
+            "shortest_leg_mm": num(s.min_leg),
+            "cell_leg_ratio_median": num(s.cell_leg_ratio_median),
+            "cell_leg_ratio_max": num(s.cell_leg_ratio_max),
+            "distinct_strips": s.distinct_strips,
+            "strips": s.strips,
+            "front_gaps": s.front_gaps.map(|g| json!({
+                "max_mm": num(g.max), "mean_mm": num(g.mean),
+                "max_relative": num(g.max_rel), "mean_relative": num(g.mean_rel),
+                "worst_row": g.worst_row,
+            })),
+            "fit_distance_mm": self.fit_distance.map(num),
+            "boundary_distance_mm": self.boundary_distance.map(num),
+            "coverage": self.coverage.map(|c| json!({ "share": num(c.share), "of": c.of, "degrees": c.degrees.map(num) })),
+            "turns": self.turns.iter().map(|t| json!({ "radius_mm": num(t.radius), "height_mm": num(t.height), "spread": num(t.spread) })).collect::<Vec<_>>(),
+            "clashes": self.clashes.iter().take(100).map(|c| json!({
+                "strips": [crate::parts::clash::rod_name(lattice, c.rods[0]), crate::parts::clash::rod_name(lattice, c.rods[1])],
+                "distance_mm": num(c.distance),
+                "at": [num(c.at.x), num(c.at.y), num(c.at.z)],
+            })).collect::<Vec<_>>(),
+            "clash_count": self.clashes.len(),
+        })
+    }
+
+    /// The clash refusal of `build` and `check`, unless the recipe allows them.
+    pub fn clash_error(
+        &self,
+        lattice: &Lattice,
+        design: &Design,
+    ) -> Option<crate::diagnostic::Diagnostic> {
+        let c = self.clashes.first()?;
+        if design.clash.allow {
+            return None;
+        }
+        let fab = &design.fabrication;
+        let (a, b) = (
+            crate::parts::clash::rod_name(lattice, c.rods[0]),
+            crate::parts::clash::rod_name(lattice, c.rods[1]),
+        );
+        Some(
+            crate::diagnostic::Diagnostic::new(
+                "StripClash",
+                format!(
+                    "strips {a} and {b} lie in the same stacking layer and their centre lines come {:.2} mm apart at ({:.1}, {:.1}, {:.1}), closer than the strip width {} mm plus {} mm clearance: they overlap ({} clashing pairs in all)",
+                    c.distance, c.at.x, c.at.y, c.at.z, fab.material.width, design.clash.clearance, self.clashes.len()
+                ),
+            )
+            .at_opt(design.clash.span.clone().or(Some(design.size_span())))
+            .site(format!("strips {a} and {b}"))
+            .hint("open the cells there (other leg angles or fewer rows), use narrower strips, or accept the overlap with [clash] allow = true"),
+        )
+    }
+}

@@ -1,0 +1,329 @@
+//! The recipe's `[clash]` and `[optimise]` tables: how close strips may
+//! come, and what the design optimiser (`crate::solve`) varies, which
+//! weighted objectives it minimises and which hard constraints a design
+//! must meet.
+//!
+//! ```toml
+//! [optimise]
+//! vary = ["angle", "front"]   # row angles, front-move angles, or "seed" (helix)
+//! budget = 400                # Nelder-Mead iterations
+//! seed = 1                    # how the start simplex is laid out
+//! step = 3.0                  # start simplex size (degrees; 2 % of a length)
+//! [optimise.objective]        # weights of the objectives
+//! curvature = 1.0
+//! [optimise.target]           # what `curvature` aims at
+//! defect = -4.0               # degrees at every interior vertex, or
+//! pattern = "checkerboard"    # +defect and -defect alternating
+//! [optimise.require]          # hard constraints
+//! negative = 0.9
+//! ```
+
+use super::raw::Num;
+use crate::diagnostic::Diagnostic;
+use serde::Deserialize;
+use std::ops::Range;
+use toml::Spanned;
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawClash {
+    pub clearance: Option<Num>,
+    pub allow: Option<Spanned<bool>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOptimise {
+    pub vary: Spanned<Vec<Spanned<String>>>,
+    pub budget: Option<Spanned<i64>>,
+    pub seed: Option<Spanned<i64>>,
+    pub step: Option<Num>,
+    pub objective: Option<Spanned<RawWeights>>,
+    pub target: Option<Spanned<RawTarget>>,
+    pub require: Option<Spanned<RawRequire>>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawWeights {
+    pub surface: Option<Num>,
+    pub boundary: Option<Num>,
+    pub coverage: Option<Num>,
+    pub regularity: Option<Num>,
+    pub legs: Option<Num>,
+    pub clashes: Option<Num>,
+    pub curvature: Option<Num>,
+    pub rings: Option<Num>,
+    pub bending: Option<Num>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTarget {
+    pub defect: Option<Num>,
+    pub pattern: Option<Spanned<String>>,
+}
+
+/// Hard constraints, each a bound on one measure.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRequire {
+    pub max_distance: Option<Num>,
+    pub max_boundary_distance: Option<Num>,
+    pub min_coverage: Option<Num>,
+    pub max_area_ratio: Option<Num>,
+    pub min_positive: Option<Num>,
+    pub min_negative: Option<Num>,
+    pub max_mean_defect: Option<Num>,
+    pub min_mean_defect: Option<Num>,
+    pub max_k_spread: Option<Num>,
+    pub max_front_gap: Option<Num>,
+    pub max_turn_spread: Option<Num>,
+    pub max_clashes: Option<Num>,
+    /// Share of interior vertices with a defect of at least +3 deg / at most -3 deg.
+    pub min_bumps: Option<Num>,
+    /// Shortest leg (mm): at least the eyelet flange plus the walls.
+    pub min_leg: Option<Num>,
+    pub min_dimples: Option<Num>,
+}
+
+/// How close strips of one layer may come, and whether a clash is allowed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClashRule {
+    pub clearance: f64,
+    pub allow: bool,
+    /// `[clash]`, or the lattice table when there is none.
+    pub span: Option<Range<usize>>,
+}
+
+impl Default for ClashRule {
+    fn default() -> Self {
+        Self {
+            clearance: crate::parts::clash::DEFAULT_CLEARANCE,
+            allow: false,
+            span: None,
+        }
+    }
+}
+
+/// Which recipe numbers the optimiser moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Vary {
+    /// Every row table's leg `angle` (and tilt in 3-D).
+    Angle,
+    /// Every angle of the rows' front moves.
+    Front,
+    /// A helix's seed points and kappa (the seed condition kept).
+    Seed,
+    /// A fit's row angles (`fit.angles`) or ring steps (`fit.steps`).
+    Fit,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pattern {
+    /// The same defect at every interior vertex.
+    Constant,
+    /// +defect and -defect alternating along rows and columns.
+    Checkerboard,
+}
+
+/// Objective weights (0: not an objective).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Weights {
+    pub surface: f64,
+    pub boundary: f64,
+    pub coverage: f64,
+    pub regularity: f64,
+    pub legs: f64,
+    pub clashes: f64,
+    pub curvature: f64,
+    /// Helix: turns' radii even within a turn, shrinking and dropping turn by turn.
+    pub rings: f64,
+    /// Intrinsic rows: how far rebuilt fronts miss their rows.
+    pub bending: f64,
+}
+
+/// A hard constraint: the measure it bounds, the bound, and where it was written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Requirement {
+    pub name: &'static str,
+    pub bound: f64,
+    pub span: Range<usize>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Optimise {
+    pub vary: Vec<Vary>,
+    pub budget: usize,
+    pub seed: u64,
+    pub step: f64,
+    pub weights: Weights,
+    pub defect_deg: f64,
+    pub pattern: Pattern,
+    pub require: Vec<Requirement>,
+    pub span: Range<usize>,
+}
+
+pub fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnostic> {
+    let Some(raw) = raw else {
+        return Ok(ClashRule::default());
+    };
+    let r = raw.get_ref();
+    let clearance = match &r.clearance {
+        Some(c) => {
+            let v = super::finite(c, "clash.clearance")?;
+            if v < 0.0 {
+                return Err(
+                    Diagnostic::new("design", "clash.clearance must not be negative")
+                        .at(c.span())
+                        .hint("the gap in mm wanted between neighbouring strips of one layer"),
+                );
+            }
+            v
+        }
+        None => crate::parts::clash::DEFAULT_CLEARANCE,
+    };
+    Ok(ClashRule {
+        clearance,
+        allow: r.allow.as_ref().is_some_and(|a| *a.get_ref()),
+        span: Some(raw.span()),
+    })
+}
+
+pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
+    let r = raw.get_ref();
+    let mut vary = Vec::new();
+    for v in r.vary.get_ref() {
+        let which = match v.get_ref().as_str() {
+            "angle" => Vary::Angle,
+            "front" => Vary::Front,
+            "seed" => Vary::Seed,
+            "fit" => Vary::Fit,
+            other => {
+                return Err(Diagnostic::new("design", format!("optimise.vary has \"{other}\""))
+                    .at(v.span())
+                    .hint("vary \"angle\" (row leg angles), \"front\" (front-move angles), \"seed\" (a helix's seed) or \"fit\" (a fit's row angles or ring steps)"));
+            }
+        };
+        if !vary.contains(&which) {
+            vary.push(which);
+        }
+    }
+    if vary.is_empty() {
+        return Err(Diagnostic::new("design", "optimise.vary is empty")
+            .at(r.vary.span())
+            .hint("say what the optimiser may change: [\"angle\"], [\"front\"] or [\"seed\"]"));
+    }
+    let budget = match &r.budget {
+        Some(b) => super::count(b, "optimise.budget", 1, 100_000)?,
+        None => 300,
+    };
+    let seed = match &r.seed {
+        Some(s) => super::count(s, "optimise.seed", 0, i64::MAX)? as u64,
+        None => 1,
+    };
+    let step = match &r.step {
+        Some(s) => {
+            let v = super::finite(s, "optimise.step")?;
+            if v <= 0.0 {
+                return Err(
+                    Diagnostic::new("design", "optimise.step must be positive").at(s.span())
+                );
+            }
+            v
+        }
+        None => 3.0,
+    };
+    let w = r.objective.as_ref().map(|o| o.get_ref());
+    let weight = |n: Option<&Num>, what: &str| -> Result<f64, Diagnostic> {
+        match n {
+            None => Ok(0.0),
+            Some(n) => {
+                let v = super::finite(n, what)?;
+                if v < 0.0 {
+                    return Err(
+                        Diagnostic::new("design", format!("{what} must not be negative"))
+                            .at(n.span())
+                            .hint("a weight is 0 (ignored) or more"),
+                    );
+                }
+                Ok(v)
+            }
+        }
+    };
+    let weights = match w {
+        None => Weights::default(),
+        Some(w) => Weights {
+            surface: weight(w.surface.as_ref(), "objective.surface")?,
+            boundary: weight(w.boundary.as_ref(), "objective.boundary")?,
+            coverage: weight(w.coverage.as_ref(), "objective.coverage")?,
+            regularity: weight(w.regularity.as_ref(), "objective.regularity")?,
+            legs: weight(w.legs.as_ref(), "objective.legs")?,
+            clashes: weight(w.clashes.as_ref(), "objective.clashes")?,
+            curvature: weight(w.curvature.as_ref(), "objective.curvature")?,
+            rings: weight(w.rings.as_ref(), "objective.rings")?,
+            bending: weight(w.bending.as_ref(), "objective.bending")?,
+        },
+    };
+    let (mut defect_deg, mut pattern) = (0.0, Pattern::Constant);
+    if let Some(t) = &r.target {
+        let t = t.get_ref();
+        if let Some(d) = &t.defect {
+            defect_deg = super::finite(d, "target.defect")?;
+        }
+        if let Some(p) = &t.pattern {
+            pattern = match p.get_ref().as_str() {
+                "constant" => Pattern::Constant,
+                "checkerboard" => Pattern::Checkerboard,
+                other => {
+                    return Err(Diagnostic::new(
+                        "design",
+                        format!("unknown curvature pattern \"{other}\""),
+                    )
+                    .at(p.span())
+                    .hint("pattern is \"constant\" or \"checkerboard\""));
+                }
+            };
+        }
+    }
+    let mut require = Vec::new();
+    if let Some(q) = &r.require {
+        let q = q.get_ref();
+        for (name, n) in [
+            ("max_distance", &q.max_distance),
+            ("max_boundary_distance", &q.max_boundary_distance),
+            ("min_coverage", &q.min_coverage),
+            ("max_area_ratio", &q.max_area_ratio),
+            ("min_positive", &q.min_positive),
+            ("min_negative", &q.min_negative),
+            ("max_mean_defect", &q.max_mean_defect),
+            ("min_mean_defect", &q.min_mean_defect),
+            ("max_k_spread", &q.max_k_spread),
+            ("max_front_gap", &q.max_front_gap),
+            ("max_turn_spread", &q.max_turn_spread),
+            ("max_clashes", &q.max_clashes),
+            ("min_bumps", &q.min_bumps),
+            ("min_leg", &q.min_leg),
+            ("min_dimples", &q.min_dimples),
+        ] {
+            if let Some(n) = n {
+                require.push(Requirement {
+                    name,
+                    bound: super::finite(n, &format!("require.{name}"))?,
+                    span: n.span(),
+                });
+            }
+        }
+    }
+    Ok(Optimise {
+        vary,
+        budget,
+        seed,
+        step,
+        weights,
+        defect_deg,
+        pattern,
+        require,
+        span: raw.span(),
+    })
+}
