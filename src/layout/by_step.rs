@@ -1,0 +1,205 @@
+//! Nesting by assembly step, for a maker who cuts and assembles row by row:
+//! every lane runs along the sheet's longer side, each step's strips fill a
+//! run of lanes of their own (no lane holds two steps) in assembly order
+//! (the step's strips in ID order, next-fit, so a lane reads like the row),
+//! and the steps follow each other lane after lane, sheet after sheet. A
+//! step that does not fit what is left of a sheet starts a new sheet when a
+//! whole sheet holds it, so no step is split across sheets unless it is
+//! larger than a sheet. The test piece takes the first lane of sheet 1.
+
+use super::{Layout, Placement, Sheet};
+use crate::fabrication::SheetSpec;
+
+/// Lanes of a sheet, all along its longer usable side: (x, y, rotated).
+fn lanes(width: f64, sheet: &SheetSpec) -> (Vec<(f64, f64, bool)>, f64) {
+    let (uw, uh) = sheet.usable();
+    let (g, m) = (sheet.gap, sheet.margin);
+    let rotated = uh > uw;
+    let (run, span) = if rotated { (uh, uw) } else { (uw, uh) };
+    let count = ((span + g) / (width + g)).floor().max(1.0) as usize;
+    let lanes = (0..count)
+        .map(|r| {
+            let offset = m + r as f64 * (width + g);
+            if rotated {
+                (offset, m, true)
+            } else {
+                (m, offset, false)
+            }
+        })
+        .collect();
+    (lanes, run)
+}
+
+/// Next-fit of `parts` (in order) into lanes from `lane` on: each part's
+/// lane and its offset along it, or None once the sheet's lanes run out.
+fn next_fit(
+    parts: &[usize],
+    lengths: &[f64],
+    lane: usize,
+    count: usize,
+    run: f64,
+    gap: f64,
+) -> Vec<Option<(usize, f64)>> {
+    let (mut lane, mut used) = (lane, 0.0);
+    parts
+        .iter()
+        .map(|&p| {
+            if used > 0.0 && used + lengths[p] > run + 1e-9 {
+                lane += 1;
+                used = 0.0;
+            }
+            if lane >= count {
+                return None;
+            }
+            let at = used;
+            used += lengths[p] + gap;
+            Some((lane, at))
+        })
+        .collect()
+}
+
+/// Nest with each step's parts together (see the module comment). `step_of`
+/// gives each part's assembly step; parts keep their index order within a
+/// step. The test piece (outline length) goes first if given.
+pub fn nest_by_step(
+    lengths: &[f64],
+    width: f64,
+    sheet: &SheetSpec,
+    test_piece: Option<f64>,
+    step_of: &[usize],
+) -> Layout {
+    let n = lengths.len();
+    let all: Vec<f64> = lengths.iter().copied().chain(test_piece).collect();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&p| (step_of[p], p));
+    // Runs of one step each; the test piece is a run of its own.
+    let mut runs: Vec<Vec<usize>> = Vec::new();
+    if test_piece.is_some() {
+        runs.push(vec![n]);
+    }
+    for &p in &order {
+        match runs.last_mut() {
+            Some(r) if r[0] < n && step_of[r[0]] == step_of[p] => r.push(p),
+            _ => runs.push(vec![p]),
+        }
+    }
+    let (lanes, run) = lanes(width, sheet);
+    let count = lanes.len();
+    let mut sheets = vec![Sheet::default()];
+    let mut lane = 0;
+    for parts in runs {
+        let mut rest: &[usize] = &parts;
+        let fit = next_fit(rest, &all, lane, count, run, sheet.gap);
+        // A step that overflows this sheet starts a fresh one if a whole sheet holds it.
+        if lane > 0
+            && fit.iter().any(Option::is_none)
+            && next_fit(rest, &all, 0, count, run, sheet.gap)
+                .iter()
+                .all(Option::is_some)
+        {
+            sheets.push(Sheet::default());
+            lane = 0;
+        }
+        while !rest.is_empty() {
+            let fit = next_fit(rest, &all, lane, count, run, sheet.gap);
+            let placed = fit.iter().take_while(|f| f.is_some()).count();
+            let current = sheets.last_mut().expect("a sheet");
+            for (&p, f) in rest.iter().zip(&fit).take(placed) {
+                let (l, along) = f.expect("placed");
+                let (x, y, rotated) = lanes[l];
+                let placement = Placement {
+                    part: p,
+                    x: if rotated { x } else { x + along },
+                    y: if rotated { y + along } else { y },
+                    rotated,
+                };
+                if p == n {
+                    current.test_piece = Some(placement);
+                } else {
+                    current.placements.push(placement);
+                }
+                lane = l + 1;
+            }
+            assert!(
+                placed > 0 || !current.placements.is_empty() || current.test_piece.is_some(),
+                "a part longer than the sheet reached nesting"
+            );
+            rest = &rest[placed..];
+            if !rest.is_empty() {
+                sheets.push(Sheet::default());
+                lane = 0;
+            }
+        }
+    }
+    for s in &mut sheets {
+        s.placements.sort_by_key(|p| p.part);
+    }
+    sheets.retain(|s| !s.placements.is_empty() || s.test_piece.is_some());
+    Layout {
+        sheet: sheet.clone(),
+        part_width: width,
+        lengths: lengths.to_vec(),
+        test_piece,
+        sheets,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sheet() -> SheetSpec {
+        // Usable 100 x 40: lanes of 100 along x, pitch 12, 3 lanes.
+        SheetSpec {
+            name: "t".into(),
+            width: 110.0,
+            height: 50.0,
+            margin: 5.0,
+            gap: 2.0,
+        }
+    }
+
+    #[test]
+    fn steps_keep_to_their_lanes_and_to_one_sheet_when_they_can() {
+        // Step 0: three parts of 45 (two lanes); step 1: two of 30 (one
+        // lane); step 2: four of 45 (two lanes: does not fit the one lane
+        // left, so it starts sheet 2).
+        let lengths = [45.0, 45.0, 45.0, 30.0, 30.0, 45.0, 45.0, 45.0, 45.0];
+        let step_of = [0, 0, 0, 1, 1, 2, 2, 2, 2];
+        let layout = nest_by_step(&lengths, 10.0, &sheet(), None, &step_of);
+        assert_eq!(layout.sheets.len(), 2);
+        let lane = |p: &Placement| ((p.y - 5.0) / 12.0).round() as usize;
+        let on = |s: usize| -> Vec<(usize, usize, f64)> {
+            layout.sheets[s]
+                .placements
+                .iter()
+                .map(|p| (p.part, lane(p), p.x))
+                .collect()
+        };
+        assert_eq!(
+            on(0),
+            vec![
+                (0, 0, 5.0),
+                (1, 0, 52.0),
+                (2, 1, 5.0),
+                (3, 2, 5.0),
+                (4, 2, 37.0)
+            ]
+        );
+        assert_eq!(
+            on(1),
+            vec![(5, 0, 5.0), (6, 0, 52.0), (7, 1, 5.0), (8, 1, 52.0)]
+        );
+    }
+
+    #[test]
+    fn a_step_larger_than_a_sheet_runs_on() {
+        let lengths = [90.0; 5];
+        let layout = nest_by_step(&lengths, 10.0, &sheet(), Some(60.0), &[0; 5]);
+        // Sheet 1: the test piece's lane, then two parts; sheet 2: three.
+        assert_eq!(layout.sheets.len(), 2);
+        assert!(layout.sheets[0].test_piece.is_some());
+        assert_eq!(layout.sheets[0].placements.len(), 2);
+        assert_eq!(layout.sheets[1].placements.len(), 3);
+    }
+}
