@@ -143,6 +143,15 @@ pub fn assemble_with(
         .map(|i| {
             let mut page = sheet_page(&parts.strips, &layout, i, fab, &meta);
             crate::drawing::colours::apply(&mut page, fab.colours);
+            if fab.tabs > 0.0 {
+                page.metadata.push((
+                    "tabs".into(),
+                    format!(
+                        "{} mm gaps left uncut in each outline (holding tabs; the bridge is narrower by the kerf)",
+                        fab.tabs
+                    ),
+                ));
+            }
             page
         })
         .collect();
