@@ -335,7 +335,13 @@ impl Build {
     pub fn sheet_advice(&self) -> Option<String> {
         let best = smallest(&self.sheet_options)?;
         let fab = &self.design.fabrication;
-        let sheets = |n: usize| if n == 1 { "1 sheet".to_string() } else { format!("{n} sheets") };
+        let sheets = |n: usize| {
+            if n == 1 {
+                "1 sheet".to_string()
+            } else {
+                format!("{n} sheets")
+            }
+        };
         let n = best.sheets.expect("a preset that holds the job");
         let what = format!(
             "{} ({} x {} mm), {} at {:.1}% utilisation",
@@ -346,8 +352,13 @@ impl Build {
             100.0 * best.utilisation
         );
         Some(if fab.sheet_auto {
-            format!("sheet advice: --sheet auto picked the smallest preset that holds the job: {what}")
-        } else if fab.sheet.name == best.name && fab.sheet.width == best.width && fab.sheet.height == best.height {
+            format!(
+                "sheet advice: --sheet auto picked the smallest preset that holds the job: {what}"
+            )
+        } else if fab.sheet.name == best.name
+            && fab.sheet.width == best.width
+            && fab.sheet.height == best.height
+        {
             format!("sheet advice: the sheet is the smallest preset that holds the job: {what}")
         } else {
             format!(

@@ -721,3 +721,354 @@ fn random_designs_leave_no_strip_unidentifiable() {
     }
     assert!(built >= 10, "only {built} random designs built");
 }
+
+// Sheet advice, cutting by assembly step and holding tabs (issue 13, items 8 and 9).
+
+#[test]
+fn check_takes_the_build_flags_and_sheet_auto_picks_the_smallest_preset() {
+    use crate::cli::{karigami, repo, scratch};
+    use serde_json::Value;
+    let dir = scratch("maker-sheet-advice");
+    let flat = repo().join("examples/flat-sheet.toml");
+    let f = flat.to_str().unwrap();
+    // The recipe's 600 x 400 sheet holds the flat sheet at 28 %; A3 holds
+    // it on one sheet at 54 % (measured: 0.2819 and 0.5419).
+    let out = karigami(&["check", f], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("utilisation 28.2%")
+            && text.contains(
+                "sheet advice: the smallest preset that holds the job is a3 (420 x 297 mm), 1 sheet at 54.2% utilisation"
+            ),
+        "{text}"
+    );
+    let out = karigami(&["check", f, "--sheet", "auto", "--json"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let b = &v[0]["build"];
+    assert_eq!(b["sheet"]["name"], "a3");
+    assert_eq!(b["sheets"], 1);
+    assert_eq!(b["sheet_auto"], true);
+    let u = b["utilisation"].as_f64().unwrap();
+    assert!((u - 0.5419).abs() < 5e-4, "{u}");
+    // The pick is the smallest: no preset needs fewer sheets, and every
+    // other one-sheet preset is larger than A3.
+    let options = b["sheet_options"].as_array().unwrap();
+    assert_eq!(options.len(), karigami::fabrication::SHEET_PRESETS.len());
+    let area = |o: &Value| o["width_mm"].as_f64().unwrap() * o["height_mm"].as_f64().unwrap();
+    for o in options {
+        let n = o["sheets"].as_u64().unwrap();
+        assert!(n >= 1);
+        if o["name"] != "a3" {
+            assert!(n > 1 || area(o) > 420.0 * 297.0, "{o}");
+        }
+    }
+    let a4 = options.iter().find(|o| o["name"] == "a4").unwrap();
+    assert_eq!(a4["sheets"], 2);
+    let default = options.iter().find(|o| o["name"] == "600x400").unwrap();
+    assert!((default["utilisation"].as_f64().unwrap() - 0.2819).abs() < 5e-4);
+    assert_eq!(b["sheet_advice"]["name"], "a3");
+    // Every fabrication flag of build is a flag of check.
+    let out = karigami(
+        &[
+            "check",
+            f,
+            "--sheet",
+            "a3",
+            "--eyelet",
+            "5/32in",
+            "--strip-width",
+            "12",
+            "--kerf",
+            "0.2",
+            "--compensate-kerf",
+            "--label",
+            "compact",
+            "--paper",
+            "letter",
+            "--no-test-piece",
+            "--colours",
+            "boxes",
+            "--group-by-step",
+            "--tabs",
+            "0.5",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let b = &v[0]["build"];
+    assert_eq!(b["sheet"]["name"], "a3");
+    assert_eq!(b["group_by_step"], true);
+    assert_eq!(b["tabs_mm"], 0.5);
+    // Part types in check --json: code, count, length, pitches, engraving.
+    let types = b["part_types"].as_array().unwrap();
+    let strips: u64 = types.iter().map(|t| t["count"].as_u64().unwrap()).sum();
+    assert_eq!(strips, b["strips"].as_u64().unwrap());
+    for t in types {
+        let e = &t["engraved"];
+        let engraved: u64 = ["id", "type_code", "dot_code", "arrow_only"]
+            .iter()
+            .map(|k| e[k].as_u64().unwrap())
+            .sum();
+        assert_eq!(engraved, t["count"].as_u64().unwrap(), "{t}");
+        let p = t["pitches_mm"].as_array().unwrap();
+        assert!(t["length_mm"].as_f64().unwrap() > p[0].as_f64().unwrap() + p[1].as_f64().unwrap());
+    }
+}
+
+#[test]
+fn a_recipe_can_ask_for_the_smallest_sheet() {
+    let text =
+        std::fs::read_to_string(crate::cli::repo().join("examples/flat-sheet.toml")).unwrap();
+    let auto = build(
+        parse_with(
+            &format!("{text}\n[sheet]\npreset = \"auto\"\n"),
+            "x",
+            &Overrides::default(),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let a3 = build_example(
+        &crate::cli::repo().join("examples/flat-sheet.toml"),
+        &Overrides {
+            sheet: Some("a3".into()),
+            ..Overrides::default()
+        },
+    );
+    assert_eq!(auto.design.fabrication.sheet, a3.design.fabrication.sheet);
+    assert_eq!(auto.layout, a3.layout);
+    // A size beside "auto" is a contradiction, pointed at.
+    let err = parse_with(
+        &format!("{text}\n[sheet]\npreset = \"auto\"\nwidth = 500\n"),
+        "x",
+        &Overrides::default(),
+    )
+    .unwrap_err();
+    assert!(err.message.contains("auto"), "{}", err.message);
+    assert!(
+        err.line_col(&format!(
+            "{text}\n[sheet]\npreset = \"auto\"\nwidth = 500\n"
+        ))
+        .is_some()
+    );
+}
+
+#[test]
+fn cutting_by_step_keeps_each_steps_strips_in_lanes_of_their_own_in_step_order() {
+    for (name, sheet) in [("torus", "a3"), ("flat-sheet", "a4"), ("disk", "600x400")] {
+        let b = build_example(
+            &crate::cli::repo().join(format!("examples/{name}.toml")),
+            &Overrides {
+                sheet: Some(sheet.into()),
+                group_by_step: Some(true),
+                ..Overrides::default()
+            },
+        );
+        let step = |part: usize| b.lattice.step_of(b.parts.strips[part].rod / 2);
+        // Steps in reading order: sheet by sheet, lane by lane.
+        let mut order: Vec<usize> = Vec::new();
+        let mut placed = 0;
+        for (i, s) in b.layout.sheets.iter().enumerate() {
+            // A lane is a row of parts at one offset across it.
+            let mut lanes: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+            for p in &s.placements {
+                let across = if p.rotated { p.x } else { p.y };
+                lanes
+                    .entry((across * 1000.0).round() as i64)
+                    .or_default()
+                    .push(p.part);
+            }
+            if let Some(t) = s.test_piece {
+                assert_eq!(i, 0);
+                let across = if t.rotated { t.x } else { t.y };
+                assert!(lanes.keys().all(|&k| k > (across * 1000.0).round() as i64));
+            }
+            for parts in lanes.values() {
+                let steps: Vec<usize> = parts.iter().map(|&p| step(p)).collect();
+                assert!(
+                    steps.iter().all(|&s| s == steps[0]),
+                    "{name}: a lane of two steps {steps:?}"
+                );
+                order.push(steps[0]);
+            }
+            placed += s.placements.len();
+        }
+        assert_eq!(placed, b.parts.strips.len());
+        assert!(
+            order.windows(2).all(|w| w[0] <= w[1]),
+            "{name}: steps out of order {order:?}"
+        );
+        assert_eq!(order.last().copied(), Some(b.lattice.steps() - 1));
+        // The drawn sheets hold the same strips as the layout.
+        for (page, s) in b.pages.iter().zip(&b.layout.sheets) {
+            let ids: Vec<&str> = s
+                .placements
+                .iter()
+                .map(|p| b.parts.strips[p.part].id.as_str())
+                .collect();
+            for id in ids {
+                assert!(page.groups.iter().any(|g| g.id == id));
+            }
+        }
+    }
+}
+
+/// Run a tests/tools script on a file; None when Python or its module is missing.
+fn python_tool(script: &str, file: &std::path::Path) -> Option<serde_json::Value> {
+    let script = crate::cli::repo().join("tests/tools").join(script);
+    let out = crate::thirdparty::run(
+        "python3",
+        &[script.to_str().unwrap(), file.to_str().unwrap()],
+    )?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none()
+                && err.contains("ModuleNotFoundError"),
+            "{err}"
+        );
+        eprintln!("note: {} needs a Python module: {err}", script.display());
+        return None;
+    }
+    Some(serde_json::from_slice(&out.stdout).unwrap())
+}
+
+#[test]
+fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
+    use karigami::drawing::tabs::centres;
+    use karigami::parts::Outline;
+    use std::f64::consts::PI;
+    let tab = 0.5;
+    for compensate in [false, true] {
+        let b = build_example(
+            &crate::cli::repo().join("examples/flat-sheet.toml"),
+            &Overrides {
+                sheet: Some("a3".into()),
+                tabs: Some(tab),
+                compensate_kerf: Some(compensate),
+                ..Overrides::default()
+            },
+        );
+        let fab = &b.design.fabrication;
+        // From the drawing model: per outline, the perimeter of the full
+        // stadium less what is drawn is the tab count times the tab width.
+        let mut expected: BTreeMap<String, (usize, f64)> = BTreeMap::new();
+        for g in b
+            .pages
+            .iter()
+            .flat_map(|p| &p.groups)
+            .filter(|g| g.id != "reference")
+        {
+            let length = if g.id == TEST_PIECE_ID {
+                karigami::parts::test_piece::LENGTH
+            } else {
+                b.parts.strips.iter().find(|s| s.id == g.id).unwrap().length
+            };
+            let o = Outline::of(length, fab);
+            let r = o.width / 2.0;
+            let (top, bottom) = centres(-o.grow + r, length + o.grow - r, tab);
+            let tabs = top.len() + bottom.len();
+            assert!(tabs >= 2, "{}", g.id);
+            let pieces: Vec<&Item> = g
+                .items
+                .iter()
+                .filter(|i| i.layer == Layer::Outlines)
+                .collect();
+            assert_eq!(pieces.len(), tabs, "{}: one piece between two tabs", g.id);
+            assert!(
+                pieces
+                    .iter()
+                    .all(|i| matches!(i.shape, Shape::Path { closed: false, .. }))
+            );
+            let drawn: f64 = pieces.iter().map(|i| i.shape.length()).sum();
+            let perimeter = 2.0 * (o.length - o.width) + PI * o.width;
+            let uncut = perimeter - drawn;
+            assert!(
+                (uncut - tabs as f64 * tab).abs() < 0.01,
+                "{}: {uncut} mm uncut for {tabs} tabs",
+                g.id
+            );
+            expected.insert(g.id.clone(), (tabs, perimeter));
+        }
+        if compensate {
+            continue;
+        }
+        let dir = crate::cli::scratch("maker-tabs");
+        let page = &b.pages[0];
+        let svg = dir.join("sheet.svg");
+        std::fs::write(&svg, karigami::write::svg::write(page)).unwrap();
+        // Read back with svgelements: the same pieces and gaps.
+        if let Some(v) = python_tool("outline_pieces.py", &svg) {
+            let groups = v["groups"].as_object().unwrap();
+            assert_eq!(groups.len(), expected.len());
+            for (id, (tabs, perimeter)) in &expected {
+                let [n, len] = [&groups[id][0], &groups[id][1]];
+                assert_eq!(n.as_u64().unwrap() as usize, *tabs, "{id}");
+                let uncut = perimeter - len.as_f64().unwrap();
+                assert!(
+                    (uncut - *tabs as f64 * tab).abs() < 0.01,
+                    "{id}: svgelements reads {uncut} mm uncut"
+                );
+            }
+        }
+        // DXF (ezdxf): open polylines only, the same total gap.
+        let dxf = dir.join("sheet.dxf");
+        std::fs::write(&dxf, karigami::write::dxf::write(page)).unwrap();
+        if let Some(v) = python_tool("outline_pieces.py", &dxf) {
+            let tabs: usize = expected.values().map(|e| e.0).sum();
+            let perimeters: f64 = expected.values().map(|e| e.1).sum();
+            assert_eq!(v["count"].as_u64().unwrap() as usize, tabs);
+            assert_eq!(v["closed"], 0);
+            let uncut = perimeters - v["length"].as_f64().unwrap();
+            assert!(
+                (uncut - tabs as f64 * tab).abs() < 0.01 * tabs as f64,
+                "{uncut}"
+            );
+        }
+        // LightBurn: one open path per piece on the outlines layer.
+        let lbrn = read_lbrn(&String::from_utf8(karigami::write::lbrn2::write(page)).unwrap());
+        let outlines = *lbrn
+            .layers
+            .iter()
+            .find(|(_, l)| l.0.starts_with("outlines"))
+            .unwrap()
+            .0;
+        let paths = lbrn.paths.iter().filter(|p| p.0 == outlines).count();
+        assert_eq!(paths, expected.values().map(|e| e.0).sum::<usize>());
+    }
+    // Without tabs, each outline stays one closed path.
+    let b = build_example(
+        &crate::cli::repo().join("examples/flat-sheet.toml"),
+        &Overrides::default(),
+    );
+    for g in b.pages[0].groups.iter().filter(|g| g.id != "reference") {
+        let pieces: Vec<&Item> = g
+            .items
+            .iter()
+            .filter(|i| i.layer == Layer::Outlines)
+            .collect();
+        assert!(matches!(
+            pieces[..],
+            [Item {
+                shape: Shape::Path { closed: true, .. },
+                ..
+            }]
+        ));
+    }
+}

@@ -356,7 +356,10 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
         if f.tabs > tab_limit {
             return Err(Diagnostic::new(
                 "design",
-                format!("laser.tabs is {} mm, wider than the {tab_limit} mm strips", f.tabs),
+                format!(
+                    "laser.tabs is {} mm, wider than the {tab_limit} mm strips",
+                    f.tabs
+                ),
             )
             .at(t.span())
             .hint("holding tabs are small bridges: 0.3 to 1 mm holds ABS and breaks by hand"));
@@ -367,7 +370,10 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
         if f.tabs > tab_limit {
             return Err(Diagnostic::new(
                 "usage",
-                format!("--tabs is {} mm, wider than the {tab_limit} mm strips", f.tabs),
+                format!(
+                    "--tabs is {} mm, wider than the {tab_limit} mm strips",
+                    f.tabs
+                ),
             )
             .hint("holding tabs are small bridges: 0.3 to 1 mm holds ABS and breaks by hand"));
         }

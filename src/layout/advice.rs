@@ -97,7 +97,10 @@ mod tests {
             ..job
         };
         let options = sheet_options(&job, &base);
-        assert_eq!(options.iter().find(|o| o.name == "a4").unwrap().sheets, None);
+        assert_eq!(
+            options.iter().find(|o| o.name == "a4").unwrap().sheets,
+            None
+        );
         assert_eq!(smallest(&options).unwrap().name, "a3");
     }
 }

@@ -364,7 +364,15 @@ pub fn write(page: &Page) -> Vec<u8> {
                 for stroke in crate::drawing::text::strokes(text) {
                     let vertices: Vec<(DVec2, f64)> =
                         stroke.into_iter().map(|p| (p, 0.0)).collect();
-                    lwpolyline(&mut d, model_record, layer, aci(layer), &vertices, false, &flip);
+                    lwpolyline(
+                        &mut d,
+                        model_record,
+                        layer,
+                        aci(layer),
+                        &vertices,
+                        false,
+                        &flip,
+                    );
                 }
             }
         }
