@@ -870,8 +870,13 @@ fn a_recipe_can_ask_for_the_smallest_sheet() {
 }
 
 #[test]
-fn cutting_by_step_keeps_each_steps_strips_in_lanes_of_their_own_in_step_order() {
-    for (name, sheet) in [("torus", "a3"), ("flat-sheet", "a4"), ("disk", "600x400")] {
+fn cutting_by_step_keeps_each_steps_strips_together_in_step_order() {
+    for (name, sheet) in [
+        ("torus", "a3"),
+        ("flat-sheet", "a4"),
+        ("disk", "600x400"),
+        ("bowl", "a3"),
+    ] {
         let b = build_example(
             &crate::cli::repo().join(format!("examples/{name}.toml")),
             &Overrides {
@@ -881,49 +886,56 @@ fn cutting_by_step_keeps_each_steps_strips_in_lanes_of_their_own_in_step_order()
             },
         );
         let step = |part: usize| b.lattice.step_of(b.parts.strips[part].rod / 2);
-        // Steps in reading order: sheet by sheet, lane by lane.
-        let mut order: Vec<usize> = Vec::new();
-        let mut placed = 0;
+        // Every lane's steps in order along it, sheet by sheet, lane by lane.
+        let mut lanes: Vec<Vec<usize>> = Vec::new();
         for (i, s) in b.layout.sheets.iter().enumerate() {
             // A lane is a row of parts at one offset across it.
-            let mut lanes: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+            let mut on: BTreeMap<i64, Vec<(i64, usize)>> = BTreeMap::new();
+            let key = |v: f64| (v * 1000.0).round() as i64;
             for p in &s.placements {
-                let across = if p.rotated { p.x } else { p.y };
-                lanes
-                    .entry((across * 1000.0).round() as i64)
+                let (across, along) = if p.rotated { (p.x, p.y) } else { (p.y, p.x) };
+                on.entry(key(across))
                     .or_default()
-                    .push(p.part);
+                    .push((key(along), step(p.part)));
             }
             if let Some(t) = s.test_piece {
                 assert_eq!(i, 0);
-                let across = if t.rotated { t.x } else { t.y };
-                assert!(lanes.keys().all(|&k| k > (across * 1000.0).round() as i64));
+                let (across, along) = if t.rotated { (t.x, t.y) } else { (t.y, t.x) };
+                // First on its sheet: no strip before it.
+                assert!(on.iter().all(|(&k, v)| k > key(across)
+                    || (k == key(across) && v.iter().all(|&(a, _)| a > key(along)))));
             }
-            for parts in lanes.values() {
-                let steps: Vec<usize> = parts.iter().map(|&p| step(p)).collect();
-                assert!(
-                    steps.iter().all(|&s| s == steps[0]),
-                    "{name}: a lane of two steps {steps:?}"
-                );
-                order.push(steps[0]);
+            for mut lane in on.into_values() {
+                lane.sort();
+                lanes.push(lane.into_iter().map(|(_, s)| s).collect());
             }
-            placed += s.placements.len();
         }
-        assert_eq!(placed, b.parts.strips.len());
+        let order: Vec<usize> = lanes.iter().flatten().copied().collect();
+        assert_eq!(order.len(), b.parts.strips.len());
         assert!(
             order.windows(2).all(|w| w[0] <= w[1]),
             "{name}: steps out of order {order:?}"
         );
         assert_eq!(order.last().copied(), Some(b.lattice.steps() - 1));
+        // A lane shared by steps holds every step after its first whole.
+        for (i, lane) in lanes.iter().enumerate() {
+            for &s in lane.iter().skip_while(|&&s| s == lane[0]) {
+                let elsewhere = lanes
+                    .iter()
+                    .enumerate()
+                    .any(|(j, l)| j != i && l.contains(&s));
+                assert!(!elsewhere, "{name}: step {s} split across lanes it shares");
+            }
+        }
+        // Row steps (many strips) never share a lane.
+        if name != "bowl" {
+            assert!(lanes.iter().all(|l| l.iter().all(|&s| s == l[0])), "{name}");
+        }
         // The drawn sheets hold the same strips as the layout.
         for (page, s) in b.pages.iter().zip(&b.layout.sheets) {
-            let ids: Vec<&str> = s
-                .placements
-                .iter()
-                .map(|p| b.parts.strips[p.part].id.as_str())
-                .collect();
-            for id in ids {
-                assert!(page.groups.iter().any(|g| g.id == id));
+            for p in &s.placements {
+                let id = &b.parts.strips[p.part].id;
+                assert!(page.groups.iter().any(|g| &g.id == id));
             }
         }
     }

@@ -1,11 +1,13 @@
 //! Nesting by assembly step, for a maker who cuts and assembles row by row:
-//! every lane runs along the sheet's longer side, each step's strips fill a
-//! run of lanes of their own (no lane holds two steps) in assembly order
-//! (the step's strips in ID order, next-fit, so a lane reads like the row),
-//! and the steps follow each other lane after lane, sheet after sheet. A
+//! every lane runs along the sheet's longer side, and the steps follow each
+//! other in assembly order, lane after lane, sheet after sheet, each step's
+//! strips in ID order (next-fit, so a lane reads like the row). A step
+//! starts a lane of its own unless it fits whole in what is left of the
+//! current lane (small steps, such as the one-cell steps of a helix, share
+//! lanes but are never split by a lane break they could have avoided). A
 //! step that does not fit what is left of a sheet starts a new sheet when a
 //! whole sheet holds it, so no step is split across sheets unless it is
-//! larger than a sheet. The test piece takes the first lane of sheet 1.
+//! larger than a sheet. The test piece comes first, on sheet 1.
 
 use super::{Layout, Placement, Sheet};
 use crate::fabrication::SheetSpec;
@@ -30,17 +32,18 @@ fn lanes(width: f64, sheet: &SheetSpec) -> (Vec<(f64, f64, bool)>, f64) {
     (lanes, run)
 }
 
-/// Next-fit of `parts` (in order) into lanes from `lane` on: each part's
-/// lane and its offset along it, or None once the sheet's lanes run out.
+/// Next-fit of `parts` (in order) into lanes from `lane` on, `used` of it
+/// taken already: each part's lane and its offset along it, or None once
+/// the sheet's lanes run out.
 fn next_fit(
     parts: &[usize],
     lengths: &[f64],
-    lane: usize,
+    (lane, used): (usize, f64),
     count: usize,
     run: f64,
     gap: f64,
 ) -> Vec<Option<(usize, f64)>> {
-    let (mut lane, mut used) = (lane, 0.0);
+    let (mut lane, mut used) = (lane, used);
     parts
         .iter()
         .map(|&p| {
@@ -86,22 +89,28 @@ pub fn nest_by_step(
     let (lanes, run) = lanes(width, sheet);
     let count = lanes.len();
     let mut sheets = vec![Sheet::default()];
-    let mut lane = 0;
+    // Where the next part goes: a lane and how much of it is taken.
+    let mut at = (0, 0.0);
+    let fresh = (0, 0.0);
     for parts in runs {
         let mut rest: &[usize] = &parts;
-        let fit = next_fit(rest, &all, lane, count, run, sheet.gap);
+        let fits = |from: (usize, f64)| -> Vec<Option<(usize, f64)>> {
+            next_fit(&parts, &all, from, count, run, sheet.gap)
+        };
+        // The tail of the current lane, if the whole step fits there; else a new lane.
+        if at.1 > 0.0 && !fits(at).iter().all(|f| f.is_some_and(|(l, _)| l == at.0)) {
+            at = (at.0 + 1, 0.0);
+        }
         // A step that overflows this sheet starts a fresh one if a whole sheet holds it.
-        if lane > 0
-            && fit.iter().any(Option::is_none)
-            && next_fit(rest, &all, 0, count, run, sheet.gap)
-                .iter()
-                .all(Option::is_some)
+        if at != fresh
+            && fits(at).iter().any(Option::is_none)
+            && fits(fresh).iter().all(Option::is_some)
         {
             sheets.push(Sheet::default());
-            lane = 0;
+            at = fresh;
         }
         while !rest.is_empty() {
-            let fit = next_fit(rest, &all, lane, count, run, sheet.gap);
+            let fit = next_fit(rest, &all, at, count, run, sheet.gap);
             let placed = fit.iter().take_while(|f| f.is_some()).count();
             let current = sheets.last_mut().expect("a sheet");
             for (&p, f) in rest.iter().zip(&fit).take(placed) {
@@ -118,7 +127,7 @@ pub fn nest_by_step(
                 } else {
                     current.placements.push(placement);
                 }
-                lane = l + 1;
+                at = (l, along + all[p] + sheet.gap);
             }
             assert!(
                 placed > 0 || !current.placements.is_empty() || current.test_piece.is_some(),
@@ -127,7 +136,7 @@ pub fn nest_by_step(
             rest = &rest[placed..];
             if !rest.is_empty() {
                 sheets.push(Sheet::default());
-                lane = 0;
+                at = fresh;
             }
         }
     }
@@ -193,10 +202,21 @@ mod tests {
     }
 
     #[test]
+    fn small_steps_share_a_lane_when_they_fit_whole() {
+        // One-cell steps of two 20 mm strips: two steps (88 mm) fill a lane
+        // of 100; the third step starts the next lane.
+        let lengths = [20.0; 6];
+        let layout = nest_by_step(&lengths, 10.0, &sheet(), None, &[0, 0, 1, 1, 2, 2]);
+        let lanes: Vec<f64> = layout.sheets[0].placements.iter().map(|p| p.y).collect();
+        assert_eq!(lanes, vec![5.0, 5.0, 5.0, 5.0, 17.0, 17.0]);
+    }
+
+    #[test]
     fn a_step_larger_than_a_sheet_runs_on() {
         let lengths = [90.0; 5];
         let layout = nest_by_step(&lengths, 10.0, &sheet(), Some(60.0), &[0; 5]);
-        // Sheet 1: the test piece's lane, then two parts; sheet 2: three.
+        // Sheet 1: the test piece, then two parts in lanes of their own
+        // (a part of 90 does not fit beside the piece); sheet 2: three.
         assert_eq!(layout.sheets.len(), 2);
         assert!(layout.sheets[0].test_piece.is_some());
         assert_eq!(layout.sheets[0].placements.len(), 2);
