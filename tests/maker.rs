@@ -462,9 +462,7 @@ fn read_lbrn(xml: &str) -> Lbrn {
                     _ => s.3 = v == "1",
                 }
             }
-            Event::Tag("Shape", Type::Start, a)
-                if a.get("Type").unwrap().to_string() == "Group" =>
-            {
+            Event::Tag("Shape", Type::Start, a) if *a.get("Type").unwrap() == "Group" => {
                 out.groups += 1;
             }
             Event::Tag("Shape", Type::Start, a) => {
@@ -1083,4 +1081,71 @@ fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
             }]
         ));
     }
+}
+
+#[test]
+fn dxf_layer_colours_follow_the_colour_preset() {
+    // (colour preset, ACI of holes, outlines, labels, reference)
+    for (preset, aci) in [("karigami", [5, 1, 7, 3]), ("boxes", [5, 7, 3, 1])] {
+        let b = build_example(
+            &crate::cli::repo().join("examples/flat-sheet.toml"),
+            &Overrides {
+                colours: Some(preset.into()),
+                ..Overrides::default()
+            },
+        );
+        let dxf = String::from_utf8(karigami::write::dxf::write(&b.pages[0])).unwrap();
+        let pairs: Vec<&str> = dxf.lines().map(str::trim).collect();
+        for (layer, want) in Layer::ALL.iter().zip(aci) {
+            let want = want.to_string();
+            // The LAYER table entry: name (2), flags (70), colour (62).
+            let table = pairs
+                .windows(6)
+                .find(|w| w[0] == "2" && w[1] == layer.name() && w[2] == "70" && w[4] == "62")
+                .unwrap_or_else(|| panic!("{preset}: no layer {}", layer.name()));
+            assert_eq!(table[5], want, "{preset}: layer {}", layer.name());
+            // Every entity on the layer: layer (8), colour (62).
+            let entities: Vec<&&str> = pairs
+                .windows(4)
+                .filter(|w| w[0] == "8" && w[1] == layer.name() && w[2] == "62")
+                .map(|w| &w[3])
+                .collect();
+            assert!(!entities.is_empty());
+            assert!(
+                entities.iter().all(|c| **c == want),
+                "{preset}: {}",
+                layer.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn tab_and_grouping_settings_are_checked() {
+    let text =
+        std::fs::read_to_string(crate::cli::repo().join("examples/flat-sheet.toml")).unwrap();
+    for (extra, says) in [
+        ("[laser]\ntabs = 12\n", "wider than the 10 mm strips"),
+        ("[laser]\ntabs = -1\n", "laser.tabs"),
+        ("[sheet]\ngroup = \"rows\"\n", "unknown sheet grouping"),
+    ] {
+        let source = format!("{text}\n{extra}");
+        let err = parse_with(&source, "x", &Overrides::default()).unwrap_err();
+        assert!(err.message.contains(says), "{extra}: {}", err.message);
+        let (line, _) = err.line_col(&source).expect("located");
+        assert_eq!(
+            source.lines().nth(line - 1).unwrap(),
+            extra.lines().nth(1).unwrap()
+        );
+    }
+    let err = parse_with(
+        &text,
+        "x",
+        &Overrides {
+            tabs: Some(f64::NAN),
+            ..Overrides::default()
+        },
+    )
+    .unwrap_err();
+    assert!(err.message.contains("--tabs"), "{}", err.message);
 }
