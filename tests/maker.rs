@@ -1149,3 +1149,30 @@ fn tab_and_grouping_settings_are_checked() {
     .unwrap_err();
     assert!(err.message.contains("--tabs"), "{}", err.message);
 }
+
+#[test]
+fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
+    let o = Overrides {
+        sheet: Some("auto".into()),
+        group_by_step: Some(true),
+        tabs: Some(0.5),
+        ..Overrides::default()
+    };
+    let path = crate::cli::repo().join("examples/bowl.toml");
+    let (a, b) = (build_example(&path, &o), build_example(&path, &o));
+    assert_eq!(a.design.fabrication.sheet.name, "12x24in");
+    for (p, q) in a.pages.iter().zip(&b.pages) {
+        assert_eq!(
+            karigami::write::svg::write(p),
+            karigami::write::svg::write(q)
+        );
+        assert_eq!(
+            karigami::write::dxf::write(p),
+            karigami::write::dxf::write(q)
+        );
+        assert_eq!(
+            karigami::write::lbrn2::write(p),
+            karigami::write::lbrn2::write(q)
+        );
+    }
+}
