@@ -8,7 +8,7 @@ use crate::drawing::{Meta, Page, sheet_page};
 use crate::guide::guide;
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Lattice, Report, verify};
-use crate::layout::{Bounds, Layout, nest_with};
+use crate::layout::{Bounds, Job, Layout, SheetOption, sheet_options, smallest};
 use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
 use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
@@ -35,6 +35,8 @@ pub struct Build {
     pub layout: Layout,
     /// One page per sheet.
     pub pages: Vec<Page>,
+    /// The job nested on every sheet preset (sheet advice), in preset order.
+    pub sheet_options: Vec<SheetOption>,
 }
 
 /// Grow, verify, make the parts and nest them. A design that fails
@@ -125,21 +127,21 @@ pub fn assemble_with(
         .site(worst.site.clone().unwrap_or_default())
         .hint("run `karigami check` for the full report; the design is too close to degenerate"));
     }
+    let mut design = design;
+    let parts = parts(&lattice, &design.fabrication).map_err(|e| locate(&design, e))?;
+    let (job, sheet_options) = sheet_advice(&design, &lattice, &parts);
+    if design.fabrication.sheet_auto {
+        // Every strip fits the longest preset (checked by `parts`), so one holds the job.
+        let best = smallest(&sheet_options).expect("a preset holds the job");
+        design.fabrication.sheet = best.spec(&design.fabrication.sheet);
+    }
     let fab = &design.fabrication;
-    let parts = parts(&lattice, fab).map_err(|e| locate(&design, e))?;
     if let Some(e) =
         crate::design::measure::measure(&design, &lattice).clash_error(&lattice, &design)
     {
         return Err(e);
     }
-    let lengths: Vec<f64> = parts
-        .strips
-        .iter()
-        .map(|s| Outline::of(s.length, fab).length)
-        .collect();
-    let width = Outline::of(0.0, fab).width;
-    let piece = crate::parts::test_piece(fab).map(|p| Outline::of(p.length, fab).length);
-    let layout = nest_with(&lengths, width, &fab.sheet, piece);
+    let layout = job.nest(&fab.sheet);
     let meta = Meta {
         design: design.name.clone(),
         recipe_hash: design.recipe_hash,
@@ -148,6 +150,15 @@ pub fn assemble_with(
         .map(|i| {
             let mut page = sheet_page(&parts.strips, &layout, i, fab, &meta);
             crate::drawing::colours::apply(&mut page, fab.colours);
+            if fab.tabs > 0.0 {
+                page.metadata.push((
+                    "tabs".into(),
+                    format!(
+                        "{} mm gaps left uncut in each outline (holding tabs; the bridge is narrower by the kerf)",
+                        fab.tabs
+                    ),
+                ));
+            }
             page
         })
         .collect();
@@ -160,7 +171,34 @@ pub fn assemble_with(
         parts,
         layout,
         pages,
+        sheet_options,
     })
+}
+
+/// What there is to nest and how it nests on every sheet preset.
+fn sheet_advice(design: &Design, lattice: &Lattice, parts: &Parts) -> (Job, Vec<SheetOption>) {
+    let fab = &design.fabrication;
+    let job = Job {
+        lengths: parts
+            .strips
+            .iter()
+            .map(|s| Outline::of(s.length, fab).length)
+            .collect(),
+        width: Outline::of(0.0, fab).width,
+        test_piece: fab
+            .test_piece
+            .then(|| Outline::of(crate::parts::test_piece::LENGTH, fab).length),
+        // Strip index = rod id; a rod's cell is id / 2.
+        steps: fab.group_by_step.then(|| {
+            parts
+                .strips
+                .iter()
+                .map(|s| lattice.step_of(s.rod / 2))
+                .collect()
+        }),
+    };
+    let options = sheet_options(&job, &fab.sheet);
+    (job, options)
 }
 
 fn locate(design: &Design, e: PartsError) -> Diagnostic {
@@ -281,6 +319,9 @@ impl Build {
             100.0 * self.layout.utilisation(),
             self.cut_length() / 1000.0
         );
+        if let Some(advice) = self.sheet_advice() {
+            let _ = writeln!(out, "{advice}");
+        }
         // A terminal gets the first few warnings; report.txt has them all.
         let shown = if full { self.parts.warnings.len() } else { 5 };
         for w in self.parts.warnings.iter().take(shown) {
@@ -302,5 +343,45 @@ impl Build {
             );
         }
         out
+    }
+}
+
+impl Build {
+    /// One line of sheet advice: the smallest preset that holds the job and
+    /// its utilisation, against the sheet used.
+    pub fn sheet_advice(&self) -> Option<String> {
+        let best = smallest(&self.sheet_options)?;
+        let fab = &self.design.fabrication;
+        let sheets = |n: usize| {
+            if n == 1 {
+                "1 sheet".to_string()
+            } else {
+                format!("{n} sheets")
+            }
+        };
+        let n = best.sheets.expect("a preset that holds the job");
+        let what = format!(
+            "{} ({} x {} mm), {} at {:.1}% utilisation",
+            best.name,
+            best.width,
+            best.height,
+            sheets(n),
+            100.0 * best.utilisation
+        );
+        Some(if fab.sheet_auto {
+            format!(
+                "sheet advice: --sheet auto picked the smallest preset that holds the job: {what}"
+            )
+        } else if fab.sheet.name == best.name
+            && fab.sheet.width == best.width
+            && fab.sheet.height == best.height
+        {
+            format!("sheet advice: the sheet is the smallest preset that holds the job: {what}")
+        } else {
+            format!(
+                "sheet advice: the smallest preset that holds the job is {what} (--sheet {} or --sheet auto)",
+                best.name
+            )
+        })
     }
 }

@@ -134,6 +134,26 @@ pub struct Fabrication {
     pub test_piece: bool,
     /// Which colour each layer of the cut files gets.
     pub colours: ColourPreset,
+    // Sheet advice, cutting by assembly step and holding tabs (issue 13).
+    /// `preset = "auto"`: the build nests on the smallest preset that holds
+    /// the job (`sheet` is then the preset with the longest side until it does).
+    pub sheet_auto: bool,
+    /// Each assembly step's strips in lanes of their own, steps in order.
+    pub group_by_step: bool,
+    /// Width (mm) of the uncut bridges left in each outline; 0 for none.
+    pub tabs: f64,
+}
+
+/// `--sheet auto` / `preset = "auto"`.
+pub const SHEET_AUTO: &str = "auto";
+
+/// The preset with the longest usable side: what `auto` checks strips
+/// against before it picks a sheet.
+pub fn longest_preset() -> (&'static str, f64, f64) {
+    *SHEET_PRESETS
+        .iter()
+        .max_by(|a, b| a.1.max(a.2).total_cmp(&b.1.max(b.2)))
+        .expect("presets")
 }
 
 /// Default tolerance (mm) within which two strips are the same part.
@@ -196,6 +216,9 @@ impl Default for Fabrication {
             part_tolerance: PART_TOLERANCE,
             test_piece: true,
             colours: ColourPreset::Karigami,
+            sheet_auto: false,
+            group_by_step: false,
+            tabs: 0.0,
         }
     }
 }

@@ -171,9 +171,21 @@ pub fn build_text(b: &Build) -> String {
         } else {
             ""
         };
+        let mut steps: Vec<usize> = sheet
+            .placements
+            .iter()
+            .map(|p| b.lattice.step_of(b.parts.strips[p.part].rod / 2) + 1)
+            .collect();
+        steps.sort_unstable();
+        steps.dedup();
+        let steps = match (fab.group_by_step, steps.first(), steps.last()) {
+            (true, Some(a), Some(z)) if a == z => format!(", step {a}"),
+            (true, Some(a), Some(z)) => format!(", steps {a} to {z}"),
+            _ => String::new(),
+        };
         let _ = writeln!(
             out,
-            "sheet {:02}: {} strips{piece}",
+            "sheet {:02}: {} strips{piece}{steps}",
             i + 1,
             sheet.placements.len()
         );
@@ -278,7 +290,58 @@ pub fn build_json(b: &Build) -> serde_json::Value {
         "sheet_lower_bounds": { "area": bounds.area, "lanes": bounds.lanes },
         "utilisation": num(b.layout.utilisation()),
         "cut_length_mm": num(b.cut_length()),
-        "part_types": b.parts.types.iter().map(|t| json!({ "type": t.code, "count": t.strips.len() })).collect::<Vec<_>>(),
+        "part_types": part_types_json(&b.parts),
+        "sheet_advice": crate::layout::smallest(&b.sheet_options).map(sheet_option_json),
+        "sheet_options": b.sheet_options.iter().map(sheet_option_json).collect::<Vec<_>>(),
+        "sheet_auto": b.design.fabrication.sheet_auto,
+        "group_by_step": b.design.fabrication.group_by_step,
+        "tabs_mm": num(b.design.fabrication.tabs),
         "warnings": warnings,
     })
+}
+
+/// One sheet preset with the job nested on it (`sheets` null: a strip is
+/// longer than the preset).
+fn sheet_option_json(o: &crate::layout::SheetOption) -> serde_json::Value {
+    serde_json::json!({
+        "name": o.name,
+        "width_mm": num(o.width),
+        "height_mm": num(o.height),
+        "sheets": o.sheets,
+        "utilisation": num(o.utilisation),
+    })
+}
+
+/// Each part type: its code, how many strips, their length and hole
+/// pitches, whether it can be turned end for end, and what its strips
+/// carry engraved (how many their ID, the type code, the dot code).
+fn part_types_json(parts: &crate::parts::Parts) -> Vec<serde_json::Value> {
+    use crate::parts::Marking;
+    parts
+        .types
+        .iter()
+        .map(|t| {
+            let count = |f: &dyn Fn(&Marking) -> bool| {
+                t.strips
+                    .iter()
+                    .filter(|&&i| f(&parts.strips[i].marking))
+                    .count()
+            };
+            serde_json::json!({
+                "type": t.code,
+                "count": t.strips.len(),
+                "length_mm": num(t.length),
+                "pitches_mm": [num(t.legs[0]), num(t.legs[1])],
+                "turnable": t.symmetric,
+                "engraved": {
+                    "id": count(&|m| matches!(m, Marking::Id | Marking::Compact)),
+                    "type_code": count(&|m| *m == Marking::Type),
+                    "dot_code": count(&|m| matches!(m, Marking::Dots(_))),
+                    "arrow_only": count(&|m| *m == Marking::Arrow),
+                },
+                "dots": t.dots,
+                "strips": t.strips.iter().map(|&i| parts.strips[i].id.as_str()).collect::<Vec<_>>(),
+            })
+        })
+        .collect()
 }

@@ -462,9 +462,7 @@ fn read_lbrn(xml: &str) -> Lbrn {
                     _ => s.3 = v == "1",
                 }
             }
-            Event::Tag("Shape", Type::Start, a)
-                if a.get("Type").unwrap().to_string() == "Group" =>
-            {
+            Event::Tag("Shape", Type::Start, a) if *a.get("Type").unwrap() == "Group" => {
                 out.groups += 1;
             }
             Event::Tag("Shape", Type::Start, a) => {
@@ -720,4 +718,461 @@ fn random_designs_leave_no_strip_unidentifiable() {
         }
     }
     assert!(built >= 10, "only {built} random designs built");
+}
+
+// Sheet advice, cutting by assembly step and holding tabs (issue 13, items 8 and 9).
+
+#[test]
+fn check_takes_the_build_flags_and_sheet_auto_picks_the_smallest_preset() {
+    use crate::cli::{karigami, repo, scratch};
+    use serde_json::Value;
+    let dir = scratch("maker-sheet-advice");
+    let flat = repo().join("examples/flat-sheet.toml");
+    let f = flat.to_str().unwrap();
+    // The recipe's 600 x 400 sheet holds the flat sheet at 28 %; A3 holds
+    // it on one sheet at 54 % (measured: 0.2819 and 0.5419).
+    let out = karigami(&["check", f], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("utilisation 28.2%")
+            && text.contains(
+                "sheet advice: the smallest preset that holds the job is a3 (420 x 297 mm), 1 sheet at 54.2% utilisation"
+            ),
+        "{text}"
+    );
+    let out = karigami(&["check", f, "--sheet", "auto", "--json"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let b = &v[0]["build"];
+    assert_eq!(b["sheet"]["name"], "a3");
+    assert_eq!(b["sheets"], 1);
+    assert_eq!(b["sheet_auto"], true);
+    let u = b["utilisation"].as_f64().unwrap();
+    assert!((u - 0.5419).abs() < 5e-4, "{u}");
+    // The pick is the smallest: no preset needs fewer sheets, and every
+    // other one-sheet preset is larger than A3.
+    let options = b["sheet_options"].as_array().unwrap();
+    assert_eq!(options.len(), karigami::fabrication::SHEET_PRESETS.len());
+    let area = |o: &Value| o["width_mm"].as_f64().unwrap() * o["height_mm"].as_f64().unwrap();
+    for o in options {
+        let n = o["sheets"].as_u64().unwrap();
+        assert!(n >= 1);
+        if o["name"] != "a3" {
+            assert!(n > 1 || area(o) > 420.0 * 297.0, "{o}");
+        }
+    }
+    let a4 = options.iter().find(|o| o["name"] == "a4").unwrap();
+    assert_eq!(a4["sheets"], 2);
+    let default = options.iter().find(|o| o["name"] == "600x400").unwrap();
+    assert!((default["utilisation"].as_f64().unwrap() - 0.2819).abs() < 5e-4);
+    assert_eq!(b["sheet_advice"]["name"], "a3");
+    // Every fabrication flag of build is a flag of check.
+    let out = karigami(
+        &[
+            "check",
+            f,
+            "--sheet",
+            "a3",
+            "--eyelet",
+            "5/32in",
+            "--strip-width",
+            "12",
+            "--kerf",
+            "0.2",
+            "--compensate-kerf",
+            "--label",
+            "compact",
+            "--paper",
+            "letter",
+            "--no-test-piece",
+            "--colours",
+            "boxes",
+            "--group-by-step",
+            "--tabs",
+            "0.5",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let b = &v[0]["build"];
+    assert_eq!(b["sheet"]["name"], "a3");
+    assert_eq!(b["group_by_step"], true);
+    assert_eq!(b["tabs_mm"], 0.5);
+    // Part types in check --json: code, count, length, pitches, engraving.
+    let types = b["part_types"].as_array().unwrap();
+    let strips: u64 = types.iter().map(|t| t["count"].as_u64().unwrap()).sum();
+    assert_eq!(strips, b["strips"].as_u64().unwrap());
+    for t in types {
+        let e = &t["engraved"];
+        let engraved: u64 = ["id", "type_code", "dot_code", "arrow_only"]
+            .iter()
+            .map(|k| e[k].as_u64().unwrap())
+            .sum();
+        assert_eq!(engraved, t["count"].as_u64().unwrap(), "{t}");
+        let p = t["pitches_mm"].as_array().unwrap();
+        assert!(t["length_mm"].as_f64().unwrap() > p[0].as_f64().unwrap() + p[1].as_f64().unwrap());
+    }
+}
+
+#[test]
+fn a_recipe_can_ask_for_the_smallest_sheet() {
+    let text =
+        std::fs::read_to_string(crate::cli::repo().join("examples/flat-sheet.toml")).unwrap();
+    let auto = build(
+        parse_with(
+            &format!("{text}\n[sheet]\npreset = \"auto\"\n"),
+            "x",
+            &Overrides::default(),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let a3 = build_example(
+        &crate::cli::repo().join("examples/flat-sheet.toml"),
+        &Overrides {
+            sheet: Some("a3".into()),
+            ..Overrides::default()
+        },
+    );
+    assert_eq!(auto.design.fabrication.sheet, a3.design.fabrication.sheet);
+    assert_eq!(auto.layout, a3.layout);
+    // A size beside "auto" is a contradiction, pointed at.
+    let err = parse_with(
+        &format!("{text}\n[sheet]\npreset = \"auto\"\nwidth = 500\n"),
+        "x",
+        &Overrides::default(),
+    )
+    .unwrap_err();
+    assert!(err.message.contains("auto"), "{}", err.message);
+    assert!(
+        err.line_col(&format!(
+            "{text}\n[sheet]\npreset = \"auto\"\nwidth = 500\n"
+        ))
+        .is_some()
+    );
+}
+
+#[test]
+fn cutting_by_step_keeps_each_steps_strips_together_in_step_order() {
+    for (name, sheet) in [
+        ("torus", "a3"),
+        ("flat-sheet", "a4"),
+        ("disk", "600x400"),
+        ("bowl", "a3"),
+    ] {
+        let b = build_example(
+            &crate::cli::repo().join(format!("examples/{name}.toml")),
+            &Overrides {
+                sheet: Some(sheet.into()),
+                group_by_step: Some(true),
+                ..Overrides::default()
+            },
+        );
+        let step = |part: usize| b.lattice.step_of(b.parts.strips[part].rod / 2);
+        // Every lane's steps in order along it, sheet by sheet, lane by lane.
+        let mut lanes: Vec<Vec<usize>> = Vec::new();
+        for (i, s) in b.layout.sheets.iter().enumerate() {
+            // A lane is a row of parts at one offset across it.
+            let mut on: BTreeMap<i64, Vec<(i64, usize)>> = BTreeMap::new();
+            let key = |v: f64| (v * 1000.0).round() as i64;
+            for p in &s.placements {
+                let (across, along) = if p.rotated { (p.x, p.y) } else { (p.y, p.x) };
+                on.entry(key(across))
+                    .or_default()
+                    .push((key(along), step(p.part)));
+            }
+            if let Some(t) = s.test_piece {
+                assert_eq!(i, 0);
+                let (across, along) = if t.rotated { (t.x, t.y) } else { (t.y, t.x) };
+                // First on its sheet: no strip before it.
+                assert!(on.iter().all(|(&k, v)| k > key(across)
+                    || (k == key(across) && v.iter().all(|&(a, _)| a > key(along)))));
+            }
+            for mut lane in on.into_values() {
+                lane.sort();
+                lanes.push(lane.into_iter().map(|(_, s)| s).collect());
+            }
+        }
+        let order: Vec<usize> = lanes.iter().flatten().copied().collect();
+        assert_eq!(order.len(), b.parts.strips.len());
+        assert!(
+            order.windows(2).all(|w| w[0] <= w[1]),
+            "{name}: steps out of order {order:?}"
+        );
+        assert_eq!(order.last().copied(), Some(b.lattice.steps() - 1));
+        // A lane shared by steps holds every step after its first whole.
+        for (i, lane) in lanes.iter().enumerate() {
+            for &s in lane.iter().skip_while(|&&s| s == lane[0]) {
+                let elsewhere = lanes
+                    .iter()
+                    .enumerate()
+                    .any(|(j, l)| j != i && l.contains(&s));
+                assert!(!elsewhere, "{name}: step {s} split across lanes it shares");
+            }
+        }
+        // Row steps (many strips) never share a lane.
+        if name != "bowl" {
+            assert!(lanes.iter().all(|l| l.iter().all(|&s| s == l[0])), "{name}");
+        }
+        // The drawn sheets hold the same strips as the layout.
+        for (page, s) in b.pages.iter().zip(&b.layout.sheets) {
+            for p in &s.placements {
+                let id = &b.parts.strips[p.part].id;
+                assert!(page.groups.iter().any(|g| &g.id == id));
+            }
+        }
+    }
+}
+
+/// Run a tests/tools script on a file; None when Python or its module is missing.
+fn python_tool(script: &str, file: &std::path::Path) -> Option<serde_json::Value> {
+    let script = crate::cli::repo().join("tests/tools").join(script);
+    let out = crate::thirdparty::run(
+        "python3",
+        &[script.to_str().unwrap(), file.to_str().unwrap()],
+    )?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none()
+                && err.contains("ModuleNotFoundError"),
+            "{err}"
+        );
+        eprintln!("note: {} needs a Python module: {err}", script.display());
+        return None;
+    }
+    Some(serde_json::from_slice(&out.stdout).unwrap())
+}
+
+#[test]
+fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
+    use karigami::drawing::tabs::centres;
+    use karigami::parts::Outline;
+    use std::f64::consts::PI;
+    let tab = 0.5;
+    for compensate in [false, true] {
+        let b = build_example(
+            &crate::cli::repo().join("examples/flat-sheet.toml"),
+            &Overrides {
+                sheet: Some("a3".into()),
+                tabs: Some(tab),
+                compensate_kerf: Some(compensate),
+                ..Overrides::default()
+            },
+        );
+        let fab = &b.design.fabrication;
+        // From the drawing model: per outline, the perimeter of the full
+        // stadium less what is drawn is the tab count times the tab width.
+        let mut expected: BTreeMap<String, (usize, f64)> = BTreeMap::new();
+        for g in b
+            .pages
+            .iter()
+            .flat_map(|p| &p.groups)
+            .filter(|g| g.id != "reference")
+        {
+            let length = if g.id == TEST_PIECE_ID {
+                karigami::parts::test_piece::LENGTH
+            } else {
+                b.parts.strips.iter().find(|s| s.id == g.id).unwrap().length
+            };
+            let o = Outline::of(length, fab);
+            let r = o.width / 2.0;
+            let (top, bottom) = centres(-o.grow + r, length + o.grow - r, tab);
+            let tabs = top.len() + bottom.len();
+            assert!(tabs >= 2, "{}", g.id);
+            let pieces: Vec<&Item> = g
+                .items
+                .iter()
+                .filter(|i| i.layer == Layer::Outlines)
+                .collect();
+            assert_eq!(pieces.len(), tabs, "{}: one piece between two tabs", g.id);
+            assert!(
+                pieces
+                    .iter()
+                    .all(|i| matches!(i.shape, Shape::Path { closed: false, .. }))
+            );
+            let drawn: f64 = pieces.iter().map(|i| i.shape.length()).sum();
+            let perimeter = 2.0 * (o.length - o.width) + PI * o.width;
+            let uncut = perimeter - drawn;
+            assert!(
+                (uncut - tabs as f64 * tab).abs() < 0.01,
+                "{}: {uncut} mm uncut for {tabs} tabs",
+                g.id
+            );
+            expected.insert(g.id.clone(), (tabs, perimeter));
+        }
+        if compensate {
+            continue;
+        }
+        let dir = crate::cli::scratch("maker-tabs");
+        let page = &b.pages[0];
+        let svg = dir.join("sheet.svg");
+        std::fs::write(&svg, karigami::write::svg::write(page)).unwrap();
+        // Read back with svgelements: the same pieces and gaps.
+        if let Some(v) = python_tool("outline_pieces.py", &svg) {
+            let groups = v["groups"].as_object().unwrap();
+            assert_eq!(groups.len(), expected.len());
+            for (id, (tabs, perimeter)) in &expected {
+                let [n, len] = [&groups[id][0], &groups[id][1]];
+                assert_eq!(n.as_u64().unwrap() as usize, *tabs, "{id}");
+                let uncut = perimeter - len.as_f64().unwrap();
+                assert!(
+                    (uncut - *tabs as f64 * tab).abs() < 0.01,
+                    "{id}: svgelements reads {uncut} mm uncut"
+                );
+            }
+        }
+        // DXF (ezdxf): open polylines only, the same total gap.
+        let dxf = dir.join("sheet.dxf");
+        std::fs::write(&dxf, karigami::write::dxf::write(page)).unwrap();
+        if let Some(v) = python_tool("outline_pieces.py", &dxf) {
+            let tabs: usize = expected.values().map(|e| e.0).sum();
+            let perimeters: f64 = expected.values().map(|e| e.1).sum();
+            assert_eq!(v["count"].as_u64().unwrap() as usize, tabs);
+            assert_eq!(v["closed"], 0);
+            let uncut = perimeters - v["length"].as_f64().unwrap();
+            assert!(
+                (uncut - tabs as f64 * tab).abs() < 0.01 * tabs as f64,
+                "{uncut}"
+            );
+        }
+        // LightBurn: one open path per piece on the outlines layer.
+        let lbrn = read_lbrn(&String::from_utf8(karigami::write::lbrn2::write(page)).unwrap());
+        let outlines = *lbrn
+            .layers
+            .iter()
+            .find(|(_, l)| l.0.starts_with("outlines"))
+            .unwrap()
+            .0;
+        let paths = lbrn.paths.iter().filter(|p| p.0 == outlines).count();
+        assert_eq!(paths, expected.values().map(|e| e.0).sum::<usize>());
+    }
+    // Without tabs, each outline stays one closed path.
+    let b = build_example(
+        &crate::cli::repo().join("examples/flat-sheet.toml"),
+        &Overrides::default(),
+    );
+    for g in b.pages[0].groups.iter().filter(|g| g.id != "reference") {
+        let pieces: Vec<&Item> = g
+            .items
+            .iter()
+            .filter(|i| i.layer == Layer::Outlines)
+            .collect();
+        assert!(matches!(
+            pieces[..],
+            [Item {
+                shape: Shape::Path { closed: true, .. },
+                ..
+            }]
+        ));
+    }
+}
+
+#[test]
+fn dxf_layer_colours_follow_the_colour_preset() {
+    // (colour preset, ACI of holes, outlines, labels, reference)
+    for (preset, aci) in [("karigami", [5, 1, 7, 3]), ("boxes", [5, 7, 3, 1])] {
+        let b = build_example(
+            &crate::cli::repo().join("examples/flat-sheet.toml"),
+            &Overrides {
+                colours: Some(preset.into()),
+                ..Overrides::default()
+            },
+        );
+        let dxf = String::from_utf8(karigami::write::dxf::write(&b.pages[0])).unwrap();
+        let pairs: Vec<&str> = dxf.lines().map(str::trim).collect();
+        for (layer, want) in Layer::ALL.iter().zip(aci) {
+            let want = want.to_string();
+            // The LAYER table entry: name (2), flags (70), colour (62).
+            let table = pairs
+                .windows(6)
+                .find(|w| w[0] == "2" && w[1] == layer.name() && w[2] == "70" && w[4] == "62")
+                .unwrap_or_else(|| panic!("{preset}: no layer {}", layer.name()));
+            assert_eq!(table[5], want, "{preset}: layer {}", layer.name());
+            // Every entity on the layer: layer (8), colour (62).
+            let entities: Vec<&&str> = pairs
+                .windows(4)
+                .filter(|w| w[0] == "8" && w[1] == layer.name() && w[2] == "62")
+                .map(|w| &w[3])
+                .collect();
+            assert!(!entities.is_empty());
+            assert!(
+                entities.iter().all(|c| **c == want),
+                "{preset}: {}",
+                layer.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn tab_and_grouping_settings_are_checked() {
+    let text =
+        std::fs::read_to_string(crate::cli::repo().join("examples/flat-sheet.toml")).unwrap();
+    for (extra, says) in [
+        ("[laser]\ntabs = 12\n", "wider than the 10 mm strips"),
+        ("[laser]\ntabs = -1\n", "laser.tabs"),
+        ("[sheet]\ngroup = \"rows\"\n", "unknown sheet grouping"),
+    ] {
+        let source = format!("{text}\n{extra}");
+        let err = parse_with(&source, "x", &Overrides::default()).unwrap_err();
+        assert!(err.message.contains(says), "{extra}: {}", err.message);
+        let (line, _) = err.line_col(&source).expect("located");
+        assert_eq!(
+            source.lines().nth(line - 1).unwrap(),
+            extra.lines().nth(1).unwrap()
+        );
+    }
+    let err = parse_with(
+        &text,
+        "x",
+        &Overrides {
+            tabs: Some(f64::NAN),
+            ..Overrides::default()
+        },
+    )
+    .unwrap_err();
+    assert!(err.message.contains("--tabs"), "{}", err.message);
+}
+
+#[test]
+fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
+    let o = Overrides {
+        sheet: Some("auto".into()),
+        group_by_step: Some(true),
+        tabs: Some(0.5),
+        ..Overrides::default()
+    };
+    let path = crate::cli::repo().join("examples/bowl.toml");
+    let (a, b) = (build_example(&path, &o), build_example(&path, &o));
+    assert_eq!(a.design.fabrication.sheet.name, "12x24in");
+    for (p, q) in a.pages.iter().zip(&b.pages) {
+        assert_eq!(
+            karigami::write::svg::write(p),
+            karigami::write::svg::write(q)
+        );
+        assert_eq!(
+            karigami::write::dxf::write(p),
+            karigami::write::dxf::write(q)
+        );
+        assert_eq!(
+            karigami::write::lbrn2::write(p),
+            karigami::write::lbrn2::write(q)
+        );
+    }
 }

@@ -80,6 +80,8 @@ enum Command {
         /// Print a JSON report on stdout instead of text.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        fabrication: FabricationFlags,
     },
     /// Grow, verify and write the cut files, assembly guide and previews.
     #[command(after_help = format!(
@@ -148,7 +150,8 @@ enum Command {
 /// Fabrication settings that replace the recipe's.
 #[derive(ClapArgs, Debug, Default)]
 struct FabricationFlags {
-    /// Sheet: a preset (600x400, glowforge, 12x24in, 12x20in, a3, a4) or WxH in mm.
+    /// Sheet: a preset (600x400, glowforge, 12x24in, 12x20in, a3, a4), WxH in mm,
+    /// or auto (the smallest preset that holds the job: fewest sheets, then least area).
     #[arg(long)]
     sheet: Option<String>,
     /// Eyelet preset: 1/8in, 5/32in or 3/16in.
@@ -175,6 +178,13 @@ struct FabricationFlags {
     /// Cut-file colours: karigami (outlines red) or boxes (outlines black, as box generators use).
     #[arg(long, value_name = "PRESET", visible_alias = "colors")]
     colours: Option<String>,
+    /// Keep each assembly step's strips together: lanes of their own, steps in order.
+    #[arg(long)]
+    group_by_step: bool,
+    /// Leave holding tabs of this width (mm) uncut in each outline, so the
+    /// cut sheet holds its strips like a parts tray (0: none).
+    #[arg(long, value_name = "MM")]
+    tabs: Option<f64>,
 }
 
 impl FabricationFlags {
@@ -189,6 +199,8 @@ impl FabricationFlags {
             paper: self.paper.clone(),
             test_piece: self.no_test_piece.then_some(false),
             colours: self.colours.clone(),
+            group_by_step: self.group_by_step.then_some(true),
+            tabs: self.tabs,
         }
     }
 }
@@ -236,7 +248,11 @@ pub fn run() -> i32 {
         verbose: args.verbose,
     };
     let result = match args.command {
-        Command::Check { designs, json } => check(&designs, json, v),
+        Command::Check {
+            designs,
+            json,
+            fabrication,
+        } => check(&designs, json, &fabrication.overrides(), v),
         Command::Build {
             designs,
             out,
@@ -377,7 +393,7 @@ pub fn run_recipe(
     build_with(design, progress).map_err(|d| recipe.error(&d))
 }
 
-fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
+fn check(paths: &[PathBuf], json: bool, overrides: &Overrides, v: Verbosity) -> Result<(), Failed> {
     let paths = files::recipes(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
     let mut reports = Vec::new();
     let mut worst = 0;
@@ -385,7 +401,7 @@ fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
     for path in &paths {
         let what = format!("checking {}", path.display());
         let (code, report) = progress::heartbeat(&what, v.quiet || json, || {
-            check_one(path, json, v, &mut bar)
+            check_one(path, json, overrides, v, &mut bar)
         });
         worst = worst.max(code);
         reports.push(report);
@@ -405,7 +421,13 @@ fn check(paths: &[PathBuf], json: bool, v: Verbosity) -> Result<(), Failed> {
 
 /// Check one recipe: print its report (text unless `json`), return the exit
 /// code and the JSON report.
-fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32, Value) {
+fn check_one(
+    path: &Path,
+    json: bool,
+    overrides: &Overrides,
+    v: Verbosity,
+    bar: &mut Progress,
+) -> (i32, Value) {
     let file = path.display().to_string();
     let fail = |e: RecipeError, bar: &mut Progress| {
         if !json {
@@ -420,7 +442,7 @@ fn check_one(path: &Path, json: bool, v: Verbosity, bar: &mut Progress) -> (i32,
         Ok(r) => r,
         Err(e) => return fail(e, bar),
     };
-    let design = match recipe.parse(&Overrides::default()) {
+    let design = match recipe.parse(overrides) {
         Ok(d) => d,
         Err(e) => return fail(e, bar),
     };

@@ -5,8 +5,8 @@
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::Diagnostic;
 use crate::fabrication::{
-    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_PRESETS, eyelet_preset,
-    preset_names, sheet_size,
+    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_AUTO, SHEET_PRESETS,
+    eyelet_preset, longest_preset, preset_names, sheet_size,
 };
 use std::ops::Range;
 
@@ -27,6 +27,10 @@ pub struct Overrides {
     pub test_piece: Option<bool>,
     /// `--colours`: a colour preset name.
     pub colours: Option<String>,
+    /// `--group-by-step`: Some(true) keeps each step's strips together.
+    pub group_by_step: Option<bool>,
+    /// `--tabs`: holding tab width in mm (0 for none).
+    pub tabs: Option<f64>,
 }
 
 /// Where the settings were written, for errors found later (per strip).
@@ -227,7 +231,19 @@ pub fn fabrication(
     if let Some(s) = &raw.sheet {
         spans.sheet = Some(s.span());
         let s = s.get_ref();
-        if let Some(p) = &s.preset {
+        if s.preset.as_ref().is_some_and(|p| p.get_ref() == SHEET_AUTO) {
+            f.sheet_auto = true;
+            let (_, w, h) = longest_preset();
+            (f.sheet.name, f.sheet.width, f.sheet.height) = (SHEET_AUTO.into(), w, h);
+            if let Some(size) = s.width.as_ref().or(s.height.as_ref()) {
+                return Err(Diagnostic::new(
+                    "design",
+                    "the sheet is preset = \"auto\" and also given a width or height",
+                )
+                .at(size.span())
+                .hint("remove sheet.width and sheet.height to let karigami pick the preset, or remove preset = \"auto\""));
+            }
+        } else if let Some(p) = &s.preset {
             let (name, w, h) = sheet_size(p.get_ref()).ok_or_else(|| {
                 Diagnostic::new(
                     "design",
@@ -235,7 +251,7 @@ pub fn fabrication(
                 )
                 .at(p.span())
                 .hint(format!(
-                    "use one of {}, or \"WxH\" in mm such as \"500x300\"",
+                    "use one of {}, \"auto\" (the smallest that holds the job), or \"WxH\" in mm such as \"500x300\"",
                     preset_names(SHEET_PRESETS)
                 ))
             })?;
@@ -257,12 +273,18 @@ pub fn fabrication(
         }
     }
     if let Some(name) = &o.sheet {
-        let (n, w, h) = sheet_size(name).ok_or_else(|| {
-            Diagnostic::new("usage", format!("unknown sheet \"{name}\"")).hint(format!(
-                "use one of {}, or WxH in mm such as 500x300",
-                preset_names(SHEET_PRESETS)
-            ))
-        })?;
+        f.sheet_auto = name == SHEET_AUTO;
+        let (n, w, h) = if f.sheet_auto {
+            let (_, w, h) = longest_preset();
+            (SHEET_AUTO.to_string(), w, h)
+        } else {
+            sheet_size(name).ok_or_else(|| {
+                Diagnostic::new("usage", format!("unknown sheet \"{name}\"")).hint(format!(
+                    "use one of {}, auto (the smallest that holds the job), or WxH in mm such as 500x300",
+                    preset_names(SHEET_PRESETS)
+                ))
+            })?
+        };
         (f.sheet.name, f.sheet.width, f.sheet.height) = (n, w, h);
         spans.sheet = None;
     }
@@ -283,6 +305,7 @@ pub fn fabrication(
     }
 
     parts_settings(&mut f, raw, o)?;
+    cutting_settings(&mut f, raw, o)?;
     check_settings(&f, raw, &spans)?;
     Ok((f, spans))
 }
@@ -333,6 +356,57 @@ fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result
             Diagnostic::new("usage", format!("unknown colour preset \"{c}\""))
                 .hint(format!("use {}", presets()))
         })?;
+    }
+    Ok(())
+}
+
+/// Grouping by assembly step and holding tabs (issue 13), recipe then
+/// command line.
+fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result<(), Diagnostic> {
+    if let Some(g) = raw.sheet.as_ref().and_then(|s| s.get_ref().group.as_ref()) {
+        f.group_by_step = match g.get_ref().as_str() {
+            "step" => true,
+            "none" => false,
+            other => {
+                return Err(Diagnostic::new(
+                    "design",
+                    format!("unknown sheet grouping \"{other}\""),
+                )
+                .at(g.span())
+                .hint("use \"step\" (each assembly step's strips in lanes of their own, steps in order) or \"none\""));
+            }
+        };
+    }
+    if let Some(g) = o.group_by_step {
+        f.group_by_step = g;
+    }
+    let tab_limit = f.material.width;
+    if let Some(t) = raw.laser.as_ref().and_then(|l| l.get_ref().tabs.as_ref()) {
+        f.tabs = non_negative(t, "laser.tabs", MAX_STRIP_WIDTH)?;
+        if f.tabs > tab_limit {
+            return Err(Diagnostic::new(
+                "design",
+                format!(
+                    "laser.tabs is {} mm, wider than the {tab_limit} mm strips",
+                    f.tabs
+                ),
+            )
+            .at(t.span())
+            .hint("holding tabs are small bridges: 0.3 to 1 mm holds ABS and breaks by hand"));
+        }
+    }
+    if let Some(t) = o.tabs {
+        f.tabs = from_override(t, "tabs", MAX_STRIP_WIDTH)?;
+        if f.tabs > tab_limit {
+            return Err(Diagnostic::new(
+                "usage",
+                format!(
+                    "--tabs is {} mm, wider than the {tab_limit} mm strips",
+                    f.tabs
+                ),
+            )
+            .hint("holding tabs are small bridges: 0.3 to 1 mm holds ABS and breaks by hand"));
+        }
     }
     Ok(())
 }

@@ -68,6 +68,8 @@ pub struct RawLaser {
     pub compensate: Option<Spanned<bool>>,
     /// Colour preset of the cut files: "karigami" or "boxes".
     pub colours: Option<Spanned<String>>,
+    /// Width of the holding tabs in mm (0 or absent: none).
+    pub tabs: Option<Num>,
 }
 
 /// `[sheet]`: the bed or stock sheet.
@@ -81,6 +83,8 @@ pub struct RawSheet {
     pub gap: Option<Num>,
     /// Whether the first sheet carries the test piece (default true).
     pub test_piece: Option<Spanned<bool>>,
+    /// "step": each assembly step's strips in lanes of their own; "none".
+    pub group: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -5,6 +5,7 @@
 pub mod colours;
 pub mod picture;
 mod sheet;
+pub mod tabs;
 pub mod text;
 
 pub use sheet::{Meta, TEST_PIECE_ID, sheet_page};

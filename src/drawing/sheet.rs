@@ -47,6 +47,43 @@ impl Frame {
     }
 }
 
+/// The outline as cut: the closed stadium, or its pieces between holding
+/// tabs when `tab` > 0 (see `tabs`).
+fn outline_items(length: f64, outline: &Outline, frame: &Frame, tab: f64) -> Vec<Item> {
+    let r = outline.width / 2.0;
+    let pieces = super::tabs::pieces(-outline.grow + r, length + outline.grow - r, r, tab);
+    if pieces.is_empty() {
+        return vec![Item::on(Layer::Outlines, stadium(length, outline, frame))];
+    }
+    let m = |p: DVec2| frame.map(p);
+    pieces
+        .into_iter()
+        .map(|(start, segments)| {
+            let segments = segments
+                .into_iter()
+                .map(|s| match s {
+                    Segment::Line(p) => Segment::Line(m(p)),
+                    Segment::Arc {
+                        to,
+                        center,
+                        clockwise,
+                    } => Segment::Arc {
+                        to: m(to),
+                        center: m(center),
+                        clockwise,
+                    },
+                })
+                .collect();
+            let shape = Shape::Path {
+                start: m(start),
+                segments,
+                closed: false,
+            };
+            Item::on(Layer::Outlines, shape)
+        })
+        .collect()
+}
+
 /// The closed stadium outline of a strip in its own frame, as cut.
 fn stadium(length: f64, outline: &Outline, frame: &Frame) -> Shape {
     let r = outline.width / 2.0;
@@ -90,10 +127,7 @@ fn strip_group(strip: &Strip, placement: &Placement, fab: &Fabrication) -> Group
             )
         })
         .collect();
-    items.push(Item::on(
-        Layer::Outlines,
-        stadium(strip.length, &outline, &frame),
-    ));
+    items.extend(outline_items(strip.length, &outline, &frame, fab.tabs));
     items.extend(strip.engraving.iter().map(|stroke| {
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))
@@ -121,10 +155,7 @@ fn test_piece_group(piece: &TestPiece, placement: &Placement, fab: &Fabrication)
             )
         })
         .collect();
-    items.push(Item::on(
-        Layer::Outlines,
-        stadium(piece.length, &outline, &frame),
-    ));
+    items.extend(outline_items(piece.length, &outline, &frame, fab.tabs));
     items.extend(piece.engraving.iter().map(|stroke| {
         let points: Vec<DVec2> = stroke.iter().map(|&p| frame.map(p)).collect();
         Item::on(Layer::Labels, Shape::polyline(&points, false))

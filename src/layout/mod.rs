@@ -4,9 +4,13 @@
 //! rest of the sheet, fills the lanes best-fit decreasing, and keeps the split
 //! that places the most material. Deterministic: ties break by order.
 
+pub mod advice;
 mod bounds;
+mod by_step;
 
+pub use advice::{SheetOption, sheet_options, smallest};
 pub use bounds::{Bounds, area_bound, lane_bound, stadium_area};
+pub use by_step::nest_by_step;
 
 use crate::fabrication::SheetSpec;
 use std::cmp::Ordering;
@@ -69,6 +73,38 @@ impl Layout {
             .copied()
             .chain(self.test_piece)
             .collect()
+    }
+}
+
+/// What there is to nest, independent of the sheet: the parts' outline
+/// lengths and width, the test piece's outline length and, when the job is
+/// cut by assembly step, each part's step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Job {
+    pub lengths: Vec<f64>,
+    pub width: f64,
+    pub test_piece: Option<f64>,
+    pub steps: Option<Vec<usize>>,
+}
+
+impl Job {
+    /// Whether every part fits the sheet (along its longer usable side).
+    pub fn holds(&self, sheet: &SheetSpec) -> bool {
+        let (uw, uh) = sheet.usable();
+        self.width <= uw.min(uh) && self.lengths.iter().all(|&l| l <= uw.max(uh))
+    }
+
+    /// The job on `sheet`, which must hold it; the test piece is left out
+    /// when it does not fit (as `parts::test_piece` leaves it out).
+    pub fn nest(&self, sheet: &SheetSpec) -> Layout {
+        let (uw, uh) = sheet.usable();
+        let piece = self
+            .test_piece
+            .filter(|&l| l <= uw.max(uh) && self.width <= uw.min(uh));
+        match &self.steps {
+            Some(steps) => nest_by_step(&self.lengths, self.width, sheet, piece, steps),
+            None => nest_with(&self.lengths, self.width, sheet, piece),
+        }
     }
 }
 

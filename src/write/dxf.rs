@@ -91,6 +91,7 @@ fn lwpolyline(
     d: &mut Dxf,
     owner: &str,
     layer: Layer,
+    aci: u8,
     vertices: &[(DVec2, f64)],
     closed: bool,
     flip: &dyn Fn(DVec2) -> DVec2,
@@ -98,7 +99,7 @@ fn lwpolyline(
     d.head("LWPOLYLINE", owner);
     d.pair(100, "AcDbEntity");
     d.pair(8, layer.name());
-    d.pair(62, layer.aci());
+    d.pair(62, aci);
     d.pair(100, "AcDbPolyline");
     d.pair(90, vertices.len());
     d.pair(70, if closed { 1 } else { 0 });
@@ -112,6 +113,21 @@ fn lwpolyline(
     }
 }
 
+/// The AutoCAD colour index of a pure colour (R2000 has no true colour);
+/// ACI 7 is black on a white background.
+fn aci_of(rgb: [u8; 3]) -> Option<u8> {
+    match rgb {
+        [255, 0, 0] => Some(1),
+        [255, 255, 0] => Some(2),
+        [0, 255, 0] => Some(3),
+        [0, 255, 255] => Some(4),
+        [0, 0, 255] => Some(5),
+        [255, 0, 255] => Some(6),
+        [0, 0, 0] => Some(7),
+        _ => None,
+    }
+}
+
 /// The page as DXF (R2000) bytes.
 pub fn write(page: &Page) -> Vec<u8> {
     let mut d = Dxf {
@@ -120,6 +136,15 @@ pub fn write(page: &Page) -> Vec<u8> {
     };
     let h = page.height;
     let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
+    // Each layer's colour as drawn (the colour preset already applied).
+    let mut colours: [Option<u8>; 5] = [None; 5];
+    for item in page.groups.iter().flat_map(|g| &g.items) {
+        let slot = &mut colours[item.layer as usize];
+        if slot.is_none() {
+            *slot = item.ink.stroke.and_then(aci_of);
+        }
+    }
+    let aci = |layer: Layer| colours[layer as usize].unwrap_or(layer.aci());
 
     // Handles fixed up front so tables, blocks and objects can refer to them.
     let (model_record, paper_record) = ("1A", "1B");
@@ -207,7 +232,7 @@ pub fn write(page: &Page) -> Vec<u8> {
             .chain(
                 Layer::ALL
                     .iter()
-                    .map(|l| (l.name(), l.aci(), *l != Layer::Reference)),
+                    .map(|l| (l.name(), aci(*l), *l != Layer::Reference)),
             )
             .collect();
         for &(name, colour, plot) in &layers {
@@ -322,7 +347,7 @@ pub fn write(page: &Page) -> Vec<u8> {
                 d.head("CIRCLE", model_record);
                 d.pair(100, "AcDbEntity");
                 d.pair(8, layer.name());
-                d.pair(62, layer.aci());
+                d.pair(62, aci(layer));
                 d.pair(100, "AcDbCircle");
                 let c = flip(*center);
                 d.pair(10, num(c.x));
@@ -339,6 +364,7 @@ pub fn write(page: &Page) -> Vec<u8> {
                     &mut d,
                     model_record,
                     layer,
+                    aci(layer),
                     &bulged(*start, segments, *closed),
                     *closed,
                     &flip,
@@ -349,7 +375,15 @@ pub fn write(page: &Page) -> Vec<u8> {
                 for stroke in crate::drawing::text::strokes(text) {
                     let vertices: Vec<(DVec2, f64)> =
                         stroke.into_iter().map(|p| (p, 0.0)).collect();
-                    lwpolyline(&mut d, model_record, layer, &vertices, false, &flip);
+                    lwpolyline(
+                        &mut d,
+                        model_record,
+                        layer,
+                        aci(layer),
+                        &vertices,
+                        false,
+                        &flip,
+                    );
                 }
             }
         }
