@@ -766,9 +766,18 @@
     sheetHighlighted: function () { return ids(sheetMarked); },
     // Client (CSS) pixels of the middle of a strip's first leg, halfway
     // between its start eyelet and its scissor pivot, where no other strip crosses it.
+    // Client pixels where a click selects the strip: the first point along
+    // its centre line not covered by a nearer strip (else its first leg).
     pickPoint: function (id) {
-      var i = stripIndex(id), mx = matrices();
-      return clientOf(project(mx, mul(add(linePoint(i, 3), linePoint(i, 1)), 0.5)));
+      var i = stripIndex(id), mx = matrices(), r = canvas.getBoundingClientRect();
+      var fallback = clientOf(project(mx, mul(add(linePoint(i, 3), linePoint(i, 1)), 0.5)));
+      for (var k = 1; k < 20; k++) {
+        var t = k / 20, a = linePoint(i, t < 0.5 ? 0 : 1), b = linePoint(i, t < 0.5 ? 1 : 2);
+        var u = t < 0.5 ? 2 * t : 2 * t - 1;
+        var c = clientOf(project(mx, add(mul(a, 1 - u), mul(b, u))));
+        if (pick(c[0] - r.left, c[1] - r.top, 0) === i) return c;
+      }
+      return fallback;
     },
     // Client pixels of the projected centre of a strip (halfway along it).
     centre: function (id) {
