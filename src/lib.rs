@@ -14,5 +14,6 @@ pub mod lattice;
 pub mod layout;
 pub mod parts;
 pub mod report;
+pub mod sim;
 pub mod templates;
 pub mod write;

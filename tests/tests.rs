@@ -12,3 +12,4 @@ mod property;
 mod thirdparty;
 mod util;
 mod workflow;
+mod sim;
