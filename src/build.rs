@@ -35,6 +35,9 @@ pub struct Build {
     pub layout: Layout,
     /// One page per sheet.
     pub pages: Vec<Page>,
+    /// The simulated deployed shape (docs/physics.md), for lattices that
+    /// are not planar true mechanisms (`sim::wanted`).
+    pub simulation: Option<crate::sim::Simulation>,
 }
 
 /// Grow, verify, make the parts and nest them. A design that fails
@@ -139,7 +142,9 @@ pub fn assemble_with(
     let pages = (0..layout.sheets.len())
         .map(|i| sheet_page(&parts.strips, &layout, i, fab, &meta))
         .collect();
+    let simulation = simulated(&design, &lattice, &deployment)?;
     Ok(Build {
+        simulation,
         design,
         assembled: lattice.placed(),
         deployment,
@@ -149,6 +154,42 @@ pub fn assemble_with(
         layout,
         pages,
     })
+}
+
+/// The simulated deployed shape when `sim::wanted`; strips strained beyond
+/// the allowable are an error unless the recipe accepts them.
+fn simulated(
+    design: &Design,
+    lattice: &Lattice,
+    deployment: &Deployment,
+) -> Result<Option<crate::sim::Simulation>, Diagnostic> {
+    if !crate::sim::wanted(lattice, deployment) {
+        return Ok(None);
+    }
+    let settings = &design.simulation;
+    let m = &design.fabrication.material;
+    let run = crate::sim::simulate(lattice, deployment, m.width, m.thickness, settings).map_err(|e| {
+        Diagnostic::new("SimulationFailed", format!("the deployed shape could not be simulated: {e}"))
+            .hint("run `karigami simulate` on the recipe for details; [simulation] edge_length or theta may help (docs/physics.md)")
+    })?;
+    let strain = &run.equilibrium.strain;
+    let allow = settings.material.eps_allow;
+    if strain.eps > allow && !settings.accept_overstrain {
+        return Err(Diagnostic::new(
+            "Overstrain",
+            format!(
+                "strip {} is strained {:.2} % ({}) at {:.1} mm from its first hole in the simulated deployed shape; the allowable is {:.2} %",
+                strain.rod,
+                100.0 * strain.eps,
+                strain.term,
+                strain.s,
+                100.0 * allow
+            ),
+        )
+        .site(format!("strip {}", strain.rod))
+        .hint("use thinner or narrower strips, change the design, or accept it with [simulation] accept_overstrain = true (docs/physics.md)"));
+    }
+    Ok(Some(run))
 }
 
 fn locate(design: &Design, e: PartsError) -> Diagnostic {
@@ -191,7 +232,15 @@ impl Build {
             "assembly.pdf".to_string(),
             pdf::write(&format!("{name} assembly guide"), &guide(self)),
         ));
-        let picture = preview(&self.assembled, fab.material.width, name);
+        let picture = match &self.simulation {
+            Some(run) => crate::drawing::picture::preview_captioned(
+                &crate::sim::placed_lattice(&self.lattice, &run.lm),
+                fab.material.width,
+                name,
+                Some("shown: the simulated deployed shape (elastic strips joined by eyelets; deployed.obj)"),
+            ),
+            None => preview(&self.assembled, fab.material.width, name),
+        };
         files.push((
             "preview.png".to_string(),
             png::write(&picture, PREVIEW_PX_PER_MM, 1.0),
@@ -203,11 +252,54 @@ impl Build {
             .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
             .collect();
         files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
+        if let Some(run) = &self.simulation {
+            files.extend(self.deployed_files(run));
+        }
         files.push((
             "report.txt".to_string(),
             crate::report::build_text(self).into_bytes(),
         ));
         files
+    }
+
+    /// deployed.json and deployed.obj of a simulated build.
+    fn deployed_files(&self, run: &crate::sim::Simulation) -> Vec<(String, Vec<u8>)> {
+        use crate::write::deployed;
+        let fab = &self.design.fabrication;
+        let strips = crate::sim::results::deployed_strips(&run.lm.model);
+        let eq = &run.equilibrium;
+        let nv = self.lattice.vertices.len();
+        let e = &eq.energy;
+        let summary = deployed::Summary {
+            design: &self.design.name,
+            verdict: &self.deployment.verdict(&self.lattice),
+            vertex_joint: self.design.simulation.vertex_joint.name(),
+            theta_deg: run.theta.to_degrees(),
+            energy: [e.stretch, e.bend, e.twist, e.external],
+            eps_max: eq.strain.eps,
+            eps_allow: self.design.simulation.material.eps_allow,
+            eps_rod: &eq.strain.rod,
+            eps_s: eq.strain.s,
+            distance: eq.distance,
+            iterations: run.iterations,
+            vertices: (0..nv)
+                .map(|v| (self.lattice.vertex_name(v as u32), eq.points[v]))
+                .collect(),
+            pivots: self
+                .lattice
+                .cells
+                .iter()
+                .enumerate()
+                .map(|(c, cell)| (self.lattice.cell_name(cell), eq.points[nv + c]))
+                .collect(),
+        };
+        vec![
+            ("deployed.json".to_string(), deployed::json(&summary, &strips)),
+            (
+                "deployed.obj".to_string(),
+                deployed::obj(&self.design.name, &strips, fab.material.width, fab.material.thickness),
+            ),
+        ]
     }
 
     pub fn bounds(&self) -> Bounds {

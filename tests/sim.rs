@@ -246,7 +246,7 @@ fn gradient_and_hessian_match_finite_differences() {
         }
         let (mut worst_g, mut worst_h) = (0.0f64, 0.0f64);
         // A sample of stencils of every kind (all of them is slow unoptimised).
-        let picks: Vec<usize> = (0..m.stencils.len()).step_by(7).collect();
+        let picks: Vec<usize> = (0..m.stencils.len()).step_by(3).collect();
         for &s in &picks {
             let st = m.stencils[s];
             let vars = m.stencil_vars(&st);
@@ -260,19 +260,14 @@ fn gradient_and_hessian_match_finite_differences() {
             let hscale = h.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
             for i in 0..k {
                 let hi = step(i);
-                let mut plus = m.clone();
-                plus.q[vars[i]] += hi;
-                let mut minus = m.clone();
-                minus.q[vars[i]] -= hi;
-                let one = |mm: &Model| {
-                    let mut x = mm.clone();
-                    x.stencils = vec![st];
-                    x.energy()
-                };
-                let fd = (one(&plus) - one(&minus)) / (2.0 * hi);
+                let x0 = m.q[vars[i]];
+                m.q[vars[i]] = x0 + hi;
+                let (ep, gp) = (m.stencil_value(&st), m.stencil_derivatives(&st, &vars).1);
+                m.q[vars[i]] = x0 - hi;
+                let (em, gm) = (m.stencil_value(&st), m.stencil_derivatives(&st, &vars).1);
+                m.q[vars[i]] = x0;
+                let fd = (ep - em) / (2.0 * hi);
                 worst_g = worst_g.max((fd - g[i]).abs() / gscale);
-                let (_, gp, _) = plus.stencil_derivatives(&st, &vars);
-                let (_, gm, _) = minus.stencil_derivatives(&st, &vars);
                 for j in 0..k {
                     let fdh = (gp[j] - gm[j]) / (2.0 * hi);
                     worst_h = worst_h.max((fdh - h[i * k + j]).abs() / hscale);

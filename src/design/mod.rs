@@ -6,6 +6,7 @@ mod fabrication;
 pub mod fit;
 mod raw;
 pub mod seed;
+pub mod simulation;
 pub mod tune;
 
 pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
@@ -38,6 +39,8 @@ pub struct Design {
     /// Target fitting: rows are found by a search instead of written out.
     pub fit: Option<fit::Fit>,
     pub fabrication: Fabrication,
+    /// `[simulation]`: material moduli and deployment for `simulate`.
+    pub simulation: crate::sim::Settings,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub recipe_hash: u64,
     spans: Spans,
@@ -156,6 +159,7 @@ pub fn parse_with(
         None => default_name.to_string(),
     };
     let (fabrication, fabrication_spans) = fabrication::fabrication(&raw, overrides)?;
+    let simulation = simulation::parse(raw.simulation.as_ref())?;
     let lattice_span = raw.lattice.span();
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {
@@ -211,6 +215,7 @@ pub fn parse_with(
         helix_cells,
         fit,
         fabrication,
+        simulation,
         recipe_hash: fnv1a(source.as_bytes()),
         spans,
     })

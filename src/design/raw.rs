@@ -21,6 +21,7 @@ pub struct RawDesign {
     pub laser: Option<Spanned<RawLaser>>,
     pub sheet: Option<Spanned<RawSheet>>,
     pub guide: Option<Spanned<RawGuide>>,
+    pub simulation: Option<Spanned<super::simulation::RawSimulation>>,
 }
 
 /// `[guide]`: the printed assembly guide.

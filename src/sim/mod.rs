@@ -6,14 +6,12 @@
 //! `strips` (a lattice's model), `solver` (Newton), `explore`
 //! (multistability), `results` (strains, reactions, distances).
 
-pub mod dual;
 pub mod explore;
-pub mod frames;
-pub mod model;
 pub mod results;
 pub mod solver;
 pub mod strips;
 
+pub use karigami_rods::{dual, frames, model};
 pub use model::{Energies, Model, Section};
 pub use results::{StrainPeak, angle_defects, kabsch_distance, kabsch_fit};
 pub use solver::{Options, SolveError, Stats, System};
@@ -231,4 +229,47 @@ pub fn simulate(
         steps,
         seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// The lattice with every vertex and pivot where the simulation put them
+/// (rows of a bent-facet lattice all share the simulated vertices): for
+/// pictures of the deployed shape, e.g. the preview and the guide's cover.
+pub fn placed_lattice(lattice: &Lattice, lm: &LatticeModel) -> Lattice {
+    let points = lm.points();
+    let nv = lattice.vertices.len();
+    let mut out = lattice.clone();
+    for (v, vertex) in out.vertices.iter_mut().enumerate() {
+        if lm.vertex[v] != strips::VertexPlace::None {
+            vertex.pos = points[v];
+        }
+    }
+    for (c, cell) in out.cells.iter_mut().enumerate() {
+        cell.pivot = points[nv + c];
+    }
+    let by_key: std::collections::HashMap<(u32, u32), usize> = lattice
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| ((v.key.row, v.key.col), i))
+        .collect();
+    for (row, front) in out.fronts.iter_mut().enumerate() {
+        for (col, p) in front.iter_mut().enumerate() {
+            if let Some(&v) = by_key.get(&(row as u32, col as u32)) {
+                *p = points[v];
+            }
+        }
+    }
+    out
+}
+
+/// Lattices above this many cells are not simulated by `build`.
+pub const MAX_SIMULATED_CELLS: usize = 2_000;
+
+/// Whether `build` simulates a lattice: unless it is a planar true
+/// mechanism (its design is its deployed shape, strips straight), or too
+/// large. Eyelets make 3-D designs twist where cells in different planes
+/// meet, so those are simulated too.
+pub fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
+    let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
+    !planar_mechanism && lattice.cells.len() <= MAX_SIMULATED_CELLS && !lattice.cells.is_empty()
 }

@@ -233,3 +233,45 @@ pub fn theta_count(m: &Model) -> usize {
 pub fn stencil_count(m: &Model) -> usize {
     m.stencils.iter().filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. })).count()
 }
+
+/// One strip of an equilibrium, node by node, for deployed.json/.obj.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeployedStrip {
+    /// The engraved strip id.
+    pub id: String,
+    /// Arc length from the first hole (mm).
+    pub s: Vec<f64>,
+    pub centre: Vec<DVec3>,
+    /// Width direction and face normal at each node (mean of its edges).
+    pub d1: Vec<DVec3>,
+    pub d2: Vec<DVec3>,
+    /// Corner-fibre strain and twist shear strain at each node.
+    pub strain: Vec<f64>,
+    pub gamma: Vec<f64>,
+}
+
+/// Every strip of the model as it is now.
+pub fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
+    (0..m.rods.len())
+        .map(|r| {
+            let path = &m.rods[r];
+            let frames: Vec<(DVec3, DVec3, DVec3)> = path.edges.iter().map(|&e| m.edge_frame(e)).collect();
+            let at = |k: usize, pick: fn(&(DVec3, DVec3, DVec3)) -> DVec3| {
+                let before = k.checked_sub(1).map(|i| pick(&frames[i]));
+                let after = frames.get(k).map(pick);
+                let sum = before.unwrap_or(DVec3::ZERO) + after.unwrap_or(DVec3::ZERO);
+                sum.try_normalize().unwrap_or(sum)
+            };
+            let strains = rod_strains(m, r, 0.0);
+            DeployedStrip {
+                id: path.name.clone(),
+                s: path.s.clone(),
+                centre: path.nodes.iter().map(|&n| m.pos(n)).collect(),
+                d1: (0..path.nodes.len()).map(|k| at(k, |f| f.1)).collect(),
+                d2: (0..path.nodes.len()).map(|k| at(k, |f| f.2)).collect(),
+                strain: strains.iter().map(|x| x.1).collect(),
+                gamma: strains.iter().map(|x| x.2).collect(),
+            }
+        })
+        .collect()
+}

@@ -178,6 +178,11 @@ impl LatticeModel {
             }
             vertex[jt.vertex as usize] = VertexPlace::Joint(j);
         }
+        let width_of = |m: u32| m.to_string().len().max(2);
+        let digits = (
+            width_of(lattice.cells.iter().map(|c| c.row).max().unwrap_or(0)),
+            width_of(lattice.cells.iter().map(|c| c.col).max().unwrap_or(0)),
+        );
         // Rods.
         for (r, rod) in cut.iter().enumerate() {
             let holes = rod.holes();
@@ -286,7 +291,9 @@ impl LatticeModel {
                 let lbar = (e0.rest + e1.rest) / 2.0;
                 model.stencils.push(Stencil::Bend { e0: w[0], e1: w[1], lbar, rod: r });
             }
-            let name = format!("{}{}", rod.kind.letter(), rod.cell);
+            // The strip's engraved id (parts::strip_id), so a maker finds it.
+            let cell = &lattice.cells[rod.cell];
+            let name = crate::parts::strip_id(cell.row, cell.col, rod.kind, digits.0, digits.1);
             model.rods.push(RodPath { name, nodes, edges, s });
         }
         // Corner vertices: the node at the single rod end.
@@ -344,17 +351,15 @@ impl LatticeModel {
     }
 }
 
-impl Model {
-    pub fn pos_of_joint(&self, j: usize) -> Option<DVec3> {
-        let x = self.joints.get(j)?.x;
-        Some(DVec3::new(self.q[x], self.q[x + 1], self.q[x + 2]))
-    }
-
-    /// Where a node of this kind would be now.
-    pub fn node_value(&mut self, node: Node) -> DVec3 {
-        self.nodes.push(node);
-        let p = self.pos(self.nodes.len() - 1);
-        self.nodes.pop();
-        p
+impl LatticeModel {
+    /// A joint as messages name it: the vertex or the cell's pivot.
+    pub fn joint_name(&self, lattice: &Lattice, j: usize) -> String {
+        let jt = &self.model.joints[j];
+        match (jt.vertex, jt.cell) {
+            (Some(v), _) => format!("vertex {}", lattice.vertex_name(v)),
+            (_, Some(c)) => format!("the pivot of {}", lattice.cell_name(&lattice.cells[c])),
+            _ => format!("joint {j}"),
+        }
     }
 }
+

@@ -2,7 +2,8 @@
 //! reference frame of an edge, a joint's tilted frame, and the twist
 //! between two edges.
 
-use super::dual::{Scalar, V3};
+use crate::dual::{Scalar, V3};
+use glam::DVec3;
 
 /// The minimal rotation taking unit `t1` to unit `t2`, applied to `v`
 /// (smooth while t1.t2 > -1).
@@ -13,10 +14,20 @@ pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
     v.scale(c).add(b.cross(v)).add(b.scale(k))
 }
 
+/// `transport` from a constant unit `t1` of a constant `v` (the stored
+/// reference frame): most products involve a constant, which is cheap.
+pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
+    let c = t2.dotc(t1);
+    // b = t1 x t2 = -(t2 x t1)
+    let b = t2.crossc(t1).scalef(-1.0);
+    let k = b.dotc(v) / (c + 1.0);
+    V3::cscale(v, c).add(b.crossc(v)).add(b.scale(k))
+}
+
 /// Material frame `(d1, d2)` of an edge with tangent `t`, stored source
 /// tangent `ts` and director `as_`, and material angle `theta`.
-pub fn material<S: Scalar>(ts: V3<S>, as_: V3<S>, t: V3<S>, theta: S) -> (V3<S>, V3<S>) {
-    let a1 = transport(ts, t, as_);
+pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>, V3<S>) {
+    let a1 = transport_c(ts, t, as_);
     let a2 = t.cross(a1);
     let (s, c) = (theta.sin(), theta.cos());
     (a1.scale(c).add(a2.scale(s)), a2.scale(c).sub(a1.scale(s)))
@@ -25,14 +36,14 @@ pub fn material<S: Scalar>(ts: V3<S>, as_: V3<S>, t: V3<S>, theta: S) -> (V3<S>,
 /// A joint's axis and in-plane basis from its stored frame and the
 /// gnomonic tilt (a, b): `n = unit(ns + a ps + b qs)`, p and q transported.
 pub fn joint_frame<S: Scalar>(
-    ns: V3<S>,
-    ps: V3<S>,
-    qs: V3<S>,
+    ns: DVec3,
+    ps: DVec3,
+    qs: DVec3,
     a: S,
     b: S,
 ) -> (V3<S>, V3<S>, V3<S>) {
-    let n = ns.add(ps.scale(a)).add(qs.scale(b)).unit();
-    (n, transport(ns, n, ps), transport(ns, n, qs))
+    let n = V3::cst(ns).add(V3::cscale(ps, a)).add(V3::cscale(qs, b)).unit();
+    (n, transport_c(ns, n, ps), transport_c(ns, n, qs))
 }
 
 /// Twist between consecutive edges: the angle from the transported `d1`

@@ -2,8 +2,8 @@
 //! frames, eyelet joints, and the energy stencils, evaluated with plain f64
 //! (energy) or with duals (gradient and Hessian).
 
-use super::dual::{Dual, Scalar, V3};
-use super::frames::{joint_frame, material, transport, twist};
+use crate::dual::{Dual, Scalar, V3};
+use crate::frames::{joint_frame, material, transport, twist};
 use glam::DVec3;
 
 /// Stiffness of the strip's cross-section (PHYSICS.md 1).
@@ -287,6 +287,13 @@ impl Model {
         out
     }
 
+    /// One stencil's energy at the current state.
+    pub fn stencil_value(&self, s: &Stencil) -> f64 {
+        let get = |i: usize| self.q[i];
+        let (a, b) = stencil_energy::<f64>(self, &get, s);
+        a + b
+    }
+
     /// Energy, gradient (over all variables) and the local Hessian of one
     /// stencil, for its variables `vars`.
     pub fn stencil_derivatives(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
@@ -319,7 +326,9 @@ impl Model {
         let g = d.g[..n].to_vec();
         let mut h = vec![0.0; n * n];
         for a in 0..n {
-            h[a * n..a * n + n].copy_from_slice(&d.h[a][..n]);
+            for b in 0..n {
+                h[a * n + b] = d.hess(a, b);
+            }
         }
         (d.v, g, h)
     }
@@ -377,7 +386,7 @@ fn joint_basis<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, j: usize) -> (V3<
     let jt = &m.joints[j];
     let [ns, ps, qs] = jt.frame;
     match jt.tilt {
-        Some(t) => joint_frame(V3::cst(ns), V3::cst(ps), V3::cst(qs), get(t), get(t + 1)),
+        Some(t) => joint_frame(ns, ps, qs, get(t), get(t + 1)),
         None => (V3::cst(ns), V3::cst(ps), V3::cst(qs)),
     }
 }
@@ -409,7 +418,7 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
 
 fn frame_of<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, e: &Edge, t: V3<S>) -> (V3<S>, V3<S>) {
     match e.frame {
-        Frame::Ref { ts, as_, theta } => material(V3::cst(ts), V3::cst(as_), t, get(theta)),
+        Frame::Ref { ts, as_, theta } => material(ts, as_, t, get(theta)),
         Frame::Arm { joint, slot, sigma } => {
             let (u, n) = slot_dir(m, get, joint, slot);
             let d2 = n.scalef(sigma);
@@ -516,5 +525,20 @@ impl Model {
             Frame::Ref { theta, .. } => Some(theta),
             Frame::Arm { .. } => None,
         }
+    }
+}
+
+impl Model {
+    pub fn pos_of_joint(&self, j: usize) -> Option<DVec3> {
+        let x = self.joints.get(j)?.x;
+        Some(DVec3::new(self.q[x], self.q[x + 1], self.q[x + 2]))
+    }
+
+    /// Where a node of this kind would be now.
+    pub fn node_value(&mut self, node: Node) -> DVec3 {
+        self.nodes.push(node);
+        let p = self.pos(self.nodes.len() - 1);
+        self.nodes.pop();
+        p
     }
 }

@@ -47,7 +47,8 @@ impl Scalar for f64 {
     }
 }
 
-/// Value, gradient and (symmetric, full) Hessian over N variables.
+/// Value, gradient and Hessian over N variables. Only the upper triangle
+/// `h[i][j]`, j >= i, is computed (half the work); `hessian` mirrors it.
 #[derive(Clone, Copy, Debug)]
 pub struct Dual<const N: usize> {
     pub v: f64,
@@ -63,13 +64,18 @@ impl<const N: usize> Dual<N> {
         d
     }
 
+    /// Hessian entry (i, j) of either triangle.
+    pub fn hess(&self, i: usize, j: usize) -> f64 {
+        if j >= i { self.h[i][j] } else { self.h[j][i] }
+    }
+
     /// f(self) from f, f', f'' at the value (the chain rule).
     fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
         let mut out = Self::cst(f);
         for i in 0..N {
             out.g[i] = f1 * self.g[i];
             let gi = f2 * self.g[i];
-            for j in 0..N {
+            for j in i..N {
                 out.h[i][j] = f1 * self.h[i][j] + gi * self.g[j];
             }
         }
@@ -113,7 +119,7 @@ impl<const N: usize> Scalar for Dual<N> {
         let mut out = Self::cst(y.v.atan2(x.v));
         for i in 0..N {
             out.g[i] = ay * y.g[i] + ax * x.g[i];
-            for j in 0..N {
+            for j in i..N {
                 out.h[i][j] = ay * y.h[i][j]
                     + ax * x.h[i][j]
                     + hyy * y.g[i] * y.g[j]
@@ -131,7 +137,7 @@ impl<const N: usize> Add for Dual<N> {
         self.v += o.v;
         for i in 0..N {
             self.g[i] += o.g[i];
-            for j in 0..N {
+            for j in i..N {
                 self.h[i][j] += o.h[i][j];
             }
         }
@@ -145,7 +151,7 @@ impl<const N: usize> Sub for Dual<N> {
         self.v -= o.v;
         for i in 0..N {
             self.g[i] -= o.g[i];
-            for j in 0..N {
+            for j in i..N {
                 self.h[i][j] -= o.h[i][j];
             }
         }
@@ -155,11 +161,12 @@ impl<const N: usize> Sub for Dual<N> {
 
 impl<const N: usize> Mul for Dual<N> {
     type Output = Self;
+    #[inline]
     fn mul(self, o: Self) -> Self {
         let mut out = Self::cst(self.v * o.v);
         for i in 0..N {
             out.g[i] = self.v * o.g[i] + o.v * self.g[i];
-            for j in 0..N {
+            for j in i..N {
                 out.h[i][j] = self.v * o.h[i][j]
                     + o.v * self.h[i][j]
                     + self.g[i] * o.g[j]
@@ -199,7 +206,7 @@ impl<const N: usize> Mul<f64> for Dual<N> {
         self.v *= o;
         for i in 0..N {
             self.g[i] *= o;
-            for j in 0..N {
+            for j in i..N {
                 self.h[i][j] *= o;
             }
         }
@@ -246,6 +253,22 @@ impl<S: Scalar> V3<S> {
     }
     pub fn scalef(self, s: f64) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
+    }
+    /// Dot with a constant vector (cheap: no products of derivatives).
+    pub fn dotc(self, c: glam::DVec3) -> S {
+        self.x * c.x + self.y * c.y + self.z * c.z
+    }
+    /// Cross with a constant vector on the right.
+    pub fn crossc(self, c: glam::DVec3) -> Self {
+        V3::new(
+            self.y * c.z + self.z * -c.y,
+            self.z * c.x + self.x * -c.z,
+            self.x * c.y + self.y * -c.x,
+        )
+    }
+    /// A constant vector times a scalar.
+    pub fn cscale(c: glam::DVec3, s: S) -> Self {
+        V3::new(s * c.x, s * c.y, s * c.z)
     }
     pub fn norm(self) -> S {
         self.dot(self).sqrt()
