@@ -99,15 +99,23 @@ pub fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
 /// joint and the rod: F = -dE_rod/dX_J.
 pub fn largest_reaction(m: &Model) -> (f64, usize, String) {
     let mut forces: BTreeMap<(usize, usize), DVec3> = BTreeMap::new();
+    // Position variable -> (joint, axis).
+    let mut owner = std::collections::HashMap::new();
+    for (j, jt) in m.joints.iter().enumerate() {
+        for a in 0..3 {
+            owner.insert(jt.x + a, (j, a));
+        }
+    }
     for st in &m.stencils {
         let Some(rod) = st.rod() else { continue };
         let vars = m.stencil_vars(st);
+        if !vars.iter().any(|v| owner.contains_key(v)) {
+            continue;
+        }
         let (_, g, _) = m.stencil_derivatives(st, &vars);
-        for (j, jt) in m.joints.iter().enumerate() {
-            for a in 0..3 {
-                if let Some(k) = vars.iter().position(|&v| v == jt.x + a) {
-                    forces.entry((j, rod)).or_default()[a] -= g[k];
-                }
+        for (k, v) in vars.iter().enumerate() {
+            if let Some(&(j, a)) = owner.get(v) {
+                forces.entry((j, rod)).or_default()[a] -= g[k];
             }
         }
     }
