@@ -237,7 +237,7 @@ impl Build {
                 &crate::sim::placed_lattice(&self.lattice, &run.lm),
                 fab.material.width,
                 name,
-                Some("shown: the simulated deployed shape (elastic strips joined by eyelets; deployed.obj)"),
+                Some("shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)"),
             ),
             None => preview(&self.assembled, fab.material.width, name),
         };

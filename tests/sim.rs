@@ -432,3 +432,19 @@ fn refinement_moves_joints_less_than_1_percent(path: &str) {
     );
     assert!(d < 0.01 * size, "{d} mm of {size}");
 }
+
+/// The curvature measure on known shapes: a planar lattice is flat at
+/// every interior vertex; the torus (its outer half) is dome-like.
+#[test]
+fn angle_defects_measure_curvature_signs() {
+    let grid = uniform_grid();
+    let points: Vec<DVec3> = grid.vertices.iter().map(|v| v.pos).collect();
+    let flat = sim::angle_defects(&grid, &points);
+    assert!(!flat.is_empty());
+    assert!(flat.iter().all(|d| d.1.abs() < 1e-9), "{flat:?}");
+    let torus = load("examples/torus.toml");
+    let points: Vec<DVec3> = torus.vertices.iter().map(|v| v.pos).collect();
+    let dome = sim::angle_defects(&torus, &points);
+    assert!(dome.len() > 50);
+    assert!(dome.iter().all(|d| d.1 > 0.0), "{dome:?}");
+}

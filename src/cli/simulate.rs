@@ -91,6 +91,10 @@ pub fn text(file: &str, lattice: &Lattice, verdict: &str, run: &Simulation, s: &
     let (f, j, rod) = &eq.reaction;
     let _ = writeln!(o, "largest joint reaction: {:.4} N, at {} on strip {rod}", f, run.lm.joint_name(lattice, *j));
     let _ = writeln!(o, "distance from the design (largest joint, after the best rigid fit): {:.4} mm", eq.distance);
+    let nv = lattice.vertices.len();
+    for (what, points) in [("design", &run.lm.start[..nv]), ("simulated", &eq.points[..nv])] {
+        let _ = writeln!(o, "curvature ({what}): {}", curvature_summary(&sim::angle_defects(lattice, points)));
+    }
     let (lo, hi) = eq.openings.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
     let _ = writeln!(o, "cell openings: {:.2} to {:.2} deg", lo.to_degrees(), hi.to_degrees());
     if eq.openings.len() <= 12 {
@@ -111,6 +115,25 @@ pub fn text(file: &str, lattice: &Lattice, verdict: &str, run: &Simulation, s: &
         if st.lambda_min > 0.0 { "stable" } else { "NOT stable" }
     );
     o
+}
+
+/// Signs of the angle defects at interior vertices (discrete Gaussian
+/// curvature): how many dome-like, saddle-like and flat.
+pub fn curvature_summary(defects: &[(u32, f64)]) -> String {
+    if defects.is_empty() {
+        return "no interior vertices".into();
+    }
+    let tol = 1e-6;
+    let pos = defects.iter().filter(|d| d.1 > tol).count();
+    let neg = defects.iter().filter(|d| d.1 < -tol).count();
+    let (lo, hi) = defects.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| (a.min(d.1), b.max(d.1)));
+    format!(
+        "angle defects at {} interior vertices: {pos} positive (dome-like), {neg} negative (saddle-like), {} flat; from {:.4} to {:.4} deg",
+        defects.len(),
+        defects.len() - pos - neg,
+        lo.to_degrees(),
+        hi.to_degrees()
+    )
 }
 
 fn explore_text(

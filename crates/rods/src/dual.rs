@@ -27,21 +27,27 @@ pub trait Scalar:
 }
 
 impl Scalar for f64 {
+    #[inline]
     fn cst(v: f64) -> Self {
         v
     }
+    #[inline]
     fn val(&self) -> f64 {
         *self
     }
+    #[inline]
     fn sqrt(self) -> Self {
         f64::sqrt(self)
     }
+    #[inline]
     fn sin(self) -> Self {
         f64::sin(self)
     }
+    #[inline]
     fn cos(self) -> Self {
         f64::cos(self)
     }
+    #[inline]
     fn atan2(self, x: Self) -> Self {
         f64::atan2(self, x)
     }
@@ -58,6 +64,7 @@ pub struct Dual<const N: usize> {
 
 impl<const N: usize> Dual<N> {
     /// Local variable `i` at value `v`.
+    #[inline]
     pub fn var(v: f64, i: usize) -> Self {
         let mut d = Self::cst(v);
         d.g[i] = 1.0;
@@ -65,11 +72,13 @@ impl<const N: usize> Dual<N> {
     }
 
     /// Hessian entry (i, j) of either triangle.
+    #[inline]
     pub fn hess(&self, i: usize, j: usize) -> f64 {
         if j >= i { self.h[i][j] } else { self.h[j][i] }
     }
 
     /// f(self) from f, f', f'' at the value (the chain rule).
+    #[inline]
     fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
         let mut out = Self::cst(f);
         for i in 0..N {
@@ -84,6 +93,7 @@ impl<const N: usize> Dual<N> {
 }
 
 impl<const N: usize> Scalar for Dual<N> {
+    #[inline]
     fn cst(v: f64) -> Self {
         Dual {
             v,
@@ -91,22 +101,27 @@ impl<const N: usize> Scalar for Dual<N> {
             h: [[0.0; N]; N],
         }
     }
+    #[inline]
     fn val(&self) -> f64 {
         self.v
     }
+    #[inline]
     fn sqrt(self) -> Self {
         let s = self.v.sqrt();
         self.chain(s, 0.5 / s, -0.25 / (s * self.v))
     }
+    #[inline]
     fn sin(self) -> Self {
         let (s, c) = self.v.sin_cos();
         self.chain(s, c, -s)
     }
+    #[inline]
     fn cos(self) -> Self {
         let (s, c) = self.v.sin_cos();
         self.chain(c, -s, -c)
     }
     /// atan2(y, x) with y = self: d = (x dy - y dx) / r2.
+    #[inline]
     fn atan2(self, x: Self) -> Self {
         let y = self;
         let r2 = x.v * x.v + y.v * y.v;
@@ -133,6 +148,7 @@ impl<const N: usize> Scalar for Dual<N> {
 
 impl<const N: usize> Add for Dual<N> {
     type Output = Self;
+    #[inline]
     fn add(mut self, o: Self) -> Self {
         self.v += o.v;
         for i in 0..N {
@@ -147,6 +163,7 @@ impl<const N: usize> Add for Dual<N> {
 
 impl<const N: usize> Sub for Dual<N> {
     type Output = Self;
+    #[inline]
     fn sub(mut self, o: Self) -> Self {
         self.v -= o.v;
         for i in 0..N {
@@ -179,6 +196,7 @@ impl<const N: usize> Mul for Dual<N> {
 
 impl<const N: usize> Div for Dual<N> {
     type Output = Self;
+    #[inline]
     fn div(self, o: Self) -> Self {
         let inv = 1.0 / o.v;
         self * o.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
@@ -187,6 +205,7 @@ impl<const N: usize> Div for Dual<N> {
 
 impl<const N: usize> Neg for Dual<N> {
     type Output = Self;
+    #[inline]
     fn neg(self) -> Self {
         self * -1.0
     }
@@ -194,6 +213,7 @@ impl<const N: usize> Neg for Dual<N> {
 
 impl<const N: usize> Add<f64> for Dual<N> {
     type Output = Self;
+    #[inline]
     fn add(mut self, o: f64) -> Self {
         self.v += o;
         self
@@ -202,6 +222,7 @@ impl<const N: usize> Add<f64> for Dual<N> {
 
 impl<const N: usize> Mul<f64> for Dual<N> {
     type Output = Self;
+    #[inline]
     fn mul(mut self, o: f64) -> Self {
         self.v *= o;
         for i in 0..N {
@@ -223,18 +244,23 @@ pub struct V3<S> {
 }
 
 impl<S: Scalar> V3<S> {
+    #[inline]
     pub fn new(x: S, y: S, z: S) -> Self {
         V3 { x, y, z }
     }
+    #[inline]
     pub fn cst(v: glam::DVec3) -> Self {
         V3::new(S::cst(v.x), S::cst(v.y), S::cst(v.z))
     }
+    #[inline]
     pub fn val(&self) -> glam::DVec3 {
         glam::DVec3::new(self.x.val(), self.y.val(), self.z.val())
     }
+    #[inline]
     pub fn dot(self, o: Self) -> S {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
+    #[inline]
     pub fn cross(self, o: Self) -> Self {
         V3::new(
             self.y * o.z - self.z * o.y,
@@ -242,23 +268,29 @@ impl<S: Scalar> V3<S> {
             self.x * o.y - self.y * o.x,
         )
     }
+    #[inline]
     pub fn add(self, o: Self) -> Self {
         V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
     }
+    #[inline]
     pub fn sub(self, o: Self) -> Self {
         V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
     }
+    #[inline]
     pub fn scale(self, s: S) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
+    #[inline]
     pub fn scalef(self, s: f64) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
     /// Dot with a constant vector (cheap: no products of derivatives).
+    #[inline]
     pub fn dotc(self, c: glam::DVec3) -> S {
         self.x * c.x + self.y * c.y + self.z * c.z
     }
     /// Cross with a constant vector on the right.
+    #[inline]
     pub fn crossc(self, c: glam::DVec3) -> Self {
         V3::new(
             self.y * c.z + self.z * -c.y,
@@ -267,12 +299,15 @@ impl<S: Scalar> V3<S> {
         )
     }
     /// A constant vector times a scalar.
+    #[inline]
     pub fn cscale(c: glam::DVec3, s: S) -> Self {
         V3::new(s * c.x, s * c.y, s * c.z)
     }
+    #[inline]
     pub fn norm(self) -> S {
         self.dot(self).sqrt()
     }
+    #[inline]
     pub fn unit(self) -> Self {
         let n = self.norm();
         V3::new(self.x / n, self.y / n, self.z / n)

@@ -7,6 +7,7 @@ use glam::DVec3;
 
 /// The minimal rotation taking unit `t1` to unit `t2`, applied to `v`
 /// (smooth while t1.t2 > -1).
+#[inline]
 pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
     let c = t1.dot(t2);
     let b = t1.cross(t2);
@@ -16,6 +17,7 @@ pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
 
 /// `transport` from a constant unit `t1` of a constant `v` (the stored
 /// reference frame): most products involve a constant, which is cheap.
+#[inline]
 pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
     let c = t2.dotc(t1);
     // b = t1 x t2 = -(t2 x t1)
@@ -26,6 +28,7 @@ pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
 
 /// Material frame `(d1, d2)` of an edge with tangent `t`, stored source
 /// tangent `ts` and director `as_`, and material angle `theta`.
+#[inline]
 pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>, V3<S>) {
     let a1 = transport_c(ts, t, as_);
     let a2 = t.cross(a1);
@@ -35,6 +38,7 @@ pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>,
 
 /// A joint's axis and in-plane basis from its stored frame and the
 /// gnomonic tilt (a, b): `n = unit(ns + a ps + b qs)`, p and q transported.
+#[inline]
 pub fn joint_frame<S: Scalar>(
     ns: DVec3,
     ps: DVec3,
@@ -48,6 +52,7 @@ pub fn joint_frame<S: Scalar>(
 
 /// Twist between consecutive edges: the angle from the transported `d1`
 /// of the first edge to `d1` of the second, about the second tangent.
+#[inline]
 pub fn twist<S: Scalar>(t0: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) -> S {
     let u = transport(t0, t1, d10);
     u.cross(d11).dot(t1).atan2(u.dot(d11))
