@@ -8,10 +8,9 @@
 
 pub mod explore;
 pub mod results;
-pub mod solver;
 pub mod strips;
 
-pub use karigami_rods::{dual, frames, model};
+pub use karigami_rods::{dual, frames, model, solver};
 pub use model::{Energies, Model, Section};
 pub use results::{StrainPeak, angle_defects, kabsch_distance, kabsch_fit};
 pub use solver::{Options, SolveError, Stats, System};

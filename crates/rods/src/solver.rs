@@ -4,7 +4,7 @@
 //! one-step watchdog line search. faer's sparse LLT is the factorisation:
 //! its refusal of an indefinite matrix is the inertia test.
 
-use super::model::{Model, VarKind};
+use crate::model::{Model, VarKind};
 use faer::Side;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -170,7 +170,7 @@ impl System {
     /// a factor of H + tau Dm (positive definite): (lambda, v).
     pub fn lowest_mode(&self, h: &[f64], llt: &Llt<usize, f64>, seed: u64) -> (f64, Vec<f64>) {
         let n = self.n();
-        let mut rng = super::explore::Rng::new(seed);
+        let mut rng = crate::rng::Rng::new(seed);
         let mut v: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
         let mut lambda = 0.0;
         for it in 0..60 {
