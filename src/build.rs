@@ -142,7 +142,8 @@ pub fn assemble_with(
     let pages = (0..layout.sheets.len())
         .map(|i| sheet_page(&parts.strips, &layout, i, fab, &meta))
         .collect();
-    let simulation = simulated(&design, &lattice, &deployment)?;
+    let mut parts = parts;
+    let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
         simulation,
         design,
@@ -158,20 +159,31 @@ pub fn assemble_with(
 
 /// The simulated deployed shape when `sim::wanted`; strips strained beyond
 /// the allowable are an error unless the recipe accepts them.
+/// A solver failure is a warning (the cut files do not depend on it):
+/// no deployed files then.
 fn simulated(
     design: &Design,
     lattice: &Lattice,
     deployment: &Deployment,
+    warnings: &mut Vec<crate::parts::Warning>,
 ) -> Result<Option<crate::sim::Simulation>, Diagnostic> {
     if !crate::sim::wanted(lattice, deployment) {
         return Ok(None);
     }
     let settings = &design.simulation;
     let m = &design.fabrication.material;
-    let run = crate::sim::simulate(lattice, deployment, m.width, m.thickness, settings).map_err(|e| {
-        Diagnostic::new("SimulationFailed", format!("the deployed shape could not be simulated: {e}"))
-            .hint("run `karigami simulate` on the recipe for details; [simulation] edge_length or theta may help (docs/physics.md)")
-    })?;
+    let run = match crate::sim::simulate(lattice, deployment, m.width, m.thickness, settings) {
+        Ok(run) => run,
+        Err(e) => {
+            warnings.push(crate::parts::Warning {
+                strip: None,
+                message: format!(
+                    "the deployed shape could not be simulated ({e}); no deployed.obj or deployed.json, and the preview shows the design (docs/physics.md)"
+                ),
+            });
+            return Ok(None);
+        }
+    };
     let strain = &run.equilibrium.strain;
     let allow = settings.material.eps_allow;
     if strain.eps > allow && !settings.accept_overstrain {
