@@ -37,6 +37,9 @@ pub struct Build {
     pub pages: Vec<Page>,
     /// The job nested on every sheet preset (sheet advice), in preset order.
     pub sheet_options: Vec<SheetOption>,
+    /// The simulated deployed shape (docs/physics.md), for lattices that
+    /// are not planar true mechanisms (`sim::wanted`).
+    pub simulation: Option<crate::sim::Simulation>,
 }
 
 /// Grow, verify, make the parts and nest them. A design that fails
@@ -162,7 +165,10 @@ pub fn assemble_with(
             page
         })
         .collect();
+    let mut parts = parts;
+    let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
+        simulation,
         design,
         assembled: lattice.placed(),
         deployment,
@@ -199,6 +205,53 @@ fn sheet_advice(design: &Design, lattice: &Lattice, parts: &Parts) -> (Job, Vec<
     };
     let options = sheet_options(&job, &fab.sheet);
     (job, options)
+}
+
+/// The simulated deployed shape when `sim::wanted`; strips strained beyond
+/// the allowable are an error unless the recipe accepts them.
+/// A solver failure is a warning (the cut files do not depend on it):
+/// no deployed files then.
+fn simulated(
+    design: &Design,
+    lattice: &Lattice,
+    deployment: &Deployment,
+    warnings: &mut Vec<crate::parts::Warning>,
+) -> Result<Option<crate::sim::Simulation>, Diagnostic> {
+    if !crate::sim::wanted(lattice, deployment) {
+        return Ok(None);
+    }
+    let settings = &design.simulation;
+    let m = &design.fabrication.material;
+    let run = match crate::sim::simulate(lattice, deployment, m.width, m.thickness, settings) {
+        Ok(run) => run,
+        Err(e) => {
+            warnings.push(crate::parts::Warning {
+                strip: None,
+                message: format!(
+                    "the deployed shape could not be simulated ({e}); no deployed.obj or deployed.json, and the preview shows the design (docs/physics.md)"
+                ),
+            });
+            return Ok(None);
+        }
+    };
+    let strain = &run.equilibrium.strain;
+    let allow = settings.material.eps_allow;
+    if strain.eps > allow && !settings.accept_overstrain {
+        return Err(Diagnostic::new(
+            "Overstrain",
+            format!(
+                "strip {} is strained {:.2} % ({}) at {:.1} mm from its first hole in the simulated deployed shape; the allowable is {:.2} %",
+                strain.rod,
+                100.0 * strain.eps,
+                strain.term,
+                strain.s,
+                100.0 * allow
+            ),
+        )
+        .site(format!("strip {}", strain.rod))
+        .hint("use thinner or narrower strips, change the design, or accept it with [simulation] accept_overstrain = true (docs/physics.md)"));
+    }
+    Ok(Some(run))
 }
 
 fn locate(design: &Design, e: PartsError) -> Diagnostic {
@@ -250,7 +303,15 @@ impl Build {
             "assembly.pdf".to_string(),
             pdf::write_with_symbols(&format!("{name} assembly guide"), &g.pages, &g.symbols),
         ));
-        let picture = preview(&self.assembled, fab.material.width, name);
+        let picture = match &self.simulation {
+            Some(run) => crate::drawing::picture::preview_captioned(
+                &crate::sim::placed_lattice(&self.lattice, &run.lm),
+                fab.material.width,
+                name,
+                Some("shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)"),
+            ),
+            None => preview(&self.assembled, fab.material.width, name),
+        };
         files.push((
             "preview.png".to_string(),
             png::write(&picture, PREVIEW_PX_PER_MM, 1.0),
@@ -262,7 +323,7 @@ impl Build {
             .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
             .collect();
         files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
-        let scene = viewer::Scene::new(
+        let mut scene = viewer::Scene::new(
             &self.design,
             &self.lattice,
             &self.assembled,
@@ -270,12 +331,61 @@ impl Build {
             &self.layout,
             &self.deployment,
         );
+        if let Some(run) = &self.simulation {
+            // The page offers the simulated shape beside the designed one.
+            let placed = crate::sim::placed_lattice(&self.lattice, &run.lm);
+            let vertices = placed.vertices.iter().map(|v| v.pos);
+            scene.simulated = Some(vertices.chain(placed.cells.iter().map(|c| c.pivot)).collect());
+        }
         files.push(("viewer.html".to_string(), viewer::write(&scene)));
+        if let Some(run) = &self.simulation {
+            files.extend(self.deployed_files(run));
+        }
         files.push((
             "report.txt".to_string(),
             crate::report::build_text(self).into_bytes(),
         ));
         files
+    }
+
+    /// deployed.json and deployed.obj of a simulated build.
+    fn deployed_files(&self, run: &crate::sim::Simulation) -> Vec<(String, Vec<u8>)> {
+        use crate::write::deployed;
+        let fab = &self.design.fabrication;
+        let strips = crate::sim::results::deployed_strips(&run.lm.model);
+        let eq = &run.equilibrium;
+        let nv = self.lattice.vertices.len();
+        let e = &eq.energy;
+        let summary = deployed::Summary {
+            design: &self.design.name,
+            verdict: &self.deployment.verdict(&self.lattice),
+            vertex_joint: self.design.simulation.vertex_joint.name(),
+            theta_deg: run.theta.to_degrees(),
+            energy: [e.stretch, e.bend, e.twist, e.external],
+            eps_max: eq.strain.eps,
+            eps_allow: self.design.simulation.material.eps_allow,
+            eps_rod: &eq.strain.rod,
+            eps_s: eq.strain.s,
+            distance: eq.distance,
+            iterations: run.iterations,
+            vertices: (0..nv)
+                .map(|v| (self.lattice.vertex_name(v as u32), eq.points[v]))
+                .collect(),
+            pivots: self
+                .lattice
+                .cells
+                .iter()
+                .enumerate()
+                .map(|(c, cell)| (self.lattice.cell_name(cell), eq.points[nv + c]))
+                .collect(),
+        };
+        vec![
+            ("deployed.json".to_string(), deployed::json(&summary, &strips)),
+            (
+                "deployed.obj".to_string(),
+                deployed::obj(&self.design.name, &strips, fab.material.width, fab.material.thickness),
+            ),
+        ]
     }
 
     pub fn bounds(&self) -> Bounds {

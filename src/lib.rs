@@ -14,6 +14,7 @@ pub mod lattice;
 pub mod layout;
 pub mod parts;
 pub mod report;
+pub mod sim;
 pub mod solve;
 pub mod templates;
 pub mod write;

@@ -16,3 +16,4 @@ mod thirdparty;
 mod util;
 mod viewer;
 mod workflow;
+mod sim;

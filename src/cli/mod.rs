@@ -21,6 +21,7 @@ mod fault;
 mod files;
 mod optimise;
 mod progress;
+mod simulate;
 
 use clap::{Args as ClapArgs, CommandFactory, Parser, Subcommand};
 use karigami::build::{Build, assemble_with, build_with, too_large_to_fabricate};
@@ -70,6 +71,18 @@ struct Args {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Simulate the deployed shape: strips as elastic rods joined by eyelets.
+    #[command(after_help = format!("Examples:\n  karigami simulate examples/eggbox.toml\n  karigami simulate examples/mirror-arm.toml --theta 40\n  karigami simulate examples/eggbox.toml --explore 12\n\nThe model and its limits: docs/physics.md.\n\n{EXIT_CODES}"))]
+    Simulate {
+        /// Recipe file (TOML).
+        design: PathBuf,
+        /// Opening of the reference cell (cell 0) in degrees; default: the recipe's [simulation] theta, else the design's.
+        #[arg(long, value_name = "DEG")]
+        theta: Option<f64>,
+        /// Also solve from N seeded perturbations and list the distinct stable equilibria.
+        #[arg(long, value_name = "N")]
+        explore: Option<usize>,
+    },
     /// Grow designs and verify collapsibility, compatibility, the collapsed
     /// state and that every strip can be cut. Writes nothing.
     #[command(after_help = format!("Examples:\n  karigami check examples/flat-sheet.toml\n  karigami check examples/          # every recipe in the folder\n  karigami check my.toml --json     # a machine-readable report\n\n{EXIT_CODES}"))]
@@ -253,6 +266,7 @@ pub fn run() -> i32 {
             json,
             fabrication,
         } => check(&designs, json, &fabrication.overrides(), v),
+        Command::Simulate { design, theta, explore } => simulate::simulate(&design, theta, explore, v),
         Command::Build {
             designs,
             out,

@@ -8,6 +8,7 @@ pub mod measure;
 pub mod optimise;
 mod raw;
 pub mod seed;
+pub mod simulation;
 pub mod tune;
 
 pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
@@ -44,6 +45,8 @@ pub struct Design {
     pub clash: optimise::ClashRule,
     /// The design optimiser's settings (`[optimise]`), for `karigami tune`.
     pub optimise: Option<optimise::Optimise>,
+    /// `[simulation]`: material moduli and deployment for `simulate`.
+    pub simulation: crate::sim::Settings,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub recipe_hash: u64,
     spans: Spans,
@@ -165,6 +168,7 @@ pub fn parse_with(
     let (fabrication, fabrication_spans) = fabrication::fabrication(&raw, overrides)?;
     let clash = optimise::parse_clash(raw.clash.as_ref())?;
     let optimise = raw.optimise.as_ref().map(optimise::parse).transpose()?;
+    let simulation = simulation::parse(raw.simulation.as_ref())?;
     let lattice_span = raw.lattice.span();
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {
@@ -227,6 +231,7 @@ pub fn parse_with(
         fabrication,
         clash,
         optimise,
+        simulation,
         recipe_hash: fnv1a(source.as_bytes()),
         spans,
     })

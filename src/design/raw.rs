@@ -23,6 +23,7 @@ pub struct RawDesign {
     pub guide: Option<Spanned<RawGuide>>,
     pub clash: Option<Spanned<super::optimise::RawClash>>,
     pub optimise: Option<Spanned<super::optimise::RawOptimise>>,
+    pub simulation: Option<Spanned<super::simulation::RawSimulation>>,
 }
 
 /// `[guide]`: the printed assembly guide.

@@ -278,6 +278,17 @@ pub fn pivots_and_vertices(
 
 /// The preview picture: the deployed lattice filling a page, with a title.
 pub fn preview(lattice: &Lattice, strip_width: f64, title: &str) -> super::Page {
+    preview_captioned(lattice, strip_width, title, None)
+}
+
+/// `preview` with a caption under the title saying which shape is shown
+/// (the design or the simulated deployed shape).
+pub fn preview_captioned(
+    lattice: &Lattice,
+    strip_width: f64,
+    title: &str,
+    caption: Option<&str>,
+) -> super::Page {
     let (w, h) = (160.0, 120.0);
     let fit = Fit::new(
         lattice,
@@ -307,6 +318,18 @@ pub fn preview(lattice: &Lattice, strip_width: f64, title: &str) -> super::Page 
             align: super::Align::Left,
         },
     ));
+    if let Some(caption) = caption {
+        items.push(Item::art(
+            Ink::fill([90, 90, 90]),
+            Shape::Text {
+                at: DVec2::new(6.0, h - 3.0),
+                size: 2.6,
+                text: caption.to_string(),
+                font: super::Font::Regular,
+                align: super::Align::Left,
+            },
+        ));
+    }
     super::Page {
         width: w,
         height: h,

@@ -1,5 +1,6 @@
 //! Writers: each turns a model into bytes. No writer touches the filesystem.
 
+pub mod deployed;
 pub mod dxf;
 pub mod lattice_json;
 pub mod lbrn2;

@@ -1,0 +1,315 @@
+//! Second-order forward-mode automatic differentiation for the stencil
+//! energies: a value with its gradient and Hessian over N local variables.
+//! Written here rather than taken from num-dual, which brings nalgebra (a
+//! long compile) for what is 200 lines; checked against finite
+//! differences in tests/sim.rs.
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// What the stencil energies compute with: plain f64 (energy only) or a
+/// `Dual` (energy, gradient and Hessian).
+pub trait Scalar:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Mul<f64, Output = Self>
+{
+    fn cst(v: f64) -> Self;
+    fn val(&self) -> f64;
+    fn sqrt(self) -> Self;
+    fn sin(self) -> Self;
+    fn cos(self) -> Self;
+    fn atan2(self, x: Self) -> Self;
+}
+
+impl Scalar for f64 {
+    #[inline]
+    fn cst(v: f64) -> Self {
+        v
+    }
+    #[inline]
+    fn val(&self) -> f64 {
+        *self
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        f64::sin(self)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        f64::cos(self)
+    }
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+}
+
+/// Value, gradient and Hessian over N variables. Only the upper triangle
+/// `h[i][j]`, j >= i, is computed (half the work); `hessian` mirrors it.
+#[derive(Clone, Copy, Debug)]
+pub struct Dual<const N: usize> {
+    pub v: f64,
+    pub g: [f64; N],
+    pub h: [[f64; N]; N],
+}
+
+impl<const N: usize> Dual<N> {
+    /// Local variable `i` at value `v`.
+    #[inline]
+    pub fn var(v: f64, i: usize) -> Self {
+        let mut d = Self::cst(v);
+        d.g[i] = 1.0;
+        d
+    }
+
+    /// Hessian entry (i, j) of either triangle.
+    #[inline]
+    pub fn hess(&self, i: usize, j: usize) -> f64 {
+        if j >= i { self.h[i][j] } else { self.h[j][i] }
+    }
+
+    /// f(self) from f, f', f'' at the value (the chain rule).
+    #[inline]
+    fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
+        let mut out = Self::cst(f);
+        for i in 0..N {
+            out.g[i] = f1 * self.g[i];
+            let gi = f2 * self.g[i];
+            for j in i..N {
+                out.h[i][j] = f1 * self.h[i][j] + gi * self.g[j];
+            }
+        }
+        out
+    }
+}
+
+impl<const N: usize> Scalar for Dual<N> {
+    #[inline]
+    fn cst(v: f64) -> Self {
+        Dual {
+            v,
+            g: [0.0; N],
+            h: [[0.0; N]; N],
+        }
+    }
+    #[inline]
+    fn val(&self) -> f64 {
+        self.v
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        let s = self.v.sqrt();
+        self.chain(s, 0.5 / s, -0.25 / (s * self.v))
+    }
+    #[inline]
+    fn sin(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(s, c, -s)
+    }
+    #[inline]
+    fn cos(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(c, -s, -c)
+    }
+    /// atan2(y, x) with y = self: d = (x dy - y dx) / r2.
+    #[inline]
+    fn atan2(self, x: Self) -> Self {
+        let y = self;
+        let r2 = x.v * x.v + y.v * y.v;
+        let (ay, ax) = (x.v / r2, -y.v / r2);
+        // Second derivatives of atan2 in (y, x).
+        let r4 = r2 * r2;
+        let hyy = -2.0 * x.v * y.v / r4;
+        let hxx = 2.0 * x.v * y.v / r4;
+        let hxy = (y.v * y.v - x.v * x.v) / r4;
+        let mut out = Self::cst(y.v.atan2(x.v));
+        for i in 0..N {
+            out.g[i] = ay * y.g[i] + ax * x.g[i];
+            for j in i..N {
+                out.h[i][j] = ay * y.h[i][j]
+                    + ax * x.h[i][j]
+                    + hyy * y.g[i] * y.g[j]
+                    + hxx * x.g[i] * x.g[j]
+                    + hxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+            }
+        }
+        out
+    }
+}
+
+impl<const N: usize> Add for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn add(mut self, o: Self) -> Self {
+        self.v += o.v;
+        for i in 0..N {
+            self.g[i] += o.g[i];
+            for j in i..N {
+                self.h[i][j] += o.h[i][j];
+            }
+        }
+        self
+    }
+}
+
+impl<const N: usize> Sub for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn sub(mut self, o: Self) -> Self {
+        self.v -= o.v;
+        for i in 0..N {
+            self.g[i] -= o.g[i];
+            for j in i..N {
+                self.h[i][j] -= o.h[i][j];
+            }
+        }
+        self
+    }
+}
+
+impl<const N: usize> Mul for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn mul(self, o: Self) -> Self {
+        let mut out = Self::cst(self.v * o.v);
+        for i in 0..N {
+            out.g[i] = self.v * o.g[i] + o.v * self.g[i];
+            for j in i..N {
+                out.h[i][j] = self.v * o.h[i][j]
+                    + o.v * self.h[i][j]
+                    + self.g[i] * o.g[j]
+                    + o.g[i] * self.g[j];
+            }
+        }
+        out
+    }
+}
+
+impl<const N: usize> Div for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn div(self, o: Self) -> Self {
+        let inv = 1.0 / o.v;
+        self * o.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+    }
+}
+
+impl<const N: usize> Neg for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+
+impl<const N: usize> Add<f64> for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn add(mut self, o: f64) -> Self {
+        self.v += o;
+        self
+    }
+}
+
+impl<const N: usize> Mul<f64> for Dual<N> {
+    type Output = Self;
+    #[inline]
+    fn mul(mut self, o: f64) -> Self {
+        self.v *= o;
+        for i in 0..N {
+            self.g[i] *= o;
+            for j in i..N {
+                self.h[i][j] *= o;
+            }
+        }
+        self
+    }
+}
+
+/// A 3-vector over any scalar.
+#[derive(Clone, Copy, Debug)]
+pub struct V3<S> {
+    pub x: S,
+    pub y: S,
+    pub z: S,
+}
+
+impl<S: Scalar> V3<S> {
+    #[inline]
+    pub fn new(x: S, y: S, z: S) -> Self {
+        V3 { x, y, z }
+    }
+    #[inline]
+    pub fn cst(v: glam::DVec3) -> Self {
+        V3::new(S::cst(v.x), S::cst(v.y), S::cst(v.z))
+    }
+    #[inline]
+    pub fn val(&self) -> glam::DVec3 {
+        glam::DVec3::new(self.x.val(), self.y.val(), self.z.val())
+    }
+    #[inline]
+    pub fn dot(self, o: Self) -> S {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    #[inline]
+    pub fn cross(self, o: Self) -> Self {
+        V3::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+    #[inline]
+    pub fn add(self, o: Self) -> Self {
+        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+    #[inline]
+    pub fn sub(self, o: Self) -> Self {
+        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+    #[inline]
+    pub fn scale(self, s: S) -> Self {
+        V3::new(self.x * s, self.y * s, self.z * s)
+    }
+    #[inline]
+    pub fn scalef(self, s: f64) -> Self {
+        V3::new(self.x * s, self.y * s, self.z * s)
+    }
+    /// Dot with a constant vector (cheap: no products of derivatives).
+    #[inline]
+    pub fn dotc(self, c: glam::DVec3) -> S {
+        self.x * c.x + self.y * c.y + self.z * c.z
+    }
+    /// Cross with a constant vector on the right.
+    #[inline]
+    pub fn crossc(self, c: glam::DVec3) -> Self {
+        V3::new(
+            self.y * c.z + self.z * -c.y,
+            self.z * c.x + self.x * -c.z,
+            self.x * c.y + self.y * -c.x,
+        )
+    }
+    /// A constant vector times a scalar.
+    #[inline]
+    pub fn cscale(c: glam::DVec3, s: S) -> Self {
+        V3::new(s * c.x, s * c.y, s * c.z)
+    }
+    #[inline]
+    pub fn norm(self) -> S {
+        self.dot(self).sqrt()
+    }
+    #[inline]
+    pub fn unit(self) -> Self {
+        let n = self.norm();
+        V3::new(self.x / n, self.y / n, self.z / n)
+    }
+}

@@ -1,0 +1,59 @@
+//! Frames (PHYSICS.md 3, 5): parallel transport, the time-parallel
+//! reference frame of an edge, a joint's tilted frame, and the twist
+//! between two edges.
+
+use crate::dual::{Scalar, V3};
+use glam::DVec3;
+
+/// The minimal rotation taking unit `t1` to unit `t2`, applied to `v`
+/// (smooth while t1.t2 > -1).
+#[inline]
+pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
+    let c = t1.dot(t2);
+    let b = t1.cross(t2);
+    let k = b.dot(v) / (c + 1.0);
+    v.scale(c).add(b.cross(v)).add(b.scale(k))
+}
+
+/// `transport` from a constant unit `t1` of a constant `v` (the stored
+/// reference frame): most products involve a constant, which is cheap.
+#[inline]
+pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
+    let c = t2.dotc(t1);
+    // b = t1 x t2 = -(t2 x t1)
+    let b = t2.crossc(t1).scalef(-1.0);
+    let k = b.dotc(v) / (c + 1.0);
+    V3::cscale(v, c).add(b.crossc(v)).add(b.scale(k))
+}
+
+/// Material frame `(d1, d2)` of an edge with tangent `t`, stored source
+/// tangent `ts` and director `as_`, and material angle `theta`.
+#[inline]
+pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>, V3<S>) {
+    let a1 = transport_c(ts, t, as_);
+    let a2 = t.cross(a1);
+    let (s, c) = (theta.sin(), theta.cos());
+    (a1.scale(c).add(a2.scale(s)), a2.scale(c).sub(a1.scale(s)))
+}
+
+/// A joint's axis and in-plane basis from its stored frame and the
+/// gnomonic tilt (a, b): `n = unit(ns + a ps + b qs)`, p and q transported.
+#[inline]
+pub fn joint_frame<S: Scalar>(
+    ns: DVec3,
+    ps: DVec3,
+    qs: DVec3,
+    a: S,
+    b: S,
+) -> (V3<S>, V3<S>, V3<S>) {
+    let n = V3::cst(ns).add(V3::cscale(ps, a)).add(V3::cscale(qs, b)).unit();
+    (n, transport_c(ns, n, ps), transport_c(ns, n, qs))
+}
+
+/// Twist between consecutive edges: the angle from the transported `d1`
+/// of the first edge to `d1` of the second, about the second tangent.
+#[inline]
+pub fn twist<S: Scalar>(t0: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) -> S {
+    let u = transport(t0, t1, d10);
+    u.cross(d11).dot(t1).atan2(u.dot(d11))
+}

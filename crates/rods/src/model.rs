@@ -1,0 +1,544 @@
+//! The discrete model (PHYSICS.md 2-5): variables, nodes, edges with their
+//! frames, eyelet joints, and the energy stencils, evaluated with plain f64
+//! (energy) or with duals (gradient and Hessian).
+
+use crate::dual::{Dual, Scalar, V3};
+use crate::frames::{joint_frame, material, transport, twist};
+use glam::DVec3;
+
+/// Stiffness of the strip's cross-section (PHYSICS.md 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Section {
+    /// Flatwise bending E w t^3 / 12 (N mm^2): the centre line moves along the face normal.
+    pub b_flat: f64,
+    /// Edgewise bending E t w^3 / 12 (N mm^2): in the strip's own plane.
+    pub b_edge: f64,
+    /// Axial E w t (N).
+    pub ea: f64,
+    /// Torsion G J (N mm^2).
+    pub gj: f64,
+    pub width: f64,
+    pub thickness: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VarKind {
+    /// A coordinate in mm.
+    Length,
+    /// An angle or a tilt coordinate (radians).
+    Angle,
+}
+
+/// Where a node's position comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Node {
+    /// Its own three coordinates, starting at this variable.
+    Free(usize),
+    /// The hole at a joint: the joint's position.
+    Hole(usize),
+    /// The tip of a rigid arm: `X_J + r u_{J,slot}` (r < 0 before the hole).
+    Arm { joint: usize, slot: usize, r: f64 },
+}
+
+/// Where an edge's material frame comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Frame {
+    /// Time-parallel reference frame (stored source tangent and director)
+    /// turned by the material angle `theta` (a variable).
+    Ref { ts: DVec3, as_: DVec3, theta: usize },
+    /// A rigid arm: t = u, d2 = sigma n_J.
+    Arm { joint: usize, slot: usize, sigma: f64 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Edge {
+    pub a: usize,
+    pub b: usize,
+    pub frame: Frame,
+    /// Rest length (mm).
+    pub rest: f64,
+}
+
+impl Edge {
+    pub fn is_arm(&self) -> bool {
+        matches!(self.frame, Frame::Arm { .. })
+    }
+}
+
+/// A rod's place at a joint: its in-plane angle is the sum of one or two
+/// variables (a pivot's second rod: alpha_A + delta).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slot {
+    pub angle: [usize; 2],
+    pub terms: usize,
+    pub rod: usize,
+}
+
+/// An eyelet (or, without tilt, a ball joint sharing the position only).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// First of the three position variables.
+    pub x: usize,
+    /// First of the two tilt variables (a, b); None for a ball joint.
+    pub tilt: Option<usize>,
+    /// Stored frame (ns, ps, qs), ps x qs = ns.
+    pub frame: [DVec3; 3],
+    pub slots: Vec<Slot>,
+    /// Lattice vertex index, or None for a scissor pivot.
+    pub vertex: Option<u32>,
+    /// The cell whose pivot this is.
+    pub cell: Option<usize>,
+}
+
+/// One strip as a chain of nodes and edges.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RodPath {
+    pub name: String,
+    pub nodes: Vec<usize>,
+    pub edges: Vec<usize>,
+    /// Arc length of every node from the start hole (mm).
+    pub s: Vec<f64>,
+}
+
+/// One term of the energy.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stencil {
+    /// Stretching of a non-arm edge.
+    Stretch { edge: usize, rod: usize },
+    /// Bending and twist at the node shared by two consecutive edges.
+    Bend { e0: usize, e1: usize, lbar: f64, rod: usize },
+    /// A dead load on a node: -F.x.
+    Load { node: usize, force: DVec3 },
+    /// An end moment about y on an edge: -M atan2(t_z, t_x).
+    Moment { edge: usize, m: f64 },
+}
+
+impl Stencil {
+    pub fn rod(&self) -> Option<usize> {
+        match *self {
+            Stencil::Stretch { rod, .. } | Stencil::Bend { rod, .. } => Some(rod),
+            _ => None,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub section: Section,
+    pub q: Vec<f64>,
+    pub kinds: Vec<VarKind>,
+    pub fixed: Vec<bool>,
+    pub nodes: Vec<Node>,
+    pub edges: Vec<Edge>,
+    pub joints: Vec<Joint>,
+    pub rods: Vec<RodPath>,
+    pub stencils: Vec<Stencil>,
+    /// Energy scale E_s = B_flat / mean leg (N mm).
+    pub e_scale: f64,
+}
+
+/// Parts of the energy (N mm).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energies {
+    pub stretch: f64,
+    pub bend: f64,
+    pub twist: f64,
+    pub external: f64,
+}
+
+impl Energies {
+    pub fn total(&self) -> f64 {
+        self.stretch + self.bend + self.twist + self.external
+    }
+}
+
+impl Model {
+    pub fn new(section: Section, e_scale: f64) -> Self {
+        Model {
+            section,
+            q: Vec::new(),
+            kinds: Vec::new(),
+            fixed: Vec::new(),
+            nodes: Vec::new(),
+            edges: Vec::new(),
+            joints: Vec::new(),
+            rods: Vec::new(),
+            stencils: Vec::new(),
+            e_scale,
+        }
+    }
+
+    /// New variables with initial values; returns the first index.
+    pub fn add_vars(&mut self, values: &[f64], kind: VarKind) -> usize {
+        let first = self.q.len();
+        self.q.extend_from_slice(values);
+        self.kinds.extend(values.iter().map(|_| kind));
+        self.fixed.extend(values.iter().map(|_| false));
+        first
+    }
+
+    pub fn add_free_node(&mut self, p: DVec3) -> usize {
+        let v = self.add_vars(&[p.x, p.y, p.z], VarKind::Length);
+        self.nodes.push(Node::Free(v));
+        self.nodes.len() - 1
+    }
+
+    /// Fix a free node where it is.
+    pub fn fix_node(&mut self, node: usize) {
+        if let Node::Free(v) = self.nodes[node] {
+            self.fixed[v..v + 3].fill(true);
+        }
+    }
+
+    /// Node position now.
+    pub fn pos(&self, node: usize) -> DVec3 {
+        let get = |i: usize| self.q[i];
+        node_pos::<f64>(self, &get, self.nodes[node]).val()
+    }
+
+    /// Tangent and material frame `(t, d1, d2)` of an edge now.
+    pub fn edge_frame(&self, edge: usize) -> (DVec3, DVec3, DVec3) {
+        let get = |i: usize| self.q[i];
+        let e = &self.edges[edge];
+        let a = node_pos::<f64>(self, &get, self.nodes[e.a]);
+        let b = node_pos::<f64>(self, &get, self.nodes[e.b]);
+        let t = b.sub(a).unit();
+        let (d1, d2) = frame_of::<f64>(self, &get, e, t);
+        (t.val(), d1.val(), d2.val())
+    }
+
+    /// Joint axis and in-plane basis now.
+    pub fn joint_basis(&self, j: usize) -> (DVec3, DVec3, DVec3) {
+        let get = |i: usize| self.q[i];
+        let (n, p, q) = joint_basis::<f64>(self, &get, j);
+        (n.val(), p.val(), q.val())
+    }
+
+    /// Variables a stencil touches, sorted and without repeats.
+    pub fn stencil_vars(&self, s: &Stencil) -> Vec<usize> {
+        let mut v = Vec::with_capacity(16);
+        let node = |n: usize, v: &mut Vec<usize>| match self.nodes[n] {
+            Node::Free(i) => v.extend([i, i + 1, i + 2]),
+            Node::Hole(j) => v.extend(self.joint_vars(j, None)),
+            Node::Arm { joint, slot, .. } => v.extend(self.joint_vars(joint, Some(slot))),
+        };
+        let frame = |e: usize, v: &mut Vec<usize>| match self.edges[e].frame {
+            Frame::Ref { theta, .. } => v.push(theta),
+            Frame::Arm { joint, slot, .. } => {
+                let jt = &self.joints[joint];
+                if let Some(t) = jt.tilt {
+                    v.extend([t, t + 1]);
+                }
+                let sl = jt.slots[slot];
+                v.extend(&sl.angle[..sl.terms]);
+            }
+        };
+        match *s {
+            Stencil::Stretch { edge, .. } | Stencil::Moment { edge, .. } => {
+                node(self.edges[edge].a, &mut v);
+                node(self.edges[edge].b, &mut v);
+            }
+            Stencil::Bend { e0, e1, .. } => {
+                node(self.edges[e0].a, &mut v);
+                node(self.edges[e0].b, &mut v);
+                node(self.edges[e1].b, &mut v);
+                frame(e0, &mut v);
+                frame(e1, &mut v);
+            }
+            Stencil::Load { node: n, .. } => node(n, &mut v),
+        }
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    fn joint_vars(&self, j: usize, slot: Option<usize>) -> Vec<usize> {
+        let jt = &self.joints[j];
+        let mut v = vec![jt.x, jt.x + 1, jt.x + 2];
+        if let Some(slot) = slot {
+            if let Some(t) = jt.tilt {
+                v.extend([t, t + 1]);
+            }
+            let sl = jt.slots[slot];
+            v.extend(&sl.angle[..sl.terms]);
+        }
+        v
+    }
+
+    /// Total energy at the current state (frames as stored).
+    pub fn energy(&self) -> f64 {
+        self.energies().total()
+    }
+
+    pub fn energies(&self) -> Energies {
+        let get = |i: usize| self.q[i];
+        let mut out = Energies::default();
+        for s in &self.stencils {
+            let e = stencil_energy::<f64>(self, &get, s);
+            match s {
+                Stencil::Stretch { .. } => out.stretch += e.0,
+                Stencil::Bend { .. } => {
+                    out.bend += e.0;
+                    out.twist += e.1;
+                }
+                _ => out.external += e.0,
+            }
+        }
+        out
+    }
+
+    /// One stencil's energy at the current state.
+    pub fn stencil_value(&self, s: &Stencil) -> f64 {
+        let get = |i: usize| self.q[i];
+        let (a, b) = stencil_energy::<f64>(self, &get, s);
+        a + b
+    }
+
+    /// Energy, gradient (over all variables) and the local Hessian of one
+    /// stencil, for its variables `vars`.
+    pub fn stencil_derivatives(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
+        match vars.len() {
+            0 => (0.0, Vec::new(), Vec::new()),
+            1..=3 => self.derivatives_n::<3>(s, vars),
+            4..=6 => self.derivatives_n::<6>(s, vars),
+            7..=9 => self.derivatives_n::<9>(s, vars),
+            10..=11 => self.derivatives_n::<11>(s, vars),
+            12..=14 => self.derivatives_n::<14>(s, vars),
+            15..=16 => self.derivatives_n::<16>(s, vars),
+            17..=20 => self.derivatives_n::<20>(s, vars),
+            n => panic!("a stencil with {n} variables"),
+        }
+    }
+
+    fn derivatives_n<const N: usize>(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
+        let locals: Vec<Dual<N>> = vars
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| Dual::var(self.q[i], k))
+            .collect();
+        let get = |i: usize| {
+            let k = vars.iter().position(|&v| v == i).expect("stencil variable");
+            locals[k]
+        };
+        let (e, t) = stencil_energy::<Dual<N>>(self, &get, s);
+        let d = e + t;
+        let n = vars.len();
+        let g = d.g[..n].to_vec();
+        let mut h = vec![0.0; n * n];
+        for a in 0..n {
+            for b in 0..n {
+                h[a * n + b] = d.hess(a, b);
+            }
+        }
+        (d.v, g, h)
+    }
+
+    /// After an accepted iterate: re-base every reference frame on its edge
+    /// and every joint frame on its tilt (PHYSICS.md 3, 5). The energy does
+    /// not change.
+    pub fn update_frames(&mut self) {
+        for e in 0..self.edges.len() {
+            if let Frame::Ref { ts, as_, theta } = self.edges[e].frame {
+                let (t, _, _) = self.edge_frame(e);
+                let a1 = transport::<f64>(V3::cst(ts), V3::cst(t), V3::cst(as_)).val();
+                // Keep the director exactly unit and normal to t.
+                let a1 = (a1 - t * a1.dot(t)).normalize();
+                self.edges[e].frame = Frame::Ref { ts: t, as_: a1, theta };
+            }
+        }
+        for j in 0..self.joints.len() {
+            if let Some(t) = self.joints[j].tilt {
+                let (n, p, _) = self.joint_basis(j);
+                let p = (p - n * p.dot(n)).normalize();
+                self.joints[j].frame = [n, p, n.cross(p)];
+                self.q[t] = 0.0;
+                self.q[t + 1] = 0.0;
+            }
+        }
+    }
+
+    /// The stored frames, to save with q (PHYSICS.md 2: q means nothing
+    /// without them).
+    pub fn frames(&self) -> (Vec<Frame>, Vec<[DVec3; 3]>) {
+        (
+            self.edges.iter().map(|e| e.frame).collect(),
+            self.joints.iter().map(|j| j.frame).collect(),
+        )
+    }
+
+    pub fn set_frames(&mut self, f: &(Vec<Frame>, Vec<[DVec3; 3]>)) {
+        for (e, fr) in self.edges.iter_mut().zip(&f.0) {
+            e.frame = *fr;
+        }
+        for (j, fr) in self.joints.iter_mut().zip(&f.1) {
+            j.frame = *fr;
+        }
+    }
+
+    /// Angle of a joint slot now.
+    pub fn slot_angle(&self, j: usize, slot: usize) -> f64 {
+        let sl = self.joints[j].slots[slot];
+        sl.angle[..sl.terms].iter().map(|&i| self.q[i]).sum()
+    }
+}
+
+fn joint_basis<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, j: usize) -> (V3<S>, V3<S>, V3<S>) {
+    let jt = &m.joints[j];
+    let [ns, ps, qs] = jt.frame;
+    match jt.tilt {
+        Some(t) => joint_frame(ns, ps, qs, get(t), get(t + 1)),
+        None => (V3::cst(ns), V3::cst(ps), V3::cst(qs)),
+    }
+}
+
+fn slot_dir<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, j: usize, slot: usize) -> (V3<S>, V3<S>) {
+    let (n, p, q) = joint_basis(m, get, j);
+    let sl = m.joints[j].slots[slot];
+    let mut a = get(sl.angle[0]);
+    if sl.terms == 2 {
+        a = a + get(sl.angle[1]);
+    }
+    (p.scale(a.cos()).add(q.scale(a.sin())), n)
+}
+
+fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S> {
+    match node {
+        Node::Free(i) => V3::new(get(i), get(i + 1), get(i + 2)),
+        Node::Hole(j) => {
+            let x = m.joints[j].x;
+            V3::new(get(x), get(x + 1), get(x + 2))
+        }
+        Node::Arm { joint, slot, r } => {
+            let x = m.joints[joint].x;
+            let (u, _) = slot_dir(m, get, joint, slot);
+            V3::new(get(x), get(x + 1), get(x + 2)).add(u.scalef(r))
+        }
+    }
+}
+
+fn frame_of<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, e: &Edge, t: V3<S>) -> (V3<S>, V3<S>) {
+    match e.frame {
+        Frame::Ref { ts, as_, theta } => material(ts, as_, t, get(theta)),
+        Frame::Arm { joint, slot, sigma } => {
+            let (u, n) = slot_dir(m, get, joint, slot);
+            let d2 = n.scalef(sigma);
+            (d2.cross(u), d2)
+        }
+    }
+}
+
+/// A stencil's energy as (bend or stretch or external, twist).
+fn stencil_energy<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, s: &Stencil) -> (S, S) {
+    let sec = &m.section;
+    let zero = S::cst(0.0);
+    let pos = |n: usize| node_pos(m, get, m.nodes[n]);
+    match *s {
+        Stencil::Stretch { edge, .. } => {
+            let e = &m.edges[edge];
+            let len = pos(e.b).sub(pos(e.a)).norm();
+            let strain = len * (1.0 / e.rest) + -1.0;
+            (strain * strain * (0.5 * sec.ea * e.rest), zero)
+        }
+        Stencil::Bend { e0, e1, lbar, .. } => {
+            let (a, b) = (&m.edges[e0], &m.edges[e1]);
+            let (x0, x1, x2) = (pos(a.a), pos(a.b), pos(b.b));
+            let t0 = x1.sub(x0).unit();
+            let t1 = x2.sub(x1).unit();
+            let (d10, d20) = frame_of(m, get, a, t0);
+            let (d11, d21) = frame_of(m, get, b, t1);
+            let kb = t0.cross(t1).scale(S::cst(2.0) / (t0.dot(t1) + 1.0));
+            let k_edge = (kb.dot(d20) + kb.dot(d21)) * 0.5;
+            let k_flat = (kb.dot(d10) + kb.dot(d11)) * -0.5;
+            let tw = twist(t0, d10, t1, d11);
+            let w = 0.5 / lbar;
+            (
+                (k_edge * k_edge * sec.b_edge + k_flat * k_flat * sec.b_flat) * w,
+                tw * tw * (sec.gj * w),
+            )
+        }
+        Stencil::Load { node, force } => (-pos(node).dot(V3::cst(force)), zero),
+        Stencil::Moment { edge, m: moment } => {
+            let e = &m.edges[edge];
+            let t = pos(e.b).sub(pos(e.a));
+            (-(t.z.atan2(t.x)) * moment, zero)
+        }
+    }
+}
+
+/// Per-node curvatures and twist of a bend stencil now:
+/// (kappa_flat, kappa_edge, twist), integrated (divide by lbar).
+pub fn bend_measures(m: &Model, e0: usize, e1: usize) -> (f64, f64, f64) {
+    let get = |i: usize| m.q[i];
+    let pos = |n: usize| node_pos::<f64>(m, &get, m.nodes[n]);
+    let (a, b) = (&m.edges[e0], &m.edges[e1]);
+    let (x0, x1, x2) = (pos(a.a), pos(a.b), pos(b.b));
+    let t0 = x1.sub(x0).unit();
+    let t1 = x2.sub(x1).unit();
+    let (d10, d20) = frame_of::<f64>(m, &get, a, t0);
+    let (d11, d21) = frame_of::<f64>(m, &get, b, t1);
+    let kb = t0.cross(t1).scale(2.0 / (1.0 + t0.dot(t1)));
+    (
+        -(kb.dot(d10) + kb.dot(d11)) / 2.0,
+        (kb.dot(d20) + kb.dot(d21)) / 2.0,
+        twist(t0, d10, t1, d11),
+    )
+}
+
+impl Model {
+    /// A single straight strip through `points` (free nodes), its face
+    /// normal `d2` (perpendicular to the strip), rest state as given: for
+    /// the analytic checks of PHYSICS.md 10.
+    pub fn strip(section: Section, points: &[DVec3], d2: DVec3) -> Model {
+        let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
+        let mut m = Model::new(section, section.b_flat / length);
+        let nodes: Vec<usize> = points.iter().map(|&p| m.add_free_node(p)).collect();
+        let mut edges = Vec::new();
+        let mut s = vec![0.0];
+        for w in nodes.windows(2) {
+            let (a, b) = (m.pos(w[0]), m.pos(w[1]));
+            let t = (b - a).normalize();
+            let n = (d2 - t * d2.dot(t)).normalize();
+            let theta = m.add_vars(&[0.0], VarKind::Angle);
+            m.edges.push(Edge {
+                a: w[0],
+                b: w[1],
+                frame: Frame::Ref { ts: t, as_: n.cross(t), theta },
+                rest: a.distance(b),
+            });
+            edges.push(m.edges.len() - 1);
+            s.push(s.last().copied().unwrap_or(0.0) + a.distance(b));
+        }
+        for &e in &edges {
+            m.stencils.push(Stencil::Stretch { edge: e, rod: 0 });
+        }
+        for w in edges.windows(2) {
+            let lbar = (m.edges[w[0]].rest + m.edges[w[1]].rest) / 2.0;
+            m.stencils.push(Stencil::Bend { e0: w[0], e1: w[1], lbar, rod: 0 });
+        }
+        m.rods.push(RodPath { name: "strip".into(), nodes, edges, s });
+        m
+    }
+
+    /// The material-angle variable of an edge with a reference frame.
+    pub fn theta_var(&self, edge: usize) -> Option<usize> {
+        match self.edges[edge].frame {
+            Frame::Ref { theta, .. } => Some(theta),
+            Frame::Arm { .. } => None,
+        }
+    }
+}
+
+impl Model {
+    pub fn pos_of_joint(&self, j: usize) -> Option<DVec3> {
+        let x = self.joints.get(j)?.x;
+        Some(DVec3::new(self.q[x], self.q[x + 1], self.q[x + 2]))
+    }
+
+    /// Where a node of this kind would be now.
+    pub fn node_value(&mut self, node: Node) -> DVec3 {
+        self.nodes.push(node);
+        let p = self.pos(self.nodes.len() - 1);
+        self.nodes.pop();
+        p
+    }
+}

@@ -1,0 +1,429 @@
+//! Modified Newton (PHYSICS.md 7): sparse Hessian with a pattern fixed per
+//! model (one symbolic Cholesky), inertia correction by a multiple of a
+//! diagonal metric, a negative-curvature step to leave saddles, and a
+//! one-step watchdog line search. faer's sparse LLT is the factorisation:
+//! its refusal of an indefinite matrix is the inertia test.
+
+use crate::model::{Model, VarKind};
+use faer::Side;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+
+const NONE: u32 = u32::MAX;
+
+/// The free variables and the Hessian's lower-triangle pattern.
+pub struct System {
+    /// Free index of each variable, or usize::MAX when fixed.
+    pub free_index: Vec<usize>,
+    pub free_vars: Vec<usize>,
+    stencil_vars: Vec<Vec<usize>>,
+    /// For each stencil, the value slot of each local pair (a, b) whose
+    /// free row >= free column, else NONE.
+    stencil_pos: Vec<Vec<u32>>,
+    pattern: SymbolicSparseColMat<usize>,
+    symbolic: SymbolicLlt<usize>,
+    diag_pos: Vec<usize>,
+    /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
+    pub dm: Vec<f64>,
+}
+
+impl System {
+    pub fn new(model: &Model) -> System {
+        let mut free_index = vec![usize::MAX; model.q.len()];
+        let mut free_vars = Vec::new();
+        for (i, &f) in model.fixed.iter().enumerate() {
+            if !f {
+                free_index[i] = free_vars.len();
+                free_vars.push(i);
+            }
+        }
+        let n = free_vars.len();
+        let stencil_vars: Vec<Vec<usize>> = model.stencils.iter().map(|s| model.stencil_vars(s)).collect();
+        let mut cols: Vec<Vec<usize>> = (0..n).map(|c| vec![c]).collect();
+        for vars in &stencil_vars {
+            for &a in vars {
+                for &b in vars {
+                    let (fa, fb) = (free_index[a], free_index[b]);
+                    if fa != usize::MAX && fb != usize::MAX && fa > fb {
+                        cols[fb].push(fa);
+                    }
+                }
+            }
+        }
+        let mut col_ptr = vec![0usize];
+        let mut row_idx = Vec::new();
+        for c in cols.iter_mut() {
+            c.sort_unstable();
+            c.dedup();
+            row_idx.extend_from_slice(c);
+            col_ptr.push(row_idx.len());
+        }
+        let slot = |row: usize, col: usize| -> usize {
+            let range = col_ptr[col]..col_ptr[col + 1];
+            col_ptr[col] + row_idx[range].binary_search(&row).expect("in the pattern")
+        };
+        let stencil_pos = stencil_vars
+            .iter()
+            .map(|vars| {
+                let k = vars.len();
+                let mut pos = vec![NONE; k * k];
+                for (a, &va) in vars.iter().enumerate() {
+                    for (b, &vb) in vars.iter().enumerate() {
+                        let (fa, fb) = (free_index[va], free_index[vb]);
+                        if fa != usize::MAX && fb != usize::MAX && fa >= fb {
+                            pos[a * k + b] = slot(fa, fb) as u32;
+                        }
+                    }
+                }
+                pos
+            })
+            .collect();
+        let diag_pos = (0..n).map(|c| slot(c, c)).collect();
+        let dm = free_vars
+            .iter()
+            .map(|&v| match model.kinds[v] {
+                VarKind::Length => 1.0,
+                VarKind::Angle => (model.section.width / 2.0).powi(2),
+            })
+            .collect();
+        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let symbolic = SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).expect("symbolic Cholesky");
+        System {
+            free_index,
+            free_vars,
+            stencil_vars,
+            stencil_pos,
+            pattern,
+            symbolic,
+            diag_pos,
+            dm,
+        }
+    }
+
+    pub fn n(&self) -> usize {
+        self.free_vars.len()
+    }
+
+    /// Energy, gradient over every variable, and the free Hessian's lower values.
+    pub fn assemble(&self, model: &Model) -> (f64, Vec<f64>, Vec<f64>) {
+        let mut g = vec![0.0; model.q.len()];
+        let mut h = vec![0.0; self.pattern.row_idx().len()];
+        let mut e = 0.0;
+        for (s, st) in model.stencils.iter().enumerate() {
+            let vars = &self.stencil_vars[s];
+            let (es, gs, hs) = model.stencil_derivatives(st, vars);
+            e += es;
+            let k = vars.len();
+            let pos = &self.stencil_pos[s];
+            for a in 0..k {
+                g[vars[a]] += gs[a];
+                for b in 0..k {
+                    let p = pos[a * k + b];
+                    if p != NONE {
+                        h[p as usize] += hs[a * k + b];
+                    }
+                }
+            }
+        }
+        (e, g, h)
+    }
+
+    /// Cholesky of H + tau Dm, or None if it is not positive definite.
+    pub fn factor(&self, h: &[f64], tau: f64) -> Option<Llt<usize, f64>> {
+        let mut vals = h.to_vec();
+        if tau != 0.0 {
+            for (c, &p) in self.diag_pos.iter().enumerate() {
+                vals[p] += tau * self.dm[c];
+            }
+        }
+        if vals.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let mat = SparseColMatRef::new(self.pattern.as_ref(), &vals);
+        Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Lower).ok()
+    }
+
+    pub fn solve(llt: &Llt<usize, f64>, rhs: &[f64]) -> Vec<f64> {
+        let mut m = faer::Mat::from_fn(rhs.len(), 1, |i, _| rhs[i]);
+        llt.solve_in_place(&mut m);
+        (0..rhs.len()).map(|i| m[(i, 0)]).collect()
+    }
+
+    /// y = H v from the lower triangle.
+    pub fn mul(&self, h: &[f64], v: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; v.len()];
+        let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
+        for c in 0..v.len() {
+            for p in cp[c]..cp[c + 1] {
+                let r = ri[p];
+                y[r] += h[p] * v[c];
+                if r != c {
+                    y[c] += h[p] * v[r];
+                }
+            }
+        }
+        y
+    }
+
+    /// The lowest generalised eigenpair of (H, Dm) by inverse iteration with
+    /// a factor of H + tau Dm (positive definite): (lambda, v).
+    pub fn lowest_mode(&self, h: &[f64], llt: &Llt<usize, f64>, seed: u64) -> (f64, Vec<f64>) {
+        let n = self.n();
+        let mut rng = crate::rng::Rng::new(seed);
+        let mut v: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
+        let mut lambda = 0.0;
+        for it in 0..60 {
+            let rhs: Vec<f64> = v.iter().zip(&self.dm).map(|(a, b)| a * b).collect();
+            let y = Self::solve(llt, &rhs);
+            let norm = y.iter().zip(&self.dm).map(|(a, b)| a * a * b).sum::<f64>().sqrt();
+            if !(norm > 0.0) {
+                break;
+            }
+            v = y.iter().map(|a| a / norm).collect();
+            let hv = self.mul(h, &v);
+            let l = v.iter().zip(&hv).map(|(a, b)| a * b).sum::<f64>();
+            if it > 5 && (l - lambda).abs() <= 1e-10 * l.abs().max(1e-300) {
+                lambda = l;
+                break;
+            }
+            lambda = l;
+        }
+        (lambda, v)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stats {
+    pub iterations: usize,
+    pub converged: bool,
+    /// Largest free force component (N) and moment component (N mm) left.
+    pub force: f64,
+    pub moment: f64,
+    /// Lowest eigenvalue of Dm^-1/2 H Dm^-1/2 at the end (stability).
+    pub lambda_min: f64,
+    pub energy: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum SolveError {
+    /// The line search halved the step 30 times without a decrease.
+    LineSearch { iteration: usize },
+    /// A non-finite energy or gradient.
+    NotFinite { iteration: usize },
+}
+
+impl std::fmt::Display for SolveError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolveError::LineSearch { iteration } => write!(
+                f,
+                "Newton stalled at iteration {iteration}: no decrease after 30 halvings of the step"
+            ),
+            SolveError::NotFinite { iteration } => {
+                write!(f, "the energy became non-finite at iteration {iteration}")
+            }
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    pub max_iterations: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { max_iterations: 300 }
+    }
+}
+
+/// A Newton step at the current state: (step over free variables,
+/// decrement, tau, gradient, Hessian values).
+struct Step {
+    d: Vec<f64>,
+    dec: f64,
+    tau: f64,
+}
+
+fn newton_step(sys: &System, model: &Model, tau_prev: &mut f64, curvature: bool) -> Option<(Step, Vec<f64>)> {
+    let (_, g, h) = sys.assemble(model);
+    if g.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let gf: Vec<f64> = sys.free_vars.iter().map(|&v| g[v]).collect();
+    let h_s = sys
+        .diag_pos
+        .iter()
+        .zip(&sys.dm)
+        .map(|(&p, d)| h[p] / d)
+        .fold(0.0f64, f64::max)
+        .max(1e-300);
+    let mut tau = 0.0;
+    let llt = loop {
+        if let Some(f) = sys.factor(&h, tau) {
+            break f;
+        }
+        tau = if tau == 0.0 { (*tau_prev / 4.0).max(1e-8 * h_s) } else { tau * 10.0 };
+        if tau > 1e30 * h_s {
+            return None;
+        }
+    };
+    *tau_prev = tau;
+    let mut d: Vec<f64> = System::solve(&llt, &gf).into_iter().map(|v| -v).collect();
+    let mut dec = -gf.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
+    if curvature && tau > 0.0 && dec < 1e-6 * model.e_scale {
+        let (_, mut v) = sys.lowest_mode(&h, &llt, 1);
+        let gv: f64 = gf.iter().zip(&v).map(|(a, b)| a * b).sum();
+        if gv > 0.0 {
+            v.iter_mut().for_each(|x| *x = -*x);
+        }
+        let inf = v.iter().fold(0.0f64, |m, x| m.max(x.abs())).max(1e-300);
+        for (di, vi) in d.iter_mut().zip(&v) {
+            *di += 0.5 * vi / inf;
+        }
+        dec = -gf.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
+        // Along negative curvature the decrease is real even where the
+        // linear term is small; keep the Armijo test meaningful.
+        dec = dec.max(1e-6 * model.e_scale);
+    }
+    Some((Step { d, dec, tau }, g))
+}
+
+fn apply(sys: &System, model: &mut Model, d: &[f64], scale: f64) {
+    for (k, &v) in sys.free_vars.iter().enumerate() {
+        model.q[v] += scale * d[k];
+    }
+}
+
+/// Largest step component: lengths (mm) and angles (rad).
+fn step_size(sys: &System, model: &Model, d: &[f64]) -> f64 {
+    sys.free_vars
+        .iter()
+        .zip(d)
+        .map(|(&v, x)| match model.kinds[v] {
+            VarKind::Length | VarKind::Angle => x.abs(),
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Minimise the model's energy over its free variables.
+pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, SolveError> {
+    let mut e = model.energy();
+    let mut tau_prev = 0.0;
+    let mut converged = false;
+    let mut iterations = 0;
+    for it in 0..opts.max_iterations {
+        iterations = it + 1;
+        if !e.is_finite() {
+            return Err(SolveError::NotFinite { iteration: it });
+        }
+        let Some((step, _)) = newton_step(sys, model, &mut tau_prev, true) else {
+            return Err(SolveError::NotFinite { iteration: it });
+        };
+        let small = step_size(sys, model, &step.d) < 1e-8;
+        if step.tau == 0.0 && step.dec < 1e-12 * model.e_scale {
+            apply(sys, model, &step.d, 1.0);
+            model.update_frames();
+            e = model.energy();
+            if small {
+                converged = true;
+                break;
+            }
+            continue;
+        }
+        let saved_q = model.q.clone();
+        let saved_frames = model.frames();
+        // (i) the full step.
+        apply(sys, model, &step.d, 1.0);
+        let e1 = model.energy();
+        if e1 <= e - 1e-4 * step.dec {
+            model.update_frames();
+            e = e1;
+            continue;
+        }
+        // (ii) the watchdog: one more step from there.
+        model.update_frames();
+        let mut tau2 = tau_prev;
+        if let Some((step2, _)) = newton_step(sys, model, &mut tau2, false) {
+            apply(sys, model, &step2.d, 1.0);
+            let e2 = model.energy();
+            if e2 <= e - 1e-4 * step.dec {
+                model.update_frames();
+                e = e2;
+                continue;
+            }
+        }
+        // (iii) back to q, halving.
+        model.q = saved_q.clone();
+        model.set_frames(&saved_frames);
+        let mut alpha = 0.5;
+        let mut accepted = false;
+        for _ in 0..30 {
+            model.q.clone_from(&saved_q);
+            apply(sys, model, &step.d, alpha);
+            let ea = model.energy();
+            if ea <= e - 1e-4 * alpha * step.dec {
+                e = ea;
+                accepted = true;
+                break;
+            }
+            alpha /= 2.0;
+        }
+        if !accepted {
+            model.q = saved_q;
+            // A decrement at round-off: nothing left to gain.
+            if step.dec < 1e-10 * model.e_scale.max(e.abs()) && step.tau == 0.0 {
+                converged = true;
+                break;
+            }
+            return Err(SolveError::LineSearch { iteration: it });
+        }
+        model.update_frames();
+    }
+    Ok(finish(model, sys, iterations, converged))
+}
+
+/// Residual forces and moments, and the lowest eigenvalue.
+pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -> Stats {
+    let (e, g, h) = sys.assemble(model);
+    let (mut force, mut moment) = (0.0f64, 0.0f64);
+    for &v in &sys.free_vars {
+        match model.kinds[v] {
+            VarKind::Length => force = force.max(g[v].abs()),
+            VarKind::Angle => moment = moment.max(g[v].abs()),
+        }
+    }
+    let lambda_min = match sys.factor(&h, 0.0) {
+        Some(llt) if sys.n() > 0 => sys.lowest_mode(&h, &llt, 7).0,
+        Some(_) => f64::INFINITY,
+        None => {
+            // Indefinite: estimate the negative eigenvalue with a shift.
+            let mut tau = 1e-8
+                * sys
+                    .diag_pos
+                    .iter()
+                    .zip(&sys.dm)
+                    .map(|(&p, d)| h[p] / d)
+                    .fold(0.0f64, f64::max)
+                    .max(1e-300);
+            loop {
+                if let Some(llt) = sys.factor(&h, tau) {
+                    break sys.lowest_mode(&h, &llt, 7).0;
+                }
+                tau *= 10.0;
+                if !tau.is_finite() {
+                    break f64::NEG_INFINITY;
+                }
+            }
+        }
+    };
+    Stats {
+        iterations,
+        converged,
+        force,
+        moment,
+        lambda_min,
+        energy: e,
+    }
+}

@@ -1,0 +1,274 @@
+//! Deployed shape by simulation (docs/physics.md): every strip a discrete
+//! elastic rod, every eyelet a joint, the deployed state the minimum of the
+//! elastic energy with the opening of the reference cell prescribed.
+//!
+//! Layers: `dual` (derivatives), `frames`, `model` (variables, energy),
+//! `strips` (a lattice's model), `solver` (Newton), `explore`
+//! (multistability), `results` (strains, reactions, distances).
+
+pub mod explore;
+pub mod results;
+pub mod strips;
+
+pub use karigami_rods::{dual, frames, model, solver};
+pub use model::{Energies, Model, Section};
+pub use results::{StrainPeak, angle_defects, kabsch_distance, kabsch_fit};
+pub use solver::{Options, SolveError, Stats, System};
+pub use strips::{LatticeModel, Mesh, VertexJoint};
+
+use crate::lattice::Lattice;
+use crate::lattice::deploy::Deployment;
+use glam::DVec3;
+use std::time::Instant;
+
+/// The strip material (PHYSICS.md 1). Defaults: ABS, see docs/physics.md.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Young's modulus (MPa = N/mm^2).
+    pub youngs: f64,
+    /// Poisson's ratio (enters the shear modulus only).
+    pub poisson: f64,
+    /// Largest corner-fibre strain a strip may take (fraction).
+    pub eps_allow: f64,
+}
+
+impl Material {
+    pub const ABS: Material = Material {
+        youngs: 2200.0,
+        poisson: 0.35,
+        eps_allow: 0.015,
+    };
+
+    pub fn shear(&self) -> f64 {
+        self.youngs / (2.0 * (1.0 + self.poisson))
+    }
+
+    /// Stiffness of a w x t rectangular strip.
+    pub fn section(&self, width: f64, thickness: f64) -> Section {
+        let (e, w, t) = (self.youngs, width, thickness);
+        let j = w * t.powi(3) / 3.0 * (1.0 - 0.63 * t / w);
+        Section {
+            b_flat: e * w * t.powi(3) / 12.0,
+            b_edge: e * t * w.powi(3) / 12.0,
+            ea: e * w * t,
+            gj: self.shear() * j,
+            width,
+            thickness,
+        }
+    }
+}
+
+/// The `[simulation]` settings of a recipe.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub material: Material,
+    /// Reference-cell opening to deploy to (radians); None: the design's.
+    pub theta: Option<f64>,
+    /// Longest interior edge (mm).
+    pub h_max: f64,
+    pub vertex_joint: VertexJoint,
+    /// Strips strained beyond eps_allow are accepted by `build`.
+    pub accept_overstrain: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            material: Material::ABS,
+            theta: None,
+            h_max: 10.0,
+            vertex_joint: VertexJoint::Eyelet,
+            accept_overstrain: false,
+        }
+    }
+}
+
+/// Largest continuation step of the prescribed opening (PHYSICS.md 7).
+pub const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimError {
+    Solve(SolveError),
+    /// Newton ran out of iterations.
+    NotConverged { iterations: usize },
+    /// The requested opening is outside C(theta)'s valid range.
+    Theta { theta: f64, max: f64 },
+}
+
+impl std::fmt::Display for SimError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimError::Solve(e) => write!(f, "{e}"),
+            SimError::NotConverged { iterations } => {
+                write!(f, "Newton did not converge in {iterations} iterations")
+            }
+            SimError::Theta { theta, max } => write!(
+                f,
+                "theta {:.2} deg is outside the deployment range (0, {:.2}) deg",
+                theta.to_degrees(),
+                max.to_degrees()
+            ),
+        }
+    }
+}
+
+/// An equilibrium and what it says.
+#[derive(Clone, Debug)]
+pub struct Equilibrium {
+    pub energy: Energies,
+    pub strain: StrainPeak,
+    /// Largest joint reaction (N), the joint index and the rod.
+    pub reaction: (f64, usize, String),
+    /// Every vertex, then every pivot.
+    pub points: Vec<DVec3>,
+    /// Largest distance from the start placement after the best rigid fit (mm).
+    pub distance: f64,
+    /// Opening of every cell (radians).
+    pub openings: Vec<f64>,
+    pub stats: Stats,
+}
+
+/// A simulation run: the model at equilibrium and its report.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    pub lm: LatticeModel,
+    pub equilibrium: Equilibrium,
+    pub theta: f64,
+    pub iterations: usize,
+    pub steps: usize,
+    pub seconds: f64,
+}
+
+/// Evaluate an equilibrium of a lattice model.
+pub fn equilibrium(lm: &LatticeModel, stats: Stats, material: &Material) -> Equilibrium {
+    let m = &lm.model;
+    let points = lm.points();
+    Equilibrium {
+        energy: m.energies(),
+        strain: results::strain_peak(m, material.youngs, material.shear()),
+        reaction: results::largest_reaction(m),
+        distance: kabsch_distance(&points, &lm.start),
+        openings: (0..lm.delta.len()).map(|c| lm.opening(c)).collect(),
+        points,
+        stats,
+    }
+}
+
+/// The lattice's model, anchored at cell 0's pivot, with its opening
+/// prescribed at the design value.
+pub fn prepare(lattice: &Lattice, width: f64, thickness: f64, settings: &Settings) -> LatticeModel {
+    let section = settings.material.section(width, thickness);
+    let mesh = Mesh {
+        h_max: settings.h_max,
+        arm: width / 2.0,
+        vertex_joint: settings.vertex_joint,
+    };
+    let mut lm = LatticeModel::new(lattice, section, mesh);
+    if !lm.pivot.is_empty() {
+        lm.anchor(0);
+        let phi = lm.opening(0);
+        lm.set_opening(0, phi);
+    }
+    lm
+}
+
+/// Solve at the current prescribed opening, then step the opening of cell
+/// 0 to `theta` (at most `STEP` a step), solving after each step.
+pub fn deploy(lm: &mut LatticeModel, theta: Option<f64>, opts: &Options) -> Result<(Stats, usize, usize), SimError> {
+    let sys = System::new(&lm.model);
+    let mut total = 0;
+    let mut stats = solve_checked(lm, &sys, opts, &mut total)?;
+    let mut steps = 1;
+    if let Some(target) = theta {
+        let start = lm.opening(0);
+        let n = ((target - start).abs() / STEP).ceil() as usize;
+        for k in 1..=n {
+            let phi = start + (target - start) * k as f64 / n as f64;
+            lm.set_opening(0, phi);
+            stats = solve_checked(lm, &sys, opts, &mut total)?;
+            steps += 1;
+        }
+    }
+    Ok((stats, total, steps))
+}
+
+fn solve_checked(lm: &mut LatticeModel, sys: &System, opts: &Options, total: &mut usize) -> Result<Stats, SimError> {
+    let s = solver::solve(&mut lm.model, sys, opts).map_err(SimError::Solve)?;
+    *total += s.iterations;
+    if !s.converged {
+        return Err(SimError::NotConverged { iterations: s.iterations });
+    }
+    Ok(s)
+}
+
+/// Simulate a lattice deployed to `settings.theta` (or its design angle).
+pub fn simulate(
+    lattice: &Lattice,
+    deployment: &Deployment,
+    width: f64,
+    thickness: f64,
+    settings: &Settings,
+) -> Result<Simulation, SimError> {
+    let clock = Instant::now();
+    if let Some(t) = settings.theta {
+        let max = deployment.config.theta_max;
+        if !(t > 0.0 && t < max) {
+            return Err(SimError::Theta { theta: t, max });
+        }
+    }
+    let mut lm = prepare(lattice, width, thickness, settings);
+    let (stats, iterations, steps) = deploy(&mut lm, settings.theta, &Options::default())?;
+    let theta = lm.opening(0);
+    let equilibrium = equilibrium(&lm, stats, &settings.material);
+    Ok(Simulation {
+        lm,
+        equilibrium,
+        theta,
+        iterations,
+        steps,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// The lattice with every vertex and pivot where the simulation put them
+/// (rows of a bent-facet lattice all share the simulated vertices): for
+/// pictures of the deployed shape, e.g. the preview and the guide's cover.
+pub fn placed_lattice(lattice: &Lattice, lm: &LatticeModel) -> Lattice {
+    let points = lm.points();
+    let nv = lattice.vertices.len();
+    let mut out = lattice.clone();
+    for (v, vertex) in out.vertices.iter_mut().enumerate() {
+        if lm.vertex[v] != strips::VertexPlace::None {
+            vertex.pos = points[v];
+        }
+    }
+    for (c, cell) in out.cells.iter_mut().enumerate() {
+        cell.pivot = points[nv + c];
+    }
+    let by_key: std::collections::HashMap<(u32, u32), usize> = lattice
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| ((v.key.row, v.key.col), i))
+        .collect();
+    for (row, front) in out.fronts.iter_mut().enumerate() {
+        for (col, p) in front.iter_mut().enumerate() {
+            if let Some(&v) = by_key.get(&(row as u32, col as u32)) {
+                *p = points[v];
+            }
+        }
+    }
+    out
+}
+
+/// Lattices above this many cells are not simulated by `build`.
+pub const MAX_SIMULATED_CELLS: usize = 2_000;
+
+/// Whether `build` simulates a lattice: unless it is a planar true
+/// mechanism (its design is its deployed shape, strips straight), or too
+/// large. Eyelets make 3-D designs twist where cells in different planes
+/// meet, so those are simulated too.
+pub fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
+    let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
+    !planar_mechanism && lattice.cells.len() <= MAX_SIMULATED_CELLS && !lattice.cells.is_empty()
+}

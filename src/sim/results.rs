@@ -1,0 +1,285 @@
+//! What an equilibrium says (PHYSICS.md 1, 5, 9): strains and where they
+//! are, joint reactions, distance from the design after the best rigid
+//! fit, and a discrete curvature measure of the deployed shape.
+
+use super::model::{Frame, Model, Stencil, bend_measures};
+use crate::lattice::Lattice;
+use glam::{DMat3, DQuat, DVec3};
+use std::collections::BTreeMap;
+
+/// The largest corner-fibre strain of the strips, and where.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StrainPeak {
+    /// (t/2)|k_flat| + (w/2)|k_edge| + axial.
+    pub eps: f64,
+    pub rod: String,
+    /// Arc length from the rod's start hole (mm).
+    pub s: f64,
+    /// "flatwise bending", "edgewise bending" or "stretch".
+    pub term: &'static str,
+    /// Largest surface shear strain from twist t|m|/lbar, anywhere.
+    pub gamma: f64,
+    /// Largest von Mises equivalent strain, anywhere.
+    pub eps_eq: f64,
+}
+
+/// Per-node strains of one rod: (s, eps, gamma).
+pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
+    let _ = nu;
+    let path = &m.rods[rod];
+    let sec = &m.section;
+    let axial = |e: usize| -> f64 {
+        let ed = &m.edges[e];
+        if ed.is_arm() {
+            return 0.0;
+        }
+        (m.pos(ed.b).distance(m.pos(ed.a)) / ed.rest - 1.0).abs()
+    };
+    let mut out = vec![(0.0, 0.0, 0.0); path.nodes.len()];
+    for (k, s) in path.s.iter().enumerate() {
+        out[k].0 = *s;
+    }
+    for k in 1..path.nodes.len().saturating_sub(1) {
+        let (e0, e1) = (path.edges[k - 1], path.edges[k]);
+        let lbar = (m.edges[e0].rest + m.edges[e1].rest) / 2.0;
+        let (kf, ke, tw) = bend_measures(m, e0, e1);
+        let eps = sec.thickness / 2.0 * (kf / lbar).abs()
+            + sec.width / 2.0 * (ke / lbar).abs()
+            + axial(e0).max(axial(e1));
+        out[k].1 = eps;
+        out[k].2 = sec.thickness * tw.abs() / lbar;
+    }
+    out
+}
+
+/// The strain peak over every rod.
+pub fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
+    let sec = &m.section;
+    let mut peak = StrainPeak::default();
+    for (r, path) in m.rods.iter().enumerate() {
+        for k in 1..path.nodes.len().saturating_sub(1) {
+            let (e0, e1) = (path.edges[k - 1], path.edges[k]);
+            let lbar = (m.edges[e0].rest + m.edges[e1].rest) / 2.0;
+            let (kf, ke, tw) = bend_measures(m, e0, e1);
+            let axial = [e0, e1]
+                .iter()
+                .filter(|&&x| !m.edges[x].is_arm())
+                .map(|&x| {
+                    let ed = &m.edges[x];
+                    (m.pos(ed.b).distance(m.pos(ed.a)) / ed.rest - 1.0).abs()
+                })
+                .fold(0.0, f64::max);
+            let terms = [
+                (sec.thickness / 2.0 * (kf / lbar).abs(), "flatwise bending"),
+                (sec.width / 2.0 * (ke / lbar).abs(), "edgewise bending"),
+                (axial, "stretch"),
+            ];
+            let eps = terms.iter().map(|t| t.0).sum::<f64>();
+            let gamma = sec.thickness * tw.abs() / lbar;
+            let eq = (eps * eps + 3.0 * (g * gamma / e).powi(2)).sqrt();
+            peak.gamma = peak.gamma.max(gamma);
+            peak.eps_eq = peak.eps_eq.max(eq);
+            if eps > peak.eps {
+                peak.eps = eps;
+                peak.rod = path.name.clone();
+                peak.s = path.s[k];
+                peak.term = terms
+                    .iter()
+                    .max_by(|a, b| a.0.total_cmp(&b.0))
+                    .map(|t| t.1)
+                    .unwrap_or("");
+            }
+            let _ = r;
+        }
+    }
+    peak
+}
+
+/// The largest force any joint exerts on one of its rods (N), with the
+/// joint and the rod: F = -dE_rod/dX_J.
+pub fn largest_reaction(m: &Model) -> (f64, usize, String) {
+    let mut forces: BTreeMap<(usize, usize), DVec3> = BTreeMap::new();
+    // Position variable -> (joint, axis).
+    let mut owner = std::collections::HashMap::new();
+    for (j, jt) in m.joints.iter().enumerate() {
+        for a in 0..3 {
+            owner.insert(jt.x + a, (j, a));
+        }
+    }
+    for st in &m.stencils {
+        let Some(rod) = st.rod() else { continue };
+        let vars = m.stencil_vars(st);
+        if !vars.iter().any(|v| owner.contains_key(v)) {
+            continue;
+        }
+        let (_, g, _) = m.stencil_derivatives(st, &vars);
+        for (k, v) in vars.iter().enumerate() {
+            if let Some(&(j, a)) = owner.get(v) {
+                forces.entry((j, rod)).or_default()[a] -= g[k];
+            }
+        }
+    }
+    forces
+        .into_iter()
+        .map(|((j, r), f)| (f.length(), j, m.rods[r].name.clone()))
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap_or((0.0, 0, String::new()))
+}
+
+/// The proper rotation and translation taking `a` onto `b` in the least
+/// squares sense (Horn's quaternion method), applied to `a`.
+pub fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
+    let n = a.len().max(1) as f64;
+    let ca = a.iter().sum::<DVec3>() / n;
+    let cb = b.iter().sum::<DVec3>() / n;
+    let mut s = [[0.0f64; 3]; 3];
+    for (p, q) in a.iter().zip(b) {
+        let (p, q) = (*p - ca, *q - cb);
+        for i in 0..3 {
+            for j in 0..3 {
+                s[i][j] += p[i] * q[j];
+            }
+        }
+    }
+    let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = s;
+    let k = [
+        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
+        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
+        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
+        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
+    ];
+    let v = top_eigenvector(k);
+    let rot = DQuat::from_xyzw(v[1], v[2], v[3], v[0]).normalize();
+    let m = DMat3::from_quat(rot);
+    a.iter().map(|p| cb + m * (*p - ca)).collect()
+}
+
+/// Largest point distance after the best proper rigid fit of `a` onto `b`.
+pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
+    kabsch_fit(a, b)
+        .iter()
+        .zip(b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f64::max)
+}
+
+/// Eigenvector of the largest eigenvalue of a symmetric 4x4 (Jacobi).
+fn top_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
+    let mut v = [[0.0; 4]; 4];
+    for (i, row) in v.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    for _ in 0..100 {
+        let off: f64 = (0..4).flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| a[i][j] * a[i][j]).sum();
+        if off < 1e-30 {
+            break;
+        }
+        for p in 0..4 {
+            for q in p + 1..4 {
+                if a[p][q].abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..4 {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..4 {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for row in v.iter_mut() {
+                    let (vp, vq) = (row[p], row[q]);
+                    row[p] = c * vp - s * vq;
+                    row[q] = s * vp + c * vq;
+                }
+            }
+        }
+    }
+    let best = (0..4).max_by(|&i, &j| a[i][i].total_cmp(&a[j][j])).unwrap_or(0);
+    [v[0][best], v[1][best], v[2][best], v[3][best]]
+}
+
+/// Discrete Gaussian curvature at every interior vertex: the angle defect
+/// 2 pi minus the corner angles of the four facets (UL, UR, LR, LL quads)
+/// around it, from vertex positions `points` (one per lattice vertex).
+/// Positive: dome-like; negative: saddle-like. Works on any lattice and
+/// any placement (design, rigid fit or simulated).
+pub fn angle_defects(lattice: &Lattice, points: &[DVec3]) -> Vec<(u32, f64)> {
+    let nv = lattice.vertices.len();
+    let mut sum = vec![0.0; nv];
+    let mut count = vec![0usize; nv];
+    for cell in &lattice.cells {
+        // The facet quad in order round its boundary.
+        let quad = [cell.ul, cell.ur, cell.lr, cell.ll];
+        for k in 0..4 {
+            let (prev, here, next) = (quad[(k + 3) % 4], quad[k], quad[(k + 1) % 4]);
+            let (p, h, n) = (points[prev as usize], points[here as usize], points[next as usize]);
+            let (a, b) = (p - h, n - h);
+            sum[here as usize] += crate::lattice::angle_between(a.normalize(), b.normalize());
+            count[here as usize] += 1;
+        }
+    }
+    (0..nv)
+        .filter(|&v| count[v] == 4)
+        .map(|v| (v as u32, std::f64::consts::TAU - sum[v]))
+        .collect()
+}
+
+/// Which variables are material angles (for reports).
+pub fn theta_count(m: &Model) -> usize {
+    m.edges.iter().filter(|e| matches!(e.frame, Frame::Ref { .. })).count()
+}
+
+/// The stencil count (for reports).
+pub fn stencil_count(m: &Model) -> usize {
+    m.stencils.iter().filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. })).count()
+}
+
+/// One strip of an equilibrium, node by node, for deployed.json/.obj.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeployedStrip {
+    /// The engraved strip id.
+    pub id: String,
+    /// Arc length from the first hole (mm).
+    pub s: Vec<f64>,
+    pub centre: Vec<DVec3>,
+    /// Width direction and face normal at each node (mean of its edges).
+    pub d1: Vec<DVec3>,
+    pub d2: Vec<DVec3>,
+    /// Corner-fibre strain and twist shear strain at each node.
+    pub strain: Vec<f64>,
+    pub gamma: Vec<f64>,
+}
+
+/// Every strip of the model as it is now.
+pub fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
+    (0..m.rods.len())
+        .map(|r| {
+            let path = &m.rods[r];
+            let frames: Vec<(DVec3, DVec3, DVec3)> = path.edges.iter().map(|&e| m.edge_frame(e)).collect();
+            let at = |k: usize, pick: fn(&(DVec3, DVec3, DVec3)) -> DVec3| {
+                let before = k.checked_sub(1).map(|i| pick(&frames[i]));
+                let after = frames.get(k).map(pick);
+                let sum = before.unwrap_or(DVec3::ZERO) + after.unwrap_or(DVec3::ZERO);
+                sum.try_normalize().unwrap_or(sum)
+            };
+            let strains = rod_strains(m, r, 0.0);
+            DeployedStrip {
+                id: path.name.clone(),
+                s: path.s.clone(),
+                centre: path.nodes.iter().map(|&n| m.pos(n)).collect(),
+                d1: (0..path.nodes.len()).map(|k| at(k, |f| f.1)).collect(),
+                d2: (0..path.nodes.len()).map(|k| at(k, |f| f.2)).collect(),
+                strain: strains.iter().map(|x| x.1).collect(),
+                gamma: strains.iter().map(|x| x.2).collect(),
+            }
+        })
+        .collect()
+}
