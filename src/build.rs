@@ -323,6 +323,20 @@ impl Build {
             .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
             .collect();
         files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
+        files.push(("viewer.html".to_string(), viewer::write(&self.viewer_scene())));
+        if let Some(run) = &self.simulation {
+            files.extend(self.deployed_files(run));
+        }
+        files.push((
+            "report.txt".to_string(),
+            crate::report::build_text(self).into_bytes(),
+        ));
+        files
+    }
+
+    /// What the viewer page shows: the lattice as built and, where the
+    /// build simulated it, the simulated shape beside the designed one.
+    pub fn viewer_scene(&self) -> viewer::Scene<'_> {
         let mut scene = viewer::Scene::new(
             &self.design,
             &self.lattice,
@@ -332,20 +346,11 @@ impl Build {
             &self.deployment,
         );
         if let Some(run) = &self.simulation {
-            // The page offers the simulated shape beside the designed one.
             let placed = crate::sim::placed_lattice(&self.lattice, &run.lm);
             let vertices = placed.vertices.iter().map(|v| v.pos);
             scene.simulated = Some(vertices.chain(placed.cells.iter().map(|c| c.pivot)).collect());
         }
-        files.push(("viewer.html".to_string(), viewer::write(&scene)));
-        if let Some(run) = &self.simulation {
-            files.extend(self.deployed_files(run));
-        }
-        files.push((
-            "report.txt".to_string(),
-            crate::report::build_text(self).into_bytes(),
-        ));
-        files
+        scene
     }
 
     /// deployed.json and deployed.obj of a simulated build.

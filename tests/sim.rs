@@ -434,7 +434,8 @@ fn refinement_moves_joints_less_than_1_percent(path: &str) {
 }
 
 /// The curvature measure on known shapes: a planar lattice is flat at
-/// every interior vertex; the torus (its outer half) is dome-like.
+/// every interior vertex; the torus (centre circle 160 mm) is dome-like on
+/// its outer half and saddle-like on its inner half.
 #[test]
 fn angle_defects_measure_curvature_signs() {
     let grid = uniform_grid();
@@ -444,7 +445,15 @@ fn angle_defects_measure_curvature_signs() {
     assert!(flat.iter().all(|d| d.1.abs() < 1e-9), "{flat:?}");
     let torus = load("examples/torus.toml");
     let points: Vec<DVec3> = torus.vertices.iter().map(|v| v.pos).collect();
-    let dome = sim::angle_defects(&torus, &points);
-    assert!(dome.len() > 50);
-    assert!(dome.iter().all(|d| d.1 > 0.0), "{dome:?}");
+    let defects = sim::angle_defects(&torus, &points);
+    assert!(defects.len() > 50);
+    let radius = |v: u32| {
+        let p = points[v as usize];
+        p.x.hypot(p.y)
+    };
+    let outer: Vec<_> = defects.iter().filter(|d| radius(d.0) > 165.0).collect();
+    let inner: Vec<_> = defects.iter().filter(|d| radius(d.0) < 155.0).collect();
+    assert!(outer.len() > 20 && inner.len() > 20, "{defects:?}");
+    assert!(outer.iter().all(|d| d.1 > 0.0), "{outer:?}");
+    assert!(inner.iter().all(|d| d.1 < 0.0), "{inner:?}");
 }

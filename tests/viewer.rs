@@ -25,14 +25,7 @@ fn built(name: &str) -> Build {
 }
 
 fn page(b: &Build) -> Vec<u8> {
-    write(&Scene::new(
-        &b.design,
-        &b.lattice,
-        &b.assembled,
-        &b.parts,
-        &b.layout,
-        &b.deployment,
-    ))
+    write(&b.viewer_scene())
 }
 
 /// The JSON data block of a page.
@@ -330,8 +323,10 @@ fn viewer_works_in_headless_chromium() {
         actions.push(json!({"click": "(r => [r.left + r.width / 2, r.top + r.height / 2])(document.querySelector('#info button').getBoundingClientRect())"}));
         actions.push(json!({"eval": format!("(c => {{ const r = document.getElementById('view').getBoundingClientRect(); return Math.hypot(c[0] - r.left - r.width / 2, c[1] - r.top - r.height / 2); }})(karigami.centre('{target}'))")}));
         actions.push(shot("centred"));
-        // Search: a type, then an ID prefix.
-        actions.extend(search("b"));
+        // Search: the target's part type code, then an ID prefix.
+        let part = b.parts.strips[steps[k - 1].strips[0]].part_type;
+        let code = b.parts.types[part].code.clone();
+        actions.extend(search(&code.to_lowercase()));
         actions.push(shot("search-type"));
         actions.push(json!({"eval": "document.getElementById('sheet').scrollIntoView(), karigami.sheetHighlighted()"}));
         actions.push(json!({"eval": "karigami.sheet()"}));
@@ -475,14 +470,18 @@ fn viewer_works_in_headless_chromium() {
         next(); // clear the search box
         next(); // type
         let by_type = ids(next());
-        let expected: BTreeSet<String> = b
-            .parts
+        let part = b.parts.strips.iter().find(|s| &s.id == target).unwrap().part_type;
+        let expected: BTreeSet<String> = b.parts.types[part]
             .strips
             .iter()
-            .filter(|s| s.id.ends_with("-B"))
-            .map(|s| s.id.clone())
+            .map(|&i| b.parts.strips[i].id.clone())
             .collect();
-        assert_eq!(by_type, expected, "{name}: search by type B");
+        assert!(expected.contains(target));
+        assert_eq!(
+            by_type, expected,
+            "{name}: search by part type {}",
+            b.parts.types[part].code
+        );
         next(); // shot
         let marked = ids(next());
         let shown_sheet = next().as_u64().unwrap() as usize;

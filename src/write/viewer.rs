@@ -199,8 +199,9 @@ fn data_json(s: &Scene) -> String {
     out
 }
 
-/// Per strip (rod order): ID, type, tip-to-tip length, the two hole
-/// pitches, then its sheet (1-based) and the top-left of its box there.
+/// Per strip (rod order): ID, rod type, tip-to-tip length, the two hole
+/// pitches, its sheet (1-based), the top-left of its box there, whether it
+/// is turned, its cut length and its part type code.
 fn strips_json(out: &mut String, s: &Scene) {
     let mut place = vec![None; s.parts.strips.len()];
     for (i, sheet) in s.layout.sheets.iter().enumerate() {
@@ -218,7 +219,7 @@ fn strips_json(out: &mut String, s: &Scene) {
         let (sheet, p) = place.expect("every strip is placed");
         let _ = write!(
             out,
-            "[{},\"{}\",{},{},{},{},{},{},{},{}]",
+            "[{},\"{}\",{},{},{},{},{},{},{},{},{}]",
             text(&strip.id),
             strip.kind.letter(),
             num(strip.length),
@@ -228,7 +229,8 @@ fn strips_json(out: &mut String, s: &Scene) {
             num(p.x),
             num(p.y),
             p.rotated as u8,
-            num(Outline::of(strip.length, fab).length)
+            num(Outline::of(strip.length, fab).length),
+            text(&s.parts.types[strip.part_type].code)
         );
     }
     out.push_str("],\n");

@@ -546,6 +546,10 @@
   }
   function fmt(x, d) { return x.toFixed(d === undefined ? 1 : d); }
   var search = $("search");
+  // A term that is a part type code finds that type (what a maker reads on
+  // a strip engraved with its code); any other term, IDs containing it.
+  var partCodes = {};
+  strips.forEach(function (s) { if (s.part) partCodes[s.part.toUpperCase()] = true; });
   function find(q) {
     var terms = q.trim().toUpperCase().split(/[\s,;]+/).filter(function (t) { return t.length; });
     if (!terms.length) return null;
@@ -553,8 +557,9 @@
     strips.forEach(function (s) {
       var id = s.id.toUpperCase();
       for (var k = 0; k < terms.length; k++) {
-        var t = terms[k];
-        if (s.type === t || (s.part && s.part.toUpperCase() === t) || id.indexOf(t) >= 0) { out.push(s.i); return; }
+        var t = terms[k].replace(/^[<]/, "");
+        var hit = partCodes[t] ? (s.part && s.part.toUpperCase() === t) : id.indexOf(t) >= 0;
+        if (hit) { out.push(s.i); return; }
       }
     });
     return out;
