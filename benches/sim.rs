@@ -33,7 +33,10 @@ fn run(name: &str, text: &str) {
         Err(e) => return println!("{name}: does not grow: {}", e.message),
     };
     let dep = deployment(&lattice);
-    let settings = Settings { theta: None, ..d.simulation };
+    let settings = Settings {
+        theta: None,
+        ..d.simulation
+    };
     let m = &d.fabrication.material;
     let clock = Instant::now();
     let result = sim::simulate(&lattice, &dep, m.width, m.thickness, &settings);
@@ -45,7 +48,13 @@ fn run(name: &str, text: &str) {
                 "| {name} | {} | {} | {} | {:.2} | {} | {:.3e} | {:.3} % ({}) | {:.3} |",
                 lattice.cells.len(),
                 run.lm.model.fixed.iter().filter(|f| !**f).count(),
-                if lattice.extrinsic() && dep.is_mechanism() { "mechanism" } else if !lattice.extrinsic() { "bent facets" } else { "rigid linkage" },
+                if lattice.extrinsic() && dep.is_mechanism() {
+                    "mechanism"
+                } else if !lattice.extrinsic() {
+                    "bent facets"
+                } else {
+                    "rigid linkage"
+                },
                 secs,
                 run.iterations,
                 eq.energy.total(),
@@ -54,13 +63,21 @@ fn run(name: &str, text: &str) {
                 eq.distance
             );
         }
-        Err(e) => println!("| {name} | {} | | | {secs:.2} | failed: {e} | | | |", lattice.cells.len()),
+        Err(e) => println!(
+            "| {name} | {} | | | {secs:.2} | failed: {e} | | | |",
+            lattice.cells.len()
+        ),
     }
 }
 
 fn main() {
-    let wanted: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with('-')).collect();
-    println!("| example | cells | variables | linkage | seconds | Newton iterations | energy (N mm) | largest strain | distance from start (mm) |");
+    let wanted: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    println!(
+        "| example | cells | variables | linkage | seconds | Newton iterations | energy (N mm) | largest strain | distance from start (mm) |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|");
     let mut names: Vec<_> = std::fs::read_dir("examples")
         .expect("examples/")

@@ -308,7 +308,9 @@ impl Build {
                 &crate::sim::placed_lattice(&self.lattice, &run.lm),
                 fab.material.width,
                 name,
-                Some("shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)"),
+                Some(
+                    "shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)",
+                ),
             ),
             None => preview(&self.assembled, fab.material.width, name),
         };
@@ -323,7 +325,10 @@ impl Build {
             .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
             .collect();
         files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
-        files.push(("viewer.html".to_string(), viewer::write(&self.viewer_scene())));
+        files.push((
+            "viewer.html".to_string(),
+            viewer::write(&self.viewer_scene()),
+        ));
         if let Some(run) = &self.simulation {
             files.extend(self.deployed_files(run));
         }
@@ -348,7 +353,11 @@ impl Build {
         if let Some(run) = &self.simulation {
             let placed = crate::sim::placed_lattice(&self.lattice, &run.lm);
             let vertices = placed.vertices.iter().map(|v| v.pos);
-            scene.simulated = Some(vertices.chain(placed.cells.iter().map(|c| c.pivot)).collect());
+            scene.simulated = Some(
+                vertices
+                    .chain(placed.cells.iter().map(|c| c.pivot))
+                    .collect(),
+            );
         }
         scene
     }
@@ -385,10 +394,18 @@ impl Build {
                 .collect(),
         };
         vec![
-            ("deployed.json".to_string(), deployed::json(&summary, &strips)),
+            (
+                "deployed.json".to_string(),
+                deployed::json(&summary, &strips),
+            ),
             (
                 "deployed.obj".to_string(),
-                deployed::obj(&self.design.name, &strips, fab.material.width, fab.material.thickness),
+                deployed::obj(
+                    &self.design.name,
+                    &strips,
+                    fab.material.width,
+                    fab.material.thickness,
+                ),
             ),
         ]
     }

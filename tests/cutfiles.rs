@@ -284,7 +284,8 @@ fn random_designs_give_true_cut_files() {
             // the sheet, or bend their strips beyond the allowable strain;
             // those are refused by name, never mis-drawn.
             Err(e) => assert!(
-                ["LegShorterThanFlange", "StripLongerThanSheet", "Overstrain"].contains(&e.class.as_str()),
+                ["LegShorterThanFlange", "StripLongerThanSheet", "Overstrain"]
+                    .contains(&e.class.as_str()),
                 "{e:?}"
             ),
         }

@@ -17,7 +17,9 @@ fn abs_section() -> karigami::sim::Section {
 
 /// Nodes at s = (j - 1/2) h, j = 0..=n, along x.
 fn straight(n: usize, h: f64) -> Vec<DVec3> {
-    (0..=n).map(|j| DVec3::new((j as f64 - 0.5) * h, 0.0, 0.0)).collect()
+    (0..=n)
+        .map(|j| DVec3::new((j as f64 - 0.5) * h, 0.0, 0.0))
+        .collect()
 }
 
 /// Clamp edge 0: its two nodes and its material angle.
@@ -47,7 +49,10 @@ fn cantilever_tip(p: f64) -> (f64, usize) {
     let h = l / (n as f64 - 0.5);
     let mut m = Model::strip(abs_section(), &straight(n, h), DVec3::Z);
     clamp_first(&mut m);
-    m.stencils.push(Stencil::Load { node: n, force: DVec3::new(0.0, 0.0, p) });
+    m.stencils.push(Stencil::Load {
+        node: n,
+        force: DVec3::new(0.0, 0.0, p),
+    });
     let stats = equilibrate(&mut m);
     (m.pos(n).z, stats.iterations)
 }
@@ -59,7 +64,10 @@ fn cantilever_tip_load_matches_the_beam_formula() {
         let (tip, iterations) = cantilever_tip(p);
         let linear = p * 200f64.powi(3) / (3.0 * b);
         let ratio = tip / linear;
-        assert!((ratio - 1.0).abs() < 0.01, "P = {p}: tip {tip} vs {linear} ({ratio})");
+        assert!(
+            (ratio - 1.0).abs() < 0.01,
+            "P = {p}: tip {tip} vs {linear} ({ratio})"
+        );
         assert!(iterations <= 15, "{iterations} Newton iterations");
     }
     // The prototype's figure at N = 20, P = 0.01 N: 14.4572 mm.
@@ -83,7 +91,8 @@ fn fit_circle(points: &[DVec3]) -> (DVec2, f64, f64) {
         }
     }
     let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
     };
     let d = det(a);
@@ -113,14 +122,23 @@ fn end_moment_bends_an_arc_of_radius_ei_over_m() {
     let mut m = Model::strip(sec, &straight(n, h), DVec3::Z);
     clamp_first(&mut m);
     let last = m.edges.len() - 1;
-    m.stencils.push(Stencil::Moment { edge: last, m: -moment });
+    m.stencils.push(Stencil::Moment {
+        edge: last,
+        m: -moment,
+    });
     let stats = equilibrate(&mut m);
     let points: Vec<DVec3> = (0..=n).map(|k| m.pos(k)).collect();
     let (_, radius, residual) = fit_circle(&points);
     let expected = sec.b_flat / moment;
     let ratio = radius / expected;
-    assert!((ratio - 1.0).abs() < 0.01, "R {radius} vs {expected} ({ratio})");
-    assert!((ratio - 1.0024).abs() < 5e-4, "the prototype's 1.0024, got {ratio}");
+    assert!(
+        (ratio - 1.0).abs() < 0.01,
+        "R {radius} vs {expected} ({ratio})"
+    );
+    assert!(
+        (ratio - 1.0024).abs() < 5e-4,
+        "the prototype's 1.0024, got {ratio}"
+    );
     assert!(residual < 1e-6, "nodes off the circle by {residual}");
     assert!(stats.iterations <= 20, "{} iterations", stats.iterations);
 }
@@ -151,7 +169,11 @@ fn twist_torque_is_gj_phi_over_l() {
         let length = (n - 1) as f64 * h;
         let expected = sec.gj * phi / length;
         let rel = (g[last] - expected).abs() / expected;
-        assert!(rel < 1e-6, "N = {n}, phi = {phi_deg}: torque {} vs {expected}", g[last]);
+        assert!(
+            rel < 1e-6,
+            "N = {n}, phi = {phi_deg}: torque {} vs {expected}",
+            g[last]
+        );
     }
     // The prototype's 19.9879 N mm at 90 degrees over 200 mm.
     let expected = sec.gj * std::f64::consts::FRAC_PI_2 / 200.0;
@@ -187,10 +209,16 @@ fn clamped_strip_pushed_2mm_shorter_has_two_mirror_states() {
         }
         let stats = solve(&mut m, &sys, &Options::default()).expect("solves");
         assert!(stats.converged);
-        assert!(stats.lambda_min > 0.0, "seed {seed} ended on a saddle: {stats:?}");
+        assert!(
+            stats.lambda_min > 0.0,
+            "seed {seed} ended on a saddle: {stats:?}"
+        );
         let mid = m.pos(n / 2).z;
         let e = stats.energy;
-        match found.iter_mut().find(|f| (f.0 - e).abs() < 1e-6 * e && (f.1 - mid).abs() < 1e-3) {
+        match found
+            .iter_mut()
+            .find(|f| (f.0 - e).abs() < 1e-6 * e && (f.1 - mid).abs() < 1e-3)
+        {
             Some(f) => f.2 += 1,
             None => found.push((e, mid, 1)),
         }
@@ -198,8 +226,14 @@ fn clamped_strip_pushed_2mm_shorter_has_two_mirror_states() {
     assert_eq!(found.len(), 2, "equilibria {found:?}");
     let first_order = 4.0 * std::f64::consts::PI.powi(2) * abs_section().b_flat * push / (l * l);
     for &(e, mid, _) in &found {
-        assert!((e - first_order).abs() < 0.01 * first_order, "E {e} vs {first_order}");
-        assert!((e - 3.6063).abs() < 0.01, "the prototype's 3.6063 N mm, got {e}");
+        assert!(
+            (e - first_order).abs() < 0.01 * first_order,
+            "E {e} vs {first_order}"
+        );
+        assert!(
+            (e - 3.6063).abs() < 0.01,
+            "the prototype's 3.6063 N mm, got {e}"
+        );
         assert!((mid.abs() - 12.635).abs() < 0.05, "mid-span {mid}");
     }
     assert!(found[0].1 * found[1].1 < 0.0, "mirror images: {found:?}");
@@ -207,7 +241,10 @@ fn clamped_strip_pushed_2mm_shorter_has_two_mirror_states() {
 
 fn load(path: &str) -> Lattice {
     let text = std::fs::read_to_string(path).expect("recipe");
-    design::parse(&text, "t").expect("parses").grow().expect("grows")
+    design::parse(&text, "t")
+        .expect("parses")
+        .grow()
+        .expect("grows")
 }
 
 fn uniform_grid() -> Lattice {
@@ -222,7 +259,10 @@ angle = 60.0
 left_leg = 80.0
 right_leg = "match"
 "#;
-    design::parse(text, "grid").expect("parses").grow().expect("grows")
+    design::parse(text, "grid")
+        .expect("parses")
+        .grow()
+        .expect("grows")
 }
 
 /// Gradient and Hessian of every stencil against central differences at
@@ -234,7 +274,10 @@ fn gradient_and_hessian_match_finite_differences() {
         (load("examples/torus.toml"), VertexJoint::Eyelet),
         (load("examples/torus.toml"), VertexJoint::Ball),
     ] {
-        let settings = Settings { vertex_joint: joint, ..Settings::default() };
+        let settings = Settings {
+            vertex_joint: joint,
+            ..Settings::default()
+        };
         let mut lm = sim::prepare(&lattice, 10.0, 1.0, &settings);
         let m = &mut lm.model;
         let mut rng = Rng::new(11);
@@ -291,7 +334,11 @@ fn ideal_linkage(lattice: &Lattice, theta: f64) -> Vec<DVec3> {
     for (i, cell) in lattice.cells.iter().enumerate() {
         let [ul, ur, _, _] = lattice.corners(cell);
         let (a, b) = (ul - cell.pivot, ur - cell.pivot);
-        let side = if a.x * b.y - a.y * b.x < 0.0 { -1.0 } else { 1.0 };
+        let side = if a.x * b.y - a.y * b.x < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
         let [l1, l2, l3, l4] = lattice.legs(cell);
         let phi = phis[i];
         let (da, db) = (DVec2::X, DVec2::new(phi.cos(), side * phi.sin()));
@@ -335,7 +382,11 @@ fn mechanism_follows_the_linkage(lattice: &Lattice, perturbed: bool) {
     }
     let (stats, _, _) = sim::deploy(&mut lm, Some(theta), &Options::default()).expect("deploys");
     let e_s = lm.model.e_scale;
-    assert!(stats.energy.abs() < 1e-9 * e_s, "E = {} (E_s {e_s})", stats.energy);
+    assert!(
+        stats.energy.abs() < 1e-9 * e_s,
+        "E = {} (E_s {e_s})",
+        stats.energy
+    );
     let ideal = ideal_linkage(lattice, theta);
     let d = kabsch_distance(&lm.points(), &ideal);
     assert!(d < 1e-6, "joints {d} mm from the ideal linkage");
@@ -362,27 +413,48 @@ fn uniform_grid_follows_the_ideal_linkage() {
 #[test]
 fn torus_with_ball_joints_opens_freely_and_with_eyelets_twists() {
     let torus = load("examples/torus.toml");
-    let ball = Settings { vertex_joint: VertexJoint::Ball, ..Settings::default() };
+    let ball = Settings {
+        vertex_joint: VertexJoint::Ball,
+        ..Settings::default()
+    };
     let mut lm = sim::prepare(&torus, 10.0, 1.0, &ball);
     let design = lm.opening(0);
     let theta = design - 4f64.to_radians();
     let (stats, _, _) = sim::deploy(&mut lm, Some(theta), &Options::default()).expect("deploys");
     let e_s = lm.model.e_scale;
-    assert!(stats.energy.abs() < 1e-9 * e_s, "E = {} (E_s {e_s})", stats.energy);
+    assert!(
+        stats.energy.abs() < 1e-9 * e_s,
+        "E = {} (E_s {e_s})",
+        stats.energy
+    );
     let phis = configuration(&torus).angles(theta).expect("in range");
     for (c, phi) in phis.iter().enumerate() {
-        assert!((lm.opening(c) - phi).abs() < 1e-6, "cell {c}: {} vs C(theta) {phi}", lm.opening(c));
+        assert!(
+            (lm.opening(c) - phi).abs() < 1e-6,
+            "cell {c}: {} vs C(theta) {phi}",
+            lm.opening(c)
+        );
     }
     // Strips straight between their holes: hole distances are the cut legs.
     for (r, rod) in torus.rods().enumerate() {
         let path = &lm.model.rods[r];
         let first = lm.model.pos(path.nodes[0]);
         let last = lm.model.pos(*path.nodes.last().unwrap());
-        assert!((first.distance(last) - rod.length()).abs() < 1e-6, "rod {r} bent");
+        assert!(
+            (first.distance(last) - rod.length()).abs() < 1e-6,
+            "rod {r} bent"
+        );
     }
 
     let eyelet = Settings::default();
-    let run = sim::simulate(&torus, &karigami::lattice::deploy::deployment(&torus), 10.0, 1.0, &eyelet).expect("simulates");
+    let run = sim::simulate(
+        &torus,
+        &karigami::lattice::deploy::deployment(&torus),
+        10.0,
+        1.0,
+        &eyelet,
+    )
+    .expect("simulates");
     let eq = &run.equilibrium;
     println!(
         "torus with eyelets: E = {:.4} N mm (twist {:.4}), largest twist shear strain {:.3} %, largest strain {:.3} % in {}",
@@ -392,8 +464,15 @@ fn torus_with_ball_joints_opens_freely_and_with_eyelets_twists() {
         100.0 * eq.strain.eps,
         eq.strain.rod
     );
-    assert!(eq.energy.total() > 1.0 * run.lm.model.e_scale, "eyelets leave the torus stress-free?");
-    assert!(eq.energy.twist > 0.1 * eq.energy.total(), "little twist: {:?}", eq.energy);
+    assert!(
+        eq.energy.total() > 1.0 * run.lm.model.e_scale,
+        "eyelets leave the torus stress-free?"
+    );
+    assert!(
+        eq.energy.twist > 0.1 * eq.energy.total(),
+        "little twist: {:?}",
+        eq.energy
+    );
     assert!(eq.strain.gamma > 1e-3, "gamma {}", eq.strain.gamma);
     assert!(eq.stats.lambda_min > 0.0);
 }
@@ -416,7 +495,10 @@ fn refinement_moves_joints_less_than_1_percent(path: &str) {
     let ring = load(path);
     let deploy = karigami::lattice::deploy::deployment(&ring);
     let solve_at = |h: f64| {
-        let settings = Settings { h_max: h, ..Settings::default() };
+        let settings = Settings {
+            h_max: h,
+            ..Settings::default()
+        };
         sim::simulate(&ring, &deploy, 10.0, 1.0, &settings).expect("simulates")
     };
     let coarse = solve_at(10.0);

@@ -470,7 +470,13 @@ fn viewer_works_in_headless_chromium() {
         next(); // clear the search box
         next(); // type
         let by_type = ids(next());
-        let part = b.parts.strips.iter().find(|s| &s.id == target).unwrap().part_type;
+        let part = b
+            .parts
+            .strips
+            .iter()
+            .find(|s| &s.id == target)
+            .unwrap()
+            .part_type;
         let expected: BTreeSet<String> = b.parts.types[part]
             .strips
             .iter()

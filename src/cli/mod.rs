@@ -266,7 +266,11 @@ pub fn run() -> i32 {
             json,
             fabrication,
         } => check(&designs, json, &fabrication.overrides(), v),
-        Command::Simulate { design, theta, explore } => simulate::simulate(&design, theta, explore, v),
+        Command::Simulate {
+            design,
+            theta,
+            explore,
+        } => simulate::simulate(&design, theta, explore, v),
         Command::Build {
             designs,
             out,

@@ -13,7 +13,12 @@ use std::path::Path;
 /// Seed of `--explore`'s perturbations (reported with the results).
 pub const EXPLORE_SEED: u64 = 2024;
 
-pub fn simulate(path: &Path, theta: Option<f64>, explore_n: Option<usize>, v: Verbosity) -> Result<(), Failed> {
+pub fn simulate(
+    path: &Path,
+    theta: Option<f64>,
+    explore_n: Option<usize>,
+    v: Verbosity,
+) -> Result<(), Failed> {
     let fail = |text: String| {
         eprint!("{text}");
         Failed(EXIT_INVALID)
@@ -22,7 +27,9 @@ pub fn simulate(path: &Path, theta: Option<f64>, explore_n: Option<usize>, v: Ve
         eprint!("{}", e.text);
         Failed(e.code)
     })?;
-    let design = recipe.parse(&Overrides::default()).map_err(|e| fail(e.text))?;
+    let design = recipe
+        .parse(&Overrides::default())
+        .map_err(|e| fail(e.text))?;
     let lattice = design.grow().map_err(|d| fail(recipe.error(&d).text))?;
     let report = verify(&lattice);
     if !report.passed() {
@@ -36,17 +43,34 @@ pub fn simulate(path: &Path, theta: Option<f64>, explore_n: Option<usize>, v: Ve
     if let Some(t) = theta {
         settings.theta = Some(t.to_radians());
     }
-    let (w, t) = (design.fabrication.material.width, design.fabrication.material.thickness);
+    let (w, t) = (
+        design.fabrication.material.width,
+        design.fabrication.material.thickness,
+    );
     let run = sim::simulate(&lattice, &deploy, w, t, &settings)
         .map_err(|e| fail(format!("error: {}: simulation failed: {e}\n", recipe.file)))?;
     if !v.quiet {
-        print!("{}", text(&recipe.file, &lattice, &deploy.verdict(&lattice), &run, &settings));
+        print!(
+            "{}",
+            text(
+                &recipe.file,
+                &lattice,
+                &deploy.verdict(&lattice),
+                &run,
+                &settings
+            )
+        );
     }
     if let Some(n) = explore_n {
         let material = settings.material;
-        let (found, rejected) = explore(&run.lm, n.max(1), EXPLORE_SEED, &|lm, stats| sim::equilibrium(lm, stats, &material));
+        let (found, rejected) = explore(&run.lm, n.max(1), EXPLORE_SEED, &|lm, stats| {
+            sim::equilibrium(lm, stats, &material)
+        });
         if !v.quiet {
-            print!("{}", explore_text(&lattice, &run.lm, &found, &rejected, n, &settings));
+            print!(
+                "{}",
+                explore_text(&lattice, &run.lm, &found, &rejected, n, &settings)
+            );
         }
     }
     Ok(())
@@ -57,48 +81,118 @@ fn pct(x: f64) -> String {
 }
 
 /// The report of one simulation (PHYSICS.md 9).
-pub fn text(file: &str, lattice: &Lattice, verdict: &str, run: &Simulation, s: &Settings) -> String {
+pub fn text(
+    file: &str,
+    lattice: &Lattice,
+    verdict: &str,
+    run: &Simulation,
+    s: &Settings,
+) -> String {
     let mut o = String::new();
     let eq = &run.equilibrium;
     let m = &run.lm.model;
     let sec = &m.section;
-    let _ = writeln!(o, "{file}: {} cells, {} strips as elastic rods, {} joints ({} vertices)", lattice.cells.len(), m.rods.len(), m.joints.len(), s.vertex_joint.name());
+    let _ = writeln!(
+        o,
+        "{file}: {} cells, {} strips as elastic rods, {} joints ({} vertices)",
+        lattice.cells.len(),
+        m.rods.len(),
+        m.joints.len(),
+        s.vertex_joint.name()
+    );
     let _ = writeln!(o, "deployment: {verdict}");
     let _ = writeln!(
         o,
         "material: E {} MPa, nu {}, strip {} x {} mm: flatwise EI {:.1} N mm^2, edgewise EI {:.0} N mm^2, GJ {:.1} N mm^2",
-        s.material.youngs, s.material.poisson, sec.width, sec.thickness, sec.b_flat, sec.b_edge, sec.gj
+        s.material.youngs,
+        s.material.poisson,
+        sec.width,
+        sec.thickness,
+        sec.b_flat,
+        sec.b_edge,
+        sec.gj
     );
-    let _ = writeln!(o, "theta (opening of the reference cell): {:.3} deg", run.theta.to_degrees());
+    let _ = writeln!(
+        o,
+        "theta (opening of the reference cell): {:.3} deg",
+        run.theta.to_degrees()
+    );
     let e = &eq.energy;
     let _ = writeln!(
         o,
         "energy: {:.6e} N mm (stretch {:.3e}, bend {:.3e}, twist {:.3e}); energy scale {:.3} N mm",
-        e.total(), e.stretch, e.bend, e.twist, m.e_scale
+        e.total(),
+        e.stretch,
+        e.bend,
+        e.twist,
+        m.e_scale
     );
     let st = &eq.strain;
-    let verdict = if st.eps > s.material.eps_allow { "ABOVE the allowable" } else { "within the allowable" };
+    let verdict = if st.eps > s.material.eps_allow {
+        "ABOVE the allowable"
+    } else {
+        "within the allowable"
+    };
     if st.rod.is_empty() {
         let _ = writeln!(o, "largest strain: 0");
     } else {
         let _ = writeln!(
             o,
             "largest strain: {} ({}) in strip {} at {:.1} mm from its first hole; allowable {}: {verdict}",
-            pct(st.eps), st.term, st.rod, st.s, pct(s.material.eps_allow)
+            pct(st.eps),
+            st.term,
+            st.rod,
+            st.s,
+            pct(s.material.eps_allow)
         );
     }
-    let _ = writeln!(o, "largest twist shear strain: {}; largest equivalent (von Mises) strain: {}", pct(st.gamma), pct(st.eps_eq));
+    let _ = writeln!(
+        o,
+        "largest twist shear strain: {}; largest equivalent (von Mises) strain: {}",
+        pct(st.gamma),
+        pct(st.eps_eq)
+    );
     let (f, j, rod) = &eq.reaction;
-    let _ = writeln!(o, "largest joint reaction: {:.4} N, at {} on strip {rod}", f, run.lm.joint_name(lattice, *j));
-    let _ = writeln!(o, "distance from the design (largest joint, after the best rigid fit): {:.4} mm", eq.distance);
+    let _ = writeln!(
+        o,
+        "largest joint reaction: {:.4} N, at {} on strip {rod}",
+        f,
+        run.lm.joint_name(lattice, *j)
+    );
+    let _ = writeln!(
+        o,
+        "distance from the design (largest joint, after the best rigid fit): {:.4} mm",
+        eq.distance
+    );
     let nv = lattice.vertices.len();
-    for (what, points) in [("design", &run.lm.start[..nv]), ("simulated", &eq.points[..nv])] {
-        let _ = writeln!(o, "curvature ({what}): {}", curvature_summary(&sim::angle_defects(lattice, points)));
+    for (what, points) in [
+        ("design", &run.lm.start[..nv]),
+        ("simulated", &eq.points[..nv]),
+    ] {
+        let _ = writeln!(
+            o,
+            "curvature ({what}): {}",
+            curvature_summary(&sim::angle_defects(lattice, points))
+        );
     }
-    let (lo, hi) = eq.openings.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
-    let _ = writeln!(o, "cell openings: {:.2} to {:.2} deg", lo.to_degrees(), hi.to_degrees());
+    let (lo, hi) = eq
+        .openings
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(*x), b.max(*x))
+        });
+    let _ = writeln!(
+        o,
+        "cell openings: {:.2} to {:.2} deg",
+        lo.to_degrees(),
+        hi.to_degrees()
+    );
     if eq.openings.len() <= 12 {
-        let list: Vec<String> = eq.openings.iter().map(|p| format!("{:.2}", p.to_degrees())).collect();
+        let list: Vec<String> = eq
+            .openings
+            .iter()
+            .map(|p| format!("{:.2}", p.to_degrees()))
+            .collect();
         let _ = writeln!(o, "  per cell: {}", list.join(", "));
     }
     let st = &eq.stats;
@@ -112,7 +206,11 @@ pub fn text(file: &str, lattice: &Lattice, verdict: &str, run: &Simulation, s: &
         st.force,
         st.moment,
         st.lambda_min,
-        if st.lambda_min > 0.0 { "stable" } else { "NOT stable" }
+        if st.lambda_min > 0.0 {
+            "stable"
+        } else {
+            "NOT stable"
+        }
     );
     o
 }
@@ -126,7 +224,11 @@ pub fn curvature_summary(defects: &[(u32, f64)]) -> String {
     let tol = 1e-6;
     let pos = defects.iter().filter(|d| d.1 > tol).count();
     let neg = defects.iter().filter(|d| d.1 < -tol).count();
-    let (lo, hi) = defects.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| (a.min(d.1), b.max(d.1)));
+    let (lo, hi) = defects
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
+            (a.min(d.1), b.max(d.1))
+        });
     format!(
         "angle defects at {} interior vertices: {pos} positive (dome-like), {neg} negative (saddle-like), {} flat; from {:.4} to {:.4} deg",
         defects.len(),
@@ -165,7 +267,11 @@ fn explore_text(
             eq.stats.lambda_min,
             pct(eq.strain.eps),
             eq.strain.rod,
-            if eq.strain.eps > s.material.eps_allow { " (ABOVE the allowable)" } else { "" },
+            if eq.strain.eps > s.material.eps_allow {
+                " (ABOVE the allowable)"
+            } else {
+                ""
+            },
             eq.distance,
             to_lowest
         );

@@ -34,7 +34,10 @@ fn number(
     match v {
         Some(x) if !ok(*x.get_ref()) => Err(Diagnostic::new(
             "design",
-            format!("[simulation] {what} is {}, but must be {bound}", x.get_ref()),
+            format!(
+                "[simulation] {what} is {}, but must be {bound}",
+                x.get_ref()
+            ),
         )
         .at(x.span())
         .hint("see the [simulation] table in README.md")),
@@ -48,19 +51,44 @@ pub fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnosti
     let mut s = Settings::default();
     let Some(raw) = raw else { return Ok(s) };
     let r = raw.get_ref();
-    if let Some(e) = number(&r.youngs_modulus, "youngs_modulus", |x| x > 0.0 && x < 1e6, "between 0 and 1e6 MPa")? {
+    if let Some(e) = number(
+        &r.youngs_modulus,
+        "youngs_modulus",
+        |x| x > 0.0 && x < 1e6,
+        "between 0 and 1e6 MPa",
+    )? {
         s.material.youngs = e;
     }
-    if let Some(nu) = number(&r.poisson_ratio, "poisson_ratio", |x| (0.0..0.5).contains(&x), "at least 0 and below 0.5")? {
+    if let Some(nu) = number(
+        &r.poisson_ratio,
+        "poisson_ratio",
+        |x| (0.0..0.5).contains(&x),
+        "at least 0 and below 0.5",
+    )? {
         s.material.poisson = nu;
     }
-    if let Some(eps) = number(&r.allowable_strain, "allowable_strain", |x| x > 0.0 && x <= 100.0, "above 0 and at most 100 (percent)")? {
+    if let Some(eps) = number(
+        &r.allowable_strain,
+        "allowable_strain",
+        |x| x > 0.0 && x <= 100.0,
+        "above 0 and at most 100 (percent)",
+    )? {
         s.material.eps_allow = eps / 100.0;
     }
-    if let Some(t) = number(&r.theta, "theta", |x| x > 0.0 && x < 180.0, "between 0 and 180 (degrees)")? {
+    if let Some(t) = number(
+        &r.theta,
+        "theta",
+        |x| x > 0.0 && x < 180.0,
+        "between 0 and 180 (degrees)",
+    )? {
         s.theta = Some(t.to_radians());
     }
-    if let Some(h) = number(&r.edge_length, "edge_length", |x| x >= 0.5 && x <= 1000.0, "between 0.5 and 1000 mm")? {
+    if let Some(h) = number(
+        &r.edge_length,
+        "edge_length",
+        |x| x >= 0.5 && x <= 1000.0,
+        "between 0.5 and 1000 mm",
+    )? {
         s.h_max = h;
     }
     if let Some(a) = &r.accept_overstrain {

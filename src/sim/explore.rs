@@ -63,7 +63,11 @@ pub fn explore(
     for k in 0..n as u64 {
         let mut lm = base.clone();
         if k > 0 {
-            perturb(&mut lm.model, seed.wrapping_add(k), AMPLITUDES[(k as usize - 1) % AMPLITUDES.len()]);
+            perturb(
+                &mut lm.model,
+                seed.wrapping_add(k),
+                AMPLITUDES[(k as usize - 1) % AMPLITUDES.len()],
+            );
         }
         let stats = match solve(&mut lm.model, &sys, &Options::default()) {
             Ok(s) => s,
@@ -75,7 +79,10 @@ pub fn explore(
         if !stats.converged || !(stats.lambda_min > 0.0) {
             rejected.push((
                 k,
-                format!("ended unstable or unconverged (lambda_min {:.2e})", stats.lambda_min),
+                format!(
+                    "ended unstable or unconverged (lambda_min {:.2e})",
+                    stats.lambda_min
+                ),
             ));
             continue;
         }
@@ -88,9 +95,17 @@ pub fn explore(
         });
         match same {
             Some(f) => f.hits.push(k),
-            None => found.push(Found { equilibrium: eq, hits: vec![k] }),
+            None => found.push(Found {
+                equilibrium: eq,
+                hits: vec![k],
+            }),
         }
     }
-    found.sort_by(|a, b| a.equilibrium.energy.total().total_cmp(&b.equilibrium.energy.total()));
+    found.sort_by(|a, b| {
+        a.equilibrium
+            .energy
+            .total()
+            .total_cmp(&b.equilibrium.energy.total())
+    });
     (found, rejected)
 }

@@ -90,9 +90,14 @@ pub const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
 pub enum SimError {
     Solve(SolveError),
     /// Newton ran out of iterations.
-    NotConverged { iterations: usize },
+    NotConverged {
+        iterations: usize,
+    },
     /// The requested opening is outside C(theta)'s valid range.
-    Theta { theta: f64, max: f64 },
+    Theta {
+        theta: f64,
+        max: f64,
+    },
 }
 
 impl std::fmt::Display for SimError {
@@ -174,7 +179,11 @@ pub fn prepare(lattice: &Lattice, width: f64, thickness: f64, settings: &Setting
 
 /// Solve at the current prescribed opening, then step the opening of cell
 /// 0 to `theta` (at most `STEP` a step), solving after each step.
-pub fn deploy(lm: &mut LatticeModel, theta: Option<f64>, opts: &Options) -> Result<(Stats, usize, usize), SimError> {
+pub fn deploy(
+    lm: &mut LatticeModel,
+    theta: Option<f64>,
+    opts: &Options,
+) -> Result<(Stats, usize, usize), SimError> {
     let sys = System::new(&lm.model);
     let mut total = 0;
     let mut stats = solve_checked(lm, &sys, opts, &mut total)?;
@@ -192,11 +201,18 @@ pub fn deploy(lm: &mut LatticeModel, theta: Option<f64>, opts: &Options) -> Resu
     Ok((stats, total, steps))
 }
 
-fn solve_checked(lm: &mut LatticeModel, sys: &System, opts: &Options, total: &mut usize) -> Result<Stats, SimError> {
+fn solve_checked(
+    lm: &mut LatticeModel,
+    sys: &System,
+    opts: &Options,
+    total: &mut usize,
+) -> Result<Stats, SimError> {
     let s = solver::solve(&mut lm.model, sys, opts).map_err(SimError::Solve)?;
     *total += s.iterations;
     if !s.converged {
-        return Err(SimError::NotConverged { iterations: s.iterations });
+        return Err(SimError::NotConverged {
+            iterations: s.iterations,
+        });
     }
     Ok(s)
 }

@@ -170,7 +170,10 @@ fn top_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
         row[i] = 1.0;
     }
     for _ in 0..100 {
-        let off: f64 = (0..4).flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j))).map(|(i, j)| a[i][j] * a[i][j]).sum();
+        let off: f64 = (0..4)
+            .flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| a[i][j] * a[i][j])
+            .sum();
         if off < 1e-30 {
             break;
         }
@@ -202,7 +205,9 @@ fn top_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
             }
         }
     }
-    let best = (0..4).max_by(|&i, &j| a[i][i].total_cmp(&a[j][j])).unwrap_or(0);
+    let best = (0..4)
+        .max_by(|&i, &j| a[i][i].total_cmp(&a[j][j]))
+        .unwrap_or(0);
     [v[0][best], v[1][best], v[2][best], v[3][best]]
 }
 
@@ -220,7 +225,11 @@ pub fn angle_defects(lattice: &Lattice, points: &[DVec3]) -> Vec<(u32, f64)> {
         let quad = [cell.ul, cell.ur, cell.lr, cell.ll];
         for k in 0..4 {
             let (prev, here, next) = (quad[(k + 3) % 4], quad[k], quad[(k + 1) % 4]);
-            let (p, h, n) = (points[prev as usize], points[here as usize], points[next as usize]);
+            let (p, h, n) = (
+                points[prev as usize],
+                points[here as usize],
+                points[next as usize],
+            );
             let (a, b) = (p - h, n - h);
             sum[here as usize] += crate::lattice::angle_between(a.normalize(), b.normalize());
             count[here as usize] += 1;
@@ -234,12 +243,18 @@ pub fn angle_defects(lattice: &Lattice, points: &[DVec3]) -> Vec<(u32, f64)> {
 
 /// Which variables are material angles (for reports).
 pub fn theta_count(m: &Model) -> usize {
-    m.edges.iter().filter(|e| matches!(e.frame, Frame::Ref { .. })).count()
+    m.edges
+        .iter()
+        .filter(|e| matches!(e.frame, Frame::Ref { .. }))
+        .count()
 }
 
 /// The stencil count (for reports).
 pub fn stencil_count(m: &Model) -> usize {
-    m.stencils.iter().filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. })).count()
+    m.stencils
+        .iter()
+        .filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. }))
+        .count()
 }
 
 /// One strip of an equilibrium, node by node, for deployed.json/.obj.
@@ -263,7 +278,8 @@ pub fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
     (0..m.rods.len())
         .map(|r| {
             let path = &m.rods[r];
-            let frames: Vec<(DVec3, DVec3, DVec3)> = path.edges.iter().map(|&e| m.edge_frame(e)).collect();
+            let frames: Vec<(DVec3, DVec3, DVec3)> =
+                path.edges.iter().map(|&e| m.edge_frame(e)).collect();
             let at = |k: usize, pick: fn(&(DVec3, DVec3, DVec3)) -> DVec3| {
                 let before = k.checked_sub(1).map(|i| pick(&frames[i]));
                 let after = frames.get(k).map(pick);

@@ -74,7 +74,8 @@ impl LatticeModel {
         let cut: Vec<_> = lattice.rods().collect();
         let geo: Vec<_> = placed.rods().collect();
         let nv = lattice.vertices.len();
-        let mean_leg = cut.iter().map(|r| r.length()).sum::<f64>() / (2.0 * cut.len().max(1) as f64);
+        let mean_leg =
+            cut.iter().map(|r| r.length()).sum::<f64>() / (2.0 * cut.len().max(1) as f64);
         let mut model = Model::new(section, section.b_flat / mean_leg.max(1e-9));
         // Face normal of every rod: its cell's plane.
         let normals: Vec<DVec3> = geo
@@ -86,7 +87,11 @@ impl LatticeModel {
                 let c = &placed.cells[r.cell];
                 let [ul, ur, _, _] = placed.corners(c);
                 let n = (c.pivot - ul).cross(c.pivot - ur);
-                if n.length() > 1e-12 { n.normalize() } else { DVec3::Z }
+                if n.length() > 1e-12 {
+                    n.normalize()
+                } else {
+                    DVec3::Z
+                }
             })
             .collect();
         let tangent = |r: usize, hole: usize| -> DVec3 {
@@ -98,7 +103,13 @@ impl LatticeModel {
             };
             t.normalize()
         };
-        let add_joint = |model: &mut Model, x: DVec3, rods: &[(usize, usize)], tilt: bool, vertex, cell| -> (usize, Vec<f64>) {
+        let add_joint = |model: &mut Model,
+                         x: DVec3,
+                         rods: &[(usize, usize)],
+                         tilt: bool,
+                         vertex,
+                         cell|
+         -> (usize, Vec<f64>) {
             // Axis: the mean of the incident faces' normals, signed alike.
             let n0 = normals[rods[0].0];
             let mut n = DVec3::ZERO;
@@ -116,7 +127,14 @@ impl LatticeModel {
                 .iter()
                 .map(|&(r, _)| if normals[r].dot(n) < 0.0 { -1.0 } else { 1.0 })
                 .collect();
-            model.joints.push(Joint { x: xv, tilt: tv, frame: [n, p, q], slots: Vec::new(), vertex, cell });
+            model.joints.push(Joint {
+                x: xv,
+                tilt: tv,
+                frame: [n, p, q],
+                slots: Vec::new(),
+                vertex,
+                cell,
+            });
             (model.joints.len() - 1, sigmas)
         };
         let angle_of = |model: &Model, j: usize, t: DVec3| {
@@ -130,7 +148,14 @@ impl LatticeModel {
         let mut slot_at: Vec<[EndSlot; 3]> = vec![[None; 3]; cut.len()];
         for (c, cell) in placed.cells.iter().enumerate() {
             let (ra, rb) = (2 * c, 2 * c + 1);
-            let (j, sig) = add_joint(&mut model, cell.pivot, &[(ra, 1), (rb, 1)], true, None, Some(c));
+            let (j, sig) = add_joint(
+                &mut model,
+                cell.pivot,
+                &[(ra, 1), (rb, 1)],
+                true,
+                None,
+                Some(c),
+            );
             let aa = angle_of(&model, j, tangent(ra, 1));
             let ab = angle_of(&model, j, tangent(rb, 1));
             let mut d = ab - aa;
@@ -142,8 +167,16 @@ impl LatticeModel {
             }
             let av = model.add_vars(&[aa], VarKind::Angle);
             let dv = model.add_vars(&[d], VarKind::Angle);
-            model.joints[j].slots.push(Slot { angle: [av, 0], terms: 1, rod: ra });
-            model.joints[j].slots.push(Slot { angle: [av, dv], terms: 2, rod: rb });
+            model.joints[j].slots.push(Slot {
+                angle: [av, 0],
+                terms: 1,
+                rod: ra,
+            });
+            model.joints[j].slots.push(Slot {
+                angle: [av, dv],
+                terms: 2,
+                rod: rb,
+            });
             sigma_at[ra][1] = sig[0];
             sigma_at[rb][1] = sig[1];
             slot_at[ra][1] = Some((j, 0));
@@ -160,16 +193,30 @@ impl LatticeModel {
             let ends: Vec<(usize, usize)> = jt
                 .ends
                 .iter()
-                .map(|e| (e.rod, if e.end == crate::lattice::RodEnd::Start { 0 } else { 2 }))
+                .map(|e| {
+                    (
+                        e.rod,
+                        if e.end == crate::lattice::RodEnd::Start {
+                            0
+                        } else {
+                            2
+                        },
+                    )
+                })
                 .collect();
-            let x = ends.iter().map(|&(r, h)| geo[r].hole_pos[h]).sum::<DVec3>() / ends.len() as f64;
+            let x =
+                ends.iter().map(|&(r, h)| geo[r].hole_pos[h]).sum::<DVec3>() / ends.len() as f64;
             let eyelet = mesh.vertex_joint == VertexJoint::Eyelet;
             let (j, sig) = add_joint(&mut model, x, &ends, eyelet, Some(jt.vertex), None);
             for (k, &(r, h)) in ends.iter().enumerate() {
                 if eyelet {
                     let a = angle_of(&model, j, tangent(r, h));
                     let av = model.add_vars(&[a], VarKind::Angle);
-                    model.joints[j].slots.push(Slot { angle: [av, 0], terms: 1, rod: r });
+                    model.joints[j].slots.push(Slot {
+                        angle: [av, 0],
+                        terms: 1,
+                        rod: r,
+                    });
                     slot_at[r][h] = Some((j, model.joints[j].slots.len() - 1));
                 } else {
                     slot_at[r][h] = Some((j, usize::MAX));
@@ -191,15 +238,31 @@ impl LatticeModel {
             let mut nodes: Vec<usize> = Vec::new();
             let mut s: Vec<f64> = Vec::new();
             let mut edges: Vec<usize> = Vec::new();
-            let push_edge = |model: &mut Model, nodes: &[usize], frame: Frame, rest: f64, edges: &mut Vec<usize>| {
+            let push_edge = |model: &mut Model,
+                             nodes: &[usize],
+                             frame: Frame,
+                             rest: f64,
+                             edges: &mut Vec<usize>| {
                 let (a, b) = (nodes[nodes.len() - 2], nodes[nodes.len() - 1]);
                 model.edges.push(Edge { a, b, frame, rest });
                 edges.push(model.edges.len() - 1);
             };
-            let arm_len = |leg: f64| if leg >= 2.0 * mesh.arm + 1.0 { mesh.arm } else { leg / 3.0 };
+            let arm_len = |leg: f64| {
+                if leg >= 2.0 * mesh.arm + 1.0 {
+                    mesh.arm
+                } else {
+                    leg / 3.0
+                }
+            };
             let leg_arm = [arm_len(rod.legs[0]), arm_len(rod.legs[1])];
             // Interior edges from the last node to a node at s_b (its position given).
-            let interior = |model: &mut Model, nodes: &mut Vec<usize>, s: &mut Vec<f64>, edges: &mut Vec<usize>, sb: f64, xb: DVec3, end: Node| {
+            let interior = |model: &mut Model,
+                            nodes: &mut Vec<usize>,
+                            s: &mut Vec<f64>,
+                            edges: &mut Vec<usize>,
+                            sb: f64,
+                            xb: DVec3,
+                            end: Node| {
                 let sa = *s.last().expect("a first node");
                 let xa = model.pos(*nodes.last().expect("a first node"));
                 let count = ((sb - sa) / mesh.h_max).ceil().max(1.0) as usize;
@@ -217,7 +280,17 @@ impl LatticeModel {
                     let t = (xb - xa).normalize();
                     let d2 = (n_r - t * n_r.dot(t)).normalize();
                     let theta = model.add_vars(&[0.0], VarKind::Angle);
-                    push_edge(model, nodes, Frame::Ref { ts: t, as_: d2.cross(t), theta }, rest, edges);
+                    push_edge(
+                        model,
+                        nodes,
+                        Frame::Ref {
+                            ts: t,
+                            as_: d2.cross(t),
+                            theta,
+                        },
+                        rest,
+                        edges,
+                    );
                 }
             };
             for hole in 0..3 {
@@ -243,15 +316,31 @@ impl LatticeModel {
                             nodes.push(model.nodes.len() - 1);
                             s.push(sh);
                         } else {
-                            interior(&mut model, &mut nodes, &mut s, &mut edges, sh, x, Node::Hole(j));
+                            interior(
+                                &mut model,
+                                &mut nodes,
+                                &mut s,
+                                &mut edges,
+                                sh,
+                                x,
+                                Node::Hole(j),
+                            );
                         }
                     }
                     Some((j, slot)) => {
                         let sigma = sigma_at[r][hole];
-                        let frame = Frame::Arm { joint: j, slot, sigma };
+                        let frame = Frame::Arm {
+                            joint: j,
+                            slot,
+                            sigma,
+                        };
                         if hole > 0 {
                             let ra = leg_arm[hole - 1];
-                            let tip = Node::Arm { joint: j, slot, r: -ra };
+                            let tip = Node::Arm {
+                                joint: j,
+                                slot,
+                                r: -ra,
+                            };
                             let xt = model.node_value(tip);
                             interior(&mut model, &mut nodes, &mut s, &mut edges, sh - ra, xt, tip);
                             model.nodes.push(Node::Hole(j));
@@ -265,7 +354,11 @@ impl LatticeModel {
                         }
                         if hole < 2 {
                             let ra = leg_arm[hole];
-                            model.nodes.push(Node::Arm { joint: j, slot, r: ra });
+                            model.nodes.push(Node::Arm {
+                                joint: j,
+                                slot,
+                                r: ra,
+                            });
                             nodes.push(model.nodes.len() - 1);
                             s.push(sh + ra);
                             push_edge(&mut model, &nodes, frame, ra, &mut edges);
@@ -289,24 +382,45 @@ impl LatticeModel {
                     continue; // collinear arms through a pivot: identically 0
                 }
                 let lbar = (e0.rest + e1.rest) / 2.0;
-                model.stencils.push(Stencil::Bend { e0: w[0], e1: w[1], lbar, rod: r });
+                model.stencils.push(Stencil::Bend {
+                    e0: w[0],
+                    e1: w[1],
+                    lbar,
+                    rod: r,
+                });
             }
             // The strip's engraved id (parts::strip_id), so a maker finds it.
             let cell = &lattice.cells[rod.cell];
             let name = crate::parts::strip_id(cell.row, cell.col, rod.kind, digits.0, digits.1);
-            model.rods.push(RodPath { name, nodes, edges, s });
+            model.rods.push(RodPath {
+                name,
+                nodes,
+                edges,
+                s,
+            });
         }
         // Corner vertices: the node at the single rod end.
         for (r, rod) in cut.iter().enumerate() {
             for (hole, v) in [(0usize, rod.start), (2, rod.end)] {
                 if vertex[v as usize] == VertexPlace::None {
                     let path = &model.rods[r];
-                    let node = if hole == 0 { path.nodes[0] } else { *path.nodes.last().expect("nodes") };
+                    let node = if hole == 0 {
+                        path.nodes[0]
+                    } else {
+                        *path.nodes.last().expect("nodes")
+                    };
                     vertex[v as usize] = VertexPlace::Node(node);
                 }
             }
         }
-        let mut lm = LatticeModel { model, pivot, delta, vertex, start: Vec::new(), normals };
+        let mut lm = LatticeModel {
+            model,
+            pivot,
+            delta,
+            vertex,
+            start: Vec::new(),
+            normals,
+        };
         lm.start = lm.points();
         lm
     }
@@ -321,7 +435,11 @@ impl LatticeModel {
                 VertexPlace::Node(n) => m.pos(n),
                 VertexPlace::None => DVec3::ZERO,
             })
-            .chain(self.pivot.iter().map(|&j| m.pos_of_joint(j).expect("joint")))
+            .chain(
+                self.pivot
+                    .iter()
+                    .map(|&j| m.pos_of_joint(j).expect("joint")),
+            )
             .collect()
     }
 
@@ -362,4 +480,3 @@ impl LatticeModel {
         }
     }
 }
-

@@ -81,7 +81,10 @@ struct DeployedJson<'a> {
 pub fn json(summary: &Summary, strips: &[DeployedStrip]) -> Vec<u8> {
     let points = |v: &[(String, DVec3)]| {
         v.iter()
-            .map(|(n, p)| PointJson { name: n.clone(), pos: v3(*p) })
+            .map(|(n, p)| PointJson {
+                name: n.clone(),
+                pos: v3(*p),
+            })
             .collect()
     };
     let doc = DeployedJson {

@@ -46,7 +46,10 @@ pub fn joint_frame<S: Scalar>(
     a: S,
     b: S,
 ) -> (V3<S>, V3<S>, V3<S>) {
-    let n = V3::cst(ns).add(V3::cscale(ps, a)).add(V3::cscale(qs, b)).unit();
+    let n = V3::cst(ns)
+        .add(V3::cscale(ps, a))
+        .add(V3::cscale(qs, b))
+        .unit();
     (n, transport_c(ns, n, ps), transport_c(ns, n, qs))
 }
 

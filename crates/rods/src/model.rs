@@ -47,7 +47,11 @@ pub enum Frame {
     /// turned by the material angle `theta` (a variable).
     Ref { ts: DVec3, as_: DVec3, theta: usize },
     /// A rigid arm: t = u, d2 = sigma n_J.
-    Arm { joint: usize, slot: usize, sigma: f64 },
+    Arm {
+        joint: usize,
+        slot: usize,
+        sigma: f64,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -106,7 +110,12 @@ pub enum Stencil {
     /// Stretching of a non-arm edge.
     Stretch { edge: usize, rod: usize },
     /// Bending and twist at the node shared by two consecutive edges.
-    Bend { e0: usize, e1: usize, lbar: f64, rod: usize },
+    Bend {
+        e0: usize,
+        e1: usize,
+        lbar: f64,
+        rod: usize,
+    },
     /// A dead load on a node: -F.x.
     Load { node: usize, force: DVec3 },
     /// An end moment about y on an edge: -M atan2(t_z, t_x).
@@ -310,7 +319,11 @@ impl Model {
         }
     }
 
-    fn derivatives_n<const N: usize>(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
+    fn derivatives_n<const N: usize>(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+    ) -> (f64, Vec<f64>, Vec<f64>) {
         let locals: Vec<Dual<N>> = vars
             .iter()
             .enumerate()
@@ -343,7 +356,11 @@ impl Model {
                 let a1 = transport::<f64>(V3::cst(ts), V3::cst(t), V3::cst(as_)).val();
                 // Keep the director exactly unit and normal to t.
                 let a1 = (a1 - t * a1.dot(t)).normalize();
-                self.edges[e].frame = Frame::Ref { ts: t, as_: a1, theta };
+                self.edges[e].frame = Frame::Ref {
+                    ts: t,
+                    as_: a1,
+                    theta,
+                };
             }
         }
         for j in 0..self.joints.len() {
@@ -391,7 +408,12 @@ fn joint_basis<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, j: usize) -> (V3<
     }
 }
 
-fn slot_dir<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, j: usize, slot: usize) -> (V3<S>, V3<S>) {
+fn slot_dir<S: Scalar>(
+    m: &Model,
+    get: &dyn Fn(usize) -> S,
+    j: usize,
+    slot: usize,
+) -> (V3<S>, V3<S>) {
     let (n, p, q) = joint_basis(m, get, j);
     let sl = m.joints[j].slots[slot];
     let mut a = get(sl.angle[0]);
@@ -502,7 +524,11 @@ impl Model {
             m.edges.push(Edge {
                 a: w[0],
                 b: w[1],
-                frame: Frame::Ref { ts: t, as_: n.cross(t), theta },
+                frame: Frame::Ref {
+                    ts: t,
+                    as_: n.cross(t),
+                    theta,
+                },
                 rest: a.distance(b),
             });
             edges.push(m.edges.len() - 1);
@@ -513,9 +539,19 @@ impl Model {
         }
         for w in edges.windows(2) {
             let lbar = (m.edges[w[0]].rest + m.edges[w[1]].rest) / 2.0;
-            m.stencils.push(Stencil::Bend { e0: w[0], e1: w[1], lbar, rod: 0 });
+            m.stencils.push(Stencil::Bend {
+                e0: w[0],
+                e1: w[1],
+                lbar,
+                rod: 0,
+            });
         }
-        m.rods.push(RodPath { name: "strip".into(), nodes, edges, s });
+        m.rods.push(RodPath {
+            name: "strip".into(),
+            nodes,
+            edges,
+            s,
+        });
         m
     }
 

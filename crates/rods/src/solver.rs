@@ -39,7 +39,11 @@ impl System {
             }
         }
         let n = free_vars.len();
-        let stencil_vars: Vec<Vec<usize>> = model.stencils.iter().map(|s| model.stencil_vars(s)).collect();
+        let stencil_vars: Vec<Vec<usize>> = model
+            .stencils
+            .iter()
+            .map(|s| model.stencil_vars(s))
+            .collect();
         let mut cols: Vec<Vec<usize>> = (0..n).map(|c| vec![c]).collect();
         for vars in &stencil_vars {
             for &a in vars {
@@ -88,7 +92,8 @@ impl System {
             })
             .collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).expect("symbolic Cholesky");
+        let symbolic =
+            SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).expect("symbolic Cholesky");
         System {
             free_index,
             free_vars,
@@ -176,7 +181,12 @@ impl System {
         for it in 0..60 {
             let rhs: Vec<f64> = v.iter().zip(&self.dm).map(|(a, b)| a * b).collect();
             let y = Self::solve(llt, &rhs);
-            let norm = y.iter().zip(&self.dm).map(|(a, b)| a * a * b).sum::<f64>().sqrt();
+            let norm = y
+                .iter()
+                .zip(&self.dm)
+                .map(|(a, b)| a * a * b)
+                .sum::<f64>()
+                .sqrt();
             if !(norm > 0.0) {
                 break;
             }
@@ -234,7 +244,9 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { max_iterations: 300 }
+        Options {
+            max_iterations: 300,
+        }
     }
 }
 
@@ -246,7 +258,12 @@ struct Step {
     tau: f64,
 }
 
-fn newton_step(sys: &System, model: &Model, tau_prev: &mut f64, curvature: bool) -> Option<(Step, Vec<f64>)> {
+fn newton_step(
+    sys: &System,
+    model: &Model,
+    tau_prev: &mut f64,
+    curvature: bool,
+) -> Option<(Step, Vec<f64>)> {
     let (_, g, h) = sys.assemble(model);
     if g.iter().any(|v| !v.is_finite()) {
         return None;
@@ -264,7 +281,11 @@ fn newton_step(sys: &System, model: &Model, tau_prev: &mut f64, curvature: bool)
         if let Some(f) = sys.factor(&h, tau) {
             break f;
         }
-        tau = if tau == 0.0 { (*tau_prev / 4.0).max(1e-8 * h_s) } else { tau * 10.0 };
+        tau = if tau == 0.0 {
+            (*tau_prev / 4.0).max(1e-8 * h_s)
+        } else {
+            tau * 10.0
+        };
         if tau > 1e30 * h_s {
             return None;
         }
