@@ -3,7 +3,7 @@
 //! For every example and a stress set of 2000 strips: sheets used against
 //! the lower bounds, utilisation and wall time. Then, on the same strip sets
 //! in the same run, strip packing (fixed height, minimise length) against
-//! the sparrow reference (`../shared/tools/spyrrow_compare.py`, needs
+//! the sparrow reference (`scripts/spyrrow_compare.py`, needs
 //! `pip install spyrrow`) given S seconds (default 30).
 
 use karigami::build::build;
@@ -66,7 +66,7 @@ fn stress_set() -> Set {
 }
 
 fn sparrow(set: &Set, height: f64, seconds: u32) -> Option<serde_json::Value> {
-    let script = Path::new("../shared/tools/spyrrow_compare.py");
+    let script = Path::new("scripts/spyrrow_compare.py");
     if !script.exists() {
         return None;
     }
@@ -157,7 +157,7 @@ fn main() {
                 );
             }
             None => println!(
-                "{:<14} {:>8.1} {:>12.1} {:>10.2}   sparrow not available (pip install spyrrow; needs ../shared/tools)",
+                "{:<14} {:>8.1} {:>12.1} {:>10.2}   sparrow not available (pip install spyrrow)",
                 set.name, height, ours, ms
             ),
         }
