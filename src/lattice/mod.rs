@@ -24,6 +24,7 @@ pub use grow::{
 };
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
 pub use joints::{Joint, JointEnd, RodEnd, joints};
+pub(crate) use placed::largest_eigenvector;
 pub use rods::{Rod, RodType};
 pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, tolerance, verify};
 

@@ -111,7 +111,7 @@ fn rigid_fit(pairs: &[(DVec3, DVec3)], prefer: DQuat) -> (DQuat, DVec3) {
 
 /// The eigenvector of the largest eigenvalue of a symmetric 4 x 4 matrix
 /// (cyclic Jacobi rotations).
-fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
+pub(crate) fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
     let mut v = [[0.0; 4]; 4];
     for (i, row) in v.iter_mut().enumerate() {
         row[i] = 1.0;

@@ -148,7 +148,7 @@ pub fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
         [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
         [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
     ];
-    let v = top_eigenvector(k);
+    let v = crate::lattice::largest_eigenvector(k);
     let rot = DQuat::from_xyzw(v[1], v[2], v[3], v[0]).normalize();
     let m = DMat3::from_quat(rot);
     a.iter().map(|p| cb + m * (*p - ca)).collect()
@@ -161,54 +161,6 @@ pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
         .zip(b)
         .map(|(p, q)| p.distance(*q))
         .fold(0.0, f64::max)
-}
-
-/// Eigenvector of the largest eigenvalue of a symmetric 4x4 (Jacobi).
-fn top_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
-    let mut v = [[0.0; 4]; 4];
-    for (i, row) in v.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
-    for _ in 0..100 {
-        let off: f64 = (0..4)
-            .flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j)))
-            .map(|(i, j)| a[i][j] * a[i][j])
-            .sum();
-        if off < 1e-30 {
-            break;
-        }
-        for p in 0..4 {
-            for q in p + 1..4 {
-                if a[p][q].abs() < 1e-300 {
-                    continue;
-                }
-                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                for k in 0..4 {
-                    let (akp, akq) = (a[k][p], a[k][q]);
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
-                }
-                for k in 0..4 {
-                    let (apk, aqk) = (a[p][k], a[q][k]);
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
-                }
-                for row in v.iter_mut() {
-                    let (vp, vq) = (row[p], row[q]);
-                    row[p] = c * vp - s * vq;
-                    row[q] = s * vp + c * vq;
-                }
-            }
-        }
-    }
-    let best = (0..4)
-        .max_by(|&i, &j| a[i][i].total_cmp(&a[j][j]))
-        .unwrap_or(0);
-    [v[0][best], v[1][best], v[2][best], v[3][best]]
 }
 
 /// Discrete Gaussian curvature at every interior vertex: the angle defect
