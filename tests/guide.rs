@@ -299,28 +299,8 @@ fn guide_golden_30x30_pages_and_text() {
         "pages: {pages}\n{}",
         String::from_utf8(text.stdout).expect("pdftotext writes UTF-8")
     );
-    let golden = repo().join("tests/golden/guide-30x30.txt");
-    if std::env::var_os("KARIGAMI_BLESS").is_some() {
-        std::fs::write(&golden, &actual).unwrap();
-        return;
-    }
-    let expected = std::fs::read_to_string(&golden)
-        .expect("tests/golden/guide-30x30.txt (KARIGAMI_BLESS=1 writes it)");
-    if actual != expected {
-        let (e, a): (Vec<&str>, Vec<&str>) = (expected.lines().collect(), actual.lines().collect());
-        let at = e
-            .iter()
-            .zip(&a)
-            .position(|(x, y)| x != y)
-            .unwrap_or(e.len().min(a.len()));
-        panic!(
-            "the 30 x 30 guide differs from tests/golden/guide-30x30.txt at line {}: expected {:?}, got {:?} ({} vs {} lines)",
-            at + 1,
-            e.get(at),
-            a.get(at),
-            e.len(),
-            a.len()
-        );
+    if let Err(e) = crate::goldens::compare("tests/golden/guide-30x30.txt", actual.as_bytes()) {
+        panic!("the 30 x 30 guide: {e}");
     }
 }
 

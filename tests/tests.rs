@@ -7,6 +7,7 @@ mod errors;
 mod fuzz;
 mod gallery;
 mod golden;
+mod goldens;
 mod guide;
 mod maker;
 mod property;
