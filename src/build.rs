@@ -2,7 +2,7 @@
 //! layout -> pages -> file bytes. The CLI only writes what this returns.
 
 use crate::design::Design;
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::picture::preview;
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::guide::guide;
@@ -90,7 +90,7 @@ pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diag
         return None;
     };
     Some(
-        Diagnostic::new("TooLarge", message)
+        Diagnostic::new(ErrorKind::TooLarge, message)
             .at(design.size_span())
             .hint(hint),
     )
@@ -120,7 +120,7 @@ pub fn assemble_with(
             .max_by(|a, b| a.max.total_cmp(&b.max))
             .expect("a failed check");
         return Err(Diagnostic::new(
-            "VerificationFailed",
+            ErrorKind::VerificationFailed,
             format!(
                 "{} is {:.2e}, above the tolerance",
                 worst.invariant.describe(),
@@ -238,7 +238,7 @@ fn simulated(
     let allow = settings.material.eps_allow;
     if strain.eps > allow && !settings.accept_overstrain {
         return Err(Diagnostic::new(
-            "Overstrain",
+            ErrorKind::Overstrain,
             format!(
                 "strip {} is strained {:.2} % ({}) at {:.1} mm from its first hole in the simulated deployed shape; the allowable is {:.2} %",
                 strain.rod,
@@ -255,7 +255,7 @@ fn simulated(
 }
 
 fn locate(design: &Design, e: PartsError) -> Diagnostic {
-    Diagnostic::new(e.class, e.message)
+    Diagnostic::new(e.kind, e.message)
         .at(design.row_direction_span(e.row as usize))
         .site(format!("row {}, strip {}", e.row, e.strip))
         .hint(e.hint)

@@ -4,10 +4,183 @@
 use std::fmt::Write as _;
 use std::ops::Range;
 
+/// Exit status of a run that found a design invalid or a check failed.
+pub const EXIT_INVALID: i32 = 1;
+/// Exit status of a usage error: a flag, command or name that is not known.
+pub const EXIT_USAGE: i32 = 2;
+/// Exit status of a file that could not be read or written.
+pub const EXIT_IO: i32 = 3;
+
+/// Write the `ErrorKind` enum once: each kind, the name shown to users
+/// (the kind's own name unless `as "group"` keeps an older, shared one),
+/// and the exit status it ends a run with.
+macro_rules! error_kinds {
+    ($($(#[$doc:meta])* $kind:ident $(as $name:literal)? => $exit:ident,)*) => {
+        /// Every error karigami reports, each its own kind. The kind decides
+        /// the name in `error[NAME]` and in JSON, and the exit status.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum ErrorKind {
+            $($(#[$doc])* $kind,)*
+        }
+
+        impl ErrorKind {
+            /// Every kind, in the order they are declared.
+            pub const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
+
+            /// The name users see and search for (MATH.md 9 for growth).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Self::$kind => error_kinds!(@name $kind $($name)?),)*
+                }
+            }
+
+            /// The exit status of a run stopped by this error.
+            pub fn exit_code(self) -> i32 {
+                match self {
+                    $(Self::$kind => $exit,)*
+                }
+            }
+        }
+    };
+    (@name $kind:ident) => { stringify!($kind) };
+    (@name $kind:ident $name:literal) => { $name };
+}
+
+error_kinds! {
+    // Files and the command line.
+    /// A file could not be read or written.
+    Io as "io" => EXIT_IO,
+    /// A command line that cannot be run: an unknown template, a folder
+    /// with no recipes, a name that is not usable.
+    Usage as "usage" => EXIT_USAGE,
+    /// The recipe is not TOML, or a value has the wrong type.
+    Toml as "toml" => EXIT_INVALID,
+
+    // Growth (MATH.md 9).
+    SeedTooShort => EXIT_INVALID,
+    SeedEdgeNotSpacelike => EXIT_INVALID,
+    StartOutOfRange => EXIT_INVALID,
+    BadDirection => EXIT_INVALID,
+    InadmissibleDirection => EXIT_INVALID,
+    DoubleEdgeNotSpacelike => EXIT_INVALID,
+    NonPositiveLeg => EXIT_INVALID,
+    MatchNeedsLength => EXIT_INVALID,
+    DegenerateCell => EXIT_INVALID,
+    InvertedCell => EXIT_INVALID,
+    /// More cells, rows, edges or guide steps than karigami makes.
+    TooLarge => EXIT_INVALID,
+    NumericalBreakdown => EXIT_INVALID,
+    LoopKappaSumNonzero => EXIT_INVALID,
+    LoopClosureFree => EXIT_INVALID,
+    NoLoopClosure => EXIT_INVALID,
+    LoopClosureResidual => EXIT_INVALID,
+    HelixSeedNotNull => EXIT_INVALID,
+    FrontNotCompatible => EXIT_INVALID,
+
+    // The recipe's values (shown as "design", as before the kinds).
+    ControlCharacter as "design" => EXIT_INVALID,
+    StringTooLong as "design" => EXIT_INVALID,
+    NestedTooDeep as "design" => EXIT_INVALID,
+    NotFinite as "design" => EXIT_INVALID,
+    NumberTooLarge as "design" => EXIT_INVALID,
+    OutOfRange as "design" => EXIT_INVALID,
+    EmptyName as "design" => EXIT_INVALID,
+    UnknownSeed as "design" => EXIT_INVALID,
+    FittedRowsGiven as "design" => EXIT_INVALID,
+    WrongCoordinates as "design" => EXIT_INVALID,
+    NoSeedPoints as "design" => EXIT_INVALID,
+    SeedGivenTwice as "design" => EXIT_INVALID,
+    LineDimensionsDiffer as "design" => EXIT_INVALID,
+    NonPositiveRadius as "design" => EXIT_INVALID,
+    PolylineDimensionsDiffer as "design" => EXIT_INVALID,
+    PlanarSeedOffPlane as "design" => EXIT_INVALID,
+    UnknownPlane as "design" => EXIT_INVALID,
+    HelixTakesNoRows as "design" => EXIT_INVALID,
+    HelixNeedsCells as "design" => EXIT_INVALID,
+    SeedDimensionsDiffer as "design" => EXIT_INVALID,
+    NoKappa as "design" => EXIT_INVALID,
+    KappaCount as "design" => EXIT_INVALID,
+    CellsWithoutHelix as "design" => EXIT_INVALID,
+    RowSettingInGrow as "design" => EXIT_INVALID,
+    RowsOutsideGrow as "design" => EXIT_INVALID,
+    RowGivenTwice as "design" => EXIT_INVALID,
+    RowBeyondLattice as "design" => EXIT_INVALID,
+    NoRows as "design" => EXIT_INVALID,
+    NoLegDirection as "design" => EXIT_INVALID,
+    DirectionAndAngle as "design" => EXIT_INVALID,
+    DirectionDimension as "design" => EXIT_INVALID,
+    AngleNotFinite as "design" => EXIT_INVALID,
+    TiltNeeds3d as "design" => EXIT_INVALID,
+    TargetDimension as "design" => EXIT_INVALID,
+    EmptyFront as "design" => EXIT_INVALID,
+    FrontAnglesNotFinite as "design" => EXIT_INVALID,
+
+    // Fitted lattices ([lattice.fit]).
+    FitNeeds as "design" => EXIT_INVALID,
+    FitNotPositive as "design" => EXIT_INVALID,
+    FitAxes as "design" => EXIT_INVALID,
+    FitProfilePoint as "design" => EXIT_INVALID,
+    FitTubeTooLarge as "design" => EXIT_INVALID,
+    FitStepOutOfRange as "design" => EXIT_INVALID,
+    UnknownFitSurface as "design" => EXIT_INVALID,
+    FitDimension as "design" => EXIT_INVALID,
+    FitProfileRows as "design" => EXIT_INVALID,
+    FitUnused as "design" => EXIT_INVALID,
+    FitValuesPerRow as "design" => EXIT_INVALID,
+    FitStepsNotPositive as "design" => EXIT_INVALID,
+
+    // Fabrication settings, from the recipe.
+    LengthOutOfRange as "design" => EXIT_INVALID,
+    UnknownEyelet as "design" => EXIT_INVALID,
+    UnknownLabel as "design" => EXIT_INVALID,
+    SheetAutoWithSize as "design" => EXIT_INVALID,
+    UnknownSheet as "design" => EXIT_INVALID,
+    UnknownPaper as "design" => EXIT_INVALID,
+    UnknownColours as "design" => EXIT_INVALID,
+    UnknownGrouping as "design" => EXIT_INVALID,
+    TabsWiderThanStrip as "design" => EXIT_INVALID,
+    HoleWiderThanStrip => EXIT_INVALID,
+    HoleTooCloseToEnd => EXIT_INVALID,
+    SheetTooLarge => EXIT_INVALID,
+    SheetTooSmall => EXIT_INVALID,
+
+    // Fabrication settings, from the command line's flags.
+    FlagOutOfRange as "usage" => EXIT_USAGE,
+    UnknownEyeletFlag as "usage" => EXIT_USAGE,
+    UnknownLabelFlag as "usage" => EXIT_USAGE,
+    UnknownSheetFlag as "usage" => EXIT_USAGE,
+    UnknownPaperFlag as "usage" => EXIT_USAGE,
+    UnknownColoursFlag as "usage" => EXIT_USAGE,
+    TabsWiderThanStripFlag as "usage" => EXIT_USAGE,
+
+    // Simulation and optimisation settings.
+    SimulationOutOfRange as "design" => EXIT_INVALID,
+    UnknownVertexJoint as "design" => EXIT_INVALID,
+    NegativeClearance as "design" => EXIT_INVALID,
+    UnknownVary as "design" => EXIT_INVALID,
+    EmptyVary as "design" => EXIT_INVALID,
+    NonPositiveStep as "design" => EXIT_INVALID,
+    OptimiseNegative as "design" => EXIT_INVALID,
+    UnknownCurvaturePattern as "design" => EXIT_INVALID,
+    NoOptimiseTable as "design" => EXIT_INVALID,
+    NothingToVary as "design" => EXIT_INVALID,
+    /// The optimiser's library stopped with an error.
+    Optimiser as "optimise" => EXIT_INVALID,
+    OptimiseFailed => EXIT_INVALID,
+    ConstraintNotMet => EXIT_INVALID,
+
+    // Checks of the grown lattice and its strips.
+    VerificationFailed => EXIT_INVALID,
+    LegShorterThanFlange => EXIT_INVALID,
+    StripLongerThanSheet => EXIT_INVALID,
+    StripClash => EXIT_INVALID,
+    Overstrain => EXIT_INVALID,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
-    /// Error class, e.g. "SeedEdgeNotSpacelike" or "toml".
-    pub class: String,
+    /// What went wrong; decides the name shown and the exit status.
+    pub kind: ErrorKind,
     pub message: String,
     /// Byte range in the recipe.
     pub span: Option<Range<usize>>,
@@ -17,9 +190,9 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
-    pub fn new(class: impl Into<String>, message: impl Into<String>) -> Self {
+    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
         Self {
-            class: class.into(),
+            kind,
             message: message.into(),
             span: None,
             site: None,
@@ -55,7 +228,7 @@ impl Diagnostic {
     /// The diagnostic with the file name and, when there is a span, the
     /// offending line with the text underlined.
     pub fn render(&self, file: &str, source: &str) -> String {
-        let mut out = format!("error[{}]: {}\n", self.class, self.message);
+        let mut out = format!("error[{}]: {}\n", self.kind.name(), self.message);
         match self.line_col(source) {
             Some((line, col)) => {
                 let _ = write!(out, "  --> {file}:{line}:{col}");
@@ -166,7 +339,7 @@ mod tests {
     fn renders_file_line_column_and_underline() {
         let src = "a = 1\nkappa = [2.0, -30.0]\n";
         let start = src.find("-30.0").unwrap();
-        let d = Diagnostic::new("SeedEdgeNotSpacelike", "too big")
+        let d = Diagnostic::new(ErrorKind::SeedEdgeNotSpacelike, "too big")
             .at(start..start + 5)
             .site("seed edge 1")
             .hint("lower it");
@@ -190,7 +363,7 @@ mod tests {
             ", [3.0, 4.0]".repeat(30)
         );
         let start = src.find("[9.0").unwrap();
-        let d = Diagnostic::new("x", "y").at(start..start + 10);
+        let d = Diagnostic::new(ErrorKind::Usage, "y").at(start..start + 10);
         let text = d.render("f", &src);
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[3].len() < 110, "{text}");
@@ -206,10 +379,10 @@ mod tests {
     #[test]
     fn a_byte_order_mark_is_not_a_column_and_wide_text_gets_wide_carets() {
         let src = "\u{FEFF}name = 5\n";
-        let d = Diagnostic::new("x", "y").at(src.find('5').unwrap()..src.len() - 1);
+        let d = Diagnostic::new(ErrorKind::Usage, "y").at(src.find('5').unwrap()..src.len() - 1);
         assert_eq!(d.line_col(src), Some((1, 8)));
         let src = "seed = \"円円\"\n";
-        let d = Diagnostic::new("x", "y").at(7..src.len() - 1);
+        let d = Diagnostic::new(ErrorKind::Usage, "y").at(7..src.len() - 1);
         let text = d.render("f", src);
         assert!(
             text.contains("| seed = \"円円\"\n  |        ^^^^^^\n"),
@@ -218,8 +391,26 @@ mod tests {
     }
 
     #[test]
+    fn every_kind_has_one_name_and_an_exit_status() {
+        let mut own = std::collections::HashSet::new();
+        for &k in ErrorKind::ALL {
+            let name = k.name();
+            // A kind shown by its own name is the only one with that name.
+            if name.starts_with(char::is_uppercase) {
+                assert_eq!(format!("{k:?}"), name);
+                assert!(own.insert(name), "{name} twice");
+            }
+            assert!([EXIT_INVALID, EXIT_USAGE, EXIT_IO].contains(&k.exit_code()));
+        }
+        assert_eq!(ErrorKind::Io.exit_code(), EXIT_IO);
+        assert_eq!(ErrorKind::UnknownSheetFlag.exit_code(), EXIT_USAGE);
+        assert_eq!(ErrorKind::UnknownSheet.exit_code(), EXIT_INVALID);
+        assert_eq!(ErrorKind::UnknownSheet.name(), "design");
+    }
+
+    #[test]
     fn spans_past_the_end_do_not_panic() {
-        let d = Diagnostic::new("x", "y").at(100..200);
+        let d = Diagnostic::new(ErrorKind::Usage, "y").at(100..200);
         let text = d.render("f", "short");
         assert!(text.contains("f:1:6"), "{text}");
     }

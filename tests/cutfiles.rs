@@ -285,7 +285,7 @@ fn random_designs_give_true_cut_files() {
             // those are refused by name, never mis-drawn.
             Err(e) => assert!(
                 ["LegShorterThanFlange", "StripLongerThanSheet", "Overstrain"]
-                    .contains(&e.class.as_str()),
+                    .contains(&e.kind.name()),
                 "{e:?}"
             ),
         }

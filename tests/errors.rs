@@ -65,20 +65,25 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
             continue;
         };
         let line_col = diag.line_col(&source);
-        if diag.class != want.class
+        if diag.kind.name() != want.class
             || line_col != Some(want.line_col)
             || !diag.message.contains(&want.message)
         {
             failures.push(format!(
                 "{file}: expected {} {:?} {:?}\n  got {} {:?} {:?}",
-                want.class, want.line_col, want.message, diag.class, line_col, diag.message
+                want.class,
+                want.line_col,
+                want.message,
+                diag.kind.name(),
+                line_col,
+                diag.message
             ));
         }
         let rendered = diag.render(&file, &source);
         if !rendered.contains(&format!("{file}:{}:{}", want.line_col.0, want.line_col.1)) {
             failures.push(format!("{file}: rendered without its location\n{rendered}"));
         }
-        if !(rendered.contains("= help: ") || diag.class == "toml") {
+        if !(rendered.contains("= help: ") || diag.kind.name() == "toml") {
             failures.push(format!("{file}: no hint\n{rendered}"));
         }
     }

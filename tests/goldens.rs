@@ -101,7 +101,10 @@ fn golden_build(name: &str, recipe: &str) -> Vec<String> {
         }
     }
     if let Some(text) = guide_text(&out.join("assembly.pdf")) {
-        if let Err(e) = compare(&format!("tests/golden/{name}/assembly.txt"), text.as_bytes()) {
+        if let Err(e) = compare(
+            &format!("tests/golden/{name}/assembly.txt"),
+            text.as_bytes(),
+        ) {
             failures.push(e);
         }
     }
@@ -152,7 +155,10 @@ fn golden_stderr(path: &Path, command: &str) -> Result<(), String> {
     let o = karigami(&["-q", command, path.to_str().unwrap()], &repo());
     let mut actual = o.stderr;
     actual.extend(format!("exit status: {}\n", o.status.code().unwrap_or(-1)).bytes());
-    compare(&path.with_extension("stderr").display().to_string(), &actual)
+    compare(
+        &path.with_extension("stderr").display().to_string(),
+        &actual,
+    )
 }
 
 /// The pinned builds and the bad fixtures' messages, in one test so that

@@ -657,7 +657,7 @@ fn a_helix_that_degenerates_points_at_its_cell_count() {
     let text = karigami::templates::instantiate(template, "hx").replace("cells = 12", "cells = 60");
     let design = design::parse(&text, "hx").unwrap();
     let e = design.grow().unwrap_err();
-    assert_eq!(e.class, "DoubleEdgeNotSpacelike", "{e:?}");
+    assert_eq!(e.kind.name(), "DoubleEdgeNotSpacelike", "{e:?}");
     let span = e.span.clone().expect("a place in the recipe");
     assert_eq!(&text[span], "60", "{}", e.render("hx.toml", &text));
 }

@@ -135,7 +135,7 @@ fn an_infeasible_target_is_refused_naming_the_constraint_and_its_shortfall() {
     let want = expectation(&source, path);
     let d = design::parse(&source, "bad").unwrap();
     let e = karigami::solve::optimise(&d, &source, &mut |_| {}).unwrap_err();
-    assert_eq!(e.class, want.class);
+    assert_eq!(e.kind.name(), want.class);
     assert_eq!(e.line_col(&source), Some(want.line_col));
     assert!(e.message.contains(&want.message), "{}", e.message);
     assert!(e.message.contains("short by"), "{}", e.message);

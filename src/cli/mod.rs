@@ -367,14 +367,10 @@ impl Recipe {
     pub fn error(&self, d: &Diagnostic) -> RecipeError {
         let (line, column) = d.line_col(&self.source).unzip();
         RecipeError {
-            code: if d.class == "usage" {
-                EXIT_USAGE
-            } else {
-                EXIT_INVALID
-            },
+            code: d.kind.exit_code(),
             text: d.render(&self.file, &self.source),
             json: json!({
-                "class": d.class,
+                "class": d.kind.name(),
                 "message": d.message,
                 "file": self.file,
                 "line": line,

@@ -3,7 +3,7 @@
 //! sees the values that will be used.
 
 use super::raw::{Num, RawDesign};
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::{
     ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_AUTO, SHEET_PRESETS,
     eyelet_preset, longest_preset, preset_names, sheet_size,
@@ -86,7 +86,7 @@ fn length(n: &Num, what: &str, min_exclusive: f64, max: f64) -> Result<f64, Diag
             low
         };
         Err(Diagnostic::new(
-            "design",
+            ErrorKind::LengthOutOfRange,
             format!("{what} is {}, but must be {bound} (mm)", short(v)),
         )
         .at(n.span())
@@ -100,7 +100,7 @@ fn non_negative(n: &Num, what: &str, max: f64) -> Result<f64, Diagnostic> {
         Ok(v)
     } else {
         Err(Diagnostic::new(
-            "design",
+            ErrorKind::LengthOutOfRange,
             format!(
                 "{what} is {}, but must be between 0 and {} (mm)",
                 short(v),
@@ -120,7 +120,7 @@ fn from_override(v: f64, what: &str, max: f64) -> Result<f64, Diagnostic> {
         Ok(v)
     } else {
         Err(Diagnostic::new(
-            "usage",
+            ErrorKind::FlagOutOfRange,
             format!(
                 "--{what} is {}, but must be a length from 0 to {} (mm)",
                 short(v),
@@ -163,7 +163,7 @@ pub fn fabrication(
         if let Some(p) = &e.preset {
             f.eyelet = eyelet_preset(p.get_ref()).ok_or_else(|| {
                 Diagnostic::new(
-                    "design",
+                    ErrorKind::UnknownEyelet,
                     format!("unknown eyelet preset \"{}\"", p.get_ref()),
                 )
                 .at(p.span())
@@ -185,8 +185,11 @@ pub fn fabrication(
     }
     if let Some(name) = &o.eyelet {
         f.eyelet = eyelet_preset(name).ok_or_else(|| {
-            Diagnostic::new("usage", format!("unknown eyelet preset \"{name}\""))
-                .hint(format!("use one of {}", preset_names(EYELET_PRESETS)))
+            Diagnostic::new(
+                ErrorKind::UnknownEyeletFlag,
+                format!("unknown eyelet preset \"{name}\""),
+            )
+            .hint(format!("use one of {}", preset_names(EYELET_PRESETS)))
         })?;
         spans.eyelet = None;
     }
@@ -199,16 +202,22 @@ pub fn fabrication(
         }
         if let Some(l) = &s.label {
             f.label = LabelStyle::parse(l.get_ref()).ok_or_else(|| {
-                Diagnostic::new("design", format!("unknown label style \"{}\"", l.get_ref()))
-                    .at(l.span())
-                    .hint("use \"id\" (e.g. R03-C05-A), \"compact\" (e.g. 3.5A) or \"none\"")
+                Diagnostic::new(
+                    ErrorKind::UnknownLabel,
+                    format!("unknown label style \"{}\"", l.get_ref()),
+                )
+                .at(l.span())
+                .hint("use \"id\" (e.g. R03-C05-A), \"compact\" (e.g. 3.5A) or \"none\"")
             })?;
         }
     }
     if let Some(l) = &o.label {
         f.label = LabelStyle::parse(l).ok_or_else(|| {
-            Diagnostic::new("usage", format!("unknown label style \"{l}\""))
-                .hint("use id, compact or none")
+            Diagnostic::new(
+                ErrorKind::UnknownLabelFlag,
+                format!("unknown label style \"{l}\""),
+            )
+            .hint("use id, compact or none")
         })?;
     }
 
@@ -237,7 +246,7 @@ pub fn fabrication(
             (f.sheet.name, f.sheet.width, f.sheet.height) = (SHEET_AUTO.into(), w, h);
             if let Some(size) = s.width.as_ref().or(s.height.as_ref()) {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::SheetAutoWithSize,
                     "the sheet is preset = \"auto\" and also given a width or height",
                 )
                 .at(size.span())
@@ -246,7 +255,7 @@ pub fn fabrication(
         } else if let Some(p) = &s.preset {
             let (name, w, h) = sheet_size(p.get_ref()).ok_or_else(|| {
                 Diagnostic::new(
-                    "design",
+                    ErrorKind::UnknownSheet,
                     format!("unknown sheet preset \"{}\"", p.get_ref()),
                 )
                 .at(p.span())
@@ -279,7 +288,7 @@ pub fn fabrication(
             (SHEET_AUTO.to_string(), w, h)
         } else {
             sheet_size(name).ok_or_else(|| {
-                Diagnostic::new("usage", format!("unknown sheet \"{name}\"")).hint(format!(
+                Diagnostic::new(ErrorKind::UnknownSheetFlag, format!("unknown sheet \"{name}\"")).hint(format!(
                     "use one of {}, auto (the smallest that holds the job), or WxH in mm such as 500x300",
                     preset_names(SHEET_PRESETS)
                 ))
@@ -292,15 +301,22 @@ pub fn fabrication(
     if let Some(g) = &raw.guide {
         if let Some(p) = &g.get_ref().paper {
             f.paper = Paper::parse(p.get_ref()).ok_or_else(|| {
-                Diagnostic::new("design", format!("unknown paper \"{}\"", p.get_ref()))
-                    .at(p.span())
-                    .hint("use \"a4\" or \"letter\"")
+                Diagnostic::new(
+                    ErrorKind::UnknownPaper,
+                    format!("unknown paper \"{}\"", p.get_ref()),
+                )
+                .at(p.span())
+                .hint("use \"a4\" or \"letter\"")
             })?;
         }
     }
     if let Some(p) = &o.paper {
         f.paper = Paper::parse(p).ok_or_else(|| {
-            Diagnostic::new("usage", format!("unknown paper \"{p}\"")).hint("use a4 or letter")
+            Diagnostic::new(
+                ErrorKind::UnknownPaperFlag,
+                format!("unknown paper \"{p}\""),
+            )
+            .hint("use a4 or letter")
         })?;
     }
 
@@ -344,7 +360,7 @@ fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result
     {
         f.colours = ColourPreset::parse(c.get_ref()).ok_or_else(|| {
             Diagnostic::new(
-                "design",
+                ErrorKind::UnknownColours,
                 format!("unknown colour preset \"{}\"", c.get_ref()),
             )
             .at(c.span())
@@ -353,8 +369,11 @@ fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result
     }
     if let Some(c) = &o.colours {
         f.colours = ColourPreset::parse(c).ok_or_else(|| {
-            Diagnostic::new("usage", format!("unknown colour preset \"{c}\""))
-                .hint(format!("use {}", presets()))
+            Diagnostic::new(
+                ErrorKind::UnknownColoursFlag,
+                format!("unknown colour preset \"{c}\""),
+            )
+            .hint(format!("use {}", presets()))
         })?;
     }
     Ok(())
@@ -369,7 +388,7 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
             "none" => false,
             other => {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::UnknownGrouping,
                     format!("unknown sheet grouping \"{other}\""),
                 )
                 .at(g.span())
@@ -385,7 +404,7 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
         f.tabs = non_negative(t, "laser.tabs", MAX_STRIP_WIDTH)?;
         if f.tabs > tab_limit {
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::TabsWiderThanStrip,
                 format!(
                     "laser.tabs is {} mm, wider than the {tab_limit} mm strips",
                     f.tabs
@@ -399,7 +418,7 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
         f.tabs = from_override(t, "tabs", MAX_STRIP_WIDTH)?;
         if f.tabs > tab_limit {
             return Err(Diagnostic::new(
-                "usage",
+                ErrorKind::TabsWiderThanStripFlag,
                 format!(
                     "--tabs is {} mm, wider than the {tab_limit} mm strips",
                     f.tabs
@@ -426,7 +445,7 @@ fn check_settings(
         .or(spans.eyelet.clone());
     if d > w - 2.0 * MIN_WALL {
         return Err(Diagnostic::new(
-            "HoleWiderThanStrip",
+            ErrorKind::HoleWiderThanStrip,
             format!(
                 "the {d} mm eyelet hole leaves less than {MIN_WALL} mm of material on each side of a {w} mm strip"
             ),
@@ -438,7 +457,7 @@ fn check_settings(
     // that also leaves at least MIN_WALL between an end hole and the tip.
     if f.end_margin < w / 2.0 {
         return Err(Diagnostic::new(
-            "HoleTooCloseToEnd",
+            ErrorKind::HoleTooCloseToEnd,
             format!(
                 "strip.end_margin is {} mm: the end holes would sit closer to the tips than the rounded end allows (at least half the {w} mm width, {} mm)",
                 f.end_margin,
@@ -450,7 +469,7 @@ fn check_settings(
     }
     if f.sheet.width.max(f.sheet.height) > MAX_SHEET {
         return Err(Diagnostic::new(
-            "SheetTooLarge",
+            ErrorKind::SheetTooLarge,
             format!(
                 "the sheet is {} x {} mm; karigami lays out sheets of at most {MAX_SHEET} mm a side",
                 short(f.sheet.width),
@@ -463,7 +482,7 @@ fn check_settings(
     let (uw, uh) = f.sheet.usable();
     if uw < w || uh < w {
         return Err(Diagnostic::new(
-            "SheetTooSmall",
+            ErrorKind::SheetTooSmall,
             format!("the sheet's usable area ({uw} x {uh} mm inside the margins) is narrower than one strip ({w} mm)"),
         )
         .at_opt(spans.sheet.clone())

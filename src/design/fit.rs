@@ -15,7 +15,7 @@
 
 use super::Design;
 use super::raw::RawFit;
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::geometry::{Direction, Leg};
 use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
 use glam::{DVec2, DVec3};
@@ -68,7 +68,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
     let raw = f.get_ref();
     let need = |what: &str, hint: &str| {
         Diagnostic::new(
-            "design",
+            ErrorKind::FitNeeds,
             format!("fit surface \"{}\" needs {what}", raw.surface.get_ref()),
         )
         .at(f.span())
@@ -79,7 +79,11 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
         if v > 0.0 {
             Ok(v)
         } else {
-            Err(Diagnostic::new("design", format!("{what} must be positive")).at(n.span()))
+            Err(Diagnostic::new(
+                ErrorKind::FitNotPositive,
+                format!("{what} must be positive"),
+            )
+            .at(n.span()))
         }
     };
     let (surface, want) = match raw.surface.get_ref().as_str() {
@@ -103,7 +107,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             let (v, d) = super::coords(a, "fit.axes")?;
             if d != 3 || v.min_element() <= 0.0 {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::FitAxes,
                     "fit.axes must be 3 positive semi-axes [a, b, c]",
                 )
                 .at(a.span()));
@@ -124,7 +128,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
                     let (v, d) = super::coords(c, "a profile point")?;
                     if d != 2 || v.x <= 0.0 {
                         return Err(Diagnostic::new(
-                            "design",
+                            ErrorKind::FitProfilePoint,
                             "a profile point is [r, z] with r > 0",
                         )
                         .at(c.span()));
@@ -147,11 +151,12 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
                 .ok_or_else(|| need("`tube`", "give the tube's radius in mm"))?;
             let (major, minor) = (positive(r, "fit.radius")?, positive(t, "fit.tube")?);
             if minor >= major {
-                return Err(
-                    Diagnostic::new("design", "fit.tube must be smaller than fit.radius")
-                        .at(t.span())
-                        .hint("a torus's tube is narrower than its centre circle"),
-                );
+                return Err(Diagnostic::new(
+                    ErrorKind::FitTubeTooLarge,
+                    "fit.tube must be smaller than fit.radius",
+                )
+                .at(t.span())
+                .hint("a torus's tube is narrower than its centre circle"));
             }
             let step = match &raw.step {
                 Some(s) => super::finite(s, "fit.step")?,
@@ -160,7 +165,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             if !(step > 0.0 && step < 90.0) {
                 let span = raw.step.as_ref().map_or(f.span(), |s| s.span());
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::FitStepOutOfRange,
                     format!("fit.step is {step}, but must be between 0 and 90 degrees"),
                 )
                 .at(span)
@@ -183,11 +188,12 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
             )
         }
         other => {
-            return Err(
-                Diagnostic::new("design", format!("unknown fit surface \"{other}\""))
-                    .at(raw.surface.span())
-                    .hint("surface must be \"disk\", \"ellipsoid\", \"torus\" or \"revolution\""),
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::UnknownFitSurface,
+                format!("unknown fit surface \"{other}\""),
+            )
+            .at(raw.surface.span())
+            .hint("surface must be \"disk\", \"ellipsoid\", \"torus\" or \"revolution\""));
         }
     };
     // A loop seed round the rim of a spheroid climbs it ring by ring.
@@ -195,7 +201,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
         && (kind, dim) == (Kind::Loop, 3);
     if (kind, dim) != want && !spheroid_loop {
         return Err(Diagnostic::new(
-            "design",
+            ErrorKind::FitDimension,
             format!(
                 "fit surface \"{}\" grows a {}-D {}, but the seed is a {dim}-D {}",
                 raw.surface.get_ref(),
@@ -216,7 +222,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
         && profile.len() != rows
     {
         return Err(Diagnostic::new(
-            "design",
+            ErrorKind::FitProfileRows,
             format!(
                 "the profile has {} points but fit.rows is {rows}",
                 profile.len()
@@ -235,13 +241,13 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
      -> Result<Option<Vec<f64>>, Diagnostic> {
         let Some(l) = l else { return Ok(None) };
         if !open {
-            return Err(Diagnostic::new("design", format!("fit.{what} is not used by this target"))
+            return Err(Diagnostic::new(ErrorKind::FitUnused, format!("fit.{what} is not used by this target"))
                 .at(l.span())
                 .hint("fit.angles is for disk and ellipsoid sheets, fit.steps for an ellipsoid grown from a loop"));
         }
         if l.get_ref().len() != rows {
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::FitValuesPerRow,
                 format!(
                     "fit.{what} has {} values but fit.rows is {rows}",
                     l.get_ref().len()
@@ -263,11 +269,12 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
     if let (Some(st), Some(l)) = (&steps, &raw.steps)
         && st.iter().any(|x| *x <= 0.0)
     {
-        return Err(
-            Diagnostic::new("design", "fit.steps must be positive lengths")
-                .at(l.span())
-                .hint("each ring's step down the meridian, in mm"),
-        );
+        return Err(Diagnostic::new(
+            ErrorKind::FitStepsNotPositive,
+            "fit.steps must be positive lengths",
+        )
+        .at(l.span())
+        .hint("each ring's step down the meridian, in mm"));
     }
     Ok(Fit {
         surface,

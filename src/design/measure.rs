@@ -307,7 +307,7 @@ impl Measures {
         );
         Some(
             crate::diagnostic::Diagnostic::new(
-                "StripClash",
+                crate::diagnostic::ErrorKind::StripClash,
                 format!(
                     "strips {a} and {b} lie in the same stacking layer and their centre lines come {:.2} mm apart at ({:.1}, {:.1}, {:.1}), closer than the strip width {} mm plus {} mm clearance: they overlap ({} clashing pairs in all)",
                     c.distance, c.at.x, c.at.y, c.at.z, fab.material.width, design.clash.clearance, self.clashes.len()

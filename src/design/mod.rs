@@ -13,7 +13,7 @@ pub mod tune;
 
 pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
 
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::Fabrication;
 use crate::geometry::{Direction, Leg};
 use crate::lattice::{
@@ -154,11 +154,13 @@ pub fn parse_with(
             .map_or("see the recipe format in README.md".to_string(), |f| {
                 format!("did you mean `{f}`? (the recipe format is in README.md)")
             });
-        Diagnostic::new("toml", message).at_opt(e.span()).hint(hint)
+        Diagnostic::new(ErrorKind::Toml, message)
+            .at_opt(e.span())
+            .hint(hint)
     })?;
     let name = match &raw.name {
         Some(n) if n.get_ref().trim().is_empty() => {
-            return Err(Diagnostic::new("design", "the name is empty")
+            return Err(Diagnostic::new(ErrorKind::EmptyName, "the name is empty")
                 .at(n.span())
                 .hint("give the design a name, or leave `name` out to use the file name"));
         }
@@ -176,11 +178,12 @@ pub fn parse_with(
         "loop" => Kind::Loop,
         "helix" => Kind::Helix,
         other => {
-            return Err(
-                Diagnostic::new("design", format!("unknown seed \"{other}\""))
-                    .at(lat.seed.span())
-                    .hint("seed must be \"sheet\", \"loop\" or \"helix\""),
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::UnknownSeed,
+                format!("unknown seed \"{other}\""),
+            )
+            .at(lat.seed.span())
+            .hint("seed must be \"sheet\", \"loop\" or \"helix\""));
         }
     };
     let (points, points_span) = seed_points(&lat, kind, lattice_span.clone())?;
@@ -208,11 +211,12 @@ pub fn parse_with(
             .map_or(spans.lattice.clone(), |c| c.span());
     } else if let Some(f) = &lat.fit {
         if lat.grow.is_some() || lat.rows.is_some() {
-            return Err(
-                Diagnostic::new("design", "a fitted lattice finds its own rows")
-                    .at(f.span())
-                    .hint("remove [lattice.grow] and [[lattice.rows]], or remove [lattice.fit]"),
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::FittedRowsGiven,
+                "a fitted lattice finds its own rows",
+            )
+            .at(f.span())
+            .hint("remove [lattice.grow] and [[lattice.rows]], or remove [lattice.fit]"));
         }
         fit = Some(fit::parse(f, kind, dim)?);
         spans.fit = f.span();
@@ -346,7 +350,7 @@ impl Design {
             param => e.row.map(|i| self.row_span(i, param)),
         };
         let site = e.site();
-        Diagnostic::new(e.kind.name(), e.message)
+        Diagnostic::new(e.kind, e.message)
             .at_opt(span)
             .site(site)
             .hint(e.hint)
@@ -384,11 +388,12 @@ fn finite(n: &Num, what: &str) -> Result<f64, Diagnostic> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(
-            Diagnostic::new("design", format!("{what} is {v}, not a finite number"))
-                .at(n.span())
-                .hint("use an ordinary number"),
+        Err(Diagnostic::new(
+            ErrorKind::NotFinite,
+            format!("{what} is {v}, not a finite number"),
         )
+        .at(n.span())
+        .hint("use an ordinary number"))
     }
 }
 
@@ -398,7 +403,7 @@ fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<usize, Diag
         Ok(v as usize)
     } else {
         Err(Diagnostic::new(
-            "design",
+            ErrorKind::OutOfRange,
             format!("{what} is {v}, but must be between {min} and {max}"),
         )
         .at(n.span())
@@ -410,11 +415,12 @@ fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<usize, Diag
 fn coords(c: &Coords, what: &str) -> Result<(DVec3, usize), Diagnostic> {
     let v = c.get_ref();
     if !(2..=3).contains(&v.len()) {
-        return Err(
-            Diagnostic::new("design", format!("{what} has {} coordinates", v.len()))
-                .at(c.span())
-                .hint("give 2 coordinates (a planar lattice) or 3 (a lattice in space)"),
-        );
+        return Err(Diagnostic::new(
+            ErrorKind::WrongCoordinates,
+            format!("{what} has {} coordinates", v.len()),
+        )
+        .at(c.span())
+        .hint("give 2 coordinates (a planar lattice) or 3 (a lattice in space)"));
     }
     let mut out = DVec3::ZERO;
     for (k, n) in v.iter().enumerate() {
@@ -441,12 +447,12 @@ fn seed_points(
     ];
     let mut spans = given.iter().flatten();
     let Some(first) = spans.next() else {
-        return Err(Diagnostic::new("design", "the lattice has no seed points")
+        return Err(Diagnostic::new(ErrorKind::NoSeedPoints, "the lattice has no seed points")
             .at(lattice_span)
             .hint("give `points = [[x, y], ...]` or a [lattice.line], [lattice.arc], [lattice.polyline] or [lattice.circle] table"));
     };
     if let Some(second) = spans.next() {
-        return Err(Diagnostic::new("design", "the seed points are given twice")
+        return Err(Diagnostic::new(ErrorKind::SeedGivenTwice, "the seed points are given twice")
             .at(second.clone())
             .hint("keep only one of `points`, [lattice.line], [lattice.arc], [lattice.polyline], [lattice.circle]"));
     }
@@ -465,7 +471,7 @@ fn seed_points(
         let (to, d2) = coords(&l.to, "line.to")?;
         if d1 != d2 {
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::LineDimensionsDiffer,
                 "line.from and line.to have different numbers of coordinates",
             )
             .at(l.to.span()));
@@ -477,9 +483,11 @@ fn seed_points(
         let (center, dim) = coords(&a.center, "arc.center")?;
         let radius = finite(&a.radius, "arc.radius")?;
         if radius <= 0.0 {
-            return Err(
-                Diagnostic::new("design", "arc.radius must be positive").at(a.radius.span())
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::NonPositiveRadius,
+                "arc.radius must be positive",
+            )
+            .at(a.radius.span()));
         }
         let plane = plane(&a.plane, dim, "arc")?;
         let cells = count(&a.cells, "arc.cells", 1, MAX_CELLS as i64)?;
@@ -494,9 +502,11 @@ fn seed_points(
         let (center, dim) = coords(&c.center, "circle.center")?;
         let radius = finite(&c.radius, "circle.radius")?;
         if radius <= 0.0 {
-            return Err(
-                Diagnostic::new("design", "circle.radius must be positive").at(c.radius.span())
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::NonPositiveRadius,
+                "circle.radius must be positive",
+            )
+            .at(c.radius.span()));
         }
         let plane = plane(&c.plane, dim, "circle")?;
         let n = count(&c.points, "circle.points", 3, MAX_CELLS as i64)?;
@@ -521,14 +531,15 @@ fn seed_points(
             .map(|(k, c)| coords(c, &format!("polyline point {k}")))
             .collect::<Result<Vec<_>, _>>()?;
         if corners.len() < 2 {
-            return Err(
-                Diagnostic::new("SeedTooShort", "a polyline needs at least 2 points")
-                    .at(p.points.span()),
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::SeedTooShort,
+                "a polyline needs at least 2 points",
+            )
+            .at(p.points.span()));
         }
         if corners.iter().any(|c| c.1 != corners[0].1) {
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::PolylineDimensionsDiffer,
                 "polyline points have different numbers of coordinates",
             )
             .at(p.points.span()));
@@ -538,10 +549,11 @@ fn seed_points(
             None => 1,
         };
         if per.saturating_mul(corners.len() - 1) > MAX_CELLS {
-            return Err(
-                Diagnostic::new("TooLarge", "the polyline makes too many seed edges")
-                    .at(p.points.span()),
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::TooLarge,
+                "the polyline makes too many seed edges",
+            )
+            .at(p.points.span()));
         }
         let pts: Vec<DVec3> = corners.iter().map(|c| c.0).collect();
         all(seed::polyline(&pts, per), corners[0].1, first.clone())
@@ -553,7 +565,7 @@ fn seed_points(
     };
     if points.len() < min {
         return Err(Diagnostic::new(
-            "SeedTooShort",
+            ErrorKind::SeedTooShort,
             format!(
                 "a {} seed needs at least {min} points, this one has {}",
                 kind.name(),
@@ -571,7 +583,7 @@ fn plane(p: &Option<Spanned<String>>, dim: usize, what: &str) -> Result<seed::Pl
     match p {
         None => Ok(seed::Plane::Xy),
         Some(p) if dim == 2 && p.get_ref() != "xy" => Err(Diagnostic::new(
-            "design",
+            ErrorKind::PlanarSeedOffPlane,
             format!("a planar {what} lies in the xy plane"),
         )
         .at(p.span())
@@ -579,9 +591,12 @@ fn plane(p: &Option<Spanned<String>>, dim: usize, what: &str) -> Result<seed::Pl
             "give {what}.center 3 coordinates to use another plane"
         ))),
         Some(p) => seed::Plane::parse(p.get_ref()).ok_or_else(|| {
-            Diagnostic::new("design", format!("unknown plane \"{}\"", p.get_ref()))
-                .at(p.span())
-                .hint("plane must be \"xy\", \"xz\" or \"yz\"")
+            Diagnostic::new(
+                ErrorKind::UnknownPlane,
+                format!("unknown plane \"{}\"", p.get_ref()),
+            )
+            .at(p.span())
+            .hint("plane must be \"xy\", \"xz\" or \"yz\"")
         }),
     }
 }
@@ -598,7 +613,7 @@ fn helix_cell_count(lat: &RawLattice, spans: &Spans) -> Result<usize, Diagnostic
     ] {
         if let Some(span) = given {
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::HelixTakesNoRows,
                 format!("a helix is fully determined by its seed, so it takes no {what}"),
             )
             .at(span)
@@ -607,11 +622,12 @@ fn helix_cell_count(lat: &RawLattice, spans: &Spans) -> Result<usize, Diagnostic
     }
     match &lat.cells {
         Some(n) => count(n, "cells", 1, MAX_CELLS as i64),
-        None => Err(
-            Diagnostic::new("design", "a helix needs the number of cells to grow")
-                .at(spans.lattice.clone())
-                .hint("give `cells = K` in [lattice]"),
-        ),
+        None => Err(Diagnostic::new(
+            ErrorKind::HelixNeedsCells,
+            "a helix needs the number of cells to grow",
+        )
+        .at(spans.lattice.clone())
+        .hint("give `cells = K` in [lattice]")),
     }
 }
 
@@ -620,7 +636,7 @@ fn dimension(points: &[SeedPoint]) -> Result<usize, Diagnostic> {
     let dim = points[0].1.0;
     if let Some((_, (d, span))) = points.iter().find(|p| p.1.0 != dim) {
         return Err(Diagnostic::new(
-            "design",
+            ErrorKind::SeedDimensionsDiffer,
             format!("this seed point has {d} coordinates but the first has {dim}"),
         )
         .at(span.clone())
@@ -631,7 +647,7 @@ fn dimension(points: &[SeedPoint]) -> Result<usize, Diagnostic> {
 
 fn seed_kappa(lat: &RawLattice, edges: usize, spans: &mut Spans) -> Result<Vec<f64>, Diagnostic> {
     let Some(k) = &lat.kappa else {
-        return Err(Diagnostic::new("design", "the seed has no kappa")
+        return Err(Diagnostic::new(ErrorKind::NoKappa, "the seed has no kappa")
             .at(spans.lattice.clone())
             .hint(format!("give `kappa = 0.0` (every edge) or an array of {edges} numbers in mm, one per seed edge")));
     };
@@ -645,7 +661,7 @@ fn seed_kappa(lat: &RawLattice, edges: usize, spans: &mut Spans) -> Result<Vec<f
         RawKappa::PerEdge(list) => {
             if list.len() != edges {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::KappaCount,
                     format!(
                         "kappa has {} values but the seed has {edges} edges",
                         list.len()
@@ -675,9 +691,11 @@ fn rows(
     spans: &mut Spans,
 ) -> Result<Vec<RowParams>, Diagnostic> {
     if let Some(c) = &lat.cells {
-        return Err(Diagnostic::new("design", "`cells` is for helix seeds")
-            .at(c.span())
-            .hint("grow rows with [lattice.grow] or [[lattice.rows]]"));
+        return Err(
+            Diagnostic::new(ErrorKind::CellsWithoutHelix, "`cells` is for helix seeds")
+                .at(c.span())
+                .hint("grow rows with [lattice.grow] or [[lattice.rows]]"),
+        );
     }
     let width = if kind == Kind::Loop {
         npoints
@@ -691,7 +709,7 @@ fn rows(
         for (field, name) in [(&g.get_ref().row, "row"), (&g.get_ref().repeat, "repeat")] {
             if let Some(f) = field {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::RowSettingInGrow,
                     format!("`{name}` belongs in a [[lattice.rows]] entry, not in [lattice.grow]"),
                 )
                 .at(f.span())
@@ -711,13 +729,12 @@ fn rows(
     for (e, entry) in entries.iter().enumerate() {
         let r = entry.get_ref();
         if let Some(n) = &r.rows {
-            return Err(
-                Diagnostic::new("design", "`rows` belongs in [lattice.grow]")
-                    .at(n.span())
-                    .hint(
-                        "in a [[lattice.rows]] entry use `row` (which row) or `repeat` (how many)",
-                    ),
-            );
+            return Err(Diagnostic::new(
+                ErrorKind::RowsOutsideGrow,
+                "`rows` belongs in [lattice.grow]",
+            )
+            .at(n.span())
+            .hint("in a [[lattice.rows]] entry use `row` (which row) or `repeat` (how many)"));
         }
         let index = match &r.row {
             Some(n) => count(n, "row", 0, max_rows as i64 - 1)?,
@@ -726,7 +743,7 @@ fn rows(
         if index < row_entry.len() {
             let span = r.row.as_ref().map_or(entry.span(), |n| n.span());
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::RowGivenTwice,
                 format!("row {index} is already described by an earlier [[lattice.rows]] entry"),
             )
             .at(span)
@@ -739,7 +756,7 @@ fn rows(
         if index + repeat > total.unwrap_or(max_rows) {
             let limit = total.unwrap_or(max_rows);
             return Err(Diagnostic::new(
-                "design",
+                ErrorKind::RowBeyondLattice,
                 format!(
                     "this entry reaches row {}, but the lattice has {limit} rows",
                     index + repeat - 1
@@ -754,7 +771,7 @@ fn rows(
     }
     let total = total.unwrap_or(row_entry.len());
     if total == 0 {
-        return Err(Diagnostic::new("design", "the design grows no rows")
+        return Err(Diagnostic::new(ErrorKind::NoRows, "the design grows no rows")
             .at(spans.lattice.clone())
             .hint("add [[lattice.rows]] entries, or [lattice.grow] with `rows = N` and a default direction"));
     }
@@ -783,7 +800,7 @@ fn rows(
                 } else {
                     spans.entries[e as usize].table.clone()
                 };
-                Diagnostic::new("design", format!("row {i} has no leg direction"))
+                Diagnostic::new(ErrorKind::NoLegDirection, format!("row {i} has no leg direction"))
                     .at(span)
                     .site(format!("row {i}"))
                     .hint("give `angle` (degrees) or `direction` in its [[lattice.rows]] entry or in [lattice.grow]")
@@ -821,13 +838,12 @@ fn resolve(
     last: usize,
 ) -> Result<RowParams, Diagnostic> {
     if let (Some(_), Some(a)) = (&row.direction, &row.angle) {
-        return Err(
-            Diagnostic::new("design", "both `direction` and `angle` are given")
-                .at(a.span())
-                .hint(
-                    "give the leg direction one way: `angle` in degrees or `direction` as a vector",
-                ),
-        );
+        return Err(Diagnostic::new(
+            ErrorKind::DirectionAndAngle,
+            "both `direction` and `angle` are given",
+        )
+        .at(a.span())
+        .hint("give the leg direction one way: `angle` in degrees or `direction` as a vector"));
     }
     let pick = |own: bool| if own { Some(row) } else { defaults };
     let dir_source = pick(row.direction.is_some() || row.angle.is_some());
@@ -837,7 +853,7 @@ fn resolve(
             let (v, d) = coords(c, "direction")?;
             if d != dim {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::DirectionDimension,
                     format!("direction has {d} coordinates but the lattice is {dim}-D"),
                 )
                 .at(c.span())
@@ -850,16 +866,19 @@ fn resolve(
             let raw = *a.get_ref();
             let tilt = raw.tilt.unwrap_or(0.0);
             if !(raw.angle.is_finite() && tilt.is_finite()) {
-                return Err(
-                    Diagnostic::new("design", "the angle is not a finite number").at(a.span()),
-                );
+                return Err(Diagnostic::new(
+                    ErrorKind::AngleNotFinite,
+                    "the angle is not a finite number",
+                )
+                .at(a.span()));
             }
             if dim == 2 && raw.tilt.is_some() {
-                return Err(
-                    Diagnostic::new("design", "a tilt angle needs a 3-D lattice")
-                        .at(a.span())
-                        .hint("in 2-D give `angle` as one number of degrees"),
-                );
+                return Err(Diagnostic::new(
+                    ErrorKind::TiltNeeds3d,
+                    "a tilt angle needs a 3-D lattice",
+                )
+                .at(a.span())
+                .hint("in 2-D give `angle` as one number of degrees"));
             }
             Some(Direction::Angles {
                 angle_deg: raw.angle,
@@ -886,7 +905,7 @@ fn resolve(
                 RawLeg::Match => Ok(Leg::Match),
                 RawLeg::Length(v) if v.is_finite() && v > 0.0 => Ok(Leg::Length(v)),
                 RawLeg::Length(v) => Err(Diagnostic::new(
-                    "NonPositiveLeg",
+                    ErrorKind::NonPositiveLeg,
                     format!("{name} is {v}, but must be a positive length"),
                 )
                 .at(l.span())
@@ -916,7 +935,7 @@ fn resolve(
             let (v, d) = coords(c, "target")?;
             if d != dim {
                 return Err(Diagnostic::new(
-                    "design",
+                    ErrorKind::TargetDimension,
                     format!("target has {d} coordinates but the lattice is {dim}-D"),
                 )
                 .at(c.span())
@@ -950,11 +969,12 @@ fn resolve(
 fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnostic> {
     let raw = f.get_ref();
     if raw.is_empty() {
-        return Err(
-            Diagnostic::new("design", "front = { } rebuilds the front with no move")
-                .at(f.span())
-                .hint("give turn, bend, twist, pivot, crank or zigzag, or leave `front` out"),
-        );
+        return Err(Diagnostic::new(
+            ErrorKind::EmptyFront,
+            "front = { } rebuilds the front with no move",
+        )
+        .at(f.span())
+        .hint("give turn, bend, twist, pivot, crank or zigzag, or leave `front` out"));
     }
     let angles = |a: &Option<Spanned<raw::RawAngles>>,
                   what: &str|
@@ -964,11 +984,12 @@ fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnos
             Some(a) if a.get_ref().0.iter().all(|v| v.is_finite()) && !a.get_ref().0.is_empty() => {
                 Ok(Some(a.get_ref().0.clone()))
             }
-            Some(a) => Err(
-                Diagnostic::new("design", format!("front.{what} needs finite angles"))
-                    .at(a.span())
-                    .hint("give an angle in degrees, or one per interior front vertex"),
-            ),
+            Some(a) => Err(Diagnostic::new(
+                ErrorKind::FrontAnglesNotFinite,
+                format!("front.{what} needs finite angles"),
+            )
+            .at(a.span())
+            .hint("give an angle in degrees, or one per interior front vertex")),
         }
     };
     let index = |n: &Spanned<i64>, what: &str| count(n, what, 0, last as i64);

@@ -19,7 +19,7 @@
 //! ```
 
 use super::raw::Num;
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use serde::Deserialize;
 use std::ops::Range;
 use toml::Spanned;
@@ -173,11 +173,12 @@ pub fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnos
         Some(c) => {
             let v = super::finite(c, "clash.clearance")?;
             if v < 0.0 {
-                return Err(
-                    Diagnostic::new("design", "clash.clearance must not be negative")
-                        .at(c.span())
-                        .hint("the gap in mm wanted between neighbouring strips of one layer"),
-                );
+                return Err(Diagnostic::new(
+                    ErrorKind::NegativeClearance,
+                    "clash.clearance must not be negative",
+                )
+                .at(c.span())
+                .hint("the gap in mm wanted between neighbouring strips of one layer"));
             }
             v
         }
@@ -200,7 +201,7 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
             "seed" => Vary::Seed,
             "fit" => Vary::Fit,
             other => {
-                return Err(Diagnostic::new("design", format!("optimise.vary has \"{other}\""))
+                return Err(Diagnostic::new(ErrorKind::UnknownVary, format!("optimise.vary has \"{other}\""))
                     .at(v.span())
                     .hint("vary \"angle\" (row leg angles), \"front\" (front-move angles), \"seed\" (a helix's seed) or \"fit\" (a fit's row angles or ring steps)"));
             }
@@ -210,9 +211,11 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
         }
     }
     if vary.is_empty() {
-        return Err(Diagnostic::new("design", "optimise.vary is empty")
-            .at(r.vary.span())
-            .hint("say what the optimiser may change: [\"angle\"], [\"front\"] or [\"seed\"]"));
+        return Err(
+            Diagnostic::new(ErrorKind::EmptyVary, "optimise.vary is empty")
+                .at(r.vary.span())
+                .hint("say what the optimiser may change: [\"angle\"], [\"front\"] or [\"seed\"]"),
+        );
     }
     let budget = match &r.budget {
         Some(b) => super::count(b, "optimise.budget", 1, 100_000)?,
@@ -226,9 +229,11 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
         Some(s) => {
             let v = super::finite(s, "optimise.step")?;
             if v <= 0.0 {
-                return Err(
-                    Diagnostic::new("design", "optimise.step must be positive").at(s.span())
-                );
+                return Err(Diagnostic::new(
+                    ErrorKind::NonPositiveStep,
+                    "optimise.step must be positive",
+                )
+                .at(s.span()));
             }
             v
         }
@@ -241,11 +246,12 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
             Some(n) => {
                 let v = super::finite(n, what)?;
                 if v < 0.0 {
-                    return Err(
-                        Diagnostic::new("design", format!("{what} must not be negative"))
-                            .at(n.span())
-                            .hint("a weight is 0 (ignored) or more"),
-                    );
+                    return Err(Diagnostic::new(
+                        ErrorKind::OptimiseNegative,
+                        format!("{what} must not be negative"),
+                    )
+                    .at(n.span())
+                    .hint("a weight is 0 (ignored) or more"));
                 }
                 Ok(v)
             }
@@ -277,7 +283,7 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
                 "checkerboard" => Pattern::Checkerboard,
                 other => {
                     return Err(Diagnostic::new(
-                        "design",
+                        ErrorKind::UnknownCurvaturePattern,
                         format!("unknown curvature pattern \"{other}\""),
                     )
                     .at(p.span())

@@ -407,11 +407,11 @@ pub fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
         what: &str,
         span: std::ops::Range<usize>,
     ) -> Option<crate::diagnostic::Diagnostic> {
-        use crate::diagnostic::Diagnostic;
+        use crate::diagnostic::{Diagnostic, ErrorKind};
         if let Some(c) = s.chars().find(|c| c.is_control()) {
             return Some(
                 Diagnostic::new(
-                    "design",
+                    ErrorKind::ControlCharacter,
                     format!("{what} holds the control character U+{:04X}", u32::from(c)),
                 )
                 .at(span)
@@ -421,7 +421,7 @@ pub fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
         let n = s.chars().count();
         (n > MAX_STRING).then(|| {
             Diagnostic::new(
-                "design",
+                ErrorKind::StringTooLong,
                 format!("{what} is {n} characters long; karigami accepts at most {MAX_STRING}"),
             )
             .at(span)
@@ -429,11 +429,11 @@ pub fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
         })
     }
     fn walk(v: &Spanned<DeValue<'_>>, depth: usize) -> Option<crate::diagnostic::Diagnostic> {
-        use crate::diagnostic::Diagnostic;
+        use crate::diagnostic::{Diagnostic, ErrorKind};
         if depth > MAX_DEPTH {
             return Some(
                 Diagnostic::new(
-                    "design",
+                    ErrorKind::NestedTooDeep,
                     format!("arrays and tables are nested more than {MAX_DEPTH} deep"),
                 )
                 .at(v.span())
@@ -446,14 +446,17 @@ pub fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
                 let x: f64 = f.as_str().replace('_', "").parse().unwrap_or(f64::NAN);
                 if !x.is_finite() {
                     Some(
-                        Diagnostic::new("design", format!("{} is not a finite number", f.as_str()))
-                            .at(v.span())
-                            .hint("give a number"),
+                        Diagnostic::new(
+                            ErrorKind::NotFinite,
+                            format!("{} is not a finite number", f.as_str()),
+                        )
+                        .at(v.span())
+                        .hint("give a number"),
                     )
                 } else if x.abs() > MAX_NUMBER {
                     Some(
                         Diagnostic::new(
-                            "design",
+                            ErrorKind::NumberTooLarge,
                             format!(
                                 "{} is larger than any size karigami accepts (at most {MAX_NUMBER:e} in magnitude; lengths are in mm)",
                                 f.as_str()

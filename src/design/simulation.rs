@@ -2,7 +2,7 @@
 //! deployment angle, the joint model and the mesh of the elastic
 //! simulation (docs/physics.md). Every field is optional; defaults are ABS.
 
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::sim::{Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
@@ -33,7 +33,7 @@ fn number(
 ) -> Result<Option<f64>, Diagnostic> {
     match v {
         Some(x) if !ok(*x.get_ref()) => Err(Diagnostic::new(
-            "design",
+            ErrorKind::SimulationOutOfRange,
             format!(
                 "[simulation] {what} is {}, but must be {bound}",
                 x.get_ref()
@@ -99,7 +99,7 @@ pub fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnosti
             "eyelet" => VertexJoint::Eyelet,
             "ball" => VertexJoint::Ball,
             other => {
-                return Err(Diagnostic::new("design", format!("unknown vertex_joint \"{other}\""))
+                return Err(Diagnostic::new(ErrorKind::UnknownVertexJoint, format!("unknown vertex_joint \"{other}\""))
                     .at(j.span())
                     .hint("vertex_joint must be \"eyelet\" (strips stacked on one eyelet) or \"ball\" (position only)"));
             }

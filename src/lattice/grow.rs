@@ -37,53 +37,8 @@ pub struct RowParams {
     pub front: Option<FrontMoves>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GrowthErrorKind {
-    SeedTooShort,
-    SeedEdgeNotSpacelike,
-    StartOutOfRange,
-    BadDirection,
-    InadmissibleDirection,
-    DoubleEdgeNotSpacelike,
-    NonPositiveLeg,
-    MatchNeedsLength,
-    DegenerateCell,
-    InvertedCell,
-    TooLarge,
-    NumericalBreakdown,
-    LoopKappaSumNonzero,
-    LoopClosureFree,
-    NoLoopClosure,
-    LoopClosureResidual,
-    HelixSeedNotNull,
-    FrontNotCompatible,
-}
-
-impl GrowthErrorKind {
-    /// The error class name of MATH.md 9, shown to users for searching.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::SeedTooShort => "SeedTooShort",
-            Self::SeedEdgeNotSpacelike => "SeedEdgeNotSpacelike",
-            Self::StartOutOfRange => "StartOutOfRange",
-            Self::BadDirection => "BadDirection",
-            Self::InadmissibleDirection => "InadmissibleDirection",
-            Self::DoubleEdgeNotSpacelike => "DoubleEdgeNotSpacelike",
-            Self::NonPositiveLeg => "NonPositiveLeg",
-            Self::MatchNeedsLength => "MatchNeedsLength",
-            Self::DegenerateCell => "DegenerateCell",
-            Self::InvertedCell => "InvertedCell",
-            Self::TooLarge => "TooLarge",
-            Self::NumericalBreakdown => "NumericalBreakdown",
-            Self::LoopKappaSumNonzero => "LoopKappaSumNonzero",
-            Self::LoopClosureFree => "LoopClosureFree",
-            Self::NoLoopClosure => "NoLoopClosure",
-            Self::LoopClosureResidual => "LoopClosureResidual",
-            Self::HelixSeedNotNull => "HelixSeedNotNull",
-            Self::FrontNotCompatible => "FrontNotCompatible",
-        }
-    }
-}
+/// The growth errors of MATH.md 9 are kinds of the one error enum.
+pub use crate::diagnostic::ErrorKind as GrowthErrorKind;
 
 /// The design parameter a growth error is about, so the recipe layer can
 /// point at the text that sets it.

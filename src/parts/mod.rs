@@ -95,7 +95,7 @@ pub struct Warning {
 /// A fabrication check that fails for at least one strip.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartsError {
-    pub class: &'static str,
+    pub kind: crate::diagnostic::ErrorKind,
     /// The first strip at fault and its cell row (for pointing at the recipe).
     pub strip: String,
     pub row: u32,
@@ -259,7 +259,7 @@ fn check(
             String::new()
         };
         return Err(PartsError {
-            class: "LegShorterThanFlange",
+            kind: crate::diagnostic::ErrorKind::LegShorterThanFlange,
             strip: s.id.clone(),
             row: s.row,
             message: format!(
@@ -308,7 +308,7 @@ fn check(
             String::new()
         };
         return Err(PartsError {
-            class: "StripLongerThanSheet",
+            kind: crate::diagnostic::ErrorKind::StripLongerThanSheet,
             strip: s.id.clone(),
             row: s.row,
             message: format!(

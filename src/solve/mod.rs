@@ -14,7 +14,7 @@ use crate::design::measure::{Measures, measure};
 use crate::design::optimise::{Optimise, Pattern, Vary};
 use crate::design::tune::{Frame, Params};
 use crate::design::{Design, MIN_WALL};
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::geometry::Direction;
 use crate::lattice::{FrontMoves, Kind, Lattice};
 use argmin::core::{CostFunction, Error, Executor, State};
@@ -472,8 +472,11 @@ pub fn optimise(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Optimised, Diagnostic> {
     let opt = design.optimise.as_ref().ok_or_else(|| {
-        Diagnostic::new("design", "the recipe has no [optimise] table")
-            .hint("add [optimise] with `vary` and objectives (see README)")
+        Diagnostic::new(
+            ErrorKind::NoOptimiseTable,
+            "the recipe has no [optimise] table",
+        )
+        .hint("add [optimise] with `vary` and objectives (see README)")
     })?;
     let (slots, mut x0, mut unit) = slots(design, source, opt);
     let (mut frame, mut seed0) = (None, None);
@@ -508,7 +511,7 @@ pub fn optimise(
     }
     if x0.is_empty() {
         return Err(Diagnostic::new(
-            "design",
+            ErrorKind::NothingToVary,
             "the optimiser has nothing to vary in this recipe",
         )
         .at(opt.span.clone())
@@ -548,12 +551,12 @@ pub fn optimise(
         }
         let solver = NelderMead::new(simplex)
             .with_sd_tolerance(1e-9)
-            .map_err(|e| Diagnostic::new("optimise", e.to_string()))?;
+            .map_err(|e| Diagnostic::new(ErrorKind::Optimiser, e.to_string()))?;
         let left = (opt.budget - iterations) as u64;
         let res = Executor::new(Cost(&problem), solver)
             .configure(|s| s.max_iters(left))
             .run()
-            .map_err(|e| Diagnostic::new("optimise", e.to_string()))?;
+            .map_err(|e| Diagnostic::new(ErrorKind::Optimiser, e.to_string()))?;
         let used = res.state().get_iter() as usize;
         iterations += used.max(1);
         round += 1;
@@ -568,7 +571,7 @@ pub fn optimise(
     let design_out = crate::design::parse(&text, &design.name)?;
     let lattice = grown(&design_out).map_err(|_| {
         Diagnostic::new(
-            "OptimiseFailed",
+            ErrorKind::OptimiseFailed,
             "no design the optimiser tried grows every row",
         )
         .at(opt.span.clone())
@@ -583,7 +586,7 @@ pub fn optimise(
             .find(|r| r.name == *name)
             .map(|r| r.span.clone());
         return Err(Diagnostic::new(
-            "ConstraintNotMet",
+            ErrorKind::ConstraintNotMet,
             format!(
                 "no admissible design meets require.{name} = {bound}: the best found has {value:.4}, short by {:.4}",
                 (value - bound).abs()
