@@ -184,3 +184,64 @@ fn golden_outputs_and_error_messages_are_unchanged() {
     failures.sort();
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// What `--json` prints (stdout, then the exit status) for passing and
+/// failing checks, each kind of refusal, and the batch record a build
+/// writes: the JSON reports are pinned like the files.
+#[test]
+fn golden_json_reports_are_unchanged() {
+    let dir = scratch("golden-json");
+    std::fs::create_dir_all(dir.join("not-a-build")).unwrap();
+    std::fs::write(dir.join("not-a-build/notes.txt"), "mine").unwrap();
+    // Relative to the scratch folder, so that the paths in the reports do
+    // not depend on where the repository is.
+    let up = "../../../";
+    let flat = format!("{up}examples/flat-sheet.toml");
+    let bad = format!("{up}fixtures/designs/bad");
+    let leg = format!("{up}fixtures/designs/bad/leg-shorter-than-flange.toml");
+    let cases: [(&str, Vec<&str>); 7] = [
+        (
+            "check-pass",
+            vec![
+                "check",
+                "--json",
+                &flat,
+                "../../../examples/mirror-arm.toml",
+                "../../../templates/tube.toml",
+                "../../../templates/helix.toml",
+            ],
+        ),
+        ("check-bad-fixtures", vec!["check", "--json", &bad]),
+        (
+            "check-missing-file",
+            vec!["check", "--json", "no-such.toml"],
+        ),
+        (
+            "check-unknown-sheet-flag",
+            vec!["check", "--json", "--sheet", "a9", &flat],
+        ),
+        ("usage-error", vec!["build", "--json", "--no-such-flag"]),
+        (
+            "out-not-a-build",
+            vec!["build", "--json", &flat, "--out", "not-a-build"],
+        ),
+        (
+            "batch",
+            vec!["-q", "build", &flat, &leg, "--out", "batch", "--jobs", "1"],
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (name, args) in &cases {
+        let o = karigami(args, &dir);
+        let mut actual = if *name == "batch" {
+            std::fs::read(dir.join("batch/batch.json")).unwrap_or_default()
+        } else {
+            o.stdout
+        };
+        actual.extend(format!("exit status: {}\n", o.status.code().unwrap_or(-1)).bytes());
+        if let Err(e) = compare(&format!("tests/golden/json/{name}.json"), &actual) {
+            failures.push(e);
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
