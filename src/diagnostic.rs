@@ -167,6 +167,8 @@ error_kinds! {
     /// The optimiser's library stopped with an error.
     Optimiser as "optimise" => EXIT_INVALID,
     OptimiseFailed => EXIT_INVALID,
+    /// `karigami tune` did not reach the cells asked for.
+    TuneNotReached => EXIT_INVALID,
     ConstraintNotMet => EXIT_INVALID,
 
     // Checks of the grown lattice and its strips.
@@ -175,6 +177,10 @@ error_kinds! {
     StripLongerThanSheet => EXIT_INVALID,
     StripClash => EXIT_INVALID,
     Overstrain => EXIT_INVALID,
+    /// Some recipes of a batch failed (each was reported on its own).
+    BatchFailed => EXIT_INVALID,
+    /// `karigami simulate` found no equilibrium.
+    SimulationFailed => EXIT_INVALID,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -2,15 +2,17 @@
 //! subfolder of one output folder, which replaces the old one as a whole.
 //! The files written do not depend on the number of jobs or their order.
 
+use super::Verbosity;
+use super::build::open_out;
+use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{Staged, safe_component};
 use super::progress::Progress;
-use super::{
-    EXIT_INVALID, EXIT_IO, EXIT_USAGE, Failed, Recipe, RecipeError, Verbosity, fail, open_out,
-    run_recipe, stem,
-};
+use super::recipe::{Recipe, run_recipe, stem};
 use karigami::design::Overrides;
+use karigami::diagnostic::ErrorKind;
 use karigami::report;
-use serde_json::{Value, json};
+use serde::Serialize;
+use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -22,7 +24,7 @@ struct Outcome {
     file: String,
     folder: String,
     seconds: f64,
-    result: Result<Summary, RecipeError>,
+    result: Result<Summary, Error>,
     /// Writing its files failed: the batch must not commit.
     write_failed: Option<String>,
 }
@@ -31,7 +33,26 @@ struct Summary {
     cells: usize,
     strips: usize,
     sheets: usize,
-    json: Value,
+    check: Value,
+    build: Value,
+}
+
+/// One recipe in batch.json and in `build --json`'s report of a batch.
+#[derive(Serialize)]
+struct Record<'a> {
+    file: &'a str,
+    folder: &'a str,
+    /// "ok" or "error".
+    status: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    check: Option<&'a Value>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    build: Option<&'a Value>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<&'a ErrorJson>,
+    /// Only in `--json`'s report: batch.json is the same on every run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    seconds: Option<f64>,
 }
 
 pub fn build(
@@ -42,18 +63,12 @@ pub fn build(
     json: bool,
     overrides: &Overrides,
     v: Verbosity,
-) -> Result<(), Failed> {
-    let folders = folders(paths).map_err(|e| fail(json, "usage", &e, EXIT_USAGE))?;
-    let out = &open_out(out, paths, force, json, v)?;
+) -> Result<(), Error> {
+    let folders = folders(paths).map_err(Error::usage)?;
+    let out = &open_out(out, paths, force, v)?;
     let shown = out.path().display();
-    let staged = Staged::new(out, "batch").map_err(|e| {
-        fail(
-            json,
-            "io",
-            &format!("cannot write {shown}: {e}; {}", out.kept()),
-            EXIT_IO,
-        )
-    })?;
+    let staged = Staged::new(out, "batch")
+        .map_err(|e| Error::io(format!("cannot write {shown}: {e}; {}", out.kept())))?;
     let outcomes: Vec<Mutex<Option<Outcome>>> = paths.iter().map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
     // A write that failed (a full disk) stops the batch: it cannot commit.
@@ -98,39 +113,32 @@ pub fn build(
         .collect();
     if let Some(why) = outcomes.iter().find_map(|o| o.write_failed.as_ref()) {
         drop(staged);
-        return Err(fail(
-            json,
-            "io",
-            &format!(
-                "cannot write {shown}/{why}; the batch was not committed and {}",
-                out.kept()
-            ),
-            EXIT_IO,
-        ));
+        return Err(Error::io(format!(
+            "cannot write {shown}/{why}; the batch was not committed and {}",
+            out.kept()
+        )));
     }
     // batch.json records every recipe's status; no times, so that it is
     // the same on every run.
-    let record: Vec<Value> = outcomes.iter().map(|o| o.record(false)).collect();
+    let record: Vec<Record> = outcomes.iter().map(|o| o.record(false)).collect();
     let written = staged
         .write(
             "",
             &[(
                 "batch.json".to_string(),
-                (serde_json::to_string_pretty(&record).expect("JSON") + "\n").into_bytes(),
+                (json_text(&record) + "\n").into_bytes(),
             )],
         )
         .and_then(|()| staged.commit());
     if let Err(e) = written {
-        return Err(fail(
-            json,
-            "io",
-            &format!("cannot write {shown}: {e}; {}", out.kept()),
-            EXIT_IO,
-        ));
+        return Err(Error::io(format!(
+            "cannot write {shown}: {e}; {}",
+            out.kept()
+        )));
     }
     if json {
-        let timed: Vec<Value> = outcomes.iter().map(|o| o.record(true)).collect();
-        outln!("{}", serde_json::to_string_pretty(&timed).expect("JSON"));
+        let timed: Vec<Record> = outcomes.iter().map(|o| o.record(true)).collect();
+        print_json(&timed);
     } else if !v.quiet {
         out!("{}", table(&outcomes));
         outln!("wrote {} to {shown}", plural(outcomes.len(), "build"));
@@ -140,16 +148,25 @@ pub fn build(
         return Ok(());
     }
     let names: Vec<&str> = failed.iter().map(|o| o.file.as_str()).collect();
-    eprintln!(
-        "error: {} of {} failed: {}",
-        failed.len(),
-        plural(outcomes.len(), "recipe"),
-        names.join(", ")
-    );
     let io = failed
         .iter()
-        .any(|o| o.result.as_ref().is_err_and(|e| e.code == EXIT_IO));
-    Err(Failed(if io { EXIT_IO } else { EXIT_INVALID }))
+        .any(|o| o.result.as_ref().is_err_and(|e| e.kind == ErrorKind::Io));
+    // Each failure was shown as it happened, and the JSON report has them.
+    let kind = if io {
+        ErrorKind::Io
+    } else {
+        ErrorKind::BatchFailed
+    };
+    Err(Error::new(
+        kind,
+        format!(
+            "{} of {} failed: {}",
+            failed.len(),
+            plural(outcomes.len(), "recipe"),
+            names.join(", ")
+        ),
+    )
+    .text_only())
 }
 
 /// Each recipe's subfolder: its file name without `.toml`, made a safe
@@ -205,29 +222,21 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
     let result = Recipe::read(path)
         .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}))
         .and_then(|built| {
-            staged
-                .write(folder, &built.files())
-                .map_err(|e| {
-                    *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
-                    RecipeError {
-                        code: EXIT_IO,
-                        text: format!("error: cannot write {folder}/: {e}\n"),
-                        json: json!({ "class": "io", "message": format!("cannot write {folder}/: {e}") }),
-                    }
-                })?;
+            staged.write(folder, &built.files()).map_err(|e| {
+                *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
+                Error::io(format!("cannot write {folder}/: {e}"))
+            })?;
             Ok(Summary {
                 cells: built.lattice.cells.len(),
                 strips: built.parts.strips.len(),
                 sheets: built.layout.sheets.len(),
-                json: json!({
-                    "check": report::check_json(
-                        &built.design,
-                        &built.lattice,
-                        &built.report,
-                        &built.deployment,
-                    ),
-                    "build": report::build_json(&built),
-                }),
+                check: report::check_json(
+                    &built.design,
+                    &built.lattice,
+                    &built.report,
+                    &built.deployment,
+                ),
+                build: report::build_json(&built),
             })
         });
     Outcome {
@@ -240,22 +249,20 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
 }
 
 impl Outcome {
-    fn record(&self, timed: bool) -> Value {
-        let mut v = match &self.result {
-            Ok(s) => {
-                let mut v = json!({ "file": self.file, "folder": self.folder, "status": "ok" });
-                v["check"] = s.json["check"].clone();
-                v["build"] = s.json["build"].clone();
-                v
-            }
-            Err(e) => {
-                json!({ "file": self.file, "folder": self.folder, "status": "error", "error": e.json })
-            }
+    fn record(&self, timed: bool) -> Record<'_> {
+        let (status, summary, error) = match &self.result {
+            Ok(s) => ("ok", Some(s), None),
+            Err(e) => ("error", None, e.json.as_deref()),
         };
-        if timed {
-            v["seconds"] = json!(self.seconds);
+        Record {
+            file: &self.file,
+            folder: &self.folder,
+            status,
+            check: summary.map(|s| &s.check),
+            build: summary.map(|s| &s.build),
+            error,
+            seconds: timed.then_some(self.seconds),
         }
-        v
     }
 }
 
@@ -278,7 +285,7 @@ fn table(outcomes: &[Outcome]) -> String {
                 o.file, "ok", s.cells, s.strips, s.sheets, time
             )),
             Err(e) => {
-                let class = e.json["class"].as_str().unwrap_or("error");
+                let class = e.kind.name();
                 out.push_str(&format!(
                     "{:<width$}  {:<28} {:>7} {:>7} {:>6} {:>8}\n",
                     o.file,

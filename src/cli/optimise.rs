@@ -2,8 +2,10 @@
 //! optimiser and write the recipe back with the optimised numbers, its
 //! comments and every other setting kept.
 
+use super::error::Error;
 use super::progress::Progress;
-use super::{EXIT_INVALID, EXIT_IO, Failed, Recipe, Verbosity, files};
+use super::recipe::Recipe;
+use super::{Verbosity, files};
 use karigami::design::Design;
 use std::path::Path;
 use std::time::Instant;
@@ -13,7 +15,7 @@ pub fn run(
     design: &Design,
     out: Option<&Path>,
     v: Verbosity,
-) -> Result<(), Failed> {
+) -> Result<(), Error> {
     let mut bar = Progress::new(1, v.quiet);
     let started = Instant::now();
     let result = karigami::solve::optimise(design, &recipe.source, &mut |note| {
@@ -26,10 +28,7 @@ pub fn run(
     bar.clear();
     let done = match result {
         Ok(d) => d,
-        Err(e) => {
-            eprint!("{}", recipe.error(&e).text);
-            return Err(Failed(EXIT_INVALID));
-        }
+        Err(e) => return Err(recipe.error(&e)),
     };
     if !v.quiet {
         eprintln!(
@@ -44,10 +43,8 @@ pub fn run(
         );
     }
     match out {
-        Some(o) => files::write_atomic(o, done.text.as_bytes()).map_err(|e| {
-            eprintln!("error: cannot write {}: {e}", o.display());
-            Failed(EXIT_IO)
-        })?,
+        Some(o) => files::write_atomic(o, done.text.as_bytes())
+            .map_err(|e| Error::io(format!("cannot write {}: {e}", o.display())))?,
         None => print!("{}", done.text),
     }
     Ok(())

@@ -1,8 +1,11 @@
 //! `karigami simulate RECIPE [--theta DEG] [--explore N]`: the deployed
 //! shape of the strips as elastic rods joined by eyelets (docs/physics.md).
 
-use super::{EXIT_INVALID, Failed, Recipe, Verbosity};
+use super::Verbosity;
+use super::error::Error;
+use super::recipe::Recipe;
 use karigami::design::Overrides;
+use karigami::diagnostic::ErrorKind;
 use karigami::lattice::deploy::deployment;
 use karigami::lattice::{Lattice, verify};
 use karigami::sim::explore::explore;
@@ -18,25 +21,19 @@ pub fn simulate(
     theta: Option<f64>,
     explore_n: Option<usize>,
     v: Verbosity,
-) -> Result<(), Failed> {
-    let fail = |text: String| {
-        eprint!("{text}");
-        Failed(EXIT_INVALID)
-    };
-    let recipe = Recipe::read(path).map_err(|e| {
-        eprint!("{}", e.text);
-        Failed(e.code)
-    })?;
-    let design = recipe
-        .parse(&Overrides::default())
-        .map_err(|e| fail(e.text))?;
-    let lattice = design.grow().map_err(|d| fail(recipe.error(&d).text))?;
+) -> Result<(), Error> {
+    let recipe = Recipe::read(path)?;
+    let design = recipe.parse(&Overrides::default())?;
+    let lattice = design.grow().map_err(|d| recipe.error(&d))?;
     let report = verify(&lattice);
     if !report.passed() {
-        return Err(fail(format!(
-            "error: {} fails verification; run `karigami check {}`\n",
-            recipe.file, recipe.file
-        )));
+        return Err(Error::new(
+            ErrorKind::VerificationFailed,
+            format!(
+                "{} fails verification; run `karigami check {}`",
+                recipe.file, recipe.file
+            ),
+        ));
     }
     let deploy = deployment(&lattice);
     let mut settings = design.simulation;
@@ -47,8 +44,12 @@ pub fn simulate(
         design.fabrication.material.width,
         design.fabrication.material.thickness,
     );
-    let run = sim::simulate(&lattice, &deploy, w, t, &settings)
-        .map_err(|e| fail(format!("error: {}: simulation failed: {e}\n", recipe.file)))?;
+    let run = sim::simulate(&lattice, &deploy, w, t, &settings).map_err(|e| {
+        Error::new(
+            ErrorKind::SimulationFailed,
+            format!("{}: simulation failed: {e}", recipe.file),
+        )
+    })?;
     if !v.quiet {
         print!(
             "{}",

@@ -1,0 +1,182 @@
+//! The command line's schema: commands, flags and their help.
+
+use super::recipe::DEFAULT_TEMPLATE;
+use clap::{Args as ClapArgs, Parser, Subcommand};
+use karigami::design::Overrides;
+use std::path::PathBuf;
+
+/// Bounds of `karigami tune`: each try grows the helix, so a billion tries
+/// would run for days; a helix of more cells than this is not tuned by
+/// hand-held search.
+pub const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
+pub const MAX_TUNE_CELLS: u64 = 100_000;
+
+const EXIT_CODES: &str =
+    "Exit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error.";
+
+#[derive(Parser)]
+#[command(
+    name = "karigami",
+    version,
+    about = "Grow, verify and fabricate scissor lattices from TOML recipes",
+    after_help = "Examples:\n  karigami new my-sheet                 # a starter recipe, my-sheet.toml\n  karigami check my-sheet.toml\n  karigami build my-sheet.toml --out my-sheet\n  karigami build examples/ --out gallery --jobs 2\n\nExit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error."
+)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Command,
+    /// Print only errors.
+    #[arg(long, short, global = true, conflicts_with = "verbose")]
+    pub quiet: bool,
+    /// Print more: the full verification report of each build, fit progress.
+    #[arg(long, short, global = true)]
+    pub verbose: bool,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Simulate the deployed shape: strips as elastic rods joined by eyelets.
+    #[command(after_help = format!("Examples:\n  karigami simulate examples/eggbox.toml\n  karigami simulate examples/mirror-arm.toml --theta 40\n  karigami simulate examples/eggbox.toml --explore 12\n\nThe model and its limits: docs/physics.md.\n\n{EXIT_CODES}"))]
+    Simulate {
+        /// Recipe file (TOML).
+        design: PathBuf,
+        /// Opening of the reference cell (cell 0) in degrees; default: the recipe's [simulation] theta, else the design's.
+        #[arg(long, value_name = "DEG")]
+        theta: Option<f64>,
+        /// Also solve from N seeded perturbations and list the distinct stable equilibria.
+        #[arg(long, value_name = "N")]
+        explore: Option<usize>,
+    },
+    /// Grow designs and verify collapsibility, compatibility, the collapsed
+    /// state and that every strip can be cut. Writes nothing.
+    #[command(after_help = format!("Examples:\n  karigami check examples/flat-sheet.toml\n  karigami check examples/          # every recipe in the folder\n  karigami check my.toml --json     # a machine-readable report\n\n{EXIT_CODES}"))]
+    Check {
+        /// Recipe files (TOML) or folders of them.
+        #[arg(required = true)]
+        designs: Vec<PathBuf>,
+        /// Print a JSON report on stdout instead of text.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        fabrication: FabricationFlags,
+    },
+    /// Grow, verify and write the cut files, assembly guide and previews.
+    #[command(after_help = format!(
+        "Examples:\n  karigami build                          # the built-in sheet into ./karigami-out\n  karigami build examples/flat-sheet.toml --out out/flat\n  karigami build examples/ --out gallery  # a batch: gallery/<recipe>/ for each\n  karigami build a.toml b.toml --jobs 1 --json\n\nOne recipe builds into --out itself. Several recipes, or a folder, build\ninto a subfolder of --out each, named after the recipe file; --out then\nholds batch.json, the status of every recipe. A failing recipe does not\nstop the others. The output folder is always replaced as a whole, and\nonly once everything is written, so a kill or a full disk leaves the old\nbuild; a folder that is not a karigami build (no .karigami-build marker)\nis refused unless --force is given, which lists what it deletes, and a\nfolder holding an input recipe is always refused.\n\n{EXIT_CODES}"
+    ))]
+    Build {
+        /// Recipe files (TOML) or folders of them; without any, a built-in sheet.
+        designs: Vec<PathBuf>,
+        /// Output folder, replaced as a whole.
+        #[arg(long, short, default_value = "karigami-out")]
+        out: PathBuf,
+        /// Replace the output folder even if it is not a previous karigami build.
+        #[arg(long)]
+        force: bool,
+        /// Recipes built at once (default: all cores). The files do not depend on it.
+        #[arg(long, short, value_name = "N")]
+        jobs: Option<usize>,
+        /// Print a JSON report on stdout instead of text.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        fabrication: FabricationFlags,
+    },
+    /// Tune a helix seed until it grows the cells the recipe asks for, and
+    /// write the recipe with the tuned seed.
+    #[command(after_help = format!(
+        "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nThe recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the points and kappa change; comments and other settings are kept.\n\n{EXIT_CODES}"
+    ))]
+    Tune {
+        /// Helix recipe file (TOML).
+        design: PathBuf,
+        /// Grow this many cells instead of the recipe's `cells`.
+        #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_CELLS))]
+        cells: Option<usize>,
+        /// Write the tuned recipe here (default: print it).
+        #[arg(long, short)]
+        out: Option<PathBuf>,
+        /// Give up after this many tries (at most 5000000).
+        #[arg(long, default_value_t = 50_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_ITERATIONS))]
+        iterations: usize,
+    },
+    /// Write a starter recipe from a template.
+    #[command(after_help = format!(
+        "Examples:\n  karigami new my-sheet                   # writes my-sheet.toml\n  karigami new arm --template chain\n  karigami templates                      # what there is\n\n{EXIT_CODES}"
+    ))]
+    New {
+        /// Name of the design; the recipe is NAME.toml (or NAME if it ends in .toml).
+        name: String,
+        /// Which template (see `karigami templates`).
+        #[arg(long, short, default_value = DEFAULT_TEMPLATE)]
+        template: String,
+        /// Overwrite an existing file.
+        #[arg(long)]
+        force: bool,
+    },
+    /// List the templates of `karigami new`.
+    #[command(after_help = "Example:\n  karigami templates")]
+    Templates,
+    /// Print a shell completion script.
+    #[command(
+        after_help = "Examples:\n  karigami completions bash > ~/.local/share/bash-completion/completions/karigami\n  karigami completions zsh > ~/.zfunc/_karigami\n  karigami completions fish > ~/.config/fish/completions/karigami.fish"
+    )]
+    Completions { shell: clap_complete::Shell },
+}
+
+/// Fabrication settings that replace the recipe's.
+#[derive(ClapArgs, Debug, Default)]
+pub struct FabricationFlags {
+    /// Sheet: a preset (600x400, glowforge, 12x24in, 12x20in, a3, a4), WxH in mm,
+    /// or auto (the smallest preset that holds the job: fewest sheets, then least area).
+    #[arg(long)]
+    sheet: Option<String>,
+    /// Eyelet preset: 1/8in, 5/32in or 3/16in.
+    #[arg(long)]
+    eyelet: Option<String>,
+    /// Strip width in mm.
+    #[arg(long, value_name = "MM")]
+    strip_width: Option<f64>,
+    /// Laser kerf in mm.
+    #[arg(long, value_name = "MM")]
+    kerf: Option<f64>,
+    /// Offset the cut geometry by half the kerf (instead of leaving it nominal).
+    #[arg(long)]
+    compensate_kerf: bool,
+    /// What to engrave on strips: id, compact or none.
+    #[arg(long)]
+    label: Option<String>,
+    /// Paper of the assembly guide: a4 or letter.
+    #[arg(long)]
+    paper: Option<String>,
+    /// Leave the kerf and eyelet test piece off the first sheet.
+    #[arg(long)]
+    no_test_piece: bool,
+    /// Cut-file colours: karigami (outlines red) or boxes (outlines black, as box generators use).
+    #[arg(long, value_name = "PRESET", visible_alias = "colors")]
+    colours: Option<String>,
+    /// Keep each assembly step's strips together: lanes of their own, steps in order.
+    #[arg(long)]
+    group_by_step: bool,
+    /// Leave holding tabs of this width (mm) uncut in each outline, so the
+    /// cut sheet holds its strips like a parts tray (0: none).
+    #[arg(long, value_name = "MM")]
+    tabs: Option<f64>,
+}
+
+impl FabricationFlags {
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            sheet: self.sheet.clone(),
+            eyelet: self.eyelet.clone(),
+            strip_width: self.strip_width,
+            kerf: self.kerf,
+            compensate_kerf: self.compensate_kerf.then_some(true),
+            label: self.label.clone(),
+            paper: self.paper.clone(),
+            test_piece: self.no_test_piece.then_some(false),
+            colours: self.colours.clone(),
+            group_by_step: self.group_by_step.then_some(true),
+            tabs: self.tabs,
+        }
+    }
+}

@@ -1,0 +1,123 @@
+//! `karigami build` of one recipe (several go to `batch`): grow, verify,
+//! draw and write the files into --out, replacing it as a whole.
+
+use super::check::fit_note;
+use super::error::{Error, print_json};
+use super::progress::{self, Progress};
+use super::recipe::{Recipe, run_recipe};
+use super::{Verbosity, batch, files};
+use karigami::design::Overrides;
+use karigami::report;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `build --json`'s report of one recipe.
+#[derive(Serialize)]
+struct Built<'a> {
+    /// The recipe; null for the built-in sheet.
+    file: Option<String>,
+    status: &'static str,
+    out: String,
+    files: Vec<&'a str>,
+    seconds: f64,
+    check: serde_json::Value,
+    build: serde_json::Value,
+}
+
+pub fn build(
+    paths: &[PathBuf],
+    out: &Path,
+    force: bool,
+    jobs: usize,
+    json: bool,
+    overrides: &Overrides,
+    v: Verbosity,
+) -> Result<(), Error> {
+    let batch = paths.len() > 1 || paths.iter().any(|p| p.is_dir());
+    if batch {
+        let recipes = files::recipes(paths).map_err(Error::usage)?;
+        return batch::build(&recipes, out, force, jobs, json, overrides, v);
+    }
+    let dir = open_out(out, paths, force, v)?;
+    let recipe = match paths.first() {
+        Some(p) => Recipe::read(p),
+        None => Ok(Recipe::built_in()),
+    };
+    let started = Instant::now();
+    let mut bar = Progress::new(1, v.quiet || json);
+    let what = format!(
+        "building {}",
+        paths
+            .first()
+            .map_or("the built-in sheet".into(), |p| p.display().to_string())
+    );
+    let built = progress::heartbeat(&what, v.quiet || json, || {
+        recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)))
+    });
+    bar.clear();
+    let built = built?;
+    let outputs = progress::heartbeat("drawing the files", v.quiet || json, || built.files());
+    let written = files::Staged::new(&dir, "single").and_then(|staged| {
+        staged.write("", &outputs)?;
+        staged.commit()
+    });
+    if let Err(e) = written {
+        return Err(Error::io(format!(
+            "cannot write {}: {e}; {}",
+            out.display(),
+            dir.kept()
+        )));
+    }
+    if json {
+        print_json(&Built {
+            file: paths.first().map(|p| p.display().to_string()),
+            status: "ok",
+            out: out.display().to_string(),
+            files: outputs.iter().map(|(n, _)| n.as_str()).collect(),
+            seconds: started.elapsed().as_secs_f64(),
+            check: report::check_json(
+                &built.design,
+                &built.lattice,
+                &built.report,
+                &built.deployment,
+            ),
+            build: report::build_json(&built),
+        });
+    } else if !v.quiet {
+        if v.verbose {
+            out!(
+                "{}",
+                report::check_text(
+                    &built.design,
+                    &built.lattice,
+                    &built.report,
+                    &built.deployment,
+                )
+            );
+        }
+        out!("{}", built.summary());
+        outln!("wrote {} files to {}", outputs.len(), out.display());
+    }
+    Ok(())
+}
+
+/// Check and lock the output folder before any work; say what interrupted
+/// runs left and was repaired, and what `--force` deletes.
+pub fn open_out(
+    out: &Path,
+    inputs: &[PathBuf],
+    force: bool,
+    v: Verbosity,
+) -> Result<files::OutDir, Error> {
+    let dir = files::OutDir::open(out, inputs, force).map_err(Error::io)?;
+    if !v.quiet {
+        for note in &dir.notes {
+            eprintln!("note: {note}");
+        }
+    }
+    if let Some(warning) = dir.force_warning() {
+        eprintln!("{warning}");
+    }
+    Ok(dir)
+}

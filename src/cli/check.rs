@@ -1,0 +1,157 @@
+//! `karigami check`: grow and verify recipes, print the report, write nothing.
+
+use super::Verbosity;
+use super::error::{Error, ErrorJson, print_json};
+use super::files;
+use super::progress::{self, Progress};
+use super::recipe::Recipe;
+use karigami::build::{assemble_with, too_large_to_fabricate};
+use karigami::design::Overrides;
+use karigami::diagnostic::ErrorKind;
+use karigami::lattice::deploy::deployment;
+use karigami::lattice::verify;
+use karigami::report;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// One recipe in `check --json`'s report.
+#[derive(Serialize)]
+struct Checked {
+    file: String,
+    /// "pass", "fail" (the lattice fails verification) or "error".
+    status: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<ErrorJson>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    check: Option<serde_json::Value>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    build: Option<serde_json::Value>,
+}
+
+impl Checked {
+    fn new(file: &str, status: &'static str) -> Self {
+        Self {
+            file: file.to_string(),
+            status,
+            error: None,
+            check: None,
+            build: None,
+        }
+    }
+}
+
+pub fn check(
+    paths: &[PathBuf],
+    json: bool,
+    overrides: &Overrides,
+    v: Verbosity,
+) -> Result<(), Error> {
+    let paths = files::recipes(paths).map_err(Error::usage)?;
+    let mut reports = Vec::new();
+    let mut worst: Option<ErrorKind> = None;
+    let mut bar = Progress::new(paths.len(), v.quiet || json);
+    for path in &paths {
+        let what = format!("checking {}", path.display());
+        let (failed, report) = progress::heartbeat(&what, v.quiet || json, || {
+            check_one(path, json, overrides, v, &mut bar)
+        });
+        if let Some(kind) = failed {
+            if worst.is_none_or(|w| kind.exit_code() > w.exit_code()) {
+                worst = Some(kind);
+            }
+        }
+        reports.push(report);
+    }
+    bar.clear();
+    if json {
+        print_json(&reports);
+    }
+    match worst {
+        None => Ok(()),
+        Some(kind) => Err(Error::shown(kind)),
+    }
+}
+
+/// Check one recipe: print its report (text unless `json`), return what
+/// failed, if anything, and the JSON report.
+fn check_one(
+    path: &Path,
+    json: bool,
+    overrides: &Overrides,
+    v: Verbosity,
+    bar: &mut Progress,
+) -> (Option<ErrorKind>, Checked) {
+    let file = path.display().to_string();
+    let fail = |e: Error, bar: &mut Progress| {
+        if !json {
+            bar.print(&e.text);
+        }
+        let mut checked = Checked::new(&file, "error");
+        checked.error = e.json.map(|j| *j);
+        (Some(e.kind), checked)
+    };
+    let recipe = match Recipe::read(path) {
+        Ok(r) => r,
+        Err(e) => return fail(e, bar),
+    };
+    let design = match recipe.parse(overrides) {
+        Ok(d) => d,
+        Err(e) => return fail(e, bar),
+    };
+    let lattice = match design.grow_with(&mut |note| fit_note(note, v, bar)) {
+        Ok(l) => l,
+        Err(d) => return fail(recipe.error(&d), bar),
+    };
+    bar.clear();
+    let report = verify(&lattice);
+    let deploy = deployment(&lattice);
+    let check = report::check_json(&design, &lattice, &report, &deploy);
+    if !json && !v.quiet {
+        out!(
+            "{}",
+            report::check_text(&design, &lattice, &report, &deploy)
+        );
+    }
+    if !report.passed() {
+        let mut checked = Checked::new(&file, "fail");
+        checked.check = Some(check);
+        return (Some(ErrorKind::VerificationFailed), checked);
+    }
+    if let Some(why) = too_large_to_fabricate(&design, &lattice) {
+        if !json && !v.quiet {
+            outln!(
+                "fabrication: not checked ({})\nresult: PASS (geometry verified)",
+                why.message
+            );
+        }
+        let mut checked = Checked::new(&file, "pass");
+        checked.check = Some(check);
+        return (None, checked);
+    }
+    match assemble_with(design, lattice, report, deploy) {
+        Ok(built) => {
+            if !json && !v.quiet {
+                out!("{}", built.summary());
+                outln!("result: PASS (geometry verified, every strip can be cut)");
+            }
+            let mut checked = Checked::new(&file, "pass");
+            checked.check = Some(check);
+            checked.build = Some(report::build_json(&built));
+            (None, checked)
+        }
+        Err(d) => {
+            let (failed, mut checked) = fail(recipe.error(&d), bar);
+            checked.check = Some(check);
+            (failed, checked)
+        }
+    }
+}
+
+/// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
+pub fn fit_note(note: &str, v: Verbosity, bar: &mut Progress) {
+    if v.verbose {
+        eprintln!("{note}");
+    } else {
+        bar.note(note);
+    }
+}

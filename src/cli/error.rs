@@ -1,0 +1,147 @@
+//! Why a command stopped: one error type for every command, shown on
+//! stderr and, with `--json`, as the run's one JSON document.
+
+use super::recipe::Recipe;
+use karigami::diagnostic::{Diagnostic, ErrorKind};
+use serde::Serialize;
+
+/// Why a command stopped. Its kind decides the exit status.
+#[derive(Debug)]
+pub struct Error {
+    pub kind: ErrorKind,
+    /// What stderr shows, ending in a newline; empty once shown.
+    pub text: String,
+    /// The error in the JSON reports; `None` once shown. Boxed: an error
+    /// travels in every `Result` of the CLI, which it should keep small.
+    pub json: Option<Box<ErrorJson>>,
+}
+
+/// An error in a JSON report.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum ErrorJson {
+    /// An error in a recipe: where it is and what to change (null where
+    /// the error has no such place).
+    Recipe {
+        class: &'static str,
+        message: String,
+        file: String,
+        line: Option<usize>,
+        column: Option<usize>,
+        site: Option<String>,
+        hint: Option<String>,
+    },
+    /// Any other error: a file, the command line, a refused --out.
+    Plain {
+        class: &'static str,
+        message: String,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        file: Option<String>,
+        /// The command-line parser's whole message.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        detail: Option<String>,
+    },
+}
+
+/// The one JSON document of a run that stopped before any report.
+#[derive(Serialize)]
+struct Stopped<'a> {
+    status: &'static str,
+    error: &'a ErrorJson,
+}
+
+impl Error {
+    /// An error without a place in a recipe: `error: MESSAGE`.
+    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
+        let message = message.into();
+        Self {
+            kind,
+            text: format!("error: {message}\n"),
+            json: Some(Box::new(ErrorJson::Plain {
+                class: kind.name(),
+                message,
+                file: None,
+                detail: None,
+            })),
+        }
+    }
+
+    pub fn usage(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::Usage, message)
+    }
+
+    pub fn io(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::Io, message)
+    }
+
+    /// A file that could not be read.
+    pub fn unreadable(file: &str, e: &std::io::Error) -> Self {
+        let mut error = Self::io(format!("cannot read {file}: {e}"));
+        if let Some(ErrorJson::Plain { file: f, .. }) = error.json.as_deref_mut() {
+            *f = Some(file.to_string());
+        }
+        error
+    }
+
+    /// A diagnostic against a recipe, rendered with its place.
+    pub fn recipe(recipe: &Recipe, d: &Diagnostic) -> Self {
+        let (line, column) = d.line_col(&recipe.source).unzip();
+        Self {
+            kind: d.kind,
+            text: d.render(&recipe.file, &recipe.source),
+            json: Some(Box::new(ErrorJson::Recipe {
+                class: d.kind.name(),
+                message: d.message.clone(),
+                file: recipe.file.clone(),
+                line,
+                column,
+                site: d.site.clone(),
+                hint: d.hint.clone(),
+            })),
+        }
+    }
+
+    /// An error already shown where it happened (each failed recipe of a
+    /// check or a batch): only its exit status is left to give.
+    pub fn shown(kind: ErrorKind) -> Self {
+        Self {
+            kind,
+            text: String::new(),
+            json: None,
+        }
+    }
+
+    /// Show it only on stderr: the JSON report holds the results already.
+    pub fn text_only(mut self) -> Self {
+        self.json = None;
+        self
+    }
+
+    pub fn exit_code(&self) -> i32 {
+        self.kind.exit_code()
+    }
+
+    /// Show what is left to show: the text on stderr and, with `--json`,
+    /// the error as the run's JSON document.
+    pub fn report(&self, json: bool) {
+        eprint!("{}", self.text);
+        if let (true, Some(error)) = (json, self.json.as_deref()) {
+            print_json(&Stopped {
+                status: "error",
+                error,
+            });
+        }
+    }
+}
+
+/// Print a JSON report on stdout. Its keys come out sorted, as they always
+/// have (through `serde_json::Value`), whatever the order of the fields.
+pub fn print_json(report: &impl Serialize) {
+    outln!("{}", json_text(report));
+}
+
+/// `print_json`'s text, for files.
+pub fn json_text(report: &impl Serialize) -> String {
+    let value = serde_json::to_value(report).expect("a report serialises");
+    serde_json::to_string_pretty(&value).expect("JSON is text")
+}

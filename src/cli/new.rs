@@ -1,0 +1,61 @@
+//! `karigami new`: a starter recipe from a template; `karigami templates`.
+
+use super::Verbosity;
+use super::error::Error;
+use super::files;
+use super::recipe::stem;
+use karigami::templates;
+use std::path::{Path, PathBuf};
+
+/// `karigami templates`: what `new` can start from.
+pub fn list() {
+    for t in templates::TEMPLATES {
+        outln!("{:<8} {}", t.name, t.about);
+    }
+}
+
+pub fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Error> {
+    let Some(t) = templates::find(template) else {
+        let names: Vec<_> = templates::TEMPLATES.iter().map(|t| t.name).collect();
+        return Err(Error::usage(format!(
+            "no template \"{template}\"; there are: {}",
+            names.join(", ")
+        )));
+    };
+    let file = Path::new(name)
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned());
+    let plain = file
+        .as_deref()
+        .filter(|f| !f.starts_with('.') && !f.chars().any(char::is_control) && *f != ".toml");
+    if plain.is_none() || name.chars().any(char::is_control) {
+        return Err(Error::usage(format!(
+            "{name:?} is not a usable recipe name: give a name that does not start with a dot and has no control characters, such as `karigami new my-sheet`"
+        )));
+    }
+    let path = if name.ends_with(".toml") {
+        PathBuf::from(name)
+    } else {
+        PathBuf::from(format!("{name}.toml"))
+    };
+    if path.exists() && !force {
+        return Err(Error::usage(format!(
+            "{} exists; choose another name or pass --force to overwrite it",
+            path.display()
+        )));
+    }
+    let design_name = stem(&path);
+    files::write_atomic(
+        &path,
+        templates::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes(),
+    )
+    .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
+    if !v.quiet {
+        outln!(
+            "wrote {} from the {} template; next: karigami check {0}",
+            path.display(),
+            t.name
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,71 @@
+//! Reading a recipe: its text, its name for messages and its default
+//! design name, and running it through the pipeline.
+
+use super::error::Error;
+use super::files;
+use karigami::build::{Build, build_with};
+use karigami::design::{self, Design, Overrides};
+use karigami::diagnostic::Diagnostic;
+use karigami::templates;
+use std::path::Path;
+
+/// The design `karigami build` uses when given none.
+pub const DEFAULT_TEMPLATE: &str = "sheet";
+
+/// A recipe as read: its text, its name for messages, its default design name.
+pub struct Recipe {
+    pub source: String,
+    pub file: String,
+    pub stem: String,
+}
+
+impl Recipe {
+    pub fn read(path: &Path) -> Result<Self, Error> {
+        let file = path.display().to_string();
+        let source = files::read(path).map_err(|e| Error::unreadable(&file, &e))?;
+        Ok(Self {
+            source,
+            file,
+            // The default design name reaches every output: plain text only.
+            stem: files::safe_component(&stem(path)),
+        })
+    }
+
+    pub fn built_in() -> Self {
+        Self {
+            source: templates::find(DEFAULT_TEMPLATE)
+                .expect("the default template exists")
+                .text
+                .to_string(),
+            file: "(built-in sheet)".to_string(),
+            stem: "karigami-sheet".to_string(),
+        }
+    }
+
+    pub fn parse(&self, overrides: &Overrides) -> Result<Design, Error> {
+        design::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.error(&d))
+    }
+
+    /// A diagnostic against this recipe, rendered and as JSON.
+    pub fn error(&self, d: &Diagnostic) -> Error {
+        Error::recipe(self, d)
+    }
+}
+
+/// The file name without its extension: a recipe's default design name and
+/// its subfolder in a batch.
+pub fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map_or("design".into(), |s| s.to_string_lossy().into_owned())
+}
+
+/// Parse, grow, verify and assemble one recipe (the build and batch paths;
+/// `check` goes step by step to print the report even when it fails).
+pub fn run_recipe(
+    recipe: &Recipe,
+    overrides: &Overrides,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Build, Error> {
+    let design = recipe.parse(overrides)?;
+    build_with(design, progress).map_err(|d| recipe.error(&d))
+}

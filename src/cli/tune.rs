@@ -1,0 +1,84 @@
+//! `karigami tune`: tune a helix seed until it grows the cells asked for
+//! (or, with an [optimise] table, run the design optimiser).
+
+use super::error::Error;
+use super::recipe::Recipe;
+use super::{Verbosity, files, optimise, progress};
+use karigami::design::{self, Overrides};
+use karigami::diagnostic::ErrorKind;
+use std::path::Path;
+
+pub fn tune(
+    path: &Path,
+    cells: Option<usize>,
+    out: Option<&Path>,
+    iterations: usize,
+    v: Verbosity,
+) -> Result<(), Error> {
+    let recipe = Recipe::read(path)?;
+    let design = recipe.parse(&Overrides::default())?;
+    if design.optimise.is_some() {
+        return optimise::run(&recipe, &design, out, v);
+    }
+    if design.kind != karigami::lattice::Kind::Helix {
+        return Err(Error::usage(format!(
+            "{}: `karigami tune` tunes helix seeds; this recipe's seed is \"{}\"",
+            recipe.file,
+            design.kind.name()
+        )));
+    }
+    let target = cells.unwrap_or(design.helix_cells);
+    // Legs shorter than the eyelet flange (plus a wall) cannot be built.
+    let min_leg = design.fabrication.eyelet.flange + 2.0 * design::MIN_WALL;
+    let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
+    let tuned = progress::heartbeat(&what, v.quiet, || {
+        design::tune::tune_helix(
+            design.dim,
+            &design.points,
+            &design.kappa,
+            target,
+            min_leg,
+            iterations,
+        )
+    });
+    let Some(text) = design.with_seed(&recipe.source, &tuned.points, &tuned.kappa) else {
+        return Err(Error::usage(format!(
+            "{}: write the seed as `points = [...]` and `kappa = [...]` to tune it",
+            recipe.file
+        )));
+    };
+    if !v.quiet {
+        eprintln!(
+            "tuned {} in {} tries: grows {} of {target} cells with legs of at least {min_leg:.1} mm (was {}); points moved up to {:.3} mm, kappa changed up to {:.3} mm",
+            recipe.file,
+            tuned.iterations,
+            tuned.cells_after,
+            tuned.cells_before,
+            tuned.max_move,
+            tuned.max_kappa_change
+        );
+    }
+    // Only a seed that reached the target is written: a failed tune leaves
+    // the --out file (often the recipe itself) as it was.
+    if tuned.cells_after < target {
+        let kept = out.map_or(String::new(), |o| {
+            format!("; {} was not written", o.display())
+        });
+        return Err(Error::new(
+            ErrorKind::TuneNotReached,
+            format!(
+                "the tuner did not reach {target} cells: try fewer cells, more --iterations, or another start seed{kept}"
+            ),
+        ));
+    }
+    match out {
+        Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
+            Error::io(format!(
+                "cannot write {}: {e}; it was left as it was",
+                o.display()
+            ))
+        })?,
+        None => out!("{text}"),
+    }
+    Ok(())
+}
