@@ -157,6 +157,16 @@ impl Fit {
             .iter()
             .map(|v| v.pos)
             .chain(lattice.cells.iter().map(|c| c.pivot));
+        Self::around(points, camera, origin, size)
+    }
+
+    /// Fit these points into the box at `origin` (top-left) of `size` mm.
+    pub fn around(
+        points: impl Iterator<Item = DVec3>,
+        camera: Camera,
+        origin: DVec2,
+        size: DVec2,
+    ) -> Self {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
         for p in points {
@@ -166,6 +176,9 @@ impl Fit {
             let d = p.dot(camera.forward);
             near = near.min(d);
             far = far.max(d);
+        }
+        if !lo.is_finite() {
+            (lo, hi, near, far) = (DVec2::ZERO, DVec2::ONE, 0.0, 1.0);
         }
         let extent = (hi - lo).max(DVec2::splat(1e-9));
         let scale = (size.x / extent.x).min(size.y / extent.y);

@@ -771,6 +771,9 @@ const LABEL_ROOM: f64 = 2.5;
 /// of up to 3 cells (several steps a page), above it for wider rows.
 struct StepLayout {
     side: bool,
+    /// Rows too fine to label in the whole-lattice picture: it is small and
+    /// unlabelled, and zoomed pictures of the row follow, a few cells each.
+    detail: bool,
     /// The picture's box (mm).
     size: DVec2,
 }
@@ -799,9 +802,21 @@ impl StepLayout {
             (l.min(y), h.max(y))
         });
         let ph = if hi > lo { hi - lo } else { cap }.clamp(25.0, cap);
+        // The median cell's width in that picture.
+        let fit = Fit::new(&b.assembled, step_camera(b), DVec2::ZERO, DVec2::new(pw, ph));
+        let l = &b.assembled;
+        let mut widths: Vec<f64> = l
+            .cells
+            .iter()
+            .map(|c| fit.map(l.vertex(c.ul).pos).distance(fit.map(l.vertex(c.ur).pos)))
+            .collect();
+        widths.sort_by(f64::total_cmp);
+        let median = widths.get(widths.len() / 2).copied().unwrap_or(0.0);
+        let detail = !side && median < DETAIL_CELL;
         Self {
             side,
-            size: DVec2::new(pw, ph),
+            detail,
+            size: DVec2::new(pw, if detail { ph.min(50.0) } else { ph }),
         }
     }
 }
@@ -833,6 +848,93 @@ fn bumps(b: &Build) -> Option<String> {
          evenly; how far the bumps rise depends on the strips' stiffness (docs/physics.md).",
         c.len()
     ))
+}
+
+/// Below this cell width (mm) a step picture is too fine to label.
+const DETAIL_CELL: f64 = 11.0;
+/// Cells in one zoomed picture of a wide row, and its height (mm).
+const DETAIL_CELLS: usize = 8;
+const DETAIL_HEIGHT: f64 = 42.0;
+
+/// Zoomed pictures of a wide step, `DETAIL_CELLS` cells each: the row above
+/// in grey and this row in colour, labelled like a whole-lattice picture.
+/// Each joint is labelled in the first picture that shows it.
+fn details(w: &mut Writer, b: &Build, step: &Step, named: &[usize]) {
+    let l = &b.assembled;
+    let camera = step_camera(b);
+    let chunks = step.cells.len().div_ceil(DETAIL_CELLS);
+    let per = step.cells.len().div_ceil(chunks.max(1));
+    let mut done = vec![false; step.joints.len()];
+    for cells in step.cells.chunks(per.max(1)) {
+        let cols: Vec<u32> = cells.iter().map(|&c| l.cells[c].col).collect();
+        let above: Vec<usize> = (0..l.cells.len())
+            .filter(|&c| {
+                let cell = &l.cells[c];
+                step.row > 0 && cell.row + 1 == step.row && cols.contains(&cell.col)
+            })
+            .filter(|_| l.kind != crate::lattice::Kind::Helix)
+            .collect();
+        let points = cells.iter().chain(&above).flat_map(|&c| {
+            let cell = &l.cells[c];
+            [cell.ul, cell.ur, cell.ll, cell.lr]
+                .map(|v| l.vertex(v).pos)
+                .into_iter()
+                .chain([cell.pivot])
+        });
+        let height = DETAIL_HEIGHT + 2.0 * LABEL_ROOM;
+        w.need(height + 2.0);
+        let top = w.y;
+        let at = DVec2::new(MARGIN, top + LABEL_ROOM);
+        let fit = Fit::around(points, camera, at, DVec2::new(w.width(), DETAIL_HEIGHT));
+        let width = (0.6 * fit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
+        let mut items = rods(l, &fit, &above, |_| {
+            Some(RodStyle {
+                colour: FAINT,
+                width,
+            })
+        });
+        items.extend(crossing_rods(l, &fit, cells, |_| {
+            Some(RodStyle {
+                colour: NEW,
+                width: width * 1.3,
+            })
+        }));
+        let mut vertices: Vec<usize> = cells
+            .iter()
+            .chain(&above)
+            .flat_map(|&c| {
+                let cell = &l.cells[c];
+                [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
+            })
+            .collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let all: Vec<usize> = cells.iter().chain(&above).copied().collect();
+        items.extend(pivots_and_vertices(l, &fit, &all, &vertices, width * 0.8));
+        let mut joints = Vec::new();
+        for (k, j) in step.joints.iter().enumerate() {
+            if !done[k] && vertices.contains(&(j.vertex as usize)) {
+                done[k] = true;
+                joints.push(j);
+            }
+        }
+        let mut placer = Placer::new(
+            DVec2::new(MARGIN - 1.0, top),
+            DVec2::new(MARGIN + w.width() + 1.0, top + height),
+        );
+        let shown = Shown {
+            cells,
+            joints,
+            first_row: step.row.saturating_sub(1),
+        };
+        items.extend(step_labels(b, step, &fit, &mut placer, named, &shown));
+        items.extend(placer.items);
+        w.push(items);
+        w.group_id = Some(format!("step-{}-labels", step.number));
+        w.close_group();
+        w.group_id = None;
+        w.y = top + height + 2.0;
+    }
 }
 
 /// A joint as the guide names it: `[row,col]`, or `[k]` on a helix.
@@ -1001,12 +1103,21 @@ fn wrap(text: &str, font: Font, size: f64, width: f64) -> Vec<String> {
 
 /// The labels of a step's picture: joint keys, the new strips' types (or
 /// IDs where the text names strips), column numbers, and a loop's seam.
+/// What one picture of a step shows and labels: the step's cells and
+/// joints in it, and the first row its seam line starts at.
+struct Shown<'a> {
+    cells: &'a [usize],
+    joints: Vec<&'a crate::lattice::Joint>,
+    first_row: u32,
+}
+
 fn step_labels(
     b: &Build,
     step: &Step,
     fit: &Fit,
     placer: &mut Placer,
     named: &[usize],
+    shown: &Shown,
 ) -> Vec<Item> {
     let l = &b.assembled;
     let strips = &b.parts.strips;
@@ -1016,7 +1127,7 @@ fn step_labels(
         let seam: Vec<DVec2> = l
             .vertices
             .iter()
-            .filter(|v| v.key.col == 0 && v.key.row <= step.row + 1)
+            .filter(|v| v.key.col == 0 && v.key.row >= shown.first_row && v.key.row <= step.row + 1)
             .map(|v| fit.map(v.pos))
             .collect();
         if seam.len() >= 2 {
@@ -1026,7 +1137,7 @@ fn step_labels(
             ));
         }
     }
-    for j in &step.joints {
+    for j in &shown.joints {
         placer.place(&Label {
             anchor: fit.map(l.vertex(j.vertex).pos),
             text: joint_key(&b.lattice, j.vertex),
@@ -1066,7 +1177,7 @@ fn step_labels(
             toward: DVec2::new(if s % 2 == 0 { -1.0 } else { 1.0 }, -0.3),
         });
     }
-    for &c in &step.cells {
+    for &c in shown.cells {
         for s in [2 * c, 2 * c + 1] {
             if labelled.contains(&s) {
                 continue;
@@ -1083,7 +1194,7 @@ fn step_labels(
         }
     }
     if l.kind != crate::lattice::Kind::Helix {
-        for &c in &step.cells {
+        for &c in shown.cells {
             let cell = &l.cells[c];
             let top = (fit.map(l.vertex(cell.ul).pos)
                 + fit.map(l.vertex(cell.ur).pos)
@@ -1102,7 +1213,9 @@ fn step_labels(
         if let Some(v) = l
             .vertices
             .iter()
-            .find(|v| v.key.col == 0 && v.key.row == step.row)
+            .find(|v| {
+                v.key.col == 0 && v.key.row == step.row && shown.cells.iter().any(|&c| l.cells[c].col == 0)
+            })
         {
             placer.place(&Label {
                 anchor: fit.map(v.pos),
@@ -1186,9 +1299,16 @@ fn step_block(
     } else {
         Vec::new()
     };
-    let seam = step_labels(b, step, &fit, &mut placer, &named);
-    w.push(seam);
-    w.push(placer.items);
+    if !layout.detail {
+        let shown = Shown {
+            cells: &step.cells,
+            joints: step.joints.iter().collect(),
+            first_row: 0,
+        };
+        let seam = step_labels(b, step, &fit, &mut placer, &named, &shown);
+        w.push(seam);
+        w.push(placer.items);
+    }
     w.group_id = Some(format!("step-{}-labels", step.number));
     w.close_group();
     w.group_id = Some(format!("step-{}-text", step.number));
@@ -1222,6 +1342,11 @@ fn step_block(
         w.y = top + pic_h.max(text_h);
     } else {
         w.y = top + pic_h;
+        w.close_group();
+        if layout.detail {
+            details(w, b, step, &named);
+            w.group_id = Some(format!("step-{}-text", step.number));
+        }
         w.running_head = Some(format!("Step {}", step.number));
         for (line, bold, colour) in &wrapped {
             let font = if *bold { Font::Bold } else { Font::Regular };
