@@ -401,14 +401,23 @@ fn named(text: &str) -> Vec<String> {
     for (i, w) in words.iter().enumerate() {
         let w = w.trim_end_matches(['.', ':', ';', ',', ')']);
         let w = w.trim_start_matches('(');
-        if w.starts_with('[') && w.ends_with(']') && w[1..w.len() - 1].chars().all(|c| c.is_ascii_digit() || c == ',') {
+        if w.starts_with('[')
+            && w.ends_with(']')
+            && w[1..w.len() - 1]
+                .chars()
+                .all(|c| c.is_ascii_digit() || c == ',')
+        {
             out.push(w.to_string());
         }
         if i > 0 && words[i - 1] == "type" {
             out.push(w.to_string());
         }
         let b = w.as_bytes();
-        if b.len() >= 9 && b[0] == b'R' && w.contains("-C") && (w.ends_with("-A") || w.ends_with("-B")) {
+        if b.len() >= 9
+            && b[0] == b'R'
+            && w.contains("-C")
+            && (w.ends_with("-A") || w.ends_with("-B"))
+        {
             out.push(w.to_string());
         }
     }
@@ -452,7 +461,11 @@ fn step_pictures_label_everything_their_text_names() {
             };
             let (words, labels) = (of("text"), of("labels"));
             assert!(!words.is_empty(), "{name} step {}: no words", step.number);
-            let words: String = words.iter().map(|w| w.1.as_str()).collect::<Vec<_>>().join(" ");
+            let words: String = words
+                .iter()
+                .map(|w| w.1.as_str())
+                .collect::<Vec<_>>()
+                .join(" ");
             let names = named(&words);
             let shown = shown(&labels);
             for n in &names {
@@ -470,10 +483,20 @@ fn step_pictures_label_everything_their_text_names() {
                 } else {
                     format!("[{},{}]", v.row, v.col)
                 };
-                assert!(names.contains(&key) && shown.contains(&key), "{name} step {}: {key}", step.number);
+                assert!(
+                    names.contains(&key) && shown.contains(&key),
+                    "{name} step {}: {key}",
+                    step.number
+                );
             }
             // "n x type X": exactly n of the step's strips are of type X.
-            let take = words.split("Take ").nth(1).unwrap().split('.').next().unwrap();
+            let take = words
+                .split("Take ")
+                .nth(1)
+                .unwrap()
+                .split('.')
+                .next()
+                .unwrap();
             let mut asked = 0;
             for part in take.split(", ") {
                 let (n, code) = part.split_once(" x type ").unwrap();
@@ -488,7 +511,11 @@ fn step_pictures_label_everything_their_text_names() {
             }
             assert_eq!(asked, step.strips.len());
             // The stacking side is said in every step, with the grips.
-            assert!(words.contains("Stacking side"), "{name} step {}", step.number);
+            assert!(
+                words.contains("Stacking side"),
+                "{name} step {}",
+                step.number
+            );
             if !step.joints.is_empty() {
                 assert!(words.contains("grip"), "{name} step {}", step.number);
             }
@@ -505,7 +532,11 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
         let b = example(name);
         let g = guide(&b);
         if name == "bowl" {
-            assert!(g.pages.len() <= 12, "the bowl guide has {} pages", g.pages.len());
+            assert!(
+                g.pages.len() <= 12,
+                "the bowl guide has {} pages",
+                g.pages.len()
+            );
         }
         let all = texts(
             g.pages
@@ -516,11 +547,17 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
         );
         assert!(all.len() > 50);
         for (size, text) in &all {
-            assert!(*size >= SMALLEST - 1e-9, "{name} guide: {text:?} at {size} mm");
+            assert!(
+                *size >= SMALLEST - 1e-9,
+                "{name} guide: {text:?} at {size} mm"
+            );
         }
         let preview = karigami::drawing::picture::preview(&b.assembled, 6.0, name);
         for (size, text) in texts(preview.groups.iter().flat_map(|gr| &gr.items)) {
-            assert!(size >= SMALLEST - 1e-9, "{name} preview: {text:?} at {size} mm");
+            assert!(
+                size >= SMALLEST - 1e-9,
+                "{name} preview: {text:?} at {size} mm"
+            );
         }
         // Cut sheets print only their caption (stroke text on the reference
         // layer, after the scale bar's three lines): its height.
@@ -529,7 +566,9 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
             let ys: Vec<f64> = caption.items[3..]
                 .iter()
                 .flat_map(|i| match &i.shape {
-                    karigami::drawing::Shape::Path { start, segments, .. } => {
+                    karigami::drawing::Shape::Path {
+                        start, segments, ..
+                    } => {
                         let mut v = vec![start.y];
                         v.extend(segments.iter().map(|s| match s {
                             karigami::drawing::Segment::Line(p) => p.y,
@@ -557,11 +596,21 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
         let b = example(name);
         let g = guide(&b);
         let l = &b.lattice;
-        let zs = l.vertices.iter().map(|v| v.z).chain(l.cells.iter().map(|c| c.z_pivot));
-        let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| (a.min(z), b.max(z)));
+        let zs = l
+            .vertices
+            .iter()
+            .map(|v| v.z)
+            .chain(l.cells.iter().map(|c| c.z_pivot));
+        let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+            (a.min(z), b.max(z))
+        });
         let mut tiles = Vec::new();
         for (p, page) in g.pages.iter().enumerate() {
-            for gr in page.groups.iter().filter(|gr| gr.id.starts_with("gauge-tile-")) {
+            for gr in page
+                .groups
+                .iter()
+                .filter(|gr| gr.id.starts_with("gauge-tile-"))
+            {
                 tiles.push((p, gr));
             }
         }
@@ -584,7 +633,13 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
                 .items
                 .iter()
                 .filter_map(|i| match &i.shape {
-                    Shape::Text { at, size, text: t, font, align } => {
+                    Shape::Text {
+                        at,
+                        size,
+                        text: t,
+                        font,
+                        align,
+                    } => {
                         let s = text::start(*at, t, *font, *size, *align);
                         let w = text::width(t, *font, *size);
                         Some((s.x, s.y - 0.75 * size, s.x + w, s.y + 0.2 * size))
@@ -609,23 +664,34 @@ fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() 
     let mut b = example("flat-sheet");
     let t = b.design.fabrication.material.thickness;
     let words = |b: &Build| -> String {
-        texts(guide(b).pages.iter().flat_map(|p| &p.groups).flat_map(|gr| &gr.items))
-            .into_iter()
-            .map(|t| t.1)
-            .collect::<Vec<_>>()
-            .join(" ")
+        texts(
+            guide(b)
+                .pages
+                .iter()
+                .flat_map(|p| &p.groups)
+                .flat_map(|gr| &gr.items),
+        )
+        .into_iter()
+        .map(|t| t.1)
+        .collect::<Vec<_>>()
+        .join(" ")
     };
     let text = words(&b);
     for ty in &b.parts.types {
         assert!(text.contains(&ty.code), "type {}", ty.code);
     }
     let grips = karigami::guide::eyelets_by_grip(&b);
-    assert_eq!(grips.iter().map(|g| g.1 + g.2).sum::<usize>(), b.parts.eyelets());
+    assert_eq!(
+        grips.iter().map(|g| g.1 + g.2).sum::<usize>(),
+        b.parts.eyelets()
+    );
     for (k, _, _) in &grips {
         assert!(text.contains(&format!("{:.1} mm ({k} strips)", *k as f64 * t)));
     }
     assert!(text.contains("loose enough"));
-    let piece = text.find("Before step 1: cut and test the test piece").expect("the test piece");
+    let piece = text
+        .find("Before step 1: cut and test the test piece")
+        .expect("the test piece");
     assert!(piece < text.find("Step 1 of").unwrap());
     assert!(text.contains("100 mm"));
     b.design.fabrication.test_piece = false;

@@ -34,6 +34,18 @@ impl Camera {
         }
     }
 
+    /// Looking along `forward` with `up` up the page (made square to
+    /// forward); None when they are parallel.
+    pub fn looking(forward: DVec3, up: DVec3) -> Option<Self> {
+        let forward = forward.try_normalize()?;
+        let up = (up - up.dot(forward) * forward).try_normalize()?;
+        Some(Self {
+            right: forward.cross(up),
+            up,
+            forward,
+        })
+    }
+
     fn tilted(lattice: &Lattice, tilt_deg: f64) -> Self {
         if lattice.dim == 2 {
             return Self {

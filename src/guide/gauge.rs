@@ -53,7 +53,12 @@ fn ticks(b: &Build) -> Vec<(f64, Vec<String>, bool)> {
     // Holes closer than 0.05 mm share a tick.
     let mut ticks: Vec<(f64, Vec<String>, bool)> = Vec::new();
     for (z, label, vertex) in marks {
-        match ticks.iter_mut().rev().take(4).find(|t| (z - t.0).abs() < 0.05 && t.2 == vertex) {
+        match ticks
+            .iter_mut()
+            .rev()
+            .take(4)
+            .find(|t| (z - t.0).abs() < 0.05 && t.2 == vertex)
+        {
             Some(t) => t.1.push(label),
             None => ticks.push((z, vec![label], vertex)),
         }
@@ -149,12 +154,18 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
         // The line itself first: tests read its length from here.
         let mut items = vec![Item::art(
             Ink::line(BLACK, 0.3),
-            Shape::polyline(&[DVec2::new(x_line, y(from)), DVec2::new(x_line, y(to))], false),
+            Shape::polyline(
+                &[DVec2::new(x_line, y(from)), DVec2::new(x_line, y(to))],
+                false,
+            ),
         )];
         // The 1:1 ruler: millimetre ticks, numbers every 10 mm.
         items.push(Item::art(
             Ink::line(GREY, 0.2),
-            Shape::polyline(&[DVec2::new(x_ruler, y(from)), DVec2::new(x_ruler, y(to))], false),
+            Shape::polyline(
+                &[DVec2::new(x_ruler, y(from)), DVec2::new(x_ruler, y(to))],
+                false,
+            ),
         ));
         let mut k = from.ceil() as i64;
         while k as f64 <= to + 1e-9 {
@@ -193,9 +204,16 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
         let mut last = [f64::NEG_INFINITY; 2];
         let mut open: [Option<(usize, Vec<String>, usize)>; 2] = [None, None];
         let mut labels: Vec<(f64, f64, f64, String, bool)> = Vec::new();
-        for (z, names, vertex) in ticks.iter().filter(|t| t.0 >= from - 1e-9 && t.0 <= to + 1e-9) {
+        for (z, names, vertex) in ticks
+            .iter()
+            .filter(|t| t.0 >= from - 1e-9 && t.0 <= to + 1e-9)
+        {
             let ty = y(*z);
-            let (colour, dir) = if *vertex { (VERTEX, 1.0) } else { (PIVOT, -1.0) };
+            let (colour, dir) = if *vertex {
+                (VERTEX, 1.0)
+            } else {
+                (PIVOT, -1.0)
+            };
             let reach = if *vertex { 7.0 } else { 5.0 };
             items.push(Item::art(
                 Ink::line(colour, 0.3),
@@ -229,7 +247,10 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
             items.push(Item::art(
                 Ink::line(colour, 0.12),
                 Shape::polyline(
-                    &[DVec2::new(x_end, ty), DVec2::new(x_text - reach.signum(), ly)],
+                    &[
+                        DVec2::new(x_end, ty),
+                        DVec2::new(x_text - reach.signum(), ly),
+                    ],
                     false,
                 ),
             ));
@@ -257,7 +278,10 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
             items.push(Item::art(
                 Ink::line(BLACK, 0.15),
                 Shape::polyline(
-                    &[DVec2::new(x_ruler - 12.0, yy), DVec2::new(x_line + 60.0, yy)],
+                    &[
+                        DVec2::new(x_ruler - 12.0, yy),
+                        DVec2::new(x_line + 60.0, yy),
+                    ],
                     false,
                 ),
             ));

@@ -44,7 +44,11 @@ impl Placer {
     }
 
     pub fn place(&mut self, label: &Label) {
-        let font = if label.bold { Font::Bold } else { Font::Regular };
+        let font = if label.bold {
+            Font::Bold
+        } else {
+            Font::Regular
+        };
         let w = width(&label.text, font, SIZE) + 0.8;
         let h = SIZE * 0.95;
         let half = DVec2::new(w / 2.0, h / 2.0);
@@ -86,7 +90,10 @@ impl Placer {
         // Crowded beyond every spot: the nearest spot inside the picture.
         let (centre, ring) = chosen.unwrap_or_else(|| {
             let c = label.anchor + toward * (half.y + 0.6);
-            (c.clamp(self.lo + half, (self.hi - half).max(self.lo + half)), 0)
+            (
+                c.clamp(self.lo + half, (self.hi - half).max(self.lo + half)),
+                0,
+            )
         });
         self.taken.push((centre - half, centre + half));
         if ring > 0 {

@@ -12,11 +12,11 @@ use crate::build::Build;
 use crate::drawing::picture::{
     Camera, Fit, RodStyle, VERTEX, crossing_rods, lattice_picture, pivots_and_vertices, rods,
 };
-use labels::{Label, Placer};
-pub use gauge::{GAUGE_OVERLAP, gauge_tiles};
 use crate::drawing::{Align, Font, Group, Ink, Item, Page, Place, Shape, Symbol};
 use crate::lattice::VertexKey;
+pub use gauge::{GAUGE_OVERLAP, gauge_tiles};
 use glam::DVec2;
+use labels::{Label, Placer};
 pub use steps::{Step, steps};
 
 const MARGIN: f64 = 15.0;
@@ -70,6 +70,9 @@ impl Writer {
         if self.items.is_empty() && self.groups.is_empty() {
             return;
         }
+        // The footer belongs to no step: close the open group first.
+        self.close_group();
+        let id = self.group_id.take();
         let number = self.pages.len() + 1;
         let footer = format!("{} - page {number}", self.title);
         let at = DVec2::new(self.size.0 / 2.0, self.size.1 - MARGIN / 2.0);
@@ -82,6 +85,7 @@ impl Writer {
             GREY,
         ));
         self.close_group();
+        self.group_id = id;
         self.pages.push(Page {
             width: self.size.0,
             height: self.size.1,
@@ -102,7 +106,10 @@ impl Writer {
         if self.y + height > self.bottom() {
             self.new_page();
             if let Some(head) = self.running_head.clone() {
+                let id = self.group_id.take();
                 self.text(&format!("{head} (continued)"), BODY, Font::Bold, GREY);
+                self.close_group();
+                self.group_id = id;
                 self.y += 2.0;
             }
         }
@@ -354,12 +361,7 @@ impl StepPictures {
     }
 
     fn fit(b: &Build, origin: DVec2, size: DVec2) -> Fit {
-        Fit::new(
-            &b.assembled,
-            step_camera(b),
-            origin,
-            size,
-        )
+        Fit::new(&b.assembled, step_camera(b), origin, size)
     }
 
     fn rod_width(b: &Build, fit: &Fit) -> f64 {
@@ -467,10 +469,7 @@ fn cover(w: &mut Writer, b: &Build, steps: &[Step], side: &stacking::Side) {
     }
     w.y += 3.0;
     w.paragraph(
-        &format!(
-            "Stacking side: {}. {}",
-            side.name, side.explain
-        ),
+        &format!("Stacking side: {}. {}", side.name, side.explain),
         BODY,
         BLACK,
     );
@@ -675,7 +674,10 @@ fn materials(w: &mut Writer, b: &Build) {
         buy += n + spares(n);
     }
     w.text(
-        &format!("{total} {} eyelets in all; buy {buy} with spares", fab.eyelet.name),
+        &format!(
+            "{total} {} eyelets in all; buy {buy} with spares",
+            fab.eyelet.name
+        ),
         BODY,
         Font::Bold,
         BLACK,
@@ -688,7 +690,12 @@ fn test_piece_block(w: &mut Writer, b: &Build) {
     let fab = &b.design.fabrication;
     w.need(40.0);
     w.y += 2.0;
-    w.text("Before step 1: cut and test the test piece", 5.0, Font::Bold, BLACK);
+    w.text(
+        "Before step 1: cut and test the test piece",
+        5.0,
+        Font::Bold,
+        BLACK,
+    );
     let text = match crate::parts::test_piece(fab) {
         Some(piece) => {
             let diameters: Vec<String> = piece.holes.iter().map(|h| format!("{:.1}", h.1)).collect();
@@ -771,7 +778,7 @@ const LABEL_ROOM: f64 = 2.5;
 /// of up to 3 cells (several steps a page), above it for wider rows.
 struct StepLayout {
     side: bool,
-    /// Rows too fine to label in the whole-lattice picture: it is small and
+    /// Rows of more than a few cells: the whole-lattice picture is small and
     /// unlabelled, and zoomed pictures of the row follow, a few cells each.
     detail: bool,
     /// The picture's box (mm).
@@ -791,7 +798,12 @@ impl StepLayout {
         };
         let cap = if side { 40.0 } else { STEP_PICTURE };
         // The lattice's height on the page when fitted to the width alone.
-        let fit = Fit::new(&b.assembled, step_camera(b), DVec2::ZERO, DVec2::new(pw, 1e4));
+        let fit = Fit::new(
+            &b.assembled,
+            step_camera(b),
+            DVec2::ZERO,
+            DVec2::new(pw, 1e4),
+        );
         let ys = b
             .assembled
             .vertices
@@ -802,17 +814,10 @@ impl StepLayout {
             (l.min(y), h.max(y))
         });
         let ph = if hi > lo { hi - lo } else { cap }.clamp(25.0, cap);
-        // The median cell's width in that picture.
-        let fit = Fit::new(&b.assembled, step_camera(b), DVec2::ZERO, DVec2::new(pw, ph));
-        let l = &b.assembled;
-        let mut widths: Vec<f64> = l
-            .cells
-            .iter()
-            .map(|c| fit.map(l.vertex(c.ul).pos).distance(fit.map(l.vertex(c.ur).pos)))
-            .collect();
-        widths.sort_by(f64::total_cmp);
-        let median = widths.get(widths.len() / 2).copied().unwrap_or(0.0);
-        let detail = !side && median < DETAIL_CELL;
+        // A row of more than a few cells is labelled in zoomed pictures:
+        // in the whole lattice its cells are too small, or hidden behind
+        // the rows before it (a torus's inner rings).
+        let detail = !side;
         Self {
             side,
             detail,
@@ -850,8 +855,6 @@ fn bumps(b: &Build) -> Option<String> {
     ))
 }
 
-/// Below this cell width (mm) a step picture is too fine to label.
-const DETAIL_CELL: f64 = 11.0;
 /// Cells in one zoomed picture of a wide row, and its height (mm).
 const DETAIL_CELLS: usize = 8;
 const DETAIL_HEIGHT: f64 = 42.0;
@@ -861,8 +864,14 @@ const DETAIL_HEIGHT: f64 = 42.0;
 /// Each joint is labelled in the first picture that shows it.
 fn details(w: &mut Writer, b: &Build, step: &Step, named: &[usize]) {
     let l = &b.assembled;
-    let camera = step_camera(b);
-    let chunks = step.cells.len().div_ceil(DETAIL_CELLS);
+    // On a 3-D loop a picture shows at most a quarter of the ring, so that
+    // it is seen square on.
+    let most = if l.dim == 3 && l.kind == crate::lattice::Kind::Loop {
+        l.width.div_ceil(4).clamp(1, DETAIL_CELLS)
+    } else {
+        DETAIL_CELLS
+    };
+    let chunks = step.cells.len().div_ceil(most);
     let per = step.cells.len().div_ceil(chunks.max(1));
     let mut done = vec![false; step.joints.len()];
     for cells in step.cells.chunks(per.max(1)) {
@@ -881,6 +890,7 @@ fn details(w: &mut Writer, b: &Build, step: &Step, named: &[usize]) {
                 .into_iter()
                 .chain([cell.pivot])
         });
+        let camera = detail_camera(b, cells).unwrap_or_else(|| step_camera(b));
         let height = DETAIL_HEIGHT + 2.0 * LABEL_ROOM;
         w.need(height + 2.0);
         let top = w.y;
@@ -926,6 +936,7 @@ fn details(w: &mut Writer, b: &Build, step: &Step, named: &[usize]) {
             cells,
             joints,
             first_row: step.row.saturating_sub(1),
+            vertices: Some(&vertices),
         };
         items.extend(step_labels(b, step, &fit, &mut placer, named, &shown));
         items.extend(placer.items);
@@ -935,6 +946,33 @@ fn details(w: &mut Writer, b: &Build, step: &Step, named: &[usize]) {
         w.group_id = None;
         w.y = top + height + 2.0;
     }
+}
+
+/// A camera square on to a stretch of a loop's row, from outside, the row
+/// above at the top; None for other lattices (their step camera serves).
+fn detail_camera(b: &Build, cells: &[usize]) -> Option<Camera> {
+    let l = &b.assembled;
+    if l.dim != 3 || l.kind == crate::lattice::Kind::Sheet {
+        return None;
+    }
+    let (mut normal, mut up, mut centre) =
+        (glam::DVec3::ZERO, glam::DVec3::ZERO, glam::DVec3::ZERO);
+    for &c in cells {
+        let [ul, ur, ll, lr] = l.corners(&l.cells[c]);
+        normal += (ur - ul).cross(ll - ul).normalize_or_zero();
+        up += (ul + ur - ll - lr).normalize_or_zero();
+        centre += l.cells[c].pivot;
+    }
+    centre /= cells.len().max(1) as f64;
+    let middle =
+        l.vertices.iter().map(|v| v.pos).sum::<glam::DVec3>() / l.vertices.len().max(1) as f64;
+    // Outward: away from the lattice's centre.
+    let outward = if normal.dot(centre - middle) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    Camera::looking(-outward, up)
 }
 
 /// A joint as the guide names it: `[row,col]`, or `[k]` on a helix.
@@ -972,11 +1010,7 @@ fn step_text(
     let t = b.design.fabrication.material.thickness;
     let helix = l.kind == crate::lattice::Kind::Helix;
     let what = if helix { "cell" } else { "row" };
-    let mut lines = vec![(
-        format!("Take {}.", take_list(b, &step.strips)),
-        true,
-        BLACK,
-    )];
+    let mut lines = vec![(format!("Take {}.", take_list(b, &step.strips)), true, BLACK)];
     let place = match stacking::place(l, step) {
         stacking::Place::First => format!("This is the first {what}: lay it out as pictured."),
         stacking::Place::Over => format!("This {what} goes on top of the work."),
@@ -1109,6 +1143,8 @@ struct Shown<'a> {
     cells: &'a [usize],
     joints: Vec<&'a crate::lattice::Joint>,
     first_row: u32,
+    /// The vertices in the picture, sorted (None: all).
+    vertices: Option<&'a [usize]>,
 }
 
 fn step_labels(
@@ -1127,8 +1163,14 @@ fn step_labels(
         let seam: Vec<DVec2> = l
             .vertices
             .iter()
-            .filter(|v| v.key.col == 0 && v.key.row >= shown.first_row && v.key.row <= step.row + 1)
-            .map(|v| fit.map(v.pos))
+            .enumerate()
+            .filter(|(i, v)| {
+                v.key.col == 0
+                    && v.key.row >= shown.first_row
+                    && v.key.row <= step.row + 1
+                    && shown.vertices.is_none_or(|vs| vs.binary_search(i).is_ok())
+            })
+            .map(|(_, v)| fit.map(v.pos))
             .collect();
         if seam.len() >= 2 {
             extra.push(Item::art(
@@ -1210,13 +1252,11 @@ fn step_labels(
         }
     }
     if l.kind == crate::lattice::Kind::Loop {
-        if let Some(v) = l
-            .vertices
-            .iter()
-            .find(|v| {
-                v.key.col == 0 && v.key.row == step.row && shown.cells.iter().any(|&c| l.cells[c].col == 0)
-            })
-        {
+        if let Some(v) = l.vertices.iter().find(|v| {
+            v.key.col == 0
+                && v.key.row == step.row
+                && shown.cells.iter().any(|&c| l.cells[c].col == 0)
+        }) {
             placer.place(&Label {
                 anchor: fit.map(v.pos),
                 text: "seam".into(),
@@ -1304,6 +1344,7 @@ fn step_block(
             cells: &step.cells,
             joints: step.joints.iter().collect(),
             first_row: 0,
+            vertices: None,
         };
         let seam = step_labels(b, step, &fit, &mut placer, &named, &shown);
         w.push(seam);
@@ -1313,10 +1354,7 @@ fn step_block(
     w.close_group();
     w.group_id = Some(format!("step-{}-text", step.number));
     let what = if helix { "cell" } else { "row" };
-    let title = format!(
-        "Step {} of {count} - {what} {}",
-        step.number, step.row
-    );
+    let title = format!("Step {} of {count} - {what} {}", step.number, step.row);
     w.items.push(text_item(
         DVec2::new(text_x, title_y + 4.5),
         4.5,
@@ -1374,7 +1412,6 @@ fn rect(x: f64, y: f64, w: f64, h: f64) -> Shape {
         true,
     )
 }
-
 
 fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
     w.need(90.0);
