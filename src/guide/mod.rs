@@ -259,7 +259,7 @@ pub fn guide(b: &Build) -> Guide {
     materials(&mut w, b);
     test_piece_block(&mut w, b);
     let layout = StepLayout::new(b, &steps, w.width());
-    let pictures = StepPictures::new(b, &steps, layout.size);
+    let pictures = StepPictures::new(b, &steps, layout.overview());
     for step in &steps {
         step_block(&mut w, b, step, steps.len(), &pictures, &layout, &side);
     }
@@ -783,6 +783,20 @@ struct StepLayout {
     detail: bool,
     /// The picture's box (mm).
     size: DVec2,
+    /// Beside the text, the whole lattice takes the box's left part and a
+    /// zoomed picture of the step starts this far (mm) from its left.
+    zoom_x: f64,
+}
+
+impl StepLayout {
+    /// The box of the whole-lattice picture.
+    fn overview(&self) -> DVec2 {
+        if self.side {
+            DVec2::new(self.zoom_x - 3.0, self.size.y)
+        } else {
+            self.size
+        }
+    }
 }
 
 impl StepLayout {
@@ -822,6 +836,7 @@ impl StepLayout {
             side,
             detail,
             size: DVec2::new(pw, if detail { ph.min(50.0) } else { ph }),
+            zoom_x: if side { (0.4 * pw).round() } else { 0.0 },
         }
     }
 }
@@ -1318,7 +1333,7 @@ fn step_block(
     let at = DVec2::new(MARGIN, top + LABEL_ROOM);
     let k = step.number - 1;
     w.place(pictures.prefix(&pictures.faint, &pictures.faint_blocks, k, at));
-    let fit = StepPictures::fit(b, at, layout.size);
+    let fit = StepPictures::fit(b, at, layout.overview());
     let width = pictures.width;
     w.push(crossing_rods(&b.assembled, &fit, &step.cells, |_| {
         Some(RodStyle {
@@ -1327,10 +1342,6 @@ fn step_block(
         })
     }));
     w.place(pictures.prefix(&pictures.dots, &pictures.dot_blocks, k + 1, at));
-    let mut placer = Placer::new(
-        DVec2::new(MARGIN - 1.0, top),
-        DVec2::new(MARGIN + layout.size.x + 1.0, top + pic_h),
-    );
     let named: Vec<usize> = if order.is_none() {
         step.joints
             .iter()
@@ -1339,16 +1350,77 @@ fn step_block(
     } else {
         Vec::new()
     };
-    if !layout.detail {
+    if layout.side {
+        // The whole lattice is small beside the text: the step's cells and
+        // the cells they join are drawn again, zoomed, right of it, and
+        // labelled there.
+        let l = &b.assembled;
+        let mut corner = vec![false; l.vertices.len()];
+        for &c in &step.cells {
+            let cell = &l.cells[c];
+            for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+                corner[v as usize] = true;
+            }
+        }
+        let k0 = step.number - 1;
+        let around: Vec<usize> = (0..l.cells.len())
+            .filter(|&c| {
+                let cell = &l.cells[c];
+                l.step_of(c) < k0
+                    && [cell.ul, cell.ur, cell.ll, cell.lr]
+                        .iter()
+                        .any(|&v| corner[v as usize])
+            })
+            .collect();
+        let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();
+        let mut vertices: Vec<usize> = all
+            .iter()
+            .flat_map(|&c| {
+                let cell = &l.cells[c];
+                [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
+            })
+            .collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let camera = detail_camera(b, &step.cells).unwrap_or_else(|| step_camera(b));
+        let zoom_at = DVec2::new(MARGIN + layout.zoom_x, top + LABEL_ROOM);
+        let zoom_size = DVec2::new(layout.size.x - layout.zoom_x, layout.size.y);
+        let points = vertices
+            .iter()
+            .map(|&v| l.vertices[v].pos)
+            .chain(all.iter().map(|&c| l.cells[c].pivot));
+        let zfit = Fit::around(points, camera, zoom_at, zoom_size);
+        let zw = (0.6 * zfit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
+        let mut items = vec![Item::art(
+            Ink::line(FAINT, 0.2),
+            rect(MARGIN + layout.zoom_x - 1.5, top, zoom_size.x + 1.5, pic_h),
+        )];
+        items.extend(rods(l, &zfit, &around, |_| {
+            Some(RodStyle {
+                colour: FAINT,
+                width: zw,
+            })
+        }));
+        items.extend(crossing_rods(l, &zfit, &step.cells, |_| {
+            Some(RodStyle {
+                colour: NEW,
+                width: zw * 1.3,
+            })
+        }));
+        items.extend(pivots_and_vertices(l, &zfit, &all, &vertices, zw * 0.8));
+        let mut placer = Placer::new(
+            DVec2::new(MARGIN + layout.zoom_x - 1.0, top),
+            DVec2::new(MARGIN + layout.size.x + 1.0, top + pic_h),
+        );
         let shown = Shown {
             cells: &step.cells,
             joints: step.joints.iter().collect(),
             first_row: 0,
-            vertices: None,
+            vertices: Some(&vertices),
         };
-        let seam = step_labels(b, step, &fit, &mut placer, &named, &shown);
-        w.push(seam);
-        w.push(placer.items);
+        items.extend(step_labels(b, step, &zfit, &mut placer, &named, &shown));
+        items.extend(placer.items);
+        w.push(items);
     }
     w.group_id = Some(format!("step-{}-labels", step.number));
     w.close_group();
