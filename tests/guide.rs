@@ -85,8 +85,8 @@ fn the_guide_pdf_has_every_page_and_every_strip_id() {
     let b = example("flat-sheet");
     let pages = guide(&b).pages;
     let steps = steps(&b.lattice).len();
-    // Cover, bill of materials, one or more pages a step, the gauge, the checklist.
-    assert!(pages.len() >= steps + 4, "{} pages", pages.len());
+    // Cover, bill of materials, the steps (several a page), the gauge, the checklist.
+    assert!(pages.len() >= 4, "{} pages", pages.len());
     let dir = scratch("guide-pdf");
     let recipe = repo().join("examples/flat-sheet.toml");
     for (out, paper, size) in [
@@ -129,7 +129,7 @@ fn the_guide_pdf_has_every_page_and_every_strip_id() {
             );
         }
         for k in 1..=steps {
-            assert!(text.contains(&format!("Step {k}")), "step {k}");
+            assert!(text.contains(&format!("Step {k} of {steps}")), "step {k}");
         }
         assert!(
             text.contains("Bill of materials")
@@ -306,10 +306,13 @@ fn guide_golden_30x30_pages_and_text() {
 
 /// Bytes of the guide per cell at most: each row's drawing is written once
 /// and placed by reference on later step pages, so the guide grows with the
-/// cells (about 510 bytes a cell for 30 x 30, text included). Drawing every
-/// row again on every step page took 1,943 bytes a cell at 30 x 30, and
-/// rows times that per cell in general.
-const GUIDE_BYTES_PER_CELL: u64 = 600;
+/// cells. Drawing every row again on every step page took 1,943 bytes a cell
+/// at 30 x 30, and rows times that per cell in general. Since the step
+/// pictures are labelled (issue 13), a row too fine to label in the whole
+/// picture also gets zoomed pictures of itself and the row above, with a
+/// label per strip, joint and column: about 980 bytes a cell at 30 x 30,
+/// still the same for every row.
+const GUIDE_BYTES_PER_CELL: u64 = 1100;
 
 /// Every page of the 30 x 30 guide renders with poppler without a word on
 /// stderr (a broken content stream or a missing resource is reported
@@ -355,4 +358,322 @@ fn guide_30x30_renders_every_page_and_grows_with_the_cells() {
         })
         .count();
     assert_eq!(rendered, pages, "pdftoppm renders every page");
+}
+
+/// The texts of a group's items (font size, text), with its symbols' items.
+fn texts<'a>(items: impl Iterator<Item = &'a karigami::drawing::Item>) -> Vec<(f64, String)> {
+    items
+        .filter_map(|i| match &i.shape {
+            karigami::drawing::Shape::Text { size, text, .. } => Some((*size, text.clone())),
+            _ => None,
+        })
+        .collect()
+}
+
+/// What a step's words name: joint keys `[r,c]` or `[k]`, part types
+/// ("type X" gives X) and strip IDs (R..-C..-A/B).
+fn named(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let words: Vec<&str> = text
+        .split(char::is_whitespace)
+        .filter(|w| !w.is_empty())
+        .collect();
+    for (i, w) in words.iter().enumerate() {
+        let w = w.trim_end_matches(['.', ':', ';', ',', ')']);
+        let w = w.trim_start_matches('(');
+        if w.starts_with('[')
+            && w.ends_with(']')
+            && w[1..w.len() - 1]
+                .chars()
+                .all(|c| c.is_ascii_digit() || c == ',')
+        {
+            out.push(w.to_string());
+        }
+        if i > 0 && words[i - 1] == "type" {
+            out.push(w.to_string());
+        }
+        let b = w.as_bytes();
+        if b.len() >= 9
+            && b[0] == b'R'
+            && w.contains("-C")
+            && (w.ends_with("-A") || w.ends_with("-B"))
+        {
+            out.push(w.to_string());
+        }
+    }
+    out
+}
+
+/// Tokens a picture label shows: "R01-C02-A (E)" shows R01-C02-A and E.
+fn shown(labels: &[(f64, String)]) -> HashSet<String> {
+    labels
+        .iter()
+        .flat_map(|(_, t)| {
+            t.split(|c: char| c.is_whitespace() || c == '(' || c == ')')
+                .filter(|w| !w.is_empty())
+                .map(str::to_string)
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+const GUIDE_EXAMPLES: [&str; 5] = ["flat-sheet", "torus", "bowl", "eggbox", "curved-sheet"];
+
+/// For every step of every example guide, each joint key, part type and
+/// strip ID the step's words name is drawn as a label in its picture; the
+/// types asked for ("2 x type E") are what the step's strips are.
+#[test]
+fn step_pictures_label_everything_their_text_names() {
+    for name in GUIDE_EXAMPLES {
+        let b = example(name);
+        let g = guide(&b);
+        let steps = steps(&b.lattice);
+        for step in &steps {
+            let of = |suffix: &str| -> Vec<(f64, String)> {
+                let id = format!("step-{}-{suffix}", step.number);
+                texts(
+                    g.pages
+                        .iter()
+                        .flat_map(|p| &p.groups)
+                        .filter(|gr| gr.id == id)
+                        .flat_map(|gr| &gr.items),
+                )
+            };
+            let (words, labels) = (of("text"), of("labels"));
+            assert!(!words.is_empty(), "{name} step {}: no words", step.number);
+            let words: String = words
+                .iter()
+                .map(|w| w.1.as_str())
+                .collect::<Vec<_>>()
+                .join(" ");
+            let names = named(&words);
+            let shown = shown(&labels);
+            for n in &names {
+                assert!(
+                    shown.contains(n),
+                    "{name} step {}: the text names {n} but the picture does not show it (it shows {shown:?})",
+                    step.number
+                );
+            }
+            // Every joint the step closes is named and labelled.
+            for j in &step.joints {
+                let v = b.lattice.vertex(j.vertex).key;
+                let key = if b.lattice.kind == karigami::lattice::Kind::Helix {
+                    format!("[{}]", v.col)
+                } else {
+                    format!("[{},{}]", v.row, v.col)
+                };
+                assert!(
+                    names.contains(&key) && shown.contains(&key),
+                    "{name} step {}: {key}",
+                    step.number
+                );
+            }
+            // "n x type X": exactly n of the step's strips are of type X.
+            let take = words
+                .split("Take ")
+                .nth(1)
+                .unwrap()
+                .split('.')
+                .next()
+                .unwrap();
+            let mut asked = 0;
+            for part in take.split(", ") {
+                let (n, code) = part.split_once(" x type ").unwrap();
+                let n: usize = n.parse().unwrap();
+                let count = step
+                    .strips
+                    .iter()
+                    .filter(|&&s| b.parts.types[b.parts.strips[s].part_type].code == code)
+                    .count();
+                assert_eq!(n, count, "{name} step {}: type {code}", step.number);
+                asked += n;
+            }
+            assert_eq!(asked, step.strips.len());
+            // The stacking side is said in every step, with the grips.
+            assert!(
+                words.contains("Stacking side"),
+                "{name} step {}",
+                step.number
+            );
+            if !step.joints.is_empty() {
+                assert!(words.contains("grip"), "{name} step {}", step.number);
+            }
+        }
+    }
+}
+
+/// Item 7: the bowl's guide fits in 12 pages, and nothing in any guide,
+/// preview or cut sheet is printed smaller than 2.5 mm.
+#[test]
+fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
+    const SMALLEST: f64 = 2.5;
+    for name in GUIDE_EXAMPLES {
+        let b = example(name);
+        let g = guide(&b);
+        if name == "bowl" {
+            assert!(
+                g.pages.len() <= 12,
+                "the bowl guide has {} pages",
+                g.pages.len()
+            );
+        }
+        let all = texts(
+            g.pages
+                .iter()
+                .flat_map(|p| &p.groups)
+                .flat_map(|gr| &gr.items)
+                .chain(g.symbols.iter().flat_map(|s| &s.items)),
+        );
+        assert!(all.len() > 50);
+        for (size, text) in &all {
+            assert!(
+                *size >= SMALLEST - 1e-9,
+                "{name} guide: {text:?} at {size} mm"
+            );
+        }
+        let preview = karigami::drawing::picture::preview(&b.assembled, 6.0, name);
+        for (size, text) in texts(preview.groups.iter().flat_map(|gr| &gr.items)) {
+            assert!(
+                size >= SMALLEST - 1e-9,
+                "{name} preview: {text:?} at {size} mm"
+            );
+        }
+        // Cut sheets print only their caption (stroke text on the reference
+        // layer, after the scale bar's three lines): its height.
+        for page in &b.pages {
+            let caption = page.groups.iter().find(|gr| gr.id == "reference").unwrap();
+            let ys: Vec<f64> = caption.items[3..]
+                .iter()
+                .flat_map(|i| match &i.shape {
+                    karigami::drawing::Shape::Path {
+                        start, segments, ..
+                    } => {
+                        let mut v = vec![start.y];
+                        v.extend(segments.iter().map(|s| match s {
+                            karigami::drawing::Segment::Line(p) => p.y,
+                            karigami::drawing::Segment::Arc { to, .. } => to.y,
+                        }));
+                        v
+                    }
+                    _ => Vec::new(),
+                })
+                .collect();
+            let h = ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+                - ys.iter().cloned().fold(f64::INFINITY, f64::min);
+            assert!(h >= SMALLEST - 1e-6, "{name}: sheet caption {h} mm high");
+        }
+    }
+}
+
+/// Item 4: the inspection gauge is one line at 1:1, one tile a page; the
+/// tiles' lengths less their overlaps add up to the collapsed length, and no
+/// two of its labels overlap.
+#[test]
+fn gauge_tiles_make_one_line_of_the_collapsed_length() {
+    use karigami::drawing::{Shape, text};
+    for name in ["flat-sheet", "torus", "bowl"] {
+        let b = example(name);
+        let g = guide(&b);
+        let l = &b.lattice;
+        let zs = l
+            .vertices
+            .iter()
+            .map(|v| v.z)
+            .chain(l.cells.iter().map(|c| c.z_pivot));
+        let (lo, hi) = zs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+            (a.min(z), b.max(z))
+        });
+        let mut tiles = Vec::new();
+        for (p, page) in g.pages.iter().enumerate() {
+            for gr in page
+                .groups
+                .iter()
+                .filter(|gr| gr.id.starts_with("gauge-tile-"))
+            {
+                tiles.push((p, gr));
+            }
+        }
+        assert!(!tiles.is_empty(), "{name}: a gauge");
+        let pages: HashSet<usize> = tiles.iter().map(|t| t.0).collect();
+        assert_eq!(pages.len(), tiles.len(), "{name}: one tile a page");
+        let drawn: f64 = tiles.iter().map(|t| t.1.items[0].shape.length()).sum();
+        let overlap = karigami::guide::GAUGE_OVERLAP * (tiles.len() - 1) as f64;
+        assert!(
+            ((drawn - overlap) - (hi - lo)).abs() < 0.1,
+            "{name}: {} tiles draw {drawn:.2} mm less {overlap} mm of overlap, the collapsed length is {:.2} mm",
+            tiles.len(),
+            hi - lo
+        );
+        if name == "torus" {
+            assert!(tiles.len() >= 4, "the torus gauge is over a metre long");
+        }
+        for (_, gr) in &tiles {
+            let boxes: Vec<(f64, f64, f64, f64)> = gr
+                .items
+                .iter()
+                .filter_map(|i| match &i.shape {
+                    Shape::Text {
+                        at,
+                        size,
+                        text: t,
+                        font,
+                        align,
+                    } => {
+                        let s = text::start(*at, t, *font, *size, *align);
+                        let w = text::width(t, *font, *size);
+                        Some((s.x, s.y - 0.75 * size, s.x + w, s.y + 0.2 * size))
+                    }
+                    _ => None,
+                })
+                .collect();
+            for (i, a) in boxes.iter().enumerate() {
+                for c in &boxes[i + 1..] {
+                    let apart = a.2 <= c.0 || c.2 <= a.0 || a.3 <= c.1 || c.3 <= a.1;
+                    assert!(apart, "{name}: gauge labels collide: {a:?} {c:?}");
+                }
+            }
+        }
+    }
+}
+
+/// The guide's bill of materials lists part types and groups the eyelets by
+/// grip; the first step is the test piece, or says it is left out.
+#[test]
+fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() {
+    let mut b = example("flat-sheet");
+    let t = b.design.fabrication.material.thickness;
+    let words = |b: &Build| -> String {
+        texts(
+            guide(b)
+                .pages
+                .iter()
+                .flat_map(|p| &p.groups)
+                .flat_map(|gr| &gr.items),
+        )
+        .into_iter()
+        .map(|t| t.1)
+        .collect::<Vec<_>>()
+        .join(" ")
+    };
+    let text = words(&b);
+    for ty in &b.parts.types {
+        assert!(text.contains(&ty.code), "type {}", ty.code);
+    }
+    let grips = karigami::guide::eyelets_by_grip(&b);
+    assert_eq!(
+        grips.iter().map(|g| g.1 + g.2).sum::<usize>(),
+        b.parts.eyelets()
+    );
+    for (k, _, _) in &grips {
+        assert!(text.contains(&format!("{:.1} mm ({k} strips)", *k as f64 * t)));
+    }
+    assert!(text.contains("loose enough"));
+    let piece = text
+        .find("Before step 1: cut and test the test piece")
+        .expect("the test piece");
+    assert!(piece < text.find("Step 1 of").unwrap());
+    assert!(text.contains("100 mm"));
+    b.design.fabrication.test_piece = false;
+    assert!(words(&b).contains("The test piece is left out"));
 }

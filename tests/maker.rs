@@ -1176,3 +1176,33 @@ fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
         );
     }
 }
+
+/// Issue 13 item 11: the PDFs carry no date (neither the wall clock, which
+/// would break byte-identical output, nor a made-up one such as 1970) and no
+/// PDF/X version key; poppler reads them without any date.
+#[test]
+fn pdfs_carry_no_dates_and_no_pdfx_key() {
+    let b = build_example(
+        &crate::cli::repo().join("examples/flat-sheet.toml"),
+        &Overrides::default(),
+    );
+    let files = b.files();
+    let dir = crate::cli::scratch("pdf-metadata");
+    for name in ["assembly.pdf", "cut.pdf"] {
+        let bytes = &files.iter().find(|f| f.0 == name).expect(name).1;
+        let raw = String::from_utf8_lossy(bytes);
+        for key in ["/CreationDate", "/ModDate", "GTS_PDFX", "D:1970"] {
+            assert!(!raw.contains(key), "{name} has {key}");
+        }
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        if let Some(o) = crate::thirdparty::run("pdfinfo", &[path.to_str().unwrap()]) {
+            let info = String::from_utf8_lossy(&o.stdout);
+            assert!(info.contains("Pages:"), "{name}: {info}");
+            assert!(
+                !info.contains("CreationDate") && !info.contains("ModDate"),
+                "{name}: {info}"
+            );
+        }
+    }
+}

@@ -20,6 +20,33 @@ impl Camera {
     /// space along their mean facet normal, tilted 30 degrees so their
     /// relief shows.
     pub fn for_lattice(lattice: &Lattice) -> Self {
+        Self::tilted(lattice, 50.0)
+    }
+
+    /// A lattice built flat, seen square on from its stacking side (no
+    /// tilt), so its rows do not hide one another; otherwise as
+    /// `for_lattice`.
+    pub fn face_on(lattice: &Lattice) -> Self {
+        if lattice.dim == 3 && lattice.kind != crate::lattice::Kind::Helix {
+            Self::tilted(lattice, 0.0)
+        } else {
+            Self::for_lattice(lattice)
+        }
+    }
+
+    /// Looking along `forward` with `up` up the page (made square to
+    /// forward); None when they are parallel.
+    pub fn looking(forward: DVec3, up: DVec3) -> Option<Self> {
+        let forward = forward.try_normalize()?;
+        let up = (up - up.dot(forward) * forward).try_normalize()?;
+        Some(Self {
+            right: forward.cross(up),
+            up,
+            forward,
+        })
+    }
+
+    fn tilted(lattice: &Lattice, tilt_deg: f64) -> Self {
         if lattice.dim == 2 {
             return Self {
                 right: DVec3::X,
@@ -66,7 +93,7 @@ impl Camera {
         } else {
             (forward, up)
         };
-        let tilt = 50f64.to_radians();
+        let tilt = tilt_deg.to_radians();
         let forward = tilt.cos() * forward + tilt.sin() * up;
         Self {
             right,
@@ -142,6 +169,16 @@ impl Fit {
             .iter()
             .map(|v| v.pos)
             .chain(lattice.cells.iter().map(|c| c.pivot));
+        Self::around(points, camera, origin, size)
+    }
+
+    /// Fit these points into the box at `origin` (top-left) of `size` mm.
+    pub fn around(
+        points: impl Iterator<Item = DVec3>,
+        camera: Camera,
+        origin: DVec2,
+        size: DVec2,
+    ) -> Self {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         let (mut near, mut far) = (f64::INFINITY, f64::NEG_INFINITY);
         for p in points {
@@ -151,6 +188,9 @@ impl Fit {
             let d = p.dot(camera.forward);
             near = near.min(d);
             far = far.max(d);
+        }
+        if !lo.is_finite() {
+            (lo, hi, near, far) = (DVec2::ZERO, DVec2::ONE, 0.0, 1.0);
         }
         let extent = (hi - lo).max(DVec2::splat(1e-9));
         let scale = (size.x / extent.x).min(size.y / extent.y);
@@ -246,6 +286,43 @@ pub fn rods(
     }
     rods.sort_by(|a, b| b.0.total_cmp(&a.0));
     rods.into_iter().map(|(_, i)| i).collect()
+}
+
+/// The rods of `cells` as a maker stacks them: each cell's rod A, then a
+/// short white gap around its scissor pivot, then rod B on top, so the
+/// picture shows which strip lies over which at every crossing. Cells are
+/// drawn far to near.
+pub fn crossing_rods(
+    lattice: &Lattice,
+    fit: &Fit,
+    cells: &[usize],
+    style: impl Fn(usize) -> Option<RodStyle>,
+) -> Vec<Item> {
+    let mut drawn: Vec<(f64, Vec<Item>)> = Vec::with_capacity(cells.len());
+    for &c in cells {
+        let Some(s) = style(c) else { continue };
+        let [a, b] = lattice.cell_rods(c);
+        let depth = fit.depth(lattice.cells[c].pivot);
+        let ink = Ink::line(pale(s.colour, 0.55 * depth), s.width * (1.0 - 0.35 * depth));
+        let path = |r: &crate::lattice::Rod| {
+            let [p, q, t] = r.hole_pos;
+            Shape::polyline(&[fit.map(p), fit.map(q), fit.map(t)], false)
+        };
+        // The gap: rod B's stretch around the pivot, in white and wider.
+        let [p, q, t] = b.hole_pos.map(|x| fit.map(x));
+        let reach = 3.5 * s.width + 1.0;
+        let toward = |x: DVec2| q + (x - q).normalize_or_zero() * reach.min(0.45 * x.distance(q));
+        let gap = Item::art(
+            Ink::line([255, 255, 255], ink.width + 2.0 * (0.4 + 0.3 * s.width)),
+            Shape::polyline(&[toward(p), q, toward(t)], false),
+        );
+        drawn.push((
+            depth,
+            vec![Item::art(ink, path(&a)), gap, Item::art(ink, path(&b))],
+        ));
+    }
+    drawn.sort_by(|a, b| b.0.total_cmp(&a.0));
+    drawn.into_iter().flat_map(|(_, i)| i).collect()
 }
 
 /// Dots of radius `radius` at the pivots of `cells`, then at `vertices`.
