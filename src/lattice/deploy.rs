@@ -5,7 +5,6 @@
 
 use super::{Cell, Lattice};
 use glam::{DVec2, DVec3};
-use std::collections::{HashMap, VecDeque};
 
 /// Lattices up to this many cells get a mobility count (a dense-ish
 /// elimination over every point of the linkage).
@@ -39,9 +38,6 @@ fn edges(cell: &Cell, legs: [f64; 4]) -> [((u32, u32), f64, f64); 4] {
         (key(cell.ur, cell.lr), l3 * l3 + l4 * l4, 2.0 * l3 * l4),
     ]
 }
-
-/// A cell using an edge, with the edge's `alpha` and `beta` in that cell.
-type EdgeUse = (usize, f64, f64);
 
 fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
@@ -94,54 +90,82 @@ impl Configuration {
 }
 
 /// Propagate cos(phi) from the reference cell (cell 0) through shared edges
-/// by breadth-first search.
+/// by breadth-first search. The cells sharing an edge are found through
+/// their corners (a vertex's cells in increasing order, in flat arrays):
+/// linear time and a few words a cell, where a map of edges took a heap
+/// list per edge.
 pub fn configuration(lattice: &Lattice) -> Configuration {
     let n = lattice.cells.len();
     let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
-    let mut by_edge: HashMap<(u32, u32), Vec<EdgeUse>> = HashMap::new();
-    for (i, cell) in lattice.cells.iter().enumerate() {
-        for (k, alpha, beta) in edges(cell, legs[i]) {
-            by_edge.entry(k).or_default().push((i, alpha, beta));
+    let corners = |c: &Cell| [c.ul, c.ur, c.ll, c.lr];
+    // users[start[v]..start[v + 1]]: the cells with corner v, increasing.
+    let mut start = vec![0u32; lattice.vertices.len() + 1];
+    for cell in &lattice.cells {
+        for v in corners(cell) {
+            start[v as usize + 1] += 1;
         }
     }
-    let mut cos_phi: Vec<Option<Affine>> = vec![None; n];
-    let mut path_residual: f64 = 0.0;
-    let mut queue = VecDeque::new();
-    if n > 0 {
-        cos_phi[0] = Some(Affine { a: 0.0, b: 1.0 });
-        queue.push_back(0);
+    for v in 1..start.len() {
+        start[v] += start[v - 1];
     }
-    while let Some(i) = queue.pop_front() {
-        let f = cos_phi[i].expect("queued cells are set");
+    let mut users = vec![0u32; 4 * n];
+    {
+        let mut fill = start.clone();
+        for (i, cell) in lattice.cells.iter().enumerate() {
+            for v in corners(cell) {
+                users[fill[v as usize] as usize] = i as u32;
+                fill[v as usize] += 1;
+            }
+        }
+    }
+    let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
+    let mut reached = vec![false; n];
+    let mut path_residual: f64 = 0.0;
+    // A queue in which every cell enters once.
+    let mut queue: Vec<u32> = Vec::with_capacity(n);
+    if n > 0 {
+        cos_phi[0] = Affine { a: 0.0, b: 1.0 };
+        reached[0] = true;
+        queue.push(0);
+    }
+    let mut head = 0;
+    while head < queue.len() {
+        let i = queue[head] as usize;
+        head += 1;
+        let f = cos_phi[i];
         for (k, alpha, beta) in edges(&lattice.cells[i], legs[i]) {
             // The squared edge as a function of cos(theta), then the
             // neighbour's cos(phi) from its own formula for that edge.
             let (ea, eb) = (alpha + beta * f.a, beta * f.b);
-            for &(j, alpha_j, beta_j) in &by_edge[&k] {
-                if j == i {
+            let near = &users[start[k.0 as usize] as usize..start[k.0 as usize + 1] as usize];
+            for (u, &j) in near.iter().enumerate() {
+                let j = j as usize;
+                // A cell with a repeated corner is listed twice.
+                if j == i || (u > 0 && near[u - 1] as usize == j) {
                     continue;
                 }
-                let g = Affine {
-                    a: (ea - alpha_j) / beta_j,
-                    b: eb / beta_j,
-                };
-                match cos_phi[j] {
-                    Some(h) => {
-                        path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+                for (kj, alpha_j, beta_j) in edges(&lattice.cells[j], legs[j]) {
+                    if kj != k {
+                        continue;
                     }
-                    None => {
-                        cos_phi[j] = Some(g);
-                        queue.push_back(j);
+                    let g = Affine {
+                        a: (ea - alpha_j) / beta_j,
+                        b: eb / beta_j,
+                    };
+                    if reached[j] {
+                        let h = cos_phi[j];
+                        path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+                    } else {
+                        cos_phi[j] = g;
+                        reached[j] = true;
+                        queue.push(j as u32);
                     }
                 }
             }
         }
     }
-    let unreached = cos_phi.iter().filter(|f| f.is_none()).count();
-    let cos_phi: Vec<Affine> = cos_phi
-        .into_iter()
-        .map(|f| f.unwrap_or(Affine { a: 1.0, b: 0.0 }))
-        .collect();
+    drop((users, start, queue, legs));
+    let unreached = reached.iter().filter(|r| !**r).count();
     let theta_design = lattice
         .cells
         .first()
@@ -328,28 +352,44 @@ fn rank(rows: Vec<Vec<(usize, f64)>>, n: usize) -> usize {
 /// lattice's cells rigidly, in grid order, at the reference opening theta.
 /// None for 3-D lattices and thetas outside the valid range.
 pub fn planar_misfit(lattice: &Lattice, config: &Configuration, theta: f64) -> Option<f64> {
-    if lattice.dim != 2 {
+    if lattice.dim != 2 || !(0.0..=config.theta_max).contains(&theta) {
         return None;
     }
-    let phis = config.angles(theta)?;
-    let mut placed: Vec<Option<DVec2>> = vec![None; lattice.vertices.len()];
+    // The arithmetic of `Configuration::angles`, a cell at a time.
+    let cos_theta = theta.cos();
+    let mut placed = vec![DVec2::ZERO; lattice.vertices.len()];
+    let mut is_placed = vec![false; lattice.vertices.len()];
     let mut misfit: f64 = 0.0;
     for (i, cell) in lattice.cells.iter().enumerate() {
-        let local = cell_at(lattice, cell, phis[i]);
+        let phi = config.cos_phi[i].at(cos_theta).clamp(-1.0, 1.0).acos();
+        let corners = lattice.corners(cell);
+        let p = cell.pivot;
+        let [ul, ur, ll, lr] = corners;
+        let legs = [
+            p.distance(ul),
+            p.distance(ll),
+            p.distance(lr),
+            p.distance(ur),
+        ];
+        let local = cell_at(corners, p, legs, phi);
         let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
-        let pairs: Vec<(DVec2, DVec2)> = ids
-            .iter()
-            .zip(local)
-            .filter_map(|(&v, p)| placed[v as usize].map(|q| (p, q)))
-            .collect();
-        let fit = rigid_fit(&pairs);
-        let legs = lattice.legs(cell);
+        let mut pairs = [(DVec2::ZERO, DVec2::ZERO); 4];
+        let mut known = 0;
+        for (&v, &q) in ids.iter().zip(&local) {
+            if is_placed[v as usize] {
+                pairs[known] = (q, placed[v as usize]);
+                known += 1;
+            }
+        }
+        let fit = rigid_fit(&pairs[..known]);
         let scale = legs.iter().sum::<f64>() / 4.0;
         for (&v, p) in ids.iter().zip(local) {
             let q = fit(p);
-            match placed[v as usize] {
-                Some(old) => misfit = misfit.max(old.distance(q) / scale),
-                None => placed[v as usize] = Some(q),
+            if is_placed[v as usize] {
+                misfit = misfit.max(placed[v as usize].distance(q) / scale);
+            } else {
+                placed[v as usize] = q;
+                is_placed[v as usize] = true;
             }
         }
     }
@@ -358,16 +398,17 @@ pub fn planar_misfit(lattice: &Lattice, config: &Configuration, theta: f64) -> O
 
 /// A cell's corners [UL, UR, LL, LR] at opening phi, in its own frame:
 /// the leg to UL along +x from the pivot at the origin, the leg to UR
-/// turned by phi on the same side as in the design.
-fn cell_at(lattice: &Lattice, cell: &Cell, phi: f64) -> [DVec2; 4] {
-    let [ul, ur, _, _] = lattice.corners(cell);
-    let (a, b) = (ul - cell.pivot, ur - cell.pivot);
+/// turned by phi on the same side as in the design. `corners` and `legs`
+/// are the cell's (`Lattice::corners`, `Lattice::legs`).
+fn cell_at(corners: [DVec3; 4], pivot: DVec3, legs: [f64; 4], phi: f64) -> [DVec2; 4] {
+    let [ul, ur, _, _] = corners;
+    let (a, b) = (ul - pivot, ur - pivot);
     let side = if a.x * b.y - a.y * b.x < 0.0 {
         -1.0
     } else {
         1.0
     };
-    let [l1, l2, l3, l4] = lattice.legs(cell);
+    let [l1, l2, l3, l4] = legs;
     let dir_a = DVec2::X;
     let dir_b = DVec2::new(phi.cos(), side * phi.sin());
     [dir_a * l1, dir_b * l4, -dir_b * l2, -dir_a * l3]
