@@ -118,6 +118,52 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
             }
         }
     }
+    let (cos_phi, reached, path_residual) = match edge_neighbours(lattice, &users, &start) {
+        Some(nbr) => {
+            drop((users, start));
+            propagate(&nbr, &legs)
+        }
+        None => propagate_shared(lattice, &legs, &users, &start),
+    };
+    drop(legs);
+    let unreached = reached.iter().filter(|r| !**r).count();
+    let theta_design = lattice
+        .cells
+        .first()
+        .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos());
+    let c_design = theta_design.cos();
+    let mut design_residual: f64 = 0.0;
+    let mut collapse_residual: f64 = 0.0;
+    // Each cos(phi) falls as cos(theta) falls; the range ends where the
+    // first cell opens flat past pi (cos(phi) = -1).
+    let mut c_min: f64 = -1.0;
+    for (f, cell) in cos_phi.iter().zip(&lattice.cells) {
+        design_residual = design_residual.max((f.at(c_design) - design_cos(lattice, cell)).abs());
+        collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
+        if f.b > 0.0 {
+            c_min = c_min.max((-1.0 - f.a) / f.b);
+        }
+    }
+    Configuration {
+        cos_phi,
+        theta_design,
+        theta_max: c_min.clamp(-1.0, 1.0).acos(),
+        path_residual,
+        design_residual,
+        collapse_residual,
+        unreached,
+    }
+}
+
+/// The propagation of `configuration` when an edge has more than two
+/// cells: every cell sharing each edge, found through its corners.
+fn propagate_shared(
+    lattice: &Lattice,
+    legs: &[[f64; 4]],
+    users: &[u32],
+    start: &[u32],
+) -> (Vec<Affine>, Vec<bool>, f64) {
+    let n = lattice.cells.len();
     let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
     let mut reached = vec![false; n];
     let mut path_residual: f64 = 0.0;
@@ -164,34 +210,116 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
             }
         }
     }
-    drop((users, start, queue, legs));
-    let unreached = reached.iter().filter(|r| !**r).count();
-    let theta_design = lattice
-        .cells
-        .first()
-        .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos());
-    let c_design = theta_design.cos();
-    let mut design_residual: f64 = 0.0;
-    let mut collapse_residual: f64 = 0.0;
-    // Each cos(phi) falls as cos(theta) falls; the range ends where the
-    // first cell opens flat past pi (cos(phi) = -1).
-    let mut c_min: f64 = -1.0;
-    for (f, cell) in cos_phi.iter().zip(&lattice.cells) {
-        design_residual = design_residual.max((f.at(c_design) - design_cos(lattice, cell)).abs());
-        collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
-        if f.b > 0.0 {
-            c_min = c_min.max((-1.0 - f.a) / f.b);
+    (cos_phi, reached, path_residual)
+}
+
+/// Marks "no cell" in `edge_neighbours`.
+const NO_CELL: u32 = u32::MAX;
+
+/// For every cell and each of its edges (in the order of `edges`), the
+/// other cell sharing that edge as `cell | edge << 30` (`NO_CELL` on the
+/// boundary); None when some edge has more than two cells or a cell has a
+/// repeated corner (then `propagate_shared` does it).
+fn edge_neighbours(lattice: &Lattice, users: &[u32], start: &[u32]) -> Option<Vec<[u32; 4]>> {
+    if lattice.cells.len() >= 1 << 30 {
+        return None;
+    }
+    let mut nbr = vec![[NO_CELL; 4]; lattice.cells.len()];
+    for (i, cell) in lattice.cells.iter().enumerate() {
+        let c = [cell.ul, cell.ur, cell.ll, cell.lr];
+        if (0..4).any(|a| (a + 1..4).any(|b| c[a] == c[b])) {
+            return None;
+        }
+        let keys = edge_keys(cell);
+        for (e, k) in keys.into_iter().enumerate() {
+            let near = &users[start[k.0 as usize] as usize..start[k.0 as usize + 1] as usize];
+            for &j in near {
+                if j as usize == i {
+                    continue;
+                }
+                for (ej, kj) in edge_keys(&lattice.cells[j as usize])
+                    .into_iter()
+                    .enumerate()
+                {
+                    if kj == k {
+                        if nbr[i][e] != NO_CELL {
+                            return None;
+                        }
+                        nbr[i][e] = j | (ej as u32) << 30;
+                    }
+                }
+            }
         }
     }
-    Configuration {
-        cos_phi,
-        theta_design,
-        theta_max: c_min.clamp(-1.0, 1.0).acos(),
-        path_residual,
-        design_residual,
-        collapse_residual,
-        unreached,
+    Some(nbr)
+}
+
+/// The vertex pairs of a cell's edges, in the order of `edges`.
+fn edge_keys(cell: &Cell) -> [(u32, u32); 4] {
+    [
+        key(cell.ul, cell.ur),
+        key(cell.ll, cell.lr),
+        key(cell.ul, cell.ll),
+        key(cell.ur, cell.lr),
+    ]
+}
+
+/// `alpha` and `beta` of edge `e` (in the order of `edges`) of a cell with
+/// these legs: the same products as `edges`.
+#[inline]
+fn edge_coefficients(legs: [f64; 4], e: usize) -> (f64, f64) {
+    let [l1, l2, l3, l4] = legs;
+    match e {
+        0 => (l1 * l1 + l4 * l4, -2.0 * l1 * l4),
+        1 => (l2 * l2 + l3 * l3, -2.0 * l2 * l3),
+        2 => (l1 * l1 + l2 * l2, 2.0 * l1 * l2),
+        _ => (l3 * l3 + l4 * l4, 2.0 * l3 * l4),
     }
+}
+
+/// The breadth-first propagation of `configuration` over precomputed edge
+/// neighbours: the same visits in the same order as `propagate_shared`,
+/// touching a few words a cell (the search jumps across the lattice, so
+/// what it reads is what it costs).
+fn propagate(nbr: &[[u32; 4]], legs: &[[f64; 4]]) -> (Vec<Affine>, Vec<bool>, f64) {
+    let n = nbr.len();
+    let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
+    let mut reached = vec![false; n];
+    let mut path_residual: f64 = 0.0;
+    let mut queue: Vec<u32> = Vec::with_capacity(n);
+    if n > 0 {
+        cos_phi[0] = Affine { a: 0.0, b: 1.0 };
+        reached[0] = true;
+        queue.push(0);
+    }
+    let mut head = 0;
+    while head < queue.len() {
+        let i = queue[head] as usize;
+        head += 1;
+        let f = cos_phi[i];
+        for (e, &other) in nbr[i].iter().enumerate() {
+            if other == NO_CELL {
+                continue;
+            }
+            let (alpha, beta) = edge_coefficients(legs[i], e);
+            let (ea, eb) = (alpha + beta * f.a, beta * f.b);
+            let (j, ej) = ((other & ((1 << 30) - 1)) as usize, (other >> 30) as usize);
+            let (alpha_j, beta_j) = edge_coefficients(legs[j], ej);
+            let g = Affine {
+                a: (ea - alpha_j) / beta_j,
+                b: eb / beta_j,
+            };
+            if reached[j] {
+                let h = cos_phi[j];
+                path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+            } else {
+                cos_phi[j] = g;
+                reached[j] = true;
+                queue.push(j as u32);
+            }
+        }
+    }
+    (cos_phi, reached, path_residual)
 }
 
 /// Internal degrees of freedom of the ideal linkage at the design state:
@@ -489,6 +617,67 @@ impl Deployment {
                 if m == 1 { "" } else { "s" }
             ),
             Some(_) => "rigid as an ideal linkage (0 internal degrees of freedom): it deploys and collapses through strip bending, passing through incompatible states (docs/verification.md, Deployment)".into(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Direction, Leg};
+    use crate::lattice::{Kind, RowParams, grow};
+
+    /// The propagation over precomputed neighbours visits the cells in the
+    /// order of the general one and computes the same numbers, bit for bit.
+    #[test]
+    fn both_propagations_agree_bit_for_bit() {
+        let points: Vec<DVec3> = (0..7)
+            .map(|j| DVec3::new(10.0 * j as f64 + (j % 3) as f64, 0.3 * (j % 2) as f64, 0.0))
+            .collect();
+        let row = RowParams {
+            start: 2,
+            direction: Some(Direction::Angles {
+                angle_deg: 50.0,
+                tilt_deg: 0.0,
+            }),
+            left_leg: Leg::Match,
+            right_leg: Leg::Match,
+            ..RowParams::default()
+        };
+        let kappa = [0.5, -0.3, 0.2, 0.0, -0.4, 0.1];
+        let lattice = grow(Kind::Sheet, 2, &points, &kappa, &vec![row; 5]).unwrap();
+        let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+        let corners = |c: &Cell| [c.ul, c.ur, c.ll, c.lr];
+        let mut start = vec![0u32; lattice.vertices.len() + 1];
+        for cell in &lattice.cells {
+            for v in corners(cell) {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 1..start.len() {
+            start[v] += start[v - 1];
+        }
+        let mut users = vec![0u32; 4 * lattice.cells.len()];
+        let mut fill = start.clone();
+        for (i, cell) in lattice.cells.iter().enumerate() {
+            for v in corners(cell) {
+                users[fill[v as usize] as usize] = i as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        let nbr =
+            edge_neighbours(&lattice, &users, &start).expect("a sheet's edges have two cells");
+        let (fast, reached, residual) = propagate(&nbr, &legs);
+        let (slow, reached_slow, residual_slow) = propagate_shared(&lattice, &legs, &users, &start);
+        assert!(reached.iter().all(|r| *r));
+        assert_eq!(reached, reached_slow);
+        assert_eq!(residual.to_bits(), residual_slow.to_bits());
+        assert!(residual > 0.0, "rounding differs along paths: {residual}");
+        for (f, s) in fast.iter().zip(&slow) {
+            assert_eq!(
+                (f.a.to_bits(), f.b.to_bits()),
+                (s.a.to_bits(), s.b.to_bits())
+            );
         }
     }
 }

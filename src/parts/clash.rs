@@ -150,6 +150,12 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
                 {
                     continue;
                 }
+                // Boxes apart by the reach on some axis: no clash (and no
+                // closest points to compute).
+                let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
+                if gap.max_element() >= reach {
+                    continue;
+                }
                 let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
                 let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
                 let d = p.distance(q);
