@@ -1,12 +1,19 @@
-//! Growth + verification benchmark: `cargo bench --bench growth [-- N...]`.
-//! Grows an N x N-cell sheet (default 250, 500 and 1000), verifies it, and
-//! prints cells per second and the peak resident memory of the process.
-//! Times are the thread's CPU time (/proc/thread-self/schedstat), robust
+//! Growth + verification benchmark: `cargo bench --bench growth [-- CASE...]`.
+//! A case `N` grows an N x N-cell sheet (default 250, 500 and 1000),
+//! verifies it, and prints cells per second and the peak resident memory of
+//! the process. A case `check:CxR` (default check:1000x1000 and
+//! check:2000x2000) runs what `karigami -q check` computes for a flat sheet
+//! of C x R cells (parse, grow, verify, deployment, shape and clash
+//! measures, the JSON report) in a child process of its own, so that its
+//! peak memory is its own. Times are CPU time (/proc schedstat), robust
 //! when other work shares the cores; the wall time is printed beside them.
 
 use glam::DVec3;
+use karigami::design::{self, Overrides};
 use karigami::geometry::{Direction, Leg};
+use karigami::lattice::deploy::deployment;
 use karigami::lattice::{RowParams, grow_sheet, verify};
+use std::process::Command;
 use std::time::Instant;
 
 /// A sheet of alternating 10 and 12 mm seed edges with kappa = 0, rows at
@@ -52,16 +59,99 @@ fn cpu_seconds() -> f64 {
         .map_or(f64::NAN, |ns| ns as f64 * 1e-9)
 }
 
+/// The recipe of `karigami check` cases: a flat sheet of `cols` x `rows`
+/// 20 mm cells grown at 45 deg (that of `cargo bench --bench pipeline`).
+fn sheet_recipe(cols: usize, rows: usize) -> String {
+    format!(
+        "name = \"sheet-{cols}x{rows}\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.line]\nfrom = [0.0, 0.0]\nto = [{}.0, 0.0]\ncells = {cols}\n[lattice.grow]\nrows = {rows}\nstart = {}\nangle = 45.0\n[sheet]\nwidth = 3000.0\nheight = 2000.0\n",
+        20 * cols,
+        cols / 2
+    )
+}
+
+/// The child of a `check:CxR` case: what `karigami -q check` computes, then
+/// one line: cells, grow + verify CPU s, total CPU s, wall s, peak bytes.
+fn check_child(cols: usize, rows: usize) {
+    let (t0, c0) = (Instant::now(), cpu_seconds());
+    let text = sheet_recipe(cols, rows);
+    let d = design::parse_with(&text, "check", &Overrides::default()).expect("parses");
+    let lattice = d.grow().expect("grows");
+    let report = verify(&lattice);
+    let grow_verify = cpu_seconds() - c0;
+    let deploy = deployment(&lattice);
+    let json = karigami::report::check_json(&d, &lattice, &report, &deploy);
+    let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
+    assert!(report.passed(), "benchmark lattice must verify");
+    std::hint::black_box(&json);
+    println!(
+        "{} {grow_verify} {cpu} {wall} {}",
+        lattice.cells.len(),
+        peak_rss().unwrap_or(0)
+    );
+}
+
+/// Run the `check:CxR` cases, each in a child process.
+fn check_cases(cases: &[(usize, usize)]) {
+    println!(
+        "\n{:>12} {:>10} {:>10} {:>10} {:>10} {:>12} {:>10} {:>9}",
+        "check", "cells", "g+v CPU s", "CPU s", "wall s", "cells/s CPU", "peak MiB", "B/cell"
+    );
+    let me = std::env::current_exe().expect("own path");
+    for &(c, r) in cases {
+        let out = Command::new(&me)
+            .args(["--check-child", &format!("{c}x{r}")])
+            .output()
+            .expect("child runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let line = String::from_utf8_lossy(&out.stdout);
+        let f: Vec<f64> = line
+            .split_whitespace()
+            .map(|x| x.parse().expect("a number"))
+            .collect();
+        let [cells, gv, cpu, wall, peak] = f[..] else {
+            panic!("child printed {line:?}")
+        };
+        println!(
+            "{:>12} {:>10} {:>10.3} {:>10.3} {:>10.3} {:>12.0} {:>10.1} {:>9.0}",
+            format!("{c}x{r}"),
+            cells,
+            gv,
+            cpu,
+            wall,
+            cells / cpu,
+            peak / 1048576.0,
+            peak / cells
+        );
+    }
+}
+
+/// `CxR` as (cols, rows).
+fn size(s: &str) -> Option<(usize, usize)> {
+    let (c, r) = s.split_once('x')?;
+    Some((c.parse().ok()?, r.parse().ok()?))
+}
+
 fn main() {
-    let sizes: Vec<usize> = std::env::args()
-        .skip(1)
-        .filter_map(|a| a.parse().ok())
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let [flag, what] = &args[..] {
+        if flag == "--check-child" {
+            let (c, r) = size(what).expect("CxR");
+            return check_child(c, r);
+        }
+    }
+    let mut sizes: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
+    let mut checks: Vec<(usize, usize)> = args
+        .iter()
+        .filter_map(|a| size(a.strip_prefix("check:")?))
         .collect();
-    let sizes = if sizes.is_empty() {
-        vec![250, 500, 1000]
-    } else {
-        sizes
-    };
+    if sizes.is_empty() && checks.is_empty() {
+        sizes = vec![250, 500, 1000];
+        checks = vec![(1000, 1000), (2000, 2000)];
+    }
     println!(
         "{:>6} {:>10} {:>10} {:>10} {:>10} {:>14} {:>16} {:>10} {:>9} {:>10}",
         "N",
@@ -101,4 +191,5 @@ fn main() {
         assert!(report.passed(), "benchmark lattice must verify");
         drop(lattice);
     }
+    check_cases(&checks);
 }

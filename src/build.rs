@@ -170,7 +170,7 @@ pub fn assemble_with(
     Ok(Build {
         simulation,
         design,
-        assembled: lattice.placed(),
+        assembled: lattice.placed().into_owned(),
         deployment,
         lattice,
         report,

@@ -5,7 +5,6 @@
 
 use super::{Cell, Lattice};
 use glam::{DVec2, DVec3};
-use std::collections::{HashMap, VecDeque};
 
 /// Lattices up to this many cells get a mobility count (a dense-ish
 /// elimination over every point of the linkage).
@@ -39,9 +38,6 @@ fn edges(cell: &Cell, legs: [f64; 4]) -> [((u32, u32), f64, f64); 4] {
         (key(cell.ur, cell.lr), l3 * l3 + l4 * l4, 2.0 * l3 * l4),
     ]
 }
-
-/// A cell using an edge, with the edge's `alpha` and `beta` in that cell.
-type EdgeUse = (usize, f64, f64);
 
 fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
@@ -94,54 +90,43 @@ impl Configuration {
 }
 
 /// Propagate cos(phi) from the reference cell (cell 0) through shared edges
-/// by breadth-first search.
+/// by breadth-first search. The cells sharing an edge are found through
+/// their corners (a vertex's cells in increasing order, in flat arrays):
+/// linear time and a few words a cell, where a map of edges took a heap
+/// list per edge.
 pub fn configuration(lattice: &Lattice) -> Configuration {
     let n = lattice.cells.len();
     let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
-    let mut by_edge: HashMap<(u32, u32), Vec<EdgeUse>> = HashMap::new();
-    for (i, cell) in lattice.cells.iter().enumerate() {
-        for (k, alpha, beta) in edges(cell, legs[i]) {
-            by_edge.entry(k).or_default().push((i, alpha, beta));
+    let corners = |c: &Cell| [c.ul, c.ur, c.ll, c.lr];
+    // users[start[v]..start[v + 1]]: the cells with corner v, increasing.
+    let mut start = vec![0u32; lattice.vertices.len() + 1];
+    for cell in &lattice.cells {
+        for v in corners(cell) {
+            start[v as usize + 1] += 1;
         }
     }
-    let mut cos_phi: Vec<Option<Affine>> = vec![None; n];
-    let mut path_residual: f64 = 0.0;
-    let mut queue = VecDeque::new();
-    if n > 0 {
-        cos_phi[0] = Some(Affine { a: 0.0, b: 1.0 });
-        queue.push_back(0);
+    for v in 1..start.len() {
+        start[v] += start[v - 1];
     }
-    while let Some(i) = queue.pop_front() {
-        let f = cos_phi[i].expect("queued cells are set");
-        for (k, alpha, beta) in edges(&lattice.cells[i], legs[i]) {
-            // The squared edge as a function of cos(theta), then the
-            // neighbour's cos(phi) from its own formula for that edge.
-            let (ea, eb) = (alpha + beta * f.a, beta * f.b);
-            for &(j, alpha_j, beta_j) in &by_edge[&k] {
-                if j == i {
-                    continue;
-                }
-                let g = Affine {
-                    a: (ea - alpha_j) / beta_j,
-                    b: eb / beta_j,
-                };
-                match cos_phi[j] {
-                    Some(h) => {
-                        path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
-                    }
-                    None => {
-                        cos_phi[j] = Some(g);
-                        queue.push_back(j);
-                    }
-                }
+    let mut users = vec![0u32; 4 * n];
+    {
+        let mut fill = start.clone();
+        for (i, cell) in lattice.cells.iter().enumerate() {
+            for v in corners(cell) {
+                users[fill[v as usize] as usize] = i as u32;
+                fill[v as usize] += 1;
             }
         }
     }
-    let unreached = cos_phi.iter().filter(|f| f.is_none()).count();
-    let cos_phi: Vec<Affine> = cos_phi
-        .into_iter()
-        .map(|f| f.unwrap_or(Affine { a: 1.0, b: 0.0 }))
-        .collect();
+    let (cos_phi, reached, path_residual) = match edge_neighbours(lattice, &users, &start) {
+        Some(nbr) => {
+            drop((users, start));
+            propagate(&nbr, &legs)
+        }
+        None => propagate_shared(lattice, &legs, &users, &start),
+    };
+    drop(legs);
+    let unreached = reached.iter().filter(|r| !**r).count();
     let theta_design = lattice
         .cells
         .first()
@@ -168,6 +153,173 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
         collapse_residual,
         unreached,
     }
+}
+
+/// The propagation of `configuration` when an edge has more than two
+/// cells: every cell sharing each edge, found through its corners.
+fn propagate_shared(
+    lattice: &Lattice,
+    legs: &[[f64; 4]],
+    users: &[u32],
+    start: &[u32],
+) -> (Vec<Affine>, Vec<bool>, f64) {
+    let n = lattice.cells.len();
+    let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
+    let mut reached = vec![false; n];
+    let mut path_residual: f64 = 0.0;
+    // A queue in which every cell enters once.
+    let mut queue: Vec<u32> = Vec::with_capacity(n);
+    if n > 0 {
+        cos_phi[0] = Affine { a: 0.0, b: 1.0 };
+        reached[0] = true;
+        queue.push(0);
+    }
+    let mut head = 0;
+    while head < queue.len() {
+        let i = queue[head] as usize;
+        head += 1;
+        let f = cos_phi[i];
+        for (k, alpha, beta) in edges(&lattice.cells[i], legs[i]) {
+            // The squared edge as a function of cos(theta), then the
+            // neighbour's cos(phi) from its own formula for that edge.
+            let (ea, eb) = (alpha + beta * f.a, beta * f.b);
+            let near = &users[start[k.0 as usize] as usize..start[k.0 as usize + 1] as usize];
+            for (u, &j) in near.iter().enumerate() {
+                let j = j as usize;
+                // A cell with a repeated corner is listed twice.
+                if j == i || (u > 0 && near[u - 1] as usize == j) {
+                    continue;
+                }
+                for (kj, alpha_j, beta_j) in edges(&lattice.cells[j], legs[j]) {
+                    if kj != k {
+                        continue;
+                    }
+                    let g = Affine {
+                        a: (ea - alpha_j) / beta_j,
+                        b: eb / beta_j,
+                    };
+                    if reached[j] {
+                        let h = cos_phi[j];
+                        path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+                    } else {
+                        cos_phi[j] = g;
+                        reached[j] = true;
+                        queue.push(j as u32);
+                    }
+                }
+            }
+        }
+    }
+    (cos_phi, reached, path_residual)
+}
+
+/// Marks "no cell" in `edge_neighbours`.
+const NO_CELL: u32 = u32::MAX;
+
+/// For every cell and each of its edges (in the order of `edges`), the
+/// other cell sharing that edge as `cell | edge << 30` (`NO_CELL` on the
+/// boundary); None when some edge has more than two cells or a cell has a
+/// repeated corner (then `propagate_shared` does it).
+fn edge_neighbours(lattice: &Lattice, users: &[u32], start: &[u32]) -> Option<Vec<[u32; 4]>> {
+    if lattice.cells.len() >= 1 << 30 {
+        return None;
+    }
+    let mut nbr = vec![[NO_CELL; 4]; lattice.cells.len()];
+    for (i, cell) in lattice.cells.iter().enumerate() {
+        let c = [cell.ul, cell.ur, cell.ll, cell.lr];
+        if (0..4).any(|a| (a + 1..4).any(|b| c[a] == c[b])) {
+            return None;
+        }
+        let keys = edge_keys(cell);
+        for (e, k) in keys.into_iter().enumerate() {
+            let near = &users[start[k.0 as usize] as usize..start[k.0 as usize + 1] as usize];
+            for &j in near {
+                if j as usize == i {
+                    continue;
+                }
+                for (ej, kj) in edge_keys(&lattice.cells[j as usize])
+                    .into_iter()
+                    .enumerate()
+                {
+                    if kj == k {
+                        if nbr[i][e] != NO_CELL {
+                            return None;
+                        }
+                        nbr[i][e] = j | (ej as u32) << 30;
+                    }
+                }
+            }
+        }
+    }
+    Some(nbr)
+}
+
+/// The vertex pairs of a cell's edges, in the order of `edges`.
+fn edge_keys(cell: &Cell) -> [(u32, u32); 4] {
+    [
+        key(cell.ul, cell.ur),
+        key(cell.ll, cell.lr),
+        key(cell.ul, cell.ll),
+        key(cell.ur, cell.lr),
+    ]
+}
+
+/// `alpha` and `beta` of edge `e` (in the order of `edges`) of a cell with
+/// these legs: the same products as `edges`.
+#[inline]
+fn edge_coefficients(legs: [f64; 4], e: usize) -> (f64, f64) {
+    let [l1, l2, l3, l4] = legs;
+    match e {
+        0 => (l1 * l1 + l4 * l4, -2.0 * l1 * l4),
+        1 => (l2 * l2 + l3 * l3, -2.0 * l2 * l3),
+        2 => (l1 * l1 + l2 * l2, 2.0 * l1 * l2),
+        _ => (l3 * l3 + l4 * l4, 2.0 * l3 * l4),
+    }
+}
+
+/// The breadth-first propagation of `configuration` over precomputed edge
+/// neighbours: the same visits in the same order as `propagate_shared`,
+/// touching a few words a cell (the search jumps across the lattice, so
+/// what it reads is what it costs).
+fn propagate(nbr: &[[u32; 4]], legs: &[[f64; 4]]) -> (Vec<Affine>, Vec<bool>, f64) {
+    let n = nbr.len();
+    let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
+    let mut reached = vec![false; n];
+    let mut path_residual: f64 = 0.0;
+    let mut queue: Vec<u32> = Vec::with_capacity(n);
+    if n > 0 {
+        cos_phi[0] = Affine { a: 0.0, b: 1.0 };
+        reached[0] = true;
+        queue.push(0);
+    }
+    let mut head = 0;
+    while head < queue.len() {
+        let i = queue[head] as usize;
+        head += 1;
+        let f = cos_phi[i];
+        for (e, &other) in nbr[i].iter().enumerate() {
+            if other == NO_CELL {
+                continue;
+            }
+            let (alpha, beta) = edge_coefficients(legs[i], e);
+            let (ea, eb) = (alpha + beta * f.a, beta * f.b);
+            let (j, ej) = ((other & ((1 << 30) - 1)) as usize, (other >> 30) as usize);
+            let (alpha_j, beta_j) = edge_coefficients(legs[j], ej);
+            let g = Affine {
+                a: (ea - alpha_j) / beta_j,
+                b: eb / beta_j,
+            };
+            if reached[j] {
+                let h = cos_phi[j];
+                path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+            } else {
+                cos_phi[j] = g;
+                reached[j] = true;
+                queue.push(j as u32);
+            }
+        }
+    }
+    (cos_phi, reached, path_residual)
 }
 
 /// Internal degrees of freedom of the ideal linkage at the design state:
@@ -328,28 +480,44 @@ fn rank(rows: Vec<Vec<(usize, f64)>>, n: usize) -> usize {
 /// lattice's cells rigidly, in grid order, at the reference opening theta.
 /// None for 3-D lattices and thetas outside the valid range.
 pub fn planar_misfit(lattice: &Lattice, config: &Configuration, theta: f64) -> Option<f64> {
-    if lattice.dim != 2 {
+    if lattice.dim != 2 || !(0.0..=config.theta_max).contains(&theta) {
         return None;
     }
-    let phis = config.angles(theta)?;
-    let mut placed: Vec<Option<DVec2>> = vec![None; lattice.vertices.len()];
+    // The arithmetic of `Configuration::angles`, a cell at a time.
+    let cos_theta = theta.cos();
+    let mut placed = vec![DVec2::ZERO; lattice.vertices.len()];
+    let mut is_placed = vec![false; lattice.vertices.len()];
     let mut misfit: f64 = 0.0;
     for (i, cell) in lattice.cells.iter().enumerate() {
-        let local = cell_at(lattice, cell, phis[i]);
+        let phi = config.cos_phi[i].at(cos_theta).clamp(-1.0, 1.0).acos();
+        let corners = lattice.corners(cell);
+        let p = cell.pivot;
+        let [ul, ur, ll, lr] = corners;
+        let legs = [
+            p.distance(ul),
+            p.distance(ll),
+            p.distance(lr),
+            p.distance(ur),
+        ];
+        let local = cell_at(corners, p, legs, phi);
         let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
-        let pairs: Vec<(DVec2, DVec2)> = ids
-            .iter()
-            .zip(local)
-            .filter_map(|(&v, p)| placed[v as usize].map(|q| (p, q)))
-            .collect();
-        let fit = rigid_fit(&pairs);
-        let legs = lattice.legs(cell);
+        let mut pairs = [(DVec2::ZERO, DVec2::ZERO); 4];
+        let mut known = 0;
+        for (&v, &q) in ids.iter().zip(&local) {
+            if is_placed[v as usize] {
+                pairs[known] = (q, placed[v as usize]);
+                known += 1;
+            }
+        }
+        let fit = rigid_fit(&pairs[..known]);
         let scale = legs.iter().sum::<f64>() / 4.0;
         for (&v, p) in ids.iter().zip(local) {
             let q = fit(p);
-            match placed[v as usize] {
-                Some(old) => misfit = misfit.max(old.distance(q) / scale),
-                None => placed[v as usize] = Some(q),
+            if is_placed[v as usize] {
+                misfit = misfit.max(placed[v as usize].distance(q) / scale);
+            } else {
+                placed[v as usize] = q;
+                is_placed[v as usize] = true;
             }
         }
     }
@@ -358,16 +526,17 @@ pub fn planar_misfit(lattice: &Lattice, config: &Configuration, theta: f64) -> O
 
 /// A cell's corners [UL, UR, LL, LR] at opening phi, in its own frame:
 /// the leg to UL along +x from the pivot at the origin, the leg to UR
-/// turned by phi on the same side as in the design.
-fn cell_at(lattice: &Lattice, cell: &Cell, phi: f64) -> [DVec2; 4] {
-    let [ul, ur, _, _] = lattice.corners(cell);
-    let (a, b) = (ul - cell.pivot, ur - cell.pivot);
+/// turned by phi on the same side as in the design. `corners` and `legs`
+/// are the cell's (`Lattice::corners`, `Lattice::legs`).
+fn cell_at(corners: [DVec3; 4], pivot: DVec3, legs: [f64; 4], phi: f64) -> [DVec2; 4] {
+    let [ul, ur, _, _] = corners;
+    let (a, b) = (ul - pivot, ur - pivot);
     let side = if a.x * b.y - a.y * b.x < 0.0 {
         -1.0
     } else {
         1.0
     };
-    let [l1, l2, l3, l4] = lattice.legs(cell);
+    let [l1, l2, l3, l4] = legs;
     let dir_a = DVec2::X;
     let dir_b = DVec2::new(phi.cos(), side * phi.sin());
     [dir_a * l1, dir_b * l4, -dir_b * l2, -dir_a * l3]
@@ -448,6 +617,67 @@ impl Deployment {
                 if m == 1 { "" } else { "s" }
             ),
             Some(_) => "rigid as an ideal linkage (0 internal degrees of freedom): it deploys and collapses through strip bending, passing through incompatible states (docs/verification.md, Deployment)".into(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Direction, Leg};
+    use crate::lattice::{Kind, RowParams, grow};
+
+    /// The propagation over precomputed neighbours visits the cells in the
+    /// order of the general one and computes the same numbers, bit for bit.
+    #[test]
+    fn both_propagations_agree_bit_for_bit() {
+        let points: Vec<DVec3> = (0..7)
+            .map(|j| DVec3::new(10.0 * j as f64 + (j % 3) as f64, 0.3 * (j % 2) as f64, 0.0))
+            .collect();
+        let row = RowParams {
+            start: 2,
+            direction: Some(Direction::Angles {
+                angle_deg: 50.0,
+                tilt_deg: 0.0,
+            }),
+            left_leg: Leg::Match,
+            right_leg: Leg::Match,
+            ..RowParams::default()
+        };
+        let kappa = [0.5, -0.3, 0.2, 0.0, -0.4, 0.1];
+        let lattice = grow(Kind::Sheet, 2, &points, &kappa, &vec![row; 5]).unwrap();
+        let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+        let corners = |c: &Cell| [c.ul, c.ur, c.ll, c.lr];
+        let mut start = vec![0u32; lattice.vertices.len() + 1];
+        for cell in &lattice.cells {
+            for v in corners(cell) {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 1..start.len() {
+            start[v] += start[v - 1];
+        }
+        let mut users = vec![0u32; 4 * lattice.cells.len()];
+        let mut fill = start.clone();
+        for (i, cell) in lattice.cells.iter().enumerate() {
+            for v in corners(cell) {
+                users[fill[v as usize] as usize] = i as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        let nbr =
+            edge_neighbours(&lattice, &users, &start).expect("a sheet's edges have two cells");
+        let (fast, reached, residual) = propagate(&nbr, &legs);
+        let (slow, reached_slow, residual_slow) = propagate_shared(&lattice, &legs, &users, &start);
+        assert!(reached.iter().all(|r| *r));
+        assert_eq!(reached, reached_slow);
+        assert_eq!(residual.to_bits(), residual_slow.to_bits());
+        assert!(residual > 0.0, "rounding differs along paths: {residual}");
+        for (f, s) in fast.iter().zip(&slow) {
+            assert_eq!(
+                (f.a.to_bits(), f.b.to_bits()),
+                (s.a.to_bits(), s.b.to_bits())
+            );
         }
     }
 }

@@ -324,7 +324,16 @@ impl Grower {
     }
 
     fn try_row(&mut self, i: usize, params: &RowParams) -> Result<(), GrowthError> {
-        let mut front = self.front();
+        // The last row's vertices, into the buffer of the previous row.
+        let mut front = std::mem::take(&mut self.front);
+        let n = self.front_len();
+        let base = self.lattice.vertices.len() - n;
+        front.clear();
+        front.extend(
+            self.lattice.vertices[base..]
+                .iter()
+                .map(|v| Point { pos: v.pos, z: v.z }),
+        );
         let rebuilt = match &params.front {
             Some(moves) => {
                 let pos: Vec<DVec3> = front.iter().map(|p| p.pos).collect();
@@ -390,28 +399,62 @@ impl Grower {
                 GrowthError::new(K::BadDirection, Param::Direction, row, Some(j0), msg, hint)
             },
         )?;
-        self.pivots[j0] = Some(start_pivot(x, j0, v2, i)?);
+        let start = start_pivot(x, j0, v2, i)?;
+        self.pivots[j0] = Some(start);
 
-        // Right of j0: rod A of cell j fixes the lower-right corner, which
-        // fixes rod B (and so the pivot) of cell j + 1.
-        for j in j0..m.saturating_sub(1) {
-            let p = self.pivots[j].expect("pivot grown");
-            let lr = right_transfer(x, j, p, i)?;
-            self.next[j + 1] = Some(lr);
-            self.pivots[j + 1] = Some(next_pivot(x, j, lr, i)?);
+        // The two chains of transfers, right and left of j0, depend on
+        // nothing of each other: grown in one loop, a step of each at a
+        // time, their square roots and divisions overlap (half the time
+        // of a row). Any refusal grows the row again one chain after the
+        // other, so that the error reported is the one the sequential
+        // order meets first.
+        let right_steps = m.saturating_sub(1).saturating_sub(j0);
+        let (mut right, mut left) = (start, start);
+        let mut ok = true;
+        for k in 0..right_steps.max(j0) {
+            if k < right_steps {
+                match right_step(x, j0 + k, right, i) {
+                    Ok((lr, p)) => {
+                        self.next[j0 + k + 1] = Some(lr);
+                        self.pivots[j0 + k + 1] = Some(p);
+                        right = p;
+                    }
+                    Err(_) => {
+                        ok = false;
+                        break;
+                    }
+                }
+            }
+            if k < j0 {
+                match left_step(x, j0 - k, left, i) {
+                    Ok((ll, p)) => {
+                        self.next[j0 - k] = Some(ll);
+                        self.pivots[j0 - k - 1] = Some(p);
+                        left = p;
+                    }
+                    Err(_) => {
+                        ok = false;
+                        break;
+                    }
+                }
+            }
         }
-        // Left of j0, the mirror image.
-        for j in (1..=j0).rev() {
-            let p = self.pivots[j].expect("pivot grown");
-            let v2 = (p.pos - x[j + 1].pos).normalize();
-            let ll = lower_left(x[j - 1], x[j + 1], v2)
-                .map_err(|r| transfer_error(r, x, j - 1, j + 1, i, j))?;
-            check_leg(ll.z - p.z, "l2", i, j)?;
-            self.next[j] = Some(ll);
-            let v1 = (ll.pos - x[j - 1].pos).normalize();
-            let cell = pivot_from_v1(x[j - 1], x[j], v1).map_err(|_| propagated_cone(i, j - 1))?;
-            check_leg(ll.z - cell.z, "l3", i, j - 1)?;
-            self.pivots[j - 1] = Some(cell);
+        if !ok {
+            // Right of j0: rod A of cell j fixes the lower-right corner,
+            // which fixes rod B (and so the pivot) of cell j + 1.
+            for j in j0..m.saturating_sub(1) {
+                let p = self.pivots[j].expect("pivot grown");
+                let (lr, next) = right_step(x, j, p, i)?;
+                self.next[j + 1] = Some(lr);
+                self.pivots[j + 1] = Some(next);
+            }
+            // Left of j0, the mirror image.
+            for j in (1..=j0).rev() {
+                let p = self.pivots[j].expect("pivot grown");
+                let (ll, cell) = left_step(x, j, p, i)?;
+                self.next[j] = Some(ll);
+                self.pivots[j - 1] = Some(cell);
+            }
         }
 
         // The two free boundary legs (4.5).
@@ -472,6 +515,8 @@ impl Grower {
                 z: q.z,
             });
         }
+        // The turn of the lattice's first cell, once a row, not once a cell.
+        let mut first = first_turn(&self.lattice);
         for j in 0..m {
             let pivot = self.pivots[j].expect("pivot grown");
             let cell = Cell {
@@ -484,8 +529,11 @@ impl Grower {
                 pivot: pivot.pos,
                 z_pivot: pivot.z,
             };
-            check_cell(&self.lattice, &cell)?;
+            check_cell_turn(&self.lattice, &cell, first)?;
             self.lattice.cells.push(cell);
+            if first.is_none() {
+                first = first_turn(&self.lattice);
+            }
         }
         Ok(())
     }
@@ -837,8 +885,44 @@ fn next_pivot(x: &[Point], j: usize, ll: Point, i: usize) -> Result<Point, Growt
     Ok(cell)
 }
 
+/// One step right of the start: from the pivot `p` of cell j, the
+/// lower-right corner of cell j and the pivot of cell j + 1.
+#[inline]
+fn right_step(x: &[Point], j: usize, p: Point, i: usize) -> Result<(Point, Point), GrowthError> {
+    let lr = right_transfer(x, j, p, i)?;
+    Ok((lr, next_pivot(x, j, lr, i)?))
+}
+
+/// One step left of the start: from the pivot `p` of cell j, the
+/// lower-left corner of cell j and the pivot of cell j - 1.
+#[inline]
+fn left_step(x: &[Point], j: usize, p: Point, i: usize) -> Result<(Point, Point), GrowthError> {
+    let v2 = (p.pos - x[j + 1].pos).normalize();
+    let ll =
+        lower_left(x[j - 1], x[j + 1], v2).map_err(|r| transfer_error(r, x, j - 1, j + 1, i, j))?;
+    check_leg(ll.z - p.z, "l2", i, j)?;
+    let v1 = (ll.pos - x[j - 1].pos).normalize();
+    let cell = pivot_from_v1(x[j - 1], x[j], v1).map_err(|_| propagated_cone(i, j - 1))?;
+    check_leg(ll.z - cell.z, "l3", i, j - 1)?;
+    Ok((ll, cell))
+}
+
 /// Degenerate and inverted cells (MATH.md 9).
 pub(super) fn check_cell(lattice: &Lattice, cell: &Cell) -> Result<(), GrowthError> {
+    check_cell_turn(lattice, cell, first_turn(lattice))
+}
+
+/// The sign of the z component of `(UL - P) x (UR - P)` of the lattice's
+/// first cell: the way every cell of a planar lattice turns.
+fn first_turn(lattice: &Lattice) -> Option<f64> {
+    lattice.cells.first().map(|c| {
+        let [ul, ur, _, _] = lattice.corners(c);
+        (ul - c.pivot).cross(ur - c.pivot).z.signum()
+    })
+}
+
+/// `check_cell`, given the first cell's turn (`first_turn`).
+fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result<(), GrowthError> {
     let (i, j) = (cell.row as usize, cell.col as usize);
     if !(cell.pivot.is_finite() && cell.z_pivot.is_finite()) {
         return Err(breakdown(i, j));
@@ -870,10 +954,6 @@ pub(super) fn check_cell(lattice: &Lattice, cell: &Cell) -> Result<(), GrowthErr
     if lattice.dim == 2 {
         // Every cell turns the same way as the first cell of the lattice.
         let sign = cross.z.signum();
-        let first = lattice.cells.first().map(|c| {
-            let [ul, ur, _, _] = lattice.corners(c);
-            (ul - c.pivot).cross(ur - c.pivot).z.signum()
-        });
         match first {
             None => {}
             Some(s) if s != sign => {

@@ -6,12 +6,18 @@
 
 use super::Lattice;
 use glam::{DMat3, DQuat, DVec3};
+use std::borrow::Cow;
 
 impl Lattice {
     /// This lattice with every rebuilt row placed onto the one above it;
-    /// an extrinsic lattice is returned as it is.
-    pub fn placed(&self) -> Lattice {
-        self.placed_with_gaps().0
+    /// an extrinsic lattice is returned as it is, borrowed (not copied:
+    /// `check` of millions of cells measures the assembled lattice).
+    pub fn placed(&self) -> Cow<'_, Lattice> {
+        if self.extrinsic() {
+            Cow::Borrowed(self)
+        } else {
+            Cow::Owned(self.placed_with_gaps().0)
+        }
     }
 
     /// `placed`, with how far each rebuilt front vertex missed its row's

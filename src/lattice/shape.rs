@@ -7,7 +7,6 @@
 
 use super::{Kind, Lattice, angle_between};
 use glam::DVec3;
-use std::collections::BTreeMap;
 use std::f64::consts::TAU;
 
 /// An angle defect beyond this (degrees) counts as curved, positive or
@@ -85,20 +84,22 @@ impl Lattice {
     /// The angle defect and Gaussian curvature at every vertex shared by
     /// four cells, in vertex order.
     pub fn curvature(&self) -> Vec<VertexCurvature> {
-        // vertex -> (cells seen, angle sum, area sum)
-        let mut at: BTreeMap<u32, (u32, f64, f64)> = BTreeMap::new();
+        // vertex -> (cells seen, angle sum, area sum), indexed by vertex.
+        let mut at: Vec<(u32, f64, f64)> = vec![(0, 0.0, 0.0); self.vertices.len()];
         for cell in &self.cells {
             let corners = self.corners(cell);
             let angles = corner_angles(corners);
             let area = cell_area(corners);
             for (v, a) in [cell.ul, cell.ur, cell.ll, cell.lr].into_iter().zip(angles) {
-                let e = at.entry(v).or_insert((0, 0.0, 0.0));
+                let e = &mut at[v as usize];
                 e.0 += 1;
                 e.1 += a;
                 e.2 += area;
             }
         }
         at.into_iter()
+            .zip(0u32..)
+            .map(|(e, v)| (v, e))
             .filter(|(_, (n, _, _))| *n == 4)
             .map(|(vertex, (_, sum, area))| {
                 let defect = TAU - sum;

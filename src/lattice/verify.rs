@@ -21,12 +21,17 @@ pub const DRIFT_PER_LEG: f64 = 64.0 * f64::EPSILON;
 /// 70,000 rows), since rounding of absolute coordinates alone then reaches
 /// 1e-9 in exact constructions.
 pub fn tolerance(lattice: &Lattice) -> f64 {
+    let legs: f64 = lattice.cells.iter().map(|c| mean(&lattice.legs(c))).sum();
+    tolerance_with(lattice, legs)
+}
+
+/// `tolerance` given the sum over the cells of their mean legs.
+fn tolerance_with(lattice: &Lattice, legs: f64) -> f64 {
     let extent = lattice
         .vertices
         .iter()
         .map(|v| v.pos.abs().max_element().max(v.z.abs()))
         .fold(0.0, f64::max);
-    let legs: f64 = lattice.cells.iter().map(|c| mean(&lattice.legs(c))).sum();
     let leg = legs / lattice.cells.len().max(1) as f64;
     if !(leg > 0.0) || !extent.is_finite() {
         return TOLERANCE;
@@ -204,6 +209,19 @@ fn bend(a: DVec3, la: f64, b: DVec3, lb: f64) -> f64 {
     a.cross(b).length() / (la * lb)
 }
 
+/// `(|a - b| - |c - d|) / s`, the relative difference of two edges. The
+/// same stored points make the same distance, so an edge whose two cells
+/// hold the same corners (every extrinsic lattice) takes no square root;
+/// the result is bit for bit the full formula's.
+#[inline]
+fn edge_residual(a: DVec3, b: DVec3, c: DVec3, d: DVec3, s: f64) -> f64 {
+    if a == c && b == d && a.is_finite() && b.is_finite() {
+        0.0 / s
+    } else {
+        (a.distance(b) - c.distance(d)) / s
+    }
+}
+
 fn mean(legs: &Legs) -> f64 {
     legs.iter().sum::<f64>() / 4.0
 }
@@ -225,6 +243,7 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut slope = Check::new(I::CompatibilitySlope);
     let mut intercept = Check::new(I::CompatibilityIntercept);
     let mut natural = Check::new(I::CompatibilityInterceptNatural);
+    let mut collapsed = Collapsed::new(lattice);
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
@@ -234,7 +253,9 @@ pub fn verify(lattice: &Lattice) -> Report {
         // The sine of each rod's bend at the pivot: first order in a sideways
         // offset of the pivot, where MATH.md's |LR-UL| - (l1+l3) is second order.
         let p = cell.pivot;
-        let [ul, ur, ll, lr] = lattice.corners(cell);
+        let corners = lattice.corners(cell);
+        let [ul, ur, ll, lr] = corners;
+        collapsed.step(lattice, c, &legs[c], inv, corners);
         straight.record(bend(p - ul, l1, lr - p, l3), site);
         straight.record(bend(p - ur, l4, ll - p, l2), site);
         if lattice.kind == super::Kind::Loop && cell.col == 0 {
@@ -258,7 +279,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             pores_h.record(((l3 + l4) - (m1 + m2)) / s, site);
             // Shared edge: A's right edge UR-LR and B's left edge UL-LL.
             let [bul, _, bll, _] = lattice.corners(b);
-            edges.record((ur.distance(lr) - bul.distance(bll)) / s, site);
+            edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
         let below = inc.ul[cell.ll as usize];
@@ -270,7 +291,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             // Shared edge: A's bottom edge LL-LR and B's top edge UL-UR; in an
             // intrinsic lattice the two are in different frames.
             let [bul, bur, _, _] = lattice.corners(b);
-            edges.record((ll.distance(lr) - bul.distance(bur)) / s, site);
+            edges.record(edge_residual(ll, lr, bul, bur, s), site);
         }
         // Compatibility at the vertex this cell is the UL of (MATH.md 8.2):
         // each vertex once, at the cell its incidence names, in the order
@@ -305,8 +326,11 @@ pub fn verify(lattice: &Lattice) -> Report {
         }
     }
 
-    let collapsed = collapsed_state(lattice, &legs);
-    let tolerance = tolerance(lattice);
+    // One sum of the mean legs serves the tolerance and the collapsed
+    // state's scale (the same sum, in the same order, as each made it).
+    let leg_sum: f64 = legs.iter().map(mean).sum();
+    let collapsed = collapsed.finish(lattice, &legs, leg_sum);
+    let tolerance = tolerance_with(lattice, leg_sum);
     Report {
         tolerance,
         cells: lattice.cells.len(),
@@ -331,63 +355,173 @@ pub fn verify(lattice: &Lattice) -> Report {
 /// every cell through a corner that already has a z (a breadth-first search
 /// would visit the same offsets; this needs no queue). A cell reached
 /// through no corner is a disconnected lattice and fails the check.
-fn collapsed_state(lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
-    use Invariant as I;
-    let mut single = Check::new(I::CollapsedSingleValued);
-    let mut matches = Check::new(I::CollapsedMatchesConstruction);
-    let mut rods = Check::new(I::CollapsedRodLength);
-    let mut z = vec![f64::NAN; lattice.vertices.len()];
-    let mut z_pivot = vec![f64::NAN; lattice.cells.len()];
-    if let Some(first) = z.first_mut() {
-        *first = 0.0;
+///
+/// The sweep runs a cell at a time inside `verify`'s pass over the cells
+/// (`step`), with the rod lengths of the cell just swept: its corners' z
+/// are final then, unless some cell was not reached, when `finish`
+/// measures the rods again after the sweep, as they were measured before.
+struct Collapsed {
+    single: Check,
+    rods: Check,
+    z: Vec<f64>,
+    z_pivot: Vec<f64>,
+    all_reached: bool,
+}
+
+impl Collapsed {
+    fn new(lattice: &Lattice) -> Self {
+        use Invariant as I;
+        let mut z = vec![f64::NAN; lattice.vertices.len()];
+        if let Some(first) = z.first_mut() {
+            *first = 0.0;
+        }
+        Self {
+            single: Check::new(I::CollapsedSingleValued),
+            rods: Check::new(I::CollapsedRodLength),
+            z,
+            z_pivot: vec![f64::NAN; lattice.cells.len()],
+            all_reached: true,
+        }
     }
-    for (c, cell) in lattice.cells.iter().enumerate() {
-        let [l1, l2, l3, l4] = legs[c];
+
+    /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners).
+    #[inline]
+    fn step(&mut self, lattice: &Lattice, c: usize, legs: &Legs, inv: f64, corners: [DVec3; 4]) {
+        let cell = &lattice.cells[c];
+        let [l1, l2, l3, l4] = *legs;
+        let z = &mut self.z;
         // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
         let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
         let Some(zp) = offsets.iter().find_map(|&(v, off)| {
             let zv = z[v as usize];
             (!zv.is_nan()).then_some(zv - off)
         }) else {
-            single.record(f64::NAN, || {
+            self.single.record(f64::NAN, || {
                 format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
             });
-            continue;
+            self.all_reached = false;
+            return;
         };
-        z_pivot[c] = zp;
-        let inv = 1.0 / mean(&legs[c]);
+        self.z_pivot[c] = zp;
         for (corner, offset) in offsets {
             let expect = zp + offset;
             let slot = &mut z[corner as usize];
             if slot.is_nan() {
                 *slot = expect;
             } else {
-                single.record((*slot - expect) * inv, || lattice.cell_name(cell));
+                self.single
+                    .record((*slot - expect) * inv, || lattice.cell_name(cell));
             }
         }
+        if self.all_reached {
+            let [ul, ur, ll, lr] = corners;
+            let site = || lattice.cell_name(cell);
+            self.rods.record(
+                (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
+                site,
+            );
+            self.rods.record(
+                (z[cell.ll as usize] - z[cell.ur as usize] - ur.distance(ll)) * inv,
+                site,
+            );
+        }
     }
-    let global = legs.iter().map(mean).sum::<f64>() / legs.len().max(1) as f64;
-    for (v, vertex) in lattice.vertices.iter().enumerate() {
-        matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
-            vertex_site(lattice, v)
-        });
+
+    /// The comparison with the construction, after the sweep.
+    fn finish(self, lattice: &Lattice, legs: &[Legs], leg_sum: f64) -> [Check; 3] {
+        let Self {
+            single,
+            mut rods,
+            z,
+            z_pivot,
+            all_reached,
+        } = self;
+        let mut matches = Check::new(Invariant::CollapsedMatchesConstruction);
+        let global = leg_sum / legs.len().max(1) as f64;
+        for (v, vertex) in lattice.vertices.iter().enumerate() {
+            matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
+                vertex_site(lattice, v)
+            });
+        }
+        if !all_reached {
+            rods = Check::new(Invariant::CollapsedRodLength);
+        }
+        for (c, cell) in lattice.cells.iter().enumerate() {
+            let site = || lattice.cell_name(cell);
+            matches.record(
+                (z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()),
+                site,
+            );
+            if !all_reached {
+                let inv = 1.0 / mean(&legs[c]);
+                let [ul, ur, ll, lr] = lattice.corners(cell);
+                rods.record(
+                    (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
+                    site,
+                );
+                rods.record(
+                    (z[cell.ll as usize] - z[cell.ur as usize] - ur.distance(ll)) * inv,
+                    site,
+                );
+            }
+        }
+        [single, matches, rods]
     }
-    for (c, cell) in lattice.cells.iter().enumerate() {
-        let site = || lattice.cell_name(cell);
-        matches.record(
-            (z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()),
-            site,
-        );
-        let inv = 1.0 / mean(&legs[c]);
-        let [ul, ur, ll, lr] = lattice.corners(cell);
-        rods.record(
-            (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
-            site,
-        );
-        rods.record(
-            (z[cell.ll as usize] - z[cell.ur as usize] - ur.distance(ll)) * inv,
-            site,
-        );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Direction, Leg};
+    use crate::lattice::{Kind, RowParams, grow};
+
+    fn sheet() -> Lattice {
+        let points: Vec<DVec3> = (0..4)
+            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
+            .collect();
+        let row = RowParams {
+            start: 1,
+            direction: Some(Direction::Angles {
+                angle_deg: 45.0,
+                tilt_deg: 0.0,
+            }),
+            left_leg: Leg::Match,
+            right_leg: Leg::Match,
+            ..RowParams::default()
+        };
+        grow(Kind::Sheet, 2, &points, &[0.0; 3], &vec![row; 3]).unwrap()
     }
-    [single, matches, rods]
+
+    /// A cell reached through no corner fails the collapsed state, and the
+    /// rod lengths are then measured after the sweep with the final z:
+    /// those of the cells that were reached stay exact.
+    #[test]
+    fn a_disconnected_cell_fails_and_the_rods_are_measured_after_the_sweep() {
+        let good = verify(&sheet());
+        assert!(good.passed());
+        let mut lattice = sheet();
+        // Give the last cell four corners of its own: no cell before it
+        // reaches them.
+        let last = lattice.cells.len() - 1;
+        let cell = lattice.cells[last];
+        for corner in [cell.ul, cell.ur, cell.ll, cell.lr] {
+            let copy = lattice.vertices[corner as usize];
+            lattice.vertices.push(copy);
+        }
+        let n = lattice.vertices.len() as u32;
+        let c = &mut lattice.cells[last];
+        (c.ul, c.ur, c.ll, c.lr) = (n - 4, n - 3, n - 2, n - 1);
+        let report = verify(&lattice);
+        let single = report.check(Invariant::CollapsedSingleValued);
+        assert!(single.max.is_nan(), "{single:?}");
+        assert!(
+            single
+                .site
+                .as_deref()
+                .is_some_and(|s| s.contains("not connected"))
+        );
+        // The last cell's corners have no z (NaN): its rods fail.
+        assert!(report.check(Invariant::CollapsedRodLength).max.is_nan());
+        assert!(!report.passed());
+    }
 }

@@ -2,11 +2,10 @@
 //! layer (MATH.md 10.2) and whose centre lines (hole to hole, plus the end
 //! margins) come closer than the strip width plus a clearance overlap in
 //! the built piece. Found with a uniform grid over the strips' bounding
-//! boxes, so a lattice of n strips costs about n log n, not n^2.
+//! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.
 
-use crate::lattice::{Lattice, Rod};
+use crate::lattice::{Lattice, RodType};
 use glam::DVec3;
-use std::collections::{BTreeSet, HashMap};
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub const DEFAULT_CLEARANCE: f64 = 1.0;
@@ -23,90 +22,226 @@ pub struct Clash {
 
 /// A strip's centre line: the rod from tip to tip.
 struct Line {
-    rod: Rod,
-    layer: u32,
+    /// Rod id (lattice.json order).
+    rod: u32,
     a: DVec3,
     b: DVec3,
-    /// The joints it goes through: its two vertices and its cell's pivot.
-    joints: [u64; 3],
+    /// Its two vertices (a rod's pivot is its own cell's: two rods of one
+    /// cell are in different layers, and are also told apart below).
+    start: u32,
+    end: u32,
+    /// Grid cell of the lower corner of its box widened by half the reach.
+    lo: [i32; 3],
 }
 
 /// The clashes of `lattice` (for an intrinsic lattice, pass the assembled
 /// one: the rows placed onto each other), strips `width` wide with
 /// `margin` beyond the end holes, closest first.
+///
+/// Only strips of one layer can clash, so the layers are searched one at a
+/// time: each with a uniform grid of cells about one strip's box wide, each
+/// strip listed in every grid cell its box (widened by half the reach)
+/// touches. Two strips closer than the reach share the grid cell of the
+/// midpoint of their closest points; a pair is measured once, in the first
+/// grid cell the two boxes share. Cost and memory are linear in the strips.
 pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
     let reach = width + clearance;
-    let lines: Vec<Line> = lattice
-        .rods()
-        .map(|rod| {
-            let cell = &lattice.cells[rod.cell];
-            let [s, _, e] = rod.hole_pos;
-            let dir = (e - s).normalize_or_zero();
-            Line {
-                layer: lattice.layer(cell, rod.kind),
-                a: s - margin * dir,
-                b: e + margin * dir,
-                // Vertices are numbered below 2^32, pivots above.
-                joints: [
-                    rod.start as u64,
-                    rod.end as u64,
-                    (1 << 32) + rod.cell as u64,
-                ],
-                rod,
-            }
-        })
+    let rods = 2 * lattice.cells.len();
+    // Rods grouped by layer (a counting sort, in id order within a layer).
+    let layer_of: Vec<u32> = lattice
+        .cells
+        .iter()
+        .flat_map(|c| [lattice.layer(c, RodType::A), lattice.layer(c, RodType::B)])
         .collect();
-    if lines.is_empty() {
-        return Vec::new();
+    let layers = layer_of.iter().max().map_or(0, |&m| m as usize + 1);
+    let mut start = vec![0usize; layers + 1];
+    for &l in &layer_of {
+        start[l as usize + 1] += 1;
     }
-    // Grid cells about one strip long, so each strip touches a few.
-    let mut lengths: Vec<f64> = lines.iter().map(|l| l.a.distance(l.b)).collect();
-    lengths.sort_by(f64::total_cmp);
-    let h = (lengths[lengths.len() / 2] + reach).max(1e-6);
-    let key = |p: DVec3| {
-        let q = (p / h).floor();
-        (q.x as i64, q.y as i64, q.z as i64)
-    };
-    let mut grid: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();
-    for (i, l) in lines.iter().enumerate() {
-        let (lo, hi) = (
-            key(l.a.min(l.b) - DVec3::splat(reach / 2.0)),
-            key(l.a.max(l.b) + DVec3::splat(reach / 2.0)),
+    for l in 0..layers {
+        start[l + 1] += start[l];
+    }
+    let mut order = vec![0u32; rods];
+    let mut fill = start.clone();
+    for (r, &l) in layer_of.iter().enumerate() {
+        order[fill[l as usize]] = r as u32;
+        fill[l as usize] += 1;
+    }
+    drop(layer_of);
+    let mut out = Vec::new();
+    for l in 0..layers {
+        layer_clashes(
+            lattice,
+            &order[start[l]..start[l + 1]],
+            margin,
+            reach,
+            &mut out,
         );
-        for x in lo.0..=hi.0 {
-            for y in lo.1..=hi.1 {
-                for z in lo.2..=hi.2 {
-                    grid.entry((x, y, z)).or_default().push(i as u32);
-                }
-            }
-        }
     }
-    let mut pairs: BTreeSet<(u32, u32)> = BTreeSet::new();
-    for list in grid.values() {
-        for (n, &i) in list.iter().enumerate() {
-            for &j in &list[n + 1..] {
-                let (li, lj) = (&lines[i as usize], &lines[j as usize]);
-                if li.layer == lj.layer && !li.joints.iter().any(|x| lj.joints.contains(x)) {
-                    pairs.insert((i.min(j), i.max(j)));
-                }
-            }
-        }
-    }
-    let mut out: Vec<Clash> = pairs
-        .into_iter()
-        .filter_map(|(i, j)| {
-            let (li, lj) = (&lines[i as usize], &lines[j as usize]);
-            let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
-            let d = p.distance(q);
-            (d < reach).then(|| Clash {
-                rods: [li.rod.id.min(lj.rod.id), li.rod.id.max(lj.rod.id)],
-                distance: d,
-                at: (p + q) / 2.0,
-            })
-        })
-        .collect();
     out.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.rods.cmp(&b.rods)));
     out
+}
+
+/// The clashes among `ids`, rods of one layer in increasing id order.
+fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &mut Vec<Clash>) {
+    if ids.len() < 2 {
+        return;
+    }
+    let mut lines: Vec<Line> = ids
+        .iter()
+        .map(|&r| {
+            let cell = &lattice.cells[r as usize / 2];
+            let [ul, ur, ll, lr] = lattice.corners(cell);
+            let (s, e, start, end) = if r % 2 == 0 {
+                (ul, lr, cell.ul, cell.lr)
+            } else {
+                (ur, ll, cell.ur, cell.ll)
+            };
+            let dir = (e - s).normalize_or_zero();
+            Line {
+                rod: r,
+                a: s - margin * dir,
+                b: e + margin * dir,
+                start,
+                end,
+                lo: [0; 3],
+            }
+        })
+        .collect();
+    // Grid cells about one strip long, so each strip touches a few.
+    let mut lengths: Vec<f64> = lines.iter().map(|l| l.a.distance(l.b)).collect();
+    let mid = lengths.len() / 2;
+    let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
+    drop(lengths);
+    let half = DVec3::splat(reach / 2.0);
+    let (lo, hi) = lines.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), l| (lo.min(l.a.min(l.b)), hi.max(l.a.max(l.b))),
+    );
+    let (lo, hi) = (lo - half, hi + half);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return;
+    }
+    // Never more than about 2^20 grid cells along an axis.
+    let h = (median + reach)
+        .max(1e-6)
+        .max((hi - lo).max_element() / (1u64 << 20) as f64);
+    let key = |p: DVec3| {
+        let q = ((p - lo) / h).floor();
+        [q.x as i32, q.y as i32, q.z as i32]
+    };
+    let dims = key(hi).map(|k| k as usize + 1);
+    for l in &mut lines {
+        l.lo = key(l.a.min(l.b) - half);
+    }
+    let hi_key = |l: &Line| key(l.a.max(l.b) + half);
+    let mut visit = |cell: [i32; 3], list: &[u32]| {
+        for (n, &i) in list.iter().enumerate() {
+            let li = &lines[i as usize];
+            for &j in &list[n + 1..] {
+                let lj = &lines[j as usize];
+                // Measured in the first grid cell both boxes touch only.
+                let first = [0, 1, 2].map(|k| li.lo[k].max(lj.lo[k]));
+                if first != cell
+                    || [li.start, li.end]
+                        .iter()
+                        .any(|v| [lj.start, lj.end].contains(v))
+                    || li.rod / 2 == lj.rod / 2
+                {
+                    continue;
+                }
+                // Boxes apart by the reach on some axis: no clash (and no
+                // closest points to compute).
+                let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
+                if gap.max_element() >= reach {
+                    continue;
+                }
+                let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
+                let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
+                let d = p.distance(q);
+                if d < reach {
+                    out.push(Clash {
+                        rods: [li.rod as usize, lj.rod as usize],
+                        distance: d,
+                        at: (p + q) / 2.0,
+                    });
+                }
+            }
+        }
+    };
+    let grid_cells = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
+    match grid_cells {
+        // A dense grid when it is not much larger than the strips (sheets).
+        Some(g) if g <= 4 * lines.len() + 1024 => {
+            let index =
+                |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
+            let mut offset = vec![0u32; g + 1];
+            for l in &lines {
+                let h = hi_key(l);
+                for z in l.lo[2]..=h[2] {
+                    for y in l.lo[1]..=h[1] {
+                        for x in l.lo[0]..=h[0] {
+                            offset[index([x, y, z]) + 1] += 1;
+                        }
+                    }
+                }
+            }
+            for c in 0..g {
+                offset[c + 1] += offset[c];
+            }
+            let mut fill = offset.clone();
+            let mut entries = vec![0u32; offset[g] as usize];
+            for (i, l) in lines.iter().enumerate() {
+                let h = hi_key(l);
+                for z in l.lo[2]..=h[2] {
+                    for y in l.lo[1]..=h[1] {
+                        for x in l.lo[0]..=h[0] {
+                            let c = index([x, y, z]);
+                            entries[fill[c] as usize] = i as u32;
+                            fill[c] += 1;
+                        }
+                    }
+                }
+            }
+            drop(fill);
+            for z in 0..dims[2] {
+                for y in 0..dims[1] {
+                    for x in 0..dims[0] {
+                        let k = [x as i32, y as i32, z as i32];
+                        let c = index(k);
+                        let list = &entries[offset[c] as usize..offset[c + 1] as usize];
+                        if list.len() > 1 {
+                            visit(k, list);
+                        }
+                    }
+                }
+            }
+        }
+        // Sparse (a curved surface in a large box): the entries sorted by cell.
+        _ => {
+            let mut entries: Vec<([i32; 3], u32)> = Vec::new();
+            for (i, l) in lines.iter().enumerate() {
+                let h = hi_key(l);
+                for z in l.lo[2]..=h[2] {
+                    for y in l.lo[1]..=h[1] {
+                        for x in l.lo[0]..=h[0] {
+                            entries.push(([z, y, x], i as u32));
+                        }
+                    }
+                }
+            }
+            entries.sort_unstable();
+            let mut list = Vec::new();
+            for run in entries.chunk_by(|a, b| a.0 == b.0) {
+                if run.len() > 1 {
+                    list.clear();
+                    list.extend(run.iter().map(|e| e.1));
+                    let [z, y, x] = run[0].0;
+                    visit([x, y, z], &list);
+                }
+            }
+        }
+    }
 }
 
 /// The closest points of segments `p0 p1` and `q0 q1` (Ericson, Real-Time
@@ -168,7 +303,7 @@ pub fn rod_name(lattice: &Lattice, rod: usize) -> String {
 mod tests {
     use super::*;
     use crate::geometry::{Direction, Leg};
-    use crate::lattice::{Kind, RowParams, grow};
+    use crate::lattice::{Kind, Rod, RowParams, grow};
 
     #[test]
     fn closest_points_of_crossing_parallel_and_skew_segments() {
