@@ -135,6 +135,53 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
         l.lo = key(l.a.min(l.b) - half);
     }
     let hi_key = |l: &Line| key(l.a.max(l.b) + half);
+    // A strip far longer than the rest (a runaway design tried by the
+    // optimiser) would be listed in every grid cell of its whole box, which
+    // can be billions: such strips are measured against every strip instead.
+    let long: Vec<bool> = lines
+        .iter()
+        .map(|l| {
+            let h = hi_key(l);
+            (0..3)
+                .map(|k| (h[k] - l.lo[k]) as f64 + 1.0)
+                .product::<f64>()
+                > 512.0
+        })
+        .collect();
+    // The clash of two strips of this layer, if they clash.
+    let pair = |li: &Line, lj: &Line| -> Option<Clash> {
+        if [li.start, li.end]
+            .iter()
+            .any(|v| [lj.start, lj.end].contains(v))
+            || li.rod / 2 == lj.rod / 2
+        {
+            return None;
+        }
+        // Boxes apart by the reach on some axis: no clash (and no closest
+        // points to compute).
+        let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
+        if gap.max_element() >= reach {
+            return None;
+        }
+        let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
+        let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
+        let d = p.distance(q);
+        (d < reach).then(|| Clash {
+            rods: [li.rod as usize, lj.rod as usize],
+            distance: d,
+            at: (p + q) / 2.0,
+        })
+    };
+    for (i, li) in lines.iter().enumerate() {
+        if long[i] {
+            // Long against short here; long against long once (j > i).
+            for (j, lj) in lines.iter().enumerate() {
+                if j != i && (!long[j] || j > i) {
+                    out.extend(pair(li, lj));
+                }
+            }
+        }
+    }
     let mut visit = |cell: [i32; 3], list: &[u32]| {
         for (n, &i) in list.iter().enumerate() {
             let li = &lines[i as usize];
@@ -142,29 +189,8 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
                 let lj = &lines[j as usize];
                 // Measured in the first grid cell both boxes touch only.
                 let first = [0, 1, 2].map(|k| li.lo[k].max(lj.lo[k]));
-                if first != cell
-                    || [li.start, li.end]
-                        .iter()
-                        .any(|v| [lj.start, lj.end].contains(v))
-                    || li.rod / 2 == lj.rod / 2
-                {
-                    continue;
-                }
-                // Boxes apart by the reach on some axis: no clash (and no
-                // closest points to compute).
-                let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
-                if gap.max_element() >= reach {
-                    continue;
-                }
-                let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
-                let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
-                let d = p.distance(q);
-                if d < reach {
-                    out.push(Clash {
-                        rods: [li.rod as usize, lj.rod as usize],
-                        distance: d,
-                        at: (p + q) / 2.0,
-                    });
+                if first == cell {
+                    out.extend(pair(li, lj));
                 }
             }
         }
@@ -176,7 +202,12 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
             let index =
                 |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
             let mut offset = vec![0u32; g + 1];
-            for l in &lines {
+            for l in lines
+                .iter()
+                .zip(&long)
+                .filter(|&(_, &g)| !g)
+                .map(|(l, _)| l)
+            {
                 let h = hi_key(l);
                 for z in l.lo[2]..=h[2] {
                     for y in l.lo[1]..=h[1] {
@@ -191,7 +222,7 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
             }
             let mut fill = offset.clone();
             let mut entries = vec![0u32; offset[g] as usize];
-            for (i, l) in lines.iter().enumerate() {
+            for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
                 let h = hi_key(l);
                 for z in l.lo[2]..=h[2] {
                     for y in l.lo[1]..=h[1] {
@@ -220,7 +251,7 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
         // Sparse (a curved surface in a large box): the entries sorted by cell.
         _ => {
             let mut entries: Vec<([i32; 3], u32)> = Vec::new();
-            for (i, l) in lines.iter().enumerate() {
+            for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
                 let h = hi_key(l);
                 for z in l.lo[2]..=h[2] {
                     for y in l.lo[1]..=h[1] {
@@ -387,10 +418,8 @@ mod tests {
         assert!(hit.iter().any(|c| c.rods == [0, 2]), "{hit:?}");
     }
 
-    #[test]
-    fn the_grid_finds_what_all_pairs_find() {
-        let lat = sheet(6, 15.0);
-        let found = clashes(&lat, 10.0, 6.0, 1.0);
+    /// The same-layer clashes of `lat` by measuring every pair.
+    fn all_pairs(lat: &Lattice) -> usize {
         let lines: Vec<Rod> = lat.rods().collect();
         let mut brute = 0;
         for i in 0..lines.len() {
@@ -417,7 +446,27 @@ mod tests {
                 }
             }
         }
+        brute
+    }
+
+    #[test]
+    fn the_grid_finds_what_all_pairs_find() {
+        let lat = sheet(6, 15.0);
+        let brute = all_pairs(&lat);
         assert!(brute > 0);
-        assert_eq!(found.len(), brute);
+        assert_eq!(clashes(&lat, 10.0, 6.0, 1.0).len(), brute);
+    }
+
+    #[test]
+    fn a_runaway_strip_is_measured_without_filling_its_box() {
+        // One vertex thrown 50 m away diagonally (as an optimiser's wild try
+        // can): its strips' boxes span about 10^9 grid cells. They must be
+        // measured against every strip instead, with the same answer.
+        let mut lat = sheet(6, 15.0);
+        let v = lat.vertices.len() / 2;
+        lat.vertices[v].pos += DVec3::new(5.0e4, 3.0e4, 2.0e4);
+        let brute = all_pairs(&lat);
+        assert!(brute > 0);
+        assert_eq!(clashes(&lat, 10.0, 6.0, 1.0).len(), brute);
     }
 }
