@@ -68,11 +68,20 @@ pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Ve
         (q.x as i64, q.y as i64, q.z as i64)
     };
     let mut grid: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();
+    // A strip far longer than the median would fill its whole bounding box
+    // with grid cells (a runaway design tried by the optimiser: billions);
+    // such strips are checked against every strip instead.
+    let mut long: Vec<u32> = Vec::new();
     for (i, l) in lines.iter().enumerate() {
         let (lo, hi) = (
             key(l.a.min(l.b) - DVec3::splat(reach / 2.0)),
             key(l.a.max(l.b) + DVec3::splat(reach / 2.0)),
         );
+        let span = |a: i64, b: i64| b.saturating_sub(a) as f64 + 1.0;
+        if span(lo.0, hi.0) * span(lo.1, hi.1) * span(lo.2, hi.2) > 512.0 {
+            long.push(i as u32);
+            continue;
+        }
         for x in lo.0..=hi.0 {
             for y in lo.1..=hi.1 {
                 for z in lo.2..=hi.2 {
@@ -89,6 +98,14 @@ pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Ve
                 if li.layer == lj.layer && !li.joints.iter().any(|x| lj.joints.contains(x)) {
                     pairs.insert((i.min(j), i.max(j)));
                 }
+            }
+        }
+    }
+    for &i in &long {
+        for j in 0..lines.len() as u32 {
+            let (li, lj) = (&lines[i as usize], &lines[j as usize]);
+            if i != j && li.layer == lj.layer && !li.joints.iter().any(|x| lj.joints.contains(x)) {
+                pairs.insert((i.min(j), i.max(j)));
             }
         }
     }
