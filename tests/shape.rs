@@ -82,7 +82,9 @@ fn half_ellipsoid_is_on_its_surface_below_its_rim() {
     assert!(edge >= reach, "the pole ring's edges {edge} mm");
     let hole = ring.iter().map(|v| v.pos.truncate().length()).sum::<f64>() / n as f64;
     let polygon = |n: f64| n * (std::f64::consts::TAU / n).sin() / std::f64::consts::TAU;
-    assert!(share <= polygon(n as f64) * (1.0 - (hole / 200.0).powi(2)) + 1e-9);
+    // The coverage is sampled on a grid: within 0.2 % of the exact share.
+    let exact = polygon(n as f64) * (1.0 - (hole / 200.0).powi(2));
+    assert!(share <= exact + 0.002, "{share} {exact} hole {hole}");
     let bound = |n: f64| {
         let r = reach / (2.0 * (std::f64::consts::PI / n).sin());
         polygon(n) * (1.0 - (r / 200.0).powi(2))
@@ -223,11 +225,14 @@ fn eggbox_has_bumps_and_dimples_in_a_checkerboard() {
 }
 
 #[test]
-fn bowl_turns_shrink_and_drop() {
+fn bowl_is_positively_curved_with_round_shrinking_sinking_turns() {
     let (d, lattice, m) = example("bowl");
     assert_eq!(d.kind, karigami::lattice::Kind::Helix);
     assert_eq!((lattice.width, lattice.cells.len()), (9, 32));
-    // Four complete turns of vertices: each smaller and lower than the last.
+    let c = m.curvature.unwrap();
+    assert!(c.positive >= 0.8, "{c:?}");
+    // Four complete turns of vertices: each narrower and lower than the
+    // last, and round within 15 % of its mean radius.
     assert_eq!(m.turns.len(), 4);
     for w in m.turns.windows(2) {
         assert!(
@@ -236,7 +241,9 @@ fn bowl_turns_shrink_and_drop() {
             m.turns
         );
     }
-    // Not yet a bowl in its curvature: measured, and reported as not met.
-    let c = m.curvature.unwrap();
-    assert!(c.positive < 0.8, "update the bowl's test: {c:?}");
+    for t in &m.turns {
+        assert!(t.spread <= 0.15, "{:?}", m.turns);
+    }
+    let flange = d.fabrication.eyelet.flange;
+    assert!(m.shape.min_leg > flange, "{}", m.shape.min_leg);
 }
