@@ -285,12 +285,12 @@ pub fn cost(
         // where the positive share itself is a staircase.
         let want = 3.0 * crate::lattice::shape::CURVED_DEG;
         if !m.shape.curvature.is_empty() {
-            r += 3.0 * m
-                .shape
-                .curvature
-                .iter()
-                .map(|v| (want - v.defect.to_degrees()).max(0.0) / want)
-                .sum::<f64>()
+            r += 3.0
+                * m.shape
+                    .curvature
+                    .iter()
+                    .map(|v| (want - v.defect.to_degrees()).max(0.0) / want)
+                    .sum::<f64>()
                 / m.shape.curvature.len() as f64;
         }
         // A bowl is a cap of a sphere: the vertices' mean distance from
