@@ -119,6 +119,17 @@ fn disk_is_planar_on_its_circle_and_covered() {
 
 #[test]
 fn the_optimiser_reaches_a_known_admissible_design_and_repeats_itself() {
+    reaches_and_repeats("budget = 60\n");
+}
+
+#[test]
+fn the_evolution_strategy_reaches_a_known_admissible_design_and_repeats_itself() {
+    // 13 designs a generation: a small budget keeps this test quick.
+    reaches_and_repeats("method = \"evolution\"\nbudget = 10\n");
+}
+
+/// The optimiser, `method` lines of its [optimise] table.
+fn reaches_and_repeats(method: &str) {
     // A fitting problem with a known admissible solution: rings stepping
     // down a random spheroid by known steps. Measure the coverage they
     // reach; then start the optimiser from other steps and require it.
@@ -127,7 +138,7 @@ fn the_optimiser_reaches_a_known_admissible_design_and_repeats_itself() {
     let known = [rng.range(40.0, 50.0), rng.range(40.0, 50.0)];
     let recipe = |steps: [f64; 2], require: f64| {
         format!(
-            "[lattice]\nseed = \"loop\"\nkappa = 0.0\n[lattice.circle]\ncenter = [0.0, 0.0, 0.0]\nradius = {a}\npoints = 12\n[lattice.fit]\nsurface = \"ellipsoid\"\naxes = [{a}, {a}, {c}]\nrows = 2\nsteps = [{}, {}]\n[optimise]\nvary = [\"fit\"]\nbudget = 60\nstep = 4.0\n[optimise.objective]\ncoverage = 1.0\n[optimise.require]\nmin_coverage = {require}\n",
+            "[lattice]\nseed = \"loop\"\nkappa = 0.0\n[lattice.circle]\ncenter = [0.0, 0.0, 0.0]\nradius = {a}\npoints = 12\n[lattice.fit]\nsurface = \"ellipsoid\"\naxes = [{a}, {a}, {c}]\nrows = 2\nsteps = [{}, {}]\n[optimise]\nvary = [\"fit\"]\n{method}step = 4.0\n[optimise.objective]\ncoverage = 1.0\n[optimise.require]\nmin_coverage = {require}\n",
             steps[0], steps[1]
         )
     };
