@@ -1160,7 +1160,8 @@ fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
     };
     let path = crate::cli::repo().join("examples/bowl.toml");
     let (a, b) = (build_example(&path, &o), build_example(&path, &o));
-    assert_eq!(a.design.fabrication.sheet.name, "12x24in");
+    // The redesigned (deeper) bowl grouped by step needs the 600 x 400 sheet.
+    assert_eq!(a.design.fabrication.sheet.name, "600x400");
     for (p, q) in a.pages.iter().zip(&b.pages) {
         assert_eq!(
             karigami::write::svg::write(p),

@@ -32,7 +32,7 @@ pub fn run(
     };
     if !v.quiet {
         eprintln!(
-            "optimised {} in {:.1} s: {} variables, {} Nelder-Mead iterations, {} designs grown; cost {:.6} -> {:.6}; every hard constraint met",
+            "optimised {} in {:.1} s: {} variables, {} iterations or generations, {} designs grown; cost {:.6} -> {:.6}; every hard constraint met",
             recipe.file,
             started.elapsed().as_secs_f64(),
             done.variables,

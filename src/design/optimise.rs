@@ -6,7 +6,8 @@
 //! ```toml
 //! [optimise]
 //! vary = ["angle", "front"]   # row angles, front-move angles, or "seed" (helix)
-//! budget = 400                # Nelder-Mead iterations
+//! method = "nelder-mead"      # or "evolution" (a seeded population search)
+//! budget = 400                # Nelder-Mead iterations, or generations
 //! seed = 1                    # how the start simplex is laid out
 //! step = 3.0                  # start simplex size (degrees; 2 % of a length)
 //! [optimise.objective]        # weights of the objectives
@@ -35,6 +36,7 @@ pub struct RawClash {
 #[serde(deny_unknown_fields)]
 pub struct RawOptimise {
     pub vary: Spanned<Vec<Spanned<String>>>,
+    pub method: Option<Spanned<String>>,
     pub budget: Option<Spanned<i64>>,
     pub seed: Option<Spanned<i64>>,
     pub step: Option<Num>,
@@ -119,6 +121,16 @@ pub enum Vary {
     Fit,
 }
 
+/// How the optimiser searches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// argmin's Nelder-Mead simplex, restarted about the best point.
+    NelderMead,
+    /// A seeded (mu/mu_w, lambda) evolution strategy: a population about a
+    /// moving mean, for rugged costs with many local minima (a helix seed).
+    Evolution,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Pattern {
     /// The same defect at every interior vertex.
@@ -137,7 +149,8 @@ pub struct Weights {
     pub legs: f64,
     pub clashes: f64,
     pub curvature: f64,
-    /// Helix: turns' radii even within a turn, shrinking and dropping turn by turn.
+    /// Helix: a bowl. Turns round (within 12 %), each narrower and lower,
+    /// vertices near one sphere, every interior defect clearly positive.
     pub rings: f64,
     /// Intrinsic rows: how far rebuilt fronts miss their rows.
     pub bending: f64,
@@ -154,6 +167,7 @@ pub struct Requirement {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Optimise {
     pub vary: Vec<Vary>,
+    pub method: Method,
     pub budget: usize,
     pub seed: u64,
     pub step: f64,
@@ -217,6 +231,20 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
                 .hint("say what the optimiser may change: [\"angle\"], [\"front\"] or [\"seed\"]"),
         );
     }
+    let method = match &r.method {
+        None => Method::NelderMead,
+        Some(m) => match m.get_ref().as_str() {
+            "nelder-mead" => Method::NelderMead,
+            "evolution" => Method::Evolution,
+            other => {
+                return Err(
+                    Diagnostic::new("design", format!("optimise.method is \"{other}\""))
+                        .at(m.span())
+                        .hint("method is \"nelder-mead\" (default) or \"evolution\""),
+                );
+            }
+        },
+    };
     let budget = match &r.budget {
         Some(b) => super::count(b, "optimise.budget", 1, 100_000)?,
         None => 300,
@@ -323,6 +351,7 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
     }
     Ok(Optimise {
         vary,
+        method,
         budget,
         seed,
         step,
