@@ -158,6 +158,7 @@ error_kinds! {
     UnknownVertexJoint as "design" => EXIT_INVALID,
     NegativeClearance as "design" => EXIT_INVALID,
     UnknownVary as "design" => EXIT_INVALID,
+    UnknownOptimiseMethod as "design" => EXIT_INVALID,
     EmptyVary as "design" => EXIT_INVALID,
     NonPositiveStep as "design" => EXIT_INVALID,
     OptimiseNegative as "design" => EXIT_INVALID,

@@ -238,7 +238,7 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
             "evolution" => Method::Evolution,
             other => {
                 return Err(
-                    Diagnostic::new("design", format!("optimise.method is \"{other}\""))
+                    Diagnostic::new(ErrorKind::UnknownOptimiseMethod, format!("optimise.method is \"{other}\""))
                         .at(m.span())
                         .hint("method is \"nelder-mead\" (default) or \"evolution\""),
                 );
