@@ -2,7 +2,7 @@
 //! subfolder of one output folder, which replaces the old one as a whole.
 //! The files written do not depend on the number of jobs or their order.
 
-use super::Verbosity;
+use super::args::Verbosity;
 use super::build::open_out;
 use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{Staged, safe_component};
