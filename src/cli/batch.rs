@@ -11,6 +11,7 @@ use super::recipe::{Recipe, run_recipe, stem};
 use karigami::design::Overrides;
 use karigami::diagnostic::ErrorKind;
 use karigami::report;
+use karigami::words::plural;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -299,12 +300,4 @@ fn table(outcomes: &[Outcome]) -> String {
         }
     }
     out
-}
-
-fn plural(n: usize, what: &str) -> String {
-    if n == 1 {
-        format!("1 {what}")
-    } else {
-        format!("{n} {what}s")
-    }
 }
