@@ -18,3 +18,4 @@ pub mod sim;
 pub mod solve;
 pub mod templates;
 pub mod write;
+pub mod words;

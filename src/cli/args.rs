@@ -1,6 +1,5 @@
 //! The command line's schema: commands, flags and their help.
 
-use super::recipe::DEFAULT_TEMPLATE;
 use clap::{Args as ClapArgs, Parser, Subcommand};
 use karigami::design::Overrides;
 use std::path::PathBuf;
@@ -10,6 +9,9 @@ use std::path::PathBuf;
 /// hand-held search.
 pub const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
 pub const MAX_TUNE_CELLS: u64 = 100_000;
+
+/// The design `karigami build` uses when given none.
+pub const DEFAULT_TEMPLATE: &str = "sheet";
 
 const EXIT_CODES: &str =
     "Exit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error.";
@@ -179,4 +181,11 @@ impl FabricationFlags {
             tabs: self.tabs,
         }
     }
+}
+
+/// How much to print.
+#[derive(Clone, Copy)]
+pub struct Verbosity {
+    pub quiet: bool,
+    pub verbose: bool,
 }

@@ -2,7 +2,7 @@
 //! subfolder of one output folder, which replaces the old one as a whole.
 //! The files written do not depend on the number of jobs or their order.
 
-use super::Verbosity;
+use super::args::Verbosity;
 use super::build::open_out;
 use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{Staged, safe_component};
@@ -11,6 +11,7 @@ use super::recipe::{Recipe, run_recipe, stem};
 use karigami::design::Overrides;
 use karigami::diagnostic::ErrorKind;
 use karigami::report;
+use karigami::words::plural;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -299,12 +300,4 @@ fn table(outcomes: &[Outcome]) -> String {
         }
     }
     out
-}
-
-fn plural(n: usize, what: &str) -> String {
-    if n == 1 {
-        format!("1 {what}")
-    } else {
-        format!("{n} {what}s")
-    }
 }

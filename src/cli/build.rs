@@ -1,11 +1,11 @@
 //! `karigami build` of one recipe (several go to `batch`): grow, verify,
 //! draw and write the files into --out, replacing it as a whole.
 
-use super::check::fit_note;
+use super::args::Verbosity;
 use super::error::{Error, print_json};
-use super::progress::{self, Progress};
+use super::files;
+use super::progress::{self, Progress, fit_note};
 use super::recipe::{Recipe, run_recipe};
-use super::{Verbosity, batch, files};
 use karigami::design::Overrides;
 use karigami::report;
 use serde::Serialize;
@@ -29,16 +29,10 @@ pub fn build(
     paths: &[PathBuf],
     out: &Path,
     force: bool,
-    jobs: usize,
     json: bool,
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Error> {
-    let batch = paths.len() > 1 || paths.iter().any(|p| p.is_dir());
-    if batch {
-        let recipes = files::recipes(paths).map_err(Error::usage)?;
-        return batch::build(&recipes, out, force, jobs, json, overrides, v);
-    }
     let dir = open_out(out, paths, force, v)?;
     let recipe = match paths.first() {
         Some(p) => Recipe::read(p),

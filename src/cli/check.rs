@@ -1,9 +1,9 @@
 //! `karigami check`: grow and verify recipes, print the report, write nothing.
 
-use super::Verbosity;
+use super::args::Verbosity;
 use super::error::{Error, ErrorJson, print_json};
 use super::files;
-use super::progress::{self, Progress};
+use super::progress::{self, Progress, fit_note};
 use super::recipe::Recipe;
 use karigami::build::{assemble_with, too_large_to_fabricate};
 use karigami::design::Overrides;
@@ -144,14 +144,5 @@ fn check_one(
             checked.check = Some(check);
             (failed, checked)
         }
-    }
-}
-
-/// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
-pub fn fit_note(note: &str, v: Verbosity, bar: &mut Progress) {
-    if v.verbose {
-        eprintln!("{note}");
-    } else {
-        bar.note(note);
     }
 }

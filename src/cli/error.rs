@@ -1,7 +1,6 @@
 //! Why a command stopped: one error type for every command, shown on
 //! stderr and, with `--json`, as the run's one JSON document.
 
-use super::recipe::Recipe;
 use karigami::diagnostic::{Diagnostic, ErrorKind};
 use serde::Serialize;
 
@@ -83,16 +82,17 @@ impl Error {
         error
     }
 
-    /// A diagnostic against a recipe, rendered with its place.
-    pub fn recipe(recipe: &Recipe, d: &Diagnostic) -> Self {
-        let (line, column) = d.line_col(&recipe.source).unzip();
+    /// A diagnostic against a recipe (`file` as messages name it, its
+    /// text `source`), rendered with its place.
+    pub fn at(file: &str, source: &str, d: &Diagnostic) -> Self {
+        let (line, column) = d.line_col(source).unzip();
         Self {
             kind: d.kind,
-            text: d.render(&recipe.file, &recipe.source),
+            text: d.render(file, source),
             json: Some(Box::new(ErrorJson::Recipe {
                 class: d.kind.name(),
                 message: d.message.clone(),
-                file: recipe.file.clone(),
+                file: file.to_string(),
                 line,
                 column,
                 site: d.site.clone(),

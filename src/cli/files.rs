@@ -13,6 +13,7 @@
 //! by builds, so that nothing else is mistaken for one.
 
 use super::fault;
+use karigami::words::plural;
 use std::ffi::OsStr;
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Read, Write};
@@ -461,7 +462,7 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
         }
         return Err(format!(
             "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
-            count(added.len(), "file"),
+            plural(added.len(), "file"),
             shortlist(&added),
             if added.len() == 1 { "it" } else { "them" },
             if added.len() == 1 { "it" } else { "them" },
@@ -489,7 +490,7 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
     };
     Err(format!(
         "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
-        count(files.len(), "file")
+        plural(files.len(), "file")
     ))
 }
 
@@ -504,7 +505,7 @@ impl OutDir {
         Some(format!(
             "warning: --force: {} {what}; replacing it deletes {}: {}",
             self.target.display(),
-            count(files.len(), "file"),
+            plural(files.len(), "file"),
             shortlist(files)
         ))
     }
@@ -531,14 +532,6 @@ fn shortlist(files: &[String]) -> String {
         list.push(&more);
     }
     list.join(", ")
-}
-
-fn count(n: usize, what: &str) -> String {
-    if n == 1 {
-        format!("1 {what}")
-    } else {
-        format!("{n} {what}s")
-    }
 }
 
 /// Every file under `dir` (relative, sorted), without following links.

@@ -36,17 +36,10 @@ mod recipe;
 mod simulate;
 mod tune;
 
-use args::{Args, Command};
+use args::{Args, Command, Verbosity};
 use clap::{CommandFactory, Parser};
 use error::{Error, ErrorJson};
 use karigami::diagnostic::ErrorKind;
-
-/// How much to print.
-#[derive(Clone, Copy)]
-pub struct Verbosity {
-    pub quiet: bool,
-    pub verbose: bool,
-}
 
 pub fn run() -> i32 {
     let args = match Args::try_parse() {
@@ -110,15 +103,17 @@ pub fn run() -> i32 {
             let jobs = jobs
                 .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
                 .max(1);
-            build::build(
-                &designs,
-                &out,
-                force,
-                jobs,
-                json,
-                &fabrication.overrides(),
-                v,
-            )
+            let overrides = fabrication.overrides();
+            // Several recipes, or a folder, build as a batch.
+            if designs.len() > 1 || designs.iter().any(|p| p.is_dir()) {
+                files::recipes(&designs)
+                    .map_err(Error::usage)
+                    .and_then(|recipes| {
+                        batch::build(&recipes, &out, force, jobs, json, &overrides, v)
+                    })
+            } else {
+                build::build(&designs, &out, force, json, &overrides, v)
+            }
         }
         Command::Tune {
             design,

@@ -1,6 +1,6 @@
 //! `karigami new`: a starter recipe from a template; `karigami templates`.
 
-use super::Verbosity;
+use super::args::Verbosity;
 use super::error::Error;
 use super::files;
 use super::recipe::stem;

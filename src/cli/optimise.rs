@@ -2,10 +2,11 @@
 //! optimiser and write the recipe back with the optimised numbers, its
 //! comments and every other setting kept.
 
+use super::args::Verbosity;
 use super::error::Error;
+use super::files;
 use super::progress::Progress;
 use super::recipe::Recipe;
-use super::{Verbosity, files};
 use karigami::design::Design;
 use std::path::Path;
 use std::time::Instant;

@@ -145,3 +145,12 @@ pub fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) -> T {
         result
     })
 }
+
+/// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
+pub fn fit_note(note: &str, v: super::args::Verbosity, bar: &mut Progress) {
+    if v.verbose {
+        eprintln!("{note}");
+    } else {
+        bar.note(note);
+    }
+}

@@ -1,6 +1,7 @@
 //! Reading a recipe: its text, its name for messages and its default
 //! design name, and running it through the pipeline.
 
+use super::args::DEFAULT_TEMPLATE;
 use super::error::Error;
 use super::files;
 use karigami::build::{Build, build_with};
@@ -8,9 +9,6 @@ use karigami::design::{self, Design, Overrides};
 use karigami::diagnostic::Diagnostic;
 use karigami::templates;
 use std::path::Path;
-
-/// The design `karigami build` uses when given none.
-pub const DEFAULT_TEMPLATE: &str = "sheet";
 
 /// A recipe as read: its text, its name for messages, its default design name.
 pub struct Recipe {
@@ -48,7 +46,7 @@ impl Recipe {
 
     /// A diagnostic against this recipe, rendered and as JSON.
     pub fn error(&self, d: &Diagnostic) -> Error {
-        Error::recipe(self, d)
+        Error::at(&self.file, &self.source, d)
     }
 }
 

@@ -1,7 +1,7 @@
 //! `karigami simulate RECIPE [--theta DEG] [--explore N]`: the deployed
 //! shape of the strips as elastic rods joined by eyelets (docs/physics.md).
 
-use super::Verbosity;
+use super::args::Verbosity;
 use super::error::Error;
 use super::recipe::Recipe;
 use karigami::design::Overrides;

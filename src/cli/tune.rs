@@ -1,9 +1,10 @@
 //! `karigami tune`: tune a helix seed until it grows the cells asked for
 //! (or, with an [optimise] table, run the design optimiser).
 
+use super::args::Verbosity;
 use super::error::Error;
 use super::recipe::Recipe;
-use super::{Verbosity, files, optimise, progress};
+use super::{files, optimise, progress};
 use karigami::design::{self, Overrides};
 use karigami::diagnostic::ErrorKind;
 use std::path::Path;

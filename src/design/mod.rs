@@ -13,6 +13,7 @@ pub mod seed;
 pub mod simulation;
 mod spans;
 pub mod tune;
+mod values;
 
 pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
 
@@ -20,10 +21,11 @@ use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::Fabrication;
 use crate::lattice::{Kind, Lattice, RowParams, grow, grow_helix};
 use glam::DVec3;
-use raw::{Coords, Num, RawDesign};
+use raw::RawDesign;
 use seed::{dimension, helix_cell_count, seed_kappa, seed_points};
 use spans::Spans;
-use toml::Spanned;
+// fit.rs, optimise.rs and simulation.rs check their numbers with these too.
+use values::{coords, count, finite};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Design {
@@ -221,50 +223,4 @@ impl Design {
         }
         Some(out)
     }
-}
-
-fn finite(n: &Num, what: &str) -> Result<f64, Diagnostic> {
-    let v = *n.get_ref();
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(Diagnostic::new(
-            ErrorKind::NotFinite,
-            format!("{what} is {v}, not a finite number"),
-        )
-        .at(n.span())
-        .hint("use an ordinary number"))
-    }
-}
-
-fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<usize, Diagnostic> {
-    let v = *n.get_ref();
-    if (min..=max).contains(&v) {
-        Ok(v as usize)
-    } else {
-        Err(Diagnostic::new(
-            ErrorKind::OutOfRange,
-            format!("{what} is {v}, but must be between {min} and {max}"),
-        )
-        .at(n.span())
-        .hint(format!("give {what} a whole number from {min} to {max}")))
-    }
-}
-
-/// A point or vector of 2 or 3 finite coordinates.
-fn coords(c: &Coords, what: &str) -> Result<(DVec3, usize), Diagnostic> {
-    let v = c.get_ref();
-    if !(2..=3).contains(&v.len()) {
-        return Err(Diagnostic::new(
-            ErrorKind::WrongCoordinates,
-            format!("{what} has {} coordinates", v.len()),
-        )
-        .at(c.span())
-        .hint("give 2 coordinates (a planar lattice) or 3 (a lattice in space)"));
-    }
-    let mut out = DVec3::ZERO;
-    for (k, n) in v.iter().enumerate() {
-        out[k] = finite(n, &format!("a coordinate of {what}"))?;
-    }
-    Ok((out, v.len()))
 }

@@ -3,7 +3,7 @@
 
 use super::raw::{RawKappa, RawLattice};
 use super::spans::Spans;
-use super::{coords, count, finite};
+use super::values::{coords, count, finite};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::lattice::{Kind, MAX_CELLS};
 use glam::DVec3;
