@@ -504,7 +504,7 @@ fn step_pictures_label_everything_their_text_names() {
 }
 
 /// Item 7: the bowl's guide fits in 12 pages, and nothing in any guide,
-/// preview or cut sheet is printed smaller than 2.5 mm.
+/// preview or cut sheet is printed or engraved smaller than 2.5 mm.
 #[test]
 fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
     const SMALLEST: f64 = 2.5;
@@ -538,6 +538,23 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
                 size >= SMALLEST - 1e-9,
                 "{name} preview: {text:?} at {size} mm"
             );
+        }
+        // Engraved strip labels: text no smaller either (a strip whose text
+        // does not fit falls back to its type code, then to dots).
+        for s in &b.parts.strips {
+            if matches!(
+                s.marking,
+                karigami::parts::Marking::Id
+                    | karigami::parts::Marking::Compact
+                    | karigami::parts::Marking::Type
+            ) {
+                assert!(
+                    s.label_height >= SMALLEST - 1e-9,
+                    "{name}: strip {} engraved at {} mm",
+                    s.id,
+                    s.label_height
+                );
+            }
         }
         // Cut sheets print only their caption (stroke text on the reference
         // layer, after the scale bar's three lines): its height.

@@ -21,8 +21,9 @@ pub const FLANGE_CLEARANCE_WARNING: f64 = 1.0;
 /// Hole centre to strip tip, in hole diameters, below which a warning says
 /// the end may tear out (the usual edge-distance rule for holes).
 pub const EDGE_DISTANCE: f64 = 1.5;
-/// Smallest engraved text height (mm) before a label falls back to a shorter form.
-pub const MIN_LABEL_HEIGHT: f64 = 2.0;
+/// Smallest engraved text height (mm) before a label falls back to a shorter
+/// form: nothing karigami prints or engraves is smaller (a maker must read it).
+pub const MIN_LABEL_HEIGHT: f64 = 2.5;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Strip {
@@ -45,6 +46,9 @@ pub struct Strip {
     pub part_type: usize,
     /// What the engraving says.
     pub marking: Marking,
+    /// Height (mm) of the engraved text; 0 when there is none (dots, or the
+    /// arrow alone).
+    pub label_height: f64,
 }
 
 /// What is engraved on a strip, from most to least specific.
@@ -154,6 +158,7 @@ pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> 
                 engraving: Vec::new(),
                 part_type: 0,
                 marking: Marking::Arrow,
+                label_height: 0.0,
             }
         })
         .collect();
@@ -187,12 +192,15 @@ pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> 
             } else {
                 MIN_LABEL_HEIGHT
             };
-            engrave_text(&text, gap, min, fab).map(|strokes| (strokes, marking))
+            engrave_text(&text, gap, min, fab).map(|(strokes, h)| (strokes, h, marking))
         });
         match found {
-            Some((strokes, marking)) => {
+            Some((strokes, height, marking)) => {
                 s.engraving = strokes;
                 s.marking = marking;
+                if marking != Marking::Arrow {
+                    s.label_height = height;
+                }
             }
             None => {
                 let n = *ty.dots.get_or_insert_with(|| {
@@ -338,29 +346,29 @@ fn label_gap(holes: &[f64; 3], fab: &Fabrication) -> (f64, f64) {
 }
 
 /// `text` centred in the gap, as large as fits up to 0.4 of the strip width
-/// (4 mm at most); None when it would be smaller than `min_height`.
+/// (4 mm at most), and its height; None when it would be smaller than
+/// `min_height`.
 fn engrave_text(
     text: &str,
     (a, b): (f64, f64),
     min_height: f64,
     fab: &Fabrication,
-) -> Option<Vec<Vec<DVec2>>> {
+) -> Option<(Vec<Vec<DVec2>>, f64)> {
     let room = b - a;
     let height = (room / font::width(text, 1.0)).min((0.4 * fab.material.width).min(4.0));
     if !(height >= min_height) {
         return None;
     }
     let x0 = a + (room - font::width(text, height)) / 2.0;
-    Some(
-        font::text(text, height)
-            .into_iter()
-            .map(|s| {
-                s.into_iter()
-                    .map(|p| DVec2::new(x0 + p.x, height / 2.0 - p.y))
-                    .collect()
-            })
-            .collect(),
-    )
+    let strokes = font::text(text, height)
+        .into_iter()
+        .map(|s| {
+            s.into_iter()
+                .map(|p| DVec2::new(x0 + p.x, height / 2.0 - p.y))
+                .collect()
+        })
+        .collect();
+    Some((strokes, height))
 }
 
 /// Side of an engraved dot and the distance between dot centres (mm).
@@ -429,7 +437,7 @@ fn dot_code(
             }
         })
         .collect();
-    if let Some(arrow) = engrave_text("<", gap, 0.5, fab) {
+    if let Some((arrow, _)) = engrave_text("<", gap, 0.5, fab) {
         strokes.extend(arrow);
     }
     Some(strokes)
@@ -475,7 +483,7 @@ mod tests {
     fn engraving_stays_between_the_flanges_and_inside_the_strip() {
         let fab = Fabrication::default();
         let holes = [5.0, 45.0, 75.0];
-        let strokes = engrave_text("<R03-C05-A", label_gap(&holes, &fab), 2.0, &fab).unwrap();
+        let (strokes, _) = engrave_text("<R03-C05-A", label_gap(&holes, &fab), 2.0, &fab).unwrap();
         let clear = fab.eyelet.flange / 2.0;
         for p in strokes.iter().flatten() {
             assert!(p.x > holes[0] + clear && p.x < holes[1] - clear, "{p}");
@@ -502,6 +510,7 @@ mod tests {
             engraving: vec![],
             part_type: 0,
             marking: Marking::Arrow,
+            label_height: 0.0,
         };
         let dots = dot_code(7, &strip, gap, &fab).unwrap();
         // Seven closed squares, and the arrow, which still fits the gap.

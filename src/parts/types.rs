@@ -169,6 +169,7 @@ mod tests {
             engraving: vec![],
             part_type: 0,
             marking: super::super::Marking::Arrow,
+            label_height: 0.0,
         }
     }
 
