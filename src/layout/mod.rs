@@ -265,11 +265,14 @@ pub fn lane_capacity(width: f64, sheet: &SheetSpec) -> f64 {
 /// sheet costs what it places, not the whole job (the job is nested once
 /// per sheet per split of its lanes).
 fn best_fit(order: &[usize], lengths: &[f64], lanes: &[Lane], gap: f64) -> Vec<(usize, usize)> {
-    let mut room: BTreeSet<(Len, usize)> = lanes
+    // Lanes by (room, index), ascending: a sorted vector, where a placement
+    // moves one lane a few places down (a short rotate), not a tree.
+    let mut room: Vec<(Len, usize)> = lanes
         .iter()
         .enumerate()
         .map(|(i, l)| (Len(l.capacity), i))
         .collect();
+    room.sort_unstable();
     let need = |i: usize| lengths[order[i]] + gap;
     let mut placed = Vec::new();
     let mut i = 0;
@@ -287,12 +290,13 @@ fn best_fit(order: &[usize], lengths: &[f64], lanes: &[Lane], gap: f64) -> Vec<(
             };
             continue;
         }
-        let &(Len(left), lane) = room
-            .range((Len(need(i)), 0)..)
-            .next()
-            .expect("the roomiest lane takes it");
-        room.remove(&(Len(left), lane));
-        room.insert((Len(left - need(i)), lane));
+        // The lane with the least room that takes the part.
+        let at = room.partition_point(|&r| r < (Len(need(i)), 0));
+        let (Len(left), lane) = room[at];
+        let moved = (Len(left - need(i)), lane);
+        let to = room[..at].partition_point(|&r| r < moved);
+        room[to..=at].rotate_right(1);
+        room[to] = moved;
         placed.push((i, lane));
         i += 1;
     }
