@@ -59,9 +59,9 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
 }
 
 /// The most cells karigami makes parts for (two strips a cell). Growth and
-/// verification go to `MAX_CELLS`. A build costs about 0.4 to 0.5 ms of
-/// CPU, 12 KiB of memory and 7 KB of files a cell (BENCHMARKS.md): 20,000
-/// cells build in about 9 s and 320 MiB.
+/// verification go to `MAX_CELLS`. A build costs about 0.3 to 0.35 ms of
+/// CPU, 19 KiB of memory and 10 KB of files a cell (BENCHMARKS.md): 20,000
+/// cells build in about 7 s and 390 MiB.
 pub const MAX_FABRICATED_CELLS: usize = 20_000;
 
 /// The assembly guide has a page or more for every growth step, and each
