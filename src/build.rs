@@ -8,7 +8,7 @@ use crate::drawing::{Meta, Page, sheet_page};
 use crate::guide::guide;
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Lattice, Report, verify};
-use crate::layout::{Bounds, Job, Layout, SheetOption, sheet_options, smallest};
+use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
 use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
@@ -35,8 +35,11 @@ pub struct Build {
     pub layout: Layout,
     /// One page per sheet.
     pub pages: Vec<Page>,
-    /// The job nested on every sheet preset (sheet advice), in preset order.
-    pub sheet_options: Vec<SheetOption>,
+    /// What was nested: outline lengths and width, test piece, steps.
+    pub job: Job,
+    /// The smallest sheet preset that holds the job (sheet advice); None
+    /// when no preset does.
+    pub advice: Option<SheetOption>,
     /// The simulated deployed shape (docs/physics.md), for lattices that
     /// are not planar true mechanisms (`sim::wanted`).
     pub simulation: Option<crate::sim::Simulation>,
@@ -56,9 +59,9 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
 }
 
 /// The most cells karigami makes parts for (two strips a cell). Growth and
-/// verification go to `MAX_CELLS`. A build costs about 0.4 to 0.5 ms of
-/// CPU, 12 KiB of memory and 7 KB of files a cell (BENCHMARKS.md): 20,000
-/// cells build in about 9 s and 320 MiB.
+/// verification go to `MAX_CELLS`. A build costs about 0.3 to 0.35 ms of
+/// CPU, 19 KiB of memory and 10 KB of files a cell (BENCHMARKS.md): 20,000
+/// cells build in about 7 s and 390 MiB.
 pub const MAX_FABRICATED_CELLS: usize = 20_000;
 
 /// The assembly guide has a page or more for every growth step, and each
@@ -132,10 +135,13 @@ pub fn assemble_with(
     }
     let mut design = design;
     let parts = parts(&lattice, &design.fabrication).map_err(|e| locate(&design, e))?;
-    let (job, sheet_options) = sheet_advice(&design, &lattice, &parts);
-    if design.fabrication.sheet_auto {
-        // Every strip fits the longest preset (checked by `parts`), so one holds the job.
-        let best = smallest(&sheet_options).expect("a preset holds the job");
+    let job = job(&design, &lattice, &parts);
+    // Every strip fits the longest preset (checked by `parts`), so one holds the job.
+    let auto = design
+        .fabrication
+        .sheet_auto
+        .then(|| pick(&job, &design.fabrication.sheet, None).expect("a preset holds the job"));
+    if let Some((best, _)) = &auto {
         design.fabrication.sheet = best.spec(&design.fabrication.sheet);
     }
     let fab = &design.fabrication;
@@ -144,7 +150,14 @@ pub fn assemble_with(
     {
         return Err(e);
     }
-    let layout = job.nest(&fab.sheet);
+    let (layout, advice) = match auto {
+        Some((best, layout)) => (layout, Some(best)),
+        None => {
+            let layout = job.nest(&fab.sheet);
+            let advice = pick(&job, &fab.sheet, Some(&layout)).map(|(best, _)| best);
+            (layout, advice)
+        }
+    };
     let meta = Meta {
         design: design.name.clone(),
         recipe_hash: design.recipe_hash,
@@ -177,14 +190,15 @@ pub fn assemble_with(
         parts,
         layout,
         pages,
-        sheet_options,
+        job,
+        advice,
     })
 }
 
-/// What there is to nest and how it nests on every sheet preset.
-fn sheet_advice(design: &Design, lattice: &Lattice, parts: &Parts) -> (Job, Vec<SheetOption>) {
+/// What there is to nest.
+fn job(design: &Design, lattice: &Lattice, parts: &Parts) -> Job {
     let fab = &design.fabrication;
-    let job = Job {
+    Job {
         lengths: parts
             .strips
             .iter()
@@ -202,9 +216,7 @@ fn sheet_advice(design: &Design, lattice: &Lattice, parts: &Parts) -> (Job, Vec<
                 .map(|s| lattice.step_of(s.rod / 2))
                 .collect()
         }),
-    };
-    let options = sheet_options(&job, &fab.sheet);
-    (job, options)
+    }
 }
 
 /// The simulated deployed shape when `sim::wanted`; strips strained beyond
@@ -479,10 +491,20 @@ impl Build {
 }
 
 impl Build {
+    /// The job nested on every sheet preset, in preset order (for `--json`:
+    /// five more nestings, so only where asked for).
+    pub fn sheet_options(&self) -> Vec<SheetOption> {
+        sheet_options(
+            &self.job,
+            &self.design.fabrication.sheet,
+            Some(&self.layout),
+        )
+    }
+
     /// One line of sheet advice: the smallest preset that holds the job and
     /// its utilisation, against the sheet used.
     pub fn sheet_advice(&self) -> Option<String> {
-        let best = smallest(&self.sheet_options)?;
+        let best = self.advice.as_ref()?;
         let fab = &self.design.fabrication;
         let sheets = |n: usize| {
             if n == 1 {

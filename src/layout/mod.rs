@@ -8,7 +8,7 @@ pub mod advice;
 mod bounds;
 mod by_step;
 
-pub use advice::{SheetOption, sheet_options, smallest};
+pub use advice::{SheetOption, pick, sheet_options, smallest};
 pub use bounds::{Bounds, area_bound, lane_bound, stadium_area};
 pub use by_step::nest_by_step;
 
@@ -234,24 +234,73 @@ fn lanes(k: usize, major_rotated: bool, width: f64, sheet: &SheetSpec) -> Vec<La
     out
 }
 
+/// The most lane length (each part takes its length plus a gap) one sheet
+/// offers, over every split of its lanes `nest_with` tries; cutting by step
+/// uses one of those splits. The job's total over it bounds the sheets below.
+pub fn lane_capacity(width: f64, sheet: &SheetSpec) -> f64 {
+    let (uw, uh) = sheet.usable();
+    let pitch = width + sheet.gap;
+    [false, true]
+        .into_iter()
+        .flat_map(|major_rotated| {
+            let span = if major_rotated { uw } else { uh };
+            let max_k = ((span + sheet.gap) / pitch).floor().max(0.0) as usize;
+            (0..=max_k).map(move |k| {
+                lanes(k, major_rotated, width, sheet)
+                    .iter()
+                    .map(|l| l.capacity)
+                    .sum::<f64>()
+            })
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Best-fit decreasing of `order` into `lanes`: for each part, the lane with
-/// the least room that still takes it. Returns each part's lane (or None).
-fn best_fit(order: &[usize], lengths: &[f64], lanes: &[Lane], gap: f64) -> Vec<Option<usize>> {
-    let mut room: BTreeSet<(Len, usize)> = lanes
+/// the least room that still takes it. Returns the placed parts as (index in
+/// `order`, lane), in order; the others do not fit.
+///
+/// Parts after the first are longest first (`nest_with`), and no lane's
+/// room ever grows, so once a part is longer than the roomiest lane every
+/// part up to the first one that fits is skipped by a binary search: a
+/// sheet costs what it places, not the whole job (the job is nested once
+/// per sheet per split of its lanes).
+fn best_fit(order: &[usize], lengths: &[f64], lanes: &[Lane], gap: f64) -> Vec<(usize, usize)> {
+    // Lanes by (room, index), ascending: a sorted vector, where a placement
+    // moves one lane a few places down (a short rotate), not a tree.
+    let mut room: Vec<(Len, usize)> = lanes
         .iter()
         .enumerate()
         .map(|(i, l)| (Len(l.capacity), i))
         .collect();
-    order
-        .iter()
-        .map(|&p| {
-            let need = lengths[p] + gap;
-            let &(Len(left), lane) = room.range((Len(need), 0)..).next()?;
-            room.remove(&(Len(left), lane));
-            room.insert((Len(left - need), lane));
-            Some(lane)
-        })
-        .collect()
+    room.sort_unstable();
+    let need = |i: usize| lengths[order[i]] + gap;
+    let mut placed = Vec::new();
+    let mut i = 0;
+    while i < order.len() {
+        let Some(&(Len(most), _)) = room.last() else {
+            break;
+        };
+        if need(i).total_cmp(&most).is_gt() {
+            // Does not fit. From the second part on the needs do not grow:
+            // skip to the first that fits the roomiest lane.
+            i = if i == 0 {
+                1
+            } else {
+                i + order[i..].partition_point(|&p| (lengths[p] + gap).total_cmp(&most).is_gt())
+            };
+            continue;
+        }
+        // The lane with the least room that takes the part.
+        let at = room.partition_point(|&r| r < (Len(need(i)), 0));
+        let (Len(left), lane) = room[at];
+        let moved = (Len(left - need(i)), lane);
+        let to = room[..at].partition_point(|&r| r < moved);
+        room[to..=at].rotate_right(1);
+        room[to] = moved;
+        placed.push((i, lane));
+        i += 1;
+    }
+    placed
 }
 
 /// Fill one sheet; returns it and the parts left over (still in order).
@@ -264,7 +313,10 @@ fn fill_sheet(
 ) -> (Sheet, Vec<usize>) {
     let (uw, uh) = sheet.usable();
     let pitch = width + sheet.gap;
-    let mut best: Option<(f64, Vec<Lane>, Vec<Option<usize>>)> = None;
+    // The best split so far: material placed, its lanes, (index in order, lane).
+    type Split = (f64, Vec<Lane>, Vec<(usize, usize)>);
+    let mut best: Option<Split> = None;
+    let all_placed = |b: &Option<Split>| b.as_ref().is_some_and(|b| b.2.len() == order.len());
     for major_rotated in [false, true] {
         let span = if major_rotated { uw } else { uh };
         let max_k = ((span + sheet.gap) / pitch).floor() as usize;
@@ -274,57 +326,51 @@ fn fill_sheet(
                 continue;
             }
             let fit = best_fit(order, lengths, &lanes, sheet.gap);
-            let takes_must =
-                must.is_none_or(|m| order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some()));
+            // `must` is always first in `order`.
+            let takes_must = must.is_none_or(|m| fit.first().is_some_and(|&(i, _)| order[i] == m));
             if !takes_must {
                 continue;
             }
-            let placed: f64 = order
-                .iter()
-                .zip(&fit)
-                .filter(|(_, f)| f.is_some())
-                .map(|(&p, _)| lengths[p])
-                .sum();
+            let placed: f64 = fit.iter().map(|&(i, _)| lengths[order[i]]).sum();
             if best.as_ref().is_none_or(|b| placed > b.0) {
-                let all = fit.iter().all(Option::is_some);
                 best = Some((placed, lanes, fit));
-                if all {
+                if all_placed(&best) {
                     break;
                 }
             }
         }
-        if best
-            .as_ref()
-            .is_some_and(|b| b.2.iter().all(Option::is_some))
-        {
+        if all_placed(&best) {
             break;
         }
     }
     let (_, lanes, fit) = best.expect("a sheet has at least one lane");
     let mut cursor: Vec<f64> = vec![0.0; lanes.len()];
-    let mut placements = Vec::new();
-    let mut rest = Vec::new();
-    for (&p, lane) in order.iter().zip(&fit) {
-        match lane {
-            Some(l) => {
-                let lane = &lanes[*l];
-                let along = cursor[*l];
-                cursor[*l] += lengths[p] + sheet.gap;
-                let (x, y) = if lane.rotated {
-                    (lane.x, lane.y + along)
-                } else {
-                    (lane.x + along, lane.y)
-                };
-                placements.push(Placement {
-                    part: p,
-                    x,
-                    y,
-                    rotated: lane.rotated,
-                });
-            }
-            None => rest.push(p),
-        }
+    let mut placements = Vec::with_capacity(fit.len());
+    let mut taken = vec![false; order.len()];
+    for &(i, l) in &fit {
+        let p = order[i];
+        taken[i] = true;
+        let lane = &lanes[l];
+        let along = cursor[l];
+        cursor[l] += lengths[p] + sheet.gap;
+        let (x, y) = if lane.rotated {
+            (lane.x, lane.y + along)
+        } else {
+            (lane.x + along, lane.y)
+        };
+        placements.push(Placement {
+            part: p,
+            x,
+            y,
+            rotated: lane.rotated,
+        });
     }
+    let rest = order
+        .iter()
+        .zip(&taken)
+        .filter(|(_, t)| !**t)
+        .map(|(&p, _)| p)
+        .collect();
     placements.sort_by_key(|p| p.part);
     (
         Sheet {
@@ -367,4 +413,196 @@ pub fn strip_length(lengths: &[f64], width: f64, gap: f64, height: f64) -> f64 {
     }
     let across = count as f64 * pitch - gap;
     along.min(across)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // The nester before the binary-search skip (commit bd90a7a): every split
+    // of every sheet ran best fit over the whole rest of the job. The new one
+    // must nest exactly as it did.
+    mod reference {
+        use super::super::*;
+        /// Best-fit decreasing of `order` into `lanes`: for each part, the lane with
+        /// the least room that still takes it. Returns each part's lane (or None).
+        pub fn best_fit(
+            order: &[usize],
+            lengths: &[f64],
+            lanes: &[Lane],
+            gap: f64,
+        ) -> Vec<Option<usize>> {
+            let mut room: BTreeSet<(Len, usize)> = lanes
+                .iter()
+                .enumerate()
+                .map(|(i, l)| (Len(l.capacity), i))
+                .collect();
+            order
+                .iter()
+                .map(|&p| {
+                    let need = lengths[p] + gap;
+                    let &(Len(left), lane) = room.range((Len(need), 0)..).next()?;
+                    room.remove(&(Len(left), lane));
+                    room.insert((Len(left - need), lane));
+                    Some(lane)
+                })
+                .collect()
+        }
+
+        /// Fill one sheet; returns it and the parts left over (still in order).
+        pub fn fill_sheet(
+            order: &[usize],
+            lengths: &[f64],
+            width: f64,
+            sheet: &SheetSpec,
+            must: Option<usize>,
+        ) -> (Sheet, Vec<usize>) {
+            let (uw, uh) = sheet.usable();
+            let pitch = width + sheet.gap;
+            let mut best: Option<(f64, Vec<Lane>, Vec<Option<usize>>)> = None;
+            for major_rotated in [false, true] {
+                let span = if major_rotated { uw } else { uh };
+                let max_k = ((span + sheet.gap) / pitch).floor() as usize;
+                for k in (0..=max_k).rev() {
+                    let lanes = lanes(k, major_rotated, width, sheet);
+                    if lanes.is_empty() {
+                        continue;
+                    }
+                    let fit = best_fit(order, lengths, &lanes, sheet.gap);
+                    let takes_must = must.is_none_or(|m| {
+                        order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some())
+                    });
+                    if !takes_must {
+                        continue;
+                    }
+                    let placed: f64 = order
+                        .iter()
+                        .zip(&fit)
+                        .filter(|(_, f)| f.is_some())
+                        .map(|(&p, _)| lengths[p])
+                        .sum();
+                    if best.as_ref().is_none_or(|b| placed > b.0) {
+                        let all = fit.iter().all(Option::is_some);
+                        best = Some((placed, lanes, fit));
+                        if all {
+                            break;
+                        }
+                    }
+                }
+                if best
+                    .as_ref()
+                    .is_some_and(|b| b.2.iter().all(Option::is_some))
+                {
+                    break;
+                }
+            }
+            let (_, lanes, fit) = best.expect("a sheet has at least one lane");
+            let mut cursor: Vec<f64> = vec![0.0; lanes.len()];
+            let mut placements = Vec::new();
+            let mut rest = Vec::new();
+            for (&p, lane) in order.iter().zip(&fit) {
+                match lane {
+                    Some(l) => {
+                        let lane = &lanes[*l];
+                        let along = cursor[*l];
+                        cursor[*l] += lengths[p] + sheet.gap;
+                        let (x, y) = if lane.rotated {
+                            (lane.x, lane.y + along)
+                        } else {
+                            (lane.x + along, lane.y)
+                        };
+                        placements.push(Placement {
+                            part: p,
+                            x,
+                            y,
+                            rotated: lane.rotated,
+                        });
+                    }
+                    None => rest.push(p),
+                }
+            }
+            placements.sort_by_key(|p| p.part);
+            (
+                Sheet {
+                    placements,
+                    test_piece: None,
+                },
+                rest,
+            )
+        }
+
+        pub fn nest_with(
+            lengths: &[f64],
+            width: f64,
+            sheet: &SheetSpec,
+            test_piece: Option<f64>,
+        ) -> Layout {
+            let n = lengths.len();
+            let all: Vec<f64> = lengths.iter().copied().chain(test_piece).collect();
+            let mut order: Vec<usize> = (0..n).collect();
+            order.sort_by(|&a, &b| all[b].total_cmp(&all[a]).then(a.cmp(&b)));
+            let mut must = None;
+            if test_piece.is_some() {
+                order.insert(0, n);
+                must = Some(n);
+            }
+            let mut sheets = Vec::new();
+            while !order.is_empty() {
+                let (mut placed, rest) = fill_sheet(&order, &all, width, sheet, must.take());
+                if let Some(i) = placed.placements.iter().position(|p| p.part == n) {
+                    placed.test_piece = Some(placed.placements.remove(i));
+                }
+                sheets.push(placed);
+                order = rest;
+            }
+            Layout {
+                sheet: sheet.clone(),
+                part_width: width,
+                lengths: lengths.to_vec(),
+                test_piece,
+                sheets,
+            }
+        }
+    }
+
+    /// A small deterministic generator (no dependency for one test).
+    struct Lcg(u64);
+    impl Lcg {
+        fn unit(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn the_nester_places_every_part_exactly_as_the_full_best_fit_did() {
+        let mut rng = Lcg(14);
+        for case in 0..60 {
+            let sheet = SheetSpec {
+                name: "t".into(),
+                width: 150.0 + 500.0 * rng.unit(),
+                height: 100.0 + 350.0 * rng.unit(),
+                margin: 5.0 * rng.unit(),
+                gap: 0.5 + 2.0 * rng.unit(),
+            };
+            let (uw, uh) = sheet.usable();
+            let width = 4.0 + 10.0 * rng.unit();
+            let longest = uw.max(uh);
+            let n = 1 + (300.0 * rng.unit()) as usize;
+            // Mixes of short and long parts, with repeated lengths.
+            let kinds: Vec<f64> = (0..1 + (6.0 * rng.unit()) as usize)
+                .map(|_| width + (longest - width) * rng.unit().powi(2))
+                .collect();
+            let lengths: Vec<f64> = (0..n)
+                .map(|_| kinds[(rng.unit() * kinds.len() as f64) as usize])
+                .collect();
+            let piece = (case % 3 == 0).then(|| width + (longest - width) * rng.unit());
+            let new = nest_with(&lengths, width, &sheet, piece);
+            let old = reference::nest_with(&lengths, width, &sheet, piece);
+            assert_eq!(new, old, "case {case}");
+        }
+    }
 }

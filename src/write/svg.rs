@@ -4,9 +4,7 @@
 
 use super::number::num;
 use crate::drawing::{Group, Item, Page, Segment, Shape};
-use svg::Document;
-use svg::node::element::{Circle, Element, Group as SvgGroup, Path, Title};
-use svg::node::{Node, Text};
+use std::fmt::Write as _;
 
 /// Stroke width in mm: a hairline that laser software reads as a cut line.
 pub const HAIRLINE: f64 = 0.025;
@@ -52,21 +50,32 @@ fn hex([r, g, b]: [u8; 3]) -> String {
     format!("#{r:02X}{g:02X}{b:02X}")
 }
 
-/// One item, painted with its ink (cut layers: a hairline in the layer colour).
-fn item(item: &Item) -> Element {
-    let mut el: Element = match &item.shape {
-        Shape::Circle { center, radius } => Circle::new()
-            .set("cx", num(center.x))
-            .set("cy", num(center.y))
-            .set("r", num(*radius))
-            .into(),
+/// One item, painted with its ink (cut layers: a hairline in the layer
+/// colour), as one element on a line of its own. Attributes in name order.
+fn item(out: &mut String, item: &Item) {
+    let class = item.layer.name();
+    match &item.shape {
+        Shape::Circle { center, .. } => {
+            let _ = write!(
+                out,
+                "\n<circle class=\"{}\" cx=\"{}\" cy=\"{}\"",
+                attr(class),
+                num(center.x),
+                num(center.y)
+            );
+        }
         Shape::Path {
             start,
             segments,
             closed,
-        } => Path::new()
-            .set("d", path_data(*start, segments, *closed))
-            .into(),
+        } => {
+            let _ = write!(
+                out,
+                "\n<path class=\"{}\" d=\"{}\"",
+                attr(class),
+                path_data(*start, segments, *closed)
+            );
+        }
         // Text as single strokes: no fonts needed, and a laser scores it in one pass.
         text @ Shape::Text { .. } => {
             let d: Vec<String> = crate::drawing::text::strokes(text)
@@ -76,71 +85,92 @@ fn item(item: &Item) -> Element {
                     path_data(s[0], &segments, false)
                 })
                 .collect();
-            Path::new().set("d", d.join(" ")).into()
-        }
-    };
-    let ink = item.ink;
-    let is_text = matches!(item.shape, Shape::Text { .. });
-    el.assign(
-        "fill",
-        if is_text {
-            "none".into()
-        } else {
-            ink.fill.map_or("none".into(), hex)
-        },
-    );
-    match ink.stroke.or(if is_text { ink.fill } else { None }) {
-        Some(c) => {
-            el.assign("stroke", hex(c));
-            el.assign(
-                "stroke-width",
-                num(if is_text {
-                    ink.width.max(HAIRLINE)
-                } else {
-                    ink.width
-                }),
+            let _ = write!(
+                out,
+                "\n<path class=\"{}\" d=\"{}\"",
+                attr(class),
+                d.join(" ")
             );
         }
-        None => el.assign("stroke", "none"),
     }
-    el.assign("class", item.layer.name());
-    el
+    let ink = item.ink;
+    let is_text = matches!(item.shape, Shape::Text { .. });
+    let fill = if is_text {
+        "none".into()
+    } else {
+        ink.fill.map_or("none".into(), hex)
+    };
+    let _ = write!(out, " fill=\"{fill}\"");
+    if let Shape::Circle { radius, .. } = &item.shape {
+        let _ = write!(out, " r=\"{}\"", num(*radius));
+    }
+    match ink.stroke.or(if is_text { ink.fill } else { None }) {
+        Some(c) => {
+            let width = if is_text {
+                ink.width.max(HAIRLINE)
+            } else {
+                ink.width
+            };
+            let _ = write!(
+                out,
+                " stroke=\"{}\" stroke-width=\"{}\"/>",
+                hex(c),
+                num(width)
+            );
+        }
+        None => out.push_str(" stroke=\"none\"/>"),
+    }
 }
 
-fn group(g: &Group) -> SvgGroup {
-    g.items
-        .iter()
-        .fold(SvgGroup::new().set("id", g.id.as_str()), |acc, i| {
-            acc.add(item(i))
-        })
+fn group(out: &mut String, g: &Group) {
+    let _ = write!(out, "\n<g id=\"{}\"", attr(&g.id));
+    if g.items.is_empty() {
+        out.push_str("/>");
+        return;
+    }
+    out.push('>');
+    for i in &g.items {
+        item(out, i);
+    }
+    out.push_str("\n</g>");
 }
 
-/// The page as SVG bytes.
+/// The page as SVG bytes, written straight into one string (no document
+/// tree: the sheets of a big job have hundreds of thousands of elements).
 pub fn write(page: &Page) -> Vec<u8> {
-    let mut metadata = Element::new("metadata");
     let text: String = page
         .metadata
         .iter()
         .map(|(k, v)| format!("{}: {}", printable(k), printable(v)))
         .collect::<Vec<_>>()
         .join("\n");
-    metadata.append(Text::new(format!("\n{text}\n")));
-    let doc = page.groups.iter().fold(
-        Document::new()
-            .set("width", format!("{}mm", num(page.width)))
-            .set("height", format!("{}mm", num(page.height)))
-            .set(
-                "viewBox",
-                format!("0 0 {} {}", num(page.width), num(page.height)),
-            )
-            .add(Title::new(printable(&page.title)))
-            .add(metadata),
-        |doc, g| doc.add(group(g)),
+    let mut out = String::with_capacity(1024 + 400 * page.groups.len());
+    out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let _ = write!(
+        out,
+        "<svg height=\"{h}mm\" viewBox=\"0 0 {w} {h}\" width=\"{w}mm\" xmlns=\"http://www.w3.org/2000/svg\">\n<title>{}</title>\n<metadata>\n{}\n</metadata>",
+        escape(&printable(&page.title)),
+        escape(&text),
+        w = num(page.width),
+        h = num(page.height),
     );
-    let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-    out.push_str(&doc.to_string());
-    out.push('\n');
+    for g in &page.groups {
+        group(&mut out, g);
+    }
+    out.push_str("\n</svg>\n");
     out.into_bytes()
+}
+
+/// Text content with XML's markup characters escaped.
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// An attribute value: text escaped and its quotes too.
+fn attr(s: &str) -> String {
+    escape(s).replace('"', "&quot;").replace('\'', "&apos;")
 }
 
 /// Text with control characters replaced: XML 1.0 forbids most of them
