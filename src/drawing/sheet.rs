@@ -192,7 +192,10 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
     let y = page_h - margin / 2.0;
     let tick = (margin * 0.3).clamp(0.3, 2.0);
     let x0 = margin.max(2.0);
-    let text_h = (margin * 0.5).clamp(0.8, 2.5);
+    // Never smaller than anything else karigami prints: on a sheet with a
+    // margin under 5 mm the caption reaches into the margin's edge or over
+    // the parts, on the reference layer, which is never cut.
+    let text_h = 2.5;
     let mut items = vec![
         Item::on(
             Layer::Reference,
@@ -216,7 +219,7 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
     let label = format!("{bar} mm   {title}");
     items.extend(caption(
         &label,
-        DVec2::new(x0 + bar + 3.0, y + text_h / 2.0),
+        DVec2::new(x0 + bar + 3.0, (y + text_h / 2.0).min(page_h - 0.2)),
         text_h,
     ));
     Group::new("reference", items)
@@ -300,5 +303,48 @@ pub fn sheet_page(
             ),
         ],
         groups,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{Segment, Shape};
+
+    /// The caption's height on the page (its strokes' extent in y).
+    fn caption_height(group: &Group) -> f64 {
+        let ys: Vec<f64> = group.items[3..]
+            .iter()
+            .flat_map(|i| match &i.shape {
+                Shape::Path {
+                    start, segments, ..
+                } => std::iter::once(start.y)
+                    .chain(segments.iter().map(|s| match s {
+                        Segment::Line(p) => p.y,
+                        Segment::Arc { to, .. } => to.y,
+                    }))
+                    .collect::<Vec<_>>(),
+                _ => Vec::new(),
+            })
+            .collect();
+        let max = ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let min = ys.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(max <= 400.0, "the caption stays on the page: {max}");
+        max - min
+    }
+
+    #[test]
+    fn the_caption_is_never_under_2_5_mm_even_with_a_thin_margin() {
+        for margin in [0.5, 2.0, 5.0, 10.0] {
+            let g = reference(600.0, 400.0, margin, "x sheet 01/01");
+            // Capitals and digits are 0.7 of the font size or more.
+            let h = caption_height(&g);
+            assert!(h >= 2.5 * 0.7 - 1e-9, "margin {margin}: caption {h} mm");
+            let thin = reference(600.0, 400.0, 10.0, "x sheet 01/01");
+            assert!(
+                (caption_height(&thin) - h).abs() < 1e-9,
+                "one size for all margins"
+            );
+        }
     }
 }
