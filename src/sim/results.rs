@@ -38,15 +38,16 @@ pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
     for (k, s) in path.s.iter().enumerate() {
         out[k].0 = *s;
     }
-    for k in 1..path.nodes.len().saturating_sub(1) {
+    let interior = path.nodes.len().saturating_sub(1);
+    for (k, o) in out.iter_mut().enumerate().take(interior).skip(1) {
         let (e0, e1) = (path.edges[k - 1], path.edges[k]);
         let lbar = (m.edges[e0].rest + m.edges[e1].rest) / 2.0;
         let (kf, ke, tw) = bend_measures(m, e0, e1);
         let eps = sec.thickness / 2.0 * (kf / lbar).abs()
             + sec.width / 2.0 * (ke / lbar).abs()
             + axial(e0).max(axial(e1));
-        out[k].1 = eps;
-        out[k].2 = sec.thickness * tw.abs() / lbar;
+        o.1 = eps;
+        o.2 = sec.thickness * tw.abs() / lbar;
     }
     out
 }
