@@ -39,13 +39,15 @@ fn run(name: &str, text: &str) {
     };
     let m = &d.fabrication.material;
     let clock = Instant::now();
+    let cpu0 = cpu_seconds();
     let result = sim::simulate(&lattice, &dep, m.width, m.thickness, &settings);
+    let cpu = cpu_seconds() - cpu0;
     let secs = clock.elapsed().as_secs_f64();
     match result {
         Ok(run) => {
             let eq = &run.equilibrium;
             println!(
-                "| {name} | {} | {} | {} | {:.2} | {} | {:.3e} | {:.3} % ({}) | {:.3} |",
+                "| {name} | {} | {} | {} | {cpu:.2} | {:.2} | {} | {:.3e} | {:.3} % ({}) | {:.3} |",
                 lattice.cells.len(),
                 run.lm.model.fixed.iter().filter(|f| !**f).count(),
                 if lattice.extrinsic() && dep.is_mechanism() {
@@ -64,10 +66,29 @@ fn run(name: &str, text: &str) {
             );
         }
         Err(e) => println!(
-            "| {name} | {} | | | {secs:.2} | failed: {e} | | | |",
+            "| {name} | {} | | | {cpu:.2} | {secs:.2} | failed: {e} | | | |",
             lattice.cells.len()
         ),
     }
+}
+
+/// User + system CPU time of this process (Linux /proc; the machine may be
+/// shared, so wall time overstates the single-core cost). NaN elsewhere.
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return f64::NAN;
+    };
+    // Fields after the command name (which is in parentheses).
+    let rest = stat.rsplit_once(')').map_or("", |r| r.1);
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| {
+        f.get(i)
+            .and_then(|x| x.parse::<f64>().ok())
+            .unwrap_or(f64::NAN)
+    };
+    // utime and stime are fields 14 and 15 of stat, f[11] and f[12]; the
+    // kernel counts them in USER_HZ = 100 ticks a second on Linux.
+    (ticks(11) + ticks(12)) / 100.0
 }
 
 fn main() {
@@ -76,9 +97,9 @@ fn main() {
         .filter(|a| !a.starts_with('-'))
         .collect();
     println!(
-        "| example | cells | variables | linkage | seconds | Newton iterations | energy (N mm) | largest strain | distance from start (mm) |"
+        "| example | cells | variables | linkage | CPU s | wall s | Newton iterations | energy (N mm) | largest strain | distance from start (mm) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut names: Vec<_> = std::fs::read_dir("examples")
         .expect("examples/")
         .filter_map(|e| e.ok())

@@ -7,6 +7,7 @@ use super::recipe::Recipe;
 use karigami::design::Overrides;
 use karigami::diagnostic::ErrorKind;
 use karigami::lattice::deploy::deployment;
+use karigami::lattice::shape::{self, VertexCurvature};
 use karigami::lattice::{Lattice, verify};
 use karigami::sim::explore::explore;
 use karigami::sim::{self, Equilibrium, LatticeModel, Settings, Simulation};
@@ -165,16 +166,15 @@ pub fn text(
         "distance from the design (largest joint, after the best rigid fit): {:.4} mm",
         eq.distance
     );
-    let nv = lattice.vertices.len();
-    for (what, points) in [
-        ("design", &run.lm.start[..nv]),
-        ("simulated", &eq.points[..nv]),
+    // One measure for both (lattice::shape): the design's defects from each
+    // cell's own corners (what the cut strips fix), the simulated ones from
+    // the joints where the strips put them.
+    let simulated = sim::placed_lattice(lattice, &run.lm);
+    for (what, c) in [
+        ("design", lattice.curvature()),
+        ("simulated", simulated.curvature()),
     ] {
-        let _ = writeln!(
-            o,
-            "curvature ({what}): {}",
-            curvature_summary(&sim::angle_defects(lattice, points))
-        );
+        let _ = writeln!(o, "curvature ({what}): {}", curvature_summary(&c));
     }
     let (lo, hi) = eq
         .openings
@@ -217,25 +217,22 @@ pub fn text(
 }
 
 /// Signs of the angle defects at interior vertices (discrete Gaussian
-/// curvature): how many dome-like, saddle-like and flat.
-pub fn curvature_summary(defects: &[(u32, f64)]) -> String {
-    if defects.is_empty() {
+/// curvature, lattice::shape's measure): how many dome-like (at least
+/// +CURVED_DEG), saddle-like (at most -CURVED_DEG) and flat, and the range.
+pub fn curvature_summary(c: &[VertexCurvature]) -> String {
+    let Some(sum) = shape::summary(c) else {
         return "no interior vertices".into();
-    }
-    let tol = 1e-6;
-    let pos = defects.iter().filter(|d| d.1 > tol).count();
-    let neg = defects.iter().filter(|d| d.1 < -tol).count();
-    let (lo, hi) = defects
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
-            (a.min(d.1), b.max(d.1))
-        });
+    };
+    let n = sum.interior;
+    let pos = (sum.positive * n as f64).round() as usize;
+    let neg = (sum.negative * n as f64).round() as usize;
     format!(
-        "angle defects at {} interior vertices: {pos} positive (dome-like), {neg} negative (saddle-like), {} flat; from {:.4} to {:.4} deg",
-        defects.len(),
-        defects.len() - pos - neg,
-        lo.to_degrees(),
-        hi.to_degrees()
+        "angle defects at {n} interior vertices: {pos} dome-like (>= +{c} deg), {neg} saddle-like (<= -{c} deg), {} flat; from {:.2} to {:.2} deg, mean {:.2} deg",
+        n - pos - neg,
+        sum.min_deg,
+        sum.max_deg,
+        sum.mean_deg,
+        c = shape::CURVED_DEG,
     )
 }
 

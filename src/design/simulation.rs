@@ -86,7 +86,7 @@ pub fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnosti
     if let Some(h) = number(
         &r.edge_length,
         "edge_length",
-        |x| x >= 0.5 && x <= 1000.0,
+        |x| (0.5..=1000.0).contains(&x),
         "between 0.5 and 1000 mm",
     )? {
         s.h_max = h;

@@ -12,7 +12,7 @@ pub mod strips;
 
 pub use karigami_rods::{dual, frames, model, solver};
 pub use model::{Energies, Model, Section};
-pub use results::{StrainPeak, angle_defects, kabsch_distance, kabsch_fit};
+pub use results::{StrainPeak, kabsch_distance, kabsch_fit};
 pub use solver::{Options, SolveError, Stats, System};
 pub use strips::{LatticeModel, Mesh, VertexJoint};
 

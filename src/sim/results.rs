@@ -3,7 +3,6 @@
 //! fit, and a discrete curvature measure of the deployed shape.
 
 use super::model::{Frame, Model, Stencil, bend_measures};
-use crate::lattice::Lattice;
 use glam::{DMat3, DQuat, DVec3};
 use std::collections::BTreeMap;
 
@@ -39,15 +38,16 @@ pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
     for (k, s) in path.s.iter().enumerate() {
         out[k].0 = *s;
     }
-    for k in 1..path.nodes.len().saturating_sub(1) {
+    let interior = path.nodes.len().saturating_sub(1);
+    for (k, o) in out.iter_mut().enumerate().take(interior).skip(1) {
         let (e0, e1) = (path.edges[k - 1], path.edges[k]);
         let lbar = (m.edges[e0].rest + m.edges[e1].rest) / 2.0;
         let (kf, ke, tw) = bend_measures(m, e0, e1);
         let eps = sec.thickness / 2.0 * (kf / lbar).abs()
             + sec.width / 2.0 * (ke / lbar).abs()
             + axial(e0).max(axial(e1));
-        out[k].1 = eps;
-        out[k].2 = sec.thickness * tw.abs() / lbar;
+        o.1 = eps;
+        o.2 = sec.thickness * tw.abs() / lbar;
     }
     out
 }
@@ -161,36 +161,6 @@ pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
         .zip(b)
         .map(|(p, q)| p.distance(*q))
         .fold(0.0, f64::max)
-}
-
-/// Discrete Gaussian curvature at every interior vertex: the angle defect
-/// 2 pi minus the corner angles of the four facets (UL, UR, LR, LL quads)
-/// around it, from vertex positions `points` (one per lattice vertex).
-/// Positive: dome-like; negative: saddle-like. Works on any lattice and
-/// any placement (design, rigid fit or simulated).
-pub fn angle_defects(lattice: &Lattice, points: &[DVec3]) -> Vec<(u32, f64)> {
-    let nv = lattice.vertices.len();
-    let mut sum = vec![0.0; nv];
-    let mut count = vec![0usize; nv];
-    for cell in &lattice.cells {
-        // The facet quad in order round its boundary.
-        let quad = [cell.ul, cell.ur, cell.lr, cell.ll];
-        for k in 0..4 {
-            let (prev, here, next) = (quad[(k + 3) % 4], quad[k], quad[(k + 1) % 4]);
-            let (p, h, n) = (
-                points[prev as usize],
-                points[here as usize],
-                points[next as usize],
-            );
-            let (a, b) = (p - h, n - h);
-            sum[here as usize] += crate::lattice::angle_between(a.normalize(), b.normalize());
-            count[here as usize] += 1;
-        }
-    }
-    (0..nv)
-        .filter(|&v| count[v] == 4)
-        .map(|v| (v as u32, std::f64::consts::TAU - sum[v]))
-        .collect()
 }
 
 /// Which variables are material angles (for reports).

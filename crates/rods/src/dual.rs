@@ -21,50 +21,66 @@ pub trait Scalar:
     fn cst(v: f64) -> Self;
     fn val(&self) -> f64;
     fn sqrt(self) -> Self;
+    /// 1 / self (cheaper than dividing a constant by a dual).
+    fn recip(self) -> Self;
     fn sin(self) -> Self;
     fn cos(self) -> Self;
     fn atan2(self, x: Self) -> Self;
 }
 
 impl Scalar for f64 {
-    #[inline]
+    #[inline(always)]
     fn cst(v: f64) -> Self {
         v
     }
-    #[inline]
+    #[inline(always)]
     fn val(&self) -> f64 {
         *self
     }
-    #[inline]
+    #[inline(always)]
     fn sqrt(self) -> Self {
         f64::sqrt(self)
     }
-    #[inline]
+    #[inline(always)]
+    fn recip(self) -> Self {
+        1.0 / self
+    }
+    #[inline(always)]
     fn sin(self) -> Self {
         f64::sin(self)
     }
-    #[inline]
+    #[inline(always)]
     fn cos(self) -> Self {
         f64::cos(self)
     }
-    #[inline]
+    #[inline(always)]
     fn atan2(self, x: Self) -> Self {
         f64::atan2(self, x)
     }
 }
 
-/// Value, gradient and Hessian over N variables. Only the upper triangle
-/// `h[i][j]`, j >= i, is computed (half the work); `hessian` mirrors it.
+/// Value, gradient and Hessian over N variables. The Hessian is stored as
+/// its upper triangle, packed row by row (`T` = N (N + 1) / 2 entries):
+/// half the arithmetic and half the bytes to copy, which is what these
+/// small values mostly cost.
 #[derive(Clone, Copy, Debug)]
-pub struct Dual<const N: usize> {
+pub struct Dual<const N: usize, const T: usize> {
     pub v: f64,
     pub g: [f64; N],
-    pub h: [[f64; N]; N],
+    pub h: [f64; T],
 }
 
-impl<const N: usize> Dual<N> {
+/// Packed index of (i, j), i <= j < n.
+#[inline(always)]
+const fn packed(n: usize, i: usize, j: usize) -> usize {
+    i * n - i * (i + 1) / 2 + j
+}
+
+impl<const N: usize, const T: usize> Dual<N, T> {
+    const SIZE_OK: () = assert!(T == N * (N + 1) / 2, "T must be N (N + 1) / 2");
+
     /// Local variable `i` at value `v`.
-    #[inline]
+    #[inline(always)]
     pub fn var(v: f64, i: usize) -> Self {
         let mut d = Self::cst(v);
         d.g[i] = 1.0;
@@ -72,56 +88,71 @@ impl<const N: usize> Dual<N> {
     }
 
     /// Hessian entry (i, j) of either triangle.
-    #[inline]
+    #[inline(always)]
     pub fn hess(&self, i: usize, j: usize) -> f64 {
-        if j >= i { self.h[i][j] } else { self.h[j][i] }
+        if j >= i {
+            self.h[packed(N, i, j)]
+        } else {
+            self.h[packed(N, j, i)]
+        }
     }
 
     /// f(self) from f, f', f'' at the value (the chain rule).
-    #[inline]
-    fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
-        let mut out = Self::cst(f);
+    #[inline(always)]
+    fn chain(mut self, f: f64, f1: f64, f2: f64) -> Self {
+        let mut k = 0;
         for i in 0..N {
-            out.g[i] = f1 * self.g[i];
             let gi = f2 * self.g[i];
             for j in i..N {
-                out.h[i][j] = f1 * self.h[i][j] + gi * self.g[j];
+                self.h[k] = f1 * self.h[k] + gi * self.g[j];
+                k += 1;
             }
         }
-        out
+        for i in 0..N {
+            self.g[i] *= f1;
+        }
+        self.v = f;
+        self
     }
 }
 
-impl<const N: usize> Scalar for Dual<N> {
-    #[inline]
+impl<const N: usize, const T: usize> Scalar for Dual<N, T> {
+    #[inline(always)]
     fn cst(v: f64) -> Self {
+        let () = Self::SIZE_OK;
         Dual {
             v,
             g: [0.0; N],
-            h: [[0.0; N]; N],
+            h: [0.0; T],
         }
     }
-    #[inline]
+    #[inline(always)]
     fn val(&self) -> f64 {
         self.v
     }
-    #[inline]
+    #[inline(always)]
     fn sqrt(self) -> Self {
         let s = self.v.sqrt();
-        self.chain(s, 0.5 / s, -0.25 / (s * self.v))
+        let v = self.v;
+        self.chain(s, 0.5 / s, -0.25 / (s * v))
     }
-    #[inline]
+    #[inline(always)]
+    fn recip(self) -> Self {
+        let inv = 1.0 / self.v;
+        self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+    }
+    #[inline(always)]
     fn sin(self) -> Self {
         let (s, c) = self.v.sin_cos();
         self.chain(s, c, -s)
     }
-    #[inline]
+    #[inline(always)]
     fn cos(self) -> Self {
         let (s, c) = self.v.sin_cos();
         self.chain(c, -s, -c)
     }
     /// atan2(y, x) with y = self: d = (x dy - y dx) / r2.
-    #[inline]
+    #[inline(always)]
     fn atan2(self, x: Self) -> Self {
         let y = self;
         let r2 = x.v * x.v + y.v * y.v;
@@ -132,104 +163,105 @@ impl<const N: usize> Scalar for Dual<N> {
         let hxx = 2.0 * x.v * y.v / r4;
         let hxy = (y.v * y.v - x.v * x.v) / r4;
         let mut out = Self::cst(y.v.atan2(x.v));
+        let mut k = 0;
         for i in 0..N {
             out.g[i] = ay * y.g[i] + ax * x.g[i];
             for j in i..N {
-                out.h[i][j] = ay * y.h[i][j]
-                    + ax * x.h[i][j]
+                out.h[k] = ay * y.h[k]
+                    + ax * x.h[k]
                     + hyy * y.g[i] * y.g[j]
                     + hxx * x.g[i] * x.g[j]
                     + hxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+                k += 1;
             }
         }
         out
     }
 }
 
-impl<const N: usize> Add for Dual<N> {
+impl<const N: usize, const T: usize> Add for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn add(mut self, o: Self) -> Self {
         self.v += o.v;
         for i in 0..N {
             self.g[i] += o.g[i];
-            for j in i..N {
-                self.h[i][j] += o.h[i][j];
-            }
+        }
+        for k in 0..T {
+            self.h[k] += o.h[k];
         }
         self
     }
 }
 
-impl<const N: usize> Sub for Dual<N> {
+impl<const N: usize, const T: usize> Sub for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn sub(mut self, o: Self) -> Self {
         self.v -= o.v;
         for i in 0..N {
             self.g[i] -= o.g[i];
-            for j in i..N {
-                self.h[i][j] -= o.h[i][j];
-            }
+        }
+        for k in 0..T {
+            self.h[k] -= o.h[k];
         }
         self
     }
 }
 
-impl<const N: usize> Mul for Dual<N> {
+impl<const N: usize, const T: usize> Mul for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(self, o: Self) -> Self {
         let mut out = Self::cst(self.v * o.v);
+        let mut k = 0;
         for i in 0..N {
             out.g[i] = self.v * o.g[i] + o.v * self.g[i];
             for j in i..N {
-                out.h[i][j] = self.v * o.h[i][j]
-                    + o.v * self.h[i][j]
-                    + self.g[i] * o.g[j]
-                    + o.g[i] * self.g[j];
+                out.h[k] =
+                    self.v * o.h[k] + o.v * self.h[k] + self.g[i] * o.g[j] + o.g[i] * self.g[j];
+                k += 1;
             }
         }
         out
     }
 }
 
-impl<const N: usize> Div for Dual<N> {
+impl<const N: usize, const T: usize> Div for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn div(self, o: Self) -> Self {
-        let inv = 1.0 / o.v;
-        self * o.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+        self * o.recip()
     }
 }
 
-impl<const N: usize> Neg for Dual<N> {
+impl<const N: usize, const T: usize> Neg for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn neg(self) -> Self {
         self * -1.0
     }
 }
 
-impl<const N: usize> Add<f64> for Dual<N> {
+impl<const N: usize, const T: usize> Add<f64> for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn add(mut self, o: f64) -> Self {
         self.v += o;
         self
     }
 }
 
-impl<const N: usize> Mul<f64> for Dual<N> {
+impl<const N: usize, const T: usize> Mul<f64> for Dual<N, T> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(mut self, o: f64) -> Self {
         self.v *= o;
         for i in 0..N {
             self.g[i] *= o;
-            for j in i..N {
-                self.h[i][j] *= o;
-            }
+        }
+        for k in 0..T {
+            self.h[k] *= o;
         }
         self
     }
@@ -244,23 +276,23 @@ pub struct V3<S> {
 }
 
 impl<S: Scalar> V3<S> {
-    #[inline]
+    #[inline(always)]
     pub fn new(x: S, y: S, z: S) -> Self {
         V3 { x, y, z }
     }
-    #[inline]
+    #[inline(always)]
     pub fn cst(v: glam::DVec3) -> Self {
         V3::new(S::cst(v.x), S::cst(v.y), S::cst(v.z))
     }
-    #[inline]
+    #[inline(always)]
     pub fn val(&self) -> glam::DVec3 {
         glam::DVec3::new(self.x.val(), self.y.val(), self.z.val())
     }
-    #[inline]
+    #[inline(always)]
     pub fn dot(self, o: Self) -> S {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
-    #[inline]
+    #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
         V3::new(
             self.y * o.z - self.z * o.y,
@@ -268,29 +300,29 @@ impl<S: Scalar> V3<S> {
             self.x * o.y - self.y * o.x,
         )
     }
-    #[inline]
+    #[inline(always)]
     pub fn add(self, o: Self) -> Self {
         V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
     }
-    #[inline]
+    #[inline(always)]
     pub fn sub(self, o: Self) -> Self {
         V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
     }
-    #[inline]
+    #[inline(always)]
     pub fn scale(self, s: S) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
-    #[inline]
+    #[inline(always)]
     pub fn scalef(self, s: f64) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
     /// Dot with a constant vector (cheap: no products of derivatives).
-    #[inline]
+    #[inline(always)]
     pub fn dotc(self, c: glam::DVec3) -> S {
         self.x * c.x + self.y * c.y + self.z * c.z
     }
     /// Cross with a constant vector on the right.
-    #[inline]
+    #[inline(always)]
     pub fn crossc(self, c: glam::DVec3) -> Self {
         V3::new(
             self.y * c.z + self.z * -c.y,
@@ -299,17 +331,19 @@ impl<S: Scalar> V3<S> {
         )
     }
     /// A constant vector times a scalar.
-    #[inline]
+    #[inline(always)]
     pub fn cscale(c: glam::DVec3, s: S) -> Self {
         V3::new(s * c.x, s * c.y, s * c.z)
     }
-    #[inline]
+    #[inline(always)]
     pub fn norm(self) -> S {
         self.dot(self).sqrt()
     }
-    #[inline]
+    #[inline(always)]
     pub fn unit(self) -> Self {
-        let n = self.norm();
-        V3::new(self.x / n, self.y / n, self.z / n)
+        // One reciprocal and three products: a dual division costs a
+        // chain rule and a product.
+        let inv = self.norm().recip();
+        self.scale(inv)
     }
 }

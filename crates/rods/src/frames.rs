@@ -7,7 +7,7 @@ use glam::DVec3;
 
 /// The minimal rotation taking unit `t1` to unit `t2`, applied to `v`
 /// (smooth while t1.t2 > -1).
-#[inline]
+#[inline(always)]
 pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
     let c = t1.dot(t2);
     let b = t1.cross(t2);
@@ -17,18 +17,18 @@ pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
 
 /// `transport` from a constant unit `t1` of a constant `v` (the stored
 /// reference frame): most products involve a constant, which is cheap.
-#[inline]
+#[inline(always)]
 pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
     let c = t2.dotc(t1);
     // b = t1 x t2 = -(t2 x t1)
     let b = t2.crossc(t1).scalef(-1.0);
-    let k = b.dotc(v) / (c + 1.0);
+    let k = b.dotc(v) * (c + 1.0).recip();
     V3::cscale(v, c).add(b.crossc(v)).add(b.scale(k))
 }
 
 /// Material frame `(d1, d2)` of an edge with tangent `t`, stored source
 /// tangent `ts` and director `as_`, and material angle `theta`.
-#[inline]
+#[inline(always)]
 pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>, V3<S>) {
     let a1 = transport_c(ts, t, as_);
     let a2 = t.cross(a1);
@@ -38,7 +38,7 @@ pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>,
 
 /// A joint's axis and in-plane basis from its stored frame and the
 /// gnomonic tilt (a, b): `n = unit(ns + a ps + b qs)`, p and q transported.
-#[inline]
+#[inline(always)]
 pub fn joint_frame<S: Scalar>(
     ns: DVec3,
     ps: DVec3,
@@ -55,8 +55,17 @@ pub fn joint_frame<S: Scalar>(
 
 /// Twist between consecutive edges: the angle from the transported `d1`
 /// of the first edge to `d1` of the second, about the second tangent.
-#[inline]
+#[inline(always)]
 pub fn twist<S: Scalar>(t0: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) -> S {
-    let u = transport(t0, t1, d10);
+    twist_with(t0.dot(t1), t0.cross(t1), d10, t1, d11)
+}
+
+/// `twist` given c = t0.t1 and b = t0 x t1, which the bending term has
+/// computed already.
+#[inline(always)]
+pub fn twist_with<S: Scalar>(c: S, b: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) -> S {
+    // Parallel transport of d10 from t0 to t1 (`transport`).
+    let k = b.dot(d10) * (c + 1.0).recip();
+    let u = d10.scale(c).add(b.cross(d10)).add(b.scale(k));
     u.cross(d11).dot(t1).atan2(u.dot(d11))
 }

@@ -3,7 +3,7 @@
 //! (energy) or with duals (gradient and Hessian).
 
 use crate::dual::{Dual, Scalar, V3};
-use crate::frames::{joint_frame, material, transport, twist};
+use crate::frames::{joint_frame, material, transport, twist, twist_with};
 use glam::DVec3;
 
 /// Stiffness of the strip's cross-section (PHYSICS.md 1).
@@ -144,6 +144,34 @@ pub struct Model {
     pub stencils: Vec<Stencil>,
     /// Energy scale E_s = B_flat / mean leg (N mm).
     pub e_scale: f64,
+}
+
+/// Where a stencil's local variable gets its dual number from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Source {
+    /// Its own dual variable.
+    Var(usize),
+    /// The dual variable of a pivot slot's angle sum (alpha_A + delta):
+    /// this variable plus local variable `.1`.
+    SumAt(usize, usize),
+    /// A constant at its value: the anchor position.
+    Const,
+    /// A constant 0: the second term of a merged sum.
+    Zero,
+}
+
+/// A stencil's reduction to fewer dual variables, exact because a rod term
+/// depends on positions only through differences (one position triple, the
+/// anchor, is held constant and its derivatives are minus the sum of the
+/// others') and on a pivot's second rod through alpha_A + delta only. The
+/// dual arithmetic costs about the square of the number of variables, so
+/// an 11-variable free stencil computed over 8 costs about half.
+/// `columns[k]` lists (dual index, coefficient): d/dq_k = sum coef d/dz_i.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reduction {
+    pub size: usize,
+    pub source: Vec<Source>,
+    pub columns: Vec<Vec<(usize, f64)>>,
 }
 
 /// Parts of the energy (N mm).
@@ -303,28 +331,208 @@ impl Model {
         a + b
     }
 
-    /// Energy, gradient (over all variables) and the local Hessian of one
-    /// stencil, for its variables `vars`.
+    /// Energy, gradient (over `vars`) and the local Hessian (row-major) of
+    /// one stencil, for its variables `vars` (as `stencil_vars` lists them).
     pub fn stencil_derivatives(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
-        match vars.len() {
-            0 => (0.0, Vec::new(), Vec::new()),
-            1..=3 => self.derivatives_n::<3>(s, vars),
-            4..=6 => self.derivatives_n::<6>(s, vars),
-            7..=9 => self.derivatives_n::<9>(s, vars),
-            10..=11 => self.derivatives_n::<11>(s, vars),
-            12..=14 => self.derivatives_n::<14>(s, vars),
-            15..=16 => self.derivatives_n::<16>(s, vars),
-            17..=20 => self.derivatives_n::<20>(s, vars),
-            n => panic!("a stencil with {n} variables"),
+        let plan = self.reduction(s, vars);
+        self.stencil_derivatives_with(s, vars, &plan)
+    }
+
+    /// `stencil_derivatives` with the stencil's reduction computed once
+    /// (the solver keeps one per stencil).
+    pub fn stencil_derivatives_with(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+        plan: &Reduction,
+    ) -> (f64, Vec<f64>, Vec<f64>) {
+        match plan.size {
+            0 => (
+                self.stencil_value(s),
+                vec![0.0; vars.len()],
+                vec![0.0; vars.len().pow(2)],
+            ),
+            1..=3 => self.reduced_n::<3, 6>(s, vars, plan),
+            4..=6 => self.reduced_n::<6, 21>(s, vars, plan),
+            7 => self.reduced_n::<7, 28>(s, vars, plan),
+            8 => self.reduced_n::<8, 36>(s, vars, plan),
+            9..=10 => self.reduced_n::<10, 55>(s, vars, plan),
+            11..=13 => self.reduced_n::<13, 91>(s, vars, plan),
+            14..=17 => self.reduced_n::<17, 153>(s, vars, plan),
+            n => panic!("a stencil with {n} reduced variables"),
         }
     }
 
-    fn derivatives_n<const N: usize>(
+    /// The same derivatives with a dual variable for every local variable,
+    /// without the reduction: the reference the reduced form is tested
+    /// against.
+    pub fn stencil_derivatives_full(
         &self,
         s: &Stencil,
         vars: &[usize],
     ) -> (f64, Vec<f64>, Vec<f64>) {
-        let locals: Vec<Dual<N>> = vars
+        match vars.len() {
+            0 => (0.0, Vec::new(), Vec::new()),
+            1..=3 => self.derivatives_n::<3, 6>(s, vars),
+            4..=6 => self.derivatives_n::<6, 21>(s, vars),
+            7..=9 => self.derivatives_n::<9, 45>(s, vars),
+            10..=11 => self.derivatives_n::<11, 66>(s, vars),
+            12..=14 => self.derivatives_n::<14, 105>(s, vars),
+            15..=16 => self.derivatives_n::<16, 136>(s, vars),
+            17..=20 => self.derivatives_n::<20, 210>(s, vars),
+            n => panic!("a stencil with {n} variables"),
+        }
+    }
+
+    /// How a stencil's local variables map onto fewer dual variables
+    /// (module `Reduction`). Only rod terms (stretch, bend) are reduced:
+    /// they depend on positions through differences only.
+    pub fn reduction(&self, s: &Stencil, vars: &[usize]) -> Reduction {
+        let identity = || Reduction {
+            size: vars.len(),
+            source: (0..vars.len()).map(Source::Var).collect(),
+            columns: (0..vars.len()).map(|k| vec![(k, 1.0)]).collect(),
+        };
+        let edges: Vec<usize> = match *s {
+            Stencil::Stretch { edge, .. } => vec![edge],
+            Stencil::Bend { e0, e1, .. } => vec![e0, e1],
+            _ => return identity(),
+        };
+        let local = |v: usize| vars.binary_search(&v).expect("a stencil variable");
+        // Position triples (free nodes, joint positions) and joint slots.
+        let mut triples: Vec<usize> = Vec::new();
+        let mut slots: Vec<(usize, usize)> = Vec::new();
+        let node = |n: usize, triples: &mut Vec<usize>, slots: &mut Vec<(usize, usize)>| match self
+            .nodes[n]
+        {
+            Node::Free(i) => triples.push(i),
+            Node::Hole(j) => triples.push(self.joints[j].x),
+            Node::Arm { joint, slot, .. } => {
+                triples.push(self.joints[joint].x);
+                slots.push((joint, slot));
+            }
+        };
+        for &e in &edges {
+            node(self.edges[e].a, &mut triples, &mut slots);
+            node(self.edges[e].b, &mut triples, &mut slots);
+            if let Frame::Arm { joint, slot, .. } = self.edges[e].frame {
+                slots.push((joint, slot));
+            }
+        }
+        triples.sort_unstable();
+        triples.dedup();
+        slots.sort_unstable();
+        slots.dedup();
+        // An angle variable may be merged into its pair's sum only when it
+        // enters this stencil through that one slot.
+        let mut uses = std::collections::HashMap::new();
+        for &(j, sl) in &slots {
+            let slot = self.joints[j].slots[sl];
+            for &a in &slot.angle[..slot.terms] {
+                *uses.entry(a).or_insert(0usize) += 1;
+            }
+        }
+        let mut merged_into = vec![usize::MAX; vars.len()];
+        for &(j, sl) in &slots {
+            let slot = self.joints[j].slots[sl];
+            if slot.terms == 2 && uses[&slot.angle[0]] == 1 && uses[&slot.angle[1]] == 1 {
+                merged_into[local(slot.angle[1])] = local(slot.angle[0]);
+            }
+        }
+        let mut is_anchor = vec![false; vars.len()];
+        if let Some(&a) = triples.first() {
+            for c in 0..3 {
+                is_anchor[local(a + c)] = true;
+            }
+        }
+        // Dual indices for the variables that stay.
+        let mut dual = vec![usize::MAX; vars.len()];
+        let mut size = 0;
+        for k in 0..vars.len() {
+            if !is_anchor[k] && merged_into[k] == usize::MAX {
+                dual[k] = size;
+                size += 1;
+            }
+        }
+        let mut source = Vec::with_capacity(vars.len());
+        let mut columns = Vec::with_capacity(vars.len());
+        for k in 0..vars.len() {
+            if is_anchor[k] {
+                // z_P = x_P - x_anchor for every other position triple.
+                let c = vars[k] - triples[0];
+                source.push(Source::Const);
+                columns.push(
+                    triples[1..]
+                        .iter()
+                        .map(|&t| (dual[local(t + c)], -1.0))
+                        .collect(),
+                );
+            } else if merged_into[k] != usize::MAX {
+                source.push(Source::Zero);
+                columns.push(vec![(dual[merged_into[k]], 1.0)]);
+            } else {
+                source.push(match merged_into.iter().position(|&m| m == k) {
+                    Some(partner) => Source::SumAt(dual[k], partner),
+                    None => Source::Var(dual[k]),
+                });
+                columns.push(vec![(dual[k], 1.0)]);
+            }
+        }
+        Reduction {
+            size,
+            source,
+            columns,
+        }
+    }
+
+    fn reduced_n<const N: usize, const T: usize>(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+        plan: &Reduction,
+    ) -> (f64, Vec<f64>, Vec<f64>) {
+        let locals: Vec<Dual<N, T>> = plan
+            .source
+            .iter()
+            .enumerate()
+            .map(|(k, src)| match *src {
+                Source::Var(i) => Dual::var(self.q[vars[k]], i),
+                Source::SumAt(i, p) => Dual::var(self.q[vars[k]] + self.q[vars[p]], i),
+                Source::Const => Dual::cst(self.q[vars[k]]),
+                Source::Zero => Dual::cst(0.0),
+            })
+            .collect();
+        let get = |i: usize| locals[vars.binary_search(&i).expect("stencil variable")];
+        let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
+        let d = e + t;
+        let n = vars.len();
+        let cols = &plan.columns;
+        let g: Vec<f64> = cols
+            .iter()
+            .map(|c| c.iter().map(|&(i, a)| a * d.g[i]).sum())
+            .collect();
+        let mut h = vec![0.0; n * n];
+        for a in 0..n {
+            for b in a..n {
+                let mut v = 0.0;
+                for &(i, x) in &cols[a] {
+                    for &(j, y) in &cols[b] {
+                        v += x * y * d.hess(i, j);
+                    }
+                }
+                h[a * n + b] = v;
+                h[b * n + a] = v;
+            }
+        }
+        (d.v, g, h)
+    }
+
+    fn derivatives_n<const N: usize, const T: usize>(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+    ) -> (f64, Vec<f64>, Vec<f64>) {
+        let locals: Vec<Dual<N, T>> = vars
             .iter()
             .enumerate()
             .map(|(k, &i)| Dual::var(self.q[i], k))
@@ -333,7 +541,7 @@ impl Model {
             let k = vars.iter().position(|&v| v == i).expect("stencil variable");
             locals[k]
         };
-        let (e, t) = stencil_energy::<Dual<N>>(self, &get, s);
+        let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
         let d = e + t;
         let n = vars.len();
         let g = d.g[..n].to_vec();
@@ -468,10 +676,12 @@ fn stencil_energy<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, s: &Stencil) -
             let t1 = x2.sub(x1).unit();
             let (d10, d20) = frame_of(m, get, a, t0);
             let (d11, d21) = frame_of(m, get, b, t1);
-            let kb = t0.cross(t1).scale(S::cst(2.0) / (t0.dot(t1) + 1.0));
-            let k_edge = (kb.dot(d20) + kb.dot(d21)) * 0.5;
-            let k_flat = (kb.dot(d10) + kb.dot(d11)) * -0.5;
-            let tw = twist(t0, d10, t1, d11);
+            let (c, b) = (t0.dot(t1), t0.cross(t1));
+            let kb = b.scale((c + 1.0).recip() * 2.0);
+            // kb.(d2_0 + d2_1): one dot product instead of two.
+            let k_edge = kb.dot(d20.add(d21)) * 0.5;
+            let k_flat = kb.dot(d10.add(d11)) * -0.5;
+            let tw = twist_with(c, b, d10, t1, d11);
             let w = 0.5 / lbar;
             (
                 (k_edge * k_edge * sec.b_edge + k_flat * k_flat * sec.b_flat) * w,

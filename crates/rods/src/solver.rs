@@ -4,7 +4,7 @@
 //! one-step watchdog line search. faer's sparse LLT is the factorisation:
 //! its refusal of an indefinite matrix is the inertia test.
 
-use crate::model::{Model, VarKind};
+use crate::model::{Model, Reduction, VarKind};
 use faer::Side;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -18,6 +18,8 @@ pub struct System {
     pub free_index: Vec<usize>,
     pub free_vars: Vec<usize>,
     stencil_vars: Vec<Vec<usize>>,
+    /// Each stencil's reduction to fewer dual variables.
+    reductions: Vec<Reduction>,
     /// For each stencil, the value slot of each local pair (a, b) whose
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
@@ -43,6 +45,12 @@ impl System {
             .stencils
             .iter()
             .map(|s| model.stencil_vars(s))
+            .collect();
+        let reductions = model
+            .stencils
+            .iter()
+            .zip(&stencil_vars)
+            .map(|(s, vars)| model.reduction(s, vars))
             .collect();
         let mut cols: Vec<Vec<usize>> = (0..n).map(|c| vec![c]).collect();
         for vars in &stencil_vars {
@@ -98,6 +106,7 @@ impl System {
             free_index,
             free_vars,
             stencil_vars,
+            reductions,
             stencil_pos,
             pattern,
             symbolic,
@@ -117,7 +126,7 @@ impl System {
         let mut e = 0.0;
         for (s, st) in model.stencils.iter().enumerate() {
             let vars = &self.stencil_vars[s];
-            let (es, gs, hs) = model.stencil_derivatives(st, vars);
+            let (es, gs, hs) = model.stencil_derivatives_with(st, vars, &self.reductions[s]);
             e += es;
             let k = vars.len();
             let pos = &self.stencil_pos[s];
