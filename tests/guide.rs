@@ -616,7 +616,11 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
         }
         assert!(!tiles.is_empty(), "{name}: a gauge");
         for (i, (_, gr)) in tiles.iter().enumerate() {
-            assert_eq!(gr.id, format!("gauge-tile-{}", i + 1), "{name}: tiles in order");
+            assert_eq!(
+                gr.id,
+                format!("gauge-tile-{}", i + 1),
+                "{name}: tiles in order"
+            );
         }
         let drawn: f64 = tiles.iter().map(|t| t.1.items[0].shape.length()).sum();
         let overlap = overlap_mm * (tiles.len() - 1) as f64;
@@ -643,13 +647,7 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
                     } => {
                         let s = text::start(*at, t, *font, *size, *align);
                         let w = text::width(t, *font, *size);
-                        Some((
-                            t.clone(),
-                            s.x,
-                            s.y - 0.75 * size,
-                            s.x + w,
-                            s.y + 0.2 * size,
-                        ))
+                        Some((t.clone(), s.x, s.y - 0.75 * size, s.x + w, s.y + 0.2 * size))
                     }
                     _ => None,
                 })

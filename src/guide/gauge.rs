@@ -257,8 +257,7 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
             .map(|columns| Plan::new(&ticks, total, columns, room_after(text), rest))
             .find(|p| {
                 p.columns == 1
-                    || p.columns as f64 * p.layout.width + (p.columns - 1) as f64 * 6.0
-                        <= w.width()
+                    || p.columns as f64 * p.layout.width + (p.columns - 1) as f64 * 6.0 <= w.width()
             })
             .expect("one column always fits")
     };
@@ -309,7 +308,17 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
         }
         let x0 = MARGIN + column as f64 * pitch + (pitch - plan.layout.width).max(0.0) / 2.0;
         let marks = registration(&plan.tiles, i);
-        let items = tile(&plan.layout, x0, w.y, (from, to), labels, &ticks, &marks, i, n);
+        let items = tile(
+            &plan.layout,
+            x0,
+            w.y,
+            (from, to),
+            labels,
+            &ticks,
+            &marks,
+            i,
+            n,
+        );
         w.push(items);
         w.group_id = Some(format!("gauge-tile-{}", i + 1));
         w.close_group();
@@ -421,7 +430,11 @@ fn tile(
         .iter()
         .filter(|t| t.0 >= from - 1e-9 && t.0 <= to + 1e-9)
     {
-        let (colour, reach) = if *vertex { (VERTEX, 7.0) } else { (PIVOT, -5.0) };
+        let (colour, reach) = if *vertex {
+            (VERTEX, 7.0)
+        } else {
+            (PIVOT, -5.0)
+        };
         items.push(Item::art(
             Ink::line(colour, 0.3),
             Shape::polyline(
@@ -453,7 +466,12 @@ fn tile(
         let at = DVec2::new(x_text, y(l.at) + LABEL * 0.35);
         let start = text::start(at, &l.text, Font::Regular, LABEL, align);
         let w = text::width(&l.text, Font::Regular, LABEL);
-        boxes.push((start.x, start.x + w, at.y - 0.75 * LABEL, at.y + 0.2 * LABEL));
+        boxes.push((
+            start.x,
+            start.x + w,
+            at.y - 0.75 * LABEL,
+            at.y + 0.2 * LABEL,
+        ));
         items.push(text_item(at, LABEL, &l.text, Font::Regular, align, colour));
     }
     // Registration marks: a line across the tile with a cross at each end.
