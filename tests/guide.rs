@@ -778,3 +778,26 @@ fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() 
     b.design.fabrication.test_piece = false;
     assert!(words(&b).contains("The test piece is left out"));
 }
+
+/// The tiles cover the line from 0 to its end, each within its room, and
+/// each overlaps the one before by exactly `GAUGE_OVERLAP`.
+#[test]
+fn gauge_tiles_cover_the_line_within_their_rooms() {
+    use karigami::guide::{GAUGE_OVERLAP, gauge_tiles};
+    for total in [0.0, 50.0, 116.0, 355.0, 839.9, 1636.9, 5000.0] {
+        for (first, rest) in [(116.0, 243.0), (203.0, 243.0), (60.0, 100.0)] {
+            let room = |i: usize| if i < 3 { first } else { rest };
+            let tiles = gauge_tiles(total, room);
+            assert_eq!(tiles[0].0, 0.0);
+            assert_eq!(tiles.last().unwrap().1, total, "{total}: the line's end");
+            for (i, t) in tiles.iter().enumerate() {
+                assert!(t.1 - t.0 <= room(i) + 1e-9, "{total}: tile {i} {t:?}");
+                if i > 0 {
+                    let overlap = tiles[i - 1].1 - t.0;
+                    assert!((overlap - GAUGE_OVERLAP).abs() < 1e-9, "{total}: {overlap}");
+                    assert!(t.1 > tiles[i - 1].1, "{total}: tile {i} goes on");
+                }
+            }
+        }
+    }
+}
