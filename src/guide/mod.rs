@@ -1514,7 +1514,7 @@ fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
         format!("{vertex} vertex eyelets set, each stack in the order its step lists."),
         "Every eyelet lets its strips turn: none is crimped tight.".to_string(),
         format!("All {} steps done; no strip left over.", steps.len()),
-        "Folded flat, the holes lie on the ticks of the inspection gauge (the last pages)."
+        "Folded flat, the holes lie on the ticks of the inspection gauge (at the end of the guide)."
             .to_string(),
         "Open the lattice slowly from one corner; stop at any joint that binds.".to_string(),
     ];
