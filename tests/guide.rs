@@ -583,12 +583,15 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
     }
 }
 
-/// Item 4: the inspection gauge is one line at 1:1, one tile a page; the
-/// tiles' lengths less their overlaps add up to the collapsed length, and no
-/// two of its labels overlap.
+/// Item 4: the inspection gauge is one line at 1:1, in tiles side by side
+/// (as many as a page's width holds); the tiles' lengths less their
+/// overlaps add up to the collapsed length, consecutive tiles carry the same
+/// two registration marks one overlap apart, tiles on a page do not overlap
+/// and no two of a page's gauge labels overlap.
 #[test]
 fn gauge_tiles_make_one_line_of_the_collapsed_length() {
     use karigami::drawing::{Shape, text};
+    let overlap_mm = karigami::guide::GAUGE_OVERLAP;
     for name in ["flat-sheet", "torus", "bowl"] {
         let b = example(name);
         let g = guide(&b);
@@ -612,10 +615,15 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
             }
         }
         assert!(!tiles.is_empty(), "{name}: a gauge");
-        let pages: HashSet<usize> = tiles.iter().map(|t| t.0).collect();
-        assert_eq!(pages.len(), tiles.len(), "{name}: one tile a page");
+        for (i, (_, gr)) in tiles.iter().enumerate() {
+            assert_eq!(
+                gr.id,
+                format!("gauge-tile-{}", i + 1),
+                "{name}: tiles in order"
+            );
+        }
         let drawn: f64 = tiles.iter().map(|t| t.1.items[0].shape.length()).sum();
-        let overlap = karigami::guide::GAUGE_OVERLAP * (tiles.len() - 1) as f64;
+        let overlap = overlap_mm * (tiles.len() - 1) as f64;
         assert!(
             ((drawn - overlap) - (hi - lo)).abs() < 0.1,
             "{name}: {} tiles draw {drawn:.2} mm less {overlap} mm of overlap, the collapsed length is {:.2} mm",
@@ -625,9 +633,9 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
         if name == "torus" {
             assert!(tiles.len() >= 4, "the torus gauge is over a metre long");
         }
-        for (_, gr) in &tiles {
-            let boxes: Vec<(f64, f64, f64, f64)> = gr
-                .items
+        // Every text of a tile with its box: (text, x0, y0, x1, y1).
+        let boxes = |gr: &karigami::drawing::Group| -> Vec<(String, f64, f64, f64, f64)> {
+            gr.items
                 .iter()
                 .filter_map(|i| match &i.shape {
                     Shape::Text {
@@ -639,17 +647,93 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
                     } => {
                         let s = text::start(*at, t, *font, *size, *align);
                         let w = text::width(t, *font, *size);
-                        Some((s.x, s.y - 0.75 * size, s.x + w, s.y + 0.2 * size))
+                        Some((t.clone(), s.x, s.y - 0.75 * size, s.x + w, s.y + 0.2 * size))
                     }
                     _ => None,
                 })
-                .collect();
-            for (i, a) in boxes.iter().enumerate() {
-                for c in &boxes[i + 1..] {
-                    let apart = a.2 <= c.0 || c.2 <= a.0 || a.3 <= c.1 || c.3 <= a.1;
+                .collect()
+        };
+        // Consecutive tiles: the same marks, one overlap apart on each.
+        for k in 1..tiles.len() {
+            for gr in [tiles[k - 1].1, tiles[k].1] {
+                let b = boxes(gr);
+                let y = |m: &str| {
+                    b.iter()
+                        .find(|t| t.0 == m)
+                        .unwrap_or_else(|| panic!("{name}: {} has no {m}", gr.id))
+                        .2
+                };
+                let apart = y(&format!("mark {k}b")) - y(&format!("mark {k}a"));
+                assert!(
+                    (apart - overlap_mm).abs() < 1e-6,
+                    "{name}: {}'s marks {k}a and {k}b are {apart} mm apart",
+                    gr.id
+                );
+            }
+        }
+        let pages: std::collections::BTreeSet<usize> = tiles.iter().map(|t| t.0).collect();
+        for p in pages {
+            let on_page: Vec<_> = tiles.iter().filter(|t| t.0 == p).map(|t| t.1).collect();
+            // Side by side: each tile's drawing clear of the others'.
+            let extent = |gr: &karigami::drawing::Group| {
+                let xs: Vec<f64> = gr
+                    .items
+                    .iter()
+                    .filter_map(|i| match &i.shape {
+                        Shape::Path {
+                            start, segments, ..
+                        } => Some(
+                            std::iter::once(start.x)
+                                .chain(segments.iter().map(|s| match s {
+                                    karigami::drawing::Segment::Line(p) => p.x,
+                                    karigami::drawing::Segment::Arc { to, .. } => to.x,
+                                }))
+                                .collect::<Vec<_>>(),
+                        ),
+                        _ => None,
+                    })
+                    .flatten()
+                    .chain(boxes(gr).iter().flat_map(|b| [b.1, b.3]))
+                    .collect();
+                (
+                    xs.iter().cloned().fold(f64::INFINITY, f64::min),
+                    xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+                )
+            };
+            for (i, a) in on_page.iter().enumerate() {
+                let ea = extent(a);
+                assert!(
+                    ea.0 >= 0.0 && ea.1 <= g.pages[p].width,
+                    "{name}: {} leaves the page: {ea:?}",
+                    a.id
+                );
+                for c in &on_page[i + 1..] {
+                    let ec = extent(c);
+                    assert!(
+                        ea.1 <= ec.0 || ec.1 <= ea.0,
+                        "{name}: {} {ea:?} and {} {ec:?} overlap",
+                        a.id,
+                        c.id
+                    );
+                }
+            }
+            let texts: Vec<_> = on_page.iter().flat_map(|gr| boxes(gr)).collect();
+            for (i, a) in texts.iter().enumerate() {
+                for c in &texts[i + 1..] {
+                    let apart = a.3 <= c.1 || c.3 <= a.1 || a.4 <= c.2 || c.4 <= a.2;
                     assert!(apart, "{name}: gauge labels collide: {a:?} {c:?}");
                 }
             }
+        }
+        if name == "bowl" {
+            // Its 840 mm gauge takes few pages: tiles side by side.
+            let pages: HashSet<usize> = tiles.iter().map(|t| t.0).collect();
+            assert!(
+                pages.len() < tiles.len(),
+                "bowl: {} tiles on {} pages",
+                tiles.len(),
+                pages.len()
+            );
         }
     }
 }
@@ -693,4 +777,27 @@ fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() 
     assert!(text.contains("100 mm"));
     b.design.fabrication.test_piece = false;
     assert!(words(&b).contains("The test piece is left out"));
+}
+
+/// The tiles cover the line from 0 to its end, each within its room, and
+/// each overlaps the one before by exactly `GAUGE_OVERLAP`.
+#[test]
+fn gauge_tiles_cover_the_line_within_their_rooms() {
+    use karigami::guide::{GAUGE_OVERLAP, gauge_tiles};
+    for total in [0.0, 50.0, 116.0, 355.0, 839.9, 1636.9, 5000.0] {
+        for (first, rest) in [(116.0, 243.0), (203.0, 243.0), (60.0, 100.0)] {
+            let room = |i: usize| if i < 3 { first } else { rest };
+            let tiles = gauge_tiles(total, room);
+            assert_eq!(tiles[0].0, 0.0);
+            assert_eq!(tiles.last().unwrap().1, total, "{total}: the line's end");
+            for (i, t) in tiles.iter().enumerate() {
+                assert!(t.1 - t.0 <= room(i) + 1e-9, "{total}: tile {i} {t:?}");
+                if i > 0 {
+                    let overlap = tiles[i - 1].1 - t.0;
+                    assert!((overlap - GAUGE_OVERLAP).abs() < 1e-9, "{total}: {overlap}");
+                    assert!(t.1 > tiles[i - 1].1, "{total}: tile {i} goes on");
+                }
+            }
+        }
+    }
 }

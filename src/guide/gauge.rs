@@ -1,14 +1,15 @@
 //! The inspection gauge: the folded lattice at 1:1 (docs/assembly.md).
 //! Folded flat, every hole lies on one line at its collapsed coordinate z;
-//! the gauge is that line, printed full size down the long side of as many
-//! pages as it takes. Consecutive tiles overlap by `GAUGE_OVERLAP` and carry
-//! the same two numbered registration marks there, so that the cut tiles
-//! taped mark on mark make one continuous line.
+//! the gauge is that line, printed full size in tiles down the long side of
+//! the page, as many side by side as the page's width holds (two on A4 and
+//! Letter), so that a long gauge takes few pages. Consecutive tiles overlap
+//! by `GAUGE_OVERLAP` and carry the same two numbered registration marks
+//! there, so that the cut tiles taped mark on mark make one continuous line.
 
-use super::{BLACK, GREY, MARGIN, SMALL, Writer, key, text_item};
+use super::{BLACK, FAINT, GREY, MARGIN, SMALL, Writer, key, text_item};
 use crate::build::Build;
 use crate::drawing::picture::{PIVOT, VERTEX};
-use crate::drawing::{Align, Font, Ink, Item, Shape};
+use crate::drawing::{Align, Font, Ink, Item, Shape, text};
 use glam::DVec2;
 
 /// How far consecutive tiles overlap (mm).
@@ -66,29 +67,152 @@ fn ticks(b: &Build) -> Vec<(f64, Vec<String>, bool)> {
     ticks
 }
 
-/// The tiles of a gauge of length `total`, given each page's room: the
-/// stretch [from, to] of the line each tile shows.
-pub fn gauge_tiles(total: f64, first: f64, rest: f64) -> Vec<(f64, f64)> {
+/// Room above a tile's line for its heading, and below it for labels pushed
+/// down past its last tick (at most `DRIFT`) and the registration crosses.
+const TILE_HEAD: f64 = 7.0;
+const TILE_TAIL: f64 = DRIFT + 1.5;
+/// Least room worth starting the gauge on a page that has other things.
+const FIRST_ROOM: f64 = 60.0;
+
+/// The tiles of a gauge of length `total`, given the room of the i-th tile
+/// (mm of line): the stretch [from, to] of the line each tile shows.
+pub fn gauge_tiles(total: f64, room: impl Fn(usize) -> f64) -> Vec<(f64, f64)> {
     let mut tiles = Vec::new();
     let mut from = 0.0;
-    let mut room = first;
     loop {
-        let to = (from + room).min(total);
+        // More room than the overlap, or the tiles would never get anywhere.
+        let to = (from + room(tiles.len()).max(GAUGE_OVERLAP + 20.0)).min(total);
         tiles.push((from, to));
         if to >= total {
             return tiles;
         }
         from = to - GAUGE_OVERLAP;
-        room = rest;
+    }
+}
+
+/// A tick's label on one tile: the tick's z, the z the label is written at
+/// (pushed down to keep clear of the label above), its side and text.
+struct Label {
+    z: f64,
+    at: f64,
+    vertex: bool,
+    text: String,
+}
+
+/// The labels of the ticks in [from, to]: in a column each side, pushed
+/// down to stay `PITCH` apart; a label that would drift further than
+/// `DRIFT` from its tick joins the label above as "+n".
+fn tile_labels(ticks: &[(f64, Vec<String>, bool)], from: f64, to: f64) -> Vec<Label> {
+    let mut last = [f64::NEG_INFINITY; 2];
+    let mut open: [Option<(usize, Vec<String>, usize)>; 2] = [None, None];
+    let mut labels: Vec<Label> = Vec::new();
+    for (z, names, vertex) in ticks
+        .iter()
+        .filter(|t| t.0 >= from - 1e-9 && t.0 <= to + 1e-9)
+    {
+        let slot = *vertex as usize;
+        let at = z.max(last[slot] + PITCH);
+        if at - z > DRIFT {
+            if let Some((_, _, more)) = open[slot].as_mut() {
+                *more += names.len();
+                continue;
+            }
+        }
+        if let Some((i, first_names, more)) = open[slot].take() {
+            labels[i].text = label_text(&first_names, more);
+        }
+        last[slot] = at;
+        labels.push(Label {
+            z: *z,
+            at,
+            vertex: *vertex,
+            text: String::new(),
+        });
+        open[slot] = Some((labels.len() - 1, names.clone(), names.len() - 1));
+    }
+    for (i, names, more) in open.into_iter().flatten() {
+        labels[i].text = label_text(&names, more);
+    }
+    labels
+}
+
+/// Where things go across a tile, from its left edge (mm): the ruler's
+/// numbers end at `numbers`, the ruler at `ruler`, scissor-pivot labels end
+/// 9 mm left of the `line`, vertex labels start 11 mm right of it, the
+/// right registration cross at `cross` with its label after it; `width` is
+/// the whole tile's. Every column is as wide as its widest text, so a tile
+/// is as narrow as its labels allow (about 80 mm).
+struct Columns {
+    numbers: f64,
+    ruler: f64,
+    line: f64,
+    cross: f64,
+    width: f64,
+}
+
+impl Columns {
+    fn new(total: f64, labels: &[Vec<Label>], tiles: usize) -> Self {
+        let widest = |vertex: bool| {
+            labels
+                .iter()
+                .flatten()
+                .filter(|l| l.vertex == vertex)
+                .map(|l| text::width(&l.text, Font::Regular, LABEL))
+                .fold(0.0, f64::max)
+        };
+        let number = text::width(
+            &(((total / 10.0).floor() as i64) * 10).to_string(),
+            Font::Regular,
+            LABEL,
+        );
+        let mark = text::width(&format!("mark {tiles}b"), Font::Bold, LABEL);
+        let numbers = 1.5 + number;
+        let ruler = numbers + 1.5;
+        let line = ruler + 4.0 + 1.5 + widest(false) + 9.0;
+        let cross = line + 11.0 + widest(true) + 2.0;
+        Self {
+            numbers,
+            ruler,
+            line,
+            cross,
+            width: cross + 2.0 + mark,
+        }
+    }
+}
+
+/// The gauge's plan for `columns` tiles side by side: the tiles, their
+/// labels and their columns.
+struct Plan {
+    columns: usize,
+    tiles: Vec<(f64, f64)>,
+    labels: Vec<Vec<Label>>,
+    layout: Columns,
+}
+
+impl Plan {
+    fn new(
+        ticks: &[(f64, Vec<String>, bool)],
+        total: f64,
+        columns: usize,
+        first: f64,
+        rest: f64,
+    ) -> Self {
+        let tiles = gauge_tiles(total, |i| if i < columns { first } else { rest });
+        let labels: Vec<Vec<Label>> = tiles
+            .iter()
+            .map(|&(from, to)| tile_labels(ticks, from, to))
+            .collect();
+        let layout = Columns::new(total, &labels, tiles.len());
+        Self {
+            columns,
+            tiles,
+            labels,
+            layout,
+        }
     }
 }
 
 pub(super) fn gauge(w: &mut Writer, b: &Build) {
-    // It starts on the last step's page when there is room for a useful
-    // first tile.
-    w.need(110.0);
-    w.y += 4.0;
-    w.heading("Inspection gauge: the folded lattice (1:1)");
     let ticks = ticks(b);
     let total = ticks.last().map_or(0.0, |t| t.0);
     let first = b
@@ -97,215 +221,296 @@ pub(super) fn gauge(w: &mut Writer, b: &Build) {
         .iter()
         .min_by(|a, b| a.z.total_cmp(&b.z))
         .map_or(String::new(), |v| key(v.key));
-    let head = 14.0;
-    let rest = w.bottom() - MARGIN - head - 6.0;
-    // Tiles after the first get a page each; the first shares its page
-    // with the heading and this paragraph.
-    let count = {
-        let probe = gauge_tiles(total, rest, rest);
-        probe.len()
-    };
-    w.paragraph(
-        &format!(
-            "Folded flat, every strip of the lattice lies along one line and every hole sits at a fixed \
-             distance along it. This gauge is that line at full size ({total:.1} mm{}). Blue ticks are \
-             vertex pivots [row,column], orange ticks scissor pivots (row,column); the ruler beside it is \
-             1:1 from the same 0. Print at 100 %{} Fold a finished part of the lattice flat, lay it on the \
-             line with vertex {first} on 0, and check that its holes fall on the ticks before setting the \
-             last eyelets.",
-            if count > 1 {
-                format!(", on {count} pages")
-            } else {
-                String::new()
-            },
-            if count > 1 {
-                format!(
-                    ", cut each page's tile along its top mark line and tape it over the tile before, \
-                     crosses on the crosses of the same number (the tiles overlap by {GAUGE_OVERLAP:.0} mm)."
-                )
-            } else {
-                ".".to_string()
-            },
-        ),
-        SMALL,
-        GREY,
+    let about = format!(
+        "Folded flat, every strip of the lattice lies along one line and every hole sits at a fixed \
+         distance along it. This gauge is that line at full size ({total:.1} mm). Blue ticks are \
+         vertex pivots [row,column], orange ticks scissor pivots (row,column); the ruler beside it is \
+         1:1 from the same 0. Print at 100 % and check the ruler against a real one."
     );
-    let first_room = (w.bottom() - w.y - 6.0).max(40.0);
-    let tiles = gauge_tiles(total, first_room, rest);
-    let x_line = MARGIN + 75.0;
-    let x_ruler = MARGIN + 25.0;
-    for (n, &(from, to)) in tiles.iter().enumerate() {
-        if n > 0 {
-            w.new_page();
-            w.text(
-                &format!(
-                    "Inspection gauge, tile {} of {} (1:1): {from:.0} to {to:.0} mm",
-                    n + 1,
-                    tiles.len()
-                ),
-                4.0,
-                Font::Bold,
-                BLACK,
-            );
+    let check = format!(
+        "Fold a finished part of the lattice flat, lay it on the line with vertex {first} on 0, and \
+         check that its holes fall on the ticks before setting the last eyelets."
+    );
+    let tiled = format!(
+        "{about} The line is printed in numbered tiles, each overlapping the next by \
+         {GAUGE_OVERLAP:.0} mm. Cut the tiles apart along the faint lines between them. Trim every \
+         tile after the first along its top line (mark 1a on tile 2, mark 2a on tile 3, ...), lay it \
+         over the end of the tile before with its edge on that tile's line of the same mark and its \
+         cross b on the other's cross b, and tape it; the joined tiles make one straight line. {check}"
+    );
+    let whole = format!("{about} {check}");
+    // Heading, paragraph and a first tile of some use on one page.
+    let heading = 4.0 + 7.0 * 1.4 + 2.0;
+    w.need(heading + w.paragraph_height(&tiled, SMALL) + TILE_HEAD + FIRST_ROOM + TILE_TAIL);
+    w.y += 4.0;
+    w.heading("Inspection gauge: the folded lattice (1:1)");
+    let page_head = BODY_HEAD;
+    // A tile's tail may reach into the room kept above the page's footer.
+    let floor = w.bottom() + 6.0;
+    let rest = floor - MARGIN - page_head - TILE_HEAD - TILE_TAIL;
+    let room_after =
+        |text: &str| floor - w.y - w.paragraph_height(text, SMALL) - TILE_HEAD - TILE_TAIL;
+    // As many tiles side by side as the page's width holds.
+    let plan_for = |text: &str| {
+        (1..=3)
+            .rev()
+            .map(|columns| Plan::new(&ticks, total, columns, room_after(text), rest))
+            .find(|p| {
+                p.columns == 1
+                    || p.columns as f64 * p.layout.width + (p.columns - 1) as f64 * 6.0 <= w.width()
+            })
+            .expect("one column always fits")
+    };
+    let mut plan = plan_for(&tiled);
+    let text = if plan.tiles.len() > 1 {
+        tiled
+    } else {
+        // With room for the shorter paragraph it still fits one tile.
+        plan = plan_for(&whole);
+        whole
+    };
+    w.paragraph(&text, SMALL, GREY);
+    let n = plan.tiles.len();
+    let pitch = w.width() / plan.columns as f64;
+    let mut bottom = w.y;
+    for (i, (&(from, to), labels)) in plan.tiles.iter().zip(&plan.labels).enumerate() {
+        let column = i % plan.columns;
+        if column == 0 {
+            if i > 0 {
+                w.new_page();
+                w.text(
+                    "Inspection gauge (continued): print at 100 %, 1:1",
+                    BODY_HEAD_SIZE,
+                    Font::Bold,
+                    GREY,
+                );
+                w.y = MARGIN + page_head;
+            }
+            // The cut lines between this page's tiles.
+            w.close_group();
+            let on_page = (n - i).min(plan.columns);
+            let longest = plan.tiles[i..i + on_page]
+                .iter()
+                .map(|t| t.1 - t.0)
+                .fold(0.0, f64::max);
+            bottom = w.y + TILE_HEAD + longest + TILE_TAIL;
+            let cuts = (1..on_page)
+                .map(|c| {
+                    let x = MARGIN + c as f64 * pitch;
+                    Item::art(
+                        Ink::line(FAINT, 0.2),
+                        Shape::polyline(&[DVec2::new(x, w.y), DVec2::new(x, bottom)], false),
+                    )
+                })
+                .collect();
+            w.push(cuts);
+            w.close_group();
         }
+        let x0 = MARGIN + column as f64 * pitch + (pitch - plan.layout.width).max(0.0) / 2.0;
+        let marks = registration(&plan.tiles, i);
+        let items = tile(
+            &plan.layout,
+            x0,
+            w.y,
+            (from, to),
+            labels,
+            &ticks,
+            &marks,
+            i,
+            n,
+        );
+        w.push(items);
+        w.group_id = Some(format!("gauge-tile-{}", i + 1));
         w.close_group();
-        let y0 = w.y + 4.0;
-        let y = |z: f64| y0 + z - from;
-        // The line itself first: tests read its length from here.
-        let mut items = vec![Item::art(
-            Ink::line(BLACK, 0.3),
-            Shape::polyline(
-                &[DVec2::new(x_line, y(from)), DVec2::new(x_line, y(to))],
-                false,
-            ),
-        )];
-        // The 1:1 ruler: millimetre ticks, numbers every 10 mm.
+        w.group_id = None;
+    }
+    w.y = bottom;
+}
+
+/// The page head of a gauge continuation page: its text size and height.
+const BODY_HEAD_SIZE: f64 = 3.6;
+const BODY_HEAD: f64 = BODY_HEAD_SIZE * 1.4 + 2.0;
+
+/// The registration marks on tile `i`: (number, z, "a" or "b"), the same
+/// two where it overlaps the tile before and where it overlaps the next.
+fn registration(tiles: &[(f64, f64)], i: usize) -> Vec<(usize, f64, &'static str)> {
+    let mut marks = Vec::new();
+    if i > 0 {
+        marks.push((i, tiles[i].0, "a"));
+        marks.push((i, tiles[i - 1].1, "b"));
+    }
+    if i + 1 < tiles.len() {
+        marks.push((i + 1, tiles[i + 1].0, "a"));
+        marks.push((i + 1, tiles[i].1, "b"));
+    }
+    marks
+}
+
+/// One tile's drawing, its top-left corner at (x0, top): the line first
+/// (tests read its length from there), then its heading, the ruler, the
+/// ticks and their labels, and the registration marks.
+#[allow(clippy::too_many_arguments)]
+fn tile(
+    c: &Columns,
+    x0: f64,
+    top: f64,
+    (from, to): (f64, f64),
+    labels: &[Label],
+    ticks: &[(f64, Vec<String>, bool)],
+    marks: &[(usize, f64, &str)],
+    i: usize,
+    n: usize,
+) -> Vec<Item> {
+    let y0 = top + TILE_HEAD;
+    let y = |z: f64| y0 + z - from;
+    let x_line = x0 + c.line;
+    let x_ruler = x0 + c.ruler;
+    let mut items = vec![Item::art(
+        Ink::line(BLACK, 0.3),
+        Shape::polyline(
+            &[DVec2::new(x_line, y(from)), DVec2::new(x_line, y(to))],
+            false,
+        ),
+    )];
+    let title = if n > 1 {
+        format!("Tile {} of {n}: {from:.0} to {to:.0} mm", i + 1)
+    } else {
+        format!("0 to {to:.0} mm")
+    };
+    items.push(text_item(
+        DVec2::new(x0, top + SMALL * 0.75 + 0.5),
+        SMALL,
+        &title,
+        Font::Bold,
+        Align::Left,
+        BLACK,
+    ));
+    // The 1:1 ruler: millimetre ticks, numbers every 10 mm.
+    items.push(Item::art(
+        Ink::line(GREY, 0.2),
+        Shape::polyline(
+            &[DVec2::new(x_ruler, y(from)), DVec2::new(x_ruler, y(to))],
+            false,
+        ),
+    ));
+    let mut k = from.ceil() as i64;
+    while k as f64 <= to + 1e-9 {
+        let tick = if k % 10 == 0 {
+            4.0
+        } else if k % 5 == 0 {
+            2.5
+        } else {
+            1.3
+        };
         items.push(Item::art(
-            Ink::line(GREY, 0.2),
+            Ink::line(GREY, 0.12),
             Shape::polyline(
-                &[DVec2::new(x_ruler, y(from)), DVec2::new(x_ruler, y(to))],
+                &[
+                    DVec2::new(x_ruler, y(k as f64)),
+                    DVec2::new(x_ruler + tick, y(k as f64)),
+                ],
                 false,
             ),
         ));
-        let mut k = from.ceil() as i64;
-        while k as f64 <= to + 1e-9 {
-            let tick = if k % 10 == 0 {
-                4.0
-            } else if k % 5 == 0 {
-                2.5
-            } else {
-                1.3
-            };
-            items.push(Item::art(
-                Ink::line(GREY, 0.12),
-                Shape::polyline(
-                    &[
-                        DVec2::new(x_ruler, y(k as f64)),
-                        DVec2::new(x_ruler + tick, y(k as f64)),
-                    ],
-                    false,
-                ),
-            ));
-            if k % 10 == 0 {
-                items.push(text_item(
-                    DVec2::new(x_ruler - 1.5, y(k as f64) + LABEL * 0.35),
-                    LABEL,
-                    &k.to_string(),
-                    Font::Regular,
-                    Align::Right,
-                    GREY,
-                ));
-            }
-            k += 1;
-        }
-        // Ticks: vertex pivots to the right, scissor pivots to the left;
-        // labels in a column each, pushed down to stay apart, with a leader
-        // back to the tick.
-        let mut last = [f64::NEG_INFINITY; 2];
-        let mut open: [Option<(usize, Vec<String>, usize)>; 2] = [None, None];
-        let mut labels: Vec<(f64, f64, f64, String, bool)> = Vec::new();
-        for (z, names, vertex) in ticks
-            .iter()
-            .filter(|t| t.0 >= from - 1e-9 && t.0 <= to + 1e-9)
-        {
-            let ty = y(*z);
-            let (colour, dir) = if *vertex {
-                (VERTEX, 1.0)
-            } else {
-                (PIVOT, -1.0)
-            };
-            let reach = if *vertex { 7.0 } else { 5.0 };
-            items.push(Item::art(
-                Ink::line(colour, 0.3),
-                Shape::polyline(
-                    &[DVec2::new(x_line, ty), DVec2::new(x_line + dir * reach, ty)],
-                    false,
-                ),
-            ));
-            let slot = *vertex as usize;
-            let ly = ty.max(last[slot] + PITCH);
-            if ly - ty > DRIFT {
-                if let Some((_, _, more)) = open[slot].as_mut() {
-                    *more += names.len();
-                    continue;
-                }
-            }
-            if let Some((i, first_names, more)) = open[slot].take() {
-                labels[i].3 = label_text(&first_names, more);
-            }
-            last[slot] = ly;
-            labels.push((ty, ly, dir * reach, String::new(), *vertex));
-            open[slot] = Some((labels.len() - 1, names.clone(), names.len() - 1));
-        }
-        for (i, names, more) in open.into_iter().flatten() {
-            labels[i].3 = label_text(&names, more);
-        }
-        for (ty, ly, reach, text, vertex) in labels {
-            let colour = if vertex { VERTEX } else { PIVOT };
-            let x_end = x_line + reach;
-            let x_text = x_end + reach.signum() * 4.0;
-            items.push(Item::art(
-                Ink::line(colour, 0.12),
-                Shape::polyline(
-                    &[
-                        DVec2::new(x_end, ty),
-                        DVec2::new(x_text - reach.signum(), ly),
-                    ],
-                    false,
-                ),
-            ));
+        // A number the registration line would cross is left out.
+        if k % 10 == 0 && marks.iter().all(|m| (m.1 - k as f64).abs() > 1.6) {
             items.push(text_item(
-                DVec2::new(x_text, ly + LABEL * 0.35),
+                DVec2::new(x0 + c.numbers, y(k as f64) + LABEL * 0.35),
                 LABEL,
-                &text,
+                &k.to_string(),
                 Font::Regular,
-                if vertex { Align::Left } else { Align::Right },
-                colour,
+                Align::Right,
+                GREY,
             ));
         }
-        // Registration marks where this tile overlaps the next and the one
-        // before: the same numbered crosses on both.
-        let marks = |m: usize, a: f64, b: f64| [(m, a, "a"), (m, b, "b")];
-        let mut regs = Vec::new();
-        if n > 0 {
-            regs.extend(marks(n, from, tiles[n - 1].1));
-        }
-        if n + 1 < tiles.len() {
-            regs.extend(marks(n + 1, tiles[n + 1].0, to));
-        }
-        for (m, z, which) in regs {
-            let yy = y(z);
-            items.push(Item::art(
-                Ink::line(BLACK, 0.15),
-                Shape::polyline(
-                    &[
-                        DVec2::new(x_ruler - 12.0, yy),
-                        DVec2::new(x_line + 60.0, yy),
-                    ],
-                    false,
-                ),
-            ));
-            for x in [x_ruler - 12.0, x_line + 60.0] {
+        k += 1;
+    }
+    // Ticks: vertex pivots to the right, scissor pivots to the left.
+    for (z, _, vertex) in ticks
+        .iter()
+        .filter(|t| t.0 >= from - 1e-9 && t.0 <= to + 1e-9)
+    {
+        let (colour, reach) = if *vertex {
+            (VERTEX, 7.0)
+        } else {
+            (PIVOT, -5.0)
+        };
+        items.push(Item::art(
+            Ink::line(colour, 0.3),
+            Shape::polyline(
+                &[DVec2::new(x_line, y(*z)), DVec2::new(x_line + reach, y(*z))],
+                false,
+            ),
+        ));
+    }
+    // Labels, with a leader back to their tick.
+    let mut boxes: Vec<(f64, f64, f64, f64)> = Vec::new();
+    for l in labels {
+        let (colour, reach, gap, align) = if l.vertex {
+            (VERTEX, 7.0, 4.0, Align::Left)
+        } else {
+            (PIVOT, -5.0, -4.0, Align::Right)
+        };
+        let x_end = x_line + reach;
+        let x_text = x_end + gap;
+        items.push(Item::art(
+            Ink::line(colour, 0.12),
+            Shape::polyline(
+                &[
+                    DVec2::new(x_end, y(l.z)),
+                    DVec2::new(x_text - gap.signum(), y(l.at)),
+                ],
+                false,
+            ),
+        ));
+        let at = DVec2::new(x_text, y(l.at) + LABEL * 0.35);
+        let start = text::start(at, &l.text, Font::Regular, LABEL, align);
+        let w = text::width(&l.text, Font::Regular, LABEL);
+        boxes.push((
+            start.x,
+            start.x + w,
+            at.y - 0.75 * LABEL,
+            at.y + 0.2 * LABEL,
+        ));
+        items.push(text_item(at, LABEL, &l.text, Font::Regular, align, colour));
+    }
+    // Registration marks: a line across the tile with a cross at each end.
+    for &(m, z, which) in marks {
+        let yy = y(z);
+        let x_cross = x0 + c.cross;
+        // The line stops short of the labels it would strike through.
+        let mut gaps: Vec<(f64, f64)> = boxes
+            .iter()
+            .filter(|b| b.2 - 0.3 < yy && yy < b.3 + 0.3)
+            .map(|b| (b.0 - 0.8, b.1 + 0.8))
+            .collect();
+        gaps.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut x = x0;
+        for (a, b) in gaps.into_iter().chain([(x_cross, x_cross)]) {
+            if a > x {
                 items.push(Item::art(
-                    Ink::line(BLACK, 0.3),
-                    Shape::polyline(&[DVec2::new(x, yy - 3.0), DVec2::new(x, yy + 3.0)], false),
+                    Ink::line(BLACK, 0.15),
+                    Shape::polyline(&[DVec2::new(x, yy), DVec2::new(a.min(x_cross), yy)], false),
                 ));
             }
-            items.push(text_item(
-                DVec2::new(x_line + 62.0, yy + LABEL * 0.35),
-                LABEL,
-                &format!("mark {m}{which}"),
-                Font::Bold,
-                Align::Left,
-                BLACK,
+            x = x.max(b);
+        }
+        for x in [x0, x_cross] {
+            items.push(Item::art(
+                Ink::line(BLACK, 0.3),
+                Shape::polyline(&[DVec2::new(x, yy - 3.0), DVec2::new(x, yy + 3.0)], false),
             ));
         }
-        w.push(items);
-        w.group_id = Some(format!("gauge-tile-{}", n + 1));
-        w.close_group();
-        w.group_id = None;
-        w.y = y(to) + 6.0;
+        items.push(text_item(
+            DVec2::new(x_cross + 2.0, yy + LABEL * 0.35),
+            LABEL,
+            &format!("mark {m}{which}"),
+            Font::Bold,
+            Align::Left,
+            BLACK,
+        ));
     }
+    items
 }
 
 fn label_text(names: &[String], more: usize) -> String {

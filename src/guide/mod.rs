@@ -141,6 +141,15 @@ impl Writer {
 
     /// A paragraph wrapped to the text width.
     fn paragraph(&mut self, text: &str, size: f64, colour: [u8; 3]) {
+        for line in self.wrap(text, size) {
+            self.text(&line, size, Font::Regular, colour);
+        }
+        self.y += size * 0.4;
+    }
+
+    /// The lines of a paragraph wrapped to the text width.
+    fn wrap(&self, text: &str, size: f64) -> Vec<String> {
+        let mut lines = Vec::new();
         let mut line = String::new();
         for word in text.split_whitespace() {
             let candidate = if line.is_empty() {
@@ -151,16 +160,20 @@ impl Writer {
             if crate::drawing::text::width(&candidate, Font::Regular, size) > self.width()
                 && !line.is_empty()
             {
-                self.text(&line, size, Font::Regular, colour);
-                line = word.to_string();
+                lines.push(std::mem::replace(&mut line, word.to_string()));
             } else {
                 line = candidate;
             }
         }
         if !line.is_empty() {
-            self.text(&line, size, Font::Regular, colour);
+            lines.push(line);
         }
-        self.y += size * 0.4;
+        lines
+    }
+
+    /// How far `paragraph` moves down, when it does not break the page.
+    fn paragraph_height(&self, text: &str, size: f64) -> f64 {
+        self.wrap(text, size).len() as f64 * size * 1.4 + size * 0.4
     }
 
     /// Table rows in fixed columns (x offsets from the margin).
@@ -263,8 +276,9 @@ pub fn guide(b: &Build) -> Guide {
     for step in &steps {
         step_block(&mut w, b, step, steps.len(), &pictures, &layout, &side);
     }
-    gauge::gauge(&mut w, b);
+    // The checklist before the gauge: the gauge's pages are cut up.
     checklist(&mut w, b, &steps);
+    gauge::gauge(&mut w, b);
     w.finish_page();
     Guide {
         pages: w.pages,
@@ -1500,7 +1514,8 @@ fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
         format!("{vertex} vertex eyelets set, each stack in the order its step lists."),
         "Every eyelet lets its strips turn: none is crimped tight.".to_string(),
         format!("All {} steps done; no strip left over.", steps.len()),
-        "Folded flat, the holes lie on the inspection gauge's ticks.".to_string(),
+        "Folded flat, the holes lie on the ticks of the inspection gauge (at the end of the guide)."
+            .to_string(),
         "Open the lattice slowly from one corner; stop at any joint that binds.".to_string(),
     ];
     for item in items {
