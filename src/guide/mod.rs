@@ -566,7 +566,8 @@ fn materials(w: &mut Writer, b: &Build) {
     // Two tables side by side when there are many types.
     let halves = if b.parts.types.len() > 16 { 2 } else { 1 };
     let half = w.width() / halves as f64;
-    let columns = [0.0, 9.0, 27.0, 41.0, 60.0];
+    // Pitches may read "123.4+123.4 both": room for it before Engraved.
+    let columns = [0.0, 9.0, 27.0, 41.0, 67.0];
     let header = ["Type", "Strips", "Length", "Pitches", "Engraved"].map(String::from);
     let mut cells: Vec<String> = Vec::new();
     let mut header_cells = Vec::new();
@@ -619,6 +620,11 @@ fn materials(w: &mut Writer, b: &Build) {
         "How to tell strips apart: a strip carries its ID (R03-C05-A: row 3, column 5, rod A) where it fits, \
          else its type code; the arrow < points to its upper end, the one joined to the row above. ",
     );
+    if b.design.fabrication.label == crate::fabrication::LabelStyle::Compact {
+        how.push_str(
+            "This job engraves IDs in compact form: 3.5A is row 3, column 5, rod A (R03-C05-A). ",
+        );
+    }
     if !dots.is_empty() {
         how.push_str(&format!(
             "Strips too short for text carry a dot code: a row of engraved dots, counted to read the type ({}). ",
@@ -1068,7 +1074,7 @@ fn step_text(
         ));
     }
     let mut pivots = format!(
-        "1. Pivots (orange): A, then B over it (as drawn); {}, grip {}, loose enough to turn.",
+        "1. Pivots (orange): rod A, then rod B over it (as drawn); {}, grip {}, loose enough to turn.",
         plural(step.cells.len(), "eyelet"),
         mm(2.0 * t)
     );
@@ -1081,7 +1087,14 @@ fn step_text(
                 format!("{}: {}+{}", l.cells[c].col, code(2 * c), code(2 * c + 1))
             })
             .collect();
-        pivots.push_str(&format!(" A+B by column: {}.", pairs.join(", ")));
+        pivots.push_str(&format!(" Rod A + rod B by column: {}.", pairs.join(", ")));
+    } else if let [c] = step.cells[..] {
+        let code = |s: usize| b.parts.types[strips[s].part_type].code.as_str();
+        pivots.push_str(&format!(
+            " Rod A is type {}, rod B type {}.",
+            code(2 * c),
+            code(2 * c + 1)
+        ));
     }
     lines.push((pivots, false, BLACK));
     if step.joints.is_empty() {
@@ -1507,7 +1520,7 @@ fn checklist(w: &mut Writer, b: &Build, steps: &[Step]) {
     let vertex = b.parts.vertex_eyelets;
     let items = [
         format!(
-            "All {} strips cut, each with its ID and arrow legible.",
+            "All {} strips cut, each with its engraving legible (ID, type code or dot code, as the bill of materials lists).",
             b.parts.strips.len()
         ),
         format!("{pivot} scissor-pivot eyelets set, rod A under rod B in every cell."),
