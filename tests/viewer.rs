@@ -25,7 +25,7 @@ fn built(name: &str) -> Build {
 }
 
 fn page(b: &Build) -> Vec<u8> {
-    write(&b.viewer_scene())
+    write(&karigami::output::viewer_scene(b))
 }
 
 /// The JSON data block of a page.
@@ -40,8 +40,7 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
     let b = built("flat-sheet");
     let html = page(&b);
     assert_eq!(html, page(&built("flat-sheet")), "same recipe, same bytes");
-    let file = b
-        .files()
+    let file = karigami::output::files(&b)
         .into_iter()
         .find(|f| f.0 == "viewer.html")
         .unwrap();

@@ -13,7 +13,7 @@ pub use test_piece::{TestPiece, test_piece};
 pub use types::PartType;
 
 use crate::fabrication::{Fabrication, LabelStyle};
-use crate::lattice::{Lattice, RodType, joints};
+use crate::lattice::{Lattice, RodType, joints, vertex_eyelets};
 use glam::DVec2;
 
 /// Eyelet flanges closer than this (mm) get a near-miss warning.
@@ -236,7 +236,7 @@ pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> 
             ),
         });
     }
-    let vertex_eyelets = joints(lattice).iter().filter(|j| j.needs_eyelet()).count();
+    let vertex_eyelets = vertex_eyelets(&joints(lattice));
     Ok(Parts {
         strips,
         types,
