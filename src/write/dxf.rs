@@ -312,7 +312,13 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
         d.pair(70, 0);
         1
     });
-    // DIMSTYLE uses 105 for its entries' handles.
+    dimstyle_table(d);
+    block_record_table(d);
+    d.pair(0, "ENDSEC");
+}
+
+/// The DIMSTYLE table, written out: it uses 105 for its entries' handles.
+fn dimstyle_table(d: &mut Dxf) {
     d.pair(0, "TABLE");
     d.pair(2, "DIMSTYLE");
     let dimstyle = d.handle();
@@ -330,7 +336,10 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     d.pair(2, "Standard");
     d.pair(70, 0);
     d.pair(0, "ENDTAB");
-    // Block records with fixed handles, referred to by the blocks.
+}
+
+/// The block records, with the fixed handles the blocks refer to.
+fn block_record_table(d: &mut Dxf) {
     d.pair(0, "TABLE");
     d.pair(2, "BLOCK_RECORD");
     let records = d.handle();
@@ -350,7 +359,6 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
         d.pair(2, name);
     }
     d.pair(0, "ENDTAB");
-    d.pair(0, "ENDSEC");
 }
 
 /// BLOCKS: the model and paper space blocks.
