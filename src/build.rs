@@ -6,7 +6,7 @@ use crate::design::Design;
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
-use crate::lattice::{Lattice, Report, verify};
+use crate::lattice::{Joint, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
 
@@ -17,6 +17,8 @@ pub struct Build {
     /// placed onto the rows they hang from (`Lattice::placed`).
     pub assembled: Lattice,
     pub report: Report,
+    /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
+    pub joints: Vec<Joint>,
     /// How it deploys (MATH.md 8.4), for the reports.
     pub deployment: Deployment,
     pub parts: Parts,
@@ -122,7 +124,8 @@ pub fn assemble_with(
         .hint("run `karigami check` for the full report; the design is too close to degenerate"));
     }
     let mut design = design;
-    let parts = parts(&lattice, &design.fabrication).map_err(|e| locate(&design, e))?;
+    let joints = joints(&lattice);
+    let parts = parts(&lattice, &joints, &design.fabrication).map_err(|e| locate(&design, e))?;
     let job = job(&design, &lattice, &parts);
     // Every strip fits the longest preset (checked by `parts`), so one holds the job.
     let auto = design
@@ -169,6 +172,7 @@ pub fn assemble_with(
     let mut parts = parts;
     let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
+        joints,
         simulation,
         design,
         assembled: lattice.placed().into_owned(),

@@ -20,7 +20,10 @@ pub const PREVIEW_PX_PER_MM: f64 = 8.0;
 pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
     let name = &b.design.name;
     let fab = &b.design.fabrication;
-    let mut files = vec![("lattice.json".to_string(), lattice_json::write(&b.lattice))];
+    let mut files = vec![(
+        "lattice.json".to_string(),
+        lattice_json::write(&b.lattice, &b.joints),
+    )];
     for (i, page) in b.pages.iter().enumerate() {
         files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
         files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));

@@ -3,7 +3,7 @@
 use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Lattice, Report, joints, vertex_eyelets};
+use crate::lattice::{Joint, Lattice, Report, joints, vertex_eyelets};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
@@ -17,7 +17,8 @@ pub fn check_text(
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
     let (lo, hi) = lattice.placed().extent();
     let size = hi - lo;
-    let eyelets = vertex_eyelets(&joints(lattice));
+    let joints = joints(lattice);
+    let eyelets = vertex_eyelets(&joints);
     let _ = writeln!(out, "design: {}", design.name);
     let shape = match lattice.kind {
         crate::lattice::Kind::Helix => {
@@ -81,7 +82,7 @@ pub fn check_text(
     }
     out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
     deployment_text(&mut out, lattice, deploy);
-    part_types_text(&mut out, design, lattice);
+    part_types_text(&mut out, design, lattice, &joints);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -94,11 +95,11 @@ pub fn check_text(
 
 /// The part types (interchangeable strips) and what is engraved on the
 /// strips, when the lattice is small enough to make parts for.
-fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
+fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice, joints: &[Joint]) {
     if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
         return;
     }
-    let Ok(p) = crate::parts::parts(lattice, &design.fabrication) else {
+    let Ok(p) = crate::parts::parts(lattice, joints, &design.fabrication) else {
         return;
     };
     let _ = writeln!(out, "{}", crate::parts::types::summary(&p));

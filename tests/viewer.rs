@@ -113,7 +113,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
     let lattice = design.grow().unwrap();
     assert_eq!(lattice.cells.len(), 10_000);
     let fab = &design.fabrication;
-    let parts = parts(&lattice, fab).unwrap();
+    let parts = parts(&lattice, &karigami::lattice::joints(&lattice), fab).unwrap();
     let lengths: Vec<f64> = parts
         .strips
         .iter()
