@@ -166,6 +166,8 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
+// `Design::grow` and `grow_with` are in solve/grow.rs: growing a fitted
+// design runs a search, which sits above the recipe layer.
 impl Design {
     /// The recipe text with its seed `points` and `kappa` replaced, all else
     /// (comments included) kept. Only for seeds written as `points = [...]`.
