@@ -62,7 +62,7 @@ fn one(name: &str, text: &str) {
     let cells = lattice.cells.len();
     drop(lattice);
     let built = build(d).expect("builds");
-    let files = built.files();
+    let files = karigami::output::files(&built);
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     let bytes: usize = files.iter().map(|(_, b)| b.len()).sum();
     println!(

@@ -1,26 +1,14 @@
 //! The whole pipeline for one design, pure: design -> lattice -> parts ->
-//! layout -> pages -> file bytes. The CLI only writes what this returns.
+//! layout -> pages. `output` turns the result into file bytes; the CLI
+//! only writes what that returns.
 
 use crate::design::Design;
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use crate::drawing::picture::preview;
 use crate::drawing::{Meta, Page, sheet_page};
-use crate::guide::guide;
 use crate::lattice::deploy::{Deployment, deployment};
-use crate::lattice::{Lattice, Report, verify};
+use crate::lattice::{Joint, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
-use crate::parts::solid;
 use crate::parts::{Outline, Parts, PartsError, parts};
-use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
-use std::fmt::Write as _;
-
-/// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
-pub const SHEET_PX_PER_MM: f64 = 2.0;
-/// ...but at most this many pixels a side (a 5000 mm sheet gets 0.8 px/mm),
-/// so that a picture never takes more than 64 MB to draw.
-pub const SHEET_MAX_PX: f64 = 4000.0;
-/// Resolution of preview.png: 8 px/mm on a 160 x 120 mm page (1280 x 960 px).
-pub const PREVIEW_PX_PER_MM: f64 = 8.0;
 
 pub struct Build {
     pub design: Design,
@@ -29,6 +17,8 @@ pub struct Build {
     /// placed onto the rows they hang from (`Lattice::placed`).
     pub assembled: Lattice,
     pub report: Report,
+    /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
+    pub joints: Vec<Joint>,
     /// How it deploys (MATH.md 8.4), for the reports.
     pub deployment: Deployment,
     pub parts: Parts,
@@ -134,7 +124,8 @@ pub fn assemble_with(
         .hint("run `karigami check` for the full report; the design is too close to degenerate"));
     }
     let mut design = design;
-    let parts = parts(&lattice, &design.fabrication).map_err(|e| locate(&design, e))?;
+    let joints = joints(&lattice);
+    let parts = parts(&lattice, &joints, &design.fabrication).map_err(|e| locate(&design, e))?;
     let job = job(&design, &lattice, &parts);
     // Every strip fits the longest preset (checked by `parts`), so one holds the job.
     let auto = design
@@ -181,6 +172,7 @@ pub fn assemble_with(
     let mut parts = parts;
     let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
+        joints,
         simulation,
         design,
         assembled: lattice.placed().into_owned(),
@@ -274,154 +266,6 @@ fn locate(design: &Design, e: PartsError) -> Diagnostic {
 }
 
 impl Build {
-    /// Every output file: a path relative to the output folder and its bytes.
-    pub fn files(&self) -> Vec<(String, Vec<u8>)> {
-        let name = &self.design.name;
-        let fab = &self.design.fabrication;
-        let mut files = vec![(
-            "lattice.json".to_string(),
-            lattice_json::write(&self.lattice),
-        )];
-        for (i, page) in self.pages.iter().enumerate() {
-            files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
-            files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
-            files.push((
-                format!("sheets/sheet-{:02}.lbrn2", i + 1),
-                crate::write::lbrn2::write(page),
-            ));
-            files.push((
-                format!("sheets/sheet-{:02}.png", i + 1),
-                png::write(
-                    page,
-                    SHEET_PX_PER_MM.min(SHEET_MAX_PX / page.width.max(page.height)),
-                    1.0,
-                ),
-            ));
-        }
-        files.push((
-            "cut.pdf".to_string(),
-            pdf::write(&format!("{name} cut sheets"), &self.pages),
-        ));
-        files.push((
-            "parts.csv".to_string(),
-            parts_csv::write(&self.parts.strips, &self.layout),
-        ));
-        let g = guide(self);
-        files.push((
-            "parts-types.csv".to_string(),
-            part_types_csv::write(&self.parts),
-        ));
-        files.push((
-            "assembly.pdf".to_string(),
-            pdf::write_with_symbols(&format!("{name} assembly guide"), &g.pages, &g.symbols),
-        ));
-        let picture = match &self.simulation {
-            Some(run) => crate::drawing::picture::preview_captioned(
-                &crate::sim::placed_lattice(&self.lattice, &run.lm),
-                fab.material.width,
-                name,
-                Some(
-                    "shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)",
-                ),
-            ),
-            None => preview(&self.assembled, fab.material.width, name),
-        };
-        files.push((
-            "preview.png".to_string(),
-            png::write(&picture, PREVIEW_PX_PER_MM, 1.0),
-        ));
-        let solids: Vec<_> = self
-            .parts
-            .strips
-            .iter()
-            .map(|s| (s.id.clone(), solid(&self.lattice, s, fab)))
-            .collect();
-        files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
-        files.push((
-            "viewer.html".to_string(),
-            viewer::write(&self.viewer_scene()),
-        ));
-        if let Some(run) = &self.simulation {
-            files.extend(self.deployed_files(run));
-        }
-        files.push((
-            "report.txt".to_string(),
-            crate::report::build_text(self).into_bytes(),
-        ));
-        files
-    }
-
-    /// What the viewer page shows: the lattice as built and, where the
-    /// build simulated it, the simulated shape beside the designed one.
-    pub fn viewer_scene(&self) -> viewer::Scene<'_> {
-        let mut scene = viewer::Scene::new(
-            &self.design,
-            &self.lattice,
-            &self.assembled,
-            &self.parts,
-            &self.layout,
-            &self.deployment,
-        );
-        if let Some(run) = &self.simulation {
-            let placed = crate::sim::placed_lattice(&self.lattice, &run.lm);
-            let vertices = placed.vertices.iter().map(|v| v.pos);
-            scene.simulated = Some(
-                vertices
-                    .chain(placed.cells.iter().map(|c| c.pivot))
-                    .collect(),
-            );
-        }
-        scene
-    }
-
-    /// deployed.json and deployed.obj of a simulated build.
-    fn deployed_files(&self, run: &crate::sim::Simulation) -> Vec<(String, Vec<u8>)> {
-        use crate::write::deployed;
-        let fab = &self.design.fabrication;
-        let strips = crate::sim::results::deployed_strips(&run.lm.model);
-        let eq = &run.equilibrium;
-        let nv = self.lattice.vertices.len();
-        let e = &eq.energy;
-        let summary = deployed::Summary {
-            design: &self.design.name,
-            verdict: &self.deployment.verdict(&self.lattice),
-            vertex_joint: self.design.simulation.vertex_joint.name(),
-            theta_deg: run.theta.to_degrees(),
-            energy: [e.stretch, e.bend, e.twist, e.external],
-            eps_max: eq.strain.eps,
-            eps_allow: self.design.simulation.material.eps_allow,
-            eps_rod: &eq.strain.rod,
-            eps_s: eq.strain.s,
-            distance: eq.distance,
-            iterations: run.iterations,
-            vertices: (0..nv)
-                .map(|v| (self.lattice.vertex_name(v as u32), eq.points[v]))
-                .collect(),
-            pivots: self
-                .lattice
-                .cells
-                .iter()
-                .enumerate()
-                .map(|(c, cell)| (self.lattice.cell_name(cell), eq.points[nv + c]))
-                .collect(),
-        };
-        vec![
-            (
-                "deployed.json".to_string(),
-                deployed::json(&summary, &strips),
-            ),
-            (
-                "deployed.obj".to_string(),
-                deployed::obj(
-                    &self.design.name,
-                    &strips,
-                    fab.material.width,
-                    fab.material.thickness,
-                ),
-            ),
-        ]
-    }
-
     pub fn bounds(&self) -> Bounds {
         self.layout.bounds()
     }
@@ -430,67 +274,6 @@ impl Build {
         self.pages.iter().map(Page::cut_length).sum()
     }
 
-    /// A few lines for the terminal.
-    pub fn summary(&self) -> String {
-        self.summary_with(false)
-    }
-
-    /// The summary with every warning (for report.txt) or the first few.
-    pub fn summary_with(&self, full: bool) -> String {
-        let mut out = String::new();
-        let b = self.bounds();
-        let fab = &self.design.fabrication;
-        let _ = writeln!(
-            out,
-            "{}: {} cells, {} strips, {} eyelets ({} at vertices, {} at pivots); verified (largest residual {:.1e})",
-            self.design.name,
-            self.lattice.cells.len(),
-            self.parts.strips.len(),
-            self.parts.eyelets(),
-            self.parts.vertex_eyelets,
-            self.parts.pivot_eyelets,
-            self.report.worst()
-        );
-        let _ = writeln!(
-            out,
-            "sheets: {} of {} x {} mm ({}), lower bounds {} (area) and {} (lanes), utilisation {:.1}%, cut length {:.2} m",
-            self.layout.sheets.len(),
-            fab.sheet.width,
-            fab.sheet.height,
-            fab.sheet.name,
-            b.area,
-            b.lanes,
-            100.0 * self.layout.utilisation(),
-            self.cut_length() / 1000.0
-        );
-        if let Some(advice) = self.sheet_advice() {
-            let _ = writeln!(out, "{advice}");
-        }
-        // A terminal gets the first few warnings; report.txt has them all.
-        let shown = if full { self.parts.warnings.len() } else { 5 };
-        for w in self.parts.warnings.iter().take(shown) {
-            let _ = writeln!(
-                out,
-                "warning: {}{}",
-                w.strip
-                    .as_ref()
-                    .map(|s| format!("strip {s}: "))
-                    .unwrap_or_default(),
-                w.message
-            );
-        }
-        if self.parts.warnings.len() > shown {
-            let _ = writeln!(
-                out,
-                "warning: ... and {} more (every warning is in report.txt)",
-                self.parts.warnings.len() - shown
-            );
-        }
-        out
-    }
-}
-
-impl Build {
     /// The job nested on every sheet preset, in preset order (for `--json`:
     /// five more nestings, so only where asked for).
     pub fn sheet_options(&self) -> Vec<SheetOption> {
@@ -499,43 +282,5 @@ impl Build {
             &self.design.fabrication.sheet,
             Some(&self.layout),
         )
-    }
-
-    /// One line of sheet advice: the smallest preset that holds the job and
-    /// its utilisation, against the sheet used.
-    pub fn sheet_advice(&self) -> Option<String> {
-        let best = self.advice.as_ref()?;
-        let fab = &self.design.fabrication;
-        let sheets = |n: usize| {
-            if n == 1 {
-                "1 sheet".to_string()
-            } else {
-                format!("{n} sheets")
-            }
-        };
-        let n = best.sheets.expect("a preset that holds the job");
-        let what = format!(
-            "{} ({} x {} mm), {} at {:.1}% utilisation",
-            best.name,
-            best.width,
-            best.height,
-            sheets(n),
-            100.0 * best.utilisation
-        );
-        Some(if fab.sheet_auto {
-            format!(
-                "sheet advice: --sheet auto picked the smallest preset that holds the job: {what}"
-            )
-        } else if fab.sheet.name == best.name
-            && fab.sheet.width == best.width
-            && fab.sheet.height == best.height
-        {
-            format!("sheet advice: the sheet is the smallest preset that holds the job: {what}")
-        } else {
-            format!(
-                "sheet advice: the smallest preset that holds the job is {what} (--sheet {} or --sheet auto)",
-                best.name
-            )
-        })
     }
 }

@@ -12,6 +12,7 @@ pub mod geometry;
 pub mod guide;
 pub mod lattice;
 pub mod layout;
+pub mod output;
 pub mod parts;
 pub mod report;
 pub mod sim;

@@ -3,7 +3,7 @@
 use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Lattice, Report, joints};
+use crate::lattice::{Joint, Lattice, Report, joints, vertex_eyelets};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
@@ -17,7 +17,8 @@ pub fn check_text(
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
     let (lo, hi) = lattice.placed().extent();
     let size = hi - lo;
-    let eyelets = joints(lattice).iter().filter(|j| j.needs_eyelet()).count();
+    let joints = joints(lattice);
+    let eyelets = vertex_eyelets(&joints);
     let _ = writeln!(out, "design: {}", design.name);
     let shape = match lattice.kind {
         crate::lattice::Kind::Helix => {
@@ -81,7 +82,7 @@ pub fn check_text(
     }
     out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
     deployment_text(&mut out, lattice, deploy);
-    part_types_text(&mut out, design, lattice);
+    part_types_text(&mut out, design, lattice, &joints);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -94,11 +95,11 @@ pub fn check_text(
 
 /// The part types (interchangeable strips) and what is engraved on the
 /// strips, when the lattice is small enough to make parts for.
-fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
+fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice, joints: &[Joint]) {
     if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
         return;
     }
-    let Ok(p) = crate::parts::parts(lattice, &design.fabrication) else {
+    let Ok(p) = crate::parts::parts(lattice, joints, &design.fabrication) else {
         return;
     };
     let _ = writeln!(out, "{}", crate::parts::types::summary(&p));
@@ -142,7 +143,7 @@ pub fn build_text(b: &Build) -> String {
     let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
     out.push_str(&check_text(&b.design, &b.lattice, &b.report, &b.deployment));
     out.push('\n');
-    out.push_str(&b.summary_with(true));
+    out.push_str(&summary_with(b, true));
     let fab = &b.design.fabrication;
     let _ = writeln!(
         out,
@@ -344,4 +345,99 @@ fn part_types_json(parts: &crate::parts::Parts) -> Vec<serde_json::Value> {
             })
         })
         .collect()
+}
+
+/// A few lines for the terminal.
+pub fn summary(b: &Build) -> String {
+    summary_with(b, false)
+}
+
+/// The summary with every warning (for report.txt) or the first few.
+pub fn summary_with(b: &Build, full: bool) -> String {
+    let mut out = String::new();
+    let bounds = b.bounds();
+    let fab = &b.design.fabrication;
+    let _ = writeln!(
+        out,
+        "{}: {} cells, {} strips, {} eyelets ({} at vertices, {} at pivots); verified (largest residual {:.1e})",
+        b.design.name,
+        b.lattice.cells.len(),
+        b.parts.strips.len(),
+        b.parts.eyelets(),
+        b.parts.vertex_eyelets,
+        b.parts.pivot_eyelets,
+        b.report.worst()
+    );
+    let _ = writeln!(
+        out,
+        "sheets: {} of {} x {} mm ({}), lower bounds {} (area) and {} (lanes), utilisation {:.1}%, cut length {:.2} m",
+        b.layout.sheets.len(),
+        fab.sheet.width,
+        fab.sheet.height,
+        fab.sheet.name,
+        bounds.area,
+        bounds.lanes,
+        100.0 * b.layout.utilisation(),
+        b.cut_length() / 1000.0
+    );
+    if let Some(advice) = sheet_advice(b) {
+        let _ = writeln!(out, "{advice}");
+    }
+    // A terminal gets the first few warnings; report.txt has them all.
+    let shown = if full { b.parts.warnings.len() } else { 5 };
+    for w in b.parts.warnings.iter().take(shown) {
+        let _ = writeln!(
+            out,
+            "warning: {}{}",
+            w.strip
+                .as_ref()
+                .map(|s| format!("strip {s}: "))
+                .unwrap_or_default(),
+            w.message
+        );
+    }
+    if b.parts.warnings.len() > shown {
+        let _ = writeln!(
+            out,
+            "warning: ... and {} more (every warning is in report.txt)",
+            b.parts.warnings.len() - shown
+        );
+    }
+    out
+}
+
+/// One line of sheet advice: the smallest preset that holds the job and
+/// its utilisation, against the sheet used.
+pub fn sheet_advice(b: &Build) -> Option<String> {
+    let best = b.advice.as_ref()?;
+    let fab = &b.design.fabrication;
+    let sheets = |n: usize| {
+        if n == 1 {
+            "1 sheet".to_string()
+        } else {
+            format!("{n} sheets")
+        }
+    };
+    let n = best.sheets.expect("a preset that holds the job");
+    let what = format!(
+        "{} ({} x {} mm), {} at {:.1}% utilisation",
+        best.name,
+        best.width,
+        best.height,
+        sheets(n),
+        100.0 * best.utilisation
+    );
+    Some(if fab.sheet_auto {
+        format!("sheet advice: --sheet auto picked the smallest preset that holds the job: {what}")
+    } else if fab.sheet.name == best.name
+        && fab.sheet.width == best.width
+        && fab.sheet.height == best.height
+    {
+        format!("sheet advice: the sheet is the smallest preset that holds the job: {what}")
+    } else {
+        format!(
+            "sheet advice: the smallest preset that holds the job is {what} (--sheet {} or --sheet auto)",
+            best.name
+        )
+    })
 }

@@ -275,7 +275,7 @@ fn random_designs_give_true_cut_files() {
             Ok(b) => {
                 built += 1;
                 check_files(
-                    &b.files(),
+                    &karigami::output::files(&b),
                     b.design.fabrication.sheet.margin,
                     b.design.fabrication.sheet.gap,
                 );
@@ -297,8 +297,8 @@ fn random_designs_give_true_cut_files() {
 fn building_twice_in_one_process_gives_identical_bytes() {
     // printpdf's document IDs come from a process-wide counter; ours must not.
     let text = std::fs::read_to_string("examples/flat-sheet.toml").unwrap();
-    let once = build(design::parse(&text, "x").unwrap()).unwrap().files();
-    let twice = build(design::parse(&text, "x").unwrap()).unwrap().files();
+    let once = karigami::output::files(&build(design::parse(&text, "x").unwrap()).unwrap());
+    let twice = karigami::output::files(&build(design::parse(&text, "x").unwrap()).unwrap());
     assert_eq!(once, twice);
 }
 

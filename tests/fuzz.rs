@@ -303,7 +303,7 @@ fn run_case(text: &str) -> Result<&'static str, String> {
                 return Ok("refused later");
             }
         };
-        for (name, bytes) in built.files() {
+        for (name, bytes) in karigami::output::files(&built) {
             if name.ends_with(".png") || name.ends_with(".pdf") {
                 continue;
             }

@@ -183,7 +183,7 @@ fn picture(bytes: &[u8]) -> (u32, u32, f64) {
 fn previews_are_pictures_of_the_right_size() {
     for name in ["flat-sheet", "curved-sheet"] {
         let b = example(name);
-        let files = b.files();
+        let files = karigami::output::files(&b);
         let get = |f: &str| {
             &files
                 .iter()
@@ -212,7 +212,7 @@ fn previews_are_pictures_of_the_right_size() {
 #[test]
 fn lattice_obj_has_one_box_per_strip() {
     let b = example("curved-sheet");
-    let files = b.files();
+    let files = karigami::output::files(&b);
     let obj = String::from_utf8(
         files
             .iter()

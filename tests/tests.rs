@@ -9,6 +9,7 @@ mod gallery;
 mod golden;
 mod goldens;
 mod guide;
+mod layers;
 mod maker;
 mod property;
 mod safety;

@@ -25,7 +25,7 @@ fn built(name: &str) -> Build {
 }
 
 fn page(b: &Build) -> Vec<u8> {
-    write(&b.viewer_scene())
+    write(&karigami::output::viewer_scene(b))
 }
 
 /// The JSON data block of a page.
@@ -40,8 +40,7 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
     let b = built("flat-sheet");
     let html = page(&b);
     assert_eq!(html, page(&built("flat-sheet")), "same recipe, same bytes");
-    let file = b
-        .files()
+    let file = karigami::output::files(&b)
         .into_iter()
         .find(|f| f.0 == "viewer.html")
         .unwrap();
@@ -114,7 +113,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
     let lattice = design.grow().unwrap();
     assert_eq!(lattice.cells.len(), 10_000);
     let fab = &design.fabrication;
-    let parts = parts(&lattice, fab).unwrap();
+    let parts = parts(&lattice, &karigami::lattice::joints(&lattice), fab).unwrap();
     let lengths: Vec<f64> = parts
         .strips
         .iter()

@@ -223,10 +223,12 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
     let result = Recipe::read(path)
         .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}))
         .and_then(|built| {
-            staged.write(folder, &built.files()).map_err(|e| {
-                *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
-                Error::io(format!("cannot write {folder}/: {e}"))
-            })?;
+            staged
+                .write(folder, &karigami::output::files(&built))
+                .map_err(|e| {
+                    *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
+                    Error::io(format!("cannot write {folder}/: {e}"))
+                })?;
             Ok(Summary {
                 cells: built.lattice.cells.len(),
                 strips: built.parts.strips.len(),

@@ -51,7 +51,9 @@ pub fn build(
     });
     bar.clear();
     let built = built?;
-    let outputs = progress::heartbeat("drawing the files", v.quiet || json, || built.files());
+    let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
+        karigami::output::files(&built)
+    });
     let written = files::Staged::new(&dir, "single").and_then(|staged| {
         staged.write("", &outputs)?;
         staged.commit()
@@ -90,7 +92,7 @@ pub fn build(
                 )
             );
         }
-        out!("{}", built.summary());
+        out!("{}", report::summary(&built));
         outln!("wrote {} files to {}", outputs.len(), out.display());
     }
     Ok(())

@@ -33,7 +33,7 @@ pub fn tune(
     let min_leg = design.fabrication.eyelet.flange + 2.0 * design::MIN_WALL;
     let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
     let tuned = progress::heartbeat(&what, v.quiet, || {
-        design::tune::tune_helix(
+        karigami::solve::tune::tune_helix(
             design.dim,
             &design.points,
             &design.kappa,

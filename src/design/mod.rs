@@ -12,14 +12,13 @@ mod rows;
 pub mod seed;
 pub mod simulation;
 mod spans;
-pub mod tune;
 mod values;
 
 pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
 
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::Fabrication;
-use crate::lattice::{Kind, Lattice, RowParams, grow, grow_helix};
+use crate::lattice::{Kind, RowParams};
 use glam::DVec3;
 use raw::RawDesign;
 use seed::{dimension, helix_cell_count, seed_kappa, seed_points};
@@ -167,22 +166,9 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
     })
 }
 
+// `Design::grow` and `grow_with` are in solve/grow.rs: growing a fitted
+// design runs a search, which sits above the recipe layer.
 impl Design {
-    /// Grow the lattice; errors point at the recipe text that caused them.
-    pub fn grow(&self) -> Result<Lattice, Diagnostic> {
-        self.grow_with(&mut |_| {})
-    }
-
-    /// `grow`, telling `progress` about each fitted row (long fits).
-    pub fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
-        let result = match (self.kind, &self.fit) {
-            (Kind::Helix, _) => grow_helix(self.dim, &self.points, &self.kappa, self.helix_cells),
-            (_, Some(f)) => fit::grow(self, f, progress),
-            _ => grow(self.kind, self.dim, &self.points, &self.kappa, &self.rows),
-        };
-        result.map_err(|e| self.locate(e))
-    }
-
     /// The recipe text with its seed `points` and `kappa` replaced, all else
     /// (comments included) kept. Only for seeds written as `points = [...]`.
     pub fn with_seed(&self, source: &str, points: &[DVec3], kappa: &[f64]) -> Option<String> {

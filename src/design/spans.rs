@@ -85,7 +85,7 @@ impl Design {
         self.row_span(i, Param::Direction)
     }
 
-    pub(super) fn locate(&self, e: GrowthError) -> Diagnostic {
+    pub(crate) fn locate(&self, e: GrowthError) -> Diagnostic {
         let span = match e.param {
             Param::SeedPoints => Some(self.spans.points.clone()),
             Param::SeedKappa(j) => Some(

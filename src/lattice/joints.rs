@@ -44,6 +44,11 @@ impl Joint {
     }
 }
 
+/// How many vertex pivots take an eyelet (the joints that are not corners).
+pub fn vertex_eyelets(joints: &[Joint]) -> usize {
+    joints.iter().filter(|j| j.needs_eyelet()).count()
+}
+
 /// The joint of every vertex, in vertex order.
 pub fn joints(lattice: &Lattice) -> Vec<Joint> {
     let n = lattice.vertices.len();

@@ -13,7 +13,7 @@ pub use test_piece::{TestPiece, test_piece};
 pub use types::PartType;
 
 use crate::fabrication::{Fabrication, LabelStyle};
-use crate::lattice::{Lattice, RodType, joints};
+use crate::lattice::{Joint, Lattice, RodType, vertex_eyelets};
 use glam::DVec2;
 
 /// Eyelet flanges closer than this (mm) get a near-miss warning.
@@ -135,8 +135,9 @@ pub fn strip_id(row: u32, col: u32, kind: RodType, row_digits: usize, col_digits
     format!("R{row:0row_digits$}-C{col:0col_digits$}-{}", kind.letter())
 }
 
-/// The strips of a lattice, checked against the fabrication settings.
-pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> {
+/// The strips of a lattice, checked against the fabrication settings;
+/// `joints` are the lattice's (`lattice::joints`), computed once by the caller.
+pub fn parts(lattice: &Lattice, joints: &[Joint], fab: &Fabrication) -> Result<Parts, PartsError> {
     let max_row = lattice.cells.iter().map(|c| c.row).max().unwrap_or(0);
     let max_col = lattice.cells.iter().map(|c| c.col).max().unwrap_or(0);
     let (rd, cd) = (digits(max_row), digits(max_col));
@@ -236,7 +237,7 @@ pub fn parts(lattice: &Lattice, fab: &Fabrication) -> Result<Parts, PartsError> 
             ),
         });
     }
-    let vertex_eyelets = joints(lattice).iter().filter(|j| j.needs_eyelet()).count();
+    let vertex_eyelets = vertex_eyelets(joints);
     Ok(Parts {
         strips,
         types,

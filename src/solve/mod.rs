@@ -9,10 +9,17 @@
 //! Numbers that share a magnitude in one front (a zig-zag of +-60 deg,
 //! sub-units cranked +-12 deg) are one variable with their signs kept,
 //! so a pattern of identical sub-units stays one.
+//!
+//! The other searches live beside it: `fit` (rows chosen to approximate a
+//! target surface), `tune` (the helix seed's hill climb), and `grow`
+//! (`Design::grow`, which calls the fit search).
+
+pub mod fit;
+mod grow;
+pub mod tune;
 
 use crate::design::measure::{Measures, measure};
 use crate::design::optimise::{Method, Optimise, Pattern, Vary};
-use crate::design::tune::{Frame, Params};
 use crate::design::{Design, MIN_WALL};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::geometry::Direction;
@@ -22,6 +29,7 @@ use argmin::solver::neldermead::NelderMead;
 use glam::DVec3;
 use std::cell::{Cell, RefCell};
 use std::ops::Range;
+use tune::{Frame, Params};
 
 /// One group of recipe numbers that the optimiser moves together.
 #[derive(Clone, Debug)]
@@ -37,7 +45,7 @@ enum Slot {
         span: Range<usize>,
         magnitudes: Vec<f64>,
     },
-    /// A helix seed in cylindrical coordinates (see `design::tune`).
+    /// A helix seed in cylindrical coordinates (see `solve::tune`).
     Seed,
     /// A fit's `angles` (true) or `steps` (false), one per row.
     Fit { angles: bool, rows: usize },
@@ -459,7 +467,7 @@ fn slots(design: &Design, source: &str, opt: &Optimise) -> (Vec<Slot>, Vec<f64>,
         if let Some(a) = fit
             .angles
             .clone()
-            .or_else(|| crate::design::fit::searched_angles(design, fit))
+            .or_else(|| fit::searched_angles(design, fit))
         {
             unit.extend(std::iter::repeat_n(1.0, a.len()));
             slots.push(Slot::Fit {

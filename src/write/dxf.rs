@@ -128,28 +128,58 @@ fn aci_of(rgb: [u8; 3]) -> Option<u8> {
     }
 }
 
-/// The page as DXF (R2000) bytes.
+/// Handles fixed up front so tables, blocks and objects can refer to them.
+const MODEL_RECORD: &str = "1A";
+const PAPER_RECORD: &str = "1B";
+const ROOT_DICT: &str = "C";
+const GROUP_DICT: &str = "D";
+
+/// Each layer's colour as drawn (the colour preset already applied).
+struct Colours([Option<u8>; 5]);
+
+impl Colours {
+    fn of(page: &Page) -> Colours {
+        let mut colours: [Option<u8>; 5] = [None; 5];
+        for item in page.groups.iter().flat_map(|g| &g.items) {
+            let slot = &mut colours[item.layer as usize];
+            if slot.is_none() {
+                *slot = item.ink.stroke.and_then(aci_of);
+            }
+        }
+        Colours(colours)
+    }
+
+    fn aci(&self, layer: Layer) -> u8 {
+        self.0[layer as usize].unwrap_or(layer.aci())
+    }
+}
+
+/// The page as DXF (R2000) bytes: comments, then one function per section.
 pub fn write(page: &Page) -> Vec<u8> {
     let mut d = Dxf {
         out: String::new(),
         next_handle: 0x20,
     };
-    let h = page.height;
-    let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
-    // Each layer's colour as drawn (the colour preset already applied).
-    let mut colours: [Option<u8>; 5] = [None; 5];
-    for item in page.groups.iter().flat_map(|g| &g.items) {
-        let slot = &mut colours[item.layer as usize];
-        if slot.is_none() {
-            *slot = item.ink.stroke.and_then(aci_of);
-        }
-    }
-    let aci = |layer: Layer| colours[layer as usize].unwrap_or(layer.aci());
+    let colours = Colours::of(page);
+    comments(&mut d, page);
+    header(&mut d, page);
+    tables(&mut d, page, &colours);
+    blocks(&mut d);
+    entities(&mut d, page, &colours);
+    objects(&mut d);
+    // Fix the handle seed now that every handle is known.
+    let seed = format!("{:X}", d.next_handle);
+    d.out
+        .replacen(
+            "$HANDSEED\n5\nFFFF\n",
+            &format!("$HANDSEED\n5\n{seed}\n"),
+            1,
+        )
+        .into_bytes()
+}
 
-    // Handles fixed up front so tables, blocks and objects can refer to them.
-    let (model_record, paper_record) = ("1A", "1B");
-    let (root_dict, group_dict) = ("C", "D");
-
+/// The title and metadata as 999 comments.
+fn comments(d: &mut Dxf, page: &Page) {
     // A line break in a value would end the group early and shift every
     // code after it: comments hold one line of printable text.
     let line = |s: &str| -> String {
@@ -168,6 +198,10 @@ pub fn write(page: &Page) -> Vec<u8> {
     for (k, v) in &page.metadata {
         d.pair(999, line(&format!("{k}: {v}")));
     }
+}
+
+/// HEADER: version, handle seed (fixed at the end), units and extent.
+fn header(d: &mut Dxf, page: &Page) {
     d.pair(0, "SECTION");
     d.pair(2, "HEADER");
     d.pair(9, "$ACADVER");
@@ -187,7 +221,11 @@ pub fn write(page: &Page) -> Vec<u8> {
     d.pair(20, num(page.height));
     d.pair(30, 0);
     d.pair(0, "ENDSEC");
+}
 
+/// TABLES: viewport, line types, layers (with their colours), text style,
+/// app ID, dimension style and block records.
+fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     d.pair(0, "SECTION");
     d.pair(2, "TABLES");
     d.table("VPORT", |d, owner| {
@@ -232,7 +270,7 @@ pub fn write(page: &Page) -> Vec<u8> {
             .chain(
                 Layer::ALL
                     .iter()
-                    .map(|l| (l.name(), aci(*l), *l != Layer::Reference)),
+                    .map(|l| (l.name(), colours.aci(*l), *l != Layer::Reference)),
             )
             .collect();
         for &(name, colour, plot) in &layers {
@@ -274,7 +312,13 @@ pub fn write(page: &Page) -> Vec<u8> {
         d.pair(70, 0);
         1
     });
-    // DIMSTYLE uses 105 for its entries' handles.
+    dimstyle_table(d);
+    block_record_table(d);
+    d.pair(0, "ENDSEC");
+}
+
+/// The DIMSTYLE table, written out: it uses 105 for its entries' handles.
+fn dimstyle_table(d: &mut Dxf) {
     d.pair(0, "TABLE");
     d.pair(2, "DIMSTYLE");
     let dimstyle = d.handle();
@@ -292,7 +336,10 @@ pub fn write(page: &Page) -> Vec<u8> {
     d.pair(2, "Standard");
     d.pair(70, 0);
     d.pair(0, "ENDTAB");
-    // Block records with fixed handles, referred to by the blocks.
+}
+
+/// The block records, with the fixed handles the blocks refer to.
+fn block_record_table(d: &mut Dxf) {
     d.pair(0, "TABLE");
     d.pair(2, "BLOCK_RECORD");
     let records = d.handle();
@@ -301,8 +348,8 @@ pub fn write(page: &Page) -> Vec<u8> {
     d.pair(100, "AcDbSymbolTable");
     d.pair(70, 2);
     for (handle, name) in [
-        (model_record, "*Model_Space"),
-        (paper_record, "*Paper_Space"),
+        (MODEL_RECORD, "*Model_Space"),
+        (PAPER_RECORD, "*Paper_Space"),
     ] {
         d.pair(0, "BLOCK_RECORD");
         d.pair(5, handle);
@@ -312,13 +359,15 @@ pub fn write(page: &Page) -> Vec<u8> {
         d.pair(2, name);
     }
     d.pair(0, "ENDTAB");
-    d.pair(0, "ENDSEC");
+}
 
+/// BLOCKS: the model and paper space blocks.
+fn blocks(d: &mut Dxf) {
     d.pair(0, "SECTION");
     d.pair(2, "BLOCKS");
     for (record, name) in [
-        (model_record, "*Model_Space"),
-        (paper_record, "*Paper_Space"),
+        (MODEL_RECORD, "*Model_Space"),
+        (PAPER_RECORD, "*Paper_Space"),
     ] {
         d.head("BLOCK", record);
         d.pair(100, "AcDbEntity");
@@ -337,17 +386,22 @@ pub fn write(page: &Page) -> Vec<u8> {
         d.pair(100, "AcDbBlockEnd");
     }
     d.pair(0, "ENDSEC");
+}
 
+/// ENTITIES: holes as circles, outlines and strokes as polylines, y flipped.
+fn entities(d: &mut Dxf, page: &Page, colours: &Colours) {
+    let h = page.height;
+    let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
     d.pair(0, "SECTION");
     d.pair(2, "ENTITIES");
     for item in page.groups.iter().flat_map(|g| &g.items) {
         let layer = item.layer;
         match &item.shape {
             Shape::Circle { center, radius } => {
-                d.head("CIRCLE", model_record);
+                d.head("CIRCLE", MODEL_RECORD);
                 d.pair(100, "AcDbEntity");
                 d.pair(8, layer.name());
-                d.pair(62, aci(layer));
+                d.pair(62, colours.aci(layer));
                 d.pair(100, "AcDbCircle");
                 let c = flip(*center);
                 d.pair(10, num(c.x));
@@ -361,10 +415,10 @@ pub fn write(page: &Page) -> Vec<u8> {
                 closed,
             } => {
                 lwpolyline(
-                    &mut d,
-                    model_record,
+                    d,
+                    MODEL_RECORD,
                     layer,
-                    aci(layer),
+                    colours.aci(layer),
                     &bulged(*start, segments, *closed),
                     *closed,
                     &flip,
@@ -376,10 +430,10 @@ pub fn write(page: &Page) -> Vec<u8> {
                     let vertices: Vec<(DVec2, f64)> =
                         stroke.into_iter().map(|p| (p, 0.0)).collect();
                     lwpolyline(
-                        &mut d,
-                        model_record,
+                        d,
+                        MODEL_RECORD,
                         layer,
-                        aci(layer),
+                        colours.aci(layer),
                         &vertices,
                         false,
                         &flip,
@@ -389,30 +443,24 @@ pub fn write(page: &Page) -> Vec<u8> {
         }
     }
     d.pair(0, "ENDSEC");
+}
 
+/// OBJECTS: the root dictionary and the (empty) group dictionary.
+fn objects(d: &mut Dxf) {
     d.pair(0, "SECTION");
     d.pair(2, "OBJECTS");
     d.pair(0, "DICTIONARY");
-    d.pair(5, root_dict);
+    d.pair(5, ROOT_DICT);
     d.pair(330, "0");
     d.pair(100, "AcDbDictionary");
     d.pair(281, 1);
     d.pair(3, "ACAD_GROUP");
-    d.pair(350, group_dict);
+    d.pair(350, GROUP_DICT);
     d.pair(0, "DICTIONARY");
-    d.pair(5, group_dict);
-    d.pair(330, root_dict);
+    d.pair(5, GROUP_DICT);
+    d.pair(330, ROOT_DICT);
     d.pair(100, "AcDbDictionary");
     d.pair(281, 1);
     d.pair(0, "ENDSEC");
     d.pair(0, "EOF");
-    // Fix the handle seed now that every handle is known.
-    let seed = format!("{:X}", d.next_handle);
-    d.out
-        .replacen(
-            "$HANDSEED\n5\nFFFF\n",
-            &format!("$HANDSEED\n5\n{seed}\n"),
-            1,
-        )
-        .into_bytes()
 }

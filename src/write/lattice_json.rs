@@ -2,7 +2,7 @@
 //! vertices/cells/rods/eyelets in lattice order, numbers at full f64
 //! round-trip precision. One record per line keeps large files diffable.
 
-use crate::lattice::{Cell, Kind, Lattice, VertexKey, joints};
+use crate::lattice::{Cell, Joint, Kind, Lattice, VertexKey};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -84,8 +84,8 @@ fn frame(lattice: &Lattice, row: u32) -> u32 {
         .unwrap_or(0) as u32
 }
 
-/// The lattice as lattice.json bytes.
-pub fn write(lattice: &Lattice) -> Vec<u8> {
+/// The lattice as lattice.json bytes, with its joints (`lattice::joints`).
+pub fn write(lattice: &Lattice, joints: &[Joint]) -> Vec<u8> {
     let dim = lattice.dim;
     let pos = |p: DVec3| p.to_array()[..dim].to_vec();
     let vkey = |v: u32| key(lattice, lattice.vertex(v).key);
@@ -147,7 +147,7 @@ pub fn write(lattice: &Lattice) -> Vec<u8> {
     section(
         &mut out,
         "eyelets",
-        joints(lattice).into_iter().map(|j| EyeletJson {
+        joints.iter().map(|j| EyeletJson {
             vertex: vkey(j.vertex),
             n_rods: j.ends.len(),
             needs_eyelet: j.needs_eyelet(),

@@ -1,0 +1,176 @@
+//! Growth errors (MATH.md 9): what failed, the design parameter it is
+//! about, and where (row and column), with the helpers that build them.
+
+use super::*;
+
+/// The design parameter a growth error is about, so the recipe layer can
+/// point at the text that sets it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    SeedPoints,
+    /// The kappa of one seed edge.
+    SeedKappa(usize),
+    /// The front a row grows on: the seed for row 0, else the previous row.
+    Front,
+    Start,
+    Direction,
+    LeftLeg,
+    RightLeg,
+    Target,
+    Candidate,
+    FrontMoves,
+    /// A helix's cell count.
+    Cells,
+}
+
+/// A design that cannot be grown, with the place it fails.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrowthError {
+    pub kind: GrowthErrorKind,
+    pub param: Param,
+    /// The row being grown (`None` for a problem of the seed itself).
+    pub row: Option<usize>,
+    /// The column (cell, or seed edge) where it fails, when there is one.
+    pub col: Option<usize>,
+    pub message: String,
+    pub hint: String,
+}
+
+impl GrowthError {
+    pub fn new(
+        kind: GrowthErrorKind,
+        param: Param,
+        row: Option<usize>,
+        col: Option<usize>,
+        message: impl Into<String>,
+        hint: impl Into<String>,
+    ) -> Self {
+        Self {
+            kind,
+            param,
+            row,
+            col,
+            message: message.into(),
+            hint: hint.into(),
+        }
+    }
+
+    /// "row 3, column 2" style location in lattice terms.
+    pub fn site(&self) -> String {
+        match (self.row, self.col) {
+            (Some(r), Some(c)) => format!("row {r}, column {c}"),
+            (Some(r), None) => format!("row {r}"),
+            (None, Some(c)) => format!("seed edge {c}"),
+            (None, None) => "seed".to_string(),
+        }
+    }
+}
+
+impl fmt::Display for GrowthError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} at {}: {}",
+            self.kind.name(),
+            self.site(),
+            self.message
+        )
+    }
+}
+
+impl std::error::Error for GrowthError {}
+
+/// A refused transfer across the double edge from front vertex `a` to `b`.
+pub(super) fn transfer_error(
+    refusal: Refusal,
+    x: &[Point],
+    a: usize,
+    b: usize,
+    i: usize,
+    j: usize,
+) -> GrowthError {
+    match refusal {
+        Refusal::NotSpacelike => GrowthError::new(
+            GrowthErrorKind::DoubleEdgeNotSpacelike,
+            Param::Front,
+            Some(i),
+            Some(j),
+            format!(
+                "the front is too folded at cell {j}: front vertices {a} and {b} are {} apart, not more than |kappa| summed between them ({})",
+                fmt_len(x[a].pos.distance(x[b].pos)),
+                fmt_len((x[a].z - x[b].z).abs()),
+            ),
+            "unfold the front here: change the seed points or kappa (row 0), or the previous row's direction or legs",
+        ),
+        Refusal::MissesCone => propagated_cone(i, j),
+    }
+}
+
+pub(super) fn propagated_cone(i: usize, j: usize) -> GrowthError {
+    GrowthError::new(
+        GrowthErrorKind::InadmissibleDirection,
+        Param::Direction,
+        Some(i),
+        Some(j),
+        "the leg direction carried over from the neighbouring cell falls outside this cell's admissible cone (the pivot would be at infinity)",
+        "this row's start direction is admissible at its start site but not across the row: choose a direction nearer the cone axis",
+    )
+}
+
+pub(super) fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError> {
+    if leg.is_finite() && leg > 0.0 {
+        return Ok(());
+    }
+    if !leg.is_finite() {
+        return Err(breakdown(i, j));
+    }
+    Err(GrowthError::new(
+        GrowthErrorKind::NonPositiveLeg,
+        Param::Direction,
+        Some(i),
+        Some(j),
+        format!(
+            "leg {name} would be {} (the pivot lies beyond the corner)",
+            fmt_len(leg)
+        ),
+        "choose a direction nearer the cone axis for this row",
+    ))
+}
+
+pub(super) fn check_boundary_leg(
+    leg: f64,
+    param: Param,
+    i: usize,
+    j: usize,
+) -> Result<(), GrowthError> {
+    if leg.is_finite() && leg > 0.0 {
+        return Ok(());
+    }
+    let name = if param == Param::LeftLeg {
+        "left_leg (L2)"
+    } else {
+        "right_leg (L3)"
+    };
+    Err(GrowthError::new(
+        GrowthErrorKind::NonPositiveLeg,
+        param,
+        Some(i),
+        Some(j),
+        format!("{name} is {} but must be a positive length", fmt_len(leg)),
+        format!(
+            "give {} a positive length in mm, or \"match\"",
+            name.split(' ').next().unwrap_or(name)
+        ),
+    ))
+}
+
+pub(super) fn breakdown(i: usize, j: usize) -> GrowthError {
+    GrowthError::new(
+        GrowthErrorKind::NumericalBreakdown,
+        Param::Direction,
+        Some(i),
+        Some(j),
+        "the construction produced a non-finite number",
+        "the design is too close to degenerate here: change this row's direction or legs",
+    )
+}

@@ -1,0 +1,162 @@
+//! The output files of a build: every file's path in the output folder and
+//! its bytes. This sits above the pipeline (`build`), the guide and the
+//! reports, and is the only place that knows which writer makes which file.
+
+use crate::build::Build;
+use crate::drawing::picture::preview;
+use crate::guide::guide;
+use crate::parts::solid;
+use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
+
+/// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
+pub const SHEET_PX_PER_MM: f64 = 2.0;
+/// ...but at most this many pixels a side (a 5000 mm sheet gets 0.8 px/mm),
+/// so that a picture never takes more than 64 MB to draw.
+pub const SHEET_MAX_PX: f64 = 4000.0;
+/// Resolution of preview.png: 8 px/mm on a 160 x 120 mm page (1280 x 960 px).
+pub const PREVIEW_PX_PER_MM: f64 = 8.0;
+
+/// Every output file: a path relative to the output folder and its bytes.
+pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
+    let name = &b.design.name;
+    let fab = &b.design.fabrication;
+    let mut files = vec![(
+        "lattice.json".to_string(),
+        lattice_json::write(&b.lattice, &b.joints),
+    )];
+    for (i, page) in b.pages.iter().enumerate() {
+        files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
+        files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
+        files.push((
+            format!("sheets/sheet-{:02}.lbrn2", i + 1),
+            crate::write::lbrn2::write(page),
+        ));
+        files.push((
+            format!("sheets/sheet-{:02}.png", i + 1),
+            png::write(
+                page,
+                SHEET_PX_PER_MM.min(SHEET_MAX_PX / page.width.max(page.height)),
+                1.0,
+            ),
+        ));
+    }
+    files.push((
+        "cut.pdf".to_string(),
+        pdf::write(&format!("{name} cut sheets"), &b.pages),
+    ));
+    files.push((
+        "parts.csv".to_string(),
+        parts_csv::write(&b.parts.strips, &b.layout),
+    ));
+    let g = guide(b);
+    files.push((
+        "parts-types.csv".to_string(),
+        part_types_csv::write(&b.parts),
+    ));
+    files.push((
+        "assembly.pdf".to_string(),
+        pdf::write_with_symbols(&format!("{name} assembly guide"), &g.pages, &g.symbols),
+    ));
+    let picture = match &b.simulation {
+        Some(run) => crate::drawing::picture::preview_captioned(
+            &crate::sim::placed_lattice(&b.lattice, &run.lm),
+            fab.material.width,
+            name,
+            Some(
+                "shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)",
+            ),
+        ),
+        None => preview(&b.assembled, fab.material.width, name),
+    };
+    files.push((
+        "preview.png".to_string(),
+        png::write(&picture, PREVIEW_PX_PER_MM, 1.0),
+    ));
+    let solids: Vec<_> = b
+        .parts
+        .strips
+        .iter()
+        .map(|s| (s.id.clone(), solid(&b.lattice, s, fab)))
+        .collect();
+    files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
+    files.push(("viewer.html".to_string(), viewer::write(&viewer_scene(b))));
+    if let Some(run) = &b.simulation {
+        files.extend(deployed_files(b, run));
+    }
+    files.push((
+        "report.txt".to_string(),
+        crate::report::build_text(b).into_bytes(),
+    ));
+    files
+}
+
+/// What the viewer page shows: the lattice as built and, where the
+/// build simulated it, the simulated shape beside the designed one.
+pub fn viewer_scene(b: &Build) -> viewer::Scene<'_> {
+    let mut scene = viewer::Scene::new(
+        &b.design,
+        &b.lattice,
+        &b.assembled,
+        &b.parts,
+        &b.layout,
+        &b.deployment,
+    );
+    if let Some(run) = &b.simulation {
+        let placed = crate::sim::placed_lattice(&b.lattice, &run.lm);
+        let vertices = placed.vertices.iter().map(|v| v.pos);
+        scene.simulated = Some(
+            vertices
+                .chain(placed.cells.iter().map(|c| c.pivot))
+                .collect(),
+        );
+    }
+    scene
+}
+
+/// deployed.json and deployed.obj of a simulated build.
+fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u8>)> {
+    use crate::write::deployed;
+    let fab = &b.design.fabrication;
+    let strips = crate::sim::results::deployed_strips(&run.lm.model);
+    let eq = &run.equilibrium;
+    let nv = b.lattice.vertices.len();
+    let e = &eq.energy;
+    let summary = deployed::Summary {
+        design: &b.design.name,
+        verdict: &b.deployment.verdict(&b.lattice),
+        vertex_joint: b.design.simulation.vertex_joint.name(),
+        theta_deg: run.theta.to_degrees(),
+        energy: [e.stretch, e.bend, e.twist, e.external],
+        eps_max: eq.strain.eps,
+        eps_allow: b.design.simulation.material.eps_allow,
+        eps_rod: &eq.strain.rod,
+        eps_s: eq.strain.s,
+        distance: eq.distance,
+        iterations: run.iterations,
+        vertices: (0..nv)
+            .map(|v| (b.lattice.vertex_name(v as u32), eq.points[v]))
+            .collect(),
+        pivots: b
+            .lattice
+            .cells
+            .iter()
+            .enumerate()
+            .map(|(c, cell)| (b.lattice.cell_name(cell), eq.points[nv + c]))
+            .collect(),
+    };
+    vec![
+        (
+            "deployed.json".to_string(),
+            deployed::json(&summary, &strips),
+        ),
+        (
+            "deployed.obj".to_string(),
+            deployed::obj(
+                &b.design.name,
+                &strips,
+                fab.material.width,
+                fab.material.thickness,
+            ),
+        ),
+    ]
+}

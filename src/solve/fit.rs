@@ -1,0 +1,369 @@
+//! Target fitting (MATH.md 6.4): rows found by a search, so that the lattice
+//! approximates a target surface. The seed comes from the recipe; each row's
+//! free parameters are chosen here, one row at a time, deterministically.
+//!
+//! * disk (2-D sheet): the two boundary legs put the row's end vertices on
+//!   the circle; the leg direction is scanned for the most even legs.
+//! * ellipsoid (3-D sheet, the half with z <= 0): the boundary legs put the
+//!   end vertices on the ellipsoid; the direction (angle and tilt) is
+//!   scanned for the new vertices nearest the surface. With a loop seed
+//!   round the rim of a spheroid (a = b), each ring's vertex x[i+1][1] goes
+//!   on the meridian of x[i][1], one edge length further down, so that the
+//!   cells stay near square as the rings shrink.
+//! * revolution (loop): each row's vertex x[i+1][1] is placed on the next
+//!   profile point, in the meridian plane of x[i][1] (the paper's torus).
+
+use crate::design::fit::{Fit, Surface, error};
+use crate::design::{Design, MIN_WALL};
+use crate::geometry::{Direction, Leg};
+use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
+use glam::DVec3;
+
+/// Grow the fitted lattice; `progress` hears about each row.
+pub fn grow(
+    design: &Design,
+    fit: &Fit,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Lattice, GrowthError> {
+    grow_recorded(design, fit, progress).map(|(l, _)| l)
+}
+
+/// The row angles an open fit's search chose (None for other fits): where
+/// the optimiser starts when the recipe gives no `fit.angles`.
+pub fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
+    // A 3-D search also chooses a tilt, which fit.angles does not hold.
+    if design.dim != 2 {
+        return None;
+    }
+    grow_recorded(design, fit, &mut |_| {}).ok()?.1
+}
+
+fn grow_recorded(
+    design: &Design,
+    fit: &Fit,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(Lattice, Option<Vec<f64>>), GrowthError> {
+    let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
+    let open = matches!(fit.surface, Surface::Disk { .. })
+        || matches!(fit.surface, Surface::Ellipsoid { .. }) && design.kind == Kind::Sheet;
+    if open {
+        // Legs shorter than the eyelet flange (plus a wall) cannot be built.
+        let min_leg = design.fabrication.eyelet.flange + 2.0 * MIN_WALL;
+        if let Some(angles) = &fit.angles {
+            for (i, &a) in angles.iter().enumerate() {
+                let params = row_on_boundary(
+                    &mut grower,
+                    &fit.surface,
+                    Some(Direction::Angles {
+                        angle_deg: a,
+                        tilt_deg: 0.0,
+                    }),
+                )
+                .map_err(|e| e.unwrap_or_else(|| no_row(i)))?;
+                grower.grow_row(&params)?;
+                progress(&row_note(fit, grower.lattice(), i));
+            }
+            return Ok((grower.into_lattice(), Some(angles.clone())));
+        }
+        let fab = &design.fabrication;
+        let mut search = Search {
+            fit,
+            dim: design.dim,
+            min_leg,
+            strip: (fab.material.width, fab.end_margin, design.clash.clearance),
+            budget: SEARCH_BUDGET,
+            deepest: (0, None),
+            progress,
+            chosen: Vec::new(),
+        };
+        return if search.rows(&mut grower, 0) {
+            Ok((grower.into_lattice(), Some(search.chosen)))
+        } else {
+            Err(search.deepest.1.unwrap_or_else(|| no_row(search.deepest.0)))
+        };
+    }
+    for i in 0..fit.rows {
+        let params = match &fit.surface {
+            Surface::Ellipsoid { axes } if design.kind == Kind::Loop => {
+                let front = grower.front();
+                let step = match &fit.steps {
+                    Some(s) => s[i],
+                    None => front[0].pos.distance(front[1].pos),
+                };
+                let next = meridian_step(*axes, front[1].pos, step);
+                RowParams {
+                    target: Some(next),
+                    ..RowParams::default()
+                }
+            }
+            Surface::Revolution { profile } | Surface::Torus { profile, .. } => {
+                let front = grower.front();
+                let theta = front[1].pos.y.atan2(front[1].pos.x);
+                let q = profile[i];
+                RowParams {
+                    target: Some(DVec3::new(q.x * theta.cos(), q.x * theta.sin(), q.y)),
+                    ..RowParams::default()
+                }
+            }
+            _ => unreachable!("open surfaces are searched above"),
+        };
+        grower.grow_row(&params)?;
+        progress(&row_note(fit, grower.lattice(), i));
+    }
+    Ok((grower.into_lattice(), None))
+}
+
+/// The point one front edge (|x1 - x0|) further down the spheroid's meridian
+/// through `x1`, towards z < 0: where the next ring's vertex goes.
+fn meridian_step(axes: DVec3, x1: DVec3, edge: f64) -> DVec3 {
+    let (a, c) = (axes.x, axes.z);
+    let theta = x1.y.atan2(x1.x);
+    // Meridian (a cos t, c sin t), t from 0 at the rim to -pi/2 at the pole.
+    let r = x1.truncate().length();
+    let mut t = -(r / a).clamp(-1.0, 1.0).acos() * if x1.z > 0.0 { -1.0 } else { 1.0 };
+    // Walk down the meridian in small steps until one edge length is covered.
+    let mut walked = 0.0;
+    let dt = 1e-4;
+    while walked < edge && t > -std::f64::consts::FRAC_PI_2 {
+        let speed = (a * a * t.sin().powi(2) + c * c * t.cos().powi(2)).sqrt();
+        walked += speed * dt;
+        t -= dt;
+    }
+    let r = a * t.cos();
+    DVec3::new(r * theta.cos(), r * theta.sin(), c * t.sin())
+}
+
+/// Rows tried in all, over every backtrack of a fit.
+const SEARCH_BUDGET: usize = 5_000;
+/// The best rows of each scan that are tried in turn when a later row has
+/// no admissible direction.
+const BRANCHES: usize = 6;
+
+/// A depth-first search over the rows of an open fit: at each row the
+/// scan's best candidates in order, backing up when a later row finds none
+/// (a greedy choice can leave a front no row grows on).
+struct Search<'a> {
+    fit: &'a Fit,
+    dim: usize,
+    min_leg: f64,
+    /// Strip width, end margin and clearance: rows whose strips clash come last.
+    strip: (f64, f64, f64),
+    /// Rows left to try.
+    budget: usize,
+    /// The deepest row reached, and why it found no candidate (when it did not).
+    deepest: (usize, Option<GrowthError>),
+    progress: &'a mut dyn FnMut(&str),
+    /// The leg angle of each row grown so far.
+    chosen: Vec<f64>,
+}
+
+impl Search<'_> {
+    /// Grow rows `i..` onto `grower`; false (with the rows taken back) if
+    /// they cannot all be grown within the budget.
+    fn rows(&mut self, grower: &mut Grower, i: usize) -> bool {
+        if i == self.fit.rows {
+            return true;
+        }
+        let (candidates, why) = ranked_rows(
+            grower,
+            &self.fit.surface,
+            self.fit.samples,
+            self.dim,
+            self.min_leg,
+            self.strip,
+        );
+        if i > self.deepest.0 || candidates.is_empty() && i == self.deepest.0 {
+            self.deepest = (i, why.filter(|_| candidates.is_empty()));
+        }
+        for params in candidates.into_iter().take(BRANCHES) {
+            if self.budget == 0 {
+                return false;
+            }
+            self.budget -= 1;
+            if grower.grow_row(&params).is_err() {
+                continue;
+            }
+            if let Some(Direction::Angles { angle_deg, .. }) = params.direction {
+                self.chosen.push(angle_deg);
+            }
+            (self.progress)(&row_note(self.fit, grower.lattice(), i));
+            if self.rows(grower, i + 1) {
+                return true;
+            }
+            grower.undo_row();
+            self.chosen.pop();
+        }
+        false
+    }
+}
+
+/// The progress note for fitted row `i`.
+fn row_note(fit: &Fit, lattice: &Lattice, i: usize) -> String {
+    let (abs, _) = error(fit, lattice);
+    format!(
+        "fit row {}/{}: largest vertex distance so far {abs:.3e} mm",
+        i + 1,
+        fit.rows
+    )
+}
+
+/// No row `i` was found: none admissible there, or the search ran out of
+/// tries on the way.
+fn no_row(i: usize) -> GrowthError {
+    GrowthError::new(
+        crate::lattice::GrowthErrorKind::InadmissibleDirection,
+        crate::lattice::Param::Direction,
+        Some(i),
+        None,
+        format!(
+            "no leg direction found for this row (the deepest the fit reached in {SEARCH_BUDGET} tries) that keeps its end vertices on the target boundary with legs long enough for the eyelets"
+        ),
+        "fit fewer rows, or start from another seed arc",
+    )
+}
+
+/// Scan the start direction of an open row; for each, put the end vertices
+/// on the boundary (circle or ellipsoid) and score the row. The candidates
+/// best first, and the last growth error met (for a row with none).
+fn ranked_rows(
+    grower: &mut Grower,
+    surface: &Surface,
+    samples: usize,
+    dim: usize,
+    min_leg: f64,
+    strip: (f64, f64, f64),
+) -> (Vec<RowParams>, Option<GrowthError>) {
+    let tilts: Vec<f64> = if dim == 3 {
+        (0..samples.div_ceil(4).max(3))
+            .map(|k| -60.0 + 120.0 * k as f64 / (samples.div_ceil(4).max(3) - 1) as f64)
+            .collect()
+    } else {
+        vec![0.0]
+    };
+    let mut scored: Vec<(f64, RowParams)> = Vec::new();
+    let mut last_error = None;
+    for &tilt in &tilts {
+        for k in 1..samples {
+            let angle = -89.0 + 178.0 * k as f64 / samples as f64;
+            let direction = Some(Direction::Angles {
+                angle_deg: angle,
+                tilt_deg: tilt,
+            });
+            let params = match row_on_boundary(grower, surface, direction) {
+                Ok(p) => p,
+                Err(e) => {
+                    last_error = e.or(last_error);
+                    continue;
+                }
+            };
+            if let Err(e) = grower.grow_row(&params) {
+                last_error = Some(e);
+                continue;
+            }
+            let score = row_score(grower.lattice(), surface, min_leg);
+            // A disk's rows whose strips overlap others of their layer come
+            // last (on a curved patch the distance to the surface decides).
+            let lattice = grower.lattice();
+            let first_new = 2 * (lattice.cells.len() - lattice.width);
+            let clashes = if score.is_finite() && matches!(surface, Surface::Disk { .. }) {
+                crate::parts::clash::clashes(lattice, strip.0, strip.1, strip.2)
+                    .iter()
+                    .filter(|c| c.rods[1] >= first_new)
+                    .count()
+            } else {
+                0
+            };
+            grower.undo_row();
+            let score = score + clashes as f64;
+            if score.is_finite() {
+                scored.push((score, params));
+            }
+        }
+    }
+    // A stable sort keeps scan order among equal scores: deterministic.
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    (scored.into_iter().map(|s| s.1).collect(), last_error)
+}
+
+/// The row with leg direction `direction` whose two end vertices lie on the
+/// surface's boundary (circle or ellipsoid); the growth error met, if any.
+fn row_on_boundary(
+    grower: &mut Grower,
+    surface: &Surface,
+    direction: Option<Direction>,
+) -> Result<RowParams, Option<GrowthError>> {
+    // Pivots do not depend on the end legs: grow once to find them.
+    let probe = RowParams {
+        direction,
+        left_leg: Leg::Length(1.0),
+        right_leg: Leg::Length(1.0),
+        ..RowParams::default()
+    };
+    grower.grow_row(&probe).map_err(Some)?;
+    let lattice = grower.lattice();
+    let w = lattice.width;
+    let cells = &lattice.cells[lattice.cells.len() - w..];
+    let (first, last) = (&cells[0], &cells[w - 1]);
+    let [_, ur0, _, _] = lattice.corners(first);
+    let [ul1, _, _, _] = lattice.corners(last);
+    let v2 = (first.pivot - ur0).normalize();
+    let v1 = (last.pivot - ul1).normalize();
+    let legs = (
+        surface.ray_exit(first.pivot, v2),
+        surface.ray_exit(last.pivot, v1),
+    );
+    grower.undo_row();
+    let (Some(l2), Some(l3)) = legs else {
+        return Err(None);
+    };
+    Ok(RowParams {
+        direction,
+        left_leg: Leg::Length(l2),
+        right_leg: Leg::Length(l3),
+        ..RowParams::default()
+    })
+}
+
+/// Lower is better: distance of the new vertices to the surface (3-D), then
+/// the worst cell's shape: uneven legs (min/max leg ratio) or a cell near
+/// flat-open or collapsed (sine of phi), so rows stay open and buildable.
+fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
+    let w = lattice.width;
+    let cells = &lattice.cells[lattice.cells.len() - w..];
+    let n = w + 1;
+    let new = &lattice.vertices[lattice.vertices.len() - n..];
+    let worst = cells
+        .iter()
+        .map(|c| {
+            let legs = lattice.legs(c);
+            let lo = legs.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = legs.iter().copied().fold(0.0, f64::max);
+            if lo < min_leg {
+                return f64::NEG_INFINITY;
+            }
+            (lo / hi).min(lattice.phi(c).sin())
+        })
+        .fold(1.0, f64::min);
+    if worst == f64::NEG_INFINITY {
+        return f64::INFINITY;
+    }
+    let balance = 1.0 - worst;
+    // A disk's vertices stay inside (or on) its circle.
+    if let Surface::Disk { radius } = surface
+        && new
+            .iter()
+            .any(|v| v.pos.truncate().length() > radius * (1.0 + 1e-9))
+    {
+        return f64::INFINITY;
+    }
+    match surface {
+        Surface::Ellipsoid { .. } => {
+            let d = new
+                .iter()
+                .map(|v| surface.distance(v.pos))
+                .fold(0.0, f64::max);
+            d / surface.size() * 20.0 + balance
+        }
+        _ => balance,
+    }
+}
