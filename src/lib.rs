@@ -18,5 +18,5 @@ pub mod report;
 pub mod sim;
 pub mod solve;
 pub mod templates;
-pub mod write;
 pub mod words;
+pub mod write;

@@ -564,7 +564,9 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
     // (Progress lines may appear on a loaded machine; no word on the folder.)
     let stderr = text(&o.stderr);
     assert!(
-        !stderr.contains("build folder") && !stderr.contains("--force") && !stderr.contains("warning"),
+        !stderr.contains("build folder")
+            && !stderr.contains("--force")
+            && !stderr.contains("warning"),
         "{stderr}"
     );
     // A file added to a build folder is not the tool's to delete unasked.

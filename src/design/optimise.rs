@@ -237,11 +237,12 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
             "nelder-mead" => Method::NelderMead,
             "evolution" => Method::Evolution,
             other => {
-                return Err(
-                    Diagnostic::new(ErrorKind::UnknownOptimiseMethod, format!("optimise.method is \"{other}\""))
-                        .at(m.span())
-                        .hint("method is \"nelder-mead\" (default) or \"evolution\""),
-                );
+                return Err(Diagnostic::new(
+                    ErrorKind::UnknownOptimiseMethod,
+                    format!("optimise.method is \"{other}\""),
+                )
+                .at(m.span())
+                .hint("method is \"nelder-mead\" (default) or \"evolution\""));
             }
         },
     };
