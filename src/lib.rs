@@ -15,6 +15,7 @@ pub mod layout;
 pub mod output;
 pub mod parts;
 pub mod report;
+pub mod rng;
 pub mod sim;
 pub mod solve;
 pub mod templates;

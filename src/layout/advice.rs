@@ -203,33 +203,21 @@ mod tests {
         assert_eq!(pick(&job, &base, None), None);
     }
 
-    /// A small deterministic generator (no dependency for one test).
-    struct Lcg(u64);
-    impl Lcg {
-        fn unit(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
     #[test]
     fn the_pick_is_the_smallest_of_every_preset_nested_and_the_bounds_hold() {
-        let mut rng = Lcg(8);
+        let mut rng = crate::rng::Rng::new(8);
         let mut searched = 0;
         for case in 0..60 {
             let base = SheetSpec {
-                margin: 10.0 * rng.unit(),
-                gap: 0.5 + 3.0 * rng.unit(),
+                margin: 10.0 * rng.uniform(),
+                gap: 0.5 + 3.0 * rng.uniform(),
                 ..base()
             };
-            let width = 5.0 + 15.0 * rng.unit();
-            let n = 1 + (300.0 * rng.unit()) as usize;
-            let longest = 20.0 + 600.0 * rng.unit();
+            let width = 5.0 + 15.0 * rng.uniform();
+            let n = 1 + (300.0 * rng.uniform()) as usize;
+            let longest = 20.0 + 600.0 * rng.uniform();
             let lengths: Vec<f64> = (0..n)
-                .map(|_| width + (longest - width) * rng.unit().powi(3))
+                .map(|_| width + (longest - width) * rng.uniform().powi(3))
                 .collect();
             let steps = (case % 4 == 1).then(|| (0..n).map(|i| i / 7).collect());
             let job = Job {

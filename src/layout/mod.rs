@@ -565,41 +565,29 @@ mod tests {
         }
     }
 
-    /// A small deterministic generator (no dependency for one test).
-    struct Lcg(u64);
-    impl Lcg {
-        fn unit(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
     #[test]
     fn the_nester_places_every_part_exactly_as_the_full_best_fit_did() {
-        let mut rng = Lcg(14);
+        let mut rng = crate::rng::Rng::new(14);
         for case in 0..60 {
             let sheet = SheetSpec {
                 name: "t".into(),
-                width: 150.0 + 500.0 * rng.unit(),
-                height: 100.0 + 350.0 * rng.unit(),
-                margin: 5.0 * rng.unit(),
-                gap: 0.5 + 2.0 * rng.unit(),
+                width: 150.0 + 500.0 * rng.uniform(),
+                height: 100.0 + 350.0 * rng.uniform(),
+                margin: 5.0 * rng.uniform(),
+                gap: 0.5 + 2.0 * rng.uniform(),
             };
             let (uw, uh) = sheet.usable();
-            let width = 4.0 + 10.0 * rng.unit();
+            let width = 4.0 + 10.0 * rng.uniform();
             let longest = uw.max(uh);
-            let n = 1 + (300.0 * rng.unit()) as usize;
+            let n = 1 + (300.0 * rng.uniform()) as usize;
             // Mixes of short and long parts, with repeated lengths.
-            let kinds: Vec<f64> = (0..1 + (6.0 * rng.unit()) as usize)
-                .map(|_| width + (longest - width) * rng.unit().powi(2))
+            let kinds: Vec<f64> = (0..1 + (6.0 * rng.uniform()) as usize)
+                .map(|_| width + (longest - width) * rng.uniform().powi(2))
                 .collect();
             let lengths: Vec<f64> = (0..n)
-                .map(|_| kinds[(rng.unit() * kinds.len() as f64) as usize])
+                .map(|_| kinds[(rng.uniform() * kinds.len() as f64) as usize])
                 .collect();
-            let piece = (case % 3 == 0).then(|| width + (longest - width) * rng.unit());
+            let piece = (case % 3 == 0).then(|| width + (longest - width) * rng.uniform());
             let new = nest_with(&lengths, width, &sheet, piece);
             let old = reference::nest_with(&lengths, width, &sheet, piece);
             assert_eq!(new, old, "case {case}");

@@ -24,6 +24,7 @@ use crate::design::{Design, MIN_WALL};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::geometry::Direction;
 use crate::lattice::{FrontMoves, Kind, Lattice};
+use crate::rng::Rng;
 use argmin::core::{CostFunction, Error, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use glam::DVec3;
@@ -511,22 +512,6 @@ fn default_steps(design: &Design) -> Option<Vec<f64>> {
     )
 }
 
-/// SplitMix64, for the signs of the start simplex.
-fn splitmix(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// A standard normal number (Box-Muller) from the SplitMix64 stream.
-fn gauss(state: &mut u64) -> f64 {
-    let u = |s: &mut u64| ((splitmix(s) >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
-    let (a, b) = (u(state), u(state));
-    (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
-}
-
 /// Generations of the evolution strategy between restarts.
 const ROUND: usize = 500;
 
@@ -537,7 +522,7 @@ const ROUND: usize = 500;
 /// generations used; the best design tried is kept in `problem.best`.
 /// argmin 0.10 has no CMA-ES, and its particle swarm wants box bounds the
 /// seed variables do not have, so this is written here (about 40 lines).
-fn evolve(problem: &Problem, opt: &Optimise, dims: usize, rng: &mut u64) -> usize {
+fn evolve(problem: &Problem, opt: &Optimise, dims: usize, rng: &mut Rng) -> usize {
     let lambda = (4 + (3.0 * (dims as f64).ln()) as usize).max(8) + 4;
     let mu = lambda / 2;
     let w: Vec<f64> = (0..mu)
@@ -555,7 +540,7 @@ fn evolve(problem: &Problem, opt: &Optimise, dims: usize, rng: &mut u64) -> usiz
         }
         let mut pop: Vec<(f64, Vec<f64>)> = (0..lambda)
             .map(|_| {
-                let y: Vec<f64> = mean.iter().map(|m| m + sigma * gauss(rng)).collect();
+                let y: Vec<f64> = mean.iter().map(|m| m + sigma * rng.normal()).collect();
                 (problem.evaluate(&y), y)
             })
             .collect();
@@ -647,7 +632,7 @@ pub fn optimise(
     };
     let start = vec![0.0; dims];
     let cost_before = problem.evaluate(&start);
-    let mut rng = opt.seed ^ 0x6b61_7269_6761_6d69;
+    let mut rng = Rng::new(opt.seed ^ 0x6b61_7269_6761_6d69);
     let (mut iterations, mut round) = (0usize, 0usize);
     if opt.method == Method::Evolution {
         iterations = evolve(&problem, opt, dims, &mut rng);
@@ -659,11 +644,7 @@ pub fn optimise(
         let mut simplex = vec![from.clone()];
         for i in 0..dims {
             let mut v = from.clone();
-            let sign = if splitmix(&mut rng) & 1 == 0 {
-                1.0
-            } else {
-                -1.0
-            };
+            let sign = if rng.next_u64() & 1 == 0 { 1.0 } else { -1.0 };
             v[i] += sign * step;
             simplex.push(v);
         }

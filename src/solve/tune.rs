@@ -5,6 +5,7 @@
 //! same seed always tunes to the same numbers.
 
 use crate::lattice::{Lattice, angle_between, grow_helix_partial};
+use crate::rng::Rng;
 use glam::DVec3;
 
 /// The result of tuning, and how it differs from the start.
@@ -19,23 +20,6 @@ pub struct Tuned {
     /// Largest point move (mm) and largest kappa change (mm).
     pub max_move: f64,
     pub max_kappa_change: f64,
-}
-
-/// SplitMix64: a tiny, fixed random sequence.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [-1, 1).
-    fn signed(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
 }
 
 /// Seed parameters: cylindrical coordinates of every point about the axis,
@@ -221,7 +205,7 @@ pub fn tune_helix(
     let winding = Winding::of(points, centre, edge);
     let before = score(dim, &s_points, &s_kappa, target, min_leg, &winding);
     let mut best = (start.clone(), before);
-    let mut rng = Rng(0x6b61_7269_6761_6d69);
+    let mut rng = Rng::new(0x6b61_7269_6761_6d69);
     let mut step = 0.02;
     let mut iterations = 0;
     let mut polish = 0;
