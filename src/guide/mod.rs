@@ -149,26 +149,7 @@ impl Writer {
 
     /// The lines of a paragraph wrapped to the text width.
     fn wrap(&self, text: &str, size: f64) -> Vec<String> {
-        let mut lines = Vec::new();
-        let mut line = String::new();
-        for word in text.split_whitespace() {
-            let candidate = if line.is_empty() {
-                word.to_string()
-            } else {
-                format!("{line} {word}")
-            };
-            if crate::drawing::text::width(&candidate, Font::Regular, size) > self.width()
-                && !line.is_empty()
-            {
-                lines.push(std::mem::replace(&mut line, word.to_string()));
-            } else {
-                line = candidate;
-            }
-        }
-        if !line.is_empty() {
-            lines.push(line);
-        }
-        lines
+        wrap(text, Font::Regular, size, self.width())
     }
 
     /// How far `paragraph` moves down, when it does not break the page.
