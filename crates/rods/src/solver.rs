@@ -143,6 +143,17 @@ impl System {
         (e, g, h)
     }
 
+    /// The largest diagonal entry of `h` over the variables' scales: the
+    /// size of the shifts that make an indefinite Hessian factorable.
+    pub fn diagonal_scale(&self, h: &[f64]) -> f64 {
+        self.diag_pos
+            .iter()
+            .zip(&self.dm)
+            .map(|(&p, d)| h[p] / d)
+            .fold(0.0f64, f64::max)
+            .max(1e-300)
+    }
+
     /// Cholesky of H + tau Dm, or None if it is not positive definite.
     pub fn factor(&self, h: &[f64], tau: f64) -> Option<Llt<usize, f64>> {
         let mut vals = h.to_vec();
@@ -278,13 +289,7 @@ fn newton_step(
         return None;
     }
     let gf: Vec<f64> = sys.free_vars.iter().map(|&v| g[v]).collect();
-    let h_s = sys
-        .diag_pos
-        .iter()
-        .zip(&sys.dm)
-        .map(|(&p, d)| h[p] / d)
-        .fold(0.0f64, f64::max)
-        .max(1e-300);
+    let h_s = sys.diagonal_scale(&h);
     let mut tau = 0.0;
     let llt = loop {
         if let Some(f) = sys.factor(&h, tau) {
@@ -429,14 +434,7 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
         Some(_) => f64::INFINITY,
         None => {
             // Indefinite: estimate the negative eigenvalue with a shift.
-            let mut tau = 1e-8
-                * sys
-                    .diag_pos
-                    .iter()
-                    .zip(&sys.dm)
-                    .map(|(&p, d)| h[p] / d)
-                    .fold(0.0f64, f64::max)
-                    .max(1e-300);
+            let mut tau = 1e-8 * sys.diagonal_scale(&h);
             loop {
                 if let Some(llt) = sys.factor(&h, tau) {
                     break sys.lowest_mode(&h, &llt, 7).0;
