@@ -192,7 +192,7 @@ pub fn build_text(b: &Build) -> String {
         );
     }
     out.push_str("\nassembly steps (eyelets this step / running total):\n");
-    for s in crate::guide::steps(&b.lattice) {
+    for s in &b.steps {
         let _ = writeln!(
             out,
             "step {:>3}: row {:>3}, {:>4} strips, {:>4} / {}",

@@ -6,8 +6,8 @@
 mod gauge;
 mod labels;
 pub mod stacking;
-pub mod steps;
 
+use crate::assembly::Step;
 use crate::build::Build;
 use crate::drawing::picture::{
     Camera, Fit, RodStyle, VERTEX, crossing_rods, lattice_picture, pivots_and_vertices, rods,
@@ -17,7 +17,6 @@ use crate::lattice::VertexKey;
 pub use gauge::{GAUGE_OVERLAP, gauge_tiles};
 use glam::DVec2;
 use labels::{Label, Placer};
-pub use steps::{Step, steps};
 
 const MARGIN: f64 = 15.0;
 const BODY: f64 = 3.6;
@@ -247,18 +246,18 @@ pub fn guide(b: &Build) -> Guide {
         fab.paper.size(),
         format!("{} assembly guide", b.design.name),
     );
-    let steps = steps(&b.lattice);
+    let steps = &b.steps;
     let side = stacking::side(&b.lattice);
-    cover(&mut w, b, &steps, &side);
+    cover(&mut w, b, steps, &side);
     materials(&mut w, b);
     test_piece_block(&mut w, b);
-    let layout = StepLayout::new(b, &steps, w.width());
-    let pictures = StepPictures::new(b, &steps, layout.overview());
-    for step in &steps {
+    let layout = StepLayout::new(b, steps, w.width());
+    let pictures = StepPictures::new(b, steps, layout.overview());
+    for step in steps {
         step_block(&mut w, b, step, steps.len(), &pictures, &layout, &side);
     }
     // The checklist before the gauge: the gauge's pages are cut up.
-    checklist(&mut w, b, &steps);
+    checklist(&mut w, b, steps);
     gauge::gauge(&mut w, b);
     w.finish_page();
     Guide {
