@@ -332,6 +332,11 @@ pub fn check_json(
     })
 }
 
+/// `check_json` of a build's lattice.
+pub fn build_check_json(b: &Build) -> serde_json::Value {
+    check_json(&b.design, &b.lattice, &b.report, &b.deployment)
+}
+
 /// The fabrication summary of `karigami build --json`.
 #[derive(Serialize)]
 struct BuildJson<'a> {

@@ -4,7 +4,9 @@
 use super::labels::Placer;
 use super::stacking;
 use super::step_labels::{LABEL_ROOM, Shown, step_labels};
-use super::step_pictures::{STEP_PICTURE, StepPictures, detail_camera, details, step_camera};
+use super::step_pictures::{
+    STEP_PICTURE, StepPictures, corners, detail_camera, details, step_camera,
+};
 use super::step_text::step_text;
 use super::{NEW, rect};
 use crate::assembly::Step;
@@ -170,15 +172,7 @@ pub(super) fn step_block(
             })
             .collect();
         let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();
-        let mut vertices: Vec<usize> = all
-            .iter()
-            .flat_map(|&c| {
-                let cell = &l.cells[c];
-                [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
-            })
-            .collect();
-        vertices.sort_unstable();
-        vertices.dedup();
+        let vertices = corners(l, &all);
         let camera = detail_camera(b, &step.cells).unwrap_or_else(|| step_camera(b));
         let zoom_at = DVec2::new(MARGIN + layout.zoom_x, top + LABEL_ROOM);
         let zoom_size = DVec2::new(layout.size.x - layout.zoom_x, layout.size.y);

@@ -125,6 +125,20 @@ impl StepPictures {
     }
 }
 
+/// The corner vertices of `cells`, sorted, each once.
+pub(super) fn corners(l: &crate::lattice::Lattice, cells: &[usize]) -> Vec<usize> {
+    let mut vertices: Vec<usize> = cells
+        .iter()
+        .flat_map(|&c| {
+            let cell = &l.cells[c];
+            [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
+        })
+        .collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    vertices
+}
+
 /// Step pictures of a lattice built flat look square on at it.
 pub(super) fn step_camera(b: &Build) -> Camera {
     if stacking::built_flat(&b.lattice) {
@@ -188,17 +202,8 @@ pub(super) fn details(w: &mut PageFlow, b: &Build, step: &Step, named: &[usize])
                 width: width * 1.3,
             })
         }));
-        let mut vertices: Vec<usize> = cells
-            .iter()
-            .chain(&above)
-            .flat_map(|&c| {
-                let cell = &l.cells[c];
-                [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
-            })
-            .collect();
-        vertices.sort_unstable();
-        vertices.dedup();
         let all: Vec<usize> = cells.iter().chain(&above).copied().collect();
+        let vertices = corners(l, &all);
         items.extend(pivots_and_vertices(l, &fit, &all, &vertices, width * 0.8));
         let mut joints = Vec::new();
         for (k, j) in step.joints.iter().enumerate() {
