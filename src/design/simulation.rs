@@ -3,7 +3,7 @@
 //! simulation (docs/physics.md). Every field is optional; defaults are ABS.
 
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use crate::sim::{Settings, VertexJoint};
+use crate::sim::{Actuation, Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -21,6 +21,8 @@ pub struct RawSimulation {
     pub theta: Option<Spanned<f64>>,
     /// "eyelet" or "ball".
     pub vertex_joint: Option<Spanned<String>>,
+    /// "mean" (mean opening of all cells) or "first-cell".
+    pub actuation: Option<Spanned<String>>,
     /// Longest rod edge (mm).
     pub edge_length: Option<Spanned<f64>>,
 }
@@ -93,6 +95,20 @@ pub fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnosti
     }
     if let Some(a) = &r.accept_overstrain {
         s.accept_overstrain = *a.get_ref();
+    }
+    if let Some(a) = &r.actuation {
+        s.actuation = match a.get_ref().as_str() {
+            "mean" => Actuation::Mean,
+            "first-cell" => Actuation::FirstCell,
+            other => {
+                return Err(Diagnostic::new(
+                    ErrorKind::SimulationOutOfRange,
+                    format!("unknown actuation \"{other}\""),
+                )
+                .at(a.span())
+                .hint("actuation must be \"mean\" (the mean opening of all cells is held) or \"first-cell\" (the first cell's opening is held)"));
+            }
+        };
     }
     if let Some(j) = &r.vertex_joint {
         s.vertex_joint = match j.get_ref().as_str() {
