@@ -850,3 +850,19 @@ fn simulation_actuation_is_read_from_the_recipe() {
         "{e:?}"
     );
 }
+
+/// Going back from the mean hold to one cell's opening leaves no tie
+/// behind: the chain then follows the ideal linkage at that cell's angle.
+#[test]
+fn mean_hold_switches_back_to_one_cell() {
+    let chain = load("examples/mirror-arm.toml");
+    let mut lm = sim::prepare(&chain, 10.0, 1.0, &Settings::default());
+    assert_eq!(lm.hold, sim::Hold::Mean);
+    let theta = lm.opening(0) - 5f64.to_radians();
+    lm.set_opening(0, theta);
+    assert!(lm.model.ties.is_empty());
+    let (stats, _, _) = sim::deploy(&mut lm, None, &Options::default()).expect("deploys");
+    assert!((lm.opening(0) - theta).abs() < 1e-12);
+    let d = kabsch_distance(&lm.points(), &ideal_linkage(&chain, theta));
+    assert!(d < 1e-6 && stats.lambda_min > 0.0, "{d} mm, {stats:?}");
+}

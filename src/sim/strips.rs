@@ -466,6 +466,18 @@ impl LatticeModel {
 
     /// Prescribe the opening of cell c (its delta becomes fixed).
     pub fn set_opening(&mut self, c: usize, phi: f64) {
+        if self.hold == Hold::Mean {
+            // Back from the mean hold: the openings become free variables
+            // again and the z variables of the mean, now unused, are fixed.
+            let m = &mut self.model;
+            for t in std::mem::take(&mut m.ties) {
+                m.fixed[t.var] = false;
+                for (u, _) in t.terms {
+                    m.fixed[u] = true;
+                }
+            }
+            self.hold = Hold::Nothing;
+        }
         let (v, s) = self.delta[c];
         self.model.q[v] = s * phi;
         self.model.fixed[v] = true;
