@@ -78,7 +78,10 @@ fn numbers(s: &str) -> Vec<f64> {
 /// of its last arc.
 fn path_points(d: &str) -> (Vec<DVec2>, f64) {
     let mut commands: Vec<(char, Vec<f64>)> = Vec::new();
-    for (i, c) in d.char_indices().filter(|(_, c)| c.is_ascii_alphabetic() && *c != 'e') {
+    for (i, c) in d
+        .char_indices()
+        .filter(|(_, c)| c.is_ascii_alphabetic() && *c != 'e')
+    {
         let rest = &d[i + 1..];
         let end = rest
             .find(|c: char| c.is_ascii_alphabetic() && c != 'e')

@@ -18,10 +18,10 @@
 //! labels.
 
 use super::number::{fixed, num, units};
-use std::collections::HashMap;
-use std::collections::hash_map::Entry;
 use crate::drawing::{Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, text};
 use glam::DVec2;
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
 
 /// LightBurn's first palette entries (layer index = colour), for choosing
@@ -277,7 +277,13 @@ pub fn write(page: &Page) -> Vec<u8> {
             out.push_str("<Shape Type=\"Group\"><XForm>1 0 0 1 0 0</XForm><Children>\n");
         }
         for item in g.items.iter().filter(|i| i.layer != Layer::Art) {
-            shape(&mut out, index[item.layer as usize], item, &flip, &mut shared);
+            shape(
+                &mut out,
+                index[item.layer as usize],
+                item,
+                &flip,
+                &mut shared,
+            );
         }
         if grouped {
             out.push_str("</Children></Shape>\n");
