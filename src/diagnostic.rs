@@ -157,6 +157,8 @@ error_kinds! {
     SimulationOutOfRange as "design" => EXIT_INVALID,
     UnknownVertexJoint as "design" => EXIT_INVALID,
     NegativeClearance as "design" => EXIT_INVALID,
+    UnknownStacking as "design" => EXIT_INVALID,
+    StackingNeedsEvenLoop as "design" => EXIT_INVALID,
     UnknownVary as "design" => EXIT_INVALID,
     UnknownOptimiseMethod as "design" => EXIT_INVALID,
     EmptyVary as "design" => EXIT_INVALID,

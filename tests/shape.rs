@@ -57,42 +57,61 @@ fn torus_is_on_its_surface_and_covers_three_quarters_of_the_tube() {
 }
 
 #[test]
-fn half_ellipsoid_is_on_its_surface_below_its_rim() {
+fn half_ellipsoid_is_on_its_surface_below_its_rim_and_covers_97_percent() {
     let (d, lattice, m) = example("half-ellipsoid");
     assert!(m.fit_distance.unwrap() < 0.01, "{:?}", m.fit_distance);
     for v in &lattice.vertices {
         assert!(v.pos.z <= 1e-9, "{:?}", v.pos);
     }
-    // The 97 % is out of reach without clashes; this is what the
-    // optimiser reached, and why no symmetric rim of any N reaches more
-    // than 95.6 %. The cells lie inside the rim's N-gon (a share P_N of the
-    // disc) and leave the last ring's N-gon open at the pole. Two A (or B)
-    // strips of neighbouring columns share a layer and pass through the
-    // ends of one last-ring edge, so that edge is at least the strip width
-    // plus clearance (11 mm), and the pole hole has a circumradius of at
-    // least 11 / (2 sin(pi/N)).
     let share = m.coverage.unwrap().share;
-    assert!(share >= 0.94, "{share}");
-    let n = lattice.width;
-    let ring = &lattice.vertices[lattice.vertices.len() - n..];
-    let edge = (0..n)
-        .map(|j| ring[j].pos.distance(ring[(j + 1) % n].pos))
-        .fold(f64::INFINITY, f64::min);
-    let reach = d.fabrication.material.width + d.clash.clearance;
-    assert!(edge >= reach, "the pole ring's edges {edge} mm");
-    let hole = ring.iter().map(|v| v.pos.truncate().length()).sum::<f64>() / n as f64;
-    let polygon = |n: f64| n * (std::f64::consts::TAU / n).sin() / std::f64::consts::TAU;
-    // The coverage is sampled on a grid: within 0.2 % of the exact share.
-    let exact = polygon(n as f64) * (1.0 - (hole / 200.0).powi(2));
-    assert!(share <= exact + 0.002, "{share} {exact} hole {hole}");
-    let bound = |n: f64| {
-        let r = reach / (2.0 * (std::f64::consts::PI / n).sin());
-        polygon(n) * (1.0 - (r / 200.0).powi(2))
-    };
-    let best = (3..200).map(|n| bound(n as f64)).fold(0.0, f64::max);
-    assert!(best < 0.956, "{best}");
+    assert!(share >= 0.97, "{share}");
     let c = m.curvature.unwrap();
     assert_eq!(c.negative, 0.0, "{c:?}");
+    // Why its columns, not its rows, alternate their layers. With rows
+    // alternating, no symmetric rim of any N covers more than 95.6 %: the
+    // cells lie inside the rim's N-gon (a share P_N of the disc) and leave
+    // the last ring's N-gon open at the pole; two A (or B) strips of
+    // neighbouring columns share a layer and pass through the ends of one
+    // last-ring edge, so that edge is at least the strip width plus
+    // clearance (11 mm), and the pole hole's circumradius at least
+    // 11 / (2 sin(pi/N)).
+    let reach = d.fabrication.material.width + d.clash.clearance;
+    let polygon = |n: f64| n * (std::f64::consts::TAU / n).sin() / std::f64::consts::TAU;
+    let bound = |n: f64, apart: f64| {
+        let r = reach / (2.0 * (apart * std::f64::consts::PI / n).sin());
+        polygon(n) * (1.0 - (r / 200.0).powi(2))
+    };
+    let best = (3..200).map(|n| bound(n as f64, 1.0)).fold(0.0, f64::max);
+    assert!(best < 0.956, "{best}");
+    // This lattice stacked by rows does clash, at its pole ring.
+    let mut rows = lattice.clone();
+    rows.stacking = karigami::lattice::Stacking::Rows;
+    let fab = &d.fabrication;
+    let found = karigami::parts::clash::clashes(
+        &rows,
+        fab.material.width,
+        fab.end_margin,
+        d.clash.clearance,
+    );
+    assert!(!found.is_empty());
+    // By columns, the binding strips are two columns apart: the pole
+    // ring's chords over two edges are at least 11 mm, its single edges
+    // are not.
+    let n = lattice.width;
+    let ring = &lattice.vertices[lattice.vertices.len() - n..];
+    let chord = |k: usize| {
+        (0..n)
+            .map(|j| ring[j].pos.distance(ring[(j + k) % n].pos))
+            .fold(f64::INFINITY, f64::min)
+    };
+    assert!(chord(2) >= reach, "{}", chord(2));
+    assert!(chord(1) < reach, "{}", chord(1));
+    // The coverage is sampled on a grid: within 0.2 % of the exact share,
+    // which the columns' bound for this N caps.
+    let hole = ring.iter().map(|v| v.pos.truncate().length()).sum::<f64>() / n as f64;
+    let exact = polygon(n as f64) * (1.0 - (hole / 200.0).powi(2));
+    assert!(share <= exact + 0.002, "{share} {exact} hole {hole}");
+    assert!(exact <= bound(n as f64, 2.0) + 1e-9, "{exact}");
 }
 
 #[test]
