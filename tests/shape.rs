@@ -277,3 +277,39 @@ fn bowl_is_positively_curved_with_round_shrinking_sinking_turns() {
     let flange = d.fabrication.eyelet.flange;
     assert!(m.shape.min_leg > flange, "{}", m.shape.min_leg);
 }
+
+#[test]
+fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
+    // An arc seed cannot be written back point by point: refused, located.
+    let arc = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.arc]\ncenter = [0.0, 0.0]\nradius = 250.0\nfrom = 180.0\nto = 90.0\ncells = 4\n[lattice.fit]\nsurface = \"disk\"\nradius = 250.0\nrows = 3\n[optimise]\nvary = [\"seed\"]\nbudget = 5\n[optimise.objective]\ncoverage = 1.0\n";
+    let d = design::parse(arc, "arc").unwrap();
+    let e = karigami::solve::optimise(&d, arc, &mut |_| {}).unwrap_err();
+    assert!(
+        matches!(e.kind, karigami::diagnostic::ErrorKind::NothingToVary),
+        "{e:?}"
+    );
+    assert!(e.message.contains("points"), "{}", e.message);
+    assert_eq!(e.line_col(arc), Some((14, 1)));
+    // Written as points, the optimised seed stays on the circle (its points
+    // are boundary vertices) and its kappas are rewritten too.
+    let lattice = d.grow().unwrap();
+    let pts: Vec<String> = lattice.vertices[..5]
+        .iter()
+        .map(|v| format!("[{:?}, {:?}]", v.pos.x, v.pos.y))
+        .collect();
+    let text = arc
+        .replace("kappa = 0.0\n", "kappa = [0.0, 0.0, 0.0, 0.0]\n")
+        .replace(
+            "[lattice.arc]\ncenter = [0.0, 0.0]\nradius = 250.0\nfrom = 180.0\nto = 90.0\ncells = 4\n",
+            &format!("points = [{}]\n", pts.join(", ")),
+        )
+        .replace("budget = 5", "budget = 40");
+    let d = design::parse(&text, "points").unwrap();
+    let once = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
+    assert!(once.cost_after <= once.cost_before);
+    assert_ne!(once.text, text, "the seed was moved");
+    assert!(once.measures.boundary_distance.unwrap() < 1e-9);
+    assert_eq!(once.design.kappa.len(), 4);
+    let twice = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
+    assert_eq!(once.text, twice.text);
+}

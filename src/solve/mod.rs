@@ -50,6 +50,9 @@ enum Slot {
     Seed,
     /// A fit's `angles` (true) or `steps` (false), one per row.
     Fit { angles: bool, rows: usize },
+    /// A disk's sheet seed on its circle: each point's polar angle
+    /// (degrees), then each edge's kappa (mm).
+    Rim { radius: f64, points: usize },
 }
 
 /// The result of `optimise`.
@@ -135,6 +138,18 @@ impl Problem<'_> {
                         }
                     }
                     k += rows;
+                }
+                Slot::Rim { radius, points } => {
+                    let (angles, kappa) = v[k..k + 2 * points - 1].split_at(*points);
+                    d.points = angles
+                        .iter()
+                        .map(|a| {
+                            let a = a.to_radians();
+                            DVec3::new(radius * a.cos(), radius * a.sin(), 0.0)
+                        })
+                        .collect();
+                    d.kappa = kappa.to_vec();
+                    k += 2 * points - 1;
                 }
                 Slot::Seed => {
                     let (frame, p0) = (self.frame.as_ref().unwrap(), self.seed0.as_ref().unwrap());
@@ -488,6 +503,19 @@ fn slots(design: &Design, source: &str, opt: &Optimise) -> (Vec<Slot>, Vec<f64>,
     if opt.vary.contains(&Vary::Seed) && design.kind == Kind::Helix {
         slots.push(Slot::Seed);
     }
+    // A disk's seed stays on its circle (its points are boundary
+    // vertices): the points move along it, and each edge's kappa.
+    if opt.vary.contains(&Vary::Seed)
+        && design.kind == Kind::Sheet
+        && let Some(fit) = &design.fit
+        && let crate::design::fit::Surface::Disk { radius } = fit.surface
+    {
+        let n = design.points.len();
+        x0.extend(design.points.iter().map(|p| p.y.atan2(p.x).to_degrees()));
+        x0.extend(&design.kappa);
+        unit.extend(std::iter::repeat_n(1.0, 2 * n - 1));
+        slots.push(Slot::Rim { radius, points: n });
+    }
     (slots, x0, unit)
 }
 
@@ -616,6 +644,22 @@ pub fn optimise(
         )
         .at(opt.span.clone())
         .hint("vary \"angle\" needs rows with `angle = ...`, \"front\" rows with `front = { ... }`, \"seed\" a helix seed"));
+    }
+    // Only a seed written as `points = [...]` reads back as written (an
+    // arc's table would be overwritten by a list).
+    let reads_back = || {
+        design
+            .with_seed(source, &design.points, &design.kappa)
+            .and_then(|t| crate::design::parse(&t, &design.name).ok())
+            .is_some_and(|again| again.points == design.points && again.kappa == design.kappa)
+    };
+    if slots.iter().any(|s| matches!(s, Slot::Rim { .. })) && !reads_back() {
+        return Err(Diagnostic::new(
+            ErrorKind::NothingToVary,
+            "vary \"seed\" rewrites the seed, which this recipe does not write as points",
+        )
+        .at(opt.span.clone())
+        .hint("write the seed as `points = [[x, y], ...]` on the circle and `kappa = [...]`, one per edge"));
     }
     let dims = x0.len();
     let problem = Problem {
@@ -777,7 +821,7 @@ fn rewrite(p: &Problem, d: &Design, source: &str, _x: &[f64]) -> String {
                     }
                 }
             }
-            Slot::Seed => seed_text = Some(()),
+            Slot::Seed | Slot::Rim { .. } => seed_text = Some(()),
         }
     }
     edits.sort_by_key(|e| std::cmp::Reverse(e.0.start));
