@@ -65,8 +65,10 @@ fn half_ellipsoid_is_on_its_surface_below_its_rim_and_covers_97_percent() {
     }
     let share = m.coverage.unwrap().share;
     assert!(share >= 0.97, "{share}");
+    // An ellipsoid is positively curved everywhere; so is every interior
+    // vertex of the cut piece.
     let c = m.curvature.unwrap();
-    assert_eq!(c.negative, 0.0, "{c:?}");
+    assert!(c.negative == 0.0 && c.positive >= 0.9, "{c:?}");
     // Why its columns, not its rows, alternate their layers. With rows
     // alternating, no symmetric rim of any N covers more than 95.6 %: the
     // cells lie inside the rim's N-gon (a share P_N of the disc) and leave
