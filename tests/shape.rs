@@ -96,10 +96,38 @@ fn half_ellipsoid_is_on_its_surface_below_its_rim_and_covers_97_percent() {
         d.clash.clearance,
     );
     assert!(!found.is_empty());
+    let n = lattice.width;
+    // Stacked by columns, every full joint still holds layers 0..3 once
+    // each (the same grip), and a cell's two strips are stacked A then B.
+    use karigami::lattice::RodType;
+    for j in karigami::lattice::joints(&lattice) {
+        let mut layers: Vec<u32> = j.ends.iter().map(|e| e.layer).collect();
+        layers.sort();
+        if layers.len() == 4 {
+            assert_eq!(layers, [0, 1, 2, 3], "joint at vertex {}", j.vertex);
+        }
+        layers.dedup();
+        assert_eq!(layers.len(), j.ends.len(), "joint at vertex {}", j.vertex);
+    }
+    for c in &lattice.cells {
+        assert_eq!(
+            lattice.layer(c, RodType::A) + 1,
+            lattice.layer(c, RodType::B)
+        );
+        // Neighbouring columns of one row never share a layer.
+        let next = lattice
+            .cells
+            .iter()
+            .find(|d| d.row == c.row && d.col as usize == (c.col as usize + 1) % n)
+            .unwrap();
+        assert_ne!(
+            lattice.layer(c, RodType::A),
+            lattice.layer(next, RodType::A)
+        );
+    }
     // By columns, the binding strips are two columns apart: the pole
     // ring's chords over two edges are at least 11 mm, its single edges
     // are not.
-    let n = lattice.width;
     let ring = &lattice.vertices[lattice.vertices.len() - n..];
     let chord = |k: usize| {
         (0..n)
