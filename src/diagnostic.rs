@@ -154,6 +154,8 @@ error_kinds! {
     SimulationOutOfRange => EXIT_INVALID,
     UnknownVertexJoint => EXIT_INVALID,
     NegativeClearance => EXIT_INVALID,
+    UnknownStacking => EXIT_INVALID,
+    StackingNeedsEvenLoop => EXIT_INVALID,
     UnknownVary => EXIT_INVALID,
     UnknownOptimiseMethod => EXIT_INVALID,
     EmptyVary => EXIT_INVALID,

@@ -102,6 +102,18 @@ pub struct Lattice {
     /// frame); empty for a row grown on the previous row's vertices. Empty
     /// altogether for an extrinsic lattice.
     pub fronts: Vec<Vec<DVec3>>,
+    /// How strips are given their stacking layers (see `layer`).
+    pub stacking: Stacking,
+}
+
+/// Which neighbours of a loop alternate their stacking layers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stacking {
+    /// Rows alternate (every lattice unless the recipe asks otherwise).
+    #[default]
+    Rows,
+    /// Columns alternate: for loops of an even number of columns.
+    Columns,
 }
 
 impl Lattice {
@@ -186,7 +198,7 @@ impl Lattice {
     }
 
     /// Stacking layer of a rod (MATH.md 10.2): all strips meeting at any
-    /// joint get distinct layers.
+    /// joint get distinct layers, contiguous (0..3 at a full joint).
     pub fn layer(&self, cell: &Cell, kind: RodType) -> u32 {
         let ab = match kind {
             RodType::A => 0,
@@ -201,6 +213,16 @@ impl Lattice {
                     .find(|q| (n - 1) % q != 0 && (n + 1) % q != 0)
                     .expect("some q divides neither");
                 2 * (k % q) + ab
+            }
+            // Columns alternate instead of rows (an even loop whose recipe
+            // asks for it): two A (or B) strips of neighbouring columns then
+            // never share a layer, so a ring closing in on the axis (the
+            // pole of a dome) is bounded by strips two columns apart, not
+            // one. Every joint still holds layers 0..3 once each: row i's A
+            // and row i-1's B of column j, row i's B and row i-1's A of
+            // column j - 1, whose parities differ.
+            Kind::Loop if self.stacking == Stacking::Columns && self.width % 2 == 0 => {
+                2 * (cell.col % 2) + ab
             }
             _ => 2 * (cell.row % 2) + ab,
         }
