@@ -134,6 +134,17 @@ impl Check {
     pub fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
+
+    /// This check followed by the records of `later` (of the same
+    /// invariant): what recording them here one by one would give.
+    fn then(mut self, later: Check) -> Check {
+        self.count += later.count;
+        if !self.max.is_nan() && (later.max.is_nan() || later.max > self.max) {
+            self.max = later.max;
+            self.site = later.site;
+        }
+        self
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -172,30 +183,31 @@ impl Report {
 
 const NONE: u32 = u32::MAX;
 
-/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE).
-struct Incidence {
-    ul: Vec<u32>,
-    ur: Vec<u32>,
-    ll: Vec<u32>,
-    lr: Vec<u32>,
-}
+/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE),
+/// side by side: a vertex's four in one cache line.
+struct Incidence(Vec<[u32; 4]>);
+
+const UL: usize = 0;
+const UR: usize = 1;
+const LL: usize = 2;
+const LR: usize = 3;
 
 impl Incidence {
     fn new(lattice: &Lattice) -> Self {
-        let n = lattice.vertices.len();
-        let mut inc = Self {
-            ul: vec![NONE; n],
-            ur: vec![NONE; n],
-            ll: vec![NONE; n],
-            lr: vec![NONE; n],
-        };
+        let mut inc = vec![[NONE; 4]; lattice.vertices.len()];
         for (c, cell) in lattice.cells.iter().enumerate() {
-            inc.ul[cell.ul as usize] = c as u32;
-            inc.ur[cell.ur as usize] = c as u32;
-            inc.ll[cell.ll as usize] = c as u32;
-            inc.lr[cell.lr as usize] = c as u32;
+            inc[cell.ul as usize][UL] = c as u32;
+            inc[cell.ur as usize][UR] = c as u32;
+            inc[cell.ll as usize][LL] = c as u32;
+            inc[cell.lr as usize][LR] = c as u32;
         }
-        inc
+        Self(inc)
+    }
+
+    /// The cell in which vertex `v` is the corner `corner`.
+    #[inline]
+    fn at(&self, v: u32, corner: usize) -> u32 {
+        self.0[v as usize][corner]
     }
 }
 
@@ -230,6 +242,9 @@ fn mean(legs: &Legs) -> f64 {
 pub fn verify(lattice: &Lattice) -> Report {
     use Invariant as I;
     let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+    // One sum of the mean legs serves the tolerance and the collapsed
+    // state's scale (the same sum, in the same order, as each made it).
+    let leg_sum: f64 = legs.iter().map(mean).sum();
     let inc = Incidence::new(lattice);
     let z = |v: u32| lattice.vertices[v as usize].z;
 
@@ -243,7 +258,7 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut slope = Check::new(I::CompatibilitySlope);
     let mut intercept = Check::new(I::CompatibilityIntercept);
     let mut natural = Check::new(I::CompatibilityInterceptNatural);
-    let mut collapsed = Collapsed::new(lattice);
+    let mut collapsed = Collapsed::new(lattice, leg_sum);
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
@@ -271,7 +286,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             seed.record(rel((l4 - l1) - lattice.kappa(cell)), site);
         }
         // Right neighbour: B.UL = A.UR and B.LL = A.LR.
-        let right = inc.ul[cell.ur as usize];
+        let right = inc.at(cell.ur, UL);
         if right != NONE && lattice.cells[right as usize].ll == cell.lr {
             let b = &lattice.cells[right as usize];
             let [m1, m2, _, _] = legs[right as usize];
@@ -282,7 +297,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        let below = inc.ul[cell.ll as usize];
+        let below = inc.at(cell.ll, UL);
         if below != NONE && lattice.cells[below as usize].ur == cell.lr {
             let b = &lattice.cells[below as usize];
             let [m1, _, _, m4] = legs[below as usize];
@@ -297,8 +312,9 @@ pub fn verify(lattice: &Lattice) -> Report {
         // each vertex once, at the cell its incidence names, in the order
         // of the cells (that of their UL vertices), without a pass of its own.
         let v = cell.ul as usize;
-        let (a, b, cc, d) = (c as u32, inc.ll[v], inc.lr[v], inc.ur[v]);
-        if inc.ul[v] == a && ![b, cc, d].contains(&NONE) {
+        let [ul_of, ur_of, ll_of, lr_of] = inc.0[v];
+        let (a, b, cc, d) = (c as u32, ll_of, lr_of, ur_of);
+        if ul_of == a && ![b, cc, d].contains(&NONE) {
             let [a, b, cc, d] = [a, b, cc, d].map(|k| legs[k as usize]);
             // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
             let f = |la: f64, lb: f64, lc: f64| {
@@ -326,10 +342,7 @@ pub fn verify(lattice: &Lattice) -> Report {
         }
     }
 
-    // One sum of the mean legs serves the tolerance and the collapsed
-    // state's scale (the same sum, in the same order, as each made it).
-    let leg_sum: f64 = legs.iter().map(mean).sum();
-    let collapsed = collapsed.finish(lattice, &legs, leg_sum);
+    let collapsed = collapsed.finish(lattice, &legs);
     let tolerance = tolerance_with(lattice, leg_sum);
     Report {
         tolerance,
@@ -360,16 +373,22 @@ pub fn verify(lattice: &Lattice) -> Report {
 /// (`step`), with the rod lengths of the cell just swept: its corners' z
 /// are final then, unless some cell was not reached, when `finish`
 /// measures the rods again after the sweep, as they were measured before.
+/// A pivot's z is final once its cell is swept, so it is compared with
+/// the construction there; the vertices' after the sweep, and the two
+/// comparisons are joined as if the vertices' had come first.
 struct Collapsed {
     single: Check,
     rods: Check,
+    /// The pivots' comparison with the construction.
+    pivots: Check,
     z: Vec<f64>,
-    z_pivot: Vec<f64>,
+    /// The mean leg of the lattice: the scale of the comparison.
+    global: f64,
     all_reached: bool,
 }
 
 impl Collapsed {
-    fn new(lattice: &Lattice) -> Self {
+    fn new(lattice: &Lattice, leg_sum: f64) -> Self {
         use Invariant as I;
         let mut z = vec![f64::NAN; lattice.vertices.len()];
         if let Some(first) = z.first_mut() {
@@ -378,8 +397,9 @@ impl Collapsed {
         Self {
             single: Check::new(I::CollapsedSingleValued),
             rods: Check::new(I::CollapsedRodLength),
+            pivots: Check::new(I::CollapsedMatchesConstruction),
             z,
-            z_pivot: vec![f64::NAN; lattice.cells.len()],
+            global: leg_sum / lattice.cells.len().max(1) as f64,
             all_reached: true,
         }
     }
@@ -392,17 +412,23 @@ impl Collapsed {
         let z = &mut self.z;
         // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
         let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
-        let Some(zp) = offsets.iter().find_map(|&(v, off)| {
+        let found = offsets.iter().find_map(|&(v, off)| {
             let zv = z[v as usize];
             (!zv.is_nan()).then_some(zv - off)
-        }) else {
+        });
+        // An unreached pivot has no z: its comparison is NaN and fails.
+        let zp = found.unwrap_or(f64::NAN);
+        self.pivots.record(
+            (zp - cell.z_pivot) / (self.global + cell.z_pivot.abs()),
+            || lattice.cell_name(cell),
+        );
+        if found.is_none() {
             self.single.record(f64::NAN, || {
                 format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
             });
             self.all_reached = false;
             return;
-        };
-        self.z_pivot[c] = zp;
+        }
         for (corner, offset) in offsets {
             let expect = zp + offset;
             let slot = &mut z[corner as usize];
@@ -428,31 +454,26 @@ impl Collapsed {
     }
 
     /// The comparison with the construction, after the sweep.
-    fn finish(self, lattice: &Lattice, legs: &[Legs], leg_sum: f64) -> [Check; 3] {
+    fn finish(self, lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
         let Self {
             single,
             mut rods,
+            pivots,
             z,
-            z_pivot,
+            global,
             all_reached,
         } = self;
         let mut matches = Check::new(Invariant::CollapsedMatchesConstruction);
-        let global = leg_sum / legs.len().max(1) as f64;
         for (v, vertex) in lattice.vertices.iter().enumerate() {
             matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
                 vertex_site(lattice, v)
             });
         }
+        let matches = matches.then(pivots);
         if !all_reached {
             rods = Check::new(Invariant::CollapsedRodLength);
-        }
-        for (c, cell) in lattice.cells.iter().enumerate() {
-            let site = || lattice.cell_name(cell);
-            matches.record(
-                (z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()),
-                site,
-            );
-            if !all_reached {
+            for (c, cell) in lattice.cells.iter().enumerate() {
+                let site = || lattice.cell_name(cell);
                 let inv = 1.0 / mean(&legs[c]);
                 let [ul, ur, ll, lr] = lattice.corners(cell);
                 rods.record(
