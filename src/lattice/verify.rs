@@ -30,8 +30,19 @@ fn tolerance_with(lattice: &Lattice, legs: f64) -> f64 {
     let extent = lattice
         .vertices
         .iter()
-        .map(|v| v.pos.abs().max_element().max(v.z.abs()))
+        .map(vertex_extent)
         .fold(0.0, f64::max);
+    tolerance_of(lattice, legs, extent)
+}
+
+/// How far a vertex is from the origin, coordinate- and z-wise.
+#[inline]
+fn vertex_extent(v: &super::Vertex) -> f64 {
+    v.pos.abs().max_element().max(v.z.abs())
+}
+
+/// `tolerance_with`, given the largest `vertex_extent`.
+fn tolerance_of(lattice: &Lattice, legs: f64, extent: f64) -> f64 {
     let leg = legs / lattice.cells.len().max(1) as f64;
     if !(leg > 0.0) || !extent.is_finite() {
         return TOLERANCE;
@@ -193,15 +204,22 @@ const LL: usize = 2;
 const LR: usize = 3;
 
 impl Incidence {
-    fn new(lattice: &Lattice) -> Self {
+    /// The incidence, with every cell's legs and the sum of their means
+    /// (in cell order), in one pass over the cells.
+    fn with_legs(lattice: &Lattice) -> (Self, Vec<Legs>, f64) {
         let mut inc = vec![[NONE; 4]; lattice.vertices.len()];
+        let mut legs = Vec::with_capacity(lattice.cells.len());
+        let mut leg_sum = 0.0;
         for (c, cell) in lattice.cells.iter().enumerate() {
             inc[cell.ul as usize][UL] = c as u32;
             inc[cell.ur as usize][UR] = c as u32;
             inc[cell.ll as usize][LL] = c as u32;
             inc[cell.lr as usize][LR] = c as u32;
+            let l = lattice.legs(cell);
+            leg_sum += mean(&l);
+            legs.push(l);
         }
-        Self(inc)
+        (Self(inc), legs, leg_sum)
     }
 
     /// The cell in which vertex `v` is the corner `corner`.
@@ -241,11 +259,9 @@ fn mean(legs: &Legs) -> f64 {
 /// Check every invariant of MATH.md 8.0-8.3.
 pub fn verify(lattice: &Lattice) -> Report {
     use Invariant as I;
-    let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
     // One sum of the mean legs serves the tolerance and the collapsed
     // state's scale (the same sum, in the same order, as each made it).
-    let leg_sum: f64 = legs.iter().map(mean).sum();
-    let inc = Incidence::new(lattice);
+    let (inc, legs, leg_sum) = Incidence::with_legs(lattice);
     let z = |v: u32| lattice.vertices[v as usize].z;
 
     let mut straight = Check::new(I::RodStraightness);
@@ -342,8 +358,8 @@ pub fn verify(lattice: &Lattice) -> Report {
         }
     }
 
-    let collapsed = collapsed.finish(lattice, &legs);
-    let tolerance = tolerance_with(lattice, leg_sum);
+    let (collapsed, extent) = collapsed.finish(lattice, &legs);
+    let tolerance = tolerance_of(lattice, leg_sum, extent);
     Report {
         tolerance,
         cells: lattice.cells.len(),
@@ -454,7 +470,8 @@ impl Collapsed {
     }
 
     /// The comparison with the construction, after the sweep.
-    fn finish(self, lattice: &Lattice, legs: &[Legs]) -> [Check; 3] {
+    /// Also the largest `vertex_extent`, measured in the same pass.
+    fn finish(self, lattice: &Lattice, legs: &[Legs]) -> ([Check; 3], f64) {
         let Self {
             single,
             mut rods,
@@ -464,7 +481,9 @@ impl Collapsed {
             all_reached,
         } = self;
         let mut matches = Check::new(Invariant::CollapsedMatchesConstruction);
+        let mut extent: f64 = 0.0;
         for (v, vertex) in lattice.vertices.iter().enumerate() {
+            extent = extent.max(vertex_extent(vertex));
             matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
                 vertex_site(lattice, v)
             });
@@ -486,7 +505,7 @@ impl Collapsed {
                 );
             }
         }
-        [single, matches, rods]
+        ([single, matches, rods], extent)
     }
 }
 
