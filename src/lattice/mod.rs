@@ -23,7 +23,7 @@ pub use grow::{
     RowParams, fmt_len, front_frame, grow, grow_sheet,
 };
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
-pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelets};
+pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelet_count, vertex_eyelets};
 pub(crate) use placed::largest_eigenvector;
 pub use rods::{Rod, RodType};
 pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, tolerance, verify};
