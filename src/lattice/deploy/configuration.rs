@@ -163,11 +163,11 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
         if (0..4).any(|a| (a + 1..4).any(|b| c[a] == c[b])) {
             return None;
         }
-        for e in 0..4 {
+        for (e, slot) in nbr[i].iter_mut().enumerate() {
             let mut more = false;
             users.sharers(lattice, i, e, |j, ej| {
-                more |= nbr[i][e] != NO_CELL;
-                nbr[i][e] = j as u32 | (ej as u32) << 30;
+                more |= *slot != NO_CELL;
+                *slot = j as u32 | (ej as u32) << 30;
             });
             if more {
                 return None;
