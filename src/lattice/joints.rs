@@ -95,26 +95,11 @@ pub fn joints(lattice: &Lattice) -> Vec<Joint> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
-    use crate::lattice::{Kind, RowParams, grow};
-    use glam::DVec3;
+    use crate::lattice::fixtures;
 
     #[test]
     fn eyelet_count_matches_the_joints() {
-        let points: Vec<DVec3> = (0..5)
-            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
-            .collect();
-        let row = RowParams {
-            start: 1,
-            direction: Some(Direction::Angles {
-                angle_deg: 45.0,
-                tilt_deg: 0.0,
-            }),
-            left_leg: Leg::Match,
-            right_leg: Leg::Match,
-            ..RowParams::default()
-        };
-        let sheet = grow(Kind::Sheet, 2, &points, &[0.0; 4], &vec![row; 3]).unwrap();
+        let sheet = fixtures::sheet(&fixtures::line(4), &[0.0; 4], 1, 45.0, 3);
         let count = vertex_eyelet_count(&sheet);
         assert_eq!(count, vertex_eyelets(&joints(&sheet)));
         // The seed's and the last row's end vertices hold one rod end.

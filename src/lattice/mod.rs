@@ -254,3 +254,40 @@ impl Lattice {
 pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
 }
+
+/// Small lattices for the unit tests of the lattice's modules.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use super::{Kind, Lattice, RowParams, grow};
+    use crate::geometry::{Direction, Leg};
+    use glam::DVec3;
+
+    /// A sheet grown on `points` with these `kappa`, `rows` rows at
+    /// `angle_deg` from site `start`, both ends matched.
+    pub fn sheet(
+        points: &[DVec3],
+        kappa: &[f64],
+        start: usize,
+        angle_deg: f64,
+        rows: usize,
+    ) -> Lattice {
+        let row = RowParams {
+            start,
+            direction: Some(Direction::Angles {
+                angle_deg,
+                tilt_deg: 0.0,
+            }),
+            left_leg: Leg::Match,
+            right_leg: Leg::Match,
+            ..RowParams::default()
+        };
+        grow(Kind::Sheet, 2, points, kappa, &vec![row; rows]).unwrap()
+    }
+
+    /// `n + 1` seed points 10 mm apart on the x axis.
+    pub fn line(n: usize) -> Vec<DVec3> {
+        (0..=n)
+            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
+            .collect()
+    }
+}

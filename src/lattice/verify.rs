@@ -512,24 +512,10 @@ impl Collapsed {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
-    use crate::lattice::{Kind, RowParams, grow};
+    use crate::lattice::fixtures;
 
     fn sheet() -> Lattice {
-        let points: Vec<DVec3> = (0..4)
-            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
-            .collect();
-        let row = RowParams {
-            start: 1,
-            direction: Some(Direction::Angles {
-                angle_deg: 45.0,
-                tilt_deg: 0.0,
-            }),
-            left_leg: Leg::Match,
-            right_leg: Leg::Match,
-            ..RowParams::default()
-        };
-        grow(Kind::Sheet, 2, &points, &[0.0; 3], &vec![row; 3]).unwrap()
+        fixtures::sheet(&fixtures::line(3), &[0.0; 3], 1, 45.0, 3)
     }
 
     /// A cell reached through no corner fails the collapsed state, and the

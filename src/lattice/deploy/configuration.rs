@@ -301,8 +301,7 @@ fn propagate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
-    use crate::lattice::{Kind, RowParams, grow};
+    use crate::lattice::fixtures;
     use glam::DVec3;
 
     /// The propagation over precomputed neighbours and the one asking the
@@ -313,18 +312,8 @@ mod tests {
         let points: Vec<DVec3> = (0..7)
             .map(|j| DVec3::new(10.0 * j as f64 + (j % 3) as f64, 0.3 * (j % 2) as f64, 0.0))
             .collect();
-        let row = RowParams {
-            start: 2,
-            direction: Some(Direction::Angles {
-                angle_deg: 50.0,
-                tilt_deg: 0.0,
-            }),
-            left_leg: Leg::Match,
-            right_leg: Leg::Match,
-            ..RowParams::default()
-        };
         let kappa = [0.5, -0.3, 0.2, 0.0, -0.4, 0.1];
-        let lattice = grow(Kind::Sheet, 2, &points, &kappa, &vec![row; 5]).unwrap();
+        let lattice = fixtures::sheet(&points, &kappa, 2, 50.0, 5);
         let n = lattice.cells.len();
         let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
         let users = Users::new(&lattice);
