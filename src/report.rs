@@ -8,7 +8,7 @@ pub use json::{build_check_json, build_json, check_json};
 use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Joint, Lattice, Report, joints, vertex_eyelets};
+use crate::lattice::{Lattice, Report, joints, vertex_eyelet_count};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
@@ -22,8 +22,7 @@ pub fn check_text(
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
     let (lo, hi) = lattice.placed().extent();
     let size = hi - lo;
-    let joints = joints(lattice);
-    let eyelets = vertex_eyelets(&joints);
+    let eyelets = vertex_eyelet_count(lattice);
     let _ = writeln!(out, "design: {}", design.name);
     let shape = match lattice.kind {
         crate::lattice::Kind::Helix => {
@@ -87,7 +86,7 @@ pub fn check_text(
     }
     out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
     deployment_text(&mut out, lattice, deploy);
-    part_types_text(&mut out, design, lattice, &joints);
+    part_types_text(&mut out, design, lattice);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -100,11 +99,11 @@ pub fn check_text(
 
 /// The part types (interchangeable strips) and what is engraved on the
 /// strips, when the lattice is small enough to make parts for.
-fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice, joints: &[Joint]) {
+fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
     if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
         return;
     }
-    let Ok(p) = crate::parts::parts(lattice, joints, &design.fabrication) else {
+    let Ok(p) = crate::parts::parts(lattice, &joints(lattice), &design.fabrication) else {
         return;
     };
     let _ = writeln!(out, "{}", crate::parts::types::summary(&p));

@@ -23,7 +23,7 @@ pub use grow::{
     RowParams, fmt_len, front_frame, grow, grow_sheet,
 };
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
-pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelets};
+pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelet_count, vertex_eyelets};
 pub(crate) use placed::largest_eigenvector;
 pub use rods::{Rod, RodType};
 pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, tolerance, verify};
@@ -275,4 +275,41 @@ impl Lattice {
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).
 pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
+}
+
+/// Small lattices for the unit tests of the lattice's modules.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use super::{Kind, Lattice, RowParams, grow};
+    use crate::geometry::{Direction, Leg};
+    use glam::DVec3;
+
+    /// A sheet grown on `points` with these `kappa`, `rows` rows at
+    /// `angle_deg` from site `start`, both ends matched.
+    pub fn sheet(
+        points: &[DVec3],
+        kappa: &[f64],
+        start: usize,
+        angle_deg: f64,
+        rows: usize,
+    ) -> Lattice {
+        let row = RowParams {
+            start,
+            direction: Some(Direction::Angles {
+                angle_deg,
+                tilt_deg: 0.0,
+            }),
+            left_leg: Leg::Match,
+            right_leg: Leg::Match,
+            ..RowParams::default()
+        };
+        grow(Kind::Sheet, 2, points, kappa, &vec![row; rows]).unwrap()
+    }
+
+    /// `n + 1` seed points 10 mm apart on the x axis.
+    pub fn line(n: usize) -> Vec<DVec3> {
+        (0..=n)
+            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
+            .collect()
+    }
 }
