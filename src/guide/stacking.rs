@@ -135,27 +135,66 @@ fn role(lattice: &Lattice, step: &Step, e: &crate::lattice::JointEnd) -> Role {
     }
 }
 
-/// One order of roles that every joint of the step follows (each joint's
-/// ends in layer order are a subsequence of it), when there is one: then
-/// the step's stacking can be said once for all its joints.
-pub fn common_order(lattice: &Lattice, step: &Step) -> Option<Vec<Role>> {
-    let mut order: Vec<(u32, Role)> = Vec::new();
+/// The joints of a step grouped by the order of roles they stack in (each
+/// joint's ends in layer order are a subsequence of its group's order), in
+/// the order the groups first appear: then each group's stacking can be said
+/// once for all its joints. `None` when more than `MAX_ORDERS` groups would
+/// be needed (then each joint is listed with its own stack).
+pub fn orders<'a>(lattice: &Lattice, step: &'a Step) -> Option<Vec<(Vec<Role>, Vec<&'a Joint>)>> {
+    let mut groups: Vec<(Vec<(u32, Role)>, Vec<&Joint>)> = Vec::new();
     for j in &step.joints {
-        for e in &j.ends {
-            let r = role(lattice, step, e);
-            match order.iter().find(|o| o.1 == r) {
-                Some(o) if o.0 != e.layer => return None,
-                Some(_) => {}
-                None => order.push((e.layer, r)),
+        match groups
+            .iter_mut()
+            .find_map(|g| with_joint(lattice, step, &g.0, j).map(|o| (g, o)))
+        {
+            Some((g, order)) => {
+                g.0 = order;
+                g.1.push(j);
             }
+            None => {
+                let order = with_joint(lattice, step, &[], j)?;
+                groups.push((order, vec![j]));
+            }
+        }
+        if groups.len() > MAX_ORDERS {
+            return None;
+        }
+    }
+    Some(
+        groups
+            .into_iter()
+            .map(|(order, joints)| (order.into_iter().map(|(_, r)| r).collect(), joints))
+            .collect(),
+    )
+}
+
+/// At most this many stacking orders are said per step; beyond it the
+/// joints are listed one by one.
+const MAX_ORDERS: usize = 3;
+
+/// `order` (layer, role pairs sorted by layer) extended by `joint`'s ends,
+/// or `None` if the joint puts a role on another layer than `order` does or
+/// two roles would share a layer.
+fn with_joint(
+    lattice: &Lattice,
+    step: &Step,
+    order: &[(u32, Role)],
+    joint: &Joint,
+) -> Option<Vec<(u32, Role)>> {
+    let mut order = order.to_vec();
+    for e in &joint.ends {
+        let r = role(lattice, step, e);
+        match order.iter().find(|o| o.1 == r) {
+            Some(o) if o.0 != e.layer => return None,
+            Some(_) => {}
+            None => order.push((e.layer, r)),
         }
     }
     order.sort_by_key(|o| o.0);
-    // Two roles on one layer could not be ordered.
     if order.windows(2).any(|w| w[0].0 == w[1].0) {
         return None;
     }
-    Some(order.into_iter().map(|(_, r)| r).collect())
+    Some(order)
 }
 
 /// The roles of a joint's ends, bottom to top.

@@ -94,8 +94,8 @@ pub(super) fn step_block(
     side: &stacking::Side,
 ) {
     let helix = b.lattice.kind == crate::lattice::Kind::Helix;
-    let order = stacking::common_order(&b.lattice, step);
-    let lines = step_text(b, step, side, order.as_deref());
+    let orders = stacking::orders(&b.lattice, step);
+    let lines = step_text(b, step, side, orders.as_deref());
     let text_x = if layout.side {
         MARGIN + layout.size.x + 5.0
     } else {
@@ -141,7 +141,7 @@ pub(super) fn step_block(
         })
     }));
     w.place(pictures.prefix(&pictures.dots, &pictures.dot_blocks, k + 1, at));
-    let named: Vec<usize> = if order.is_none() {
+    let named: Vec<usize> = if orders.is_none() {
         step.joints
             .iter()
             .flat_map(|j| j.ends.iter().map(|e| e.rod))

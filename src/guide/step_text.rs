@@ -6,6 +6,7 @@ use super::{NEW, bumps, key, mm};
 use crate::assembly::Step;
 use crate::build::Build;
 use crate::drawing::flow::{BLACK, GREY};
+use crate::lattice::Joint;
 use crate::words::plural;
 
 /// A joint as the guide names it: `[row,col]`, or `[k]` on a helix.
@@ -36,7 +37,7 @@ pub(super) fn step_text(
     b: &Build,
     step: &Step,
     side: &stacking::Side,
-    order: Option<&[stacking::Role]>,
+    orders: Option<&[(Vec<stacking::Role>, Vec<&Joint>)]>,
 ) -> Vec<(String, bool, [u8; 3])> {
     let l = &b.lattice;
     let strips = &b.parts.strips;
@@ -97,29 +98,76 @@ pub(super) fn step_text(
     lines.push((pivots, false, BLACK));
     if step.joints.is_empty() {
         lines.push(("2. No joint closes in this step.".into(), false, BLACK));
-    } else if let Some(order) = order {
-        let roles: Vec<String> = order.iter().map(|r| r.name(helix)).collect();
-        let mut by_grip: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
-        for j in &step.joints {
+    } else if let Some(orders) = orders {
+        // Joint keys by grip, largest first.
+        let by_grip = |joints: &[&Joint]| {
+            let mut by_grip: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
+            for j in joints {
+                by_grip
+                    .entry(j.ends.len())
+                    .or_default()
+                    .push(joint_key(l, j.vertex));
+            }
             by_grip
-                .entry(j.ends.len())
-                .or_default()
-                .push(joint_key(l, j.vertex));
+                .into_iter()
+                .rev()
+                .collect::<Vec<(usize, Vec<String>)>>()
+        };
+        // "4 strips, grip 4 mm: [1,0] [3,0]; 2 strips, ...".
+        let grips = |joints: &[&Joint]| {
+            by_grip(joints)
+                .iter()
+                .map(|(k, keys)| {
+                    format!("{k} strips, grip {}: {}", mm(*k as f64 * t), keys.join(" "))
+                })
+                .collect::<Vec<String>>()
+                .join("; ")
+        };
+        let stack = |order: &[stacking::Role]| {
+            order
+                .iter()
+                .map(|r| r.name(helix))
+                .collect::<Vec<String>>()
+                .join(", then ")
+        };
+        if let [(order, joints)] = orders {
+            lines.push((
+                format!(
+                    "2. Joints (blue): stack {} (fewer at an edge); one eyelet each. {}.",
+                    stack(order),
+                    grips(joints)
+                ),
+                false,
+                BLACK,
+            ));
+        } else {
+            lines.push((
+                format!(
+                    "2. Joints (blue), one eyelet each; {} stacking orders (fewer at an edge):",
+                    orders.len()
+                ),
+                false,
+                BLACK,
+            ));
+            for (order, joints) in orders {
+                // "[1,0] [1,2] (4 strips, grip 4 mm): stack ...".
+                let keys: Vec<String> = by_grip(joints)
+                    .iter()
+                    .map(|(k, keys)| {
+                        format!(
+                            "{} ({k} strips, grip {})",
+                            keys.join(" "),
+                            mm(*k as f64 * t)
+                        )
+                    })
+                    .collect();
+                lines.push((
+                    format!("- {}: stack {}.", keys.join("; "), stack(order)),
+                    false,
+                    BLACK,
+                ));
+            }
         }
-        let grips: Vec<String> = by_grip
-            .iter()
-            .rev()
-            .map(|(k, keys)| format!("{k} strips, grip {}: {}", mm(*k as f64 * t), keys.join(" ")))
-            .collect();
-        lines.push((
-            format!(
-                "2. Joints (blue): stack {} (fewer at an edge); one eyelet each. {}.",
-                roles.join(", then "),
-                grips.join("; ")
-            ),
-            false,
-            BLACK,
-        ));
     } else {
         lines.push((
             "2. Joints (blue), stacked first to last as listed:".into(),
