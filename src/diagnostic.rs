@@ -5,11 +5,11 @@ use std::fmt::Write as _;
 use std::ops::Range;
 
 /// Exit status of a run that found a design invalid or a check failed.
-pub const EXIT_INVALID: i32 = 1;
+pub(crate) const EXIT_INVALID: i32 = 1;
 /// Exit status of a usage error: a flag, command or name that is not known.
-pub const EXIT_USAGE: i32 = 2;
+pub(crate) const EXIT_USAGE: i32 = 2;
 /// Exit status of a file that could not be read or written.
-pub const EXIT_IO: i32 = 3;
+pub(crate) const EXIT_IO: i32 = 3;
 
 /// Write the `ErrorKind` enum once: each kind, the name shown to users
 /// (the kind's own name unless `as "group"` keeps an older, shared one),
@@ -25,7 +25,7 @@ macro_rules! error_kinds {
 
         impl ErrorKind {
             /// Every kind, in the order they are declared.
-            pub const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
+            pub(crate) const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
 
             /// The name users see and search for (MATH.md 9 for growth).
             pub fn name(self) -> &'static str {
@@ -197,7 +197,7 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
-    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
+    pub(crate) fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
         Self {
             kind,
             message: message.into(),
@@ -207,22 +207,22 @@ impl Diagnostic {
         }
     }
 
-    pub fn at(mut self, span: Range<usize>) -> Self {
+    pub(crate) fn at(mut self, span: Range<usize>) -> Self {
         self.span = Some(span);
         self
     }
 
-    pub fn at_opt(mut self, span: Option<Range<usize>>) -> Self {
+    pub(crate) fn at_opt(mut self, span: Option<Range<usize>>) -> Self {
         self.span = span;
         self
     }
 
-    pub fn site(mut self, site: impl Into<String>) -> Self {
+    pub(crate) fn site(mut self, site: impl Into<String>) -> Self {
         self.site = Some(site.into());
         self
     }
 
-    pub fn hint(mut self, hint: impl Into<String>) -> Self {
+    pub(crate) fn hint(mut self, hint: impl Into<String>) -> Self {
         self.hint = Some(hint.into());
         self
     }

@@ -9,7 +9,7 @@ use glam::{DVec2, DVec3};
 use toml::Spanned;
 
 #[derive(Clone, Debug, PartialEq)]
-pub enum Surface {
+pub(crate) enum Surface {
     Disk {
         radius: f64,
     },
@@ -32,26 +32,26 @@ pub enum Surface {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fit {
-    pub surface: Surface,
-    pub rows: usize,
+    pub(crate) surface: Surface,
+    pub(crate) rows: usize,
     /// Directions tried per row (per axis, for the ellipsoid).
-    pub samples: usize,
+    pub(crate) samples: usize,
     /// Open fits: each row's leg angle, given instead of searched for.
-    pub angles: Option<Vec<f64>>,
+    pub(crate) angles: Option<Vec<f64>>,
     /// Ellipsoid loops: each ring's step down the meridian (mm).
-    pub steps: Option<Vec<f64>>,
+    pub(crate) steps: Option<Vec<f64>>,
     /// Where the table and those lists were written (for rewriting them).
-    pub spans: FitSpans,
+    pub(crate) spans: FitSpans,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct FitSpans {
-    pub table: std::ops::Range<usize>,
-    pub angles: Option<std::ops::Range<usize>>,
-    pub steps: Option<std::ops::Range<usize>>,
+pub(crate) struct FitSpans {
+    pub(crate) table: std::ops::Range<usize>,
+    pub(crate) angles: Option<std::ops::Range<usize>>,
+    pub(crate) steps: Option<std::ops::Range<usize>>,
 }
 
-pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnostic> {
+pub(crate) fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnostic> {
     let raw = f.get_ref();
     let need = |what: &str, hint: &str| {
         Diagnostic::new(
@@ -279,7 +279,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
 
 impl Surface {
     /// Distance from a point to the target surface (for the fit error).
-    pub fn distance(&self, p: DVec3) -> f64 {
+    pub(crate) fn distance(&self, p: DVec3) -> f64 {
         match self {
             Surface::Disk { radius } => (p.truncate().length() - radius).max(0.0),
             Surface::Ellipsoid { axes } => ellipsoid_distance(*axes, p),
@@ -300,7 +300,7 @@ impl Surface {
     }
 
     /// A length for relative errors.
-    pub fn size(&self) -> f64 {
+    pub(crate) fn size(&self) -> f64 {
         match self {
             Surface::Disk { radius } => 2.0 * radius,
             Surface::Ellipsoid { axes } => 2.0 * axes.max_element(),
@@ -398,7 +398,7 @@ pub struct Coverage {
     pub share: f64,
     /// What is covered: "the disk's area", "the half's area in plan",
     /// "the tube's circumference".
-    pub of: &'static str,
+    pub(crate) of: &'static str,
     /// For a torus: the tube angle covered (degrees).
     pub degrees: Option<f64>,
 }
@@ -409,7 +409,7 @@ const COVERAGE_SAMPLES: usize = 300;
 /// The share of the target the lattice covers: the disk's area, the
 /// ellipsoid's half in plan (projected onto z = 0), or the torus's tube
 /// circumference. None for a free revolution profile.
-pub fn coverage(fit: &Fit, lattice: &Lattice) -> Option<Coverage> {
+pub(crate) fn coverage(fit: &Fit, lattice: &Lattice) -> Option<Coverage> {
     match &fit.surface {
         Surface::Disk { radius } => Some(Coverage {
             share: plan_coverage(lattice, *radius, *radius),
@@ -544,7 +544,7 @@ fn tube_coverage(lattice: &Lattice, major: f64) -> f64 {
 /// The largest distance of a boundary vertex (the seed's and each row's
 /// two ends) from the target's boundary curve (the disk's circle), or None
 /// for targets without one.
-pub fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
+pub(crate) fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
     let Surface::Disk { radius } = fit.surface else {
         return None;
     };

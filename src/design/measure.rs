@@ -40,7 +40,7 @@ pub struct Turn {
 }
 
 /// A defect of at least this (degrees) is a bump of an eggbox.
-pub const BUMP_DEG: f64 = 3.0;
+pub(crate) const BUMP_DEG: f64 = 3.0;
 
 pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
     let shape = lattice.shape();
@@ -126,7 +126,7 @@ fn turns(lattice: &Lattice) -> Vec<Turn> {
 
 impl Measures {
     /// The shape section of `check` and report.txt.
-    pub fn text(&self, lattice: &Lattice, design: &Design) -> String {
+    pub(crate) fn text(&self, lattice: &Lattice, design: &Design) -> String {
         use std::fmt::Write as _;
         let mut out = String::from("shape, measured from each cell's own corners:\n");
         let s = &self.shape;
@@ -246,7 +246,7 @@ impl Measures {
     }
 
     /// The same numbers for `--json`.
-    pub fn json(&self, lattice: &Lattice) -> serde_json::Value {
+    pub(crate) fn json(&self, lattice: &Lattice) -> serde_json::Value {
         use serde_json::json;
         let num =
             |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
@@ -291,7 +291,7 @@ impl Measures {
     }
 
     /// The clash refusal of `build` and `check`, unless the recipe allows them.
-    pub fn clash_error(
+    pub(crate) fn clash_error(
         &self,
         lattice: &Lattice,
         design: &Design,

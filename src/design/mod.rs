@@ -6,11 +6,11 @@ mod errors;
 mod fabrication;
 pub mod fit;
 pub mod measure;
-pub mod optimise;
+pub(crate) mod optimise;
 mod raw;
 mod rows;
-pub mod seed;
-pub mod simulation;
+pub(crate) mod seed;
+pub(crate) mod simulation;
 mod spans;
 mod values;
 
@@ -28,7 +28,7 @@ use values::{coords, count, finite};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Design {
-    pub name: String,
+    pub(crate) name: String,
     pub kind: Kind,
     pub dim: usize,
     /// The seed front.
@@ -49,7 +49,7 @@ pub struct Design {
     /// `[simulation]`: material moduli and deployment for `simulate`.
     pub simulation: crate::sim::Settings,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
-    pub recipe_hash: u64,
+    pub(crate) recipe_hash: u64,
     spans: Spans,
 }
 
@@ -160,7 +160,7 @@ pub fn parse_with(
 }
 
 /// 64-bit FNV-1a: a stable fingerprint of the recipe for file metadata.
-pub fn fnv1a(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
     })

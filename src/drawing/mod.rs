@@ -2,7 +2,7 @@
 //! down from the top-left corner. Every writer (SVG, PDF, DXF, PNG) renders
 //! this model and nothing else, so no writer re-derives geometry.
 
-pub mod colours;
+pub(crate) mod colours;
 pub mod picture;
 mod sheet;
 pub mod tabs;
@@ -47,7 +47,7 @@ impl Layer {
     }
 
     /// Pure RGB colour of the layer.
-    pub fn rgb(self) -> [u8; 3] {
+    pub(crate) fn rgb(self) -> [u8; 3] {
         match self {
             Layer::Holes => [0, 0, 255],
             Layer::Outlines => [255, 0, 0],
@@ -57,13 +57,13 @@ impl Layer {
         }
     }
 
-    pub fn hex(self) -> String {
+    pub(crate) fn hex(self) -> String {
         let [r, g, b] = self.rgb();
         format!("#{r:02X}{g:02X}{b:02X}")
     }
 
     /// AutoCAD colour index with the same meaning (DXF).
-    pub fn aci(self) -> u8 {
+    pub(crate) fn aci(self) -> u8 {
         match self {
             Layer::Holes => 5,
             Layer::Outlines => 1,
@@ -73,7 +73,7 @@ impl Layer {
         }
     }
 
-    pub fn operation(self) -> &'static str {
+    pub(crate) fn operation(self) -> &'static str {
         match self {
             Layer::Holes => "cut (inner: eyelet holes)",
             Layer::Outlines => "cut (outer: strip outlines)",
@@ -137,15 +137,15 @@ pub enum Shape {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ink {
     pub stroke: Option<[u8; 3]>,
-    pub width: f64,
-    pub fill: Option<[u8; 3]>,
+    pub(crate) width: f64,
+    pub(crate) fill: Option<[u8; 3]>,
 }
 
 impl Ink {
     /// A hairline in a layer's colour: how cut sheets are drawn.
-    pub const HAIRLINE: f64 = 0.025;
+    pub(crate) const HAIRLINE: f64 = 0.025;
 
-    pub fn line(colour: [u8; 3], width: f64) -> Self {
+    pub(crate) fn line(colour: [u8; 3], width: f64) -> Self {
         Self {
             stroke: Some(colour),
             width,
@@ -153,7 +153,7 @@ impl Ink {
         }
     }
 
-    pub fn fill(colour: [u8; 3]) -> Self {
+    pub(crate) fn fill(colour: [u8; 3]) -> Self {
         Self {
             stroke: None,
             width: 0.0,
@@ -161,7 +161,7 @@ impl Ink {
         }
     }
 
-    pub fn of(layer: Layer) -> Self {
+    pub(crate) fn of(layer: Layer) -> Self {
         Self::line(layer.rgb(), Self::HAIRLINE)
     }
 }
@@ -206,7 +206,7 @@ impl Shape {
     }
 
     /// An open or closed polyline.
-    pub fn polyline(points: &[DVec2], closed: bool) -> Shape {
+    pub(crate) fn polyline(points: &[DVec2], closed: bool) -> Shape {
         Shape::Path {
             start: points[0],
             segments: points[1..].iter().map(|&p| Segment::Line(p)).collect(),
@@ -224,7 +224,7 @@ pub struct Item {
 
 impl Item {
     /// An item painted in its layer's own colour, as a hairline.
-    pub fn on(layer: Layer, shape: Shape) -> Self {
+    pub(crate) fn on(layer: Layer, shape: Shape) -> Self {
         Self {
             layer,
             ink: Ink::of(layer),
@@ -232,7 +232,7 @@ impl Item {
         }
     }
 
-    pub fn art(ink: Ink, shape: Shape) -> Self {
+    pub(crate) fn art(ink: Ink, shape: Shape) -> Self {
         Self {
             layer: Layer::Art,
             ink,
@@ -247,12 +247,12 @@ pub struct Group {
     pub id: String,
     /// Shared drawings placed before the items (guide pages only: the PDF
     /// writer places them; cut sheets and pictures have none).
-    pub symbols: Vec<Place>,
+    pub(crate) symbols: Vec<Place>,
     pub items: Vec<Item>,
 }
 
 impl Group {
-    pub fn new(id: impl Into<String>, items: Vec<Item>) -> Self {
+    pub(crate) fn new(id: impl Into<String>, items: Vec<Item>) -> Self {
         Self {
             id: id.into(),
             symbols: Vec::new(),
@@ -269,16 +269,16 @@ impl Group {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Symbol {
     /// Symbols drawn first, by index; each earlier in the list than this one.
-    pub uses: Vec<usize>,
+    pub(crate) uses: Vec<usize>,
     pub items: Vec<Item>,
 }
 
 /// Symbol `symbol` (an index into the document's symbols) drawn with its
 /// origin at `at` on the page.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Place {
-    pub symbol: usize,
-    pub at: DVec2,
+pub(crate) struct Place {
+    pub(crate) symbol: usize,
+    pub(crate) at: DVec2,
 }
 
 impl Layer {
@@ -292,15 +292,15 @@ impl Layer {
 pub struct Page {
     pub width: f64,
     pub height: f64,
-    pub title: String,
+    pub(crate) title: String,
     /// Key-value provenance written into each file's metadata.
-    pub metadata: Vec<(String, String)>,
+    pub(crate) metadata: Vec<(String, String)>,
     pub groups: Vec<Group>,
 }
 
 impl Page {
     /// Total length of the cut layers on this page (mm).
-    pub fn cut_length(&self) -> f64 {
+    pub(crate) fn cut_length(&self) -> f64 {
         self.groups
             .iter()
             .flat_map(|g| &g.items)
@@ -312,7 +312,7 @@ impl Page {
 
 /// Start angle and signed sweep (radians, y-down page angles: positive is
 /// clockwise on the page) of an arc from `from`.
-pub fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> (f64, f64) {
+pub(crate) fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> (f64, f64) {
     let a0 = (from - center).to_angle();
     let a1 = (to - center).to_angle();
     let mut sweep = a1 - a0;
@@ -330,7 +330,7 @@ pub fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> (f6
 
 /// Cubic Bezier pieces `[c1, c2, end]` approximating an arc, each at most a
 /// quarter turn (radial error below 3e-4 of the radius).
-pub fn arc_to_cubics(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> Vec<[DVec2; 3]> {
+pub(crate) fn arc_to_cubics(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> Vec<[DVec2; 3]> {
     let (a0, sweep) = arc_angles(from, to, center, clockwise);
     let radius = (from - center).length();
     let n = (sweep.abs() / FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;
@@ -353,7 +353,7 @@ pub fn arc_to_cubics(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> 
 }
 
 /// A full circle as four quarter-turn cubics from its rightmost point.
-pub fn circle_to_cubics(center: DVec2, radius: f64) -> (DVec2, Vec<[DVec2; 3]>) {
+pub(crate) fn circle_to_cubics(center: DVec2, radius: f64) -> (DVec2, Vec<[DVec2; 3]>) {
     let start = center + DVec2::new(radius, 0.0);
     let half = center - DVec2::new(radius, 0.0);
     let mut pieces = arc_to_cubics(start, half, center, true);

@@ -5,7 +5,7 @@
 
 mod gauge;
 mod labels;
-pub mod stacking;
+pub(crate) mod stacking;
 pub mod steps;
 
 use crate::build::Build;
@@ -227,7 +227,7 @@ fn mm(x: f64) -> String {
 }
 
 /// How many spares to buy: a tenth more, at least two.
-pub fn spares(n: usize) -> usize {
+pub(crate) fn spares(n: usize) -> usize {
     n.div_ceil(10).max(2)
 }
 

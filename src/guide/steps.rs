@@ -10,7 +10,7 @@ pub struct Step {
     /// 1-based.
     pub number: usize,
     /// The growth step: the row, or the helix cell.
-    pub row: u32,
+    pub(crate) row: u32,
     /// Cells of this step, by index.
     pub cells: Vec<usize>,
     /// Strips of this step (strip index = rod id).

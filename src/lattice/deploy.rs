@@ -8,10 +8,10 @@ use glam::{DVec2, DVec3};
 
 /// Lattices up to this many cells get a mobility count (a dense-ish
 /// elimination over every point of the linkage).
-pub const MOBILITY_MAX_CELLS: usize = 2_000;
+pub(crate) const MOBILITY_MAX_CELLS: usize = 2_000;
 
 /// Fractions of the design angle at which a planar placement is tried.
-pub const MISFIT_FRACTIONS: [f64; 3] = [0.99, 0.9, 0.5];
+pub(crate) const MISFIT_FRACTIONS: [f64; 3] = [0.99, 0.9, 0.5];
 
 /// `cos(phi)` of one cell as an affine function `a + b cos(theta)` of the
 /// reference cell's opening.

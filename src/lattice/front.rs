@@ -7,10 +7,10 @@ use glam::{DQuat, DVec3};
 /// Rotate the front beyond vertex `at` rigidly about an axis through it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PivotMove {
-    pub at: usize,
+    pub(crate) at: usize,
     /// Rotation axis; `None` means +z (the only choice in 2-D).
-    pub axis: Option<DVec3>,
-    pub angle_deg: f64,
+    pub(crate) axis: Option<DVec3>,
+    pub(crate) angle_deg: f64,
 }
 
 /// Rotate the vertices strictly between `from` and `to` about the line
@@ -39,9 +39,9 @@ pub struct FrontMoves {
 
 /// Why a rebuilt front is refused, for the recipe layer to locate.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FrontError {
-    pub message: String,
-    pub hint: String,
+pub(crate) struct FrontError {
+    pub(crate) message: String,
+    pub(crate) hint: String,
 }
 
 fn refuse(message: String, hint: &str) -> FrontError {
@@ -66,7 +66,7 @@ fn per_vertex(list: &[f64], count: usize, name: &str) -> Result<Vec<f64>, FrontE
 /// Rebuild `front` (closed: indices wrap, the last edge joins the last
 /// vertex to the first). Edge lengths are kept exactly by construction;
 /// a closed front must still close after the moves.
-pub fn rebuild(
+pub(crate) fn rebuild(
     front: &[DVec3],
     closed: bool,
     dim: usize,

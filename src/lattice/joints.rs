@@ -10,7 +10,7 @@ pub enum RodEnd {
 }
 
 impl RodEnd {
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             RodEnd::Start => "start",
             RodEnd::End => "end",
@@ -22,8 +22,8 @@ impl RodEnd {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct JointEnd {
     pub rod: usize,
-    pub kind: RodType,
-    pub end: RodEnd,
+    pub(crate) kind: RodType,
+    pub(crate) end: RodEnd,
     /// Stacking index: strips go on in increasing layer order.
     pub layer: u32,
 }

@@ -83,7 +83,7 @@ pub struct Cell {
 }
 
 /// Legs of a cell measured from the pivot: `[l1, l2, l3, l4]` to UL, LL, LR, UR.
-pub type Legs = [f64; 4];
+pub(crate) type Legs = [f64; 4];
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lattice {
@@ -101,7 +101,7 @@ pub struct Lattice {
     /// that front's positions (one per front vertex, in the row's own
     /// frame); empty for a row grown on the previous row's vertices. Empty
     /// altogether for an extrinsic lattice.
-    pub fronts: Vec<Vec<DVec3>>,
+    pub(crate) fronts: Vec<Vec<DVec3>>,
 }
 
 impl Lattice {
@@ -127,7 +127,7 @@ impl Lattice {
     }
 
     /// Number of vertices of the seed front.
-    pub fn seed_len(&self) -> usize {
+    pub(crate) fn seed_len(&self) -> usize {
         match self.kind {
             Kind::Sheet | Kind::Helix => self.width + 1,
             Kind::Loop => self.width,
@@ -166,7 +166,7 @@ impl Lattice {
     }
 
     /// A vertex as lattice.json and messages name it: `[i, j]`, or `[k]`.
-    pub fn vertex_name(&self, index: u32) -> String {
+    pub(crate) fn vertex_name(&self, index: u32) -> String {
         let k = self.vertex(index).key;
         match self.kind {
             Kind::Helix => format!("[{}]", k.col),
@@ -187,7 +187,7 @@ impl Lattice {
 
     /// Stacking layer of a rod (MATH.md 10.2): all strips meeting at any
     /// joint get distinct layers.
-    pub fn layer(&self, cell: &Cell, kind: RodType) -> u32 {
+    pub(crate) fn layer(&self, cell: &Cell, kind: RodType) -> u32 {
         let ab = match kind {
             RodType::A => 0,
             RodType::B => 1,
@@ -221,7 +221,7 @@ impl Lattice {
     }
 
     /// The collapsibility parameter `kappa = z(UL) - z(UR)` of a cell.
-    pub fn kappa(&self, cell: &Cell) -> f64 {
+    pub(crate) fn kappa(&self, cell: &Cell) -> f64 {
         self.vertex(cell.ul).z - self.vertex(cell.ur).z
     }
 
@@ -251,6 +251,6 @@ impl Lattice {
 }
 
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).
-pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
+pub(crate) fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
 }

@@ -77,7 +77,7 @@ impl Invariant {
         }
     }
 
-    pub fn key(self) -> &'static str {
+    pub(crate) fn key(self) -> &'static str {
         match self {
             Self::RodStraightness => "rod_straightness",
             Self::LegsMatchZ => "legs_match_z",
@@ -101,11 +101,11 @@ impl Invariant {
 pub struct Check {
     pub invariant: Invariant,
     /// How many places were checked.
-    pub count: usize,
+    pub(crate) count: usize,
     pub max: f64,
     pub site: Option<String>,
     /// What `max` must not exceed (see `tolerance`).
-    pub tolerance: f64,
+    pub(crate) tolerance: f64,
 }
 
 impl Check {
@@ -131,19 +131,19 @@ impl Check {
         }
     }
 
-    pub fn passed(&self) -> bool {
+    pub(crate) fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
 }
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
-    pub cells: usize,
-    pub vertices: usize,
-    pub rods: usize,
-    pub horizontal_pores: usize,
-    pub vertical_pores: usize,
-    pub interior_vertices: usize,
+    pub(crate) cells: usize,
+    pub(crate) vertices: usize,
+    pub(crate) rods: usize,
+    pub(crate) horizontal_pores: usize,
+    pub(crate) vertical_pores: usize,
+    pub(crate) interior_vertices: usize,
     pub checks: Vec<Check>,
     /// The tolerance every check was held to.
     pub tolerance: f64,

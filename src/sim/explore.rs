@@ -9,7 +9,7 @@ use super::{Equilibrium, SimError, kabsch_distance};
 pub use karigami_rods::rng::Rng;
 
 /// Seed amplitudes (mm), cycled: seed 0 is the unperturbed start.
-pub const AMPLITUDES: [f64; 3] = [1.0, 3.0, 10.0];
+pub(crate) const AMPLITUDES: [f64; 3] = [1.0, 3.0, 10.0];
 
 /// Perturb every free node along its rod's face normal by `amplitude` xi
 /// and every material angle by 0.02 xi rad.

@@ -7,8 +7,8 @@
 //! (multistability), `results` (strains, reactions, distances).
 
 pub mod explore;
-pub mod results;
-pub mod strips;
+pub(crate) mod results;
+pub(crate) mod strips;
 
 pub use karigami_rods::{dual, frames, model, solver};
 pub use model::{Energies, Model, Section};
@@ -39,7 +39,7 @@ impl Material {
         eps_allow: 0.015,
     };
 
-    pub fn shear(&self) -> f64 {
+    pub(crate) fn shear(&self) -> f64 {
         self.youngs / (2.0 * (1.0 + self.poisson))
     }
 
@@ -84,7 +84,7 @@ impl Default for Settings {
 }
 
 /// Largest continuation step of the prescribed opening (PHYSICS.md 7).
-pub const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
+pub(crate) const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum SimError {
@@ -278,13 +278,13 @@ pub fn placed_lattice(lattice: &Lattice, lm: &LatticeModel) -> Lattice {
 }
 
 /// Lattices above this many cells are not simulated by `build`.
-pub const MAX_SIMULATED_CELLS: usize = 2_000;
+pub(crate) const MAX_SIMULATED_CELLS: usize = 2_000;
 
 /// Whether `build` simulates a lattice: unless it is a planar true
 /// mechanism (its design is its deployed shape, strips straight), or too
 /// large. Eyelets make 3-D designs twist where cells in different planes
 /// meet, so those are simulated too.
-pub fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
+pub(crate) fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
     let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
     !planar_mechanism && lattice.cells.len() <= MAX_SIMULATED_CELLS && !lattice.cells.is_empty()
 }

@@ -23,7 +23,7 @@ pub struct StrainPeak {
 }
 
 /// Per-node strains of one rod: (s, eps, gamma).
-pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
+pub(crate) fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
     let _ = nu;
     let path = &m.rods[rod];
     let sec = &m.section;
@@ -53,7 +53,7 @@ pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
 }
 
 /// The strain peak over every rod.
-pub fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
+pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
     let sec = &m.section;
     let mut peak = StrainPeak::default();
     for (r, path) in m.rods.iter().enumerate() {
@@ -97,7 +97,7 @@ pub fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
 
 /// The largest force any joint exerts on one of its rods (N), with the
 /// joint and the rod: F = -dE_rod/dX_J.
-pub fn largest_reaction(m: &Model) -> (f64, usize, String) {
+pub(crate) fn largest_reaction(m: &Model) -> (f64, usize, String) {
     let mut forces: BTreeMap<(usize, usize), DVec3> = BTreeMap::new();
     // Position variable -> (joint, axis).
     let mut owner = std::collections::HashMap::new();
@@ -164,7 +164,7 @@ pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
 }
 
 /// Which variables are material angles (for reports).
-pub fn theta_count(m: &Model) -> usize {
+pub(crate) fn theta_count(m: &Model) -> usize {
     m.edges
         .iter()
         .filter(|e| matches!(e.frame, Frame::Ref { .. }))
@@ -172,7 +172,7 @@ pub fn theta_count(m: &Model) -> usize {
 }
 
 /// The stencil count (for reports).
-pub fn stencil_count(m: &Model) -> usize {
+pub(crate) fn stencil_count(m: &Model) -> usize {
     m.stencils
         .iter()
         .filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. }))
@@ -181,22 +181,22 @@ pub fn stencil_count(m: &Model) -> usize {
 
 /// One strip of an equilibrium, node by node, for deployed.json/.obj.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DeployedStrip {
+pub(crate) struct DeployedStrip {
     /// The engraved strip id.
-    pub id: String,
+    pub(crate) id: String,
     /// Arc length from the first hole (mm).
-    pub s: Vec<f64>,
-    pub centre: Vec<DVec3>,
+    pub(crate) s: Vec<f64>,
+    pub(crate) centre: Vec<DVec3>,
     /// Width direction and face normal at each node (mean of its edges).
-    pub d1: Vec<DVec3>,
-    pub d2: Vec<DVec3>,
+    pub(crate) d1: Vec<DVec3>,
+    pub(crate) d2: Vec<DVec3>,
     /// Corner-fibre strain and twist shear strain at each node.
-    pub strain: Vec<f64>,
-    pub gamma: Vec<f64>,
+    pub(crate) strain: Vec<f64>,
+    pub(crate) gamma: Vec<f64>,
 }
 
 /// Every strip of the model as it is now.
-pub fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
+pub(crate) fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
     (0..m.rods.len())
         .map(|r| {
             let path = &m.rods[r];

@@ -42,21 +42,21 @@ pub struct Mesh {
 pub struct LatticeModel {
     pub model: Model,
     /// Joint of each cell's pivot.
-    pub pivot: Vec<usize>,
+    pub(crate) pivot: Vec<usize>,
     /// Per cell: the variable delta = alpha_B - alpha_A at its pivot, and
     /// the sign s_c with phi_c = s_c delta.
-    pub delta: Vec<(usize, f64)>,
+    pub(crate) delta: Vec<(usize, f64)>,
     /// Per vertex: its joint, or (a corner) the node of the single rod end.
-    pub vertex: Vec<VertexPlace>,
+    pub(crate) vertex: Vec<VertexPlace>,
     /// The starting placement of every vertex and pivot (the design, or
     /// for bent-facet lattices the rigid-fit placement).
-    pub start: Vec<DVec3>,
+    pub(crate) start: Vec<DVec3>,
     /// Each rod's face normal in the start state.
-    pub normals: Vec<DVec3>,
+    pub(crate) normals: Vec<DVec3>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum VertexPlace {
+pub(crate) enum VertexPlace {
     Joint(usize),
     Node(usize),
     /// A vertex no rod reaches.

@@ -30,7 +30,7 @@ pub fn grow(
 
 /// The row angles an open fit's search chose (None for other fits): where
 /// the optimiser starts when the recipe gives no `fit.angles`.
-pub fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
+pub(crate) fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
     // A 3-D search also chooses a tilt, which fit.angles does not hold.
     if design.dim != 2 {
         return None;

@@ -14,7 +14,7 @@
 //! target surface), `tune` (the helix seed's hill climb), and `grow`
 //! (`Design::grow`, which calls the fit search).
 
-pub mod fit;
+pub(crate) mod fit;
 mod grow;
 pub mod tune;
 
@@ -57,7 +57,7 @@ enum Slot {
 pub struct Optimised {
     /// The recipe text with the optimised numbers, comments kept.
     pub text: String,
-    pub design: Design,
+    pub(crate) design: Design,
     pub cost_before: f64,
     pub cost_after: f64,
     pub iterations: usize,
@@ -226,7 +226,7 @@ fn map_front(f: &mut FrontMoves, mut g: impl FnMut(f64) -> f64) {
 
 /// The cost of a grown design and each hard constraint's shortfall
 /// (name, measured value, bound, shortfall > 0 when it fails).
-pub fn cost(
+pub(crate) fn cost(
     d: &Design,
     lattice: &Lattice,
     opt: &Optimise,

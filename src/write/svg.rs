@@ -7,7 +7,7 @@ use crate::drawing::{Group, Item, Page, Segment, Shape};
 use std::fmt::Write as _;
 
 /// Stroke width in mm: a hairline that laser software reads as a cut line.
-pub const HAIRLINE: f64 = 0.025;
+pub(crate) const HAIRLINE: f64 = 0.025;
 
 fn path_data(start: glam::DVec2, segments: &[Segment], closed: bool) -> String {
     let mut d = format!("M{} {}", num(start.x), num(start.y));

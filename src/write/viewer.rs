@@ -21,15 +21,15 @@ const SCRIPT: &str = include_str!("viewer/viewer.js");
 
 /// Everything the page shows, borrowed from one build.
 pub struct Scene<'a> {
-    pub design: &'a Design,
+    pub(crate) design: &'a Design,
     /// The lattice as grown (steps, joints, layers, C(theta)).
-    pub lattice: &'a Lattice,
+    pub(crate) lattice: &'a Lattice,
     /// The lattice as assembled (`Lattice::placed`): what the page draws.
-    pub assembled: &'a Lattice,
-    pub parts: &'a Parts,
-    pub layout: &'a Layout,
-    pub deployment: &'a Deployment,
-    pub steps: Vec<Step>,
+    pub(crate) assembled: &'a Lattice,
+    pub(crate) parts: &'a Parts,
+    pub(crate) layout: &'a Layout,
+    pub(crate) deployment: &'a Deployment,
+    pub(crate) steps: Vec<Step>,
     /// A simulated deployed shape (one position per vertex, then one per
     /// cell pivot, like the designed one), when a simulation exists.
     pub simulated: Option<Vec<DVec3>>,

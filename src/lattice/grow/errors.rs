@@ -27,17 +27,17 @@ pub enum Param {
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthError {
     pub kind: GrowthErrorKind,
-    pub param: Param,
+    pub(crate) param: Param,
     /// The row being grown (`None` for a problem of the seed itself).
-    pub row: Option<usize>,
+    pub(crate) row: Option<usize>,
     /// The column (cell, or seed edge) where it fails, when there is one.
-    pub col: Option<usize>,
-    pub message: String,
-    pub hint: String,
+    pub(crate) col: Option<usize>,
+    pub(crate) message: String,
+    pub(crate) hint: String,
 }
 
 impl GrowthError {
-    pub fn new(
+    pub(crate) fn new(
         kind: GrowthErrorKind,
         param: Param,
         row: Option<usize>,
@@ -56,7 +56,7 @@ impl GrowthError {
     }
 
     /// "row 3, column 2" style location in lattice terms.
-    pub fn site(&self) -> String {
+    pub(crate) fn site(&self) -> String {
         match (self.row, self.col) {
             (Some(r), Some(c)) => format!("row {r}, column {c}"),
             (Some(r), None) => format!("row {r}"),
