@@ -25,6 +25,7 @@ macro_rules! error_kinds {
 
         impl ErrorKind {
             /// Every kind, in the order they are declared.
+            #[cfg(test)]
             pub(crate) const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
 
             /// The name users see and search for (MATH.md 9 for growth).

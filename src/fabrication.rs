@@ -78,13 +78,6 @@ impl LabelStyle {
         }
     }
 
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Self::Id => "id",
-            Self::Compact => "compact",
-            Self::None => "none",
-        }
-    }
 }
 
 /// Paper for the printed assembly guide.

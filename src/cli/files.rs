@@ -20,19 +20,19 @@ use std::io::{self, Read, Write};
 use std::path::{Component, Path, PathBuf};
 
 /// The marker file of a build folder, and its first line.
-pub const MARKER: &str = ".karigami-build";
+pub(super) const MARKER: &str = ".karigami-build";
 const MARKER_HEAD: &str = "karigami build folder";
 /// Bumped when the layout of a build folder changes incompatibly.
 const FORMAT: u32 = 1;
 
 /// Recipes larger than this are refused before reading them whole.
-pub const MAX_RECIPE_BYTES: u64 = 1 << 20;
+pub(super) const MAX_RECIPE_BYTES: u64 = 1 << 20;
 
 /// Longest name (in bytes) of a folder the tool derives from input.
-pub const MAX_NAME_BYTES: usize = 100;
+pub(super) const MAX_NAME_BYTES: usize = 100;
 
 /// Read a recipe: a regular file of at most `MAX_RECIPE_BYTES`, in UTF-8.
-pub fn read(path: &Path) -> io::Result<String> {
+pub(super) fn read(path: &Path) -> io::Result<String> {
     let meta = fs::metadata(path)?;
     if meta.is_dir() {
         return Err(io::Error::other("it is a folder, not a recipe file"));
@@ -102,7 +102,7 @@ fn hidden(name: &OsStr, suffix: &str) -> String {
 
 /// Write to a temporary file beside the target, then rename it over the
 /// target: the target is either as it was or complete.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+pub(super) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?;
@@ -153,7 +153,7 @@ fn remove_stale_temporaries(path: &Path, prefix: &str) {
 /// single path component: separators, control and reserved characters
 /// become `_`, leading dots (hidden, `.`, `..`) and trailing dots and
 /// spaces go, names reserved on Windows get a `_`, and the length is capped.
-pub fn safe_component(raw: &str) -> String {
+pub(super) fn safe_component(raw: &str) -> String {
     let mapped: String = raw
         .chars()
         .map(|c| {
@@ -200,7 +200,7 @@ fn stays_inside(rel: &Path) -> bool {
 }
 
 /// What an existing `--out` holds that a build replaces.
-pub enum Previous {
+pub(super) enum Previous {
     /// Nothing there yet, or an empty folder.
     Nothing,
     /// A build folder (it has the marker).
@@ -215,7 +215,7 @@ pub enum Previous {
 
 /// The checked, locked output folder of one run. Taken before any work, so
 /// that a refusal or a busy folder is reported at once and writes nothing.
-pub struct OutDir {
+pub(super) struct OutDir {
     target: PathBuf,
     parent: PathBuf,
     name: std::ffi::OsString,
@@ -307,7 +307,7 @@ impl OutDir {
     /// Check `out` (a folder name, not a file, not a link, not holding an
     /// input of this run; a build folder unless `force`), take its lock and
     /// repair what interrupted runs left. Errors are whole sentences.
-    pub fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, String> {
+    pub(super) fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, String> {
         let shown = out.display();
         let Some(name) = out.file_name().map(OsStr::to_os_string) else {
             return Err(format!(
@@ -496,7 +496,7 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
 
 impl OutDir {
     /// A warning for `--force` replacing files that are not the tool's.
-    pub fn force_warning(&self) -> Option<String> {
+    pub(super) fn force_warning(&self) -> Option<String> {
         let (what, files) = match &self.previous {
             Previous::Foreign(files) => ("is not a karigami build folder", files),
             Previous::Added(files) => ("holds files the build did not write", files),
@@ -510,12 +510,12 @@ impl OutDir {
         ))
     }
 
-    pub fn path(&self) -> &Path {
+    pub(super) fn path(&self) -> &Path {
         &self.target
     }
 
     /// What the folder holds if a build does not commit.
-    pub fn kept(&self) -> String {
+    pub(super) fn kept(&self) -> String {
         match self.previous {
             Previous::Nothing => format!("nothing was written to {}", self.target.display()),
             _ => format!("{} was left as it was", self.target.display()),
@@ -567,7 +567,7 @@ fn remove_any(path: &Path) -> io::Result<()> {
 /// target, which replaces the target whole on `commit`. Dropped without a
 /// commit, the staging folder is removed and the target untouched; killed,
 /// the next run removes it.
-pub struct Staged<'a> {
+pub(super) struct Staged<'a> {
     out: &'a OutDir,
     fresh: PathBuf,
     kind: String,
@@ -578,7 +578,7 @@ pub struct Staged<'a> {
 
 impl<'a> Staged<'a> {
     /// `kind` ("single" or "batch") goes into the marker.
-    pub fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
+    pub(super) fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
         let fresh = out
             .parent
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
@@ -617,7 +617,7 @@ impl<'a> Staged<'a> {
 
     /// Write files (paths relative to `sub` inside the folder). Each path
     /// must be plain relative components, so every write lands inside.
-    pub fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
+    pub(super) fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
         for (name, bytes) in files {
             let rel = Path::new(sub).join(name);
             if !stays_inside(&rel) {
@@ -644,7 +644,7 @@ impl<'a> Staged<'a> {
     }
 
     /// Put the staging folder in the target's place.
-    pub fn commit(mut self) -> io::Result<()> {
+    pub(super) fn commit(mut self) -> io::Result<()> {
         self.write_marker()?;
         fault::sync(&File::open(&self.fresh)?)?;
         let target = &self.out.target;
@@ -711,7 +711,7 @@ impl Drop for Staged<'_> {
 
 /// The recipes named on the command line: files as given, folders as the
 /// `.toml` files directly inside them, sorted by name.
-pub fn recipes(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub(super) fn recipes(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for arg in args {
         if arg.is_dir() {

@@ -59,11 +59,6 @@ impl FieldSpans {
 }
 
 impl Design {
-    /// Where the fabrication settings were written.
-    pub(crate) fn fabrication_spans(&self) -> &FabricationSpans {
-        &self.spans.fabrication
-    }
-
     /// The text that sets the lattice's size, for errors about a lattice too
     /// large to build: a helix's `cells`, `[lattice.fit]`, or the table that
     /// gives the last row.

@@ -9,7 +9,7 @@
 //! or under it follows from the layers and is computed per step.
 
 use super::Step;
-use crate::lattice::{Joint, Kind, Lattice, RodType};
+use crate::lattice::{Kind, Lattice, RodType};
 
 /// The stacking side of a lattice, in words.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,9 +156,4 @@ pub(crate) fn common_order(lattice: &Lattice, step: &Step) -> Option<Vec<Role>> 
         return None;
     }
     Some(order.into_iter().map(|(_, r)| r).collect())
-}
-
-/// The roles of a joint's ends, bottom to top.
-pub(crate) fn roles(lattice: &Lattice, step: &Step, joint: &Joint) -> Vec<Role> {
-    joint.ends.iter().map(|e| role(lattice, step, e)).collect()
 }

@@ -126,15 +126,6 @@ impl Lattice {
         }
     }
 
-    /// Number of vertices of the seed front.
-    pub(crate) fn seed_len(&self) -> usize {
-        match self.kind {
-            Kind::Sheet | Kind::Helix => self.width + 1,
-            Kind::Loop => self.width,
-        }
-        .min(self.vertices.len())
-    }
-
     /// True unless some row grew on a rebuilt front (MATH.md 7).
     pub fn extrinsic(&self) -> bool {
         self.fronts.iter().all(Vec::is_empty)

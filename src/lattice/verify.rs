@@ -77,23 +77,6 @@ impl Invariant {
         }
     }
 
-    pub(crate) fn key(self) -> &'static str {
-        match self {
-            Self::RodStraightness => "rod_straightness",
-            Self::LegsMatchZ => "legs_match_z",
-            Self::SeedKappa => "seed_kappa",
-            Self::HorizontalPores => "pores_h",
-            Self::VerticalPores => "pores_v",
-            Self::SharedEdges => "shared_edges",
-            Self::LoopClosure => "loop_closure",
-            Self::CompatibilitySlope => "compatibility_slope",
-            Self::CompatibilityIntercept => "compatibility_intercept",
-            Self::CompatibilityInterceptNatural => "compatibility_intercept_natural",
-            Self::CollapsedSingleValued => "collapsed_single_valued",
-            Self::CollapsedMatchesConstruction => "collapsed_matches_construction",
-            Self::CollapsedRodLength => "collapsed_rod_length",
-        }
-    }
 }
 
 /// The largest residual of one invariant and where it occurs.

@@ -141,8 +141,10 @@ pub(crate) fn pick(job: &Job, base: &SheetSpec, known: Option<&Layout>) -> Optio
 }
 
 /// The smallest preset that holds the job among `options`: fewest sheets,
-/// then the smallest sheet area; ties keep the presets' order.
-pub(crate) fn smallest(options: &[SheetOption]) -> Option<&SheetOption> {
+/// then the smallest sheet area; ties keep the presets' order. The unit
+/// tests' reference for the advice's pick.
+#[cfg(test)]
+fn smallest(options: &[SheetOption]) -> Option<&SheetOption> {
     options
         .iter()
         .filter(|o| o.sheets.is_some())

@@ -2,7 +2,7 @@
 //! are, joint reactions, distance from the design after the best rigid
 //! fit, and a discrete curvature measure of the deployed shape.
 
-use super::model::{Frame, Model, Stencil, bend_measures};
+use super::model::{Model, bend_measures};
 use glam::{DMat3, DQuat, DVec3};
 use std::collections::BTreeMap;
 
@@ -161,22 +161,6 @@ pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
         .zip(b)
         .map(|(p, q)| p.distance(*q))
         .fold(0.0, f64::max)
-}
-
-/// Which variables are material angles (for reports).
-pub(crate) fn theta_count(m: &Model) -> usize {
-    m.edges
-        .iter()
-        .filter(|e| matches!(e.frame, Frame::Ref { .. }))
-        .count()
-}
-
-/// The stencil count (for reports).
-pub(crate) fn stencil_count(m: &Model) -> usize {
-    m.stencils
-        .iter()
-        .filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. }))
-        .count()
 }
 
 /// One strip of an equilibrium, node by node, for deployed.json/.obj.

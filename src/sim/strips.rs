@@ -51,8 +51,6 @@ pub struct LatticeModel {
     /// The starting placement of every vertex and pivot (the design, or
     /// for bent-facet lattices the rigid-fit placement).
     pub(crate) start: Vec<DVec3>,
-    /// Each rod's face normal in the start state.
-    pub(crate) normals: Vec<DVec3>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -419,7 +417,6 @@ impl LatticeModel {
             delta,
             vertex,
             start: Vec::new(),
-            normals,
         };
         lm.start = lm.points();
         lm

@@ -20,7 +20,7 @@ use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
 use glam::DVec3;
 
 /// Grow the fitted lattice; `progress` hears about each row.
-pub fn grow(
+pub(crate) fn grow(
     design: &Design,
     fit: &Fit,
     progress: &mut dyn FnMut(&str),

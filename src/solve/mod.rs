@@ -57,7 +57,6 @@ enum Slot {
 pub struct Optimised {
     /// The recipe text with the optimised numbers, comments kept.
     pub text: String,
-    pub(crate) design: Design,
     pub cost_before: f64,
     pub cost_after: f64,
     pub iterations: usize,
@@ -700,7 +699,6 @@ pub fn optimise(
     let evaluations = problem.evaluations.get();
     Ok(Optimised {
         text,
-        design: design_out,
         cost_before,
         cost_after,
         iterations,

@@ -17,9 +17,6 @@ use pdf_writer::{Content, Filter, Finish, Name, Pdf, Rect, Ref, Str, TextStr};
 
 /// Points per millimetre.
 pub(crate) const PT_PER_MM: f64 = 72.0 / 25.4;
-/// Hairline width in mm (0.025 mm = 0.07 pt; print drivers for lasers treat
-/// anything at or below 0.001 in as a vector cut).
-pub(crate) const HAIRLINE_MM: f64 = 0.025;
 
 /// Deflate level of content streams. Measured on the 42 MB of content of a
 /// 100 x 100 build's two PDFs: level 1 deflates them 5 times faster than
