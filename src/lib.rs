@@ -3,6 +3,9 @@
 //! design -> lattice -> parts -> layout -> drawing -> bytes.
 //! Everything here is pure; only the binary touches files and the terminal.
 
+// The library never prints: the binary owns the terminal.
+#![deny(clippy::print_stdout, clippy::print_stderr)]
+
 pub mod build;
 pub mod design;
 pub mod diagnostic;
