@@ -567,12 +567,18 @@ fn rigid_fit(pairs: &[(DVec2, DVec2)]) -> impl Fn(DVec2) -> DVec2 + use<> {
 /// Everything `karigami check` says about deployment.
 #[derive(Clone, Debug)]
 pub struct Deployment {
+    /// The intrinsic configuration C(theta): every cell's opening as the
+    /// reference cell opens.
     pub config: Configuration,
+    /// Degrees of freedom of the ideal linkage at the design state (see
+    /// `mobility`); None for large or bent-facet lattices.
     pub mobility: Option<usize>,
     /// (fraction of the design angle, misfit) for planar lattices.
     pub misfits: Vec<(f64, f64)>,
 }
 
+/// How `lattice` deploys: C(theta), the linkage's mobility and, for planar
+/// lattices, the misfit of the cells at fractions of the design opening.
 pub fn deployment(lattice: &Lattice) -> Deployment {
     let config = configuration(lattice);
     let misfits = MISFIT_FRACTIONS

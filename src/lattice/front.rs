@@ -17,8 +17,12 @@ pub struct PivotMove {
 /// through those two vertices. Keeps a closed front closed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Crank {
+    /// Front index of the first vertex on the rotation axis.
     pub from: usize,
+    /// Front index of the second vertex on the rotation axis (at least two past
+    /// `from`; on a loop it may be the front length, meaning vertex 0).
     pub to: usize,
+    /// Rotation angle about the axis from `from` to `to` (degrees).
     pub angle_deg: f64,
 }
 
@@ -33,7 +37,11 @@ pub struct FrontMoves {
     /// ...and the torsion angle that turns the bending plane (degrees), in a
     /// frame transported along the front.
     pub twist: Option<Vec<f64>>,
+    /// Rigid rotations of the front beyond a vertex, applied after `turn` or
+    /// `bend`/`twist`, in order.
     pub pivots: Vec<PivotMove>,
+    /// Crankshaft rotations of the vertices between two others, applied last,
+    /// in order.
     pub cranks: Vec<Crank>,
 }
 

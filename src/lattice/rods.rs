@@ -3,6 +3,7 @@
 use super::{Cell, Lattice};
 use glam::DVec3;
 
+/// Which of a cell's two crossing rods (MATH.md 1.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RodType {
     /// UL -> pivot -> LR, legs l1 and l3.

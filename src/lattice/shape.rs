@@ -50,10 +50,13 @@ pub struct Shape {
     pub(crate) area_ratio: f64,
     /// Longest / shortest leg of the whole lattice.
     pub(crate) leg_ratio: f64,
+    /// Shortest leg of the whole lattice (mm).
     pub min_leg: f64,
     /// Longest / shortest leg within a cell: the median and the largest.
     pub(crate) cell_leg_ratio_median: f64,
     pub(crate) cell_leg_ratio_max: f64,
+    /// How far rebuilt fronts miss the rows they join; None for an extrinsic
+    /// lattice.
     pub front_gaps: Option<FrontGaps>,
     /// Distinct strips (legs equal within `SAME_STRIP_MM`), and all strips.
     pub distinct_strips: usize,
@@ -220,22 +223,29 @@ fn distinct(strips: &mut [(f64, f64)]) -> usize {
 /// Summary statistics of the curvature, for reports and objectives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CurvatureSummary {
+    /// Number of interior vertices measured.
     pub interior: usize,
     /// Defects in degrees.
     pub min_deg: f64,
+    /// Mean angle defect (degrees).
     pub mean_deg: f64,
+    /// Largest angle defect (degrees).
     pub max_deg: f64,
     /// Share of interior vertices with defect beyond +-`CURVED_DEG`.
     pub positive: f64,
+    /// Share of interior vertices with defect below -`CURVED_DEG`.
     pub negative: f64,
     /// Mean and standard deviation of K (1/mm^2).
     pub k_mean: f64,
+    /// Standard deviation of K over the interior vertices (1/mm^2).
     pub k_std: f64,
     /// Where the extremes are (indices into `Lattice::vertices`).
     pub(crate) min_at: u32,
     pub(crate) max_at: u32,
 }
 
+/// Defect and Gaussian-curvature statistics of the interior vertices `c`;
+/// None when there are none.
 pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
     if c.is_empty() {
         return None;

@@ -207,6 +207,7 @@ impl Grower {
         &self.lattice
     }
 
+    /// The lattice grown so far, ending the growth.
     pub fn into_lattice(self) -> Lattice {
         self.lattice
     }
