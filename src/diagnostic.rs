@@ -58,126 +58,239 @@ error_kinds! {
     Toml as "toml" => EXIT_INVALID,
 
     // Growth (MATH.md 9).
+    /// The seed has too few points to grow (MATH.md 9).
     SeedTooShort => EXIT_INVALID,
+    /// A seed or rebuilt front edge is no longer than its |kappa|: `|kappa| >= |t|`.
     SeedEdgeNotSpacelike => EXIT_INVALID,
+    /// A row's `start` site is not a cell of the row.
     StartOutOfRange => EXIT_INVALID,
+    /// A row's leg direction cannot be used: zero length, or angles with no
+    /// reference (a front edge along z, a tilt in 2-D).
     BadDirection => EXIT_INVALID,
+    /// A leg direction (or loop target) falls outside the cell's admissible
+    /// cone: the pivot would be at or beyond infinity.
     InadmissibleDirection => EXIT_INVALID,
+    /// A transfer has no admissible corner: the distance across two front
+    /// edges is no longer than |sum| of their kappa.
     DoubleEdgeNotSpacelike => EXIT_INVALID,
+    /// A leg comes out (or is given) zero or negative.
     NonPositiveLeg => EXIT_INVALID,
+    /// Both end legs of a one-cell-wide row are `match`; one needs a length.
     MatchNeedsLength => EXIT_INVALID,
+    /// A cell's opening angle is too close to 0 or pi.
     DegenerateCell => EXIT_INVALID,
+    /// 2-D: a cell turned over relative to the lattice's first cell.
     InvertedCell => EXIT_INVALID,
     /// More cells, rows, edges or guide steps than karigami makes.
     TooLarge => EXIT_INVALID,
+    /// The construction produced a non-finite number.
     NumericalBreakdown => EXIT_INVALID,
+    /// A loop seed's kappa do not sum to 0, so it cannot collapse.
     LoopKappaSumNonzero => EXIT_INVALID,
+    /// A symmetric loop row closes for every direction and was given none.
     LoopClosureFree => EXIT_INVALID,
+    /// No admissible leg direction closes a loop row, or the one given (by
+    /// direction or `candidate`) does not.
     NoLoopClosure => EXIT_INVALID,
+    /// A loop row closes only to more than `CLOSURE_TOL`.
     LoopClosureResidual => EXIT_INVALID,
+    /// A helix seed breaks its condition `|y_N - y_1| = z_N - z_1`.
     HelixSeedNotNull => EXIT_INVALID,
+    /// A row's `front` moves cannot rebuild its front.
     FrontNotCompatible => EXIT_INVALID,
 
     // The recipe's values (shown as "design", as before the kinds).
+    /// A recipe string holds a control character.
     ControlCharacter as "design" => EXIT_INVALID,
+    /// A recipe string is longer than karigami accepts.
     StringTooLong as "design" => EXIT_INVALID,
+    /// Arrays and tables are nested deeper than karigami accepts.
     NestedTooDeep as "design" => EXIT_INVALID,
+    /// A number is NaN or infinite.
     NotFinite as "design" => EXIT_INVALID,
+    /// A number is larger in magnitude than any size karigami accepts.
     NumberTooLarge as "design" => EXIT_INVALID,
+    /// A number lies outside its allowed range.
     OutOfRange as "design" => EXIT_INVALID,
+    /// The design's `name` is empty.
     EmptyName as "design" => EXIT_INVALID,
+    /// `lattice.seed` is not sheet, loop or helix.
     UnknownSeed as "design" => EXIT_INVALID,
+    /// A fitted lattice (`[lattice.fit]`) also writes rows out.
     FittedRowsGiven as "design" => EXIT_INVALID,
+    /// A point or vector has neither 2 nor 3 coordinates.
     WrongCoordinates as "design" => EXIT_INVALID,
+    /// The lattice gives no seed points.
     NoSeedPoints as "design" => EXIT_INVALID,
+    /// The seed points are given by more than one of `points` and the seed tables.
     SeedGivenTwice as "design" => EXIT_INVALID,
+    /// `line.from` and `line.to` have different numbers of coordinates.
     LineDimensionsDiffer as "design" => EXIT_INVALID,
+    /// An arc or circle seed's radius is not positive.
     NonPositiveRadius as "design" => EXIT_INVALID,
+    /// Polyline points have different numbers of coordinates.
     PolylineDimensionsDiffer as "design" => EXIT_INVALID,
+    /// A seed table of a 2-D lattice names a plane other than xy.
     PlanarSeedOffPlane as "design" => EXIT_INVALID,
+    /// A seed table names an unknown plane.
     UnknownPlane as "design" => EXIT_INVALID,
+    /// A helix is given rows, which its seed already determines.
     HelixTakesNoRows as "design" => EXIT_INVALID,
+    /// A helix does not say how many cells to grow (`cells`).
     HelixNeedsCells as "design" => EXIT_INVALID,
+    /// Seed points have different numbers of coordinates.
     SeedDimensionsDiffer as "design" => EXIT_INVALID,
+    /// The seed has no `kappa`.
     NoKappa as "design" => EXIT_INVALID,
+    /// `kappa` has a count of values other than one per seed edge.
     KappaCount as "design" => EXIT_INVALID,
+    /// `cells` is given for a seed that is not a helix.
     CellsWithoutHelix as "design" => EXIT_INVALID,
+    /// A setting of one row is written in `[lattice.grow]`.
     RowSettingInGrow as "design" => EXIT_INVALID,
+    /// `rows` is written outside `[lattice.grow]`.
     RowsOutsideGrow as "design" => EXIT_INVALID,
+    /// Two `[[lattice.rows]]` entries describe the same row.
     RowGivenTwice as "design" => EXIT_INVALID,
+    /// A `[[lattice.rows]]` entry reaches past the lattice's last row.
     RowBeyondLattice as "design" => EXIT_INVALID,
+    /// The design grows no rows.
     NoRows as "design" => EXIT_INVALID,
+    /// A row has no leg direction (`angle` or `direction`).
     NoLegDirection as "design" => EXIT_INVALID,
+    /// A row gives both `direction` and `angle`.
     DirectionAndAngle as "design" => EXIT_INVALID,
+    /// A `direction` has more or fewer coordinates than the lattice's dimension.
     DirectionDimension as "design" => EXIT_INVALID,
+    /// A row's angle is not a finite number.
     AngleNotFinite as "design" => EXIT_INVALID,
+    /// A tilt angle is given in a 2-D lattice.
     TiltNeeds3d as "design" => EXIT_INVALID,
+    /// A loop row's `target` has more or fewer coordinates than the lattice's
+    /// dimension.
     TargetDimension as "design" => EXIT_INVALID,
+    /// A row's `front = { }` holds no move.
     EmptyFront as "design" => EXIT_INVALID,
+    /// A front move's angles are not finite.
     FrontAnglesNotFinite as "design" => EXIT_INVALID,
 
     // Fitted lattices ([lattice.fit]).
+    /// A fit surface lacks a value it needs.
     FitNeeds as "design" => EXIT_INVALID,
+    /// A fit size that must be positive is not.
     FitNotPositive as "design" => EXIT_INVALID,
+    /// `fit.axes` is not three positive semi-axes.
     FitAxes as "design" => EXIT_INVALID,
+    /// A fit profile point is not `[r, z]` with `r > 0`.
     FitProfilePoint as "design" => EXIT_INVALID,
+    /// A torus fit's `tube` is not smaller than its `radius`.
     FitTubeTooLarge as "design" => EXIT_INVALID,
+    /// `fit.step` is not between 0 and 90 degrees.
     FitStepOutOfRange as "design" => EXIT_INVALID,
+    /// `fit.surface` names an unknown target.
     UnknownFitSurface as "design" => EXIT_INVALID,
+    /// The fit surface grows a lattice of another dimension or seed kind
+    /// than the recipe's.
     FitDimension as "design" => EXIT_INVALID,
+    /// A fit profile's point count does not match `fit.rows`.
     FitProfileRows as "design" => EXIT_INVALID,
+    /// `fit.angles` or `fit.steps` is given for a target that does not use it.
     FitUnused as "design" => EXIT_INVALID,
+    /// `fit.angles` or `fit.steps` does not have one value per row.
     FitValuesPerRow as "design" => EXIT_INVALID,
+    /// `fit.steps` holds a length that is not positive.
     FitStepsNotPositive as "design" => EXIT_INVALID,
 
     // Fabrication settings, from the recipe.
+    /// A fabrication length (mm) lies outside its allowed range.
     LengthOutOfRange as "design" => EXIT_INVALID,
+    /// `[eyelet] preset` names an unknown eyelet.
     UnknownEyelet as "design" => EXIT_INVALID,
+    /// `[strip] label` names an unknown label style.
     UnknownLabel as "design" => EXIT_INVALID,
+    /// `[sheet]` is `preset = "auto"` and also given a size.
     SheetAutoWithSize as "design" => EXIT_INVALID,
+    /// `[sheet] preset` names an unknown sheet.
     UnknownSheet as "design" => EXIT_INVALID,
+    /// The guide's paper is neither A4 nor Letter.
     UnknownPaper as "design" => EXIT_INVALID,
+    /// The recipe names an unknown colour preset.
     UnknownColours as "design" => EXIT_INVALID,
+    /// The recipe names an unknown sheet grouping.
     UnknownGrouping as "design" => EXIT_INVALID,
+    /// `laser.tabs` is wider than the strips.
     TabsWiderThanStrip as "design" => EXIT_INVALID,
+    /// The eyelet hole leaves less than `MIN_WALL` of material each side of
+    /// the strip.
     HoleWiderThanStrip => EXIT_INVALID,
+    /// `strip.end_margin` puts the end holes closer to the tips than the
+    /// rounded end allows.
     HoleTooCloseToEnd => EXIT_INVALID,
+    /// The sheet is larger than karigami lays out.
     SheetTooLarge => EXIT_INVALID,
+    /// The sheet's usable area is narrower than one strip.
     SheetTooSmall => EXIT_INVALID,
 
     // Fabrication settings, from the command line's flags.
+    /// A fabrication flag's length (mm) lies outside its allowed range.
     FlagOutOfRange as "usage" => EXIT_USAGE,
+    /// `--eyelet` names an unknown eyelet.
     UnknownEyeletFlag as "usage" => EXIT_USAGE,
+    /// `--label` names an unknown label style.
     UnknownLabelFlag as "usage" => EXIT_USAGE,
+    /// `--sheet` is neither a preset, `auto`, nor `WxH` in mm.
     UnknownSheetFlag as "usage" => EXIT_USAGE,
+    /// `--paper` is neither a4 nor letter.
     UnknownPaperFlag as "usage" => EXIT_USAGE,
+    /// `--colours` names an unknown colour preset.
     UnknownColoursFlag as "usage" => EXIT_USAGE,
+    /// `--tabs` is wider than the strips.
     TabsWiderThanStripFlag as "usage" => EXIT_USAGE,
 
     // Simulation and optimisation settings.
+    /// A `[simulation]` value lies outside its allowed range.
     SimulationOutOfRange as "design" => EXIT_INVALID,
+    /// `[simulation] vertex_joint` is neither eyelet nor ball.
     UnknownVertexJoint as "design" => EXIT_INVALID,
+    /// `clash.clearance` is negative.
     NegativeClearance as "design" => EXIT_INVALID,
+    /// `optimise.vary` names something the optimiser cannot vary.
     UnknownVary as "design" => EXIT_INVALID,
+    /// `optimise.method` names an unknown method.
     UnknownOptimiseMethod as "design" => EXIT_INVALID,
+    /// `optimise.vary` is empty.
     EmptyVary as "design" => EXIT_INVALID,
+    /// `optimise.step` is not positive.
     NonPositiveStep as "design" => EXIT_INVALID,
+    /// A value of `[optimise]` that must not be negative (a weight) is.
     OptimiseNegative as "design" => EXIT_INVALID,
+    /// The optimiser's curvature objective names an unknown pattern.
     UnknownCurvaturePattern as "design" => EXIT_INVALID,
+    /// `karigami optimise` was run on a recipe with no `[optimise]` table.
     NoOptimiseTable as "design" => EXIT_INVALID,
+    /// The recipe holds none of the numbers `optimise.vary` names.
     NothingToVary as "design" => EXIT_INVALID,
     /// The optimiser's library stopped with an error.
     Optimiser as "optimise" => EXIT_INVALID,
+    /// No design the optimiser tried grows every row.
     OptimiseFailed => EXIT_INVALID,
     /// `karigami tune` did not reach the cells asked for.
     TuneNotReached => EXIT_INVALID,
+    /// No design the optimiser found meets a `require` constraint.
     ConstraintNotMet => EXIT_INVALID,
 
     // Checks of the grown lattice and its strips.
+    /// The grown lattice fails an invariant of MATH.md 8 beyond the tolerance.
     VerificationFailed => EXIT_INVALID,
+    /// Two holes of a strip are closer than the eyelet flange: the eyelets
+    /// would overlap.
     LegShorterThanFlange => EXIT_INVALID,
+    /// A strip does not fit the sheet's usable area.
     StripLongerThanSheet => EXIT_INVALID,
+    /// Two strips of one stacking layer overlap in the assembled lattice.
     StripClash => EXIT_INVALID,
+    /// A strip is strained beyond the material's allowable in the simulated
+    /// deployed shape.
     Overstrain => EXIT_INVALID,
     /// Some recipes of a batch failed (each was reported on its own).
     BatchFailed => EXIT_INVALID,
@@ -185,15 +298,19 @@ error_kinds! {
     SimulationFailed => EXIT_INVALID,
 }
 
+/// An error that points: what went wrong, where (recipe text and/or lattice
+/// site) and what to change; rendered like rustc's messages.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     /// What went wrong; decides the name shown and the exit status.
     pub kind: ErrorKind,
+    /// What went wrong, in plain words.
     pub message: String,
     /// Byte range in the recipe.
     pub span: Option<Range<usize>>,
     /// Lattice site, e.g. "row 3, column 2".
     pub site: Option<String>,
+    /// What to change to fix it.
     pub hint: Option<String>,
 }
 
