@@ -29,6 +29,8 @@ pub enum Layer {
 }
 
 impl Layer {
+    /// The layers of a cut sheet (all but `Art`), holes first: the order the
+    /// legend and DXF list them.
     pub const ALL: [Layer; 4] = [
         Layer::Holes,
         Layer::Outlines,
@@ -36,6 +38,7 @@ impl Layer {
         Layer::Reference,
     ];
 
+    /// The layer's name in files: the SVG class, the DXF layer and the legend.
     pub fn name(self) -> &'static str {
         match self {
             Layer::Holes => "holes",
@@ -87,12 +90,16 @@ impl Layer {
 /// One piece of a path after its current point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Segment {
+    /// A straight line to this point (page mm).
     Line(DVec2),
     /// A circular arc to `to` around `center`, turning clockwise as seen on
     /// the page (y down) when `clockwise`.
     Arc {
+        /// End point (page mm).
         to: DVec2,
+        /// Centre of the circle the arc lies on (page mm).
         center: DVec2,
+        /// Turning clockwise on the page (y down); counter-clockwise otherwise.
         clockwise: bool,
     },
 }
@@ -101,34 +108,53 @@ pub enum Segment {
 /// single-stroke font.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Font {
+    /// Helvetica in PDF.
     Regular,
+    /// Helvetica-Bold in PDF.
     Bold,
 }
 
+/// How a line of text sits on its anchor point `at`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Align {
+    /// The text starts at `at`.
     Left,
+    /// The text is centred on `at`.
     Center,
+    /// The text ends at `at`.
     Right,
 }
 
+/// What an item draws, in page mm.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
+    /// A full circle, e.g. an eyelet hole.
     Circle {
+        /// Centre (page mm).
         center: DVec2,
+        /// Radius (mm).
         radius: f64,
     },
+    /// A path of lines and arcs, e.g. a strip outline.
     Path {
+        /// First point (page mm).
         start: DVec2,
+        /// The pieces after `start`, in order.
         segments: Vec<Segment>,
+        /// A line joins the last point back to `start`.
         closed: bool,
     },
     /// A line of text; `at` is on the baseline, `size` the font size in mm.
     Text {
+        /// Anchor point on the baseline (page mm), placed per `align`.
         at: DVec2,
+        /// Font size (mm).
         size: f64,
+        /// The characters of the line.
         text: String,
+        /// Regular or bold.
         font: Font,
+        /// Where `at` lies along the line.
         align: Align,
     },
 }
@@ -136,6 +162,7 @@ pub enum Shape {
 /// How an item is painted: stroke colour and width (mm), optional fill.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ink {
+    /// Stroke colour (RGB); None strokes nothing.
     pub stroke: Option<[u8; 3]>,
     pub(crate) width: f64,
     pub(crate) fill: Option<[u8; 3]>,
@@ -215,10 +242,14 @@ impl Shape {
     }
 }
 
+/// One shape on a layer, with the ink that paints it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Item {
+    /// The layer: what a laser does with the shape.
     pub layer: Layer,
+    /// How the shape is painted.
     pub ink: Ink,
+    /// What is drawn (page mm).
     pub shape: Shape,
 }
 
@@ -244,10 +275,13 @@ impl Item {
 /// Items that belong together (one strip), named by `id`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Group {
+    /// The group's name, written as the SVG group id: the strip ID on cut
+    /// sheets, `reference` for the scale bar and caption.
     pub id: String,
     /// Shared drawings placed before the items (guide pages only: the PDF
     /// writer places them; cut sheets and pictures have none).
     pub(crate) symbols: Vec<Place>,
+    /// The drawn items, in painting order.
     pub items: Vec<Item>,
 }
 
@@ -270,6 +304,7 @@ impl Group {
 pub struct Symbol {
     /// Symbols drawn first, by index; each earlier in the list than this one.
     pub(crate) uses: Vec<usize>,
+    /// The drawing's items, relative to the point where it is placed (page mm).
     pub items: Vec<Item>,
 }
 
@@ -288,13 +323,18 @@ impl Layer {
     }
 }
 
+/// One page of a document, in mm with y down from the top-left corner: a cut
+/// sheet, a guide page or a picture.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Page {
+    /// Page width (mm).
     pub width: f64,
+    /// Page height (mm).
     pub height: f64,
     pub(crate) title: String,
     /// Key-value provenance written into each file's metadata.
     pub(crate) metadata: Vec<(String, String)>,
+    /// Everything drawn, group by group in painting order.
     pub groups: Vec<Group>,
 }
 
