@@ -16,10 +16,15 @@ use std::ops::Range;
 pub struct Overrides {
     /// A sheet preset name or `WxH` in mm.
     pub sheet: Option<String>,
+    /// `--eyelet`: an eyelet preset name.
     pub eyelet: Option<String>,
+    /// `--strip-width`: strip width in mm.
     pub strip_width: Option<f64>,
+    /// `--kerf`: laser kerf in mm.
     pub kerf: Option<f64>,
+    /// `--compensate-kerf`: Some(true) offsets the cut geometry by half the kerf.
     pub compensate_kerf: Option<bool>,
+    /// `--label`: what to engrave on strips (id, compact or none).
     pub label: Option<String>,
     /// Paper of the assembly guide: a4 or letter.
     pub paper: Option<String>,

@@ -30,6 +30,8 @@ pub(crate) enum Surface {
     },
 }
 
+/// A validated `[lattice.fit]` table: the target surface and how the search
+/// grows rows towards it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fit {
     pub(crate) surface: Surface,

@@ -26,10 +26,14 @@ use spans::Spans;
 // fit.rs, optimise.rs and simulation.rs check their numbers with these too.
 use values::{coords, count, finite};
 
+/// A validated recipe: seed, rows and every setting, each problem already
+/// reported with its place in the text.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Design {
     pub(crate) name: String,
+    /// Seed topology: sheet, loop or helix.
     pub kind: Kind,
+    /// Embedding dimension, 2 or 3, from the seed's coordinates.
     pub dim: usize,
     /// The seed front.
     pub points: Vec<DVec3>,
@@ -41,6 +45,8 @@ pub struct Design {
     pub helix_cells: usize,
     /// Target fitting: rows are found by a search instead of written out.
     pub fit: Option<fit::Fit>,
+    /// Strips, eyelets, laser and sheet (`[material]`, `[eyelet]`, `[strip]`,
+    /// `[laser]`, `[sheet]`, with command-line overrides applied).
     pub fabrication: Fabrication,
     /// How close strips of one layer may come (`[clash]`).
     pub clash: optimise::ClashRule,
