@@ -43,6 +43,7 @@ pub fn perturb(m: &mut Model, seed: u64, amplitude: f64) {
 /// One distinct equilibrium found by exploration.
 #[derive(Clone, Debug)]
 pub struct Found {
+    /// The equilibrium as first reached.
     pub equilibrium: Equilibrium,
     /// Seeds that reached it.
     pub hits: Vec<u64>,

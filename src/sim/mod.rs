@@ -33,6 +33,7 @@ pub struct Material {
 }
 
 impl Material {
+    /// ABS: E = 2200 MPa, Poisson's ratio 0.35, allowable strain 1.5 %.
     pub const ABS: Material = Material {
         youngs: 2200.0,
         poisson: 0.35,
@@ -61,11 +62,13 @@ impl Material {
 /// The `[simulation]` settings of a recipe.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
+    /// The strip material.
     pub material: Material,
     /// Reference-cell opening to deploy to (radians); None: the design's.
     pub theta: Option<f64>,
     /// Longest interior edge (mm).
     pub h_max: f64,
+    /// How rod ends at a shared vertex are joined.
     pub vertex_joint: VertexJoint,
     /// Strips strained beyond eps_allow are accepted by `build`.
     pub accept_overstrain: bool,
@@ -86,16 +89,21 @@ impl Default for Settings {
 /// Largest continuation step of the prescribed opening (PHYSICS.md 7).
 pub(crate) const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
+/// Why a simulation found no equilibrium.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SimError {
+    /// The Newton solver failed: a stalled line search or a non-finite value.
     Solve(SolveError),
     /// Newton ran out of iterations.
     NotConverged {
+        /// Newton iterations of the step that failed.
         iterations: usize,
     },
     /// The requested opening is outside C(theta)'s valid range.
     Theta {
+        /// The requested opening (radians).
         theta: f64,
+        /// The largest opening of the deployment range, `theta_max` (radians).
         max: f64,
     },
 }
@@ -120,7 +128,9 @@ impl std::fmt::Display for SimError {
 /// An equilibrium and what it says.
 #[derive(Clone, Debug)]
 pub struct Equilibrium {
+    /// Elastic energy by term (N mm).
     pub energy: Energies,
+    /// The largest strain of the strips and where it occurs.
     pub strain: StrainPeak,
     /// Largest joint reaction (N), the joint index and the rod.
     pub reaction: (f64, usize, String),
@@ -130,17 +140,24 @@ pub struct Equilibrium {
     pub distance: f64,
     /// Opening of every cell (radians).
     pub openings: Vec<f64>,
+    /// Statistics of the last Newton solve.
     pub stats: Stats,
 }
 
 /// A simulation run: the model at equilibrium and its report.
 #[derive(Clone, Debug)]
 pub struct Simulation {
+    /// The lattice's rod model, at equilibrium.
     pub lm: LatticeModel,
+    /// The equilibrium and what it says.
     pub equilibrium: Equilibrium,
+    /// The reference cell's opening reached (radians).
     pub theta: f64,
+    /// Newton iterations over all continuation steps.
     pub iterations: usize,
+    /// Solves made: the start, then one per continuation step of the opening.
     pub steps: usize,
+    /// Wall-clock time of the run (seconds).
     pub seconds: f64,
 }
 

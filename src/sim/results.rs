@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 pub struct StrainPeak {
     /// (t/2)|k_flat| + (w/2)|k_edge| + axial.
     pub eps: f64,
+    /// ID of the strip where the peak occurs.
     pub rod: String,
     /// Arc length from the rod's start hole (mm).
     pub s: f64,

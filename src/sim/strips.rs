@@ -19,6 +19,7 @@ pub enum VertexJoint {
 }
 
 impl VertexJoint {
+    /// The recipe's name for it (`[simulation] vertex_joint`): `eyelet` or `ball`.
     pub fn name(self) -> &'static str {
         match self {
             VertexJoint::Eyelet => "eyelet",
@@ -34,12 +35,14 @@ pub struct Mesh {
     pub h_max: f64,
     /// Rigid arm length each side of a hole (mm), normally w/2.
     pub arm: f64,
+    /// How rod ends at a shared vertex are joined.
     pub vertex_joint: VertexJoint,
 }
 
 /// A lattice's model with the bookkeeping that maps it back to the lattice.
 #[derive(Clone, Debug)]
 pub struct LatticeModel {
+    /// The discrete elastic rods, their joints and energy.
     pub model: Model,
     /// Joint of each cell's pivot.
     pub(crate) pivot: Vec<usize>,
