@@ -234,6 +234,7 @@ pub(crate) fn spares(n: usize) -> usize {
 /// The guide's pages and the drawings they share.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Guide {
+    /// The guide's pages, in reading order.
     pub pages: Vec<Page>,
     /// The lattice's rows, drawn once each and placed on every step page
     /// that shows them (see `StepPictures`).

@@ -5,6 +5,8 @@
 
 use crate::lattice::{Joint, Lattice, joints};
 
+/// One assembly step: the strips of one growth row (one cell for a helix)
+/// and the vertex joints it closes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Step {
     /// 1-based.
@@ -24,6 +26,8 @@ pub struct Step {
     pub total: usize,
 }
 
+/// The assembly steps of `lattice` in growth order, with the joints each
+/// closes and the eyelets it sets.
 pub fn steps(lattice: &Lattice) -> Vec<Step> {
     // Cells by step in one pass (in index order within each step).
     let mut by_step: Vec<Vec<usize>> = vec![Vec::new(); lattice.steps()];

@@ -21,22 +21,30 @@ use std::collections::BTreeSet;
 /// end on the left).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placement {
+    /// The part's index into `Layout::lengths` (`lengths.len()` for the test piece).
     pub part: usize,
+    /// Left edge of the outline's bounding box, mm from the sheet's left edge.
     pub x: f64,
+    /// Top edge of the outline's bounding box, mm from the sheet's top edge.
     pub y: f64,
+    /// The strip runs along y, start end at the top.
     pub rotated: bool,
 }
 
+/// One laser sheet and the strips placed on it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sheet {
+    /// The strips on this sheet.
     pub placements: Vec<Placement>,
     /// The test piece (first sheet only), nested in a lane like a part;
     /// its `part` is `Layout::lengths.len()`.
     pub test_piece: Option<Placement>,
 }
 
+/// The strips nested on sheets: what the cut-sheet pages draw.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
+    /// The sheet size every sheet of the layout has.
     pub sheet: SheetSpec,
     /// Outline width of every part.
     pub part_width: f64,
@@ -44,6 +52,7 @@ pub struct Layout {
     pub lengths: Vec<f64>,
     /// Outline length of the test piece, when there is one.
     pub test_piece: Option<f64>,
+    /// The sheets, first to last.
     pub sheets: Vec<Sheet>,
 }
 
@@ -58,6 +67,8 @@ impl Layout {
         parts / (self.sheets.len() as f64 * self.sheet.width * self.sheet.height)
     }
 
+    /// Lower bounds on the sheet count for these parts: how far the layout is
+    /// from the best possible.
     pub fn bounds(&self) -> Bounds {
         let all = self.all_lengths();
         Bounds {

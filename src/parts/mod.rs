@@ -25,12 +25,15 @@ pub(crate) const EDGE_DISTANCE: f64 = 1.5;
 /// form: nothing karigami prints or engraves is smaller (a maker must read it).
 pub(crate) const MIN_LABEL_HEIGHT: f64 = 2.5;
 
+/// One flat strip cut for one rod: its holes, length and engraving, in the
+/// strip frame (mm).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Strip {
     /// Human-readable ID, e.g. `R03-C05-A` (cell row, column, rod letter).
     pub id: String,
     /// The rod's id in lattice.json.
     pub rod: usize,
+    /// Row of the rod's cell (the growth step; the turn for a helix).
     pub row: u32,
     pub(crate) col: u32,
     pub(crate) kind: RodType,
@@ -69,7 +72,9 @@ pub enum Marking {
 /// The cut outline of a strip: nominal, or grown by the kerf when compensated.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Outline {
+    /// Tip-to-tip length as cut (mm): nominal, plus the kerf when compensated.
     pub length: f64,
+    /// Width as cut (mm): the strip width, plus the kerf when compensated.
     pub width: f64,
     /// Hole diameter as cut.
     pub(crate) hole: f64,
@@ -78,6 +83,8 @@ pub struct Outline {
 }
 
 impl Outline {
+    /// The outline of a strip of nominal length `strip_length` (mm) under
+    /// `fab`'s kerf compensation.
     pub fn of(strip_length: f64, fab: &Fabrication) -> Self {
         let k = if fab.compensate_kerf { fab.kerf } else { 0.0 };
         Self {
@@ -107,6 +114,8 @@ pub struct PartsError {
     pub(crate) hint: String,
 }
 
+/// The strips of a lattice, grouped into part types, with their eyelets and
+/// warnings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parts {
     /// In lattice.json's rod order.
@@ -121,6 +130,8 @@ pub struct Parts {
 }
 
 impl Parts {
+    /// Eyelets the build needs: one per scissor pivot and one per vertex joint
+    /// of two or more rod ends.
     pub fn eyelets(&self) -> usize {
         self.vertex_eyelets + self.pivot_eyelets
     }

@@ -21,6 +21,8 @@ const LABEL_AFTER: f64 = 2.5;
 /// Most test holes: the nominal diameter and two steps each side.
 pub(crate) const MAX_HOLES: usize = 5;
 
+/// A test strip cut before the job: holes stepped around the eyelet's
+/// nominal diameter and a 100 mm length, to check kerf and eyelet fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TestPiece {
     /// Nominal tip-to-tip length, like `Strip::length`.
