@@ -10,18 +10,25 @@ use crate::lattice::{Joint, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
 
+/// Everything one design makes before any file bytes: the grown and verified
+/// lattice, its strips, their layout on sheets and the cut-sheet pages.
 pub struct Build {
+    /// The validated recipe it was built from.
     pub design: Design,
+    /// The lattice as grown.
     pub lattice: Lattice,
     /// The lattice as assembled, for pictures: rows grown on rebuilt fronts
     /// placed onto the rows they hang from (`Lattice::placed`).
     pub assembled: Lattice,
+    /// Verification of the grown lattice (MATH.md 8).
     pub report: Report,
     /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
     pub(crate) joints: Vec<Joint>,
     /// How it deploys (MATH.md 8.4), for the reports.
     pub deployment: Deployment,
+    /// The strips and eyelets.
     pub parts: Parts,
+    /// The strips nested on sheets.
     pub layout: Layout,
     /// One page per sheet.
     pub pages: Vec<Page>,
@@ -266,6 +273,7 @@ fn locate(design: &Design, e: PartsError) -> Diagnostic {
 }
 
 impl Build {
+    /// Lower bounds on the sheet count for the layout's parts.
     pub fn bounds(&self) -> Bounds {
         self.layout.bounds()
     }

@@ -5,6 +5,7 @@
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub(crate) name: String,
+    /// Stock thickness (mm); the simulation's strip section uses it.
     pub thickness: f64,
     /// Strip width w.
     pub width: f64,
@@ -14,7 +15,10 @@ pub struct Material {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Eyelet {
     pub(crate) name: String,
+    /// Diameter of the hole the eyelet needs (mm): what is cut.
     pub hole: f64,
+    /// Outer diameter of the eyelet's flange (mm): holes of one strip must be at
+    /// least this far apart.
     pub flange: f64,
 }
 
@@ -36,10 +40,15 @@ pub const SHEET_PRESETS: &[(&str, f64, f64)] = &[
     ("a4", 297.0, 210.0),
 ];
 
+/// The sheet (laser bed) strips are nested on; lengths in mm.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SheetSpec {
+    /// How the sheet was chosen: a preset name, a `WxH` size from the command
+    /// line, `custom` (a size in the recipe) or `auto`.
     pub name: String,
+    /// Sheet width (mm), along x.
     pub width: f64,
+    /// Sheet height (mm), along y.
     pub height: f64,
     /// Border kept free of parts.
     pub margin: f64,
@@ -105,9 +114,12 @@ impl Paper {
     }
 }
 
+/// The validated fabrication settings of a design; lengths in mm.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fabrication {
+    /// The strip stock.
     pub material: Material,
+    /// The eyelet every hole is cut for.
     pub eyelet: Eyelet,
     /// Distance from a strip's tip to its end hole centre (>= width / 2).
     pub(crate) end_margin: f64,
@@ -117,6 +129,7 @@ pub struct Fabrication {
     /// Whether the cut geometry is offset by half the kerf (outlines out,
     /// holes in) or left nominal for the laser software to offset.
     pub(crate) compensate_kerf: bool,
+    /// The sheet strips are nested on.
     pub sheet: SheetSpec,
     /// Paper of the assembly guide.
     pub(crate) paper: Paper,

@@ -36,6 +36,7 @@ pub struct Scene<'a> {
 }
 
 impl<'a> Scene<'a> {
+    /// A scene of one build, without a simulated shape (set `simulated` to add one).
     pub fn new(
         design: &'a Design,
         lattice: &'a Lattice,
