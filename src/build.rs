@@ -97,7 +97,11 @@ pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diag
 }
 
 /// The parts, layout and pages of a grown and verified lattice.
-pub(crate) fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
+pub(crate) fn assemble(
+    design: Design,
+    lattice: Lattice,
+    report: Report,
+) -> Result<Build, Diagnostic> {
     let deployment = deployment(&lattice);
     assemble_with(design, lattice, report, deployment)
 }

@@ -86,7 +86,6 @@ impl LabelStyle {
             _ => None,
         }
     }
-
 }
 
 /// Paper for the printed assembly guide.

@@ -370,7 +370,12 @@ pub(crate) fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool)
 
 /// Cubic Bezier pieces `[c1, c2, end]` approximating an arc, each at most a
 /// quarter turn (radial error below 3e-4 of the radius).
-pub(crate) fn arc_to_cubics(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> Vec<[DVec2; 3]> {
+pub(crate) fn arc_to_cubics(
+    from: DVec2,
+    to: DVec2,
+    center: DVec2,
+    clockwise: bool,
+) -> Vec<[DVec2; 3]> {
     let (a0, sweep) = arc_angles(from, to, center, clockwise);
     let radius = (from - center).length();
     let n = (sweep.abs() / FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;

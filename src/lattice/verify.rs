@@ -95,7 +95,6 @@ impl Invariant {
             Self::CollapsedRodLength => "collapsed state: rods keep their length",
         }
     }
-
 }
 
 /// The largest residual of one invariant and where it occurs.

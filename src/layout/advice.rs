@@ -78,7 +78,11 @@ fn nested(job: &Job, spec: &SheetSpec, known: Option<&Layout>) -> Layout {
 /// The job nested on each preset, in the presets' order, keeping the
 /// margin and gap of `base` (what `--json` lists). `known` is a layout of
 /// the job already made, reused for the preset of its size.
-pub(crate) fn sheet_options(job: &Job, base: &SheetSpec, known: Option<&Layout>) -> Vec<SheetOption> {
+pub(crate) fn sheet_options(
+    job: &Job,
+    base: &SheetSpec,
+    known: Option<&Layout>,
+) -> Vec<SheetOption> {
     presets(base)
         .map(|spec| {
             let layout = job.holds(&spec).then(|| nested(job, &spec, known));
@@ -113,7 +117,11 @@ pub(crate) fn sheets_at_least(job: &Job, spec: &SheetSpec) -> usize {
 /// The smallest preset that holds the job and the job nested on it (None
 /// when no preset holds it). `known` is a layout of the job already made,
 /// reused for the preset of its size.
-pub(crate) fn pick(job: &Job, base: &SheetSpec, known: Option<&Layout>) -> Option<(SheetOption, Layout)> {
+pub(crate) fn pick(
+    job: &Job,
+    base: &SheetSpec,
+    known: Option<&Layout>,
+) -> Option<(SheetOption, Layout)> {
     let mut candidates: Vec<((usize, f64, usize), SheetSpec)> = presets(base)
         .enumerate()
         .filter(|(_, spec)| job.holds(spec))

@@ -142,7 +142,13 @@ fn digits(max: u32) -> usize {
     max.to_string().len().max(2)
 }
 
-pub(crate) fn strip_id(row: u32, col: u32, kind: RodType, row_digits: usize, col_digits: usize) -> String {
+pub(crate) fn strip_id(
+    row: u32,
+    col: u32,
+    kind: RodType,
+    row_digits: usize,
+    col_digits: usize,
+) -> String {
     format!("R{row:0row_digits$}-C{col:0col_digits$}-{}", kind.letter())
 }
 
