@@ -9,12 +9,14 @@
 
 use crate::lattice::{Joint, Lattice};
 
+/// One assembly step: the strips of one growth row (one cell for a helix)
+/// and the vertex joints it closes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Step {
     /// 1-based.
     pub number: usize,
     /// The growth step: the row, or the helix cell.
-    pub row: u32,
+    pub(crate) row: u32,
     /// Cells of this step, by index.
     pub cells: Vec<usize>,
     /// Strips of this step (strip index = rod id).

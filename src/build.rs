@@ -11,12 +11,17 @@ use crate::lattice::{Joint, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
 
+/// Everything one design makes before any file bytes: the grown and verified
+/// lattice, its strips, their layout on sheets and the cut-sheet pages.
 pub struct Build {
+    /// The validated recipe it was built from.
     pub design: Design,
+    /// The lattice as grown.
     pub lattice: Lattice,
     /// The lattice as assembled, for pictures: rows grown on rebuilt fronts
     /// placed onto the rows they hang from (`Lattice::placed`).
     pub assembled: Lattice,
+    /// Verification of the grown lattice (MATH.md 8).
     pub report: Report,
     /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
     pub joints: Vec<Joint>,
@@ -25,18 +30,20 @@ pub struct Build {
     pub steps: Vec<Step>,
     /// How it deploys (MATH.md 8.4), for the reports.
     pub deployment: Deployment,
+    /// The strips and eyelets.
     pub parts: Parts,
+    /// The strips nested on sheets.
     pub layout: Layout,
     /// One page per sheet.
     pub pages: Vec<Page>,
     /// What was nested: outline lengths and width, test piece, steps.
-    pub job: Job,
+    pub(crate) job: Job,
     /// The smallest sheet preset that holds the job (sheet advice); None
     /// when no preset does.
-    pub advice: Option<SheetOption>,
+    pub(crate) advice: Option<SheetOption>,
     /// The simulated deployed shape (docs/physics.md), for lattices that
     /// are not planar true mechanisms (`sim::wanted`).
-    pub simulation: Option<crate::sim::Simulation>,
+    pub(crate) simulation: Option<crate::sim::Simulation>,
 }
 
 /// Grow, verify, make the parts and nest them. A design that fails
@@ -56,12 +63,12 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
 /// verification go to `MAX_CELLS`. A build costs about 0.3 to 0.35 ms of
 /// CPU, 19 KiB of memory and 10 KB of files a cell (BENCHMARKS.md): 20,000
 /// cells build in about 7 s and 390 MiB.
-pub const MAX_FABRICATED_CELLS: usize = 20_000;
+pub(crate) const MAX_FABRICATED_CELLS: usize = 20_000;
 
 /// The assembly guide has a page or more for every growth step, and each
 /// step page places about 2 sqrt(steps) shared row drawings: at most this
 /// many steps (a 2 x 2,000 sheet's guide is 2,000+ pages).
-pub const MAX_GUIDE_STEPS: usize = 2_000;
+pub(crate) const MAX_GUIDE_STEPS: usize = 2_000;
 
 /// Why karigami makes no cut files for a lattice this size (None when it
 /// does): more than `MAX_FABRICATED_CELLS` cells, or a guide of more than
@@ -94,7 +101,11 @@ pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diag
 }
 
 /// The parts, layout and pages of a grown and verified lattice.
-pub fn assemble(design: Design, lattice: Lattice, report: Report) -> Result<Build, Diagnostic> {
+pub(crate) fn assemble(
+    design: Design,
+    lattice: Lattice,
+    report: Report,
+) -> Result<Build, Diagnostic> {
     let deployment = deployment(&lattice);
     assemble_with(design, lattice, report, deployment)
 }
@@ -271,17 +282,18 @@ fn locate(design: &Design, e: PartsError) -> Diagnostic {
 }
 
 impl Build {
+    /// Lower bounds on the sheet count for the layout's parts.
     pub fn bounds(&self) -> Bounds {
         self.layout.bounds()
     }
 
-    pub fn cut_length(&self) -> f64 {
+    pub(crate) fn cut_length(&self) -> f64 {
         self.pages.iter().map(Page::cut_length).sum()
     }
 
     /// The job nested on every sheet preset, in preset order (for `--json`:
     /// five more nestings, so only where asked for).
-    pub fn sheet_options(&self) -> Vec<SheetOption> {
+    pub(crate) fn sheet_options(&self) -> Vec<SheetOption> {
         sheet_options(
             &self.job,
             &self.design.fabrication.sheet,

@@ -5,11 +5,11 @@ use std::fmt::Write as _;
 use std::ops::Range;
 
 /// Exit status of a run that found a design invalid or a check failed.
-pub const EXIT_INVALID: i32 = 1;
+pub(crate) const EXIT_INVALID: i32 = 1;
 /// Exit status of a usage error: a flag, command or name that is not known.
-pub const EXIT_USAGE: i32 = 2;
+pub(crate) const EXIT_USAGE: i32 = 2;
 /// Exit status of a file that could not be read or written.
-pub const EXIT_IO: i32 = 3;
+pub(crate) const EXIT_IO: i32 = 3;
 
 /// Write the `ErrorKind` enum once: each kind, whose own name is the name
 /// shown to users, and the exit status it ends a run with.
@@ -24,7 +24,8 @@ macro_rules! error_kinds {
 
         impl ErrorKind {
             /// Every kind, in the order they are declared.
-            pub const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
+            #[cfg(test)]
+            pub(crate) const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
 
             /// The name users see and search for (MATH.md 9 for growth).
             pub fn name(self) -> &'static str {
@@ -54,24 +55,45 @@ error_kinds! {
     Toml => EXIT_INVALID,
 
     // Growth (MATH.md 9).
+    /// The seed has too few points to grow (MATH.md 9).
     SeedTooShort => EXIT_INVALID,
+    /// A seed or rebuilt front edge is no longer than its |kappa|: `|kappa| >= |t|`.
     SeedEdgeNotSpacelike => EXIT_INVALID,
+    /// A row's `start` site is not a cell of the row.
     StartOutOfRange => EXIT_INVALID,
+    /// A row's leg direction cannot be used: zero length, or angles with no
+    /// reference (a front edge along z, a tilt in 2-D).
     BadDirection => EXIT_INVALID,
+    /// A leg direction (or loop target) falls outside the cell's admissible
+    /// cone: the pivot would be at or beyond infinity.
     InadmissibleDirection => EXIT_INVALID,
+    /// A transfer has no admissible corner: the distance across two front
+    /// edges is no longer than |sum| of their kappa.
     DoubleEdgeNotSpacelike => EXIT_INVALID,
+    /// A leg comes out (or is given) zero or negative.
     NonPositiveLeg => EXIT_INVALID,
+    /// Both end legs of a one-cell-wide row are `match`; one needs a length.
     MatchNeedsLength => EXIT_INVALID,
+    /// A cell's opening angle is too close to 0 or pi.
     DegenerateCell => EXIT_INVALID,
+    /// 2-D: a cell turned over relative to the lattice's first cell.
     InvertedCell => EXIT_INVALID,
     /// More cells, rows, edges or guide steps than karigami makes.
     TooLarge => EXIT_INVALID,
+    /// The construction produced a non-finite number.
     NumericalBreakdown => EXIT_INVALID,
+    /// A loop seed's kappa do not sum to 0, so it cannot collapse.
     LoopKappaSumNonzero => EXIT_INVALID,
+    /// A symmetric loop row closes for every direction and was given none.
     LoopClosureFree => EXIT_INVALID,
+    /// No admissible leg direction closes a loop row, or the one given (by
+    /// direction or `candidate`) does not.
     NoLoopClosure => EXIT_INVALID,
+    /// A loop row closes only to more than `CLOSURE_TOL`.
     LoopClosureResidual => EXIT_INVALID,
+    /// A helix seed breaks its condition `|y_N - y_1| = z_N - z_1`.
     HelixSeedNotNull => EXIT_INVALID,
+    /// A row's `front` moves cannot rebuild its front.
     FrontNotCompatible => EXIT_INVALID,
 
     // The recipe's values.
@@ -137,8 +159,12 @@ error_kinds! {
     UnknownGrouping => EXIT_INVALID,
     TabsWiderThanStrip => EXIT_INVALID,
     HoleWiderThanStrip => EXIT_INVALID,
+    /// `strip.end_margin` puts the end holes closer to the tips than the
+    /// rounded end allows.
     HoleTooCloseToEnd => EXIT_INVALID,
+    /// The sheet is larger than karigami lays out.
     SheetTooLarge => EXIT_INVALID,
+    /// The sheet's usable area is narrower than one strip.
     SheetTooSmall => EXIT_INVALID,
 
     // Fabrication settings, from the command line's flags.
@@ -169,13 +195,21 @@ error_kinds! {
     OptimiseFailed => EXIT_INVALID,
     /// `karigami tune` did not reach the cells asked for.
     TuneNotReached => EXIT_INVALID,
+    /// No design the optimiser found meets a `require` constraint.
     ConstraintNotMet => EXIT_INVALID,
 
     // Checks of the grown lattice and its strips.
+    /// The grown lattice fails an invariant of MATH.md 8 beyond the tolerance.
     VerificationFailed => EXIT_INVALID,
+    /// Two holes of a strip are closer than the eyelet flange: the eyelets
+    /// would overlap.
     LegShorterThanFlange => EXIT_INVALID,
+    /// A strip does not fit the sheet's usable area.
     StripLongerThanSheet => EXIT_INVALID,
+    /// Two strips of one stacking layer overlap in the assembled lattice.
     StripClash => EXIT_INVALID,
+    /// A strip is strained beyond the material's allowable in the simulated
+    /// deployed shape.
     Overstrain => EXIT_INVALID,
     /// Some recipes of a batch failed (each was reported on its own).
     BatchFailed => EXIT_INVALID,
@@ -183,20 +217,24 @@ error_kinds! {
     SimulationFailed => EXIT_INVALID,
 }
 
+/// An error that points: what went wrong, where (recipe text and/or lattice
+/// site) and what to change; rendered like rustc's messages.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     /// What went wrong; decides the name shown and the exit status.
     pub kind: ErrorKind,
+    /// What went wrong, in plain words.
     pub message: String,
     /// Byte range in the recipe.
     pub span: Option<Range<usize>>,
     /// Lattice site, e.g. "row 3, column 2".
     pub site: Option<String>,
+    /// What to change to fix it.
     pub hint: Option<String>,
 }
 
 impl Diagnostic {
-    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
+    pub(crate) fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
         Self {
             kind,
             message: message.into(),
@@ -206,22 +244,22 @@ impl Diagnostic {
         }
     }
 
-    pub fn at(mut self, span: Range<usize>) -> Self {
+    pub(crate) fn at(mut self, span: Range<usize>) -> Self {
         self.span = Some(span);
         self
     }
 
-    pub fn at_opt(mut self, span: Option<Range<usize>>) -> Self {
+    pub(crate) fn at_opt(mut self, span: Option<Range<usize>>) -> Self {
         self.span = span;
         self
     }
 
-    pub fn site(mut self, site: impl Into<String>) -> Self {
+    pub(crate) fn site(mut self, site: impl Into<String>) -> Self {
         self.site = Some(site.into());
         self
     }
 
-    pub fn hint(mut self, hint: impl Into<String>) -> Self {
+    pub(crate) fn hint(mut self, hint: impl Into<String>) -> Self {
         self.hint = Some(hint.into());
         self
     }

@@ -4,7 +4,8 @@
 /// Flat strip stock.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
-    pub name: String,
+    pub(crate) name: String,
+    /// Stock thickness (mm); the simulation's strip section uses it.
     pub thickness: f64,
     /// Strip width w.
     pub width: f64,
@@ -13,14 +14,17 @@ pub struct Material {
 /// An eyelet (grommet) size: the hole it needs and the flange it covers.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Eyelet {
-    pub name: String,
+    pub(crate) name: String,
+    /// Diameter of the hole the eyelet needs (mm): what is cut.
     pub hole: f64,
+    /// Outer diameter of the eyelet's flange (mm): holes of one strip must be at
+    /// least this far apart.
     pub flange: f64,
 }
 
 /// Eyelet presets: typical hole and flange diameters for common eyelets
 /// (measure yours: brands differ).
-pub const EYELET_PRESETS: &[(&str, f64, f64)] = &[
+pub(crate) const EYELET_PRESETS: &[(&str, f64, f64)] = &[
     ("1/8in", 3.2, 6.5),
     ("5/32in", 4.0, 8.0),
     ("3/16in", 4.8, 9.5),
@@ -36,10 +40,15 @@ pub const SHEET_PRESETS: &[(&str, f64, f64)] = &[
     ("a4", 297.0, 210.0),
 ];
 
+/// The sheet (laser bed) strips are nested on; lengths in mm.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SheetSpec {
+    /// How the sheet was chosen: a preset name, a `WxH` size from the command
+    /// line, `custom` (a size in the recipe) or `auto`.
     pub name: String,
+    /// Sheet width (mm), along x.
     pub width: f64,
+    /// Sheet height (mm), along y.
     pub height: f64,
     /// Border kept free of parts.
     pub margin: f64,
@@ -59,7 +68,7 @@ impl SheetSpec {
 
 /// What is engraved on each strip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LabelStyle {
+pub(crate) enum LabelStyle {
     /// The full strip ID, e.g. `R03-C05-A`, with an orientation arrow.
     Id,
     /// A shorter ID, e.g. `3.5A`, with the arrow.
@@ -69,7 +78,7 @@ pub enum LabelStyle {
 }
 
 impl LabelStyle {
-    pub fn parse(s: &str) -> Option<Self> {
+    pub(crate) fn parse(s: &str) -> Option<Self> {
         match s {
             "id" => Some(Self::Id),
             "compact" => Some(Self::Compact),
@@ -77,25 +86,17 @@ impl LabelStyle {
             _ => None,
         }
     }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Id => "id",
-            Self::Compact => "compact",
-            Self::None => "none",
-        }
-    }
 }
 
 /// Paper for the printed assembly guide.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Paper {
+pub(crate) enum Paper {
     A4,
     Letter,
 }
 
 impl Paper {
-    pub fn parse(s: &str) -> Option<Self> {
+    pub(crate) fn parse(s: &str) -> Option<Self> {
         match s.to_ascii_lowercase().as_str() {
             "a4" => Some(Paper::A4),
             "letter" | "us-letter" => Some(Paper::Letter),
@@ -104,7 +105,7 @@ impl Paper {
     }
 
     /// Width and height in mm (portrait).
-    pub fn size(self) -> (f64, f64) {
+    pub(crate) fn size(self) -> (f64, f64) {
         match self {
             Paper::A4 => (210.0, 297.0),
             Paper::Letter => (215.9, 279.4),
@@ -112,44 +113,48 @@ impl Paper {
     }
 }
 
+/// The validated fabrication settings of a design; lengths in mm.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fabrication {
+    /// The strip stock.
     pub material: Material,
+    /// The eyelet every hole is cut for.
     pub eyelet: Eyelet,
     /// Distance from a strip's tip to its end hole centre (>= width / 2).
-    pub end_margin: f64,
-    pub label: LabelStyle,
+    pub(crate) end_margin: f64,
+    pub(crate) label: LabelStyle,
     /// Laser kerf (width of the cut).
-    pub kerf: f64,
+    pub(crate) kerf: f64,
     /// Whether the cut geometry is offset by half the kerf (outlines out,
     /// holes in) or left nominal for the laser software to offset.
-    pub compensate_kerf: bool,
+    pub(crate) compensate_kerf: bool,
+    /// The sheet strips are nested on.
     pub sheet: SheetSpec,
     /// Paper of the assembly guide.
-    pub paper: Paper,
+    pub(crate) paper: Paper,
     // Parts, test piece and colours (issue 13): one block.
     /// Strips whose length and hole pitches agree within this (mm) are one part type.
     pub part_tolerance: f64,
     /// Whether the first sheet carries the kerf and eyelet test piece.
     pub test_piece: bool,
     /// Which colour each layer of the cut files gets.
-    pub colours: ColourPreset,
+    pub(crate) colours: ColourPreset,
     // Sheet advice, cutting by assembly step and holding tabs (issue 13).
     /// `preset = "auto"`: the build nests on the smallest preset that holds
     /// the job (`sheet` is then the preset with the longest side until it does).
-    pub sheet_auto: bool,
+    pub(crate) sheet_auto: bool,
     /// Each assembly step's strips in lanes of their own, steps in order.
-    pub group_by_step: bool,
+    pub(crate) group_by_step: bool,
     /// Width (mm) of the uncut bridges left in each outline; 0 for none.
-    pub tabs: f64,
+    pub(crate) tabs: f64,
 }
 
 /// `--sheet auto` / `preset = "auto"`.
-pub const SHEET_AUTO: &str = "auto";
+pub(crate) const SHEET_AUTO: &str = "auto";
 
 /// The preset with the longest usable side: what `auto` checks strips
 /// against before it picks a sheet.
-pub fn longest_preset() -> (&'static str, f64, f64) {
+pub(crate) fn longest_preset() -> (&'static str, f64, f64) {
     *SHEET_PRESETS
         .iter()
         .max_by(|a, b| a.1.max(a.2).total_cmp(&b.1.max(b.2)))
@@ -157,11 +162,11 @@ pub fn longest_preset() -> (&'static str, f64, f64) {
 }
 
 /// Default tolerance (mm) within which two strips are the same part.
-pub const PART_TOLERANCE: f64 = 0.05;
+pub(crate) const PART_TOLERANCE: f64 = 0.05;
 
 /// Named mappings of the cut-file layers to colours.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ColourPreset {
+pub(crate) enum ColourPreset {
     /// karigami's own: holes blue, outlines red, labels black, reference green.
     Karigami,
     /// The box-generator convention (boxes.py): outer cut black, inner cut
@@ -170,13 +175,13 @@ pub enum ColourPreset {
 }
 
 impl ColourPreset {
-    pub const ALL: [ColourPreset; 2] = [ColourPreset::Karigami, ColourPreset::Boxes];
+    pub(crate) const ALL: [ColourPreset; 2] = [ColourPreset::Karigami, ColourPreset::Boxes];
 
-    pub fn parse(s: &str) -> Option<Self> {
+    pub(crate) fn parse(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|p| p.name() == s)
     }
 
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Self::Karigami => "karigami",
             Self::Boxes => "boxes",
@@ -223,7 +228,7 @@ impl Default for Fabrication {
     }
 }
 
-pub fn eyelet_preset(name: &str) -> Option<Eyelet> {
+pub(crate) fn eyelet_preset(name: &str) -> Option<Eyelet> {
     EYELET_PRESETS
         .iter()
         .find(|p| p.0 == name)
@@ -235,7 +240,7 @@ pub fn eyelet_preset(name: &str) -> Option<Eyelet> {
 }
 
 /// A sheet preset by name, or `WxH` in mm (e.g. `500x300`).
-pub fn sheet_size(name: &str) -> Option<(String, f64, f64)> {
+pub(crate) fn sheet_size(name: &str) -> Option<(String, f64, f64)> {
     if let Some(&(n, w, h)) = SHEET_PRESETS.iter().find(|p| p.0 == name) {
         return Some((n.into(), w, h));
     }
@@ -244,7 +249,7 @@ pub fn sheet_size(name: &str) -> Option<(String, f64, f64)> {
     (w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0).then(|| (name.into(), w, h))
 }
 
-pub fn preset_names(presets: &[(&str, f64, f64)]) -> String {
+pub(crate) fn preset_names(presets: &[(&str, f64, f64)]) -> String {
     presets
         .iter()
         .map(|p| format!("\"{}\"", p.0))

@@ -10,12 +10,18 @@ pub enum Direction {
     /// Angles in the front-local frame (see `lattice::front_frame`):
     /// `angle_deg` from the cone axis towards the growth side, then
     /// `tilt_deg` rotates out of the front's plane (3-D only).
-    Angles { angle_deg: f64, tilt_deg: f64 },
+    Angles {
+        /// From the cone axis towards the growth side (degrees).
+        angle_deg: f64,
+        /// Out of the front's plane (degrees); must be 0 in 2-D.
+        tilt_deg: f64,
+    },
 }
 
 /// A free boundary leg (MATH.md 4.5).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Leg {
+    /// The leg's length (mm).
     Length(f64),
     /// The next row's boundary kappa is 0.
     #[default]

@@ -9,12 +9,12 @@ use crate::parts::solid;
 use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
 
 /// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
-pub const SHEET_PX_PER_MM: f64 = 2.0;
+pub(crate) const SHEET_PX_PER_MM: f64 = 2.0;
 /// ...but at most this many pixels a side (a 5000 mm sheet gets 0.8 px/mm),
 /// so that a picture never takes more than 64 MB to draw.
-pub const SHEET_MAX_PX: f64 = 4000.0;
+pub(crate) const SHEET_MAX_PX: f64 = 4000.0;
 /// Resolution of preview.png: 8 px/mm on a 160 x 120 mm page (1280 x 960 px).
-pub const PREVIEW_PX_PER_MM: f64 = 8.0;
+pub(crate) const PREVIEW_PX_PER_MM: f64 = 8.0;
 
 /// Every output file: a path relative to the output folder and its bytes.
 pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {

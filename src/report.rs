@@ -143,7 +143,7 @@ fn deployment_text(out: &mut String, lattice: &Lattice, d: &Deployment) {
 
 /// report.txt: the verification report, the fabrication summary with its
 /// warnings, the sheets, and the eyelets of each assembly step.
-pub fn build_text(b: &Build) -> String {
+pub(crate) fn build_text(b: &Build) -> String {
     let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
     out.push_str(&check_text(&b.design, &b.lattice, &b.report, &b.deployment));
     out.push('\n');
@@ -216,7 +216,7 @@ pub fn summary(b: &Build) -> String {
 }
 
 /// The summary with every warning (for report.txt) or the first few.
-pub fn summary_with(b: &Build, full: bool) -> String {
+pub(crate) fn summary_with(b: &Build, full: bool) -> String {
     let mut out = String::new();
     let bounds = b.bounds();
     let fab = &b.design.fabrication;
@@ -271,7 +271,7 @@ pub fn summary_with(b: &Build, full: bool) -> String {
 
 /// One line of sheet advice: the smallest preset that holds the job and
 /// its utilisation, against the sheet used.
-pub fn sheet_advice(b: &Build) -> Option<String> {
+pub(crate) fn sheet_advice(b: &Build) -> Option<String> {
     let best = b.advice.as_ref()?;
     let fab = &b.design.fabrication;
     let sheets = |n: usize| {

@@ -1,13 +1,17 @@
 //! Starter recipes for `karigami new`: the files in templates/, built into
 //! the binary so that a new design needs nothing but the program.
 
+/// A starter recipe built into the binary.
 pub struct Template {
+    /// The name `karigami new` takes, e.g. `sheet`.
     pub name: &'static str,
     /// One line for `karigami templates`.
     pub about: &'static str,
+    /// The recipe's TOML text (`templates/NAME.toml`).
     pub text: &'static str,
 }
 
+/// Every starter recipe, in the order `karigami templates` lists them.
 pub const TEMPLATES: &[Template] = &[
     Template {
         name: "sheet",
@@ -46,6 +50,7 @@ pub const TEMPLATES: &[Template] = &[
     },
 ];
 
+/// The template called `name`, if there is one.
 pub fn find(name: &str) -> Option<&'static Template> {
     TEMPLATES.iter().find(|t| t.name == name)
 }

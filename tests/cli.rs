@@ -6,7 +6,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-pub fn karigami(args: &[&str], cwd: &Path) -> Output {
+pub(crate) fn karigami(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_karigami"))
         .args(args)
         .current_dir(cwd)
@@ -14,19 +14,19 @@ pub fn karigami(args: &[&str], cwd: &Path) -> Output {
         .expect("runs karigami")
 }
 
-pub fn repo() -> PathBuf {
+pub(crate) fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// A fresh empty folder under the target dir, unique to the test.
-pub fn scratch(name: &str) -> PathBuf {
+pub(crate) fn scratch(name: &str) -> PathBuf {
     let dir = repo().join("target").join("test-scratch").join(name);
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).unwrap();
     dir
 }
 
-pub fn recipes(folder: &str) -> Vec<PathBuf> {
+pub(crate) fn recipes(folder: &str) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = fs::read_dir(repo().join(folder))
         .unwrap()
         .map(|e| e.unwrap().path())

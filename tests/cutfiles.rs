@@ -15,7 +15,7 @@ use svg::node::element::tag::Type;
 use svg::parser::Event;
 
 /// A random admissible design as a recipe in mm (unit lattices scaled up).
-pub fn recipe(d: &RandomDesign, scale: f64, extra: &str) -> String {
+pub(crate) fn recipe(d: &RandomDesign, scale: f64, extra: &str) -> String {
     let coords = |v: glam::DVec3| {
         let c: Vec<String> = v.to_array()[..d.dim]
             .iter()
@@ -53,13 +53,13 @@ pub fn recipe(d: &RandomDesign, scale: f64, extra: &str) -> String {
 
 /// What an SVG sheet holds, per strip group.
 #[derive(Default, Debug)]
-pub struct SvgStrip {
+pub(crate) struct SvgStrip {
     pub holes: Vec<(DVec2, f64)>,
     /// The two semicircle centres of the outline and its radius.
     pub spine: Option<(DVec2, DVec2, f64)>,
 }
 
-pub struct SvgSheet {
+pub(crate) struct SvgSheet {
     pub width_mm: f64,
     pub height_mm: f64,
     pub view_box: Vec<f64>,
@@ -115,7 +115,7 @@ fn spine(d: &str) -> (DVec2, DVec2, f64) {
     ((l1 + a1) / 2.0, (m + l2) / 2.0, r)
 }
 
-pub fn read_svg(text: &str) -> SvgSheet {
+pub(crate) fn read_svg(text: &str) -> SvgSheet {
     let mut sheet = SvgSheet {
         width_mm: 0.0,
         height_mm: 0.0,
@@ -187,7 +187,7 @@ fn segment_distance(a0: DVec2, a1: DVec2, b0: DVec2, b1: DVec2) -> f64 {
 }
 
 /// Check every written sheet of a build against its lattice.json and parts.csv.
-pub fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
+pub(crate) fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
     let file = |name: &str| {
         &files
             .iter()

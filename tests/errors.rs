@@ -7,13 +7,13 @@ use karigami::design;
 use std::fs;
 use std::path::PathBuf;
 
-pub struct Expectation {
+pub(crate) struct Expectation {
     pub class: String,
     pub line_col: (usize, usize),
     pub message: String,
 }
 
-pub fn expectation(source: &str, file: &str) -> Expectation {
+pub(crate) fn expectation(source: &str, file: &str) -> Expectation {
     let line = source
         .trim_start_matches('\u{FEFF}')
         .lines()
@@ -36,7 +36,7 @@ pub fn expectation(source: &str, file: &str) -> Expectation {
     }
 }
 
-pub fn bad_fixtures() -> Vec<PathBuf> {
+pub(crate) fn bad_fixtures() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = fs::read_dir("fixtures/designs/bad")
         .expect("fixtures/designs/bad exists")
         .map(|e| e.unwrap().path())

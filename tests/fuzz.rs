@@ -333,7 +333,7 @@ fn run_case(text: &str) -> Result<&'static str, String> {
 /// The file parses in its format (readers of our own, kept strict and
 /// fast enough for every fuzz case; the third-party readers check the
 /// examples and hostile names in tests/thirdparty.rs and tests/safety.rs).
-pub fn parses(name: &str, text: &str) -> Result<(), String> {
+pub(crate) fn parses(name: &str, text: &str) -> Result<(), String> {
     let ext = name.rsplit('.').next().unwrap_or_default();
     let control = |t: &str| t.chars().find(|&c| c.is_control() && !"\n\r\t".contains(c));
     match ext {

@@ -9,13 +9,13 @@ use crate::thirdparty::run;
 use std::path::{Path, PathBuf};
 
 /// True when the golden files are to be rewritten rather than compared.
-pub fn blessing() -> bool {
+pub(crate) fn blessing() -> bool {
     std::env::var_os("KARIGAMI_BLESS").is_some()
 }
 
 /// Compare `actual` with the golden file `path` (relative to the repository),
 /// or write it when blessing. Err names the file and the first difference.
-pub fn compare(path: &str, actual: &[u8]) -> Result<(), String> {
+pub(crate) fn compare(path: &str, actual: &[u8]) -> Result<(), String> {
     let golden = repo().join(path);
     if blessing() {
         if let Some(dir) = golden.parent() {

@@ -6,7 +6,7 @@ use glam::DVec3;
 use karigami::geometry::{Direction, Leg};
 use karigami::lattice::{Lattice, RowParams, TOLERANCE, front_frame, grow_sheet, verify};
 
-pub struct RandomDesign {
+pub(crate) struct RandomDesign {
     pub dim: usize,
     pub points: Vec<DVec3>,
     pub kappa: Vec<f64>,
@@ -48,7 +48,7 @@ fn random_leg(rng: &mut Rng) -> Leg {
 
 /// Grow a random design one row at a time, drawing each row's direction in
 /// the cone of the front it grows on. Returns None if a row is refused.
-pub fn random_lattice(rng: &mut Rng, dim: usize) -> Result<(Lattice, RandomDesign), String> {
+pub(crate) fn random_lattice(rng: &mut Rng, dim: usize) -> Result<(Lattice, RandomDesign), String> {
     let (points, kappa) = random_seed(rng, dim);
     let m = kappa.len();
     let nrows = 1 + rng.below(5);

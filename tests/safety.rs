@@ -30,7 +30,7 @@ fn text(b: &[u8]) -> String {
 }
 
 /// Every file under `dir` (hidden ones too) with its bytes.
-pub fn tree(dir: &Path) -> Tree {
+pub(crate) fn tree(dir: &Path) -> Tree {
     let mut out = Tree::new();
     if !dir.exists() {
         return out;
@@ -429,7 +429,7 @@ fn hostile_recipe_file_names_build_only_inside_out() {
 }
 
 /// Every file under `dir` opens in a reader we did not write.
-pub fn check_outputs(dir: &Path) {
+pub(crate) fn check_outputs(dir: &Path) {
     let mut dxfs: Vec<String> = Vec::new();
     for (rel, bytes) in tree(dir) {
         let path = dir.join(&rel);

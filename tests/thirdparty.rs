@@ -11,7 +11,7 @@ use std::process::Command;
 const PT_PER_MM: f64 = 72.0 / 25.4;
 
 /// Run a tool; None (after a note) when it is missing and not required.
-pub fn run(tool: &str, args: &[&str]) -> Option<std::process::Output> {
+pub(crate) fn run(tool: &str, args: &[&str]) -> Option<std::process::Output> {
     match Command::new(tool).args(args).output() {
         Ok(out) => Some(out),
         Err(e) => {

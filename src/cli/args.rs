@@ -7,11 +7,11 @@ use std::path::PathBuf;
 /// Bounds of `karigami tune`: each try grows the helix, so a billion tries
 /// would run for days; a helix of more cells than this is not tuned by
 /// hand-held search.
-pub const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
-pub const MAX_TUNE_CELLS: u64 = 100_000;
+pub(super) const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
+pub(super) const MAX_TUNE_CELLS: u64 = 100_000;
 
 /// The design `karigami build` uses when given none.
-pub const DEFAULT_TEMPLATE: &str = "sheet";
+pub(super) const DEFAULT_TEMPLATE: &str = "sheet";
 
 const EXIT_CODES: &str =
     "Exit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error.";
@@ -23,7 +23,7 @@ const EXIT_CODES: &str =
     about = "Grow, verify and fabricate scissor lattices from TOML recipes",
     after_help = "Examples:\n  karigami new my-sheet                 # a starter recipe, my-sheet.toml\n  karigami check my-sheet.toml\n  karigami build my-sheet.toml --out my-sheet\n  karigami build examples/ --out gallery --jobs 2\n\nExit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error."
 )]
-pub struct Args {
+pub(super) struct Args {
     #[command(subcommand)]
     pub command: Command,
     /// Print only errors.
@@ -35,7 +35,7 @@ pub struct Args {
 }
 
 #[derive(Subcommand)]
-pub enum Command {
+pub(super) enum Command {
     /// Simulate the deployed shape: strips as elastic rods joined by eyelets.
     #[command(after_help = format!("Examples:\n  karigami simulate examples/eggbox.toml\n  karigami simulate examples/mirror-arm.toml --theta 40\n  karigami simulate examples/eggbox.toml --explore 12\n\nThe model and its limits: docs/physics.md.\n\n{EXIT_CODES}"))]
     Simulate {
@@ -127,7 +127,7 @@ pub enum Command {
 
 /// Fabrication settings that replace the recipe's.
 #[derive(ClapArgs, Debug, Default)]
-pub struct FabricationFlags {
+pub(super) struct FabricationFlags {
     /// Sheet: a preset (600x400, glowforge, 12x24in, 12x20in, a3, a4), WxH in mm,
     /// or auto (the smallest preset that holds the job: fewest sheets, then least area).
     #[arg(long)]
@@ -166,7 +166,7 @@ pub struct FabricationFlags {
 }
 
 impl FabricationFlags {
-    pub fn overrides(&self) -> Overrides {
+    pub(super) fn overrides(&self) -> Overrides {
         Overrides {
             sheet: self.sheet.clone(),
             eyelet: self.eyelet.clone(),
@@ -185,7 +185,7 @@ impl FabricationFlags {
 
 /// How much to print.
 #[derive(Clone, Copy)]
-pub struct Verbosity {
+pub(super) struct Verbosity {
     pub quiet: bool,
     pub verbose: bool,
 }

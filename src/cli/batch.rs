@@ -56,7 +56,7 @@ struct Record<'a> {
     seconds: Option<f64>,
 }
 
-pub fn build(
+pub(super) fn build(
     paths: &[PathBuf],
     out: &Path,
     force: bool,

@@ -25,7 +25,7 @@ struct Built<'a> {
     build: serde_json::Value,
 }
 
-pub fn build(
+pub(super) fn build(
     paths: &[PathBuf],
     out: &Path,
     force: bool,
@@ -95,7 +95,7 @@ pub fn build(
 
 /// Check and lock the output folder before any work; say what interrupted
 /// runs left and was repaired, and what `--force` deletes.
-pub fn open_out(
+pub(super) fn open_out(
     out: &Path,
     inputs: &[PathBuf],
     force: bool,

@@ -40,7 +40,7 @@ impl Checked {
     }
 }
 
-pub fn check(
+pub(super) fn check(
     paths: &[PathBuf],
     json: bool,
     overrides: &Overrides,

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 /// Why a command stopped. Its kind decides the exit status.
 #[derive(Debug)]
-pub struct Error {
+pub(super) struct Error {
     pub kind: ErrorKind,
     /// What stderr shows, ending in a newline; empty once shown.
     pub text: String,
@@ -18,7 +18,7 @@ pub struct Error {
 /// An error in a JSON report.
 #[derive(Debug, Clone, Serialize)]
 #[serde(untagged)]
-pub enum ErrorJson {
+pub(super) enum ErrorJson {
     /// An error in a recipe: where it is and what to change (null where
     /// the error has no such place).
     Recipe {
@@ -51,7 +51,7 @@ struct Stopped<'a> {
 
 impl Error {
     /// An error without a place in a recipe: `error: MESSAGE`.
-    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
+    pub(super) fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
         let message = message.into();
         Self {
             kind,
@@ -65,16 +65,16 @@ impl Error {
         }
     }
 
-    pub fn usage(message: impl Into<String>) -> Self {
+    pub(super) fn usage(message: impl Into<String>) -> Self {
         Self::new(ErrorKind::Usage, message)
     }
 
-    pub fn io(message: impl Into<String>) -> Self {
+    pub(super) fn io(message: impl Into<String>) -> Self {
         Self::new(ErrorKind::Io, message)
     }
 
     /// A file that could not be read.
-    pub fn unreadable(file: &str, e: &std::io::Error) -> Self {
+    pub(super) fn unreadable(file: &str, e: &std::io::Error) -> Self {
         let mut error = Self::io(format!("cannot read {file}: {e}"));
         if let Some(ErrorJson::Plain { file: f, .. }) = error.json.as_deref_mut() {
             *f = Some(file.to_string());
@@ -84,7 +84,7 @@ impl Error {
 
     /// A diagnostic against a recipe (`file` as messages name it, its
     /// text `source`), rendered with its place.
-    pub fn at(file: &str, source: &str, d: &Diagnostic) -> Self {
+    pub(super) fn at(file: &str, source: &str, d: &Diagnostic) -> Self {
         let (line, column) = d.line_col(source).unzip();
         Self {
             kind: d.kind,
@@ -103,7 +103,7 @@ impl Error {
 
     /// An error already shown where it happened (each failed recipe of a
     /// check or a batch): only its exit status is left to give.
-    pub fn shown(kind: ErrorKind) -> Self {
+    pub(super) fn shown(kind: ErrorKind) -> Self {
         Self {
             kind,
             text: String::new(),
@@ -112,18 +112,18 @@ impl Error {
     }
 
     /// Show it only on stderr: the JSON report holds the results already.
-    pub fn text_only(mut self) -> Self {
+    pub(super) fn text_only(mut self) -> Self {
         self.json = None;
         self
     }
 
-    pub fn exit_code(&self) -> i32 {
+    pub(super) fn exit_code(&self) -> i32 {
         self.kind.exit_code()
     }
 
     /// Show what is left to show: the text on stderr and, with `--json`,
     /// the error as the run's JSON document.
-    pub fn report(&self, json: bool) {
+    pub(super) fn report(&self, json: bool) {
         eprint!("{}", self.text);
         if let (true, Some(error)) = (json, self.json.as_deref()) {
             print_json(&Stopped {
@@ -136,12 +136,12 @@ impl Error {
 
 /// Print a JSON report on stdout. Its keys come out sorted, as they always
 /// have (through `serde_json::Value`), whatever the order of the fields.
-pub fn print_json(report: &impl Serialize) {
+pub(super) fn print_json(report: &impl Serialize) {
     outln!("{}", json_text(report));
 }
 
 /// `print_json`'s text, for files.
-pub fn json_text(report: &impl Serialize) -> String {
+pub(super) fn json_text(report: &impl Serialize) -> String {
     let value = serde_json::to_value(report).expect("a report serialises");
     serde_json::to_string_pretty(&value).expect("JSON is text")
 }

@@ -55,7 +55,7 @@ fn next(what: &str) -> usize {
 }
 
 /// A file is about to be written.
-pub fn write(what: &str) -> io::Result<()> {
+pub(super) fn write(what: &str) -> io::Result<()> {
     let k = next(what);
     match plan().enospc_from {
         Some(from) if k >= from => Err(io::Error::from_raw_os_error(28)),
@@ -64,16 +64,16 @@ pub fn write(what: &str) -> io::Result<()> {
 }
 
 /// A rename or removal of the commit is about to happen.
-pub fn commit(what: &str) {
+pub(super) fn commit(what: &str) {
     next(what);
 }
 
-pub fn no_exchange() -> bool {
+pub(super) fn no_exchange() -> bool {
     plan().no_exchange
 }
 
 /// Flush a file or folder to the disk (unless `nosync`).
-pub fn sync(file: &std::fs::File) -> io::Result<()> {
+pub(super) fn sync(file: &std::fs::File) -> io::Result<()> {
     if plan().no_sync {
         return Ok(());
     }

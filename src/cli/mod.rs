@@ -41,7 +41,7 @@ use clap::{CommandFactory, Parser};
 use error::{Error, ErrorJson};
 use karigami::diagnostic::ErrorKind;
 
-pub fn run() -> i32 {
+pub(crate) fn run() -> i32 {
     let args = match Args::try_parse() {
         Ok(args) => args,
         Err(e) if !e.use_stderr() => e.exit(),

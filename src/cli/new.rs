@@ -8,13 +8,13 @@ use karigami::templates;
 use std::path::{Path, PathBuf};
 
 /// `karigami templates`: what `new` can start from.
-pub fn list() {
+pub(super) fn list() {
     for t in templates::TEMPLATES {
         outln!("{:<8} {}", t.name, t.about);
     }
 }
 
-pub fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Error> {
+pub(super) fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Error> {
     let Some(t) = templates::find(template) else {
         let names: Vec<_> = templates::TEMPLATES.iter().map(|t| t.name).collect();
         return Err(Error::usage(format!(

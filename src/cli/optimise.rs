@@ -11,7 +11,7 @@ use karigami::design::Design;
 use std::path::Path;
 use std::time::Instant;
 
-pub fn run(
+pub(super) fn run(
     recipe: &Recipe,
     design: &Design,
     out: Option<&Path>,

@@ -5,7 +5,7 @@ use std::io::{IsTerminal, Write};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-pub struct Progress {
+pub(super) struct Progress {
     total: usize,
     done: usize,
     tty: bool,
@@ -17,7 +17,7 @@ pub struct Progress {
 }
 
 impl Progress {
-    pub fn new(total: usize, quiet: bool) -> Self {
+    pub(super) fn new(total: usize, quiet: bool) -> Self {
         Self {
             total,
             done: 0,
@@ -28,12 +28,12 @@ impl Progress {
         }
     }
 
-    pub fn is_tty(&self) -> bool {
+    pub(super) fn is_tty(&self) -> bool {
         self.tty && !self.quiet
     }
 
     /// A recipe has finished: `status` is "ok" or why it failed.
-    pub fn finished(&mut self, name: &str, status: &str, seconds: f64) {
+    pub(super) fn finished(&mut self, name: &str, status: &str, seconds: f64) {
         self.done += 1;
         if self.quiet {
             return;
@@ -50,7 +50,7 @@ impl Progress {
 
     /// A note while a single long job runs (a fit's rows): drawn in place
     /// on a terminal, else printed as a line every few seconds at most.
-    pub fn note(&mut self, text: &str) {
+    pub(super) fn note(&mut self, text: &str) {
         if self.is_tty() {
             self.draw(text);
         } else if !self.quiet && self.noted.is_none_or(|t| t.elapsed() >= NOTE_EVERY) {
@@ -60,7 +60,7 @@ impl Progress {
     }
 
     /// Print a block (an error report) above the bar.
-    pub fn print(&mut self, text: &str) {
+    pub(super) fn print(&mut self, text: &str) {
         self.clear();
         eprint!("{text}");
         if self.tty && !self.quiet && self.done > 0 && self.done < self.total {
@@ -86,7 +86,7 @@ impl Progress {
     }
 
     /// Remove the bar (before the final summary).
-    pub fn clear(&mut self) {
+    pub(super) fn clear(&mut self) {
         if self.drawn > 0 {
             eprint!("\r{}\r", " ".repeat(self.drawn));
             let _ = std::io::stderr().flush();
@@ -103,7 +103,7 @@ const NOTE_EVERY: Duration = Duration::from_secs(5);
 /// `NOTE_EVERY` otherwise (logs, CI); nothing when `quiet`. For phases that
 /// report no progress of their own (growing, verifying, laying out,
 /// tuning).
-pub fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) -> T {
+pub(super) fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) -> T {
     if quiet {
         return work();
     }
@@ -147,7 +147,7 @@ pub fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) -> T {
 }
 
 /// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
-pub fn fit_note(note: &str, v: super::args::Verbosity, bar: &mut Progress) {
+pub(super) fn fit_note(note: &str, v: super::args::Verbosity, bar: &mut Progress) {
     if v.verbose {
         eprintln!("{note}");
     } else {

@@ -11,14 +11,14 @@ use karigami::templates;
 use std::path::Path;
 
 /// A recipe as read: its text, its name for messages, its default design name.
-pub struct Recipe {
+pub(super) struct Recipe {
     pub source: String,
     pub file: String,
     pub stem: String,
 }
 
 impl Recipe {
-    pub fn read(path: &Path) -> Result<Self, Error> {
+    pub(super) fn read(path: &Path) -> Result<Self, Error> {
         let file = path.display().to_string();
         let source = files::read(path).map_err(|e| Error::unreadable(&file, &e))?;
         Ok(Self {
@@ -29,7 +29,7 @@ impl Recipe {
         })
     }
 
-    pub fn built_in() -> Self {
+    pub(super) fn built_in() -> Self {
         Self {
             source: templates::find(DEFAULT_TEMPLATE)
                 .expect("the default template exists")
@@ -40,26 +40,26 @@ impl Recipe {
         }
     }
 
-    pub fn parse(&self, overrides: &Overrides) -> Result<Design, Error> {
+    pub(super) fn parse(&self, overrides: &Overrides) -> Result<Design, Error> {
         design::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.error(&d))
     }
 
     /// A diagnostic against this recipe, rendered and as JSON.
-    pub fn error(&self, d: &Diagnostic) -> Error {
+    pub(super) fn error(&self, d: &Diagnostic) -> Error {
         Error::at(&self.file, &self.source, d)
     }
 }
 
 /// The file name without its extension: a recipe's default design name and
 /// its subfolder in a batch.
-pub fn stem(path: &Path) -> String {
+pub(super) fn stem(path: &Path) -> String {
     path.file_stem()
         .map_or("design".into(), |s| s.to_string_lossy().into_owned())
 }
 
 /// Parse, grow, verify and assemble one recipe (the build and batch paths;
 /// `check` goes step by step to print the report even when it fails).
-pub fn run_recipe(
+pub(super) fn run_recipe(
     recipe: &Recipe,
     overrides: &Overrides,
     progress: &mut dyn FnMut(&str),

@@ -15,9 +15,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// Seed of `--explore`'s perturbations (reported with the results).
-pub const EXPLORE_SEED: u64 = 2024;
+pub(super) const EXPLORE_SEED: u64 = 2024;
 
-pub fn simulate(
+pub(super) fn simulate(
     path: &Path,
     theta: Option<f64>,
     explore_n: Option<usize>,
@@ -83,7 +83,7 @@ fn pct(x: f64) -> String {
 }
 
 /// The report of one simulation (PHYSICS.md 9).
-pub fn text(
+pub(super) fn text(
     file: &str,
     lattice: &Lattice,
     verdict: &str,
@@ -220,7 +220,7 @@ pub fn text(
 /// Signs of the angle defects at interior vertices (discrete Gaussian
 /// curvature, lattice::shape's measure): how many dome-like (at least
 /// +CURVED_DEG), saddle-like (at most -CURVED_DEG) and flat, and the range.
-pub fn curvature_summary(c: &[VertexCurvature]) -> String {
+pub(super) fn curvature_summary(c: &[VertexCurvature]) -> String {
     let Some(sum) = shape::summary(c) else {
         return "no interior vertices".into();
     };

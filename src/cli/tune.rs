@@ -9,7 +9,7 @@ use karigami::design::{self, Overrides};
 use karigami::diagnostic::ErrorKind;
 use std::path::Path;
 
-pub fn tune(
+pub(super) fn tune(
     path: &Path,
     cells: Option<usize>,
     out: Option<&Path>,

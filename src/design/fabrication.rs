@@ -16,10 +16,15 @@ use std::ops::Range;
 pub struct Overrides {
     /// A sheet preset name or `WxH` in mm.
     pub sheet: Option<String>,
+    /// `--eyelet`: an eyelet preset name.
     pub eyelet: Option<String>,
+    /// `--strip-width`: strip width in mm.
     pub strip_width: Option<f64>,
+    /// `--kerf`: laser kerf in mm.
     pub kerf: Option<f64>,
+    /// `--compensate-kerf`: Some(true) offsets the cut geometry by half the kerf.
     pub compensate_kerf: Option<bool>,
+    /// `--label`: what to engrave on strips (id, compact or none).
     pub label: Option<String>,
     /// Paper of the assembly guide: a4 or letter.
     pub paper: Option<String>,
@@ -36,10 +41,10 @@ pub struct Overrides {
 /// Where the settings were written, for errors found later (per strip).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FabricationSpans {
-    pub width: Option<Range<usize>>,
-    pub eyelet: Option<Range<usize>>,
-    pub end_margin: Option<Range<usize>>,
-    pub sheet: Option<Range<usize>>,
+    pub(crate) width: Option<Range<usize>>,
+    pub(crate) eyelet: Option<Range<usize>>,
+    pub(crate) end_margin: Option<Range<usize>>,
+    pub(crate) sheet: Option<Range<usize>>,
 }
 
 /// Thinnest wall of material kept between a hole and a strip edge or tip.
@@ -56,19 +61,19 @@ fn short(mm: f64) -> String {
 
 /// The largest sheet side: beyond the beds of large-format lasers (3 x 2 m),
 /// and it bounds the memory of the sheet pictures.
-pub const MAX_SHEET: f64 = 5000.0;
+pub(crate) const MAX_SHEET: f64 = 5000.0;
 
 /// The physical range of each length setting (mm): beyond these no laser
 /// cuts, no stock is sold, and later arithmetic (solids, layout) would
 /// lose its meaning. Sheet sides are bounded by `MAX_SHEET`.
-pub const MAX_THICKNESS: f64 = 50.0;
-pub const MAX_STRIP_WIDTH: f64 = 500.0;
-pub const MAX_EYELET: f64 = 100.0;
-pub const MAX_END_MARGIN: f64 = 1000.0;
-pub const MAX_KERF: f64 = 5.0;
-pub const MAX_SHEET_MARGIN: f64 = 1000.0;
+pub(crate) const MAX_THICKNESS: f64 = 50.0;
+pub(crate) const MAX_STRIP_WIDTH: f64 = 500.0;
+pub(crate) const MAX_EYELET: f64 = 100.0;
+pub(crate) const MAX_END_MARGIN: f64 = 1000.0;
+pub(crate) const MAX_KERF: f64 = 5.0;
+pub(crate) const MAX_SHEET_MARGIN: f64 = 1000.0;
 /// Largest tolerance for grouping strips into one part type, mm.
-pub const MAX_PART_TOLERANCE: f64 = 10.0;
+pub(crate) const MAX_PART_TOLERANCE: f64 = 10.0;
 
 fn length(n: &Num, what: &str, min_exclusive: f64, max: f64) -> Result<f64, Diagnostic> {
     let v = *n.get_ref();
@@ -130,7 +135,7 @@ fn from_override(v: f64, what: &str, max: f64) -> Result<f64, Diagnostic> {
     }
 }
 
-pub fn fabrication(
+pub(crate) fn fabrication(
     raw: &RawDesign,
     o: &Overrides,
 ) -> Result<(Fabrication, FabricationSpans), Diagnostic> {

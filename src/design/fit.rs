@@ -12,7 +12,7 @@ mod coverage;
 pub use coverage::{Coverage, coverage};
 
 #[derive(Clone, Debug, PartialEq)]
-pub enum Surface {
+pub(crate) enum Surface {
     Disk {
         radius: f64,
     },
@@ -33,28 +33,30 @@ pub enum Surface {
     },
 }
 
+/// A validated `[lattice.fit]` table: the target surface and how the search
+/// grows rows towards it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fit {
-    pub surface: Surface,
-    pub rows: usize,
+    pub(crate) surface: Surface,
+    pub(crate) rows: usize,
     /// Directions tried per row (per axis, for the ellipsoid).
-    pub samples: usize,
+    pub(crate) samples: usize,
     /// Open fits: each row's leg angle, given instead of searched for.
-    pub angles: Option<Vec<f64>>,
+    pub(crate) angles: Option<Vec<f64>>,
     /// Ellipsoid loops: each ring's step down the meridian (mm).
-    pub steps: Option<Vec<f64>>,
+    pub(crate) steps: Option<Vec<f64>>,
     /// Where the table and those lists were written (for rewriting them).
-    pub spans: FitSpans,
+    pub(crate) spans: FitSpans,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct FitSpans {
-    pub table: std::ops::Range<usize>,
-    pub angles: Option<std::ops::Range<usize>>,
-    pub steps: Option<std::ops::Range<usize>>,
+pub(crate) struct FitSpans {
+    pub(crate) table: std::ops::Range<usize>,
+    pub(crate) angles: Option<std::ops::Range<usize>>,
+    pub(crate) steps: Option<std::ops::Range<usize>>,
 }
 
-pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnostic> {
+pub(crate) fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnostic> {
     let raw = f.get_ref();
     let need = |what: &str, hint: &str| {
         Diagnostic::new(
@@ -282,7 +284,7 @@ pub fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnos
 
 impl Surface {
     /// Distance from a point to the target surface (for the fit error).
-    pub fn distance(&self, p: DVec3) -> f64 {
+    pub(crate) fn distance(&self, p: DVec3) -> f64 {
         match self {
             Surface::Disk { radius } => (p.truncate().length() - radius).max(0.0),
             Surface::Ellipsoid { axes } => ellipsoid_distance(*axes, p),
@@ -303,7 +305,7 @@ impl Surface {
     }
 
     /// A length for relative errors.
-    pub fn size(&self) -> f64 {
+    pub(crate) fn size(&self) -> f64 {
         match self {
             Surface::Disk { radius } => 2.0 * radius,
             Surface::Ellipsoid { axes } => 2.0 * axes.max_element(),
@@ -396,7 +398,7 @@ pub fn error(fit: &Fit, lattice: &Lattice) -> (f64, f64) {
 /// The largest distance of a boundary vertex (the seed's and each row's
 /// two ends) from the target's boundary curve (the disk's circle), or None
 /// for targets without one.
-pub fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
+pub(crate) fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
     let Surface::Disk { radius } = fit.surface else {
         return None;
     };

@@ -9,14 +9,19 @@ use crate::lattice::shape::{CurvatureSummary, Shape, summary};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
 
+/// Every shape and fit number of a grown design (see the module comment).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measures {
+    /// Shape measures that need no target: curvature, regularity, strips.
     pub shape: Shape,
+    /// Summary of the angle defects; None without interior vertices.
     pub curvature: Option<CurvatureSummary>,
     /// Largest vertex distance to the target surface (mm).
     pub fit_distance: Option<f64>,
     /// Largest boundary-vertex distance to the target's boundary curve (mm).
     pub boundary_distance: Option<f64>,
+    /// How much of the fit target the cells cover; None without a target or for
+    /// a free revolution profile.
     pub coverage: Option<Coverage>,
     /// Same-layer strips closer than the strip width plus the clearance.
     pub clashes: Vec<Clash>,
@@ -25,23 +30,31 @@ pub struct Measures {
     pub turns: Vec<Turn>,
     /// Distinct rows and columns holding a vertex with defect >= +3 deg.
     pub bump_rows: usize,
+    /// Distinct columns holding such a vertex.
     pub bump_cols: usize,
     /// Shares of interior vertices with defect >= +3 deg and <= -3 deg.
     pub bumps: f64,
+    /// Share of interior vertices with defect <= -3 deg.
     pub dimples: f64,
 }
 
+/// One complete turn of a helix, about the axis through the mean of the
+/// first turn's points, along z.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Turn {
+    /// Mean distance of the turn's vertices from the axis (mm).
     pub radius: f64,
+    /// Mean z of the turn's vertices (mm).
     pub height: f64,
     /// max |r - mean| / mean over the turn's vertices.
     pub spread: f64,
 }
 
 /// A defect of at least this (degrees) is a bump of an eggbox.
-pub const BUMP_DEG: f64 = 3.0;
+pub(crate) const BUMP_DEG: f64 = 3.0;
 
+/// Measure a grown design: shape, curvature, target fit and coverage,
+/// strip clashes, helix turns and bumps.
 pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
     let shape = lattice.shape();
     let curvature = summary(&shape.curvature);
@@ -126,7 +139,7 @@ fn turns(lattice: &Lattice) -> Vec<Turn> {
 
 impl Measures {
     /// The shape section of `check` and report.txt.
-    pub fn text(&self, lattice: &Lattice, design: &Design) -> String {
+    pub(crate) fn text(&self, lattice: &Lattice, design: &Design) -> String {
         use std::fmt::Write as _;
         let mut out = String::from("shape, measured from each cell's own corners:\n");
         let s = &self.shape;
@@ -246,7 +259,7 @@ impl Measures {
     }
 
     /// The same numbers for `--json`.
-    pub fn json(&self, lattice: &Lattice) -> serde_json::Value {
+    pub(crate) fn json(&self, lattice: &Lattice) -> serde_json::Value {
         use serde_json::json;
         let num =
             |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
@@ -291,7 +304,7 @@ impl Measures {
     }
 
     /// The clash refusal of `build` and `check`, unless the recipe allows them.
-    pub fn clash_error(
+    pub(crate) fn clash_error(
         &self,
         lattice: &Lattice,
         design: &Design,

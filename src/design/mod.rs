@@ -6,11 +6,11 @@ mod errors;
 mod fabrication;
 pub mod fit;
 pub mod measure;
-pub mod optimise;
+pub(crate) mod optimise;
 mod raw;
 mod rows;
-pub mod seed;
-pub mod simulation;
+pub(crate) mod seed;
+pub(crate) mod simulation;
 mod spans;
 mod values;
 
@@ -26,10 +26,14 @@ use spans::Spans;
 // fit.rs, optimise.rs and simulation.rs check their numbers with these too.
 use values::{coords, count, finite};
 
+/// A validated recipe: seed, rows and every setting, each problem already
+/// reported with its place in the text.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Design {
-    pub name: String,
+    pub(crate) name: String,
+    /// Seed topology: sheet, loop or helix.
     pub kind: Kind,
+    /// Embedding dimension, 2 or 3, from the seed's coordinates.
     pub dim: usize,
     /// The seed front.
     pub points: Vec<DVec3>,
@@ -41,6 +45,8 @@ pub struct Design {
     pub helix_cells: usize,
     /// Target fitting: rows are found by a search instead of written out.
     pub fit: Option<fit::Fit>,
+    /// Strips, eyelets, laser and sheet (`[material]`, `[eyelet]`, `[strip]`,
+    /// `[laser]`, `[sheet]`, with command-line overrides applied).
     pub fabrication: Fabrication,
     /// How close strips of one layer may come (`[clash]`).
     pub clash: optimise::ClashRule,
@@ -49,7 +55,7 @@ pub struct Design {
     /// `[simulation]`: material moduli and deployment for `simulate`.
     pub simulation: crate::sim::Settings,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
-    pub recipe_hash: u64,
+    pub(crate) recipe_hash: u64,
     spans: Spans,
 }
 
@@ -160,7 +166,7 @@ pub fn parse_with(
 }
 
 /// 64-bit FNV-1a: a stable fingerprint of the recipe for file metadata.
-pub fn fnv1a(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
         (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
     })

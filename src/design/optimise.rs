@@ -35,59 +35,59 @@ pub struct RawClash {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawOptimise {
-    pub vary: Spanned<Vec<Spanned<String>>>,
-    pub method: Option<Spanned<String>>,
-    pub budget: Option<Spanned<i64>>,
-    pub seed: Option<Spanned<i64>>,
-    pub step: Option<Num>,
-    pub objective: Option<Spanned<RawWeights>>,
-    pub target: Option<Spanned<RawTarget>>,
-    pub require: Option<Spanned<RawRequire>>,
+pub(crate) struct RawOptimise {
+    pub(crate) vary: Spanned<Vec<Spanned<String>>>,
+    pub(crate) method: Option<Spanned<String>>,
+    pub(crate) budget: Option<Spanned<i64>>,
+    pub(crate) seed: Option<Spanned<i64>>,
+    pub(crate) step: Option<Num>,
+    pub(crate) objective: Option<Spanned<RawWeights>>,
+    pub(crate) target: Option<Spanned<RawTarget>>,
+    pub(crate) require: Option<Spanned<RawRequire>>,
 }
 
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawWeights {
-    pub surface: Option<Num>,
-    pub boundary: Option<Num>,
-    pub coverage: Option<Num>,
-    pub regularity: Option<Num>,
-    pub legs: Option<Num>,
-    pub clashes: Option<Num>,
-    pub curvature: Option<Num>,
-    pub rings: Option<Num>,
-    pub bending: Option<Num>,
+pub(crate) struct RawWeights {
+    pub(crate) surface: Option<Num>,
+    pub(crate) boundary: Option<Num>,
+    pub(crate) coverage: Option<Num>,
+    pub(crate) regularity: Option<Num>,
+    pub(crate) legs: Option<Num>,
+    pub(crate) clashes: Option<Num>,
+    pub(crate) curvature: Option<Num>,
+    pub(crate) rings: Option<Num>,
+    pub(crate) bending: Option<Num>,
 }
 
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawTarget {
-    pub defect: Option<Num>,
-    pub pattern: Option<Spanned<String>>,
+pub(crate) struct RawTarget {
+    pub(crate) defect: Option<Num>,
+    pub(crate) pattern: Option<Spanned<String>>,
 }
 
 /// Hard constraints, each a bound on one measure.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawRequire {
-    pub max_distance: Option<Num>,
-    pub max_boundary_distance: Option<Num>,
-    pub min_coverage: Option<Num>,
-    pub max_area_ratio: Option<Num>,
-    pub min_positive: Option<Num>,
-    pub min_negative: Option<Num>,
-    pub max_mean_defect: Option<Num>,
-    pub min_mean_defect: Option<Num>,
-    pub max_k_spread: Option<Num>,
-    pub max_front_gap: Option<Num>,
-    pub max_turn_spread: Option<Num>,
-    pub max_clashes: Option<Num>,
+pub(crate) struct RawRequire {
+    pub(crate) max_distance: Option<Num>,
+    pub(crate) max_boundary_distance: Option<Num>,
+    pub(crate) min_coverage: Option<Num>,
+    pub(crate) max_area_ratio: Option<Num>,
+    pub(crate) min_positive: Option<Num>,
+    pub(crate) min_negative: Option<Num>,
+    pub(crate) max_mean_defect: Option<Num>,
+    pub(crate) min_mean_defect: Option<Num>,
+    pub(crate) max_k_spread: Option<Num>,
+    pub(crate) max_front_gap: Option<Num>,
+    pub(crate) max_turn_spread: Option<Num>,
+    pub(crate) max_clashes: Option<Num>,
     /// Share of interior vertices with a defect of at least +3 deg / at most -3 deg.
-    pub min_bumps: Option<Num>,
+    pub(crate) min_bumps: Option<Num>,
     /// Shortest leg (mm): at least the eyelet flange plus the walls.
-    pub min_leg: Option<Num>,
-    pub min_dimples: Option<Num>,
+    pub(crate) min_leg: Option<Num>,
+    pub(crate) min_dimples: Option<Num>,
 }
 
 /// How close strips of one layer may come, and whether a clash is allowed.
@@ -98,7 +98,7 @@ pub struct ClashRule {
     /// Which neighbours alternate their layers (`stacking`).
     pub stacking: crate::lattice::Stacking,
     /// `[clash]`, or the lattice table when there is none.
-    pub span: Option<Range<usize>>,
+    pub(crate) span: Option<Range<usize>>,
 }
 
 impl Default for ClashRule {
@@ -114,7 +114,7 @@ impl Default for ClashRule {
 
 /// Which recipe numbers the optimiser moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Vary {
+pub(crate) enum Vary {
     /// Every row table's leg `angle` (and tilt in 3-D).
     Angle,
     /// Every angle of the rows' front moves.
@@ -127,7 +127,7 @@ pub enum Vary {
 
 /// How the optimiser searches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
+pub(crate) enum Method {
     /// argmin's Nelder-Mead simplex, restarted about the best point.
     NelderMead,
     /// A seeded (mu/mu_w, lambda) evolution strategy: a population about a
@@ -136,7 +136,7 @@ pub enum Method {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Pattern {
+pub(crate) enum Pattern {
     /// The same defect at every interior vertex.
     Constant,
     /// +defect and -defect alternating along rows and columns.
@@ -145,44 +145,44 @@ pub enum Pattern {
 
 /// Objective weights (0: not an objective).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Weights {
-    pub surface: f64,
-    pub boundary: f64,
-    pub coverage: f64,
-    pub regularity: f64,
-    pub legs: f64,
-    pub clashes: f64,
-    pub curvature: f64,
+pub(crate) struct Weights {
+    pub(crate) surface: f64,
+    pub(crate) boundary: f64,
+    pub(crate) coverage: f64,
+    pub(crate) regularity: f64,
+    pub(crate) legs: f64,
+    pub(crate) clashes: f64,
+    pub(crate) curvature: f64,
     /// Helix: a bowl. Turns round (within 12 %), each narrower and lower,
     /// vertices near one sphere, every interior defect clearly positive.
-    pub rings: f64,
+    pub(crate) rings: f64,
     /// Intrinsic rows: how far rebuilt fronts miss their rows.
-    pub bending: f64,
+    pub(crate) bending: f64,
 }
 
 /// A hard constraint: the measure it bounds, the bound, and where it was written.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Requirement {
-    pub name: &'static str,
-    pub bound: f64,
-    pub span: Range<usize>,
+pub(crate) struct Requirement {
+    pub(crate) name: &'static str,
+    pub(crate) bound: f64,
+    pub(crate) span: Range<usize>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Optimise {
-    pub vary: Vec<Vary>,
-    pub method: Method,
-    pub budget: usize,
-    pub seed: u64,
-    pub step: f64,
-    pub weights: Weights,
-    pub defect_deg: f64,
-    pub pattern: Pattern,
-    pub require: Vec<Requirement>,
-    pub span: Range<usize>,
+    pub(crate) vary: Vec<Vary>,
+    pub(crate) method: Method,
+    pub(crate) budget: usize,
+    pub(crate) seed: u64,
+    pub(crate) step: f64,
+    pub(crate) weights: Weights,
+    pub(crate) defect_deg: f64,
+    pub(crate) pattern: Pattern,
+    pub(crate) require: Vec<Requirement>,
+    pub(crate) span: Range<usize>,
 }
 
-pub fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnostic> {
+pub(crate) fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnostic> {
     let Some(raw) = raw else {
         return Ok(ClashRule::default());
     };
@@ -226,7 +226,7 @@ pub fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnos
     })
 }
 
-pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
+pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
     let r = raw.get_ref();
     let mut vary = Vec::new();
     for v in r.vary.get_ref() {

@@ -7,212 +7,212 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use std::fmt;
 use toml::Spanned;
 
-pub type Num = Spanned<f64>;
-pub type Coords = Spanned<Vec<Num>>;
+pub(crate) type Num = Spanned<f64>;
+pub(crate) type Coords = Spanned<Vec<Num>>;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawDesign {
-    pub name: Option<Spanned<String>>,
-    pub lattice: Spanned<RawLattice>,
-    pub material: Option<Spanned<RawMaterial>>,
-    pub eyelet: Option<Spanned<RawEyelet>>,
-    pub strip: Option<Spanned<RawStrip>>,
-    pub laser: Option<Spanned<RawLaser>>,
-    pub sheet: Option<Spanned<RawSheet>>,
-    pub guide: Option<Spanned<RawGuide>>,
-    pub clash: Option<Spanned<super::optimise::RawClash>>,
-    pub optimise: Option<Spanned<super::optimise::RawOptimise>>,
-    pub simulation: Option<Spanned<super::simulation::RawSimulation>>,
+pub(crate) struct RawDesign {
+    pub(crate) name: Option<Spanned<String>>,
+    pub(crate) lattice: Spanned<RawLattice>,
+    pub(crate) material: Option<Spanned<RawMaterial>>,
+    pub(crate) eyelet: Option<Spanned<RawEyelet>>,
+    pub(crate) strip: Option<Spanned<RawStrip>>,
+    pub(crate) laser: Option<Spanned<RawLaser>>,
+    pub(crate) sheet: Option<Spanned<RawSheet>>,
+    pub(crate) guide: Option<Spanned<RawGuide>>,
+    pub(crate) clash: Option<Spanned<super::optimise::RawClash>>,
+    pub(crate) optimise: Option<Spanned<super::optimise::RawOptimise>>,
+    pub(crate) simulation: Option<Spanned<super::simulation::RawSimulation>>,
 }
 
 /// `[guide]`: the printed assembly guide.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawGuide {
-    pub paper: Option<Spanned<String>>,
+pub(crate) struct RawGuide {
+    pub(crate) paper: Option<Spanned<String>>,
 }
 
 /// `[material]`: the strip stock.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawMaterial {
-    pub name: Option<Spanned<String>>,
-    pub thickness: Option<Num>,
-    pub width: Option<Num>,
+pub(crate) struct RawMaterial {
+    pub(crate) name: Option<Spanned<String>>,
+    pub(crate) thickness: Option<Num>,
+    pub(crate) width: Option<Num>,
 }
 
 /// `[eyelet]`: a preset and/or explicit diameters.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawEyelet {
-    pub preset: Option<Spanned<String>>,
-    pub hole: Option<Num>,
-    pub flange: Option<Num>,
+pub(crate) struct RawEyelet {
+    pub(crate) preset: Option<Spanned<String>>,
+    pub(crate) hole: Option<Num>,
+    pub(crate) flange: Option<Num>,
 }
 
 /// `[strip]`: end margin and engraving.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawStrip {
-    pub end_margin: Option<Num>,
-    pub label: Option<Spanned<String>>,
+pub(crate) struct RawStrip {
+    pub(crate) end_margin: Option<Num>,
+    pub(crate) label: Option<Spanned<String>>,
     /// Strips agreeing within this (mm) are one part type.
-    pub part_tolerance: Option<Num>,
+    pub(crate) part_tolerance: Option<Num>,
 }
 
 /// `[laser]`: kerf and whether the geometry is compensated for it.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawLaser {
-    pub kerf: Option<Num>,
-    pub compensate: Option<Spanned<bool>>,
+pub(crate) struct RawLaser {
+    pub(crate) kerf: Option<Num>,
+    pub(crate) compensate: Option<Spanned<bool>>,
     /// Colour preset of the cut files: "karigami" or "boxes".
-    pub colours: Option<Spanned<String>>,
+    pub(crate) colours: Option<Spanned<String>>,
     /// Width of the holding tabs in mm (0 or absent: none).
-    pub tabs: Option<Num>,
+    pub(crate) tabs: Option<Num>,
 }
 
 /// `[sheet]`: the bed or stock sheet.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawSheet {
-    pub preset: Option<Spanned<String>>,
-    pub width: Option<Num>,
-    pub height: Option<Num>,
-    pub margin: Option<Num>,
-    pub gap: Option<Num>,
+pub(crate) struct RawSheet {
+    pub(crate) preset: Option<Spanned<String>>,
+    pub(crate) width: Option<Num>,
+    pub(crate) height: Option<Num>,
+    pub(crate) margin: Option<Num>,
+    pub(crate) gap: Option<Num>,
     /// Whether the first sheet carries the test piece (default true).
-    pub test_piece: Option<Spanned<bool>>,
+    pub(crate) test_piece: Option<Spanned<bool>>,
     /// "step": each assembly step's strips in lanes of their own; "none".
-    pub group: Option<Spanned<String>>,
+    pub(crate) group: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawLattice {
-    pub seed: Spanned<String>,
-    pub points: Option<Spanned<Vec<Coords>>>,
-    pub line: Option<Spanned<RawLine>>,
-    pub arc: Option<Spanned<RawArc>>,
-    pub polyline: Option<Spanned<RawPolyline>>,
-    pub circle: Option<Spanned<RawCircle>>,
-    pub kappa: Option<Spanned<RawKappa>>,
+pub(crate) struct RawLattice {
+    pub(crate) seed: Spanned<String>,
+    pub(crate) points: Option<Spanned<Vec<Coords>>>,
+    pub(crate) line: Option<Spanned<RawLine>>,
+    pub(crate) arc: Option<Spanned<RawArc>>,
+    pub(crate) polyline: Option<Spanned<RawPolyline>>,
+    pub(crate) circle: Option<Spanned<RawCircle>>,
+    pub(crate) kappa: Option<Spanned<RawKappa>>,
     /// Helix seeds: how many cells to grow.
-    pub cells: Option<Spanned<i64>>,
+    pub(crate) cells: Option<Spanned<i64>>,
     /// Target fitting instead of explicit rows.
-    pub fit: Option<Spanned<RawFit>>,
-    pub grow: Option<Spanned<RawRow>>,
-    pub rows: Option<Vec<Spanned<RawRow>>>,
+    pub(crate) fit: Option<Spanned<RawFit>>,
+    pub(crate) grow: Option<Spanned<RawRow>>,
+    pub(crate) rows: Option<Vec<Spanned<RawRow>>>,
 }
 
 /// `cells` evenly spaced edges from `from` to `to`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawLine {
-    pub from: Coords,
-    pub to: Coords,
-    pub cells: Spanned<i64>,
+pub(crate) struct RawLine {
+    pub(crate) from: Coords,
+    pub(crate) to: Coords,
+    pub(crate) cells: Spanned<i64>,
 }
 
 /// `cells` equal edges on a circular arc, angles in degrees.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawArc {
-    pub center: Coords,
-    pub radius: Num,
-    pub from: Num,
-    pub to: Num,
-    pub cells: Spanned<i64>,
-    pub plane: Option<Spanned<String>>,
+pub(crate) struct RawArc {
+    pub(crate) center: Coords,
+    pub(crate) radius: Num,
+    pub(crate) from: Num,
+    pub(crate) to: Num,
+    pub(crate) cells: Spanned<i64>,
+    pub(crate) plane: Option<Spanned<String>>,
 }
 
 /// `points` evenly spaced points round a full circle (loop seeds).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawCircle {
-    pub center: Coords,
-    pub radius: Num,
-    pub points: Spanned<i64>,
-    pub plane: Option<Spanned<String>>,
+pub(crate) struct RawCircle {
+    pub(crate) center: Coords,
+    pub(crate) radius: Num,
+    pub(crate) points: Spanned<i64>,
+    pub(crate) plane: Option<Spanned<String>>,
     /// Angle of the first point, degrees (default 0).
-    pub start: Option<Num>,
+    pub(crate) start: Option<Num>,
 }
 
 /// `[lattice.fit]`: grow rows that approximate a target surface.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawFit {
+pub(crate) struct RawFit {
     /// "disk", "ellipsoid" or "revolution".
-    pub surface: Spanned<String>,
-    pub rows: Spanned<i64>,
+    pub(crate) surface: Spanned<String>,
+    pub(crate) rows: Spanned<i64>,
     /// disk: its radius; revolution: not used.
-    pub radius: Option<Num>,
+    pub(crate) radius: Option<Num>,
     /// ellipsoid semi-axes [a, b, c] (the half with z <= 0 is fitted).
-    pub axes: Option<Coords>,
+    pub(crate) axes: Option<Coords>,
     /// revolution: the profile curve as [r, z] points, in growth order.
-    pub profile: Option<Spanned<Vec<Coords>>>,
+    pub(crate) profile: Option<Spanned<Vec<Coords>>>,
     /// disk and ellipsoid: candidate leg directions tried per row.
-    pub samples: Option<Spanned<i64>>,
+    pub(crate) samples: Option<Spanned<i64>>,
     /// torus: the tube's radius (`radius` is the centre circle's)...
-    pub tube: Option<Num>,
+    pub(crate) tube: Option<Num>,
     /// ...and the tube angle each row adds (degrees).
-    pub step: Option<Num>,
+    pub(crate) step: Option<Num>,
     /// Open fits: each row's leg angle (degrees) instead of a search.
-    pub angles: Option<Spanned<Vec<Num>>>,
+    pub(crate) angles: Option<Spanned<Vec<Num>>>,
     /// Ellipsoid loops: each ring's step down the meridian (mm) instead of
     /// one front edge.
-    pub steps: Option<Spanned<Vec<Num>>>,
+    pub(crate) steps: Option<Spanned<Vec<Num>>>,
 }
 
 /// A polyline whose segments are each split into `cells_per_segment` edges.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawPolyline {
-    pub points: Spanned<Vec<Coords>>,
-    pub cells_per_segment: Option<Spanned<i64>>,
+pub(crate) struct RawPolyline {
+    pub(crate) points: Spanned<Vec<Coords>>,
+    pub(crate) cells_per_segment: Option<Spanned<i64>>,
 }
 
 /// One row (in `[[lattice.rows]]`) or the default row (`[lattice.grow]`).
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawRow {
+pub(crate) struct RawRow {
     /// `[[lattice.rows]]` only: the 0-based row this entry describes.
-    pub row: Option<Spanned<i64>>,
+    pub(crate) row: Option<Spanned<i64>>,
     /// `[[lattice.rows]]` only: how many consecutive rows it describes.
-    pub repeat: Option<Spanned<i64>>,
+    pub(crate) repeat: Option<Spanned<i64>>,
     /// `[lattice.grow]` only: how many rows the lattice has.
-    pub rows: Option<Spanned<i64>>,
-    pub start: Option<Spanned<i64>>,
-    pub direction: Option<Coords>,
-    pub angle: Option<Spanned<RawAngle>>,
-    pub left_leg: Option<Spanned<RawLeg>>,
-    pub right_leg: Option<Spanned<RawLeg>>,
+    pub(crate) rows: Option<Spanned<i64>>,
+    pub(crate) start: Option<Spanned<i64>>,
+    pub(crate) direction: Option<Coords>,
+    pub(crate) angle: Option<Spanned<RawAngle>>,
+    pub(crate) left_leg: Option<Spanned<RawLeg>>,
+    pub(crate) right_leg: Option<Spanned<RawLeg>>,
     /// Loops: where the row's new vertex x[i+1][1] goes.
-    pub target: Option<Coords>,
+    pub(crate) target: Option<Coords>,
     /// Loops: which closing direction, 1 or 2.
-    pub candidate: Option<Spanned<i64>>,
+    pub(crate) candidate: Option<Spanned<i64>>,
     /// Intrinsic growth: how to rebuild the front before this row.
-    pub front: Option<Spanned<RawFront>>,
+    pub(crate) front: Option<Spanned<RawFront>>,
 }
 
 /// `front = { ... }`: the generators of MATH.md 7. Angles in degrees.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawFront {
-    pub turn: Option<Spanned<RawAngles>>,
-    pub bend: Option<Spanned<RawAngles>>,
-    pub twist: Option<Spanned<RawAngles>>,
-    pub pivot: Option<Vec<Spanned<RawPivot>>>,
-    pub crank: Option<Vec<Spanned<RawCrank>>>,
+pub(crate) struct RawFront {
+    pub(crate) turn: Option<Spanned<RawAngles>>,
+    pub(crate) bend: Option<Spanned<RawAngles>>,
+    pub(crate) twist: Option<Spanned<RawAngles>>,
+    pub(crate) pivot: Option<Vec<Spanned<RawPivot>>>,
+    pub(crate) crank: Option<Vec<Spanned<RawCrank>>>,
     /// Crank every odd vertex about its two neighbours, alternately by
     /// +angle and -angle: identical up-down sub-units along the front.
-    pub zigzag: Option<Num>,
+    pub(crate) zigzag: Option<Num>,
 }
 
 impl RawFront {
     /// `front = { }`: no generator given.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.turn.is_none()
             && self.bend.is_none()
             && self.twist.is_none()
@@ -224,23 +224,23 @@ impl RawFront {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawPivot {
-    pub at: Spanned<i64>,
-    pub angle: Num,
-    pub axis: Option<Coords>,
+pub(crate) struct RawPivot {
+    pub(crate) at: Spanned<i64>,
+    pub(crate) angle: Num,
+    pub(crate) axis: Option<Coords>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawCrank {
-    pub from: Spanned<i64>,
-    pub to: Spanned<i64>,
-    pub angle: Num,
+pub(crate) struct RawCrank {
+    pub(crate) from: Spanned<i64>,
+    pub(crate) to: Spanned<i64>,
+    pub(crate) angle: Num,
 }
 
 /// One angle for every vertex, or a list.
 #[derive(Debug)]
-pub struct RawAngles(pub Vec<f64>);
+pub(crate) struct RawAngles(pub Vec<f64>);
 
 impl<'de> Deserialize<'de> for RawAngles {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -270,20 +270,20 @@ impl<'de> Deserialize<'de> for RawAngles {
 
 /// `kappa = 0.5` (every seed edge) or `kappa = [..]` (one per edge).
 #[derive(Debug)]
-pub enum RawKappa {
+pub(crate) enum RawKappa {
     Uniform(f64),
     PerEdge(Vec<Num>),
 }
 
 /// `angle = 30` or, in 3-D, `angle = [30, 10]` (angle, tilt).
 #[derive(Debug, Clone, Copy)]
-pub struct RawAngle {
-    pub angle: f64,
-    pub tilt: Option<f64>,
+pub(crate) struct RawAngle {
+    pub(crate) angle: f64,
+    pub(crate) tilt: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy)]
-pub enum RawLeg {
+pub(crate) enum RawLeg {
     Length(f64),
     Match,
 }
@@ -380,11 +380,11 @@ impl<'de> Deserialize<'de> for RawLeg {
 /// Largest size of any number in a recipe: lengths are in mm, and a
 /// kilometre is beyond anything karigami makes; larger numbers would only
 /// overflow to infinity in later arithmetic.
-pub const MAX_NUMBER: f64 = 1e6;
+pub(crate) const MAX_NUMBER: f64 = 1e6;
 /// Longest string in a recipe, in characters (names, presets, keywords).
-pub const MAX_STRING: usize = 200;
+pub(crate) const MAX_STRING: usize = 200;
 /// Deepest nesting of arrays and tables.
-pub const MAX_DEPTH: usize = 8;
+pub(crate) const MAX_DEPTH: usize = 8;
 
 /// Bounds every value of the recipe, wherever it is, before any field is
 /// read: numbers finite and within `MAX_NUMBER`, strings within
@@ -392,7 +392,7 @@ pub const MAX_DEPTH: usize = 8;
 /// break the DXF and SVG files a name reaches), nesting within
 /// `MAX_DEPTH`. A recipe TOML cannot parse is left to the typed parse,
 /// which says why.
-pub fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
+pub(crate) fn check_values(source: &str) -> Result<(), crate::diagnostic::Diagnostic> {
     use toml::de::{DeTable, DeValue};
     let Ok(table) = DeTable::parse(source) else {
         return Ok(());

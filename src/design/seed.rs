@@ -11,7 +11,7 @@ use std::ops::Range;
 use toml::Spanned;
 
 /// `cells + 1` evenly spaced points from `from` to `to`.
-pub fn line(from: DVec3, to: DVec3, cells: usize) -> Vec<DVec3> {
+pub(crate) fn line(from: DVec3, to: DVec3, cells: usize) -> Vec<DVec3> {
     (0..=cells)
         .map(|k| from.lerp(to, k as f64 / cells as f64))
         .collect()
@@ -19,14 +19,14 @@ pub fn line(from: DVec3, to: DVec3, cells: usize) -> Vec<DVec3> {
 
 /// Which coordinate plane an arc lies in (3-D seeds).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Plane {
+pub(crate) enum Plane {
     Xy,
     Xz,
     Yz,
 }
 
 impl Plane {
-    pub fn parse(name: &str) -> Option<Self> {
+    pub(crate) fn parse(name: &str) -> Option<Self> {
         match name {
             "xy" => Some(Plane::Xy),
             "xz" => Some(Plane::Xz),
@@ -46,7 +46,7 @@ impl Plane {
 
 /// `cells + 1` points on a circular arc from angle `from_deg` to `to_deg`
 /// (counter-clockwise when `to > from`), measured in `plane` from its first axis.
-pub fn arc(
+pub(crate) fn arc(
     center: DVec3,
     radius: f64,
     from_deg: f64,
@@ -64,7 +64,7 @@ pub fn arc(
 }
 
 /// Each segment of the polyline split into `per_segment` equal edges.
-pub fn polyline(points: &[DVec3], per_segment: usize) -> Vec<DVec3> {
+pub(crate) fn polyline(points: &[DVec3], per_segment: usize) -> Vec<DVec3> {
     let mut out = vec![points[0]];
     for pair in points.windows(2) {
         out.extend((1..=per_segment).map(|k| pair[0].lerp(pair[1], k as f64 / per_segment as f64)));

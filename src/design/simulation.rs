@@ -9,22 +9,22 @@ use toml::Spanned;
 
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawSimulation {
+pub(crate) struct RawSimulation {
     /// Young's modulus (MPa).
-    pub youngs_modulus: Option<Spanned<f64>>,
-    pub poisson_ratio: Option<Spanned<f64>>,
+    pub(crate) youngs_modulus: Option<Spanned<f64>>,
+    pub(crate) poisson_ratio: Option<Spanned<f64>>,
     /// Allowable corner-fibre strain, in percent.
-    pub allowable_strain: Option<Spanned<f64>>,
+    pub(crate) allowable_strain: Option<Spanned<f64>>,
     /// Build even when a strip is strained beyond the allowable.
-    pub accept_overstrain: Option<Spanned<bool>>,
+    pub(crate) accept_overstrain: Option<Spanned<bool>>,
     /// Opening of the reference cell (degrees).
-    pub theta: Option<Spanned<f64>>,
+    pub(crate) theta: Option<Spanned<f64>>,
     /// "eyelet" or "ball".
     pub vertex_joint: Option<Spanned<String>>,
     /// "mean" (mean opening of all cells) or "first-cell".
     pub actuation: Option<Spanned<String>>,
     /// Longest rod edge (mm).
-    pub edge_length: Option<Spanned<f64>>,
+    pub(crate) edge_length: Option<Spanned<f64>>,
 }
 
 fn number(
@@ -49,7 +49,7 @@ fn number(
 }
 
 /// The settings of a recipe's `[simulation]` table (defaults without one).
-pub fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnostic> {
+pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnostic> {
     let mut s = Settings::default();
     let Some(raw) = raw else { return Ok(s) };
     let r = raw.get_ref();

@@ -59,15 +59,10 @@ impl FieldSpans {
 }
 
 impl Design {
-    /// Where the fabrication settings were written.
-    pub fn fabrication_spans(&self) -> &FabricationSpans {
-        &self.spans.fabrication
-    }
-
     /// The text that sets the lattice's size, for errors about a lattice too
     /// large to build: a helix's `cells`, `[lattice.fit]`, or the table that
     /// gives the last row.
-    pub fn size_span(&self) -> Range<usize> {
+    pub(crate) fn size_span(&self) -> Range<usize> {
         match (self.kind, &self.fit) {
             (Kind::Helix, _) => self.spans.cells.clone(),
             (_, Some(_)) => self.spans.fit.clone(),
@@ -76,12 +71,12 @@ impl Design {
     }
 
     /// The text that sets row `i`'s front moves (its table when it has none).
-    pub fn row_front_span(&self, i: usize) -> Range<usize> {
+    pub(crate) fn row_front_span(&self, i: usize) -> Range<usize> {
         self.row_span(i, Param::FrontMoves)
     }
 
     /// The text that sets row `i`'s leg direction, for errors about a row's strips.
-    pub fn row_direction_span(&self, i: usize) -> Range<usize> {
+    pub(crate) fn row_direction_span(&self, i: usize) -> Range<usize> {
         self.row_span(i, Param::Direction)
     }
 

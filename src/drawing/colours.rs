@@ -6,7 +6,7 @@ use super::{Layer, Page};
 use crate::fabrication::ColourPreset;
 
 /// The colour of a layer under a preset.
-pub fn rgb(preset: ColourPreset, layer: Layer) -> [u8; 3] {
+pub(crate) fn rgb(preset: ColourPreset, layer: Layer) -> [u8; 3] {
     match (preset, layer) {
         (ColourPreset::Karigami, l) => l.rgb(),
         // boxes.py: outer cut black, inner cut blue, etching green,
@@ -19,13 +19,13 @@ pub fn rgb(preset: ColourPreset, layer: Layer) -> [u8; 3] {
     }
 }
 
-pub fn hex(preset: ColourPreset, layer: Layer) -> String {
+pub(crate) fn hex(preset: ColourPreset, layer: Layer) -> String {
     let [r, g, b] = rgb(preset, layer);
     format!("#{r:02X}{g:02X}{b:02X}")
 }
 
 /// Recolour a cut sheet's layers (and its "layers" metadata) to `preset`.
-pub fn apply(page: &mut Page, preset: ColourPreset) {
+pub(crate) fn apply(page: &mut Page, preset: ColourPreset) {
     if preset == ColourPreset::Karigami {
         return;
     }

@@ -30,6 +30,8 @@ pub enum Layer {
 }
 
 impl Layer {
+    /// The layers of a cut sheet (all but `Art`), holes first: the order the
+    /// legend and DXF list them.
     pub const ALL: [Layer; 4] = [
         Layer::Holes,
         Layer::Outlines,
@@ -37,6 +39,7 @@ impl Layer {
         Layer::Reference,
     ];
 
+    /// The layer's name in files: the SVG class, the DXF layer and the legend.
     pub fn name(self) -> &'static str {
         match self {
             Layer::Holes => "holes",
@@ -48,7 +51,7 @@ impl Layer {
     }
 
     /// Pure RGB colour of the layer.
-    pub fn rgb(self) -> [u8; 3] {
+    pub(crate) fn rgb(self) -> [u8; 3] {
         match self {
             Layer::Holes => [0, 0, 255],
             Layer::Outlines => [255, 0, 0],
@@ -58,13 +61,13 @@ impl Layer {
         }
     }
 
-    pub fn hex(self) -> String {
+    pub(crate) fn hex(self) -> String {
         let [r, g, b] = self.rgb();
         format!("#{r:02X}{g:02X}{b:02X}")
     }
 
     /// AutoCAD colour index with the same meaning (DXF).
-    pub fn aci(self) -> u8 {
+    pub(crate) fn aci(self) -> u8 {
         match self {
             Layer::Holes => 5,
             Layer::Outlines => 1,
@@ -74,7 +77,7 @@ impl Layer {
         }
     }
 
-    pub fn operation(self) -> &'static str {
+    pub(crate) fn operation(self) -> &'static str {
         match self {
             Layer::Holes => "cut (inner: eyelet holes)",
             Layer::Outlines => "cut (outer: strip outlines)",
@@ -88,12 +91,16 @@ impl Layer {
 /// One piece of a path after its current point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Segment {
+    /// A straight line to this point (page mm).
     Line(DVec2),
     /// A circular arc to `to` around `center`, turning clockwise as seen on
     /// the page (y down) when `clockwise`.
     Arc {
+        /// End point (page mm).
         to: DVec2,
+        /// Centre of the circle the arc lies on (page mm).
         center: DVec2,
+        /// Turning clockwise on the page (y down); counter-clockwise otherwise.
         clockwise: bool,
     },
 }
@@ -102,34 +109,53 @@ pub enum Segment {
 /// single-stroke font.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Font {
+    /// Helvetica in PDF.
     Regular,
+    /// Helvetica-Bold in PDF.
     Bold,
 }
 
+/// How a line of text sits on its anchor point `at`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Align {
+    /// The text starts at `at`.
     Left,
+    /// The text is centred on `at`.
     Center,
+    /// The text ends at `at`.
     Right,
 }
 
+/// What an item draws, in page mm.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
+    /// A full circle, e.g. an eyelet hole.
     Circle {
+        /// Centre (page mm).
         center: DVec2,
+        /// Radius (mm).
         radius: f64,
     },
+    /// A path of lines and arcs, e.g. a strip outline.
     Path {
+        /// First point (page mm).
         start: DVec2,
+        /// The pieces after `start`, in order.
         segments: Vec<Segment>,
+        /// A line joins the last point back to `start`.
         closed: bool,
     },
     /// A line of text; `at` is on the baseline, `size` the font size in mm.
     Text {
+        /// Anchor point on the baseline (page mm), placed per `align`.
         at: DVec2,
+        /// Font size (mm).
         size: f64,
+        /// The characters of the line.
         text: String,
+        /// Regular or bold.
         font: Font,
+        /// Where `at` lies along the line.
         align: Align,
     },
 }
@@ -137,16 +163,17 @@ pub enum Shape {
 /// How an item is painted: stroke colour and width (mm), optional fill.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ink {
+    /// Stroke colour (RGB); None strokes nothing.
     pub stroke: Option<[u8; 3]>,
-    pub width: f64,
-    pub fill: Option<[u8; 3]>,
+    pub(crate) width: f64,
+    pub(crate) fill: Option<[u8; 3]>,
 }
 
 impl Ink {
     /// A hairline in a layer's colour: how cut sheets are drawn.
-    pub const HAIRLINE: f64 = 0.025;
+    pub(crate) const HAIRLINE: f64 = 0.025;
 
-    pub fn line(colour: [u8; 3], width: f64) -> Self {
+    pub(crate) fn line(colour: [u8; 3], width: f64) -> Self {
         Self {
             stroke: Some(colour),
             width,
@@ -154,7 +181,7 @@ impl Ink {
         }
     }
 
-    pub fn fill(colour: [u8; 3]) -> Self {
+    pub(crate) fn fill(colour: [u8; 3]) -> Self {
         Self {
             stroke: None,
             width: 0.0,
@@ -162,7 +189,7 @@ impl Ink {
         }
     }
 
-    pub fn of(layer: Layer) -> Self {
+    pub(crate) fn of(layer: Layer) -> Self {
         Self::line(layer.rgb(), Self::HAIRLINE)
     }
 }
@@ -207,7 +234,7 @@ impl Shape {
     }
 
     /// An open or closed polyline.
-    pub fn polyline(points: &[DVec2], closed: bool) -> Shape {
+    pub(crate) fn polyline(points: &[DVec2], closed: bool) -> Shape {
         Shape::Path {
             start: points[0],
             segments: points[1..].iter().map(|&p| Segment::Line(p)).collect(),
@@ -216,16 +243,20 @@ impl Shape {
     }
 }
 
+/// One shape on a layer, with the ink that paints it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Item {
+    /// The layer: what a laser does with the shape.
     pub layer: Layer,
+    /// How the shape is painted.
     pub ink: Ink,
+    /// What is drawn (page mm).
     pub shape: Shape,
 }
 
 impl Item {
     /// An item painted in its layer's own colour, as a hairline.
-    pub fn on(layer: Layer, shape: Shape) -> Self {
+    pub(crate) fn on(layer: Layer, shape: Shape) -> Self {
         Self {
             layer,
             ink: Ink::of(layer),
@@ -233,7 +264,7 @@ impl Item {
         }
     }
 
-    pub fn art(ink: Ink, shape: Shape) -> Self {
+    pub(crate) fn art(ink: Ink, shape: Shape) -> Self {
         Self {
             layer: Layer::Art,
             ink,
@@ -245,15 +276,18 @@ impl Item {
 /// Items that belong together (one strip), named by `id`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Group {
+    /// The group's name, written as the SVG group id: the strip ID on cut
+    /// sheets, `reference` for the scale bar and caption.
     pub id: String,
     /// Shared drawings placed before the items (guide pages only: the PDF
     /// writer places them; cut sheets and pictures have none).
-    pub symbols: Vec<Place>,
+    pub(crate) symbols: Vec<Place>,
+    /// The drawn items, in painting order.
     pub items: Vec<Item>,
 }
 
 impl Group {
-    pub fn new(id: impl Into<String>, items: Vec<Item>) -> Self {
+    pub(crate) fn new(id: impl Into<String>, items: Vec<Item>) -> Self {
         Self {
             id: id.into(),
             symbols: Vec::new(),
@@ -270,16 +304,17 @@ impl Group {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Symbol {
     /// Symbols drawn first, by index; each earlier in the list than this one.
-    pub uses: Vec<usize>,
+    pub(crate) uses: Vec<usize>,
+    /// The drawing's items, relative to the point where it is placed (page mm).
     pub items: Vec<Item>,
 }
 
 /// Symbol `symbol` (an index into the document's symbols) drawn with its
 /// origin at `at` on the page.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Place {
-    pub symbol: usize,
-    pub at: DVec2,
+pub(crate) struct Place {
+    pub(crate) symbol: usize,
+    pub(crate) at: DVec2,
 }
 
 impl Layer {
@@ -289,19 +324,24 @@ impl Layer {
     }
 }
 
+/// One page of a document, in mm with y down from the top-left corner: a cut
+/// sheet, a guide page or a picture.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Page {
+    /// Page width (mm).
     pub width: f64,
+    /// Page height (mm).
     pub height: f64,
-    pub title: String,
+    pub(crate) title: String,
     /// Key-value provenance written into each file's metadata.
-    pub metadata: Vec<(String, String)>,
+    pub(crate) metadata: Vec<(String, String)>,
+    /// Everything drawn, group by group in painting order.
     pub groups: Vec<Group>,
 }
 
 impl Page {
     /// Total length of the cut layers on this page (mm).
-    pub fn cut_length(&self) -> f64 {
+    pub(crate) fn cut_length(&self) -> f64 {
         self.groups
             .iter()
             .flat_map(|g| &g.items)
@@ -313,7 +353,7 @@ impl Page {
 
 /// Start angle and signed sweep (radians, y-down page angles: positive is
 /// clockwise on the page) of an arc from `from`.
-pub fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> (f64, f64) {
+pub(crate) fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> (f64, f64) {
     let a0 = (from - center).to_angle();
     let a1 = (to - center).to_angle();
     let mut sweep = a1 - a0;
@@ -331,7 +371,12 @@ pub fn arc_angles(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> (f6
 
 /// Cubic Bezier pieces `[c1, c2, end]` approximating an arc, each at most a
 /// quarter turn (radial error below 3e-4 of the radius).
-pub fn arc_to_cubics(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> Vec<[DVec2; 3]> {
+pub(crate) fn arc_to_cubics(
+    from: DVec2,
+    to: DVec2,
+    center: DVec2,
+    clockwise: bool,
+) -> Vec<[DVec2; 3]> {
     let (a0, sweep) = arc_angles(from, to, center, clockwise);
     let radius = (from - center).length();
     let n = (sweep.abs() / FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;
@@ -354,7 +399,7 @@ pub fn arc_to_cubics(from: DVec2, to: DVec2, center: DVec2, clockwise: bool) -> 
 }
 
 /// A full circle as four quarter-turn cubics from its rightmost point.
-pub fn circle_to_cubics(center: DVec2, radius: f64) -> (DVec2, Vec<[DVec2; 3]>) {
+pub(crate) fn circle_to_cubics(center: DVec2, radius: f64) -> (DVec2, Vec<[DVec2; 3]>) {
     let start = center + DVec2::new(radius, 0.0);
     let half = center - DVec2::new(radius, 0.0);
     let mut pieces = arc_to_cubics(start, half, center, true);

@@ -8,8 +8,8 @@ use glam::{DVec2, DVec3};
 /// An orthographic camera: page x along `right`, page y down along `-up`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
-    pub right: DVec3,
-    pub up: DVec3,
+    pub(crate) right: DVec3,
+    pub(crate) up: DVec3,
     /// Where the viewer looks; larger `depth` is farther away.
     pub forward: DVec3,
 }
@@ -26,7 +26,7 @@ impl Camera {
     /// A lattice built flat, seen square on from its stacking side (no
     /// tilt), so its rows do not hide one another; otherwise as
     /// `for_lattice`.
-    pub fn face_on(lattice: &Lattice) -> Self {
+    pub(crate) fn face_on(lattice: &Lattice) -> Self {
         if lattice.dim == 3 && lattice.kind != crate::lattice::Kind::Helix {
             Self::tilted(lattice, 0.0)
         } else {
@@ -36,7 +36,7 @@ impl Camera {
 
     /// Looking along `forward` with `up` up the page (made square to
     /// forward); None when they are parallel.
-    pub fn looking(forward: DVec3, up: DVec3) -> Option<Self> {
+    pub(crate) fn looking(forward: DVec3, up: DVec3) -> Option<Self> {
         let forward = forward.try_normalize()?;
         let up = (up - up.dot(forward) * forward).try_normalize()?;
         Some(Self {
@@ -146,10 +146,10 @@ impl Camera {
 
 /// How to draw the rods of one cell (None hides them).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RodStyle {
-    pub colour: [u8; 3],
+pub(crate) struct RodStyle {
+    pub(crate) colour: [u8; 3],
     /// Stroke width in mm on the page.
-    pub width: f64,
+    pub(crate) width: f64,
 }
 
 /// A camera view fitted into a box of the page.
@@ -163,7 +163,7 @@ pub struct Fit {
 
 impl Fit {
     /// Fit the whole lattice into the box at `origin` (top-left) of `size` mm.
-    pub fn new(lattice: &Lattice, camera: Camera, origin: DVec2, size: DVec2) -> Self {
+    pub(crate) fn new(lattice: &Lattice, camera: Camera, origin: DVec2, size: DVec2) -> Self {
         let points = lattice
             .vertices
             .iter()
@@ -173,7 +173,7 @@ impl Fit {
     }
 
     /// Fit these points into the box at `origin` (top-left) of `size` mm.
-    pub fn around(
+    pub(crate) fn around(
         points: impl Iterator<Item = DVec3>,
         camera: Camera,
         origin: DVec2,
@@ -203,7 +203,7 @@ impl Fit {
         }
     }
 
-    pub fn map(&self, p: DVec3) -> DVec2 {
+    pub(crate) fn map(&self, p: DVec3) -> DVec2 {
         self.offset + self.camera.project(p) * self.scale
     }
 
@@ -218,7 +218,7 @@ impl Fit {
     }
 
     /// Millimetres on the page per millimetre of the lattice.
-    pub fn scale(&self) -> f64 {
+    pub(crate) fn scale(&self) -> f64 {
         self.scale
     }
 }
@@ -228,12 +228,12 @@ fn pale(c: [u8; 3], t: f64) -> [u8; 3] {
     c.map(|v| (v as f64 + (255.0 - v as f64) * t).round() as u8)
 }
 
-pub const PIVOT: [u8; 3] = [230, 120, 20];
-pub const VERTEX: [u8; 3] = [30, 90, 200];
+pub(crate) const PIVOT: [u8; 3] = [230, 120, 20];
+pub(crate) const VERTEX: [u8; 3] = [30, 90, 200];
 
 /// Rods of every cell `style` shows, far ones first and paler, then dots at
 /// the pivots and vertices of the cells shown.
-pub fn lattice_picture(
+pub(crate) fn lattice_picture(
     lattice: &Lattice,
     fit: &Fit,
     style: impl Fn(usize) -> Option<RodStyle>,
@@ -260,7 +260,7 @@ pub fn lattice_picture(
 }
 
 /// The rods of `cells` that `style` shows, far ones first and paler.
-pub fn rods(
+pub(crate) fn rods(
     lattice: &Lattice,
     fit: &Fit,
     cells: &[usize],
@@ -292,7 +292,7 @@ pub fn rods(
 /// short white gap around its scissor pivot, then rod B on top, so the
 /// picture shows which strip lies over which at every crossing. Cells are
 /// drawn far to near.
-pub fn crossing_rods(
+pub(crate) fn crossing_rods(
     lattice: &Lattice,
     fit: &Fit,
     cells: &[usize],
@@ -326,7 +326,7 @@ pub fn crossing_rods(
 }
 
 /// Dots of radius `radius` at the pivots of `cells`, then at `vertices`.
-pub fn pivots_and_vertices(
+pub(crate) fn pivots_and_vertices(
     lattice: &Lattice,
     fit: &Fit,
     cells: &[usize],

@@ -10,8 +10,8 @@ use glam::DVec2;
 /// Provenance for the files' metadata.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Meta {
-    pub design: String,
-    pub recipe_hash: u64,
+    pub(crate) design: String,
+    pub(crate) recipe_hash: u64,
 }
 
 /// Maps a strip's frame (x along the axis from the start tip, y across,

@@ -11,7 +11,7 @@ use super::Segment;
 use glam::DVec2;
 
 /// Most straight edge (mm) one tab holds on each side.
-pub const TAB_SPACING: f64 = 200.0;
+pub(crate) const TAB_SPACING: f64 = 200.0;
 
 /// Tab centres along the axis, on the top side (y < 0) and the bottom side,
 /// for straight sides from `left` to `right`; none when the sides are too
@@ -30,7 +30,7 @@ pub fn centres(left: f64, right: f64, tab: f64) -> (Vec<f64>, Vec<f64>) {
 /// y = r, half-circle ends) cut into open pieces with a gap of width `tab`
 /// at each tab, in the strip's frame; each piece is a start and its
 /// segments, in the same clockwise order as the closed outline.
-pub fn pieces(left: f64, right: f64, r: f64, tab: f64) -> Vec<(DVec2, Vec<Segment>)> {
+pub(crate) fn pieces(left: f64, right: f64, r: f64, tab: f64) -> Vec<(DVec2, Vec<Segment>)> {
     let (top, bottom) = centres(left, right, tab);
     if top.is_empty() {
         return Vec::new();

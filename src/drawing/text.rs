@@ -55,7 +55,7 @@ pub fn start(at: DVec2, text: &str, font: Font, size: f64, align: Align) -> DVec
 }
 
 /// A text shape as single-stroke polylines on a y-down page.
-pub fn strokes(shape: &Shape) -> Vec<Vec<DVec2>> {
+pub(crate) fn strokes(shape: &Shape) -> Vec<Vec<DVec2>> {
     let Shape::Text {
         at,
         size,

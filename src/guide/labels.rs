@@ -10,30 +10,30 @@ use glam::DVec2;
 
 /// Font size of every picture label (mm): nothing in a guide is printed
 /// smaller than 2.5 mm.
-pub const SIZE: f64 = 2.6;
+pub(crate) const SIZE: f64 = 2.6;
 
 /// One label to place.
-pub struct Label {
-    pub anchor: DVec2,
-    pub text: String,
-    pub colour: [u8; 3],
-    pub bold: bool,
+pub(crate) struct Label {
+    pub(crate) anchor: DVec2,
+    pub(crate) text: String,
+    pub(crate) colour: [u8; 3],
+    pub(crate) bold: bool,
     /// Preferred direction from the anchor (page coordinates, y down).
-    pub toward: DVec2,
+    pub(crate) toward: DVec2,
 }
 
 /// Places labels inside a box, avoiding each other.
-pub struct Placer {
+pub(crate) struct Placer {
     lo: DVec2,
     hi: DVec2,
     taken: Vec<(DVec2, DVec2)>,
-    pub items: Vec<Item>,
+    pub(crate) items: Vec<Item>,
     /// Every label's text, in order (what the picture says, for tests).
-    pub texts: Vec<String>,
+    pub(crate) texts: Vec<String>,
 }
 
 impl Placer {
-    pub fn new(lo: DVec2, hi: DVec2) -> Self {
+    pub(crate) fn new(lo: DVec2, hi: DVec2) -> Self {
         Self {
             lo,
             hi,
@@ -43,7 +43,7 @@ impl Placer {
         }
     }
 
-    pub fn place(&mut self, label: &Label) {
+    pub(crate) fn place(&mut self, label: &Label) {
         let font = if label.bold {
             Font::Bold
         } else {

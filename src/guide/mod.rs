@@ -39,13 +39,14 @@ fn mm(x: f64) -> String {
 }
 
 /// How many spares to buy: a tenth more, at least two.
-pub fn spares(n: usize) -> usize {
+pub(crate) fn spares(n: usize) -> usize {
     n.div_ceil(10).max(2)
 }
 
 /// The guide's pages and the drawings they share.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Guide {
+    /// The guide's pages, in reading order.
     pub pages: Vec<Page>,
     /// The lattice's rows, drawn once each and placed on every step page
     /// that shows them (see `StepPictures`).

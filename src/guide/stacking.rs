@@ -13,21 +13,21 @@ use crate::lattice::{Joint, Kind, Lattice, RodType};
 
 /// The stacking side of a lattice, in words.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Side {
+pub(crate) struct Side {
     /// Short name: "up", "the outside", "the pictured side".
-    pub name: &'static str,
+    pub(crate) name: &'static str,
     /// Where each stack starts: "on the table", "innermost".
-    pub first: &'static str,
+    pub(crate) first: &'static str,
     /// Where it ends: "on top", "outermost".
-    pub last: &'static str,
+    pub(crate) last: &'static str,
     /// One sentence for the cover.
-    pub explain: &'static str,
+    pub(crate) explain: &'static str,
 }
 
 /// Whether a lattice is built flat on the table: planar, or a 3-D sheet
 /// whose relief is under a tenth of its size (it is assembled flat and takes
 /// its relief as it opens).
-pub fn built_flat(lattice: &Lattice) -> bool {
+pub(crate) fn built_flat(lattice: &Lattice) -> bool {
     if lattice.dim == 2 {
         return true;
     }
@@ -41,7 +41,7 @@ pub fn built_flat(lattice: &Lattice) -> bool {
     sorted[0] < 0.1 * sorted[2]
 }
 
-pub fn side(lattice: &Lattice) -> Side {
+pub(crate) fn side(lattice: &Lattice) -> Side {
     if built_flat(lattice) {
         Side {
             name: "up",
@@ -73,7 +73,7 @@ pub fn side(lattice: &Lattice) -> Side {
 
 /// How a step's new strips meet the work at its joints.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Place {
+pub(crate) enum Place {
     /// No joint of this step joins strips of earlier steps.
     First,
     /// Every new strip goes under every earlier one it joins.
@@ -84,7 +84,7 @@ pub enum Place {
     Between,
 }
 
-pub fn place(lattice: &Lattice, step: &Step) -> Place {
+pub(crate) fn place(lattice: &Lattice, step: &Step) -> Place {
     let (mut under, mut over) = (false, false);
     for j in &step.joints {
         let (new, old): (Vec<&crate::lattice::JointEnd>, Vec<_>) = j
@@ -111,13 +111,13 @@ pub fn place(lattice: &Lattice, step: &Step) -> Place {
 
 /// A strip's role at a joint of a step: from an earlier step or new, A or B.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Role {
-    pub new: bool,
-    pub kind: RodType,
+pub(crate) struct Role {
+    pub(crate) new: bool,
+    pub(crate) kind: RodType,
 }
 
 impl Role {
-    pub fn name(self, helix: bool) -> String {
+    pub(crate) fn name(self, helix: bool) -> String {
         let letter = self.kind.letter();
         match (self.new, helix) {
             (true, false) => format!("this row's {letter}"),
@@ -195,9 +195,4 @@ fn with_joint(
         return None;
     }
     Some(order)
-}
-
-/// The roles of a joint's ends, bottom to top.
-pub fn roles(lattice: &Lattice, step: &Step, joint: &Joint) -> Vec<Role> {
-    joint.ends.iter().map(|e| role(lattice, step, e)).collect()
 }

@@ -6,10 +6,10 @@ use super::construct::Point;
 use glam::{DVec3, DVec4};
 
 /// `max|Lambda - I|` below this: every direction closes (symmetric front).
-pub const FREE_TOL: f64 = 1e-10;
+pub(crate) const FREE_TOL: f64 = 1e-10;
 /// `max|Lambda - I|` below this (but above `FREE_TOL`): closing directions
 /// exist but are ill-conditioned, roughly like `1 / |Lambda - I|`.
-pub const ILL_TOL: f64 = 1e-6;
+pub(crate) const ILL_TOL: f64 = 1e-6;
 
 /// Minkowski product of R^(3,1), the last coordinate being z.
 fn mdot(a: DVec4, b: DVec4) -> f64 {
@@ -27,25 +27,25 @@ fn lift(p: &Point) -> DVec4 {
 
 /// The holonomy of a closed front `x[0..N]` (indices mod N), applied to a
 /// lifted vector: `S_U(N-1) S_T(N-1) ... S_U(0) S_T(0)`.
-pub struct Holonomy {
+pub(crate) struct Holonomy {
     /// The reflection vectors in the order they apply.
     walls: Vec<DVec4>,
 }
 
 impl Holonomy {
-    pub fn new(front: &[Point]) -> Self {
+    pub(crate) fn new(front: &[Point]) -> Self {
         let n = front.len();
         let t = |j: usize| lift(&front[(j + 1) % n]) - lift(&front[j % n]);
         let walls = (0..n).flat_map(|j| [t(j), t(j) + t(j + 1)]).collect();
         Self { walls }
     }
 
-    pub fn apply(&self, v: DVec4) -> DVec4 {
+    pub(crate) fn apply(&self, v: DVec4) -> DVec4 {
         self.walls.iter().fold(v, |v, &w| reflect(w, v))
     }
 
     /// `max|Lambda - I|` over the matrix entries.
-    pub fn distance_from_identity(&self) -> f64 {
+    pub(crate) fn distance_from_identity(&self) -> f64 {
         [DVec4::X, DVec4::Y, DVec4::Z, DVec4::W]
             .iter()
             .map(|&e| (self.apply(e) - e).abs().max_element())
@@ -53,7 +53,7 @@ impl Holonomy {
     }
 
     /// The loop map F on unit directions: where `(v, 1)` goes.
-    pub fn map(&self, v: DVec3) -> DVec3 {
+    pub(crate) fn map(&self, v: DVec3) -> DVec3 {
         let n = self.apply(v.extend(1.0));
         n.truncate() / n.w
     }
@@ -171,7 +171,7 @@ impl Stereo {
 
 /// What the holonomy of a row's front says about closing it.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Closure {
+pub(crate) enum Closure {
     /// Lambda = I: every direction closes; the row needs a direction or target.
     Free,
     /// The directions that close, 0 to 2 of them, before admissibility checks.
@@ -184,7 +184,7 @@ pub enum Closure {
 
 /// Closing directions of a front (MATH.md 6.2, closure algorithm). `axis`
 /// is the cone axis of cell 0, `-unit(t[0])`.
-pub fn closure(holonomy: &Holonomy, axis: DVec3, dim: usize) -> Closure {
+pub(crate) fn closure(holonomy: &Holonomy, axis: DVec3, dim: usize) -> Closure {
     let dist = holonomy.distance_from_identity();
     if dist < FREE_TOL {
         return Closure::Free;

@@ -5,14 +5,14 @@ use glam::DVec3;
 
 /// A point with its collapsed coordinate.
 #[derive(Clone, Copy, Debug)]
-pub struct Point {
-    pub pos: DVec3,
-    pub z: f64,
+pub(crate) struct Point {
+    pub(crate) pos: DVec3,
+    pub(crate) z: f64,
 }
 
 /// Why a construction step has no admissible answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Refusal {
+pub(crate) enum Refusal {
     /// `|b - a| <= |zb - za|`: the pair is not spacelike.
     NotSpacelike,
     /// The denominator of P has the wrong sign or is too close to 0: the
@@ -21,11 +21,11 @@ pub enum Refusal {
 }
 
 /// Relative tolerance for "too close to 0" in the constructions.
-pub const EPS_REL: f64 = 1e-12;
+pub(crate) const EPS_REL: f64 = 1e-12;
 
 /// Formula P (MATH.md 4.1): the distance `r > 0` along the unit ray `b + r v`
 /// to the point `q` with `z(q) = zb + r = za + |q - a|`.
-pub fn null_ray(a: Point, b: Point, v: DVec3) -> Result<f64, Refusal> {
+pub(crate) fn null_ray(a: Point, b: Point, v: DVec3) -> Result<f64, Refusal> {
     let dx = b.pos - a.pos;
     let dz = b.z - a.z;
     let len = dx.length();
@@ -47,7 +47,7 @@ pub fn null_ray(a: Point, b: Point, v: DVec3) -> Result<f64, Refusal> {
 /// Paper eq. 4 (MATH.md 4.2): a cell's pivot from its top corners and `v2`,
 /// the unit direction from UR towards the pivot. Its legs are
 /// `l4 = z(p) - z(UR)` and `l1 = z(p) - z(UL)`.
-pub fn pivot_from_v2(ul: Point, ur: Point, v2: DVec3) -> Result<Point, Refusal> {
+pub(crate) fn pivot_from_v2(ul: Point, ur: Point, v2: DVec3) -> Result<Point, Refusal> {
     let l4 = null_ray(ul, ur, v2)?;
     Ok(Point {
         pos: ur.pos + l4 * v2,
@@ -56,7 +56,7 @@ pub fn pivot_from_v2(ul: Point, ur: Point, v2: DVec3) -> Result<Point, Refusal> 
 }
 
 /// Mirror form of eq. 4: the pivot from `v1`, the unit direction from UL.
-pub fn pivot_from_v1(ul: Point, ur: Point, v1: DVec3) -> Result<Point, Refusal> {
+pub(crate) fn pivot_from_v1(ul: Point, ur: Point, v1: DVec3) -> Result<Point, Refusal> {
     let l1 = null_ray(ur, ul, v1)?;
     Ok(Point {
         pos: ul.pos + l1 * v1,
@@ -66,7 +66,7 @@ pub fn pivot_from_v1(ul: Point, ur: Point, v1: DVec3) -> Result<Point, Refusal> 
 
 /// Right transfer (4.3): the lower-right corner of cell j on rod A, from the
 /// direction `v1` of that rod, null-related to the vertex two steps right.
-pub fn lower_right(x_j: Point, x_j2: Point, v1: DVec3) -> Result<Point, Refusal> {
+pub(crate) fn lower_right(x_j: Point, x_j2: Point, v1: DVec3) -> Result<Point, Refusal> {
     let rho = null_ray(x_j2, x_j, v1)?;
     Ok(Point {
         pos: x_j.pos + rho * v1,
@@ -76,7 +76,7 @@ pub fn lower_right(x_j: Point, x_j2: Point, v1: DVec3) -> Result<Point, Refusal>
 
 /// Left transfer (4.4): the lower-left corner of cell j on rod B, from the
 /// direction `v2` of that rod, null-related to the vertex one step left of UL.
-pub fn lower_left(x_jm1: Point, x_j1: Point, v2: DVec3) -> Result<Point, Refusal> {
+pub(crate) fn lower_left(x_jm1: Point, x_j1: Point, v2: DVec3) -> Result<Point, Refusal> {
     let sigma = null_ray(x_jm1, x_j1, v2)?;
     Ok(Point {
         pos: x_j1.pos + sigma * v2,

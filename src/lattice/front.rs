@@ -7,18 +7,22 @@ use glam::{DQuat, DVec3};
 /// Rotate the front beyond vertex `at` rigidly about an axis through it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PivotMove {
-    pub at: usize,
+    pub(crate) at: usize,
     /// Rotation axis; `None` means +z (the only choice in 2-D).
-    pub axis: Option<DVec3>,
-    pub angle_deg: f64,
+    pub(crate) axis: Option<DVec3>,
+    pub(crate) angle_deg: f64,
 }
 
 /// Rotate the vertices strictly between `from` and `to` about the line
 /// through those two vertices. Keeps a closed front closed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Crank {
+    /// Front index of the first vertex on the rotation axis.
     pub from: usize,
+    /// Front index of the second vertex on the rotation axis (at least two past
+    /// `from`; on a loop it may be the front length, meaning vertex 0).
     pub to: usize,
+    /// Rotation angle about the axis from `from` to `to` (degrees).
     pub angle_deg: f64,
 }
 
@@ -33,15 +37,19 @@ pub struct FrontMoves {
     /// ...and the torsion angle that turns the bending plane (degrees), in a
     /// frame transported along the front.
     pub twist: Option<Vec<f64>>,
+    /// Rigid rotations of the front beyond a vertex, applied after `turn` or
+    /// `bend`/`twist`, in order.
     pub pivots: Vec<PivotMove>,
+    /// Crankshaft rotations of the vertices between two others, applied last,
+    /// in order.
     pub cranks: Vec<Crank>,
 }
 
 /// Why a rebuilt front is refused, for the recipe layer to locate.
 #[derive(Clone, Debug, PartialEq)]
-pub struct FrontError {
-    pub message: String,
-    pub hint: String,
+pub(crate) struct FrontError {
+    pub(crate) message: String,
+    pub(crate) hint: String,
 }
 
 fn refuse(message: String, hint: &str) -> FrontError {
@@ -66,7 +74,7 @@ fn per_vertex(list: &[f64], count: usize, name: &str) -> Result<Vec<f64>, FrontE
 /// Rebuild `front` (closed: indices wrap, the last edge joins the last
 /// vertex to the first). Edge lengths are kept exactly by construction;
 /// a closed front must still close after the moves.
-pub fn rebuild(
+pub(crate) fn rebuild(
     front: &[DVec3],
     closed: bool,
     dim: usize,

@@ -9,7 +9,7 @@ use super::{Cell, Kind, Lattice, Vertex, VertexKey};
 use glam::DVec3;
 
 /// Relative tolerance of the helix seed condition.
-pub const SEED_TOL: f64 = 1e-9;
+pub(crate) const SEED_TOL: f64 = 1e-9;
 
 /// How far a helix seed is from the seed condition
 /// `|y_N - y_1| = z(y_N) - z(y_1)`, relative to `|y_N - y_1|`.

@@ -3,14 +3,17 @@
 
 use super::{Lattice, RodType};
 
+/// Which end of a rod meets a vertex joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RodEnd {
+    /// The rod's start vertex: UL for rod A, UR for rod B.
     Start,
+    /// The rod's end vertex: LR for rod A, LL for rod B.
     End,
 }
 
 impl RodEnd {
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             RodEnd::Start => "start",
             RodEnd::End => "end",
@@ -21,9 +24,10 @@ impl RodEnd {
 /// One rod end at a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct JointEnd {
+    /// The rod's id: `2 * cell index`, plus 1 for rod B (lattice.json order).
     pub rod: usize,
-    pub kind: RodType,
-    pub end: RodEnd,
+    pub(crate) kind: RodType,
+    pub(crate) end: RodEnd,
     /// Stacking index: strips go on in increasing layer order.
     pub layer: u32,
 }
@@ -31,6 +35,7 @@ pub struct JointEnd {
 /// A vertex pivot and the rod ends it joins.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Joint {
+    /// The vertex pivot, an index into `Lattice::vertices`.
     pub vertex: u32,
     /// In the order of MATH.md 10.2: A(i,j) start, B(i,j-1) start,
     /// B(i-1,j) end, A(i-1,j-1) end.

@@ -42,6 +42,8 @@ pub enum Kind {
 }
 
 impl Kind {
+    /// The lowercase name recipes, lattice.json and messages use: `sheet`,
+    /// `loop` or `helix`.
     pub fn name(self) -> &'static str {
         match self {
             Kind::Sheet => "sheet",
@@ -55,15 +57,22 @@ impl Kind {
 /// a helix vertex `y_k` has `row = 0`, `col = k` and is written `[k]`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct VertexKey {
+    /// Row `i` of the vertex (its front); 0 for every helix vertex.
     pub row: u32,
+    /// Column `j` along the front; `k` for a helix vertex `y_k`.
     pub col: u32,
 }
 
 /// A vertex pivot `x[i][j]` with its collapsed coordinate `z` (MATH.md 3.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
+    /// How lattice.json and messages name the vertex.
     pub key: VertexKey,
+    /// Position in mm (third coordinate 0 in 2-D); in an intrinsic lattice, in
+    /// the frame of the row that grew it.
     pub pos: DVec3,
+    /// Collapsed coordinate (mm): where the vertex lies on the common line when
+    /// every cell is closed to `phi = 0`.
     pub z: f64,
 }
 
@@ -72,21 +81,32 @@ pub struct Vertex {
 /// `row = k / N` (the turn) and `col = k % N`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cell {
+    /// Row `i` of the cell (its growth step; the turn for a helix).
     pub row: u32,
+    /// Column `j` within the row.
     pub col: u32,
+    /// Upper-left corner `x[i][j]`, where rod A starts (index into `Lattice::vertices`).
     pub ul: u32,
+    /// Upper-right corner `x[i][j+1]`, where rod B starts.
     pub ur: u32,
+    /// Lower-left corner `x[i+1][j]`, where rod B ends.
     pub ll: u32,
+    /// Lower-right corner `x[i+1][j+1]`, where rod A ends.
     pub lr: u32,
+    /// Scissor pivot `p[i][j]` where rods A and B cross (mm, in the row's frame).
     pub pivot: DVec3,
+    /// Collapsed coordinate of the pivot (mm): `z(UL) + l1 = z(UR) + l4`.
     pub z_pivot: f64,
 }
 
 /// Legs of a cell measured from the pivot: `[l1, l2, l3, l4]` to UL, LL, LR, UR.
-pub type Legs = [f64; 4];
+pub(crate) type Legs = [f64; 4];
 
+/// A grown scissor lattice: its vertex pivots and cells, from which legs,
+/// rods and joints are derived. Lengths in mm.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lattice {
+    /// Topology of the seed front: sheet, loop or helix.
     pub kind: Kind,
     /// Embedding dimension, 2 or 3.
     pub dim: usize,
@@ -138,20 +158,12 @@ impl Lattice {
         }
     }
 
-    /// Number of vertices of the seed front.
-    pub fn seed_len(&self) -> usize {
-        match self.kind {
-            Kind::Sheet | Kind::Helix => self.width + 1,
-            Kind::Loop => self.width,
-        }
-        .min(self.vertices.len())
-    }
-
     /// True unless some row grew on a rebuilt front (MATH.md 7).
     pub fn extrinsic(&self) -> bool {
         self.fronts.iter().all(Vec::is_empty)
     }
 
+    /// The vertex at `index` in `Lattice::vertices`.
     #[inline]
     pub fn vertex(&self, index: u32) -> &Vertex {
         &self.vertices[index as usize]
@@ -178,7 +190,7 @@ impl Lattice {
     }
 
     /// A vertex as lattice.json and messages name it: `[i, j]`, or `[k]`.
-    pub fn vertex_name(&self, index: u32) -> String {
+    pub(crate) fn vertex_name(&self, index: u32) -> String {
         let k = self.vertex(index).key;
         match self.kind {
             Kind::Helix => format!("[{}]", k.col),
@@ -243,7 +255,7 @@ impl Lattice {
     }
 
     /// The collapsibility parameter `kappa = z(UL) - z(UR)` of a cell.
-    pub fn kappa(&self, cell: &Cell) -> f64 {
+    pub(crate) fn kappa(&self, cell: &Cell) -> f64 {
         self.vertex(cell.ul).z - self.vertex(cell.ur).z
     }
 
@@ -273,7 +285,7 @@ impl Lattice {
 }
 
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).
-pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
+pub(crate) fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
 }
 

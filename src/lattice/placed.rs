@@ -23,7 +23,7 @@ impl Lattice {
     /// `placed`, with how far each rebuilt front vertex missed its row's
     /// vertex before the two were joined halfway (one list per row; empty
     /// for a row grown on the row above).
-    pub fn placed_with_gaps(&self) -> (Lattice, Vec<Vec<f64>>) {
+    pub(crate) fn placed_with_gaps(&self) -> (Lattice, Vec<Vec<f64>>) {
         let mut out = self.clone();
         let mut gaps = vec![Vec::new(); self.rows()];
         if self.extrinsic() {

@@ -3,6 +3,7 @@
 use super::{Cell, Lattice};
 use glam::DVec3;
 
+/// Which of a cell's two crossing rods (MATH.md 1.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RodType {
     /// UL -> pivot -> LR, legs l1 and l3.
@@ -12,7 +13,7 @@ pub enum RodType {
 }
 
 impl RodType {
-    pub fn letter(self) -> &'static str {
+    pub(crate) fn letter(self) -> &'static str {
         match self {
             RodType::A => "A",
             RodType::B => "B",
@@ -24,15 +25,15 @@ impl RodType {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rod {
     /// `2 * cell index` for A, `+ 1` for B (lattice.json order).
-    pub id: usize,
-    pub cell: usize,
-    pub kind: RodType,
-    pub start: u32,
-    pub end: u32,
+    pub(crate) id: usize,
+    pub(crate) cell: usize,
+    pub(crate) kind: RodType,
+    pub(crate) start: u32,
+    pub(crate) end: u32,
     /// Leg lengths from the start vertex to the pivot and on to the end.
-    pub legs: [f64; 2],
+    pub(crate) legs: [f64; 2],
     /// Hole centres in space: start vertex, pivot, end vertex.
-    pub hole_pos: [DVec3; 3],
+    pub(crate) hole_pos: [DVec3; 3],
 }
 
 impl Rod {
@@ -42,14 +43,14 @@ impl Rod {
     }
 
     /// Hole positions along the rod's axis, from the start vertex.
-    pub fn holes(&self) -> [f64; 3] {
+    pub(crate) fn holes(&self) -> [f64; 3] {
         [0.0, self.legs[0], self.length()]
     }
 }
 
 impl Lattice {
     /// The two rods of a cell, A then B.
-    pub fn cell_rods(&self, index: usize) -> [Rod; 2] {
+    pub(crate) fn cell_rods(&self, index: usize) -> [Rod; 2] {
         let cell: &Cell = &self.cells[index];
         let [l1, l2, l3, l4] = self.legs(cell);
         let [ul, ur, ll, lr] = self.corners(cell);

@@ -13,7 +13,7 @@ use std::f64::consts::TAU;
 /// negative; below it a vertex is flat (a planar grid's defects are ~1e-14).
 pub const CURVED_DEG: f64 = 0.5;
 /// Strips whose hole-to-hole legs agree within this (mm) are the same strip.
-pub const SAME_STRIP_MM: f64 = 0.05;
+pub(crate) const SAME_STRIP_MM: f64 = 0.05;
 
 /// The discrete curvature at one interior vertex (shared by four cells).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -23,7 +23,7 @@ pub struct VertexCurvature {
     /// 2 pi minus the four corner angles, each from its own cell (radians).
     pub defect: f64,
     /// A quarter of the four cells' areas (mm^2).
-    pub area: f64,
+    pub(crate) area: f64,
     /// Gaussian curvature `defect / area` (1/mm^2).
     pub k: f64,
 }
@@ -33,36 +33,39 @@ pub struct VertexCurvature {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrontGaps {
     /// Largest and mean miss (mm).
-    pub max: f64,
-    pub mean: f64,
+    pub(crate) max: f64,
+    pub(crate) mean: f64,
     /// The same, relative to the mean front edge of their rows.
     pub max_rel: f64,
-    pub mean_rel: f64,
+    pub(crate) mean_rel: f64,
     /// The row whose front misses most.
-    pub worst_row: usize,
+    pub(crate) worst_row: usize,
 }
 
 /// Every shape measure of a lattice that needs no target.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shape {
-    pub curvature: Vec<VertexCurvature>,
+    pub(crate) curvature: Vec<VertexCurvature>,
     /// Largest / smallest cell area.
-    pub area_ratio: f64,
+    pub(crate) area_ratio: f64,
     /// Longest / shortest leg of the whole lattice.
-    pub leg_ratio: f64,
+    pub(crate) leg_ratio: f64,
+    /// Shortest leg of the whole lattice (mm).
     pub min_leg: f64,
     /// Longest / shortest leg within a cell: the median and the largest.
-    pub cell_leg_ratio_median: f64,
-    pub cell_leg_ratio_max: f64,
+    pub(crate) cell_leg_ratio_median: f64,
+    pub(crate) cell_leg_ratio_max: f64,
+    /// How far rebuilt fronts miss the rows they join; None for an extrinsic
+    /// lattice.
     pub front_gaps: Option<FrontGaps>,
     /// Distinct strips (legs equal within `SAME_STRIP_MM`), and all strips.
     pub distinct_strips: usize,
-    pub strips: usize,
+    pub(crate) strips: usize,
 }
 
 /// The four corner angles of a cell, in corner order `[UL, UR, LL, LR]`,
 /// from its own (planar) corners.
-pub fn corner_angles(c: [DVec3; 4]) -> [f64; 4] {
+pub(crate) fn corner_angles(c: [DVec3; 4]) -> [f64; 4] {
     let [ul, ur, ll, lr] = c;
     let at = |p: DVec3, a: DVec3, b: DVec3| angle_between((a - p).normalize(), (b - p).normalize());
     [
@@ -75,7 +78,7 @@ pub fn corner_angles(c: [DVec3; 4]) -> [f64; 4] {
 
 /// Area of a cell: half the cross product of its diagonals (the rods cross,
 /// so the quad is planar and convex).
-pub fn cell_area(c: [DVec3; 4]) -> f64 {
+pub(crate) fn cell_area(c: [DVec3; 4]) -> f64 {
     let [ul, ur, ll, lr] = c;
     0.5 * (lr - ul).cross(ll - ur).length()
 }
@@ -115,7 +118,7 @@ impl Lattice {
     }
 
     /// Every target-free shape measure.
-    pub fn shape(&self) -> Shape {
+    pub(crate) fn shape(&self) -> Shape {
         let mut areas = Vec::with_capacity(self.cells.len());
         let mut cell_ratios = Vec::with_capacity(self.cells.len());
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -155,7 +158,7 @@ impl Lattice {
     }
 
     /// How far each rebuilt front misses its row (None for an extrinsic lattice).
-    pub fn front_gaps(&self) -> Option<FrontGaps> {
+    pub(crate) fn front_gaps(&self) -> Option<FrontGaps> {
         if self.extrinsic() {
             return None;
         }
@@ -220,22 +223,29 @@ fn distinct(strips: &mut [(f64, f64)]) -> usize {
 /// Summary statistics of the curvature, for reports and objectives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CurvatureSummary {
+    /// Number of interior vertices measured.
     pub interior: usize,
     /// Defects in degrees.
     pub min_deg: f64,
+    /// Mean angle defect (degrees).
     pub mean_deg: f64,
+    /// Largest angle defect (degrees).
     pub max_deg: f64,
     /// Share of interior vertices with defect beyond +-`CURVED_DEG`.
     pub positive: f64,
+    /// Share of interior vertices with defect below -`CURVED_DEG`.
     pub negative: f64,
     /// Mean and standard deviation of K (1/mm^2).
     pub k_mean: f64,
+    /// Standard deviation of K over the interior vertices (1/mm^2).
     pub k_std: f64,
     /// Where the extremes are (indices into `Lattice::vertices`).
-    pub min_at: u32,
-    pub max_at: u32,
+    pub(crate) min_at: u32,
+    pub(crate) max_at: u32,
 }
 
+/// Defect and Gaussian-curvature statistics of the interior vertices `c`;
+/// None when there are none.
 pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
     if c.is_empty() {
         return None;

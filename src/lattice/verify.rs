@@ -50,24 +50,43 @@ fn tolerance_of(lattice: &Lattice, legs: f64, extent: f64) -> f64 {
     TOLERANCE.max(DRIFT_PER_LEG * extent / leg)
 }
 
+/// An invariant of MATH.md 8.0-8.3 that verification checks; each is one
+/// `Check` of a `Report`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Invariant {
+    /// Each rod is straight through its pivot: the sine of its bend there.
     RodStraightness,
+    /// Each leg equals the difference of the construction z at its two ends.
     LegsMatchZ,
+    /// First row: `l4 - l1` equals the seed edge's kappa.
     SeedKappa,
+    /// Collapsibility (H) between cells side by side in a row.
     HorizontalPores,
+    /// Collapsibility (V) between a cell and the cell below it.
     VerticalPores,
+    /// An edge shared by two cells has the same length in both.
     SharedEdges,
+    /// Loops: rod B of cell 0, which ends where the round of transfers came
+    /// back, is straight.
     LoopClosure,
+    /// Four-map composition around an interior vertex (MATH.md 8.2): slope - 1.
     CompatibilitySlope,
+    /// Four-map composition: intercept over the squared left edge.
     CompatibilityIntercept,
+    /// Four-map composition: intercept over its natural magnitude (better
+    /// conditioned than over the edge).
     CompatibilityInterceptNatural,
+    /// The z recomputed from the legs alone is single-valued at every vertex
+    /// and pivot.
     CollapsedSingleValued,
+    /// The recomputed z equals the construction z up to a constant.
     CollapsedMatchesConstruction,
+    /// In the collapsed state each rod's z span equals its deployed length.
     CollapsedRodLength,
 }
 
 impl Invariant {
+    /// What the invariant checks, in words for reports and messages.
     pub fn describe(self) -> &'static str {
         match self {
             Self::RodStraightness => "rod straightness (sine of the bend at the pivot)",
@@ -87,24 +106,6 @@ impl Invariant {
             Self::CollapsedRodLength => "collapsed state: rods keep their length",
         }
     }
-
-    pub fn key(self) -> &'static str {
-        match self {
-            Self::RodStraightness => "rod_straightness",
-            Self::LegsMatchZ => "legs_match_z",
-            Self::SeedKappa => "seed_kappa",
-            Self::HorizontalPores => "pores_h",
-            Self::VerticalPores => "pores_v",
-            Self::SharedEdges => "shared_edges",
-            Self::LoopClosure => "loop_closure",
-            Self::CompatibilitySlope => "compatibility_slope",
-            Self::CompatibilityIntercept => "compatibility_intercept",
-            Self::CompatibilityInterceptNatural => "compatibility_intercept_natural",
-            Self::CollapsedSingleValued => "collapsed_single_valued",
-            Self::CollapsedMatchesConstruction => "collapsed_matches_construction",
-            Self::CollapsedRodLength => "collapsed_rod_length",
-        }
-    }
 }
 
 /// The largest residual of one invariant and where it occurs.
@@ -112,11 +113,11 @@ impl Invariant {
 pub struct Check {
     pub invariant: Invariant,
     /// How many places were checked.
-    pub count: usize,
+    pub(crate) count: usize,
     pub max: f64,
     pub site: Option<String>,
     /// What `max` must not exceed (see `tolerance`).
-    pub tolerance: f64,
+    pub(crate) tolerance: f64,
 }
 
 impl Check {
@@ -142,7 +143,7 @@ impl Check {
         }
     }
 
-    pub fn passed(&self) -> bool {
+    pub(crate) fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
 
@@ -158,24 +159,29 @@ impl Check {
     }
 }
 
+/// The verification of one lattice: the largest residual of every
+/// invariant, where it occurs, and the tolerance all were held to.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
-    pub cells: usize,
-    pub vertices: usize,
-    pub rods: usize,
-    pub horizontal_pores: usize,
-    pub vertical_pores: usize,
-    pub interior_vertices: usize,
+    pub(crate) cells: usize,
+    pub(crate) vertices: usize,
+    pub(crate) rods: usize,
+    pub(crate) horizontal_pores: usize,
+    pub(crate) vertical_pores: usize,
+    pub(crate) interior_vertices: usize,
+    /// One check per invariant, in `Invariant` order.
     pub checks: Vec<Check>,
     /// The tolerance every check was held to.
     pub tolerance: f64,
 }
 
 impl Report {
+    /// True when every check is within the tolerance (a NaN residual fails).
     pub fn passed(&self) -> bool {
         self.checks.iter().all(Check::passed)
     }
 
+    /// The check of `invariant`.
     pub fn check(&self, invariant: Invariant) -> &Check {
         self.checks
             .iter()

@@ -14,19 +14,19 @@ use std::cmp::Ordering;
 
 /// The job on one preset.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SheetOption {
-    pub name: String,
-    pub width: f64,
-    pub height: f64,
+pub(crate) struct SheetOption {
+    pub(crate) name: String,
+    pub(crate) width: f64,
+    pub(crate) height: f64,
     /// Sheets needed, or None when some strip is longer than the preset.
-    pub sheets: Option<usize>,
+    pub(crate) sheets: Option<usize>,
     /// Fraction of the sheets' area covered by parts (0 when it does not hold the job).
-    pub utilisation: f64,
+    pub(crate) utilisation: f64,
 }
 
 impl SheetOption {
     /// The preset as a sheet, with the margin and gap of `base`.
-    pub fn spec(&self, base: &SheetSpec) -> SheetSpec {
+    pub(crate) fn spec(&self, base: &SheetSpec) -> SheetSpec {
         SheetSpec {
             name: self.name.clone(),
             width: self.width,
@@ -78,7 +78,11 @@ fn nested(job: &Job, spec: &SheetSpec, known: Option<&Layout>) -> Layout {
 /// The job nested on each preset, in the presets' order, keeping the
 /// margin and gap of `base` (what `--json` lists). `known` is a layout of
 /// the job already made, reused for the preset of its size.
-pub fn sheet_options(job: &Job, base: &SheetSpec, known: Option<&Layout>) -> Vec<SheetOption> {
+pub(crate) fn sheet_options(
+    job: &Job,
+    base: &SheetSpec,
+    known: Option<&Layout>,
+) -> Vec<SheetOption> {
     presets(base)
         .map(|spec| {
             let layout = job.holds(&spec).then(|| nested(job, &spec, known));
@@ -96,7 +100,7 @@ fn rank((sheets, area, index): (usize, f64, usize), other: (usize, f64, usize)) 
 }
 
 /// No layout of the job on `spec` has fewer sheets than this.
-pub fn sheets_at_least(job: &Job, spec: &SheetSpec) -> usize {
+pub(crate) fn sheets_at_least(job: &Job, spec: &SheetSpec) -> usize {
     let (uw, uh) = spec.usable();
     let mut all = job.lengths.clone();
     all.extend(
@@ -113,7 +117,11 @@ pub fn sheets_at_least(job: &Job, spec: &SheetSpec) -> usize {
 /// The smallest preset that holds the job and the job nested on it (None
 /// when no preset holds it). `known` is a layout of the job already made,
 /// reused for the preset of its size.
-pub fn pick(job: &Job, base: &SheetSpec, known: Option<&Layout>) -> Option<(SheetOption, Layout)> {
+pub(crate) fn pick(
+    job: &Job,
+    base: &SheetSpec,
+    known: Option<&Layout>,
+) -> Option<(SheetOption, Layout)> {
     let mut candidates: Vec<((usize, f64, usize), SheetSpec)> = presets(base)
         .enumerate()
         .filter(|(_, spec)| job.holds(spec))
@@ -141,8 +149,10 @@ pub fn pick(job: &Job, base: &SheetSpec, known: Option<&Layout>) -> Option<(Shee
 }
 
 /// The smallest preset that holds the job among `options`: fewest sheets,
-/// then the smallest sheet area; ties keep the presets' order.
-pub fn smallest(options: &[SheetOption]) -> Option<&SheetOption> {
+/// then the smallest sheet area; ties keep the presets' order. The unit
+/// tests' reference for the advice's pick.
+#[cfg(test)]
+fn smallest(options: &[SheetOption]) -> Option<&SheetOption> {
     options
         .iter()
         .filter(|o| o.sheets.is_some())

@@ -18,6 +18,8 @@ pub fn stadium_area(l: f64, w: f64) -> f64 {
     w * (l - w) + PI * w * w / 4.0
 }
 
+/// Lower bound on the sheet count by area: the parts, each with half the gap
+/// around it, over the usable sheet area.
 pub fn area_bound(lengths: &[f64], w: f64, sheet: &SheetSpec) -> usize {
     let g = sheet.gap;
     let (uw, uh) = sheet.usable();

@@ -64,7 +64,7 @@ fn next_fit(
 /// Nest with each step's parts together (see the module comment). `step_of`
 /// gives each part's assembly step; parts keep their index order within a
 /// step. The test piece (outline length) goes first if given.
-pub fn nest_by_step(
+pub(crate) fn nest_by_step(
     lengths: &[f64],
     width: f64,
     sheet: &SheetSpec,

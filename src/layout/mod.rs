@@ -4,13 +4,13 @@
 //! rest of the sheet, fills the lanes best-fit decreasing, and keeps the split
 //! that places the most material. Deterministic: ties break by order.
 
-pub mod advice;
+pub(crate) mod advice;
 mod bounds;
 mod by_step;
 
-pub use advice::{SheetOption, pick, sheet_options, smallest};
+pub(crate) use advice::{SheetOption, pick, sheet_options};
 pub use bounds::{Bounds, area_bound, lane_bound, stadium_area};
-pub use by_step::nest_by_step;
+pub(crate) use by_step::nest_by_step;
 
 use crate::fabrication::SheetSpec;
 use std::cmp::Ordering;
@@ -21,22 +21,30 @@ use std::collections::BTreeSet;
 /// end on the left).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Placement {
+    /// The part's index into `Layout::lengths` (`lengths.len()` for the test piece).
     pub part: usize,
+    /// Left edge of the outline's bounding box, mm from the sheet's left edge.
     pub x: f64,
+    /// Top edge of the outline's bounding box, mm from the sheet's top edge.
     pub y: f64,
+    /// The strip runs along y, start end at the top.
     pub rotated: bool,
 }
 
+/// One laser sheet and the strips placed on it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sheet {
+    /// The strips on this sheet.
     pub placements: Vec<Placement>,
     /// The test piece (first sheet only), nested in a lane like a part;
     /// its `part` is `Layout::lengths.len()`.
     pub test_piece: Option<Placement>,
 }
 
+/// The strips nested on sheets: what the cut-sheet pages draw.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
+    /// The sheet size every sheet of the layout has.
     pub sheet: SheetSpec,
     /// Outline width of every part.
     pub part_width: f64,
@@ -44,6 +52,7 @@ pub struct Layout {
     pub lengths: Vec<f64>,
     /// Outline length of the test piece, when there is one.
     pub test_piece: Option<f64>,
+    /// The sheets, first to last.
     pub sheets: Vec<Sheet>,
 }
 
@@ -58,6 +67,8 @@ impl Layout {
         parts / (self.sheets.len() as f64 * self.sheet.width * self.sheet.height)
     }
 
+    /// Lower bounds on the sheet count for these parts: how far the layout is
+    /// from the best possible.
     pub fn bounds(&self) -> Bounds {
         let all = self.all_lengths();
         Bounds {
@@ -67,7 +78,7 @@ impl Layout {
     }
 
     /// The parts' lengths and the test piece's: everything the sheets hold.
-    pub fn all_lengths(&self) -> Vec<f64> {
+    pub(crate) fn all_lengths(&self) -> Vec<f64> {
         self.lengths
             .iter()
             .copied()
@@ -80,23 +91,23 @@ impl Layout {
 /// lengths and width, the test piece's outline length and, when the job is
 /// cut by assembly step, each part's step.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Job {
-    pub lengths: Vec<f64>,
-    pub width: f64,
-    pub test_piece: Option<f64>,
-    pub steps: Option<Vec<usize>>,
+pub(crate) struct Job {
+    pub(crate) lengths: Vec<f64>,
+    pub(crate) width: f64,
+    pub(crate) test_piece: Option<f64>,
+    pub(crate) steps: Option<Vec<usize>>,
 }
 
 impl Job {
     /// Whether every part fits the sheet (along its longer usable side).
-    pub fn holds(&self, sheet: &SheetSpec) -> bool {
+    pub(crate) fn holds(&self, sheet: &SheetSpec) -> bool {
         let (uw, uh) = sheet.usable();
         self.width <= uw.min(uh) && self.lengths.iter().all(|&l| l <= uw.max(uh))
     }
 
     /// The job on `sheet`, which must hold it; the test piece is left out
     /// when it does not fit (as `parts::test_piece` leaves it out).
-    pub fn nest(&self, sheet: &SheetSpec) -> Layout {
+    pub(crate) fn nest(&self, sheet: &SheetSpec) -> Layout {
         let (uw, uh) = sheet.usable();
         let piece = self
             .test_piece
@@ -143,7 +154,7 @@ pub fn nest(lengths: &[f64], width: f64, sheet: &SheetSpec) -> Layout {
 /// `nest`, with a test piece of outline length `test_piece` that must go on
 /// the first sheet: it is placed first, and a split of the first sheet's
 /// lanes counts only if it takes the piece. The caller checks it fits.
-pub fn nest_with(
+pub(crate) fn nest_with(
     lengths: &[f64],
     width: f64,
     sheet: &SheetSpec,
@@ -237,7 +248,7 @@ fn lanes(k: usize, major_rotated: bool, width: f64, sheet: &SheetSpec) -> Vec<La
 /// The most lane length (each part takes its length plus a gap) one sheet
 /// offers, over every split of its lanes `nest_with` tries; cutting by step
 /// uses one of those splits. The job's total over it bounds the sheets below.
-pub fn lane_capacity(width: f64, sheet: &SheetSpec) -> f64 {
+pub(crate) fn lane_capacity(width: f64, sheet: &SheetSpec) -> f64 {
     let (uw, uh) = sheet.usable();
     let pitch = width + sheet.gap;
     [false, true]
@@ -426,7 +437,7 @@ mod tests {
         use super::super::*;
         /// Best-fit decreasing of `order` into `lanes`: for each part, the lane with
         /// the least room that still takes it. Returns each part's lane (or None).
-        pub fn best_fit(
+        pub(crate) fn best_fit(
             order: &[usize],
             lengths: &[f64],
             lanes: &[Lane],
@@ -450,7 +461,7 @@ mod tests {
         }
 
         /// Fill one sheet; returns it and the parts left over (still in order).
-        pub fn fill_sheet(
+        pub(crate) fn fill_sheet(
             order: &[usize],
             lengths: &[f64],
             width: f64,
@@ -531,7 +542,7 @@ mod tests {
             )
         }
 
-        pub fn nest_with(
+        pub(crate) fn nest_with(
             lengths: &[f64],
             width: f64,
             sheet: &SheetSpec,

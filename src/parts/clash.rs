@@ -8,16 +8,16 @@ use crate::lattice::{Lattice, RodType};
 use glam::DVec3;
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
-pub const DEFAULT_CLEARANCE: f64 = 1.0;
+pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Clash {
     /// Rod ids (lattice.json order), the smaller first.
-    pub rods: [usize; 2],
+    pub(crate) rods: [usize; 2],
     /// Distance between the two centre lines (mm).
-    pub distance: f64,
+    pub(crate) distance: f64,
     /// Midpoint of the closest points: where they meet.
-    pub at: DVec3,
+    pub(crate) at: DVec3,
 }
 
 /// A strip's centre line: the rod from tip to tip.
@@ -44,7 +44,7 @@ struct Line {
 /// touches. Two strips closer than the reach share the grid cell of the
 /// midpoint of their closest points; a pair is measured once, in the first
 /// grid cell the two boxes share. Cost and memory are linear in the strips.
-pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
+pub(crate) fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
     let reach = width + clearance;
     let rods = 2 * lattice.cells.len();
     // Rods grouped by layer (a counting sort, in id order within a layer).
@@ -277,7 +277,7 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
 
 /// The closest points of segments `p0 p1` and `q0 q1` (Ericson, Real-Time
 /// Collision Detection, 5.1.9).
-pub fn closest_points(p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> (DVec3, DVec3) {
+pub(crate) fn closest_points(p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> (DVec3, DVec3) {
     let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
     let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
     let eps = 1e-18;
@@ -317,7 +317,7 @@ pub fn closest_points(p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> (DVec3, DVe
 }
 
 /// A rod as the reports name it: its strip id in parts.csv.
-pub fn rod_name(lattice: &Lattice, rod: usize) -> String {
+pub(crate) fn rod_name(lattice: &Lattice, rod: usize) -> String {
     let cell = &lattice.cells[rod / 2];
     let kind = if rod % 2 == 0 {
         crate::lattice::RodType::A

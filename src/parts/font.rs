@@ -5,9 +5,9 @@
 use glam::DVec2;
 
 /// Grid units from the baseline to the cap height.
-pub const CAP: f64 = 6.0;
+pub(crate) const CAP: f64 = 6.0;
 /// Grid units from one glyph's origin to the next.
-pub const ADVANCE: f64 = 5.0;
+pub(crate) const ADVANCE: f64 = 5.0;
 
 const OCTAGON: &str = "1,0 3,0 4,1 4,5 3,6 1,6 0,5 0,1 1,0";
 
@@ -115,7 +115,7 @@ pub fn text(text: &str, height: f64) -> Vec<Vec<DVec2>> {
 }
 
 /// Width of `text` at cap height `height` (no trailing spacing).
-pub fn width(text: &str, height: f64) -> f64 {
+pub(crate) fn width(text: &str, height: f64) -> f64 {
     let n = text.chars().count() as f64;
     if n == 0.0 {
         0.0

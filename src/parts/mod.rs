@@ -4,10 +4,10 @@
 //! along the axis from the start tip (0) to the end tip (`length`), y across
 //! it, pointing down when the strip lies with its start to the left.
 
-pub mod clash;
+pub(crate) mod clash;
 pub mod font;
 pub mod test_piece;
-pub mod types;
+pub(crate) mod types;
 
 pub use test_piece::{TestPiece, test_piece};
 pub use types::PartType;
@@ -17,31 +17,34 @@ use crate::lattice::{Joint, Lattice, RodType, vertex_eyelets};
 use glam::DVec2;
 
 /// Eyelet flanges closer than this (mm) get a near-miss warning.
-pub const FLANGE_CLEARANCE_WARNING: f64 = 1.0;
+pub(crate) const FLANGE_CLEARANCE_WARNING: f64 = 1.0;
 /// Hole centre to strip tip, in hole diameters, below which a warning says
 /// the end may tear out (the usual edge-distance rule for holes).
-pub const EDGE_DISTANCE: f64 = 1.5;
+pub(crate) const EDGE_DISTANCE: f64 = 1.5;
 /// Smallest engraved text height (mm) before a label falls back to a shorter
 /// form: nothing karigami prints or engraves is smaller (a maker must read it).
-pub const MIN_LABEL_HEIGHT: f64 = 2.5;
+pub(crate) const MIN_LABEL_HEIGHT: f64 = 2.5;
 
+/// One flat strip cut for one rod: its holes, length and engraving, in the
+/// strip frame (mm).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Strip {
     /// Human-readable ID, e.g. `R03-C05-A` (cell row, column, rod letter).
     pub id: String,
     /// The rod's id in lattice.json.
     pub rod: usize,
+    /// Row of the rod's cell (the growth step; the turn for a helix).
     pub row: u32,
-    pub col: u32,
-    pub kind: RodType,
+    pub(crate) col: u32,
+    pub(crate) kind: RodType,
     /// Hole-to-hole distances: start vertex to pivot, pivot to end vertex.
     pub legs: [f64; 2],
     /// Nominal tip-to-tip length.
     pub length: f64,
     /// Hole centres along the axis, from the start tip.
-    pub holes: [f64; 3],
+    pub(crate) holes: [f64; 3],
     /// Engraved strokes (ID and orientation arrow), in the strip frame.
-    pub engraving: Vec<Vec<DVec2>>,
+    pub(crate) engraving: Vec<Vec<DVec2>>,
     /// Index into `Parts::types`.
     pub part_type: usize,
     /// What the engraving says.
@@ -69,15 +72,19 @@ pub enum Marking {
 /// The cut outline of a strip: nominal, or grown by the kerf when compensated.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Outline {
+    /// Tip-to-tip length as cut (mm): nominal, plus the kerf when compensated.
     pub length: f64,
+    /// Width as cut (mm): the strip width, plus the kerf when compensated.
     pub width: f64,
     /// Hole diameter as cut.
-    pub hole: f64,
+    pub(crate) hole: f64,
     /// How far the outline extends beyond the nominal tip (kerf / 2 or 0).
     pub grow: f64,
 }
 
 impl Outline {
+    /// The outline of a strip of nominal length `strip_length` (mm) under
+    /// `fab`'s kerf compensation.
     pub fn of(strip_length: f64, fab: &Fabrication) -> Self {
         let k = if fab.compensate_kerf { fab.kerf } else { 0.0 };
         Self {
@@ -91,22 +98,24 @@ impl Outline {
 
 /// Something a maker should look at but that does not stop the build.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Warning {
-    pub strip: Option<String>,
-    pub message: String,
+pub(crate) struct Warning {
+    pub(crate) strip: Option<String>,
+    pub(crate) message: String,
 }
 
 /// A fabrication check that fails for at least one strip.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartsError {
-    pub kind: crate::diagnostic::ErrorKind,
+    pub(crate) kind: crate::diagnostic::ErrorKind,
     /// The first strip at fault and its cell row (for pointing at the recipe).
-    pub strip: String,
-    pub row: u32,
-    pub message: String,
-    pub hint: String,
+    pub(crate) strip: String,
+    pub(crate) row: u32,
+    pub(crate) message: String,
+    pub(crate) hint: String,
 }
 
+/// The strips of a lattice, grouped into part types, with their eyelets and
+/// warnings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parts {
     /// In lattice.json's rod order.
@@ -114,13 +123,15 @@ pub struct Parts {
     /// Interchangeable strips grouped, in order of their first strip.
     pub types: Vec<PartType>,
     /// Vertex pivots joining two or more rod ends.
-    pub vertex_eyelets: usize,
+    pub(crate) vertex_eyelets: usize,
     /// One per cell.
-    pub pivot_eyelets: usize,
-    pub warnings: Vec<Warning>,
+    pub(crate) pivot_eyelets: usize,
+    pub(crate) warnings: Vec<Warning>,
 }
 
 impl Parts {
+    /// Eyelets the build needs: one per scissor pivot and one per vertex joint
+    /// of two or more rod ends.
     pub fn eyelets(&self) -> usize {
         self.vertex_eyelets + self.pivot_eyelets
     }
@@ -131,7 +142,13 @@ fn digits(max: u32) -> usize {
     max.to_string().len().max(2)
 }
 
-pub fn strip_id(row: u32, col: u32, kind: RodType, row_digits: usize, col_digits: usize) -> String {
+pub(crate) fn strip_id(
+    row: u32,
+    col: u32,
+    kind: RodType,
+    row_digits: usize,
+    col_digits: usize,
+) -> String {
     format!("R{row:0row_digits$}-C{col:0col_digits$}-{}", kind.letter())
 }
 
@@ -374,12 +391,12 @@ fn engrave_text(
 
 /// Side of an engraved dot and the distance between dot centres (mm).
 pub const DOT: f64 = 0.6;
-pub const DOT_PITCH: f64 = 1.2;
+pub(crate) const DOT_PITCH: f64 = 1.2;
 
 /// Centres (along the strip, from the first dot) of an `n`-dot code: dots
 /// in groups of five, with one extra pitch between groups so they count
 /// like tally marks.
-pub fn dot_offsets(n: usize) -> Vec<f64> {
+pub(crate) fn dot_offsets(n: usize) -> Vec<f64> {
     (0..n).map(|k| (k + k / 5) as f64 * DOT_PITCH).collect()
 }
 
@@ -449,7 +466,7 @@ fn dot_code(
 /// plane and lifted by its stacking layer so strips stack at the joints.
 /// Corner `k` is at `(k & 1) * length`, `((k >> 1) & 1) * width`,
 /// `(k >> 2) * thickness` in the strip's (along, across, normal) frame.
-pub fn solid(lattice: &Lattice, strip: &Strip, fab: &Fabrication) -> [glam::DVec3; 8] {
+pub(crate) fn solid(lattice: &Lattice, strip: &Strip, fab: &Fabrication) -> [glam::DVec3; 8] {
     use glam::DVec3;
     let cell = &lattice.cells[strip.rod / 2];
     let [ul, ur, ll, _] = lattice.corners(cell);

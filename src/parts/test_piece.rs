@@ -14,22 +14,24 @@ const MIN_WALL: f64 = 1.0;
 /// Nominal tip-to-tip length (mm).
 pub const LENGTH: f64 = 100.0;
 /// Step between the test holes' diameters (mm).
-pub const STEP: f64 = 0.1;
+pub(crate) const STEP: f64 = 0.1;
 /// Space from a hole's edge to its label, and from the label to the next hole.
 const LABEL_BEFORE: f64 = 0.8;
 const LABEL_AFTER: f64 = 2.5;
 /// Most test holes: the nominal diameter and two steps each side.
-pub const MAX_HOLES: usize = 5;
+pub(crate) const MAX_HOLES: usize = 5;
 
+/// A test strip cut before the job: holes stepped around the eyelet's
+/// nominal diameter and a 100 mm length, to check kerf and eyelet fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TestPiece {
     /// Nominal tip-to-tip length, like `Strip::length`.
-    pub length: f64,
+    pub(crate) length: f64,
     /// Hole centres along the axis and their nominal diameters (before any
     /// kerf compensation), smallest first from the start tip.
     pub holes: Vec<(f64, f64)>,
     /// Engraved strokes in the strip frame: each hole's diameter and "100 mm".
-    pub engraving: Vec<Vec<DVec2>>,
+    pub(crate) engraving: Vec<Vec<DVec2>>,
     /// The label texts, in order (for the guide and tests).
     pub labels: Vec<String>,
 }

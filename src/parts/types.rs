@@ -25,8 +25,8 @@ pub struct PartType {
     /// Indices into `Parts::strips`, in strip order.
     pub strips: Vec<usize>,
     /// The pitches and length of the first strip.
-    pub legs: [f64; 2],
-    pub length: f64,
+    pub(crate) legs: [f64; 2],
+    pub(crate) length: f64,
     /// Whether the two pitches agree within the tolerance (the strip can be
     /// turned end for end, so its arrow does not matter).
     pub symmetric: bool,
@@ -36,7 +36,7 @@ pub struct PartType {
 }
 
 /// Spreadsheet-style code of the `index`-th type (0-based): A..Z, AA..AZ, BA..
-pub fn code(index: usize) -> String {
+pub(crate) fn code(index: usize) -> String {
     let mut n = index + 1;
     let mut out = Vec::new();
     while n > 0 {
@@ -53,7 +53,7 @@ fn key(s: &Strip) -> [f64; 3] {
 }
 
 /// Group strips into types; returns each strip's type index and the types.
-pub fn group(strips: &[Strip], tolerance: f64) -> (Vec<usize>, Vec<PartType>) {
+pub(crate) fn group(strips: &[Strip], tolerance: f64) -> (Vec<usize>, Vec<PartType>) {
     // Sorted by the first pitch, a strip can only join a type whose smallest
     // first pitch is within the tolerance: older types are closed for good.
     let mut order: Vec<usize> = (0..strips.len()).collect();
@@ -129,7 +129,7 @@ pub fn group(strips: &[Strip], tolerance: f64) -> (Vec<usize>, Vec<PartType>) {
 
 /// One line for reports: the number of types with their counts, and how
 /// many strips carry their ID, their type's code or its dot code.
-pub fn summary(parts: &super::Parts) -> String {
+pub(crate) fn summary(parts: &super::Parts) -> String {
     use super::Marking;
     let counts: Vec<String> = parts
         .types

@@ -9,7 +9,7 @@ use super::{Equilibrium, SimError, kabsch_distance};
 pub use karigami_rods::rng::Rng;
 
 /// Seed amplitudes (mm), cycled: seed 0 is the unperturbed start.
-pub const AMPLITUDES: [f64; 3] = [1.0, 3.0, 10.0];
+pub(crate) const AMPLITUDES: [f64; 3] = [1.0, 3.0, 10.0];
 
 /// Perturb every free node along its rod's face normal by `amplitude` xi
 /// and every material angle by 0.02 xi rad.
@@ -43,6 +43,7 @@ pub fn perturb(m: &mut Model, seed: u64, amplitude: f64) {
 /// One distinct equilibrium found by exploration.
 #[derive(Clone, Debug)]
 pub struct Found {
+    /// The equilibrium as first reached.
     pub equilibrium: Equilibrium,
     /// Seeds that reached it.
     pub hits: Vec<u64>,

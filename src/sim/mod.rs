@@ -7,8 +7,8 @@
 //! (multistability), `results` (strains, reactions, distances).
 
 pub mod explore;
-pub mod results;
-pub mod strips;
+pub(crate) mod results;
+pub(crate) mod strips;
 
 pub use karigami_rods::{dual, frames, model, solver};
 pub use model::{Energies, Model, Section};
@@ -33,13 +33,14 @@ pub struct Material {
 }
 
 impl Material {
+    /// ABS: E = 2200 MPa, Poisson's ratio 0.35, allowable strain 1.5 %.
     pub const ABS: Material = Material {
         youngs: 2200.0,
         poisson: 0.35,
         eps_allow: 0.015,
     };
 
-    pub fn shear(&self) -> f64 {
+    pub(crate) fn shear(&self) -> f64 {
         self.youngs / (2.0 * (1.0 + self.poisson))
     }
 
@@ -61,6 +62,7 @@ impl Material {
 /// The `[simulation]` settings of a recipe.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
+    /// The strip material.
     pub material: Material,
     /// Opening to deploy to (radians), of the held measure; None: the design's.
     pub theta: Option<f64>,
@@ -68,6 +70,7 @@ pub struct Settings {
     pub actuation: Actuation,
     /// Longest interior edge (mm).
     pub h_max: f64,
+    /// How rod ends at a shared vertex are joined.
     pub vertex_joint: VertexJoint,
     /// Strips strained beyond eps_allow are accepted by `build`.
     pub accept_overstrain: bool,
@@ -114,18 +117,23 @@ impl Actuation {
 }
 
 /// Largest continuation step of the prescribed opening (PHYSICS.md 7).
-pub const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
+pub(crate) const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
+/// Why a simulation found no equilibrium.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SimError {
+    /// The Newton solver failed: a stalled line search or a non-finite value.
     Solve(SolveError),
     /// Newton ran out of iterations.
     NotConverged {
+        /// Newton iterations of the step that failed.
         iterations: usize,
     },
     /// The requested opening is outside C(theta)'s valid range.
     Theta {
+        /// The requested opening (radians).
         theta: f64,
+        /// The largest opening of the deployment range, `theta_max` (radians).
         max: f64,
     },
 }
@@ -150,7 +158,9 @@ impl std::fmt::Display for SimError {
 /// An equilibrium and what it says.
 #[derive(Clone, Debug)]
 pub struct Equilibrium {
+    /// Elastic energy by term (N mm).
     pub energy: Energies,
+    /// The largest strain of the strips and where it occurs.
     pub strain: StrainPeak,
     /// Largest joint reaction (N), the joint index and the rod.
     pub reaction: (f64, usize, String),
@@ -160,17 +170,24 @@ pub struct Equilibrium {
     pub distance: f64,
     /// Opening of every cell (radians).
     pub openings: Vec<f64>,
+    /// Statistics of the last Newton solve.
     pub stats: Stats,
 }
 
 /// A simulation run: the model at equilibrium and its report.
 #[derive(Clone, Debug)]
 pub struct Simulation {
+    /// The lattice's rod model, at equilibrium.
     pub lm: LatticeModel,
+    /// The equilibrium and what it says.
     pub equilibrium: Equilibrium,
+    /// The reference cell's opening reached (radians).
     pub theta: f64,
+    /// Newton iterations over all continuation steps.
     pub iterations: usize,
+    /// Solves made: the start, then one per continuation step of the opening.
     pub steps: usize,
+    /// Wall-clock time of the run (seconds).
     pub seconds: f64,
 }
 
@@ -317,13 +334,13 @@ pub fn placed_lattice(lattice: &Lattice, lm: &LatticeModel) -> Lattice {
 }
 
 /// Lattices above this many cells are not simulated by `build`.
-pub const MAX_SIMULATED_CELLS: usize = 2_000;
+pub(crate) const MAX_SIMULATED_CELLS: usize = 2_000;
 
 /// Whether `build` simulates a lattice: unless it is a planar true
 /// mechanism (its design is its deployed shape, strips straight), or too
 /// large. Eyelets make 3-D designs twist where cells in different planes
 /// meet, so those are simulated too.
-pub fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
+pub(crate) fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
     let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
     !planar_mechanism && lattice.cells.len() <= MAX_SIMULATED_CELLS && !lattice.cells.is_empty()
 }

@@ -2,7 +2,7 @@
 //! are, joint reactions, distance from the design after the best rigid
 //! fit, and a discrete curvature measure of the deployed shape.
 
-use super::model::{Frame, Model, Stencil, bend_measures};
+use super::model::{Model, bend_measures};
 use glam::{DMat3, DQuat, DVec3};
 use std::collections::BTreeMap;
 
@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 pub struct StrainPeak {
     /// (t/2)|k_flat| + (w/2)|k_edge| + axial.
     pub eps: f64,
+    /// ID of the strip where the peak occurs.
     pub rod: String,
     /// Arc length from the rod's start hole (mm).
     pub s: f64,
@@ -23,7 +24,7 @@ pub struct StrainPeak {
 }
 
 /// Per-node strains of one rod: (s, eps, gamma).
-pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
+pub(crate) fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
     let _ = nu;
     let path = &m.rods[rod];
     let sec = &m.section;
@@ -53,7 +54,7 @@ pub fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)> {
 }
 
 /// The strain peak over every rod.
-pub fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
+pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
     let sec = &m.section;
     let mut peak = StrainPeak::default();
     for (r, path) in m.rods.iter().enumerate() {
@@ -97,7 +98,7 @@ pub fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
 
 /// The largest force any joint exerts on one of its rods (N), with the
 /// joint and the rod: F = -dE_rod/dX_J.
-pub fn largest_reaction(m: &Model) -> (f64, usize, String) {
+pub(crate) fn largest_reaction(m: &Model) -> (f64, usize, String) {
     let mut forces: BTreeMap<(usize, usize), DVec3> = BTreeMap::new();
     // Position variable -> (joint, axis).
     let mut owner = std::collections::HashMap::new();
@@ -163,40 +164,24 @@ pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Which variables are material angles (for reports).
-pub fn theta_count(m: &Model) -> usize {
-    m.edges
-        .iter()
-        .filter(|e| matches!(e.frame, Frame::Ref { .. }))
-        .count()
-}
-
-/// The stencil count (for reports).
-pub fn stencil_count(m: &Model) -> usize {
-    m.stencils
-        .iter()
-        .filter(|s| !matches!(s, Stencil::Load { .. } | Stencil::Moment { .. }))
-        .count()
-}
-
 /// One strip of an equilibrium, node by node, for deployed.json/.obj.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DeployedStrip {
+pub(crate) struct DeployedStrip {
     /// The engraved strip id.
-    pub id: String,
+    pub(crate) id: String,
     /// Arc length from the first hole (mm).
-    pub s: Vec<f64>,
-    pub centre: Vec<DVec3>,
+    pub(crate) s: Vec<f64>,
+    pub(crate) centre: Vec<DVec3>,
     /// Width direction and face normal at each node (mean of its edges).
-    pub d1: Vec<DVec3>,
-    pub d2: Vec<DVec3>,
+    pub(crate) d1: Vec<DVec3>,
+    pub(crate) d2: Vec<DVec3>,
     /// Corner-fibre strain and twist shear strain at each node.
-    pub strain: Vec<f64>,
-    pub gamma: Vec<f64>,
+    pub(crate) strain: Vec<f64>,
+    pub(crate) gamma: Vec<f64>,
 }
 
 /// Every strip of the model as it is now.
-pub fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
+pub(crate) fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
     (0..m.rods.len())
         .map(|r| {
             let path = &m.rods[r];

@@ -19,6 +19,7 @@ pub enum VertexJoint {
 }
 
 impl VertexJoint {
+    /// The recipe's name for it (`[simulation] vertex_joint`): `eyelet` or `ball`.
     pub fn name(self) -> &'static str {
         match self {
             VertexJoint::Eyelet => "eyelet",
@@ -34,20 +35,22 @@ pub struct Mesh {
     pub h_max: f64,
     /// Rigid arm length each side of a hole (mm), normally w/2.
     pub arm: f64,
+    /// How rod ends at a shared vertex are joined.
     pub vertex_joint: VertexJoint,
 }
 
 /// A lattice's model with the bookkeeping that maps it back to the lattice.
 #[derive(Clone, Debug)]
 pub struct LatticeModel {
+    /// The discrete elastic rods, their joints and energy.
     pub model: Model,
     /// Joint of each cell's pivot.
-    pub pivot: Vec<usize>,
+    pub(crate) pivot: Vec<usize>,
     /// Per cell: the variable delta = alpha_B - alpha_A at its pivot, and
     /// the sign s_c with phi_c = s_c delta.
-    pub delta: Vec<(usize, f64)>,
+    pub(crate) delta: Vec<(usize, f64)>,
     /// Per vertex: its joint, or (a corner) the node of the single rod end.
-    pub vertex: Vec<VertexPlace>,
+    pub(crate) vertex: Vec<VertexPlace>,
     /// The starting placement of every vertex and pivot (the design, or
     /// for bent-facet lattices the rigid-fit placement).
     pub start: Vec<DVec3>,
@@ -70,7 +73,7 @@ pub enum Hold {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum VertexPlace {
+pub(crate) enum VertexPlace {
     Joint(usize),
     Node(usize),
     /// A vertex no rod reaches.

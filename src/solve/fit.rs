@@ -20,7 +20,7 @@ use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
 use glam::DVec3;
 
 /// Grow the fitted lattice; `progress` hears about each row.
-pub fn grow(
+pub(crate) fn grow(
     design: &Design,
     fit: &Fit,
     progress: &mut dyn FnMut(&str),
@@ -30,7 +30,7 @@ pub fn grow(
 
 /// The row angles an open fit's search chose (None for other fits): where
 /// the optimiser starts when the recipe gives no `fit.angles`.
-pub fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
+pub(crate) fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
     // A 3-D search also chooses a tilt, which fit.angles does not hold.
     if design.dim != 2 {
         return None;

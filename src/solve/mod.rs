@@ -69,12 +69,17 @@ enum Slot {
 pub struct Optimised {
     /// The recipe text with the optimised numbers, comments kept.
     pub text: String,
-    pub design: Design,
+    /// Cost (weighted objectives, lower is better) of the recipe as given.
     pub cost_before: f64,
+    /// Cost of the optimised recipe, as written and read back.
     pub cost_after: f64,
+    /// Optimiser iterations used, over all restarts.
     pub iterations: usize,
+    /// Designs grown and scored.
     pub evaluations: usize,
+    /// Number of variables searched (numbers sharing a magnitude count once).
     pub variables: usize,
+    /// Every shape measure of the optimised design.
     pub measures: Measures,
 }
 
@@ -402,7 +407,6 @@ pub fn optimise(
     let evaluations = problem.evaluations.get();
     Ok(Optimised {
         text,
-        design: design_out,
         cost_before,
         cost_after,
         iterations,

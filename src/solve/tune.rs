@@ -11,14 +11,19 @@ use glam::DVec3;
 /// The result of tuning, and how it differs from the start.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tuned {
+    /// The tuned seed points (mm).
     pub points: Vec<DVec3>,
+    /// The tuned kappa, one per seed edge (mm).
     pub kappa: Vec<f64>,
     /// Admissible cells before and after (capped at the target).
     pub cells_before: usize,
+    /// Admissible cells the tuned seed grows (capped at the target).
     pub cells_after: usize,
+    /// Random tries made.
     pub iterations: usize,
     /// Largest point move (mm) and largest kappa change (mm).
     pub max_move: f64,
+    /// Largest kappa change (mm).
     pub max_kappa_change: f64,
 }
 

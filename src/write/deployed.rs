@@ -10,21 +10,21 @@ use serde::Serialize;
 use std::fmt::Write as _;
 
 /// What deployed.json says besides the strips.
-pub struct Summary<'a> {
-    pub design: &'a str,
-    pub verdict: &'a str,
-    pub vertex_joint: &'a str,
-    pub theta_deg: f64,
-    pub energy: [f64; 4],
-    pub eps_max: f64,
-    pub eps_allow: f64,
-    pub eps_rod: &'a str,
-    pub eps_s: f64,
-    pub distance: f64,
-    pub iterations: usize,
+pub(crate) struct Summary<'a> {
+    pub(crate) design: &'a str,
+    pub(crate) verdict: &'a str,
+    pub(crate) vertex_joint: &'a str,
+    pub(crate) theta_deg: f64,
+    pub(crate) energy: [f64; 4],
+    pub(crate) eps_max: f64,
+    pub(crate) eps_allow: f64,
+    pub(crate) eps_rod: &'a str,
+    pub(crate) eps_s: f64,
+    pub(crate) distance: f64,
+    pub(crate) iterations: usize,
     /// Vertex names and positions, then pivot names and positions.
-    pub vertices: Vec<(String, DVec3)>,
-    pub pivots: Vec<(String, DVec3)>,
+    pub(crate) vertices: Vec<(String, DVec3)>,
+    pub(crate) pivots: Vec<(String, DVec3)>,
 }
 
 fn finite(x: f64) -> f64 {
@@ -78,7 +78,7 @@ struct DeployedJson<'a> {
     strips: Vec<StripJson<'a>>,
 }
 
-pub fn json(summary: &Summary, strips: &[DeployedStrip]) -> Vec<u8> {
+pub(crate) fn json(summary: &Summary, strips: &[DeployedStrip]) -> Vec<u8> {
     let points = |v: &[(String, DVec3)]| {
         v.iter()
             .map(|(n, p)| PointJson {
@@ -126,7 +126,7 @@ pub fn json(summary: &Summary, strips: &[DeployedStrip]) -> Vec<u8> {
 
 /// Each strip as a bent box: four corners per node (+-w/2 along d1,
 /// +-t/2 along d2), quads between consecutive nodes and at both ends.
-pub fn obj(title: &str, strips: &[DeployedStrip], width: f64, thickness: f64) -> Vec<u8> {
+pub(crate) fn obj(title: &str, strips: &[DeployedStrip], width: f64, thickness: f64) -> Vec<u8> {
     let mut out = format!(
         "# {title}: simulated deployed shape\n# karigami {}; units mm; one object per strip\n",
         env!("CARGO_PKG_VERSION")

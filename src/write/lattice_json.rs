@@ -85,7 +85,7 @@ fn frame(lattice: &Lattice, row: u32) -> u32 {
 }
 
 /// The lattice as lattice.json bytes, with its joints (`lattice::joints`).
-pub fn write(lattice: &Lattice, joints: &[Joint]) -> Vec<u8> {
+pub(crate) fn write(lattice: &Lattice, joints: &[Joint]) -> Vec<u8> {
     let dim = lattice.dim;
     let pos = |p: DVec3| p.to_array()[..dim].to_vec();
     let vkey = |v: u32| key(lattice, lattice.vertex(v).key);

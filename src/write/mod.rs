@@ -1,14 +1,14 @@
 //! Writers: each turns a model into bytes. No writer touches the filesystem.
 
-pub mod deployed;
+pub(crate) mod deployed;
 pub mod dxf;
-pub mod lattice_json;
+pub(crate) mod lattice_json;
 pub mod lbrn2;
 mod number;
-pub mod obj;
-pub mod part_types_csv;
-pub mod parts_csv;
-pub mod pdf;
+pub(crate) mod obj;
+pub(crate) mod part_types_csv;
+pub(crate) mod parts_csv;
+pub(crate) mod pdf;
 pub mod png;
 pub mod svg;
 pub mod viewer;

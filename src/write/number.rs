@@ -8,7 +8,7 @@
 /// a rounding tie for its own rounding error not to matter, which is nearly
 /// always: the writers print millions of numbers and the general formatter
 /// was a sixth of a big build.
-pub fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> String {
     let scaled = x * 1e4;
     // |scaled| < 2^31: its f64 error is below 2^-22, far inside the margin.
     if scaled.abs() < 2_147_483_648.0 && (scaled - scaled.floor() - 0.5).abs() > 1e-5 {

@@ -17,7 +17,7 @@ const FACES: [[usize; 4]; 6] = [
 ];
 
 /// `solids`: each strip's ID and box corners (see `parts::solid`).
-pub fn write(title: &str, solids: &[(String, [DVec3; 8])]) -> Vec<u8> {
+pub(crate) fn write(title: &str, solids: &[(String, [DVec3; 8])]) -> Vec<u8> {
     let mut out = format!(
         "# {title}\n# karigami {}; units mm; one object per strip\n",
         env!("CARGO_PKG_VERSION")

@@ -5,13 +5,13 @@
 use super::number::num;
 use crate::parts::{Marking, Parts};
 
-pub const HEADER: &str = "type,count,length_mm,pitch_1_mm,pitch_2_mm,turnable,engraved_id,engraved_type,engraved_dots,dot_code,strips";
+pub(crate) const HEADER: &str = "type,count,length_mm,pitch_1_mm,pitch_2_mm,turnable,engraved_id,engraved_type,engraved_dots,dot_code,strips";
 
 /// `turnable`: the strip reads the same from either end (its arrow does not
 /// matter). `engraved_*`: how many strips of the type carry their ID, the
 /// type code, or the dot code (`dot_code` dots). `strips`: their IDs,
 /// space-separated.
-pub fn write(parts: &Parts) -> Vec<u8> {
+pub(crate) fn write(parts: &Parts) -> Vec<u8> {
     let mut out = String::from(HEADER);
     out.push('\n');
     for t in &parts.types {

@@ -5,14 +5,14 @@ use super::number::num;
 use crate::layout::Layout;
 use crate::parts::Strip;
 
-pub const HEADER: &str = "id,rod,row,col,type,length_mm,hole_1_mm,hole_2_mm,hole_3_mm,pitch_1_mm,pitch_2_mm,sheet,x_mm,y_mm,rotation_deg,part_type";
+pub(crate) const HEADER: &str = "id,rod,row,col,type,length_mm,hole_1_mm,hole_2_mm,hole_3_mm,pitch_1_mm,pitch_2_mm,sheet,x_mm,y_mm,rotation_deg,part_type";
 
 /// `x_mm`, `y_mm`: the top-left corner of the strip's bounding box on its
 /// sheet; rotation 0 runs along x with the start end on the left, 90 runs
 /// down the sheet with the start end at the top. Holes are measured from the
 /// start tip.
 /// `part_type`: the strip's part type (parts-types.csv).
-pub fn write(strips: &[Strip], layout: &Layout) -> Vec<u8> {
+pub(crate) fn write(strips: &[Strip], layout: &Layout) -> Vec<u8> {
     let code = |i: usize| crate::parts::types::code(i);
     let mut place = vec![None; strips.len()];
     for (s, sheet) in layout.sheets.iter().enumerate() {

@@ -18,10 +18,7 @@ use pdf_writer::{Content, Filter, Finish, Name, Pdf, Rect, Ref, Str, TextStr};
 use std::collections::HashMap;
 
 /// Points per millimetre.
-pub const PT_PER_MM: f64 = 72.0 / 25.4;
-/// Hairline width in mm (0.025 mm = 0.07 pt; print drivers for lasers treat
-/// anything at or below 0.001 in as a vector cut).
-pub const HAIRLINE_MM: f64 = 0.025;
+pub(crate) const PT_PER_MM: f64 = 72.0 / 25.4;
 
 /// Deflate level of content streams. Measured on the 42 MB of content of a
 /// 100 x 100 build's two PDFs: level 1 deflates them 5 times faster than
@@ -367,7 +364,7 @@ fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
 
 /// All pages in one PDF, with the symbols their groups place: each symbol
 /// is one Form XObject, written once however many pages show it.
-pub fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]) -> Vec<u8> {
+pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]) -> Vec<u8> {
     let mut pdf = Pdf::new();
     let mut next = 1;
     let mut alloc = || {

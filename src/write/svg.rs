@@ -9,7 +9,7 @@ use crate::drawing::{Group, Item, Page, Segment, Shape};
 use std::fmt::Write as _;
 
 /// Stroke width in mm: a hairline that laser software reads as a cut line.
-pub const HAIRLINE: f64 = 0.025;
+pub(crate) const HAIRLINE: f64 = 0.025;
 
 /// Path data in relative commands (`h`, `v`, `l`, `a`) after an absolute
 /// `M`: the offsets are taken between points rounded to the 0.1 um grid, so

@@ -21,9 +21,9 @@ const SCRIPT: &str = include_str!("viewer/viewer.js");
 
 /// Everything the page shows, borrowed from one build.
 pub struct Scene<'a> {
-    pub design: &'a Design,
+    pub(crate) design: &'a Design,
     /// The lattice as grown (steps, joints, layers, C(theta)).
-    pub lattice: &'a Lattice,
+    pub(crate) lattice: &'a Lattice,
     /// The lattice as assembled (`Lattice::placed`): what the page draws.
     pub assembled: &'a Lattice,
     pub parts: &'a Parts,
@@ -36,6 +36,7 @@ pub struct Scene<'a> {
 }
 
 impl<'a> Scene<'a> {
+    /// A scene of one build, without a simulated shape (set `simulated` to add one).
     pub fn new(
         design: &'a Design,
         lattice: &'a Lattice,

@@ -7,17 +7,25 @@ use super::*;
 /// point at the text that sets it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Param {
+    /// The seed points (`points`, or a seed table such as `[lattice.line]`).
     SeedPoints,
     /// The kappa of one seed edge.
     SeedKappa(usize),
     /// The front a row grows on: the seed for row 0, else the previous row.
     Front,
+    /// A row's `start` site.
     Start,
+    /// A row's leg direction (`angle` or `direction`).
     Direction,
+    /// A row's free leg at the left end (`left_leg`).
     LeftLeg,
+    /// A row's free leg at the right end (`right_leg`).
     RightLeg,
+    /// A loop row's `target` point for its vertex `x[i+1][1]`.
     Target,
+    /// A loop row's closing direction `candidate`.
     Candidate,
+    /// A row's `front` moves (intrinsic growth).
     FrontMoves,
     /// A helix's cell count.
     Cells,
@@ -26,18 +34,20 @@ pub enum Param {
 /// A design that cannot be grown, with the place it fails.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthError {
+    /// What failed (a growth kind of MATH.md 9); decides the name shown and the
+    /// exit status.
     pub kind: GrowthErrorKind,
-    pub param: Param,
+    pub(crate) param: Param,
     /// The row being grown (`None` for a problem of the seed itself).
-    pub row: Option<usize>,
+    pub(crate) row: Option<usize>,
     /// The column (cell, or seed edge) where it fails, when there is one.
-    pub col: Option<usize>,
-    pub message: String,
-    pub hint: String,
+    pub(crate) col: Option<usize>,
+    pub(crate) message: String,
+    pub(crate) hint: String,
 }
 
 impl GrowthError {
-    pub fn new(
+    pub(crate) fn new(
         kind: GrowthErrorKind,
         param: Param,
         row: Option<usize>,
@@ -56,7 +66,7 @@ impl GrowthError {
     }
 
     /// "row 3, column 2" style location in lattice terms.
-    pub fn site(&self) -> String {
+    pub(crate) fn site(&self) -> String {
         match (self.row, self.col) {
             (Some(r), Some(c)) => format!("row {r}, column {c}"),
             (Some(r), None) => format!("row {r}"),

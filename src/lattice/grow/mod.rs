@@ -21,7 +21,7 @@ use pivot::*;
 pub use pivot::{FrontFrame, front_frame};
 
 /// Cells whose opening angle is this close to 0 or pi are refused.
-pub const EPS_ANGLE: f64 = 1e-6;
+pub(crate) const EPS_ANGLE: f64 = 1e-6;
 /// Upper bound on lattice size, so an absurd recipe fails with a message
 /// instead of exhausting memory (about 150 bytes a cell).
 pub const MAX_CELLS: usize = 4_000_000;
@@ -101,14 +101,14 @@ pub fn grow(
 /// How a loop row was closed (MATH.md 6.2), for the verification report.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClosureRecord {
-    pub row: usize,
+    pub(crate) row: usize,
     /// The holonomy was the identity: the direction was a design input.
     pub free: bool,
     /// Admissible closing directions found (generic case).
-    pub candidates: usize,
+    pub(crate) candidates: usize,
     /// `|v2' - v2|` after the row was built.
     pub residual: f64,
-    pub ill_conditioned: bool,
+    pub(crate) ill_conditioned: bool,
 }
 
 /// Grows a lattice one row at a time; a row can be undone, so a fitting
@@ -196,7 +196,7 @@ impl Grower {
     }
 
     /// Reserve room for `rows` more rows.
-    pub fn reserve_rows(&mut self, rows: usize) {
+    pub(crate) fn reserve_rows(&mut self, rows: usize) {
         let n = self.front_len();
         let lattice = &mut self.lattice;
         lattice.cells.reserve_exact(rows * lattice.width);
@@ -204,10 +204,11 @@ impl Grower {
         lattice.fronts.reserve_exact(rows);
     }
 
-    pub fn lattice(&self) -> &Lattice {
+    pub(crate) fn lattice(&self) -> &Lattice {
         &self.lattice
     }
 
+    /// The lattice grown so far, ending the growth.
     pub fn into_lattice(self) -> Lattice {
         self.lattice
     }
@@ -222,7 +223,7 @@ impl Grower {
 
     /// The current front as points in the frame of the next row (before any
     /// rebuild): the last row's new vertices.
-    pub fn front(&self) -> Vec<Point> {
+    pub(crate) fn front(&self) -> Vec<Point> {
         let n = self.front_len();
         let base = self.lattice.vertices.len() - n;
         self.lattice.vertices[base..]
@@ -232,7 +233,7 @@ impl Grower {
     }
 
     /// Remove the last grown row.
-    pub fn undo_row(&mut self) {
+    pub(crate) fn undo_row(&mut self) {
         let rows = self.lattice.rows();
         if rows == 0 {
             return;

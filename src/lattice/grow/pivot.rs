@@ -135,11 +135,18 @@ pub(super) fn resolve_direction(
 /// the front and +z (in 2-D, the clockwise normal), `out` completes it.
 #[derive(Clone, Copy, Debug)]
 pub struct FrontFrame {
+    /// Unit vector from UR back to UL along the front edge: the cone axis.
     pub axis: DVec3,
+    /// Unit normal to the front edge on the growth side, in the plane of the
+    /// edge and +z.
     pub down: DVec3,
+    /// Unit vector `down` x (UL -> UR) that completes the frame: out of the
+    /// front's plane (+z in 2-D).
     pub out: DVec3,
 }
 
+/// The front-local frame at the front edge from `ul` to `ur`; None when the
+/// edge runs along z or has no length (no growth side is defined).
 pub fn front_frame(ul: DVec3, ur: DVec3) -> Option<FrontFrame> {
     let along = (ur - ul).normalize();
     let down = along.cross(DVec3::Z);
