@@ -24,7 +24,7 @@ pub struct Build {
     /// Verification of the grown lattice (MATH.md 8).
     pub report: Report,
     /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
-    pub joints: Vec<Joint>,
+    pub(crate) joints: Vec<Joint>,
     /// The assembly steps in growth order (`assembly::steps`), computed once
     /// for the guide, the viewer and the report.
     pub steps: Vec<Step>,

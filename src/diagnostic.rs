@@ -97,67 +97,128 @@ error_kinds! {
     FrontNotCompatible => EXIT_INVALID,
 
     // The recipe's values.
+    /// A recipe string holds a control character.
     ControlCharacter => EXIT_INVALID,
+    /// A recipe string is longer than karigami accepts.
     StringTooLong => EXIT_INVALID,
+    /// Arrays and tables are nested deeper than karigami accepts.
     NestedTooDeep => EXIT_INVALID,
+    /// A number is NaN or infinite.
     NotFinite => EXIT_INVALID,
+    /// A number is larger in magnitude than any size karigami accepts.
     NumberTooLarge => EXIT_INVALID,
+    /// A number lies outside its allowed range.
     OutOfRange => EXIT_INVALID,
+    /// The design's `name` is empty.
     EmptyName => EXIT_INVALID,
+    /// `lattice.seed` is not sheet, loop or helix.
     UnknownSeed => EXIT_INVALID,
+    /// A fitted lattice (`[lattice.fit]`) also writes rows out.
     FittedRowsGiven => EXIT_INVALID,
+    /// A point or vector has neither 2 nor 3 coordinates.
     WrongCoordinates => EXIT_INVALID,
+    /// The lattice gives no seed points.
     NoSeedPoints => EXIT_INVALID,
+    /// The seed points are given by more than one of `points` and the seed tables.
     SeedGivenTwice => EXIT_INVALID,
+    /// `line.from` and `line.to` have different numbers of coordinates.
     LineDimensionsDiffer => EXIT_INVALID,
+    /// An arc or circle seed's radius is not positive.
     NonPositiveRadius => EXIT_INVALID,
+    /// Polyline points have different numbers of coordinates.
     PolylineDimensionsDiffer => EXIT_INVALID,
+    /// A seed table of a 2-D lattice names a plane other than xy.
     PlanarSeedOffPlane => EXIT_INVALID,
+    /// A seed table names an unknown plane.
     UnknownPlane => EXIT_INVALID,
+    /// A helix is given rows, which its seed already determines.
     HelixTakesNoRows => EXIT_INVALID,
+    /// A helix does not say how many cells to grow (`cells`).
     HelixNeedsCells => EXIT_INVALID,
+    /// Seed points have different numbers of coordinates.
     SeedDimensionsDiffer => EXIT_INVALID,
+    /// The seed has no `kappa`.
     NoKappa => EXIT_INVALID,
+    /// `kappa` has a count of values other than one per seed edge.
     KappaCount => EXIT_INVALID,
+    /// `cells` is given for a seed that is not a helix.
     CellsWithoutHelix => EXIT_INVALID,
+    /// A setting of one row is written in `[lattice.grow]`.
     RowSettingInGrow => EXIT_INVALID,
+    /// `rows` is written outside `[lattice.grow]`.
     RowsOutsideGrow => EXIT_INVALID,
+    /// Two `[[lattice.rows]]` entries describe the same row.
     RowGivenTwice => EXIT_INVALID,
+    /// A `[[lattice.rows]]` entry reaches past the lattice's last row.
     RowBeyondLattice => EXIT_INVALID,
+    /// The design grows no rows.
     NoRows => EXIT_INVALID,
+    /// A row has no leg direction (`angle` or `direction`).
     NoLegDirection => EXIT_INVALID,
+    /// A row gives both `direction` and `angle`.
     DirectionAndAngle => EXIT_INVALID,
+    /// A `direction` has more or fewer coordinates than the lattice's dimension.
     DirectionDimension => EXIT_INVALID,
+    /// A row's angle is not a finite number.
     AngleNotFinite => EXIT_INVALID,
+    /// A tilt angle is given in a 2-D lattice.
     TiltNeeds3d => EXIT_INVALID,
+    /// A loop row's `target` has more or fewer coordinates than the lattice's
+    /// dimension.
     TargetDimension => EXIT_INVALID,
+    /// A row's `front = { }` holds no move.
     EmptyFront => EXIT_INVALID,
+    /// A front move's angles are not finite.
     FrontAnglesNotFinite => EXIT_INVALID,
 
     // Fitted lattices ([lattice.fit]).
+    /// A fit surface lacks a value it needs.
     FitNeeds => EXIT_INVALID,
+    /// A fit size that must be positive is not.
     FitNotPositive => EXIT_INVALID,
+    /// `fit.axes` is not three positive semi-axes.
     FitAxes => EXIT_INVALID,
+    /// A fit profile point is not `[r, z]` with `r > 0`.
     FitProfilePoint => EXIT_INVALID,
+    /// A torus fit's `tube` is not smaller than its `radius`.
     FitTubeTooLarge => EXIT_INVALID,
+    /// `fit.step` is not between 0 and 90 degrees.
     FitStepOutOfRange => EXIT_INVALID,
+    /// `fit.surface` names an unknown target.
     UnknownFitSurface => EXIT_INVALID,
+    /// The fit surface grows a lattice of another dimension or seed kind
+    /// than the recipe's.
     FitDimension => EXIT_INVALID,
+    /// A fit profile's point count does not match `fit.rows`.
     FitProfileRows => EXIT_INVALID,
+    /// `fit.angles` or `fit.steps` is given for a target that does not use it.
     FitUnused => EXIT_INVALID,
+    /// `fit.angles` or `fit.steps` does not have one value per row.
     FitValuesPerRow => EXIT_INVALID,
+    /// `fit.steps` holds a length that is not positive.
     FitStepsNotPositive => EXIT_INVALID,
 
     // Fabrication settings, from the recipe.
+    /// A fabrication length (mm) lies outside its allowed range.
     LengthOutOfRange => EXIT_INVALID,
+    /// `[eyelet] preset` names an unknown eyelet.
     UnknownEyelet => EXIT_INVALID,
+    /// `[strip] label` names an unknown label style.
     UnknownLabel => EXIT_INVALID,
+    /// `[sheet]` is `preset = "auto"` and also given a size.
     SheetAutoWithSize => EXIT_INVALID,
+    /// `[sheet] preset` names an unknown sheet.
     UnknownSheet => EXIT_INVALID,
+    /// The guide's paper is neither A4 nor Letter.
     UnknownPaper => EXIT_INVALID,
+    /// The recipe names an unknown colour preset.
     UnknownColours => EXIT_INVALID,
+    /// The recipe names an unknown sheet grouping.
     UnknownGrouping => EXIT_INVALID,
+    /// `laser.tabs` is wider than the strips.
     TabsWiderThanStrip => EXIT_INVALID,
+    /// The eyelet hole leaves less than `MIN_WALL` of material each side of
+    /// the strip.
     HoleWiderThanStrip => EXIT_INVALID,
     /// `strip.end_margin` puts the end holes closer to the tips than the
     /// rounded end allows.
@@ -168,30 +229,52 @@ error_kinds! {
     SheetTooSmall => EXIT_INVALID,
 
     // Fabrication settings, from the command line's flags.
+    /// A fabrication flag's length (mm) lies outside its allowed range.
     FlagOutOfRange => EXIT_USAGE,
+    /// `--eyelet` names an unknown eyelet.
     UnknownEyeletFlag => EXIT_USAGE,
+    /// `--label` names an unknown label style.
     UnknownLabelFlag => EXIT_USAGE,
+    /// `--sheet` is neither a preset, `auto`, nor `WxH` in mm.
     UnknownSheetFlag => EXIT_USAGE,
+    /// `--paper` is neither a4 nor letter.
     UnknownPaperFlag => EXIT_USAGE,
+    /// `--colours` names an unknown colour preset.
     UnknownColoursFlag => EXIT_USAGE,
+    /// `--tabs` is wider than the strips.
     TabsWiderThanStripFlag => EXIT_USAGE,
 
     // Simulation and optimisation settings.
+    /// A `[simulation]` value lies outside its allowed range.
     SimulationOutOfRange => EXIT_INVALID,
+    /// `[simulation] vertex_joint` is neither eyelet nor ball.
     UnknownVertexJoint => EXIT_INVALID,
+    /// `clash.clearance` is negative.
     NegativeClearance => EXIT_INVALID,
+    /// `[clash] stacking` is not one of the known words ("rows", "columns").
     UnknownStacking => EXIT_INVALID,
+    /// `[clash] stacking = "columns"` on a lattice that is not a loop with an
+    /// even number of columns, where neighbouring columns cannot alternate.
     StackingNeedsEvenLoop => EXIT_INVALID,
+    /// `optimise.vary` names something the optimiser cannot vary.
     UnknownVary => EXIT_INVALID,
+    /// `optimise.method` names an unknown method.
     UnknownOptimiseMethod => EXIT_INVALID,
+    /// `optimise.vary` is empty.
     EmptyVary => EXIT_INVALID,
+    /// `optimise.step` is not positive.
     NonPositiveStep => EXIT_INVALID,
+    /// A value of `[optimise]` that must not be negative (a weight) is.
     OptimiseNegative => EXIT_INVALID,
+    /// The optimiser's curvature objective names an unknown pattern.
     UnknownCurvaturePattern => EXIT_INVALID,
+    /// `karigami optimise` was run on a recipe with no `[optimise]` table.
     NoOptimiseTable => EXIT_INVALID,
+    /// The recipe holds none of the numbers `optimise.vary` names.
     NothingToVary => EXIT_INVALID,
     /// The optimiser's library stopped with an error.
     Optimiser => EXIT_INVALID,
+    /// No design the optimiser tried grows every row.
     OptimiseFailed => EXIT_INVALID,
     /// `karigami tune` did not reach the cells asked for.
     TuneNotReached => EXIT_INVALID,

@@ -121,7 +121,7 @@ pub struct Fabrication {
     /// The eyelet every hole is cut for.
     pub eyelet: Eyelet,
     /// Distance from a strip's tip to its end hole centre (>= width / 2).
-    pub(crate) end_margin: f64,
+    pub end_margin: f64,
     pub(crate) label: LabelStyle,
     /// Laser kerf (width of the cut).
     pub(crate) kerf: f64,

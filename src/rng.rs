@@ -3,7 +3,7 @@
 //! design on every run, and no extra crate for a dozen lines.
 
 /// SplitMix64 (Steele, Lea and Flood 2014).
-pub(crate) struct Rng(u64);
+pub struct Rng(u64);
 
 impl Rng {
     pub(crate) fn new(seed: u64) -> Rng {

@@ -27,10 +27,10 @@ use toml::Spanned;
 
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawClash {
-    pub clearance: Option<Num>,
-    pub allow: Option<Spanned<bool>>,
-    pub stacking: Option<Spanned<String>>,
+pub(crate) struct RawClash {
+    pub(crate) clearance: Option<Num>,
+    pub(crate) allow: Option<Spanned<bool>>,
+    pub(crate) stacking: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -94,9 +94,9 @@ pub(crate) struct RawRequire {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClashRule {
     pub clearance: f64,
-    pub allow: bool,
+    pub(crate) allow: bool,
     /// Which neighbours alternate their layers (`stacking`).
-    pub stacking: crate::lattice::Stacking,
+    pub(crate) stacking: crate::lattice::Stacking,
     /// `[clash]`, or the lattice table when there is none.
     pub(crate) span: Option<Range<usize>>,
 }

@@ -20,9 +20,9 @@ pub(crate) struct RawSimulation {
     /// Opening of the reference cell (degrees).
     pub(crate) theta: Option<Spanned<f64>>,
     /// "eyelet" or "ball".
-    pub vertex_joint: Option<Spanned<String>>,
+    pub(crate) vertex_joint: Option<Spanned<String>>,
     /// "mean" (mean opening of all cells) or "first-cell".
-    pub actuation: Option<Spanned<String>>,
+    pub(crate) actuation: Option<Spanned<String>>,
     /// Longest rod edge (mm).
     pub(crate) edge_length: Option<Spanned<f64>>,
 }

@@ -8,33 +8,33 @@ use super::{Align, Font, Group, Ink, Item, Page, Place, Shape};
 use glam::DVec2;
 
 /// The page margin (mm).
-pub const MARGIN: f64 = 15.0;
+pub(crate) const MARGIN: f64 = 15.0;
 /// Text sizes (mm): body, small print; and the height of a table row.
-pub const BODY: f64 = 3.6;
-pub const SMALL: f64 = 3.0;
-pub const LINE: f64 = 5.0;
-pub const BLACK: [u8; 3] = [0, 0, 0];
-pub const GREY: [u8; 3] = [110, 110, 110];
-pub const FAINT: [u8; 3] = [185, 185, 185];
+pub(crate) const BODY: f64 = 3.6;
+pub(crate) const SMALL: f64 = 3.0;
+pub(crate) const LINE: f64 = 5.0;
+pub(crate) const BLACK: [u8; 3] = [0, 0, 0];
+pub(crate) const GREY: [u8; 3] = [110, 110, 110];
+pub(crate) const FAINT: [u8; 3] = [185, 185, 185];
 
 /// Builds pages top to bottom, starting a new page when one is full.
-pub struct PageFlow {
+pub(crate) struct PageFlow {
     size: (f64, f64),
     title: String,
-    pub pages: Vec<Page>,
+    pub(crate) pages: Vec<Page>,
     /// This page's finished groups, then the items of its open one.
     groups: Vec<Group>,
-    pub items: Vec<Item>,
-    pub y: f64,
+    pub(crate) items: Vec<Item>,
+    pub(crate) y: f64,
     /// Drawn at the top of every continuation page.
-    pub running_head: Option<String>,
+    pub(crate) running_head: Option<String>,
     /// The id of the groups closed while it is set (e.g. "step-3-text"),
     /// so tests and readers find a step's words and picture labels.
-    pub group_id: Option<String>,
+    pub(crate) group_id: Option<String>,
 }
 
 impl PageFlow {
-    pub fn new(size: (f64, f64), title: String) -> Self {
+    pub(crate) fn new(size: (f64, f64), title: String) -> Self {
         Self {
             size,
             title,
@@ -47,15 +47,15 @@ impl PageFlow {
         }
     }
 
-    pub fn width(&self) -> f64 {
+    pub(crate) fn width(&self) -> f64 {
         self.size.0 - 2.0 * MARGIN
     }
 
-    pub fn bottom(&self) -> f64 {
+    pub(crate) fn bottom(&self) -> f64 {
         self.size.1 - MARGIN - 6.0
     }
 
-    pub fn finish_page(&mut self) {
+    pub(crate) fn finish_page(&mut self) {
         if self.items.is_empty() && self.groups.is_empty() {
             return;
         }
@@ -85,13 +85,13 @@ impl PageFlow {
         self.y = MARGIN;
     }
 
-    pub fn new_page(&mut self) {
+    pub(crate) fn new_page(&mut self) {
         self.finish_page();
         self.y = MARGIN;
     }
 
     /// Room for `height` more mm, else continue on a new page.
-    pub fn need(&mut self, height: f64) {
+    pub(crate) fn need(&mut self, height: f64) {
         if self.y + height > self.bottom() {
             self.new_page();
             if let Some(head) = self.running_head.clone() {
@@ -104,7 +104,7 @@ impl PageFlow {
         }
     }
 
-    pub fn text_at(&mut self, x: f64, text: &str, size: f64, font: Font, colour: [u8; 3]) {
+    pub(crate) fn text_at(&mut self, x: f64, text: &str, size: f64, font: Font, colour: [u8; 3]) {
         self.items.push(text_item(
             DVec2::new(x, self.y + size * 0.75),
             size,
@@ -116,20 +116,20 @@ impl PageFlow {
     }
 
     /// A line of text at the left margin; moves down.
-    pub fn text(&mut self, text: &str, size: f64, font: Font, colour: [u8; 3]) {
+    pub(crate) fn text(&mut self, text: &str, size: f64, font: Font, colour: [u8; 3]) {
         self.need(size * 1.4);
         self.text_at(MARGIN, text, size, font, colour);
         self.y += size * 1.4;
     }
 
-    pub fn heading(&mut self, text: &str) {
+    pub(crate) fn heading(&mut self, text: &str) {
         self.need(14.0);
         self.text(text, 7.0, Font::Bold, BLACK);
         self.y += 2.0;
     }
 
     /// A paragraph wrapped to the text width.
-    pub fn paragraph(&mut self, text: &str, size: f64, colour: [u8; 3]) {
+    pub(crate) fn paragraph(&mut self, text: &str, size: f64, colour: [u8; 3]) {
         for line in self.wrap(text, size) {
             self.text(&line, size, Font::Regular, colour);
         }
@@ -137,17 +137,17 @@ impl PageFlow {
     }
 
     /// The lines of a paragraph wrapped to the text width.
-    pub fn wrap(&self, text: &str, size: f64) -> Vec<String> {
+    pub(crate) fn wrap(&self, text: &str, size: f64) -> Vec<String> {
         wrap(text, Font::Regular, size, self.width())
     }
 
     /// How far `paragraph` moves down, when it does not break the page.
-    pub fn paragraph_height(&self, text: &str, size: f64) -> f64 {
+    pub(crate) fn paragraph_height(&self, text: &str, size: f64) -> f64 {
         self.wrap(text, size).len() as f64 * size * 1.4 + size * 0.4
     }
 
     /// Table rows in fixed columns (x offsets from the margin).
-    pub fn row(&mut self, columns: &[f64], cells: &[String], font: Font, colour: [u8; 3]) {
+    pub(crate) fn row(&mut self, columns: &[f64], cells: &[String], font: Font, colour: [u8; 3]) {
         self.need(LINE);
         for (x, cell) in columns.iter().zip(cells) {
             self.text_at(MARGIN + x, cell, SMALL, font, colour);
@@ -155,7 +155,7 @@ impl PageFlow {
         self.y += LINE * 0.85;
     }
 
-    pub fn rule(&mut self) {
+    pub(crate) fn rule(&mut self) {
         let y = self.y;
         self.items.push(Item::art(
             Ink::line(FAINT, 0.2),
@@ -167,12 +167,12 @@ impl PageFlow {
         self.y += 1.5;
     }
 
-    pub fn push(&mut self, items: Vec<Item>) {
+    pub(crate) fn push(&mut self, items: Vec<Item>) {
         self.items.extend(items);
     }
 
     /// The open items become a group of their own.
-    pub fn close_group(&mut self) {
+    pub(crate) fn close_group(&mut self) {
         if !self.items.is_empty() {
             let id = self.group_id.clone().unwrap_or_else(|| {
                 format!("page-{}-{}", self.pages.len() + 1, self.groups.len() + 1)
@@ -183,7 +183,7 @@ impl PageFlow {
     }
 
     /// Draw shared symbols here, after what the page has so far.
-    pub fn place(&mut self, places: Vec<Place>) {
+    pub(crate) fn place(&mut self, places: Vec<Place>) {
         self.close_group();
         let id = format!("page-{}-{}", self.pages.len() + 1, self.groups.len() + 1);
         self.groups.push(Group {
@@ -194,7 +194,7 @@ impl PageFlow {
     }
 }
 
-pub fn text_item(
+pub(crate) fn text_item(
     at: DVec2,
     size: f64,
     text: &str,
@@ -215,7 +215,7 @@ pub fn text_item(
 }
 
 /// Lines of at most `width` mm.
-pub fn wrap(text: &str, font: Font, size: f64, width: f64) -> Vec<String> {
+pub(crate) fn wrap(text: &str, font: Font, size: f64, width: f64) -> Vec<String> {
     let mut out = Vec::new();
     let mut line = String::new();
     for word in text.split_whitespace() {

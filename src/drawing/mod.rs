@@ -2,8 +2,8 @@
 //! down from the top-left corner. Every writer (SVG, PDF, DXF, PNG) renders
 //! this model and nothing else, so no writer re-derives geometry.
 
-pub mod colours;
-pub mod flow;
+pub(crate) mod colours;
+pub(crate) mod flow;
 pub mod picture;
 mod sheet;
 pub mod tabs;

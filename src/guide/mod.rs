@@ -8,7 +8,7 @@ mod cover;
 mod gauge;
 mod labels;
 mod materials;
-pub mod stacking;
+pub(crate) mod stacking;
 mod step_labels;
 mod step_page;
 mod step_pictures;

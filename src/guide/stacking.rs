@@ -140,8 +140,10 @@ fn role(lattice: &Lattice, step: &Step, e: &crate::lattice::JointEnd) -> Role {
 /// the order the groups first appear: then each group's stacking can be said
 /// once for all its joints. `None` when more than `MAX_ORDERS` groups would
 /// be needed (then each joint is listed with its own stack).
-pub fn orders<'a>(lattice: &Lattice, step: &'a Step) -> Option<Vec<(Vec<Role>, Vec<&'a Joint>)>> {
-    let mut groups: Vec<(Vec<(u32, Role)>, Vec<&Joint>)> = Vec::new();
+pub(crate) fn orders<'a>(lattice: &Lattice, step: &'a Step) -> Option<Vec<StackOrder<'a>>> {
+    // Each group: (layer, role) pairs sorted by layer, and its joints.
+    type Group<'j> = (Vec<(u32, Role)>, Vec<&'j Joint>);
+    let mut groups: Vec<Group> = Vec::new();
     for j in &step.joints {
         match groups
             .iter_mut()
@@ -167,6 +169,9 @@ pub fn orders<'a>(lattice: &Lattice, step: &'a Step) -> Option<Vec<(Vec<Role>, V
             .collect(),
     )
 }
+
+/// One order of roles, bottom to top, and the joints that stack in it.
+pub(crate) type StackOrder<'a> = (Vec<Role>, Vec<&'a Joint>);
 
 /// At most this many stacking orders are said per step; beyond it the
 /// joints are listed one by one.

@@ -37,7 +37,7 @@ pub(super) fn step_text(
     b: &Build,
     step: &Step,
     side: &stacking::Side,
-    orders: Option<&[(Vec<stacking::Role>, Vec<&Joint>)]>,
+    orders: Option<&[stacking::StackOrder]>,
 ) -> Vec<(String, bool, [u8; 3])> {
     let l = &b.lattice;
     let strips = &b.parts.strips;

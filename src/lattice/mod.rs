@@ -121,7 +121,7 @@ pub struct Lattice {
     /// that front's positions (one per front vertex, in the row's own
     /// frame); empty for a row grown on the previous row's vertices. Empty
     /// altogether for an extrinsic lattice.
-    pub fronts: Vec<Vec<DVec3>>,
+    pub(crate) fronts: Vec<Vec<DVec3>>,
     /// How strips are given their stacking layers (see `layer`).
     pub stacking: Stacking,
 }
@@ -298,7 +298,7 @@ pub(crate) mod fixtures {
 
     /// A sheet grown on `points` with these `kappa`, `rows` rows at
     /// `angle_deg` from site `start`, both ends matched.
-    pub fn sheet(
+    pub(crate) fn sheet(
         points: &[DVec3],
         kappa: &[f64],
         start: usize,
@@ -319,7 +319,7 @@ pub(crate) mod fixtures {
     }
 
     /// `n + 1` seed points 10 mm apart on the x axis.
-    pub fn line(n: usize) -> Vec<DVec3> {
+    pub(crate) fn line(n: usize) -> Vec<DVec3> {
         (0..=n)
             .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
             .collect()

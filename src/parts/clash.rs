@@ -10,6 +10,8 @@ use glam::DVec3;
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
 
+/// Two strips of one stacking layer, sharing no joint, whose centre lines
+/// come closer than the strip width plus the clearance: they overlap.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Clash {
     /// Rod ids (lattice.json order), the smaller first.
@@ -44,7 +46,7 @@ struct Line {
 /// touches. Two strips closer than the reach share the grid cell of the
 /// midpoint of their closest points; a pair is measured once, in the first
 /// grid cell the two boxes share. Cost and memory are linear in the strips.
-pub(crate) fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
+pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
     let reach = width + clearance;
     let rods = 2 * lattice.cells.len();
     // Rods grouped by layer (a counting sort, in id order within a layer).

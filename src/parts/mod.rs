@@ -4,7 +4,7 @@
 //! along the axis from the start tip (0) to the end tip (`length`), y across
 //! it, pointing down when the strip lies with its start to the left.
 
-pub(crate) mod clash;
+pub mod clash;
 pub mod font;
 pub mod test_piece;
 pub(crate) mod types;

@@ -100,13 +100,6 @@ pub enum Actuation {
 }
 
 impl Actuation {
-    pub fn name(self) -> &'static str {
-        match self {
-            Actuation::Mean => "mean",
-            Actuation::FirstCell => "first-cell",
-        }
-    }
-
     /// How reports name the held opening.
     pub fn describe(self) -> &'static str {
         match self {

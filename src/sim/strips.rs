@@ -53,9 +53,7 @@ pub struct LatticeModel {
     pub(crate) vertex: Vec<VertexPlace>,
     /// The starting placement of every vertex and pivot (the design, or
     /// for bent-facet lattices the rigid-fit placement).
-    pub start: Vec<DVec3>,
-    /// Each rod's face normal in the start state.
-    pub normals: Vec<DVec3>,
+    pub(crate) start: Vec<DVec3>,
     /// What deployment holds (`hold_cell`, `hold_mean`).
     pub hold: Hold,
 }
@@ -436,7 +434,6 @@ impl LatticeModel {
             delta,
             vertex,
             start: Vec::new(),
-            normals,
             hold: Hold::Nothing,
         };
         lm.start = lm.points();
@@ -549,7 +546,7 @@ impl LatticeModel {
     }
 
     /// Prescribe the held measure (cell 0 when nothing is held yet).
-    pub fn set_held_opening(&mut self, phi: f64) {
+    pub(crate) fn set_held_opening(&mut self, phi: f64) {
         match self.hold {
             Hold::Mean => self.set_mean_opening(phi),
             Hold::Cell(c) => self.set_opening(c, phi),

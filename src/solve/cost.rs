@@ -5,7 +5,7 @@ use super::*;
 
 /// The cost of a grown design and each hard constraint's shortfall
 /// (name, measured value, bound, shortfall > 0 when it fails).
-pub fn cost(
+pub(crate) fn cost(
     d: &Design,
     lattice: &Lattice,
     opt: &Optimise,

@@ -16,13 +16,13 @@
 
 mod cost;
 mod evolve;
-pub mod fit;
+pub(crate) mod fit;
 mod grow;
 mod rewrite;
 mod slots;
 pub mod tune;
 
-pub use cost::cost;
+pub(crate) use cost::cost;
 use evolve::evolve;
 use rewrite::rewrite;
 use slots::slots;
@@ -69,6 +69,8 @@ enum Slot {
 pub struct Optimised {
     /// The recipe text with the optimised numbers, comments kept.
     pub text: String,
+    /// The optimised recipe, parsed back from `text`.
+    pub design: Design,
     /// Cost (weighted objectives, lower is better) of the recipe as given.
     pub cost_before: f64,
     /// Cost of the optimised recipe, as written and read back.
@@ -407,6 +409,7 @@ pub fn optimise(
     let evaluations = problem.evaluations.get();
     Ok(Optimised {
         text,
+        design: design_out,
         cost_before,
         cost_after,
         iterations,

@@ -227,7 +227,7 @@ fn deflate(bytes: &[u8]) -> Vec<u8> {
 /// All pages in one PDF. A drawing that repeats (the strips of one part
 /// type on the cut sheets) is written once, as a symbol, and each copy
 /// places it: see `share_repeats`.
-pub fn write(title: &str, pages: &[Page]) -> Vec<u8> {
+pub(crate) fn write(title: &str, pages: &[Page]) -> Vec<u8> {
     let (pages, symbols) = share_repeats(pages);
     write_with_symbols(title, &pages, &symbols)
 }

@@ -25,11 +25,11 @@ pub struct Scene<'a> {
     /// The lattice as grown (steps, joints, layers, C(theta)).
     pub(crate) lattice: &'a Lattice,
     /// The lattice as assembled (`Lattice::placed`): what the page draws.
-    pub assembled: &'a Lattice,
-    pub parts: &'a Parts,
-    pub layout: &'a Layout,
-    pub deployment: &'a Deployment,
-    pub steps: &'a [Step],
+    pub(crate) assembled: &'a Lattice,
+    pub(crate) parts: &'a Parts,
+    pub(crate) layout: &'a Layout,
+    pub(crate) deployment: &'a Deployment,
+    pub(crate) steps: &'a [Step],
     /// A simulated deployed shape (one position per vertex, then one per
     /// cell pivot, like the designed one), when a simulation exists.
     pub simulated: Option<Vec<DVec3>>,

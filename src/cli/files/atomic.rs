@@ -9,7 +9,7 @@ use std::path::Path;
 
 /// Write to a temporary file beside the target, then rename it over the
 /// target: the target is either as it was or complete.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?;

@@ -7,13 +7,13 @@ use std::io::{self, Read};
 use std::path::{Path, PathBuf};
 
 /// Recipes larger than this are refused before reading them whole.
-pub const MAX_RECIPE_BYTES: u64 = 1 << 20;
+pub(super) const MAX_RECIPE_BYTES: u64 = 1 << 20;
 
 /// Longest name (in bytes) of a folder the tool derives from input.
-pub const MAX_NAME_BYTES: usize = 100;
+pub(super) const MAX_NAME_BYTES: usize = 100;
 
 /// Read a recipe: a regular file of at most `MAX_RECIPE_BYTES`, in UTF-8.
-pub fn read(path: &Path) -> io::Result<String> {
+pub(crate) fn read(path: &Path) -> io::Result<String> {
     let meta = fs::metadata(path)?;
     if meta.is_dir() {
         return Err(io::Error::other("it is a folder, not a recipe file"));
@@ -63,7 +63,7 @@ pub fn read(path: &Path) -> io::Result<String> {
 /// single path component: separators, control and reserved characters
 /// become `_`, leading dots (hidden, `.`, `..`) and trailing dots and
 /// spaces go, names reserved on Windows get a `_`, and the length is capped.
-pub fn safe_component(raw: &str) -> String {
+pub(crate) fn safe_component(raw: &str) -> String {
     let mapped: String = raw
         .chars()
         .map(|c| {
@@ -99,7 +99,7 @@ pub fn safe_component(raw: &str) -> String {
 
 /// The recipes named on the command line: files as given, folders as the
 /// `.toml` files directly inside them, sorted by name.
-pub fn recipes(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub(crate) fn recipes(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for arg in args {
         if arg.is_dir() {

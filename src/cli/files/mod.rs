@@ -18,10 +18,10 @@ mod lock;
 mod out_dir;
 mod staged;
 
-pub use atomic::write_atomic;
-pub use input::{read, recipes, safe_component};
-pub use out_dir::OutDir;
-pub use staged::Staged;
+pub(super) use atomic::write_atomic;
+pub(super) use input::{read, recipes, safe_component};
+pub(super) use out_dir::OutDir;
+pub(super) use staged::Staged;
 
 use std::ffi::OsStr;
 use std::fs;
@@ -29,7 +29,7 @@ use std::io;
 use std::path::Path;
 
 /// The marker file of a build folder, and its first line.
-pub const MARKER: &str = ".karigami-build";
+pub(super) const MARKER: &str = ".karigami-build";
 const MARKER_HEAD: &str = "karigami build folder";
 /// Bumped when the layout of a build folder changes incompatibly.
 const FORMAT: u32 = 1;

@@ -11,7 +11,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 /// What an existing `--out` holds that a build replaces.
-pub enum Previous {
+pub(crate) enum Previous {
     /// Nothing there yet, or an empty folder.
     Nothing,
     /// A build folder (it has the marker).
@@ -26,7 +26,7 @@ pub enum Previous {
 
 /// The checked, locked output folder of one run. Taken before any work, so
 /// that a refusal or a busy folder is reported at once and writes nothing.
-pub struct OutDir {
+pub(crate) struct OutDir {
     pub(super) target: PathBuf,
     pub(super) parent: PathBuf,
     pub(super) name: std::ffi::OsString,
@@ -47,7 +47,7 @@ impl OutDir {
     /// Check `out` (a folder name, not a file, not a link, not holding an
     /// input of this run; a build folder unless `force`), take its lock and
     /// repair what interrupted runs left. Errors are whole sentences.
-    pub fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, String> {
+    pub(crate) fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, String> {
         let shown = out.display();
         let Some(name) = out.file_name().map(OsStr::to_os_string) else {
             return Err(format!(
@@ -236,7 +236,7 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
 
 impl OutDir {
     /// A warning for `--force` replacing files that are not the tool's.
-    pub fn force_warning(&self) -> Option<String> {
+    pub(crate) fn force_warning(&self) -> Option<String> {
         let (what, files) = match &self.previous {
             Previous::Foreign(files) => ("is not a karigami build folder", files),
             Previous::Added(files) => ("holds files the build did not write", files),
@@ -250,12 +250,12 @@ impl OutDir {
         ))
     }
 
-    pub fn path(&self) -> &Path {
+    pub(crate) fn path(&self) -> &Path {
         &self.target
     }
 
     /// What the folder holds if a build does not commit.
-    pub fn kept(&self) -> String {
+    pub(crate) fn kept(&self) -> String {
         match self.previous {
             Previous::Nothing => format!("nothing was written to {}", self.target.display()),
             _ => format!("{} was left as it was", self.target.display()),

@@ -23,7 +23,7 @@ fn stays_inside(rel: &Path) -> bool {
 /// target, which replaces the target whole on `commit`. Dropped without a
 /// commit, the staging folder is removed and the target untouched; killed,
 /// the next run removes it.
-pub struct Staged<'a> {
+pub(crate) struct Staged<'a> {
     out: &'a OutDir,
     fresh: PathBuf,
     kind: String,
@@ -34,7 +34,7 @@ pub struct Staged<'a> {
 
 impl<'a> Staged<'a> {
     /// `kind` ("single" or "batch") goes into the marker.
-    pub fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
+    pub(crate) fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
         let fresh = out
             .parent
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
@@ -73,7 +73,7 @@ impl<'a> Staged<'a> {
 
     /// Write files (paths relative to `sub` inside the folder). Each path
     /// must be plain relative components, so every write lands inside.
-    pub fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
+    pub(crate) fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
         for (name, bytes) in files {
             let rel = Path::new(sub).join(name);
             if !stays_inside(&rel) {
@@ -100,7 +100,7 @@ impl<'a> Staged<'a> {
     }
 
     /// Put the staging folder in the target's place.
-    pub fn commit(mut self) -> io::Result<()> {
+    pub(crate) fn commit(mut self) -> io::Result<()> {
         self.write_marker()?;
         fault::sync(&File::open(&self.fresh)?)?;
         let target = &self.out.target;

@@ -13,7 +13,7 @@ pub struct Coverage {
     pub share: f64,
     /// What is covered: "the disk's area", "the half's area in plan",
     /// "the tube's circumference".
-    pub of: &'static str,
+    pub(crate) of: &'static str,
     /// For a torus: the tube angle covered (degrees).
     pub degrees: Option<f64>,
 }

@@ -10,13 +10,13 @@ use std::collections::BinaryHeap;
 /// reference cell's opening.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Affine {
-    pub a: f64,
-    pub b: f64,
+    pub(crate) a: f64,
+    pub(crate) b: f64,
 }
 
 impl Affine {
     #[inline]
-    pub fn at(self, cos_theta: f64) -> f64 {
+    pub(crate) fn at(self, cos_theta: f64) -> f64 {
         self.a + self.b * cos_theta
     }
 }

@@ -14,17 +14,22 @@ pub use misfit::{planar_misfit, planar_misfits};
 pub use mobility::{MOBILITY_MAX_CELLS, mobility};
 
 /// Fractions of the design angle at which a planar placement is tried.
-pub const MISFIT_FRACTIONS: [f64; 3] = [0.99, 0.9, 0.5];
+pub(crate) const MISFIT_FRACTIONS: [f64; 3] = [0.99, 0.9, 0.5];
 
 /// Everything `karigami check` says about deployment.
 #[derive(Clone, Debug)]
 pub struct Deployment {
+    /// The intrinsic configuration C(theta): every cell's opening as a function
+    /// of the reference cell's.
     pub config: Configuration,
+    /// Internal degrees of freedom of the ideal linkage at the design state,
+    /// for lattices small enough to count them.
     pub mobility: Option<usize>,
     /// (fraction of the design angle, misfit) for planar lattices.
     pub misfits: Vec<(f64, f64)>,
 }
 
+/// Deployment of `lattice`: its C(theta) path, mobility and planar misfits.
 pub fn deployment(lattice: &Lattice) -> Deployment {
     let config = configuration(lattice);
     let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
