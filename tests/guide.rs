@@ -4,15 +4,13 @@
 
 use crate::cli::{karigami, repo, scratch};
 use crate::thirdparty::run;
-use karigami::build::{Build, build};
-use karigami::design;
+use karigami::build::Build;
 use karigami::guide::{guide, steps};
 use std::collections::HashSet;
 
-fn example(name: &str) -> Build {
-    let text =
-        std::fs::read_to_string(repo().join("examples").join(format!("{name}.toml"))).unwrap();
-    build(design::parse(&text, name).unwrap()).unwrap()
+/// The example's build, shared with the other tests (tests/util.rs).
+fn example(name: &str) -> &'static Build {
+    crate::util::example(name)
 }
 
 #[test]
@@ -742,7 +740,8 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
 /// grip; the first step is the test piece, or says it is left out.
 #[test]
 fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() {
-    let mut b = example("flat-sheet");
+    // This test changes the build: its own.
+    let mut b = crate::util::build_example("flat-sheet", &Default::default());
     let t = b.design.fabrication.material.thickness;
     let words = |b: &Build| -> String {
         texts(

@@ -10,9 +10,9 @@ use karigami::drawing::{Group, Item, Layer, Page, Segment, Shape, TEST_PIECE_ID}
 use karigami::parts::font;
 use std::collections::BTreeMap;
 
-fn build_example(path: &std::path::Path, o: &Overrides) -> Build {
-    let text = std::fs::read_to_string(path).unwrap();
-    build(parse_with(&text, "x", o).unwrap()).unwrap()
+/// The example's build, shared with the other tests (tests/util.rs).
+fn build_example(path: &std::path::Path, o: &Overrides) -> &'static Build {
+    crate::util::example_with(path.to_str().unwrap(), o)
 }
 
 /// A path's points (arcs by their end points).
@@ -1158,7 +1158,8 @@ fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
         ..Overrides::default()
     };
     let path = crate::cli::repo().join("examples/bowl.toml");
-    let (a, b) = (build_example(&path, &o), build_example(&path, &o));
+    let fresh = crate::util::build_example(path.to_str().unwrap(), &o);
+    let (a, b) = (build_example(&path, &o), &fresh);
     // The redesigned (deeper) bowl grouped by step needs the 600 x 400 sheet.
     assert_eq!(a.design.fabrication.sheet.name, "600x400");
     for (p, q) in a.pages.iter().zip(&b.pages) {

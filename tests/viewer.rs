@@ -19,9 +19,9 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-fn built(name: &str) -> Build {
-    let source = std::fs::read_to_string(repo().join(format!("examples/{name}.toml"))).unwrap();
-    build(design::parse(&source, name).unwrap()).unwrap()
+/// The example's build, shared with the other tests (tests/util.rs).
+fn built(name: &str) -> &'static Build {
+    crate::util::example(name)
 }
 
 fn page(b: &Build) -> Vec<u8> {
@@ -39,7 +39,8 @@ fn data(html: &str) -> Value {
 fn viewer_page_is_self_contained_deterministic_and_small() {
     let b = built("flat-sheet");
     let html = page(&b);
-    assert_eq!(html, page(&built("flat-sheet")), "same recipe, same bytes");
+    let again = crate::util::build_example("flat-sheet", &Default::default());
+    assert_eq!(html, page(&again), "same recipe, same bytes");
     let file = karigami::output::files(&b)
         .into_iter()
         .find(|f| f.0 == "viewer.html")
@@ -253,7 +254,7 @@ fn viewer_works_in_headless_chromium() {
     let mut plan_pages = Vec::new();
     let mut expect = Vec::new();
     let started = std::time::Instant::now();
-    let builds: Vec<Build> = std::thread::scope(|scope| {
+    let builds: Vec<&Build> = std::thread::scope(|scope| {
         let handles: Vec<_> = names
             .iter()
             .map(|&name| scope.spawn(move || built(name)))
