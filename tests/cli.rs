@@ -293,8 +293,8 @@ fn build_without_a_design_builds_the_default_into_karigami_out() {
 
 #[test]
 fn full_precision_numbers_round_trip() {
-    let raw =
-        fs::read_to_string(crate::util::cli_build("curved-sheet", &[]).join("lattice.json")).unwrap();
+    let raw = fs::read_to_string(crate::util::cli_build("curved-sheet", &[]).join("lattice.json"))
+        .unwrap();
     let json: Value = serde_json::from_str(&raw).unwrap();
     // A 3-D position written with fewer than ~15 significant digits would
     // have been rounded; shortest round-trip output keeps them all.

@@ -81,7 +81,7 @@ fn pdf_pages(path: &std::path::Path) -> Option<(usize, String)> {
 #[test]
 fn the_guide_pdf_has_every_page_and_every_strip_id() {
     let b = example("flat-sheet");
-    let pages = guide(&b).pages;
+    let pages = guide(b).pages;
     let steps = steps(&b.lattice).len();
     // Cover, bill of materials, the steps (several a page), the gauge, the checklist.
     assert!(pages.len() >= 4, "{} pages", pages.len());
@@ -181,7 +181,7 @@ fn picture(bytes: &[u8]) -> (u32, u32, f64) {
 fn previews_are_pictures_of_the_right_size() {
     for name in ["flat-sheet", "curved-sheet"] {
         let b = example(name);
-        let files = karigami::output::files(&b);
+        let files = karigami::output::files(b);
         let get = |f: &str| {
             &files
                 .iter()
@@ -210,7 +210,7 @@ fn previews_are_pictures_of_the_right_size() {
 #[test]
 fn lattice_obj_has_one_box_per_strip() {
     let b = example("curved-sheet");
-    let files = karigami::output::files(&b);
+    let files = karigami::output::files(b);
     let obj = String::from_utf8(
         files
             .iter()
@@ -424,7 +424,7 @@ const GUIDE_EXAMPLES: [&str; 5] = ["flat-sheet", "torus", "bowl", "eggbox", "cur
 fn step_pictures_label_everything_their_text_names() {
     for name in GUIDE_EXAMPLES {
         let b = example(name);
-        let g = guide(&b);
+        let g = guide(b);
         let steps = steps(&b.lattice);
         for step in &steps {
             let of = |suffix: &str| -> Vec<(f64, String)> {
@@ -508,7 +508,7 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
     const SMALLEST: f64 = 2.5;
     for name in GUIDE_EXAMPLES {
         let b = example(name);
-        let g = guide(&b);
+        let g = guide(b);
         if name == "bowl" {
             assert!(
                 g.pages.len() <= 12,
@@ -592,7 +592,7 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
     let overlap_mm = karigami::guide::GAUGE_OVERLAP;
     for name in ["flat-sheet", "torus", "bowl"] {
         let b = example(name);
-        let g = guide(&b);
+        let g = guide(b);
         let l = &b.lattice;
         let zs = l
             .vertices

@@ -372,7 +372,7 @@ fn colour_presets_change_only_colours() {
             .filter(|f| f.0.ends_with(".svg"))
             .collect()
     };
-    let (sa, sb) = (svgs(&a), svgs(&b));
+    let (sa, sb) = (svgs(a), svgs(b));
     assert_eq!(sa.len(), sb.len());
     for ((name, x), (_, y)) in sa.iter().zip(&sb) {
         assert_ne!(x, y, "{name}: the preset changed nothing");
@@ -527,7 +527,7 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                 ..Overrides::default()
             };
             let b = build_example(&path, &o);
-            let files = karigami::output::files(&b);
+            let files = karigami::output::files(b);
             for (i, page) in b.pages.iter().enumerate() {
                 let file = format!("sheets/sheet-{:02}.lbrn2", i + 1);
                 let bytes = &files
@@ -622,7 +622,7 @@ fn lightburn_projects_are_well_formed_xml() {
     let dir = crate::cli::scratch("lbrn2-xml");
     let path = crate::cli::repo().join("examples/flat-sheet.toml");
     let b = build_example(&path, &Overrides::default());
-    let (name, bytes) = karigami::output::files(&b)
+    let (name, bytes) = karigami::output::files(b)
         .into_iter()
         .find(|f| f.0.ends_with(".lbrn2"))
         .unwrap();
@@ -1187,7 +1187,7 @@ fn pdfs_carry_no_dates_and_no_pdfx_key() {
         &crate::cli::repo().join("examples/flat-sheet.toml"),
         &Overrides::default(),
     );
-    let files = karigami::output::files(&b);
+    let files = karigami::output::files(b);
     let dir = crate::cli::scratch("pdf-metadata");
     for name in ["assembly.pdf", "cut.pdf"] {
         let bytes = &files.iter().find(|f| f.0 == name).expect(name).1;

@@ -60,7 +60,12 @@ fn built_examples(tag: &str) -> Vec<(PathBuf, f64, f64, PathBuf)> {
                 .unwrap()
                 .fabrication
                 .sheet;
-            (out, sheet.width, sheet.height, scratch(&format!("{tag}-{name}")))
+            (
+                out,
+                sheet.width,
+                sheet.height,
+                scratch(&format!("{tag}-{name}")),
+            )
         })
         .collect()
 }

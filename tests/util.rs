@@ -67,14 +67,16 @@ impl Rng {
 // is built once per test process and shared. A test that checks building
 // itself (determinism, flags, faults) still builds its own.
 
-
 type Slots<T> = OnceLock<Mutex<HashMap<String, &'static OnceLock<T>>>>;
 
 /// The slot for `key`, made on first use. The map is locked only to find the
 /// slot: different keys build in parallel, one key builds once (a second
 /// test waits for the first).
 fn slot<T: Send + Sync>(slots: &'static Slots<T>, key: String) -> &'static OnceLock<T> {
-    let mut map = slots.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
+    let mut map = slots
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
     map.entry(key).or_insert_with(|| Box::leak(Box::default()))
 }
 
@@ -117,10 +119,20 @@ pub fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
     let recipe = example_path(name);
     let key = format!("{} {}", recipe.display(), flags.join(" "));
     slot(&OUTS, key).get_or_init(|| {
-        let tag: String = format!("{} {}", recipe.file_stem().unwrap().to_string_lossy(), flags.join(" "))
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
-            .collect();
+        let tag: String = format!(
+            "{} {}",
+            recipe.file_stem().unwrap().to_string_lossy(),
+            flags.join(" ")
+        )
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
         let dir = crate::cli::scratch(&format!("shared/{tag}"));
         let mut args = vec!["build", recipe.to_str().unwrap()];
         args.extend_from_slice(flags);
