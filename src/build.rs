@@ -2,6 +2,7 @@
 //! layout -> pages. `output` turns the result into file bytes; the CLI
 //! only writes what that returns.
 
+use crate::assembly::{Step, steps};
 use crate::design::Design;
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
@@ -19,6 +20,9 @@ pub struct Build {
     pub report: Report,
     /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
     pub joints: Vec<Joint>,
+    /// The assembly steps in growth order (`assembly::steps`), computed once
+    /// for the guide, the viewer and the report.
+    pub steps: Vec<Step>,
     /// How it deploys (MATH.md 8.4), for the reports.
     pub deployment: Deployment,
     pub parts: Parts,
@@ -172,6 +176,7 @@ pub fn assemble_with(
     let mut parts = parts;
     let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
+        steps: steps(&lattice, &joints),
         joints,
         simulation,
         design,

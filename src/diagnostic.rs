@@ -11,11 +11,10 @@ pub const EXIT_USAGE: i32 = 2;
 /// Exit status of a file that could not be read or written.
 pub const EXIT_IO: i32 = 3;
 
-/// Write the `ErrorKind` enum once: each kind, the name shown to users
-/// (the kind's own name unless `as "group"` keeps an older, shared one),
-/// and the exit status it ends a run with.
+/// Write the `ErrorKind` enum once: each kind, whose own name is the name
+/// shown to users, and the exit status it ends a run with.
 macro_rules! error_kinds {
-    ($($(#[$doc:meta])* $kind:ident $(as $name:literal)? => $exit:ident,)*) => {
+    ($($(#[$doc:meta])* $kind:ident => $exit:ident,)*) => {
         /// Every error karigami reports, each its own kind. The kind decides
         /// the name in `error[NAME]` and in JSON, and the exit status.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -30,7 +29,7 @@ macro_rules! error_kinds {
             /// The name users see and search for (MATH.md 9 for growth).
             pub fn name(self) -> &'static str {
                 match self {
-                    $(Self::$kind => error_kinds!(@name $kind $($name)?),)*
+                    $(Self::$kind => stringify!($kind),)*
                 }
             }
 
@@ -42,19 +41,17 @@ macro_rules! error_kinds {
             }
         }
     };
-    (@name $kind:ident) => { stringify!($kind) };
-    (@name $kind:ident $name:literal) => { $name };
 }
 
 error_kinds! {
     // Files and the command line.
     /// A file could not be read or written.
-    Io as "io" => EXIT_IO,
+    Io => EXIT_IO,
     /// A command line that cannot be run: an unknown template, a folder
     /// with no recipes, a name that is not usable.
-    Usage as "usage" => EXIT_USAGE,
+    Usage => EXIT_USAGE,
     /// The recipe is not TOML, or a value has the wrong type.
-    Toml as "toml" => EXIT_INVALID,
+    Toml => EXIT_INVALID,
 
     // Growth (MATH.md 9).
     SeedTooShort => EXIT_INVALID,
@@ -77,96 +74,98 @@ error_kinds! {
     HelixSeedNotNull => EXIT_INVALID,
     FrontNotCompatible => EXIT_INVALID,
 
-    // The recipe's values (shown as "design", as before the kinds).
-    ControlCharacter as "design" => EXIT_INVALID,
-    StringTooLong as "design" => EXIT_INVALID,
-    NestedTooDeep as "design" => EXIT_INVALID,
-    NotFinite as "design" => EXIT_INVALID,
-    NumberTooLarge as "design" => EXIT_INVALID,
-    OutOfRange as "design" => EXIT_INVALID,
-    EmptyName as "design" => EXIT_INVALID,
-    UnknownSeed as "design" => EXIT_INVALID,
-    FittedRowsGiven as "design" => EXIT_INVALID,
-    WrongCoordinates as "design" => EXIT_INVALID,
-    NoSeedPoints as "design" => EXIT_INVALID,
-    SeedGivenTwice as "design" => EXIT_INVALID,
-    LineDimensionsDiffer as "design" => EXIT_INVALID,
-    NonPositiveRadius as "design" => EXIT_INVALID,
-    PolylineDimensionsDiffer as "design" => EXIT_INVALID,
-    PlanarSeedOffPlane as "design" => EXIT_INVALID,
-    UnknownPlane as "design" => EXIT_INVALID,
-    HelixTakesNoRows as "design" => EXIT_INVALID,
-    HelixNeedsCells as "design" => EXIT_INVALID,
-    SeedDimensionsDiffer as "design" => EXIT_INVALID,
-    NoKappa as "design" => EXIT_INVALID,
-    KappaCount as "design" => EXIT_INVALID,
-    CellsWithoutHelix as "design" => EXIT_INVALID,
-    RowSettingInGrow as "design" => EXIT_INVALID,
-    RowsOutsideGrow as "design" => EXIT_INVALID,
-    RowGivenTwice as "design" => EXIT_INVALID,
-    RowBeyondLattice as "design" => EXIT_INVALID,
-    NoRows as "design" => EXIT_INVALID,
-    NoLegDirection as "design" => EXIT_INVALID,
-    DirectionAndAngle as "design" => EXIT_INVALID,
-    DirectionDimension as "design" => EXIT_INVALID,
-    AngleNotFinite as "design" => EXIT_INVALID,
-    TiltNeeds3d as "design" => EXIT_INVALID,
-    TargetDimension as "design" => EXIT_INVALID,
-    EmptyFront as "design" => EXIT_INVALID,
-    FrontAnglesNotFinite as "design" => EXIT_INVALID,
+    // The recipe's values.
+    ControlCharacter => EXIT_INVALID,
+    StringTooLong => EXIT_INVALID,
+    NestedTooDeep => EXIT_INVALID,
+    NotFinite => EXIT_INVALID,
+    NumberTooLarge => EXIT_INVALID,
+    OutOfRange => EXIT_INVALID,
+    EmptyName => EXIT_INVALID,
+    UnknownSeed => EXIT_INVALID,
+    FittedRowsGiven => EXIT_INVALID,
+    WrongCoordinates => EXIT_INVALID,
+    NoSeedPoints => EXIT_INVALID,
+    SeedGivenTwice => EXIT_INVALID,
+    LineDimensionsDiffer => EXIT_INVALID,
+    NonPositiveRadius => EXIT_INVALID,
+    PolylineDimensionsDiffer => EXIT_INVALID,
+    PlanarSeedOffPlane => EXIT_INVALID,
+    UnknownPlane => EXIT_INVALID,
+    HelixTakesNoRows => EXIT_INVALID,
+    HelixNeedsCells => EXIT_INVALID,
+    SeedDimensionsDiffer => EXIT_INVALID,
+    NoKappa => EXIT_INVALID,
+    KappaCount => EXIT_INVALID,
+    CellsWithoutHelix => EXIT_INVALID,
+    RowSettingInGrow => EXIT_INVALID,
+    RowsOutsideGrow => EXIT_INVALID,
+    RowGivenTwice => EXIT_INVALID,
+    RowBeyondLattice => EXIT_INVALID,
+    NoRows => EXIT_INVALID,
+    NoLegDirection => EXIT_INVALID,
+    DirectionAndAngle => EXIT_INVALID,
+    DirectionDimension => EXIT_INVALID,
+    AngleNotFinite => EXIT_INVALID,
+    TiltNeeds3d => EXIT_INVALID,
+    TargetDimension => EXIT_INVALID,
+    EmptyFront => EXIT_INVALID,
+    FrontAnglesNotFinite => EXIT_INVALID,
 
     // Fitted lattices ([lattice.fit]).
-    FitNeeds as "design" => EXIT_INVALID,
-    FitNotPositive as "design" => EXIT_INVALID,
-    FitAxes as "design" => EXIT_INVALID,
-    FitProfilePoint as "design" => EXIT_INVALID,
-    FitTubeTooLarge as "design" => EXIT_INVALID,
-    FitStepOutOfRange as "design" => EXIT_INVALID,
-    UnknownFitSurface as "design" => EXIT_INVALID,
-    FitDimension as "design" => EXIT_INVALID,
-    FitProfileRows as "design" => EXIT_INVALID,
-    FitUnused as "design" => EXIT_INVALID,
-    FitValuesPerRow as "design" => EXIT_INVALID,
-    FitStepsNotPositive as "design" => EXIT_INVALID,
+    FitNeeds => EXIT_INVALID,
+    FitNotPositive => EXIT_INVALID,
+    FitAxes => EXIT_INVALID,
+    FitProfilePoint => EXIT_INVALID,
+    FitTubeTooLarge => EXIT_INVALID,
+    FitStepOutOfRange => EXIT_INVALID,
+    UnknownFitSurface => EXIT_INVALID,
+    FitDimension => EXIT_INVALID,
+    FitProfileRows => EXIT_INVALID,
+    FitUnused => EXIT_INVALID,
+    FitValuesPerRow => EXIT_INVALID,
+    FitStepsNotPositive => EXIT_INVALID,
 
     // Fabrication settings, from the recipe.
-    LengthOutOfRange as "design" => EXIT_INVALID,
-    UnknownEyelet as "design" => EXIT_INVALID,
-    UnknownLabel as "design" => EXIT_INVALID,
-    SheetAutoWithSize as "design" => EXIT_INVALID,
-    UnknownSheet as "design" => EXIT_INVALID,
-    UnknownPaper as "design" => EXIT_INVALID,
-    UnknownColours as "design" => EXIT_INVALID,
-    UnknownGrouping as "design" => EXIT_INVALID,
-    TabsWiderThanStrip as "design" => EXIT_INVALID,
+    LengthOutOfRange => EXIT_INVALID,
+    UnknownEyelet => EXIT_INVALID,
+    UnknownLabel => EXIT_INVALID,
+    SheetAutoWithSize => EXIT_INVALID,
+    UnknownSheet => EXIT_INVALID,
+    UnknownPaper => EXIT_INVALID,
+    UnknownColours => EXIT_INVALID,
+    UnknownGrouping => EXIT_INVALID,
+    TabsWiderThanStrip => EXIT_INVALID,
     HoleWiderThanStrip => EXIT_INVALID,
     HoleTooCloseToEnd => EXIT_INVALID,
     SheetTooLarge => EXIT_INVALID,
     SheetTooSmall => EXIT_INVALID,
 
     // Fabrication settings, from the command line's flags.
-    FlagOutOfRange as "usage" => EXIT_USAGE,
-    UnknownEyeletFlag as "usage" => EXIT_USAGE,
-    UnknownLabelFlag as "usage" => EXIT_USAGE,
-    UnknownSheetFlag as "usage" => EXIT_USAGE,
-    UnknownPaperFlag as "usage" => EXIT_USAGE,
-    UnknownColoursFlag as "usage" => EXIT_USAGE,
-    TabsWiderThanStripFlag as "usage" => EXIT_USAGE,
+    FlagOutOfRange => EXIT_USAGE,
+    UnknownEyeletFlag => EXIT_USAGE,
+    UnknownLabelFlag => EXIT_USAGE,
+    UnknownSheetFlag => EXIT_USAGE,
+    UnknownPaperFlag => EXIT_USAGE,
+    UnknownColoursFlag => EXIT_USAGE,
+    TabsWiderThanStripFlag => EXIT_USAGE,
 
     // Simulation and optimisation settings.
-    SimulationOutOfRange as "design" => EXIT_INVALID,
-    UnknownVertexJoint as "design" => EXIT_INVALID,
-    NegativeClearance as "design" => EXIT_INVALID,
-    UnknownVary as "design" => EXIT_INVALID,
-    UnknownOptimiseMethod as "design" => EXIT_INVALID,
-    EmptyVary as "design" => EXIT_INVALID,
-    NonPositiveStep as "design" => EXIT_INVALID,
-    OptimiseNegative as "design" => EXIT_INVALID,
-    UnknownCurvaturePattern as "design" => EXIT_INVALID,
-    NoOptimiseTable as "design" => EXIT_INVALID,
-    NothingToVary as "design" => EXIT_INVALID,
+    SimulationOutOfRange => EXIT_INVALID,
+    UnknownVertexJoint => EXIT_INVALID,
+    NegativeClearance => EXIT_INVALID,
+    UnknownStacking => EXIT_INVALID,
+    StackingNeedsEvenLoop => EXIT_INVALID,
+    UnknownVary => EXIT_INVALID,
+    UnknownOptimiseMethod => EXIT_INVALID,
+    EmptyVary => EXIT_INVALID,
+    NonPositiveStep => EXIT_INVALID,
+    OptimiseNegative => EXIT_INVALID,
+    UnknownCurvaturePattern => EXIT_INVALID,
+    NoOptimiseTable => EXIT_INVALID,
+    NothingToVary => EXIT_INVALID,
     /// The optimiser's library stopped with an error.
-    Optimiser as "optimise" => EXIT_INVALID,
+    Optimiser => EXIT_INVALID,
     OptimiseFailed => EXIT_INVALID,
     /// `karigami tune` did not reach the cells asked for.
     TuneNotReached => EXIT_INVALID,
@@ -398,21 +397,19 @@ mod tests {
     }
 
     #[test]
-    fn every_kind_has_one_name_and_an_exit_status() {
-        let mut own = std::collections::HashSet::new();
+    fn every_kind_has_its_own_name_and_an_exit_status() {
+        let mut names = std::collections::HashSet::new();
         for &k in ErrorKind::ALL {
             let name = k.name();
-            // A kind shown by its own name is the only one with that name.
-            if name.starts_with(char::is_uppercase) {
-                assert_eq!(format!("{k:?}"), name);
-                assert!(own.insert(name), "{name} twice");
-            }
+            // The name is the kind's, so no two kinds share one.
+            assert_eq!(format!("{k:?}"), name);
+            assert!(names.insert(name), "{name} twice");
             assert!([EXIT_INVALID, EXIT_USAGE, EXIT_IO].contains(&k.exit_code()));
         }
         assert_eq!(ErrorKind::Io.exit_code(), EXIT_IO);
         assert_eq!(ErrorKind::UnknownSheetFlag.exit_code(), EXIT_USAGE);
         assert_eq!(ErrorKind::UnknownSheet.exit_code(), EXIT_INVALID);
-        assert_eq!(ErrorKind::UnknownSheet.name(), "design");
+        assert_eq!(ErrorKind::UnknownSheet.name(), "UnknownSheet");
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! design -> lattice -> parts -> layout -> drawing -> bytes.
 //! Everything here is pure; only the binary touches files and the terminal.
 
+pub mod assembly;
 pub mod build;
 pub mod design;
 pub mod diagnostic;

@@ -100,6 +100,7 @@ pub fn viewer_scene(b: &Build) -> viewer::Scene<'_> {
         &b.parts,
         &b.layout,
         &b.deployment,
+        &b.steps,
     );
     if let Some(run) = &b.simulation {
         let placed = crate::sim::placed_lattice(&b.lattice, &run.lm);

@@ -1,9 +1,14 @@
-//! Human-readable summaries of a build (pure text; the CLI prints it).
+//! The reports of a check and a build: human-readable text (report.txt,
+//! the terminal summary) here, the `--json` reports in `json.rs`.
+
+mod json;
+
+pub use json::{build_check_json, build_json, check_json};
 
 use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Joint, Lattice, Report, joints, vertex_eyelets};
+use crate::lattice::{Lattice, Report, joints, vertex_eyelet_count};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
@@ -17,8 +22,7 @@ pub fn check_text(
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
     let (lo, hi) = lattice.placed().extent();
     let size = hi - lo;
-    let joints = joints(lattice);
-    let eyelets = vertex_eyelets(&joints);
+    let eyelets = vertex_eyelet_count(lattice);
     let _ = writeln!(out, "design: {}", design.name);
     let shape = match lattice.kind {
         crate::lattice::Kind::Helix => {
@@ -82,7 +86,7 @@ pub fn check_text(
     }
     out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
     deployment_text(&mut out, lattice, deploy);
-    part_types_text(&mut out, design, lattice, &joints);
+    part_types_text(&mut out, design, lattice);
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -95,11 +99,11 @@ pub fn check_text(
 
 /// The part types (interchangeable strips) and what is engraved on the
 /// strips, when the lattice is small enough to make parts for.
-fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice, joints: &[Joint]) {
+fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
     if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
         return;
     }
-    let Ok(p) = crate::parts::parts(lattice, joints, &design.fabrication) else {
+    let Ok(p) = crate::parts::parts(lattice, &joints(lattice), &design.fabrication) else {
         return;
     };
     let _ = writeln!(out, "{}", crate::parts::types::summary(&p));
@@ -192,7 +196,7 @@ pub fn build_text(b: &Build) -> String {
         );
     }
     out.push_str("\nassembly steps (eyelets this step / running total):\n");
-    for s in crate::guide::steps(&b.lattice) {
+    for s in &b.steps {
         let _ = writeln!(
             out,
             "step {:>3}: row {:>3}, {:>4} strips, {:>4} / {}",
@@ -204,147 +208,6 @@ pub fn build_text(b: &Build) -> String {
         );
     }
     out
-}
-
-/// A finite number for JSON (serde_json writes non-finite floats as null;
-/// a residual can be infinite when a design is degenerate).
-fn num(x: f64) -> serde_json::Value {
-    serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into)
-}
-
-/// The verification report as JSON, for `karigami check --json`.
-pub fn check_json(
-    design: &Design,
-    lattice: &Lattice,
-    report: &Report,
-    dep: &Deployment,
-) -> serde_json::Value {
-    use serde_json::json;
-    let checks: Vec<_> = report
-        .checks
-        .iter()
-        .filter(|c| c.count > 0)
-        .map(|c| {
-            json!({
-                "invariant": format!("{:?}", c.invariant),
-                "description": c.invariant.describe(),
-                "count": c.count,
-                "max": num(c.max),
-                "passed": c.passed(),
-                "site": c.site,
-            })
-        })
-        .collect();
-    let fit = design.fit.as_ref().map(|f| {
-        let (abs, rel) = crate::design::fit::error(f, lattice);
-        json!({ "max_distance_mm": num(abs), "relative": num(rel) })
-    });
-    let deploy = json!({
-        "theta_design_deg": num(dep.config.theta_design.to_degrees()),
-        "theta_max_deg": num(dep.config.theta_max.to_degrees()),
-        "path_residual": num(dep.config.path_residual),
-        "design_residual": num(dep.config.design_residual),
-        "collapse_residual": num(dep.config.collapse_residual),
-        "mobility": dep.mobility,
-        "mechanism": dep.is_mechanism(),
-        "planar_misfit": dep.misfits.iter().map(|(f, m)| json!({ "fraction": f, "misfit": num(*m) })).collect::<Vec<_>>(),
-        "verdict": dep.verdict(lattice),
-    });
-    json!({
-        "design": design.name,
-        "kind": lattice.kind.name(),
-        "dim": lattice.dim,
-        "extrinsic": lattice.extrinsic(),
-        "rows": lattice.rows(),
-        "width": lattice.width,
-        "cells": report.cells,
-        "vertices": report.vertices,
-        "rods": report.rods,
-        "tolerance": report.tolerance,
-        "largest_residual": num(report.worst()),
-        "passed": report.passed(),
-        "checks": checks,
-        "fit": fit,
-        "shape": crate::design::measure::measure(design, lattice).json(lattice),
-        "deployment": deploy,
-    })
-}
-
-/// The fabrication summary of a build as JSON.
-pub fn build_json(b: &Build) -> serde_json::Value {
-    use serde_json::json;
-    let bounds = b.bounds();
-    let sheet = &b.design.fabrication.sheet;
-    let warnings: Vec<_> = b
-        .parts
-        .warnings
-        .iter()
-        .map(|w| json!({ "strip": w.strip, "message": w.message }))
-        .collect();
-    json!({
-        "strips": b.parts.strips.len(),
-        "eyelets": b.parts.eyelets(),
-        "vertex_eyelets": b.parts.vertex_eyelets,
-        "pivot_eyelets": b.parts.pivot_eyelets,
-        "sheets": b.layout.sheets.len(),
-        "sheet": { "name": sheet.name, "width_mm": num(sheet.width), "height_mm": num(sheet.height) },
-        "sheet_lower_bounds": { "area": bounds.area, "lanes": bounds.lanes },
-        "utilisation": num(b.layout.utilisation()),
-        "cut_length_mm": num(b.cut_length()),
-        "part_types": part_types_json(&b.parts),
-        "sheet_advice": b.advice.as_ref().map(sheet_option_json),
-        "sheet_options": b.sheet_options().iter().map(sheet_option_json).collect::<Vec<_>>(),
-        "sheet_auto": b.design.fabrication.sheet_auto,
-        "group_by_step": b.design.fabrication.group_by_step,
-        "tabs_mm": num(b.design.fabrication.tabs),
-        "warnings": warnings,
-    })
-}
-
-/// One sheet preset with the job nested on it (`sheets` null: a strip is
-/// longer than the preset).
-fn sheet_option_json(o: &crate::layout::SheetOption) -> serde_json::Value {
-    serde_json::json!({
-        "name": o.name,
-        "width_mm": num(o.width),
-        "height_mm": num(o.height),
-        "sheets": o.sheets,
-        "utilisation": num(o.utilisation),
-    })
-}
-
-/// Each part type: its code, how many strips, their length and hole
-/// pitches, whether it can be turned end for end, and what its strips
-/// carry engraved (how many their ID, the type code, the dot code).
-fn part_types_json(parts: &crate::parts::Parts) -> Vec<serde_json::Value> {
-    use crate::parts::Marking;
-    parts
-        .types
-        .iter()
-        .map(|t| {
-            let count = |f: &dyn Fn(&Marking) -> bool| {
-                t.strips
-                    .iter()
-                    .filter(|&&i| f(&parts.strips[i].marking))
-                    .count()
-            };
-            serde_json::json!({
-                "type": t.code,
-                "count": t.strips.len(),
-                "length_mm": num(t.length),
-                "pitches_mm": [num(t.legs[0]), num(t.legs[1])],
-                "turnable": t.symmetric,
-                "engraved": {
-                    "id": count(&|m| matches!(m, Marking::Id | Marking::Compact)),
-                    "type_code": count(&|m| *m == Marking::Type),
-                    "dot_code": count(&|m| matches!(m, Marking::Dots(_))),
-                    "arrow_only": count(&|m| *m == Marking::Arrow),
-                },
-                "dots": t.dots,
-                "strips": t.strips.iter().map(|&i| parts.strips[i].id.as_str()).collect::<Vec<_>>(),
-            })
-        })
-        .collect()
 }
 
 /// A few lines for the terminal.

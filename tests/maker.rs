@@ -444,6 +444,11 @@ fn read_lbrn(xml: &str) -> Lbrn {
     let mut verts = String::new();
     let mut prims = String::new();
     let mut xform = String::new();
+    // LightBurn's shared geometry: a VertID/PrimID's list is written with
+    // its first shape only.
+    let mut ids: Option<(String, String)> = None;
+    let mut vert_lists: BTreeMap<String, String> = BTreeMap::new();
+    let mut prim_lists: BTreeMap<String, String> = BTreeMap::new();
     for e in svg::read(xml).expect("the project parses") {
         match e {
             Event::Tag("LightBurnProject", _, _) => {}
@@ -475,6 +480,9 @@ fn read_lbrn(xml: &str) -> Lbrn {
                     a.get("CutIndex").unwrap().to_string().parse().unwrap(),
                     r,
                 ));
+                ids = a
+                    .get("VertID")
+                    .map(|v| (v.to_string(), a.get("PrimID").unwrap().to_string()));
                 verts.clear();
                 prims.clear();
                 xform.clear();
@@ -493,6 +501,19 @@ fn read_lbrn(xml: &str) -> Lbrn {
                     out.circles.push((cut, DVec2::new(x[4], x[5]), r));
                 } else {
                     assert_eq!(kind, "Path");
+                    if let Some((v, p)) = ids.take() {
+                        // A list is defined once: by the first shape naming its ID.
+                        for (list, id, table) in [
+                            (&mut verts, v, &mut vert_lists),
+                            (&mut prims, p, &mut prim_lists),
+                        ] {
+                            if list.is_empty() {
+                                list.push_str(table.get(&id).expect("an ID defined before use"));
+                            } else {
+                                assert!(table.insert(id, list.clone()).is_none(), "defined once");
+                            }
+                        }
+                    }
                     let n = numbers_after(&verts, 'V');
                     let v = n
                         .chunks(2)

@@ -9,7 +9,7 @@ use karigami::lattice::deploy::configuration;
 use karigami::sim::explore::{Rng, perturb};
 use karigami::sim::model::{Model, Node, Stencil};
 use karigami::sim::solver::{Options, System, solve};
-use karigami::sim::{self, Material, Settings, VertexJoint, kabsch_distance};
+use karigami::sim::{self, Actuation, Material, Settings, VertexJoint, kabsch_distance};
 
 fn abs_section() -> karigami::sim::Section {
     Material::ABS.section(10.0, 1.0)
@@ -389,20 +389,33 @@ fn ideal_linkage(lattice: &Lattice, theta: f64) -> Vec<DVec3> {
         .collect()
 }
 
-fn mechanism_follows_the_linkage(lattice: &Lattice, perturbed: bool) {
-    let settings = Settings::default();
+/// Opened by 10 degrees, holding either the first cell's opening or the
+/// mean opening of all cells: no energy, and the joints where the ideal
+/// linkage puts them at the first cell's opening reached. Under the mean
+/// hold, the mean is the target while the cells differ (a 1-dof linkage).
+fn mechanism_follows_the_linkage(lattice: &Lattice, perturbed: bool, actuation: Actuation) {
+    let settings = Settings {
+        actuation,
+        ..Settings::default()
+    };
     let mut lm = sim::prepare(lattice, 10.0, 1.0, &settings);
-    let theta = lm.opening(0) - 10f64.to_radians();
+    let target = lm.held_opening() - 10f64.to_radians();
     if perturbed {
         perturb(&mut lm.model, 5, 1.0);
     }
-    let (stats, _, _) = sim::deploy(&mut lm, Some(theta), &Options::default()).expect("deploys");
+    let (stats, _, _) = sim::deploy(&mut lm, Some(target), &Options::default()).expect("deploys");
     let e_s = lm.model.e_scale;
     assert!(
         stats.energy.abs() < 1e-9 * e_s,
         "E = {} (E_s {e_s})",
         stats.energy
     );
+    assert!(
+        (lm.held_opening() - target).abs() < 1e-9,
+        "{actuation:?}: held {} vs {target}",
+        lm.held_opening()
+    );
+    let theta = lm.opening(0);
     let ideal = ideal_linkage(lattice, theta);
     let d = kabsch_distance(&lm.points(), &ideal);
     assert!(d < 1e-6, "joints {d} mm from the ideal linkage");
@@ -412,15 +425,19 @@ fn mechanism_follows_the_linkage(lattice: &Lattice, perturbed: bool) {
 #[test]
 fn chain_follows_the_ideal_linkage() {
     let chain = load("examples/mirror-arm.toml");
-    mechanism_follows_the_linkage(&chain, false);
-    mechanism_follows_the_linkage(&chain, true);
+    for actuation in [Actuation::FirstCell, Actuation::Mean] {
+        mechanism_follows_the_linkage(&chain, false, actuation);
+        mechanism_follows_the_linkage(&chain, true, actuation);
+    }
 }
 
 #[test]
 fn uniform_grid_follows_the_ideal_linkage() {
     let grid = uniform_grid();
-    mechanism_follows_the_linkage(&grid, false);
-    mechanism_follows_the_linkage(&grid, true);
+    for actuation in [Actuation::FirstCell, Actuation::Mean] {
+        mechanism_follows_the_linkage(&grid, false, actuation);
+        mechanism_follows_the_linkage(&grid, true, actuation);
+    }
 }
 
 /// The symmetric torus, a 3-D mechanism: with ball vertex joints it opens
@@ -431,6 +448,7 @@ fn torus_with_ball_joints_opens_freely_and_with_eyelets_twists() {
     let torus = load("examples/torus.toml");
     let ball = Settings {
         vertex_joint: VertexJoint::Ball,
+        actuation: Actuation::FirstCell,
         ..Settings::default()
     };
     let mut lm = sim::prepare(&torus, 10.0, 1.0, &ball);
@@ -509,9 +527,14 @@ fn bowl_converges_under_refinement() {
 fn refinement_moves_joints_less_than_1_percent(path: &str) {
     let ring = load(path);
     let deploy = karigami::lattice::deploy::deployment(&ring);
+    // The first cell held: under the mean hold the saddle ring has a soft
+    // mode (cells trading openings for under 1 N mm of its 528), so h 10
+    // and 5 mm land 35 mm apart with energies 0.14 % apart; that is the
+    // hold's freedom, not the mesh's error (docs/physics.md, "Deployment").
     let solve_at = |h: f64| {
         let settings = Settings {
             h_max: h,
+            actuation: Actuation::FirstCell,
             ..Settings::default()
         };
         sim::simulate(&ring, &deploy, 10.0, 1.0, &settings).expect("simulates")
@@ -552,17 +575,20 @@ fn degrees(c: &[karigami::lattice::shape::VertexCurvature]) -> Vec<f64> {
 
 /// The eggbox's cells are cut to make bumps and dips in a checkerboard.
 /// Its simulated equilibrium (the strips' own choice, not the rigid-fit
-/// picture) keeps that sign pattern: at least 80 % of the vertices designed
-/// at +-3 deg or more keep their sign with at least 0.5 deg, with bumps and
-/// dips in both halves of the sheet.
+/// picture), deployed by holding the mean opening of all cells (the
+/// default), keeps that sign pattern: of the vertices designed at +-3 deg
+/// or more, at least 85 % keep their sign with at least 0.5 deg, at least
+/// 40 % keep it beyond 3 deg, at most one changes sign; bumps and dips in
+/// both halves of the sheet, and no strip beyond 3 % strain.
 ///
-/// Measured truth, stated rather than asserted away: the design's defects
-/// reach +-6.6 deg, the simulated ones stay below 3 deg (the bent strips
-/// give part of the bump back), so "at least 3 deg" holds for the design,
-/// not for the deployed shape; the test prints both.
+/// Measured truth, stated rather than asserted away (docs/physics.md,
+/// "Deployment"): the design's defects reach +-6.6 deg, the simulated ones
+/// +-4 to 5 deg (the bent strips give part of the bump back), and a few
+/// dips next to stronger bumps flatten; the test prints which. Holding one
+/// cell instead (the corner) flattens every vertex below 3 deg.
 #[test]
 fn eggbox_simulates_to_bumps_and_dips() {
-    let (design, placed, _) = simulated_shape("examples/eggbox.toml");
+    let (design, placed, run) = simulated_shape("examples/eggbox.toml");
     let designed = design.curvature();
     let got = placed.curvature();
     assert_eq!(
@@ -610,8 +636,29 @@ fn eggbox_simulates_to_bumps_and_dips() {
     // Most, not all: where the design's bump is weak next to a stronger
     // neighbour the strips can even the two out (the test prints which).
     assert!(
-        flipped.len() * 5 <= strong.len(),
+        flipped.len() * 100 <= strong.len() * 15,
         "the checkerboard is lost: {flipped:?}"
+    );
+    let changed_sign = strong
+        .iter()
+        .filter(|(d, g)| d * g < 0.0 && g.abs() >= 0.5)
+        .count();
+    assert!(changed_sign <= 1, "{changed_sign} vertices changed sign");
+    let beyond_3 = strong
+        .iter()
+        .filter(|(d, g)| d * g > 0.0 && g.abs() >= 3.0)
+        .count();
+    println!(
+        "eggbox: {beyond_3} of {} keep their sign beyond 3 deg; {changed_sign} changed sign; peak strain {:.3} % in {}",
+        strong.len(),
+        100.0 * run.equilibrium.strain.eps,
+        run.equilibrium.strain.rod
+    );
+    assert!(beyond_3 * 10 >= strong.len() * 4, "{beyond_3} beyond 3 deg");
+    assert!(
+        run.equilibrium.strain.eps < 0.03,
+        "peak strain {}",
+        run.equilibrium.strain.eps
     );
     // Spread: bumps and dips in each half of the sheet (by vertex row).
     let rows: Vec<u32> = got
@@ -634,7 +681,9 @@ fn eggbox_simulates_to_bumps_and_dips() {
 }
 
 /// The saddle ring is designed saddle-like everywhere: its simulated
-/// equilibrium is negatively curved at nearly every interior vertex.
+/// equilibrium is negatively curved at nearly every interior vertex, and
+/// keeps at least 75 % of the designed mean defect (measured: -3.66 of
+/// -3.84 deg under the mean-opening hold).
 #[test]
 fn saddle_ring_simulates_saddle_like() {
     let (design, placed, run) = simulated_shape("examples/saddle-ring.toml");
@@ -651,12 +700,15 @@ fn saddle_ring_simulates_saddle_like() {
         run.iterations,
         run.equilibrium.energy.total()
     );
-    assert!(mean < 0.0 && negative >= 0.9, "{got:?}");
+    let designed_mean = designed.iter().sum::<f64>() / designed.len() as f64;
+    assert!(designed_mean < 0.0);
+    assert!(mean <= 0.75 * designed_mean && negative >= 0.9, "{got:?}");
 }
 
 /// The eggbox's overstrain at its corner strip (docs/physics.md): the same
-/// recipe with the opening prescribed at cell 0 (the default), at the
-/// central cell, or nowhere (only rigid motions removed). Prints figures.
+/// recipe with the opening prescribed at cell 0, at the central cell, as
+/// the mean of all cells (the default), or nowhere (only rigid motions
+/// removed). Prints figures.
 #[test]
 #[ignore]
 fn eggbox_actuation_study() {
@@ -676,10 +728,11 @@ fn eggbox_actuation_study() {
             })
             .expect("cells")
     };
-    for (what, cell, prescribe) in [
-        ("cell 0 prescribed", 0, true),
-        ("centre cell prescribed", centre, true),
-        ("nothing prescribed", centre, false),
+    for (what, cell, hold) in [
+        ("cell 0 prescribed", 0, Some(false)),
+        ("centre cell prescribed", centre, Some(false)),
+        ("mean opening prescribed", 0, Some(true)),
+        ("nothing prescribed", centre, None),
     ] {
         let mut lm = sim::LatticeModel::new(
             &lattice,
@@ -692,9 +745,16 @@ fn eggbox_actuation_study() {
         );
         lm.anchor(cell);
         let design0 = lm.opening(0);
-        if prescribe {
-            let phi = lm.opening(cell);
-            lm.set_opening(cell, phi);
+        match hold {
+            Some(false) => {
+                let phi = lm.opening(cell);
+                lm.set_opening(cell, phi);
+            }
+            Some(true) => {
+                let phi = lm.mean_opening();
+                lm.set_mean_opening(phi);
+            }
+            None => {}
         }
         match sim::deploy(&mut lm, None, &Options::default()) {
             Ok((stats, it, _)) => {
@@ -763,4 +823,46 @@ fn previews_of_the_simulated_beside_the_designed() {
             println!("{}", path.display());
         }
     }
+}
+
+/// `[simulation] actuation` picks what deployment holds; the mean is the
+/// default and an unknown word is refused with the choices named.
+#[test]
+fn simulation_actuation_is_read_from_the_recipe() {
+    let text = std::fs::read_to_string("examples/eggbox.toml").expect("recipe");
+    let with = |line: &str| {
+        text.replace(
+            "accept_overstrain = true",
+            &format!("accept_overstrain = true\n{line}"),
+        )
+    };
+    let read = |t: &str| design::parse(t, "t").map(|d| d.simulation.actuation);
+    assert_eq!(read(&text).expect("parses"), Actuation::Mean);
+    assert_eq!(
+        read(&with("actuation = \"first-cell\"")).expect("parses"),
+        Actuation::FirstCell
+    );
+    let e = read(&with("actuation = \"corner\"")).expect_err("refused");
+    assert!(
+        e.message.contains("actuation")
+            && e.span.is_some()
+            && e.hint.as_deref().is_some_and(|h| h.contains("first-cell")),
+        "{e:?}"
+    );
+}
+
+/// Going back from the mean hold to one cell's opening leaves no tie
+/// behind: the chain then follows the ideal linkage at that cell's angle.
+#[test]
+fn mean_hold_switches_back_to_one_cell() {
+    let chain = load("examples/mirror-arm.toml");
+    let mut lm = sim::prepare(&chain, 10.0, 1.0, &Settings::default());
+    assert_eq!(lm.hold, sim::Hold::Mean);
+    let theta = lm.opening(0) - 5f64.to_radians();
+    lm.set_opening(0, theta);
+    assert!(lm.model.ties.is_empty());
+    let (stats, _, _) = sim::deploy(&mut lm, None, &Options::default()).expect("deploys");
+    assert!((lm.opening(0) - theta).abs() < 1e-12);
+    let d = kabsch_distance(&lm.points(), &ideal_linkage(&chain, theta));
+    assert!(d < 1e-6 && stats.lambda_min > 0.0, "{d} mm, {stats:?}");
 }

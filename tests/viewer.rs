@@ -8,7 +8,6 @@ use crate::cli::repo;
 use crate::thirdparty::run;
 use karigami::build::{Build, build};
 use karigami::design;
-use karigami::guide::steps;
 use karigami::lattice::deploy::deployment;
 use karigami::layout::{Layout, Placement, Sheet};
 use karigami::parts::{Outline, parts};
@@ -141,6 +140,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
         test_piece: None,
     };
     let deployment = deployment(&lattice);
+    let steps = karigami::assembly::steps(&lattice, &karigami::lattice::joints(&lattice));
     let html = write(&Scene::new(
         &design,
         &lattice,
@@ -148,6 +148,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
         &parts,
         &layout,
         &deployment,
+        &steps,
     ));
     // Kept for a look in a browser (the page's speed is not a test).
     std::fs::write(shots().join("sheet-100x100.html"), &html).unwrap();
@@ -271,7 +272,7 @@ fn viewer_works_in_headless_chromium() {
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("viewer.html");
         std::fs::write(&file, page(b)).unwrap();
-        let steps = steps(&b.lattice);
+        let steps = &b.steps;
         let n = steps.len();
         let k = n.div_ceil(2);
         let upto = |k: usize| -> BTreeSet<String> {
@@ -618,6 +619,7 @@ fn a_simulated_shape_has_its_slot_beside_the_designed_one() {
         &b.parts,
         &b.layout,
         &b.deployment,
+        &b.steps,
     );
     let d = data(&String::from_utf8(write(&scene)).unwrap());
     assert_eq!(d["simulated"], Value::Null, "no simulation, no slot filled");

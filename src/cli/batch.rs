@@ -233,12 +233,7 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
                 cells: built.lattice.cells.len(),
                 strips: built.parts.strips.len(),
                 sheets: built.layout.sheets.len(),
-                check: report::check_json(
-                    &built.design,
-                    &built.lattice,
-                    &built.report,
-                    &built.deployment,
-                ),
+                check: report::build_check_json(&built),
                 build: report::build_json(&built),
             })
         });

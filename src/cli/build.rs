@@ -72,12 +72,7 @@ pub fn build(
             out: out.display().to_string(),
             files: outputs.iter().map(|(n, _)| n.as_str()).collect(),
             seconds: started.elapsed().as_secs_f64(),
-            check: report::check_json(
-                &built.design,
-                &built.lattice,
-                &built.report,
-                &built.deployment,
-            ),
+            check: report::build_check_json(&built),
             build: report::build_json(&built),
         });
     } else if !v.quiet {

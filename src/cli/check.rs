@@ -105,7 +105,10 @@ fn check_one(
     bar.clear();
     let report = verify(&lattice);
     let deploy = deployment(&lattice);
-    let check = report::check_json(&design, &lattice, &report, &deploy);
+    // Each report is made only when it is shown: both measure the shape
+    // and the clashes (the text report did it once more for a JSON report
+    // it threw away), and `-q` shows neither.
+    let check = json.then(|| report::check_json(&design, &lattice, &report, &deploy));
     if !json && !v.quiet {
         out!(
             "{}",
@@ -114,7 +117,7 @@ fn check_one(
     }
     if !report.passed() {
         let mut checked = Checked::new(&file, "fail");
-        checked.check = Some(check);
+        checked.check = check;
         return (Some(ErrorKind::VerificationFailed), checked);
     }
     if let Some(why) = too_large_to_fabricate(&design, &lattice) {
@@ -125,7 +128,7 @@ fn check_one(
             );
         }
         let mut checked = Checked::new(&file, "pass");
-        checked.check = Some(check);
+        checked.check = check;
         return (None, checked);
     }
     match assemble_with(design, lattice, report, deploy) {
@@ -135,13 +138,13 @@ fn check_one(
                 outln!("result: PASS (geometry verified, every strip can be cut)");
             }
             let mut checked = Checked::new(&file, "pass");
-            checked.check = Some(check);
-            checked.build = Some(report::build_json(&built));
+            checked.check = check;
+            checked.build = json.then(|| report::build_json(&built));
             (None, checked)
         }
         Err(d) => {
             let (failed, mut checked) = fail(recipe.error(&d), bar);
-            checked.check = Some(check);
+            checked.check = check;
             (failed, checked)
         }
     }

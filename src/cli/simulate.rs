@@ -116,7 +116,8 @@ pub fn text(
     );
     let _ = writeln!(
         o,
-        "theta (opening of the reference cell): {:.3} deg",
+        "theta ({} held): {:.3} deg",
+        s.actuation.describe(),
         run.theta.to_degrees()
     );
     let e = &eq.energy;

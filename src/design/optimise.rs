@@ -5,7 +5,7 @@
 //!
 //! ```toml
 //! [optimise]
-//! vary = ["angle", "front"]   # row angles, front-move angles, or "seed" (helix)
+//! vary = ["angle", "front"]   # row angles, front-move angles, or "seed" (helix, disk)
 //! method = "nelder-mead"      # or "evolution" (a seeded population search)
 //! budget = 400                # Nelder-Mead iterations, or generations
 //! seed = 1                    # how the start simplex is laid out
@@ -30,6 +30,7 @@ use toml::Spanned;
 pub struct RawClash {
     pub clearance: Option<Num>,
     pub allow: Option<Spanned<bool>>,
+    pub stacking: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -94,6 +95,8 @@ pub struct RawRequire {
 pub struct ClashRule {
     pub clearance: f64,
     pub allow: bool,
+    /// Which neighbours alternate their layers (`stacking`).
+    pub stacking: crate::lattice::Stacking,
     /// `[clash]`, or the lattice table when there is none.
     pub span: Option<Range<usize>>,
 }
@@ -103,6 +106,7 @@ impl Default for ClashRule {
         Self {
             clearance: crate::parts::clash::DEFAULT_CLEARANCE,
             allow: false,
+            stacking: crate::lattice::Stacking::Rows,
             span: None,
         }
     }
@@ -198,8 +202,25 @@ pub fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, Diagnos
         }
         None => crate::parts::clash::DEFAULT_CLEARANCE,
     };
+    let stacking = match r
+        .stacking
+        .as_ref()
+        .map(|s| (s.get_ref().as_str(), s.span()))
+    {
+        None | Some(("rows", _)) => crate::lattice::Stacking::Rows,
+        Some(("columns", _)) => crate::lattice::Stacking::Columns,
+        Some((other, span)) => {
+            return Err(Diagnostic::new(
+                ErrorKind::UnknownStacking,
+                format!("clash.stacking is \"{other}\""),
+            )
+            .at(span)
+            .hint("stacking = \"rows\" (neighbouring rows alternate layers) or \"columns\" (neighbouring columns of an even loop)"));
+        }
+    };
     Ok(ClashRule {
         clearance,
+        stacking,
         allow: r.allow.as_ref().is_some_and(|a| *a.get_ref()),
         span: Some(raw.span()),
     })
@@ -217,7 +238,7 @@ pub fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
             other => {
                 return Err(Diagnostic::new(ErrorKind::UnknownVary, format!("optimise.vary has \"{other}\""))
                     .at(v.span())
-                    .hint("vary \"angle\" (row leg angles), \"front\" (front-move angles), \"seed\" (a helix's seed) or \"fit\" (a fit's row angles or ring steps)"));
+                    .hint("vary \"angle\" (row leg angles), \"front\" (front-move angles), \"seed\" (a helix's seed, or a disk's seed on its circle) or \"fit\" (a fit's row angles or ring steps)"));
             }
         };
         if !vary.contains(&which) {

@@ -3,7 +3,7 @@
 //! simulation (docs/physics.md). Every field is optional; defaults are ABS.
 
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use crate::sim::{Settings, VertexJoint};
+use crate::sim::{Actuation, Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -21,6 +21,8 @@ pub struct RawSimulation {
     pub theta: Option<Spanned<f64>>,
     /// "eyelet" or "ball".
     pub vertex_joint: Option<Spanned<String>>,
+    /// "mean" (mean opening of all cells) or "first-cell".
+    pub actuation: Option<Spanned<String>>,
     /// Longest rod edge (mm).
     pub edge_length: Option<Spanned<f64>>,
 }
@@ -94,16 +96,47 @@ pub fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnosti
     if let Some(a) = &r.accept_overstrain {
         s.accept_overstrain = *a.get_ref();
     }
+    if let Some(a) = &r.actuation {
+        s.actuation = choice(
+            a,
+            "actuation",
+            &[
+                ("mean", Actuation::Mean),
+                ("first-cell", Actuation::FirstCell),
+            ],
+            ErrorKind::SimulationOutOfRange,
+            "actuation must be \"mean\" (the mean opening of all cells is held) or \"first-cell\" (the first cell's opening is held)",
+        )?;
+    }
     if let Some(j) = &r.vertex_joint {
-        s.vertex_joint = match j.get_ref().as_str() {
-            "eyelet" => VertexJoint::Eyelet,
-            "ball" => VertexJoint::Ball,
-            other => {
-                return Err(Diagnostic::new(ErrorKind::UnknownVertexJoint, format!("unknown vertex_joint \"{other}\""))
-                    .at(j.span())
-                    .hint("vertex_joint must be \"eyelet\" (strips stacked on one eyelet) or \"ball\" (position only)"));
-            }
-        };
+        s.vertex_joint = choice(
+            j,
+            "vertex_joint",
+            &[("eyelet", VertexJoint::Eyelet), ("ball", VertexJoint::Ball)],
+            ErrorKind::UnknownVertexJoint,
+            "vertex_joint must be \"eyelet\" (strips stacked on one eyelet) or \"ball\" (position only)",
+        )?;
     }
     Ok(s)
+}
+
+/// One of a few words: its value, or an error at the word naming the
+/// choices.
+fn choice<T: Copy>(
+    word: &Spanned<String>,
+    what: &str,
+    options: &[(&str, T)],
+    kind: ErrorKind,
+    hint: &str,
+) -> Result<T, Diagnostic> {
+    let w = word.get_ref().as_str();
+    options
+        .iter()
+        .find(|(name, _)| *name == w)
+        .map(|&(_, v)| v)
+        .ok_or_else(|| {
+            Diagnostic::new(kind, format!("unknown {what} \"{w}\""))
+                .at(word.span())
+                .hint(hint)
+        })
 }

@@ -3,6 +3,7 @@
 //! this model and nothing else, so no writer re-derives geometry.
 
 pub mod colours;
+pub mod flow;
 pub mod picture;
 mod sheet;
 pub mod tabs;

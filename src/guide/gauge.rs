@@ -6,8 +6,9 @@
 //! by `GAUGE_OVERLAP` and carry the same two numbered registration marks
 //! there, so that the cut tiles taped mark on mark make one continuous line.
 
-use super::{BLACK, FAINT, GREY, MARGIN, SMALL, Writer, key, text_item};
+use super::key;
 use crate::build::Build;
+use crate::drawing::flow::{BLACK, FAINT, GREY, MARGIN, PageFlow, SMALL, text_item};
 use crate::drawing::picture::{PIVOT, VERTEX};
 use crate::drawing::{Align, Font, Ink, Item, Shape, text};
 use glam::DVec2;
@@ -212,7 +213,7 @@ impl Plan {
     }
 }
 
-pub(super) fn gauge(w: &mut Writer, b: &Build) {
+pub(super) fn gauge(w: &mut PageFlow, b: &Build) {
     let ticks = ticks(b);
     let total = ticks.last().map_or(0.0, |t| t.0);
     let first = b

@@ -8,7 +8,7 @@
 //! guide's pictures show. Whether a step's new row goes on top of the work
 //! or under it follows from the layers and is computed per step.
 
-use super::Step;
+use crate::assembly::Step;
 use crate::lattice::{Joint, Kind, Lattice, RodType};
 
 /// The stacking side of a lattice, in words.

@@ -74,6 +74,7 @@ pub fn grow_helix_partial(
         vertices: Vec::with_capacity(n + 1 + cells),
         cells: Vec::with_capacity(cells),
         fronts: Vec::new(),
+        stacking: Default::default(),
     };
     seed_front(&mut lattice, points, kappa)?;
     let defect = seed_defect(points, kappa);

@@ -23,7 +23,7 @@ pub use grow::{
     RowParams, fmt_len, front_frame, grow, grow_sheet,
 };
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
-pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelets};
+pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelet_count, vertex_eyelets};
 pub(crate) use placed::largest_eigenvector;
 pub use rods::{Rod, RodType};
 pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, tolerance, verify};
@@ -102,6 +102,18 @@ pub struct Lattice {
     /// frame); empty for a row grown on the previous row's vertices. Empty
     /// altogether for an extrinsic lattice.
     pub fronts: Vec<Vec<DVec3>>,
+    /// How strips are given their stacking layers (see `layer`).
+    pub stacking: Stacking,
+}
+
+/// Which neighbours of a loop alternate their stacking layers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Stacking {
+    /// Rows alternate (every lattice unless the recipe asks otherwise).
+    #[default]
+    Rows,
+    /// Columns alternate: for loops of an even number of columns.
+    Columns,
 }
 
 impl Lattice {
@@ -186,7 +198,7 @@ impl Lattice {
     }
 
     /// Stacking layer of a rod (MATH.md 10.2): all strips meeting at any
-    /// joint get distinct layers.
+    /// joint get distinct layers, contiguous (0..3 at a full joint).
     pub fn layer(&self, cell: &Cell, kind: RodType) -> u32 {
         let ab = match kind {
             RodType::A => 0,
@@ -201,6 +213,16 @@ impl Lattice {
                     .find(|q| (n - 1) % q != 0 && (n + 1) % q != 0)
                     .expect("some q divides neither");
                 2 * (k % q) + ab
+            }
+            // Columns alternate instead of rows (an even loop whose recipe
+            // asks for it): two A (or B) strips of neighbouring columns then
+            // never share a layer, so a ring closing in on the axis (the
+            // pole of a dome) is bounded by strips two columns apart, not
+            // one. Every joint still holds layers 0..3 once each: row i's A
+            // and row i-1's B of column j, row i's B and row i-1's A of
+            // column j - 1, whose parities differ.
+            Kind::Loop if self.stacking == Stacking::Columns && self.width % 2 == 0 => {
+                2 * (cell.col % 2) + ab
             }
             _ => 2 * (cell.row % 2) + ab,
         }
@@ -253,4 +275,41 @@ impl Lattice {
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).
 pub fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
+}
+
+/// Small lattices for the unit tests of the lattice's modules.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use super::{Kind, Lattice, RowParams, grow};
+    use crate::geometry::{Direction, Leg};
+    use glam::DVec3;
+
+    /// A sheet grown on `points` with these `kappa`, `rows` rows at
+    /// `angle_deg` from site `start`, both ends matched.
+    pub fn sheet(
+        points: &[DVec3],
+        kappa: &[f64],
+        start: usize,
+        angle_deg: f64,
+        rows: usize,
+    ) -> Lattice {
+        let row = RowParams {
+            start,
+            direction: Some(Direction::Angles {
+                angle_deg,
+                tilt_deg: 0.0,
+            }),
+            left_leg: Leg::Match,
+            right_leg: Leg::Match,
+            ..RowParams::default()
+        };
+        grow(Kind::Sheet, 2, points, kappa, &vec![row; rows]).unwrap()
+    }
+
+    /// `n + 1` seed points 10 mm apart on the x axis.
+    pub fn line(n: usize) -> Vec<DVec3> {
+        (0..=n)
+            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
+            .collect()
+    }
 }

@@ -30,8 +30,19 @@ fn tolerance_with(lattice: &Lattice, legs: f64) -> f64 {
     let extent = lattice
         .vertices
         .iter()
-        .map(|v| v.pos.abs().max_element().max(v.z.abs()))
+        .map(vertex_extent)
         .fold(0.0, f64::max);
+    tolerance_of(lattice, legs, extent)
+}
+
+/// How far a vertex is from the origin, coordinate- and z-wise.
+#[inline]
+fn vertex_extent(v: &super::Vertex) -> f64 {
+    v.pos.abs().max_element().max(v.z.abs())
+}
+
+/// `tolerance_with`, given the largest `vertex_extent`.
+fn tolerance_of(lattice: &Lattice, legs: f64, extent: f64) -> f64 {
     let leg = legs / lattice.cells.len().max(1) as f64;
     if !(leg > 0.0) || !extent.is_finite() {
         return TOLERANCE;
@@ -134,6 +145,17 @@ impl Check {
     pub fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
+
+    /// This check followed by the records of `later` (of the same
+    /// invariant): what recording them here one by one would give.
+    fn then(mut self, later: Check) -> Check {
+        self.count += later.count;
+        if !self.max.is_nan() && (later.max.is_nan() || later.max > self.max) {
+            self.max = later.max;
+            self.site = later.site;
+        }
+        self
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -172,30 +194,38 @@ impl Report {
 
 const NONE: u32 = u32::MAX;
 
-/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE).
-struct Incidence {
-    ul: Vec<u32>,
-    ur: Vec<u32>,
-    ll: Vec<u32>,
-    lr: Vec<u32>,
-}
+/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE),
+/// side by side: a vertex's four in one cache line.
+struct Incidence(Vec<[u32; 4]>);
+
+const UL: usize = 0;
+const UR: usize = 1;
+const LL: usize = 2;
+const LR: usize = 3;
 
 impl Incidence {
-    fn new(lattice: &Lattice) -> Self {
-        let n = lattice.vertices.len();
-        let mut inc = Self {
-            ul: vec![NONE; n],
-            ur: vec![NONE; n],
-            ll: vec![NONE; n],
-            lr: vec![NONE; n],
-        };
+    /// The incidence, with every cell's legs and the sum of their means
+    /// (in cell order), in one pass over the cells.
+    fn with_legs(lattice: &Lattice) -> (Self, Vec<Legs>, f64) {
+        let mut inc = vec![[NONE; 4]; lattice.vertices.len()];
+        let mut legs = Vec::with_capacity(lattice.cells.len());
+        let mut leg_sum = 0.0;
         for (c, cell) in lattice.cells.iter().enumerate() {
-            inc.ul[cell.ul as usize] = c as u32;
-            inc.ur[cell.ur as usize] = c as u32;
-            inc.ll[cell.ll as usize] = c as u32;
-            inc.lr[cell.lr as usize] = c as u32;
+            inc[cell.ul as usize][UL] = c as u32;
+            inc[cell.ur as usize][UR] = c as u32;
+            inc[cell.ll as usize][LL] = c as u32;
+            inc[cell.lr as usize][LR] = c as u32;
+            let l = lattice.legs(cell);
+            leg_sum += mean(&l);
+            legs.push(l);
         }
-        inc
+        (Self(inc), legs, leg_sum)
+    }
+
+    /// The cell in which vertex `v` is the corner `corner`.
+    #[inline]
+    fn at(&self, v: u32, corner: usize) -> u32 {
+        self.0[v as usize][corner]
     }
 }
 
@@ -229,8 +259,9 @@ fn mean(legs: &Legs) -> f64 {
 /// Check every invariant of MATH.md 8.0-8.3.
 pub fn verify(lattice: &Lattice) -> Report {
     use Invariant as I;
-    let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
-    let inc = Incidence::new(lattice);
+    // One sum of the mean legs serves the tolerance and the collapsed
+    // state's scale (the same sum, in the same order, as each made it).
+    let (inc, legs, leg_sum) = Incidence::with_legs(lattice);
     let z = |v: u32| lattice.vertices[v as usize].z;
 
     let mut straight = Check::new(I::RodStraightness);
@@ -243,7 +274,7 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut slope = Check::new(I::CompatibilitySlope);
     let mut intercept = Check::new(I::CompatibilityIntercept);
     let mut natural = Check::new(I::CompatibilityInterceptNatural);
-    let mut collapsed = Collapsed::new(lattice);
+    let mut collapsed = Collapsed::new(lattice, leg_sum);
     for (c, cell) in lattice.cells.iter().enumerate() {
         let [l1, l2, l3, l4] = legs[c];
         let scale = mean(&legs[c]);
@@ -271,7 +302,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             seed.record(rel((l4 - l1) - lattice.kappa(cell)), site);
         }
         // Right neighbour: B.UL = A.UR and B.LL = A.LR.
-        let right = inc.ul[cell.ur as usize];
+        let right = inc.at(cell.ur, UL);
         if right != NONE && lattice.cells[right as usize].ll == cell.lr {
             let b = &lattice.cells[right as usize];
             let [m1, m2, _, _] = legs[right as usize];
@@ -282,7 +313,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        let below = inc.ul[cell.ll as usize];
+        let below = inc.at(cell.ll, UL);
         if below != NONE && lattice.cells[below as usize].ur == cell.lr {
             let b = &lattice.cells[below as usize];
             let [m1, _, _, m4] = legs[below as usize];
@@ -297,8 +328,9 @@ pub fn verify(lattice: &Lattice) -> Report {
         // each vertex once, at the cell its incidence names, in the order
         // of the cells (that of their UL vertices), without a pass of its own.
         let v = cell.ul as usize;
-        let (a, b, cc, d) = (c as u32, inc.ll[v], inc.lr[v], inc.ur[v]);
-        if inc.ul[v] == a && ![b, cc, d].contains(&NONE) {
+        let [ul_of, ur_of, ll_of, lr_of] = inc.0[v];
+        let (a, b, cc, d) = (c as u32, ll_of, lr_of, ur_of);
+        if ul_of == a && ![b, cc, d].contains(&NONE) {
             let [a, b, cc, d] = [a, b, cc, d].map(|k| legs[k as usize]);
             // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
             let f = |la: f64, lb: f64, lc: f64| {
@@ -326,11 +358,8 @@ pub fn verify(lattice: &Lattice) -> Report {
         }
     }
 
-    // One sum of the mean legs serves the tolerance and the collapsed
-    // state's scale (the same sum, in the same order, as each made it).
-    let leg_sum: f64 = legs.iter().map(mean).sum();
-    let collapsed = collapsed.finish(lattice, &legs, leg_sum);
-    let tolerance = tolerance_with(lattice, leg_sum);
+    let (collapsed, extent) = collapsed.finish(lattice, &legs);
+    let tolerance = tolerance_of(lattice, leg_sum, extent);
     Report {
         tolerance,
         cells: lattice.cells.len(),
@@ -360,16 +389,22 @@ pub fn verify(lattice: &Lattice) -> Report {
 /// (`step`), with the rod lengths of the cell just swept: its corners' z
 /// are final then, unless some cell was not reached, when `finish`
 /// measures the rods again after the sweep, as they were measured before.
+/// A pivot's z is final once its cell is swept, so it is compared with
+/// the construction there; the vertices' after the sweep, and the two
+/// comparisons are joined as if the vertices' had come first.
 struct Collapsed {
     single: Check,
     rods: Check,
+    /// The pivots' comparison with the construction.
+    pivots: Check,
     z: Vec<f64>,
-    z_pivot: Vec<f64>,
+    /// The mean leg of the lattice: the scale of the comparison.
+    global: f64,
     all_reached: bool,
 }
 
 impl Collapsed {
-    fn new(lattice: &Lattice) -> Self {
+    fn new(lattice: &Lattice, leg_sum: f64) -> Self {
         use Invariant as I;
         let mut z = vec![f64::NAN; lattice.vertices.len()];
         if let Some(first) = z.first_mut() {
@@ -378,8 +413,9 @@ impl Collapsed {
         Self {
             single: Check::new(I::CollapsedSingleValued),
             rods: Check::new(I::CollapsedRodLength),
+            pivots: Check::new(I::CollapsedMatchesConstruction),
             z,
-            z_pivot: vec![f64::NAN; lattice.cells.len()],
+            global: leg_sum / lattice.cells.len().max(1) as f64,
             all_reached: true,
         }
     }
@@ -392,17 +428,23 @@ impl Collapsed {
         let z = &mut self.z;
         // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
         let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
-        let Some(zp) = offsets.iter().find_map(|&(v, off)| {
+        let found = offsets.iter().find_map(|&(v, off)| {
             let zv = z[v as usize];
             (!zv.is_nan()).then_some(zv - off)
-        }) else {
+        });
+        // An unreached pivot has no z: its comparison is NaN and fails.
+        let zp = found.unwrap_or(f64::NAN);
+        self.pivots.record(
+            (zp - cell.z_pivot) / (self.global + cell.z_pivot.abs()),
+            || lattice.cell_name(cell),
+        );
+        if found.is_none() {
             self.single.record(f64::NAN, || {
                 format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
             });
             self.all_reached = false;
             return;
-        };
-        self.z_pivot[c] = zp;
+        }
         for (corner, offset) in offsets {
             let expect = zp + offset;
             let slot = &mut z[corner as usize];
@@ -428,31 +470,29 @@ impl Collapsed {
     }
 
     /// The comparison with the construction, after the sweep.
-    fn finish(self, lattice: &Lattice, legs: &[Legs], leg_sum: f64) -> [Check; 3] {
+    /// Also the largest `vertex_extent`, measured in the same pass.
+    fn finish(self, lattice: &Lattice, legs: &[Legs]) -> ([Check; 3], f64) {
         let Self {
             single,
             mut rods,
+            pivots,
             z,
-            z_pivot,
+            global,
             all_reached,
         } = self;
         let mut matches = Check::new(Invariant::CollapsedMatchesConstruction);
-        let global = leg_sum / legs.len().max(1) as f64;
+        let mut extent: f64 = 0.0;
         for (v, vertex) in lattice.vertices.iter().enumerate() {
+            extent = extent.max(vertex_extent(vertex));
             matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
                 vertex_site(lattice, v)
             });
         }
+        let matches = matches.then(pivots);
         if !all_reached {
             rods = Check::new(Invariant::CollapsedRodLength);
-        }
-        for (c, cell) in lattice.cells.iter().enumerate() {
-            let site = || lattice.cell_name(cell);
-            matches.record(
-                (z_pivot[c] - cell.z_pivot) / (global + cell.z_pivot.abs()),
-                site,
-            );
-            if !all_reached {
+            for (c, cell) in lattice.cells.iter().enumerate() {
+                let site = || lattice.cell_name(cell);
                 let inv = 1.0 / mean(&legs[c]);
                 let [ul, ur, ll, lr] = lattice.corners(cell);
                 rods.record(
@@ -465,31 +505,17 @@ impl Collapsed {
                 );
             }
         }
-        [single, matches, rods]
+        ([single, matches, rods], extent)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
-    use crate::lattice::{Kind, RowParams, grow};
+    use crate::lattice::fixtures;
 
     fn sheet() -> Lattice {
-        let points: Vec<DVec3> = (0..4)
-            .map(|j| DVec3::new(10.0 * j as f64, 0.0, 0.0))
-            .collect();
-        let row = RowParams {
-            start: 1,
-            direction: Some(Direction::Angles {
-                angle_deg: 45.0,
-                tilt_deg: 0.0,
-            }),
-            left_leg: Leg::Match,
-            right_leg: Leg::Match,
-            ..RowParams::default()
-        };
-        grow(Kind::Sheet, 2, &points, &[0.0; 3], &vec![row; 3]).unwrap()
+        fixtures::sheet(&fixtures::line(3), &[0.0; 3], 1, 45.0, 3)
     }
 
     /// A cell reached through no corner fails the collapsed state, and the

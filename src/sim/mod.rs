@@ -14,7 +14,7 @@ pub use karigami_rods::{dual, frames, model, solver};
 pub use model::{Energies, Model, Section};
 pub use results::{StrainPeak, kabsch_distance, kabsch_fit};
 pub use solver::{Options, SolveError, Stats, System};
-pub use strips::{LatticeModel, Mesh, VertexJoint};
+pub use strips::{Hold, LatticeModel, Mesh, VertexJoint};
 
 use crate::lattice::Lattice;
 use crate::lattice::deploy::Deployment;
@@ -62,8 +62,10 @@ impl Material {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
     pub material: Material,
-    /// Reference-cell opening to deploy to (radians); None: the design's.
+    /// Opening to deploy to (radians), of the held measure; None: the design's.
     pub theta: Option<f64>,
+    /// What deployment holds: the mean opening of all cells, or cell 0's.
+    pub actuation: Actuation,
     /// Longest interior edge (mm).
     pub h_max: f64,
     pub vertex_joint: VertexJoint,
@@ -76,9 +78,37 @@ impl Default for Settings {
         Settings {
             material: Material::ABS,
             theta: None,
+            actuation: Actuation::Mean,
             h_max: 10.0,
             vertex_joint: VertexJoint::Eyelet,
             accept_overstrain: false,
+        }
+    }
+}
+
+/// The measure a maker holds while the rest of the lattice finds its
+/// equilibrium (docs/physics.md, "Deployment").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Actuation {
+    /// The mean opening of all cells: every cell may open more or less.
+    Mean,
+    /// The opening of the first cell (R00-C00), the others free.
+    FirstCell,
+}
+
+impl Actuation {
+    pub fn name(self) -> &'static str {
+        match self {
+            Actuation::Mean => "mean",
+            Actuation::FirstCell => "first-cell",
+        }
+    }
+
+    /// How reports name the held opening.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Actuation::Mean => "mean opening of all cells",
+            Actuation::FirstCell => "opening of the first cell",
         }
     }
 }
@@ -159,8 +189,8 @@ pub fn equilibrium(lm: &LatticeModel, stats: Stats, material: &Material) -> Equi
     }
 }
 
-/// The lattice's model, anchored at cell 0's pivot, with its opening
-/// prescribed at the design value.
+/// The lattice's model, anchored at cell 0's pivot, with the held opening
+/// (`Settings::actuation`) prescribed at the design value.
 pub fn prepare(lattice: &Lattice, width: f64, thickness: f64, settings: &Settings) -> LatticeModel {
     let section = settings.material.section(width, thickness);
     let mesh = Mesh {
@@ -171,14 +201,23 @@ pub fn prepare(lattice: &Lattice, width: f64, thickness: f64, settings: &Setting
     let mut lm = LatticeModel::new(lattice, section, mesh);
     if !lm.pivot.is_empty() {
         lm.anchor(0);
-        let phi = lm.opening(0);
-        lm.set_opening(0, phi);
+        match settings.actuation {
+            Actuation::Mean => {
+                let phi = lm.mean_opening();
+                lm.set_mean_opening(phi);
+            }
+            Actuation::FirstCell => {
+                let phi = lm.opening(0);
+                lm.set_opening(0, phi);
+            }
+        }
     }
     lm
 }
 
-/// Solve at the current prescribed opening, then step the opening of cell
-/// 0 to `theta` (at most `STEP` a step), solving after each step.
+/// Solve at the current prescribed opening, then step the held opening
+/// (one cell's or the mean) to `theta` (at most `STEP` a step), solving
+/// after each step.
 pub fn deploy(
     lm: &mut LatticeModel,
     theta: Option<f64>,
@@ -189,11 +228,11 @@ pub fn deploy(
     let mut stats = solve_checked(lm, &sys, opts, &mut total)?;
     let mut steps = 1;
     if let Some(target) = theta {
-        let start = lm.opening(0);
+        let start = lm.held_opening();
         let n = ((target - start).abs() / STEP).ceil() as usize;
         for k in 1..=n {
             let phi = start + (target - start) * k as f64 / n as f64;
-            lm.set_opening(0, phi);
+            lm.set_held_opening(phi);
             stats = solve_checked(lm, &sys, opts, &mut total)?;
             steps += 1;
         }
@@ -234,7 +273,7 @@ pub fn simulate(
     }
     let mut lm = prepare(lattice, width, thickness, settings);
     let (stats, iterations, steps) = deploy(&mut lm, settings.theta, &Options::default())?;
-    let theta = lm.opening(0);
+    let theta = lm.held_opening();
     let equilibrium = equilibrium(&lm, stats, &settings.material);
     Ok(Simulation {
         lm,

@@ -53,6 +53,20 @@ pub struct LatticeModel {
     pub start: Vec<DVec3>,
     /// Each rod's face normal in the start state.
     pub normals: Vec<DVec3>,
+    /// What deployment holds (`hold_cell`, `hold_mean`).
+    pub hold: Hold,
+}
+
+/// The measure of the deployment that is prescribed (PHYSICS.md 6,
+/// docs/physics.md "Deployment").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Hold {
+    /// Nothing yet: only rigid motions are removed.
+    Nothing,
+    /// The opening of one cell.
+    Cell(usize),
+    /// The mean opening of all cells, each cell free to differ from it.
+    Mean,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -420,6 +434,7 @@ impl LatticeModel {
             vertex,
             start: Vec::new(),
             normals,
+            hold: Hold::Nothing,
         };
         lm.start = lm.points();
         lm
@@ -451,9 +466,92 @@ impl LatticeModel {
 
     /// Prescribe the opening of cell c (its delta becomes fixed).
     pub fn set_opening(&mut self, c: usize, phi: f64) {
+        if self.hold == Hold::Mean {
+            // Back from the mean hold: the openings become free variables
+            // again and the z variables of the mean, now unused, are fixed.
+            let m = &mut self.model;
+            for t in std::mem::take(&mut m.ties) {
+                m.fixed[t.var] = false;
+                for (u, _) in t.terms {
+                    m.fixed[u] = true;
+                }
+            }
+            self.hold = Hold::Nothing;
+        }
         let (v, s) = self.delta[c];
         self.model.q[v] = s * phi;
         self.model.fixed[v] = true;
+        self.hold = Hold::Cell(c);
+    }
+
+    /// Mean opening of all cells now.
+    pub fn mean_opening(&self) -> f64 {
+        let n = self.delta.len().max(1) as f64;
+        (0..self.delta.len()).map(|c| self.opening(c)).sum::<f64>() / n
+    }
+
+    /// Prescribe the mean opening of all cells, each cell free to differ
+    /// from it. The constraint is eliminated exactly (`Model::ties`): with
+    /// one new variable z_c per cell (z of the last cell fixed at 0, a
+    /// gauge), phi_c = phi + z_c - z_(c-1), cyclically, so the deviations
+    /// sum to zero whatever the z. Each opening depends on two z only,
+    /// which keeps the Hessian sparse (eliminating one cell's opening
+    /// instead would couple it to every other cell).
+    pub fn set_mean_opening(&mut self, phi: f64) {
+        let n = self.delta.len();
+        if n == 0 {
+            return;
+        }
+        if self.hold != Hold::Mean {
+            let mean = self.mean_opening();
+            let delta = self.delta.clone();
+            let m = &mut self.model;
+            m.ties.retain(|t| !delta.iter().any(|d| d.0 == t.var));
+            // z_c from the openings now: their partial sums of deviations.
+            let mut z = vec![0.0; n];
+            let mut acc = 0.0;
+            for (c, &(v, s)) in delta.iter().enumerate().take(n - 1) {
+                acc += s * m.q[v] - mean;
+                z[c] = acc;
+            }
+            let first = m.add_vars(&z, super::model::VarKind::Angle);
+            m.fixed[first + n - 1] = true;
+            for (c, &(v, s)) in delta.iter().enumerate() {
+                let prev = first + (c + n - 1) % n;
+                m.fixed[v] = true;
+                m.ties.push(super::model::Tie {
+                    var: v,
+                    terms: vec![(first + c, s), (prev, -s)],
+                    offset: s * mean,
+                });
+            }
+            self.hold = Hold::Mean;
+        }
+        let m = &mut self.model;
+        for t in m.ties.iter_mut() {
+            if let Some(&(_, s)) = self.delta.iter().find(|d| d.0 == t.var) {
+                t.offset = s * phi;
+            }
+        }
+        m.apply_ties();
+    }
+
+    /// The held measure now: the held cell's or the mean opening.
+    pub fn held_opening(&self) -> f64 {
+        match self.hold {
+            Hold::Mean => self.mean_opening(),
+            Hold::Cell(c) => self.opening(c),
+            Hold::Nothing => self.opening(0),
+        }
+    }
+
+    /// Prescribe the held measure (cell 0 when nothing is held yet).
+    pub fn set_held_opening(&mut self, phi: f64) {
+        match self.hold {
+            Hold::Mean => self.set_mean_opening(phi),
+            Hold::Cell(c) => self.set_opening(c, phi),
+            Hold::Nothing => self.set_opening(0, phi),
+        }
     }
 
     /// Remove the rigid motions: fix the position, tilt and first rod's

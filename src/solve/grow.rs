@@ -3,8 +3,8 @@
 //! so that the recipe layer never calls a search.
 
 use crate::design::Design;
-use crate::diagnostic::Diagnostic;
-use crate::lattice::{Kind, Lattice, grow, grow_helix};
+use crate::diagnostic::{Diagnostic, ErrorKind};
+use crate::lattice::{Kind, Lattice, Stacking, grow, grow_helix};
 
 impl Design {
     /// Grow the lattice; errors point at the recipe text that caused them.
@@ -14,11 +14,26 @@ impl Design {
 
     /// `grow`, telling `progress` about each fitted row (long fits).
     pub fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
+        let columns = self.clash.stacking == Stacking::Columns;
+        let n = self.points.len();
+        if columns && (self.kind != Kind::Loop || n % 2 != 0) {
+            return Err(Diagnostic::new(
+                ErrorKind::StackingNeedsEvenLoop,
+                format!(
+                    "clash.stacking = \"columns\" needs a loop of an even number of columns, but this seed is a {} of {n} points",
+                    self.kind.name()
+                ),
+            )
+            .at_opt(self.clash.span.clone())
+            .hint("use stacking = \"rows\", or give the loop an even number of points"));
+        }
         let result = match (self.kind, &self.fit) {
             (Kind::Helix, _) => grow_helix(self.dim, &self.points, &self.kappa, self.helix_cells),
             (_, Some(f)) => super::fit::grow(self, f, progress),
             _ => grow(self.kind, self.dim, &self.points, &self.kappa, &self.rows),
         };
-        result.map_err(|e| self.locate(e))
+        let mut lattice = result.map_err(|e| self.locate(e))?;
+        lattice.stacking = self.clash.stacking;
+        Ok(lattice)
     }
 }

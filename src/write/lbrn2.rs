@@ -9,13 +9,19 @@
 //! shapes placed by their `XForm`; paths are `Path` shapes whose `VertList`
 //! holds the vertices (with Bezier control points `c0` leaving and `c1`
 //! arriving) and whose `PrimList` joins them with lines (`L a b`) or cubic
-//! Beziers (`B a b`). LightBurn's y axis points up, so y is flipped. The
+//! Beziers (`B a b`), their coordinates relative to the shape's `XForm`.
+//! Identical geometry is written once, as LightBurn saves copies: later
+//! shapes name its `VertID`/`PrimID` (see `Shared`), so a sheet of copies of
+//! a few strip types stays small. One shape a line, no indentation.
+//! LightBurn's y axis points up, so y is flipped. The
 //! test piece is a `Group` shape whose `Children` are its holes, outline and
 //! labels.
 
-use super::number::num;
+use super::number::{fixed, num, units};
 use crate::drawing::{Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, text};
 use glam::DVec2;
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
 
 /// LightBurn's first palette entries (layer index = colour), for choosing
@@ -84,18 +90,58 @@ impl PathData {
     }
 }
 
-fn path_shape(out: &mut String, cut: usize, data: &PathData, flip: &dyn Fn(DVec2) -> DVec2) {
+/// Path geometry already written, keyed by its text relative to its first
+/// vertex. This is how LightBurn itself saves copies: the first shape holds
+/// the `VertList`/`PrimList` under a `VertID`/`PrimID`, and every later shape
+/// with the same geometry names those IDs and is placed by its `XForm` alone.
+/// A sheet of identical strips then costs one short line a shape.
+#[derive(Default)]
+struct Shared {
+    verts: HashMap<String, usize>,
+    prims: HashMap<String, usize>,
+}
+
+impl Shared {
+    /// The ID of `text` in `table`, and whether it is new (to be written).
+    fn id(table: &mut HashMap<String, usize>, text: String) -> (usize, Option<String>) {
+        let next = table.len();
+        match table.entry(text) {
+            Entry::Occupied(e) => (*e.get(), None),
+            Entry::Vacant(e) => {
+                let text = e.key().clone();
+                e.insert(next);
+                (next, Some(text))
+            }
+        }
+    }
+}
+
+fn path_shape(
+    out: &mut String,
+    cut: usize,
+    data: &PathData,
+    flip: &dyn Fn(DVec2) -> DVec2,
+    shared: &mut Shared,
+) {
+    // The first vertex is placed by the XForm, on the 0.1 um grid; the
+    // others are their offsets from it, rounded to the grid (so that copies
+    // read the same: each vertex is within 0.1 um of where it belongs).
+    let origin = flip(data.verts[0].0);
+    let rel = |p: DVec2| {
+        let d = flip(p) - origin;
+        (fixed(units(d.x)), fixed(units(d.y)))
+    };
     let mut verts = String::new();
     for &(p, c0, c1) in &data.verts {
-        let p = flip(p);
-        let _ = write!(verts, "V{} {}", num(p.x), num(p.y));
+        let (x, y) = rel(p);
+        let _ = write!(verts, "V{x} {y}");
         if let Some(c) = c0 {
-            let c = flip(c);
-            let _ = write!(verts, "c0x{}c0y{}", num(c.x), num(c.y));
+            let (x, y) = rel(c);
+            let _ = write!(verts, "c0x{x}c0y{y}");
         }
         if let Some(c) = c1 {
-            let c = flip(c);
-            let _ = write!(verts, "c1x{}c1y{}", num(c.x), num(c.y));
+            let (x, y) = rel(c);
+            let _ = write!(verts, "c1x{x}c1y{y}");
         }
     }
     let prims: String = data
@@ -103,19 +149,36 @@ fn path_shape(out: &mut String, cut: usize, data: &PathData, flip: &dyn Fn(DVec2
         .iter()
         .map(|&(bezier, a, b)| format!("{}{a} {b}", if bezier { 'B' } else { 'L' }))
         .collect();
-    let _ = writeln!(
+    let (vid, verts) = Shared::id(&mut shared.verts, verts);
+    let (pid, prims) = Shared::id(&mut shared.prims, prims);
+    let _ = write!(
         out,
-        "    <Shape Type=\"Path\" CutIndex=\"{cut}\">\n        <XForm>1 0 0 1 0 0</XForm>\n        <VertList>{verts}</VertList>\n        <PrimList>{prims}</PrimList>\n    </Shape>"
+        "<Shape Type=\"Path\" CutIndex=\"{cut}\" VertID=\"{vid}\" PrimID=\"{pid}\"><XForm>1 0 0 1 {} {}</XForm>",
+        num(origin.x),
+        num(origin.y)
     );
+    if let Some(v) = verts {
+        let _ = write!(out, "<VertList>{v}</VertList>");
+    }
+    if let Some(p) = prims {
+        let _ = write!(out, "<PrimList>{p}</PrimList>");
+    }
+    out.push_str("</Shape>\n");
 }
 
-fn shape(out: &mut String, cut: usize, item: &Item, flip: &dyn Fn(DVec2) -> DVec2) {
+fn shape(
+    out: &mut String,
+    cut: usize,
+    item: &Item,
+    flip: &dyn Fn(DVec2) -> DVec2,
+    shared: &mut Shared,
+) {
     match &item.shape {
         Shape::Circle { center, radius } => {
             let c = flip(*center);
             let _ = writeln!(
                 out,
-                "    <Shape Type=\"Ellipse\" CutIndex=\"{cut}\" Rx=\"{r}\" Ry=\"{r}\">\n        <XForm>1 0 0 1 {} {}</XForm>\n    </Shape>",
+                "<Shape Type=\"Ellipse\" CutIndex=\"{cut}\" Rx=\"{r}\" Ry=\"{r}\"><XForm>1 0 0 1 {} {}</XForm></Shape>",
                 num(c.x),
                 num(c.y),
                 r = num(*radius)
@@ -156,7 +219,7 @@ fn shape(out: &mut String, cut: usize, item: &Item, flip: &dyn Fn(DVec2) -> DVec
             if *closed && current.distance(*start) >= 1e-9 {
                 data.line_to(*start, true);
             }
-            path_shape(out, cut, &data, flip);
+            path_shape(out, cut, &data, flip, shared);
         }
         t @ Shape::Text { .. } => {
             for stroke in text::strokes(t) {
@@ -164,7 +227,7 @@ fn shape(out: &mut String, cut: usize, item: &Item, flip: &dyn Fn(DVec2) -> DVec
                 for &p in &stroke[1..] {
                     data.line_to(p, false);
                 }
-                path_shape(out, cut, &data, flip);
+                path_shape(out, cut, &data, flip, shared);
             }
         }
     }
@@ -205,18 +268,25 @@ pub fn write(page: &Page) -> Vec<u8> {
             output as u8
         );
     }
+    let mut shared = Shared::default();
     // Holes before outlines within each part, as in the SVG. The test piece
     // is one LightBurn group, so one click selects it to cut it alone.
     for g in &page.groups {
         let grouped = g.id == TEST_PIECE_ID;
         if grouped {
-            out.push_str("    <Shape Type=\"Group\">\n        <XForm>1 0 0 1 0 0</XForm>\n        <Children>\n");
+            out.push_str("<Shape Type=\"Group\"><XForm>1 0 0 1 0 0</XForm><Children>\n");
         }
         for item in g.items.iter().filter(|i| i.layer != Layer::Art) {
-            shape(&mut out, index[item.layer as usize], item, &flip);
+            shape(
+                &mut out,
+                index[item.layer as usize],
+                item,
+                &flip,
+                &mut shared,
+            );
         }
         if grouped {
-            out.push_str("        </Children>\n    </Shape>\n");
+            out.push_str("</Children></Shape>\n");
         }
     }
     let notes: Vec<String> = page

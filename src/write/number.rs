@@ -21,8 +21,16 @@ pub fn num(x: f64) -> String {
     if s == "-0" { "0".to_string() } else { s }
 }
 
+/// `x` in ten-thousandths, rounded: the grid `num` prints on. Writers that
+/// print differences (relative path commands, shapes placed by an offset)
+/// take them between grid points, so that the sums readers form land on
+/// the grid exactly and no rounding error accumulates along a path.
+pub fn units(x: f64) -> i64 {
+    (x * 1e4).round() as i64
+}
+
 /// `units` ten-thousandths as decimal text, trailing zeros trimmed.
-fn fixed(units: i64) -> String {
+pub fn fixed(units: i64) -> String {
     let (whole, mut frac) = (units.unsigned_abs() / 10_000, units.unsigned_abs() % 10_000);
     let mut s = String::with_capacity(16);
     if units < 0 {

@@ -1,24 +1,42 @@
 //! SVG cut files: root size in mm with a matching viewBox (one user unit is
 //! one millimetre), hairline strokes, one pure colour per layer, holes before
-//! outlines, true circles, each strip in a `<g>` named by its ID.
+//! outlines, true circles, each strip in a `<g>` named by its ID. Compact:
+//! `fill="none"` and the hairline width set once on the root and inherited,
+//! paths in relative commands (see `path_data`).
 
-use super::number::num;
+use super::number::{fixed, num, units};
 use crate::drawing::{Group, Item, Page, Segment, Shape};
 use std::fmt::Write as _;
 
 /// Stroke width in mm: a hairline that laser software reads as a cut line.
 pub const HAIRLINE: f64 = 0.025;
 
-fn path_data(start: glam::DVec2, segments: &[Segment], closed: bool) -> String {
-    let mut d = format!("M{} {}", num(start.x), num(start.y));
+/// Path data in relative commands (`h`, `v`, `l`, `a`) after an absolute
+/// `M`: the offsets are taken between points rounded to the 0.1 um grid, so
+/// a reader's running sum lands on each rounded point exactly.
+fn path_data(d: &mut String, start: glam::DVec2, segments: &[Segment], closed: bool) {
+    let q = |p: glam::DVec2| (units(p.x), units(p.y));
+    let _ = write!(d, "M{} {}", num(start.x), num(start.y));
     let mut current = start;
+    let mut at = q(start);
     for s in segments {
+        let to = match *s {
+            Segment::Line(p) | Segment::Arc { to: p, .. } => p,
+        };
+        let next = q(to);
+        let (dx, dy) = (fixed(next.0 - at.0), fixed(next.1 - at.1));
         match *s {
-            Segment::Line(p) => d.push_str(&format!(" L{} {}", num(p.x), num(p.y))),
+            Segment::Line(_) if next.1 == at.1 => {
+                let _ = write!(d, "h{dx}");
+            }
+            Segment::Line(_) if next.0 == at.0 => {
+                let _ = write!(d, "v{dy}");
+            }
+            Segment::Line(_) => {
+                let _ = write!(d, "l{dx} {dy}");
+            }
             Segment::Arc {
-                to,
-                center,
-                clockwise,
+                center, clockwise, ..
             } => {
                 let (_, sweep) = crate::drawing::arc_angles(current, to, center, clockwise);
                 let r = num((current - center).length());
@@ -28,22 +46,15 @@ fn path_data(start: glam::DVec2, segments: &[Segment], closed: bool) -> String {
                     0
                 };
                 // SVG's sweep flag 1 turns towards positive angles: clockwise on a y-down page.
-                d.push_str(&format!(
-                    " A{r} {r} 0 {large} {} {} {}",
-                    clockwise as u8,
-                    num(to.x),
-                    num(to.y)
-                ));
+                let _ = write!(d, "a{r} {r} 0 {large} {} {dx} {dy}", clockwise as u8);
             }
         }
-        current = match *s {
-            Segment::Line(p) | Segment::Arc { to: p, .. } => p,
-        };
+        current = to;
+        at = next;
     }
     if closed {
-        d.push_str(" Z");
+        d.push('z');
     }
-    d
 }
 
 fn hex([r, g, b]: [u8; 3]) -> String {
@@ -51,7 +62,8 @@ fn hex([r, g, b]: [u8; 3]) -> String {
 }
 
 /// One item, painted with its ink (cut layers: a hairline in the layer
-/// colour), as one element on a line of its own. Attributes in name order.
+/// colour), as one element on a line of its own. Attributes in name order;
+/// `fill="none"` and the hairline width are inherited from the root.
 fn item(out: &mut String, item: &Item) {
     let class = item.layer.name();
     match &item.shape {
@@ -69,38 +81,25 @@ fn item(out: &mut String, item: &Item) {
             segments,
             closed,
         } => {
-            let _ = write!(
-                out,
-                "\n<path class=\"{}\" d=\"{}\"",
-                attr(class),
-                path_data(*start, segments, *closed)
-            );
+            let _ = write!(out, "\n<path class=\"{}\" d=\"", attr(class));
+            path_data(out, *start, segments, *closed);
+            out.push('"');
         }
         // Text as single strokes: no fonts needed, and a laser scores it in one pass.
         text @ Shape::Text { .. } => {
-            let d: Vec<String> = crate::drawing::text::strokes(text)
-                .iter()
-                .map(|s| {
-                    let segments: Vec<Segment> = s[1..].iter().map(|&p| Segment::Line(p)).collect();
-                    path_data(s[0], &segments, false)
-                })
-                .collect();
-            let _ = write!(
-                out,
-                "\n<path class=\"{}\" d=\"{}\"",
-                attr(class),
-                d.join(" ")
-            );
+            let _ = write!(out, "\n<path class=\"{}\" d=\"", attr(class));
+            for s in crate::drawing::text::strokes(text) {
+                let segments: Vec<Segment> = s[1..].iter().map(|&p| Segment::Line(p)).collect();
+                path_data(out, s[0], &segments, false);
+            }
+            out.push('"');
         }
     }
     let ink = item.ink;
     let is_text = matches!(item.shape, Shape::Text { .. });
-    let fill = if is_text {
-        "none".into()
-    } else {
-        ink.fill.map_or("none".into(), hex)
-    };
-    let _ = write!(out, " fill=\"{fill}\"");
+    if let (false, Some(fill)) = (is_text, ink.fill) {
+        let _ = write!(out, " fill=\"{}\"", hex(fill));
+    }
     if let Shape::Circle { radius, .. } = &item.shape {
         let _ = write!(out, " r=\"{}\"", num(*radius));
     }
@@ -111,12 +110,11 @@ fn item(out: &mut String, item: &Item) {
             } else {
                 ink.width
             };
-            let _ = write!(
-                out,
-                " stroke=\"{}\" stroke-width=\"{}\"/>",
-                hex(c),
-                num(width)
-            );
+            let _ = write!(out, " stroke=\"{}\"", hex(c));
+            if num(width) != num(HAIRLINE) {
+                let _ = write!(out, " stroke-width=\"{}\"", num(width));
+            }
+            out.push_str("/>");
         }
         None => out.push_str(" stroke=\"none\"/>"),
     }
@@ -148,11 +146,12 @@ pub fn write(page: &Page) -> Vec<u8> {
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = write!(
         out,
-        "<svg height=\"{h}mm\" viewBox=\"0 0 {w} {h}\" width=\"{w}mm\" xmlns=\"http://www.w3.org/2000/svg\">\n<title>{}</title>\n<metadata>\n{}\n</metadata>",
+        "<svg fill=\"none\" height=\"{h}mm\" stroke-width=\"{hairline}\" viewBox=\"0 0 {w} {h}\" width=\"{w}mm\" xmlns=\"http://www.w3.org/2000/svg\">\n<title>{}</title>\n<metadata>\n{}\n</metadata>",
         escape(&printable(&page.title)),
         escape(&text),
         w = num(page.width),
         h = num(page.height),
+        hairline = num(HAIRLINE),
     );
     for g in &page.groups {
         group(&mut out, g);

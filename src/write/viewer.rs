@@ -4,10 +4,10 @@
 //! data as JSON, so the page needs no network. Same build -> same bytes.
 
 use super::number::num;
+use crate::assembly::Step;
 use crate::design::Design;
 use crate::drawing::picture::Camera;
 use crate::fabrication::Fabrication;
-use crate::guide::{Step, steps};
 use crate::lattice::deploy::Deployment;
 use crate::lattice::{Kind, Lattice, RodType};
 use crate::layout::Layout;
@@ -29,7 +29,7 @@ pub struct Scene<'a> {
     pub parts: &'a Parts,
     pub layout: &'a Layout,
     pub deployment: &'a Deployment,
-    pub steps: Vec<Step>,
+    pub steps: &'a [Step],
     /// A simulated deployed shape (one position per vertex, then one per
     /// cell pivot, like the designed one), when a simulation exists.
     pub simulated: Option<Vec<DVec3>>,
@@ -43,6 +43,7 @@ impl<'a> Scene<'a> {
         parts: &'a Parts,
         layout: &'a Layout,
         deployment: &'a Deployment,
+        steps: &'a [Step],
     ) -> Self {
         Self {
             design,
@@ -51,7 +52,7 @@ impl<'a> Scene<'a> {
             parts,
             layout,
             deployment,
-            steps: steps(lattice),
+            steps,
             simulated: None,
         }
     }

@@ -142,6 +142,8 @@ pub struct Model {
     pub joints: Vec<Joint>,
     pub rods: Vec<RodPath>,
     pub stencils: Vec<Stencil>,
+    /// Variables tied to others (they are also marked fixed).
+    pub ties: Vec<Tie>,
     /// Energy scale E_s = B_flat / mean leg (N mm).
     pub e_scale: f64,
 }
@@ -174,6 +176,17 @@ pub struct Reduction {
     pub columns: Vec<Vec<(usize, f64)>>,
 }
 
+/// A variable eliminated by a linear constraint: `q[var] = offset + sum
+/// coef q[u]` over `terms`. The solver moves the terms and recomputes the
+/// variable (exact, no penalty); used to hold the mean opening of all
+/// cells (docs/physics.md, "Deployment").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tie {
+    pub var: usize,
+    pub terms: Vec<(usize, f64)>,
+    pub offset: f64,
+}
+
 /// Parts of the energy (N mm).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Energies {
@@ -201,6 +214,7 @@ impl Model {
             joints: Vec::new(),
             rods: Vec::new(),
             stencils: Vec::new(),
+            ties: Vec::new(),
             e_scale,
         }
     }
@@ -300,6 +314,13 @@ impl Model {
             v.extend(&sl.angle[..sl.terms]);
         }
         v
+    }
+
+    /// Recompute every tied variable from its terms.
+    pub fn apply_ties(&mut self) {
+        for t in &self.ties {
+            self.q[t.var] = t.offset + t.terms.iter().map(|&(u, c)| c * self.q[u]).sum::<f64>();
+        }
     }
 
     /// Total energy at the current state (frames as stored).
@@ -632,6 +653,51 @@ fn slot_dir<S: Scalar>(
 }
 
 fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S> {
+    node_pos_in(m, get, node, &mut Dirs::new())
+}
+
+/// The directions (u, n) of the joint slots a stencil touches, each
+/// computed once: a bend stencil next to a joint needs its slot for an
+/// arm tip's position and again for the arm's frame, and the joint frame
+/// (a unit vector and two transports in duals) is a large part of the
+/// stencil's cost. The same arithmetic, so the same numbers.
+struct Dirs<S> {
+    known: [Option<(usize, usize, V3<S>, V3<S>)>; 4],
+}
+
+impl<S: Scalar> Dirs<S> {
+    #[inline(always)]
+    fn new() -> Self {
+        Dirs { known: [None; 4] }
+    }
+
+    #[inline(always)]
+    fn get(
+        &mut self,
+        m: &Model,
+        get: &dyn Fn(usize) -> S,
+        j: usize,
+        slot: usize,
+    ) -> (V3<S>, V3<S>) {
+        for k in self.known.iter().flatten() {
+            if k.0 == j && k.1 == slot {
+                return (k.2, k.3);
+            }
+        }
+        let (u, n) = slot_dir(m, get, j, slot);
+        if let Some(free) = self.known.iter_mut().find(|k| k.is_none()) {
+            *free = Some((j, slot, u, n));
+        }
+        (u, n)
+    }
+}
+
+fn node_pos_in<S: Scalar>(
+    m: &Model,
+    get: &dyn Fn(usize) -> S,
+    node: Node,
+    dirs: &mut Dirs<S>,
+) -> V3<S> {
     match node {
         Node::Free(i) => V3::new(get(i), get(i + 1), get(i + 2)),
         Node::Hole(j) => {
@@ -640,17 +706,27 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
         }
         Node::Arm { joint, slot, r } => {
             let x = m.joints[joint].x;
-            let (u, _) = slot_dir(m, get, joint, slot);
+            let (u, _) = dirs.get(m, get, joint, slot);
             V3::new(get(x), get(x + 1), get(x + 2)).add(u.scalef(r))
         }
     }
 }
 
 fn frame_of<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, e: &Edge, t: V3<S>) -> (V3<S>, V3<S>) {
+    frame_of_in(m, get, e, t, &mut Dirs::new())
+}
+
+fn frame_of_in<S: Scalar>(
+    m: &Model,
+    get: &dyn Fn(usize) -> S,
+    e: &Edge,
+    t: V3<S>,
+    dirs: &mut Dirs<S>,
+) -> (V3<S>, V3<S>) {
     match e.frame {
         Frame::Ref { ts, as_, theta } => material(ts, as_, t, get(theta)),
         Frame::Arm { joint, slot, sigma } => {
-            let (u, n) = slot_dir(m, get, joint, slot);
+            let (u, n) = dirs.get(m, get, joint, slot);
             let d2 = n.scalef(sigma);
             (d2.cross(u), d2)
         }
@@ -671,11 +747,14 @@ fn stencil_energy<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, s: &Stencil) -
         }
         Stencil::Bend { e0, e1, lbar, .. } => {
             let (a, b) = (&m.edges[e0], &m.edges[e1]);
-            let (x0, x1, x2) = (pos(a.a), pos(a.b), pos(b.b));
+            let mut dirs = Dirs::new();
+            let x0 = node_pos_in(m, get, m.nodes[a.a], &mut dirs);
+            let x1 = node_pos_in(m, get, m.nodes[a.b], &mut dirs);
+            let x2 = node_pos_in(m, get, m.nodes[b.b], &mut dirs);
             let t0 = x1.sub(x0).unit();
             let t1 = x2.sub(x1).unit();
-            let (d10, d20) = frame_of(m, get, a, t0);
-            let (d11, d21) = frame_of(m, get, b, t1);
+            let (d10, d20) = frame_of_in(m, get, a, t0, &mut dirs);
+            let (d11, d21) = frame_of_in(m, get, b, t1, &mut dirs);
             let (c, b) = (t0.dot(t1), t0.cross(t1));
             let kb = b.scale((c + 1.0).recip() * 2.0);
             // kb.(d2_0 + d2_1): one dot product instead of two.

@@ -17,10 +17,16 @@ pub struct System {
     /// Free index of each variable, or usize::MAX when fixed.
     pub free_index: Vec<usize>,
     pub free_vars: Vec<usize>,
+    /// Tied variables (`Model::ties`): (variable, [(free index, coef)]).
+    tied: Vec<(usize, Vec<(usize, f64)>)>,
     stencil_vars: Vec<Vec<usize>>,
     /// Each stencil's reduction to fewer dual variables.
     reductions: Vec<Reduction>,
-    /// For each stencil, the value slot of each local pair (a, b) whose
+    /// For each stencil, its local variables expanded over free ones:
+    /// (local index, coefficient); a tied variable gives one entry per
+    /// free term, a fixed one none.
+    stencil_entries: Vec<Vec<(u32, f64)>>,
+    /// For each stencil, the value slot of each entry pair (p, q) whose
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
     pattern: SymbolicSparseColMat<usize>,
@@ -41,6 +47,28 @@ impl System {
             }
         }
         let n = free_vars.len();
+        // Every variable over the free ones: (free index, coefficient).
+        let mut expand: Vec<Vec<(usize, f64)>> = free_index
+            .iter()
+            .map(|&f| {
+                if f == usize::MAX {
+                    vec![]
+                } else {
+                    vec![(f, 1.0)]
+                }
+            })
+            .collect();
+        let mut tied = Vec::new();
+        for t in &model.ties {
+            let terms: Vec<(usize, f64)> = t
+                .terms
+                .iter()
+                .filter(|&&(u, _)| free_index[u] != usize::MAX)
+                .map(|&(u, c)| (free_index[u], c))
+                .collect();
+            expand[t.var] = terms.clone();
+            tied.push((t.var, terms));
+        }
         let stencil_vars: Vec<Vec<usize>> = model
             .stencils
             .iter()
@@ -52,12 +80,21 @@ impl System {
             .zip(&stencil_vars)
             .map(|(s, vars)| model.reduction(s, vars))
             .collect();
+        // (local index, free index, coefficient) of each stencil.
+        let entries: Vec<Vec<(usize, usize, f64)>> = stencil_vars
+            .iter()
+            .map(|vars| {
+                vars.iter()
+                    .enumerate()
+                    .flat_map(|(a, &v)| expand[v].iter().map(move |&(f, c)| (a, f, c)))
+                    .collect()
+            })
+            .collect();
         let mut cols: Vec<Vec<usize>> = (0..n).map(|c| vec![c]).collect();
-        for vars in &stencil_vars {
-            for &a in vars {
-                for &b in vars {
-                    let (fa, fb) = (free_index[a], free_index[b]);
-                    if fa != usize::MAX && fb != usize::MAX && fa > fb {
+        for list in &entries {
+            for &(_, fa, _) in list {
+                for &(_, fb, _) in list {
+                    if fa > fb {
                         cols[fb].push(fa);
                     }
                 }
@@ -75,21 +112,24 @@ impl System {
             let range = col_ptr[col]..col_ptr[col + 1];
             col_ptr[col] + row_idx[range].binary_search(&row).expect("in the pattern")
         };
-        let stencil_pos = stencil_vars
+        let stencil_pos = entries
             .iter()
-            .map(|vars| {
-                let k = vars.len();
+            .map(|list| {
+                let k = list.len();
                 let mut pos = vec![NONE; k * k];
-                for (a, &va) in vars.iter().enumerate() {
-                    for (b, &vb) in vars.iter().enumerate() {
-                        let (fa, fb) = (free_index[va], free_index[vb]);
-                        if fa != usize::MAX && fb != usize::MAX && fa >= fb {
-                            pos[a * k + b] = slot(fa, fb) as u32;
+                for (p, &(_, fa, _)) in list.iter().enumerate() {
+                    for (q, &(_, fb, _)) in list.iter().enumerate() {
+                        if fa >= fb {
+                            pos[p * k + q] = slot(fa, fb) as u32;
                         }
                     }
                 }
                 pos
             })
+            .collect();
+        let stencil_entries = entries
+            .iter()
+            .map(|list| list.iter().map(|&(a, _, c)| (a as u32, c)).collect())
             .collect();
         let diag_pos = (0..n).map(|c| slot(c, c)).collect();
         let dm = free_vars
@@ -105,8 +145,10 @@ impl System {
         System {
             free_index,
             free_vars,
+            tied,
             stencil_vars,
             reductions,
+            stencil_entries,
             stencil_pos,
             pattern,
             symbolic,
@@ -129,18 +171,35 @@ impl System {
             let (es, gs, hs) = model.stencil_derivatives_with(st, vars, &self.reductions[s]);
             e += es;
             let k = vars.len();
-            let pos = &self.stencil_pos[s];
             for a in 0..k {
                 g[vars[a]] += gs[a];
-                for b in 0..k {
-                    let p = pos[a * k + b];
-                    if p != NONE {
-                        h[p as usize] += hs[a * k + b];
+            }
+            let entries = &self.stencil_entries[s];
+            let ne = entries.len();
+            let pos = &self.stencil_pos[s];
+            for (p, &(a, ca)) in entries.iter().enumerate() {
+                let row = &hs[a as usize * k..(a as usize + 1) * k];
+                for (q, &(b, cb)) in entries.iter().enumerate() {
+                    let slot = pos[p * ne + q];
+                    if slot != NONE {
+                        h[slot as usize] += ca * cb * row[b as usize];
                     }
                 }
             }
         }
         (e, g, h)
+    }
+
+    /// The gradient over the free variables (tied variables' parts moved
+    /// onto their terms).
+    pub fn free_gradient(&self, g: &[f64]) -> Vec<f64> {
+        let mut gf: Vec<f64> = self.free_vars.iter().map(|&v| g[v]).collect();
+        for (v, terms) in &self.tied {
+            for &(f, c) in terms {
+                gf[f] += c * g[*v];
+            }
+        }
+        gf
     }
 
     /// The largest diagonal entry of `h` over the variables' scales: the
@@ -288,7 +347,7 @@ fn newton_step(
     if g.iter().any(|v| !v.is_finite()) {
         return None;
     }
-    let gf: Vec<f64> = sys.free_vars.iter().map(|&v| g[v]).collect();
+    let gf = sys.free_gradient(&g);
     let h_s = sys.diagonal_scale(&h);
     let mut tau = 0.0;
     let llt = loop {
@@ -329,6 +388,7 @@ fn apply(sys: &System, model: &mut Model, d: &[f64], scale: f64) {
     for (k, &v) in sys.free_vars.iter().enumerate() {
         model.q[v] += scale * d[k];
     }
+    model.apply_ties();
 }
 
 /// Largest step component: lengths (mm) and angles (rad).
@@ -423,10 +483,10 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
 pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -> Stats {
     let (e, g, h) = sys.assemble(model);
     let (mut force, mut moment) = (0.0f64, 0.0f64);
-    for &v in &sys.free_vars {
+    for (&v, gv) in sys.free_vars.iter().zip(sys.free_gradient(&g)) {
         match model.kinds[v] {
-            VarKind::Length => force = force.max(g[v].abs()),
-            VarKind::Angle => moment = moment.max(g[v].abs()),
+            VarKind::Length => force = force.max(gv.abs()),
+            VarKind::Angle => moment = moment.max(gv.abs()),
         }
     }
     let lambda_min = match sys.factor(&h, 0.0) {

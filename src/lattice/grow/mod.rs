@@ -164,6 +164,7 @@ impl Grower {
             vertices: Vec::with_capacity(points.len()),
             cells: Vec::new(),
             fronts: Vec::new(),
+            stacking: Default::default(),
         };
         seed_front(&mut lattice, points, kappa)?;
         if closed {

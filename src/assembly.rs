@@ -2,8 +2,12 @@
 //! helices). Each step
 //! pairs the row's strips at their scissor pivots, then closes every vertex
 //! joint whose last strip arrives in this row, stacked in layer order.
+//!
+//! The order is a fact of the lattice, not of the guide that prints it: the
+//! pipeline computes it once (`Build::steps`) for the guide, the viewer, the
+//! report and cutting by step, so this sits just above `lattice`.
 
-use crate::lattice::{Joint, Lattice, joints};
+use crate::lattice::{Joint, Lattice};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Step {
@@ -24,7 +28,9 @@ pub struct Step {
     pub total: usize,
 }
 
-pub fn steps(lattice: &Lattice) -> Vec<Step> {
+/// The steps of `lattice`, whose vertex joints are `joints`
+/// (`lattice::joints`).
+pub fn steps(lattice: &Lattice, joints: &[Joint]) -> Vec<Step> {
     // Cells by step in one pass (in index order within each step).
     let mut by_step: Vec<Vec<usize>> = vec![Vec::new(); lattice.steps()];
     for c in 0..lattice.cells.len() {
@@ -43,7 +49,8 @@ pub fn steps(lattice: &Lattice) -> Vec<Step> {
             total: 0,
         })
         .collect();
-    for mut joint in joints(lattice).into_iter().filter(Joint::needs_eyelet) {
+    for joint in joints.iter().filter(|j| j.needs_eyelet()) {
+        let mut joint = joint.clone();
         // A joint can close once its last strip is in place.
         let row = joint
             .ends

@@ -1,0 +1,76 @@
+//! The lock file beside an output folder that keeps two runs from writing
+//! it at once.
+
+use std::fs::{self, File, OpenOptions};
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// Lock the lock file beside `out`, failing at once if another run holds
+/// it. The holder removes the file when done, so a run that opened the
+/// file just before it was removed checks that the path still names the
+/// file it locked, and tries again if not.
+pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), String> {
+    for _ in 0..100 {
+        let file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        match try_lock(&file) {
+            Ok(true) => {}
+            Ok(false) => {
+                return Err(format!(
+                    "another karigami run is writing {} right now (it holds {}); wait for it to finish or choose another --out",
+                    out.display(),
+                    path.display()
+                ));
+            }
+            Err(e) => {
+                return Err(format!("cannot lock {}: {e}", path.display()));
+            }
+        }
+        if same_file(&file, path) {
+            return Ok((path.to_path_buf(), file));
+        }
+    }
+    Err(format!("cannot lock {}: it keeps changing", path.display()))
+}
+
+/// An exclusive lock without waiting: false when another process holds it.
+/// Released when the file is closed, so a killed run releases it too.
+#[cfg(unix)]
+fn try_lock(file: &File) -> io::Result<bool> {
+    use rustix::fs::{FlockOperation, flock};
+    match flock(file, FlockOperation::NonBlockingLockExclusive) {
+        Ok(()) => Ok(true),
+        Err(e) if e == rustix::io::Errno::WOULDBLOCK => Ok(false),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// Elsewhere std's lock (Rust 1.89 and later).
+#[cfg(not(unix))]
+#[allow(clippy::incompatible_msrv)]
+fn try_lock(file: &File) -> io::Result<bool> {
+    match file.try_lock() {
+        Ok(()) => Ok(true),
+        Err(fs::TryLockError::WouldBlock) => Ok(false),
+        Err(fs::TryLockError::Error(e)) => Err(e),
+    }
+}
+
+#[cfg(unix)]
+fn same_file(file: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (file.metadata(), fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &File, _: &Path) -> bool {
+    true
+}

@@ -1,0 +1,295 @@
+//! The output folder of a run: checked before any work (not a file, not a
+//! link, not holding an input, a build folder unless `--force`), locked,
+//! and repaired after interrupted runs.
+
+use super::lock::take_lock;
+use super::{MARKER, MARKER_HEAD, hidden, remove_any};
+use karigami::words::plural;
+use std::ffi::OsStr;
+use std::fs::{self, File};
+use std::io;
+use std::path::{Path, PathBuf};
+
+/// What an existing `--out` holds that a build replaces.
+pub enum Previous {
+    /// Nothing there yet, or an empty folder.
+    Nothing,
+    /// A build folder (it has the marker).
+    Build,
+    /// A folder that is not a build folder, replaced because of `--force`:
+    /// the files that will be deleted (relative paths).
+    Foreign(Vec<String>),
+    /// A build folder holding files the build did not write, replaced
+    /// because of `--force`: those files.
+    Added(Vec<String>),
+}
+
+/// The checked, locked output folder of one run. Taken before any work, so
+/// that a refusal or a busy folder is reported at once and writes nothing.
+pub struct OutDir {
+    pub(super) target: PathBuf,
+    pub(super) parent: PathBuf,
+    pub(super) name: std::ffi::OsString,
+    pub previous: Previous,
+    /// What the lock holder repaired or cleaned, for the user.
+    pub notes: Vec<String>,
+    lock: (PathBuf, File),
+}
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        // Removed while still locked (see `take_lock`); unlocked on close.
+        #[cfg(unix)]
+        let _ = fs::remove_file(&self.lock.0);
+    }
+}
+
+impl OutDir {
+    /// Check `out` (a folder name, not a file, not a link, not holding an
+    /// input of this run; a build folder unless `force`), take its lock and
+    /// repair what interrupted runs left. Errors are whole sentences.
+    pub fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, String> {
+        let shown = out.display();
+        let Some(name) = out.file_name().map(OsStr::to_os_string) else {
+            return Err(format!(
+                "--out {shown} is not a folder name; give the folder to build into, such as --out my-build"
+            ));
+        };
+        let parent = match out.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        // The first existing ancestor must be a folder.
+        let existing = parent
+            .ancestors()
+            .find(|a| !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_ok());
+        if let Some(existing) = existing.filter(|e| !e.is_dir()) {
+            return Err(format!(
+                "cannot create {shown}: {} is a file, not a folder",
+                existing.display()
+            ));
+        }
+        // A refusal writes nothing: check before creating the lock file
+        // (and again under the lock, which is what counts).
+        classify(out, inputs, force)?;
+        fs::create_dir_all(&parent)
+            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+        let lock_path = parent.join(hidden(&name, "lock"));
+        let lock = take_lock(&lock_path, out)?;
+        let mut dir = Self {
+            target: out.to_path_buf(),
+            parent,
+            name,
+            previous: Previous::Nothing,
+            notes: Vec::new(),
+            lock,
+        };
+        dir.recover()
+            .map_err(|e| format!("cannot tidy up beside {shown}: {e}"))?;
+        dir.previous = classify(out, inputs, force)?;
+        Ok(dir)
+    }
+
+    /// Staging folders of earlier runs of this folder (we hold the lock, so
+    /// their runs are over): a set-aside old build comes back if the folder
+    /// is missing (a run died between the two renames of a commit); every
+    /// other one is removed.
+    fn recover(&mut self) -> io::Result<()> {
+        let new_prefix = hidden(&self.name, "new-");
+        let old_prefix = hidden(&self.name, "old-");
+        let mut stale: Vec<PathBuf> = Vec::new();
+        let mut old: Vec<PathBuf> = Vec::new();
+        for entry in fs::read_dir(&self.parent)? {
+            let entry = entry?;
+            let file = entry.file_name().to_string_lossy().into_owned();
+            for (prefix, list) in [(&new_prefix, &mut stale), (&old_prefix, &mut old)] {
+                let pid = file.strip_prefix(prefix.as_str()).unwrap_or_default();
+                if !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) {
+                    list.push(entry.path());
+                }
+            }
+        }
+        old.sort();
+        let missing = fs::symlink_metadata(&self.target).is_err();
+        let back = if missing { old.pop() } else { None };
+        if let Some(back) = back {
+            fs::rename(&back, &self.target)?;
+            self.notes.push(format!(
+                "restored the previous {} that an interrupted run had set aside",
+                self.target.display()
+            ));
+        }
+        stale.extend(old);
+        for path in &stale {
+            remove_any(path)?;
+        }
+        if !stale.is_empty() {
+            self.notes.push(format!(
+                "removed {} staging folder{} left beside {} by interrupted runs",
+                stale.len(),
+                if stale.len() == 1 { "" } else { "s" },
+                self.target.display()
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What `target` holds, or why a build must not replace it.
+fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, String> {
+    let shown = target.display();
+    let meta = match fs::symlink_metadata(target) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Previous::Nothing),
+        Err(e) => return Err(format!("cannot read {shown}: {e}")),
+        Ok(m) => m,
+    };
+    if meta.file_type().is_symlink() {
+        let to = fs::read_link(target)
+            .map(|t| t.display().to_string())
+            .unwrap_or_default();
+        let dangling = if target.exists() {
+            ""
+        } else {
+            ", which does not exist"
+        };
+        return Err(format!(
+            "--out {shown} is a symbolic link (to {to}{dangling}); give the real folder as --out"
+        ));
+    }
+    if !meta.is_dir() {
+        return Err(format!(
+            "--out {shown} is a file, not a folder; choose another --out (--force replaces only folders)"
+        ));
+    }
+    let real = fs::canonicalize(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    for input in inputs {
+        if fs::canonicalize(input).is_ok_and(|i| i.starts_with(&real)) {
+            return Err(format!(
+                "--out {shown} holds {}, an input of this run, and building would replace the folder with it; choose another --out",
+                input.display()
+            ));
+        }
+    }
+    if std::env::current_dir()
+        .and_then(fs::canonicalize)
+        .is_ok_and(|cwd| cwd.starts_with(&real))
+    {
+        return Err(format!(
+            "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
+        ));
+    }
+    let files = list_files(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    if let Some(ours) = fs::read_to_string(target.join(MARKER))
+        .ok()
+        .filter(|t| t.starts_with(MARKER_HEAD))
+    {
+        // Files someone added to a build folder are not the tool's to delete
+        // without asking.
+        let listed: std::collections::BTreeSet<&str> = ours
+            .split_once("\nfiles:\n")
+            .map_or("", |(_, l)| l)
+            .lines()
+            .collect();
+        let added: Vec<String> = files
+            .iter()
+            .filter(|f| f.as_str() != MARKER && !listed.contains(f.as_str()))
+            .cloned()
+            .collect();
+        if added.is_empty() {
+            return Ok(Previous::Build);
+        }
+        if force {
+            return Ok(Previous::Added(added));
+        }
+        return Err(format!(
+            "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
+            plural(added.len(), "file"),
+            shortlist(&added),
+            if added.len() == 1 { "it" } else { "them" },
+            if added.len() == 1 { "it" } else { "them" },
+        ));
+    }
+    let empty = fs::read_dir(target)
+        .map_err(|e| format!("cannot read {shown}: {e}"))?
+        .next()
+        .is_none();
+    if empty {
+        return Ok(Previous::Nothing);
+    }
+    if force {
+        return Ok(Previous::Foreign(files));
+    }
+    let older = ["lattice.json", "batch.json"]
+        .iter()
+        .any(|m| target.join(m).is_file());
+    let what = if older {
+        format!(
+            "{shown} has no {MARKER} marker: it may be a build of an older karigami, or a folder of yours"
+        )
+    } else {
+        format!("{shown} exists and is not a karigami build folder (it has no {MARKER} marker)")
+    };
+    Err(format!(
+        "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
+        plural(files.len(), "file")
+    ))
+}
+
+impl OutDir {
+    /// A warning for `--force` replacing files that are not the tool's.
+    pub fn force_warning(&self) -> Option<String> {
+        let (what, files) = match &self.previous {
+            Previous::Foreign(files) => ("is not a karigami build folder", files),
+            Previous::Added(files) => ("holds files the build did not write", files),
+            _ => return None,
+        };
+        Some(format!(
+            "warning: --force: {} {what}; replacing it deletes {}: {}",
+            self.target.display(),
+            plural(files.len(), "file"),
+            shortlist(files)
+        ))
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.target
+    }
+
+    /// What the folder holds if a build does not commit.
+    pub fn kept(&self) -> String {
+        match self.previous {
+            Previous::Nothing => format!("nothing was written to {}", self.target.display()),
+            _ => format!("{} was left as it was", self.target.display()),
+        }
+    }
+}
+
+/// The first few of `files`, and how many more.
+fn shortlist(files: &[String]) -> String {
+    const SHOWN: usize = 10;
+    let mut list: Vec<&str> = files.iter().take(SHOWN).map(String::as_str).collect();
+    let more = format!("and {} more", files.len().saturating_sub(SHOWN));
+    if files.len() > SHOWN {
+        list.push(&more);
+    }
+    list.join(", ")
+}
+
+/// Every file under `dir` (relative, sorted), without following links.
+fn list_files(dir: &Path) -> io::Result<Vec<String>> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in fs::read_dir(&d)? {
+            let entry = entry?;
+            let path = entry.path();
+            if entry.file_type()?.is_dir() {
+                stack.push(path);
+            } else {
+                let rel = path.strip_prefix(dir).unwrap_or(&path);
+                out.push(rel.display().to_string());
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}

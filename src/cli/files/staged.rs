@@ -1,0 +1,166 @@
+//! Writing a build folder: into a staging folder beside the target that
+//! replaces it whole on commit, with the marker written last.
+
+use super::super::fault;
+use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove_any};
+use std::fs::{self, File};
+use std::io::{self, Write};
+use std::path::{Component, Path, PathBuf};
+
+/// Whether `rel` is a relative path of plain components that stays inside
+/// the folder it is joined to.
+fn stays_inside(rel: &Path) -> bool {
+    rel.components().all(|c| match c {
+        Component::Normal(n) => {
+            let n = n.to_string_lossy();
+            !n.is_empty() && !n.chars().any(char::is_control)
+        }
+        _ => false,
+    })
+}
+
+/// A build folder being written: files go into a staging folder beside the
+/// target, which replaces the target whole on `commit`. Dropped without a
+/// commit, the staging folder is removed and the target untouched; killed,
+/// the next run removes it.
+pub struct Staged<'a> {
+    out: &'a OutDir,
+    fresh: PathBuf,
+    kind: String,
+    /// Every file written (relative paths), for the marker.
+    written: std::sync::Mutex<Vec<String>>,
+    committed: bool,
+}
+
+impl<'a> Staged<'a> {
+    /// `kind` ("single" or "batch") goes into the marker.
+    pub fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
+        let fresh = out
+            .parent
+            .join(hidden(&out.name, &format!("new-{}", std::process::id())));
+        remove_any(&fresh)?;
+        fs::create_dir(&fresh)?;
+        Ok(Self {
+            out,
+            fresh,
+            kind: kind.to_string(),
+            written: std::sync::Mutex::new(Vec::new()),
+            committed: false,
+        })
+    }
+
+    /// The marker, written last: what the folder is and every file the
+    /// build wrote, so that a later build can tell them from files someone
+    /// added.
+    fn write_marker(&self) -> io::Result<()> {
+        let mut files = self
+            .written
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone();
+        files.sort();
+        let text = format!(
+            "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by karigami {}; a build replaces this folder whole\nfiles:\n{}",
+            self.kind,
+            env!("CARGO_PKG_VERSION"),
+            files.iter().map(|f| format!("{f}\n")).collect::<String>()
+        );
+        fault::write(MARKER)?;
+        let mut f = File::create(self.fresh.join(MARKER))?;
+        f.write_all(text.as_bytes())?;
+        fault::sync(&f)
+    }
+
+    /// Write files (paths relative to `sub` inside the folder). Each path
+    /// must be plain relative components, so every write lands inside.
+    pub fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
+        for (name, bytes) in files {
+            let rel = Path::new(sub).join(name);
+            if !stays_inside(&rel) {
+                return Err(io::Error::other(format!(
+                    "refusing to write {}: not a plain path inside the output folder",
+                    rel.display()
+                )));
+            }
+            let path = self.fresh.join(&rel);
+            debug_assert!(path.starts_with(&self.fresh));
+            if let Some(dir) = path.parent() {
+                fs::create_dir_all(dir)?;
+            }
+            fault::write(&rel.display().to_string())?;
+            let mut f = File::create(&path)?;
+            f.write_all(bytes)?;
+            fault::sync(&f)?;
+            self.written
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(rel.display().to_string());
+        }
+        Ok(())
+    }
+
+    /// Put the staging folder in the target's place.
+    pub fn commit(mut self) -> io::Result<()> {
+        self.write_marker()?;
+        fault::sync(&File::open(&self.fresh)?)?;
+        let target = &self.out.target;
+        if fs::symlink_metadata(target).is_err() {
+            fault::commit("rename into place");
+            fs::rename(&self.fresh, target)?;
+            self.committed = true;
+        } else if exchange(&self.fresh, target)? {
+            // The old build now sits at the staging name.
+            self.committed = true;
+            fault::commit("remove the old build");
+            remove_any(&self.fresh)?;
+        } else {
+            let old = self.out.parent.join(hidden(
+                &self.out.name,
+                &format!("old-{}", std::process::id()),
+            ));
+            remove_any(&old)?;
+            fault::commit("set the old build aside");
+            fs::rename(target, &old)?;
+            fault::commit("rename into place");
+            if let Err(e) = fs::rename(&self.fresh, target) {
+                let _ = fs::rename(&old, target);
+                return Err(e);
+            }
+            self.committed = true;
+            fault::commit("remove the old build");
+            remove_any(&old)?;
+        }
+        if let Ok(parent) = File::open(&self.out.parent) {
+            let _ = fault::sync(&parent);
+        }
+        Ok(())
+    }
+}
+
+/// Swap two paths atomically; false where the system cannot.
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
+    use rustix::fs::{CWD, RenameFlags, renameat_with};
+    if fault::no_exchange() {
+        return Ok(false);
+    }
+    fault::commit("swap the folders");
+    match renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE) {
+        Ok(()) => Ok(true),
+        Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => Ok(false),
+        Err(e) => Err(e.into()),
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn exchange(_: &Path, _: &Path) -> io::Result<bool> {
+    Ok(false)
+}
+
+impl Drop for Staged<'_> {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = remove_any(&self.fresh);
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! The words of a step: which strips to take, the scissor pivots to pair,
+//! and each joint to close with its stack in order.
+
+use super::stacking;
+use super::{NEW, bumps, key, mm};
+use crate::assembly::Step;
+use crate::build::Build;
+use crate::drawing::flow::{BLACK, GREY};
+use crate::words::plural;
+
+/// A joint as the guide names it: `[row,col]`, or `[k]` on a helix.
+pub(super) fn joint_key(l: &crate::lattice::Lattice, vertex: u32) -> String {
+    let k = l.vertex(vertex).key;
+    if l.kind == crate::lattice::Kind::Helix {
+        format!("[{}]", k.col)
+    } else {
+        key(k)
+    }
+}
+
+/// "2 x type C, 2 x type D": a step's strips counted by part type.
+pub(super) fn take_list(b: &Build, strips: &[usize]) -> String {
+    let mut counts: std::collections::BTreeMap<usize, usize> = Default::default();
+    for &s in strips {
+        *counts.entry(b.parts.strips[s].part_type).or_default() += 1;
+    }
+    counts
+        .iter()
+        .map(|(&t, n)| format!("{n} x type {}", b.parts.types[t].code))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The step's words: (text, bold, colour), each wrapped later.
+pub(super) fn step_text(
+    b: &Build,
+    step: &Step,
+    side: &stacking::Side,
+    order: Option<&[stacking::Role]>,
+) -> Vec<(String, bool, [u8; 3])> {
+    let l = &b.lattice;
+    let strips = &b.parts.strips;
+    let t = b.design.fabrication.material.thickness;
+    let helix = l.kind == crate::lattice::Kind::Helix;
+    let what = if helix { "cell" } else { "row" };
+    let mut lines = vec![(format!("Take {}.", take_list(b, &step.strips)), true, BLACK)];
+    let place = match stacking::place(l, step) {
+        stacking::Place::First => format!("This is the first {what}: lay it out as pictured."),
+        stacking::Place::Over => format!("This {what} goes on top of the work."),
+        stacking::Place::Under => format!(
+            "This {what} goes UNDER the work: slide its strips under the strips already there."
+        ),
+        stacking::Place::Between => format!(
+            "This {what}'s strips go between strips of the work: follow each joint's order."
+        ),
+    };
+    lines.push((
+        format!(
+            "Stacking side {}: first strip {}, last {}. {place}",
+            side.name, side.first, side.last
+        ),
+        false,
+        BLACK,
+    ));
+    if bumps(b).is_some() && step.number > 1 {
+        lines.push((
+            format!(
+                "Bent facets: where this {what} joins the work its strips will bend as the lattice opens; join them straight now."
+            ),
+            false,
+            GREY,
+        ));
+    }
+    let mut pivots = format!(
+        "1. Pivots (orange): rod A, then rod B over it (as drawn); {}, grip {}, loose enough to turn.",
+        plural(step.cells.len(), "eyelet"),
+        mm(2.0 * t)
+    );
+    if !helix {
+        let pairs: Vec<String> = step
+            .cells
+            .iter()
+            .map(|&c| {
+                let code = |s: usize| b.parts.types[strips[s].part_type].code.as_str();
+                format!("{}: {}+{}", l.cells[c].col, code(2 * c), code(2 * c + 1))
+            })
+            .collect();
+        pivots.push_str(&format!(" Rod A + rod B by column: {}.", pairs.join(", ")));
+    } else if let [c] = step.cells[..] {
+        let code = |s: usize| b.parts.types[strips[s].part_type].code.as_str();
+        pivots.push_str(&format!(
+            " Rod A is type {}, rod B type {}.",
+            code(2 * c),
+            code(2 * c + 1)
+        ));
+    }
+    lines.push((pivots, false, BLACK));
+    if step.joints.is_empty() {
+        lines.push(("2. No joint closes in this step.".into(), false, BLACK));
+    } else if let Some(order) = order {
+        let roles: Vec<String> = order.iter().map(|r| r.name(helix)).collect();
+        let mut by_grip: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
+        for j in &step.joints {
+            by_grip
+                .entry(j.ends.len())
+                .or_default()
+                .push(joint_key(l, j.vertex));
+        }
+        let grips: Vec<String> = by_grip
+            .iter()
+            .rev()
+            .map(|(k, keys)| format!("{k} strips, grip {}: {}", mm(*k as f64 * t), keys.join(" ")))
+            .collect();
+        lines.push((
+            format!(
+                "2. Joints (blue): stack {} (fewer at an edge); one eyelet each. {}.",
+                roles.join(", then "),
+                grips.join("; ")
+            ),
+            false,
+            BLACK,
+        ));
+    } else {
+        lines.push((
+            "2. Joints (blue), stacked first to last as listed:".into(),
+            false,
+            BLACK,
+        ));
+        for j in &step.joints {
+            let stack: Vec<&str> = j.ends.iter().map(|e| strips[e.rod].id.as_str()).collect();
+            lines.push((
+                format!(
+                    "{}  {}  (grip {})",
+                    joint_key(l, j.vertex),
+                    stack.join(" / "),
+                    mm(j.ends.len() as f64 * t)
+                ),
+                false,
+                BLACK,
+            ));
+        }
+    }
+    lines.push((
+        format!(
+            "Eyelets: {} now, {} of {} so far.",
+            step.eyelets,
+            step.total,
+            b.parts.eyelets()
+        ),
+        true,
+        NEW,
+    ));
+    lines
+}

@@ -1,0 +1,353 @@
+//! The intrinsic configuration C(theta) (MATH.md 8.4): every cell's
+//! opening as an affine function of the reference cell's, propagated
+//! through shared edges, with how far two paths disagree.
+
+use super::super::{Cell, Lattice};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+/// `cos(phi)` of one cell as an affine function `a + b cos(theta)` of the
+/// reference cell's opening.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Affine {
+    pub a: f64,
+    pub b: f64,
+}
+
+impl Affine {
+    #[inline]
+    pub fn at(self, cos_theta: f64) -> f64 {
+        self.a + self.b * cos_theta
+    }
+}
+
+/// The vertex pairs of a cell's edges, in the order of `edge_coefficients`:
+/// top, bottom, left, right.
+fn edge_keys(cell: &Cell) -> [(u32, u32); 4] {
+    [
+        key(cell.ul, cell.ur),
+        key(cell.ll, cell.lr),
+        key(cell.ul, cell.ll),
+        key(cell.ur, cell.lr),
+    ]
+}
+
+fn key(a: u32, b: u32) -> (u32, u32) {
+    (a.min(b), a.max(b))
+}
+
+/// `alpha` and `beta` of edge `e` (in the order of `edge_keys`) of a cell
+/// with these legs: its squared length is `alpha + beta cos(phi)` (MATH.md 2).
+#[inline]
+fn edge_coefficients(legs: [f64; 4], e: usize) -> (f64, f64) {
+    let [l1, l2, l3, l4] = legs;
+    match e {
+        0 => (l1 * l1 + l4 * l4, -2.0 * l1 * l4),
+        1 => (l2 * l2 + l3 * l3, -2.0 * l2 * l3),
+        2 => (l1 * l1 + l2 * l2, 2.0 * l1 * l2),
+        _ => (l3 * l3 + l4 * l4, 2.0 * l3 * l4),
+    }
+}
+
+/// `cos(phi)` of a cell in its design state: the angle at the pivot between
+/// the legs to UL and to UR.
+pub(super) fn design_cos(lattice: &Lattice, cell: &Cell) -> f64 {
+    let [ul, ur, _, _] = lattice.corners(cell);
+    (ul - cell.pivot)
+        .normalize()
+        .dot((ur - cell.pivot).normalize())
+}
+
+/// The intrinsic configuration C(theta): every cell's opening as a function
+/// of the reference cell's.
+#[derive(Clone, Debug)]
+pub struct Configuration {
+    pub(super) cos_phi: Vec<Affine>,
+    /// Opening of the reference cell in the design (radians).
+    pub theta_design: f64,
+    /// The reference opening at which the first cell reaches phi = pi.
+    pub theta_max: f64,
+    /// Largest disagreement of two propagation paths (MATH.md 8.4:
+    /// compatibility is path independence).
+    pub path_residual: f64,
+    /// Largest |cos(phi(theta_design)) - cos(phi_design)| over the cells.
+    pub design_residual: f64,
+    /// Largest |cos(phi(0)) - 1|: theta = 0 collapses every cell.
+    pub collapse_residual: f64,
+    /// Cells the propagation did not reach (a disconnected lattice).
+    pub unreached: usize,
+}
+
+impl Configuration {
+    /// `phi` of every cell at the reference opening `theta`, or None for
+    /// a theta outside [0, theta_max].
+    pub fn angles(&self, theta: f64) -> Option<Vec<f64>> {
+        if !(0.0..=self.theta_max).contains(&theta) {
+            return None;
+        }
+        let c = theta.cos();
+        Some(
+            self.cos_phi
+                .iter()
+                .map(|f| f.at(c).clamp(-1.0, 1.0).acos())
+                .collect(),
+        )
+    }
+}
+
+/// The cells with each corner, in flat arrays: `users[start[v]..start[v + 1]]`
+/// are the cells with corner v, in increasing order (a cell with a repeated
+/// corner is listed twice in a row).
+struct Users {
+    start: Vec<u32>,
+    users: Vec<u32>,
+}
+
+impl Users {
+    fn new(lattice: &Lattice) -> Self {
+        let corners = |c: &Cell| [c.ul, c.ur, c.ll, c.lr];
+        let mut start = vec![0u32; lattice.vertices.len() + 1];
+        for cell in &lattice.cells {
+            for v in corners(cell) {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 1..start.len() {
+            start[v] += start[v - 1];
+        }
+        let mut users = vec![0u32; 4 * lattice.cells.len()];
+        let mut fill = start.clone();
+        for (i, cell) in lattice.cells.iter().enumerate() {
+            for v in corners(cell) {
+                users[fill[v as usize] as usize] = i as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Self { start, users }
+    }
+
+    /// Every other cell sharing edge `e` of cell `i`, with the index of the
+    /// edge in that cell: `visit(j, ej)`, in increasing j.
+    fn sharers(&self, lattice: &Lattice, i: usize, e: usize, mut visit: impl FnMut(usize, usize)) {
+        let k = edge_keys(&lattice.cells[i])[e];
+        let (lo, hi) = (self.start[k.0 as usize], self.start[k.0 as usize + 1]);
+        let near = &self.users[lo as usize..hi as usize];
+        for (u, &j) in near.iter().enumerate() {
+            let j = j as usize;
+            if j == i || (u > 0 && near[u - 1] as usize == j) {
+                continue;
+            }
+            for (ej, kj) in edge_keys(&lattice.cells[j]).into_iter().enumerate() {
+                if kj == k {
+                    visit(j, ej);
+                }
+            }
+        }
+    }
+}
+
+/// Marks "no cell" in `edge_neighbours`.
+const NO_CELL: u32 = u32::MAX;
+
+/// For every cell and each of its edges, the other cell sharing that edge
+/// as `cell | edge << 30` (`NO_CELL` on the boundary); None when some edge
+/// has more than two cells or a cell has a repeated corner (then the
+/// propagation asks `Users::sharers` each time).
+fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
+    if lattice.cells.len() >= 1 << 30 {
+        return None;
+    }
+    let mut nbr = vec![[NO_CELL; 4]; lattice.cells.len()];
+    for (i, cell) in lattice.cells.iter().enumerate() {
+        let c = [cell.ul, cell.ur, cell.ll, cell.lr];
+        if (0..4).any(|a| (a + 1..4).any(|b| c[a] == c[b])) {
+            return None;
+        }
+        for (e, slot) in nbr[i].iter_mut().enumerate() {
+            let mut more = false;
+            users.sharers(lattice, i, e, |j, ej| {
+                more |= *slot != NO_CELL;
+                *slot = j as u32 | (ej as u32) << 30;
+            });
+            if more {
+                return None;
+            }
+        }
+    }
+    Some(nbr)
+}
+
+/// Propagate cos(phi) from the reference cell (cell 0) through shared
+/// edges. The cells sharing an edge are found through their corners
+/// (precomputed once when every edge has at most two cells).
+///
+/// The cells are taken in increasing index among those reached and not
+/// yet taken, not breadth first: growth stores the cells row by row, so
+/// this walks the arrays in order (a breadth-first wave crosses every row
+/// at each step, one cache miss a cell) and takes a cell from the cell
+/// before it or the row above, the shortest path. A cell reached behind
+/// the scan waits in a small heap.
+pub fn configuration(lattice: &Lattice) -> Configuration {
+    let n = lattice.cells.len();
+    let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+    let users = Users::new(lattice);
+    let (cos_phi, reached, path_residual) = match edge_neighbours(lattice, &users) {
+        Some(nbr) => {
+            drop(users);
+            propagate(n, &legs, |i, visit| {
+                for (e, &other) in nbr[i].iter().enumerate() {
+                    if other != NO_CELL {
+                        let (j, ej) = ((other & ((1 << 30) - 1)) as usize, (other >> 30) as usize);
+                        visit(e, j, ej);
+                    }
+                }
+            })
+        }
+        None => propagate(n, &legs, |i, visit| {
+            for e in 0..4 {
+                users.sharers(lattice, i, e, |j, ej| visit(e, j, ej));
+            }
+        }),
+    };
+    drop(legs);
+    let unreached = reached.iter().filter(|r| !**r).count();
+    let theta_design = lattice
+        .cells
+        .first()
+        .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos());
+    let c_design = theta_design.cos();
+    let mut design_residual: f64 = 0.0;
+    let mut collapse_residual: f64 = 0.0;
+    // Each cos(phi) falls as cos(theta) falls; the range ends where the
+    // first cell opens flat past pi (cos(phi) = -1).
+    let mut c_min: f64 = -1.0;
+    for (f, cell) in cos_phi.iter().zip(&lattice.cells) {
+        design_residual = design_residual.max((f.at(c_design) - design_cos(lattice, cell)).abs());
+        collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
+        if f.b > 0.0 {
+            c_min = c_min.max((-1.0 - f.a) / f.b);
+        }
+    }
+    Configuration {
+        cos_phi,
+        theta_design,
+        theta_max: c_min.clamp(-1.0, 1.0).acos(),
+        path_residual,
+        design_residual,
+        collapse_residual,
+        unreached,
+    }
+}
+
+/// The propagation of `configuration` over `neighbours(i, visit)`, which
+/// calls `visit(e, j, ej)` for each cell j sharing edge e of cell i as its
+/// edge ej.
+fn propagate(
+    n: usize,
+    legs: &[[f64; 4]],
+    neighbours: impl Fn(usize, &mut dyn FnMut(usize, usize, usize)),
+) -> (Vec<Affine>, Vec<bool>, f64) {
+    let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
+    let mut reached = vec![false; n];
+    let mut path_residual: f64 = 0.0;
+    if n == 0 {
+        return (cos_phi, reached, path_residual);
+    }
+    cos_phi[0] = Affine { a: 0.0, b: 1.0 };
+    reached[0] = true;
+    // Cells below `scan` are taken or wait in `behind`.
+    let mut behind: BinaryHeap<Reverse<u32>> = BinaryHeap::new();
+    let mut scan = 0;
+    loop {
+        let i = match behind.pop() {
+            Some(Reverse(i)) => i as usize,
+            None => {
+                while scan < n && !reached[scan] {
+                    scan += 1;
+                }
+                if scan == n {
+                    break;
+                }
+                scan += 1;
+                scan - 1
+            }
+        };
+        let f = cos_phi[i];
+        neighbours(i, &mut |e, j, ej| {
+            // The squared edge as a function of cos(theta), then the
+            // neighbour's cos(phi) from its own formula for that edge.
+            let (alpha, beta) = edge_coefficients(legs[i], e);
+            let (ea, eb) = (alpha + beta * f.a, beta * f.b);
+            let (alpha_j, beta_j) = edge_coefficients(legs[j], ej);
+            let g = Affine {
+                a: (ea - alpha_j) / beta_j,
+                b: eb / beta_j,
+            };
+            if reached[j] {
+                let h = cos_phi[j];
+                path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+            } else {
+                cos_phi[j] = g;
+                reached[j] = true;
+                if j < scan {
+                    behind.push(Reverse(j as u32));
+                }
+            }
+        });
+    }
+    (cos_phi, reached, path_residual)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lattice::fixtures;
+    use glam::DVec3;
+
+    /// The propagation over precomputed neighbours and the one asking the
+    /// corners each time visit the same cells in the same order and compute
+    /// the same numbers, bit for bit.
+    #[test]
+    fn both_neighbour_searches_agree_bit_for_bit() {
+        let points: Vec<DVec3> = (0..7)
+            .map(|j| DVec3::new(10.0 * j as f64 + (j % 3) as f64, 0.3 * (j % 2) as f64, 0.0))
+            .collect();
+        let kappa = [0.5, -0.3, 0.2, 0.0, -0.4, 0.1];
+        let lattice = fixtures::sheet(&points, &kappa, 2, 50.0, 5);
+        let n = lattice.cells.len();
+        let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+        let users = Users::new(&lattice);
+        let nbr = edge_neighbours(&lattice, &users).expect("a sheet's edges have two cells");
+        let (fast, reached, residual) = propagate(n, &legs, |i, visit| {
+            for (e, &o) in nbr[i].iter().enumerate() {
+                if o != NO_CELL {
+                    visit(e, (o & ((1 << 30) - 1)) as usize, (o >> 30) as usize);
+                }
+            }
+        });
+        let (slow, reached_slow, residual_slow) = propagate(n, &legs, |i, visit| {
+            for e in 0..4 {
+                users.sharers(&lattice, i, e, |j, ej| visit(e, j, ej));
+            }
+        });
+        assert!(reached.iter().all(|r| *r));
+        assert_eq!(reached, reached_slow);
+        assert_eq!(residual.to_bits(), residual_slow.to_bits());
+        assert!(residual > 0.0, "rounding differs along paths: {residual}");
+        for (f, s) in fast.iter().zip(&slow) {
+            assert_eq!(
+                (f.a.to_bits(), f.b.to_bits()),
+                (s.a.to_bits(), s.b.to_bits())
+            );
+        }
+        // Cells reached behind the scan (a lattice stored out of order) are
+        // still taken: with the cells reversed and the middle one first,
+        // every cell after it in the grid is reached from behind.
+        let mut reversed = lattice.clone();
+        reversed.cells.reverse();
+        reversed.cells.swap(0, n / 2);
+        let back = configuration(&reversed);
+        assert_eq!(back.unreached, 0);
+        assert!(back.path_residual < 1e-12, "{}", back.path_residual);
+    }
+}

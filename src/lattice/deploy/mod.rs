@@ -1,0 +1,76 @@
+//! Deployment (MATH.md 8.4): the intrinsic configuration C(theta), its
+//! valid range, the mobility of the ideal linkage at the design state, and
+//! for planar lattices how far a rigid placement of the cells misses at
+//! other angles.
+
+use super::Lattice;
+
+mod configuration;
+mod misfit;
+mod mobility;
+
+pub use configuration::{Configuration, configuration};
+pub use misfit::{planar_misfit, planar_misfits};
+pub use mobility::{MOBILITY_MAX_CELLS, mobility};
+
+/// Fractions of the design angle at which a planar placement is tried.
+pub const MISFIT_FRACTIONS: [f64; 3] = [0.99, 0.9, 0.5];
+
+/// Everything `karigami check` says about deployment.
+#[derive(Clone, Debug)]
+pub struct Deployment {
+    pub config: Configuration,
+    pub mobility: Option<usize>,
+    /// (fraction of the design angle, misfit) for planar lattices.
+    pub misfits: Vec<(f64, f64)>,
+}
+
+pub fn deployment(lattice: &Lattice) -> Deployment {
+    let config = configuration(lattice);
+    let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
+    let misfits = MISFIT_FRACTIONS
+        .iter()
+        .zip(planar_misfits(lattice, &config, &thetas))
+        .filter_map(|(&f, m)| Some((f, m?)))
+        .collect();
+    Deployment {
+        mobility: mobility(lattice),
+        config,
+        misfits,
+    }
+}
+
+impl Deployment {
+    /// A mechanism: the ideal linkage moves at the design state and, in
+    /// the plane, the cells also place without misfit at other angles (in
+    /// space only the first-order count is known).
+    pub fn is_mechanism(&self) -> bool {
+        self.mobility.is_some_and(|m| m > 0) && self.misfits.iter().all(|&(_, m)| m < 1e-6)
+    }
+
+    /// The verdict in plain words.
+    pub fn verdict(&self, lattice: &Lattice) -> String {
+        if !lattice.extrinsic() {
+            return "deploys through strip bending: its facets are bent (intrinsic growth), so no rigid deployed state holds every cell".into();
+        }
+        match self.mobility {
+            None => format!(
+                "mobility not computed (more than {MOBILITY_MAX_CELLS} cells); C(theta) is valid for theta up to {:.1} deg",
+                self.config.theta_max.to_degrees()
+            ),
+            Some(m) if self.is_mechanism() && lattice.dim == 2 => format!(
+                "a true mechanism: {m} internal degree{} of freedom, and its cells place exactly at every angle tried; it deploys by turning its pivots, strips straight",
+                if m == 1 { "" } else { "s" }
+            ),
+            Some(m) if self.is_mechanism() => format!(
+                "a mechanism at the design state: {m} internal degree{} of freedom (a first-order count); it can move by turning its pivots, strips straight",
+                if m == 1 { "" } else { "s" }
+            ),
+            Some(m) if m > 0 => format!(
+                "{m} internal degree{} of freedom at the design state, but the cells do not stay in place as it opens; it deploys through strip bending",
+                if m == 1 { "" } else { "s" }
+            ),
+            Some(_) => "rigid as an ideal linkage (0 internal degrees of freedom): it deploys and collapses through strip bending, passing through incompatible states (docs/verification.md, Deployment)".into(),
+        }
+    }
+}

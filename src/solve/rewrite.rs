@@ -1,0 +1,136 @@
+//! The recipe text rewritten with the optimised numbers, comments kept.
+
+use super::*;
+
+/// A number as the recipe writes it: 6 decimals, trailing zeros dropped.
+pub(super) fn fmt(x: f64) -> String {
+    let s = format!("{:.6}", x);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    let s = if s == "-0" { "0" } else { s };
+    if s.contains('.') {
+        s.to_string()
+    } else {
+        format!("{s}.0")
+    }
+}
+
+pub(super) fn list(v: &[f64]) -> String {
+    format!(
+        "[{}]",
+        v.iter().map(|x| fmt(*x)).collect::<Vec<_>>().join(", ")
+    )
+}
+
+/// The recipe text with each slot's numbers replaced, everything else kept.
+pub(super) fn rewrite(p: &Problem, d: &Design, source: &str, _x: &[f64]) -> String {
+    let mut edits: Vec<(Range<usize>, String)> = Vec::new();
+    let mut seed_text = None;
+    for slot in &p.slots {
+        match slot {
+            Slot::Angle { rows, span } => {
+                if let Some(Direction::Angles {
+                    angle_deg,
+                    tilt_deg,
+                }) = d.rows[rows[0]].direction
+                {
+                    let text = if d.dim == 3 {
+                        format!("[{}, {}]", fmt(angle_deg), fmt(tilt_deg))
+                    } else {
+                        fmt(angle_deg)
+                    };
+                    edits.push((span.clone(), text));
+                }
+            }
+            Slot::Front { rows, span, .. } => {
+                if let Some(f) = &d.rows[rows[0]].front {
+                    edits.push((span.clone(), front_text(f)));
+                }
+            }
+            Slot::Fit { angles, .. } => {
+                if let Some(f) = &d.fit {
+                    let (values, span, name) = if *angles {
+                        (f.angles.as_ref(), f.spans.angles.clone(), "angles")
+                    } else {
+                        (f.steps.as_ref(), f.spans.steps.clone(), "steps")
+                    };
+                    let text = list(values.map_or(&[][..], |v| v.as_slice()));
+                    match span {
+                        Some(span) => edits.push((span, text)),
+                        None => {
+                            // A new line at the end of the [lattice.fit] table:
+                            // before the next table header, after its last line.
+                            let from = f.spans.table.end.min(source.len());
+                            let next = source[from..]
+                                .find("\n[")
+                                .map_or(source.len(), |i| from + i);
+                            let end = source[..next].trim_end().len();
+                            edits.push((end..end, format!("\n{name} = {text}")));
+                        }
+                    }
+                }
+            }
+            Slot::Seed | Slot::Rim { .. } => seed_text = Some(()),
+        }
+    }
+    edits.sort_by_key(|e| std::cmp::Reverse(e.0.start));
+    let mut out = source.to_string();
+    for (range, text) in edits {
+        out.replace_range(range, &text);
+    }
+    if seed_text.is_some() {
+        // Seed spans are of the original text; the seed is rewritten first
+        // when it comes after the rows, else re-parse to find it.
+        if let Ok(again) = crate::design::parse(&out, &d.name)
+            && let Some(t) = again.with_seed(&out, &d.points, &d.kappa)
+        {
+            out = t;
+        }
+    }
+    out
+}
+
+/// `front = { ... }` as the recipe writes it.
+pub(super) fn front_text(f: &FrontMoves) -> String {
+    let mut parts = Vec::new();
+    if let Some(t) = &f.turn {
+        parts.push(format!("turn = {}", list(t)));
+    }
+    if let Some(b) = &f.bend {
+        parts.push(format!("bend = {}", list(b)));
+    }
+    if let Some(t) = &f.twist {
+        parts.push(format!("twist = {}", list(t)));
+    }
+    if !f.pivots.is_empty() {
+        let p: Vec<String> = f
+            .pivots
+            .iter()
+            .map(|p| match p.axis {
+                Some(a) => format!(
+                    "{{ at = {}, axis = {}, angle = {} }}",
+                    p.at,
+                    list(&a.to_array()),
+                    fmt(p.angle_deg)
+                ),
+                None => format!("{{ at = {}, angle = {} }}", p.at, fmt(p.angle_deg)),
+            })
+            .collect();
+        parts.push(format!("pivot = [{}]", p.join(", ")));
+    }
+    if !f.cranks.is_empty() {
+        let c: Vec<String> = f
+            .cranks
+            .iter()
+            .map(|c| {
+                format!(
+                    "{{ from = {}, to = {}, angle = {} }}",
+                    c.from,
+                    c.to,
+                    fmt(c.angle_deg)
+                )
+            })
+            .collect();
+        parts.push(format!("crank = [{}]", c.join(", ")));
+    }
+    format!("{{ {} }}", parts.join(", "))
+}
