@@ -328,17 +328,16 @@ fn random_designs_give_true_cut_files() {
 #[test]
 fn building_twice_in_one_process_gives_identical_bytes() {
     // printpdf's document IDs come from a process-wide counter; ours must not.
-    let text = std::fs::read_to_string("examples/flat-sheet.toml").unwrap();
-    let once = karigami::output::files(&build(design::parse(&text, "x").unwrap()).unwrap());
-    let twice = karigami::output::files(&build(design::parse(&text, "x").unwrap()).unwrap());
+    let o = design::Overrides::default();
+    let once = karigami::output::files(crate::util::example("flat-sheet"));
+    let twice = karigami::output::files(&crate::util::build_example("flat-sheet", &o));
     assert_eq!(once, twice);
 }
 
 #[test]
 fn every_example_fits_the_area_bound() {
     for path in crate::cli::recipes("examples") {
-        let text = std::fs::read_to_string(&path).unwrap();
-        let b = build(design::parse(&text, "x").unwrap()).unwrap();
+        let b = crate::util::example(path.to_str().unwrap());
         assert_eq!(
             b.layout.sheets.len(),
             b.bounds().area.max(1),

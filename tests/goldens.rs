@@ -73,26 +73,8 @@ const PINNED: [&str; 5] = [
 /// Build one case with the CLI and compare its files; the guide is pinned
 /// as its page count and `pdftotext -layout` text.
 fn golden_build(name: &str, recipe: &str) -> Vec<String> {
-    let dir = scratch(&format!("golden-{name}"));
-    let o = karigami(
-        &[
-            "-q",
-            "build",
-            repo().join(recipe).to_str().unwrap(),
-            "--out",
-            "out",
-            "--jobs",
-            "1",
-        ],
-        &dir,
-    );
-    if !o.status.success() {
-        return vec![format!(
-            "{recipe} did not build: {}",
-            String::from_utf8_lossy(&o.stderr)
-        )];
-    }
-    let out = dir.join("out");
+    // The build is shared with the other tests that read it (tests/util.rs).
+    let out = crate::util::cli_build(recipe, &[]);
     let mut failures = Vec::new();
     for file in PINNED {
         let bytes = std::fs::read(out.join(file)).unwrap_or_default();

@@ -4,15 +4,13 @@
 
 use crate::cli::{karigami, repo, scratch};
 use crate::thirdparty::run;
-use karigami::build::{Build, build};
-use karigami::design;
+use karigami::build::Build;
 use karigami::guide::guide;
 use std::collections::HashSet;
 
-fn example(name: &str) -> Build {
-    let text =
-        std::fs::read_to_string(repo().join("examples").join(format!("{name}.toml"))).unwrap();
-    build(design::parse(&text, name).unwrap()).unwrap()
+/// The example's build, shared with the other tests (tests/util.rs).
+fn example(name: &str) -> &'static Build {
+    crate::util::example(name)
 }
 
 #[test]
@@ -83,7 +81,7 @@ fn pdf_pages(path: &std::path::Path) -> Option<(usize, String)> {
 #[test]
 fn the_guide_pdf_has_every_page_and_every_strip_id() {
     let b = example("flat-sheet");
-    let pages = guide(&b).pages;
+    let pages = guide(b).pages;
     let steps = b.steps.len();
     // Cover, bill of materials, the steps (several a page), the gauge, the checklist.
     assert!(pages.len() >= 4, "{} pages", pages.len());
@@ -183,7 +181,7 @@ fn picture(bytes: &[u8]) -> (u32, u32, f64) {
 fn previews_are_pictures_of_the_right_size() {
     for name in ["flat-sheet", "curved-sheet"] {
         let b = example(name);
-        let files = karigami::output::files(&b);
+        let files = karigami::output::files(b);
         let get = |f: &str| {
             &files
                 .iter()
@@ -212,7 +210,7 @@ fn previews_are_pictures_of_the_right_size() {
 #[test]
 fn lattice_obj_has_one_box_per_strip() {
     let b = example("curved-sheet");
-    let files = karigami::output::files(&b);
+    let files = karigami::output::files(b);
     let obj = String::from_utf8(
         files
             .iter()
@@ -426,7 +424,7 @@ const GUIDE_EXAMPLES: [&str; 5] = ["flat-sheet", "torus", "bowl", "eggbox", "cur
 fn step_pictures_label_everything_their_text_names() {
     for name in GUIDE_EXAMPLES {
         let b = example(name);
-        let g = guide(&b);
+        let g = guide(b);
         for step in &b.steps {
             let of = |suffix: &str| -> Vec<(f64, String)> {
                 let id = format!("step-{}-{suffix}", step.number);
@@ -509,7 +507,7 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
     const SMALLEST: f64 = 2.5;
     for name in GUIDE_EXAMPLES {
         let b = example(name);
-        let g = guide(&b);
+        let g = guide(b);
         if name == "bowl" {
             assert!(
                 g.pages.len() <= 12,
@@ -593,7 +591,7 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
     let overlap_mm = karigami::guide::GAUGE_OVERLAP;
     for name in ["flat-sheet", "torus", "bowl"] {
         let b = example(name);
-        let g = guide(&b);
+        let g = guide(b);
         let l = &b.lattice;
         let zs = l
             .vertices
@@ -741,7 +739,8 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
 /// grip; the first step is the test piece, or says it is left out.
 #[test]
 fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() {
-    let mut b = example("flat-sheet");
+    // This test changes the build: its own.
+    let mut b = crate::util::build_example("flat-sheet", &Default::default());
     let t = b.design.fabrication.material.thickness;
     let words = |b: &Build| -> String {
         texts(

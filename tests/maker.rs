@@ -10,9 +10,9 @@ use karigami::drawing::{Group, Item, Layer, Page, Segment, Shape, TEST_PIECE_ID}
 use karigami::parts::font;
 use std::collections::BTreeMap;
 
-fn build_example(path: &std::path::Path, o: &Overrides) -> Build {
-    let text = std::fs::read_to_string(path).unwrap();
-    build(parse_with(&text, "x", o).unwrap()).unwrap()
+/// The example's build, shared with the other tests (tests/util.rs).
+fn build_example(path: &std::path::Path, o: &Overrides) -> &'static Build {
+    crate::util::example_with(path.to_str().unwrap(), o)
 }
 
 /// A path's points (arcs by their end points).
@@ -372,7 +372,7 @@ fn colour_presets_change_only_colours() {
             .filter(|f| f.0.ends_with(".svg"))
             .collect()
     };
-    let (sa, sb) = (svgs(&a), svgs(&b));
+    let (sa, sb) = (svgs(a), svgs(b));
     assert_eq!(sa.len(), sb.len());
     for ((name, x), (_, y)) in sa.iter().zip(&sb) {
         assert_ne!(x, y, "{name}: the preset changed nothing");
@@ -548,7 +548,7 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                 ..Overrides::default()
             };
             let b = build_example(&path, &o);
-            let files = karigami::output::files(&b);
+            let files = karigami::output::files(b);
             for (i, page) in b.pages.iter().enumerate() {
                 let file = format!("sheets/sheet-{:02}.lbrn2", i + 1);
                 let bytes = &files
@@ -643,7 +643,7 @@ fn lightburn_projects_are_well_formed_xml() {
     let dir = crate::cli::scratch("lbrn2-xml");
     let path = crate::cli::repo().join("examples/flat-sheet.toml");
     let b = build_example(&path, &Overrides::default());
-    let (name, bytes) = karigami::output::files(&b)
+    let (name, bytes) = karigami::output::files(b)
         .into_iter()
         .find(|f| f.0.ends_with(".lbrn2"))
         .unwrap();
@@ -1179,7 +1179,8 @@ fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
         ..Overrides::default()
     };
     let path = crate::cli::repo().join("examples/bowl.toml");
-    let (a, b) = (build_example(&path, &o), build_example(&path, &o));
+    let fresh = crate::util::build_example(path.to_str().unwrap(), &o);
+    let (a, b) = (build_example(&path, &o), &fresh);
     // The redesigned (deeper) bowl grouped by step needs the 600 x 400 sheet.
     assert_eq!(a.design.fabrication.sheet.name, "600x400");
     for (p, q) in a.pages.iter().zip(&b.pages) {
@@ -1207,7 +1208,7 @@ fn pdfs_carry_no_dates_and_no_pdfx_key() {
         &crate::cli::repo().join("examples/flat-sheet.toml"),
         &Overrides::default(),
     );
-    let files = karigami::output::files(&b);
+    let files = karigami::output::files(b);
     let dir = crate::cli::scratch("pdf-metadata");
     for name in ["assembly.pdf", "cut.pdf"] {
         let bytes = &files.iter().find(|f| f.0 == name).expect(name).1;

@@ -3,7 +3,8 @@
 //! and sets KARIGAMI_REQUIRE_TOOLS, so in CI a missing tool fails the test;
 //! a plain `cargo test` without them skips with a note.
 
-use crate::cli::{karigami, recipes, repo, scratch};
+use crate::cli::{recipes, repo, scratch};
+use crate::util::cli_build;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -45,25 +46,26 @@ fn python_check(script: &str, file: &Path) -> Option<Value> {
     Some(serde_json::from_slice(&out.stdout).unwrap())
 }
 
-/// Build every example once into a scratch folder; (folder, sheet width, height).
-fn built_examples(tag: &str) -> Vec<(PathBuf, f64, f64)> {
+/// Every example built once by the CLI (shared with the other tests that only
+/// read the files): (output folder, sheet width, height, a scratch folder of
+/// this test's own for what the tools render).
+fn built_examples(tag: &str) -> Vec<(PathBuf, f64, f64, PathBuf)> {
     recipes("examples")
         .into_iter()
         .map(|recipe| {
             let name = recipe.file_stem().unwrap().to_string_lossy().into_owned();
-            let dir = scratch(&format!("{tag}-{name}"));
-            let out = karigami(&["build", recipe.to_str().unwrap(), "--out", "out"], &dir);
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            let out = cli_build(&name, &[]).to_path_buf();
             let text = std::fs::read_to_string(&recipe).unwrap();
             let sheet = karigami::design::parse(&text, "x")
                 .unwrap()
                 .fabrication
                 .sheet;
-            (dir.join("out"), sheet.width, sheet.height)
+            (
+                out,
+                sheet.width,
+                sheet.height,
+                scratch(&format!("{tag}-{name}")),
+            )
         })
         .collect()
 }
@@ -88,9 +90,9 @@ fn png_size(path: &Path) -> (u32, u32) {
 
 #[test]
 fn svg_renders_at_true_size_and_holes_measure_their_diameter() {
-    for (dir, w, h) in built_examples("svg") {
+    for (dir, w, h, renders) in built_examples("svg") {
         for svg in sheets(&dir, "svg") {
-            let png = svg.with_extension("png");
+            let png = renders.join(svg.with_extension("png").file_name().unwrap());
             let Some(out) = run(
                 "rsvg-convert",
                 &[
@@ -151,7 +153,7 @@ fn svg_renders_at_true_size_and_holes_measure_their_diameter() {
 
 #[test]
 fn pdf_pages_are_the_sheet_size_and_qpdf_finds_no_errors() {
-    for (dir, w, h) in built_examples("pdf") {
+    for (dir, w, h, renders) in built_examples("pdf") {
         let pdf = dir.join("cut.pdf");
         let pdf_s = pdf.to_str().unwrap();
         let Some(info) = run("pdfinfo", &["-f", "1", "-l", "999", pdf_s]) else {
@@ -185,7 +187,7 @@ fn pdf_pages_are_the_sheet_size_and_qpdf_finds_no_errors() {
             check.status.success() && text.contains("No syntax or stream encoding errors"),
             "{text}"
         );
-        let prefix = dir.join("page");
+        let prefix = renders.join("page");
         let Some(render) = run(
             "pdftoppm",
             &["-r", "20", "-png", pdf_s, prefix.to_str().unwrap()],
@@ -193,7 +195,7 @@ fn pdf_pages_are_the_sheet_size_and_qpdf_finds_no_errors() {
             return;
         };
         assert!(render.status.success());
-        let rendered = std::fs::read_dir(&dir)
+        let rendered = std::fs::read_dir(&renders)
             .unwrap()
             .filter(|e| {
                 e.as_ref()
@@ -209,7 +211,7 @@ fn pdf_pages_are_the_sheet_size_and_qpdf_finds_no_errors() {
 
 #[test]
 fn dxf_passes_ezdxf_audit_in_millimetres() {
-    for (dir, w, h) in built_examples("dxf") {
+    for (dir, w, h, _) in built_examples("dxf") {
         for dxf in sheets(&dir, "dxf") {
             let Some(m) = python_check("check_dxf.py", &dxf) else {
                 return;

@@ -2,6 +2,11 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
+use karigami::build::{Build, build};
+use karigami::design::{Overrides, parse_with};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, OnceLock};
 
 pub(crate) fn v2(x: f64, y: f64) -> DVec3 {
     DVec3::new(x, y, 0.0)
@@ -55,4 +60,90 @@ impl Rng {
     pub(crate) fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
         &items[self.below(items.len())]
     }
+}
+
+// Shared builds. Building the example recipes is most of the test time, and
+// many tests only read a build: each recipe (with its overrides or CLI flags)
+// is built once per test process and shared. A test that checks building
+// itself (determinism, flags, faults) still builds its own.
+
+type Slots<T> = OnceLock<Mutex<HashMap<String, &'static OnceLock<T>>>>;
+
+/// The slot for `key`, made on first use. The map is locked only to find the
+/// slot: different keys build in parallel, one key builds once (a second
+/// test waits for the first).
+fn slot<T: Send + Sync>(slots: &'static Slots<T>, key: String) -> &'static OnceLock<T> {
+    let mut map = slots
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    map.entry(key).or_insert_with(|| Box::leak(Box::default()))
+}
+
+/// `examples/<name>.toml` (a path under the repository or a bare name).
+fn example_path(name: &str) -> PathBuf {
+    let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    if name.ends_with(".toml") {
+        repo.join(name)
+    } else {
+        repo.join("examples").join(format!("{name}.toml"))
+    }
+}
+
+/// A fresh in-process build of an example recipe, for tests that compare two
+/// builds or change one.
+pub fn build_example(name: &str, o: &Overrides) -> Build {
+    let path = example_path(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let stem = path.file_stem().unwrap().to_string_lossy();
+    build(parse_with(&text, &stem, o).unwrap())
+        .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()))
+}
+
+/// An example recipe built in-process with `o`, once per test process.
+pub fn example_with(name: &str, o: &Overrides) -> &'static Build {
+    static BUILDS: Slots<Build> = OnceLock::new();
+    let path = example_path(name);
+    slot(&BUILDS, format!("{} {o:?}", path.display())).get_or_init(|| build_example(name, o))
+}
+
+/// An example recipe built in-process with its own settings, once per test process.
+pub fn example(name: &str) -> &'static Build {
+    example_with(name, &Overrides::default())
+}
+
+/// `karigami build <recipe> <flags> --out out` run once per test process in
+/// target/test-scratch/shared/; the output folder, for tests that only read it.
+pub fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
+    static OUTS: Slots<PathBuf> = OnceLock::new();
+    let recipe = example_path(name);
+    let key = format!("{} {}", recipe.display(), flags.join(" "));
+    slot(&OUTS, key).get_or_init(|| {
+        let tag: String = format!(
+            "{} {}",
+            recipe.file_stem().unwrap().to_string_lossy(),
+            flags.join(" ")
+        )
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+        let dir = crate::cli::scratch(&format!("shared/{tag}"));
+        let mut args = vec!["build", recipe.to_str().unwrap()];
+        args.extend_from_slice(flags);
+        args.extend(["--out", "out"]);
+        let o = crate::cli::karigami(&args, &dir);
+        assert!(
+            o.status.success(),
+            "karigami {}: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        dir.join("out")
+    })
 }

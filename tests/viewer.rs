@@ -18,9 +18,9 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-fn built(name: &str) -> Build {
-    let source = std::fs::read_to_string(repo().join(format!("examples/{name}.toml"))).unwrap();
-    build(design::parse(&source, name).unwrap()).unwrap()
+/// The example's build, shared with the other tests (tests/util.rs).
+fn built(name: &str) -> &'static Build {
+    crate::util::example(name)
 }
 
 fn page(b: &Build) -> Vec<u8> {
@@ -37,9 +37,10 @@ fn data(html: &str) -> Value {
 #[test]
 fn viewer_page_is_self_contained_deterministic_and_small() {
     let b = built("flat-sheet");
-    let html = page(&b);
-    assert_eq!(html, page(&built("flat-sheet")), "same recipe, same bytes");
-    let file = karigami::output::files(&b)
+    let html = page(b);
+    let again = crate::util::build_example("flat-sheet", &Default::default());
+    assert_eq!(html, page(&again), "same recipe, same bytes");
+    let file = karigami::output::files(b)
         .into_iter()
         .find(|f| f.0 == "viewer.html")
         .unwrap();
@@ -254,7 +255,7 @@ fn viewer_works_in_headless_chromium() {
     let mut plan_pages = Vec::new();
     let mut expect = Vec::new();
     let started = std::time::Instant::now();
-    let builds: Vec<Build> = std::thread::scope(|scope| {
+    let builds: Vec<&Build> = std::thread::scope(|scope| {
         let handles: Vec<_> = names
             .iter()
             .map(|&name| scope.spawn(move || built(name)))
@@ -270,7 +271,7 @@ fn viewer_works_in_headless_chromium() {
         let dir = shots.join(name);
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("viewer.html");
-        std::fs::write(&file, page(&b)).unwrap();
+        std::fs::write(&file, page(b)).unwrap();
         let steps = &b.steps;
         let n = steps.len();
         let k = n.div_ceil(2);
@@ -582,7 +583,7 @@ fn viewer_works_in_headless_chromium() {
 #[test]
 fn the_page_opens_cells_by_the_checks_c_theta() {
     let b = built("mirror-arm");
-    let d = data(&String::from_utf8(page(&b)).unwrap());
+    let d = data(&String::from_utf8(page(b)).unwrap());
     let config = &b.deployment.config;
     let cells = d["deploy"]["cells"].as_array().unwrap();
     assert_eq!(cells.len(), 7 * b.lattice.cells.len());
@@ -603,7 +604,7 @@ fn the_page_opens_cells_by_the_checks_c_theta() {
     }
     // Lattices that are not planar true mechanisms get no slider.
     for name in ["flat-sheet", "torus", "eggbox"] {
-        let d = data(&String::from_utf8(page(&built(name))).unwrap());
+        let d = data(&String::from_utf8(page(built(name))).unwrap());
         assert_eq!(d["deploy"], Value::Null, "{name}");
     }
 }
