@@ -92,7 +92,7 @@ fn example_path(name: &str) -> PathBuf {
 
 /// A fresh in-process build of an example recipe, for tests that compare two
 /// builds or change one.
-pub fn build_example(name: &str, o: &Overrides) -> Build {
+pub(crate) fn build_example(name: &str, o: &Overrides) -> Build {
     let path = example_path(name);
     let text = std::fs::read_to_string(&path).unwrap();
     let stem = path.file_stem().unwrap().to_string_lossy();
@@ -101,20 +101,20 @@ pub fn build_example(name: &str, o: &Overrides) -> Build {
 }
 
 /// An example recipe built in-process with `o`, once per test process.
-pub fn example_with(name: &str, o: &Overrides) -> &'static Build {
+pub(crate) fn example_with(name: &str, o: &Overrides) -> &'static Build {
     static BUILDS: Slots<Build> = OnceLock::new();
     let path = example_path(name);
     slot(&BUILDS, format!("{} {o:?}", path.display())).get_or_init(|| build_example(name, o))
 }
 
 /// An example recipe built in-process with its own settings, once per test process.
-pub fn example(name: &str) -> &'static Build {
+pub(crate) fn example(name: &str) -> &'static Build {
     example_with(name, &Overrides::default())
 }
 
 /// `karigami build <recipe> <flags> --out out` run once per test process in
 /// target/test-scratch/shared/; the output folder, for tests that only read it.
-pub fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
+pub(crate) fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
     static OUTS: Slots<PathBuf> = OnceLock::new();
     let recipe = example_path(name);
     let key = format!("{} {}", recipe.display(), flags.join(" "));
