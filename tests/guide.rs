@@ -799,3 +799,40 @@ fn gauge_tiles_cover_the_line_within_their_rooms() {
         }
     }
 }
+
+/// A loop stacked by columns (the half ellipsoid) stacks its joints in two
+/// orders: each step says both, with their joint keys, and no step asks for
+/// a strip by an ID the strip does not carry.
+#[test]
+fn column_stacking_says_each_order_and_names_only_engraved_ids() {
+    let b = example("half-ellipsoid");
+    let text: Vec<String> = texts(
+        guide(b)
+            .pages
+            .iter()
+            .flat_map(|p| &p.groups)
+            .flat_map(|gr| &gr.items),
+    )
+    .into_iter()
+    .map(|t| t.1)
+    .collect();
+    let text = text.join(" ");
+    // The steps (the parts list before them maps types to strip IDs).
+    let text = &text[text.find("Step 1 of").expect("step 1")..];
+    let orders = text.matches("2 stacking orders").count();
+    assert!(
+        orders + 1 >= b.steps.len(),
+        "every step after the first says its two orders ({orders} of {})",
+        b.steps.len()
+    );
+    for s in &b.parts.strips {
+        if text.contains(&s.id) {
+            assert_eq!(
+                s.marking,
+                karigami::parts::Marking::Id,
+                "{} is named but not engraved",
+                s.id
+            );
+        }
+    }
+}
