@@ -10,7 +10,7 @@
 
 use glam::DVec3;
 use karigami::design::{self, Overrides};
-use karigami::geometry::{Direction, Leg};
+use karigami::legs::{Direction, Leg};
 use karigami::lattice::deploy::deployment;
 use karigami::lattice::{RowParams, grow_sheet, verify};
 mod common;

@@ -5,7 +5,7 @@ use crate::property::random_lattice;
 use crate::util::Rng;
 use glam::DVec3;
 use karigami::design;
-use karigami::geometry::Direction;
+use karigami::legs::Direction;
 use karigami::lattice::{
     FrontMoves, Grower, GrowthErrorKind, Kind, Lattice, RowParams, TOLERANCE, grow, verify,
 };

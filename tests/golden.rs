@@ -2,7 +2,7 @@
 
 use crate::util::{close, close_vec, v2};
 use glam::DVec3;
-use karigami::geometry::{Direction, Leg};
+use karigami::legs::{Direction, Leg};
 use karigami::lattice::{RowParams, grow_sheet, verify};
 
 fn worked_example(scale: f64, start: usize, direction: DVec3) -> karigami::lattice::Lattice {

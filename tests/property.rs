@@ -3,7 +3,7 @@
 
 use crate::util::Rng;
 use glam::DVec3;
-use karigami::geometry::{Direction, Leg};
+use karigami::legs::{Direction, Leg};
 use karigami::lattice::{Lattice, RowParams, TOLERANCE, front_frame, grow_sheet, verify};
 
 pub(crate) struct RandomDesign {

@@ -4,7 +4,8 @@
 use super::{Group, Item, Layer, Page, Segment, Shape};
 use crate::fabrication::Fabrication;
 use crate::layout::{Layout, Placement};
-use crate::parts::{Outline, Strip, TestPiece, font, test_piece};
+use crate::font;
+use crate::parts::{Outline, Strip, TestPiece, test_piece};
 use glam::DVec2;
 
 /// Provenance for the files' metadata.

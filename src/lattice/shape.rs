@@ -280,7 +280,7 @@ pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
+    use crate::legs::{Direction, Leg};
     use crate::lattice::{RowParams, grow};
 
     fn grid(rows: usize) -> Lattice {

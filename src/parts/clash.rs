@@ -335,7 +335,7 @@ pub(crate) fn rod_name(lattice: &Lattice, rod: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
+    use crate::legs::{Direction, Leg};
     use crate::lattice::{Kind, Rod, RowParams, grow};
 
     #[test]

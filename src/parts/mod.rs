@@ -5,7 +5,6 @@
 //! it, pointing down when the strip lies with its start to the left.
 
 pub mod clash;
-pub mod font;
 pub mod test_piece;
 pub(crate) mod types;
 
@@ -13,6 +12,7 @@ pub use test_piece::{TestPiece, test_piece};
 pub use types::PartType;
 
 use crate::fabrication::{Fabrication, LabelStyle};
+use crate::font;
 use crate::lattice::{Joint, Lattice, RodType, vertex_eyelets};
 use glam::DVec2;
 

@@ -5,7 +5,7 @@
 //! checks scale, kerf and eyelet fit before cutting the job. It is shaped
 //! like a strip (same width, rounded ends) so it nests in a lane like one.
 
-use super::font;
+use crate::font;
 use crate::fabrication::Fabrication;
 use glam::DVec2;
 

@@ -15,7 +15,7 @@
 
 use crate::design::fit::{Fit, Surface, error};
 use crate::design::{Design, MIN_WALL};
-use crate::geometry::{Direction, Leg};
+use crate::legs::{Direction, Leg};
 use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
 use glam::DVec3;
 

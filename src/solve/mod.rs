@@ -31,7 +31,7 @@ use crate::design::measure::{Measures, measure};
 use crate::design::optimise::{Method, Optimise, Pattern, Vary};
 use crate::design::{Design, MIN_WALL};
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use crate::geometry::Direction;
+use crate::legs::Direction;
 use crate::lattice::{FrontMoves, Kind, Lattice};
 use crate::rng::Rng;
 use argmin::core::{CostFunction, Error, Executor, State};
