@@ -3,8 +3,8 @@
 
 use super::{Group, Item, Layer, Page, Segment, Shape};
 use crate::fabrication::Fabrication;
-use crate::layout::{Layout, Placement};
 use crate::font;
+use crate::layout::{Layout, Placement};
 use crate::parts::{Outline, Strip, TestPiece, test_piece};
 use glam::DVec2;
 
