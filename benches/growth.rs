@@ -10,9 +10,9 @@
 
 use glam::DVec3;
 use karigami::design::{self, Overrides};
-use karigami::geometry::{Direction, Leg};
 use karigami::lattice::deploy::deployment;
 use karigami::lattice::{RowParams, grow_sheet, verify};
+use karigami::legs::{Direction, Leg};
 mod common;
 
 use common::{cpu_seconds, peak_rss, sheet_recipe, size};

@@ -54,9 +54,52 @@ pub fn build(design: Design) -> Result<Build, Diagnostic> {
 
 /// `build`, telling `progress` about each fitted row (long fits).
 pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Build, Diagnostic> {
+    check(design, progress)?.assemble()
+}
+
+/// The first stage of every build, and all of `karigami check`: a design
+/// grown, its lattice verified and its deployment worked out. `check`
+/// reports on it whether or not it passed; `assemble` makes the parts,
+/// layout and pages of one that did.
+pub struct Checked {
+    /// The validated recipe it was grown from.
+    pub design: Design,
+    /// The lattice as grown.
+    pub lattice: Lattice,
+    /// Verification of the grown lattice (MATH.md 8); it may have failed.
+    pub report: Report,
+    /// How it deploys (MATH.md 8.4).
+    pub deployment: Deployment,
+}
+
+/// Grow `design` (telling `progress` about each fitted row), verify the
+/// lattice and work out its deployment. Only growth can fail here; a
+/// failed verification is in the report.
+pub fn check(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Checked, Diagnostic> {
     let lattice = design.grow_with(progress)?;
     let report = verify(&lattice);
-    assemble(design, lattice, report)
+    let deployment = deployment(&lattice);
+    Ok(Checked {
+        design,
+        lattice,
+        report,
+        deployment,
+    })
+}
+
+impl Checked {
+    /// Why karigami makes no cut files for this lattice, if it does not
+    /// (`too_large_to_fabricate`).
+    pub fn too_large_to_fabricate(&self) -> Option<Diagnostic> {
+        too_large_to_fabricate(&self.design, &self.lattice)
+    }
+
+    /// The parts, layout and pages. A lattice too large to fabricate, or
+    /// one that failed verification or a fabrication check, is refused
+    /// with a located error.
+    pub fn assemble(self) -> Result<Build, Diagnostic> {
+        assemble(self.design, self.lattice, self.report, self.deployment)
+    }
 }
 
 /// The most cells karigami makes parts for (two strips a cell). Growth and
@@ -73,7 +116,7 @@ pub(crate) const MAX_GUIDE_STEPS: usize = 2_000;
 /// Why karigami makes no cut files for a lattice this size (None when it
 /// does): more than `MAX_FABRICATED_CELLS` cells, or a guide of more than
 /// `MAX_GUIDE_STEPS` steps. `karigami check` still verifies it.
-pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diagnostic> {
+fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diagnostic> {
     let cells = lattice.cells.len();
     let (message, hint) = if cells > MAX_FABRICATED_CELLS {
         (
@@ -100,18 +143,9 @@ pub fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diag
     )
 }
 
-/// The parts, layout and pages of a grown and verified lattice.
-pub(crate) fn assemble(
-    design: Design,
-    lattice: Lattice,
-    report: Report,
-) -> Result<Build, Diagnostic> {
-    let deployment = deployment(&lattice);
-    assemble_with(design, lattice, report, deployment)
-}
-
-/// `assemble`, with the lattice's deployment already worked out.
-pub fn assemble_with(
+/// The parts, layout and pages of a grown and verified lattice
+/// (`Checked::assemble`).
+fn assemble(
     design: Design,
     lattice: Lattice,
     report: Report,

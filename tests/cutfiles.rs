@@ -8,7 +8,7 @@ use crate::util::Rng;
 use glam::DVec2;
 use karigami::build::build;
 use karigami::design;
-use karigami::geometry::{Direction, Leg};
+use karigami::legs::{Direction, Leg};
 use serde_json::Value;
 use std::collections::HashMap;
 use svg::node::element::tag::Type;

@@ -5,10 +5,10 @@ use crate::property::random_lattice;
 use crate::util::Rng;
 use glam::DVec3;
 use karigami::design;
-use karigami::geometry::Direction;
 use karigami::lattice::{
     FrontMoves, Grower, GrowthErrorKind, Kind, Lattice, RowParams, TOLERANCE, grow, verify,
 };
+use karigami::legs::Direction;
 use std::fs;
 
 fn ring(rng: &mut Rng, n: usize, wobble: f64) -> (Vec<DVec3>, Vec<f64>) {

@@ -2,8 +2,8 @@
 
 use crate::util::{close, close_vec, v2};
 use glam::DVec3;
-use karigami::geometry::{Direction, Leg};
 use karigami::lattice::{RowParams, grow_sheet, verify};
+use karigami::legs::{Direction, Leg};
 
 fn worked_example(scale: f64, start: usize, direction: DVec3) -> karigami::lattice::Lattice {
     let points = [v2(0.0, 0.0), v2(2.0, 0.0), v2(4.0, 0.3)].map(|p| p * scale);

@@ -7,7 +7,7 @@ use glam::DVec2;
 use karigami::build::{Build, build};
 use karigami::design::{self, Overrides, parse_with};
 use karigami::drawing::{Group, Item, Layer, Page, Segment, Shape, TEST_PIECE_ID};
-use karigami::parts::font;
+use karigami::font;
 use std::collections::BTreeMap;
 
 /// The example's build, shared with the other tests (tests/util.rs).

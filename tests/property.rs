@@ -3,8 +3,8 @@
 
 use crate::util::Rng;
 use glam::DVec3;
-use karigami::geometry::{Direction, Leg};
 use karigami::lattice::{Lattice, RowParams, TOLERANCE, front_frame, grow_sheet, verify};
+use karigami::legs::{Direction, Leg};
 
 pub(crate) struct RandomDesign {
     pub dim: usize,

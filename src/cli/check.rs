@@ -5,18 +5,16 @@ use super::error::{Error, ErrorJson, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
 use super::recipe::Recipe;
-use karigami::build::{assemble_with, too_large_to_fabricate};
+use karigami::build;
 use karigami::design::Overrides;
 use karigami::diagnostic::ErrorKind;
-use karigami::lattice::deploy::deployment;
-use karigami::lattice::verify;
 use karigami::report;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// One recipe in `check --json`'s report.
 #[derive(Serialize)]
-struct Checked {
+struct CheckJson {
     file: String,
     /// "pass", "fail" (the lattice fails verification) or "error".
     status: &'static str,
@@ -28,7 +26,7 @@ struct Checked {
     build: Option<serde_json::Value>,
 }
 
-impl Checked {
+impl CheckJson {
     fn new(file: &str, status: &'static str) -> Self {
         Self {
             file: file.to_string(),
@@ -80,13 +78,13 @@ fn check_one(
     overrides: &Overrides,
     v: Verbosity,
     bar: &mut Progress,
-) -> (Option<ErrorKind>, Checked) {
+) -> (Option<ErrorKind>, CheckJson) {
     let file = path.display().to_string();
     let fail = |e: Error, bar: &mut Progress| {
         if !json {
             bar.print(&e.text);
         }
-        let mut checked = Checked::new(&file, "error");
+        let mut checked = CheckJson::new(&file, "error");
         checked.error = e.json.map(|j| *j);
         (Some(e.kind), checked)
     };
@@ -98,46 +96,50 @@ fn check_one(
         Ok(d) => d,
         Err(e) => return fail(e, bar),
     };
-    let lattice = match design.grow_with(&mut |note| fit_note(note, v, bar)) {
-        Ok(l) => l,
+    let checked = match build::check(design, &mut |note| fit_note(note, v, bar)) {
+        Ok(c) => c,
         Err(d) => return fail(recipe.error(&d), bar),
     };
     bar.clear();
-    let report = verify(&lattice);
-    let deploy = deployment(&lattice);
+    let build::Checked {
+        design,
+        lattice,
+        report,
+        deployment,
+    } = &checked;
     // Each report is made only when it is shown: both measure the shape
     // and the clashes (the text report did it once more for a JSON report
     // it threw away), and `-q` shows neither.
-    let check = json.then(|| report::check_json(&design, &lattice, &report, &deploy));
+    let check = json.then(|| report::check_json(design, lattice, report, deployment));
     if !json && !v.quiet {
         out!(
             "{}",
-            report::check_text(&design, &lattice, &report, &deploy)
+            report::check_text(design, lattice, report, deployment)
         );
     }
     if !report.passed() {
-        let mut checked = Checked::new(&file, "fail");
+        let mut checked = CheckJson::new(&file, "fail");
         checked.check = check;
         return (Some(ErrorKind::VerificationFailed), checked);
     }
-    if let Some(why) = too_large_to_fabricate(&design, &lattice) {
+    if let Some(why) = checked.too_large_to_fabricate() {
         if !json && !v.quiet {
             outln!(
                 "fabrication: not checked ({})\nresult: PASS (geometry verified)",
                 why.message
             );
         }
-        let mut checked = Checked::new(&file, "pass");
+        let mut checked = CheckJson::new(&file, "pass");
         checked.check = check;
         return (None, checked);
     }
-    match assemble_with(design, lattice, report, deploy) {
+    match checked.assemble() {
         Ok(built) => {
             if !json && !v.quiet {
                 out!("{}", report::summary(&built));
                 outln!("result: PASS (geometry verified, every strip can be cut)");
             }
-            let mut checked = Checked::new(&file, "pass");
+            let mut checked = CheckJson::new(&file, "pass");
             checked.check = check;
             checked.build = json.then(|| report::build_json(&built));
             (None, checked)

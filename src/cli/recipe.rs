@@ -58,7 +58,7 @@ pub(super) fn stem(path: &Path) -> String {
 }
 
 /// Parse, grow, verify and assemble one recipe (the build and batch paths;
-/// `check` goes step by step to print the report even when it fails).
+/// `check` stops after `build::check` to report, then assembles).
 pub(super) fn run_recipe(
     recipe: &Recipe,
     overrides: &Overrides,

@@ -3,7 +3,7 @@
 //! `Design::grow` grows it and points lattice errors back at the recipe.
 
 mod errors;
-mod fabrication;
+mod fabrication_table;
 pub mod fit;
 pub mod measure;
 pub(crate) mod optimise;
@@ -14,7 +14,7 @@ pub(crate) mod simulation;
 mod spans;
 mod values;
 
-pub use fabrication::{FabricationSpans, MIN_WALL, Overrides};
+pub use fabrication_table::{FabricationSpans, MIN_WALL, Overrides};
 
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::Fabrication;
@@ -91,7 +91,7 @@ pub fn parse_with(
         Some(n) => n.get_ref().clone(),
         None => default_name.to_string(),
     };
-    let (fabrication, fabrication_spans) = fabrication::fabrication(&raw, overrides)?;
+    let (fabrication, fabrication_spans) = fabrication_table::fabrication(&raw, overrides)?;
     let clash = optimise::parse_clash(raw.clash.as_ref())?;
     let optimise = raw.optimise.as_ref().map(optimise::parse).transpose()?;
     let simulation = simulation::parse(raw.simulation.as_ref())?;

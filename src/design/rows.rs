@@ -6,8 +6,8 @@ use super::raw::{RawFront, RawLattice, RawLeg, RawRow};
 use super::spans::{NO_ENTRY, Spans, field_spans};
 use super::values::{coords, count, finite};
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use crate::geometry::{Direction, Leg};
 use crate::lattice::{Crank, FrontMoves, Kind, MAX_CELLS, PivotMove, RowParams};
+use crate::legs::{Direction, Leg};
 use toml::Spanned;
 
 /// One `RowParams` per row: `[lattice.grow]` defaults overridden by the

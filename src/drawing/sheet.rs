@@ -3,8 +3,9 @@
 
 use super::{Group, Item, Layer, Page, Segment, Shape};
 use crate::fabrication::Fabrication;
+use crate::font;
 use crate::layout::{Layout, Placement};
-use crate::parts::{Outline, Strip, TestPiece, font, test_piece};
+use crate::parts::{Outline, Strip, TestPiece, test_piece};
 use glam::DVec2;
 
 /// Provenance for the files' metadata.

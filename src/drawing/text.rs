@@ -3,7 +3,7 @@
 //! without fonts.
 
 use super::{Align, Font, Shape};
-use crate::parts::font;
+use crate::font;
 use glam::DVec2;
 
 /// Advance widths of ASCII 32..=126 in Helvetica.

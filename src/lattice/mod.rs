@@ -293,7 +293,7 @@ pub(crate) fn angle_between(a: DVec3, b: DVec3) -> f64 {
 #[cfg(test)]
 pub(crate) mod fixtures {
     use super::{Kind, Lattice, RowParams, grow};
-    use crate::geometry::{Direction, Leg};
+    use crate::legs::{Direction, Leg};
     use glam::DVec3;
 
     /// A sheet grown on `points` with these `kappa`, `rows` rows at

@@ -280,8 +280,8 @@ pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
     use crate::lattice::{RowParams, grow};
+    use crate::legs::{Direction, Leg};
 
     fn grid(rows: usize) -> Lattice {
         let points: Vec<DVec3> = (0..6)

@@ -335,8 +335,8 @@ pub(crate) fn rod_name(lattice: &Lattice, rod: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Direction, Leg};
     use crate::lattice::{Kind, Rod, RowParams, grow};
+    use crate::legs::{Direction, Leg};
 
     #[test]
     fn closest_points_of_crossing_parallel_and_skew_segments() {

@@ -5,8 +5,8 @@
 //! checks scale, kerf and eyelet fit before cutting the job. It is shaped
 //! like a strip (same width, rounded ends) so it nests in a lane like one.
 
-use super::font;
 use crate::fabrication::Fabrication;
+use crate::font;
 use glam::DVec2;
 
 /// Thinnest wall kept beside a test hole (as for the strips' holes).

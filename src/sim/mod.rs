@@ -3,10 +3,12 @@
 //! elastic energy with the opening of the reference cell prescribed.
 //!
 //! Layers: `dual` (derivatives), `frames`, `model` (variables, energy),
-//! `strips` (a lattice's model), `solver` (Newton), `explore`
-//! (multistability), `results` (strains, reactions, distances).
+//! `strips` (a lattice's model; its openings read and set in `opening`),
+//! `solver` (Newton), `explore` (multistability), `results` (strains,
+//! reactions, distances).
 
 pub mod explore;
+mod opening;
 pub(crate) mod results;
 pub(crate) mod strips;
 

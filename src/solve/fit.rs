@@ -15,8 +15,8 @@
 
 use crate::design::fit::{Fit, Surface, error};
 use crate::design::{Design, MIN_WALL};
-use crate::geometry::{Direction, Leg};
 use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
+use crate::legs::{Direction, Leg};
 use glam::DVec3;
 
 /// Grow the fitted lattice; `progress` hears about each row.

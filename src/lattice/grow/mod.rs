@@ -5,7 +5,7 @@ use super::closure::{Closure, Holonomy, closure};
 use super::construct::{Point, Refusal, lower_left, lower_right, pivot_from_v1, pivot_from_v2};
 use super::front::{FrontMoves, rebuild};
 use super::{Cell, Kind, Lattice, Vertex, VertexKey, angle_between};
-use crate::geometry::{Direction, Leg};
+use crate::legs::{Direction, Leg};
 use glam::DVec3;
 use std::fmt;
 

@@ -1,5 +1,6 @@
-//! A single-stroke font for engraving IDs on strips: every glyph is a few
-//! open polylines, so labels need no font files and cut as one pass.
+//! A single-stroke font for the engraving on strips and the test piece and
+//! for the text of drawings: every glyph is a few open polylines, so labels
+//! need no font files and cut as one pass.
 //! Glyphs sit on a 4 x 6 grid (y up from the baseline); the advance is 5.
 
 use glam::DVec2;

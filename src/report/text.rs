@@ -1,9 +1,5 @@
-//! The reports of a check and a build: human-readable text (report.txt,
-//! the terminal summary) here, the `--json` reports in `json.rs`.
-
-mod json;
-
-pub use json::{build_check_json, build_json, check_json};
+//! The human-readable reports of a check and a build: `karigami check`'s
+//! verification report, report.txt and the terminal summary.
 
 use crate::build::Build;
 use crate::design::Design;
@@ -216,7 +212,7 @@ pub fn summary(b: &Build) -> String {
 }
 
 /// The summary with every warning (for report.txt) or the first few.
-pub(crate) fn summary_with(b: &Build, full: bool) -> String {
+fn summary_with(b: &Build, full: bool) -> String {
     let mut out = String::new();
     let bounds = b.bounds();
     let fab = &b.design.fabrication;
@@ -271,7 +267,7 @@ pub(crate) fn summary_with(b: &Build, full: bool) -> String {
 
 /// One line of sheet advice: the smallest preset that holds the job and
 /// its utilisation, against the sheet used.
-pub(crate) fn sheet_advice(b: &Build) -> Option<String> {
+fn sheet_advice(b: &Build) -> Option<String> {
     let best = b.advice.as_ref()?;
     let fab = &b.design.fabrication;
     let sheets = |n: usize| {

@@ -1,6 +1,7 @@
-//! `[material]`, `[eyelet]`, `[strip]`, `[laser]`, `[sheet]`: validated into
-//! `Fabrication`, with command-line overrides applied first so every check
-//! sees the values that will be used.
+//! The recipe's fabrication tables parsed (the model they fill is
+//! `crate::fabrication`): `[material]`, `[eyelet]`, `[strip]`, `[laser]`,
+//! `[sheet]` validated into `Fabrication`, with command-line overrides
+//! applied first so every check sees the values that will be used.
 
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::{Diagnostic, ErrorKind};

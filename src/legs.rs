@@ -1,4 +1,5 @@
-//! Small value types shared by the design and the lattice.
+//! How a designer states a row's start leg: its direction and a free boundary
+//! leg's length, value types shared by the design and the lattice.
 
 use glam::DVec3;
 

@@ -1,0 +1,202 @@
+//! Drawings that repeat, up to a move (the strips of one part type on the
+//! cut sheets), found and replaced by places of one shared symbol.
+
+use crate::drawing::{Group, Item, Page, Place, Segment, Shape, Symbol};
+use glam::DVec2;
+use std::collections::HashMap;
+
+/// Where a group is anchored: the first point of its first item.
+fn anchor(g: &Group) -> Option<DVec2> {
+    match &g.items.first()?.shape {
+        Shape::Circle { center, .. } => Some(*center),
+        Shape::Path { start, .. } => Some(*start),
+        Shape::Text { at, .. } => Some(*at),
+    }
+}
+
+/// `shape` moved by `d`.
+fn moved(shape: &Shape, d: DVec2) -> Shape {
+    let mut shape = shape.clone();
+    match &mut shape {
+        Shape::Circle { center, .. } => *center += d,
+        Shape::Text { at, .. } => *at += d,
+        Shape::Path {
+            start, segments, ..
+        } => {
+            *start += d;
+            for s in segments {
+                match s {
+                    Segment::Line(p) => *p += d,
+                    Segment::Arc { to, center, .. } => {
+                        *to += d;
+                        *center += d;
+                    }
+                }
+            }
+        }
+    }
+    shape
+}
+
+/// A group's drawing relative to its anchor, as text on the 0.1 um grid:
+/// two groups with the same key draw the same thing, moved.
+fn key(items: &[Item]) -> String {
+    let mut k = String::new();
+    let p = |k: &mut String, v: DVec2| {
+        k.push_str(&format!("{} {} ", (v.x * 1e4).round(), (v.y * 1e4).round()));
+    };
+    for i in items {
+        k.push_str(&format!("{:?} {:?} ", i.layer, i.ink));
+        match &i.shape {
+            Shape::Circle { center, radius } => {
+                k.push_str(&format!("C{radius} "));
+                p(&mut k, *center);
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                k.push_str(&format!("P{closed} "));
+                p(&mut k, *start);
+                for s in segments {
+                    match s {
+                        Segment::Line(q) => p(&mut k, *q),
+                        Segment::Arc {
+                            to,
+                            center,
+                            clockwise,
+                        } => {
+                            k.push_str(&format!("A{clockwise} "));
+                            p(&mut k, *to);
+                            p(&mut k, *center);
+                        }
+                    }
+                }
+            }
+            text @ Shape::Text { at, .. } => {
+                k.push_str(&format!("{text:?} "));
+                p(&mut k, *at);
+            }
+        }
+        k.push('|');
+    }
+    k
+}
+
+/// The pages with every group whose drawing occurs more than once (up to
+/// a move) replaced by a place of one shared symbol: a Form XObject
+/// written once. A 100 x 100 sheet build has 20,000 strips of one or two
+/// drawings; each copy then costs one short `cm ... Do` line.
+pub(super) fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
+    let relative = |g: &Group| -> Option<(DVec2, Vec<Item>)> {
+        let a = anchor(g).filter(|_| g.symbols.is_empty())?;
+        let items = g
+            .items
+            .iter()
+            .map(|i| Item {
+                shape: moved(&i.shape, -a),
+                ..i.clone()
+            })
+            .collect();
+        Some((a, items))
+    };
+    let mut count: HashMap<String, usize> = HashMap::new();
+    for g in pages.iter().flat_map(|p| &p.groups) {
+        if let Some((_, items)) = relative(g) {
+            *count.entry(key(&items)).or_default() += 1;
+        }
+    }
+    let mut index: HashMap<String, usize> = HashMap::new();
+    let mut symbols: Vec<Symbol> = Vec::new();
+    let mut out = Vec::with_capacity(pages.len());
+    for page in pages {
+        let mut page = page.clone();
+        for g in &mut page.groups {
+            let Some((at, items)) = relative(g) else {
+                continue;
+            };
+            let k = key(&items);
+            if count[&k] < 2 {
+                continue;
+            }
+            let symbol = *index.entry(k).or_insert_with(|| {
+                symbols.push(Symbol {
+                    uses: Vec::new(),
+                    items,
+                });
+                symbols.len() - 1
+            });
+            g.symbols = vec![Place { symbol, at }];
+            g.items.clear();
+        }
+        out.push(page);
+    }
+    (out, symbols)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::Layer;
+    use crate::write::pdf::write;
+
+    /// A strip-like group (a hole and a closed outline) anchored at `at`.
+    fn strip(id: &str, at: DVec2, hole: f64) -> Group {
+        let c = |x: f64, y: f64| at + DVec2::new(x, y);
+        Group::new(
+            id,
+            vec![
+                Item::on(
+                    Layer::Holes,
+                    Shape::Circle {
+                        center: c(0.0, 0.0),
+                        radius: hole,
+                    },
+                ),
+                Item::on(
+                    Layer::Outlines,
+                    Shape::polyline(&[c(-5.0, -5.0), c(30.0, -5.0), c(30.0, 5.0)], true),
+                ),
+            ],
+        )
+    }
+
+    #[test]
+    fn repeated_drawings_become_one_symbol_placed_where_each_copy_was() {
+        let page = |groups| Page {
+            width: 200.0,
+            height: 100.0,
+            title: "t".into(),
+            metadata: Vec::new(),
+            groups,
+        };
+        let a = DVec2::new(10.0, 20.0);
+        let b = DVec2::new(60.123_45, 70.0);
+        let pages = vec![
+            page(vec![strip("A", a, 1.6), strip("odd", a, 2.0)]),
+            page(vec![strip("B", b, 1.6)]),
+        ];
+        let (shared, symbols) = share_repeats(&pages);
+        assert_eq!(symbols.len(), 1, "one drawing repeats");
+        // The symbol is the drawing relative to its anchor (the hole).
+        assert_eq!(
+            symbols[0].items,
+            strip("A", DVec2::ZERO, 1.6).items,
+            "the symbol draws the strip at the origin"
+        );
+        let places: Vec<(String, Vec<Place>, usize)> = shared
+            .iter()
+            .flat_map(|p| &p.groups)
+            .map(|g| (g.id.clone(), g.symbols.clone(), g.items.len()))
+            .collect();
+        assert_eq!(places[0], ("A".into(), vec![Place { symbol: 0, at: a }], 0));
+        // A drawing that occurs once stays inline.
+        assert_eq!(places[1], ("odd".into(), vec![], 2));
+        assert_eq!(places[2], ("B".into(), vec![Place { symbol: 0, at: b }], 0));
+        // And the PDF places it twice, with one Form XObject.
+        let bytes = write("t", &pages);
+        let text = String::from_utf8_lossy(&bytes);
+        assert_eq!(text.matches("/Subtype /Form").count(), 1);
+    }
+}
