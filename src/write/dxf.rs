@@ -6,7 +6,7 @@
 //! y points up in DXF, so page coordinates are flipped (y' = height - y).
 
 use super::number::num;
-use crate::drawing::{Layer, Page, Segment, Shape, arc_angles};
+use crate::drawing::{Layer, Page, Segment, Shape, arc_angles, walk};
 use glam::DVec2;
 use std::fmt::Write as _;
 
@@ -59,24 +59,19 @@ impl Dxf {
 /// A path's vertices, each with the bulge of the segment that leaves it.
 fn bulged(start: DVec2, segments: &[Segment], closed: bool) -> Vec<(DVec2, f64)> {
     let mut vertices: Vec<(DVec2, f64)> = vec![(start, 0.0)];
-    let mut current = start;
-    for s in segments {
-        match *s {
-            Segment::Line(p) => {
-                vertices.push((p, 0.0));
-                current = p;
-            }
+    for (from, s) in walk(start, segments) {
+        match s {
+            Segment::Line(p) => vertices.push((p, 0.0)),
             Segment::Arc {
                 to,
                 center,
                 clockwise,
             } => {
-                let (_, sweep) = arc_angles(current, to, center, clockwise);
+                let (_, sweep) = arc_angles(from, to, center, clockwise);
                 // Clockwise on the y-down page is counter-clockwise once
                 // flipped, and DXF bulges are positive counter-clockwise.
                 vertices.last_mut().expect("a start vertex").1 = (sweep / 4.0).tan();
                 vertices.push((to, 0.0));
-                current = to;
             }
         }
     }
