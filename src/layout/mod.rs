@@ -238,6 +238,23 @@ fn nest_by(
     Layout::new(sheet, width, lengths, test_piece, sheets)
 }
 
+/// Every split of the usable area worth trying, in the order the nester
+/// tries them: the most lanes along x first, then the most along y.
+fn splits(width: f64, sheet: &SheetSpec) -> impl Iterator<Item = Vec<Lane>> + '_ {
+    let (uw, uh) = sheet.usable();
+    let pitch = width + sheet.gap;
+    [false, true]
+        .into_iter()
+        .flat_map(move |major_rotated| {
+            let span = if major_rotated { uw } else { uh };
+            let max_k = ((span + sheet.gap) / pitch).floor() as usize;
+            (0..=max_k)
+                .rev()
+                .map(move |k| lanes(k, major_rotated, width, sheet))
+        })
+        .filter(|lanes| !lanes.is_empty())
+}
+
 /// The lanes of one split of the usable area: `k` lanes along `major`
 /// (x when not rotated) and lanes of the other orientation in the rest.
 fn lanes(k: usize, major_rotated: bool, width: f64, sheet: &SheetSpec) -> Vec<Lane> {
@@ -368,36 +385,22 @@ fn fill_sheet(
     sheet: &SheetSpec,
     must: Option<usize>,
 ) -> (Sheet, Vec<usize>) {
-    let (uw, uh) = sheet.usable();
-    let pitch = width + sheet.gap;
     // The best split so far: material placed, its lanes, (index in order, lane).
-    type Split = (f64, Vec<Lane>, Vec<(usize, usize)>);
-    let mut best: Option<Split> = None;
-    let all_placed = |b: &Option<Split>| b.as_ref().is_some_and(|b| b.2.len() == order.len());
-    for major_rotated in [false, true] {
-        let span = if major_rotated { uw } else { uh };
-        let max_k = ((span + sheet.gap) / pitch).floor() as usize;
-        for k in (0..=max_k).rev() {
-            let lanes = lanes(k, major_rotated, width, sheet);
-            if lanes.is_empty() {
-                continue;
-            }
-            let fit = best_fit(order, lengths, &lanes, sheet.gap);
-            // `must` is always first in `order`.
-            let takes_must = must.is_none_or(|m| fit.first().is_some_and(|&(i, _)| order[i] == m));
-            if !takes_must {
-                continue;
-            }
-            let placed: f64 = fit.iter().map(|&(i, _)| lengths[order[i]]).sum();
-            if best.as_ref().is_none_or(|b| placed > b.0) {
-                best = Some((placed, lanes, fit));
-                if all_placed(&best) {
-                    break;
-                }
-            }
+    let mut best: Option<(f64, Vec<Lane>, Vec<(usize, usize)>)> = None;
+    for lanes in splits(width, sheet) {
+        let fit = best_fit(order, lengths, &lanes, sheet.gap);
+        // `must` is always first in `order`.
+        let takes_must = must.is_none_or(|m| fit.first().is_some_and(|&(i, _)| order[i] == m));
+        if !takes_must {
+            continue;
         }
-        if all_placed(&best) {
-            break;
+        let placed: f64 = fit.iter().map(|&(i, _)| lengths[order[i]]).sum();
+        if best.as_ref().is_none_or(|b| placed > b.0) {
+            let all = fit.len() == order.len();
+            best = Some((placed, lanes, fit));
+            if all {
+                break;
+            }
         }
     }
     let (_, lanes, fit) = best.expect("a sheet has at least one lane");
@@ -513,43 +516,26 @@ mod tests {
             sheet: &SheetSpec,
             must: Option<usize>,
         ) -> (Sheet, Vec<usize>) {
-            let (uw, uh) = sheet.usable();
-            let pitch = width + sheet.gap;
             let mut best: Option<(f64, Vec<Lane>, Vec<Option<usize>>)> = None;
-            for major_rotated in [false, true] {
-                let span = if major_rotated { uw } else { uh };
-                let max_k = ((span + sheet.gap) / pitch).floor() as usize;
-                for k in (0..=max_k).rev() {
-                    let lanes = lanes(k, major_rotated, width, sheet);
-                    if lanes.is_empty() {
-                        continue;
-                    }
-                    let fit = best_fit(order, lengths, &lanes, sheet.gap);
-                    let takes_must = must.is_none_or(|m| {
-                        order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some())
-                    });
-                    if !takes_must {
-                        continue;
-                    }
-                    let placed: f64 = order
-                        .iter()
-                        .zip(&fit)
-                        .filter(|(_, f)| f.is_some())
-                        .map(|(&p, _)| lengths[p])
-                        .sum();
-                    if best.as_ref().is_none_or(|b| placed > b.0) {
-                        let all = fit.iter().all(Option::is_some);
-                        best = Some((placed, lanes, fit));
-                        if all {
-                            break;
-                        }
-                    }
+            for lanes in splits(width, sheet) {
+                let fit = best_fit(order, lengths, &lanes, sheet.gap);
+                let takes_must = must
+                    .is_none_or(|m| order.iter().zip(&fit).any(|(&p, f)| p == m && f.is_some()));
+                if !takes_must {
+                    continue;
                 }
-                if best
-                    .as_ref()
-                    .is_some_and(|b| b.2.iter().all(Option::is_some))
-                {
-                    break;
+                let placed: f64 = order
+                    .iter()
+                    .zip(&fit)
+                    .filter(|(_, f)| f.is_some())
+                    .map(|(&p, _)| lengths[p])
+                    .sum();
+                if best.as_ref().is_none_or(|b| placed > b.0) {
+                    let all = fit.iter().all(Option::is_some);
+                    best = Some((placed, lanes, fit));
+                    if all {
+                        break;
+                    }
                 }
             }
             let (_, lanes, fit) = best.expect("a sheet has at least one lane");
