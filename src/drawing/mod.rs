@@ -112,6 +112,19 @@ impl Segment {
             Segment::Line(p) | Segment::Arc { to: p, .. } => p,
         }
     }
+
+    /// The signed angle the segment turns through from `from` (rad,
+    /// positive clockwise on the page); 0 for a line.
+    pub(crate) fn sweep(self, from: DVec2) -> f64 {
+        match self {
+            Segment::Line(_) => 0.0,
+            Segment::Arc {
+                to,
+                center,
+                clockwise,
+            } => arc_angles(from, to, center, clockwise).1,
+        }
+    }
 }
 
 /// A path's segments in order, each with the point it starts from.
@@ -234,14 +247,7 @@ impl Shape {
                 for (from, s) in walk(*start, segments) {
                     total += match s {
                         Segment::Line(p) => from.distance(p),
-                        Segment::Arc {
-                            to,
-                            center,
-                            clockwise,
-                        } => {
-                            let (_, sweep) = arc_angles(from, to, center, clockwise);
-                            sweep.abs() * from.distance(center)
-                        }
+                        Segment::Arc { center, .. } => s.sweep(from).abs() * from.distance(center),
                     };
                 }
                 if *closed {

@@ -6,7 +6,7 @@
 //! y points up in DXF, so page coordinates are flipped (y' = height - y).
 
 use super::number::num;
-use crate::drawing::{Layer, Page, Segment, Shape, arc_angles, walk};
+use crate::drawing::{Layer, Page, Segment, Shape, walk};
 use glam::DVec2;
 use std::fmt::Write as _;
 
@@ -60,20 +60,12 @@ impl Dxf {
 fn bulged(start: DVec2, segments: &[Segment], closed: bool) -> Vec<(DVec2, f64)> {
     let mut vertices: Vec<(DVec2, f64)> = vec![(start, 0.0)];
     for (from, s) in walk(start, segments) {
-        match s {
-            Segment::Line(p) => vertices.push((p, 0.0)),
-            Segment::Arc {
-                to,
-                center,
-                clockwise,
-            } => {
-                let (_, sweep) = arc_angles(from, to, center, clockwise);
-                // Clockwise on the y-down page is counter-clockwise once
-                // flipped, and DXF bulges are positive counter-clockwise.
-                vertices.last_mut().expect("a start vertex").1 = (sweep / 4.0).tan();
-                vertices.push((to, 0.0));
-            }
+        if let Segment::Arc { .. } = s {
+            // Clockwise on the y-down page is counter-clockwise once
+            // flipped, and DXF bulges are positive counter-clockwise.
+            vertices.last_mut().expect("a start vertex").1 = (s.sweep(from) / 4.0).tan();
         }
+        vertices.push((s.end(), 0.0));
     }
     if closed && vertices.len() > 1 && vertices.last().expect("vertices").0.distance(start) < 1e-9 {
         // The closing segment is implied; the last bulge stays on its vertex.

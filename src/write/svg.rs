@@ -35,7 +35,7 @@ fn path_data(d: &mut String, start: glam::DVec2, segments: &[Segment], closed: b
             Segment::Arc {
                 center, clockwise, ..
             } => {
-                let (_, sweep) = crate::drawing::arc_angles(from, to, center, clockwise);
+                let sweep = s.sweep(from);
                 let r = num((from - center).length());
                 let large = if sweep.abs() > std::f64::consts::PI + 1e-9 {
                     1
