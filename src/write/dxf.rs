@@ -27,6 +27,16 @@ impl Dxf {
         h
     }
 
+    /// A table's header: its name, its handle and how many entries follow.
+    fn table_head(&mut self, name: &str, handle: &str, entries: usize) {
+        self.pair(0, "TABLE");
+        self.pair(2, name);
+        self.pair(5, handle);
+        self.pair(330, "0");
+        self.pair(100, "AcDbSymbolTable");
+        self.pair(70, entries);
+    }
+
     /// A table entry or entity header: type, its handle, its owner.
     fn head(&mut self, kind: &str, owner: &str) -> String {
         self.pair(0, kind);
@@ -37,19 +47,14 @@ impl Dxf {
     }
 
     fn table(&mut self, name: &str, entries: impl FnOnce(&mut Dxf, &str) -> usize) {
-        self.pair(0, "TABLE");
-        self.pair(2, name);
         let h = self.handle();
-        self.pair(5, &h);
-        self.pair(330, "0");
-        self.pair(100, "AcDbSymbolTable");
         // Entries are written after the count, so count them on a copy first.
         let mut probe = Dxf {
             out: String::new(),
             next_handle: self.next_handle,
         };
         let n = entries(&mut probe, &h);
-        self.pair(70, n);
+        self.table_head(name, &h, n);
         self.out.push_str(&probe.out);
         self.next_handle = probe.next_handle;
         self.pair(0, "ENDTAB");
@@ -306,13 +311,8 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
 
 /// The DIMSTYLE table, written out: it uses 105 for its entries' handles.
 fn dimstyle_table(d: &mut Dxf) {
-    d.pair(0, "TABLE");
-    d.pair(2, "DIMSTYLE");
     let dimstyle = d.handle();
-    d.pair(5, &dimstyle);
-    d.pair(330, "0");
-    d.pair(100, "AcDbSymbolTable");
-    d.pair(70, 1);
+    d.table_head("DIMSTYLE", &dimstyle, 1);
     d.pair(100, "AcDbDimStyleTable");
     d.pair(0, "DIMSTYLE");
     let std_dim = d.handle();
@@ -327,13 +327,8 @@ fn dimstyle_table(d: &mut Dxf) {
 
 /// The block records, with the fixed handles the blocks refer to.
 fn block_record_table(d: &mut Dxf) {
-    d.pair(0, "TABLE");
-    d.pair(2, "BLOCK_RECORD");
     let records = d.handle();
-    d.pair(5, &records);
-    d.pair(330, "0");
-    d.pair(100, "AcDbSymbolTable");
-    d.pair(70, 2);
+    d.table_head("BLOCK_RECORD", &records, 2);
     for (handle, name) in [
         (MODEL_RECORD, "*Model_Space"),
         (PAPER_RECORD, "*Paper_Space"),
