@@ -560,16 +560,6 @@ mod tests {
                 rest,
             )
         }
-
-        /// The old nester: the shared sheet-by-sheet driver over the old filling.
-        pub(crate) fn nest_with(
-            lengths: &[f64],
-            width: f64,
-            sheet: &SheetSpec,
-            test_piece: Option<f64>,
-        ) -> Layout {
-            nest_by(lengths, width, sheet, test_piece, fill_sheet)
-        }
     }
 
     #[test]
@@ -596,7 +586,8 @@ mod tests {
                 .collect();
             let piece = (case % 3 == 0).then(|| width + (longest - width) * rng.uniform());
             let new = nest_with(&lengths, width, &sheet, piece);
-            let old = reference::nest_with(&lengths, width, &sheet, piece);
+            // The old nester: the same sheet-by-sheet driver, the old filling.
+            let old = nest_by(&lengths, width, &sheet, piece, reference::fill_sheet);
             assert_eq!(new, old, "case {case}");
         }
     }

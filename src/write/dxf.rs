@@ -37,6 +37,16 @@ impl Dxf {
         self.pair(70, entries);
     }
 
+    /// A table entry's header: type, handle, owner, record class and name
+    /// (with no flags).
+    fn record(&mut self, kind: &str, owner: &str, class: &str, name: &str) {
+        self.head(kind, owner);
+        self.pair(100, "AcDbSymbolTableRecord");
+        self.pair(100, class);
+        self.pair(2, name);
+        self.pair(70, 0);
+    }
+
     /// A table entry or entity header: type, its handle, its owner.
     fn head(&mut self, kind: &str, owner: &str) -> String {
         self.pair(0, kind);
@@ -221,11 +231,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     d.pair(0, "SECTION");
     d.pair(2, "TABLES");
     d.table("VPORT", |d, owner| {
-        d.head("VPORT", owner);
-        d.pair(100, "AcDbSymbolTableRecord");
-        d.pair(100, "AcDbViewportTableRecord");
-        d.pair(2, "*Active");
-        d.pair(70, 0);
+        d.record("VPORT", owner, "AcDbViewportTableRecord", "*Active");
         for (code, v) in [(10, 0.0), (20, 0.0), (11, 1.0), (21, 1.0)] {
             d.pair(code, num(v));
         }
@@ -237,11 +243,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     });
     d.table("LTYPE", |d, owner| {
         for name in ["ByBlock", "ByLayer", "Continuous"] {
-            d.head("LTYPE", owner);
-            d.pair(100, "AcDbSymbolTableRecord");
-            d.pair(100, "AcDbLinetypeTableRecord");
-            d.pair(2, name);
-            d.pair(70, 0);
+            d.record("LTYPE", owner, "AcDbLinetypeTableRecord", name);
             d.pair(
                 3,
                 if name == "Continuous" {
@@ -266,11 +268,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
             )
             .collect();
         for &(name, colour, plot) in &layers {
-            d.head("LAYER", owner);
-            d.pair(100, "AcDbSymbolTableRecord");
-            d.pair(100, "AcDbLayerTableRecord");
-            d.pair(2, name);
-            d.pair(70, 0);
+            d.record("LAYER", owner, "AcDbLayerTableRecord", name);
             d.pair(62, colour);
             d.pair(6, "Continuous");
             d.pair(290, plot as u8);
@@ -280,11 +278,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
         layers.len()
     });
     d.table("STYLE", |d, owner| {
-        d.head("STYLE", owner);
-        d.pair(100, "AcDbSymbolTableRecord");
-        d.pair(100, "AcDbTextStyleTableRecord");
-        d.pair(2, "Standard");
-        d.pair(70, 0);
+        d.record("STYLE", owner, "AcDbTextStyleTableRecord", "Standard");
         d.pair(40, "0.0");
         d.pair(41, "1.0");
         d.pair(50, "0.0");
@@ -297,11 +291,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     d.table("VIEW", |_, _| 0);
     d.table("UCS", |_, _| 0);
     d.table("APPID", |d, owner| {
-        d.head("APPID", owner);
-        d.pair(100, "AcDbSymbolTableRecord");
-        d.pair(100, "AcDbRegAppTableRecord");
-        d.pair(2, "ACAD");
-        d.pair(70, 0);
+        d.record("APPID", owner, "AcDbRegAppTableRecord", "ACAD");
         1
     });
     dimstyle_table(d);
