@@ -386,7 +386,8 @@ fn fill_sheet(
     must: Option<usize>,
 ) -> (Sheet, Vec<usize>) {
     // The best split so far: material placed, its lanes, (index in order, lane).
-    let mut best: Option<(f64, Vec<Lane>, Vec<(usize, usize)>)> = None;
+    type Split = (f64, Vec<Lane>, Vec<(usize, usize)>);
+    let mut best: Option<Split> = None;
     for lanes in splits(width, sheet) {
         let fit = best_fit(order, lengths, &lanes, sheet.gap);
         // `must` is always first in `order`.
