@@ -105,6 +105,44 @@ pub enum Segment {
     },
 }
 
+impl Segment {
+    /// The point the segment ends on (page mm).
+    pub(crate) fn end(self) -> DVec2 {
+        match self {
+            Segment::Line(p) | Segment::Arc { to: p, .. } => p,
+        }
+    }
+
+    /// The signed angle the segment turns through from `from` (rad,
+    /// positive clockwise on the page); 0 for a line.
+    pub(crate) fn sweep(self, from: DVec2) -> f64 {
+        match self {
+            Segment::Line(_) => 0.0,
+            Segment::Arc {
+                to,
+                center,
+                clockwise,
+            } => arc_angles(from, to, center, clockwise).1,
+        }
+    }
+}
+
+/// A path's segments in order, each with the point it starts from.
+pub(crate) fn walk(
+    start: DVec2,
+    segments: &[Segment],
+) -> impl Iterator<Item = (DVec2, Segment)> + '_ {
+    segments.iter().scan(start, |current, &s| {
+        let from = std::mem::replace(current, s.end());
+        Some((from, s))
+    })
+}
+
+/// The point a path ends on: its last segment's end, or `start` if it has none.
+pub(crate) fn path_end(start: DVec2, segments: &[Segment]) -> DVec2 {
+    segments.last().map_or(start, |s| s.end())
+}
+
 /// Built-in PDF fonts (no font files); other writers draw text with the
 /// single-stroke font.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -205,28 +243,15 @@ impl Shape {
                 segments,
                 closed,
             } => {
-                let mut current = *start;
                 let mut total = 0.0;
-                for s in segments {
-                    let to = match *s {
-                        Segment::Line(p) => {
-                            total += current.distance(p);
-                            p
-                        }
-                        Segment::Arc {
-                            to,
-                            center,
-                            clockwise,
-                        } => {
-                            let (_, sweep) = arc_angles(current, to, center, clockwise);
-                            total += sweep.abs() * current.distance(center);
-                            to
-                        }
+                for (from, s) in walk(*start, segments) {
+                    total += match s {
+                        Segment::Line(p) => from.distance(p),
+                        Segment::Arc { center, .. } => s.sweep(from).abs() * from.distance(center),
                     };
-                    current = to;
                 }
                 if *closed {
-                    total += current.distance(*start);
+                    total += path_end(*start, segments).distance(*start);
                 }
                 total
             }

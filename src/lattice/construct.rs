@@ -44,44 +44,37 @@ pub(crate) fn null_ray(a: Point, b: Point, v: DVec3) -> Result<f64, Refusal> {
     }
 }
 
+/// The point formula P finds: `b + r v` at collapsed coordinate `zb + r`.
+fn null_point(a: Point, b: Point, v: DVec3) -> Result<Point, Refusal> {
+    let r = null_ray(a, b, v)?;
+    Ok(Point {
+        pos: b.pos + r * v,
+        z: b.z + r,
+    })
+}
+
 /// Paper eq. 4 (MATH.md 4.2): a cell's pivot from its top corners and `v2`,
 /// the unit direction from UR towards the pivot. Its legs are
 /// `l4 = z(p) - z(UR)` and `l1 = z(p) - z(UL)`.
 pub(crate) fn pivot_from_v2(ul: Point, ur: Point, v2: DVec3) -> Result<Point, Refusal> {
-    let l4 = null_ray(ul, ur, v2)?;
-    Ok(Point {
-        pos: ur.pos + l4 * v2,
-        z: ur.z + l4,
-    })
+    null_point(ul, ur, v2)
 }
 
 /// Mirror form of eq. 4: the pivot from `v1`, the unit direction from UL.
 pub(crate) fn pivot_from_v1(ul: Point, ur: Point, v1: DVec3) -> Result<Point, Refusal> {
-    let l1 = null_ray(ur, ul, v1)?;
-    Ok(Point {
-        pos: ul.pos + l1 * v1,
-        z: ul.z + l1,
-    })
+    null_point(ur, ul, v1)
 }
 
 /// Right transfer (4.3): the lower-right corner of cell j on rod A, from the
 /// direction `v1` of that rod, null-related to the vertex two steps right.
 pub(crate) fn lower_right(x_j: Point, x_j2: Point, v1: DVec3) -> Result<Point, Refusal> {
-    let rho = null_ray(x_j2, x_j, v1)?;
-    Ok(Point {
-        pos: x_j.pos + rho * v1,
-        z: x_j.z + rho,
-    })
+    null_point(x_j2, x_j, v1)
 }
 
 /// Left transfer (4.4): the lower-left corner of cell j on rod B, from the
 /// direction `v2` of that rod, null-related to the vertex one step left of UL.
 pub(crate) fn lower_left(x_jm1: Point, x_j1: Point, v2: DVec3) -> Result<Point, Refusal> {
-    let sigma = null_ray(x_jm1, x_j1, v2)?;
-    Ok(Point {
-        pos: x_j1.pos + sigma * v2,
-        z: x_j1.z + sigma,
-    })
+    null_point(x_jm1, x_j1, v2)
 }
 
 #[cfg(test)]

@@ -45,11 +45,9 @@ pub fn grow_helix_partial(
     use GrowthErrorKind as K;
     let n = points.len().saturating_sub(1);
     if n < 2 {
-        return Err(GrowthError::new(
+        return Err(GrowthError::of_design(
             K::SeedTooShort,
             Param::SeedPoints,
-            None,
-            None,
             format!(
                 "a helix seed needs at least 3 points (N >= 2), this one has {}",
                 points.len()
@@ -58,11 +56,9 @@ pub fn grow_helix_partial(
         ));
     }
     if cells > MAX_CELLS {
-        return Err(GrowthError::new(
+        return Err(GrowthError::of_design(
             K::TooLarge,
             Param::Cells,
-            None,
-            None,
             format!("{cells} cells is more than the limit of {MAX_CELLS}"),
             "grow fewer cells",
         ));
@@ -80,11 +76,9 @@ pub fn grow_helix_partial(
     let defect = seed_defect(points, kappa);
     if !(defect.abs() <= SEED_TOL) {
         let rod = points[n].distance(points[1]);
-        return Err(GrowthError::new(
+        return Err(GrowthError::of_design(
             K::HelixSeedNotNull,
             Param::SeedKappa(n),
-            None,
-            None,
             format!(
                 "rod B of cell 0 runs from y_1 to y_N, so |y_N - y_1| = {} must equal -(kappa_1 + ... + kappa_{}) = {}",
                 fmt_len(rod),

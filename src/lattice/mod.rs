@@ -24,7 +24,7 @@ pub use grow::{
 };
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
 pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelet_count, vertex_eyelets};
-pub(crate) use placed::largest_eigenvector;
+pub(crate) use placed::horn_rotation;
 pub use rods::{Rod, RodType};
 pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, tolerance, verify};
 

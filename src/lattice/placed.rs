@@ -98,15 +98,7 @@ fn rigid_fit(pairs: &[(DVec3, DVec3)], prefer: DQuat) -> (DQuat, DVec3) {
             *x += 0.05 * spread.max(1e-12) * pull.col(b)[a];
         }
     }
-    let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = s;
-    let k = [
-        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
-        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
-        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
-        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
-    ];
-    let [w, x, y, z] = largest_eigenvector(k);
-    let rotation = DQuat::from_xyzw(x, y, z, w).normalize();
+    let rotation = horn_rotation(s);
     let rotation = if rotation.is_finite() {
         rotation
     } else {
@@ -115,9 +107,23 @@ fn rigid_fit(pairs: &[(DVec3, DVec3)], prefer: DQuat) -> (DQuat, DVec3) {
     (rotation, cq - rotation * cp)
 }
 
+/// Horn's rotation (unit quaternion, possibly NaN when `s` is degenerate)
+/// maximising sum q.Rp, from the cross-covariance `s[i][j] = sum p_i q_j`.
+pub(crate) fn horn_rotation(s: [[f64; 3]; 3]) -> DQuat {
+    let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = s;
+    let k = [
+        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
+        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
+        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
+        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
+    ];
+    let [w, x, y, z] = largest_eigenvector(k);
+    DQuat::from_xyzw(x, y, z, w).normalize()
+}
+
 /// The eigenvector of the largest eigenvalue of a symmetric 4 x 4 matrix
 /// (cyclic Jacobi rotations).
-pub(crate) fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
+fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
     let mut v = [[0.0; 4]; 4];
     for (i, row) in v.iter_mut().enumerate() {
         row[i] = 1.0;

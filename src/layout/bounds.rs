@@ -53,15 +53,7 @@ fn ceil(x: f64) -> usize {
 mod tests {
     use super::*;
 
-    fn sheet() -> SheetSpec {
-        SheetSpec {
-            name: "t".into(),
-            width: 110.0,
-            height: 50.0,
-            margin: 5.0,
-            gap: 2.0,
-        }
-    }
+    use crate::layout::tests::small_sheet as sheet;
 
     #[test]
     fn bounds_by_hand() {

@@ -144,29 +144,15 @@ pub(crate) fn nest_by_step(
         s.placements.sort_by_key(|p| p.part);
     }
     sheets.retain(|s| !s.placements.is_empty() || s.test_piece.is_some());
-    Layout {
-        sheet: sheet.clone(),
-        part_width: width,
-        lengths: lengths.to_vec(),
-        test_piece,
-        sheets,
-    }
+    Layout::new(sheet, width, lengths, test_piece, sheets)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn sheet() -> SheetSpec {
-        // Usable 100 x 40: lanes of 100 along x, pitch 12, 3 lanes.
-        SheetSpec {
-            name: "t".into(),
-            width: 110.0,
-            height: 50.0,
-            margin: 5.0,
-            gap: 2.0,
-        }
-    }
+    // Usable 100 x 40: lanes of 100 along x, pitch 12, 3 lanes.
+    use crate::layout::tests::small_sheet as sheet;
 
     #[test]
     fn steps_keep_to_their_lanes_and_to_one_sheet_when_they_can() {

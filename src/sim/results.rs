@@ -3,7 +3,7 @@
 //! fit, and a discrete curvature measure of the deployed shape.
 
 use super::model::{Model, bend_measures};
-use glam::{DMat3, DQuat, DVec3};
+use glam::{DMat3, DVec3};
 use std::collections::BTreeMap;
 
 /// The largest corner-fibre strain of the strips, and where.
@@ -142,15 +142,7 @@ pub fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
             }
         }
     }
-    let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = s;
-    let k = [
-        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
-        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
-        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
-        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
-    ];
-    let v = crate::lattice::largest_eigenvector(k);
-    let rot = DQuat::from_xyzw(v[1], v[2], v[3], v[0]).normalize();
+    let rot = crate::lattice::horn_rotation(s);
     let m = DMat3::from_quat(rot);
     a.iter().map(|p| cb + m * (*p - ca)).collect()
 }

@@ -6,7 +6,7 @@
 //! y points up in DXF, so page coordinates are flipped (y' = height - y).
 
 use super::number::num;
-use crate::drawing::{Layer, Page, Segment, Shape, arc_angles};
+use crate::drawing::{Layer, Page, Segment, Shape, walk};
 use glam::DVec2;
 use std::fmt::Write as _;
 
@@ -27,6 +27,26 @@ impl Dxf {
         h
     }
 
+    /// A table's header: its name, its handle and how many entries follow.
+    fn table_head(&mut self, name: &str, handle: &str, entries: usize) {
+        self.pair(0, "TABLE");
+        self.pair(2, name);
+        self.pair(5, handle);
+        self.pair(330, "0");
+        self.pair(100, "AcDbSymbolTable");
+        self.pair(70, entries);
+    }
+
+    /// A table entry's header: type, handle, owner, record class and name
+    /// (with no flags).
+    fn record(&mut self, kind: &str, owner: &str, class: &str, name: &str) {
+        self.head(kind, owner);
+        self.pair(100, "AcDbSymbolTableRecord");
+        self.pair(100, class);
+        self.pair(2, name);
+        self.pair(70, 0);
+    }
+
     /// A table entry or entity header: type, its handle, its owner.
     fn head(&mut self, kind: &str, owner: &str) -> String {
         self.pair(0, kind);
@@ -37,19 +57,14 @@ impl Dxf {
     }
 
     fn table(&mut self, name: &str, entries: impl FnOnce(&mut Dxf, &str) -> usize) {
-        self.pair(0, "TABLE");
-        self.pair(2, name);
         let h = self.handle();
-        self.pair(5, &h);
-        self.pair(330, "0");
-        self.pair(100, "AcDbSymbolTable");
         // Entries are written after the count, so count them on a copy first.
         let mut probe = Dxf {
             out: String::new(),
             next_handle: self.next_handle,
         };
         let n = entries(&mut probe, &h);
-        self.pair(70, n);
+        self.table_head(name, &h, n);
         self.out.push_str(&probe.out);
         self.next_handle = probe.next_handle;
         self.pair(0, "ENDTAB");
@@ -59,26 +74,13 @@ impl Dxf {
 /// A path's vertices, each with the bulge of the segment that leaves it.
 fn bulged(start: DVec2, segments: &[Segment], closed: bool) -> Vec<(DVec2, f64)> {
     let mut vertices: Vec<(DVec2, f64)> = vec![(start, 0.0)];
-    let mut current = start;
-    for s in segments {
-        match *s {
-            Segment::Line(p) => {
-                vertices.push((p, 0.0));
-                current = p;
-            }
-            Segment::Arc {
-                to,
-                center,
-                clockwise,
-            } => {
-                let (_, sweep) = arc_angles(current, to, center, clockwise);
-                // Clockwise on the y-down page is counter-clockwise once
-                // flipped, and DXF bulges are positive counter-clockwise.
-                vertices.last_mut().expect("a start vertex").1 = (sweep / 4.0).tan();
-                vertices.push((to, 0.0));
-                current = to;
-            }
+    for (from, s) in walk(start, segments) {
+        if let Segment::Arc { .. } = s {
+            // Clockwise on the y-down page is counter-clockwise once
+            // flipped, and DXF bulges are positive counter-clockwise.
+            vertices.last_mut().expect("a start vertex").1 = (s.sweep(from) / 4.0).tan();
         }
+        vertices.push((s.end(), 0.0));
     }
     if closed && vertices.len() > 1 && vertices.last().expect("vertices").0.distance(start) < 1e-9 {
         // The closing segment is implied; the last bulge stays on its vertex.
@@ -229,11 +231,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     d.pair(0, "SECTION");
     d.pair(2, "TABLES");
     d.table("VPORT", |d, owner| {
-        d.head("VPORT", owner);
-        d.pair(100, "AcDbSymbolTableRecord");
-        d.pair(100, "AcDbViewportTableRecord");
-        d.pair(2, "*Active");
-        d.pair(70, 0);
+        d.record("VPORT", owner, "AcDbViewportTableRecord", "*Active");
         for (code, v) in [(10, 0.0), (20, 0.0), (11, 1.0), (21, 1.0)] {
             d.pair(code, num(v));
         }
@@ -245,11 +243,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     });
     d.table("LTYPE", |d, owner| {
         for name in ["ByBlock", "ByLayer", "Continuous"] {
-            d.head("LTYPE", owner);
-            d.pair(100, "AcDbSymbolTableRecord");
-            d.pair(100, "AcDbLinetypeTableRecord");
-            d.pair(2, name);
-            d.pair(70, 0);
+            d.record("LTYPE", owner, "AcDbLinetypeTableRecord", name);
             d.pair(
                 3,
                 if name == "Continuous" {
@@ -274,11 +268,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
             )
             .collect();
         for &(name, colour, plot) in &layers {
-            d.head("LAYER", owner);
-            d.pair(100, "AcDbSymbolTableRecord");
-            d.pair(100, "AcDbLayerTableRecord");
-            d.pair(2, name);
-            d.pair(70, 0);
+            d.record("LAYER", owner, "AcDbLayerTableRecord", name);
             d.pair(62, colour);
             d.pair(6, "Continuous");
             d.pair(290, plot as u8);
@@ -288,11 +278,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
         layers.len()
     });
     d.table("STYLE", |d, owner| {
-        d.head("STYLE", owner);
-        d.pair(100, "AcDbSymbolTableRecord");
-        d.pair(100, "AcDbTextStyleTableRecord");
-        d.pair(2, "Standard");
-        d.pair(70, 0);
+        d.record("STYLE", owner, "AcDbTextStyleTableRecord", "Standard");
         d.pair(40, "0.0");
         d.pair(41, "1.0");
         d.pair(50, "0.0");
@@ -305,11 +291,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
     d.table("VIEW", |_, _| 0);
     d.table("UCS", |_, _| 0);
     d.table("APPID", |d, owner| {
-        d.head("APPID", owner);
-        d.pair(100, "AcDbSymbolTableRecord");
-        d.pair(100, "AcDbRegAppTableRecord");
-        d.pair(2, "ACAD");
-        d.pair(70, 0);
+        d.record("APPID", owner, "AcDbRegAppTableRecord", "ACAD");
         1
     });
     dimstyle_table(d);
@@ -319,13 +301,8 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
 
 /// The DIMSTYLE table, written out: it uses 105 for its entries' handles.
 fn dimstyle_table(d: &mut Dxf) {
-    d.pair(0, "TABLE");
-    d.pair(2, "DIMSTYLE");
     let dimstyle = d.handle();
-    d.pair(5, &dimstyle);
-    d.pair(330, "0");
-    d.pair(100, "AcDbSymbolTable");
-    d.pair(70, 1);
+    d.table_head("DIMSTYLE", &dimstyle, 1);
     d.pair(100, "AcDbDimStyleTable");
     d.pair(0, "DIMSTYLE");
     let std_dim = d.handle();
@@ -340,13 +317,8 @@ fn dimstyle_table(d: &mut Dxf) {
 
 /// The block records, with the fixed handles the blocks refer to.
 fn block_record_table(d: &mut Dxf) {
-    d.pair(0, "TABLE");
-    d.pair(2, "BLOCK_RECORD");
     let records = d.handle();
-    d.pair(5, &records);
-    d.pair(330, "0");
-    d.pair(100, "AcDbSymbolTable");
-    d.pair(70, 2);
+    d.table_head("BLOCK_RECORD", &records, 2);
     for (handle, name) in [
         (MODEL_RECORD, "*Model_Space"),
         (PAPER_RECORD, "*Paper_Space"),

@@ -18,7 +18,9 @@
 //! labels.
 
 use super::number::{fixed, num, units};
-use crate::drawing::{Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, text};
+use crate::drawing::{
+    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, path_end, text, walk,
+};
 use glam::DVec2;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
@@ -190,33 +192,30 @@ fn shape(
             closed,
         } => {
             let mut data = PathData::new(*start);
-            let mut current = *start;
             let n = segments.len();
-            for (k, s) in segments.iter().enumerate() {
+            for (k, (from, s)) in walk(*start, segments).enumerate() {
                 // A closed path whose last segment ends on its start closes onto vertex 0.
                 let last = k + 1 == n;
-                match *s {
+                match s {
                     Segment::Line(p) => {
                         data.line_to(p, last && *closed && p.distance(*start) < 1e-9);
-                        current = p;
                     }
                     Segment::Arc {
                         to,
                         center,
                         clockwise,
                     } => {
-                        let pieces = arc_to_cubics(current, to, center, clockwise);
+                        let pieces = arc_to_cubics(from, to, center, clockwise);
                         let m = pieces.len();
                         for (j, [c1, c2, p]) in pieces.into_iter().enumerate() {
                             let closing =
                                 last && j + 1 == m && *closed && p.distance(*start) < 1e-9;
                             data.cubic_to(c1, c2, p, closing);
                         }
-                        current = to;
                     }
                 }
             }
-            if *closed && current.distance(*start) >= 1e-9 {
+            if *closed && path_end(*start, segments).distance(*start) >= 1e-9 {
                 data.line_to(*start, true);
             }
             path_shape(out, cut, &data, flip, shared);

@@ -2,7 +2,7 @@
 //! files and the guide, rasterised on white. Hairlines are widened to a
 //! visible minimum; text is drawn with the single-stroke font.
 
-use crate::drawing::{Page, Segment, Shape, arc_to_cubics, text};
+use crate::drawing::{Page, Segment, Shape, arc_to_cubics, text, walk};
 use tiny_skia::{
     Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
 };
@@ -46,19 +46,15 @@ pub fn write(page: &Page, px_per_mm: f64, min_stroke_px: f64) -> Vec<u8> {
             } => {
                 let mut pb = PathBuilder::new();
                 pb.move_to(start.x as f32, start.y as f32);
-                let mut current = *start;
-                for s in segments {
-                    match *s {
-                        Segment::Line(p) => {
-                            pb.line_to(p.x as f32, p.y as f32);
-                            current = p;
-                        }
+                for (from, s) in walk(*start, segments) {
+                    match s {
+                        Segment::Line(p) => pb.line_to(p.x as f32, p.y as f32),
                         Segment::Arc {
                             to,
                             center,
                             clockwise,
                         } => {
-                            for [c1, c2, end] in arc_to_cubics(current, to, center, clockwise) {
+                            for [c1, c2, end] in arc_to_cubics(from, to, center, clockwise) {
                                 pb.cubic_to(
                                     c1.x as f32,
                                     c1.y as f32,
@@ -68,7 +64,6 @@ pub fn write(page: &Page, px_per_mm: f64, min_stroke_px: f64) -> Vec<u8> {
                                     end.y as f32,
                                 );
                             }
-                            current = to;
                         }
                     }
                 }

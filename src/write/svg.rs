@@ -17,15 +17,12 @@ pub(crate) const HAIRLINE: f64 = 0.025;
 fn path_data(d: &mut String, start: glam::DVec2, segments: &[Segment], closed: bool) {
     let q = |p: glam::DVec2| (units(p.x), units(p.y));
     let _ = write!(d, "M{} {}", num(start.x), num(start.y));
-    let mut current = start;
     let mut at = q(start);
-    for s in segments {
-        let to = match *s {
-            Segment::Line(p) | Segment::Arc { to: p, .. } => p,
-        };
+    for (from, s) in crate::drawing::walk(start, segments) {
+        let to = s.end();
         let next = q(to);
         let (dx, dy) = (fixed(next.0 - at.0), fixed(next.1 - at.1));
-        match *s {
+        match s {
             Segment::Line(_) if next.1 == at.1 => {
                 let _ = write!(d, "h{dx}");
             }
@@ -38,8 +35,8 @@ fn path_data(d: &mut String, start: glam::DVec2, segments: &[Segment], closed: b
             Segment::Arc {
                 center, clockwise, ..
             } => {
-                let (_, sweep) = crate::drawing::arc_angles(current, to, center, clockwise);
-                let r = num((current - center).length());
+                let sweep = s.sweep(from);
+                let r = num((from - center).length());
                 let large = if sweep.abs() > std::f64::consts::PI + 1e-9 {
                     1
                 } else {
@@ -49,7 +46,6 @@ fn path_data(d: &mut String, start: glam::DVec2, segments: &[Segment], closed: b
                 let _ = write!(d, "a{r} {r} 0 {large} {} {dx} {dy}", clockwise as u8);
             }
         }
-        current = to;
         at = next;
     }
     if closed {

@@ -65,6 +65,16 @@ impl GrowthError {
         }
     }
 
+    /// An error of the design as a whole (its seed, its size), at no lattice site.
+    pub(crate) fn of_design(
+        kind: GrowthErrorKind,
+        param: Param,
+        message: impl Into<String>,
+        hint: impl Into<String>,
+    ) -> Self {
+        Self::new(kind, param, None, None, message, hint)
+    }
+
     /// "row 3, column 2" style location in lattice terms.
     pub(crate) fn site(&self) -> String {
         match (self.row, self.col) {

@@ -76,11 +76,9 @@ pub fn grow(
         points.len().saturating_sub(1)
     };
     if width.saturating_mul(rows.len()) > MAX_CELLS {
-        return Err(GrowthError::new(
+        return Err(GrowthError::of_design(
             GrowthErrorKind::TooLarge,
             Param::SeedPoints,
-            None,
-            None,
             format!(
                 "{width} x {} cells is more than the limit of {MAX_CELLS}",
                 rows.len()
@@ -134,11 +132,9 @@ impl Grower {
         let closed = kind == Kind::Loop;
         let min = if closed { 3 } else { 2 };
         if points.len() < min {
-            return Err(GrowthError::new(
+            return Err(GrowthError::of_design(
                 K::SeedTooShort,
                 Param::SeedPoints,
-                None,
-                None,
                 format!(
                     "a {} seed needs at least {min} points, this one has {}",
                     kind.name(),
@@ -173,11 +169,9 @@ impl Grower {
                 .sum();
             let sum: f64 = kappa.iter().sum();
             if !(sum.abs() <= 1e-9 * perimeter) {
-                return Err(GrowthError::new(
+                return Err(GrowthError::of_design(
                     K::LoopKappaSumNonzero,
                     Param::SeedKappa(width),
-                    None,
-                    None,
                     format!(
                         "the kappa of a loop must sum to 0 (the collapsed state goes once round the loop), but they sum to {}",
                         fmt_len(sum)
