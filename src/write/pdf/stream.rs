@@ -3,7 +3,7 @@
 
 use super::PT_PER_MM;
 use crate::drawing::{
-    Font, Ink, Item, Place, Segment, Shape, arc_to_cubics, circle_to_cubics, text,
+    Font, Ink, Item, Place, Segment, Shape, arc_to_cubics, circle_to_cubics, text, walk,
 };
 use glam::DVec2;
 use pdf_writer::{Content, Name, Str};
@@ -59,22 +59,17 @@ impl ToPdf {
             } => {
                 let (x, y) = self.xy(*start);
                 c.move_to(x, y);
-                let mut current = *start;
-                for s in segments {
-                    match *s {
+                for (from, s) in walk(*start, segments) {
+                    match s {
                         Segment::Line(p) => {
                             let (x, y) = self.xy(p);
                             c.line_to(x, y);
-                            current = p;
                         }
                         Segment::Arc {
                             to,
                             center,
                             clockwise,
-                        } => {
-                            self.cubics(c, &arc_to_cubics(current, to, center, clockwise));
-                            current = to;
-                        }
+                        } => self.cubics(c, &arc_to_cubics(from, to, center, clockwise)),
                     }
                 }
                 if *closed {
