@@ -6,5 +6,5 @@ mod json;
 mod text;
 
 pub use json::{build_check_json, build_json, check_json};
-pub(crate) use text::build_text;
+pub use text::build_text;
 pub use text::{check_text, summary};

@@ -139,7 +139,7 @@ fn deployment_text(out: &mut String, lattice: &Lattice, d: &Deployment) {
 
 /// report.txt: the verification report, the fabrication summary with its
 /// warnings, the sheets, and the eyelets of each assembly step.
-pub(crate) fn build_text(b: &Build) -> String {
+pub fn build_text(b: &Build) -> String {
     let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
     out.push_str(&check_text(&b.design, &b.lattice, &b.report, &b.deployment));
     out.push('\n');

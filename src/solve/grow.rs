@@ -13,7 +13,7 @@ impl Design {
     }
 
     /// `grow`, telling `progress` about each fitted row (long fits).
-    pub fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
+    pub(crate) fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
         let columns = self.clash.stacking == Stacking::Columns;
         let n = self.points.len();
         if columns && (self.kind != Kind::Loop || n % 2 != 0) {
