@@ -11,6 +11,7 @@ pub mod drawing;
 pub mod fabrication;
 pub mod font;
 pub mod guide;
+pub mod hash;
 pub mod lattice;
 pub mod layout;
 pub mod legs;

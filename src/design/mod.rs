@@ -160,15 +160,8 @@ pub fn parse_with(
         clash,
         optimise,
         simulation,
-        recipe_hash: fnv1a(source.as_bytes()),
+        recipe_hash: crate::hash::fnv1a(source.as_bytes()),
         spans,
-    })
-}
-
-/// 64-bit FNV-1a: a stable fingerprint of the recipe for file metadata.
-pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
     })
 }
 

@@ -20,8 +20,7 @@ pub(crate) fn rgb(preset: ColourPreset, layer: Layer) -> [u8; 3] {
 }
 
 pub(crate) fn hex(preset: ColourPreset, layer: Layer) -> String {
-    let [r, g, b] = rgb(preset, layer);
-    format!("#{r:02X}{g:02X}{b:02X}")
+    super::hex(rgb(preset, layer))
 }
 
 /// Recolour a cut sheet's layers (and its "layers" metadata) to `preset`.

@@ -62,8 +62,7 @@ impl Layer {
     }
 
     pub(crate) fn hex(self) -> String {
-        let [r, g, b] = self.rgb();
-        format!("#{r:02X}{g:02X}{b:02X}")
+        hex(self.rgb())
     }
 
     /// AutoCAD colour index with the same meaning (DXF).
@@ -125,6 +124,11 @@ impl Segment {
             } => arc_angles(from, to, center, clockwise).1,
         }
     }
+}
+
+/// `#RRGGBB` of an RGB colour (SVG and the viewer).
+pub(crate) fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02X}{g:02X}{b:02X}")
 }
 
 /// A path's segments in order, each with the point it starts from.

@@ -52,7 +52,7 @@ fn tolerance_of(lattice: &Lattice, legs: f64, extent: f64) -> f64 {
 
 /// An invariant of MATH.md 8.0-8.3 that verification checks; each is one
 /// `Check` of a `Report`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Invariant {
     /// Each rod is straight through its pivot: the sine of its bend there.
     RodStraightness,

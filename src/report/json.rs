@@ -7,7 +7,7 @@
 use crate::build::Build;
 use crate::design::Design;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Lattice, Report};
+use crate::lattice::{Invariant, Lattice, Report};
 use crate::layout::SheetOption;
 use serde::Serialize;
 
@@ -35,7 +35,7 @@ struct CheckJson<'a> {
 /// One invariant of the verification (those with something to check).
 #[derive(Serialize)]
 struct CheckLine<'a> {
-    invariant: String,
+    invariant: Invariant,
     description: &'static str,
     count: usize,
     max: f64,
@@ -80,7 +80,7 @@ pub fn check_json(
         .iter()
         .filter(|c| c.count > 0)
         .map(|c| CheckLine {
-            invariant: format!("{:?}", c.invariant),
+            invariant: c.invariant,
             description: c.invariant.describe(),
             count: c.count,
             max: c.max,

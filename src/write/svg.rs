@@ -5,7 +5,7 @@
 //! paths in relative commands (see `path_data`).
 
 use super::number::{fixed, num, units};
-use crate::drawing::{Group, Item, Page, Segment, Shape};
+use crate::drawing::{Group, Item, Page, Segment, Shape, hex};
 use std::fmt::Write as _;
 
 /// Stroke width in mm: a hairline that laser software reads as a cut line.
@@ -51,10 +51,6 @@ fn path_data(d: &mut String, start: glam::DVec2, segments: &[Segment], closed: b
     if closed {
         d.push('z');
     }
-}
-
-fn hex([r, g, b]: [u8; 3]) -> String {
-    format!("#{r:02X}{g:02X}{b:02X}")
 }
 
 /// One item, painted with its ink (cut layers: a hairline in the layer

@@ -12,6 +12,7 @@ use crate::lattice::deploy::Deployment;
 use crate::lattice::{Kind, Lattice, RodType};
 use crate::layout::Layout;
 use crate::parts::{Outline, Parts};
+use crate::words::plural;
 use glam::DVec3;
 use std::fmt::Write as _;
 
@@ -362,12 +363,4 @@ fn deploy_json(out: &mut String, s: &Scene) {
         );
     }
     out.push_str("]}\n");
-}
-
-fn plural(n: usize, what: &str) -> String {
-    if n == 1 {
-        format!("1 {what}")
-    } else {
-        format!("{n} {what}s")
-    }
 }

@@ -47,10 +47,7 @@ fn hidden(name: &OsStr, suffix: &str) -> String {
         while !name.is_char_boundary(end) {
             end -= 1;
         }
-        // FNV-1a: stable across runs and platforms.
-        let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
-            (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
-        });
+        let hash = karigami::hash::fnv1a(name.as_bytes());
         format!("{}~{hash:016x}", &name[..end])
     };
     format!(".{short}.karigami-{suffix}")

@@ -15,8 +15,8 @@
 mod repeats;
 mod stream;
 
-use crate::design::fnv1a;
 use crate::drawing::{Font, Item, Page, Place, Segment, Shape, Symbol, text};
+use crate::hash::fnv1a;
 use glam::DVec2;
 use pdf_writer::{Filter, Finish, Name, Pdf, Rect, Ref, TextStr};
 use repeats::share_repeats;
