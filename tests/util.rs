@@ -29,21 +29,17 @@ pub(crate) fn close_vec(actual: DVec3, expected: DVec3, tol: f64, what: &str) {
     );
 }
 
-/// A small deterministic generator (SplitMix64) for property tests, so the
-/// cases are the same on every run and need no extra crate.
-pub(crate) struct Rng(u64);
+/// The library's deterministic generator (SplitMix64) with the draws the
+/// property tests use, so the cases are the same on every run.
+pub(crate) struct Rng(karigami::rng::Rng);
 
 impl Rng {
     pub(crate) fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(karigami::rng::Rng::new(seed))
     }
 
     pub(crate) fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in [lo, hi).
