@@ -111,10 +111,10 @@ fn main() {
     for w in wanted {
         match w.strip_prefix("check:") {
             Some(s) if size(s).is_some() => {
-                cases.push((format!("check {s}"), vec!["--one-check".into(), s.into()]))
+                cases.push((format!("check {s}"), vec!["--one-check".into(), s.into()]));
             }
             None if size(&w).is_some() => {
-                cases.push((format!("sheet {w}"), vec!["--one-sheet".into(), w.clone()]))
+                cases.push((format!("sheet {w}"), vec!["--one-sheet".into(), w.clone()]));
             }
             _ => panic!("a case is CxR or check:CxR, not {w:?}"),
         }

@@ -573,8 +573,8 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
                     _ => Vec::new(),
                 })
                 .collect();
-            let h = ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-                - ys.iter().cloned().fold(f64::INFINITY, f64::min);
+            let h = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+                - ys.iter().copied().fold(f64::INFINITY, f64::min);
             assert!(h >= SMALLEST - 1e-6, "{name}: sheet caption {h} mm high");
         }
     }
@@ -693,8 +693,8 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
                     .chain(boxes(gr).iter().flat_map(|b| [b.1, b.3]))
                     .collect();
                 (
-                    xs.iter().cloned().fold(f64::INFINITY, f64::min),
-                    xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+                    xs.iter().copied().fold(f64::INFINITY, f64::min),
+                    xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
                 )
             };
             for (i, a) in on_page.iter().enumerate() {

@@ -142,8 +142,8 @@ fn measure(g: &Group) -> [f64; 3] {
         .iter()
         .map(|p| (*p - o).dot(axis))
         .collect();
-    let spine = along.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - along.iter().cloned().fold(f64::INFINITY, f64::min);
+    let spine = along.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        - along.iter().copied().fold(f64::INFINITY, f64::min);
     [
         holes[0].distance(holes[1]),
         holes[1].distance(holes[2]),
@@ -191,11 +191,11 @@ fn every_strip_of_every_example_can_be_told_apart_once_cut() {
                     Read::Text(t) if *t == format!("<{}", s.id) => ids += 1,
                     Read::Text(t) => {
                         assert_eq!(*t, code);
-                        types += 1
+                        types += 1;
                     }
                     Read::Dots(n) => {
                         assert_eq!(Some(*n), t.dots, "{}", s.id);
-                        dotted += 1
+                        dotted += 1;
                     }
                 }
                 by_engraving
@@ -272,8 +272,8 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
         .iter()
         .map(|p| (*p - o).dot(axis))
         .collect();
-    let spine = along.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
-        - along.iter().cloned().fold(f64::INFINITY, f64::min);
+    let spine = along.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        - along.iter().copied().fold(f64::INFINITY, f64::min);
     assert!((spine + fab.material.width - 100.0).abs() < 1e-9, "{spine}");
     // Every hole labelled with its diameter, and the length.
     let strokes = labels(g);

@@ -105,7 +105,7 @@ pub(super) fn build(
                     }
                 });
             }
-        })
+        });
     });
     bar.into_inner().unwrap_or_else(|e| e.into_inner()).clear();
     let outcomes: Vec<Outcome> = outcomes

@@ -33,7 +33,7 @@ pub(crate) fn apply(page: &mut Page, preset: ColourPreset) {
             item.ink.stroke = Some(rgb(preset, item.layer));
         }
     }
-    for (k, v) in page.metadata.iter_mut() {
+    for (k, v) in &mut page.metadata {
         if k == "layers" {
             *v = Layer::ALL
                 .iter()

@@ -464,7 +464,7 @@ mod tests {
         // passes through the right-hand side.
         let c = DVec2::ZERO;
         let pieces = arc_to_cubics(DVec2::new(0.0, -1.0), DVec2::new(0.0, 1.0), c, true);
-        assert!(pieces[0][2].x > 0.9, "{:?}", pieces);
+        assert!(pieces[0][2].x > 0.9, "{pieces:?}");
         let (_, sweep) = arc_angles(DVec2::new(0.0, -1.0), DVec2::new(0.0, 1.0), c, false);
         assert!((sweep + PI).abs() < 1e-12);
     }

@@ -328,8 +328,8 @@ mod tests {
                 _ => Vec::new(),
             })
             .collect();
-        let max = ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-        let min = ys.iter().cloned().fold(f64::INFINITY, f64::min);
+        let max = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let min = ys.iter().copied().fold(f64::INFINITY, f64::min);
         assert!(max <= 400.0, "the caption stays on the page: {max}");
         max - min
     }

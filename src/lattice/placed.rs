@@ -146,7 +146,7 @@ fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
                 let t = if theta == 0.0 { 1.0 } else { t };
                 let c = 1.0 / (t * t + 1.0).sqrt();
                 let s = t * c;
-                for row in a.iter_mut() {
+                for row in &mut a {
                     let (akp, akq) = (row[p], row[q]);
                     row[p] = c * akp - s * akq;
                     row[q] = s * akp + c * akq;
@@ -156,7 +156,7 @@ fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
                     a[p][k] = c * row_p[k] - s * row_q[k];
                     a[q][k] = s * row_p[k] + c * row_q[k];
                 }
-                for row in v.iter_mut() {
+                for row in &mut v {
                     let (vp, vq) = (row[p], row[q]);
                     row[p] = c * vp - s * vq;
                     row[q] = s * vp + c * vq;

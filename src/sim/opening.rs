@@ -95,7 +95,7 @@ impl LatticeModel {
             self.hold = Hold::Mean;
         }
         let m = &mut self.model;
-        for t in m.ties.iter_mut() {
+        for t in &mut m.ties {
             if let Some(&(_, s)) = self.delta.iter().find(|d| d.0 == t.var) {
                 t.offset = s * phi;
             }

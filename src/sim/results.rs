@@ -87,8 +87,7 @@ pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
                 peak.term = terms
                     .iter()
                     .max_by(|a, b| a.0.total_cmp(&b.0))
-                    .map(|t| t.1)
-                    .unwrap_or("");
+                    .map_or("", |t| t.1);
             }
             let _ = r;
         }

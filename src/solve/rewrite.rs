@@ -4,7 +4,7 @@ use super::*;
 
 /// A number as the recipe writes it: 6 decimals, trailing zeros dropped.
 pub(super) fn fmt(x: f64) -> String {
-    let s = format!("{:.6}", x);
+    let s = format!("{x:.6}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     let s = if s == "-0" { "0" } else { s };
     if s.contains('.') {

@@ -285,7 +285,7 @@ fn propagate(
             };
             if reached[j] {
                 let h = cos_phi[j];
-                path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs())
+                path_residual = path_residual.max((h.a - g.a).abs() + (h.b - g.b).abs());
             } else {
                 cos_phi[j] = g;
                 reached[j] = true;

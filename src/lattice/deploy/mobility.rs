@@ -138,7 +138,7 @@ fn rank(rows: Vec<Vec<(usize, f64)>>, n: usize) -> usize {
         let pivot = active.swap_remove(best);
         rank += 1;
         let pv = entry(&pivot);
-        for r in active.iter_mut() {
+        for r in &mut active {
             let v = entry(r);
             if v == 0.0 {
                 continue;
