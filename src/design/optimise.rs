@@ -19,76 +19,10 @@
 //! negative = 0.9
 //! ```
 
-use super::raw::Num;
+use super::raw::{Num, RawClash, RawOptimise};
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use serde::Deserialize;
 use std::ops::Range;
 use toml::Spanned;
-
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawClash {
-    pub(crate) clearance: Option<Num>,
-    pub(crate) allow: Option<Spanned<bool>>,
-    pub(crate) stacking: Option<Spanned<String>>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawOptimise {
-    pub(crate) vary: Spanned<Vec<Spanned<String>>>,
-    pub(crate) method: Option<Spanned<String>>,
-    pub(crate) budget: Option<Spanned<i64>>,
-    pub(crate) seed: Option<Spanned<i64>>,
-    pub(crate) step: Option<Num>,
-    pub(crate) objective: Option<Spanned<RawWeights>>,
-    pub(crate) target: Option<Spanned<RawTarget>>,
-    pub(crate) require: Option<Spanned<RawRequire>>,
-}
-
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawWeights {
-    pub(crate) surface: Option<Num>,
-    pub(crate) boundary: Option<Num>,
-    pub(crate) coverage: Option<Num>,
-    pub(crate) regularity: Option<Num>,
-    pub(crate) legs: Option<Num>,
-    pub(crate) clashes: Option<Num>,
-    pub(crate) curvature: Option<Num>,
-    pub(crate) rings: Option<Num>,
-    pub(crate) bending: Option<Num>,
-}
-
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawTarget {
-    pub(crate) defect: Option<Num>,
-    pub(crate) pattern: Option<Spanned<String>>,
-}
-
-/// Hard constraints, each a bound on one measure.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawRequire {
-    pub(crate) max_distance: Option<Num>,
-    pub(crate) max_boundary_distance: Option<Num>,
-    pub(crate) min_coverage: Option<Num>,
-    pub(crate) max_area_ratio: Option<Num>,
-    pub(crate) min_positive: Option<Num>,
-    pub(crate) min_negative: Option<Num>,
-    pub(crate) max_mean_defect: Option<Num>,
-    pub(crate) min_mean_defect: Option<Num>,
-    pub(crate) max_k_spread: Option<Num>,
-    pub(crate) max_front_gap: Option<Num>,
-    pub(crate) max_turn_spread: Option<Num>,
-    pub(crate) max_clashes: Option<Num>,
-    /// Share of interior vertices with a defect of at least +3 deg / at most -3 deg.
-    pub(crate) min_bumps: Option<Num>,
-    /// Shortest leg (mm): at least the eyelet flange plus the walls.
-    pub(crate) min_leg: Option<Num>,
-    pub(crate) min_dimples: Option<Num>,
-}
 
 /// How close strips of one layer may come, and whether a clash is allowed.
 #[derive(Clone, Debug, PartialEq)]
