@@ -737,24 +737,26 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
 
 /// The guide's bill of materials lists part types and groups the eyelets by
 /// grip; the first step is the test piece, or says it is left out.
+/// Every text of the guide, in drawing order, joined by spaces.
+fn words(b: &Build) -> String {
+    texts(
+        guide(b)
+            .pages
+            .iter()
+            .flat_map(|p| &p.groups)
+            .flat_map(|gr| &gr.items),
+    )
+    .into_iter()
+    .map(|t| t.1)
+    .collect::<Vec<_>>()
+    .join(" ")
+}
+
 #[test]
 fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() {
     // This test changes the build: its own.
     let mut b = crate::util::build_example("flat-sheet", &Default::default());
     let t = b.design.fabrication.material.thickness;
-    let words = |b: &Build| -> String {
-        texts(
-            guide(b)
-                .pages
-                .iter()
-                .flat_map(|p| &p.groups)
-                .flat_map(|gr| &gr.items),
-        )
-        .into_iter()
-        .map(|t| t.1)
-        .collect::<Vec<_>>()
-        .join(" ")
-    };
     let text = words(&b);
     for ty in &b.parts.types {
         assert!(text.contains(&ty.code), "type {}", ty.code);
@@ -806,17 +808,7 @@ fn gauge_tiles_cover_the_line_within_their_rooms() {
 #[test]
 fn column_stacking_says_each_order_and_names_only_engraved_ids() {
     let b = example("half-ellipsoid");
-    let text: Vec<String> = texts(
-        guide(b)
-            .pages
-            .iter()
-            .flat_map(|p| &p.groups)
-            .flat_map(|gr| &gr.items),
-    )
-    .into_iter()
-    .map(|t| t.1)
-    .collect();
-    let text = text.join(" ");
+    let text = words(b);
     // The steps (the parts list before them maps types to strip IDs).
     let text = &text[text.find("Step 1 of").expect("step 1")..];
     let orders = text.matches("2 stacking orders").count();
