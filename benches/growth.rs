@@ -9,10 +9,7 @@
 //! when other work shares the cores; the wall time is printed beside them.
 
 use glam::DVec3;
-use karigami::design::{self, Overrides};
-use karigami::lattice::deploy::deployment;
-use karigami::lattice::{RowParams, grow_sheet, verify};
-use karigami::legs::{Direction, Leg};
+use karigami::{Direction, Leg, Overrides, RowParams, deploy::deployment, grow_sheet, verify};
 mod common;
 
 use common::{cpu_seconds, peak_rss, sheet_recipe, size};
@@ -51,12 +48,12 @@ fn design(n: usize) -> (Vec<DVec3>, Vec<f64>, Vec<RowParams>) {
 fn check_child(cols: usize, rows: usize) {
     let (t0, c0) = (Instant::now(), cpu_seconds());
     let text = sheet_recipe(cols, rows);
-    let d = design::parse_with(&text, "check", &Overrides::default()).expect("parses");
+    let d = karigami::parse_with(&text, "check", &Overrides::default()).expect("parses");
     let lattice = d.grow().expect("grows");
     let report = verify(&lattice);
     let grow_verify = cpu_seconds() - c0;
     let deploy = deployment(&lattice);
-    let json = karigami::report::check_json(&d, &lattice, &report, &deploy);
+    let json = karigami::check_json(&d, &lattice, &report, &deploy);
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     assert!(report.passed(), "benchmark lattice must verify");
     std::hint::black_box(&json);

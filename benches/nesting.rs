@@ -6,11 +6,7 @@
 //! the sparrow reference (`scripts/spyrrow_compare.py`, needs
 //! `pip install spyrrow`) given S seconds (default 30).
 
-use karigami::build::build;
-use karigami::design;
-use karigami::fabrication::Fabrication;
-use karigami::layout::{nest, strip_length};
-use karigami::parts::Outline;
+use karigami::{Fabrication, Outline, build, nest, testing::strip_length};
 use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
@@ -33,7 +29,7 @@ fn example_sets() -> Vec<Set> {
         .iter()
         .map(|path| {
             let text = std::fs::read_to_string(path).unwrap();
-            let b = build(design::parse(&text, "example").unwrap()).unwrap();
+            let b = build(karigami::parse(&text, "example").unwrap()).unwrap();
             let fab = b.design.fabrication.clone();
             Set {
                 name: path.file_stem().unwrap().to_string_lossy().into_owned(),

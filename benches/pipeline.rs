@@ -12,10 +12,7 @@
 //! /proc: robust when other work shares the cores), peak memory, bytes
 //! written, cells per second, and bytes and memory per cell.
 
-use karigami::build::build;
-use karigami::design::{self, Overrides};
-use karigami::lattice::deploy::deployment;
-use karigami::lattice::verify;
+use karigami::{Overrides, build, deploy::deployment, verify};
 mod common;
 
 use common::{cpu_seconds, peak_rss, sheet_recipe, size};
@@ -26,7 +23,8 @@ use std::time::Instant;
 /// cells strips sheets files bytes grow+verify-s wall-s cpu-s peak-bytes.
 fn one(name: &str, text: &str) {
     let (t0, c0) = (Instant::now(), cpu_seconds());
-    let d = design::parse_with(text, name, &Overrides::default()).expect("benchmark recipe parses");
+    let d =
+        karigami::parse_with(text, name, &Overrides::default()).expect("benchmark recipe parses");
     let lattice = d.grow().expect("grows");
     let report = verify(&lattice);
     let grow_verify = t0.elapsed().as_secs_f64();
@@ -34,7 +32,7 @@ fn one(name: &str, text: &str) {
     let cells = lattice.cells.len();
     drop(lattice);
     let built = build(d).expect("builds");
-    let files = karigami::output::files(&built);
+    let files = karigami::files(&built);
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     let bytes: usize = files.iter().map(|(_, b)| b.len()).sum();
     println!(
@@ -49,7 +47,7 @@ fn one(name: &str, text: &str) {
 /// The child for `check`: what `karigami check` computes, no files.
 fn check(text: &str) {
     let (t0, c0) = (Instant::now(), cpu_seconds());
-    let d = design::parse_with(text, "check", &Overrides::default()).expect("parses");
+    let d = karigami::parse_with(text, "check", &Overrides::default()).expect("parses");
     let lattice = d.grow().expect("grows");
     let report = verify(&lattice);
     let grow_verify = t0.elapsed().as_secs_f64();

@@ -6,9 +6,10 @@
 //! the start. Also a 10 x 10-cell flat sheet (100 cells). `--first-cell`
 //! holds the first cell's opening instead of the mean of all cells.
 
-use karigami::design;
-use karigami::lattice::deploy::deployment;
-use karigami::sim::{self, Actuation, Settings};
+use karigami::{
+    deploy::deployment,
+    simulation::{self as sim, Actuation, Settings},
+};
 use std::time::Instant;
 
 const SHEET_100: &str = r#"
@@ -25,7 +26,7 @@ right_leg = "match"
 "#;
 
 fn run(name: &str, text: &str, actuation: Actuation) {
-    let d = match design::parse(text, name) {
+    let d = match karigami::parse(text, name) {
         Ok(d) => d,
         Err(e) => return println!("{name}: does not parse: {}", e.message),
     };

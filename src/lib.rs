@@ -2,25 +2,127 @@
 //! them into fabrication files. Data flows one way:
 //! design -> lattice -> parts -> layout -> drawing -> bytes.
 //! Everything here is pure; only the binary touches files and the terminal.
+//!
+//! The modules are private; this file is the library's whole public face.
+//! The main types and functions are flat (`karigami::parse`,
+//! `karigami::build`, `karigami::Lattice`); a few groups whose names would
+//! collide or read unclearly flat are small namespaces (`formats`,
+//! `simulation`, `template`, `deploy`, `shape`). A recipe's way through:
+//!
+//! ```no_run
+//! let source = std::fs::read_to_string("sheet.toml").unwrap();
+//! let design = karigami::parse(&source, "sheet").unwrap();
+//! let built = karigami::build(design).unwrap();
+//! for (name, bytes) in karigami::files(&built) {
+//!     println!("{name}: {} bytes", bytes.len());
+//! }
+//! ```
 
-pub mod assembly;
-pub mod build;
-pub mod design;
-pub mod diagnostic;
-pub mod drawing;
-pub mod fabrication;
-pub mod font;
-pub mod guide;
-pub mod hash;
-pub mod lattice;
-pub mod layout;
-pub mod legs;
-pub mod output;
-pub mod parts;
-pub mod report;
-pub mod rng;
-pub mod sim;
-pub mod solve;
-pub mod templates;
-pub mod words;
-pub mod write;
+mod assembly;
+mod build;
+mod design;
+mod diagnostic;
+mod drawing;
+mod fabrication;
+mod font;
+mod guide;
+mod hash;
+mod lattice;
+mod layout;
+mod legs;
+mod output;
+mod parts;
+mod report;
+mod rng;
+mod sim;
+mod solve;
+mod templates;
+mod words;
+mod write;
+
+// The pipeline's entry points: recipe text -> Design -> Build -> files,
+// with the reports `check` and `build` print.
+pub use build::{Build, Checked, build, build_with, check};
+pub use output::{files, viewer_scene};
+pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
+
+// Diagnostics: every error the library reports, with its kind and place.
+pub use diagnostic::{Diagnostic, ErrorKind};
+
+// Design: the parsed recipe, its fabrication settings, and the solvers
+// that search for a recipe's values.
+pub use design::measure::{Measures, measure};
+pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
+pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};
+pub use solve::optimise;
+pub use solve::tune::tune_helix;
+
+// Lattice: growth from rows of parameters, the verified invariants, the
+// joints, and the deployment (`deploy`) and curvature (`shape`) analyses.
+pub use lattice::{
+    Cell, Crank, FrontMoves, Grower, Invariant, Joint, Kind, Lattice, Report as VerifyReport, Rod,
+    RodType, RowParams, Stacking, TOLERANCE, Vertex, VertexKey, grow, grow_helix, grow_sheet,
+    joints, verify,
+};
+pub use lattice::{deploy, shape};
+pub use legs::{Direction, Leg};
+
+// Parts: the flat strips with their holes and markings, and the order
+// they are assembled in.
+pub use assembly::{Step, steps};
+pub use parts::{Marking, Outline, Parts, PartsError, Strip, parts};
+
+// Layout: strips nested on sheets.
+pub use layout::{Layout, Placement, Sheet, nest};
+
+// Drawing: one model of pages in millimetres that every writer reads, and
+// the assembly guide drawn in it.
+pub use drawing::{Group, Item, Layer, Page, Segment, Shape};
+pub use guide::{Guide, guide};
+
+/// Bytes: one module per file format, each with its own `write`.
+pub mod formats {
+    pub use crate::write::{dxf, lbrn2, png, svg, viewer};
+}
+
+/// The elastic simulation of a lattice's strips (docs/physics.md): its
+/// settings, the deployed equilibrium, and the search for other stable
+/// shapes (`explore`).
+pub mod simulation {
+    pub use crate::sim::{
+        Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, Simulation,
+        Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_lattice, prepare,
+        simulate,
+    };
+}
+
+/// The starter recipes `karigami new` writes.
+pub mod template {
+    pub use crate::templates::{TEMPLATES, Template, find, instantiate, instantiate_as};
+}
+
+/// Small helpers the binary shares with the library; not part of its face.
+#[doc(hidden)]
+pub mod util {
+    pub use crate::hash::fnv1a;
+    pub use crate::words::plural;
+}
+
+/// Internals the integration tests check directly; not part of the face.
+#[doc(hidden)]
+pub mod testing {
+    pub use crate::design::fit;
+    pub use crate::drawing::{TEST_PIECE_ID, picture, tabs, text};
+    pub use crate::guide::{GAUGE_OVERLAP, eyelets_by_grip, gauge_tiles};
+    pub use crate::lattice::{
+        DRIFT_PER_LEG, GrowthErrorKind, front_frame, grow_helix_partial, seed_defect,
+    };
+    pub use crate::layout::strip_length;
+    pub use crate::parts::{DOT, clash, test_piece};
+    pub use crate::sim::explore::perturb;
+
+    /// The stroke font the engravings and pages use.
+    pub mod font {
+        pub use crate::font::text;
+    }
+}

@@ -3,4 +3,4 @@
 //! design on every run, and no extra crate for a dozen lines. It is the rod
 //! solver's generator (its seeded perturbations), written once there.
 
-pub use karigami_rods::rng::Rng;
+pub(crate) use karigami_rods::rng::Rng;

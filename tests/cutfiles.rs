@@ -6,9 +6,7 @@
 use crate::property::{RandomDesign, random_lattice};
 use crate::util::Rng;
 use glam::DVec2;
-use karigami::build::build;
-use karigami::design;
-use karigami::legs::{Direction, Leg};
+use karigami::{Direction, Leg, build};
 use serde_json::Value;
 use std::collections::HashMap;
 use svg::node::element::tag::Type;
@@ -217,7 +215,7 @@ pub(crate) fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
         );
         let strips: Vec<(&String, &SvgStrip)> = sheet.strips.iter().collect();
         for (id, s) in &strips {
-            if id.as_str() == karigami::drawing::TEST_PIECE_ID {
+            if id.as_str() == karigami::testing::TEST_PIECE_ID {
                 // The test piece: on the first sheet, within the margins and
                 // clear of every strip like a part (checked below).
                 assert!(
@@ -301,13 +299,13 @@ fn random_designs_give_true_cut_files() {
             40.0,
             &format!("[sheet]\npreset = \"{sheet}\"\n[clash]\nallow = true\n"),
         );
-        let design = design::parse(&text, "random")
+        let design = karigami::parse(&text, "random")
             .unwrap_or_else(|e| panic!("{}", e.render("random", &text)));
         match build(design) {
             Ok(b) => {
                 built += 1;
                 check_files(
-                    &karigami::output::files(&b),
+                    &karigami::files(&b),
                     b.design.fabrication.sheet.margin,
                     b.design.fabrication.sheet.gap,
                 );
@@ -328,9 +326,9 @@ fn random_designs_give_true_cut_files() {
 #[test]
 fn building_twice_in_one_process_gives_identical_bytes() {
     // printpdf's document IDs come from a process-wide counter; ours must not.
-    let o = design::Overrides::default();
-    let once = karigami::output::files(crate::util::example("flat-sheet"));
-    let twice = karigami::output::files(&crate::util::build_example("flat-sheet", &o));
+    let o = karigami::Overrides::default();
+    let once = karigami::files(crate::util::example("flat-sheet"));
+    let twice = karigami::files(&crate::util::build_example("flat-sheet", &o));
     assert_eq!(once, twice);
 }
 

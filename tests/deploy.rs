@@ -3,14 +3,15 @@
 
 use crate::property::random_lattice;
 use crate::util::Rng;
-use karigami::design;
-use karigami::lattice::deploy::{configuration, deployment, mobility, planar_misfit};
-use karigami::lattice::{Lattice, TOLERANCE};
+use karigami::{
+    Lattice, TOLERANCE,
+    deploy::{configuration, deployment, mobility, planar_misfit},
+};
 use std::fs;
 
 fn example(name: &str) -> Lattice {
     let text = fs::read_to_string(format!("{}/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap();
-    design::parse(&text, "x").unwrap().grow().unwrap()
+    karigami::parse(&text, "x").unwrap().grow().unwrap()
 }
 
 #[track_caller]
@@ -147,7 +148,7 @@ fn the_gallery_mobility_verdicts_match_math_md() {
     }
     // A uniform square grid moves as one (1 DOF) and places without misfit.
     let grid = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.line]\nfrom = [0.0, 0.0]\nto = [100.0, 0.0]\ncells = 5\n[lattice.grow]\nrows = 5\nangle = 45.0\n";
-    let lattice = design::parse(grid, "grid").unwrap().grow().unwrap();
+    let lattice = karigami::parse(grid, "grid").unwrap().grow().unwrap();
     let d = deployment(&lattice);
     assert_eq!(d.mobility, Some(1));
     assert!(d.misfits.iter().all(|&(_, m)| m < 1e-9), "{:?}", d.misfits);

@@ -2,8 +2,7 @@
 //! first line announces: `# expect: CLASS LINE:COL "part of the message"`.
 //! To add a case, drop a recipe there with such a line.
 
-use karigami::build::build;
-use karigami::design;
+use karigami::build;
 use std::fs;
 use std::path::PathBuf;
 
@@ -59,7 +58,7 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
         let file = path.display().to_string();
         let source = fs::read_to_string(path).unwrap();
         let want = expectation(&source, &file);
-        let got = design::parse(&source, "bad").and_then(|d| build(d).map(|_| ()));
+        let got = karigami::parse(&source, "bad").and_then(|d| build(d).map(|_| ()));
         let Err(diag) = got else {
             failures.push(format!("{file}: was accepted"));
             continue;
@@ -83,7 +82,7 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
         if !rendered.contains(&format!("{file}:{}:{}", want.line_col.0, want.line_col.1)) {
             failures.push(format!("{file}: rendered without its location\n{rendered}"));
         }
-        if !(rendered.contains("= help: ") || diag.kind == karigami::diagnostic::ErrorKind::Toml) {
+        if !(rendered.contains("= help: ") || diag.kind == karigami::ErrorKind::Toml) {
             failures.push(format!("{file}: no hint\n{rendered}"));
         }
     }

@@ -9,8 +9,7 @@
 
 use crate::cli::{recipes, repo};
 use crate::util::Rng;
-use karigami::build::build;
-use karigami::design;
+use karigami::build;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -285,7 +284,7 @@ fn random_recipe(rng: &mut Rng) -> String {
 /// One case through the whole pipeline: Err describes what went wrong.
 fn run_case(text: &str) -> Result<&'static str, String> {
     let outcome = catch_unwind(AssertUnwindSafe(|| {
-        let design = match design::parse(text, "fuzz") {
+        let design = match karigami::parse(text, "fuzz") {
             Ok(d) => d,
             Err(d) => {
                 let rendered = d.render("fuzz.toml", text);
@@ -303,7 +302,7 @@ fn run_case(text: &str) -> Result<&'static str, String> {
                 return Ok("refused later");
             }
         };
-        for (name, bytes) in karigami::output::files(&built) {
+        for (name, bytes) in karigami::files(&built) {
             if name.ends_with(".png") || name.ends_with(".pdf") {
                 continue;
             }

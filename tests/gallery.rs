@@ -4,11 +4,10 @@
 use crate::property::random_lattice;
 use crate::util::Rng;
 use glam::DVec3;
-use karigami::design;
-use karigami::lattice::{
-    FrontMoves, Grower, GrowthErrorKind, Kind, Lattice, RowParams, TOLERANCE, grow, verify,
+use karigami::{
+    Direction, FrontMoves, Grower, Kind, Lattice, RowParams, TOLERANCE, grow,
+    testing::GrowthErrorKind, verify,
 };
-use karigami::legs::Direction;
 use std::fs;
 
 fn ring(rng: &mut Rng, n: usize, wobble: f64) -> (Vec<DVec3>, Vec<f64>) {
@@ -170,7 +169,7 @@ fn rebuilt_fronts_keep_every_invariant_but_not_shared_corners() {
                 row.front = Some(FrontMoves {
                     cranks: (1..m)
                         .step_by(2)
-                        .map(|j| karigami::lattice::Crank {
+                        .map(|j| karigami::Crank {
                             from: j - 1,
                             to: j + 1,
                             angle_deg: rng.range(-25.0, 25.0),
@@ -198,9 +197,9 @@ fn rebuilt_fronts_keep_every_invariant_but_not_shared_corners() {
     }
 }
 
-fn example(name: &str) -> design::Design {
+fn example(name: &str) -> karigami::Design {
     let source = fs::read_to_string(format!("examples/{name}.toml")).unwrap();
-    design::parse(&source, name).unwrap()
+    karigami::parse(&source, name).unwrap()
 }
 
 #[test]
@@ -225,7 +224,7 @@ fn the_fitted_disk_has_its_boundary_on_the_circle() {
 fn fitted_examples_stay_within_their_error_bounds() {
     // Relative fit error: largest vertex distance to the target over its size.
     const PATCH: &str = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.arc]\ncenter = [0.0, 0.0, 0.0]\nradius = 200.0\nfrom = 180.0\nto = 90.0\ncells = 8\n[lattice.fit]\nsurface = \"ellipsoid\"\naxes = [200.0, 200.0, 120.0]\nrows = 6\n";
-    let patch = design::parse(PATCH, "ellipsoid-patch").unwrap();
+    let patch = karigami::parse(PATCH, "ellipsoid-patch").unwrap();
     for (name, bound) in [
         ("torus", 1e-12),
         ("disk", 1e-12),
@@ -240,7 +239,7 @@ fn fitted_examples_stay_within_their_error_bounds() {
         };
         let fit = d.fit.as_ref().expect("a fitted example");
         let lattice = d.grow().unwrap();
-        let (abs, rel) = design::fit::error(fit, &lattice);
+        let (abs, rel) = karigami::testing::fit::error(fit, &lattice);
         assert!(
             rel < bound,
             "{name}: fit error {abs:.3e} mm = {rel:.3e} of its size, above {bound:e}"
@@ -285,7 +284,7 @@ fn the_bowl_helix_grows_all_its_cells() {
     assert_eq!(lattice.cells.len(), 32);
     assert_eq!(lattice.width, 9);
     assert_valid(&lattice, "bowl");
-    assert!(karigami::lattice::seed_defect(&d.points, &d.kappa).abs() < 1e-12);
+    assert!(karigami::testing::seed_defect(&d.points, &d.kappa).abs() < 1e-12);
 }
 
 #[test]
@@ -314,8 +313,8 @@ fn random_helices_keep_every_invariant_as_far_as_they_grow() {
         let total: f64 = shares.iter().sum();
         let mut kappa = vec![rng.range(-5.0, 5.0)];
         kappa.extend(shares.iter().map(|s| -rod * s / total));
-        assert!(karigami::lattice::seed_defect(&points, &kappa).abs() < 1e-9);
-        let Ok((lattice, _)) = karigami::lattice::grow_helix_partial(3, &points, &kappa, 3 * n)
+        assert!(karigami::testing::seed_defect(&points, &kappa).abs() < 1e-9);
+        let Ok((lattice, _)) = karigami::testing::grow_helix_partial(3, &points, &kappa, 3 * n)
         else {
             continue;
         };
@@ -363,7 +362,7 @@ fn random_intrinsic_loops_close_and_keep_every_invariant() {
                 front: (i > 0).then(|| FrontMoves {
                     cranks: (0..n)
                         .step_by(quarter)
-                        .map(|f| karigami::lattice::Crank {
+                        .map(|f| karigami::Crank {
                             from: f,
                             to: f + quarter,
                             angle_deg: if (f / quarter) % 2 == 0 {

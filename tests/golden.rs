@@ -2,10 +2,9 @@
 
 use crate::util::{close, close_vec, v2};
 use glam::DVec3;
-use karigami::lattice::{RowParams, grow_sheet, verify};
-use karigami::legs::{Direction, Leg};
+use karigami::{Direction, Leg, RowParams, grow_sheet, verify};
 
-fn worked_example(scale: f64, start: usize, direction: DVec3) -> karigami::lattice::Lattice {
+fn worked_example(scale: f64, start: usize, direction: DVec3) -> karigami::Lattice {
     let points = [v2(0.0, 0.0), v2(2.0, 0.0), v2(4.0, 0.3)].map(|p| p * scale);
     let kappa = [0.2 * scale, -0.1 * scale];
     let row = RowParams {

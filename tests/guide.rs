@@ -4,8 +4,7 @@
 
 use crate::cli::{karigami, repo, scratch};
 use crate::thirdparty::run;
-use karigami::build::Build;
-use karigami::guide::guide;
+use karigami::{Build, guide};
 use std::collections::HashSet;
 
 /// The example's build, shared with the other tests (tests/util.rs).
@@ -49,7 +48,7 @@ fn each_step_is_one_row_and_the_eyelets_add_up() {
             }
             assert_eq!(step.eyelets, step.cells.len() + step.joints.len());
         }
-        let needing = karigami::lattice::joints(&b.lattice)
+        let needing = karigami::joints(&b.lattice)
             .iter()
             .filter(|j| j.needs_eyelet())
             .count();
@@ -181,7 +180,7 @@ fn picture(bytes: &[u8]) -> (u32, u32, f64) {
 fn previews_are_pictures_of_the_right_size() {
     for name in ["flat-sheet", "curved-sheet"] {
         let b = example(name);
-        let files = karigami::output::files(b);
+        let files = karigami::files(b);
         let get = |f: &str| {
             &files
                 .iter()
@@ -210,7 +209,7 @@ fn previews_are_pictures_of_the_right_size() {
 #[test]
 fn lattice_obj_has_one_box_per_strip() {
     let b = example("curved-sheet");
-    let files = karigami::output::files(b);
+    let files = karigami::files(b);
     let obj = String::from_utf8(
         files
             .iter()
@@ -359,10 +358,10 @@ fn guide_30x30_renders_every_page_and_grows_with_the_cells() {
 }
 
 /// The texts of a group's items (font size, text), with its symbols' items.
-fn texts<'a>(items: impl Iterator<Item = &'a karigami::drawing::Item>) -> Vec<(f64, String)> {
+fn texts<'a>(items: impl Iterator<Item = &'a karigami::Item>) -> Vec<(f64, String)> {
     items
         .filter_map(|i| match &i.shape {
-            karigami::drawing::Shape::Text { size, text, .. } => Some((*size, text.clone())),
+            karigami::Shape::Text { size, text, .. } => Some((*size, text.clone())),
             _ => None,
         })
         .collect()
@@ -455,7 +454,7 @@ fn step_pictures_label_everything_their_text_names() {
             // Every joint the step closes is named and labelled.
             for j in &step.joints {
                 let v = b.lattice.vertex(j.vertex).key;
-                let key = if b.lattice.kind == karigami::lattice::Kind::Helix {
+                let key = if b.lattice.kind == karigami::Kind::Helix {
                     format!("[{}]", v.col)
                 } else {
                     format!("[{},{}]", v.row, v.col)
@@ -529,7 +528,7 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
                 "{name} guide: {text:?} at {size} mm"
             );
         }
-        let preview = karigami::drawing::picture::preview(&b.assembled, 6.0, name);
+        let preview = karigami::testing::picture::preview(&b.assembled, 6.0, name);
         for (size, text) in texts(preview.groups.iter().flat_map(|gr| &gr.items)) {
             assert!(
                 size >= SMALLEST - 1e-9,
@@ -541,9 +540,7 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
         for s in &b.parts.strips {
             if matches!(
                 s.marking,
-                karigami::parts::Marking::Id
-                    | karigami::parts::Marking::Compact
-                    | karigami::parts::Marking::Type
+                karigami::Marking::Id | karigami::Marking::Compact | karigami::Marking::Type
             ) {
                 assert!(
                     s.label_height >= SMALLEST - 1e-9,
@@ -560,13 +557,13 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
             let ys: Vec<f64> = caption.items[3..]
                 .iter()
                 .flat_map(|i| match &i.shape {
-                    karigami::drawing::Shape::Path {
+                    karigami::Shape::Path {
                         start, segments, ..
                     } => {
                         let mut v = vec![start.y];
                         v.extend(segments.iter().map(|s| match s {
-                            karigami::drawing::Segment::Line(p) => p.y,
-                            karigami::drawing::Segment::Arc { to, .. } => to.y,
+                            karigami::Segment::Line(p) => p.y,
+                            karigami::Segment::Arc { to, .. } => to.y,
                         }));
                         v
                     }
@@ -587,8 +584,8 @@ fn guides_are_compact_and_nothing_is_printed_under_2_5_mm() {
 /// and no two of a page's gauge labels overlap.
 #[test]
 fn gauge_tiles_make_one_line_of_the_collapsed_length() {
-    use karigami::drawing::{Shape, text};
-    let overlap_mm = karigami::guide::GAUGE_OVERLAP;
+    use karigami::{Shape, testing::text};
+    let overlap_mm = karigami::testing::GAUGE_OVERLAP;
     for name in ["flat-sheet", "torus", "bowl"] {
         let b = example(name);
         let g = guide(b);
@@ -631,7 +628,7 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
             assert!(tiles.len() >= 4, "the torus gauge is over a metre long");
         }
         // Every text of a tile with its box: (text, x0, y0, x1, y1).
-        let boxes = |gr: &karigami::drawing::Group| -> Vec<(String, f64, f64, f64, f64)> {
+        let boxes = |gr: &karigami::Group| -> Vec<(String, f64, f64, f64, f64)> {
             gr.items
                 .iter()
                 .filter_map(|i| match &i.shape {
@@ -672,7 +669,7 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
         for p in pages {
             let on_page: Vec<_> = tiles.iter().filter(|t| t.0 == p).map(|t| t.1).collect();
             // Side by side: each tile's drawing clear of the others'.
-            let extent = |gr: &karigami::drawing::Group| {
+            let extent = |gr: &karigami::Group| {
                 let xs: Vec<f64> = gr
                     .items
                     .iter()
@@ -682,8 +679,8 @@ fn gauge_tiles_make_one_line_of_the_collapsed_length() {
                         } => Some(
                             std::iter::once(start.x)
                                 .chain(segments.iter().map(|s| match s {
-                                    karigami::drawing::Segment::Line(p) => p.x,
-                                    karigami::drawing::Segment::Arc { to, .. } => to.x,
+                                    karigami::Segment::Line(p) => p.x,
+                                    karigami::Segment::Arc { to, .. } => to.x,
                                 }))
                                 .collect::<Vec<_>>(),
                         ),
@@ -761,7 +758,7 @@ fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() 
     for ty in &b.parts.types {
         assert!(text.contains(&ty.code), "type {}", ty.code);
     }
-    let grips = karigami::guide::eyelets_by_grip(&b);
+    let grips = karigami::testing::eyelets_by_grip(&b);
     assert_eq!(
         grips.iter().map(|g| g.1 + g.2).sum::<usize>(),
         b.parts.eyelets()
@@ -783,7 +780,7 @@ fn the_bill_of_materials_lists_types_and_grips_and_the_test_piece_comes_first() 
 /// each overlaps the one before by exactly `GAUGE_OVERLAP`.
 #[test]
 fn gauge_tiles_cover_the_line_within_their_rooms() {
-    use karigami::guide::{GAUGE_OVERLAP, gauge_tiles};
+    use karigami::testing::{GAUGE_OVERLAP, gauge_tiles};
     for total in [0.0, 50.0, 116.0, 355.0, 839.9, 1636.9, 5000.0] {
         for (first, rest) in [(116.0, 243.0), (203.0, 243.0), (60.0, 100.0)] {
             let room = |i: usize| if i < 3 { first } else { rest };
@@ -821,7 +818,7 @@ fn column_stacking_says_each_order_and_names_only_engraved_ids() {
         if text.contains(&s.id) {
             assert_eq!(
                 s.marking,
-                karigami::parts::Marking::Id,
+                karigami::Marking::Id,
                 "{} is named but not engraved",
                 s.id
             );

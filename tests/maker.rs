@@ -4,10 +4,10 @@
 
 use crate::cli::recipes;
 use glam::DVec2;
-use karigami::build::{Build, build};
-use karigami::design::{self, Overrides, parse_with};
-use karigami::drawing::{Group, Item, Layer, Page, Segment, Shape, TEST_PIECE_ID};
-use karigami::font;
+use karigami::{
+    Build, Group, Item, Layer, Overrides, Page, Segment, Shape, build, parse_with,
+    testing::{TEST_PIECE_ID, font},
+};
 use std::collections::BTreeMap;
 
 /// The example's build, shared with the other tests (tests/util.rs).
@@ -108,7 +108,7 @@ fn dots(strokes: &[Vec<DVec2>]) -> (usize, Vec<Vec<DVec2>>) {
     let mut n = 0;
     for s in strokes {
         let side = s.iter().map(|p| p.distance(s[0])).fold(0.0, f64::max);
-        if s.len() == 5 && s[0].distance(s[4]) < 1e-9 && side <= karigami::parts::DOT * 1.5 {
+        if s.len() == 5 && s[0].distance(s[4]) < 1e-9 && side <= karigami::testing::DOT * 1.5 {
             n += 1;
         } else {
             rest.push(s.clone());
@@ -243,7 +243,7 @@ fn the_test_piece_is_on_sheet_one_unless_left_out() {
     let path = crate::cli::repo().join("examples/flat-sheet.toml");
     let b = build_example(&path, &Overrides::default());
     let fab = &b.design.fabrication;
-    let piece = karigami::parts::test_piece(fab).unwrap();
+    let piece = karigami::testing::test_piece(fab).unwrap();
     let page = &b.pages[0];
     let g = page
         .groups
@@ -367,7 +367,7 @@ fn colour_presets_change_only_colours() {
     };
     let b = build_example(&path, &o);
     let svgs = |b: &Build| -> Vec<(String, Vec<u8>)> {
-        karigami::output::files(b)
+        karigami::files(b)
             .into_iter()
             .filter(|f| f.0.ends_with(".svg"))
             .collect()
@@ -400,7 +400,7 @@ fn colour_presets_change_only_colours() {
         colours: Some("rainbow".into()),
         ..Overrides::default()
     };
-    let e = design::parse_with(&text, "x", &bad).unwrap_err();
+    let e = karigami::parse_with(&text, "x", &bad).unwrap_err();
     assert!(
         e.message.contains("rainbow") && e.hint.as_deref().unwrap_or("").contains("boxes"),
         "{e:?}"
@@ -548,7 +548,7 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                 ..Overrides::default()
             };
             let b = build_example(&path, &o);
-            let files = karigami::output::files(b);
+            let files = karigami::files(b);
             for (i, page) in b.pages.iter().enumerate() {
                 let file = format!("sheets/sheet-{:02}.lbrn2", i + 1);
                 let bytes = &files
@@ -643,7 +643,7 @@ fn lightburn_projects_are_well_formed_xml() {
     let dir = crate::cli::scratch("lbrn2-xml");
     let path = crate::cli::repo().join("examples/flat-sheet.toml");
     let b = build_example(&path, &Overrides::default());
-    let (name, bytes) = karigami::output::files(b)
+    let (name, bytes) = karigami::files(b)
         .into_iter()
         .find(|f| f.0.ends_with(".lbrn2"))
         .unwrap();
@@ -673,9 +673,9 @@ fn lightburn_projects_are_well_formed_xml() {
 
 #[test]
 fn a_helix_that_degenerates_points_at_its_cell_count() {
-    let template = karigami::templates::find("helix").unwrap();
-    let text = karigami::templates::instantiate(template, "hx").replace("cells = 12", "cells = 60");
-    let design = design::parse(&text, "hx").unwrap();
+    let template = karigami::template::find("helix").unwrap();
+    let text = karigami::template::instantiate(template, "hx").replace("cells = 12", "cells = 60");
+    let design = karigami::parse(&text, "hx").unwrap();
     let e = design.grow().unwrap_err();
     assert_eq!(e.kind.name(), "DoubleEdgeNotSpacelike", "{e:?}");
     let span = e.span.clone().expect("a place in the recipe");
@@ -692,7 +692,7 @@ fn random_designs_leave_no_strip_unidentifiable() {
             continue;
         };
         let text = crate::cutfiles::recipe(&d, 40.0, "");
-        let Ok(b) = build(design::parse(&text, "random").unwrap()) else {
+        let Ok(b) = build(karigami::parse(&text, "random").unwrap()) else {
             continue;
         };
         built += 1;
@@ -781,7 +781,7 @@ fn check_takes_the_build_flags_and_sheet_auto_picks_the_smallest_preset() {
     // The pick is the smallest: no preset needs fewer sheets, and every
     // other one-sheet preset is larger than A3.
     let options = b["sheet_options"].as_array().unwrap();
-    assert_eq!(options.len(), karigami::fabrication::SHEET_PRESETS.len());
+    assert_eq!(options.len(), karigami::SHEET_PRESETS.len());
     let area = |o: &Value| o["width_mm"].as_f64().unwrap() * o["height_mm"].as_f64().unwrap();
     for o in options {
         let n = o["sheets"].as_u64().unwrap();
@@ -981,8 +981,7 @@ fn python_tool(script: &str, file: &std::path::Path) -> Option<serde_json::Value
 
 #[test]
 fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
-    use karigami::drawing::tabs::centres;
-    use karigami::parts::Outline;
+    use karigami::{Outline, testing::tabs::centres};
     use std::f64::consts::PI;
     let tab = 0.5;
     for compensate in [false, true] {
@@ -1006,7 +1005,7 @@ fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
             .filter(|g| g.id != "reference")
         {
             let length = if g.id == TEST_PIECE_ID {
-                karigami::parts::test_piece::LENGTH
+                karigami::testing::test_piece::LENGTH
             } else {
                 b.parts.strips.iter().find(|s| s.id == g.id).unwrap().length
             };
@@ -1042,7 +1041,7 @@ fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
         let dir = crate::cli::scratch("maker-tabs");
         let page = &b.pages[0];
         let svg = dir.join("sheet.svg");
-        std::fs::write(&svg, karigami::write::svg::write(page)).unwrap();
+        std::fs::write(&svg, karigami::formats::svg::write(page)).unwrap();
         // Read back with svgelements: the same pieces and gaps.
         if let Some(v) = python_tool("outline_pieces.py", &svg) {
             let groups = v["groups"].as_object().unwrap();
@@ -1059,7 +1058,7 @@ fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
         }
         // DXF (ezdxf): open polylines only, the same total gap.
         let dxf = dir.join("sheet.dxf");
-        std::fs::write(&dxf, karigami::write::dxf::write(page)).unwrap();
+        std::fs::write(&dxf, karigami::formats::dxf::write(page)).unwrap();
         if let Some(v) = python_tool("outline_pieces.py", &dxf) {
             let tabs: usize = expected.values().map(|e| e.0).sum();
             let perimeters: f64 = expected.values().map(|e| e.1).sum();
@@ -1072,7 +1071,7 @@ fn holding_tabs_are_gaps_of_the_tab_width_in_every_outline_of_every_file() {
             );
         }
         // LightBurn: one open path per piece on the outlines layer.
-        let lbrn = read_lbrn(&String::from_utf8(karigami::write::lbrn2::write(page)).unwrap());
+        let lbrn = read_lbrn(&String::from_utf8(karigami::formats::lbrn2::write(page)).unwrap());
         let outlines = *lbrn
             .layers
             .iter()
@@ -1114,7 +1113,7 @@ fn dxf_layer_colours_follow_the_colour_preset() {
                 ..Overrides::default()
             },
         );
-        let dxf = String::from_utf8(karigami::write::dxf::write(&b.pages[0])).unwrap();
+        let dxf = String::from_utf8(karigami::formats::dxf::write(&b.pages[0])).unwrap();
         let pairs: Vec<&str> = dxf.lines().map(str::trim).collect();
         for (layer, want) in Layer::ALL.iter().zip(aci) {
             let want = want.to_string();
@@ -1185,16 +1184,16 @@ fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
     assert_eq!(a.design.fabrication.sheet.name, "600x400");
     for (p, q) in a.pages.iter().zip(&b.pages) {
         assert_eq!(
-            karigami::write::svg::write(p),
-            karigami::write::svg::write(q)
+            karigami::formats::svg::write(p),
+            karigami::formats::svg::write(q)
         );
         assert_eq!(
-            karigami::write::dxf::write(p),
-            karigami::write::dxf::write(q)
+            karigami::formats::dxf::write(p),
+            karigami::formats::dxf::write(q)
         );
         assert_eq!(
-            karigami::write::lbrn2::write(p),
-            karigami::write::lbrn2::write(q)
+            karigami::formats::lbrn2::write(p),
+            karigami::formats::lbrn2::write(q)
         );
     }
 }
@@ -1208,7 +1207,7 @@ fn pdfs_carry_no_dates_and_no_pdfx_key() {
         &crate::cli::repo().join("examples/flat-sheet.toml"),
         &Overrides::default(),
     );
-    let files = karigami::output::files(b);
+    let files = karigami::files(b);
     let dir = crate::cli::scratch("pdf-metadata");
     for name in ["assembly.pdf", "cut.pdf"] {
         let bytes = &files.iter().find(|f| f.0 == name).expect(name).1;

@@ -3,8 +3,9 @@
 
 use crate::util::Rng;
 use glam::DVec3;
-use karigami::lattice::{Lattice, RowParams, TOLERANCE, front_frame, grow_sheet, verify};
-use karigami::legs::{Direction, Leg};
+use karigami::{
+    Direction, Lattice, Leg, RowParams, TOLERANCE, grow_sheet, testing::front_frame, verify,
+};
 
 pub(crate) struct RandomDesign {
     pub dim: usize,
@@ -148,7 +149,7 @@ fn random_3d_sheets_satisfy_every_invariant() {
 /// one invariant of MATH.md 8 and the report must say which.
 #[test]
 fn corrupted_lattices_fail_verification() {
-    use karigami::lattice::Invariant as I;
+    use karigami::Invariant as I;
     let mut rng = Rng::new(7);
     let (lattice, _) = loop {
         if let Ok(found) = random_lattice(&mut rng, 3) {

@@ -796,12 +796,9 @@ fn bad_inputs_get_their_exit_code_message_and_one_json_document() {
 /// still fails.
 #[test]
 fn the_tolerance_scales_with_extent_only_where_rounding_needs_it() {
-    use karigami::lattice::{DRIFT_PER_LEG, TOLERANCE, verify};
+    use karigami::{TOLERANCE, testing::DRIFT_PER_LEG, verify};
     let source = fs::read_to_string(repo().join("examples/flat-sheet.toml")).unwrap();
-    let lattice = karigami::design::parse(&source, "t")
-        .unwrap()
-        .grow()
-        .unwrap();
+    let lattice = karigami::parse(&source, "t").unwrap().grow().unwrap();
     let report = verify(&lattice);
     assert_eq!(report.tolerance, TOLERANCE);
     assert!(report.passed());

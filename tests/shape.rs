@@ -3,14 +3,12 @@
 //! paper's examples against their defining numbers, and the design optimiser.
 
 use crate::errors::expectation;
-use karigami::design::measure::{Measures, measure};
-use karigami::design::{self, Design};
-use karigami::lattice::Lattice;
+use karigami::{Design, Lattice, Measures, measure};
 use std::fs;
 
 fn example(name: &str) -> (Design, Lattice, Measures) {
     let text = fs::read_to_string(format!("examples/{name}.toml")).unwrap();
-    let d = design::parse(&text, name).unwrap();
+    let d = karigami::parse(&text, name).unwrap();
     let lattice = d.grow().unwrap();
     let m = measure(&d, &lattice);
     // Every example passes what `check` and `build` check, clashes included
@@ -26,9 +24,9 @@ fn a_lattice_fitted_to_a_sphere_has_k_near_one_over_r_squared() {
     let text = format!(
         "[lattice]\nseed = \"loop\"\nkappa = 0.0\n[lattice.circle]\ncenter = [0.0, 0.0, 0.0]\nradius = {r}\npoints = 24\n[lattice.fit]\nsurface = \"ellipsoid\"\naxes = [{r}, {r}, {r}]\nrows = 4\n"
     );
-    let d = design::parse(&text, "sphere").unwrap();
+    let d = karigami::parse(&text, "sphere").unwrap();
     let lattice = d.grow().unwrap();
-    let (dist, _) = karigami::design::fit::error(d.fit.as_ref().unwrap(), &lattice);
+    let (dist, _) = karigami::testing::fit::error(d.fit.as_ref().unwrap(), &lattice);
     assert!(dist < 1e-9, "on the sphere: {dist}");
     let k = lattice.curvature();
     assert_eq!(k.len(), 3 * 24);
@@ -87,9 +85,9 @@ fn half_ellipsoid_is_on_its_surface_below_its_rim_and_covers_97_percent() {
     assert!(best < 0.956, "{best}");
     // This lattice stacked by rows does clash, at its pole ring.
     let mut rows = lattice.clone();
-    rows.stacking = karigami::lattice::Stacking::Rows;
+    rows.stacking = karigami::Stacking::Rows;
     let fab = &d.fabrication;
-    let found = karigami::parts::clash::clashes(
+    let found = karigami::testing::clash::clashes(
         &rows,
         fab.material.width,
         fab.end_margin,
@@ -99,8 +97,8 @@ fn half_ellipsoid_is_on_its_surface_below_its_rim_and_covers_97_percent() {
     let n = lattice.width;
     // Stacked by columns, every full joint still holds layers 0..3 once
     // each (the same grip), and a cell's two strips are stacked A then B.
-    use karigami::lattice::RodType;
-    for j in karigami::lattice::joints(&lattice) {
+    use karigami::RodType;
+    for j in karigami::joints(&lattice) {
         let mut layers: Vec<u32> = j.ends.iter().map(|e| e.layer).collect();
         layers.sort();
         if layers.len() == 4 {
@@ -192,23 +190,23 @@ fn reaches_and_repeats(method: &str) {
         )
     };
     let text = recipe(known, 0.0);
-    let d = design::parse(&text, "known").unwrap();
+    let d = karigami::parse(&text, "known").unwrap();
     let reached = measure(&d, &d.grow().unwrap()).coverage.unwrap().share;
     let start = [known[0] - 12.0, known[1] - 10.0];
     let text = recipe(start, reached - 0.005);
-    let d = design::parse(&text, "start").unwrap();
+    let d = karigami::parse(&text, "start").unwrap();
     let before = measure(&d, &d.grow().unwrap()).coverage.unwrap().share;
     assert!(
         before < reached - 0.005,
         "the start already meets it: {before} vs {reached}"
     );
-    let once = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
+    let once = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
     assert!(once.measures.coverage.unwrap().share >= reached - 0.005);
     assert!(once.cost_after < once.cost_before);
     // Written back with the comments and every other line kept.
     assert!(once.text.contains("steps = ["));
     assert_eq!(once.text.lines().count(), text.lines().count());
-    let twice = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
+    let twice = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
     assert_eq!(once.text, twice.text);
 }
 
@@ -217,8 +215,8 @@ fn an_infeasible_target_is_refused_naming_the_constraint_and_its_shortfall() {
     let path = "fixtures/designs/bad/optimise/infeasible-coverage.toml";
     let source = fs::read_to_string(path).unwrap();
     let want = expectation(&source, path);
-    let d = design::parse(&source, "bad").unwrap();
-    let e = karigami::solve::optimise(&d, &source, &mut |_| {}).unwrap_err();
+    let d = karigami::parse(&source, "bad").unwrap();
+    let e = karigami::optimise(&d, &source, &mut |_| {}).unwrap_err();
     assert_eq!(e.kind.name(), want.class);
     assert_eq!(e.line_col(&source), Some(want.line_col));
     assert!(e.message.contains(&want.message), "{}", e.message);
@@ -229,7 +227,7 @@ fn an_infeasible_target_is_refused_naming_the_constraint_and_its_shortfall() {
 fn saddle_ring_is_negatively_curved_nearly_constantly() {
     let (d, lattice, m) = example("saddle-ring");
     assert!(!lattice.extrinsic(), "grown on rebuilt fronts");
-    assert_eq!(d.kind, karigami::lattice::Kind::Loop);
+    assert_eq!(d.kind, karigami::Kind::Loop);
     let c = m.curvature.unwrap();
     assert!(c.negative >= 0.9, "{c:?}");
     assert!(c.mean_deg <= -2.0, "{c:?}");
@@ -287,7 +285,7 @@ fn eggbox_has_bumps_and_dimples_in_a_checkerboard() {
 #[test]
 fn bowl_is_positively_curved_with_round_shrinking_sinking_turns() {
     let (d, lattice, m) = example("bowl");
-    assert_eq!(d.kind, karigami::lattice::Kind::Helix);
+    assert_eq!(d.kind, karigami::Kind::Helix);
     assert_eq!((lattice.width, lattice.cells.len()), (9, 32));
     let c = m.curvature.unwrap();
     assert!(c.positive >= 0.8, "{c:?}");
@@ -312,10 +310,10 @@ fn bowl_is_positively_curved_with_round_shrinking_sinking_turns() {
 fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
     // An arc seed cannot be written back point by point: refused, located.
     let arc = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.arc]\ncenter = [0.0, 0.0]\nradius = 250.0\nfrom = 180.0\nto = 90.0\ncells = 4\n[lattice.fit]\nsurface = \"disk\"\nradius = 250.0\nrows = 3\n[optimise]\nvary = [\"seed\"]\nbudget = 5\n[optimise.objective]\ncoverage = 1.0\n";
-    let d = design::parse(arc, "arc").unwrap();
-    let e = karigami::solve::optimise(&d, arc, &mut |_| {}).unwrap_err();
+    let d = karigami::parse(arc, "arc").unwrap();
+    let e = karigami::optimise(&d, arc, &mut |_| {}).unwrap_err();
     assert!(
-        matches!(e.kind, karigami::diagnostic::ErrorKind::NothingToVary),
+        matches!(e.kind, karigami::ErrorKind::NothingToVary),
         "{e:?}"
     );
     assert!(e.message.contains("points"), "{}", e.message);
@@ -334,12 +332,12 @@ fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
             &format!("points = [{}]\n", pts.join(", ")),
         )
         .replace("budget = 5", "budget = 40");
-    let d = design::parse(&text, "points").unwrap();
-    let once = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
+    let d = karigami::parse(&text, "points").unwrap();
+    let once = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
     assert!(once.cost_after <= once.cost_before);
     assert_ne!(once.text, text, "the seed was moved");
     assert!(once.measures.boundary_distance.unwrap() < 1e-9);
     assert_eq!(once.design.kappa.len(), 4);
-    let twice = karigami::solve::optimise(&d, &text, &mut |_| {}).unwrap();
+    let twice = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
     assert_eq!(once.text, twice.text);
 }

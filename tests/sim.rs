@@ -3,15 +3,20 @@
 //! specification.
 
 use glam::{DVec2, DVec3};
-use karigami::design;
-use karigami::lattice::Lattice;
-use karigami::lattice::deploy::configuration;
-use karigami::sim::explore::{Rng, perturb};
-use karigami::sim::model::{Model, Node, Stencil};
-use karigami::sim::solver::{Options, System, solve};
-use karigami::sim::{self, Actuation, Material, Settings, VertexJoint, kabsch_distance};
+use karigami::simulation::{
+    self as sim, Actuation, Material, Settings, VertexJoint, kabsch_distance,
+};
+use karigami::testing::perturb;
+use karigami::{Lattice, deploy::configuration};
+use karigami_rods::model::Model;
+use karigami_rods::model::Node;
+use karigami_rods::model::Stencil;
+use karigami_rods::rng::Rng;
+use karigami_rods::solver::Options;
+use karigami_rods::solver::System;
+use karigami_rods::solver::solve;
 
-fn abs_section() -> karigami::sim::Section {
+fn abs_section() -> karigami::simulation::Section {
     Material::ABS.section(10.0, 1.0)
 }
 
@@ -37,7 +42,7 @@ fn node_var(m: &Model, node: usize) -> usize {
     }
 }
 
-fn equilibrate(m: &mut Model) -> karigami::sim::Stats {
+fn equilibrate(m: &mut Model) -> karigami::simulation::Stats {
     let sys = System::new(m);
     let stats = solve(m, &sys, &Options::default()).expect("solves");
     assert!(stats.converged, "converged: {stats:?}");
@@ -241,7 +246,7 @@ fn clamped_strip_pushed_2mm_shorter_has_two_mirror_states() {
 
 fn load(path: &str) -> Lattice {
     let text = std::fs::read_to_string(path).expect("recipe");
-    design::parse(&text, "t")
+    karigami::parse(&text, "t")
         .expect("parses")
         .grow()
         .expect("grows")
@@ -259,7 +264,7 @@ angle = 60.0
 left_leg = 80.0
 right_leg = "match"
 "#;
-    design::parse(text, "grid")
+    karigami::parse(text, "grid")
         .expect("parses")
         .grow()
         .expect("grows")
@@ -283,8 +288,8 @@ fn gradient_and_hessian_match_finite_differences() {
         let mut rng = Rng::new(11);
         for (i, kind) in m.kinds.clone().iter().enumerate() {
             m.q[i] += match kind {
-                karigami::sim::model::VarKind::Length => 0.3 * rng.normal(),
-                karigami::sim::model::VarKind::Angle => 0.05 * rng.normal(),
+                karigami_rods::model::VarKind::Length => 0.3 * rng.normal(),
+                karigami_rods::model::VarKind::Angle => 0.05 * rng.normal(),
             };
         }
         let (mut worst_g, mut worst_h) = (0.0f64, 0.0f64);
@@ -311,8 +316,8 @@ fn gradient_and_hessian_match_finite_differences() {
             assert!(close(&h, &hf), "reduced Hessian differs");
             reduced_checked += 1;
             let step = |i: usize| match m.kinds[vars[i]] {
-                karigami::sim::model::VarKind::Length => 1e-6,
-                karigami::sim::model::VarKind::Angle => 2e-7,
+                karigami_rods::model::VarKind::Length => 1e-6,
+                karigami_rods::model::VarKind::Angle => 2e-7,
             };
             let gscale = g.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
             let hscale = h.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
@@ -483,7 +488,7 @@ fn torus_with_ball_joints_opens_freely_and_with_eyelets_twists() {
     let eyelet = Settings::default();
     let run = sim::simulate(
         &torus,
-        &karigami::lattice::deploy::deployment(&torus),
+        &karigami::deploy::deployment(&torus),
         10.0,
         1.0,
         &eyelet,
@@ -526,7 +531,7 @@ fn bowl_converges_under_refinement() {
 
 fn refinement_moves_joints_less_than_1_percent(path: &str) {
     let ring = load(path);
-    let deploy = karigami::lattice::deploy::deployment(&ring);
+    let deploy = karigami::deploy::deployment(&ring);
     // The first cell held: under the mean hold the saddle ring has a soft
     // mode (cells trading openings for under 1 N mm of its 528), so h 10
     // and 5 mm land 35 mm apart with energies 0.14 % apart; that is the
@@ -558,9 +563,9 @@ fn refinement_moves_joints_less_than_1_percent(path: &str) {
 /// put it, measured by lattice::shape like any design.
 fn simulated_shape(path: &str) -> (Lattice, Lattice, sim::Simulation) {
     let text = std::fs::read_to_string(path).expect("recipe");
-    let d = design::parse(&text, "t").expect("parses");
+    let d = karigami::parse(&text, "t").expect("parses");
     let lattice = d.grow().expect("grows");
-    let deploy = karigami::lattice::deploy::deployment(&lattice);
+    let deploy = karigami::deploy::deployment(&lattice);
     let m = &d.fabrication.material;
     let run =
         sim::simulate(&lattice, &deploy, m.width, m.thickness, &d.simulation).expect("simulates");
@@ -569,7 +574,7 @@ fn simulated_shape(path: &str) -> (Lattice, Lattice, sim::Simulation) {
     (lattice, placed, run)
 }
 
-fn degrees(c: &[karigami::lattice::shape::VertexCurvature]) -> Vec<f64> {
+fn degrees(c: &[karigami::shape::VertexCurvature]) -> Vec<f64> {
     c.iter().map(|v| v.defect.to_degrees()).collect()
 }
 
@@ -713,7 +718,7 @@ fn saddle_ring_simulates_saddle_like() {
 #[ignore]
 fn eggbox_actuation_study() {
     let text = std::fs::read_to_string("examples/eggbox.toml").expect("recipe");
-    let d = design::parse(&text, "t").expect("parses");
+    let d = karigami::parse(&text, "t").expect("parses");
     let lattice = d.grow().expect("grows");
     let m = &d.fabrication.material;
     let s = d.simulation;
@@ -792,7 +797,7 @@ fn eggbox_actuation_study() {
 #[test]
 #[ignore]
 fn previews_of_the_simulated_beside_the_designed() {
-    use karigami::drawing::picture::preview_captioned;
+    use karigami::testing::picture::preview_captioned;
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("sim-previews");
     std::fs::create_dir_all(&dir).expect("folder");
     for name in ["eggbox", "saddle-ring"] {
@@ -819,7 +824,7 @@ fn previews_of_the_simulated_beside_the_designed() {
         ];
         for (what, page) in pages {
             let path = dir.join(format!("{name}-{what}.png"));
-            std::fs::write(&path, karigami::write::png::write(&page, 8.0, 1.0)).expect("writes");
+            std::fs::write(&path, karigami::formats::png::write(&page, 8.0, 1.0)).expect("writes");
             println!("{}", path.display());
         }
     }
@@ -836,7 +841,7 @@ fn simulation_actuation_is_read_from_the_recipe() {
             &format!("accept_overstrain = true\n{line}"),
         )
     };
-    let read = |t: &str| design::parse(t, "t").map(|d| d.simulation.actuation);
+    let read = |t: &str| karigami::parse(t, "t").map(|d| d.simulation.actuation);
     assert_eq!(read(&text).expect("parses"), Actuation::Mean);
     assert_eq!(
         read(&with("actuation = \"first-cell\"")).expect("parses"),

@@ -56,10 +56,7 @@ fn built_examples(tag: &str) -> Vec<(PathBuf, f64, f64, PathBuf)> {
             let name = recipe.file_stem().unwrap().to_string_lossy().into_owned();
             let out = cli_build(&name, &[]).to_path_buf();
             let text = std::fs::read_to_string(&recipe).unwrap();
-            let sheet = karigami::design::parse(&text, "x")
-                .unwrap()
-                .fabrication
-                .sheet;
+            let sheet = karigami::parse(&text, "x").unwrap().fabrication.sheet;
             (
                 out,
                 sheet.width,

@@ -2,8 +2,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use karigami::build::{Build, build};
-use karigami::design::{Overrides, parse_with};
+use karigami::{Build, Overrides, build, parse_with};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -31,11 +30,11 @@ pub(crate) fn close_vec(actual: DVec3, expected: DVec3, tol: f64, what: &str) {
 
 /// The library's deterministic generator (SplitMix64) with the draws the
 /// property tests use, so the cases are the same on every run.
-pub(crate) struct Rng(karigami::rng::Rng);
+pub(crate) struct Rng(karigami_rods::rng::Rng);
 
 impl Rng {
     pub(crate) fn new(seed: u64) -> Self {
-        Self(karigami::rng::Rng::new(seed))
+        Self(karigami_rods::rng::Rng::new(seed))
     }
 
     pub(crate) fn next_u64(&mut self) -> u64 {

@@ -6,12 +6,12 @@
 
 use crate::cli::repo;
 use crate::thirdparty::run;
-use karigami::build::{Build, build};
-use karigami::design;
-use karigami::lattice::deploy::deployment;
-use karigami::layout::{Layout, Placement, Sheet};
-use karigami::parts::{Outline, parts};
-use karigami::write::viewer::{Scene, write};
+use karigami::{
+    Build, Layout, Outline, Placement, Sheet, build,
+    deploy::deployment,
+    formats::viewer::{Scene, write},
+    parts,
+};
 use serde_json::{Value, json};
 use std::collections::BTreeSet;
 use std::io::Write as _;
@@ -24,7 +24,7 @@ fn built(name: &str) -> &'static Build {
 }
 
 fn page(b: &Build) -> Vec<u8> {
-    write(&karigami::output::viewer_scene(b))
+    write(&karigami::viewer_scene(b))
 }
 
 /// The JSON data block of a page.
@@ -40,7 +40,7 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
     let html = page(b);
     let again = crate::util::build_example("flat-sheet", &Default::default());
     assert_eq!(html, page(&again), "same recipe, same bytes");
-    let file = karigami::output::files(b)
+    let file = karigami::files(b)
         .into_iter()
         .find(|f| f.0 == "viewer.html")
         .unwrap();
@@ -83,7 +83,7 @@ fn a_name_cannot_break_out_of_the_page() {
             "name = \"mirror-arm\"",
             "name = \"</script><script>alert(1)</script> & <b>\"",
         );
-    let b = build(design::parse(&source, "x").unwrap()).unwrap();
+    let b = build(karigami::parse(&source, "x").unwrap()).unwrap();
     let text = String::from_utf8(page(&b)).unwrap();
     assert_eq!(text.matches("</script>").count(), 2, "only the page's own");
     assert!(text.contains("&lt;/script&gt;&lt;script&gt;alert(1)&lt;/script&gt; &amp; &lt;b&gt;"));
@@ -94,14 +94,14 @@ fn a_name_cannot_break_out_of_the_page() {
 }
 
 /// A 100 x 100 sheet from the starter template.
-fn big_sheet() -> design::Design {
+fn big_sheet() -> karigami::Design {
     let source = std::fs::read_to_string(repo().join("templates/sheet.toml")).unwrap();
     let source = source
         .replace("to = [240.0, 0.0]", "to = [4000.0, 0.0]")
         .replace("cells = 6", "cells = 100")
         .replace("rows = 5", "rows = 100");
     let cut = source.find("\n[[lattice.rows]]").unwrap();
-    design::parse(&source[..cut], "big").unwrap()
+    karigami::parse(&source[..cut], "big").unwrap()
 }
 
 #[test]
@@ -113,7 +113,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
     let lattice = design.grow().unwrap();
     assert_eq!(lattice.cells.len(), 10_000);
     let fab = &design.fabrication;
-    let parts = parts(&lattice, &karigami::lattice::joints(&lattice), fab).unwrap();
+    let parts = parts(&lattice, &karigami::joints(&lattice), fab).unwrap();
     let lengths: Vec<f64> = parts
         .strips
         .iter()
@@ -140,7 +140,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
         test_piece: None,
     };
     let deployment = deployment(&lattice);
-    let steps = karigami::assembly::steps(&lattice, &karigami::lattice::joints(&lattice));
+    let steps = karigami::steps(&lattice, &karigami::joints(&lattice));
     let html = write(&Scene::new(
         &design,
         &lattice,
@@ -558,7 +558,7 @@ fn viewer_works_in_headless_chromium() {
         next(); // reset
         let reset = dir(next());
         let first = b.assembled.clone();
-        let camera = karigami::drawing::picture::Camera::for_lattice(&first);
+        let camera = karigami::testing::picture::Camera::for_lattice(&first);
         for (a, e) in reset.iter().zip(camera.forward.to_array()) {
             assert!(
                 (a - e).abs() < 1e-4,

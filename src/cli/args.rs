@@ -1,7 +1,7 @@
 //! The command line's schema: commands, flags and their help.
 
 use clap::{Args as ClapArgs, Parser, Subcommand};
-use karigami::design::Overrides;
+use karigami::Overrides;
 use std::path::PathBuf;
 
 /// Bounds of `karigami tune`: each try grows the helix, so a billion tries

@@ -8,10 +8,7 @@ use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{Staged, safe_component};
 use super::progress::Progress;
 use super::recipe::{Recipe, run_recipe, stem};
-use karigami::design::Overrides;
-use karigami::diagnostic::ErrorKind;
-use karigami::report;
-use karigami::words::plural;
+use karigami::{ErrorKind, Overrides, util::plural};
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -224,7 +221,7 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
         .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}))
         .and_then(|built| {
             staged
-                .write(folder, &karigami::output::files(&built))
+                .write(folder, &karigami::files(&built))
                 .map_err(|e| {
                     *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
                     Error::io(format!("cannot write {folder}/: {e}"))
@@ -233,8 +230,8 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
                 cells: built.lattice.cells.len(),
                 strips: built.parts.strips.len(),
                 sheets: built.layout.sheets.len(),
-                check: report::build_check_json(&built),
-                build: report::build_json(&built),
+                check: karigami::build_check_json(&built),
+                build: karigami::build_json(&built),
             })
         });
     Outcome {

@@ -6,8 +6,7 @@ use super::error::{Error, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
 use super::recipe::{Recipe, run_recipe};
-use karigami::design::Overrides;
-use karigami::report;
+use karigami::Overrides;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -52,7 +51,7 @@ pub(super) fn build(
     bar.clear();
     let built = built?;
     let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
-        karigami::output::files(&built)
+        karigami::files(&built)
     });
     let written = files::Staged::new(&dir, "single").and_then(|staged| {
         staged.write("", &outputs)?;
@@ -72,14 +71,14 @@ pub(super) fn build(
             out: out.display().to_string(),
             files: outputs.iter().map(|(n, _)| n.as_str()).collect(),
             seconds: started.elapsed().as_secs_f64(),
-            check: report::build_check_json(&built),
-            build: report::build_json(&built),
+            check: karigami::build_check_json(&built),
+            build: karigami::build_json(&built),
         });
     } else if !v.quiet {
         if v.verbose {
             out!(
                 "{}",
-                report::check_text(
+                karigami::check_text(
                     &built.design,
                     &built.lattice,
                     &built.report,
@@ -87,7 +86,7 @@ pub(super) fn build(
                 )
             );
         }
-        out!("{}", report::summary(&built));
+        out!("{}", karigami::summary(&built));
         outln!("wrote {} files to {}", outputs.len(), out.display());
     }
     Ok(())

@@ -5,10 +5,7 @@ use super::error::{Error, ErrorJson, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
 use super::recipe::Recipe;
-use karigami::build;
-use karigami::design::Overrides;
-use karigami::diagnostic::ErrorKind;
-use karigami::report;
+use karigami::{ErrorKind, Overrides};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -96,12 +93,12 @@ fn check_one(
         Ok(d) => d,
         Err(e) => return fail(e, bar),
     };
-    let checked = match build::check(design, &mut |note| fit_note(note, v, bar)) {
+    let checked = match karigami::check(design, &mut |note| fit_note(note, v, bar)) {
         Ok(c) => c,
         Err(d) => return fail(recipe.error(&d), bar),
     };
     bar.clear();
-    let build::Checked {
+    let karigami::Checked {
         design,
         lattice,
         report,
@@ -110,11 +107,11 @@ fn check_one(
     // Each report is made only when it is shown: both measure the shape
     // and the clashes (the text report did it once more for a JSON report
     // it threw away), and `-q` shows neither.
-    let check = json.then(|| report::check_json(design, lattice, report, deployment));
+    let check = json.then(|| karigami::check_json(design, lattice, report, deployment));
     if !json && !v.quiet {
         out!(
             "{}",
-            report::check_text(design, lattice, report, deployment)
+            karigami::check_text(design, lattice, report, deployment)
         );
     }
     if !report.passed() {
@@ -136,12 +133,12 @@ fn check_one(
     match checked.assemble() {
         Ok(built) => {
             if !json && !v.quiet {
-                out!("{}", report::summary(&built));
+                out!("{}", karigami::summary(&built));
                 outln!("result: PASS (geometry verified, every strip can be cut)");
             }
             let mut checked = CheckJson::new(&file, "pass");
             checked.check = check;
-            checked.build = json.then(|| report::build_json(&built));
+            checked.build = json.then(|| karigami::build_json(&built));
             (None, checked)
         }
         Err(d) => {

@@ -1,7 +1,7 @@
 //! Why a command stopped: one error type for every command, shown on
 //! stderr and, with `--json`, as the run's one JSON document.
 
-use karigami::diagnostic::{Diagnostic, ErrorKind};
+use karigami::{Diagnostic, ErrorKind};
 use serde::Serialize;
 
 /// Why a command stopped. Its kind decides the exit status.

@@ -39,7 +39,7 @@ mod tune;
 use args::{Args, Command, Verbosity};
 use clap::{CommandFactory, Parser};
 use error::{Error, ErrorJson};
-use karigami::diagnostic::ErrorKind;
+use karigami::ErrorKind;
 
 pub(crate) fn run() -> i32 {
     let args = match Args::try_parse() {

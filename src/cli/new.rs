@@ -4,19 +4,19 @@ use super::args::Verbosity;
 use super::error::Error;
 use super::files;
 use super::recipe::stem;
-use karigami::templates;
+use karigami::template;
 use std::path::{Path, PathBuf};
 
 /// `karigami templates`: what `new` can start from.
 pub(super) fn list() {
-    for t in templates::TEMPLATES {
+    for t in template::TEMPLATES {
         outln!("{:<8} {}", t.name, t.about);
     }
 }
 
 pub(super) fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Result<(), Error> {
-    let Some(t) = templates::find(template) else {
-        let names: Vec<_> = templates::TEMPLATES.iter().map(|t| t.name).collect();
+    let Some(t) = template::find(template) else {
+        let names: Vec<_> = template::TEMPLATES.iter().map(|t| t.name).collect();
         return Err(Error::usage(format!(
             "no template \"{template}\"; there are: {}",
             names.join(", ")
@@ -47,7 +47,7 @@ pub(super) fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Resu
     let design_name = stem(&path);
     files::write_atomic(
         &path,
-        templates::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes(),
+        template::instantiate_as(t, &design_name, &path.display().to_string()).as_bytes(),
     )
     .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
     if !v.quiet {

@@ -7,7 +7,7 @@ use super::error::Error;
 use super::files;
 use super::progress::Progress;
 use super::recipe::Recipe;
-use karigami::design::Design;
+use karigami::Design;
 use std::path::Path;
 use std::time::Instant;
 
@@ -19,7 +19,7 @@ pub(super) fn run(
 ) -> Result<(), Error> {
     let mut bar = Progress::new(1, v.quiet);
     let started = Instant::now();
-    let result = karigami::solve::optimise(design, &recipe.source, &mut |note| {
+    let result = karigami::optimise(design, &recipe.source, &mut |note| {
         if v.verbose {
             eprintln!("{note}");
         } else {

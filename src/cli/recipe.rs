@@ -4,10 +4,7 @@
 use super::args::DEFAULT_TEMPLATE;
 use super::error::Error;
 use super::files;
-use karigami::build::{Build, build_with};
-use karigami::design::{self, Design, Overrides};
-use karigami::diagnostic::Diagnostic;
-use karigami::templates;
+use karigami::{Build, Design, Diagnostic, Overrides, build_with, template};
 use std::path::Path;
 
 /// A recipe as read: its text, its name for messages, its default design name.
@@ -31,7 +28,7 @@ impl Recipe {
 
     pub(super) fn built_in() -> Self {
         Self {
-            source: templates::find(DEFAULT_TEMPLATE)
+            source: template::find(DEFAULT_TEMPLATE)
                 .expect("the default template exists")
                 .text
                 .to_string(),
@@ -41,7 +38,7 @@ impl Recipe {
     }
 
     pub(super) fn parse(&self, overrides: &Overrides) -> Result<Design, Error> {
-        design::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.error(&d))
+        karigami::parse_with(&self.source, &self.stem, overrides).map_err(|d| self.error(&d))
     }
 
     /// A diagnostic against this recipe, rendered and as JSON.

@@ -4,13 +4,13 @@
 use super::args::Verbosity;
 use super::error::Error;
 use super::recipe::Recipe;
-use karigami::design::Overrides;
-use karigami::diagnostic::ErrorKind;
-use karigami::lattice::deploy::deployment;
-use karigami::lattice::shape::{self, VertexCurvature};
-use karigami::lattice::{Lattice, verify};
-use karigami::sim::explore::explore;
-use karigami::sim::{self, Equilibrium, LatticeModel, Settings, Simulation};
+use karigami::{
+    ErrorKind, Lattice, Overrides,
+    deploy::deployment,
+    shape::{self, VertexCurvature},
+    simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
+    verify,
+};
 use std::fmt::Write as _;
 use std::path::Path;
 

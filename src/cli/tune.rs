@@ -5,8 +5,7 @@ use super::args::Verbosity;
 use super::error::Error;
 use super::recipe::Recipe;
 use super::{files, optimise, progress};
-use karigami::design::{self, Overrides};
-use karigami::diagnostic::ErrorKind;
+use karigami::{ErrorKind, Overrides};
 use std::path::Path;
 
 pub(super) fn tune(
@@ -21,7 +20,7 @@ pub(super) fn tune(
     if design.optimise.is_some() {
         return optimise::run(&recipe, &design, out, v);
     }
-    if design.kind != karigami::lattice::Kind::Helix {
+    if design.kind != karigami::Kind::Helix {
         return Err(Error::usage(format!(
             "{}: `karigami tune` tunes helix seeds; this recipe's seed is \"{}\"",
             recipe.file,
@@ -30,10 +29,10 @@ pub(super) fn tune(
     }
     let target = cells.unwrap_or(design.helix_cells);
     // Legs shorter than the eyelet flange (plus a wall) cannot be built.
-    let min_leg = design.fabrication.eyelet.flange + 2.0 * design::MIN_WALL;
+    let min_leg = design.fabrication.eyelet.flange + 2.0 * karigami::MIN_WALL;
     let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
     let tuned = progress::heartbeat(&what, v.quiet, || {
-        karigami::solve::tune::tune_helix(
+        karigami::tune_helix(
             design.dim,
             &design.points,
             &design.kappa,

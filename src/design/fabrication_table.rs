@@ -41,7 +41,7 @@ pub struct Overrides {
 
 /// Where the settings were written, for errors found later (per strip).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct FabricationSpans {
+pub(crate) struct FabricationSpans {
     pub(crate) width: Option<Range<usize>>,
     pub(crate) eyelet: Option<Range<usize>>,
     pub(crate) end_margin: Option<Range<usize>>,

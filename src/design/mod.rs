@@ -5,7 +5,7 @@
 mod errors;
 mod fabrication_table;
 pub mod fit;
-pub mod measure;
+pub(crate) mod measure;
 pub(crate) mod optimise;
 mod raw;
 mod rows;
@@ -14,7 +14,7 @@ pub(crate) mod simulation;
 mod spans;
 mod values;
 
-pub use fabrication_table::{FabricationSpans, MIN_WALL, Overrides};
+pub use fabrication_table::{MIN_WALL, Overrides};
 
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::Fabrication;

@@ -9,7 +9,8 @@ mod sheet;
 pub mod tabs;
 pub mod text;
 
-pub use sheet::{Meta, TEST_PIECE_ID, sheet_page};
+pub use sheet::TEST_PIECE_ID;
+pub(crate) use sheet::{Meta, sheet_page};
 
 use glam::DVec2;
 use std::f64::consts::{FRAC_PI_2, PI};

@@ -10,7 +10,7 @@ use glam::DVec2;
 
 /// Provenance for the files' metadata.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Meta {
+pub(crate) struct Meta {
     pub(crate) design: String,
     pub(crate) recipe_hash: u64,
 }
@@ -227,7 +227,7 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
 }
 
 /// The page of sheet `index` (0-based) of a layout.
-pub fn sheet_page(
+pub(crate) fn sheet_page(
     strips: &[Strip],
     layout: &Layout,
     index: usize,

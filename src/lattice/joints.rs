@@ -5,7 +5,7 @@ use super::{Lattice, RodType};
 
 /// Which end of a rod meets a vertex joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RodEnd {
+pub(crate) enum RodEnd {
     /// The rod's start vertex: UL for rod A, UR for rod B.
     Start,
     /// The rod's end vertex: LR for rod A, LL for rod B.
@@ -50,14 +50,14 @@ impl Joint {
 }
 
 /// How many vertex pivots take an eyelet (the joints that are not corners).
-pub fn vertex_eyelets(joints: &[Joint]) -> usize {
+pub(crate) fn vertex_eyelets(joints: &[Joint]) -> usize {
     joints.iter().filter(|j| j.needs_eyelet()).count()
 }
 
 /// `vertex_eyelets(&joints(lattice))` without building the joints (a heap
 /// list a vertex: half a gigabyte at 4 M cells): a vertex's filled slots
 /// as bits of one byte.
-pub fn vertex_eyelet_count(lattice: &Lattice) -> usize {
+pub(crate) fn vertex_eyelet_count(lattice: &Lattice) -> usize {
     let mut slots = vec![0u8; lattice.vertices.len()];
     for cell in &lattice.cells {
         slots[cell.ul as usize] |= 1;

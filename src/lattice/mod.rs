@@ -17,16 +17,16 @@ mod rods;
 pub mod shape;
 mod verify;
 
-pub use front::{Crank, FrontMoves, PivotMove};
-pub use grow::{
-    CLOSURE_TOL, ClosureRecord, FrontFrame, Grower, GrowthError, GrowthErrorKind, MAX_CELLS, Param,
-    RowParams, fmt_len, front_frame, grow, grow_sheet,
-};
+pub(crate) use front::PivotMove;
+pub use front::{Crank, FrontMoves};
+pub use grow::{Grower, GrowthErrorKind, RowParams, front_frame, grow, grow_sheet};
+pub(crate) use grow::{GrowthError, MAX_CELLS, Param};
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
-pub use joints::{Joint, JointEnd, RodEnd, joints, vertex_eyelet_count, vertex_eyelets};
+pub use joints::{Joint, joints};
+pub(crate) use joints::{JointEnd, RodEnd, vertex_eyelet_count, vertex_eyelets};
 pub(crate) use placed::horn_rotation;
 pub use rods::{Rod, RodType};
-pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, tolerance, verify};
+pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, verify};
 
 use glam::DVec3;
 

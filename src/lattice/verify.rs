@@ -15,33 +15,18 @@ pub const TOLERANCE: f64 = 1e-9;
 /// seven times that.
 pub const DRIFT_PER_LEG: f64 = 64.0 * f64::EPSILON;
 
-/// The tolerance `lattice` is verified against: `TOLERANCE`, or
-/// `DRIFT_PER_LEG` times its extent in mean legs when that is larger (only
-/// beyond about 70,000 legs from the origin, e.g. a sheet of more than
-/// 70,000 rows), since rounding of absolute coordinates alone then reaches
-/// 1e-9 in exact constructions.
-pub fn tolerance(lattice: &Lattice) -> f64 {
-    let legs: f64 = lattice.cells.iter().map(|c| mean(&lattice.legs(c))).sum();
-    tolerance_with(lattice, legs)
-}
-
-/// `tolerance` given the sum over the cells of their mean legs.
-fn tolerance_with(lattice: &Lattice, legs: f64) -> f64 {
-    let extent = lattice
-        .vertices
-        .iter()
-        .map(vertex_extent)
-        .fold(0.0, f64::max);
-    tolerance_of(lattice, legs, extent)
-}
-
 /// How far a vertex is from the origin, coordinate- and z-wise.
 #[inline]
 fn vertex_extent(v: &super::Vertex) -> f64 {
     v.pos.abs().max_element().max(v.z.abs())
 }
 
-/// `tolerance_with`, given the largest `vertex_extent`.
+/// The tolerance `lattice` is verified against, given the sum over its
+/// cells of their mean legs and its largest `vertex_extent`: `TOLERANCE`, or
+/// `DRIFT_PER_LEG` times its extent in mean legs when that is larger (only
+/// beyond about 70,000 legs from the origin, e.g. a sheet of more than
+/// 70,000 rows), since rounding of absolute coordinates alone then reaches
+/// 1e-9 in exact constructions.
 fn tolerance_of(lattice: &Lattice, legs: f64, extent: f64) -> f64 {
     let leg = legs / lattice.cells.len().max(1) as f64;
     if !(leg > 0.0) || !extent.is_finite() {

@@ -14,13 +14,13 @@ pub struct Bounds {
 }
 
 /// Area of a stadium of tip-to-tip length `l` and width `w`.
-pub fn stadium_area(l: f64, w: f64) -> f64 {
+pub(crate) fn stadium_area(l: f64, w: f64) -> f64 {
     w * (l - w) + PI * w * w / 4.0
 }
 
 /// Lower bound on the sheet count by area: the parts, each with half the gap
 /// around it, over the usable sheet area.
-pub fn area_bound(lengths: &[f64], w: f64, sheet: &SheetSpec) -> usize {
+pub(crate) fn area_bound(lengths: &[f64], w: f64, sheet: &SheetSpec) -> usize {
     let g = sheet.gap;
     let (uw, uh) = sheet.usable();
     // Each part with half the gap around it: a stadium of width w + g.
@@ -32,7 +32,7 @@ pub fn area_bound(lengths: &[f64], w: f64, sheet: &SheetSpec) -> usize {
 }
 
 /// Lane layouts with every lane in one orientation (the better of the two).
-pub fn lane_bound(lengths: &[f64], w: f64, sheet: &SheetSpec) -> usize {
+pub(crate) fn lane_bound(lengths: &[f64], w: f64, sheet: &SheetSpec) -> usize {
     let g = sheet.gap;
     let (uw, uh) = sheet.usable();
     let total: f64 = lengths.iter().map(|&l| l + g).sum();

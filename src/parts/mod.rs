@@ -17,8 +17,9 @@ pub(crate) mod types;
 
 pub use engraving::DOT;
 pub(crate) use engraving::MIN_LABEL_HEIGHT;
-pub use test_piece::{TestPiece, test_piece};
-pub use types::PartType;
+pub(crate) use test_piece::TestPiece;
+pub use test_piece::test_piece;
+pub(crate) use types::PartType;
 
 use crate::fabrication::Fabrication;
 use crate::lattice::{Joint, Lattice, RodType, vertex_eyelets};

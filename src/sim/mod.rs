@@ -12,10 +12,13 @@ mod opening;
 pub(crate) mod results;
 pub(crate) mod strips;
 
-pub use karigami_rods::{dual, frames, model, solver};
-pub use model::{Energies, Model, Section};
-pub use results::{StrainPeak, kabsch_distance, kabsch_fit};
-pub use solver::{Options, SolveError, Stats, System};
+pub(crate) use karigami_rods::{model, solver};
+pub(crate) use model::Energies;
+pub use model::Section;
+pub(crate) use results::StrainPeak;
+pub use results::kabsch_distance;
+pub use solver::Stats;
+pub(crate) use solver::{Options, SolveError, System};
 pub use strips::{Hold, LatticeModel, Mesh, VertexJoint};
 
 use crate::lattice::Lattice;

@@ -128,7 +128,7 @@ pub(crate) fn largest_reaction(m: &Model) -> (f64, usize, String) {
 
 /// The proper rotation and translation taking `a` onto `b` in the least
 /// squares sense (Horn's quaternion method), applied to `a`.
-pub fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
+pub(crate) fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
     let n = a.len().max(1) as f64;
     let ca = a.iter().sum::<DVec3>() / n;
     let cb = b.iter().sum::<DVec3>() / n;

@@ -20,7 +20,7 @@ pub(crate) mod fit;
 mod grow;
 mod rewrite;
 mod slots;
-pub mod tune;
+pub(crate) mod tune;
 
 pub(crate) use cost::cost;
 use evolve::evolve;

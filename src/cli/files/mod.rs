@@ -47,7 +47,7 @@ fn hidden(name: &OsStr, suffix: &str) -> String {
         while !name.is_char_boundary(end) {
             end -= 1;
         }
-        let hash = karigami::hash::fnv1a(name.as_bytes());
+        let hash = karigami::util::fnv1a(name.as_bytes());
         format!("{}~{hash:016x}", &name[..end])
     };
     format!(".{short}.karigami-{suffix}")

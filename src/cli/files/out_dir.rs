@@ -4,7 +4,7 @@
 
 use super::lock::take_lock;
 use super::{MARKER, MARKER_HEAD, hidden, remove_any};
-use karigami::words::plural;
+use karigami::util::plural;
 use std::ffi::OsStr;
 use std::fs::{self, File};
 use std::io;

@@ -6,7 +6,7 @@ use super::*;
 /// The design parameter a growth error is about, so the recipe layer can
 /// point at the text that sets it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Param {
+pub(crate) enum Param {
     /// The seed points (`points`, or a seed table such as `[lattice.line]`).
     SeedPoints,
     /// The kappa of one seed edge.

@@ -195,7 +195,7 @@ impl Grower {
 }
 
 /// Largest closure residual `|v2' - v2|` a loop row may keep.
-pub const CLOSURE_TOL: f64 = 1e-9;
+pub(crate) const CLOSURE_TOL: f64 = 1e-9;
 
 /// The loop map computed by the real transfers (no admissibility checks),
 /// for polishing: where `v2` at cell 0 comes back after one round.

@@ -15,16 +15,15 @@ mod open_row;
 mod pivot;
 
 use errors::*;
-pub use errors::{GrowthError, Param};
-pub use loop_row::CLOSURE_TOL;
+pub(crate) use errors::{GrowthError, Param};
+pub use pivot::front_frame;
 use pivot::*;
-pub use pivot::{FrontFrame, front_frame};
 
 /// Cells whose opening angle is this close to 0 or pi are refused.
 pub(crate) const EPS_ANGLE: f64 = 1e-6;
 /// Upper bound on lattice size, so an absurd recipe fails with a message
 /// instead of exhausting memory (about 150 bytes a cell).
-pub const MAX_CELLS: usize = 4_000_000;
+pub(crate) const MAX_CELLS: usize = 4_000_000;
 
 /// The free parameters of one row (MATH.md 5, 6.2, 7).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -38,7 +37,7 @@ pub struct RowParams {
     pub left_leg: Leg,
     /// `L3 = l3[i][m-1]`, the free leg at the right end (open fronts).
     pub right_leg: Leg,
-    /// Loops: where the new vertex x[i+1][1] goes (symmetric rows), or which
+    /// Loops: where the new vertex `x[i+1][1]` goes (symmetric rows), or which
     /// closing direction to take (the one landing nearest it).
     pub target: Option<DVec3>,
     /// Loops: the closing direction to take, 1 or 2, counted from the cone
@@ -450,6 +449,6 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
 }
 
 /// Lengths in messages: enough digits to compare, no float noise.
-pub fn fmt_len(x: f64) -> String {
+pub(crate) fn fmt_len(x: f64) -> String {
     format!("{x:.6} mm")
 }
