@@ -51,18 +51,20 @@ pub use diagnostic::{Diagnostic, ErrorKind};
 
 // Design: the parsed recipe, its fabrication settings, and the solvers
 // that search for a recipe's values.
-pub use design::measure::{Measures, measure};
+pub use design::fit::{Coverage, Fit};
+pub use design::measure::{Measures, Turn, measure};
+pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};
-pub use solve::optimise;
-pub use solve::tune::tune_helix;
+pub use solve::tune::{Tuned, tune_helix};
+pub use solve::{Optimised, optimise};
 
 // Lattice: growth from rows of parameters, the verified invariants, the
 // joints, and the deployment (`deploy`) and curvature (`shape`) analyses.
 pub use lattice::{
-    Cell, Crank, FrontMoves, Grower, Invariant, Joint, Kind, Lattice, Report as VerifyReport, Rod,
-    RodType, RowParams, Stacking, TOLERANCE, Vertex, VertexKey, grow, grow_helix, grow_sheet,
-    joints, verify,
+    Cell, Check as VerifyCheck, ClosureRecord, Crank, FrontMoves, Grower, GrowthError, Invariant,
+    Joint, JointEnd, Kind, Lattice, PivotMove, Report as VerifyReport, Rod, RodType, RowParams,
+    Stacking, TOLERANCE, Vertex, VertexKey, grow, grow_helix, grow_sheet, joints, verify,
 };
 pub use lattice::{deploy, shape};
 pub use legs::{Direction, Leg};
@@ -70,14 +72,15 @@ pub use legs::{Direction, Leg};
 // Parts: the flat strips with their holes and markings, and the order
 // they are assembled in.
 pub use assembly::{Step, steps};
+pub use parts::types::PartType;
 pub use parts::{Marking, Outline, Parts, PartsError, Strip, parts};
 
 // Layout: strips nested on sheets.
-pub use layout::{Layout, Placement, Sheet, nest};
+pub use layout::{Bounds, Layout, Placement, Sheet, nest};
 
 // Drawing: one model of pages in millimetres that every writer reads, and
 // the assembly guide drawn in it.
-pub use drawing::{Group, Item, Layer, Page, Segment, Shape};
+pub use drawing::{Align, Font, Group, Ink, Item, Layer, Page, Segment, Shape, Symbol};
 pub use guide::{Guide, guide};
 
 /// Bytes: one module per file format, each with its own `write`.
@@ -89,10 +92,11 @@ pub mod formats {
 /// settings, the deployed equilibrium, and the search for other stable
 /// shapes (`explore`).
 pub mod simulation {
+    pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
-        Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, Simulation,
-        Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_lattice, prepare,
-        simulate,
+        Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,
+        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance,
+        placed_lattice, prepare, simulate,
     };
 }
 
@@ -115,7 +119,7 @@ pub mod testing {
     pub use crate::drawing::{TEST_PIECE_ID, picture, tabs, text};
     pub use crate::guide::{GAUGE_OVERLAP, eyelets_by_grip, gauge_tiles};
     pub use crate::lattice::{
-        DRIFT_PER_LEG, GrowthErrorKind, front_frame, grow_helix_partial, seed_defect,
+        DRIFT_PER_LEG, FrontFrame, front_frame, grow_helix_partial, seed_defect,
     };
     pub use crate::layout::strip_length;
     pub use crate::parts::{DOT, clash, test_piece};

@@ -5,8 +5,7 @@ use crate::property::random_lattice;
 use crate::util::Rng;
 use glam::DVec3;
 use karigami::{
-    Direction, FrontMoves, Grower, Kind, Lattice, RowParams, TOLERANCE, grow,
-    testing::GrowthErrorKind, verify,
+    Direction, ErrorKind, FrontMoves, Grower, Kind, Lattice, RowParams, TOLERANCE, grow, verify,
 };
 use std::fs;
 
@@ -93,7 +92,7 @@ fn symmetric_loops_need_a_direction_and_take_any() {
     let mut rng = Rng::new(3);
     let (points, kappa) = ring(&mut rng, 10, 0.0);
     let free = grow(Kind::Loop, 3, &points, &kappa, &[RowParams::default()]).unwrap_err();
-    assert_eq!(free.kind, GrowthErrorKind::LoopClosureFree);
+    assert_eq!(free.kind, ErrorKind::LoopClosureFree);
     for _ in 0..10 {
         let rows: Vec<RowParams> = (0..4)
             .map(|_| RowParams {

@@ -27,6 +27,7 @@ use toml::Spanned;
 /// How close strips of one layer may come, and whether a clash is allowed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClashRule {
+    /// The smallest gap (mm) between strips of one layer.
     pub clearance: f64,
     pub(crate) allow: bool,
     /// Which neighbours alternate their layers (`stacking`).
@@ -102,6 +103,8 @@ pub(crate) struct Requirement {
     pub(crate) span: Range<usize>,
 }
 
+/// A validated `[optimise]` table: what the optimiser varies, how it
+/// searches, and what it aims for.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Optimise {
     pub(crate) vary: Vec<Vary>,

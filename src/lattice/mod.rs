@@ -17,16 +17,17 @@ mod rods;
 pub mod shape;
 mod verify;
 
-pub(crate) use front::PivotMove;
-pub use front::{Crank, FrontMoves};
-pub use grow::{Grower, GrowthErrorKind, RowParams, front_frame, grow, grow_sheet};
-pub(crate) use grow::{GrowthError, MAX_CELLS, Param};
+pub use front::{Crank, FrontMoves, PivotMove};
+pub use grow::{
+    ClosureRecord, FrontFrame, Grower, GrowthError, RowParams, front_frame, grow, grow_sheet,
+};
+pub(crate) use grow::{GrowthErrorKind, MAX_CELLS, Param};
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
-pub use joints::{Joint, joints};
-pub(crate) use joints::{JointEnd, RodEnd, vertex_eyelet_count, vertex_eyelets};
+pub use joints::{Joint, JointEnd, joints};
+pub(crate) use joints::{RodEnd, vertex_eyelet_count, vertex_eyelets};
 pub(crate) use placed::horn_rotation;
 pub use rods::{Rod, RodType};
-pub use verify::{DRIFT_PER_LEG, Invariant, Report, TOLERANCE, verify};
+pub use verify::{Check, DRIFT_PER_LEG, Invariant, Report, TOLERANCE, verify};
 
 use glam::DVec3;
 

@@ -96,12 +96,15 @@ impl Invariant {
 /// The largest residual of one invariant and where it occurs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Check {
+    /// The invariant checked.
     pub invariant: Invariant,
     /// How many places were checked.
     pub(crate) count: usize,
+    /// The largest residual found.
     pub max: f64,
+    /// Where the largest residual occurs, if anywhere.
     pub site: Option<String>,
-    /// What `max` must not exceed (see `tolerance`).
+    /// What `max` must not exceed (see `tolerance_of`).
     pub(crate) tolerance: f64,
 }
 

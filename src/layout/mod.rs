@@ -9,7 +9,8 @@ mod bounds;
 mod by_step;
 
 pub(crate) use advice::{SheetOption, pick, sheet_options};
-pub(crate) use bounds::{Bounds, area_bound, lane_bound, stadium_area};
+pub use bounds::Bounds;
+pub(crate) use bounds::{area_bound, lane_bound, stadium_area};
 pub(crate) use by_step::nest_by_step;
 
 use crate::fabrication::SheetSpec;

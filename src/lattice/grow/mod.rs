@@ -14,10 +14,11 @@ mod loop_row;
 mod open_row;
 mod pivot;
 
+pub use errors::GrowthError;
+pub(crate) use errors::Param;
 use errors::*;
-pub(crate) use errors::{GrowthError, Param};
-pub use pivot::front_frame;
 use pivot::*;
+pub use pivot::{FrontFrame, front_frame};
 
 /// Cells whose opening angle is this close to 0 or pi are refused.
 pub(crate) const EPS_ANGLE: f64 = 1e-6;
@@ -48,7 +49,7 @@ pub struct RowParams {
 }
 
 /// The growth errors of MATH.md 9 are kinds of the one error enum.
-pub use crate::diagnostic::ErrorKind as GrowthErrorKind;
+pub(crate) use crate::diagnostic::ErrorKind as GrowthErrorKind;
 
 /// Grow a sheet from its seed front (`points` with one `kappa` per edge) and
 /// one parameter set per row.
