@@ -162,6 +162,45 @@ fn disk_is_planar_on_its_circle_and_covered() {
     }
     let c = m.curvature.unwrap();
     assert!(c.max_deg.abs() < 1e-9 && c.min_deg.abs() < 1e-9, "{c:?}");
+    // From the cells' own corners: every vertex inside or on the circle,
+    // the boundary ones (seed, each row's two ends) on it to 0.01 mm.
+    let r = 250.0;
+    let w = lattice.width as u32;
+    for v in &lattice.vertices {
+        let rho = v.pos.truncate().length();
+        assert!(rho <= r + 1e-9, "{:?} outside: {rho}", v.key);
+        if v.key.row == 0 || v.key.col == 0 || v.key.col == w {
+            assert!((rho - r).abs() < 0.01, "{:?} off the circle: {rho}", v.key);
+        }
+    }
+    // Cell areas (shoelace round UL, UR, LR, LL): largest / smallest at
+    // most 8, and the cells, which do not overlap in a valid planar
+    // lattice, add up to at least 97 % of the disk, as the sampled
+    // coverage says.
+    let areas: Vec<f64> = lattice
+        .cells
+        .iter()
+        .map(|c| {
+            let [ul, ur, ll, lr] = lattice.corners(c).map(|p| p.truncate());
+            let q = [ul, ur, lr, ll];
+            (0..4)
+                .map(|k| q[k].perp_dot(q[(k + 1) % 4]))
+                .sum::<f64>()
+                .abs()
+                / 2.0
+        })
+        .collect();
+    let (lo, hi) = areas
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+    assert!(
+        hi / lo <= 8.0,
+        "cell areas {lo:.0} to {hi:.0} mm^2: {}",
+        hi / lo
+    );
+    let tiled = areas.iter().sum::<f64>() / (std::f64::consts::PI * r * r);
+    assert!(tiled >= 0.97, "{tiled}");
+    assert!((tiled - share).abs() < 0.005, "{tiled} {share}");
 }
 
 #[test]
