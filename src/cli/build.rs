@@ -77,15 +77,7 @@ pub(super) fn build(
         });
     } else if !v.quiet {
         if v.verbose {
-            out!(
-                "{}",
-                report::check_text(
-                    &built.design,
-                    &built.lattice,
-                    &built.report,
-                    &built.deployment,
-                )
-            );
+            out!("{}", report::check_text(&built.verified()));
         }
         out!("{}", report::summary(&built));
         outln!("wrote {} files to {}", outputs.len(), out.display());
