@@ -102,7 +102,10 @@ fn a_check_derives_on_first_use_and_keeps_it() {
     assert!(std::ptr::eq(a.assembled, b.assembled), "placed once");
     assert!(!std::ptr::eq(a.assembled, &checked.lattice));
     assert!(std::ptr::eq(a.measures, b.measures), "measured once");
-    assert!(std::ptr::eq(a.parts.unwrap(), b.parts.unwrap()), "parts made once");
+    assert!(
+        std::ptr::eq(a.parts.unwrap(), b.parts.unwrap()),
+        "parts made once"
+    );
     // What was derived is what a fresh measurement gives.
     assert_eq!(*a.measures, measure(&checked.design, &checked.lattice));
     // The reports read it: the text and JSON agree with a build's.
@@ -117,7 +120,10 @@ fn a_build_carries_what_its_check_derived() {
     let shown = check_text(&checked.verified());
     let measures = checked.measures().clone();
     let built = checked.assemble().unwrap();
-    assert_eq!(built.measures, measures, "the build keeps the check's measures");
+    assert_eq!(
+        built.measures, measures,
+        "the build keeps the check's measures"
+    );
     // A build whose check showed nothing derives the same, once, itself.
     let fresh = build(recipe("mirror-arm")).unwrap();
     assert_eq!(fresh.measures, measures);

@@ -90,13 +90,14 @@ pub fn check_json(v: &Verified) -> serde_json::Value {
             site: &c.site,
         })
         .collect();
-    let fit = measures
-        .fit_distance
-        .zip(measures.fit_relative)
-        .map(|(max_distance_mm, relative)| FitJson {
-            max_distance_mm,
-            relative,
-        });
+    let fit =
+        measures
+            .fit_distance
+            .zip(measures.fit_relative)
+            .map(|(max_distance_mm, relative)| FitJson {
+                max_distance_mm,
+                relative,
+            });
     let deployment = DeploymentJson {
         theta_design_deg: dep.config.theta_design.to_degrees(),
         theta_max_deg: dep.config.theta_max.to_degrees(),

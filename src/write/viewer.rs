@@ -414,7 +414,11 @@ fn deploy_json(s: &Scene) -> Option<DeployJson> {
         .flat_map(|(cell, (a, b))| {
             let [ul, ur, _, _] = lattice.corners(cell);
             let (u, v) = (ul - cell.pivot, ur - cell.pivot);
-            let side = if u.x * v.y - u.y * v.x < 0.0 { -1.0 } else { 1.0 };
+            let side = if u.x * v.y - u.y * v.x < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
             let legs = lattice.legs(cell);
             [a, b, legs[0], legs[1], legs[2], legs[3], side].map(Full)
         })
