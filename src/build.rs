@@ -254,8 +254,9 @@ fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
         .hint("run `karigami check` for the full report; the design is too close to degenerate"));
     }
     // Derived in the order the refusals come: parts errors before clashes.
-    checked.parts();
-    checked.measures();
+    if checked.parts().is_ok() {
+        checked.measures();
+    }
     let Checked {
         mut design,
         lattice,
@@ -313,6 +314,12 @@ fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
             page
         })
         .collect();
+    // The placement the measures were taken on; an extrinsic lattice is
+    // its own.
+    let assembled = placed
+        .into_inner()
+        .flatten()
+        .unwrap_or_else(|| lattice.clone());
     let mut parts = parts;
     let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
@@ -320,10 +327,7 @@ fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
         joints,
         simulation,
         design,
-        assembled: placed
-            .into_inner()
-            .flatten()
-            .unwrap_or_else(|| lattice.clone()),
+        assembled,
         measures,
         deployment,
         lattice,

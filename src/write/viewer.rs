@@ -414,11 +414,8 @@ fn deploy_json(s: &Scene) -> Option<DeployJson> {
         .flat_map(|(cell, (a, b))| {
             let [ul, ur, _, _] = lattice.corners(cell);
             let (u, v) = (ul - cell.pivot, ur - cell.pivot);
-            let side = if u.x * v.y - u.y * v.x < 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
+            // The side rod B turns to: the sign of u x v.
+            let side = if u.x * v.y < u.y * v.x { -1.0 } else { 1.0 };
             let legs = lattice.legs(cell);
             [a, b, legs[0], legs[1], legs[2], legs[3], side].map(Full)
         })
@@ -442,21 +439,21 @@ struct Lines {
 }
 
 impl Lines {
-    /// A record (array or object) starting as a later value of an array
-    /// that is a member of the data object goes on a new line.
-    fn record_break<W: ?Sized + io::Write>(&self, w: &mut W) -> io::Result<()> {
-        match self.open.as_slice() {
-            [(false, _), (true, false)] => w.write_all(b"\n"),
-            _ => Ok(()),
+    /// Open an array (`[`) or an object (`{`). A record starting as a later
+    /// value of an array that is a member of the data object goes on a new
+    /// line.
+    fn open<W: ?Sized + io::Write>(&mut self, w: &mut W, bracket: &[u8]) -> io::Result<()> {
+        if let [(false, _), (true, false)] = self.open.as_slice() {
+            w.write_all(b"\n")?;
         }
+        self.open.push((bracket == b"[", true));
+        w.write_all(bracket)
     }
 }
 
 impl serde_json::ser::Formatter for Lines {
     fn begin_array<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
-        self.record_break(w)?;
-        self.open.push((true, true));
-        w.write_all(b"[")
+        self.open(w, b"[")
     }
 
     fn end_array<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
@@ -476,9 +473,7 @@ impl serde_json::ser::Formatter for Lines {
     }
 
     fn begin_object<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
-        self.record_break(w)?;
-        self.open.push((false, true));
-        w.write_all(b"{")
+        self.open(w, b"{")
     }
 
     fn end_object<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
