@@ -53,7 +53,17 @@ fn check_child(cols: usize, rows: usize) {
     let report = verify(&lattice);
     let grow_verify = cpu_seconds() - c0;
     let deploy = deployment(&lattice);
-    let json = karigami::check_json(&d, &lattice, &report, &deploy);
+    let assembled = lattice.placed();
+    let measures = karigami::measure_assembled(&d, &lattice, &assembled);
+    let json = karigami::check_json(&karigami::Verified {
+        design: &d,
+        lattice: &lattice,
+        assembled: &assembled,
+        report: &report,
+        deployment: &deploy,
+        measures: &measures,
+        parts: None,
+    });
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     assert!(report.passed(), "benchmark lattice must verify");
     std::hint::black_box(&json);

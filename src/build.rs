@@ -4,12 +4,15 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
+use crate::design::measure::{Measures, measure_assembled};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Joint, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
+use std::borrow::Cow;
+use std::cell::OnceCell;
 
 /// Everything one design makes before any file bytes: the grown and verified
 /// lattice, its strips, their layout on sheets and the cut-sheet pages.
@@ -23,6 +26,9 @@ pub struct Build {
     pub assembled: Lattice,
     /// Verification of the grown lattice (MATH.md 8).
     pub report: Report,
+    /// Its shape, fit and clash measures, measured once for the clash
+    /// refusal and the reports.
+    pub measures: Measures,
     /// The vertex joints (`lattice::joints`), computed once for the parts and lattice.json.
     pub(crate) joints: Vec<Joint>,
     /// The assembly steps in growth order (`assembly::steps`), computed once
@@ -61,6 +67,11 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
 /// grown, its lattice verified and its deployment worked out. `check`
 /// reports on it whether or not it passed; `assemble` makes the parts,
 /// layout and pages of one that did.
+///
+/// What the reports and `assemble` both need (the placement, the measures,
+/// the joints and parts) is derived on first use, once, and carried into
+/// the `Build`: `karigami check -q` of a 4 M-cell lattice measures nothing
+/// it does not show.
 pub struct Checked {
     /// The validated recipe it was grown from.
     pub design: Design,
@@ -70,6 +81,32 @@ pub struct Checked {
     pub report: Report,
     /// How it deploys (MATH.md 8.4).
     pub deployment: Deployment,
+    /// `Lattice::placed`, None when that is the grown lattice (extrinsic).
+    placed: OnceCell<Option<Lattice>>,
+    measures: OnceCell<Measures>,
+    joints: OnceCell<Vec<Joint>>,
+    parts: OnceCell<Result<Parts, PartsError>>,
+}
+
+/// What the check reports read, borrowed from a `Checked` or a `Build` with
+/// everything derived already: the report writers receive the measures and
+/// the parts, and never measure or make parts themselves.
+pub struct Verified<'a> {
+    /// The validated recipe.
+    pub design: &'a Design,
+    /// The lattice as grown.
+    pub lattice: &'a Lattice,
+    /// The lattice as assembled (`Lattice::placed`).
+    pub assembled: &'a Lattice,
+    /// Verification of the grown lattice.
+    pub report: &'a Report,
+    /// How it deploys.
+    pub deployment: &'a Deployment,
+    /// Shape, fit and clash measures (`design::measure`).
+    pub measures: &'a Measures,
+    /// The strips, when the lattice is small enough to make them and they
+    /// could be made.
+    pub parts: Option<&'a Parts>,
 }
 
 /// Grow `design` (telling `progress` about each fitted row), verify the
@@ -84,6 +121,10 @@ pub fn check(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Checked, 
         lattice,
         report,
         deployment,
+        placed: OnceCell::new(),
+        measures: OnceCell::new(),
+        joints: OnceCell::new(),
+        parts: OnceCell::new(),
     })
 }
 
@@ -94,11 +135,55 @@ impl Checked {
         too_large_to_fabricate(&self.design, &self.lattice)
     }
 
+    /// The lattice as assembled: rows grown on rebuilt fronts placed onto
+    /// the rows they hang from (`Lattice::placed`), placed once.
+    pub fn assembled(&self) -> &Lattice {
+        self.placed
+            .get_or_init(|| match self.lattice.placed() {
+                Cow::Owned(placed) => Some(placed),
+                Cow::Borrowed(_) => None,
+            })
+            .as_ref()
+            .unwrap_or(&self.lattice)
+    }
+
+    /// The shape, fit and clash measures, measured once.
+    pub fn measures(&self) -> &Measures {
+        self.measures
+            .get_or_init(|| measure_assembled(&self.design, &self.lattice, self.assembled()))
+    }
+
+    /// The vertex joints, found once.
+    fn joints(&self) -> &[Joint] {
+        self.joints.get_or_init(|| joints(&self.lattice))
+    }
+
+    /// The strips and eyelets, made once (a lattice too large to fabricate
+    /// has none: callers check `too_large_to_fabricate` first).
+    fn parts(&self) -> &Result<Parts, PartsError> {
+        self.parts
+            .get_or_init(|| parts(&self.lattice, self.joints(), &self.design.fabrication))
+    }
+
+    /// The check reports' view, deriving what it needs on first use.
+    pub fn verified(&self) -> Verified<'_> {
+        let small = self.lattice.cells.len() <= MAX_FABRICATED_CELLS;
+        Verified {
+            design: &self.design,
+            lattice: &self.lattice,
+            assembled: self.assembled(),
+            report: &self.report,
+            deployment: &self.deployment,
+            measures: self.measures(),
+            parts: small.then(|| self.parts().as_ref().ok()).flatten(),
+        }
+    }
+
     /// The parts, layout and pages. A lattice too large to fabricate, or
     /// one that failed verification or a fabrication check, is refused
     /// with a located error.
     pub fn assemble(self) -> Result<Build, Diagnostic> {
-        assemble(self.design, self.lattice, self.report, self.deployment)
+        assemble(self)
     }
 }
 
@@ -144,16 +229,12 @@ fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diagnost
 }
 
 /// The parts, layout and pages of a grown and verified lattice
-/// (`Checked::assemble`).
-fn assemble(
-    design: Design,
-    lattice: Lattice,
-    report: Report,
-    deployment: Deployment,
-) -> Result<Build, Diagnostic> {
-    if let Some(e) = too_large_to_fabricate(&design, &lattice) {
+/// (`Checked::assemble`), from what the check derived already.
+fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
+    if let Some(e) = checked.too_large_to_fabricate() {
         return Err(e);
     }
+    let report = &checked.report;
     if !report.passed() {
         let worst = report
             .checks
@@ -172,9 +253,26 @@ fn assemble(
         .site(worst.site.clone().unwrap_or_default())
         .hint("run `karigami check` for the full report; the design is too close to degenerate"));
     }
-    let mut design = design;
-    let joints = joints(&lattice);
-    let parts = parts(&lattice, &joints, &design.fabrication).map_err(|e| locate(&design, e))?;
+    // Derived in the order the refusals come: parts errors before clashes.
+    if checked.parts().is_ok() {
+        checked.measures();
+    }
+    let Checked {
+        mut design,
+        lattice,
+        report,
+        deployment,
+        placed,
+        measures,
+        joints,
+        parts,
+    } = checked;
+    let parts = parts
+        .into_inner()
+        .expect("made above")
+        .map_err(|e| locate(&design, e))?;
+    let joints = joints.into_inner().expect("found with the parts");
+    let measures = measures.into_inner().expect("measured above");
     let job = job(&design, &lattice, &parts);
     // Every strip fits the longest preset (checked by `parts`), so one holds the job.
     let auto = design
@@ -185,9 +283,7 @@ fn assemble(
         design.fabrication.sheet = best.spec(&design.fabrication.sheet);
     }
     let fab = &design.fabrication;
-    if let Some(e) =
-        crate::design::measure::measure(&design, &lattice).clash_error(&lattice, &design)
-    {
+    if let Some(e) = measures.clash_error(&lattice, &design) {
         return Err(e);
     }
     let (layout, advice) = match auto {
@@ -218,6 +314,12 @@ fn assemble(
             page
         })
         .collect();
+    // The placement the measures were taken on; an extrinsic lattice is
+    // its own.
+    let assembled = placed
+        .into_inner()
+        .flatten()
+        .unwrap_or_else(|| lattice.clone());
     let mut parts = parts;
     let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
     Ok(Build {
@@ -225,7 +327,8 @@ fn assemble(
         joints,
         simulation,
         design,
-        assembled: lattice.placed().into_owned(),
+        assembled,
+        measures,
         deployment,
         lattice,
         report,
@@ -316,6 +419,19 @@ fn locate(design: &Design, e: PartsError) -> Diagnostic {
 }
 
 impl Build {
+    /// The check reports' view of the build.
+    pub fn verified(&self) -> Verified<'_> {
+        Verified {
+            design: &self.design,
+            lattice: &self.lattice,
+            assembled: &self.assembled,
+            report: &self.report,
+            deployment: &self.deployment,
+            measures: &self.measures,
+            parts: Some(&self.parts),
+        }
+    }
+
     /// Lower bounds on the sheet count for the layout's parts.
     pub fn bounds(&self) -> Bounds {
         self.layout.bounds()

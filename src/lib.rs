@@ -42,7 +42,7 @@ mod write;
 
 // The pipeline's entry points: recipe text -> Design -> Build -> files,
 // with the reports `check` and `build` print.
-pub use build::{Build, Checked, build, build_with, check};
+pub use build::{Build, Checked, Verified, build, build_with, check};
 pub use output::{files, viewer_scene};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
 
@@ -52,7 +52,7 @@ pub use diagnostic::{Diagnostic, ErrorKind};
 // Design: the parsed recipe, its fabrication settings, and the solvers
 // that search for a recipe's values.
 pub use design::fit::{Coverage, Fit};
-pub use design::measure::{Measures, Turn, measure};
+pub use design::measure::{Measures, Turn, measure, measure_assembled};
 pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};

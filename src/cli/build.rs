@@ -76,15 +76,7 @@ pub(super) fn build(
         });
     } else if !v.quiet {
         if v.verbose {
-            out!(
-                "{}",
-                karigami::check_text(
-                    &built.design,
-                    &built.lattice,
-                    &built.report,
-                    &built.deployment,
-                )
-            );
+            out!("{}", karigami::check_text(&built.verified()));
         }
         out!("{}", karigami::summary(&built));
         outln!("wrote {} files to {}", outputs.len(), out.display());

@@ -98,23 +98,14 @@ fn check_one(
         Err(d) => return fail(recipe.error(&d), bar),
     };
     bar.clear();
-    let karigami::Checked {
-        design,
-        lattice,
-        report,
-        deployment,
-    } = &checked;
-    // Each report is made only when it is shown: both measure the shape
-    // and the clashes (the text report did it once more for a JSON report
-    // it threw away), and `-q` shows neither.
-    let check = json.then(|| karigami::check_json(design, lattice, report, deployment));
+    // Each report is made only when it is shown, and `-q` shows neither:
+    // the measures and parts they read are derived on first use, once, and
+    // `assemble` takes them over.
+    let check = json.then(|| karigami::check_json(&checked.verified()));
     if !json && !v.quiet {
-        out!(
-            "{}",
-            karigami::check_text(design, lattice, report, deployment)
-        );
+        out!("{}", karigami::check_text(&checked.verified()));
     }
-    if !report.passed() {
+    if !checked.report.passed() {
         let mut checked = CheckJson::new(&file, "fail");
         checked.check = check;
         return (Some(ErrorKind::VerificationFailed), checked);

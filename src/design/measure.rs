@@ -8,6 +8,7 @@ use super::fit::{self, Coverage};
 use crate::lattice::shape::{CurvatureSummary, Shape, summary};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
+use serde::Serialize;
 
 /// Every shape and fit number of a grown design (see the module comment).
 #[derive(Clone, Debug, PartialEq)]
@@ -18,6 +19,8 @@ pub struct Measures {
     pub curvature: Option<CurvatureSummary>,
     /// Largest vertex distance to the target surface (mm).
     pub fit_distance: Option<f64>,
+    /// The same relative to the target's size.
+    pub fit_relative: Option<f64>,
     /// Largest boundary-vertex distance to the target's boundary curve (mm).
     pub boundary_distance: Option<f64>,
     /// How much of the fit target the cells cover; None without a target or for
@@ -56,21 +59,30 @@ pub(crate) const BUMP_DEG: f64 = 3.0;
 /// Measure a grown design: shape, curvature, target fit and coverage,
 /// strip clashes, helix turns and bumps.
 pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
+    measure_assembled(design, lattice, &lattice.placed())
+}
+
+/// `measure` with the lattice as assembled (`Lattice::placed`) at hand: the
+/// pipeline places it once and measures once (`build::Checked`).
+pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice) -> Measures {
     let shape = lattice.shape();
     let curvature = summary(&shape.curvature);
-    let (fit_distance, boundary_distance, coverage) = match &design.fit {
-        Some(f) => (
-            Some(fit::error(f, lattice).0),
-            fit::boundary_error(f, lattice),
-            fit::coverage(f, lattice),
-        ),
-        None => (None, None, None),
+    let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
+        Some(f) => {
+            let (abs, rel) = fit::error(f, lattice);
+            (
+                Some(abs),
+                Some(rel),
+                fit::boundary_error(f, lattice),
+                fit::coverage(f, lattice),
+            )
+        }
+        None => (None, None, None, None),
     };
     let fab = &design.fabrication;
     // An intrinsic lattice meets itself as assembled: rows placed onto each other.
-    let assembled = lattice.placed();
     let clashes = clashes(
-        &assembled,
+        assembled,
         fab.material.width,
         fab.end_margin,
         design.clash.clearance,
@@ -102,6 +114,7 @@ pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
         shape,
         curvature,
         fit_distance,
+        fit_relative,
         boundary_distance,
         coverage,
         clashes,
@@ -258,49 +271,66 @@ impl Measures {
         out
     }
 
-    /// The same numbers for `--json`.
-    pub(crate) fn json(&self, lattice: &Lattice) -> serde_json::Value {
-        use serde_json::json;
-        let num =
-            |x: f64| serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, Into::into);
+    /// The same numbers for `--json` (`ShapeJson`).
+    pub(crate) fn json<'a>(&'a self, lattice: &'a Lattice) -> ShapeJson<'a> {
+        use crate::parts::clash::rod_name;
         let s = &self.shape;
-        json!({
-            "curvature": self.curvature.map(|c| json!({
-                "interior_vertices": c.interior,
-                "defect_min_deg": num(c.min_deg),
-                "defect_min_at": lattice.vertex_name(c.min_at),
-                "defect_mean_deg": num(c.mean_deg),
-                "defect_max_deg": num(c.max_deg),
-                "defect_max_at": lattice.vertex_name(c.max_at),
-                "threshold_deg": crate::lattice::shape::CURVED_DEG,
-                "positive_share": num(c.positive),
-                "negative_share": num(c.negative),
-                "k_mean": num(c.k_mean),
-                "k_std": num(c.k_std),
-            })),
-            "area_ratio": num(s.area_ratio),
-            "leg_ratio": num(s.leg_ratio),
-            "shortest_leg_mm": num(s.min_leg),
-            "cell_leg_ratio_median": num(s.cell_leg_ratio_median),
-            "cell_leg_ratio_max": num(s.cell_leg_ratio_max),
-            "distinct_strips": s.distinct_strips,
-            "strips": s.strips,
-            "front_gaps": s.front_gaps.map(|g| json!({
-                "max_mm": num(g.max), "mean_mm": num(g.mean),
-                "max_relative": num(g.max_rel), "mean_relative": num(g.mean_rel),
-                "worst_row": g.worst_row,
-            })),
-            "fit_distance_mm": self.fit_distance.map(num),
-            "boundary_distance_mm": self.boundary_distance.map(num),
-            "coverage": self.coverage.map(|c| json!({ "share": num(c.share), "of": c.of, "degrees": c.degrees.map(num) })),
-            "turns": self.turns.iter().map(|t| json!({ "radius_mm": num(t.radius), "height_mm": num(t.height), "spread": num(t.spread) })).collect::<Vec<_>>(),
-            "clashes": self.clashes.iter().take(100).map(|c| json!({
-                "strips": [crate::parts::clash::rod_name(lattice, c.rods[0]), crate::parts::clash::rod_name(lattice, c.rods[1])],
-                "distance_mm": num(c.distance),
-                "at": [num(c.at.x), num(c.at.y), num(c.at.z)],
-            })).collect::<Vec<_>>(),
-            "clash_count": self.clashes.len(),
-        })
+        ShapeJson {
+            curvature: self.curvature.map(|c| CurvatureJson {
+                interior_vertices: c.interior,
+                defect_min_deg: c.min_deg,
+                defect_min_at: lattice.vertex_name(c.min_at),
+                defect_mean_deg: c.mean_deg,
+                defect_max_deg: c.max_deg,
+                defect_max_at: lattice.vertex_name(c.max_at),
+                threshold_deg: crate::lattice::shape::CURVED_DEG,
+                positive_share: c.positive,
+                negative_share: c.negative,
+                k_mean: c.k_mean,
+                k_std: c.k_std,
+            }),
+            area_ratio: s.area_ratio,
+            leg_ratio: s.leg_ratio,
+            shortest_leg_mm: s.min_leg,
+            cell_leg_ratio_median: s.cell_leg_ratio_median,
+            cell_leg_ratio_max: s.cell_leg_ratio_max,
+            distinct_strips: s.distinct_strips,
+            strips: s.strips,
+            front_gaps: s.front_gaps.map(|g| FrontGapsJson {
+                max_mm: g.max,
+                mean_mm: g.mean,
+                max_relative: g.max_rel,
+                mean_relative: g.mean_rel,
+                worst_row: g.worst_row,
+            }),
+            fit_distance_mm: self.fit_distance,
+            boundary_distance_mm: self.boundary_distance,
+            coverage: self.coverage.map(|c| CoverageJson {
+                share: c.share,
+                of: c.of,
+                degrees: c.degrees,
+            }),
+            turns: self
+                .turns
+                .iter()
+                .map(|t| TurnJson {
+                    radius_mm: t.radius,
+                    height_mm: t.height,
+                    spread: t.spread,
+                })
+                .collect(),
+            clashes: self
+                .clashes
+                .iter()
+                .take(100)
+                .map(|c| ClashJson {
+                    strips: [rod_name(lattice, c.rods[0]), rod_name(lattice, c.rods[1])],
+                    distance_mm: c.distance,
+                    at: c.at.to_array(),
+                })
+                .collect(),
+            clash_count: self.clashes.len(),
+        }
     }
 
     /// The clash refusal of `build` and `check`, unless the recipe allows them.
@@ -331,4 +361,71 @@ impl Measures {
             .hint("open the cells there (other leg angles or fewer rows), use narrower strips, or accept the overlap with [clash] allow = true"),
         )
     }
+}
+
+/// The "shape" section of `check --json`: `Measures` with its vertices and
+/// strips named. Non-finite numbers serialise as null (serde_json's rule).
+#[derive(Serialize)]
+pub(crate) struct ShapeJson<'a> {
+    curvature: Option<CurvatureJson>,
+    area_ratio: f64,
+    leg_ratio: f64,
+    shortest_leg_mm: f64,
+    cell_leg_ratio_median: f64,
+    cell_leg_ratio_max: f64,
+    distinct_strips: usize,
+    strips: usize,
+    front_gaps: Option<FrontGapsJson>,
+    fit_distance_mm: Option<f64>,
+    boundary_distance_mm: Option<f64>,
+    coverage: Option<CoverageJson<'a>>,
+    turns: Vec<TurnJson>,
+    /// The first hundred clashing pairs; `clash_count` counts them all.
+    clashes: Vec<ClashJson>,
+    clash_count: usize,
+}
+
+#[derive(Serialize)]
+struct CurvatureJson {
+    interior_vertices: usize,
+    defect_min_deg: f64,
+    defect_min_at: String,
+    defect_mean_deg: f64,
+    defect_max_deg: f64,
+    defect_max_at: String,
+    threshold_deg: f64,
+    positive_share: f64,
+    negative_share: f64,
+    k_mean: f64,
+    k_std: f64,
+}
+
+#[derive(Serialize)]
+struct FrontGapsJson {
+    max_mm: f64,
+    mean_mm: f64,
+    max_relative: f64,
+    mean_relative: f64,
+    worst_row: usize,
+}
+
+#[derive(Serialize)]
+struct CoverageJson<'a> {
+    share: f64,
+    of: &'a str,
+    degrees: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct TurnJson {
+    radius_mm: f64,
+    height_mm: f64,
+    spread: f64,
+}
+
+#[derive(Serialize)]
+struct ClashJson {
+    strips: [String; 2],
+    distance_mm: f64,
+    at: [f64; 3],
 }

@@ -4,10 +4,9 @@
 //! reports are handed on as `serde_json::Value`, whose maps keep their keys
 //! in order.
 
-use crate::build::Build;
-use crate::design::Design;
-use crate::lattice::deploy::Deployment;
-use crate::lattice::{Invariant, Lattice, Report};
+use crate::build::{Build, Verified};
+use crate::design::measure::ShapeJson;
+use crate::lattice::Invariant;
 use crate::layout::SheetOption;
 use serde::Serialize;
 
@@ -28,7 +27,7 @@ struct CheckJson<'a> {
     passed: bool,
     checks: Vec<CheckLine<'a>>,
     fit: Option<FitJson>,
-    shape: serde_json::Value,
+    shape: ShapeJson<'a>,
     deployment: DeploymentJson,
 }
 
@@ -69,12 +68,15 @@ struct Misfit {
 }
 
 /// The verification report as JSON, for `karigami check --json`.
-pub fn check_json(
-    design: &Design,
-    lattice: &Lattice,
-    report: &Report,
-    dep: &Deployment,
-) -> serde_json::Value {
+pub fn check_json(v: &Verified) -> serde_json::Value {
+    let Verified {
+        design,
+        lattice,
+        report,
+        deployment: dep,
+        measures,
+        ..
+    } = *v;
     let checks = report
         .checks
         .iter()
@@ -88,13 +90,14 @@ pub fn check_json(
             site: &c.site,
         })
         .collect();
-    let fit = design.fit.as_ref().map(|f| {
-        let (max_distance_mm, relative) = crate::design::fit::error(f, lattice);
-        FitJson {
-            max_distance_mm,
-            relative,
-        }
-    });
+    let fit =
+        measures
+            .fit_distance
+            .zip(measures.fit_relative)
+            .map(|(max_distance_mm, relative)| FitJson {
+                max_distance_mm,
+                relative,
+            });
     let deployment = DeploymentJson {
         theta_design_deg: dep.config.theta_design.to_degrees(),
         theta_max_deg: dep.config.theta_max.to_degrees(),
@@ -125,14 +128,14 @@ pub fn check_json(
         passed: report.passed(),
         checks,
         fit,
-        shape: crate::design::measure::measure(design, lattice).json(lattice),
+        shape: measures.json(lattice),
         deployment,
     })
 }
 
 /// `check_json` of a build's lattice.
 pub fn build_check_json(b: &Build) -> serde_json::Value {
-    check_json(&b.design, &b.lattice, &b.report, &b.deployment)
+    check_json(&b.verified())
 }
 
 /// The fabrication summary of `karigami build --json`.

@@ -1,22 +1,22 @@
 //! The human-readable reports of a check and a build: `karigami check`'s
 //! verification report, report.txt and the terminal summary.
 
-use crate::build::Build;
-use crate::design::Design;
+use crate::build::{Build, Verified};
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Lattice, Report, joints, vertex_eyelet_count};
+use crate::lattice::{Lattice, vertex_eyelet_count};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.
-pub fn check_text(
-    design: &Design,
-    lattice: &Lattice,
-    report: &Report,
-    deploy: &Deployment,
-) -> String {
+pub fn check_text(v: &Verified) -> String {
+    let Verified {
+        design,
+        lattice,
+        report,
+        ..
+    } = *v;
     let mut out = String::new();
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
-    let (lo, hi) = lattice.placed().extent();
+    let (lo, hi) = v.assembled.extent();
     let size = hi - lo;
     let eyelets = vertex_eyelet_count(lattice);
     let _ = writeln!(out, "design: {}", design.name);
@@ -73,16 +73,19 @@ pub fn check_text(
             c.site.as_deref().unwrap_or("-")
         );
     }
-    if let Some(fit) = &design.fit {
-        let (abs, rel) = crate::design::fit::error(fit, lattice);
+    if let (Some(abs), Some(rel)) = (v.measures.fit_distance, v.measures.fit_relative) {
         let _ = writeln!(
             out,
             "fit to the target: largest vertex distance {abs:.3e} mm ({rel:.2e} of the target's size)"
         );
     }
-    out.push_str(&crate::design::measure::measure(design, lattice).text(lattice, design));
-    deployment_text(&mut out, lattice, deploy);
-    part_types_text(&mut out, design, lattice);
+    out.push_str(&v.measures.text(lattice, design));
+    deployment_text(&mut out, lattice, v.deployment);
+    // The part types (interchangeable strips) and what is engraved on the
+    // strips, when the lattice is small enough to make parts for.
+    if let Some(parts) = v.parts {
+        let _ = writeln!(out, "{}", crate::parts::types::summary(parts));
+    }
     let verdict = if report.passed() { "PASS" } else { "FAIL" };
     let _ = writeln!(
         out,
@@ -91,18 +94,6 @@ pub fn check_text(
         report.worst()
     );
     out
-}
-
-/// The part types (interchangeable strips) and what is engraved on the
-/// strips, when the lattice is small enough to make parts for.
-fn part_types_text(out: &mut String, design: &Design, lattice: &Lattice) {
-    if lattice.cells.len() > crate::build::MAX_FABRICATED_CELLS {
-        return;
-    }
-    let Ok(p) = crate::parts::parts(lattice, &joints(lattice), &design.fabrication) else {
-        return;
-    };
-    let _ = writeln!(out, "{}", crate::parts::types::summary(&p));
 }
 
 /// MATH.md 8.4: the intrinsic configuration, the mobility verdict and, in
@@ -141,7 +132,7 @@ fn deployment_text(out: &mut String, lattice: &Lattice, d: &Deployment) {
 /// warnings, the sheets, and the eyelets of each assembly step.
 pub fn build_text(b: &Build) -> String {
     let mut out = format!("karigami {} build report\n\n", env!("CARGO_PKG_VERSION"));
-    out.push_str(&check_text(&b.design, &b.lattice, &b.report, &b.deployment));
+    out.push_str(&check_text(&b.verified()));
     out.push('\n');
     out.push_str(&summary_with(b, true));
     let fab = &b.design.fabrication;

@@ -84,15 +84,9 @@ mod tests {
 
     #[test]
     fn the_fast_path_prints_what_the_general_formatter_prints() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::rng::Rng::new(0x2545_f491_4f6c_dd1d);
         for i in 0..200_000 {
-            let bits = next();
+            let bits = rng.next_u64();
             let x = match i % 4 {
                 // Random magnitudes, both signs.
                 0 => f64::from_bits(bits) % 1e6,

@@ -14,7 +14,9 @@ use crate::layout::Layout;
 use crate::parts::{Outline, Parts};
 use crate::words::plural;
 use glam::DVec3;
-use std::fmt::Write as _;
+use serde::{Serialize, Serializer};
+use serde_json::value::RawValue;
+use std::io;
 
 const PAGE: &str = include_str!("viewer/page.html");
 const STYLE: &str = include_str!("viewer/viewer.css");
@@ -92,120 +94,217 @@ fn html_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A JSON string literal.
-fn text(s: &str) -> String {
-    serde_json::to_string(s).expect("strings serialise")
+/// Number text written as it is, a JSON number: `num`'s 4 decimals,
+/// `coord`'s 3, or Rust's shortest round-trip text.
+fn raw<S: Serializer>(text: String, s: S) -> Result<S::Ok, S::Error> {
+    RawValue::from_string(text)
+        .expect("a finite number is JSON")
+        .serialize(s)
 }
 
-/// Positions to 0.001 mm: a micrometre is far below what a screen shows,
+/// A length or direction to 0.0001 (`num`).
+#[derive(Clone, Copy)]
+struct Num(f64);
+
+impl Serialize for Num {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        raw(num(self.0), s)
+    }
+}
+
+/// A position to 0.001 mm: a micrometre is far below what a screen shows,
 /// and three decimals keep a 10,000-cell page small.
-fn coord(x: f64) -> String {
-    let mut s = format!("{x:.3}");
-    if s.contains('.') {
-        s = s.trim_end_matches('0').trim_end_matches('.').to_string();
-    }
-    if s == "-0" { "0".into() } else { s }
-}
+#[derive(Clone, Copy)]
+struct Coord(f64);
 
-fn points(out: &mut String, ps: impl Iterator<Item = DVec3>) {
-    out.push('[');
-    for (i, p) in ps.enumerate() {
-        if i > 0 {
-            out.push(',');
+impl Serialize for Coord {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut t = format!("{:.3}", self.0);
+        if t.contains('.') {
+            t = t.trim_end_matches('0').trim_end_matches('.').to_string();
         }
-        let _ = write!(out, "{},{},{}", coord(p.x), coord(p.y), coord(p.z));
+        raw(if t == "-0" { "0".into() } else { t }, s)
     }
-    out.push(']');
 }
 
-fn vec3(p: DVec3) -> String {
-    format!("[{},{},{}]", num(p.x), num(p.y), num(p.z))
+/// Full precision (the page rebuilds the deployed shape from these), as
+/// Rust prints it: shortest round trip, no exponent.
+#[derive(Clone, Copy)]
+struct Full(f64);
+
+impl Serialize for Full {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        raw(self.0.to_string(), s)
+    }
 }
 
-/// The data block: one line per record family, plain arrays for the bulk.
-fn data_json(s: &Scene) -> String {
-    let lattice = s.lattice;
-    let fab: &Fabrication = &s.design.fabrication;
-    let mut out = String::from("{\n");
-    let _ = writeln!(
-        out,
-        "\"name\":{},\"version\":{},\"kind\":\"{}\",\"dim\":{},\"extrinsic\":{},\"width\":{},",
-        text(&s.design.name),
-        text(env!("CARGO_PKG_VERSION")),
-        lattice.kind.name(),
-        lattice.dim,
-        lattice.extrinsic(),
-        lattice.width
-    );
-    let _ = writeln!(
-        out,
-        "\"fab\":{{\"material\":{},\"thickness\":{},\"width\":{},\"end_margin\":{},\"eyelet\":{},\"hole\":{},\"flange\":{},\"sheet\":{},\"sheet_width\":{},\"sheet_height\":{},\"part_width\":{}}},",
-        text(&fab.material.name),
-        num(fab.material.thickness),
-        num(fab.material.width),
-        num(fab.end_margin),
-        text(&fab.eyelet.name),
-        num(fab.eyelet.hole),
-        num(fab.eyelet.flange),
-        text(&fab.sheet.name),
-        num(fab.sheet.width),
-        num(fab.sheet.height),
-        num(s.layout.part_width)
-    );
-    let camera = Camera::for_lattice(s.assembled);
-    let _ = writeln!(
-        out,
-        "\"camera\":{{\"right\":{},\"up\":{},\"forward\":{}}},",
-        vec3(camera.right),
-        vec3(camera.up),
-        vec3(camera.forward)
-    );
-    // Designed shape: the vertices, then one pivot per cell.
-    let shown = s.assembled;
-    out.push_str("\"points\":");
-    points(
-        &mut out,
-        shown
-            .vertices
-            .iter()
-            .map(|v| v.pos)
-            .chain(shown.cells.iter().map(|c| c.pivot)),
-    );
-    out.push_str(",\n\"simulated\":");
-    match &s.simulated {
-        Some(ps) => points(&mut out, ps.iter().copied()),
-        None => out.push_str("null"),
-    }
-    // Cells: corners UL, UR, LL, LR, the layers of rods A and B, the step.
-    out.push_str(",\n\"cells\":[");
-    for (i, c) in lattice.cells.iter().enumerate() {
-        if i > 0 {
-            out.push(',');
-        }
-        let _ = write!(
-            out,
-            "{},{},{},{},{},{},{}",
-            c.ul,
-            c.ur,
-            c.ll,
-            c.lr,
-            lattice.layer(c, RodType::A),
-            lattice.layer(c, RodType::B),
-            lattice.step_of(i)
-        );
-    }
-    out.push_str("],\n");
-    strips_json(&mut out, s);
-    steps_json(&mut out, s);
-    deploy_json(&mut out, s);
-    out.push_str("}\n");
-    out
+fn vec3(p: DVec3) -> [Num; 3] {
+    [Num(p.x), Num(p.y), Num(p.z)]
+}
+
+/// The data block: one line per record family, one per strip and step,
+/// plain arrays for the bulk.
+#[derive(Serialize)]
+struct Data<'a> {
+    name: &'a str,
+    version: &'static str,
+    kind: &'static str,
+    dim: usize,
+    extrinsic: bool,
+    width: usize,
+    fab: FabJson<'a>,
+    camera: CameraJson,
+    /// Designed shape: the vertices, then one pivot per cell, x, y, z each.
+    points: Vec<Coord>,
+    /// The simulated shape, the same way; null without a simulation.
+    simulated: Option<Vec<Coord>>,
+    /// Per cell: corners UL, UR, LL, LR, the layers of rods A and B, the step.
+    cells: Vec<usize>,
+    sheets: usize,
+    strips: Vec<StripJson<'a>>,
+    steps: Vec<StepJson<'a>>,
+    verdict: String,
+    deploy: Option<DeployJson>,
+}
+
+#[derive(Serialize)]
+struct FabJson<'a> {
+    material: &'a str,
+    thickness: Num,
+    width: Num,
+    end_margin: Num,
+    eyelet: &'a str,
+    hole: Num,
+    flange: Num,
+    sheet: &'a str,
+    sheet_width: Num,
+    sheet_height: Num,
+    part_width: Num,
+}
+
+#[derive(Serialize)]
+struct CameraJson {
+    right: [Num; 3],
+    up: [Num; 3],
+    forward: [Num; 3],
 }
 
 /// Per strip (rod order): ID, rod type, tip-to-tip length, the two hole
 /// pitches, its sheet (1-based), the top-left of its box there, whether it
 /// is turned, its cut length and its part type code.
-fn strips_json(out: &mut String, s: &Scene) {
+#[derive(Serialize)]
+struct StripJson<'a>(
+    &'a str,
+    &'static str,
+    Num,
+    Num,
+    Num,
+    usize,
+    Num,
+    Num,
+    u8,
+    Num,
+    &'a str,
+);
+
+/// A step with the guide's sentences; the strip lists are indices so that
+/// the page can make every ID clickable.
+#[derive(Serialize)]
+struct StepJson<'a> {
+    title: String,
+    pair: &'static str,
+    close: &'static str,
+    eyelets: String,
+    cells: &'a [usize],
+    /// Per joint: the vertex, its key as the guide names it ("[row,col]")
+    /// and the rods closed there, bottom to top.
+    joints: Vec<(u32, String, Vec<usize>)>,
+}
+
+/// C(theta) of a planar true mechanism (`deploy`).
+#[derive(Serialize)]
+struct DeployJson {
+    theta_design: Full,
+    theta_max: Full,
+    /// Per cell: a, b, the four legs, the side rod B turns to.
+    cells: Vec<Full>,
+}
+
+fn data_json(s: &Scene) -> String {
+    let lattice = s.lattice;
+    let fab: &Fabrication = &s.design.fabrication;
+    let camera = Camera::for_lattice(s.assembled);
+    let shown = s.assembled;
+    let coords = |ps: &mut dyn Iterator<Item = DVec3>| -> Vec<Coord> {
+        ps.flat_map(|p| [Coord(p.x), Coord(p.y), Coord(p.z)])
+            .collect()
+    };
+    let data = Data {
+        name: &s.design.name,
+        version: env!("CARGO_PKG_VERSION"),
+        kind: lattice.kind.name(),
+        dim: lattice.dim,
+        extrinsic: lattice.extrinsic(),
+        width: lattice.width,
+        fab: FabJson {
+            material: &fab.material.name,
+            thickness: Num(fab.material.thickness),
+            width: Num(fab.material.width),
+            end_margin: Num(fab.end_margin),
+            eyelet: &fab.eyelet.name,
+            hole: Num(fab.eyelet.hole),
+            flange: Num(fab.eyelet.flange),
+            sheet: &fab.sheet.name,
+            sheet_width: Num(fab.sheet.width),
+            sheet_height: Num(fab.sheet.height),
+            part_width: Num(s.layout.part_width),
+        },
+        camera: CameraJson {
+            right: vec3(camera.right),
+            up: vec3(camera.up),
+            forward: vec3(camera.forward),
+        },
+        points: coords(
+            &mut shown
+                .vertices
+                .iter()
+                .map(|v| v.pos)
+                .chain(shown.cells.iter().map(|c| c.pivot)),
+        ),
+        simulated: s
+            .simulated
+            .as_ref()
+            .map(|ps| coords(&mut ps.iter().copied())),
+        cells: lattice
+            .cells
+            .iter()
+            .enumerate()
+            .flat_map(|(i, c)| {
+                [
+                    c.ul as usize,
+                    c.ur as usize,
+                    c.ll as usize,
+                    c.lr as usize,
+                    lattice.layer(c, RodType::A) as usize,
+                    lattice.layer(c, RodType::B) as usize,
+                    lattice.step_of(i),
+                ]
+            })
+            .collect(),
+        sheets: s.layout.sheets.len(),
+        strips: strips_json(s),
+        steps: steps_json(s),
+        verdict: s.deployment.verdict(lattice),
+        deploy: deploy_json(s),
+    };
+    let mut out = Vec::new();
+    let mut writer = serde_json::Serializer::with_formatter(&mut out, Lines::default());
+    data.serialize(&mut writer).expect("the data serialises");
+    out.push(b'\n');
+    String::from_utf8(out).expect("JSON is UTF-8")
+}
+
+fn strips_json<'a>(s: &Scene<'a>) -> Vec<StripJson<'a>> {
     let mut place = vec![None; s.parts.strips.len()];
     for (i, sheet) in s.layout.sheets.iter().enumerate() {
         for p in &sheet.placements {
@@ -213,41 +312,31 @@ fn strips_json(out: &mut String, s: &Scene) {
         }
     }
     let fab = &s.design.fabrication;
-    let _ = writeln!(out, "\"sheets\":{},", s.layout.sheets.len());
-    out.push_str("\"strips\":[");
-    for (i, (strip, place)) in s.parts.strips.iter().zip(place).enumerate() {
-        if i > 0 {
-            out.push_str(",\n");
-        }
-        let (sheet, p) = place.expect("every strip is placed");
-        let _ = write!(
-            out,
-            "[{},\"{}\",{},{},{},{},{},{},{},{},{}]",
-            text(&strip.id),
-            strip.kind.letter(),
-            num(strip.length),
-            num(strip.legs[0]),
-            num(strip.legs[1]),
-            sheet,
-            num(p.x),
-            num(p.y),
-            p.rotated as u8,
-            num(Outline::of(strip.length, fab).length),
-            text(&s.parts.types[strip.part_type].code)
-        );
-    }
-    out.push_str("],\n");
+    s.parts
+        .strips
+        .iter()
+        .zip(place)
+        .map(|(strip, place)| {
+            let (sheet, p) = place.expect("every strip is placed");
+            StripJson(
+                &strip.id,
+                strip.kind.letter(),
+                Num(strip.length),
+                Num(strip.legs[0]),
+                Num(strip.legs[1]),
+                sheet,
+                Num(p.x),
+                Num(p.y),
+                u8::from(p.rotated),
+                Num(Outline::of(strip.length, fab).length),
+                &s.parts.types[strip.part_type].code,
+            )
+        })
+        .collect()
 }
 
-/// The vertex as the guide names it, `[row,col]`.
-fn vertex_key(lattice: &Lattice, v: u32) -> String {
-    let k = lattice.vertex(v).key;
-    format!("[{},{}]", k.row, k.col)
-}
-
-/// Steps with the guide's sentences; the strip lists are indices so that
-/// the page can make every ID clickable.
-fn steps_json(out: &mut String, s: &Scene) {
+/// Steps with the guide's sentences.
+fn steps_json<'a>(s: &Scene<'a>) -> Vec<StepJson<'a>> {
     let lattice = s.lattice;
     let total = s.parts.eyelets();
     let unit = if lattice.kind == Kind::Helix {
@@ -255,78 +344,56 @@ fn steps_json(out: &mut String, s: &Scene) {
     } else {
         "Row"
     };
-    out.push_str("\"steps\":[");
-    for (i, step) in s.steps.iter().enumerate() {
-        if i > 0 {
-            out.push_str(",\n");
-        }
-        let title = format!(
-            "{unit} {}: {}, {}, {}",
-            step.row,
-            plural(step.cells.len(), "cell"),
-            plural(step.strips.len(), "strip"),
-            plural(step.eyelets, "eyelet")
-        );
-        let close = if step.joints.is_empty() {
-            "2. No vertex joint closes in this step."
-        } else {
-            "2. Close these vertex joints, strips stacked from the table up, one eyelet each:"
-        };
-        let eyelets = format!(
-            "Eyelets in this step: {}. Set so far: {} of {total}.",
-            step.eyelets, step.total
-        );
-        let _ = write!(
-            out,
-            "{{\"title\":{},\"pair\":{},\"close\":{},\"eyelets\":{},\"cells\":{:?},\"joints\":[",
-            text(&title),
-            text(
-                "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:"
+    s.steps
+        .iter()
+        .map(|step| StepJson {
+            title: format!(
+                "{unit} {}: {}, {}, {}",
+                step.row,
+                plural(step.cells.len(), "cell"),
+                plural(step.strips.len(), "strip"),
+                plural(step.eyelets, "eyelet")
             ),
-            text(close),
-            text(&eyelets),
-            step.cells
-        );
-        for (k, j) in step.joints.iter().enumerate() {
-            if k > 0 {
-                out.push(',');
-            }
-            let rods: Vec<usize> = j.ends.iter().map(|e| e.rod).collect();
-            let _ = write!(
-                out,
-                "[{},{},{:?}]",
-                j.vertex,
-                text(&vertex_key(lattice, j.vertex)),
-                rods
-            );
-        }
-        out.push_str("]}");
-    }
-    out.push_str("],\n");
+            pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
+            close: if step.joints.is_empty() {
+                "2. No vertex joint closes in this step."
+            } else {
+                "2. Close these vertex joints, strips stacked from the table up, one eyelet each:"
+            },
+            eyelets: format!(
+                "Eyelets in this step: {}. Set so far: {} of {total}.",
+                step.eyelets, step.total
+            ),
+            cells: &step.cells,
+            joints: step
+                .joints
+                .iter()
+                .map(|j| {
+                    let k = lattice.vertex(j.vertex).key;
+                    (
+                        j.vertex,
+                        format!("[{},{}]", k.row, k.col),
+                        j.ends.iter().map(|e| e.rod).collect(),
+                    )
+                })
+                .collect(),
+        })
+        .collect()
 }
 
 /// C(theta) for a planar true mechanism: per cell cos(phi) = a + b cos(theta)
 /// with its legs and the side its rod B turns to, so that the page can
-/// place the cells at any opening (as `planar_misfit` does); null otherwise,
+/// place the cells at any opening (as `planar_misfit` does); None otherwise,
 /// with the verdict saying why.
-fn deploy_json(out: &mut String, s: &Scene) {
+fn deploy_json(s: &Scene) -> Option<DeployJson> {
     let lattice = s.lattice;
     let d = s.deployment;
-    let _ = write!(
-        out,
-        "\"verdict\":{},\n\"deploy\":",
-        text(&d.verdict(lattice))
-    );
     let config = &d.config;
     let planar = lattice.dim == 2 && lattice.extrinsic() && d.is_mechanism();
     let (t1, t2) = (0.25 * config.theta_max, 0.75 * config.theta_max);
-    let (Some(c1), Some(c2)) = (config.angles(t1), config.angles(t2)) else {
-        out.push_str("null\n");
-        return;
-    };
+    let (c1, c2) = (config.angles(t1)?, config.angles(t2)?);
     if !planar || (t1.cos() - t2.cos()).abs() < 1e-9 {
-        out.push_str("null\n");
-        return;
+        return None;
     }
     let affine: Vec<(f64, f64)> = c1
         .iter()
@@ -338,29 +405,92 @@ fn deploy_json(out: &mut String, s: &Scene) {
         .collect();
     // Never NaN or inf in a file: no slider rather than a broken one.
     if affine.iter().any(|(a, b)| !a.is_finite() || !b.is_finite()) {
-        out.push_str("null\n");
-        return;
+        return None;
     }
-    let _ = write!(
-        out,
-        "{{\"theta_design\":{},\"theta_max\":{},\"cells\":[",
-        config.theta_design, config.theta_max
-    );
-    for (i, cell) in lattice.cells.iter().enumerate() {
-        if i > 0 {
-            out.push(',');
+    let cells = lattice
+        .cells
+        .iter()
+        .zip(affine)
+        .flat_map(|(cell, (a, b))| {
+            let [ul, ur, _, _] = lattice.corners(cell);
+            let (u, v) = (ul - cell.pivot, ur - cell.pivot);
+            // The side rod B turns to: the sign of u x v.
+            let side = if u.x * v.y < u.y * v.x { -1.0 } else { 1.0 };
+            let legs = lattice.legs(cell);
+            [a, b, legs[0], legs[1], legs[2], legs[3], side].map(Full)
+        })
+        .collect();
+    Some(DeployJson {
+        theta_design: Full(config.theta_design),
+        theta_max: Full(config.theta_max),
+        cells,
+    })
+}
+
+/// serde_json's compact output with line breaks where the hand-written
+/// block had them, so that the page's source stays readable: one line per
+/// member of the data object, and one per record of its arrays of records
+/// (strips, steps).
+#[derive(Default)]
+struct Lines {
+    /// Per open array or object: whether it is an array, and for an array
+    /// whether the value now starting is its first.
+    open: Vec<(bool, bool)>,
+}
+
+impl Lines {
+    /// Open an array (`[`) or an object (`{`). A record starting as a later
+    /// value of an array that is a member of the data object goes on a new
+    /// line.
+    fn open<W: ?Sized + io::Write>(&mut self, w: &mut W, bracket: &[u8]) -> io::Result<()> {
+        if let [(false, _), (true, false)] = self.open.as_slice() {
+            w.write_all(b"\n")?;
         }
-        let (a, b) = affine[i];
-        let [ul, ur, _, _] = lattice.corners(cell);
-        let (u, v) = (ul - cell.pivot, ur - cell.pivot);
-        let side = if u.x * v.y - u.y * v.x < 0.0 { -1 } else { 1 };
-        let legs = lattice.legs(cell);
-        // Full precision: the page rebuilds the shape from these.
-        let _ = write!(
-            out,
-            "{},{},{},{},{},{},{}",
-            a, b, legs[0], legs[1], legs[2], legs[3], side
-        );
+        self.open.push((bracket == b"[", true));
+        w.write_all(bracket)
     }
-    out.push_str("]}\n");
+}
+
+impl serde_json::ser::Formatter for Lines {
+    fn begin_array<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.open(w, b"[")
+    }
+
+    fn end_array<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.open.pop();
+        w.write_all(b"]")
+    }
+
+    fn begin_array_value<W: ?Sized + io::Write>(
+        &mut self,
+        w: &mut W,
+        first: bool,
+    ) -> io::Result<()> {
+        if let Some(top) = self.open.last_mut() {
+            top.1 = first;
+        }
+        if first { Ok(()) } else { w.write_all(b",") }
+    }
+
+    fn begin_object<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.open(w, b"{")
+    }
+
+    fn end_object<W: ?Sized + io::Write>(&mut self, w: &mut W) -> io::Result<()> {
+        self.open.pop();
+        w.write_all(if self.open.is_empty() { b"\n}" } else { b"}" })
+    }
+
+    fn begin_object_key<W: ?Sized + io::Write>(
+        &mut self,
+        w: &mut W,
+        first: bool,
+    ) -> io::Result<()> {
+        match (self.open.len(), first) {
+            (1, true) => w.write_all(b"\n"),
+            (1, false) => w.write_all(b",\n"),
+            (_, true) => Ok(()),
+            (_, false) => w.write_all(b","),
+        }
+    }
 }

@@ -1,0 +1,129 @@
+//! Derived data is computed once in the staged pipeline (`build::check` ->
+//! `Checked` -> `assemble` -> `Build`) and carried: the reports, the output
+//! files and the CLI receive the placement, the measures, the joints, the
+//! parts and the steps (`build::Verified`, `Build`'s fields) and never place,
+//! measure, join or make parts themselves.
+
+use karigami::{build, build_text, check, check_json, check_text, measure, parse};
+
+/// The derivations a stage could repeat: free-function calls (and the
+/// placement, a method), as they are written in src/.
+const DERIVATIONS: [&str; 6] = [
+    ".placed()",
+    "measure(",
+    "measure_assembled(",
+    "joints(",
+    "parts(",
+    "steps(",
+];
+
+/// How many times `token` is called in `source`: not as a method (`.x(`)
+/// or a longer name, not where it is defined, not in comments.
+fn calls(source: &str, token: &str) -> usize {
+    source
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .map(|line| {
+            line.match_indices(token)
+                .filter(|&(i, _)| {
+                    let before = &line[..i];
+                    token.starts_with('.')
+                        || !(before.ends_with(|c: char| c.is_alphanumeric() || "_.".contains(c))
+                            || before.ends_with("fn "))
+                })
+                .count()
+        })
+        .sum()
+}
+
+fn sources(path: &str, out: &mut Vec<(String, String)>) {
+    let p = std::path::Path::new(path);
+    if p.is_dir() {
+        for entry in std::fs::read_dir(p).unwrap() {
+            sources(entry.unwrap().path().to_str().unwrap(), out);
+        }
+    } else if p.extension().is_some_and(|e| e == "rs") {
+        out.push((path.to_string(), std::fs::read_to_string(p).unwrap()));
+    }
+}
+
+#[test]
+fn only_the_pipeline_derives_and_only_once() {
+    // Everything above the pipeline reads what it carries.
+    let mut above = Vec::new();
+    for dir in [
+        "src/report",
+        "src/output.rs",
+        "src/guide",
+        "src/write",
+        "src/drawing",
+        "src/cli",
+    ] {
+        sources(dir, &mut above);
+    }
+    assert!(above.len() > 20, "the scan found the sources");
+    for (path, text) in &above {
+        for token in DERIVATIONS {
+            assert_eq!(
+                calls(text, token),
+                0,
+                "{path} calls {token}...): take it from the Build or build::Verified"
+            );
+        }
+    }
+    // The pipeline derives each once.
+    let pipeline = std::fs::read_to_string("src/build.rs").unwrap();
+    for token in [
+        ".placed()",
+        "measure_assembled(",
+        "joints(",
+        "parts(",
+        "steps(",
+    ] {
+        assert_eq!(calls(&pipeline, token), 1, "src/build.rs calls {token}");
+    }
+    assert_eq!(calls(&pipeline, "measure("), 0);
+}
+
+fn recipe(name: &str) -> karigami::Design {
+    let text = std::fs::read_to_string(format!("examples/{name}.toml")).unwrap();
+    parse(&text, name).unwrap()
+}
+
+#[test]
+fn a_check_derives_on_first_use_and_keeps_it() {
+    // An intrinsic lattice: its placement is a new lattice, made once.
+    let checked = check(recipe("eggbox"), &mut |_| {}).unwrap();
+    assert!(!checked.lattice.extrinsic());
+    let (a, b) = (checked.verified(), checked.verified());
+    assert!(std::ptr::eq(a.assembled, b.assembled), "placed once");
+    assert!(!std::ptr::eq(a.assembled, &checked.lattice));
+    assert!(std::ptr::eq(a.measures, b.measures), "measured once");
+    assert!(
+        std::ptr::eq(a.parts.unwrap(), b.parts.unwrap()),
+        "parts made once"
+    );
+    // What was derived is what a fresh measurement gives.
+    assert_eq!(*a.measures, measure(&checked.design, &checked.lattice));
+    // The reports read it: the text and JSON agree with a build's.
+    let text = check_text(&a);
+    assert!(text.contains("part types: "), "{text}");
+    assert!(check_json(&a)["shape"]["clash_count"].is_u64());
+}
+
+#[test]
+fn a_build_carries_what_its_check_derived() {
+    let checked = check(recipe("mirror-arm"), &mut |_| {}).unwrap();
+    let shown = check_text(&checked.verified());
+    let measures = checked.measures().clone();
+    let built = checked.assemble().unwrap();
+    assert_eq!(
+        built.measures, measures,
+        "the build keeps the check's measures"
+    );
+    // A build whose check showed nothing derives the same, once, itself.
+    let fresh = build(recipe("mirror-arm")).unwrap();
+    assert_eq!(fresh.measures, measures);
+    assert_eq!(build_text(&built), build_text(&fresh));
+    assert!(build_text(&built).contains(&shown));
+}
