@@ -5,7 +5,7 @@
 //! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.
 
 use crate::lattice::{Lattice, RodType};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
@@ -36,6 +36,9 @@ struct Line {
     /// the reach.
     lo: [i32; 3],
     hi: [i32; 3],
+    /// The unit normal of its direction in the xy plane (zero for a strip
+    /// along z): an axis on which neighbouring parallel strips lie apart.
+    across: DVec2,
 }
 
 /// Buffers of one layer's search, kept for the next layer: the lattice's
@@ -143,6 +146,7 @@ fn layer_clashes(
             end,
             lo: [0; 3],
             hi: [0; 3],
+            across: DVec2::new(-dir.y, dir.x).normalize_or_zero(),
         }
     }));
     // Grid cells about one strip long, so each strip touches a few.
@@ -185,6 +189,9 @@ fn layer_clashes(
             > 512.0
     }));
     let (lines, long) = (&lines[..], &long[..]);
+    // Far above the rounding of a projection (1e-16 of the coordinates):
+    // a pair is only skipped when it is surely out of reach.
+    let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()).max_element());
     // The clash of two strips of this layer, if they clash.
     let pair = |li: &Line, lj: &Line| -> Option<Clash> {
         if [li.start, li.end]
@@ -198,6 +205,15 @@ fn layer_clashes(
         // points to compute).
         let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
         if gap.max_element() >= reach {
+            return None;
+        }
+        // Projections on any unit axis are no farther apart than the
+        // strips: across the first strip, parallel neighbours (most of the
+        // pairs whose boxes meet) are apart by more than the reach.
+        let u = li.across;
+        let across = |p: DVec3| p.x * u.x + p.y * u.y;
+        let (i0, i1, j0, j1) = (across(li.a), across(li.b), across(lj.a), across(lj.b));
+        if (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1)) >= reach + slack {
             return None;
         }
         let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
@@ -502,6 +518,22 @@ mod tests {
         let brute = all_pairs(&lat);
         assert!(brute > 0);
         assert_eq!(clashes(&lat, 10.0, 6.0, 1.0).len(), brute);
+    }
+
+    #[test]
+    fn the_grid_finds_what_all_pairs_find_in_space() {
+        // Every vertex moved at random, in z too: strips of every direction,
+        // some vertical or nearly so.
+        let mut rng = crate::rng::Rng::new(11);
+        for angle in [15.0, 45.0] {
+            let mut lat = sheet(6, angle);
+            for v in &mut lat.vertices {
+                v.pos += DVec3::new(rng.signed(), rng.signed(), rng.signed()) * 12.0;
+            }
+            let found = clashes(&lat, 10.0, 6.0, 1.0);
+            assert_eq!(found.len(), all_pairs(&lat));
+            assert!(!found.is_empty());
+        }
     }
 
     #[test]
