@@ -64,15 +64,21 @@ pub struct Shape {
 }
 
 /// The four corner angles of a cell, in corner order `[UL, UR, LL, LR]`,
-/// from its own (planar) corners.
+/// from its own (planar) corners. Each edge is normalised once for the two
+/// corners it joins: `b - a` is exactly `-(a - b)` in floating point, and so
+/// are its normalised form, cross and dot products, so the angles are bit
+/// for bit those of normalising the two edges at every corner.
 pub(crate) fn corner_angles(c: [DVec3; 4]) -> [f64; 4] {
     let [ul, ur, ll, lr] = c;
-    let at = |p: DVec3, a: DVec3, b: DVec3| angle_between((a - p).normalize(), (b - p).normalize());
+    let top = (ur - ul).normalize();
+    let left = (ll - ul).normalize();
+    let right = (lr - ur).normalize();
+    let bottom = (lr - ll).normalize();
     [
-        at(ul, ur, ll),
-        at(ur, ul, lr),
-        at(ll, ul, lr),
-        at(lr, ur, ll),
+        angle_between(top, left),
+        angle_between(-top, right),
+        angle_between(-left, bottom),
+        angle_between(-right, -bottom),
     ]
 }
 
@@ -83,49 +89,73 @@ pub(crate) fn cell_area(c: [DVec3; 4]) -> f64 {
     0.5 * (lr - ul).cross(ll - ur).length()
 }
 
+/// Per vertex: cells seen, sum of their corner angles, sum of their areas.
+type CornerSums = Vec<(u32, f64, f64)>;
+
+/// Add one cell's corner angles and area to its four vertices' sums.
+#[inline]
+fn add_corners(at: &mut CornerSums, ids: [u32; 4], corners: [DVec3; 4], area: f64) {
+    for (v, a) in ids.into_iter().zip(corner_angles(corners)) {
+        let e = &mut at[v as usize];
+        e.0 += 1;
+        e.1 += a;
+        e.2 += area;
+    }
+}
+
+/// The vertices shared by four cells, with their defect and curvature.
+fn defects(at: CornerSums) -> Vec<VertexCurvature> {
+    at.into_iter()
+        .zip(0u32..)
+        .filter(|((n, _, _), _)| *n == 4)
+        .map(|((_, sum, area), vertex)| {
+            let defect = TAU - sum;
+            let area = area / 4.0;
+            VertexCurvature {
+                vertex,
+                defect,
+                area,
+                k: defect / area.max(f64::MIN_POSITIVE),
+            }
+        })
+        .collect()
+}
+
 impl Lattice {
     /// The angle defect and Gaussian curvature at every vertex shared by
     /// four cells, in vertex order.
     pub fn curvature(&self) -> Vec<VertexCurvature> {
-        // vertex -> (cells seen, angle sum, area sum), indexed by vertex.
-        let mut at: Vec<(u32, f64, f64)> = vec![(0, 0.0, 0.0); self.vertices.len()];
+        let mut at: CornerSums = vec![(0, 0.0, 0.0); self.vertices.len()];
         for cell in &self.cells {
             let corners = self.corners(cell);
-            let angles = corner_angles(corners);
-            let area = cell_area(corners);
-            for (v, a) in [cell.ul, cell.ur, cell.ll, cell.lr].into_iter().zip(angles) {
-                let e = &mut at[v as usize];
-                e.0 += 1;
-                e.1 += a;
-                e.2 += area;
-            }
+            let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
+            add_corners(&mut at, ids, corners, cell_area(corners));
         }
-        at.into_iter()
-            .zip(0u32..)
-            .map(|(e, v)| (v, e))
-            .filter(|(_, (n, _, _))| *n == 4)
-            .map(|(vertex, (_, sum, area))| {
-                let defect = TAU - sum;
-                let area = area / 4.0;
-                VertexCurvature {
-                    vertex,
-                    defect,
-                    area,
-                    k: defect / area.max(f64::MIN_POSITIVE),
-                }
-            })
-            .collect()
+        defects(at)
     }
 
-    /// Every target-free shape measure.
+    /// Every target-free shape measure, in one pass over the cells: each
+    /// cell's corners are read once for its area, legs, strips and corner
+    /// angles (the same arithmetic, in the same order, as `curvature` and
+    /// `legs`, so the figures are those of the separate passes bit for bit).
     pub(crate) fn shape(&self) -> Shape {
-        let mut areas = Vec::with_capacity(self.cells.len());
+        let mut at: CornerSums = vec![(0, 0.0, 0.0); self.vertices.len()];
         let mut cell_ratios = Vec::with_capacity(self.cells.len());
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        let mut strips: Vec<(f64, f64)> = Vec::with_capacity(2 * self.cells.len());
+        let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
+        let mut strips: Vec<u128> = Vec::with_capacity(2 * self.cells.len());
         for cell in &self.cells {
-            areas.push(cell_area(self.corners(cell)));
-            let legs = self.legs(cell);
+            let corners = self.corners(cell);
+            let [ul, ur, ll, lr] = corners;
+            let area = cell_area(corners);
+            (amin, amax) = (amin.min(area), amax.max(area));
+            let p = cell.pivot;
+            let legs = [
+                p.distance(ul),
+                p.distance(ll),
+                p.distance(lr),
+                p.distance(ur),
+            ];
             let (l, h) = legs
                 .iter()
                 .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
@@ -134,26 +164,35 @@ impl Lattice {
             cell_ratios.push(h / l);
             let [l1, l2, l3, l4] = legs;
             // A strip turned end for end is the same strip.
-            strips.push((l1.min(l3), l1.max(l3)));
-            strips.push((l4.min(l2), l4.max(l2)));
+            strips.push(strip_key(l1.min(l3), l1.max(l3)));
+            strips.push(strip_key(l4.min(l2), l4.max(l2)));
+            add_corners(&mut at, [cell.ul, cell.ur, cell.ll, cell.lr], corners, area);
         }
-        let (amin, amax) = areas
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
-        cell_ratios.sort_by(f64::total_cmp);
+        // The median and the largest, without sorting the whole list.
+        let (median, max) = match cell_ratios.len() {
+            0 => (1.0, 1.0),
+            n => {
+                let (_, &mut median, upper) =
+                    cell_ratios.select_nth_unstable_by(n / 2, f64::total_cmp);
+                let max = upper
+                    .iter()
+                    .copied()
+                    .fold(median, |m, x| if x.total_cmp(&m).is_gt() { x } else { m });
+                (median, max)
+            }
+        };
+        drop(cell_ratios);
+        let count = strips.len();
         Shape {
-            curvature: self.curvature(),
+            curvature: defects(at),
             area_ratio: amax / amin,
             leg_ratio: hi / lo,
             min_leg: lo,
-            cell_leg_ratio_median: cell_ratios
-                .get(cell_ratios.len() / 2)
-                .copied()
-                .unwrap_or(1.0),
-            cell_leg_ratio_max: cell_ratios.last().copied().unwrap_or(1.0),
+            cell_leg_ratio_median: median,
+            cell_leg_ratio_max: max,
             front_gaps: self.front_gaps(),
-            distinct_strips: distinct(&mut strips),
-            strips: strips.len(),
+            distinct_strips: distinct_keys(strips),
+            strips: count,
         }
     }
 
@@ -201,13 +240,49 @@ impl Lattice {
     }
 }
 
+/// A key whose unsigned order is `f64::total_cmp`'s (negative numbers have
+/// every bit flipped, the others their sign bit set).
+fn order_key(x: f64) -> u64 {
+    let b = x.to_bits();
+    if b >> 63 == 1 { !b } else { b | 1 << 63 }
+}
+
+/// The `(short leg, long leg)` pair as one integer ordered as the pairs
+/// are (by short leg, then long leg): sorting millions of them is then an
+/// integer sort.
+fn strip_key(short: f64, long: f64) -> u128 {
+    (order_key(short) as u128) << 64 | order_key(long) as u128
+}
+
+/// The number inverse to `order_key`.
+fn key_value(k: u64) -> f64 {
+    f64::from_bits(if k >> 63 == 1 { k & !(1 << 63) } else { !k })
+}
+
+/// The number of distinct strips among `strip_key`s.
+fn distinct_keys(mut keys: Vec<u128>) -> usize {
+    keys.sort_unstable();
+    // Equal keys are equal strips, which join the same class: one of each
+    // is enough for the greedy pass below.
+    keys.dedup();
+    classes(
+        keys.iter()
+            .map(|&k| (key_value((k >> 64) as u64), key_value(k as u64))),
+    )
+}
+
 /// The number of distinct strips among `(short leg, long leg)` pairs.
+#[cfg(test)]
 fn distinct(strips: &mut [(f64, f64)]) -> usize {
     strips.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    // Greedy classes: a strip joins a class when both legs are within the
-    // tolerance of the class's first strip.
+    classes(strips.iter().copied())
+}
+
+/// Greedy classes over strips sorted by short leg: a strip joins a class
+/// when both legs are within the tolerance of the class's first strip.
+fn classes(sorted: impl Iterator<Item = (f64, f64)>) -> usize {
     let mut classes: Vec<(f64, f64)> = Vec::new();
-    for &(a, b) in strips.iter() {
+    for (a, b) in sorted {
         let found = classes
             .iter()
             .rev()
@@ -338,11 +413,50 @@ mod tests {
         ];
         let s: f64 = corner_angles(kite).iter().sum();
         assert!((s - TAU).abs() < 1e-12);
+        // Bit for bit the angles of normalising both edges at each corner.
+        let at =
+            |p: DVec3, a: DVec3, b: DVec3| angle_between((a - p).normalize(), (b - p).normalize());
+        let mut rng = crate::rng::Rng::new(3);
+        for _ in 0..1000 {
+            let mut p = || DVec3::new(rng.signed(), rng.signed(), rng.signed()) * 40.0;
+            let [ul, ur, ll, lr] = [p(), p(), p(), p()];
+            let each = [
+                at(ul, ur, ll),
+                at(ur, ul, lr),
+                at(ll, ul, lr),
+                at(lr, ur, ll),
+            ];
+            let got = corner_angles([ul, ur, ll, lr]);
+            assert_eq!(got.map(f64::to_bits), each.map(f64::to_bits));
+        }
     }
 
     #[test]
     fn distinct_strips_merge_within_the_tolerance_only() {
         let mut s = vec![(10.0, 20.0), (10.04, 20.0), (10.0, 20.2), (10.1, 20.0)];
         assert_eq!(distinct(&mut s), 3);
+    }
+
+    #[test]
+    fn integer_keys_sort_and_count_as_the_pairs_do() {
+        let mut rng = crate::rng::Rng::new(7);
+        let vals = [-0.0, 0.0, -1.5, 1e-300, f64::INFINITY, 3.25];
+        for x in vals {
+            assert_eq!(key_value(order_key(x)).to_bits(), x.to_bits());
+        }
+        for a in vals {
+            for b in vals {
+                assert_eq!(order_key(a).cmp(&order_key(b)), a.total_cmp(&b));
+            }
+        }
+        let mut pairs: Vec<(f64, f64)> = (0..2000)
+            .map(|_| {
+                let a = 10.0 + (rng.uniform() * 40.0).round() * 0.01;
+                let b = a + (rng.uniform() * 30.0).round() * 0.01;
+                (a, b)
+            })
+            .collect();
+        let keys = pairs.iter().map(|&(a, b)| strip_key(a, b)).collect();
+        assert_eq!(distinct_keys(keys), distinct(&mut pairs));
     }
 }

@@ -5,7 +5,7 @@
 //! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.
 
 use crate::lattice::{Lattice, RodType};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
@@ -32,8 +32,26 @@ struct Line {
     /// cell are in different layers, and are also told apart below).
     start: u32,
     end: u32,
-    /// Grid cell of the lower corner of its box widened by half the reach.
+    /// Grid cells of the lower and upper corners of its box widened by half
+    /// the reach.
     lo: [i32; 3],
+    hi: [i32; 3],
+    /// The unit normal of its direction in the xy plane (zero for a strip
+    /// along z): an axis on which neighbouring parallel strips lie apart.
+    across: DVec2,
+}
+
+/// Buffers of one layer's search, kept for the next layer: the lattice's
+/// largest allocations then take their pages from the kernel once, not
+/// once a layer.
+#[derive(Default)]
+struct Scratch {
+    lines: Vec<Line>,
+    lengths: Vec<f64>,
+    long: Vec<bool>,
+    offset: Vec<u32>,
+    fill: Vec<u32>,
+    entries: Vec<u32>,
 }
 
 /// The clashes of `lattice` (for an intrinsic lattice, pass the assembled
@@ -71,12 +89,14 @@ pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Ve
     }
     drop(layer_of);
     let mut out = Vec::new();
+    let mut scratch = Scratch::default();
     for l in 0..layers {
         layer_clashes(
             lattice,
             &order[start[l]..start[l + 1]],
             margin,
             reach,
+            &mut scratch,
             &mut out,
         );
     }
@@ -85,36 +105,55 @@ pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Ve
 }
 
 /// The clashes among `ids`, rods of one layer in increasing id order.
-fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &mut Vec<Clash>) {
+fn layer_clashes(
+    lattice: &Lattice,
+    ids: &[u32],
+    margin: f64,
+    reach: f64,
+    scratch: &mut Scratch,
+    out: &mut Vec<Clash>,
+) {
     if ids.len() < 2 {
         return;
     }
-    let mut lines: Vec<Line> = ids
-        .iter()
-        .map(|&r| {
-            let cell = &lattice.cells[r as usize / 2];
-            let [ul, ur, ll, lr] = lattice.corners(cell);
-            let (s, e, start, end) = if r % 2 == 0 {
-                (ul, lr, cell.ul, cell.lr)
-            } else {
-                (ur, ll, cell.ur, cell.ll)
-            };
-            let dir = (e - s).normalize_or_zero();
-            Line {
-                rod: r,
-                a: s - margin * dir,
-                b: e + margin * dir,
-                start,
-                end,
-                lo: [0; 3],
-            }
-        })
-        .collect();
+    assert!(
+        ids.len() <= INDEX as usize,
+        "a layer of more than 2^29 strips"
+    );
+    let Scratch {
+        lines,
+        lengths,
+        long,
+        offset,
+        fill,
+        entries,
+    } = scratch;
+    lines.clear();
+    lines.extend(ids.iter().map(|&r| {
+        let cell = &lattice.cells[r as usize / 2];
+        let [ul, ur, ll, lr] = lattice.corners(cell);
+        let (s, e, start, end) = if r % 2 == 0 {
+            (ul, lr, cell.ul, cell.lr)
+        } else {
+            (ur, ll, cell.ur, cell.ll)
+        };
+        let dir = (e - s).normalize_or_zero();
+        Line {
+            rod: r,
+            a: s - margin * dir,
+            b: e + margin * dir,
+            start,
+            end,
+            lo: [0; 3],
+            hi: [0; 3],
+            across: DVec2::new(-dir.y, dir.x).normalize_or_zero(),
+        }
+    }));
     // Grid cells about one strip long, so each strip touches a few.
-    let mut lengths: Vec<f64> = lines.iter().map(|l| l.a.distance(l.b)).collect();
+    lengths.clear();
+    lengths.extend(lines.iter().map(|l| l.a.distance(l.b)));
     let mid = lengths.len() / 2;
     let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
-    drop(lengths);
     let half = DVec3::splat(reach / 2.0);
     let (lo, hi) = lines.iter().fold(
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
@@ -128,28 +167,31 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
     let h = (median + reach)
         .max(1e-6)
         .max((hi - lo).max_element() / (1u64 << 20) as f64);
+    // Every point keyed lies in the box [lo, hi], so the quotient is not
+    // negative and truncation is its floor (without a libm call).
     let key = |p: DVec3| {
-        let q = ((p - lo) / h).floor();
+        let q = (p - lo) / h;
         [q.x as i32, q.y as i32, q.z as i32]
     };
     let dims = key(hi).map(|k| k as usize + 1);
-    for l in &mut lines {
+    for l in lines.iter_mut() {
         l.lo = key(l.a.min(l.b) - half);
+        l.hi = key(l.a.max(l.b) + half);
     }
-    let hi_key = |l: &Line| key(l.a.max(l.b) + half);
     // A strip far longer than the rest (a runaway design tried by the
     // optimiser) would be listed in every grid cell of its whole box, which
     // can be billions: such strips are measured against every strip instead.
-    let long: Vec<bool> = lines
-        .iter()
-        .map(|l| {
-            let h = hi_key(l);
-            (0..3)
-                .map(|k| (h[k] - l.lo[k]) as f64 + 1.0)
-                .product::<f64>()
-                > 512.0
-        })
-        .collect();
+    long.clear();
+    long.extend(lines.iter().map(|l| {
+        (0..3)
+            .map(|k| (l.hi[k] - l.lo[k]) as f64 + 1.0)
+            .product::<f64>()
+            > 512.0
+    }));
+    let (lines, long) = (&lines[..], &long[..]);
+    // Far above the rounding of a projection (1e-16 of the coordinates):
+    // a pair is only skipped when it is surely out of reach.
+    let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()).max_element());
     // The clash of two strips of this layer, if they clash.
     let pair = |li: &Line, lj: &Line| -> Option<Clash> {
         if [li.start, li.end]
@@ -163,6 +205,15 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
         // points to compute).
         let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
         if gap.max_element() >= reach {
+            return None;
+        }
+        // Projections on any unit axis are no farther apart than the
+        // strips: across the first strip, parallel neighbours (most of the
+        // pairs whose boxes meet) are apart by more than the reach.
+        let u = li.across;
+        let across = |p: DVec3| p.x * u.x + p.y * u.y;
+        let (i0, i1, j0, j1) = (across(li.a), across(li.b), across(lj.a), across(lj.b));
+        if (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1)) >= reach + slack {
             return None;
         }
         let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
@@ -184,15 +235,16 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
             }
         }
     }
-    let mut visit = |cell: [i32; 3], list: &[u32]| {
-        for (n, &i) in list.iter().enumerate() {
-            let li = &lines[i as usize];
-            for &j in &list[n + 1..] {
-                let lj = &lines[j as usize];
-                // Measured in the first grid cell both boxes touch only.
-                let first = [0, 1, 2].map(|k| li.lo[k].max(lj.lo[k]));
-                if first == cell {
-                    out.extend(pair(li, lj));
+    // A pair is measured in the first grid cell both boxes touch only: the
+    // cell where, on every axis, one of the two boxes starts. Each entry of
+    // a grid cell's list carries the axes on which its box starts there
+    // (`entry`), so that test reads no line.
+    let mut visit = |list: &[u32]| {
+        for (n, &ei) in list.iter().enumerate() {
+            let (mi, li) = (ei >> INDEX_BITS, &lines[(ei & INDEX) as usize]);
+            for &ej in &list[n + 1..] {
+                if mi | ej >> INDEX_BITS == ALL_AXES {
+                    out.extend(pair(li, &lines[(ej & INDEX) as usize]));
                 }
             }
         }
@@ -203,14 +255,10 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
         Some(g) if g <= 4 * lines.len() + 1024 => {
             let index =
                 |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
-            let mut offset = vec![0u32; g + 1];
-            for l in lines
-                .iter()
-                .zip(&long)
-                .filter(|&(_, &g)| !g)
-                .map(|(l, _)| l)
-            {
-                let h = hi_key(l);
+            offset.clear();
+            offset.resize(g + 1, 0);
+            for l in lines.iter().zip(long).filter(|&(_, &g)| !g).map(|(l, _)| l) {
+                let h = l.hi;
                 for z in l.lo[2]..=h[2] {
                     for y in l.lo[1]..=h[1] {
                         for x in l.lo[0]..=h[0] {
@@ -222,29 +270,29 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
             for c in 0..g {
                 offset[c + 1] += offset[c];
             }
-            let mut fill = offset.clone();
-            let mut entries = vec![0u32; offset[g] as usize];
+            fill.clear();
+            fill.extend_from_slice(&offset[..]);
+            entries.clear();
+            entries.resize(offset[g] as usize, 0);
             for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                let h = hi_key(l);
+                let h = l.hi;
                 for z in l.lo[2]..=h[2] {
                     for y in l.lo[1]..=h[1] {
                         for x in l.lo[0]..=h[0] {
                             let c = index([x, y, z]);
-                            entries[fill[c] as usize] = i as u32;
+                            entries[fill[c] as usize] = entry(i, l.lo, [x, y, z]);
                             fill[c] += 1;
                         }
                     }
                 }
             }
-            drop(fill);
             for z in 0..dims[2] {
                 for y in 0..dims[1] {
                     for x in 0..dims[0] {
-                        let k = [x as i32, y as i32, z as i32];
-                        let c = index(k);
+                        let c = index([x as i32, y as i32, z as i32]);
                         let list = &entries[offset[c] as usize..offset[c + 1] as usize];
                         if list.len() > 1 {
-                            visit(k, list);
+                            visit(list);
                         }
                     }
                 }
@@ -254,11 +302,11 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
         _ => {
             let mut entries: Vec<([i32; 3], u32)> = Vec::new();
             for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                let h = hi_key(l);
+                let h = l.hi;
                 for z in l.lo[2]..=h[2] {
                     for y in l.lo[1]..=h[1] {
                         for x in l.lo[0]..=h[0] {
-                            entries.push(([z, y, x], i as u32));
+                            entries.push(([z, y, x], entry(i, l.lo, [x, y, z])));
                         }
                     }
                 }
@@ -269,12 +317,25 @@ fn layer_clashes(lattice: &Lattice, ids: &[u32], margin: f64, reach: f64, out: &
                 if run.len() > 1 {
                     list.clear();
                     list.extend(run.iter().map(|e| e.1));
-                    let [z, y, x] = run[0].0;
-                    visit([x, y, z], &list);
+                    visit(&list);
                 }
             }
         }
     }
+}
+
+/// Bits of a grid entry holding the line's index; the three above them say
+/// on which axes the line's box starts in the entry's grid cell.
+const INDEX_BITS: u32 = 29;
+const INDEX: u32 = (1 << INDEX_BITS) - 1;
+const ALL_AXES: u32 = 0b111;
+
+/// The grid entry of line `i`, whose box starts in grid cell `lo`, in grid
+/// cell `at`.
+#[inline]
+fn entry(i: usize, lo: [i32; 3], at: [i32; 3]) -> u32 {
+    let starts = (0..3).fold(0, |m, k| m | u32::from(lo[k] == at[k]) << k);
+    i as u32 | starts << INDEX_BITS
 }
 
 /// The closest points of segments `p0 p1` and `q0 q1` (Ericson, Real-Time
@@ -457,6 +518,22 @@ mod tests {
         let brute = all_pairs(&lat);
         assert!(brute > 0);
         assert_eq!(clashes(&lat, 10.0, 6.0, 1.0).len(), brute);
+    }
+
+    #[test]
+    fn the_grid_finds_what_all_pairs_find_in_space() {
+        // Every vertex moved at random, in z too: strips of every direction,
+        // some vertical or nearly so.
+        let mut rng = crate::rng::Rng::new(11);
+        for angle in [15.0, 45.0] {
+            let mut lat = sheet(6, angle);
+            for v in &mut lat.vertices {
+                v.pos += DVec3::new(rng.signed(), rng.signed(), rng.signed()) * 12.0;
+            }
+            let found = clashes(&lat, 10.0, 6.0, 1.0);
+            assert_eq!(found.len(), all_pairs(&lat));
+            assert!(!found.is_empty());
+        }
     }
 
     #[test]

@@ -163,11 +163,18 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
         if (0..4).any(|a| (a + 1..4).any(|b| c[a] == c[b])) {
             return None;
         }
-        for (e, slot) in nbr[i].iter_mut().enumerate() {
+        for e in 0..4 {
+            // An edge found from the cell before that shares it is known;
+            // that cell saw every cell on the edge, so a third one was
+            // caught there.
+            if nbr[i][e] != NO_CELL {
+                continue;
+            }
             let mut more = false;
             users.sharers(lattice, i, e, |j, ej| {
-                more |= *slot != NO_CELL;
-                *slot = j as u32 | (ej as u32) << 30;
+                more |= nbr[i][e] != NO_CELL;
+                nbr[i][e] = j as u32 | (ej as u32) << 30;
+                nbr[j][ej] = i as u32 | (e as u32) << 30;
             });
             if more {
                 return None;
@@ -318,6 +325,15 @@ mod tests {
         let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
         let users = Users::new(&lattice);
         let nbr = edge_neighbours(&lattice, &users).expect("a sheet's edges have two cells");
+        // Each edge's other cell, found from one side, is what asking the
+        // corners from each side finds.
+        for (i, row) in nbr.iter().enumerate() {
+            for (e, &o) in row.iter().enumerate() {
+                let mut asked = NO_CELL;
+                users.sharers(&lattice, i, e, |j, ej| asked = j as u32 | (ej as u32) << 30);
+                assert_eq!(o, asked, "cell {i} edge {e}");
+            }
+        }
         let (fast, reached, residual) = propagate(n, &legs, |i, visit| {
             for (e, &o) in nbr[i].iter().enumerate() {
                 if o != NO_CELL {
