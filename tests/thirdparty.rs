@@ -259,3 +259,59 @@ fn dxf_passes_ezdxf_audit_in_millimetres() {
         }
     }
 }
+
+/// Repeated strips are blocks placed by INSERTs; ezdxf, expanding them,
+/// finds every hole of the drawing where the sheet puts it (to 0.001 mm,
+/// y flipped) and nothing else.
+#[test]
+fn dxf_blocks_expand_to_every_hole_of_the_sheet() {
+    use karigami::drawing::Shape;
+    // Strips engraved with their type, not their ID: 1800 alike.
+    let recipe = repo().join("tests/golden/sheet-30x30.toml");
+    let text = std::fs::read_to_string(&recipe).unwrap();
+    let design = karigami::design::parse(&text, "sheet-30x30").unwrap();
+    let b = karigami::build::build(design).unwrap();
+    let dir = scratch("dxf-blocks");
+    // Both lists on the files' 0.1 um grid, so that they sort alike.
+    let grid = |v: f64| (v * 1e4).round() / 1e4;
+    for (i, page) in b.pages.iter().enumerate() {
+        let path = dir.join(format!("sheet-{i}.dxf"));
+        std::fs::write(&path, karigami::write::dxf::write(page)).unwrap();
+        let Some(m) = python_check("check_dxf.py", &path) else {
+            return;
+        };
+        assert_eq!(m["errors"], 0, "{m}");
+        let strips = page.groups.len() - 1;
+        assert!(
+            m["inserts"].as_u64().unwrap() as usize >= strips / 2,
+            "most of the {strips} strips are repeats: {}",
+            m["inserts"]
+        );
+        let mut want: Vec<[f64; 3]> = page
+            .groups
+            .iter()
+            .flat_map(|g| &g.items)
+            .filter_map(|i| match i.shape {
+                Shape::Circle { center, radius } => {
+                    Some([center.x, page.height - center.y, radius].map(grid))
+                }
+                _ => None,
+            })
+            .collect();
+        want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        let mut got: Vec<[f64; 3]> = m["holes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|h| [0, 1, 2].map(|k| grid(h[k].as_f64().unwrap())))
+            .collect();
+        got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(got.len(), want.len(), "sheet {i}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (0..3).all(|k| (g[k] - w[k]).abs() < 0.001),
+                "sheet {i}: {g:?} read, {w:?} drawn"
+            );
+        }
+    }
+}

@@ -4,10 +4,19 @@
 //! semicircular arcs (bulges), one closed path per strip; engraving and the
 //! scale bar are open LWPOLYLINEs on their own layers. No SPLINE, no TEXT.
 //! y points up in DXF, so page coordinates are flipped (y' = height - y).
+//!
+//! A strip drawing placed more than once (the same holes, outline and
+//! engraving, up to a translation) is written once as a BLOCK and placed by
+//! one INSERT per strip, as CAD programs store repeated parts: a sheet of
+//! 10,000 identical strips holds one drawing, not 10,000. The block's
+//! entities keep their own layers and colours; its coordinates are offsets
+//! on the 0.1 um grid from the insertion point, so that insertion point plus
+//! offset is exactly the point a flat file would print.
 
-use super::number::num;
-use crate::drawing::{Layer, Page, Segment, Shape, walk};
+use super::number::{fixed, num, units};
+use crate::drawing::{Group, Item, Layer, Page, Segment, Shape, walk};
 use glam::DVec2;
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 /// Writes group-code/value pairs and hands out entity handles.
@@ -163,11 +172,13 @@ pub fn write(page: &Page) -> Vec<u8> {
         next_handle: 0x20,
     };
     let colours = Colours::of(page);
+    let mut plan = Blocks::plan(page, &colours);
+    plan.records = plan.names.iter().map(|_| d.handle()).collect();
     comments(&mut d, page);
     header(&mut d, page);
-    tables(&mut d, page, &colours);
-    blocks(&mut d);
-    entities(&mut d, page, &colours);
+    tables(&mut d, page, &colours, &plan);
+    blocks(&mut d, page, &colours, &plan);
+    entities(&mut d, page, &colours, &plan);
     objects(&mut d);
     // Fix the handle seed now that every handle is known.
     let seed = format!("{:X}", d.next_handle);
@@ -227,7 +238,7 @@ fn header(d: &mut Dxf, page: &Page) {
 
 /// TABLES: viewport, line types, layers (with their colours), text style,
 /// app ID, dimension style and block records.
-fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
+fn tables(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     d.pair(0, "SECTION");
     d.pair(2, "TABLES");
     d.table("VPORT", |d, owner| {
@@ -295,7 +306,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
         1
     });
     dimstyle_table(d);
-    block_record_table(d);
+    block_record_table(d, plan);
     d.pair(0, "ENDSEC");
 }
 
@@ -315,14 +326,21 @@ fn dimstyle_table(d: &mut Dxf) {
     d.pair(0, "ENDTAB");
 }
 
-/// The block records, with the fixed handles the blocks refer to.
-fn block_record_table(d: &mut Dxf) {
+/// The block records: model and paper space, with the fixed handles the
+/// blocks refer to, then one per strip drawing (handles `plan.records`).
+fn block_record_table(d: &mut Dxf, plan: &Blocks) {
     let records = d.handle();
-    d.table_head("BLOCK_RECORD", &records, 2);
-    for (handle, name) in [
+    d.table_head("BLOCK_RECORD", &records, 2 + plan.names.len());
+    let fixed = [
         (MODEL_RECORD, "*Model_Space"),
         (PAPER_RECORD, "*Paper_Space"),
-    ] {
+    ];
+    let named = plan
+        .records
+        .iter()
+        .zip(&plan.names)
+        .map(|(h, n)| (h.as_str(), n.as_str()));
+    for (handle, name) in fixed.into_iter().chain(named) {
         d.pair(0, "BLOCK_RECORD");
         d.pair(5, handle);
         d.pair(330, &records);
@@ -333,83 +351,209 @@ fn block_record_table(d: &mut Dxf) {
     d.pair(0, "ENDTAB");
 }
 
-/// BLOCKS: the model and paper space blocks.
-fn blocks(d: &mut Dxf) {
+/// BLOCKS: the model and paper space blocks, then each strip drawing that
+/// is placed more than once, relative to its insertion point.
+fn blocks(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     d.pair(0, "SECTION");
     d.pair(2, "BLOCKS");
-    for (record, name) in [
+    let fixed = [
         (MODEL_RECORD, "*Model_Space"),
         (PAPER_RECORD, "*Paper_Space"),
-    ] {
-        d.head("BLOCK", record);
-        d.pair(100, "AcDbEntity");
-        d.pair(8, "0");
-        d.pair(100, "AcDbBlockBegin");
-        d.pair(2, name);
-        d.pair(70, 0);
-        for code in [10, 20, 30] {
-            d.pair(code, "0.0");
+    ];
+    for (record, name) in fixed {
+        block_begin(d, record, name);
+        block_end(d, record);
+    }
+    for (b, (record, name)) in plan.records.iter().zip(&plan.names).enumerate() {
+        let first = plan.first[b];
+        let (_, at) = plan.of_group[first].expect("a block's first group is placed");
+        block_begin(d, record, name);
+        for item in &page.groups[first].items {
+            item_entities(d, record, item, colours, &relative(page.height, at));
         }
-        d.pair(3, name);
-        d.pair(1, "");
-        d.head("ENDBLK", record);
-        d.pair(100, "AcDbEntity");
-        d.pair(8, "0");
-        d.pair(100, "AcDbBlockEnd");
+        block_end(d, record);
     }
     d.pair(0, "ENDSEC");
 }
 
-/// ENTITIES: holes as circles, outlines and strokes as polylines, y flipped.
-fn entities(d: &mut Dxf, page: &Page, colours: &Colours) {
+fn block_begin(d: &mut Dxf, record: &str, name: &str) {
+    d.head("BLOCK", record);
+    d.pair(100, "AcDbEntity");
+    d.pair(8, "0");
+    d.pair(100, "AcDbBlockBegin");
+    d.pair(2, name);
+    d.pair(70, 0);
+    for code in [10, 20, 30] {
+        d.pair(code, "0.0");
+    }
+    d.pair(3, name);
+    d.pair(1, "");
+}
+
+fn block_end(d: &mut Dxf, record: &str) {
+    d.head("ENDBLK", record);
+    d.pair(100, "AcDbEntity");
+    d.pair(8, "0");
+    d.pair(100, "AcDbBlockEnd");
+}
+
+/// Which groups are written as blocks: those whose drawing, relative to its
+/// first point, occurs in two groups or more.
+struct Blocks {
+    /// Per group: its block and insertion point (flipped, in grid units).
+    of_group: Vec<Option<(usize, (i64, i64))>>,
+    /// Per block: the first group drawn with it, its name and record handle.
+    first: Vec<usize>,
+    names: Vec<String>,
+    records: Vec<String>,
+}
+
+impl Blocks {
+    fn plan(page: &Page, colours: &Colours) -> Blocks {
+        // A group's drawing written relative to its anchor with throwaway
+        // handles: equal texts are equal drawings.
+        let keyed: Vec<Option<(String, (i64, i64))>> = page
+            .groups
+            .iter()
+            .map(|g| {
+                let at = anchor(g, page.height)?;
+                let mut probe = Dxf {
+                    out: String::new(),
+                    next_handle: 0,
+                };
+                for item in &g.items {
+                    item_entities(&mut probe, "0", item, colours, &relative(page.height, at));
+                }
+                Some((probe.out, at))
+            })
+            .collect();
+        let mut count: HashMap<&str, usize> = HashMap::new();
+        for (key, _) in keyed.iter().flatten() {
+            *count.entry(key).or_default() += 1;
+        }
+        let mut index: HashMap<&str, usize> = HashMap::new();
+        let mut plan = Blocks {
+            of_group: Vec::with_capacity(keyed.len()),
+            first: Vec::new(),
+            names: Vec::new(),
+            records: Vec::new(),
+        };
+        for (g, keyed) in keyed.iter().enumerate() {
+            let placed = keyed.as_ref().filter(|(key, _)| count[key.as_str()] > 1);
+            plan.of_group.push(placed.map(|(key, at)| {
+                let next = index.len();
+                let b = *index.entry(key).or_insert(next);
+                if b == next {
+                    plan.first.push(g);
+                    plan.names.push(format!("part-{}", b + 1));
+                }
+                (b, *at)
+            }));
+        }
+        plan
+    }
+}
+
+/// A group's insertion point: its first item's first point, flipped and on
+/// the grid; None for a group with no items.
+fn anchor(g: &Group, height: f64) -> Option<(i64, i64)> {
+    let p = match &g.items.first()?.shape {
+        Shape::Circle { center, .. } => *center,
+        Shape::Path { start, .. } => *start,
+        Shape::Text { at, .. } => *at,
+    };
+    Some((units(p.x), units(height - p.y)))
+}
+
+/// Page points to a block's coordinates: flipped, rounded to the grid and
+/// offset from the insertion point `at` in whole grid steps.
+fn relative(height: f64, (ax, ay): (i64, i64)) -> impl Fn(DVec2) -> DVec2 {
+    move |p: DVec2| {
+        DVec2::new(
+            (units(p.x) - ax) as f64 / 1e4,
+            (units(height - p.y) - ay) as f64 / 1e4,
+        )
+    }
+}
+
+/// One item's entities: a hole as a CIRCLE, an outline or stroke as an
+/// LWPOLYLINE, text as one LWPOLYLINE per stroke; points through `map`.
+fn item_entities(
+    d: &mut Dxf,
+    owner: &str,
+    item: &Item,
+    colours: &Colours,
+    map: &dyn Fn(DVec2) -> DVec2,
+) {
+    let layer = item.layer;
+    match &item.shape {
+        Shape::Circle { center, radius } => {
+            d.head("CIRCLE", owner);
+            d.pair(100, "AcDbEntity");
+            d.pair(8, layer.name());
+            d.pair(62, colours.aci(layer));
+            d.pair(100, "AcDbCircle");
+            let c = map(*center);
+            d.pair(10, num(c.x));
+            d.pair(20, num(c.y));
+            d.pair(30, "0.0");
+            d.pair(40, num(*radius));
+        }
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => {
+            lwpolyline(
+                d,
+                owner,
+                layer,
+                colours.aci(layer),
+                &bulged(*start, segments, *closed),
+                *closed,
+                map,
+            );
+        }
+        // No TEXT entities: text is drawn with the single-stroke font.
+        text @ Shape::Text { .. } => {
+            for stroke in crate::drawing::text::strokes(text) {
+                let vertices: Vec<(DVec2, f64)> = stroke.into_iter().map(|p| (p, 0.0)).collect();
+                lwpolyline(
+                    d,
+                    owner,
+                    layer,
+                    colours.aci(layer),
+                    &vertices,
+                    false,
+                    map,
+                );
+            }
+        }
+    }
+}
+
+/// ENTITIES: an INSERT for each group drawn as a block, the entities of
+/// every other group, y flipped.
+fn entities(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     let h = page.height;
     let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
     d.pair(0, "SECTION");
     d.pair(2, "ENTITIES");
-    for item in page.groups.iter().flat_map(|g| &g.items) {
-        let layer = item.layer;
-        match &item.shape {
-            Shape::Circle { center, radius } => {
-                d.head("CIRCLE", MODEL_RECORD);
+    for (g, placed) in page.groups.iter().zip(&plan.of_group) {
+        match placed {
+            Some((b, (x, y))) => {
+                d.head("INSERT", MODEL_RECORD);
                 d.pair(100, "AcDbEntity");
-                d.pair(8, layer.name());
-                d.pair(62, colours.aci(layer));
-                d.pair(100, "AcDbCircle");
-                let c = flip(*center);
-                d.pair(10, num(c.x));
-                d.pair(20, num(c.y));
+                d.pair(8, "0");
+                d.pair(100, "AcDbBlockReference");
+                d.pair(2, &plan.names[*b]);
+                d.pair(10, fixed(*x));
+                d.pair(20, fixed(*y));
                 d.pair(30, "0.0");
-                d.pair(40, num(*radius));
             }
-            Shape::Path {
-                start,
-                segments,
-                closed,
-            } => {
-                lwpolyline(
-                    d,
-                    MODEL_RECORD,
-                    layer,
-                    colours.aci(layer),
-                    &bulged(*start, segments, *closed),
-                    *closed,
-                    &flip,
-                );
-            }
-            // No TEXT entities: text is drawn with the single-stroke font.
-            text @ Shape::Text { .. } => {
-                for stroke in crate::drawing::text::strokes(text) {
-                    let vertices: Vec<(DVec2, f64)> =
-                        stroke.into_iter().map(|p| (p, 0.0)).collect();
-                    lwpolyline(
-                        d,
-                        MODEL_RECORD,
-                        layer,
-                        colours.aci(layer),
-                        &vertices,
-                        false,
-                        &flip,
-                    );
+            None => {
+                for item in &g.items {
+                    item_entities(d, MODEL_RECORD, item, colours, &flip);
                 }
             }
         }

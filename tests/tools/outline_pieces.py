@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Read the strip outlines back from a cut sheet with third-party readers:
 svgelements for SVG (per <g> group: how many outline paths and their length),
-ezdxf for DXF (the outlines layer: how many polylines, how many closed, and
-their total length). Prints one JSON object; lengths in mm."""
+ezdxf for DXF (the outlines layer, blocks expanded: how many polylines, how
+many closed, and their total length). Prints one JSON object; lengths in mm."""
 import json
 import math
 import sys
@@ -25,11 +25,14 @@ if path.endswith(".svg"):
 else:
     import ezdxf
     from ezdxf import path as dxfpath
+    from ezdxf.disassemble import recursive_decompose
 
     doc = ezdxf.readfile(path)
     count = closed = 0
     total = 0.0
-    for e in doc.modelspace().query('LWPOLYLINE[layer=="outlines"]'):
+    for e in recursive_decompose(doc.modelspace()):
+        if e.dxftype() != "LWPOLYLINE" or e.dxf.layer != "outlines":
+            continue
         count += 1
         closed += 1 if e.closed else 0
         pts = list(dxfpath.make_path(e).flattening(distance=1e-5))
