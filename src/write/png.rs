@@ -109,16 +109,20 @@ pub fn write(page: &Page, px_per_mm: f64, min_stroke_px: f64) -> Vec<u8> {
 /// and 4.4 MB, level 1 0.77 s and 5.6 MB, png's Fast 0.48 s but 9.8 MB
 /// (its 1280 x 960 preview: 0.32, 0.40 and 1.9 MB).
 ///
-/// A picture of at most 256 colours (a cut sheet: four layer colours and
-/// their anti-aliased blends with white) is written as an indexed-colour
-/// PNG, one byte or less a pixel instead of three: the same pixels, a
-/// third to a sixth of the bytes.
+/// A picture of at most 256 colours is written as an indexed-colour PNG,
+/// one byte or less a pixel instead of three. A cut sheet has more: its
+/// four layer colours blended with white at every anti-aliasing level; with
+/// each channel rounded to 16 levels (at most 8/255 off, which the eye does
+/// not see on a hairline's edge) they are a few dozen, and the 100 x 100
+/// sheet's pictures take a fraction of their RGB bytes. Pictures that have
+/// more colours even so (shaded previews) stay RGB and exact.
 fn encode(pixmap: &Pixmap) -> Vec<u8> {
     // Pages are painted on white, so every pixel is opaque: RGB, a quarter
     // less to filter, deflate and store than RGBA.
     let opaque = pixmap.pixels().iter().all(|p| p.alpha() == u8::MAX);
     if opaque {
-        if let Some((palette, depth, raw)) = indexed(pixmap) {
+        let found = indexed(pixmap, |c| c).or_else(|| indexed(pixmap, sixteen_levels));
+        if let Some((palette, depth, raw)) = found {
             return deflate(pixmap, png::ColorType::Indexed, depth, Some(palette), &raw);
         }
     }
@@ -146,12 +150,18 @@ fn encode(pixmap: &Pixmap) -> Vec<u8> {
     deflate(pixmap, colour, png::BitDepth::Eight, None, &raw)
 }
 
+/// A channel rounded to the nearest of 16 levels (multiples of 17).
+fn sixteen_levels(c: u8) -> u8 {
+    ((c as u16 + 8) / 17 * 17) as u8
+}
+
 /// The palette (RGB triples, sorted, so that the bytes depend only on the
 /// pixels), the smallest bit depth that indexes it and the packed rows of
-/// an opaque pixmap; None when it has more than 256 colours.
-fn indexed(pixmap: &Pixmap) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
+/// an opaque pixmap, each channel mapped by `level`; None when that leaves
+/// more than 256 colours.
+fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
     let rgb = |p: &tiny_skia::PremultipliedColorU8| {
-        u32::from_be_bytes([0, p.red(), p.green(), p.blue()])
+        u32::from_be_bytes([0, level(p.red()), level(p.green()), level(p.blue())])
     };
     let mut colours: Vec<u32> = Vec::new();
     let mut last = None;
@@ -249,11 +259,29 @@ mod tests {
         let bytes = encode(&pixmap);
         assert_eq!((bytes[24], bytes[25]), (8, 3));
         assert_eq!(Pixmap::decode_png(&bytes).unwrap().data(), pixmap.data());
-        // More than 256 colours: RGB (2).
+        // More than 256 colours that round to few: indexed, within 8/255.
+        let mut blends = Pixmap::new(256, 4).unwrap();
+        for (i, p) in blends.pixels_mut().iter_mut().enumerate() {
+            let v = (i % 256) as u8;
+            let c = [[v, v, 255], [255, v, v], [v, 255, v], [v, v, v]][i / 256];
+            *p = tiny_skia::ColorU8::from_rgba(c[0], c[1], c[2], 255).premultiply();
+        }
+        let bytes = encode(&blends);
+        assert_eq!(bytes[25], 3);
+        let back = Pixmap::decode_png(&bytes).unwrap();
+        for (a, b) in back.data().iter().zip(blends.data()) {
+            assert!(a.abs_diff(*b) <= 8, "{a} for {b}");
+        }
+        assert_eq!(sixteen_levels(0), 0);
+        assert_eq!(sixteen_levels(255), 255);
+        assert_eq!(sixteen_levels(8), 0);
+        assert_eq!(sixteen_levels(9), 17);
+        // More than 256 colours even rounded: RGB (2), exact.
         let mut many = Pixmap::new(300, 1).unwrap();
         for (i, p) in many.pixels_mut().iter_mut().enumerate() {
-            *p = tiny_skia::ColorU8::from_rgba((i % 256) as u8, (i / 256) as u8, 0, 255)
-                .premultiply();
+            let (r, g) = ((i % 16) as u8 * 17, (i / 16 % 16) as u8 * 17);
+            let b = if i < 256 { 0 } else { 255 };
+            *p = tiny_skia::ColorU8::from_rgba(r, g, b, 255).premultiply();
         }
         let bytes = encode(&many);
         assert_eq!(bytes[25], 2);
