@@ -14,9 +14,9 @@
 //! offset is exactly the point a flat file would print.
 
 use super::number::{fixed, num, units};
-use crate::drawing::{Group, Item, Layer, Page, Segment, Shape, walk};
+use super::repeats::{self, Repeats};
+use crate::drawing::{Item, Layer, Page, Segment, Shape, walk};
 use glam::DVec2;
-use std::collections::HashMap;
 use std::fmt::Write as _;
 
 /// Writes group-code/value pairs and hands out entity handles.
@@ -365,8 +365,8 @@ fn blocks(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
         block_end(d, record);
     }
     for (b, (record, name)) in plan.records.iter().zip(&plan.names).enumerate() {
-        let first = plan.first[b];
-        let (_, at) = plan.of_group[first].expect("a block's first group is placed");
+        let first = plan.repeats.first[b];
+        let at = plan.at[first].expect("a block's first group has items");
         block_begin(d, record, name);
         for item in &page.groups[first].items {
             item_entities(d, record, item, colours, &relative(page.height, at));
@@ -397,13 +397,11 @@ fn block_end(d: &mut Dxf, record: &str) {
     d.pair(100, "AcDbBlockEnd");
 }
 
-/// Which groups are written as blocks: those whose drawing, relative to its
-/// first point, occurs in two groups or more.
+/// Which groups are written as blocks (see `repeats`), with each block's
+/// name and record handle and each group's flipped insertion point.
 struct Blocks {
-    /// Per group: its block and insertion point (flipped, in grid units).
-    of_group: Vec<Option<(usize, (i64, i64))>>,
-    /// Per block: the first group drawn with it, its name and record handle.
-    first: Vec<usize>,
+    repeats: Repeats,
+    at: Vec<Option<(i64, i64)>>,
     names: Vec<String>,
     records: Vec<String>,
 }
@@ -412,11 +410,17 @@ impl Blocks {
     fn plan(page: &Page, colours: &Colours) -> Blocks {
         // A group's drawing written relative to its anchor with throwaway
         // handles: equal texts are equal drawings.
-        let keyed: Vec<Option<(String, (i64, i64))>> = page
+        let at: Vec<Option<(i64, i64)>> = page
             .groups
             .iter()
-            .map(|g| {
-                let at = anchor(g, page.height)?;
+            .map(|g| repeats::anchor(g).map(|(x, y)| (x, units(page.height) - y)))
+            .collect();
+        let keys: Vec<Option<String>> = page
+            .groups
+            .iter()
+            .zip(&at)
+            .map(|(g, at)| {
+                let at = (*at)?;
                 let mut probe = Dxf {
                     out: String::new(),
                     next_handle: 0,
@@ -424,56 +428,28 @@ impl Blocks {
                 for item in &g.items {
                     item_entities(&mut probe, "0", item, colours, &relative(page.height, at));
                 }
-                Some((probe.out, at))
+                Some(probe.out)
             })
             .collect();
-        let mut count: HashMap<&str, usize> = HashMap::new();
-        for (key, _) in keyed.iter().flatten() {
-            *count.entry(key).or_default() += 1;
-        }
-        let mut index: HashMap<&str, usize> = HashMap::new();
-        let mut plan = Blocks {
-            of_group: Vec::with_capacity(keyed.len()),
-            first: Vec::new(),
-            names: Vec::new(),
+        let repeats = repeats::find(&keys);
+        let names = (1..=repeats.first.len())
+            .map(|b| format!("part-{b}"))
+            .collect();
+        Blocks {
+            repeats,
+            at,
+            names,
             records: Vec::new(),
-        };
-        for (g, keyed) in keyed.iter().enumerate() {
-            let placed = keyed.as_ref().filter(|(key, _)| count[key.as_str()] > 1);
-            plan.of_group.push(placed.map(|(key, at)| {
-                let next = index.len();
-                let b = *index.entry(key).or_insert(next);
-                if b == next {
-                    plan.first.push(g);
-                    plan.names.push(format!("part-{}", b + 1));
-                }
-                (b, *at)
-            }));
         }
-        plan
     }
 }
 
-/// A group's insertion point: its first item's first point, flipped and on
-/// the grid; None for a group with no items.
-fn anchor(g: &Group, height: f64) -> Option<(i64, i64)> {
-    let p = match &g.items.first()?.shape {
-        Shape::Circle { center, .. } => *center,
-        Shape::Path { start, .. } => *start,
-        Shape::Text { at, .. } => *at,
-    };
-    Some((units(p.x), units(height - p.y)))
-}
-
-/// Page points to a block's coordinates: flipped, rounded to the grid and
-/// offset from the insertion point `at` in whole grid steps.
-fn relative(height: f64, (ax, ay): (i64, i64)) -> impl Fn(DVec2) -> DVec2 {
-    move |p: DVec2| {
-        DVec2::new(
-            (units(p.x) - ax) as f64 / 1e4,
-            (units(height - p.y) - ay) as f64 / 1e4,
-        )
-    }
+/// Page points to a block's coordinates: flipped (about the page height on
+/// the grid), then offset from the insertion point `at` in grid steps.
+fn relative(height: f64, at: (i64, i64)) -> impl Fn(DVec2) -> DVec2 {
+    let h = units(height) as f64 / 1e4;
+    let shift = repeats::offset(at);
+    move |p: DVec2| shift(DVec2::new(p.x, h - p.y))
 }
 
 /// One item's entities: a hole as a CIRCLE, an outline or stroke as an
@@ -518,15 +494,7 @@ fn item_entities(
         text @ Shape::Text { .. } => {
             for stroke in crate::drawing::text::strokes(text) {
                 let vertices: Vec<(DVec2, f64)> = stroke.into_iter().map(|p| (p, 0.0)).collect();
-                lwpolyline(
-                    d,
-                    owner,
-                    layer,
-                    colours.aci(layer),
-                    &vertices,
-                    false,
-                    map,
-                );
+                lwpolyline(d, owner, layer, colours.aci(layer), &vertices, false, map);
             }
         }
     }
@@ -539,9 +507,13 @@ fn entities(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
     d.pair(0, "SECTION");
     d.pair(2, "ENTITIES");
-    for (g, placed) in page.groups.iter().zip(&plan.of_group) {
-        match placed {
-            Some((b, (x, y))) => {
+    for (g, (shared, at)) in page
+        .groups
+        .iter()
+        .zip(plan.repeats.of_group.iter().zip(&plan.at))
+    {
+        match (shared, at) {
+            (Some(b), Some((x, y))) => {
                 d.head("INSERT", MODEL_RECORD);
                 d.pair(100, "AcDbEntity");
                 d.pair(8, "0");
@@ -551,7 +523,7 @@ fn entities(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
                 d.pair(20, fixed(*y));
                 d.pair(30, "0.0");
             }
-            None => {
+            _ => {
                 for item in &g.items {
                     item_entities(d, MODEL_RECORD, item, colours, &flip);
                 }

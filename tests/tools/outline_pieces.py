@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Read the strip outlines back from a cut sheet with third-party readers:
-svgelements for SVG (per <g> group: how many outline paths and their length),
+svgelements for SVG (per <g> group, <use> expanded: how many outline paths and their length),
 ezdxf for DXF (the outlines layer, blocks expanded: how many polylines, how
 many closed, and their total length). Prints one JSON object; lengths in mm."""
 import json
@@ -18,7 +18,8 @@ if path.endswith(".svg"):
         gid = g.values.get("id")
         if not gid:
             continue
-        paths = [e for e in g if isinstance(e, Path) and e.values.get("class") == "outlines"]
+        # select() walks the group's descendants, through <use> into the drawing it places.
+        paths = [e for e in g.select() if isinstance(e, Path) and e.values.get("class") == "outlines"]
         if paths:
             groups[gid] = [len(paths), sum(p.length(error=1e-10) for p in paths) * mm]
     print(json.dumps({"groups": groups}))
