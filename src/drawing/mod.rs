@@ -262,8 +262,9 @@ impl Shape {
         }
     }
 
-    /// The shape moved by `f`, a translation (radii and sizes stay): each
-    /// point, centre and anchor mapped.
+    /// The shape moved by `f`, a motion that keeps lengths and handedness
+    /// (a translation or a turn: radii, sizes and arc directions stay):
+    /// each point, centre and anchor mapped.
     pub(crate) fn moved(&self, f: &dyn Fn(DVec2) -> DVec2) -> Shape {
         match self {
             Shape::Circle { center, radius } => Shape::Circle {
