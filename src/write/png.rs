@@ -186,16 +186,21 @@ fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDep
     let row_bytes = (w * bits).div_ceil(8);
     let mut raw = vec![0u8; row_bytes * h];
     let mut last = (u32::MAX, 0u8);
-    for (i, p) in pixmap.pixels().iter().enumerate() {
-        let c = rgb(p);
-        if c != last.0 {
-            let index = colours.binary_search(&c).expect("a colour of the palette");
-            last = (c, index as u8);
+    for (row, out) in pixmap
+        .pixels()
+        .chunks_exact(w.max(1))
+        .zip(raw.chunks_exact_mut(row_bytes.max(1)))
+    {
+        for (x, p) in row.iter().enumerate() {
+            let c = rgb(p);
+            if c != last.0 {
+                let index = colours.binary_search(&c).expect("a colour of the palette");
+                last = (c, index as u8);
+            }
+            let bit = x * bits;
+            // Pixels fill each byte from its most significant bits.
+            out[bit / 8] |= last.1 << (8 - bits - bit % 8);
         }
-        let (y, x) = (i / w, i % w);
-        let bit = x * bits;
-        // Pixels fill each byte from its most significant bits.
-        raw[y * row_bytes + bit / 8] |= last.1 << (8 - bits - bit % 8);
     }
     let palette = colours
         .iter()
