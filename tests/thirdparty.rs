@@ -256,3 +256,84 @@ fn dxf_passes_ezdxf_audit_in_millimetres() {
         }
     }
 }
+
+/// Every hole a tool read back (`[x, y, r]` mm, any order) against the
+/// page's circles (y flipped for DXF), to 0.001 mm.
+fn holes_match(page: &karigami::drawing::Page, read: &Value, flip: bool, what: &str) {
+    use karigami::drawing::Shape;
+    // Both lists on the files' 0.1 um grid, so that they sort alike.
+    let grid = |v: f64| (v * 1e4).round() / 1e4;
+    let mut want: Vec<[f64; 3]> = page
+        .groups
+        .iter()
+        .flat_map(|g| &g.items)
+        .filter_map(|i| match i.shape {
+            Shape::Circle { center, radius } => {
+                let y = if flip {
+                    page.height - center.y
+                } else {
+                    center.y
+                };
+                Some([center.x, y, radius].map(grid))
+            }
+            _ => None,
+        })
+        .collect();
+    want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut got: Vec<[f64; 3]> = read
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| [0, 1, 2].map(|k| grid(h[k].as_f64().unwrap())))
+        .collect();
+    got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(got.len(), want.len(), "{what}");
+    for (g, w) in got.iter().zip(&want) {
+        assert!(
+            (0..3).all(|k| (g[k] - w[k]).abs() < 0.001),
+            "{what}: {g:?} read, {w:?} drawn"
+        );
+    }
+}
+
+/// The 30 x 30 golden sheet built in-process: strips engraved with their
+/// type, not their ID, so 1800 of them are drawn alike.
+fn alike_strips() -> karigami::build::Build {
+    let recipe = repo().join("tests/golden/sheet-30x30.toml");
+    let text = std::fs::read_to_string(&recipe).unwrap();
+    let design = karigami::design::parse(&text, "sheet-30x30").unwrap();
+    karigami::build::build(design).unwrap()
+}
+
+/// Repeated strips are blocks placed by INSERTs, and `<use>` of one
+/// drawing in SVG; ezdxf and svgelements, expanding them, find every hole
+/// of the drawing where the sheet puts it (to 0.001 mm) and nothing else.
+#[test]
+fn dxf_blocks_and_svg_uses_expand_to_every_hole_of_the_sheet() {
+    let b = alike_strips();
+    let dir = scratch("shared-drawings");
+    for (i, page) in b.pages.iter().enumerate() {
+        let strips = page.groups.len() - 1;
+        let path = dir.join(format!("sheet-{i}.dxf"));
+        std::fs::write(&path, karigami::write::dxf::write(page)).unwrap();
+        let Some(m) = python_check("check_dxf.py", &path) else {
+            return;
+        };
+        assert_eq!(m["errors"], 0, "{m}");
+        assert!(
+            m["inserts"].as_u64().unwrap() as usize >= strips / 2,
+            "most of the {strips} strips are repeats: {}",
+            m["inserts"]
+        );
+        holes_match(page, &m["holes"], true, &format!("DXF sheet {i}"));
+        let path = dir.join(format!("sheet-{i}.svg"));
+        let svg = karigami::write::svg::write(page);
+        let uses = String::from_utf8_lossy(&svg).matches("<use ").count();
+        assert!(uses >= strips / 2, "{uses} <use> for {strips} strips");
+        std::fs::write(&path, svg).unwrap();
+        let Some(m) = python_check("check_svg.py", &path) else {
+            return;
+        };
+        holes_match(page, &m["holes"], false, &format!("SVG sheet {i}"));
+    }
+}

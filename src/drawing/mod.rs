@@ -263,6 +263,48 @@ impl Shape {
         }
     }
 
+    /// The shape moved by `f`, a motion that keeps lengths and handedness
+    /// (a translation or a turn: radii, sizes and arc directions stay):
+    /// each point, centre and anchor mapped.
+    pub(crate) fn moved(&self, f: &dyn Fn(DVec2) -> DVec2) -> Shape {
+        match self {
+            Shape::Circle { center, radius } => Shape::Circle {
+                center: f(*center),
+                radius: *radius,
+            },
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => Shape::Path {
+                start: f(*start),
+                segments: segments
+                    .iter()
+                    .map(|s| match *s {
+                        Segment::Line(p) => Segment::Line(f(p)),
+                        Segment::Arc {
+                            to,
+                            center,
+                            clockwise,
+                        } => Segment::Arc {
+                            to: f(to),
+                            center: f(center),
+                            clockwise,
+                        },
+                    })
+                    .collect(),
+                closed: *closed,
+            },
+            Shape::Text { at, .. } => {
+                let mut text = self.clone();
+                if let Shape::Text { at: moved, .. } = &mut text {
+                    *moved = f(*at);
+                }
+                text
+            }
+        }
+    }
+
     /// An open or closed polyline.
     pub(crate) fn polyline(points: &[DVec2], closed: bool) -> Shape {
         Shape::Path {

@@ -60,27 +60,12 @@ fn outline_items(length: f64, outline: &Outline, frame: &Frame, tab: f64) -> Vec
     pieces
         .into_iter()
         .map(|(start, segments)| {
-            let segments = segments
-                .into_iter()
-                .map(|s| match s {
-                    Segment::Line(p) => Segment::Line(m(p)),
-                    Segment::Arc {
-                        to,
-                        center,
-                        clockwise,
-                    } => Segment::Arc {
-                        to: m(to),
-                        center: m(center),
-                        clockwise,
-                    },
-                })
-                .collect();
-            let shape = Shape::Path {
-                start: m(start),
+            let local = Shape::Path {
+                start,
                 segments,
                 closed: false,
             };
-            Item::on(Layer::Outlines, shape)
+            Item::on(Layer::Outlines, local.moved(&m))
         })
         .collect()
 }

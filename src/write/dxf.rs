@@ -4,9 +4,18 @@
 //! semicircular arcs (bulges), one closed path per strip; engraving and the
 //! scale bar are open LWPOLYLINEs on their own layers. No SPLINE, no TEXT.
 //! y points up in DXF, so page coordinates are flipped (y' = height - y).
+//!
+//! A strip drawing placed more than once (the same holes, outline and
+//! engraving, up to a translation) is written once as a BLOCK and placed by
+//! one INSERT per strip, as CAD programs store repeated parts: a sheet of
+//! 10,000 identical strips holds one drawing, not 10,000. The block's
+//! entities keep their own layers and colours; its coordinates are offsets
+//! on the 0.1 um grid from the insertion point, so that insertion point plus
+//! offset is exactly the point a flat file would print.
 
-use super::number::num;
-use crate::drawing::{Layer, Page, Segment, Shape, walk};
+use super::number::{fixed, num, units};
+use super::repeats::{self, Repeats};
+use crate::drawing::{Item, Layer, Page, Segment, Shape, walk};
 use glam::DVec2;
 use std::fmt::Write as _;
 
@@ -163,11 +172,13 @@ pub fn write(page: &Page) -> Vec<u8> {
         next_handle: 0x20,
     };
     let colours = Colours::of(page);
+    let mut plan = Blocks::plan(page, &colours);
+    plan.records = plan.names.iter().map(|_| d.handle()).collect();
     comments(&mut d, page);
     header(&mut d, page);
-    tables(&mut d, page, &colours);
-    blocks(&mut d);
-    entities(&mut d, page, &colours);
+    tables(&mut d, page, &colours, &plan);
+    blocks(&mut d, page, &colours, &plan);
+    entities(&mut d, page, &colours, &plan);
     objects(&mut d);
     // Fix the handle seed now that every handle is known.
     let seed = format!("{:X}", d.next_handle);
@@ -227,7 +238,7 @@ fn header(d: &mut Dxf, page: &Page) {
 
 /// TABLES: viewport, line types, layers (with their colours), text style,
 /// app ID, dimension style and block records.
-fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
+fn tables(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     d.pair(0, "SECTION");
     d.pair(2, "TABLES");
     d.table("VPORT", |d, owner| {
@@ -295,7 +306,7 @@ fn tables(d: &mut Dxf, page: &Page, colours: &Colours) {
         1
     });
     dimstyle_table(d);
-    block_record_table(d);
+    block_record_table(d, plan);
     d.pair(0, "ENDSEC");
 }
 
@@ -315,14 +326,21 @@ fn dimstyle_table(d: &mut Dxf) {
     d.pair(0, "ENDTAB");
 }
 
-/// The block records, with the fixed handles the blocks refer to.
-fn block_record_table(d: &mut Dxf) {
+/// The block records: model and paper space, with the fixed handles the
+/// blocks refer to, then one per strip drawing (handles `plan.records`).
+fn block_record_table(d: &mut Dxf, plan: &Blocks) {
     let records = d.handle();
-    d.table_head("BLOCK_RECORD", &records, 2);
-    for (handle, name) in [
+    d.table_head("BLOCK_RECORD", &records, 2 + plan.names.len());
+    let fixed = [
         (MODEL_RECORD, "*Model_Space"),
         (PAPER_RECORD, "*Paper_Space"),
-    ] {
+    ];
+    let named = plan
+        .records
+        .iter()
+        .zip(&plan.names)
+        .map(|(h, n)| (h.as_str(), n.as_str()));
+    for (handle, name) in fixed.into_iter().chain(named) {
         d.pair(0, "BLOCK_RECORD");
         d.pair(5, handle);
         d.pair(330, &records);
@@ -333,83 +351,181 @@ fn block_record_table(d: &mut Dxf) {
     d.pair(0, "ENDTAB");
 }
 
-/// BLOCKS: the model and paper space blocks.
-fn blocks(d: &mut Dxf) {
+/// BLOCKS: the model and paper space blocks, then each strip drawing that
+/// is placed more than once, relative to its insertion point.
+fn blocks(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     d.pair(0, "SECTION");
     d.pair(2, "BLOCKS");
-    for (record, name) in [
+    let fixed = [
         (MODEL_RECORD, "*Model_Space"),
         (PAPER_RECORD, "*Paper_Space"),
-    ] {
-        d.head("BLOCK", record);
-        d.pair(100, "AcDbEntity");
-        d.pair(8, "0");
-        d.pair(100, "AcDbBlockBegin");
-        d.pair(2, name);
-        d.pair(70, 0);
-        for code in [10, 20, 30] {
-            d.pair(code, "0.0");
+    ];
+    for (record, name) in fixed {
+        block_begin(d, record, name);
+        block_end(d, record);
+    }
+    for (b, (record, name)) in plan.records.iter().zip(&plan.names).enumerate() {
+        let first = plan.repeats.first[b];
+        let at = plan.at[first].expect("a block's first group has items");
+        block_begin(d, record, name);
+        for item in &page.groups[first].items {
+            item_entities(d, record, item, colours, &relative(page.height, at));
         }
-        d.pair(3, name);
-        d.pair(1, "");
-        d.head("ENDBLK", record);
-        d.pair(100, "AcDbEntity");
-        d.pair(8, "0");
-        d.pair(100, "AcDbBlockEnd");
+        block_end(d, record);
     }
     d.pair(0, "ENDSEC");
 }
 
-/// ENTITIES: holes as circles, outlines and strokes as polylines, y flipped.
-fn entities(d: &mut Dxf, page: &Page, colours: &Colours) {
+fn block_begin(d: &mut Dxf, record: &str, name: &str) {
+    d.head("BLOCK", record);
+    d.pair(100, "AcDbEntity");
+    d.pair(8, "0");
+    d.pair(100, "AcDbBlockBegin");
+    d.pair(2, name);
+    d.pair(70, 0);
+    for code in [10, 20, 30] {
+        d.pair(code, "0.0");
+    }
+    d.pair(3, name);
+    d.pair(1, "");
+}
+
+fn block_end(d: &mut Dxf, record: &str) {
+    d.head("ENDBLK", record);
+    d.pair(100, "AcDbEntity");
+    d.pair(8, "0");
+    d.pair(100, "AcDbBlockEnd");
+}
+
+/// Which groups are written as blocks (see `repeats`), with each block's
+/// name and record handle and each group's flipped insertion point.
+struct Blocks {
+    repeats: Repeats,
+    at: Vec<Option<(i64, i64)>>,
+    names: Vec<String>,
+    records: Vec<String>,
+}
+
+impl Blocks {
+    fn plan(page: &Page, colours: &Colours) -> Blocks {
+        // A group's drawing written relative to its anchor with throwaway
+        // handles: equal texts are equal drawings.
+        let at: Vec<Option<(i64, i64)>> = page
+            .groups
+            .iter()
+            .map(|g| repeats::anchor(g).map(|(x, y)| (x, units(page.height) - y)))
+            .collect();
+        let keys: Vec<Option<String>> = page
+            .groups
+            .iter()
+            .zip(&at)
+            .map(|(g, at)| {
+                let at = (*at)?;
+                let mut probe = Dxf {
+                    out: String::new(),
+                    next_handle: 0,
+                };
+                for item in &g.items {
+                    item_entities(&mut probe, "0", item, colours, &relative(page.height, at));
+                }
+                Some(probe.out)
+            })
+            .collect();
+        let repeats = repeats::find(&keys);
+        let names = (1..=repeats.first.len())
+            .map(|b| format!("part-{b}"))
+            .collect();
+        Blocks {
+            repeats,
+            at,
+            names,
+            records: Vec::new(),
+        }
+    }
+}
+
+/// Page points to a block's coordinates: flipped (about the page height on
+/// the grid), then offset from the insertion point `at` in grid steps.
+fn relative(height: f64, at: (i64, i64)) -> impl Fn(DVec2) -> DVec2 {
+    let h = units(height) as f64 / 1e4;
+    let shift = repeats::offset(at);
+    move |p: DVec2| shift(DVec2::new(p.x, h - p.y))
+}
+
+/// One item's entities: a hole as a CIRCLE, an outline or stroke as an
+/// LWPOLYLINE, text as one LWPOLYLINE per stroke; points through `map`.
+fn item_entities(
+    d: &mut Dxf,
+    owner: &str,
+    item: &Item,
+    colours: &Colours,
+    map: &dyn Fn(DVec2) -> DVec2,
+) {
+    let layer = item.layer;
+    match &item.shape {
+        Shape::Circle { center, radius } => {
+            d.head("CIRCLE", owner);
+            d.pair(100, "AcDbEntity");
+            d.pair(8, layer.name());
+            d.pair(62, colours.aci(layer));
+            d.pair(100, "AcDbCircle");
+            let c = map(*center);
+            d.pair(10, num(c.x));
+            d.pair(20, num(c.y));
+            d.pair(30, "0.0");
+            d.pair(40, num(*radius));
+        }
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => {
+            lwpolyline(
+                d,
+                owner,
+                layer,
+                colours.aci(layer),
+                &bulged(*start, segments, *closed),
+                *closed,
+                map,
+            );
+        }
+        // No TEXT entities: text is drawn with the single-stroke font.
+        text @ Shape::Text { .. } => {
+            for stroke in crate::drawing::text::strokes(text) {
+                let vertices: Vec<(DVec2, f64)> = stroke.into_iter().map(|p| (p, 0.0)).collect();
+                lwpolyline(d, owner, layer, colours.aci(layer), &vertices, false, map);
+            }
+        }
+    }
+}
+
+/// ENTITIES: an INSERT for each group drawn as a block, the entities of
+/// every other group, y flipped.
+fn entities(d: &mut Dxf, page: &Page, colours: &Colours, plan: &Blocks) {
     let h = page.height;
     let flip = |p: DVec2| DVec2::new(p.x, h - p.y);
     d.pair(0, "SECTION");
     d.pair(2, "ENTITIES");
-    for item in page.groups.iter().flat_map(|g| &g.items) {
-        let layer = item.layer;
-        match &item.shape {
-            Shape::Circle { center, radius } => {
-                d.head("CIRCLE", MODEL_RECORD);
+    for (g, (shared, at)) in page
+        .groups
+        .iter()
+        .zip(plan.repeats.of_group.iter().zip(&plan.at))
+    {
+        match (shared, at) {
+            (Some(b), Some((x, y))) => {
+                d.head("INSERT", MODEL_RECORD);
                 d.pair(100, "AcDbEntity");
-                d.pair(8, layer.name());
-                d.pair(62, colours.aci(layer));
-                d.pair(100, "AcDbCircle");
-                let c = flip(*center);
-                d.pair(10, num(c.x));
-                d.pair(20, num(c.y));
+                d.pair(8, "0");
+                d.pair(100, "AcDbBlockReference");
+                d.pair(2, &plan.names[*b]);
+                d.pair(10, fixed(*x));
+                d.pair(20, fixed(*y));
                 d.pair(30, "0.0");
-                d.pair(40, num(*radius));
             }
-            Shape::Path {
-                start,
-                segments,
-                closed,
-            } => {
-                lwpolyline(
-                    d,
-                    MODEL_RECORD,
-                    layer,
-                    colours.aci(layer),
-                    &bulged(*start, segments, *closed),
-                    *closed,
-                    &flip,
-                );
-            }
-            // No TEXT entities: text is drawn with the single-stroke font.
-            text @ Shape::Text { .. } => {
-                for stroke in crate::drawing::text::strokes(text) {
-                    let vertices: Vec<(DVec2, f64)> =
-                        stroke.into_iter().map(|p| (p, 0.0)).collect();
-                    lwpolyline(
-                        d,
-                        MODEL_RECORD,
-                        layer,
-                        colours.aci(layer),
-                        &vertices,
-                        false,
-                        &flip,
-                    );
+            _ => {
+                for item in &g.items {
+                    item_entities(d, MODEL_RECORD, item, colours, &flip);
                 }
             }
         }

@@ -10,5 +10,6 @@ pub(crate) mod part_types_csv;
 pub(crate) mod parts_csv;
 pub(crate) mod pdf;
 pub mod png;
+mod repeats;
 pub mod svg;
 pub mod viewer;

@@ -3,8 +3,16 @@
 //! outlines, true circles, each strip in a `<g>` named by its ID. Compact:
 //! `fill="none"` and the hairline width set once on the root and inherited,
 //! paths in relative commands (see `path_data`).
+//!
+//! A strip drawing placed more than once (up to a translation) is defined
+//! once in `<defs>` and each strip's `<g>` places it with a `<use>`: a sheet
+//! of 10,000 alike strips holds one drawing. Browsers, librsvg, Inkscape and
+//! svgelements expand `<use>`; a laser program that does not would see only
+//! the unique strips, which is why each `<use>` stays inside its strip's
+//! named group (the trade-off is written in docs/fabrication.md).
 
 use super::number::{fixed, num, units};
+use super::repeats;
 use crate::drawing::{Group, Item, Page, Segment, Shape, hex};
 use std::fmt::Write as _;
 
@@ -125,6 +133,60 @@ fn group(out: &mut String, g: &Group) {
     out.push_str("\n</g>");
 }
 
+/// A group's items moved to offsets from its anchor `at`, as they are
+/// written in `<defs>` (and compared, to find the repeats).
+fn relative_items(g: &Group, at: (i64, i64)) -> String {
+    let shift = repeats::offset(at);
+    let mut out = String::new();
+    for i in &g.items {
+        let moved = Item {
+            shape: i.shape.moved(&shift),
+            ..i.clone()
+        };
+        item(&mut out, &moved);
+    }
+    out
+}
+
+/// The groups, with each drawing used more than once defined in `<defs>`
+/// (`part-1`, `part-2`...) and placed by a `<use>` in each strip's group.
+/// Returns whether any drawing is shared (the root then declares xlink).
+fn groups(out: &mut String, page: &Page) -> bool {
+    let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
+    let drawn: Vec<Option<String>> = page
+        .groups
+        .iter()
+        .zip(&at)
+        .map(|(g, at)| Some(relative_items(g, (*at)?)))
+        .collect();
+    let shared = repeats::find(&drawn);
+    if !shared.first.is_empty() {
+        out.push_str("\n<defs>");
+        for (b, &first) in shared.first.iter().enumerate() {
+            let _ = write!(out, "\n<g id=\"part-{}\">", b + 1);
+            out.push_str(drawn[first].as_deref().expect("a shared drawing"));
+            out.push_str("\n</g>");
+        }
+        out.push_str("\n</defs>");
+    }
+    for (g, (b, at)) in page.groups.iter().zip(shared.of_group.iter().zip(&at)) {
+        match (b, at) {
+            (Some(b), Some((x, y))) => {
+                let _ = write!(
+                    out,
+                    "\n<g id=\"{}\"><use x=\"{}\" xlink:href=\"#part-{}\" y=\"{}\"/></g>",
+                    attr(&g.id),
+                    fixed(*x),
+                    b + 1,
+                    fixed(*y)
+                );
+            }
+            _ => group(out, g),
+        }
+    }
+    !shared.first.is_empty()
+}
+
 /// The page as SVG bytes, written straight into one string (no document
 /// tree: the sheets of a big job have hundreds of thousands of elements).
 pub fn write(page: &Page) -> Vec<u8> {
@@ -134,20 +196,24 @@ pub fn write(page: &Page) -> Vec<u8> {
         .map(|(k, v)| format!("{}: {}", printable(k), printable(v)))
         .collect::<Vec<_>>()
         .join("\n");
-    let mut out = String::with_capacity(1024 + 400 * page.groups.len());
+    let mut body = String::with_capacity(1024 + 100 * page.groups.len());
+    let xlink = if groups(&mut body, page) {
+        " xmlns:xlink=\"http://www.w3.org/1999/xlink\""
+    } else {
+        ""
+    };
+    let mut out = String::with_capacity(1024 + body.len());
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = write!(
         out,
-        "<svg fill=\"none\" height=\"{h}mm\" stroke-width=\"{hairline}\" viewBox=\"0 0 {w} {h}\" width=\"{w}mm\" xmlns=\"http://www.w3.org/2000/svg\">\n<title>{}</title>\n<metadata>\n{}\n</metadata>",
+        "<svg fill=\"none\" height=\"{h}mm\" stroke-width=\"{hairline}\" viewBox=\"0 0 {w} {h}\" width=\"{w}mm\" xmlns=\"http://www.w3.org/2000/svg\"{xlink}>\n<title>{}</title>\n<metadata>\n{}\n</metadata>",
         escape(&printable(&page.title)),
         escape(&text),
         w = num(page.width),
         h = num(page.height),
         hairline = num(HAIRLINE),
     );
-    for g in &page.groups {
-        group(&mut out, g);
-    }
+    out.push_str(&body);
     out.push_str("\n</svg>\n");
     out.into_bytes()
 }

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Read the strip outlines back from a cut sheet with third-party readers:
-svgelements for SVG (per <g> group: how many outline paths and their length),
-ezdxf for DXF (the outlines layer: how many polylines, how many closed, and
-their total length). Prints one JSON object; lengths in mm."""
+svgelements for SVG (per <g> group, <use> expanded: how many outline paths and their length),
+ezdxf for DXF (the outlines layer, blocks expanded: how many polylines, how
+many closed, and their total length). Prints one JSON object; lengths in mm."""
 import json
 import math
 import sys
@@ -18,18 +18,22 @@ if path.endswith(".svg"):
         gid = g.values.get("id")
         if not gid:
             continue
-        paths = [e for e in g if isinstance(e, Path) and e.values.get("class") == "outlines"]
+        # select() walks the group's descendants, through <use> into the drawing it places.
+        paths = [e for e in g.select() if isinstance(e, Path) and e.values.get("class") == "outlines"]
         if paths:
             groups[gid] = [len(paths), sum(p.length(error=1e-10) for p in paths) * mm]
     print(json.dumps({"groups": groups}))
 else:
     import ezdxf
     from ezdxf import path as dxfpath
+    from ezdxf.disassemble import recursive_decompose
 
     doc = ezdxf.readfile(path)
     count = closed = 0
     total = 0.0
-    for e in doc.modelspace().query('LWPOLYLINE[layer=="outlines"]'):
+    for e in recursive_decompose(doc.modelspace()):
+        if e.dxftype() != "LWPOLYLINE" or e.dxf.layer != "outlines":
+            continue
         count += 1
         closed += 1 if e.closed else 0
         pts = list(dxfpath.make_path(e).flattening(distance=1e-5))
