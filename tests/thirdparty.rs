@@ -259,8 +259,8 @@ fn dxf_passes_ezdxf_audit_in_millimetres() {
 
 /// Every hole a tool read back (`[x, y, r]` mm, any order) against the
 /// page's circles (y flipped for DXF), to 0.001 mm.
-fn holes_match(page: &karigami::drawing::Page, read: &Value, flip: bool, what: &str) {
-    use karigami::drawing::Shape;
+fn holes_match(page: &karigami::Page, read: &Value, flip: bool, what: &str) {
+    use karigami::Shape;
     // Both lists on the files' 0.1 um grid, so that they sort alike.
     let grid = |v: f64| (v * 1e4).round() / 1e4;
     let mut want: Vec<[f64; 3]> = page
@@ -298,11 +298,11 @@ fn holes_match(page: &karigami::drawing::Page, read: &Value, flip: bool, what: &
 
 /// The 30 x 30 golden sheet built in-process: strips engraved with their
 /// type, not their ID, so 1800 of them are drawn alike.
-fn alike_strips() -> karigami::build::Build {
+fn alike_strips() -> karigami::Build {
     let recipe = repo().join("tests/golden/sheet-30x30.toml");
     let text = std::fs::read_to_string(&recipe).unwrap();
-    let design = karigami::design::parse(&text, "sheet-30x30").unwrap();
-    karigami::build::build(design).unwrap()
+    let design = karigami::parse(&text, "sheet-30x30").unwrap();
+    karigami::build(design).unwrap()
 }
 
 /// Repeated strips are blocks placed by INSERTs, and `<use>` of one
@@ -315,7 +315,7 @@ fn dxf_blocks_and_svg_uses_expand_to_every_hole_of_the_sheet() {
     for (i, page) in b.pages.iter().enumerate() {
         let strips = page.groups.len() - 1;
         let path = dir.join(format!("sheet-{i}.dxf"));
-        std::fs::write(&path, karigami::write::dxf::write(page)).unwrap();
+        std::fs::write(&path, karigami::formats::dxf::write(page)).unwrap();
         let Some(m) = python_check("check_dxf.py", &path) else {
             return;
         };
@@ -327,7 +327,7 @@ fn dxf_blocks_and_svg_uses_expand_to_every_hole_of_the_sheet() {
         );
         holes_match(page, &m["holes"], true, &format!("DXF sheet {i}"));
         let path = dir.join(format!("sheet-{i}.svg"));
-        let svg = karigami::write::svg::write(page);
+        let svg = karigami::formats::svg::write(page);
         let uses = String::from_utf8_lossy(&svg).matches("<use ").count();
         assert!(uses >= strips / 2, "{uses} <use> for {strips} strips");
         std::fs::write(&path, svg).unwrap();
