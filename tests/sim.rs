@@ -360,8 +360,8 @@ fn joint_frame_at_rest_equals_the_general_formula() {
         let p = (p * rng.normal() + n.cross(p) * rng.normal()).normalize();
         let q = n.cross(p);
         let (a, b) = (Dual::<2, 3>::var(0.0, 0), Dual::<2, 3>::var(0.0, 1));
-        let rest = joint_frame_at_rest(n, p, q, a, b);
-        let general = joint_frame_general(n, p, q, a, b);
+        let rest = joint_frame_at_rest([n, p, q], a, b);
+        let general = joint_frame_general([n, p, q], a, b);
         for (x, y) in [
             (rest.0, general.0),
             (rest.1, general.1),

@@ -47,21 +47,16 @@ pub fn joint_frame<S: Scalar>(
     b: S,
 ) -> (V3<S>, V3<S>, V3<S>) {
     if a.val() == 0.0 && b.val() == 0.0 {
-        joint_frame_at_rest(ns, ps, qs, a, b)
+        joint_frame_at_rest([ns, ps, qs], a, b)
     } else {
-        joint_frame_general(ns, ps, qs, a, b)
+        joint_frame_general([ns, ps, qs], a, b)
     }
 }
 
 /// `joint_frame` at any tilt: the reference for `joint_frame_at_rest`.
 #[inline(always)]
-pub fn joint_frame_general<S: Scalar>(
-    ns: DVec3,
-    ps: DVec3,
-    qs: DVec3,
-    a: S,
-    b: S,
-) -> (V3<S>, V3<S>, V3<S>) {
+pub fn joint_frame_general<S: Scalar>(frame: [DVec3; 3], a: S, b: S) -> (V3<S>, V3<S>, V3<S>) {
+    let [ns, ps, qs] = frame;
     let n = V3::cst(ns)
         .add(V3::cscale(ps, a))
         .add(V3::cscale(qs, b))
@@ -89,19 +84,15 @@ pub fn twist_with<S: Scalar>(c: S, b: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) 
 /// `joint_frame` where the tilt is zero, which is where the solver takes
 /// derivatives (`Model::update_frames` re-bases every joint on its tilt):
 /// the second-order Taylor polynomials of n, p and q in (a, b), so value,
-/// gradient and Hessian are those of `joint_frame` exactly, for a quarter
-/// of the dual arithmetic. With ps x qs = ns:
+/// gradient and Hessian are those of `joint_frame` exactly, with 3 dual
+/// products instead of 14, a square root and 3 reciprocals. With
+/// ps x qs = ns:
 /// n = ns (1 - (a^2 + b^2)/2) + a ps + b qs,
 /// p = ps (1 - a^2/2) - a ns - (ab/2) qs,
 /// q = qs (1 - b^2/2) - b ns - (ab/2) ps.
 #[inline(always)]
-pub fn joint_frame_at_rest<S: Scalar>(
-    ns: DVec3,
-    ps: DVec3,
-    qs: DVec3,
-    a: S,
-    b: S,
-) -> (V3<S>, V3<S>, V3<S>) {
+pub fn joint_frame_at_rest<S: Scalar>(frame: [DVec3; 3], a: S, b: S) -> (V3<S>, V3<S>, V3<S>) {
+    let [ns, ps, qs] = frame;
     let (aa, bb, ab) = (a * a * -0.5, b * b * -0.5, a * b * -0.5);
     let n = V3::cscale(ns, aa + bb + 1.0)
         .add(V3::cscale(ps, a))
