@@ -321,7 +321,16 @@ fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
         .flatten()
         .unwrap_or_else(|| lattice.clone());
     let mut parts = parts;
-    let simulation = simulated(&design, &lattice, &deployment, &mut parts.warnings)?;
+    let simulation = simulated(
+        &design,
+        &lattice,
+        &crate::sim::Derived {
+            placed: &assembled,
+            joints: &joints,
+        },
+        &deployment,
+        &mut parts.warnings,
+    )?;
     Ok(Build {
         steps: steps(&lattice, &joints),
         joints,
@@ -371,6 +380,7 @@ fn job(design: &Design, lattice: &Lattice, parts: &Parts) -> Job {
 fn simulated(
     design: &Design,
     lattice: &Lattice,
+    derived: &crate::sim::Derived<'_>,
     deployment: &Deployment,
     warnings: &mut Vec<crate::parts::Warning>,
 ) -> Result<Option<crate::sim::Simulation>, Diagnostic> {
@@ -379,7 +389,14 @@ fn simulated(
     }
     let settings = &design.simulation;
     let m = &design.fabrication.material;
-    let run = match crate::sim::simulate(lattice, deployment, m.width, m.thickness, settings) {
+    let run = match crate::sim::simulate_with(
+        lattice,
+        deployment,
+        derived,
+        m.width,
+        m.thickness,
+        settings,
+    ) {
         Ok(run) => run,
         Err(e) => {
             warnings.push(crate::parts::Warning {

@@ -3,11 +3,12 @@
 //! specification.
 
 use glam::{DVec2, DVec3};
-use karigami::simulation::{
-    self as sim, Actuation, Material, Settings, VertexJoint, kabsch_distance,
-};
 use karigami::testing::perturb;
 use karigami::{Lattice, deploy::configuration};
+use karigami::{
+    simulation as sim,
+    simulation::{Actuation, Material, Settings, VertexJoint, kabsch_distance},
+};
 use karigami_rods::model::Model;
 use karigami_rods::model::Node;
 use karigami_rods::model::Stencil;
@@ -283,63 +284,105 @@ fn gradient_and_hessian_match_finite_differences() {
             vertex_joint: joint,
             ..Settings::default()
         };
-        let mut lm = sim::prepare(&lattice, 10.0, 1.0, &settings);
-        let m = &mut lm.model;
-        let mut rng = Rng::new(11);
-        for (i, kind) in m.kinds.clone().iter().enumerate() {
-            m.q[i] += match kind {
-                karigami_rods::model::VarKind::Length => 0.3 * rng.normal(),
-                karigami_rods::model::VarKind::Angle => 0.05 * rng.normal(),
-            };
+        // Also with the frames re-based on the random state (tilts 0), where
+        // the solver takes derivatives: the joint frames' Taylor form.
+        for rebase in [false, true] {
+            let mut lm = sim::prepare(&lattice, 10.0, 1.0, &settings);
+            let m = &mut lm.model;
+            let mut rng = Rng::new(11);
+            for (i, kind) in m.kinds.clone().iter().enumerate() {
+                m.q[i] += match kind {
+                    karigami_rods::model::VarKind::Length => 0.3 * rng.normal(),
+                    karigami_rods::model::VarKind::Angle => 0.05 * rng.normal(),
+                };
+            }
+            if rebase {
+                m.apply_ties();
+                m.update_frames();
+            }
+            let (mut worst_g, mut worst_h) = (0.0f64, 0.0f64);
+            let mut reduced_checked = 0;
+            // A sample of stencils of every kind (all of them is slow unoptimised).
+            let picks: Vec<usize> = (0..m.stencils.len()).step_by(3).collect();
+            for &s in &picks {
+                let st = m.stencils[s];
+                let vars = m.stencil_vars(&st);
+                let (e, g, h) = m.stencil_derivatives(&st, &vars);
+                let k = vars.len();
+                // The reduced duals (translation, pivot angle sums) against a
+                // dual variable for every local variable.
+                let (ef, gf, hf) = m.stencil_derivatives_full(&st, &vars);
+                let close = |a: &[f64], b: &[f64]| {
+                    let scale = b.iter().fold(1e-300f64, |s, x| s.max(x.abs()));
+                    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-9 * scale)
+                };
+                assert!(
+                    (e - ef).abs() <= 1e-12 * ef.abs().max(1e-300),
+                    "energy {e} vs {ef}"
+                );
+                assert!(close(&g, &gf), "reduced gradient differs: {g:?} vs {gf:?}");
+                assert!(close(&h, &hf), "reduced Hessian differs");
+                reduced_checked += 1;
+                let step = |i: usize| match m.kinds[vars[i]] {
+                    karigami_rods::model::VarKind::Length => 1e-6,
+                    karigami_rods::model::VarKind::Angle => 2e-7,
+                };
+                let gscale = g.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
+                let hscale = h.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
+                for i in 0..k {
+                    let hi = step(i);
+                    let x0 = m.q[vars[i]];
+                    m.q[vars[i]] = x0 + hi;
+                    let (ep, gp) = (m.stencil_value(&st), m.stencil_derivatives(&st, &vars).1);
+                    m.q[vars[i]] = x0 - hi;
+                    let (em, gm) = (m.stencil_value(&st), m.stencil_derivatives(&st, &vars).1);
+                    m.q[vars[i]] = x0;
+                    let fd = (ep - em) / (2.0 * hi);
+                    worst_g = worst_g.max((fd - g[i]).abs() / gscale);
+                    for j in 0..k {
+                        let fdh = (gp[j] - gm[j]) / (2.0 * hi);
+                        worst_h = worst_h.max((fdh - h[i * k + j]).abs() / hscale);
+                    }
+                }
+            }
+            assert!(reduced_checked > 0);
+            assert!(worst_g < 1e-6, "gradient error {worst_g}");
+            assert!(worst_h < 1e-6, "Hessian error {worst_h}");
         }
-        let (mut worst_g, mut worst_h) = (0.0f64, 0.0f64);
-        let mut reduced_checked = 0;
-        // A sample of stencils of every kind (all of them is slow unoptimised).
-        let picks: Vec<usize> = (0..m.stencils.len()).step_by(3).collect();
-        for &s in &picks {
-            let st = m.stencils[s];
-            let vars = m.stencil_vars(&st);
-            let (e, g, h) = m.stencil_derivatives(&st, &vars);
-            let k = vars.len();
-            // The reduced duals (translation, pivot angle sums) against a
-            // dual variable for every local variable.
-            let (ef, gf, hf) = m.stencil_derivatives_full(&st, &vars);
-            let close = |a: &[f64], b: &[f64]| {
-                let scale = b.iter().fold(1e-300f64, |s, x| s.max(x.abs()));
-                a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-9 * scale)
-            };
-            assert!(
-                (e - ef).abs() <= 1e-12 * ef.abs().max(1e-300),
-                "energy {e} vs {ef}"
-            );
-            assert!(close(&g, &gf), "reduced gradient differs: {g:?} vs {gf:?}");
-            assert!(close(&h, &hf), "reduced Hessian differs");
-            reduced_checked += 1;
-            let step = |i: usize| match m.kinds[vars[i]] {
-                karigami_rods::model::VarKind::Length => 1e-6,
-                karigami_rods::model::VarKind::Angle => 2e-7,
-            };
-            let gscale = g.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
-            let hscale = h.iter().fold(1e-12f64, |a, b| a.max(b.abs()));
-            for i in 0..k {
-                let hi = step(i);
-                let x0 = m.q[vars[i]];
-                m.q[vars[i]] = x0 + hi;
-                let (ep, gp) = (m.stencil_value(&st), m.stencil_derivatives(&st, &vars).1);
-                m.q[vars[i]] = x0 - hi;
-                let (em, gm) = (m.stencil_value(&st), m.stencil_derivatives(&st, &vars).1);
-                m.q[vars[i]] = x0;
-                let fd = (ep - em) / (2.0 * hi);
-                worst_g = worst_g.max((fd - g[i]).abs() / gscale);
-                for j in 0..k {
-                    let fdh = (gp[j] - gm[j]) / (2.0 * hi);
-                    worst_h = worst_h.max((fdh - h[i * k + j]).abs() / hscale);
+    }
+}
+
+/// A joint's frame at zero tilt from its Taylor polynomials against the
+/// general formula (a unit vector and two parallel transports in duals):
+/// value, gradient and Hessian alike to 1e-12, on random stored frames.
+#[test]
+fn joint_frame_at_rest_equals_the_general_formula() {
+    use karigami_rods::dual::{Dual, Scalar};
+    use karigami_rods::frames::{joint_frame_at_rest, joint_frame_general};
+    let mut rng = Rng::new(5);
+    for _ in 0..50 {
+        let n = DVec3::new(rng.normal(), rng.normal(), rng.normal()).normalize();
+        let p = n.any_orthonormal_vector();
+        let p = (p * rng.normal() + n.cross(p) * rng.normal()).normalize();
+        let q = n.cross(p);
+        let (a, b) = (Dual::<2, 3>::var(0.0, 0), Dual::<2, 3>::var(0.0, 1));
+        let rest = joint_frame_at_rest([n, p, q], a, b);
+        let general = joint_frame_general([n, p, q], a, b);
+        for (x, y) in [
+            (rest.0, general.0),
+            (rest.1, general.1),
+            (rest.2, general.2),
+        ] {
+            for (u, v) in [(x.x, y.x), (x.y, y.y), (x.z, y.z)] {
+                assert!((u.val() - v.val()).abs() < 1e-12, "{u:?} vs {v:?}");
+                for k in 0..2 {
+                    assert!((u.g[k] - v.g[k]).abs() < 1e-12, "{u:?} vs {v:?}");
+                }
+                for k in 0..3 {
+                    assert!((u.h[k] - v.h[k]).abs() < 1e-12, "{u:?} vs {v:?}");
                 }
             }
         }
-        assert!(reduced_checked > 0);
-        assert!(worst_g < 1e-6, "gradient error {worst_g}");
-        assert!(worst_h < 1e-6, "Hessian error {worst_h}");
     }
 }
 
@@ -529,18 +572,17 @@ fn bowl_converges_under_refinement() {
     refinement_moves_joints_less_than_1_percent("examples/bowl.toml");
 }
 
+/// Under the recipe's own `[simulation]` settings: the saddle ring's
+/// hold is the mean opening with copies alike (`symmetry = 2`).
 fn refinement_moves_joints_less_than_1_percent(path: &str) {
-    let ring = load(path);
+    let text = std::fs::read_to_string(path).expect("recipe");
+    let d = karigami::parse(&text, "t").expect("parses");
+    let ring = d.grow().expect("grows");
     let deploy = karigami::deploy::deployment(&ring);
-    // The first cell held: under the mean hold the saddle ring has a soft
-    // mode (cells trading openings for under 1 N mm of its 528), so h 10
-    // and 5 mm land 35 mm apart with energies 0.14 % apart; that is the
-    // hold's freedom, not the mesh's error (docs/physics.md, "Deployment").
     let solve_at = |h: f64| {
         let settings = Settings {
             h_max: h,
-            actuation: Actuation::FirstCell,
-            ..Settings::default()
+            ..d.simulation
         };
         sim::simulate(&ring, &deploy, 10.0, 1.0, &settings).expect("simulates")
     };
@@ -687,8 +729,8 @@ fn eggbox_simulates_to_bumps_and_dips() {
 
 /// The saddle ring is designed saddle-like everywhere: its simulated
 /// equilibrium is negatively curved at nearly every interior vertex, and
-/// keeps at least 75 % of the designed mean defect (measured: -3.66 of
-/// -3.84 deg under the mean-opening hold).
+/// keeps at least 75 % of the designed mean defect (measured: -3.62 of
+/// -3.84 deg under the mean-opening hold with its two copies alike).
 #[test]
 fn saddle_ring_simulates_saddle_like() {
     let (design, placed, run) = simulated_shape("examples/saddle-ring.toml");
@@ -870,4 +912,78 @@ fn mean_hold_switches_back_to_one_cell() {
     assert!((lm.opening(0) - theta).abs() < 1e-12);
     let d = kabsch_distance(&lm.points(), &ideal_linkage(&chain, theta));
     assert!(d < 1e-6 && stats.lambda_min > 0.0, "{d} mm, {stats:?}");
+}
+
+/// The saddle ring's soft mode under the mean hold: openings of every
+/// cell at h 10 and 5 mm, by row and column, and their difference.
+#[test]
+#[ignore]
+fn saddle_ring_soft_mode_study() {
+    let ring = load("examples/saddle-ring.toml");
+    let deploy = karigami::deploy::deployment(&ring);
+    let design: Vec<f64> = {
+        let lm = sim::prepare(&ring, 10.0, 1.0, &Settings::default());
+        (0..ring.cells.len()).map(|c| lm.opening(c)).collect()
+    };
+    let act = match std::env::var("HOLD").as_deref() {
+        Ok("first") => Actuation::FirstCell,
+        _ => Actuation::Mean,
+    };
+    let symmetry = std::env::var("SYMMETRY").map_or(1, |s| s.parse().expect("a number"));
+    let run = |h: f64| {
+        let settings = Settings {
+            h_max: h,
+            actuation: act,
+            symmetry,
+            ..Settings::default()
+        };
+        sim::simulate(&ring, &deploy, 10.0, 1.0, &settings).expect("simulates")
+    };
+    let (a, b) = (run(10.0), run(5.0));
+    let d = kabsch_distance(&a.equilibrium.points, &b.equilibrium.points);
+    println!(
+        "distance {d:.3} mm, E {:.3} {:.3}, iterations {} {}",
+        a.equilibrium.energy.total(),
+        b.equilibrium.energy.total(),
+        a.iterations,
+        b.iterations
+    );
+    let rows = ring.cells.iter().map(|c| c.row).max().unwrap() + 1;
+    for r in 0..rows {
+        let mut line = format!("row {r}:");
+        let mut diff = format!("diff {r}:");
+        for (c, cell) in ring.cells.iter().enumerate() {
+            if cell.row == r {
+                let oa = (a.equilibrium.openings[c] - design[c]).to_degrees();
+                let ob = (b.equilibrium.openings[c] - design[c]).to_degrees();
+                line += &format!(" {oa:+.2}");
+                diff += &format!(" {:+.2}", ob - oa);
+            }
+        }
+        println!("{line}\n{diff}");
+    }
+}
+
+/// `[simulation] symmetry`: the saddle ring's 2 is read, 0 is refused at
+/// its place, and a symmetry the lattice does not have is refused by the
+/// simulation naming why (3 cells a row do not split into 2 copies).
+#[test]
+fn simulation_symmetry_is_read_and_checked() {
+    let text = std::fs::read_to_string("examples/saddle-ring.toml").expect("recipe");
+    let read = |t: &str| karigami::parse(t, "t").map(|d| d.simulation.symmetry);
+    assert_eq!(read(&text).expect("parses"), 2);
+    let e = read(&text.replace("symmetry = 2", "symmetry = 0")).expect_err("refused");
+    assert!(e.message.contains("symmetry") && e.span.is_some(), "{e:?}");
+    let grid = uniform_grid();
+    let deploy = karigami::deploy::deployment(&grid);
+    let settings = Settings {
+        symmetry: 2,
+        ..Settings::default()
+    };
+    let e = sim::simulate(&grid, &deploy, 10.0, 1.0, &settings).expect_err("refused");
+    assert!(
+        matches!(e, sim::SimError::Symmetry { copies: 2, .. })
+            && e.to_string().contains("not a multiple of 2"),
+        "{e}"
+    );
 }

@@ -114,9 +114,14 @@ pub(super) fn text(
         sec.b_edge,
         sec.gj
     );
+    let copies = if s.symmetry > 1 && s.actuation == sim::Actuation::Mean {
+        format!(", the loop's {} copies opening alike", s.symmetry)
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         o,
-        "theta ({} held): {:.3} deg",
+        "theta ({} held{copies}): {:.3} deg",
         s.actuation.describe(),
         run.theta.to_degrees()
     );

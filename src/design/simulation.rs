@@ -25,6 +25,8 @@ pub(crate) struct RawSimulation {
     pub(crate) actuation: Option<Spanned<String>>,
     /// Longest rod edge (mm).
     pub(crate) edge_length: Option<Spanned<f64>>,
+    /// Identical copies of a loop lattice's cells around the loop.
+    pub(crate) symmetry: Option<Spanned<i64>>,
 }
 
 fn number(
@@ -92,6 +94,18 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
         "between 0.5 and 1000 mm",
     )? {
         s.h_max = h;
+    }
+    if let Some(n) = &r.symmetry {
+        let v = *n.get_ref();
+        if !(1..=1000).contains(&v) {
+            return Err(Diagnostic::new(
+                ErrorKind::SimulationOutOfRange,
+                format!("[simulation] symmetry is {v}, but must be a whole number from 1 to 1000"),
+            )
+            .at(n.span())
+            .hint("symmetry is how many identical copies of its cells a loop lattice has around the loop (1: none); see docs/physics.md"));
+        }
+        s.symmetry = v as u32;
     }
     if let Some(a) = &r.accept_overstrain {
         s.accept_overstrain = *a.get_ref();

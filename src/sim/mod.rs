@@ -79,6 +79,11 @@ pub struct Settings {
     pub vertex_joint: VertexJoint,
     /// Strips strained beyond eps_allow are accepted by `build`.
     pub accept_overstrain: bool,
+    /// A loop lattice's rotational symmetry: the number of identical
+    /// copies of its cells around the loop (1: none). Under the mean hold,
+    /// every cell then opens as much as its copies (docs/physics.md,
+    /// "Deployment").
+    pub symmetry: u32,
 }
 
 impl Default for Settings {
@@ -90,6 +95,7 @@ impl Default for Settings {
             h_max: 10.0,
             vertex_joint: VertexJoint::Eyelet,
             accept_overstrain: false,
+            symmetry: 1,
         }
     }
 }
@@ -127,6 +133,14 @@ pub enum SimError {
         /// Newton iterations of the step that failed.
         iterations: usize,
     },
+    /// `symmetry` does not fit the lattice: a row's cells do not split
+    /// into that many copies, or the copies' designed openings differ.
+    Symmetry {
+        /// The symmetry asked for.
+        copies: u32,
+        /// What does not fit.
+        why: String,
+    },
     /// The requested opening is outside C(theta)'s valid range.
     Theta {
         /// The requested opening (radians).
@@ -143,6 +157,10 @@ impl std::fmt::Display for SimError {
             SimError::NotConverged { iterations } => {
                 write!(f, "Newton did not converge in {iterations} iterations")
             }
+            SimError::Symmetry { copies, why } => write!(
+                f,
+                "[simulation] symmetry = {copies} does not fit the lattice: {why}"
+            ),
             SimError::Theta { theta, max } => write!(
                 f,
                 "theta {:.2} deg is outside the deployment range (0, {:.2}) deg",
@@ -207,13 +225,40 @@ pub fn equilibrium(lm: &LatticeModel, stats: Stats, material: &Material) -> Equi
 /// The lattice's model, anchored at cell 0's pivot, with the held opening
 /// (`Settings::actuation`) prescribed at the design value.
 pub fn prepare(lattice: &Lattice, width: f64, thickness: f64, settings: &Settings) -> LatticeModel {
+    let derived = Derived {
+        placed: &lattice.placed(),
+        joints: &crate::lattice::joints(lattice),
+    };
+    prepare_with(lattice, &derived, width, thickness, settings)
+}
+
+/// What `build` has computed already and the simulation reuses.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Derived<'a> {
+    /// `lattice.placed()`: the rigid-fit placement of a bent-facet lattice.
+    pub placed: &'a Lattice,
+    /// `lattice::joints(lattice)`: the joint of every vertex.
+    pub joints: &'a [crate::lattice::Joint],
+}
+
+/// `prepare` with the placement and the joints given.
+pub(crate) fn prepare_with(
+    lattice: &Lattice,
+    derived: &Derived<'_>,
+    width: f64,
+    thickness: f64,
+    settings: &Settings,
+) -> LatticeModel {
     let section = settings.material.section(width, thickness);
     let mesh = Mesh {
         h_max: settings.h_max,
         arm: width / 2.0,
         vertex_joint: settings.vertex_joint,
     };
-    let mut lm = LatticeModel::new(lattice, section, mesh);
+    let mut lm = LatticeModel::with_derived(lattice, derived.placed, derived.joints, section, mesh);
+    if let Ok(classes) = copies(lattice, settings.symmetry) {
+        lm.share = classes;
+    }
     if !lm.pivot.is_empty() {
         lm.anchor(0);
         match settings.actuation {
@@ -279,6 +324,22 @@ pub fn simulate(
     thickness: f64,
     settings: &Settings,
 ) -> Result<Simulation, SimError> {
+    let derived = Derived {
+        placed: &lattice.placed(),
+        joints: &crate::lattice::joints(lattice),
+    };
+    simulate_with(lattice, deployment, &derived, width, thickness, settings)
+}
+
+/// `simulate` with the placement and the joints the build has already.
+pub(crate) fn simulate_with(
+    lattice: &Lattice,
+    deployment: &Deployment,
+    derived: &Derived<'_>,
+    width: f64,
+    thickness: f64,
+    settings: &Settings,
+) -> Result<Simulation, SimError> {
     let clock = Instant::now();
     if let Some(t) = settings.theta {
         let max = deployment.config.theta_max;
@@ -286,7 +347,8 @@ pub fn simulate(
             return Err(SimError::Theta { theta: t, max });
         }
     }
-    let mut lm = prepare(lattice, width, thickness, settings);
+    let mut lm = prepare_with(lattice, derived, width, thickness, settings);
+    check_symmetry(lattice, &lm, settings.symmetry)?;
     let (stats, iterations, steps) = deploy(&mut lm, settings.theta, &Options::default())?;
     let theta = lm.held_opening();
     let equilibrium = equilibrium(&lm, stats, &settings.material);
@@ -329,6 +391,71 @@ pub fn placed_lattice(lattice: &Lattice, lm: &LatticeModel) -> Lattice {
         }
     }
     out
+}
+
+/// The class of every cell under an n-fold symmetry of a loop lattice:
+/// cells at the same row and the same column modulo (cells in the row / n)
+/// are copies of one another.
+fn copies(lattice: &Lattice, n: u32) -> Result<Vec<usize>, String> {
+    let n = n.max(1) as usize;
+    let rows = lattice
+        .cells
+        .iter()
+        .map(|c| c.row as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let mut count = vec![0usize; rows];
+    for c in &lattice.cells {
+        count[c.row as usize] += 1;
+    }
+    let mut first = vec![0usize; rows];
+    let mut acc = 0;
+    for r in 0..rows {
+        if count[r] % n != 0 {
+            return Err(format!(
+                "row {r} has {} cells, not a multiple of {n}",
+                count[r]
+            ));
+        }
+        first[r] = acc;
+        acc += count[r] / n;
+    }
+    Ok(lattice
+        .cells
+        .iter()
+        .map(|c| {
+            let period = count[c.row as usize] / n;
+            first[c.row as usize] + c.col as usize % period
+        })
+        .collect())
+}
+
+/// Refuse a symmetry the lattice does not have: copies whose openings in
+/// the start placement differ by more than 0.01 degree.
+fn check_symmetry(lattice: &Lattice, lm: &LatticeModel, n: u32) -> Result<(), SimError> {
+    if n <= 1 {
+        return Ok(());
+    }
+    let err = |why: String| SimError::Symmetry { copies: n, why };
+    let classes = copies(lattice, n).map_err(err)?;
+    let start = &lm.start_openings;
+    let mut seen: Vec<Option<usize>> = vec![None; lattice.cells.len()];
+    for (c, &k) in classes.iter().enumerate() {
+        match seen[k] {
+            None => seen[k] = Some(c),
+            Some(first) if (start[c] - start[first]).abs() > 0.01f64.to_radians() => {
+                return Err(err(format!(
+                    "{} opens {:.3} deg in the design but its copy {} opens {:.3} deg",
+                    lattice.cell_name(&lattice.cells[c]),
+                    start[c].to_degrees(),
+                    lattice.cell_name(&lattice.cells[first]),
+                    start[first].to_degrees()
+                )));
+            }
+            Some(_) => {}
+        }
+    }
+    Ok(())
 }
 
 /// Lattices above this many cells are not simulated by `build`.

@@ -58,12 +58,14 @@ impl LatticeModel {
     }
 
     /// Prescribe the mean opening of all cells, each cell free to differ
-    /// from it. The constraint is eliminated exactly (`Model::ties`): with
-    /// one new variable z_c per cell (z of the last cell fixed at 0, a
-    /// gauge), phi_c = phi + z_c - z_(c-1), cyclically, so the deviations
-    /// sum to zero whatever the z. Each opening depends on two z only,
-    /// which keeps the Hessian sparse (eliminating one cell's opening
-    /// instead would couple it to every other cell).
+    /// from it, and cells of one class (`share`: copies under the lattice's
+    /// symmetry) opening alike. The constraint is eliminated exactly
+    /// (`Model::ties`): with one new variable z_k per class k of m_k cells
+    /// (z of the last class fixed at 0, a gauge), a cell of class k opens
+    /// phi + (z_k - z_(k-1)) / m_k, cyclically, so the deviations sum to
+    /// zero over all cells whatever the z. Each opening depends on two z
+    /// only, which keeps the Hessian sparse (eliminating one cell's
+    /// opening instead would couple it to every other cell).
     pub fn set_mean_opening(&mut self, phi: f64) {
         let n = self.delta.len();
         if n == 0 {
@@ -71,24 +73,34 @@ impl LatticeModel {
         }
         if self.hold != Hold::Mean {
             let mean = self.mean_opening();
+            let classes = self.share.iter().max().map_or(0, |k| k + 1);
+            let mut size = vec![0usize; classes];
+            let mut dev = vec![0.0; classes];
+            for (c, &k) in self.share.iter().enumerate() {
+                size[k] += 1;
+                dev[k] += self.opening(c) - mean;
+            }
             let delta = self.delta.clone();
             let m = &mut self.model;
             m.ties.retain(|t| !delta.iter().any(|d| d.0 == t.var));
-            // z_c from the openings now: their partial sums of deviations.
-            let mut z = vec![0.0; n];
+            // z_k from the openings now: partial sums of the classes'
+            // deviations (a class's cells take their mean).
+            let mut z = vec![0.0; classes];
             let mut acc = 0.0;
-            for (c, &(v, s)) in delta.iter().enumerate().take(n - 1) {
-                acc += s * m.q[v] - mean;
-                z[c] = acc;
+            for k in 0..classes - 1 {
+                acc += dev[k];
+                z[k] = acc;
             }
             let first = m.add_vars(&z, super::model::VarKind::Angle);
-            m.fixed[first + n - 1] = true;
+            m.fixed[first + classes - 1] = true;
             for (c, &(v, s)) in delta.iter().enumerate() {
-                let prev = first + (c + n - 1) % n;
+                let k = self.share[c];
+                let prev = first + (k + classes - 1) % classes;
+                let w = s / size[k] as f64;
                 m.fixed[v] = true;
                 m.ties.push(super::model::Tie {
                     var: v,
-                    terms: vec![(first + c, s), (prev, -s)],
+                    terms: vec![(first + k, w), (prev, -w)],
                     offset: s * mean,
                 });
             }

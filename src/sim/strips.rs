@@ -5,7 +5,7 @@
 //! point.
 
 use super::model::{Edge, Frame, Joint, Model, Node, RodPath, Section, Slot, Stencil, VarKind};
-use crate::lattice::{Lattice, joints};
+use crate::lattice::{Joint as LatticeJoint, Lattice, joints};
 use glam::DVec3;
 
 /// How rod ends at a shared vertex are joined (PHYSICS.md 5).
@@ -56,6 +56,12 @@ pub struct LatticeModel {
     pub(crate) start: Vec<DVec3>,
     /// What deployment holds (`hold_cell`, `hold_mean`).
     pub hold: Hold,
+    /// Per cell: its class under the lattice's symmetry
+    /// (`Settings::symmetry`); the mean hold gives a class one opening.
+    /// Every cell its own class unless a symmetry is set.
+    pub(crate) share: Vec<usize>,
+    /// Opening of every cell in the start placement (radians).
+    pub(crate) start_openings: Vec<f64>,
 }
 
 /// The measure of the deployment that is prescribed (PHYSICS.md 6,
@@ -85,7 +91,18 @@ impl LatticeModel {
     /// Build the model of `lattice` in its design state (bent-facet
     /// lattices: their rigid-fit placement, shared vertices halfway).
     pub fn new(lattice: &Lattice, section: Section, mesh: Mesh) -> LatticeModel {
-        let placed = lattice.placed();
+        Self::with_derived(lattice, &lattice.placed(), &joints(lattice), section, mesh)
+    }
+
+    /// `new` with what the build has computed already: `placed` is
+    /// `lattice.placed()` and `vertex_joints` is `lattice::joints(lattice)`.
+    pub fn with_derived(
+        lattice: &Lattice,
+        placed: &Lattice,
+        vertex_joints: &[LatticeJoint],
+        section: Section,
+        mesh: Mesh,
+    ) -> LatticeModel {
         let cut: Vec<_> = lattice.rods().collect();
         let geo: Vec<_> = placed.rods().collect();
         let nv = lattice.vertices.len();
@@ -201,7 +218,7 @@ impl LatticeModel {
         }
         // Vertices.
         let mut vertex = vec![VertexPlace::None; nv];
-        for jt in joints(lattice) {
+        for jt in vertex_joints {
             if jt.ends.len() < 2 {
                 continue;
             }
@@ -435,8 +452,11 @@ impl LatticeModel {
             vertex,
             start: Vec::new(),
             hold: Hold::Nothing,
+            share: (0..lattice.cells.len()).collect(),
+            start_openings: Vec::new(),
         };
         lm.start = lm.points();
+        lm.start_openings = (0..lm.delta.len()).map(|c| lm.opening(c)).collect();
         lm
     }
 }

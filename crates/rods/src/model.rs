@@ -377,8 +377,11 @@ impl Model {
             4..=6 => self.reduced_n::<6, 21>(s, vars, plan),
             7 => self.reduced_n::<7, 28>(s, vars, plan),
             8 => self.reduced_n::<8, 36>(s, vars, plan),
-            9..=10 => self.reduced_n::<10, 55>(s, vars, plan),
-            11..=13 => self.reduced_n::<13, 91>(s, vars, plan),
+            9 => self.reduced_n::<9, 45>(s, vars, plan),
+            10 => self.reduced_n::<10, 55>(s, vars, plan),
+            11 => self.reduced_n::<11, 66>(s, vars, plan),
+            12 => self.reduced_n::<12, 78>(s, vars, plan),
+            13 => self.reduced_n::<13, 91>(s, vars, plan),
             14..=17 => self.reduced_n::<17, 153>(s, vars, plan),
             n => panic!("a stencil with {n} reduced variables"),
         }
