@@ -121,6 +121,10 @@ pub(crate) fn read_svg(text: &str) -> SvgSheet {
         strips: HashMap::new(),
     };
     let mut group: Option<String> = None;
+    // Drawings written once in <defs> and placed by a <use> in each strip's
+    // group (src/write/svg.rs), read relative to the place they are used at.
+    let mut defs: HashMap<String, SvgStrip> = HashMap::new();
+    let mut in_defs = false;
     for event in svg::read(text).expect("the SVG parses") {
         if let Event::Tag(name, kind, attrs) = event {
             let get = |k: &str| attrs.get(k).map(|v| v.to_string());
@@ -138,6 +142,8 @@ pub(crate) fn read_svg(text: &str) -> SvgSheet {
                         .unwrap();
                     sheet.view_box = numbers(&get("viewBox").unwrap());
                 }
+                ("defs", Type::Start) => in_defs = true,
+                ("defs", Type::End) => in_defs = false,
                 ("g", Type::Start) => group = get("id"),
                 ("g", Type::End) => group = None,
                 ("circle", _) => {
@@ -147,11 +153,35 @@ pub(crate) fn read_svg(text: &str) -> SvgSheet {
                         get("cy").unwrap().parse().unwrap(),
                     );
                     let r: f64 = get("r").unwrap().parse().unwrap();
-                    sheet.strips.entry(g).or_default().holes.push((c, r));
+                    let into = if in_defs {
+                        &mut defs
+                    } else {
+                        &mut sheet.strips
+                    };
+                    into.entry(g).or_default().holes.push((c, r));
                 }
                 ("path", _) if get("class").as_deref() == Some("outlines") => {
                     let g = group.clone().expect("outlines belong to a strip");
-                    sheet.strips.entry(g).or_default().spine = Some(spine(&get("d").unwrap()));
+                    let into = if in_defs {
+                        &mut defs
+                    } else {
+                        &mut sheet.strips
+                    };
+                    into.entry(g).or_default().spine = Some(spine(&get("d").unwrap()));
+                }
+                ("use", _) => {
+                    let g = group.clone().expect("a <use> belongs to a strip");
+                    let href = get("xlink:href").expect("a <use> names its drawing");
+                    let drawing = &defs[href.trim_start_matches('#')];
+                    let at = DVec2::new(
+                        get("x").unwrap().parse().unwrap(),
+                        get("y").unwrap().parse().unwrap(),
+                    );
+                    let strip = sheet.strips.entry(g).or_default();
+                    strip
+                        .holes
+                        .extend(drawing.holes.iter().map(|&(c, r)| (c + at, r)));
+                    strip.spine = drawing.spine.map(|(a, b, r)| (a + at, b + at, r));
                 }
                 _ => {}
             }
