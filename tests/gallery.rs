@@ -226,7 +226,9 @@ fn fitted_examples_stay_within_their_error_bounds() {
     let patch = karigami::parse(PATCH, "ellipsoid-patch").unwrap();
     for (name, bound) in [
         ("torus", 1e-12),
-        ("disk", 1e-12),
+        // The optimiser pulls the disk's last row onto the circle to 1e-7 mm
+        // (its recipe allows 1e-6 mm), not to the rounding of a row-end cut.
+        ("disk", 1e-9),
         ("half-ellipsoid", 1e-12),
         // An open sheet fitted by a direction scan lands near, not on, the surface.
         ("ellipsoid-patch", 0.02),

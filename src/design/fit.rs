@@ -395,19 +395,20 @@ pub fn error(fit: &Fit, lattice: &Lattice) -> (f64, f64) {
     (worst, worst / surface.size())
 }
 
-/// The largest distance of a boundary vertex (the seed's and each row's
-/// two ends) from the target's boundary curve (the disk's circle), or None
-/// for targets without one.
+/// The largest distance of a boundary vertex (the seed's, each row's two
+/// ends and the last row's) from the target's boundary curve (the disk's
+/// circle), or None for targets without one.
 pub(crate) fn boundary_error(fit: &Fit, lattice: &Lattice) -> Option<f64> {
     let Surface::Disk { radius } = fit.surface else {
         return None;
     };
     let m = lattice.width as u32;
+    let last = lattice.vertices.iter().map(|v| v.key.row).max()?;
     Some(
         lattice
             .vertices
             .iter()
-            .filter(|v| v.key.row == 0 || v.key.col == 0 || v.key.col == m)
+            .filter(|v| v.key.row == 0 || v.key.row == last || v.key.col == 0 || v.key.col == m)
             .map(|v| (v.pos.truncate().length() - radius).abs())
             .fold(0.0, f64::max),
     )

@@ -288,6 +288,11 @@ impl Measures {
                 negative_share: c.negative,
                 k_mean: c.k_mean,
                 k_std: c.k_std,
+                bump_deg: BUMP_DEG,
+                bumps_share: self.bumps,
+                dimples_share: self.dimples,
+                bump_rows: self.bump_rows,
+                bump_cols: self.bump_cols,
             }),
             area_ratio: s.area_ratio,
             leg_ratio: s.leg_ratio,
@@ -398,6 +403,13 @@ struct CurvatureJson {
     negative_share: f64,
     k_mean: f64,
     k_std: f64,
+    /// The eggbox's numbers: shares of interior vertices at or beyond
+    /// +-`bump_deg`, and the rows and columns the bumps spread over.
+    bump_deg: f64,
+    bumps_share: f64,
+    dimples_share: f64,
+    bump_rows: usize,
+    bump_cols: usize,
 }
 
 #[derive(Serialize)]
