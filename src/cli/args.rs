@@ -83,10 +83,11 @@ pub(super) enum Command {
         #[command(flatten)]
         fabrication: FabricationFlags,
     },
-    /// Tune a helix seed until it grows the cells the recipe asks for, and
-    /// write the recipe with the tuned seed.
+    /// Tune a recipe and write it back: a helix seed until it grows the cells
+    /// the recipe asks for, or, with an [optimise] table, the variables it
+    /// frees for its objectives and hard constraints.
     #[command(after_help = format!(
-        "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nThe recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the points and kappa change; comments and other settings are kept.\n\n{EXIT_CODES}"
+        "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nA helix recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the tuned values change; comments and other settings are kept.\n\n{EXIT_CODES}"
     ))]
     Tune {
         /// Helix recipe file (TOML).

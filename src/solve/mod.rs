@@ -396,8 +396,9 @@ pub fn optimise(
         return Err(Diagnostic::new(
             ErrorKind::ConstraintNotMet,
             format!(
-                "no admissible design meets require.{name} = {bound}: the best found has {value:.4}, short by {:.4}",
-                (value - bound).abs()
+                "no admissible design meets require.{name} = {bound}: the best found has {}, short by {}",
+                shown(*value),
+                shown((value - bound).abs())
             ),
         )
         .at_opt(span)
@@ -417,4 +418,14 @@ pub fn optimise(
         variables: dims,
         measures: m,
     })
+}
+
+/// A constraint's number as the user can read it: four decimals, or four
+/// significant digits when four decimals would show zero.
+fn shown(x: f64) -> String {
+    if x != 0.0 && x.abs() < 1e-3 {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.4}")
+    }
 }
