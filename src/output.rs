@@ -1,11 +1,11 @@
 //! The output files of a build: every file's path in the output folder and
-//! its bytes. This sits above the pipeline (`build`), the guide and the
+//! its bytes. This sits above the pipeline (`pipeline`), the guide and the
 //! reports, and is the only place that knows which writer makes which file.
 
-use crate::build::Build;
 use crate::drawing::picture::preview;
 use crate::guide::guide;
 use crate::parts::solid;
+use crate::pipeline::Build;
 use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
 
 /// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...

@@ -1,7 +1,7 @@
-//! Derived data is computed once in the staged pipeline (`build::check` ->
+//! Derived data is computed once in the staged pipeline (`pipeline::check` ->
 //! `Checked` -> `assemble` -> `Build`) and carried: the reports, the output
 //! files and the CLI receive the placement, the measures, the joints, the
-//! parts and the steps (`build::Verified`, `Build`'s fields) and never place,
+//! parts and the steps (`pipeline::Verified`, `Build`'s fields) and never place,
 //! measure, join or make parts themselves.
 
 use karigami::{build, build_text, check, check_json, check_text, measure, parse};
@@ -67,12 +67,12 @@ fn only_the_pipeline_derives_and_only_once() {
             assert_eq!(
                 calls(text, token),
                 0,
-                "{path} calls {token}...): take it from the Build or build::Verified"
+                "{path} calls {token}...): take it from the Build or pipeline::Verified"
             );
         }
     }
     // The pipeline derives each once.
-    let pipeline = std::fs::read_to_string("src/build.rs").unwrap();
+    let pipeline = std::fs::read_to_string("src/pipeline.rs").unwrap();
     for token in [
         ".placed()",
         "measure_assembled(",
@@ -80,7 +80,7 @@ fn only_the_pipeline_derives_and_only_once() {
         "parts(",
         "steps(",
     ] {
-        assert_eq!(calls(&pipeline, token), 1, "src/build.rs calls {token}");
+        assert_eq!(calls(&pipeline, token), 1, "src/pipeline.rs calls {token}");
     }
     assert_eq!(calls(&pipeline, "measure("), 0);
 }

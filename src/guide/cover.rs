@@ -4,10 +4,10 @@
 use super::bumps;
 use super::stacking;
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::Font;
 use crate::drawing::flow::{BLACK, BODY, GREY, MARGIN, PageFlow};
 use crate::drawing::picture::{Camera, Fit, RodStyle, lattice_picture};
+use crate::pipeline::Build;
 use glam::DVec2;
 
 pub(super) fn cover(w: &mut PageFlow, b: &Build, steps: &[Step], side: &stacking::Side) {

@@ -2,9 +2,9 @@
 //! eyelets by grip, the test piece, and a 1:1 ruler to check the print.
 
 use super::{mm, spares};
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, BODY, GREY, MARGIN, PageFlow, SMALL, text_item};
 use crate::drawing::{Align, Font, Ink, Item, Shape};
+use crate::pipeline::Build;
 use glam::DVec2;
 
 /// What is engraved on the strips of a type, e.g. "ID 12, code 3, 4 dots 2".
