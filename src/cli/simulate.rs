@@ -6,10 +6,8 @@ use super::error::Error;
 use super::recipe::Recipe;
 use karigami::{
     ErrorKind, Lattice, Overrides,
-    deploy::deployment,
     shape::{self, VertexCurvature},
     simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
-    verify,
 };
 use std::fmt::Write as _;
 use std::path::Path;
@@ -25,9 +23,9 @@ pub(super) fn simulate(
 ) -> Result<(), Error> {
     let recipe = Recipe::read(path)?;
     let design = recipe.parse(&Overrides::default())?;
-    let lattice = design.grow().map_err(|d| recipe.error(&d))?;
-    let report = verify(&lattice);
-    if !report.passed() {
+    // The staged pipeline's first stage, as `karigami check` runs it.
+    let checked = karigami::check(design, &mut |_| {}).map_err(|d| recipe.error(&d))?;
+    if !checked.report.passed() {
         return Err(Error::new(
             ErrorKind::VerificationFailed,
             format!(
@@ -36,7 +34,7 @@ pub(super) fn simulate(
             ),
         ));
     }
-    let deploy = deployment(&lattice);
+    let (design, lattice, deploy) = (&checked.design, &checked.lattice, &checked.deployment);
     let mut settings = design.simulation;
     if let Some(t) = theta {
         settings.theta = Some(t.to_radians());
@@ -45,7 +43,7 @@ pub(super) fn simulate(
         design.fabrication.material.width,
         design.fabrication.material.thickness,
     );
-    let run = sim::simulate(&lattice, &deploy, w, t, &settings).map_err(|e| {
+    let run = sim::simulate(lattice, deploy, w, t, &settings).map_err(|e| {
         Error::new(
             ErrorKind::SimulationFailed,
             format!("{}: simulation failed: {e}", recipe.file),
@@ -56,8 +54,8 @@ pub(super) fn simulate(
             "{}",
             text(
                 &recipe.file,
-                &lattice,
-                &deploy.verdict(&lattice),
+                lattice,
+                &deploy.verdict(lattice),
                 &run,
                 &settings
             )
@@ -71,7 +69,7 @@ pub(super) fn simulate(
         if !v.quiet {
             print!(
                 "{}",
-                explore_text(&lattice, &run.lm, &found, &rejected, n, &settings)
+                explore_text(lattice, &run.lm, &found, &rejected, n, &settings)
             );
         }
     }
