@@ -8,6 +8,7 @@ use karigami::{
     ErrorKind, Lattice, Overrides,
     shape::{self, VertexCurvature},
     simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
+    util::plural,
 };
 use std::fmt::Write as _;
 use std::path::Path;
@@ -203,10 +204,9 @@ pub(super) fn text(
     let st = &eq.stats;
     let _ = writeln!(
         o,
-        "solver: {} Newton iterations in {} step{}, {:.3} s; residual force {:.1e} N, moment {:.1e} N mm; lowest eigenvalue {:.3e} ({})",
+        "solver: {} Newton iterations in {}, {:.3} s; residual force {:.1e} N, moment {:.1e} N mm; lowest eigenvalue {:.3e} ({})",
         run.iterations,
-        run.steps,
-        if run.steps == 1 { "" } else { "s" },
+        plural(run.steps, "step"),
         run.seconds,
         st.force,
         st.moment,
@@ -261,11 +261,10 @@ fn explore_text(
         let to_lowest = lowest.map_or(0.0, |l| sim::kabsch_distance(&eq.points, &l.points));
         let _ = writeln!(
             o,
-            "  {}: energy {:.6e} N mm, {} hit{}, lowest eigenvalue {:.3e}, largest strain {} in {}{}, {:.3} mm from the design, {:.3} mm from the lowest",
+            "  {}: energy {:.6e} N mm, {}, lowest eigenvalue {:.3e}, largest strain {} in {}{}, {:.3} mm from the design, {:.3} mm from the lowest",
             k + 1,
             eq.energy.total(),
-            f.hits.len(),
-            if f.hits.len() == 1 { "" } else { "s" },
+            plural(f.hits.len(), "hit"),
             eq.stats.lambda_min,
             pct(eq.strain.eps),
             eq.strain.rod,
