@@ -19,7 +19,6 @@
 //! ```
 
 mod assembly;
-mod build;
 mod design;
 mod diagnostic;
 mod drawing;
@@ -32,6 +31,7 @@ mod layout;
 mod legs;
 mod output;
 mod parts;
+mod pipeline;
 mod report;
 mod rng;
 mod sim;
@@ -42,8 +42,8 @@ mod write;
 
 // The pipeline's entry points: recipe text -> Design -> Build -> files,
 // with the reports `check` and `build` print.
-pub use build::{Build, Checked, Verified, build, build_with, check};
 pub use output::{files, viewer_scene};
+pub use pipeline::{Build, Checked, Verified, build, build_with, check};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
 
 // Diagnostics: every error the library reports, with its kind and place.

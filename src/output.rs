@@ -1,11 +1,12 @@
 //! The output files of a build: every file's path in the output folder and
-//! its bytes. This sits above the pipeline (`build`), the guide and the
+//! its bytes. This sits above the pipeline (`pipeline`), the guide and the
 //! reports, and is the only place that knows which writer makes which file.
 
-use crate::build::Build;
 use crate::drawing::picture::preview;
 use crate::guide::guide;
+use crate::lattice::Lattice;
 use crate::parts::solid;
+use crate::pipeline::Build;
 use crate::write::{dxf, lattice_json, obj, part_types_csv, parts_csv, pdf, png, svg, viewer};
 
 /// Resolution of the sheet pictures: 2 px/mm (a 600 mm sheet is 1200 px)...
@@ -57,9 +58,11 @@ pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
         "assembly.pdf".to_string(),
         pdf::write_with_symbols(&format!("{name} assembly guide"), &g.pages, &g.symbols),
     ));
-    let picture = match &b.simulation {
-        Some(run) => crate::drawing::picture::preview_captioned(
-            &crate::sim::placed_lattice(&b.lattice, &run.lm),
+    // The simulated shape is placed once, for the preview and the viewer.
+    let simulated = simulated_shape(b);
+    let picture = match &simulated {
+        Some(placed) => crate::drawing::picture::preview_captioned(
+            placed,
             fab.material.width,
             name,
             Some(
@@ -79,7 +82,10 @@ pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
         .map(|s| (s.id.clone(), solid(&b.lattice, s, fab)))
         .collect();
     files.push(("lattice.obj".to_string(), obj::write(name, &solids)));
-    files.push(("viewer.html".to_string(), viewer::write(&viewer_scene(b))));
+    files.push((
+        "viewer.html".to_string(),
+        viewer::write(&scene_with(b, simulated.as_ref())),
+    ));
     if let Some(run) = &b.simulation {
         files.extend(deployed_files(b, run));
     }
@@ -93,6 +99,18 @@ pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
 /// What the viewer page shows: the lattice as built and, where the
 /// build simulated it, the simulated shape beside the designed one.
 pub fn viewer_scene(b: &Build) -> viewer::Scene<'_> {
+    scene_with(b, simulated_shape(b).as_ref())
+}
+
+/// The simulated deployed shape of a build that was simulated: the lattice
+/// with its vertices and pivots where the simulation put them.
+fn simulated_shape(b: &Build) -> Option<Lattice> {
+    let run = b.simulation.as_ref()?;
+    Some(crate::sim::placed_lattice(&b.lattice, &run.lm))
+}
+
+/// `viewer_scene` with the simulated shape already placed.
+fn scene_with<'a>(b: &'a Build, simulated: Option<&crate::lattice::Lattice>) -> viewer::Scene<'a> {
     let mut scene = viewer::Scene::new(
         &b.design,
         &b.lattice,
@@ -102,8 +120,7 @@ pub fn viewer_scene(b: &Build) -> viewer::Scene<'_> {
         &b.deployment,
         &b.steps,
     );
-    if let Some(run) = &b.simulation {
-        let placed = crate::sim::placed_lattice(&b.lattice, &run.lm);
+    if let Some(placed) = simulated {
         let vertices = placed.vertices.iter().map(|v| v.pos);
         scene.simulated = Some(
             vertices

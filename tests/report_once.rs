@@ -1,8 +1,9 @@
-//! Derived data is computed once in the staged pipeline (`build::check` ->
+//! Derived data is computed once in the staged pipeline (`pipeline::check` ->
 //! `Checked` -> `assemble` -> `Build`) and carried: the reports, the output
 //! files and the CLI receive the placement, the measures, the joints, the
-//! parts and the steps (`build::Verified`, `Build`'s fields) and never place,
-//! measure, join or make parts themselves.
+//! parts and the steps (`pipeline::Verified`, `Build`'s fields) and never place,
+//! measure, join or make parts themselves; the simulation takes the
+//! placement and joints the build hands it (`sim::simulate_with`).
 
 use karigami::{build, build_text, check, check_json, check_text, measure, parse};
 
@@ -67,12 +68,12 @@ fn only_the_pipeline_derives_and_only_once() {
             assert_eq!(
                 calls(text, token),
                 0,
-                "{path} calls {token}...): take it from the Build or build::Verified"
+                "{path} calls {token}...): take it from the Build or pipeline::Verified"
             );
         }
     }
     // The pipeline derives each once.
-    let pipeline = std::fs::read_to_string("src/build.rs").unwrap();
+    let pipeline = std::fs::read_to_string("src/pipeline.rs").unwrap();
     for token in [
         ".placed()",
         "measure_assembled(",
@@ -80,9 +81,69 @@ fn only_the_pipeline_derives_and_only_once() {
         "parts(",
         "steps(",
     ] {
-        assert_eq!(calls(&pipeline, token), 1, "src/build.rs calls {token}");
+        assert_eq!(calls(&pipeline, token), 1, "src/pipeline.rs calls {token}");
     }
     assert_eq!(calls(&pipeline, "measure("), 0);
+    // The build hands its placement and joints to the simulation
+    // (`sim::simulate_with`), never the entry point that derives them again.
+    assert_eq!(calls(&pipeline, "simulate_with("), 1);
+    assert_eq!(
+        calls(&pipeline, "simulate("),
+        0,
+        "src/pipeline.rs calls sim::simulate(: pass the Derived to simulate_with"
+    );
+    // The output files place the simulated shape once, for the preview and
+    // the viewer both.
+    let output = std::fs::read_to_string("src/output.rs").unwrap();
+    assert_eq!(
+        calls(&output, "placed_lattice("),
+        1,
+        "src/output.rs places the simulated shape more than once"
+    );
+}
+
+/// The functions of `source`: each from its `fn` line to the next one.
+fn functions(source: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    for line in source.lines() {
+        let t = line.trim_start();
+        let t = t
+            .strip_prefix("pub(crate) ")
+            .or(t.strip_prefix("pub "))
+            .unwrap_or(t);
+        if t.starts_with("fn ") {
+            out.push(String::new());
+        }
+        let last = out.last_mut().unwrap();
+        last.push_str(line);
+        last.push('\n');
+    }
+    out
+}
+
+#[test]
+fn the_simulation_derives_only_in_its_standalone_entry_points() {
+    // The simulation takes the placement and joints it is given (`Derived`);
+    // a function of src/sim that places or joins a lattice itself is a
+    // standalone entry point that hands them on to a `_with` form.
+    let mut sim = Vec::new();
+    sources("src/sim", &mut sim);
+    assert!(sim.len() >= 3, "the scan found src/sim");
+    let mut derivers = 0;
+    for (path, text) in &sim {
+        for f in functions(text) {
+            if calls(&f, ".placed()") + calls(&f, "joints(") == 0 {
+                continue;
+            }
+            derivers += 1;
+            let head = f.lines().next().unwrap_or_default().trim();
+            assert!(
+                f.contains("_with(") || f.contains("with_derived("),
+                "{path}: `{head}` places or joins the lattice without handing it on"
+            );
+        }
+    }
+    assert!(derivers >= 1, "the scan saw the entry points");
 }
 
 fn recipe(name: &str) -> karigami::Design {

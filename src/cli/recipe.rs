@@ -55,7 +55,7 @@ pub(super) fn stem(path: &Path) -> String {
 }
 
 /// Parse, grow, verify and assemble one recipe (the build and batch paths;
-/// `check` stops after `build::check` to report, then assembles).
+/// `check` stops after `pipeline::check` to report, then assembles).
 pub(super) fn run_recipe(
     recipe: &Recipe,
     overrides: &Overrides,

@@ -6,10 +6,9 @@ use super::error::Error;
 use super::recipe::Recipe;
 use karigami::{
     ErrorKind, Lattice, Overrides,
-    deploy::deployment,
     shape::{self, VertexCurvature},
     simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
-    verify,
+    util::plural,
 };
 use std::fmt::Write as _;
 use std::path::Path;
@@ -25,9 +24,9 @@ pub(super) fn simulate(
 ) -> Result<(), Error> {
     let recipe = Recipe::read(path)?;
     let design = recipe.parse(&Overrides::default())?;
-    let lattice = design.grow().map_err(|d| recipe.error(&d))?;
-    let report = verify(&lattice);
-    if !report.passed() {
+    // The staged pipeline's first stage, as `karigami check` runs it.
+    let checked = karigami::check(design, &mut |_| {}).map_err(|d| recipe.error(&d))?;
+    if !checked.report.passed() {
         return Err(Error::new(
             ErrorKind::VerificationFailed,
             format!(
@@ -36,7 +35,7 @@ pub(super) fn simulate(
             ),
         ));
     }
-    let deploy = deployment(&lattice);
+    let (design, lattice, deploy) = (&checked.design, &checked.lattice, &checked.deployment);
     let mut settings = design.simulation;
     if let Some(t) = theta {
         settings.theta = Some(t.to_radians());
@@ -45,7 +44,7 @@ pub(super) fn simulate(
         design.fabrication.material.width,
         design.fabrication.material.thickness,
     );
-    let run = sim::simulate(&lattice, &deploy, w, t, &settings).map_err(|e| {
+    let run = sim::simulate(lattice, deploy, w, t, &settings).map_err(|e| {
         Error::new(
             ErrorKind::SimulationFailed,
             format!("{}: simulation failed: {e}", recipe.file),
@@ -56,8 +55,8 @@ pub(super) fn simulate(
             "{}",
             text(
                 &recipe.file,
-                &lattice,
-                &deploy.verdict(&lattice),
+                lattice,
+                &deploy.verdict(lattice),
                 &run,
                 &settings
             )
@@ -71,7 +70,7 @@ pub(super) fn simulate(
         if !v.quiet {
             print!(
                 "{}",
-                explore_text(&lattice, &run.lm, &found, &rejected, n, &settings)
+                explore_text(lattice, &run.lm, &found, &rejected, n, &settings)
             );
         }
     }
@@ -205,10 +204,9 @@ pub(super) fn text(
     let st = &eq.stats;
     let _ = writeln!(
         o,
-        "solver: {} Newton iterations in {} step{}, {:.3} s; residual force {:.1e} N, moment {:.1e} N mm; lowest eigenvalue {:.3e} ({})",
+        "solver: {} Newton iterations in {}, {:.3} s; residual force {:.1e} N, moment {:.1e} N mm; lowest eigenvalue {:.3e} ({})",
         run.iterations,
-        run.steps,
-        if run.steps == 1 { "" } else { "s" },
+        plural(run.steps, "step"),
         run.seconds,
         st.force,
         st.moment,
@@ -263,11 +261,10 @@ fn explore_text(
         let to_lowest = lowest.map_or(0.0, |l| sim::kabsch_distance(&eq.points, &l.points));
         let _ = writeln!(
             o,
-            "  {}: energy {:.6e} N mm, {} hit{}, lowest eigenvalue {:.3e}, largest strain {} in {}{}, {:.3} mm from the design, {:.3} mm from the lowest",
+            "  {}: energy {:.6e} N mm, {}, lowest eigenvalue {:.3e}, largest strain {} in {}{}, {:.3} mm from the design, {:.3} mm from the lowest",
             k + 1,
             eq.energy.total(),
-            f.hits.len(),
-            if f.hits.len() == 1 { "" } else { "s" },
+            plural(f.hits.len(), "hit"),
             eq.stats.lambda_min,
             pct(eq.strain.eps),
             eq.strain.rod,

@@ -63,7 +63,7 @@ pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
 }
 
 /// `measure` with the lattice as assembled (`Lattice::placed`) at hand: the
-/// pipeline places it once and measures once (`build::Checked`).
+/// pipeline places it once and measures once (`pipeline::Checked`).
 pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice) -> Measures {
     let shape = lattice.shape();
     let curvature = summary(&shape.curvature);

@@ -2,9 +2,9 @@
 
 use super::rect;
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, BODY, GREY, MARGIN, PageFlow};
 use crate::drawing::{Font, Ink, Item};
+use crate::pipeline::Build;
 
 pub(super) fn checklist(w: &mut PageFlow, b: &Build, steps: &[Step]) {
     w.need(90.0);

@@ -4,10 +4,11 @@
 use super::bumps;
 use super::stacking;
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::Font;
 use crate::drawing::flow::{BLACK, BODY, GREY, MARGIN, PageFlow};
 use crate::drawing::picture::{Camera, Fit, RodStyle, lattice_picture};
+use crate::pipeline::Build;
+use crate::words::plural;
 use glam::DVec2;
 
 pub(super) fn cover(w: &mut PageFlow, b: &Build, steps: &[Step], side: &stacking::Side) {
@@ -61,13 +62,12 @@ pub(super) fn cover(w: &mut PageFlow, b: &Build, steps: &[Step], side: &stacking
             )
         },
         format!(
-            "Strips: {} of {} {} mm, {} mm wide, cut from {} sheet{} of {} x {} mm",
+            "Strips: {} of {} {} mm, {} mm wide, cut from {} of {} x {} mm",
             b.parts.strips.len(),
             fab.material.name,
             fab.material.thickness,
             fab.material.width,
-            b.layout.sheets.len(),
-            if b.layout.sheets.len() == 1 { "" } else { "s" },
+            plural(b.layout.sheets.len(), "sheet"),
             fab.sheet.width,
             fab.sheet.height
         ),

@@ -7,10 +7,10 @@
 //! there, so that the cut tiles taped mark on mark make one continuous line.
 
 use super::key;
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, FAINT, GREY, MARGIN, PageFlow, SMALL, text_item};
 use crate::drawing::picture::{PIVOT, VERTEX};
 use crate::drawing::{Align, Font, Ink, Item, Shape, text};
+use crate::pipeline::Build;
 use glam::DVec2;
 
 /// How far consecutive tiles overlap (mm).

@@ -2,9 +2,10 @@
 //! eyelets by grip, the test piece, and a 1:1 ruler to check the print.
 
 use super::{mm, spares};
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, BODY, GREY, MARGIN, PageFlow, SMALL, text_item};
 use crate::drawing::{Align, Font, Ink, Item, Shape};
+use crate::pipeline::Build;
+use crate::words::plural;
 use glam::DVec2;
 
 /// What is engraved on the strips of a type, e.g. "ID 12, code 3, 4 dots 2".
@@ -15,7 +16,7 @@ pub(super) fn engraved(b: &Build, t: &crate::parts::PartType) -> String {
         let what = match b.parts.strips[s].marking {
             Marking::Id | Marking::Compact => "ID".to_string(),
             Marking::Type => "code".to_string(),
-            Marking::Dots(n) => format!("{n} dot{}", if n == 1 { "" } else { "s" }),
+            Marking::Dots(n) => plural(n, "dot"),
             Marking::Arrow => "arrow only".to_string(),
         };
         match counts.iter_mut().find(|c| c.0 == what) {

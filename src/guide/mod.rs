@@ -14,10 +14,10 @@ mod step_page;
 mod step_pictures;
 mod step_text;
 
-use crate::build::Build;
 use crate::drawing::flow::PageFlow;
 use crate::drawing::{Page, Shape, Symbol};
 use crate::lattice::VertexKey;
+use crate::pipeline::Build;
 use checklist::checklist;
 use cover::cover;
 pub use gauge::{GAUGE_OVERLAP, gauge_tiles};

@@ -5,10 +5,10 @@ use super::NEW;
 use super::labels::{Label, Placer};
 use super::step_text::joint_key;
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, GREY};
 use crate::drawing::picture::{Fit, VERTEX};
 use crate::drawing::{Ink, Item, Shape};
+use crate::pipeline::Build;
 use glam::DVec2;
 
 /// Room above and below a step picture for labels set off the lattice (mm).

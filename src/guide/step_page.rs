@@ -10,10 +10,10 @@ use super::step_pictures::{
 use super::step_text::step_text;
 use super::{NEW, rect};
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, FAINT, MARGIN, PageFlow, SMALL, text_item, wrap};
 use crate::drawing::picture::{Fit, RodStyle, crossing_rods, pivots_and_vertices, rods};
 use crate::drawing::{Align, Font, Ink, Item};
+use crate::pipeline::Build;
 use glam::DVec2;
 
 /// How this guide lays out its steps: the picture beside the text for steps

@@ -6,10 +6,10 @@ use super::labels::Placer;
 use super::stacking;
 use super::step_labels::{LABEL_ROOM, Shown, step_labels};
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::flow::{FAINT, MARGIN, PageFlow};
 use crate::drawing::picture::{Camera, Fit, RodStyle, crossing_rods, pivots_and_vertices, rods};
 use crate::drawing::{Place, Symbol};
+use crate::pipeline::Build;
 use glam::DVec2;
 
 /// The height of a step page's picture of the lattice (mm).

@@ -4,9 +4,9 @@
 use super::stacking;
 use super::{NEW, bumps, key, mm};
 use crate::assembly::Step;
-use crate::build::Build;
 use crate::drawing::flow::{BLACK, GREY};
 use crate::lattice::Joint;
+use crate::pipeline::Build;
 use crate::words::plural;
 
 /// A joint as the guide names it: `[row,col]`, or `[k]` on a helix.

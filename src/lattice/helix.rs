@@ -2,10 +2,9 @@
 //! step, fully determined by the seed `y_0 .. y_N` and its kappa.
 
 use super::construct::{Point, lower_right, pivot_from_v2};
-use super::grow::{
-    GrowthError, GrowthErrorKind, MAX_CELLS, Param, check_cell, fmt_len, seed_front,
-};
+use super::grow::{GrowthError, MAX_CELLS, Param, check_cell, fmt_len, seed_front};
 use super::{Cell, Kind, Lattice, Vertex, VertexKey};
+use crate::diagnostic::ErrorKind;
 use glam::DVec3;
 
 /// Relative tolerance of the helix seed condition.
@@ -42,7 +41,7 @@ pub fn grow_helix_partial(
     kappa: &[f64],
     cells: usize,
 ) -> Result<(Lattice, Option<GrowthError>), GrowthError> {
-    use GrowthErrorKind as K;
+    use ErrorKind as K;
     let n = points.len().saturating_sub(1);
     if n < 2 {
         return Err(GrowthError::of_design(
@@ -103,7 +102,7 @@ pub fn grow_helix_partial(
 
 /// Cell k of a helix and its new vertex y_(k+N+1).
 fn grow_cell(lattice: &mut Lattice, k: usize) -> Result<(), GrowthError> {
-    use GrowthErrorKind as K;
+    use ErrorKind as K;
     let n = lattice.width;
     let at = |l: &Lattice, k: usize| {
         let v = &l.vertices[k];

@@ -4,10 +4,10 @@
 //! reports are handed on as `serde_json::Value`, whose maps keep their keys
 //! in order.
 
-use crate::build::{Build, Verified};
 use crate::design::measure::ShapeJson;
 use crate::lattice::Invariant;
 use crate::layout::SheetOption;
+use crate::pipeline::{Build, Verified};
 use serde::Serialize;
 
 /// The verification report of `karigami check --json`.

@@ -1,9 +1,9 @@
 //! The human-readable reports of a check and a build: `karigami check`'s
 //! verification report, report.txt and the terminal summary.
 
-use crate::build::{Build, Verified};
 use crate::lattice::deploy::Deployment;
 use crate::lattice::{Lattice, vertex_eyelet_count};
+use crate::pipeline::{Build, Verified};
 use std::fmt::Write as _;
 
 /// The verification report of `karigami check`.

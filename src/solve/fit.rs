@@ -211,7 +211,7 @@ fn row_note(fit: &Fit, lattice: &Lattice, i: usize) -> String {
 /// tries on the way.
 fn no_row(i: usize) -> GrowthError {
     GrowthError::new(
-        crate::lattice::GrowthErrorKind::InadmissibleDirection,
+        crate::diagnostic::ErrorKind::InadmissibleDirection,
         crate::lattice::Param::Direction,
         Some(i),
         None,

@@ -4,6 +4,7 @@
 //! other angles.
 
 use super::Lattice;
+use crate::words::plural;
 
 mod configuration;
 mod misfit;
@@ -64,16 +65,16 @@ impl Deployment {
                 self.config.theta_max.to_degrees()
             ),
             Some(m) if self.is_mechanism() && lattice.dim == 2 => format!(
-                "a true mechanism: {m} internal degree{} of freedom, and its cells place exactly at every angle tried; it deploys by turning its pivots, strips straight",
-                if m == 1 { "" } else { "s" }
+                "a true mechanism: {} of freedom, and its cells place exactly at every angle tried; it deploys by turning its pivots, strips straight",
+                plural(m, "internal degree")
             ),
             Some(m) if self.is_mechanism() => format!(
-                "a mechanism at the design state: {m} internal degree{} of freedom (a first-order count); it can move by turning its pivots, strips straight",
-                if m == 1 { "" } else { "s" }
+                "a mechanism at the design state: {} of freedom (a first-order count); it can move by turning its pivots, strips straight",
+                plural(m, "internal degree")
             ),
             Some(m) if m > 0 => format!(
-                "{m} internal degree{} of freedom at the design state, but the cells do not stay in place as it opens; it deploys through strip bending",
-                if m == 1 { "" } else { "s" }
+                "{} of freedom at the design state, but the cells do not stay in place as it opens; it deploys through strip bending",
+                plural(m, "internal degree")
             ),
             Some(_) => "rigid as an ideal linkage (0 internal degrees of freedom): it deploys and collapses through strip bending, passing through incompatible states (docs/verification.md, Deployment)".into(),
         }

@@ -36,7 +36,7 @@ pub(crate) enum Param {
 pub struct GrowthError {
     /// What failed (a growth kind of MATH.md 9); decides the name shown and the
     /// exit status.
-    pub kind: GrowthErrorKind,
+    pub kind: ErrorKind,
     pub(crate) param: Param,
     /// The row being grown (`None` for a problem of the seed itself).
     pub(crate) row: Option<usize>,
@@ -48,7 +48,7 @@ pub struct GrowthError {
 
 impl GrowthError {
     pub(crate) fn new(
-        kind: GrowthErrorKind,
+        kind: ErrorKind,
         param: Param,
         row: Option<usize>,
         col: Option<usize>,
@@ -67,7 +67,7 @@ impl GrowthError {
 
     /// An error of the design as a whole (its seed, its size), at no lattice site.
     pub(crate) fn of_design(
-        kind: GrowthErrorKind,
+        kind: ErrorKind,
         param: Param,
         message: impl Into<String>,
         hint: impl Into<String>,
@@ -111,7 +111,7 @@ pub(super) fn transfer_error(
 ) -> GrowthError {
     match refusal {
         Refusal::NotSpacelike => GrowthError::new(
-            GrowthErrorKind::DoubleEdgeNotSpacelike,
+            ErrorKind::DoubleEdgeNotSpacelike,
             Param::Front,
             Some(i),
             Some(j),
@@ -128,7 +128,7 @@ pub(super) fn transfer_error(
 
 pub(super) fn propagated_cone(i: usize, j: usize) -> GrowthError {
     GrowthError::new(
-        GrowthErrorKind::InadmissibleDirection,
+        ErrorKind::InadmissibleDirection,
         Param::Direction,
         Some(i),
         Some(j),
@@ -145,7 +145,7 @@ pub(super) fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), 
         return Err(breakdown(i, j));
     }
     Err(GrowthError::new(
-        GrowthErrorKind::NonPositiveLeg,
+        ErrorKind::NonPositiveLeg,
         Param::Direction,
         Some(i),
         Some(j),
@@ -172,7 +172,7 @@ pub(super) fn check_boundary_leg(
         "right_leg (L3)"
     };
     Err(GrowthError::new(
-        GrowthErrorKind::NonPositiveLeg,
+        ErrorKind::NonPositiveLeg,
         param,
         Some(i),
         Some(j),
@@ -186,7 +186,7 @@ pub(super) fn check_boundary_leg(
 
 pub(super) fn breakdown(i: usize, j: usize) -> GrowthError {
     GrowthError::new(
-        GrowthErrorKind::NumericalBreakdown,
+        ErrorKind::NumericalBreakdown,
         Param::Direction,
         Some(i),
         Some(j),

@@ -10,7 +10,7 @@ impl Grower {
         i: usize,
         params: &RowParams,
     ) -> Result<(), GrowthError> {
-        use GrowthErrorKind as K;
+        use ErrorKind as K;
         let x = self.front.clone();
         let dim = self.lattice.dim;
         let row = Some(i);

@@ -48,8 +48,8 @@ pub struct RowParams {
     pub front: Option<FrontMoves>,
 }
 
-/// The growth errors of MATH.md 9 are kinds of the one error enum.
-pub(crate) use crate::diagnostic::ErrorKind as GrowthErrorKind;
+// The growth errors of MATH.md 9 are kinds of the one error enum.
+use crate::diagnostic::ErrorKind;
 
 /// Grow a sheet from its seed front (`points` with one `kappa` per edge) and
 /// one parameter set per row.
@@ -77,7 +77,7 @@ pub fn grow(
     };
     if width.saturating_mul(rows.len()) > MAX_CELLS {
         return Err(GrowthError::of_design(
-            GrowthErrorKind::TooLarge,
+            ErrorKind::TooLarge,
             Param::SeedPoints,
             format!(
                 "{width} x {} cells is more than the limit of {MAX_CELLS}",
@@ -128,7 +128,7 @@ impl Grower {
         points: &[DVec3],
         kappa: &[f64],
     ) -> Result<Self, GrowthError> {
-        use GrowthErrorKind as K;
+        use ErrorKind as K;
         let closed = kind == Kind::Loop;
         let min = if closed { 3 } else { 2 };
         if points.len() < min {
@@ -270,7 +270,7 @@ impl Grower {
                 let closed = self.lattice.kind == Kind::Loop;
                 let new = rebuild(&pos, closed, self.lattice.dim, moves).map_err(|e| {
                     GrowthError::new(
-                        GrowthErrorKind::FrontNotCompatible,
+                        ErrorKind::FrontNotCompatible,
                         Param::FrontMoves,
                         Some(i),
                         None,
@@ -371,7 +371,7 @@ fn seed_edge(a: DVec3, b: DVec3, kappa: f64, j: usize) -> Result<(), GrowthError
         return Ok(());
     }
     Err(GrowthError::new(
-        GrowthErrorKind::SeedEdgeNotSpacelike,
+        ErrorKind::SeedEdgeNotSpacelike,
         Param::SeedKappa(j),
         None,
         Some(j),
@@ -420,7 +420,7 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
             "flat-open (phi near 180 deg)"
         };
         return Err(GrowthError::new(
-            GrowthErrorKind::DegenerateCell,
+            ErrorKind::DegenerateCell,
             Param::Direction,
             Some(i),
             Some(j),
@@ -435,7 +435,7 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
             None => {}
             Some(s) if s != sign => {
                 return Err(GrowthError::new(
-                    GrowthErrorKind::InvertedCell,
+                    ErrorKind::InvertedCell,
                     Param::Direction,
                     Some(i),
                     Some(j),

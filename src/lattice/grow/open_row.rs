@@ -10,7 +10,7 @@ impl Grower {
         i: usize,
         params: &RowParams,
     ) -> Result<(), GrowthError> {
-        use GrowthErrorKind as K;
+        use ErrorKind as K;
         let m = self.lattice.width;
         self.pivots.iter_mut().for_each(|p| *p = None);
         self.next.iter_mut().for_each(|p| *p = None);

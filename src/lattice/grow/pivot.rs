@@ -19,7 +19,7 @@ pub(super) fn start_pivot(
         let half = (kappa / t.length()).clamp(-1.0, 1.0).acos().to_degrees();
         let axis = angle_between(v2, -t.normalize()).to_degrees();
         GrowthError::new(
-            GrowthErrorKind::InadmissibleDirection,
+            ErrorKind::InadmissibleDirection,
             Param::Direction,
             Some(i),
             Some(j0),
