@@ -107,8 +107,8 @@ pub(crate) fn run() -> i32 {
             // Several recipes, or a folder, build as a batch.
             if designs.len() > 1 || designs.iter().any(|p| p.is_dir()) {
                 files::recipes(&designs).and_then(|recipes| {
-                        batch::build(&recipes, &out, force, jobs, json, &overrides, v)
-                    })
+                    batch::build(&recipes, &out, force, jobs, json, &overrides, v)
+                })
             } else {
                 build::build(&designs, &out, force, json, &overrides, v)
             }
