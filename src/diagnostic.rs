@@ -10,6 +10,11 @@ pub(crate) const EXIT_INVALID: i32 = 1;
 pub(crate) const EXIT_USAGE: i32 = 2;
 /// Exit status of a file that could not be read or written.
 pub(crate) const EXIT_IO: i32 = 3;
+/// Exit status of a refused `--out` (not a build folder, a file, a link,
+/// holding an input, locked by another run): the same as `EXIT_IO`, as the
+/// README promises, because the folder's state, not the command line, is
+/// what has to change.
+pub(crate) const EXIT_OUT_REFUSED: i32 = 3;
 
 /// Write the `ErrorKind` enum once: each kind, whose own name is the name
 /// shown to users, and the exit status it ends a run with.
@@ -53,6 +58,31 @@ error_kinds! {
     Usage => EXIT_USAGE,
     /// The recipe is not TOML, or a value has the wrong type.
     Toml => EXIT_INVALID,
+    /// A folder given as recipes holds no `.toml` file.
+    NoRecipes => EXIT_USAGE,
+    /// Two recipes of a batch would build into the same subfolder.
+    SameSubfolder => EXIT_USAGE,
+
+    // A refused `--out` (README: exit status 3). A refusal writes nothing.
+    /// `--out` names no folder (`.`, `/`, `..`).
+    OutNotAFolderName => EXIT_OUT_REFUSED,
+    /// A folder `--out` would be created in is a file.
+    OutUnderAFile => EXIT_OUT_REFUSED,
+    /// `--out` is a file.
+    OutIsAFile => EXIT_OUT_REFUSED,
+    /// `--out` is a symbolic link.
+    OutIsALink => EXIT_OUT_REFUSED,
+    /// `--out` holds an input of the run.
+    OutHoldsInput => EXIT_OUT_REFUSED,
+    /// `--out` is the current folder or holds it.
+    OutHoldsCurrentFolder => EXIT_OUT_REFUSED,
+    /// `--out` exists and is not a karigami build folder (no `--force`).
+    NotABuildFolder => EXIT_OUT_REFUSED,
+    /// `--out` is a build folder holding files the build did not write (no
+    /// `--force`).
+    BuildFolderHasOtherFiles => EXIT_OUT_REFUSED,
+    /// Another karigami run is writing `--out` right now.
+    OutLocked => EXIT_OUT_REFUSED,
 
     // Growth (MATH.md 9).
     /// The seed has too few points to grow (MATH.md 9).
@@ -372,7 +402,12 @@ impl Diagnostic {
             out.push_str(&snippet(source, span.clone()));
         }
         if let Some(hint) = &self.hint {
-            let _ = writeln!(out, "   = help: {hint}");
+            // `=` under the snippet's bar, whose column grows with the line
+            // number's digits (as rustc does); three spaces without one.
+            let gutter = self
+                .line_col(source)
+                .map_or(2, |(line, _)| line.to_string().len());
+            let _ = writeln!(out, "{} = help: {hint}", " ".repeat(gutter));
         }
         out
     }
@@ -483,6 +518,27 @@ mod tests {
     }
 
     #[test]
+    fn help_sits_under_the_bar_for_every_line_number_width() {
+        for line in [1usize, 9, 10, 99, 100, 12345] {
+            let src = format!("{}x = 1\n", "\n".repeat(line - 1));
+            let start = src.find('x').unwrap();
+            let d = Diagnostic::new(ErrorKind::OutOfRange, "y")
+                .at(start..start + 1)
+                .hint("h");
+            let text = d.render("f", &src);
+            let lines: Vec<&str> = text.lines().collect();
+            let bar = lines[2].find('|').unwrap();
+            assert_eq!(bar, line.to_string().len() + 1, "{text}");
+            let help = lines.last().unwrap();
+            assert_eq!(help.find('='), Some(bar), "{text}");
+            assert!(help.ends_with("= help: h"), "{text}");
+        }
+        // Without a snippet, three spaces as before.
+        let d = Diagnostic::new(ErrorKind::OutOfRange, "y").hint("h");
+        assert!(d.render("f", "").ends_with("\n   = help: h\n"));
+    }
+
+    #[test]
     fn long_lines_are_cut_round_the_span() {
         let src = format!(
             "points = [{}[9.0, 9.0]{}]\n",
@@ -525,7 +581,7 @@ mod tests {
             // The name is the kind's, so no two kinds share one.
             assert_eq!(format!("{k:?}"), name);
             assert!(names.insert(name), "{name} twice");
-            assert!([EXIT_INVALID, EXIT_USAGE, EXIT_IO].contains(&k.exit_code()));
+            assert!([EXIT_INVALID, EXIT_USAGE, EXIT_IO, EXIT_OUT_REFUSED].contains(&k.exit_code()));
         }
         assert_eq!(ErrorKind::Io.exit_code(), EXIT_IO);
         assert_eq!(ErrorKind::UnknownSheetFlag.exit_code(), EXIT_USAGE);

@@ -907,3 +907,45 @@ fn a_killed_single_file_write_leaves_the_file_and_the_next_run_tidies() {
     assert_ne!(fs::read(dir.join("x.toml")).unwrap(), before);
     assert_eq!(hidden(&dir), Vec::<String>::new());
 }
+
+/// Each refusal of the command line or of `--out` reports its own kind in
+/// JSON (`class`) with its exit status: a refused `--out` exits 3 like a
+/// failed write, but is not called `Io`.
+#[test]
+fn each_refusal_is_its_own_kind() {
+    let dir = workspace("refusal-kinds");
+    fs::create_dir_all(dir.join("empty")).unwrap();
+    fs::create_dir_all(dir.join("mine")).unwrap();
+    fs::write(dir.join("mine/notes.txt"), "mine").unwrap();
+    fs::write(dir.join("afile"), "x").unwrap();
+    fs::write(dir.join("A.toml"), fs::read(dir.join("a.toml")).unwrap()).unwrap();
+    let cases: [(&[&str], i32, &str); 7] = [
+        (&["check", "empty"], 2, "NoRecipes"),
+        (
+            &["build", "a.toml", "A.toml", "--out", "o"],
+            2,
+            "SameSubfolder",
+        ),
+        (&["build", "a.toml", "--out", "mine"], 3, "NotABuildFolder"),
+        (&["build", "a.toml", "--out", "afile"], 3, "OutIsAFile"),
+        (
+            &["build", "a.toml", "--out", "afile/sub"],
+            3,
+            "OutUnderAFile",
+        ),
+        (&["build", "a.toml", "--out", "."], 3, "OutNotAFolderName"),
+        (&["check", "missing.toml"], 3, "Io"),
+    ];
+    for (args, code, class) in cases {
+        let mut full = args.to_vec();
+        full.push("--json");
+        let o = run(&full, &dir, None);
+        assert_eq!(o.status.code(), Some(code), "{full:?}: {}", text(&o.stderr));
+        let doc: serde_json::Value = serde_json::from_slice(&o.stdout)
+            .unwrap_or_else(|e| panic!("{full:?}: no JSON ({e}): {}", text(&o.stdout)));
+        let found = doc["error"]["class"]
+            .as_str()
+            .or_else(|| doc[0]["error"]["class"].as_str());
+        assert_eq!(found, Some(class), "{full:?}: {doc}");
+    }
+}

@@ -62,7 +62,7 @@ pub(super) fn build(
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Error> {
-    let folders = folders(paths).map_err(Error::usage)?;
+    let folders = folders(paths)?;
     let out = &open_out(out, paths, force, v)?;
     let shown = out.path().display();
     let staged = Staged::new(out, "batch")
@@ -172,7 +172,7 @@ pub(super) fn build(
 /// from different folders get the folder's name in front (`examples-disk`,
 /// `templates-disk`). Names that differ only in case are refused too, as
 /// they would share a folder on macOS and Windows.
-fn folders(paths: &[PathBuf]) -> Result<Vec<String>, String> {
+fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
     let mut count: BTreeMap<String, usize> = BTreeMap::new();
     for p in paths {
         *count
@@ -204,10 +204,13 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, String> {
     let mut seen: BTreeMap<String, &Path> = BTreeMap::new();
     for (name, p) in names.iter().zip(paths) {
         if let Some(first) = seen.insert(name.to_lowercase(), p) {
-            return Err(format!(
-                "{} and {} would both build into the subfolder {name}/; give one another file name",
-                first.display(),
-                p.display()
+            return Err(Error::new(
+                ErrorKind::SameSubfolder,
+                format!(
+                    "{} and {} would both build into the subfolder {name}/; give one another file name",
+                    first.display(),
+                    p.display()
+                ),
             ));
         }
     }

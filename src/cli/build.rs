@@ -92,7 +92,7 @@ pub(super) fn open_out(
     force: bool,
     v: Verbosity,
 ) -> Result<files::OutDir, Error> {
-    let dir = files::OutDir::open(out, inputs, force).map_err(Error::io)?;
+    let dir = files::OutDir::open(out, inputs, force)?;
     if !v.quiet {
         for note in &dir.notes {
             eprintln!("note: {note}");

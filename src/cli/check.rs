@@ -41,7 +41,7 @@ pub(super) fn check(
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Error> {
-    let paths = files::recipes(paths).map_err(Error::usage)?;
+    let paths = files::recipes(paths)?;
     let mut reports = Vec::new();
     let mut worst: Option<ErrorKind> = None;
     let mut bar = Progress::new(paths.len(), v.quiet || json);

@@ -106,11 +106,9 @@ pub(crate) fn run() -> i32 {
             let overrides = fabrication.overrides();
             // Several recipes, or a folder, build as a batch.
             if designs.len() > 1 || designs.iter().any(|p| p.is_dir()) {
-                files::recipes(&designs)
-                    .map_err(Error::usage)
-                    .and_then(|recipes| {
-                        batch::build(&recipes, &out, force, jobs, json, &overrides, v)
-                    })
+                files::recipes(&designs).and_then(|recipes| {
+                    batch::build(&recipes, &out, force, jobs, json, &overrides, v)
+                })
             } else {
                 build::build(&designs, &out, force, json, &overrides, v)
             }

@@ -2,6 +2,8 @@
 //! recipes a folder holds, and names derived from them made safe to use as
 //! a folder name.
 
+use crate::cli::error::Error;
+use karigami::ErrorKind;
 use std::fs::{self, File};
 use std::io::{self, Read};
 use std::path::{Path, PathBuf};
@@ -99,17 +101,20 @@ pub(crate) fn safe_component(raw: &str) -> String {
 
 /// The recipes named on the command line: files as given, folders as the
 /// `.toml` files directly inside them, sorted by name.
-pub(crate) fn recipes(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+pub(crate) fn recipes(args: &[PathBuf]) -> Result<Vec<PathBuf>, Error> {
     let mut out = Vec::new();
     for arg in args {
         if arg.is_dir() {
             let mut found: Vec<PathBuf> = fs::read_dir(arg)
-                .map_err(|e| format!("cannot read folder {}: {e}", arg.display()))?
+                .map_err(|e| Error::io(format!("cannot read folder {}: {e}", arg.display())))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "toml"))
                 .collect();
             if found.is_empty() {
-                return Err(format!("folder {} holds no .toml recipes", arg.display()));
+                return Err(Error::new(
+                    ErrorKind::NoRecipes,
+                    format!("folder {} holds no .toml recipes", arg.display()),
+                ));
             }
             found.sort();
             out.extend(found);

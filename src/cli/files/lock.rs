@@ -1,6 +1,8 @@
 //! The lock file beside an output folder that keeps two runs from writing
 //! it at once.
 
+use crate::cli::error::Error;
+use karigami::ErrorKind;
 use std::fs::{self, File, OpenOptions};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -9,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// it. The holder removes the file when done, so a run that opened the
 /// file just before it was removed checks that the path still names the
 /// file it locked, and tries again if not.
-pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), String> {
+pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), Error> {
     for _ in 0..100 {
         let file = OpenOptions::new()
             .read(true)
@@ -17,25 +19,31 @@ pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), Stri
             .create(true)
             .truncate(false)
             .open(path)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
         match try_lock(&file) {
             Ok(true) => {}
             Ok(false) => {
-                return Err(format!(
-                    "another karigami run is writing {} right now (it holds {}); wait for it to finish or choose another --out",
-                    out.display(),
-                    path.display()
+                return Err(Error::new(
+                    ErrorKind::OutLocked,
+                    format!(
+                        "another karigami run is writing {} right now (it holds {}); wait for it to finish or choose another --out",
+                        out.display(),
+                        path.display()
+                    ),
                 ));
             }
             Err(e) => {
-                return Err(format!("cannot lock {}: {e}", path.display()));
+                return Err(Error::io(format!("cannot lock {}: {e}", path.display())));
             }
         }
         if same_file(&file, path) {
             return Ok((path.to_path_buf(), file));
         }
     }
-    Err(format!("cannot lock {}: it keeps changing", path.display()))
+    Err(Error::io(format!(
+        "cannot lock {}: it keeps changing",
+        path.display()
+    )))
 }
 
 /// An exclusive lock without waiting: false when another process holds it.

@@ -4,6 +4,8 @@
 
 use super::lock::take_lock;
 use super::{MARKER, MARKER_HEAD, hidden, remove_any};
+use crate::cli::error::Error;
+use karigami::ErrorKind;
 use karigami::util::plural;
 use std::ffi::OsStr;
 use std::fs::{self, File};
@@ -47,11 +49,14 @@ impl OutDir {
     /// Check `out` (a folder name, not a file, not a link, not holding an
     /// input of this run; a build folder unless `force`), take its lock and
     /// repair what interrupted runs left. Errors are whole sentences.
-    pub(crate) fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, String> {
+    pub(crate) fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, Error> {
         let shown = out.display();
         let Some(name) = out.file_name().map(OsStr::to_os_string) else {
-            return Err(format!(
-                "--out {shown} is not a folder name; give the folder to build into, such as --out my-build"
+            return Err(Error::new(
+                ErrorKind::OutNotAFolderName,
+                format!(
+                    "--out {shown} is not a folder name; give the folder to build into, such as --out my-build"
+                ),
             ));
         };
         let parent = match out.parent() {
@@ -63,16 +68,19 @@ impl OutDir {
             .ancestors()
             .find(|a| !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_ok());
         if let Some(existing) = existing.filter(|e| !e.is_dir()) {
-            return Err(format!(
-                "cannot create {shown}: {} is a file, not a folder",
-                existing.display()
+            return Err(Error::new(
+                ErrorKind::OutUnderAFile,
+                format!(
+                    "cannot create {shown}: {} is a file, not a folder",
+                    existing.display()
+                ),
             ));
         }
         // A refusal writes nothing: check before creating the lock file
         // (and again under the lock, which is what counts).
         classify(out, inputs, force)?;
         fs::create_dir_all(&parent)
-            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+            .map_err(|e| Error::io(format!("cannot create {}: {e}", parent.display())))?;
         let lock_path = parent.join(hidden(&name, "lock"));
         let lock = take_lock(&lock_path, out)?;
         let mut dir = Self {
@@ -84,7 +92,7 @@ impl OutDir {
             lock,
         };
         dir.recover()
-            .map_err(|e| format!("cannot tidy up beside {shown}: {e}"))?;
+            .map_err(|e| Error::io(format!("cannot tidy up beside {shown}: {e}")))?;
         dir.previous = classify(out, inputs, force)?;
         Ok(dir)
     }
@@ -135,11 +143,12 @@ impl OutDir {
 }
 
 /// What `target` holds, or why a build must not replace it.
-fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, String> {
+fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, Error> {
+    let refuse = Error::new;
     let shown = target.display();
     let meta = match fs::symlink_metadata(target) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Previous::Nothing),
-        Err(e) => return Err(format!("cannot read {shown}: {e}")),
+        Err(e) => return Err(Error::io(format!("cannot read {shown}: {e}"))),
         Ok(m) => m,
     };
     if meta.file_type().is_symlink() {
@@ -151,21 +160,31 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
         } else {
             ", which does not exist"
         };
-        return Err(format!(
-            "--out {shown} is a symbolic link (to {to}{dangling}); give the real folder as --out"
+        return Err(refuse(
+            ErrorKind::OutIsALink,
+            format!(
+                "--out {shown} is a symbolic link (to {to}{dangling}); give the real folder as --out"
+            ),
         ));
     }
     if !meta.is_dir() {
-        return Err(format!(
-            "--out {shown} is a file, not a folder; choose another --out (--force replaces only folders)"
+        return Err(refuse(
+            ErrorKind::OutIsAFile,
+            format!(
+                "--out {shown} is a file, not a folder; choose another --out (--force replaces only folders)"
+            ),
         ));
     }
-    let real = fs::canonicalize(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let real =
+        fs::canonicalize(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
     for input in inputs {
         if fs::canonicalize(input).is_ok_and(|i| i.starts_with(&real)) {
-            return Err(format!(
-                "--out {shown} holds {}, an input of this run, and building would replace the folder with it; choose another --out",
-                input.display()
+            return Err(refuse(
+                ErrorKind::OutHoldsInput,
+                format!(
+                    "--out {shown} holds {}, an input of this run, and building would replace the folder with it; choose another --out",
+                    input.display()
+                ),
             ));
         }
     }
@@ -173,11 +192,14 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
         .and_then(fs::canonicalize)
         .is_ok_and(|cwd| cwd.starts_with(&real))
     {
-        return Err(format!(
-            "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
+        return Err(refuse(
+            ErrorKind::OutHoldsCurrentFolder,
+            format!(
+                "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
+            ),
         ));
     }
-    let files = list_files(target).map_err(|e| format!("cannot read {shown}: {e}"))?;
+    let files = list_files(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
     if let Some(ours) = fs::read_to_string(target.join(MARKER))
         .ok()
         .filter(|t| t.starts_with(MARKER_HEAD))
@@ -200,16 +222,19 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
         if force {
             return Ok(Previous::Added(added));
         }
-        return Err(format!(
-            "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
-            plural(added.len(), "file"),
-            shortlist(&added),
-            if added.len() == 1 { "it" } else { "them" },
-            if added.len() == 1 { "it" } else { "them" },
+        return Err(refuse(
+            ErrorKind::BuildFolderHasOtherFiles,
+            format!(
+                "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
+                plural(added.len(), "file"),
+                shortlist(&added),
+                if added.len() == 1 { "it" } else { "them" },
+                if added.len() == 1 { "it" } else { "them" },
+            ),
         ));
     }
     let empty = fs::read_dir(target)
-        .map_err(|e| format!("cannot read {shown}: {e}"))?
+        .map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?
         .next()
         .is_none();
     if empty {
@@ -228,9 +253,12 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
     } else {
         format!("{shown} exists and is not a karigami build folder (it has no {MARKER} marker)")
     };
-    Err(format!(
-        "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
-        plural(files.len(), "file")
+    Err(refuse(
+        ErrorKind::NotABuildFolder,
+        format!(
+            "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
+            plural(files.len(), "file")
+        ),
     ))
 }
 
