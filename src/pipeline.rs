@@ -425,6 +425,19 @@ fn simulated(
         .site(format!("strip {}", strain.rod))
         .hint("use thinner or narrower strips, change the design, or accept it with [simulation] accept_overstrain = true (docs/physics.md)"));
     }
+    if strain.eps > allow {
+        // Accepted by the recipe, but the maker should still hear of it.
+        warnings.push(crate::parts::Warning {
+            strip: Some(strain.rod.clone()),
+            message: format!(
+                "strip {} is strained {:.2} % ({}) in the simulated deployed shape, above the allowable {:.2} %; the recipe accepts it ([simulation] accept_overstrain)",
+                strain.rod,
+                100.0 * strain.eps,
+                strain.term,
+                100.0 * allow
+            ),
+        });
+    }
     Ok(Some(run))
 }
 

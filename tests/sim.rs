@@ -987,3 +987,25 @@ fn simulation_symmetry_is_read_and_checked() {
         "{e}"
     );
 }
+
+/// The eggbox's recipe accepts its strips' overstrain: the build still
+/// warns about it, and report.txt states the simulated shape's strain.
+#[test]
+fn an_accepted_overstrain_is_warned_and_reported() {
+    let b = crate::util::example("eggbox");
+    let text = karigami::build_text(b);
+    let warned = text
+        .lines()
+        .find(|l| l.starts_with("warning: strip ") && l.contains("above the allowable 1.50 %"))
+        .expect("an overstrain warning");
+    assert!(warned.contains("accept_overstrain"), "{warned}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("simulated deployed shape (deployed.obj)"))
+        .expect("the simulation line");
+    assert!(
+        line.contains("ABOVE it, accepted by the recipe")
+            && line.contains("(flatwise bending, strip "),
+        "{line}"
+    );
+}

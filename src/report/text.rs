@@ -157,6 +157,9 @@ pub fn build_text(b: &Build) -> String {
             "not compensated (set it in the laser software)"
         }
     );
+    if let Some(sim) = &b.simulation {
+        out.push_str(&simulation_text(sim, &b.design.simulation));
+    }
     for (i, sheet) in b.layout.sheets.iter().enumerate() {
         let piece = if sheet.test_piece.is_some() {
             " and the test piece"
@@ -290,4 +293,28 @@ fn sheet_advice(b: &Build) -> Option<String> {
             best.name
         )
     })
+}
+
+/// report.txt's line on the simulated deployed shape (docs/physics.md).
+/// Fixed decimals: the noise of a zero-energy shape prints as 0.
+fn simulation_text(sim: &crate::sim::Simulation, settings: &crate::sim::Settings) -> String {
+    let e = &sim.equilibrium;
+    let allow = settings.material.eps_allow;
+    let at = if 100.0 * e.strain.eps >= 0.005 {
+        format!(" ({}, strip {})", e.strain.term, e.strain.rod)
+    } else {
+        String::new()
+    };
+    let verdict = if e.strain.eps > allow {
+        "ABOVE it, accepted by the recipe ([simulation] accept_overstrain)"
+    } else {
+        "within it"
+    };
+    format!(
+        "simulated deployed shape (deployed.obj): energy {:.3} N mm; largest strain {:.2} %{at}, allowable {:.2} %: {verdict}; {:.1} mm from the design after the best rigid fit\n",
+        e.energy.total(),
+        100.0 * e.strain.eps,
+        100.0 * allow,
+        e.distance
+    )
 }
