@@ -110,7 +110,7 @@ fn simulated_shape(b: &Build) -> Option<Lattice> {
 }
 
 /// `viewer_scene` with the simulated shape already placed.
-fn scene_with<'a>(b: &'a Build, simulated: Option<&crate::lattice::Lattice>) -> viewer::Scene<'a> {
+fn scene_with<'a>(b: &'a Build, simulated: Option<&Lattice>) -> viewer::Scene<'a> {
     let mut scene = viewer::Scene::new(
         &b.design,
         &b.lattice,
