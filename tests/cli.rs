@@ -131,7 +131,8 @@ fn build_writes_lattice_json_in_the_documented_schema() {
         .skip(1)
         .step_by(2)
         .collect();
-    assert_eq!(top, ["kind", "sheet", "dim", "extrinsic"]);
+    assert_eq!(top, ["format", "kind", "sheet", "dim", "extrinsic"]);
+    assert_eq!(json["format"], 2);
     assert_eq!(json["kind"], "sheet");
     assert_eq!(json["dim"], 2);
     assert_eq!(json["extrinsic"], true);
@@ -139,32 +140,20 @@ fn build_writes_lattice_json_in_the_documented_schema() {
         key_order(&raw, "{\"key\":[0,0],\"pos\""),
         ["key", "pos", "z"]
     );
+    // An extrinsic lattice writes no frame and no rebuilt top corners.
     assert_eq!(
-        key_order(&raw, "{\"key\":[0,0],\"ul\""),
-        [
-            "key", "ul", "ur", "ll", "lr", "frame", "pivot", "z_pivot", "corners", "legs", "kappa",
-            "phi"
-        ]
+        key_order(&raw, "{\"key\":[0,0],\"vertices\""),
+        ["key", "vertices", "pivot", "z_pivot", "layers"]
     );
-    assert_eq!(
-        key_order(&raw, "{\"id\":0,"),
-        [
-            "id", "cell", "type", "start", "end", "legs", "length", "holes", "hole_pos"
-        ]
-    );
-    assert_eq!(
-        key_order(&raw, "{\"vertex\":[0,0]"),
-        ["vertex", "n_rods", "needs_eyelet", "rods"]
-    );
+    // What format 2 derives instead of writing.
+    for gone in ["\"rods\"", "\"eyelets\"", "\"legs\"", "\"kappa\"", "\"corners\""] {
+        assert!(!raw.contains(gone), "{gone} is derived, not written");
+    }
 
     let vertices = json["vertices"].as_array().unwrap();
     let cells = json["cells"].as_array().unwrap();
-    let rods = json["rods"].as_array().unwrap();
-    let eyelets = json["eyelets"].as_array().unwrap();
     assert_eq!(vertices.len(), 7 * 9);
     assert_eq!(cells.len(), 6 * 8);
-    assert_eq!(rods.len(), 2 * cells.len());
-    assert_eq!(eyelets.len(), vertices.len());
     assert_eq!(vertices[0]["z"], 0.0, "z = 0 at the first seed vertex");
     // Creation order: seed front, then row by row, left to right.
     for (n, v) in vertices.iter().enumerate() {
@@ -173,60 +162,38 @@ fn build_writes_lattice_json_in_the_documented_schema() {
     }
     let f = |v: &Value| v.as_f64().unwrap();
     let pos = |v: &Value| -> Vec<f64> { v.as_array().unwrap().iter().map(f).collect() };
-    let dist = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .map(|(x, y)| (x - y).powi(2))
-            .sum::<f64>()
-            .sqrt()
-    };
-    let by_key = |key: &Value| vertices.iter().find(|v| &v["key"] == key).unwrap();
+    let corner = |cell: &Value, k: usize| &vertices[cell["vertices"][k].as_u64().unwrap() as usize];
+    // The joints, derived as docs/lattice-json.md says: per vertex, the
+    // layers of the rod ends meeting there.
+    let mut joints: Vec<Vec<u64>> = vec![Vec::new(); vertices.len()];
     for (c, cell) in cells.iter().enumerate() {
-        assert_eq!(cell["key"], serde_json::json!([c / 8, c % 8]));
-        let legs: Vec<f64> = pos(&cell["legs"]);
-        let pivot = pos(&cell["pivot"]);
-        for (k, corner) in ["ul", "ll", "lr", "ur"].iter().enumerate() {
-            let v = pos(&by_key(&cell[*corner])["pos"]);
-            assert!(
-                (dist(&v, &pivot) - legs[k]).abs() < 1e-9,
-                "leg {k} of cell {c}"
-            );
+        let (i, j) = (c / 8, c % 8);
+        assert_eq!(cell["key"], serde_json::json!([i, j]));
+        // UL, UR, LL, LR are the cell's grid corners.
+        for (k, (di, dj)) in [(0, 0), (0, 1), (1, 0), (1, 1)].into_iter().enumerate() {
+            assert_eq!(corner(cell, k)["key"], serde_json::json!([i + di, j + dj]));
         }
-        let kappa = f(&by_key(&cell["ul"])["z"]) - f(&by_key(&cell["ur"])["z"]);
-        assert!((f(&cell["kappa"]) - kappa).abs() < 1e-12);
-        let phi = f(&cell["phi"]);
-        assert!(phi > 0.0 && phi < std::f64::consts::PI);
-        // Rods A then B; holes at 0, first leg, length.
-        for (r, kind, legs_of) in [(2 * c, "A", [0, 2]), (2 * c + 1, "B", [3, 1])] {
-            let rod = &rods[r];
-            assert_eq!(rod["id"], r);
-            assert_eq!(rod["type"], kind);
-            assert_eq!(rod["cell"], cell["key"]);
-            let rl = pos(&rod["legs"]);
-            assert_eq!(rl, [legs[legs_of[0]], legs[legs_of[1]]]);
-            assert_eq!(pos(&rod["holes"]), [0.0, rl[0], rl[0] + rl[1]]);
-            assert_eq!(f(&rod["length"]), rl[0] + rl[1]);
-            assert_eq!(pos(&rod["hole_pos"][1]), pivot);
+        // Scissor cells: the pivot lies on both rods, UL-LR and UR-LL.
+        let pivot = pos(&cell["pivot"]);
+        for (from, to) in [(0, 3), (1, 2)] {
+            let (a, b) = (pos(&corner(cell, from)["pos"]), pos(&corner(cell, to)["pos"]));
+            let cross = (b[0] - a[0]) * (pivot[1] - a[1]) - (b[1] - a[1]) * (pivot[0] - a[0]);
+            assert!(cross.abs() < 1e-9, "cell {c}: the pivot is off a rod");
+        }
+        let layers = pos(&cell["layers"]);
+        for (k, slot) in [(0, 0), (1, 1), (2, 1), (3, 0)] {
+            let v = cell["vertices"][k].as_u64().unwrap() as usize;
+            joints[v].push(layers[slot] as u64);
         }
     }
-    // Eyelets: an interior vertex joins 4 rod ends, a corner 1; layers distinct.
-    let interior = eyelets
-        .iter()
-        .find(|e| e["vertex"] == serde_json::json!([2, 3]))
-        .unwrap();
-    assert_eq!(interior["n_rods"], 4);
-    assert_eq!(interior["needs_eyelet"], true);
-    let mut layers: Vec<u64> = interior["rods"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|r| r["layer"].as_u64().unwrap())
-        .collect();
+    // An interior vertex joins 4 rod ends in 4 distinct layers, a corner 1.
+    let interior = &joints[2 * 9 + 3];
+    assert_eq!(interior.len(), 4);
+    let mut layers = interior.clone();
     layers.sort();
     layers.dedup();
     assert_eq!(layers.len(), 4);
-    assert_eq!(eyelets[0]["n_rods"], 1);
-    assert_eq!(eyelets[0]["needs_eyelet"], false);
+    assert_eq!(joints[0].len(), 1);
 }
 
 #[test]

@@ -214,6 +214,35 @@ fn segment_distance(a0: DVec2, a1: DVec2, b0: DVec2, b1: DVec2) -> f64 {
         .min(point_seg(b1, a0, a1))
 }
 
+/// Each rod's two legs, by id, derived from lattice.json's cells as
+/// docs/lattice-json.md says: rod A of cell c (id 2c) runs UL-pivot-LR,
+/// rod B (id 2c + 1) UR-pivot-LL, UL and UR from `top` where a row rebuilt.
+fn rod_legs(lattice: &Value) -> Vec<[f64; 2]> {
+    let vertices = lattice["vertices"].as_array().unwrap();
+    let xyz = |v: &Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let mut legs = Vec::new();
+    for cell in lattice["cells"].as_array().unwrap() {
+        let corner = |k: usize| {
+            if k < 2 && !cell["top"].is_null() {
+                return xyz(&cell["top"][k]);
+            }
+            xyz(&vertices[cell["vertices"][k].as_u64().unwrap() as usize]["pos"])
+        };
+        let p = xyz(&cell["pivot"]);
+        let [ul, ur, ll, lr] = [0, 1, 2, 3].map(|k| dist(&p, &corner(k)));
+        legs.push([ul, lr]);
+        legs.push([ur, ll]);
+    }
+    legs
+}
+
 /// Check every written sheet of a build against its lattice.json and parts.csv.
 pub(crate) fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
     let file = |name: &str| {
@@ -224,7 +253,7 @@ pub(crate) fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
             .1
     };
     let lattice: Value = serde_json::from_slice(file("lattice.json")).unwrap();
-    let rods = lattice["rods"].as_array().unwrap();
+    let rods = rod_legs(&lattice);
     let csv = String::from_utf8(file("parts.csv").clone()).unwrap();
     let rod_of: HashMap<&str, usize> = csv
         .lines()
@@ -266,13 +295,7 @@ pub(crate) fn check_files(files: &[(String, Vec<u8>)], margin: f64, gap: f64) {
                 continue;
             }
             seen += 1;
-            let rod = &rods[rod_of[id.as_str()]];
-            let legs: Vec<f64> = rod["legs"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_f64().unwrap())
-                .collect();
+            let legs = rods[rod_of[id.as_str()]];
             assert_eq!(s.holes.len(), 3, "{id}: three holes");
             for (k, leg) in legs.iter().enumerate() {
                 let measured = s.holes[k].0.distance(s.holes[k + 1].0);

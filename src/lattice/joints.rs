@@ -12,15 +12,6 @@ pub(crate) enum RodEnd {
     End,
 }
 
-impl RodEnd {
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            RodEnd::Start => "start",
-            RodEnd::End => "end",
-        }
-    }
-}
-
 /// One rod end at a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct JointEnd {

@@ -1,10 +1,19 @@
-//! `lattice.json` in the exchange schema of MATH.md 11: exact field names,
-//! vertices/cells/rods/eyelets in lattice order, numbers at full f64
-//! round-trip precision. One record per line keeps large files diffable.
+//! `lattice.json`, format 2: the grown lattice as exchanged with other
+//! tools. Only what was grown is written (vertices; each cell's corner
+//! vertices, pivot and stacking layers); what follows from it (legs,
+//! kappa, phi, the rods and the eyelets) is left to the reader, with the
+//! formulas in docs/lattice-json.md. Numbers at full f64 round-trip
+//! precision; one record per line keeps large files diffable.
+//!
+//! Format 1 also wrote the derived numbers and every vertex key again in
+//! each cell, rod and eyelet: 14.2 MB for a 100 x 100 sheet, 1.9 MB now.
 
-use crate::lattice::{Cell, Joint, Kind, Lattice, VertexKey};
+use crate::lattice::{Cell, Joint, Kind, Lattice, RodType, VertexKey};
 use glam::DVec3;
 use serde::Serialize;
+
+/// The format written; docs/lattice-json.md says what changed from 1.
+pub(crate) const FORMAT: u32 = 2;
 
 #[derive(Serialize)]
 struct VertexJson {
@@ -16,48 +25,19 @@ struct VertexJson {
 #[derive(Serialize)]
 struct CellJson {
     key: Vec<u32>,
-    ul: Vec<u32>,
-    ur: Vec<u32>,
-    ll: Vec<u32>,
-    lr: Vec<u32>,
-    frame: u32,
+    /// Indices into `vertices` of UL, UR, LL, LR.
+    vertices: [u32; 4],
+    /// Only in a lattice that is not extrinsic.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frame: Option<u32>,
+    /// UL and UR in the cell's frame, only where the row rebuilt its front
+    /// (elsewhere they are the vertices' positions).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    top: Option<[Vec<f64>; 2]>,
     pivot: Vec<f64>,
     z_pivot: f64,
-    corners: [Vec<f64>; 4],
-    legs: [f64; 4],
-    kappa: f64,
-    phi: f64,
-}
-
-#[derive(Serialize)]
-struct RodJson {
-    id: usize,
-    cell: Vec<u32>,
-    #[serde(rename = "type")]
-    kind: &'static str,
-    start: Vec<u32>,
-    end: Vec<u32>,
-    legs: [f64; 2],
-    length: f64,
-    holes: [f64; 3],
-    hole_pos: [Vec<f64>; 3],
-}
-
-#[derive(Serialize)]
-struct EyeletJson {
-    vertex: Vec<u32>,
-    n_rods: usize,
-    needs_eyelet: bool,
-    rods: Vec<EyeletRodJson>,
-}
-
-#[derive(Serialize)]
-struct EyeletRodJson {
-    rod: usize,
-    #[serde(rename = "type")]
-    kind: &'static str,
-    end: &'static str,
-    layer: u32,
+    /// Stacking layers of rod A and rod B at their joints.
+    layers: [u32; 2],
 }
 
 /// `[i, j]`, or `[k]` for a helix.
@@ -75,26 +55,35 @@ fn cell_key(lattice: &Lattice, c: &Cell) -> Vec<u32> {
     }
 }
 
-/// The frame a row's cells are stored in: the last row at or before it
-/// that grew on a rebuilt front (0 when none did).
-fn frame(lattice: &Lattice, row: u32) -> u32 {
-    (0..=row as usize)
-        .rev()
-        .find(|&r| lattice.fronts.get(r).is_some_and(|f| !f.is_empty()))
-        .unwrap_or(0) as u32
-}
-
-/// The lattice as lattice.json bytes, with its joints (`lattice::joints`).
-pub(crate) fn write(lattice: &Lattice, joints: &[Joint]) -> Vec<u8> {
+/// The lattice as lattice.json bytes. Its joints (`lattice::joints`) are
+/// not written: they follow from the cells' corners and layers.
+pub(crate) fn write(lattice: &Lattice, _joints: &[Joint]) -> Vec<u8> {
     let dim = lattice.dim;
     let pos = |p: DVec3| p.to_array()[..dim].to_vec();
-    let vkey = |v: u32| key(lattice, lattice.vertex(v).key);
+    let extrinsic = lattice.extrinsic();
+    let rebuilt = |row: u32| {
+        lattice
+            .fronts
+            .get(row as usize)
+            .is_some_and(|f| !f.is_empty())
+    };
+    // The frame a row's cells are stored in: the last row at or before it
+    // that grew on a rebuilt front (0 when none did).
+    let mut frames = Vec::with_capacity(lattice.fronts.len());
+    let mut last = 0;
+    for row in 0..lattice.fronts.len() as u32 {
+        if rebuilt(row) {
+            last = row;
+        }
+        frames.push(last);
+    }
+    let frame_of = |row: u32| frames.get(row as usize).copied().unwrap_or(last);
     let mut out = String::new();
     out.push_str(&format!(
-        "{{\"kind\": \"{}\", \"dim\": {}, \"extrinsic\": {},\n",
+        "{{\"format\": {FORMAT}, \"kind\": \"{}\", \"dim\": {}, \"extrinsic\": {},\n",
         lattice.kind.name(),
         dim,
-        lattice.extrinsic()
+        extrinsic
     ));
     section(
         &mut out,
@@ -109,58 +98,17 @@ pub(crate) fn write(lattice: &Lattice, joints: &[Joint]) -> Vec<u8> {
     section(
         &mut out,
         "cells",
-        lattice.cells.iter().map(|c| CellJson {
-            key: cell_key(lattice, c),
-            ul: vkey(c.ul),
-            ur: vkey(c.ur),
-            ll: vkey(c.ll),
-            lr: vkey(c.lr),
-            frame: frame(lattice, c.row),
-            pivot: pos(c.pivot),
-            z_pivot: c.z_pivot,
-            corners: lattice.corners(c).map(pos),
-            legs: lattice.legs(c),
-            kappa: lattice.kappa(c),
-            phi: lattice.phi(c),
-        }),
-    );
-    out.push_str(",\n");
-    section(
-        &mut out,
-        "rods",
-        lattice.rods().map(|r| {
-            let cell = &lattice.cells[r.cell];
-            RodJson {
-                id: r.id,
-                cell: cell_key(lattice, cell),
-                kind: r.kind.letter(),
-                start: vkey(r.start),
-                end: vkey(r.end),
-                legs: r.legs,
-                length: r.length(),
-                holes: r.holes(),
-                hole_pos: r.hole_pos.map(pos),
+        lattice.cells.iter().map(|c| {
+            let [ul, ur, _, _] = lattice.corners(c);
+            CellJson {
+                key: cell_key(lattice, c),
+                vertices: [c.ul, c.ur, c.ll, c.lr],
+                frame: (!extrinsic).then(|| frame_of(c.row)),
+                top: rebuilt(c.row).then(|| [pos(ul), pos(ur)]),
+                pivot: pos(c.pivot),
+                z_pivot: c.z_pivot,
+                layers: [lattice.layer(c, RodType::A), lattice.layer(c, RodType::B)],
             }
-        }),
-    );
-    out.push_str(",\n");
-    section(
-        &mut out,
-        "eyelets",
-        joints.iter().map(|j| EyeletJson {
-            vertex: vkey(j.vertex),
-            n_rods: j.ends.len(),
-            needs_eyelet: j.needs_eyelet(),
-            rods: j
-                .ends
-                .iter()
-                .map(|e| EyeletRodJson {
-                    rod: e.rod,
-                    kind: e.kind.letter(),
-                    end: e.end.name(),
-                    layer: e.layer,
-                })
-                .collect(),
         }),
     );
     out.push_str("\n}\n");
