@@ -239,10 +239,20 @@ fn lattice_obj_has_one_box_per_strip() {
             [x[0], x[1], x[2]]
         })
         .collect();
-    for f in obj.lines().filter_map(|l| l.strip_prefix("f ")) {
+    // Faces name their own box's vertices, relative to the last one written
+    // (-1), as Blender and trimesh read them.
+    let mut written = 0;
+    for l in obj.lines() {
+        if l.starts_with("v ") {
+            written += 1;
+        }
+        let Some(f) = l.strip_prefix("f ") else {
+            continue;
+        };
         for i in f.split(' ') {
-            let i: usize = i.parse().unwrap();
-            assert!((1..=v.len()).contains(&i));
+            let i: i64 = i.parse().unwrap();
+            assert!((-8..=-1).contains(&i), "{l}");
+            assert!(written + i >= 0 && written % 8 == 0, "{l}: outside its box");
         }
     }
     // Each box is as long, wide and thick as its strip.

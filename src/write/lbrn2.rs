@@ -5,8 +5,9 @@
 //!
 //! The format is LightBurn's XML: a `LightBurnProject` root, one
 //! `CutSetting` per layer (its `index` is also the layer's colour in
-//! LightBurn's palette) and one `Shape` per item. Circles are `Ellipse`
-//! shapes placed by their `XForm`; paths are `Path` shapes whose `VertList`
+//! LightBurn's palette) and the shapes. Circles are `Ellipse` shapes placed
+//! by their `XForm`; paths, and a part's labels together (its ID and arrow
+//! strokes), are `Path` shapes whose `VertList`
 //! holds the vertices (with Bezier control points `c0` leaving and `c1`
 //! arriving) and whose `PrimList` joins them with lines (`L a b`) or cubic
 //! Beziers (`B a b`), their coordinates relative to the shape's `XForm`.
@@ -53,24 +54,27 @@ fn escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// Vertices and primitives of a path, y flipped by `h`.
+/// Vertices and primitives of a path, which may hold several strokes (a
+/// LightBurn path's primitives join any of its vertices).
+#[derive(Default)]
 struct PathData {
     verts: Vec<(DVec2, Option<DVec2>, Option<DVec2>)>,
     prims: Vec<(bool, usize, usize)>,
+    /// The first vertex of the stroke being added.
+    start: usize,
 }
 
 impl PathData {
-    fn new(start: DVec2) -> Self {
-        Self {
-            verts: vec![(start, None, None)],
-            prims: Vec::new(),
-        }
+    /// Begin a stroke at `p`.
+    fn move_to(&mut self, p: DVec2) {
+        self.start = self.verts.len();
+        self.verts.push((p, None, None));
     }
 
     fn line_to(&mut self, p: DVec2, close_to_start: bool) {
         let from = self.verts.len() - 1;
         let to = if close_to_start {
-            0
+            self.start
         } else {
             self.verts.push((p, None, None));
             self.verts.len() - 1
@@ -82,8 +86,8 @@ impl PathData {
         let from = self.verts.len() - 1;
         self.verts[from].1 = Some(c1);
         let to = if close_to_start {
-            self.verts[0].2 = Some(c2);
-            0
+            self.verts[self.start].2 = Some(c2);
+            self.start
         } else {
             self.verts.push((p, None, Some(c2)));
             self.verts.len() - 1
@@ -118,19 +122,13 @@ impl Shared {
     }
 }
 
-fn path_shape(
-    out: &mut String,
-    cut: usize,
-    data: &PathData,
-    flip: &dyn Fn(DVec2) -> DVec2,
-    shared: &mut Shared,
-) {
+fn path_shape(out: &mut String, cut: usize, data: &PathData, shared: &mut Shared) {
     // The first vertex is placed by the XForm, on the 0.1 um grid; the
     // others are their offsets from it, rounded to the grid (so that copies
     // read the same: each vertex is within 0.1 um of where it belongs).
-    let origin = flip(data.verts[0].0);
+    let origin = data.verts[0].0;
     let rel = |p: DVec2| {
-        let d = flip(p) - origin;
+        let d = p - origin;
         (fixed(units(d.x)), fixed(units(d.y)))
     };
     let mut verts = String::new();
@@ -168,37 +166,34 @@ fn path_shape(
     out.push_str("</Shape>\n");
 }
 
-fn shape(
-    out: &mut String,
-    cut: usize,
-    item: &Item,
-    flip: &dyn Fn(DVec2) -> DVec2,
-    shared: &mut Shared,
-) {
-    match &item.shape {
-        Shape::Circle { center, radius } => {
-            let c = flip(*center);
-            let _ = writeln!(
-                out,
-                "<Shape Type=\"Ellipse\" CutIndex=\"{cut}\" Rx=\"{r}\" Ry=\"{r}\"><XForm>1 0 0 1 {} {}</XForm></Shape>",
-                num(c.x),
-                num(c.y),
-                r = num(*radius)
-            );
-        }
+/// A circle as a LightBurn `Ellipse`.
+fn ellipse(out: &mut String, cut: usize, center: DVec2, radius: f64) {
+    let _ = writeln!(
+        out,
+        "<Shape Type=\"Ellipse\" CutIndex=\"{cut}\" Rx=\"{r}\" Ry=\"{r}\"><XForm>1 0 0 1 {} {}</XForm></Shape>",
+        num(center.x),
+        num(center.y),
+        r = num(radius)
+    );
+}
+
+/// Add a path or text item's strokes (y flipped) to `data`.
+fn add_strokes(data: &mut PathData, shape: &Shape, flip: &dyn Fn(DVec2) -> DVec2) {
+    match shape {
+        Shape::Circle { .. } => unreachable!("circles are ellipses"),
         Shape::Path {
             start,
             segments,
             closed,
         } => {
-            let mut data = PathData::new(*start);
+            data.move_to(flip(*start));
             let n = segments.len();
             for (k, (from, s)) in walk(*start, segments).enumerate() {
-                // A closed path whose last segment ends on its start closes onto vertex 0.
+                // A closed path whose last segment ends on its start closes onto it.
                 let last = k + 1 == n;
                 match s {
                     Segment::Line(p) => {
-                        data.line_to(p, last && *closed && p.distance(*start) < 1e-9);
+                        data.line_to(flip(p), last && *closed && p.distance(*start) < 1e-9);
                     }
                     Segment::Arc {
                         to,
@@ -210,24 +205,54 @@ fn shape(
                         for (j, [c1, c2, p]) in pieces.into_iter().enumerate() {
                             let closing =
                                 last && j + 1 == m && *closed && p.distance(*start) < 1e-9;
-                            data.cubic_to(c1, c2, p, closing);
+                            data.cubic_to(flip(c1), flip(c2), flip(p), closing);
                         }
                     }
                 }
             }
             if *closed && path_end(*start, segments).distance(*start) >= 1e-9 {
-                data.line_to(*start, true);
+                data.line_to(flip(*start), true);
             }
-            path_shape(out, cut, &data, flip, shared);
         }
         t @ Shape::Text { .. } => {
             for stroke in text::strokes(t) {
-                let mut data = PathData::new(stroke[0]);
+                data.move_to(flip(stroke[0]));
                 for &p in &stroke[1..] {
-                    data.line_to(p, false);
+                    data.line_to(flip(p), false);
                 }
-                path_shape(out, cut, &data, flip, shared);
             }
+        }
+    }
+}
+
+/// A group's items as shapes: each circle an `Ellipse`, each path one
+/// `Path`, and each run of labels one `Path` of all their strokes (a
+/// strip's ID and arrow: one shape, not one a stroke).
+fn shapes(out: &mut String, items: &[&Item], index: &[usize; 5], flip: &dyn Fn(DVec2) -> DVec2, shared: &mut Shared) {
+    let mut k = 0;
+    while k < items.len() {
+        let item = items[k];
+        let cut = index[item.layer as usize];
+        if let Shape::Circle { center, radius } = item.shape {
+            ellipse(out, cut, flip(center), radius);
+            k += 1;
+            continue;
+        }
+        let mut data = PathData::default();
+        // Only labels join: an outline cut in pieces (tabs) keeps a path
+        // a piece, as LightBurn's own tab tools leave them.
+        add_strokes(&mut data, &item.shape, flip);
+        k += 1;
+        while item.layer == Layer::Labels
+            && k < items.len()
+            && items[k].layer == Layer::Labels
+            && !matches!(items[k].shape, Shape::Circle { .. })
+        {
+            add_strokes(&mut data, &items[k].shape, flip);
+            k += 1;
+        }
+        if !data.verts.is_empty() {
+            path_shape(out, cut, &data, shared);
         }
     }
 }
@@ -275,15 +300,8 @@ pub fn write(page: &Page) -> Vec<u8> {
         if grouped {
             out.push_str("<Shape Type=\"Group\"><XForm>1 0 0 1 0 0</XForm><Children>\n");
         }
-        for item in g.items.iter().filter(|i| i.layer != Layer::Art) {
-            shape(
-                &mut out,
-                index[item.layer as usize],
-                item,
-                &flip,
-                &mut shared,
-            );
-        }
+        let items: Vec<&Item> = g.items.iter().filter(|i| i.layer != Layer::Art).collect();
+        shapes(&mut out, &items, &index, &flip, &mut shared);
         if grouped {
             out.push_str("</Children></Shape>\n");
         }

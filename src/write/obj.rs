@@ -22,13 +22,17 @@ pub(crate) fn write(title: &str, solids: &[(String, [DVec3; 8])]) -> Vec<u8> {
         "# {title}\n# karigami {}; units mm; one object per strip\n",
         env!("CARGO_PKG_VERSION")
     );
-    for (n, (id, corners)) in solids.iter().enumerate() {
+    for (id, corners) in solids {
         let _ = writeln!(out, "o {id}");
         for c in corners {
             let _ = writeln!(out, "v {} {} {}", num(c.x), num(c.y), num(c.z));
         }
+        // Relative indices (-1 is the vertex just written), as the OBJ
+        // format allows and Blender, MeshLab and trimesh read: every box's
+        // faces read the same, "f -8 -6 -5 -7", where absolute indices grew
+        // to six digits (a quarter of a 100 x 100 sheet's file).
         for f in FACES {
-            let i = |k: usize| 8 * n + f[k] + 1;
+            let i = |k: usize| f[k] as i64 - 8;
             let _ = writeln!(out, "f {} {} {} {}", i(0), i(1), i(2), i(3));
         }
     }

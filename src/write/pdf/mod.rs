@@ -20,7 +20,7 @@ use crate::hash::fnv1a;
 use glam::DVec2;
 use pdf_writer::{Filter, Finish, Name, Pdf, Rect, Ref, TextStr};
 use repeats::share_repeats;
-use stream::{BOLD, REGULAR, Stream, ToPdf, symbol_name};
+use stream::{BOLD, CUT_GRID, Dots, PRINT_GRID, REGULAR, Stream, ToPdf, dot_name, symbol_name};
 
 /// Points per millimetre.
 pub(crate) const PT_PER_MM: f64 = 72.0 / 25.4;
@@ -40,12 +40,25 @@ fn deflate(bytes: &[u8]) -> Vec<u8> {
 /// places it: see `share_repeats`.
 pub(crate) fn write(title: &str, pages: &[Page]) -> Vec<u8> {
     let (pages, symbols) = share_repeats(pages);
-    write_with_symbols(title, &pages, &symbols)
+    document(title, &pages, &symbols, CUT_GRID, None)
 }
 
-/// All pages in one PDF, with the symbols their groups place: each symbol
-/// is one Form XObject, written once however many pages show it.
+/// The assembly guide: all pages in one PDF, with the symbols their groups
+/// place, each one Form XObject written once however many pages show it.
+/// Printed on paper, it is written on the coarser `PRINT_GRID`, and its
+/// circles (the pivot dots) are shared forms too.
 pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]) -> Vec<u8> {
+    let mut dots = Dots::default();
+    document(title, pages, symbols, PRINT_GRID, Some(&mut dots))
+}
+
+fn document(
+    title: &str,
+    pages: &[Page],
+    symbols: &[Symbol],
+    grid: f64,
+    mut dots: Option<&mut Dots>,
+) -> Vec<u8> {
     let mut pdf = Pdf::new();
     let mut next = 1;
     let mut alloc = || {
@@ -59,6 +72,10 @@ pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]
     let fonts = [alloc(), alloc()];
     let symbol_refs: Vec<Ref> = symbols.iter().map(|_| alloc()).collect();
     let page_refs: Vec<(Ref, Ref)> = pages.iter().map(|_| (alloc(), alloc())).collect();
+    // Dots are found while the streams are written: theirs are the
+    // numbers after every other object's.
+    let first_dot = alloc().get();
+    let dot_refs = |k: usize| Ref::new(first_dot + k as i32);
     let mut hash = fnv1a(title.as_bytes());
 
     pdf.catalog(catalog).pages(tree);
@@ -75,7 +92,7 @@ pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]
     // is placed; its bounding box is what its items and symbols cover.
     let mut boxes: Vec<Rect> = Vec::with_capacity(symbols.len());
     for (i, symbol) in symbols.iter().enumerate() {
-        let mut s = Stream::new(ToPdf { top: 0.0 });
+        let mut s = Stream::new(ToPdf { top: 0.0, grid }, dots.as_deref_mut());
         let mut bounds = Bounds::default();
         for &u in &symbol.uses {
             assert!(u < i, "a symbol places only earlier symbols");
@@ -95,13 +112,13 @@ pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]
         let mut form = pdf.form_xobject(symbol_refs[i], &data);
         form.filter(Filter::FlateDecode);
         form.bbox(rect);
-        resources(form.resources(), s.fonts, &s.symbols, &fonts, &symbol_refs);
+        resources(form.resources(), (s.fonts, &s.symbols, &s.dots), &fonts, &symbol_refs, &dot_refs);
         form.finish();
         boxes.push(rect);
     }
 
     for (page, (page_ref, content_ref)) in pages.iter().zip(&page_refs) {
-        let mut s = Stream::new(ToPdf { top: page.height });
+        let mut s = Stream::new(ToPdf { top: page.height, grid }, dots.as_deref_mut());
         for group in &page.groups {
             for place in &group.symbols {
                 s.place(place);
@@ -122,8 +139,19 @@ pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]
                 (page.height * PT_PER_MM) as f32,
             ))
             .contents(*content_ref);
-        resources(p.resources(), s.fonts, &s.symbols, &fonts, &symbol_refs);
+        resources(p.resources(), (s.fonts, &s.symbols, &s.dots), &fonts, &symbol_refs, &dot_refs);
         p.finish();
+    }
+
+    for (k, (dot, width)) in dots.map(|d| d.list.clone()).unwrap_or_default().into_iter().enumerate() {
+        let (content, half) = dot.content(grid, width);
+        let data = deflate(&content);
+        hash = fnv1a(&[hash.to_le_bytes(), fnv1a(&data).to_le_bytes()].concat());
+        let half = half.ceil() as f32;
+        let mut form = pdf.form_xobject(dot_refs(k), &data);
+        form.filter(Filter::FlateDecode);
+        form.bbox(Rect::new(-half, -half, half, half));
+        form.finish();
     }
 
     let creator = format!("karigami {}", env!("CARGO_PKG_VERSION"));
@@ -152,10 +180,10 @@ pub(crate) fn write_with_symbols(title: &str, pages: &[Page], symbols: &[Symbol]
 
 fn resources(
     mut r: pdf_writer::writers::Resources,
-    used_fonts: [bool; 2],
-    used_symbols: &[usize],
+    (used_fonts, used_symbols, used_dots): ([bool; 2], &[usize], &[usize]),
     fonts: &[Ref; 2],
     symbols: &[Ref],
+    dots: &dyn Fn(usize) -> Ref,
 ) {
     if used_fonts.iter().any(|&f| f) {
         let mut dict = r.fonts();
@@ -165,13 +193,19 @@ fn resources(
             }
         }
     }
-    if !used_symbols.is_empty() {
+    if !used_symbols.is_empty() || !used_dots.is_empty() {
         let mut dict = r.x_objects();
-        let mut used = used_symbols.to_vec();
-        used.sort_unstable();
-        used.dedup();
-        for i in used {
+        let used = |list: &[usize]| {
+            let mut used = list.to_vec();
+            used.sort_unstable();
+            used.dedup();
+            used
+        };
+        for i in used(used_symbols) {
             dict.pair(Name(symbol_name(i).as_bytes()), symbols[i]);
+        }
+        for i in used(used_dots) {
+            dict.pair(Name(dot_name(i).as_bytes()), dots(i));
         }
     }
 }
