@@ -5,9 +5,9 @@
 //!
 //! The format is LightBurn's XML: a `LightBurnProject` root, one
 //! `CutSetting` per layer (its `index` is also the layer's colour in
-//! LightBurn's palette) and the shapes. Circles are `Ellipse` shapes placed
-//! by their `XForm`; paths, and a part's labels together (its ID and arrow
-//! strokes), are `Path` shapes whose `VertList`
+//! LightBurn's palette) and the shapes: paths, a part's holes together (as
+//! four-Bezier circles) and a part's labels together (its ID and arrow
+//! strokes) are `Path` shapes whose `VertList`
 //! holds the vertices (with Bezier control points `c0` leaving and `c1`
 //! arriving) and whose `PrimList` joins them with lines (`L a b`) or cubic
 //! Beziers (`B a b`), their coordinates relative to the shape's `XForm`.
@@ -20,7 +20,8 @@
 
 use super::number::{fixed, num, units};
 use crate::drawing::{
-    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, path_end, text, walk,
+    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, circle_to_cubics, path_end, text,
+    walk,
 };
 use glam::DVec2;
 use std::collections::HashMap;
@@ -225,20 +226,42 @@ fn add_strokes(data: &mut PathData, shape: &Shape, flip: &dyn Fn(DVec2) -> DVec2
     }
 }
 
-/// A group's items as shapes: each circle an `Ellipse`, each path one
-/// `Path`, and each run of labels one `Path` of all their strokes (a
-/// strip's ID and arrow: one shape, not one a stroke).
+/// A group's items as shapes: each path one `Path`, each run of holes one
+/// `Path` of circles, each run of labels one `Path` of all their strokes (a
+/// strip's ID and arrow: one shape, not one a stroke), other circles
+/// `Ellipse` shapes.
 fn shapes(out: &mut String, items: &[&Item], index: &[usize; 5], flip: &dyn Fn(DVec2) -> DVec2, shared: &mut Shared) {
     let mut k = 0;
     while k < items.len() {
         let item = items[k];
         let cut = index[item.layer as usize];
+        let mut data = PathData::default();
         if let Shape::Circle { center, radius } = item.shape {
-            ellipse(out, cut, flip(center), radius);
-            k += 1;
+            if item.layer != Layer::Holes {
+                ellipse(out, cut, flip(center), radius);
+                k += 1;
+                continue;
+            }
+            // A part's holes: one path of circles, shared by every copy of
+            // the part (one short line a part, where an Ellipse a hole
+            // was 100 bytes: a third of a sheet's project).
+            while let Some(&Item {
+                layer: Layer::Holes,
+                shape: Shape::Circle { center, radius },
+                ..
+            }) = items.get(k)
+            {
+                let (start, pieces) = circle_to_cubics(*center, *radius);
+                data.move_to(flip(start));
+                let m = pieces.len();
+                for (j, [c1, c2, p]) in pieces.into_iter().enumerate() {
+                    data.cubic_to(flip(c1), flip(c2), flip(p), j + 1 == m);
+                }
+                k += 1;
+            }
+            path_shape(out, cut, &data, shared);
             continue;
         }
-        let mut data = PathData::default();
         // Only labels join: an outline cut in pieces (tabs) keeps a path
         // a piece, as LightBurn's own tab tools leave them.
         add_strokes(&mut data, &item.shape, flip);

@@ -256,7 +256,14 @@ impl<'a> Stream<'a> {
                 Font::Bold => BOLD,
             };
             self.fonts[matches!(font, Font::Bold) as usize] = true;
-            let (x, y) = self.to.xy(start);
+            // Text stays on the fine grid: where pdftotext puts a word
+            // depends on its exact place, and the guide's text must read
+            // the same as before the coarser grid.
+            let fine = ToPdf {
+                grid: CUT_GRID,
+                ..self.to
+            };
+            let (x, y) = fine.xy(start);
             self.content
                 .begin_text()
                 .set_font(name, (size * PT_PER_MM) as f32)
