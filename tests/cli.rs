@@ -197,6 +197,40 @@ fn build_writes_lattice_json_in_the_documented_schema() {
 }
 
 #[test]
+fn an_intrinsic_lattice_json_gives_each_rows_frame_and_the_strips_legs() {
+    // eggbox grows rows on rebuilt fronts: its cells carry `frame`, and
+    // `top` where the row rebuilt (docs/lattice-json.md).
+    let out = crate::util::cli_build("eggbox", &[]);
+    let json: Value =
+        serde_json::from_str(&fs::read_to_string(out.join("lattice.json")).unwrap()).unwrap();
+    assert_eq!(json["extrinsic"], false);
+    let cells = json["cells"].as_array().unwrap();
+    let mut rebuilt = 0;
+    for cell in cells {
+        let row = cell["key"][0].as_u64().unwrap();
+        let frame = cell["frame"].as_u64().expect("a frame in an intrinsic lattice");
+        assert!(frame <= row);
+        assert_eq!(!cell["top"].is_null(), frame == row && row > 0, "{cell}");
+        rebuilt += usize::from(!cell["top"].is_null());
+    }
+    assert!(rebuilt > 0);
+    // The legs derived from the cells are the strips' hole pitches.
+    let legs = crate::cutfiles::rod_legs(&json);
+    let csv = fs::read_to_string(out.join("parts.csv")).unwrap();
+    let mut rows = 0;
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let rod: usize = f[1].parse().unwrap();
+        for k in 0..2 {
+            let pitch: f64 = f[9 + k].parse().unwrap();
+            assert!((legs[rod][k] - pitch).abs() < 1e-4, "{line}: leg {k} {}", legs[rod][k]);
+        }
+        rows += 1;
+    }
+    assert_eq!(rows, legs.len());
+}
+
+#[test]
 fn build_is_deterministic() {
     // One build shared with the other tests, one of this test's own.
     let a = crate::util::cli_build("curved-sheet", &[]);

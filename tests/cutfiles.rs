@@ -217,7 +217,7 @@ fn segment_distance(a0: DVec2, a1: DVec2, b0: DVec2, b1: DVec2) -> f64 {
 /// Each rod's two legs, by id, derived from lattice.json's cells as
 /// docs/lattice-json.md says: rod A of cell c (id 2c) runs UL-pivot-LR,
 /// rod B (id 2c + 1) UR-pivot-LL, UL and UR from `top` where a row rebuilt.
-fn rod_legs(lattice: &Value) -> Vec<[f64; 2]> {
+pub(crate) fn rod_legs(lattice: &Value) -> Vec<[f64; 2]> {
     let vertices = lattice["vertices"].as_array().unwrap();
     let xyz = |v: &Value| -> Vec<f64> {
         v.as_array()
