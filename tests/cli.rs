@@ -146,7 +146,13 @@ fn build_writes_lattice_json_in_the_documented_schema() {
         ["key", "vertices", "pivot", "z_pivot", "layers"]
     );
     // What format 2 derives instead of writing.
-    for gone in ["\"rods\"", "\"eyelets\"", "\"legs\"", "\"kappa\"", "\"corners\""] {
+    for gone in [
+        "\"rods\"",
+        "\"eyelets\"",
+        "\"legs\"",
+        "\"kappa\"",
+        "\"corners\"",
+    ] {
         assert!(!raw.contains(gone), "{gone} is derived, not written");
     }
 
@@ -176,7 +182,10 @@ fn build_writes_lattice_json_in_the_documented_schema() {
         // Scissor cells: the pivot lies on both rods, UL-LR and UR-LL.
         let pivot = pos(&cell["pivot"]);
         for (from, to) in [(0, 3), (1, 2)] {
-            let (a, b) = (pos(&corner(cell, from)["pos"]), pos(&corner(cell, to)["pos"]));
+            let (a, b) = (
+                pos(&corner(cell, from)["pos"]),
+                pos(&corner(cell, to)["pos"]),
+            );
             let cross = (b[0] - a[0]) * (pivot[1] - a[1]) - (b[1] - a[1]) * (pivot[0] - a[0]);
             assert!(cross.abs() < 1e-9, "cell {c}: the pivot is off a rod");
         }
@@ -208,7 +217,9 @@ fn an_intrinsic_lattice_json_gives_each_rows_frame_and_the_strips_legs() {
     let mut rebuilt = 0;
     for cell in cells {
         let row = cell["key"][0].as_u64().unwrap();
-        let frame = cell["frame"].as_u64().expect("a frame in an intrinsic lattice");
+        let frame = cell["frame"]
+            .as_u64()
+            .expect("a frame in an intrinsic lattice");
         assert!(frame <= row);
         assert_eq!(!cell["top"].is_null(), frame == row && row > 0, "{cell}");
         rebuilt += usize::from(!cell["top"].is_null());
@@ -223,7 +234,11 @@ fn an_intrinsic_lattice_json_gives_each_rows_frame_and_the_strips_legs() {
         let rod: usize = f[1].parse().unwrap();
         for k in 0..2 {
             let pitch: f64 = f[9 + k].parse().unwrap();
-            assert!((legs[rod][k] - pitch).abs() < 1e-4, "{line}: leg {k} {}", legs[rod][k]);
+            assert!(
+                (legs[rod][k] - pitch).abs() < 1e-4,
+                "{line}: leg {k} {}",
+                legs[rod][k]
+            );
         }
         rows += 1;
     }

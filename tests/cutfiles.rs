@@ -226,7 +226,13 @@ pub(crate) fn rod_legs(lattice: &Value) -> Vec<[f64; 2]> {
             .map(|x| x.as_f64().unwrap())
             .collect()
     };
-    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let dist = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
     let mut legs = Vec::new();
     for cell in lattice["cells"].as_array().unwrap() {
         let corner = |k: usize| {

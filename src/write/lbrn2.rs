@@ -20,8 +20,8 @@
 
 use super::number::{fixed, num, units};
 use crate::drawing::{
-    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, circle_to_cubics, path_end, text,
-    walk,
+    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, circle_to_cubics, path_end,
+    text, walk,
 };
 use glam::DVec2;
 use std::collections::HashMap;
@@ -230,7 +230,13 @@ fn add_strokes(data: &mut PathData, shape: &Shape, flip: &dyn Fn(DVec2) -> DVec2
 /// `Path` of circles, each run of labels one `Path` of all their strokes (a
 /// strip's ID and arrow: one shape, not one a stroke), other circles
 /// `Ellipse` shapes.
-fn shapes(out: &mut String, items: &[&Item], index: &[usize; 5], flip: &dyn Fn(DVec2) -> DVec2, shared: &mut Shared) {
+fn shapes(
+    out: &mut String,
+    items: &[&Item],
+    index: &[usize; 5],
+    flip: &dyn Fn(DVec2) -> DVec2,
+    shared: &mut Shared,
+) {
     let mut k = 0;
     while k < items.len() {
         let item = items[k];

@@ -112,13 +112,25 @@ fn document(
         let mut form = pdf.form_xobject(symbol_refs[i], &data);
         form.filter(Filter::FlateDecode);
         form.bbox(rect);
-        resources(form.resources(), (s.fonts, &s.symbols, &s.dots), &fonts, &symbol_refs, &dot_refs);
+        resources(
+            form.resources(),
+            (s.fonts, &s.symbols, &s.dots),
+            &fonts,
+            &symbol_refs,
+            &dot_refs,
+        );
         form.finish();
         boxes.push(rect);
     }
 
     for (page, (page_ref, content_ref)) in pages.iter().zip(&page_refs) {
-        let mut s = Stream::new(ToPdf { top: page.height, grid }, dots.as_deref_mut());
+        let mut s = Stream::new(
+            ToPdf {
+                top: page.height,
+                grid,
+            },
+            dots.as_deref_mut(),
+        );
         for group in &page.groups {
             for place in &group.symbols {
                 s.place(place);
@@ -139,11 +151,22 @@ fn document(
                 (page.height * PT_PER_MM) as f32,
             ))
             .contents(*content_ref);
-        resources(p.resources(), (s.fonts, &s.symbols, &s.dots), &fonts, &symbol_refs, &dot_refs);
+        resources(
+            p.resources(),
+            (s.fonts, &s.symbols, &s.dots),
+            &fonts,
+            &symbol_refs,
+            &dot_refs,
+        );
         p.finish();
     }
 
-    for (k, (dot, width)) in dots.map(|d| d.list.clone()).unwrap_or_default().into_iter().enumerate() {
+    for (k, (dot, width)) in dots
+        .map(|d| d.list.clone())
+        .unwrap_or_default()
+        .into_iter()
+        .enumerate()
+    {
         let (content, half) = dot.content(grid, width);
         let data = deflate(&content);
         hash = fnv1a(&[hash.to_le_bytes(), fnv1a(&data).to_le_bytes()].concat());

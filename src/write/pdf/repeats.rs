@@ -49,7 +49,8 @@ fn key(items: &[Item], a: DVec2) -> Vec<i64> {
         k.push((d.x * 1e4).round() as i64);
         k.push((d.y * 1e4).round() as i64);
     };
-    let colour = |c: Option<[u8; 3]>| c.map_or(-1, |[r, g, b]| i64::from_be_bytes([0, 0, 0, 0, 0, r, g, b]));
+    let colour =
+        |c: Option<[u8; 3]>| c.map_or(-1, |[r, g, b]| i64::from_be_bytes([0, 0, 0, 0, 0, r, g, b]));
     for i in items {
         k.extend([
             i.layer as i64,

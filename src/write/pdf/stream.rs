@@ -130,10 +130,13 @@ impl Dot {
         let radius = f64::from_bits(self.radius);
         let to = ToPdf { top: 0.0, grid };
         let mut c = Content::new();
-        to.path(&mut c, &Shape::Circle {
-            center: DVec2::ZERO,
-            radius,
-        });
+        to.path(
+            &mut c,
+            &Shape::Circle {
+                center: DVec2::ZERO,
+                radius,
+            },
+        );
         paint(&mut c, self.fill, self.stroke);
         (c.finish().to_vec(), (radius + width) * PT_PER_MM + 1.0)
     }
