@@ -110,13 +110,16 @@ fn key(items: &[Item], a: DVec2) -> Vec<i64> {
     k
 }
 
+/// A group's anchor and key.
+type Keyed = (DVec2, Vec<i64>);
+
 /// The pages with every group whose drawing occurs more than once (up to
 /// a move) replaced by a place of one shared symbol: a Form XObject
 /// written once. A 100 x 100 sheet build has 20,000 strips of one or two
 /// drawings; each copy then costs one short `cm ... Do` line.
 pub(super) fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
     // Each group that could be shared: its anchor and key.
-    let keys: Vec<Vec<Option<(DVec2, Vec<i64>)>>> = pages
+    let keys: Vec<Vec<Option<Keyed>>> = pages
         .iter()
         .map(|page| {
             page.groups
