@@ -302,3 +302,62 @@ impl Bounds {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{Group, Item, Layer};
+
+    /// A page of `n` dots of one radius, and one of another.
+    fn dots(n: usize) -> Vec<Page> {
+        let dot = |x: f64, r: f64| {
+            Item::on(
+                Layer::Art,
+                Shape::Circle {
+                    center: DVec2::new(x, 50.0),
+                    radius: r,
+                },
+            )
+        };
+        let mut items: Vec<Item> = (0..n).map(|k| dot(10.0 + 5.0 * k as f64, 1.0)).collect();
+        items.push(dot(90.0, 2.0));
+        vec![Page {
+            width: 100.0,
+            height: 100.0,
+            title: "t".into(),
+            metadata: Vec::new(),
+            groups: vec![Group::new("dots", items)],
+        }]
+    }
+
+    #[test]
+    fn the_guides_circles_are_one_form_a_radius_placed_at_each_centre() {
+        let bytes = write_with_symbols("t", &dots(5), &[]);
+        let text = String::from_utf8_lossy(&bytes);
+        // Two radii: two forms, each drawn once; six places.
+        assert_eq!(text.matches("/Subtype /Form").count(), 2);
+        let page = pdf_content(&bytes, 0);
+        assert_eq!(page.matches("/D0 Do").count(), 5);
+        assert_eq!(page.matches("/D1 Do").count(), 1);
+        assert!(page.contains("1 0 0 1 28.3 141.7 cm"), "{page}");
+        assert!(!page.contains(" c\n"), "no circle drawn inline");
+        // Cut sheets draw their circles inline, on the finer grid.
+        let cut = pdf_content(&write("t", &dots(1)), 0);
+        assert_eq!(cut.matches(" c\n").count(), 8, "{cut}");
+    }
+
+    /// The inflated stream number `k` of a PDF, in file order.
+    fn pdf_content(pdf: &[u8], k: usize) -> String {
+        let starts: Vec<usize> = (0..pdf.len())
+            .filter(|&i| pdf[i..].starts_with(b">>\nstream\n"))
+            .map(|i| i + 10)
+            .collect();
+        let data = &pdf[starts[k]..];
+        let end = (0..data.len())
+            .find(|&i| data[i..].starts_with(b"\nendstream"))
+            .expect("the stream's end");
+        let inflated =
+            miniz_oxide::inflate::decompress_to_vec_zlib(&data[..end]).expect("a deflated stream");
+        String::from_utf8(inflated).unwrap()
+    }
+}
