@@ -636,6 +636,58 @@ mod tests {
         fixtures::sheet(&fixtures::line(3), &[0.0; 3], 1, 45.0, 3)
     }
 
+    /// The shortcuts of `record_ratio` and `record_bend` keep the largest
+    /// residual, its site and the count of `record` of the full formula,
+    /// over residuals of every magnitude, with zeros, NaNs and infinities.
+    #[test]
+    fn shortcut_records_match_the_full_formula() {
+        let mut rng = crate::rng::Rng::new(14);
+        let mut value = |rng: &mut crate::rng::Rng| match rng.next_u64() % 40 {
+            0 => 0.0,
+            1 => f64::NAN,
+            2 => f64::INFINITY,
+            3 => f64::MIN_POSITIVE * rng.signed(),
+            _ => rng.signed() * 10f64.powf(60.0 * rng.signed()),
+        };
+        for round in 0..200 {
+            let (mut full, mut ratio) = (
+                Check::new(Invariant::HorizontalPores),
+                Check::new(Invariant::HorizontalPores),
+            );
+            let (mut full_bend, mut bend_check) = (
+                Check::new(Invariant::RodStraightness),
+                Check::new(Invariant::RodStraightness),
+            );
+            for k in 0..500 {
+                // Mostly near-equal residuals, as in a good lattice.
+                let scale = if round % 2 == 0 { 1e-12 } else { 1.0 };
+                let num = if k % 7 == 0 {
+                    value(&mut rng)
+                } else {
+                    scale * rng.signed()
+                };
+                let den = if k % 11 == 0 {
+                    value(&mut rng)
+                } else {
+                    1.0 + rng.uniform()
+                };
+                let site = || format!("{k}");
+                full.record(num / den, site);
+                ratio.record_ratio(num, den, site);
+                let a = DVec3::new(rng.signed(), scale * rng.signed(), num.min(1e3));
+                let b = DVec3::new(rng.signed(), rng.signed(), rng.signed());
+                let (la, lb) = (1.0 + rng.uniform(), den);
+                full_bend.record(bend(a, la, b, lb), site);
+                bend_check.record_bend((a, la), (b, lb), site);
+            }
+            for (x, y) in [(&full, &ratio), (&full_bend, &bend_check)] {
+                assert_eq!(x.count, y.count);
+                assert_eq!(x.max.to_bits(), y.max.to_bits(), "round {round}");
+                assert_eq!(x.site, y.site, "round {round}");
+            }
+        }
+    }
+
     /// A cell reached through no corner fails the collapsed state, and the
     /// rod lengths are then measured after the sweep with the final z:
     /// those of the cells that were reached stay exact.
