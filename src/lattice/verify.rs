@@ -371,6 +371,10 @@ pub fn verify(lattice: &Lattice) -> Report {
     let (inc, leg_sum) = Incidence::with_leg_sum(lattice);
     let mut legs = LegWindow::new(lattice);
     let width = lattice.width;
+    // Every corner is its vertex's stored position when no row grew on a
+    // rebuilt front: a neighbour's corners on the shared edge are then the
+    // same vertices, so the same positions as this cell's own.
+    let extrinsic = lattice.extrinsic();
     let z = |v: u32| lattice.vertices[v as usize].z;
 
     let mut straight = Check::new(I::RodStraightness);
@@ -421,7 +425,12 @@ pub fn verify(lattice: &Lattice) -> Report {
             let s = 0.5 * (scale + mean(&theirs));
             pores_h.record_ratio((l3 + l4) - (m1 + m2), s, site);
             // Shared edge: A's right edge UR-LR and B's left edge UL-LL.
-            let [bul, _, bll, _] = lattice.corners(b);
+            let (bul, bll) = if extrinsic {
+                (ur, lr)
+            } else {
+                let [bul, _, bll, _] = lattice.corners(b);
+                (bul, bll)
+            };
             edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
@@ -434,7 +443,12 @@ pub fn verify(lattice: &Lattice) -> Report {
             pores_v.record_ratio((l2 + m1) - (l3 + m4), s, site);
             // Shared edge: A's bottom edge LL-LR and B's top edge UL-UR; in an
             // intrinsic lattice the two are in different frames.
-            let [bul, bur, _, _] = lattice.corners(b);
+            let (bul, bur) = if extrinsic {
+                (ll, lr)
+            } else {
+                let [bul, bur, _, _] = lattice.corners(b);
+                (bul, bur)
+            };
             edges.record(edge_residual(ll, lr, bul, bur, s), site);
         }
         // Compatibility at the vertex this cell is the UL of (MATH.md 8.2):
