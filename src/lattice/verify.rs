@@ -656,7 +656,7 @@ mod tests {
     #[test]
     fn shortcut_records_match_the_full_formula() {
         let mut rng = crate::rng::Rng::new(14);
-        let mut value = |rng: &mut crate::rng::Rng| match rng.next_u64() % 40 {
+        let value = |rng: &mut crate::rng::Rng| match rng.next_u64() % 40 {
             0 => 0.0,
             1 => f64::NAN,
             2 => f64::INFINITY,
