@@ -359,6 +359,26 @@ fn edge_residual(a: DVec3, b: DVec3, c: DVec3, d: DVec3, s: f64) -> f64 {
     }
 }
 
+/// Corners `which` of the neighbour `b` on the edge it shares with a
+/// cell whose own corners there are `own`: the same stored vertices, so
+/// the same positions when the lattice is extrinsic (no corner is then
+/// read from a rebuilt front), and `b`'s corners in its own frame if not.
+#[inline]
+fn shared_edge(
+    lattice: &Lattice,
+    extrinsic: bool,
+    b: &super::Cell,
+    which: [usize; 2],
+    own: (DVec3, DVec3),
+) -> (DVec3, DVec3) {
+    if extrinsic {
+        own
+    } else {
+        let corners = lattice.corners(b);
+        (corners[which[0]], corners[which[1]])
+    }
+}
+
 fn mean(legs: &Legs) -> f64 {
     legs.iter().sum::<f64>() / 4.0
 }
@@ -425,12 +445,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             let s = 0.5 * (scale + mean(&theirs));
             pores_h.record_ratio((l3 + l4) - (m1 + m2), s, site);
             // Shared edge: A's right edge UR-LR and B's left edge UL-LL.
-            let (bul, bll) = if extrinsic {
-                (ur, lr)
-            } else {
-                let [bul, _, bll, _] = lattice.corners(b);
-                (bul, bll)
-            };
+            let (bul, bll) = shared_edge(lattice, extrinsic, b, [0, 2], (ur, lr));
             edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
@@ -443,12 +458,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             pores_v.record_ratio((l2 + m1) - (l3 + m4), s, site);
             // Shared edge: A's bottom edge LL-LR and B's top edge UL-UR; in an
             // intrinsic lattice the two are in different frames.
-            let (bul, bur) = if extrinsic {
-                (ll, lr)
-            } else {
-                let [bul, bur, _, _] = lattice.corners(b);
-                (bul, bur)
-            };
+            let (bul, bur) = shared_edge(lattice, extrinsic, b, [0, 1], (ll, lr));
             edges.record(edge_residual(ll, lr, bul, bur, s), site);
         }
         // Compatibility at the vertex this cell is the UL of (MATH.md 8.2):
