@@ -119,6 +119,7 @@ impl Check {
         }
     }
 
+    #[inline(always)]
     fn record(&mut self, residual: f64, site: impl FnOnce() -> String) {
         self.count += 1;
         // A NaN residual must fail the check, so it sticks once seen.
@@ -126,9 +127,57 @@ impl Check {
             return;
         }
         if residual.is_nan() || residual.abs() > self.max {
-            self.max = residual.abs();
-            self.site = Some(site());
+            self.raise(residual, site);
         }
+    }
+
+    /// A new largest residual: rare after the first cells, and its site's
+    /// name (a formatted string) kept out of the checks' loop.
+    #[cold]
+    #[inline(never)]
+    fn raise(&mut self, residual: f64, site: impl FnOnce() -> String) {
+        self.max = residual.abs();
+        self.site = Some(site());
+    }
+
+    /// `record(num / den, site)`, without the division when the quotient
+    /// cannot exceed the largest residual so far: `|num| < 0.999 max |den|`
+    /// with `max |den|` a normal, finite number puts the exact quotient
+    /// below `max` by far more than its rounding. Anything else (NaN, a
+    /// zero or subnormal bound, an overflow, the first residuals while the
+    /// largest is still 0) is divided and recorded as before, so the
+    /// largest residual and its site are the same bits. Nearly every
+    /// residual of a good lattice is below the largest one: the divisions,
+    /// much of verification's time, are mostly skipped.
+    #[inline(always)]
+    fn record_ratio(&mut self, num: f64, den: f64, site: impl FnOnce() -> String) {
+        let bound = self.max * den.abs();
+        if bound.is_finite() && bound >= f64::MIN_POSITIVE && num.abs() < 0.999 * bound {
+            self.count += 1;
+            return;
+        }
+        self.record(num / den, site);
+    }
+
+    /// `record(bend(a, la, b, lb), site)`, the same way without the square
+    /// root and the division when the sine cannot exceed the largest so far
+    /// (`|a x b|^2 < 0.998 (max la lb)^2`, see `record_ratio`).
+    #[inline(always)]
+    fn record_bend(
+        &mut self,
+        (a, la): (DVec3, f64),
+        (b, lb): (DVec3, f64),
+        site: impl FnOnce() -> String,
+    ) {
+        let cross = a.cross(b).length_squared();
+        let den = la * lb;
+        let bound = self.max * den;
+        let bound2 = bound * bound;
+        if bound2.is_finite() && bound2 >= f64::MIN_POSITIVE && cross < 0.998 * bound2 {
+            self.count += 1;
+            return;
+        }
+        self.record(cross.sqrt() / den, site);
     }
 
     pub(crate) fn passed(&self) -> bool {
@@ -198,28 +247,86 @@ const LL: usize = 2;
 const LR: usize = 3;
 
 impl Incidence {
-    /// The incidence, with every cell's legs and the sum of their means
-    /// (in cell order), in one pass over the cells.
-    fn with_legs(lattice: &Lattice) -> (Self, Vec<Legs>, f64) {
+    /// The incidence and the sum of the cells' mean legs (in cell order),
+    /// in one pass over the cells. The legs themselves are not kept: the
+    /// checks take them from a `LegWindow`, a few rows at a time, so that
+    /// verification allocates 16 bytes a vertex and 8 a vertex for the
+    /// collapsed z, not 32 bytes a cell more (a third of the lattice's
+    /// own size, every page of it supplied by the kernel).
+    fn with_leg_sum(lattice: &Lattice) -> (Self, f64) {
         let mut inc = vec![[NONE; 4]; lattice.vertices.len()];
-        let mut legs = Vec::with_capacity(lattice.cells.len());
         let mut leg_sum = 0.0;
         for (c, cell) in lattice.cells.iter().enumerate() {
             inc[cell.ul as usize][UL] = c as u32;
             inc[cell.ur as usize][UR] = c as u32;
             inc[cell.ll as usize][LL] = c as u32;
             inc[cell.lr as usize][LR] = c as u32;
-            let l = lattice.legs(cell);
-            leg_sum += mean(&l);
-            legs.push(l);
+            leg_sum += mean(&lattice.legs(cell));
         }
-        (Self(inc), legs, leg_sum)
+        (Self(inc), leg_sum)
     }
 
     /// The cell in which vertex `v` is the corner `corner`.
     #[inline]
     fn at(&self, v: u32, corner: usize) -> u32 {
         self.0[v as usize][corner]
+    }
+}
+
+/// The legs of the cells around the one being checked, in a ring of the
+/// last `2 width + 3` or more cells measured: the checks of cell `c` read
+/// its neighbours `c - width - 1` to `c + width` in a sheet, loop or helix.
+/// A cell outside the ring (a lattice whose cells are not row by row,
+/// e.g. a corrupted one) has its legs measured again: `Lattice::legs` of
+/// the same stored corners, so the same bits either way.
+struct LegWindow<'a> {
+    lattice: &'a Lattice,
+    ring: Vec<Legs>,
+    /// Cells `0..measured` have been measured; the ring holds the last
+    /// `ring.len()` of them.
+    measured: usize,
+}
+
+impl<'a> LegWindow<'a> {
+    fn new(lattice: &'a Lattice) -> Self {
+        let cells = lattice.cells.len();
+        let len = (2 * lattice.width + 3)
+            .min(cells.max(1))
+            .next_power_of_two();
+        Self {
+            lattice,
+            ring: vec![[0.0; 4]; len],
+            measured: 0,
+        }
+    }
+
+    /// Measure the cells before `end` not yet measured.
+    #[inline]
+    fn advance(&mut self, end: usize) {
+        let cells = &self.lattice.cells;
+        let end = end.min(cells.len());
+        let mask = self.ring.len() - 1;
+        while self.measured < end {
+            self.ring[self.measured & mask] = self.lattice.legs(&cells[self.measured]);
+            self.measured += 1;
+        }
+    }
+
+    /// The legs of cell `k`.
+    #[inline(always)]
+    fn get(&self, k: usize) -> Legs {
+        if k < self.measured && k + self.ring.len() >= self.measured {
+            self.ring[k & (self.ring.len() - 1)]
+        } else {
+            self.measure(k)
+        }
+    }
+
+    /// The legs of a cell outside the ring, measured again.
+    #[cold]
+    #[inline(never)]
+    fn measure(&self, k: usize) -> Legs {
+        self.lattice.legs(&self.lattice.cells[k])
     }
 }
 
@@ -240,9 +347,35 @@ fn bend(a: DVec3, la: f64, b: DVec3, lb: f64) -> f64 {
 #[inline]
 fn edge_residual(a: DVec3, b: DVec3, c: DVec3, d: DVec3, s: f64) -> f64 {
     if a == c && b == d && a.is_finite() && b.is_finite() {
-        0.0 / s
+        // What 0.0 / s gives, without the division: NaN when s is 0 or
+        // NaN (the sign of a zero does not matter to a residual).
+        if s == 0.0 || s.is_nan() {
+            f64::NAN
+        } else {
+            0.0
+        }
     } else {
         (a.distance(b) - c.distance(d)) / s
+    }
+}
+
+/// Corners `which` of the neighbour `b` on the edge it shares with a
+/// cell whose own corners there are `own`: the same stored vertices, so
+/// the same positions when the lattice is extrinsic (no corner is then
+/// read from a rebuilt front), and `b`'s corners in its own frame if not.
+#[inline]
+fn shared_edge(
+    lattice: &Lattice,
+    extrinsic: bool,
+    b: &super::Cell,
+    which: [usize; 2],
+    own: (DVec3, DVec3),
+) -> (DVec3, DVec3) {
+    if extrinsic {
+        own
+    } else {
+        let corners = lattice.corners(b);
+        (corners[which[0]], corners[which[1]])
     }
 }
 
@@ -255,7 +388,13 @@ pub fn verify(lattice: &Lattice) -> Report {
     use Invariant as I;
     // One sum of the mean legs serves the tolerance and the collapsed
     // state's scale (the same sum, in the same order, as each made it).
-    let (inc, legs, leg_sum) = Incidence::with_legs(lattice);
+    let (inc, leg_sum) = Incidence::with_leg_sum(lattice);
+    let mut legs = LegWindow::new(lattice);
+    let width = lattice.width;
+    // Every corner is its vertex's stored position when no row grew on a
+    // rebuilt front: a neighbour's corners on the shared edge are then the
+    // same vertices, so the same positions as this cell's own.
+    let extrinsic = lattice.extrinsic();
     let z = |v: u32| lattice.vertices[v as usize].z;
 
     let mut straight = Check::new(I::RodStraightness);
@@ -270,8 +409,10 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut natural = Check::new(I::CompatibilityInterceptNatural);
     let mut collapsed = Collapsed::new(lattice, leg_sum);
     for (c, cell) in lattice.cells.iter().enumerate() {
-        let [l1, l2, l3, l4] = legs[c];
-        let scale = mean(&legs[c]);
+        legs.advance(c + width + 1);
+        let own = legs.get(c);
+        let [l1, l2, l3, l4] = own;
+        let scale = mean(&own);
         let inv = 1.0 / scale;
         let site = || lattice.cell_name(cell);
         let rel = |x: f64| x * inv;
@@ -280,9 +421,9 @@ pub fn verify(lattice: &Lattice) -> Report {
         let p = cell.pivot;
         let corners = lattice.corners(cell);
         let [ul, ur, ll, lr] = corners;
-        collapsed.step(lattice, c, &legs[c], inv, corners);
-        straight.record(bend(p - ul, l1, lr - p, l3), site);
-        straight.record(bend(p - ur, l4, ll - p, l2), site);
+        collapsed.step(lattice, c, &own, inv, corners);
+        straight.record_bend((p - ul, l1), (lr - p, l3), site);
+        straight.record_bend((p - ur, l4), (ll - p, l2), site);
         if lattice.kind == super::Kind::Loop && cell.col == 0 {
             // Rod B of cell 0 ends where the round of transfers came back.
             closure.record(bend(p - ur, l4, ll - p, l2), site);
@@ -299,23 +440,25 @@ pub fn verify(lattice: &Lattice) -> Report {
         let right = inc.at(cell.ur, UL);
         if right != NONE && lattice.cells[right as usize].ll == cell.lr {
             let b = &lattice.cells[right as usize];
-            let [m1, m2, _, _] = legs[right as usize];
-            let s = 0.5 * (scale + mean(&legs[right as usize]));
-            pores_h.record(((l3 + l4) - (m1 + m2)) / s, site);
+            let theirs = legs.get(right as usize);
+            let [m1, m2, _, _] = theirs;
+            let s = 0.5 * (scale + mean(&theirs));
+            pores_h.record_ratio((l3 + l4) - (m1 + m2), s, site);
             // Shared edge: A's right edge UR-LR and B's left edge UL-LL.
-            let [bul, _, bll, _] = lattice.corners(b);
+            let (bul, bll) = shared_edge(lattice, extrinsic, b, [0, 2], (ur, lr));
             edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
         let below = inc.at(cell.ll, UL);
         if below != NONE && lattice.cells[below as usize].ur == cell.lr {
             let b = &lattice.cells[below as usize];
-            let [m1, _, _, m4] = legs[below as usize];
-            let s = 0.5 * (scale + mean(&legs[below as usize]));
-            pores_v.record(((l2 + m1) - (l3 + m4)) / s, site);
+            let theirs = legs.get(below as usize);
+            let [m1, _, _, m4] = theirs;
+            let s = 0.5 * (scale + mean(&theirs));
+            pores_v.record_ratio((l2 + m1) - (l3 + m4), s, site);
             // Shared edge: A's bottom edge LL-LR and B's top edge UL-UR; in an
             // intrinsic lattice the two are in different frames.
-            let [bul, bur, _, _] = lattice.corners(b);
+            let (bul, bur) = shared_edge(lattice, extrinsic, b, [0, 1], (ll, lr));
             edges.record(edge_residual(ll, lr, bul, bur, s), site);
         }
         // Compatibility at the vertex this cell is the UL of (MATH.md 8.2):
@@ -325,7 +468,12 @@ pub fn verify(lattice: &Lattice) -> Report {
         let [ul_of, ur_of, ll_of, lr_of] = inc.0[v];
         let (a, b, cc, d) = (c as u32, ll_of, lr_of, ur_of);
         if ul_of == a && ![b, cc, d].contains(&NONE) {
-            let [a, b, cc, d] = [a, b, cc, d].map(|k| legs[k as usize]);
+            let [a, b, cc, d] = [
+                legs.get(a as usize),
+                legs.get(b as usize),
+                legs.get(cc as usize),
+                legs.get(d as usize),
+            ];
             // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
             let f = |la: f64, lb: f64, lc: f64| {
                 (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
@@ -347,12 +495,12 @@ pub fn verify(lattice: &Lattice) -> Report {
             let s2 = ul.distance_squared(ll);
             let site = || vertex_site(lattice, v);
             slope.record(m - 1.0, site);
-            intercept.record(k / s2, site);
-            natural.record(k / magnitude, site);
+            intercept.record_ratio(k, s2, site);
+            natural.record_ratio(k, magnitude, site);
         }
     }
 
-    let (collapsed, extent) = collapsed.finish(lattice, &legs);
+    let (collapsed, extent) = collapsed.finish(lattice);
     let tolerance = tolerance_of(lattice, leg_sum, extent);
     Report {
         tolerance,
@@ -428,10 +576,10 @@ impl Collapsed {
         });
         // An unreached pivot has no z: its comparison is NaN and fails.
         let zp = found.unwrap_or(f64::NAN);
-        self.pivots.record(
-            (zp - cell.z_pivot) / (self.global + cell.z_pivot.abs()),
-            || lattice.cell_name(cell),
-        );
+        self.pivots
+            .record_ratio(zp - cell.z_pivot, self.global + cell.z_pivot.abs(), || {
+                lattice.cell_name(cell)
+            });
         if found.is_none() {
             self.single.record(f64::NAN, || {
                 format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
@@ -465,7 +613,7 @@ impl Collapsed {
 
     /// The comparison with the construction, after the sweep.
     /// Also the largest `vertex_extent`, measured in the same pass.
-    fn finish(self, lattice: &Lattice, legs: &[Legs]) -> ([Check; 3], f64) {
+    fn finish(self, lattice: &Lattice) -> ([Check; 3], f64) {
         let Self {
             single,
             mut rods,
@@ -478,16 +626,16 @@ impl Collapsed {
         let mut extent: f64 = 0.0;
         for (v, vertex) in lattice.vertices.iter().enumerate() {
             extent = extent.max(vertex_extent(vertex));
-            matches.record((z[v] - vertex.z) / (global + vertex.z.abs()), || {
+            matches.record_ratio(z[v] - vertex.z, global + vertex.z.abs(), || {
                 vertex_site(lattice, v)
             });
         }
         let matches = matches.then(pivots);
         if !all_reached {
             rods = Check::new(Invariant::CollapsedRodLength);
-            for (c, cell) in lattice.cells.iter().enumerate() {
+            for cell in &lattice.cells {
                 let site = || lattice.cell_name(cell);
-                let inv = 1.0 / mean(&legs[c]);
+                let inv = 1.0 / mean(&lattice.legs(cell));
                 let [ul, ur, ll, lr] = lattice.corners(cell);
                 rods.record(
                     (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
@@ -510,6 +658,58 @@ mod tests {
 
     fn sheet() -> Lattice {
         fixtures::sheet(&fixtures::line(3), &[0.0; 3], 1, 45.0, 3)
+    }
+
+    /// The shortcuts of `record_ratio` and `record_bend` keep the largest
+    /// residual, its site and the count of `record` of the full formula,
+    /// over residuals of every magnitude, with zeros, NaNs and infinities.
+    #[test]
+    fn shortcut_records_match_the_full_formula() {
+        let mut rng = crate::rng::Rng::new(14);
+        let value = |rng: &mut crate::rng::Rng| match rng.next_u64() % 40 {
+            0 => 0.0,
+            1 => f64::NAN,
+            2 => f64::INFINITY,
+            3 => f64::MIN_POSITIVE * rng.signed(),
+            _ => rng.signed() * 10f64.powf(60.0 * rng.signed()),
+        };
+        for round in 0..200 {
+            let (mut full, mut ratio) = (
+                Check::new(Invariant::HorizontalPores),
+                Check::new(Invariant::HorizontalPores),
+            );
+            let (mut full_bend, mut bend_check) = (
+                Check::new(Invariant::RodStraightness),
+                Check::new(Invariant::RodStraightness),
+            );
+            for k in 0..500 {
+                // Mostly near-equal residuals, as in a good lattice.
+                let scale = if round % 2 == 0 { 1e-12 } else { 1.0 };
+                let num = if k % 7 == 0 {
+                    value(&mut rng)
+                } else {
+                    scale * rng.signed()
+                };
+                let den = if k % 11 == 0 {
+                    value(&mut rng)
+                } else {
+                    1.0 + rng.uniform()
+                };
+                let site = || format!("{k}");
+                full.record(num / den, site);
+                ratio.record_ratio(num, den, site);
+                let a = DVec3::new(rng.signed(), scale * rng.signed(), num.min(1e3));
+                let b = DVec3::new(rng.signed(), rng.signed(), rng.signed());
+                let (la, lb) = (1.0 + rng.uniform(), den);
+                full_bend.record(bend(a, la, b, lb), site);
+                bend_check.record_bend((a, la), (b, lb), site);
+            }
+            for (x, y) in [(&full, &ratio), (&full_bend, &bend_check)] {
+                assert_eq!(x.count, y.count);
+                assert_eq!(x.max.to_bits(), y.max.to_bits(), "round {round}");
+                assert_eq!(x.site, y.site, "round {round}");
+            }
+        }
     }
 
     /// A cell reached through no corner fails the collapsed state, and the

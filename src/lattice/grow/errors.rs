@@ -137,10 +137,18 @@ pub(super) fn propagated_cone(i: usize, j: usize) -> GrowthError {
     )
 }
 
+#[inline]
 pub(super) fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError> {
     if leg.is_finite() && leg > 0.0 {
         return Ok(());
     }
+    leg_error(leg, name, i, j)
+}
+
+/// `check_leg`'s refusal, out of the growth loop's way.
+#[cold]
+#[inline(never)]
+fn leg_error(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError> {
     if !leg.is_finite() {
         return Err(breakdown(i, j));
     }

@@ -407,8 +407,23 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
     let ul = lattice.vertex(cell.ul).pos - cell.pivot;
     let ur = lattice.vertex(cell.ur).pos - cell.pivot;
     let (cross, dot) = (ul.cross(ur), ul.dot(ur));
-    // One square root where |ul x ur| / (|ul| |ur|) takes three.
-    let sin_phi = (cross.length_squared() / (ul.length_squared() * ur.length_squared())).sqrt();
+    // sin^2 phi = |ul x ur|^2 / (|ul|^2 |ur|^2): one square root where the
+    // lengths take three, and neither it nor the division for a cell well
+    // away from the limit: sin^2 phi >= 4 EPS_ANGLE^2 (twice the angle,
+    // far beyond rounding) with a finite, normal denominator gives a
+    // finite sin phi >= EPS_ANGLE, the same verdict as the full test.
+    let (num, den) = (
+        cross.length_squared(),
+        ul.length_squared() * ur.length_squared(),
+    );
+    if den.is_finite()
+        && den >= f64::MIN_POSITIVE
+        && num.is_finite()
+        && num >= 4.0 * EPS_ANGLE * EPS_ANGLE * den
+    {
+        return check_turn(lattice, cross, first, i, j);
+    }
+    let sin_phi = (num / den).sqrt();
     if !sin_phi.is_finite() {
         return Err(breakdown(i, j));
     }
@@ -428,6 +443,19 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
             "change this row's direction so the cell opens between 0 and 180 deg",
         ));
     }
+    check_turn(lattice, cross, first, i, j)
+}
+
+/// A cell of a planar lattice turns the same way as the lattice's first
+/// cell (`first`); `cross` is its `(UL - P) x (UR - P)`.
+#[inline]
+fn check_turn(
+    lattice: &Lattice,
+    cross: DVec3,
+    first: Option<f64>,
+    i: usize,
+    j: usize,
+) -> Result<(), GrowthError> {
     if lattice.dim == 2 {
         // Every cell turns the same way as the first cell of the lattice.
         let sign = cross.z.signum();
