@@ -131,7 +131,8 @@ fn scene_with<'a>(b: &'a Build, simulated: Option<&Lattice>) -> viewer::Scene<'a
     scene
 }
 
-/// deployed.json and deployed.obj of a simulated build.
+/// deployed.json, deployed.obj and the solver's state for rebuilds
+/// (`pipeline::STATE_FILE`) of a simulated build.
 fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u8>)> {
     use crate::write::deployed;
     let fab = &b.design.fabrication;
@@ -151,6 +152,7 @@ fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u
         eps_s: eq.strain.s,
         distance: eq.distance,
         iterations: run.iterations,
+        fingerprint: b.simulation_key.map_or(0, |(key, _)| key),
         vertices: (0..nv)
             .map(|v| (b.lattice.vertex_name(v as u32), eq.points[v]))
             .collect(),
@@ -175,6 +177,10 @@ fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u
                 fab.material.width,
                 fab.material.thickness,
             ),
+        ),
+        (
+            crate::pipeline::STATE_FILE.to_string(),
+            crate::pipeline::simulation_state(run, summary.fingerprint),
         ),
     ]
 }
