@@ -91,7 +91,7 @@ pub(super) fn build(
                         }
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(path) = paths.get(i) else { break };
-                        let outcome = build_one(path, &folders[i], out, &staged, overrides);
+                        let outcome = build_one(path, &folders[i], out, &staged, overrides, jobs);
                         if outcome.write_failed.is_some() {
                             stop.store(true, Ordering::SeqCst);
                         }
@@ -225,12 +225,15 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
     Ok(names)
 }
 
+/// Build one recipe of the batch into its subfolder; with `jobs > 1` its
+/// sheet pictures are drawn on a second thread (`karigami::files_on`).
 fn build_one(
     path: &Path,
     folder: &str,
     out: &OutDir,
     staged: &Staged,
     overrides: &Overrides,
+    jobs: usize,
 ) -> Outcome {
     let started = Instant::now();
     let write_failed = std::cell::RefCell::new(None);
@@ -238,7 +241,7 @@ fn build_one(
         .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}, (out, folder)))
         .and_then(|built| {
             staged
-                .write(folder, &karigami::files(&built))
+                .write(folder, &karigami::files_on(&built, jobs > 1))
                 .map_err(|e| {
                     *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
                     Error::io(format!("cannot write {folder}/: {e}"))
