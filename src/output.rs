@@ -36,7 +36,9 @@ pub fn files_on(b: &Build, two_threads: bool) -> Vec<(String, Vec<u8>)> {
         let pictures = s.spawn(|| sheet_pictures(b));
         // The rest is made meanwhile; only the sheets' places wait.
         let rest = rest_of_files(b);
-        let pictures = pictures.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+        let pictures = pictures
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
         let mut files = sheet_files(b, pictures);
         files.extend(rest);
         files

@@ -394,6 +394,9 @@ fn job(design: &Design, lattice: &Lattice, parts: &Parts) -> Job {
     }
 }
 
+/// A build's simulation, and its fingerprint with whether it was restored.
+type Simulated = (Option<crate::sim::Simulation>, Option<(u64, bool)>);
+
 /// The simulated deployed shape when `sim::wanted`, restored from
 /// `previous` when that holds it (`reuse`), with its fingerprint and
 /// whether it was restored; strips strained beyond the allowable are an
@@ -407,7 +410,7 @@ fn simulated(
     deployment: &Deployment,
     previous: Option<&[u8]>,
     warnings: &mut Vec<crate::parts::Warning>,
-) -> Result<(Option<crate::sim::Simulation>, Option<(u64, bool)>), Diagnostic> {
+) -> Result<Simulated, Diagnostic> {
     if !crate::sim::wanted(lattice, deployment) {
         return Ok((None, None));
     }

@@ -76,7 +76,11 @@ fn a_rebuild_reuses_the_simulation_and_writes_the_same_files() {
     let r = recipe(&dir, "sheet.toml", "");
     assert_eq!(build(&dir, &r, "fresh"), "solved");
     let fresh = tree(&dir.join("fresh"));
-    assert!(fresh.contains_key(karigami::STATE_FILE), "{:?}", fresh.keys());
+    assert!(
+        fresh.contains_key(karigami::STATE_FILE),
+        "{:?}",
+        fresh.keys()
+    );
     assert!(
         String::from_utf8_lossy(&fresh["deployed.json"]).contains("\"fingerprint\""),
         "deployed.json records the fingerprint"
@@ -152,7 +156,11 @@ fn a_changed_input_or_a_damaged_state_is_solved_again() {
         assert_eq!(build(&dir, &changed, "fresh"), "solved", "{extra}");
         assert_eq!(build(&dir, &r, "fresh"), "solved", "back from {extra}");
     }
-    same(&fresh, &tree(&dir.join("fresh")), "after the changed inputs");
+    same(
+        &fresh,
+        &tree(&dir.join("fresh")),
+        "after the changed inputs",
+    );
 }
 
 #[test]
@@ -190,7 +198,11 @@ fn the_fingerprint_covers_every_file_of_the_simulation() {
     for folder in ["src/sim", "crates/rods/src"] {
         for e in fs::read_dir(repo().join(folder)).unwrap() {
             let p = e.unwrap().path();
-            let rel = p.strip_prefix(repo()).unwrap().to_string_lossy().into_owned();
+            let rel = p
+                .strip_prefix(repo())
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
             assert!(
                 p.is_file() && listed.contains(&rel.as_str()),
                 "{rel} is not in pipeline::reuse::SOURCES (a folder or a new file)"

@@ -50,9 +50,8 @@ pub(super) fn build(
             .map_or("the built-in sheet".into(), |p| p.display().to_string())
     );
     let built = progress::heartbeat(&what, v.quiet || json, || {
-        recipe.and_then(|r| {
-            run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar), (&dir, ""))
-        })
+        recipe
+            .and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar), (&dir, "")))
     });
     bar.clear();
     let built = built?;

@@ -93,9 +93,9 @@ pub(crate) fn fingerprint(
     settings: &Settings,
 ) -> u64 {
     let mut h = Fnv::new();
-    let _ = write!(h, "karigami {} {FORMAT}\n", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(h, "karigami {} {FORMAT}", env!("CARGO_PKG_VERSION"));
     for (name, text) in SOURCES {
-        let _ = write!(h, "{name} {}\n", text.len());
+        let _ = writeln!(h, "{name} {}", text.len());
         h.bytes(text.as_bytes());
     }
     let mut solve = *settings;
