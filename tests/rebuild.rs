@@ -5,27 +5,10 @@
 //! karigami wrote, is solved again.
 
 use crate::cli::{karigami, repo, scratch};
+use crate::workflow::tree;
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::Path;
-
-/// Every file under `dir` with its bytes, by relative path.
-fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
-                out.insert(rel, fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
-}
 
 /// Build `recipe` into `out` (in `dir`) and return what it said about the
 /// simulation: "solved", "reused" or "" when it did not simulate.

@@ -217,15 +217,14 @@ pub(crate) fn restore(
     if (e - stats.energy).abs() > 1e-9 * (stats.energy.abs() + m.e_scale) {
         return None;
     }
-    let theta = lm.held_opening();
-    let equilibrium = equilibrium(&lm, stats, &settings.material);
+    // What a fresh solve reports on its model, reported on this one.
     Some(Simulation {
-        lm,
-        equilibrium,
-        theta,
         iterations,
         steps,
+        theta: lm.held_opening(),
+        equilibrium: equilibrium(&lm, stats, &settings.material),
         seconds: clock.elapsed().as_secs_f64(),
+        lm,
     })
 }
 
