@@ -32,6 +32,7 @@ pub(super) fn build(
     paths: &[PathBuf],
     out: &Path,
     force: bool,
+    jobs: usize,
     json: bool,
     overrides: &Overrides,
     v: Verbosity,
@@ -56,7 +57,7 @@ pub(super) fn build(
     bar.clear();
     let built = built?;
     let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
-        karigami::files(&built)
+        karigami::files_on(&built, jobs > 1)
     });
     let written = files::Staged::new(&dir, "single").and_then(|staged| {
         staged.write("", &outputs)?;
