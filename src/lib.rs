@@ -42,8 +42,10 @@ mod write;
 
 // The pipeline's entry points: recipe text -> Design -> Build -> files,
 // with the reports `check` and `build` print.
+pub use output::files_on;
 pub use output::{files, viewer_scene};
 pub use pipeline::{Build, Checked, Verified, build, build_with, check};
+pub use pipeline::{STATE_FILE, build_reusing};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
 
 // Diagnostics: every error the library reports, with its kind and place.
@@ -123,6 +125,7 @@ pub mod testing {
     };
     pub use crate::layout::strip_length;
     pub use crate::parts::{DOT, clash, test_piece};
+    pub use crate::pipeline::SIMULATION_SOURCES;
     pub use crate::sim::explore::perturb;
 
     /// The stroke font the engravings and pages use.

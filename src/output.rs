@@ -18,29 +18,77 @@ pub(crate) const SHEET_MAX_PX: f64 = 4000.0;
 pub(crate) const PREVIEW_PX_PER_MM: f64 = 8.0;
 
 /// Every output file: a path relative to the output folder and its bytes.
+/// The sheet pictures, the longest part, are drawn on a second thread
+/// while this one writes the rest (where the machine has a second core);
+/// the files are the same either way.
 pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
-    let name = &b.design.name;
-    let fab = &b.design.fabrication;
+    let two = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    files_on(b, two)
+}
+
+/// `files`, on one thread or two: `karigami build --jobs 1` stays on one.
+pub fn files_on(b: &Build, two_threads: bool) -> Vec<(String, Vec<u8>)> {
+    if !two_threads {
+        let pictures = sheet_pictures(b);
+        return files_with(b, pictures);
+    }
+    std::thread::scope(|s| {
+        let pictures = s.spawn(|| sheet_pictures(b));
+        // The rest is made meanwhile; only the sheets' places wait.
+        let rest = rest_of_files(b);
+        let pictures = pictures
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        let mut files = sheet_files(b, pictures);
+        files.extend(rest);
+        files
+    })
+}
+
+fn files_with(b: &Build, pictures: Vec<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
+    let mut files = sheet_files(b, pictures);
+    files.extend(rest_of_files(b));
+    files
+}
+
+/// Each sheet's PNG picture.
+fn sheet_pictures(b: &Build) -> Vec<Vec<u8>> {
+    b.pages
+        .iter()
+        .map(|page| {
+            png::write(
+                page,
+                SHEET_PX_PER_MM.min(SHEET_MAX_PX / page.width.max(page.height)),
+                1.0,
+            )
+        })
+        .collect()
+}
+
+/// lattice.json and every sheet's files, given the sheets' pictures.
+fn sheet_files(b: &Build, pictures: Vec<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     let mut files = vec![(
         "lattice.json".to_string(),
         lattice_json::write(&b.lattice, &b.joints),
     )];
-    for (i, page) in b.pages.iter().enumerate() {
+    for ((i, page), picture) in b.pages.iter().enumerate().zip(pictures) {
         files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
         files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
         files.push((
             format!("sheets/sheet-{:02}.lbrn2", i + 1),
             crate::write::lbrn2::write(page),
         ));
-        files.push((
-            format!("sheets/sheet-{:02}.png", i + 1),
-            png::write(
-                page,
-                SHEET_PX_PER_MM.min(SHEET_MAX_PX / page.width.max(page.height)),
-                1.0,
-            ),
-        ));
+        files.push((format!("sheets/sheet-{:02}.png", i + 1), picture));
     }
+    files
+}
+
+/// Every file after the sheets: the PDFs, the tables, the pictures, the
+/// viewer, the deployed shape and the report.
+fn rest_of_files(b: &Build) -> Vec<(String, Vec<u8>)> {
+    let name = &b.design.name;
+    let fab = &b.design.fabrication;
+    let mut files = Vec::new();
     files.push((
         "cut.pdf".to_string(),
         pdf::write(&format!("{name} cut sheets"), &b.pages),
@@ -131,7 +179,8 @@ fn scene_with<'a>(b: &'a Build, simulated: Option<&Lattice>) -> viewer::Scene<'a
     scene
 }
 
-/// deployed.json and deployed.obj of a simulated build.
+/// deployed.json, deployed.obj and the solver's state for rebuilds
+/// (`pipeline::STATE_FILE`) of a simulated build.
 fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u8>)> {
     use crate::write::deployed;
     let fab = &b.design.fabrication;
@@ -151,6 +200,7 @@ fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u
         eps_s: eq.strain.s,
         distance: eq.distance,
         iterations: run.iterations,
+        fingerprint: b.simulation_key.map_or(0, |(key, _)| key),
         vertices: (0..nv)
             .map(|v| (b.lattice.vertex_name(v as u32), eq.points[v]))
             .collect(),
@@ -175,6 +225,10 @@ fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u
                 fab.material.width,
                 fab.material.thickness,
             ),
+        ),
+        (
+            crate::pipeline::STATE_FILE.to_string(),
+            crate::pipeline::simulation_state(run, summary.fingerprint),
         ),
     ]
 }

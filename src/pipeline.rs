@@ -14,6 +14,10 @@ use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;
 
+mod reuse;
+pub(crate) use reuse::state as simulation_state;
+pub use reuse::{SOURCES as SIMULATION_SOURCES, STATE_FILE};
+
 /// Everything one design makes before any file bytes: the grown and verified
 /// lattice, its strips, their layout on sheets and the cut-sheet pages.
 pub struct Build {
@@ -50,6 +54,9 @@ pub struct Build {
     /// The simulated deployed shape (docs/physics.md), for lattices that
     /// are not planar true mechanisms (`sim::wanted`).
     pub(crate) simulation: Option<crate::sim::Simulation>,
+    /// The fingerprint of everything the simulation read (`reuse`), and
+    /// whether it was restored from an earlier build instead of solved.
+    pub(crate) simulation_key: Option<(u64, bool)>,
 }
 
 /// Grow, verify, make the parts and nest them. A design that fails
@@ -61,6 +68,18 @@ pub fn build(design: Design) -> Result<Build, Diagnostic> {
 /// `build`, telling `progress` about each fitted row (long fits).
 pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Build, Diagnostic> {
     check(design, progress)?.assemble()
+}
+
+/// `build_with`, given the `STATE_FILE` an earlier build of this design
+/// wrote (read by the caller): its simulation is restored instead of
+/// solved when nothing it depends on changed (`Build::simulation_reused`),
+/// with the same result to the bit; any other file is ignored.
+pub fn build_reusing(
+    design: Design,
+    progress: &mut dyn FnMut(&str),
+    previous: Option<&[u8]>,
+) -> Result<Build, Diagnostic> {
+    assemble(check(design, progress)?, previous)
 }
 
 /// The first stage of every build, and all of `karigami check`: a design
@@ -183,7 +202,7 @@ impl Checked {
     /// one that failed verification or a fabrication check, is refused
     /// with a located error.
     pub fn assemble(self) -> Result<Build, Diagnostic> {
-        assemble(self)
+        assemble(self, None)
     }
 }
 
@@ -230,7 +249,7 @@ fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diagnost
 
 /// The parts, layout and pages of a grown and verified lattice
 /// (`Checked::assemble`), from what the check derived already.
-fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
+fn assemble(checked: Checked, previous: Option<&[u8]>) -> Result<Build, Diagnostic> {
     if let Some(e) = checked.too_large_to_fabricate() {
         return Err(e);
     }
@@ -321,7 +340,7 @@ fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
         .flatten()
         .unwrap_or_else(|| lattice.clone());
     let mut parts = parts;
-    let simulation = simulated(
+    let (simulation, simulation_key) = simulated(
         &design,
         &lattice,
         &crate::sim::Derived {
@@ -329,12 +348,14 @@ fn assemble(checked: Checked) -> Result<Build, Diagnostic> {
             joints: &joints,
         },
         &deployment,
+        previous,
         &mut parts.warnings,
     )?;
     Ok(Build {
         steps: steps(&lattice, &joints),
         joints,
         simulation,
+        simulation_key,
         design,
         assembled,
         measures,
@@ -373,8 +394,13 @@ fn job(design: &Design, lattice: &Lattice, parts: &Parts) -> Job {
     }
 }
 
-/// The simulated deployed shape when `sim::wanted`; strips strained beyond
-/// the allowable are an error unless the recipe accepts them.
+/// A build's simulation, and its fingerprint with whether it was restored.
+type Simulated = (Option<crate::sim::Simulation>, Option<(u64, bool)>);
+
+/// The simulated deployed shape when `sim::wanted`, restored from
+/// `previous` when that holds it (`reuse`), with its fingerprint and
+/// whether it was restored; strips strained beyond the allowable are an
+/// error unless the recipe accepts them.
 /// A solver failure is a warning (the cut files do not depend on it):
 /// no deployed files then.
 fn simulated(
@@ -382,21 +408,24 @@ fn simulated(
     lattice: &Lattice,
     derived: &crate::sim::Derived<'_>,
     deployment: &Deployment,
+    previous: Option<&[u8]>,
     warnings: &mut Vec<crate::parts::Warning>,
-) -> Result<Option<crate::sim::Simulation>, Diagnostic> {
+) -> Result<Simulated, Diagnostic> {
     if !crate::sim::wanted(lattice, deployment) {
-        return Ok(None);
+        return Ok((None, None));
     }
     let settings = &design.simulation;
     let m = &design.fabrication.material;
-    let run = match crate::sim::simulate_with(
-        lattice,
-        deployment,
-        derived,
-        m.width,
-        m.thickness,
-        settings,
-    ) {
+    let (w, t) = (m.width, m.thickness);
+    let key = reuse::fingerprint(lattice, derived, w, t, settings);
+    let restored =
+        previous.and_then(|bytes| reuse::restore(bytes, key, lattice, derived, w, t, settings));
+    let reused = restored.is_some();
+    let solved = match restored {
+        Some(run) => Ok(run),
+        None => crate::sim::simulate_with(lattice, deployment, derived, w, t, settings),
+    };
+    let run = match solved {
         Ok(run) => run,
         Err(e) => {
             warnings.push(crate::parts::Warning {
@@ -405,7 +434,7 @@ fn simulated(
                     "the deployed shape could not be simulated ({e}); no deployed.obj or deployed.json, and the preview shows the design (docs/physics.md)"
                 ),
             });
-            return Ok(None);
+            return Ok((None, None));
         }
     };
     let strain = &run.equilibrium.strain;
@@ -430,7 +459,7 @@ fn simulated(
             message: format!("{what}; the recipe accepts it ([simulation] accept_overstrain)"),
         });
     }
-    Ok(Some(run))
+    Ok((Some(run), Some((key, reused))))
 }
 
 fn locate(design: &Design, e: PartsError) -> Diagnostic {
@@ -452,6 +481,13 @@ impl Build {
             measures: &self.measures,
             parts: Some(&self.parts),
         }
+    }
+
+    /// Whether the simulated deployed shape was restored from the earlier
+    /// build given to `build_reusing` (true) or solved (false); None when
+    /// the build did not simulate.
+    pub fn simulation_reused(&self) -> Option<bool> {
+        self.simulation_key.map(|(_, reused)| reused)
     }
 
     /// Lower bounds on the sheet count for the layout's parts.

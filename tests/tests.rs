@@ -12,6 +12,7 @@ mod guide;
 mod layers;
 mod maker;
 mod property;
+mod rebuild;
 mod report_once;
 mod safety;
 mod shape;

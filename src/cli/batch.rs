@@ -5,9 +5,9 @@
 use super::args::Verbosity;
 use super::build::open_out;
 use super::error::{Error, ErrorJson, json_text, print_json};
-use super::files::{Staged, safe_component};
+use super::files::{OutDir, Staged, safe_component};
 use super::progress::Progress;
-use super::recipe::{Recipe, run_recipe, stem};
+use super::recipe::{Recipe, run_recipe, simulation, stem};
 use karigami::{ErrorKind, Overrides, util::plural};
 use serde::Serialize;
 use serde_json::Value;
@@ -33,6 +33,8 @@ struct Summary {
     sheets: usize,
     check: Value,
     build: Value,
+    /// `recipe::simulation`.
+    simulation: Option<&'static str>,
 }
 
 /// One recipe in batch.json and in `build --json`'s report of a batch.
@@ -51,6 +53,9 @@ struct Record<'a> {
     /// Only in `--json`'s report: batch.json is the same on every run.
     #[serde(skip_serializing_if = "Option::is_none")]
     seconds: Option<f64>,
+    /// Only in `--json`'s report: "solved" or "reused" (`recipe::simulation`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    simulation: Option<&'static str>,
 }
 
 pub(super) fn build(
@@ -86,7 +91,7 @@ pub(super) fn build(
                         }
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(path) = paths.get(i) else { break };
-                        let outcome = build_one(path, &folders[i], &staged, overrides);
+                        let outcome = build_one(path, &folders[i], out, &staged, overrides, jobs);
                         if outcome.write_failed.is_some() {
                             stop.store(true, Ordering::SeqCst);
                         }
@@ -139,6 +144,9 @@ pub(super) fn build(
         print_json(&timed);
     } else if !v.quiet {
         out!("{}", table(&outcomes));
+        if let Some(line) = reused_line(&outcomes) {
+            outln!("{line}");
+        }
         outln!("wrote {} to {shown}", plural(outcomes.len(), "build"));
     }
     let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_err()).collect();
@@ -217,14 +225,23 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
     Ok(names)
 }
 
-fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) -> Outcome {
+/// Build one recipe of the batch into its subfolder; with `jobs > 1` its
+/// sheet pictures are drawn on a second thread (`karigami::files_on`).
+fn build_one(
+    path: &Path,
+    folder: &str,
+    out: &OutDir,
+    staged: &Staged,
+    overrides: &Overrides,
+    jobs: usize,
+) -> Outcome {
     let started = Instant::now();
     let write_failed = std::cell::RefCell::new(None);
     let result = Recipe::read(path)
-        .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}))
+        .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}, (out, folder)))
         .and_then(|built| {
             staged
-                .write(folder, &karigami::files(&built))
+                .write(folder, &karigami::files_on(&built, jobs > 1))
                 .map_err(|e| {
                     *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
                     Error::io(format!("cannot write {folder}/: {e}"))
@@ -235,6 +252,7 @@ fn build_one(path: &Path, folder: &str, staged: &Staged, overrides: &Overrides) 
                 sheets: built.layout.sheets.len(),
                 check: karigami::build_check_json(&built),
                 build: karigami::build_json(&built),
+                simulation: simulation(&built),
             })
         });
     Outcome {
@@ -260,8 +278,26 @@ impl Outcome {
             build: summary.map(|s| &s.build),
             error,
             seconds: timed.then_some(self.seconds),
+            simulation: summary.and_then(|s| s.simulation).filter(|_| timed),
         }
     }
+}
+
+/// How many of the simulated recipes reused the earlier batch's
+/// simulation, in one line; None when none simulated.
+fn reused_line(outcomes: &[Outcome]) -> Option<String> {
+    let how: Vec<&str> = outcomes
+        .iter()
+        .filter_map(|o| o.result.as_ref().ok()?.simulation)
+        .collect();
+    let reused = how.iter().filter(|h| **h == "reused").count();
+    (!how.is_empty()).then(|| {
+        format!(
+            "simulations: {reused} of {} reused from the earlier build (nothing they depend on changed), {} solved",
+            how.len(),
+            how.len() - reused
+        )
+    })
 }
 
 fn table(outcomes: &[Outcome]) -> String {

@@ -5,7 +5,7 @@ use super::args::Verbosity;
 use super::error::{Error, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
-use super::recipe::{Recipe, run_recipe};
+use super::recipe::{Recipe, run_recipe, simulation};
 use karigami::Overrides;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -22,12 +22,17 @@ struct Built<'a> {
     seconds: f64,
     check: serde_json::Value,
     build: serde_json::Value,
+    /// "solved" or "reused" (from the earlier build in `out`); absent when
+    /// the build does not simulate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    simulation: Option<&'static str>,
 }
 
 pub(super) fn build(
     paths: &[PathBuf],
     out: &Path,
     force: bool,
+    jobs: usize,
     json: bool,
     overrides: &Overrides,
     v: Verbosity,
@@ -46,12 +51,13 @@ pub(super) fn build(
             .map_or("the built-in sheet".into(), |p| p.display().to_string())
     );
     let built = progress::heartbeat(&what, v.quiet || json, || {
-        recipe.and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar)))
+        recipe
+            .and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar), (&dir, "")))
     });
     bar.clear();
     let built = built?;
     let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
-        karigami::files(&built)
+        karigami::files_on(&built, jobs > 1)
     });
     let written = files::Staged::new(&dir, "single").and_then(|staged| {
         staged.write("", &outputs)?;
@@ -73,15 +79,30 @@ pub(super) fn build(
             seconds: started.elapsed().as_secs_f64(),
             check: karigami::build_check_json(&built),
             build: karigami::build_json(&built),
+            simulation: simulation(&built),
         });
     } else if !v.quiet {
         if v.verbose {
             out!("{}", karigami::check_text(&built.verified()));
         }
         out!("{}", karigami::summary(&built));
+        if let Some(how) = simulation(&built) {
+            outln!("simulation: {}", simulation_line(how, out));
+        }
         outln!("wrote {} files to {}", outputs.len(), out.display());
     }
     Ok(())
+}
+
+/// The terminal's line on where the deployed shape came from.
+fn simulation_line(how: &str, out: &Path) -> String {
+    match how {
+        "reused" => format!(
+            "reused from the earlier build in {} (nothing it depends on changed)",
+            out.display()
+        ),
+        _ => "solved (a rebuild into the same folder reuses it)".to_string(),
+    }
 }
 
 /// Check and lock the output folder before any work; say what interrupted

@@ -110,7 +110,7 @@ pub(crate) fn run() -> i32 {
                     batch::build(&recipes, &out, force, jobs, json, &overrides, v)
                 })
             } else {
-                build::build(&designs, &out, force, json, &overrides, v)
+                build::build(&designs, &out, force, jobs, json, &overrides, v)
             }
         }
         Command::Tune {

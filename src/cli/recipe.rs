@@ -4,7 +4,7 @@
 use super::args::DEFAULT_TEMPLATE;
 use super::error::Error;
 use super::files;
-use karigami::{Build, Design, Diagnostic, Overrides, build_with, template};
+use karigami::{Build, Design, Diagnostic, Overrides, build_reusing, template};
 use std::path::Path;
 
 /// A recipe as read: its text, its name for messages, its default design name.
@@ -55,12 +55,30 @@ pub(super) fn stem(path: &Path) -> String {
 }
 
 /// Parse, grow, verify and assemble one recipe (the build and batch paths;
-/// `check` stops after `pipeline::check` to report, then assembles).
+/// `check` stops after `pipeline::check` to report, then assembles),
+/// reusing the simulation of the earlier build into `earlier` (the output
+/// folder and the recipe's subfolder in it) when nothing it depends on
+/// changed (`karigami::build_reusing`).
 pub(super) fn run_recipe(
     recipe: &Recipe,
     overrides: &Overrides,
     progress: &mut dyn FnMut(&str),
+    earlier: (&files::OutDir, &str),
 ) -> Result<Build, Error> {
     let design = recipe.parse(overrides)?;
-    build_with(design, progress).map_err(|d| recipe.error(&d))
+    let (out, sub) = earlier;
+    let state = Path::new(sub).join(karigami::STATE_FILE);
+    let state = out.earlier_file(&state.to_string_lossy(), STATE_LIMIT);
+    build_reusing(design, progress, state.as_deref()).map_err(|d| recipe.error(&d))
 }
+
+/// Where a build's simulated deployed shape came from, for the terminal
+/// and the JSON reports: "solved" or "reused"; None when it has none.
+pub(super) fn simulation(b: &Build) -> Option<&'static str> {
+    b.simulation_reused()
+        .map(|reused| if reused { "reused" } else { "solved" })
+}
+
+/// The largest simulation state read back (a 2,000-cell lattice, the most
+/// `build` simulates, writes about ...).
+const STATE_LIMIT: u64 = 256 << 20;

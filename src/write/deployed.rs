@@ -22,6 +22,9 @@ pub(crate) struct Summary<'a> {
     pub(crate) eps_s: f64,
     pub(crate) distance: f64,
     pub(crate) iterations: usize,
+    /// What the simulation read, as one number (`pipeline::reuse`): two
+    /// files of the same fingerprint hold the same simulation.
+    pub(crate) fingerprint: u64,
     /// Vertex names and positions, then pivot names and positions.
     pub(crate) vertices: Vec<(String, DVec3)>,
     pub(crate) pivots: Vec<(String, DVec3)>,
@@ -73,6 +76,7 @@ struct DeployedJson<'a> {
     allowable_strain: f64,
     distance_from_design: f64,
     newton_iterations: usize,
+    fingerprint: String,
     vertices: Vec<PointJson>,
     pivots: Vec<PointJson>,
     strips: Vec<StripJson<'a>>,
@@ -105,6 +109,7 @@ pub(crate) fn json(summary: &Summary, strips: &[DeployedStrip]) -> Vec<u8> {
         allowable_strain: summary.eps_allow,
         distance_from_design: finite(summary.distance),
         newton_iterations: summary.iterations,
+        fingerprint: format!("{:016x}", summary.fingerprint),
         vertices: points(&summary.vertices),
         pivots: points(&summary.pivots),
         strips: strips

@@ -282,6 +282,24 @@ impl OutDir {
         &self.target
     }
 
+    /// A file an earlier build wrote into this folder (`rel` inside it, such
+    /// as `disk/deployed.state`), for the pipeline to reuse: None unless the
+    /// folder is a build folder and the file a plain file of at most
+    /// `limit` bytes. Whatever is read is checked by its reader; a read
+    /// that fails is no error (the build just does the work again).
+    pub(crate) fn earlier_file(&self, rel: &str, limit: u64) -> Option<Vec<u8>> {
+        if !matches!(self.previous, Previous::Build | Previous::Added(_)) {
+            return None;
+        }
+        let path = self.target.join(rel);
+        let meta = fs::symlink_metadata(&path).ok()?;
+        if !meta.is_file() || meta.len() > limit {
+            return None;
+        }
+        let bytes = fs::read(&path).ok()?;
+        (bytes.len() as u64 <= limit).then_some(bytes)
+    }
+
     /// What the folder holds if a build does not commit.
     pub(crate) fn kept(&self) -> String {
         match self.previous {
