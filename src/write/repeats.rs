@@ -11,6 +11,7 @@ use super::number::units;
 use crate::drawing::{Group, Shape};
 use glam::DVec2;
 use std::collections::HashMap;
+use std::hash::Hash;
 
 /// Which groups share a drawing with another group.
 pub(crate) struct Repeats {
@@ -22,18 +23,18 @@ pub(crate) struct Repeats {
 
 /// The shared drawings among groups keyed by their drawing relative to
 /// their anchor (None: never shared); numbered in order of first use.
-pub(crate) fn find(keys: &[Option<String>]) -> Repeats {
-    let mut count: HashMap<&str, usize> = HashMap::new();
+pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
+    let mut count: HashMap<&K, usize> = HashMap::new();
     for key in keys.iter().flatten() {
         *count.entry(key).or_default() += 1;
     }
-    let mut index: HashMap<&str, usize> = HashMap::new();
+    let mut index: HashMap<&K, usize> = HashMap::new();
     let mut repeats = Repeats {
         of_group: Vec::with_capacity(keys.len()),
         first: Vec::new(),
     };
     for (g, key) in keys.iter().enumerate() {
-        let shared = key.as_deref().filter(|k| count[k] > 1);
+        let shared = key.as_ref().filter(|k| count[k] > 1);
         repeats.of_group.push(shared.map(|key| {
             let next = index.len();
             let b = *index.entry(key).or_insert(next);
