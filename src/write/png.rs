@@ -396,10 +396,12 @@ fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDep
     // palette is the count of bits below it, so no search per pixel.
     let mut seen = vec![0u64; 1 << 18];
     let mut count = 0;
-    let mut last = u32::MAX;
-    for c in pixmap.pixels().iter().map(rgb) {
-        if c != last {
-            last = c;
+    let mut last = None;
+    for p in pixmap.pixels() {
+        // Most pixels repeat the one before (white between strips).
+        if last != Some(*p) {
+            last = Some(*p);
+            let c = rgb(p);
             let (word, bit) = ((c >> 6) as usize, 1u64 << (c & 63));
             if seen[word] & bit == 0 {
                 if count == 256 {
@@ -441,16 +443,18 @@ fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDep
         .chunks_exact(w.max(1))
         .zip(raw.chunks_exact_mut(row_bytes.max(1)))
     {
-        if bits == 8 {
-            for (p, o) in row.iter().zip(out.iter_mut()) {
-                *o = index(rgb(p));
-            }
-            continue;
-        }
+        let mut last = (row[0], index(rgb(&row[0])));
         for (x, p) in row.iter().enumerate() {
-            let bit = x * bits;
-            // Pixels fill each byte from its most significant bits.
-            out[bit / 8] |= index(rgb(p)) << (8 - bits - bit % 8);
+            if *p != last.0 {
+                last = (*p, index(rgb(p)));
+            }
+            if bits == 8 {
+                out[x] = last.1;
+            } else {
+                let bit = x * bits;
+                // Pixels fill each byte from its most significant bits.
+                out[bit / 8] |= last.1 << (8 - bits - bit % 8);
+            }
         }
     }
     Some((palette, depth, raw))
