@@ -200,6 +200,28 @@ mod tests {
     }
 
     #[test]
+    fn keys_of_equal_texts_are_one_drawing_and_each_key_is_written_once() {
+        // Keys 1 and 2 print the same text: all their groups share it.
+        let keys = [Some(1), Some(2), None, Some(1), Some(3), Some(2), Some(4)];
+        let texts = ["", "x", "x", "y", "z"];
+        let mut written = Vec::new();
+        let (r, shared) = find_exact(&keys, |g| {
+            written.push(g);
+            texts[keys[g].unwrap()].to_string()
+        });
+        assert_eq!(written, [0, 1, 4, 6]);
+        assert_eq!(
+            r.of_group,
+            [Some(0), Some(0), None, Some(0), None, Some(0), None]
+        );
+        assert_eq!(r.first, [0]);
+        assert_eq!(shared, ["x"]);
+        let k = |s: &str| Some(s.to_string());
+        let by_text = find(&[k("x"), k("x"), None, k("x"), k("y"), k("x"), k("z")]);
+        assert_eq!(by_text.of_group, r.of_group);
+    }
+
+    #[test]
     fn offsets_are_whole_grid_steps() {
         let at = (units(785.69554), units(1090.0));
         let p = offset(at)(DVec2::new(799.83771, 1085.00004));
