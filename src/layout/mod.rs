@@ -366,14 +366,25 @@ fn best_fit(order: &[usize], lengths: &[f64], lanes: &[Lane], gap: f64) -> Vec<(
             continue;
         }
         // The lane with the least room that takes the part.
-        let at = room.partition_point(|&r| r < (Len(need(i)), 0));
-        let (Len(left), lane) = room[at];
-        let moved = (Len(left - need(i)), lane);
+        let run = need(i);
+        let at = room.partition_point(|&r| r < (Len(run), 0));
+        let (Len(mut left), lane) = room[at];
+        // Parts of the same length after it go to the same lane while it
+        // takes them: its room only shrinks and every other lane that takes
+        // them has more. One search a lane filled, not one a part (a big
+        // sheet's strips are mostly of a few lengths).
+        loop {
+            left -= run;
+            placed.push((i, lane));
+            i += 1;
+            if i == order.len() || need(i).total_cmp(&run).is_ne() || left.total_cmp(&run).is_lt() {
+                break;
+            }
+        }
+        let moved = (Len(left), lane);
         let to = room[..at].partition_point(|&r| r < moved);
         room[to..=at].rotate_right(1);
         room[to] = moved;
-        placed.push((i, lane));
-        i += 1;
     }
     placed
 }

@@ -13,9 +13,9 @@
 //! on the 0.1 um grid from the insertion point, so that insertion point plus
 //! offset is exactly the point a flat file would print.
 
-use super::number::{fixed, num, units};
+use super::number::{fixed, num, on_grid, units};
 use super::repeats::{self, Repeats};
-use crate::drawing::{Item, Layer, Page, Segment, Shape, walk};
+use crate::drawing::{Group, Item, Layer, Page, Segment, Shape, walk};
 use glam::DVec2;
 use std::fmt::Write as _;
 
@@ -415,23 +415,23 @@ impl Blocks {
             .iter()
             .map(|g| repeats::anchor(g).map(|(x, y)| (x, units(page.height) - y)))
             .collect();
-        let keys: Vec<Option<String>> = page
+        let keys: Vec<Option<Vec<i64>>> = page
             .groups
             .iter()
             .zip(&at)
-            .map(|(g, at)| {
-                let at = (*at)?;
-                let mut probe = Dxf {
-                    out: String::new(),
-                    next_handle: 0,
-                };
-                for item in &g.items {
-                    item_entities(&mut probe, "0", item, colours, &relative(page.height, at));
-                }
-                Some(probe.out)
-            })
+            .map(|(g, at)| Some(drawing_key(g, page.height, (*at)?)))
             .collect();
-        let repeats = repeats::find(&keys);
+        let (repeats, _) = repeats::find_exact(&keys, |g| {
+            let at = at[g].expect("a keyed group has an anchor");
+            let mut probe = Dxf {
+                out: String::new(),
+                next_handle: 0,
+            };
+            for item in &page.groups[g].items {
+                item_entities(&mut probe, "0", item, colours, &relative(page.height, at));
+            }
+            probe.out
+        });
         let names = (1..=repeats.first.len())
             .map(|b| format!("part-{b}"))
             .collect();
@@ -442,6 +442,57 @@ impl Blocks {
             records: Vec::new(),
         }
     }
+}
+
+/// What a group's entities print relative to the insertion point `at`, as
+/// integers (see `repeats::find_exact`): each point on the grid, each other
+/// number on the grid where `num` prints it so, else by its bits.
+fn drawing_key(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
+    let map = relative(height, at);
+    let grid = |p: DVec2| {
+        let q = map(p);
+        [units(q.x), units(q.y)]
+    };
+    let printed = |x: f64| on_grid(x).map_or([1, x.to_bits() as i64], |u| [0, u]);
+    let mut k = Vec::with_capacity(16 * g.items.len());
+    for item in &g.items {
+        k.push(item.layer as i64);
+        match &item.shape {
+            Shape::Circle { center, radius } => {
+                k.push(0);
+                k.extend(grid(*center));
+                k.extend(printed(*radius));
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                let vertices = bulged(*start, segments, *closed);
+                k.extend([1, *closed as i64, vertices.len() as i64]);
+                for (p, bulge) in vertices {
+                    k.extend(grid(p));
+                    // A zero bulge is not written.
+                    if bulge == 0.0 {
+                        k.push(2);
+                    } else {
+                        k.extend(printed(bulge));
+                    }
+                }
+            }
+            text @ Shape::Text { .. } => {
+                let strokes = crate::drawing::text::strokes(text);
+                k.extend([2, strokes.len() as i64]);
+                for stroke in strokes {
+                    k.push(stroke.len() as i64);
+                    for p in stroke {
+                        k.extend(grid(p));
+                    }
+                }
+            }
+        }
+    }
+    k
 }
 
 /// Page points to a block's coordinates: flipped (about the page height on

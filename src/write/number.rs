@@ -9,16 +9,22 @@
 /// always: the writers print millions of numbers and the general formatter
 /// was a sixth of a big build.
 pub(crate) fn num(x: f64) -> String {
-    let scaled = x * 1e4;
-    // |scaled| < 2^31: its f64 error is below 2^-22, far inside the margin.
-    if scaled.abs() < 2_147_483_648.0 && (scaled - scaled.floor() - 0.5).abs() > 1e-5 {
-        return fixed(scaled.round() as i64);
+    if let Some(units) = on_grid(x) {
+        return fixed(units);
     }
     let mut s = format!("{x:.4}");
     if s.contains('.') {
         s = s.trim_end_matches('0').trim_end_matches('.').to_string();
     }
     if s == "-0" { "0".to_string() } else { s }
+}
+
+/// `units(x)` when `num(x)` prints it as `fixed` of that (nearly always).
+pub(crate) fn on_grid(x: f64) -> Option<i64> {
+    let scaled = x * 1e4;
+    // |scaled| < 2^31: its f64 error is below 2^-22, far inside the margin.
+    (scaled.abs() < 2_147_483_648.0 && (scaled - scaled.floor() - 0.5).abs() > 1e-5)
+        .then(|| scaled.round() as i64)
 }
 
 /// `x` in ten-thousandths, rounded: the grid `num` prints on. Writers that

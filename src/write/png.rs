@@ -2,105 +2,272 @@
 //! files and the guide, rasterised on white. Hairlines are widened to a
 //! visible minimum; text is drawn with the single-stroke font.
 
-use crate::drawing::{Page, Segment, Shape, arc_to_cubics, text, walk};
+use super::repeats;
+use crate::drawing::{Group, Item, Page, Segment, Shape, arc_to_cubics, text, walk};
+use glam::DVec2;
+use std::collections::HashMap;
 use tiny_skia::{
-    Color, FillRule, LineCap, LineJoin, Paint, PathBuilder, Pixmap, Stroke, Transform,
+    Color, FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, PremultipliedColorU8,
+    Stroke, Transform,
 };
 
 /// Render `page` at `px_per_mm`, strokes at least `min_stroke_px` wide.
+///
+/// A drawing that several groups share up to a move (the strips of a big
+/// sheet: one part type, engraved with its type) is rasterised once per
+/// sub-pixel phase into a tile and the tile is laid on the page for each
+/// copy: anti-aliased hairlines cost per pixel of stroke, and a 100 x 100
+/// sheet has 20,000 strips. A copy lands at most 1/(2 PHASES) px from where
+/// drawing it would put it (see `tiles_draw_as_the_strips_would`).
 pub fn write(page: &Page, px_per_mm: f64, min_stroke_px: f64) -> Vec<u8> {
+    encode(&render(page, px_per_mm, min_stroke_px, true))
+}
+
+/// Sub-pixel phases a tile is drawn at, in each direction.
+const PHASES: f64 = 16.0;
+
+/// The page as a pixmap; `tiled`: shared drawings laid as tiles.
+fn render(page: &Page, px_per_mm: f64, min_stroke_px: f64, tiled: bool) -> Pixmap {
     let w = (page.width * px_per_mm).round().max(1.0) as u32;
     let h = (page.height * px_per_mm).round().max(1.0) as u32;
     let mut pixmap = Pixmap::new(w, h).expect("a page of positive size");
     pixmap.fill(Color::WHITE);
     let transform = Transform::from_scale(px_per_mm as f32, px_per_mm as f32);
     let min_width = min_stroke_px / px_per_mm;
-    for item in page.groups.iter().flat_map(|g| &g.items) {
-        let ink = item.ink;
-        let (paths, filled, stroke_colour, width) = match &item.shape {
-            Shape::Text { size, .. } => {
-                let mut pb = PathBuilder::new();
-                for s in text::strokes(&item.shape) {
-                    pb.move_to(s[0].x as f32, s[0].y as f32);
-                    for p in &s[1..] {
-                        pb.line_to(p.x as f32, p.y as f32);
-                    }
-                }
-                (
-                    pb.finish(),
-                    false,
-                    ink.fill.or(ink.stroke),
-                    (0.09 * size).max(min_width),
-                )
+    let anchors: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
+    let mut keys = repeats::page_keys(&page.groups, &anchors);
+    if !tiled {
+        keys.fill(None);
+    }
+    let shared = repeats::find(&keys);
+    let mut tiles: HashMap<(usize, i64, i64), Tile> = HashMap::new();
+    for (g, (b, at)) in page.groups.iter().zip(shared.of_group.iter().zip(&anchors)) {
+        if let (Some(b), Some((x, y))) = (b, at) {
+            let (x, fx) = phase(*x, px_per_mm);
+            let (y, fy) = phase(*y, px_per_mm);
+            let first = shared.first[*b];
+            let tile = tiles.entry((*b, fx, fy)).or_insert_with(|| {
+                let at = anchors[first].expect("a shared drawing has an anchor");
+                Tile::new(&page.groups[first], at, px_per_mm, min_width, (fx, fy))
+            });
+            tile.lay(&mut pixmap, (x, y));
+            continue;
+        }
+        for p in g.items.iter().filter_map(|i| painted(i, min_width)) {
+            paint(&mut pixmap, &p, transform);
+        }
+    }
+    pixmap
+}
+
+/// A grid coordinate (0.1 um units) on the page in pixels: the whole
+/// pixel and the phase within it, in 1/PHASES px.
+fn phase(units: i64, px_per_mm: f64) -> (i64, i64) {
+    let px = units as f64 / 1e4 * px_per_mm;
+    let whole = px.floor();
+    let q = ((px - whole) * PHASES).round() as i64;
+    (whole as i64 + q / PHASES as i64, q % PHASES as i64)
+}
+
+/// A shared drawing rasterised at one phase: its inked pixels, relative
+/// to the whole pixel of its anchor.
+struct Tile {
+    origin: (i64, i64),
+    pixels: Vec<(u32, u32, PremultipliedColorU8)>,
+}
+
+impl Tile {
+    /// `g`'s items relative to its anchor `at`, drawn with the anchor at
+    /// (`fx`, `fy`) / PHASES px.
+    fn new(
+        g: &Group,
+        at: (i64, i64),
+        px_per_mm: f64,
+        min_width: f64,
+        (fx, fy): (i64, i64),
+    ) -> Tile {
+        let shift = repeats::offset(at);
+        let painted: Vec<Painted> = g
+            .items
+            .iter()
+            .filter_map(|i| {
+                let moved = Item {
+                    shape: i.shape.moved(&shift),
+                    ..i.clone()
+                };
+                painted(&moved, min_width)
+            })
+            .collect();
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for p in &painted {
+            let b = p.path.bounds();
+            let pad = if p.stroke.is_some() {
+                p.width / 2.0
+            } else {
+                0.0
+            };
+            lo = lo.min(DVec2::new(b.left() as f64, b.top() as f64) - pad);
+            hi = hi.max(DVec2::new(b.right() as f64, b.bottom() as f64) + pad);
+        }
+        let empty = Tile {
+            origin: (0, 0),
+            pixels: Vec::new(),
+        };
+        if !lo.is_finite() {
+            return empty;
+        }
+        // Two pixels of room: anti-aliasing reaches one beyond the edge.
+        let f = DVec2::new(fx as f64, fy as f64) / PHASES;
+        let lo = (lo * px_per_mm + f).floor() - 2.0;
+        let hi = (hi * px_per_mm + f).ceil() + 2.0;
+        let size = hi - lo;
+        let Some(mut pixmap) = Pixmap::new(size.x as u32, size.y as u32) else {
+            return empty;
+        };
+        let s = px_per_mm as f32;
+        let transform =
+            Transform::from_row(s, 0.0, 0.0, s, (f.x - lo.x) as f32, (f.y - lo.y) as f32);
+        for p in &painted {
+            paint(&mut pixmap, p, transform);
+        }
+        let w = pixmap.width();
+        let pixels = pixmap
+            .pixels()
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.alpha() > 0)
+            .map(|(i, c)| (i as u32 % w, i as u32 / w, *c))
+            .collect();
+        Tile {
+            origin: (lo.x as i64, lo.y as i64),
+            pixels,
+        }
+    }
+
+    /// Lay the tile over `pixmap` with its anchor in pixel `at` (source
+    /// over, as drawing it there would blend).
+    fn lay(&self, pixmap: &mut Pixmap, at: (i64, i64)) {
+        let (w, h) = (pixmap.width() as i64, pixmap.height() as i64);
+        let (ox, oy) = (at.0 + self.origin.0, at.1 + self.origin.1);
+        let page = pixmap.pixels_mut();
+        for &(dx, dy, src) in &self.pixels {
+            let (x, y) = (ox + dx as i64, oy + dy as i64);
+            if x < 0 || y < 0 || x >= w || y >= h {
+                continue;
             }
-            Shape::Circle { center, radius } => (
-                PathBuilder::from_circle(center.x as f32, center.y as f32, *radius as f32),
-                ink.fill.is_some(),
-                ink.stroke,
-                ink.width.max(min_width),
-            ),
-            Shape::Path {
-                start,
-                segments,
-                closed,
-            } => {
-                let mut pb = PathBuilder::new();
-                pb.move_to(start.x as f32, start.y as f32);
-                for (from, s) in walk(*start, segments) {
-                    match s {
-                        Segment::Line(p) => pb.line_to(p.x as f32, p.y as f32),
-                        Segment::Arc {
-                            to,
-                            center,
-                            clockwise,
-                        } => {
-                            for [c1, c2, end] in arc_to_cubics(from, to, center, clockwise) {
-                                pb.cubic_to(
-                                    c1.x as f32,
-                                    c1.y as f32,
-                                    c2.x as f32,
-                                    c2.y as f32,
-                                    end.x as f32,
-                                    end.y as f32,
-                                );
-                            }
+            let dst = &mut page[(y * w + x) as usize];
+            let keep = 255 - src.alpha() as u32;
+            let over = |s: u8, d: u8| s + div255(d as u32 * keep);
+            *dst = PremultipliedColorU8::from_rgba(
+                over(src.red(), dst.red()),
+                over(src.green(), dst.green()),
+                over(src.blue(), dst.blue()),
+                over(src.alpha(), dst.alpha()),
+            )
+            .expect("source over keeps colour within alpha");
+        }
+    }
+}
+
+/// `v / 255` rounded, for `v` up to 255 * 255.
+fn div255(v: u32) -> u8 {
+    ((v + 128 + ((v + 128) >> 8)) >> 8) as u8
+}
+
+/// An item as a path (page mm) and how to paint it.
+struct Painted {
+    path: Path,
+    fill: Option<[u8; 3]>,
+    stroke: Option<[u8; 3]>,
+    /// Stroke width (mm), at least the minimum.
+    width: f64,
+}
+
+fn painted(item: &Item, min_width: f64) -> Option<Painted> {
+    let ink = item.ink;
+    let (path, fill, stroke, width) = match &item.shape {
+        Shape::Text { size, .. } => {
+            let mut pb = PathBuilder::new();
+            for s in text::strokes(&item.shape) {
+                pb.move_to(s[0].x as f32, s[0].y as f32);
+                for p in &s[1..] {
+                    pb.line_to(p.x as f32, p.y as f32);
+                }
+            }
+            (
+                pb.finish(),
+                None,
+                ink.fill.or(ink.stroke),
+                (0.09 * size).max(min_width),
+            )
+        }
+        Shape::Circle { center, radius } => (
+            PathBuilder::from_circle(center.x as f32, center.y as f32, *radius as f32),
+            ink.fill,
+            ink.stroke,
+            ink.width.max(min_width),
+        ),
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => {
+            let mut pb = PathBuilder::new();
+            pb.move_to(start.x as f32, start.y as f32);
+            for (from, s) in walk(*start, segments) {
+                match s {
+                    Segment::Line(p) => pb.line_to(p.x as f32, p.y as f32),
+                    Segment::Arc {
+                        to,
+                        center,
+                        clockwise,
+                    } => {
+                        for [c1, c2, end] in arc_to_cubics(from, to, center, clockwise) {
+                            pb.cubic_to(
+                                c1.x as f32,
+                                c1.y as f32,
+                                c2.x as f32,
+                                c2.y as f32,
+                                end.x as f32,
+                                end.y as f32,
+                            );
                         }
                     }
                 }
-                if *closed {
-                    pb.close();
-                }
-                (
-                    pb.finish(),
-                    ink.fill.is_some(),
-                    ink.stroke,
-                    ink.width.max(min_width),
-                )
             }
-        };
-        let Some(path) = paths else { continue };
-        let paint = |[r, g, b]: [u8; 3]| {
-            let mut p = Paint::default();
-            p.set_color_rgba8(r, g, b, 255);
-            p.anti_alias = true;
-            p
-        };
-        if filled {
-            if let Some(c) = ink.fill {
-                pixmap.fill_path(&path, &paint(c), FillRule::Winding, transform, None);
+            if *closed {
+                pb.close();
             }
+            (pb.finish(), ink.fill, ink.stroke, ink.width.max(min_width))
         }
-        if let Some(c) = stroke_colour {
-            let stroke = Stroke {
-                width: width as f32,
-                line_cap: LineCap::Round,
-                line_join: LineJoin::Round,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &paint(c), &stroke, transform, None);
-        }
+    };
+    Some(Painted {
+        path: path?,
+        fill,
+        stroke,
+        width,
+    })
+}
+
+fn paint(pixmap: &mut Pixmap, p: &Painted, transform: Transform) {
+    let paint = |[r, g, b]: [u8; 3]| {
+        let mut p = Paint::default();
+        p.set_color_rgba8(r, g, b, 255);
+        p.anti_alias = true;
+        p
+    };
+    if let Some(c) = p.fill {
+        pixmap.fill_path(&p.path, &paint(c), FillRule::Winding, transform, None);
     }
-    encode(&pixmap)
+    if let Some(c) = p.stroke {
+        let stroke = Stroke {
+            width: p.width as f32,
+            line_cap: LineCap::Round,
+            line_join: LineJoin::Round,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(&p.path, &paint(c), &stroke, transform, None);
+    }
 }
 
 /// PNG bytes of a pixmap, deflated at level 1 with adaptive filtering.
@@ -160,23 +327,47 @@ fn sixteen_levels(c: u8) -> u8 {
 /// an opaque pixmap, each channel mapped by `level`; None when that leaves
 /// more than 256 colours.
 fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
-    let rgb = |p: &tiny_skia::PremultipliedColorU8| {
+    let rgb = |p: &PremultipliedColorU8| {
         u32::from_be_bytes([0, level(p.red()), level(p.green()), level(p.blue())])
     };
-    let mut colours: Vec<u32> = Vec::new();
+    // The colours seen, one bit each (2 MB): a set bit's index in the
+    // palette is the count of bits below it, so no search per pixel.
+    let mut seen = vec![0u64; 1 << 18];
+    let mut count = 0;
     let mut last = None;
-    for c in pixmap.pixels().iter().map(rgb) {
-        if last != Some(c) {
-            last = Some(c);
-            if let Err(at) = colours.binary_search(&c) {
-                if colours.len() == 256 {
+    for p in pixmap.pixels() {
+        // Most pixels repeat the one before (white between strips).
+        if last != Some(*p) {
+            last = Some(*p);
+            let c = rgb(p);
+            let (word, bit) = ((c >> 6) as usize, 1u64 << (c & 63));
+            if seen[word] & bit == 0 {
+                if count == 256 {
                     return None;
                 }
-                colours.insert(at, c);
+                seen[word] |= bit;
+                count += 1;
             }
         }
     }
-    let (depth, bits) = match colours.len() {
+    let mut below = vec![0u16; seen.len()];
+    let mut palette = Vec::with_capacity(3 * count);
+    let mut sum = 0u16;
+    for (word, (&bits, below)) in seen.iter().zip(&mut below).enumerate() {
+        *below = sum;
+        sum += bits.count_ones() as u16;
+        let mut rest = bits;
+        while rest != 0 {
+            let c = (word as u32) << 6 | rest.trailing_zeros();
+            palette.extend_from_slice(&c.to_be_bytes()[1..]);
+            rest &= rest - 1;
+        }
+    }
+    let index = |c: u32| {
+        let (word, bit) = ((c >> 6) as usize, 1u64 << (c & 63));
+        (below[word] + (seen[word] & (bit - 1)).count_ones() as u16) as u8
+    };
+    let (depth, bits) = match count {
         0..=2 => (png::BitDepth::One, 1),
         3..=4 => (png::BitDepth::Two, 2),
         5..=16 => (png::BitDepth::Four, 4),
@@ -185,27 +376,25 @@ fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDep
     let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
     let row_bytes = (w * bits).div_ceil(8);
     let mut raw = vec![0u8; row_bytes * h];
-    let mut last = (u32::MAX, 0u8);
     for (row, out) in pixmap
         .pixels()
         .chunks_exact(w.max(1))
         .zip(raw.chunks_exact_mut(row_bytes.max(1)))
     {
+        let mut last = (row[0], index(rgb(&row[0])));
         for (x, p) in row.iter().enumerate() {
-            let c = rgb(p);
-            if c != last.0 {
-                let index = colours.binary_search(&c).expect("a colour of the palette");
-                last = (c, index as u8);
+            if *p != last.0 {
+                last = (*p, index(rgb(p)));
             }
-            let bit = x * bits;
-            // Pixels fill each byte from its most significant bits.
-            out[bit / 8] |= last.1 << (8 - bits - bit % 8);
+            if bits == 8 {
+                out[x] = last.1;
+            } else {
+                let bit = x * bits;
+                // Pixels fill each byte from its most significant bits.
+                out[bit / 8] |= last.1 << (8 - bits - bit % 8);
+            }
         }
     }
-    let palette = colours
-        .iter()
-        .flat_map(|c| c.to_be_bytes()[1..].to_vec())
-        .collect();
     Some((palette, depth, raw))
 }
 
@@ -245,6 +434,117 @@ fn deflate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Largest channel difference, and the number of pixels off by more
+    /// than 12 levels, between a page drawn with tiles and item by item.
+    fn tiled_against_direct(page: &Page, px_per_mm: f64) -> (u8, usize) {
+        let tiled = render(page, px_per_mm, 1.0, true);
+        let direct = render(page, px_per_mm, 1.0, false);
+        let mut most = 0;
+        let mut over_12 = 0;
+        for (a, b) in tiled.pixels().iter().zip(direct.pixels()) {
+            let d = [
+                a.red().abs_diff(b.red()),
+                a.green().abs_diff(b.green()),
+                a.blue().abs_diff(b.blue()),
+            ];
+            let d = d.into_iter().max().unwrap_or(0);
+            most = most.max(d);
+            over_12 += usize::from(d > 12);
+        }
+        (most, over_12)
+    }
+
+    /// A strip as the cut sheets draw it: a stadium outline from `at`
+    /// along x, three holes and (`label`) its type engraved.
+    fn strip(at: DVec2, label: bool) -> Group {
+        let p = |x: f64, y: f64| at + DVec2::new(x, y);
+        let outline = Shape::Path {
+            start: p(0.0, -3.0),
+            segments: vec![
+                Segment::Line(p(32.0, -3.0)),
+                Segment::Arc {
+                    to: p(32.0, 3.0),
+                    center: p(32.0, 0.0),
+                    clockwise: true,
+                },
+                Segment::Line(p(0.0, 3.0)),
+                Segment::Arc {
+                    to: p(0.0, -3.0),
+                    center: p(0.0, 0.0),
+                    clockwise: true,
+                },
+            ],
+            closed: true,
+        };
+        let mut items: Vec<Item> = [0.0, 16.0, 32.0]
+            .map(|x| {
+                let hole = Shape::Circle {
+                    center: p(x, 0.0),
+                    radius: 1.1,
+                };
+                Item::on(crate::drawing::Layer::Holes, hole)
+            })
+            .into();
+        items.push(Item::on(crate::drawing::Layer::Outlines, outline));
+        let label_text = Shape::Text {
+            at: p(8.0, 1.0),
+            size: 2.5,
+            text: "A".into(),
+            font: crate::drawing::Font::Regular,
+            align: crate::drawing::Align::Center,
+        };
+        if label {
+            items.push(Item::on(crate::drawing::Layer::Labels, label_text));
+        }
+        Group::new("strip", items)
+    }
+
+    #[test]
+    fn tiles_draw_as_the_strips_would() {
+        // 2,000 strips of one drawing at every sub-pixel offset, at the
+        // resolution of a 3000 mm sheet's picture (4/3 px/mm). A tile is
+        // 1/32 px at most from where the strip is, which moves an
+        // anti-aliased edge by a few levels: 23 at most here, 0.4 % of the
+        // inked pixels more than 12 (the encoder itself rounds by up to 8).
+        let page = |label: bool| Page {
+            width: 1600.0,
+            height: 450.0,
+            title: "strips".into(),
+            metadata: Vec::new(),
+            groups: (0..2000)
+                .map(|i| {
+                    let (col, row) = ((i % 40) as f64, (i / 40) as f64);
+                    // Irrational steps: every phase, no two strips alike.
+                    let at = DVec2::new(5.0 + 39.0 * col + 0.618_034 * row, 5.0 + 8.0 * row);
+                    strip(at + DVec2::new(0.0, 0.414_214 * col / 40.0), label)
+                })
+                .collect(),
+        };
+        let inked = |page: &Page| {
+            render(page, 4.0 / 3.0, 1.0, false)
+                .pixels()
+                .iter()
+                .filter(|c| c.red() < 255 || c.green() < 255 || c.blue() < 255)
+                .count()
+        };
+        let plain = page(false);
+        let (most, over_12) = tiled_against_direct(&plain, 4.0 / 3.0);
+        let n = inked(&plain);
+        eprintln!("unlabelled: {most} levels, {over_12} of {n}");
+        assert!(n > 100_000, "{n} inked pixels");
+        assert!(most <= 24, "{most} levels");
+        assert!(over_12 * 200 < n, "{over_12} of {n} pixels");
+        // Engraved text 3 px high: tiny-skia's hairlines of strokes shorter
+        // than a pixel shade such a glyph's few pixels differently for
+        // shifts as small as 1/512 px (measured), so a letter's pixels may
+        // differ by more (111 levels here; 1.3 % of the pixels more than 12).
+        let labelled = page(true);
+        let (most, over_12) = tiled_against_direct(&labelled, 4.0 / 3.0);
+        let n = inked(&labelled);
+        eprintln!("labelled: {most} levels, {over_12} of {n}");
+        assert!(over_12 * 50 < n, "{over_12} of {n} pixels");
+    }
 
     #[test]
     fn opaque_pictures_keep_every_pixel_indexed_or_rgb() {

@@ -8,9 +8,10 @@
 //! grid steps, so anchor plus offset is exactly the point a flat file prints.
 
 use super::number::units;
-use crate::drawing::{Group, Shape};
+use crate::drawing::{Group, Segment, Shape};
 use glam::DVec2;
 use std::collections::HashMap;
+use std::hash::Hash;
 
 /// Which groups share a drawing with another group.
 pub(crate) struct Repeats {
@@ -22,18 +23,18 @@ pub(crate) struct Repeats {
 
 /// The shared drawings among groups keyed by their drawing relative to
 /// their anchor (None: never shared); numbered in order of first use.
-pub(crate) fn find(keys: &[Option<String>]) -> Repeats {
-    let mut count: HashMap<&str, usize> = HashMap::new();
+pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
+    let mut count: HashMap<&K, usize> = HashMap::new();
     for key in keys.iter().flatten() {
         *count.entry(key).or_default() += 1;
     }
-    let mut index: HashMap<&str, usize> = HashMap::new();
+    let mut index: HashMap<&K, usize> = HashMap::new();
     let mut repeats = Repeats {
         of_group: Vec::with_capacity(keys.len()),
         first: Vec::new(),
     };
     for (g, key) in keys.iter().enumerate() {
-        let shared = key.as_deref().filter(|k| count[k] > 1);
+        let shared = key.as_ref().filter(|k| count[k] > 1);
         repeats.of_group.push(shared.map(|key| {
             let next = index.len();
             let b = *index.entry(key).or_insert(next);
@@ -44,6 +45,122 @@ pub(crate) fn find(keys: &[Option<String>]) -> Repeats {
         }));
     }
     repeats
+}
+
+/// `find` made cheap and exact: groups are first sorted by `keys` (equal
+/// keys must mean equal drawings: a key holds every number its writer
+/// prints, on the grid), and `text(g)` is written only for the first group
+/// of each key; keys of equal texts are one drawing, so the repeats are
+/// those of the texts. A big sheet's 20,000 strips have a few keys: writing
+/// every strip's text to compare them took a tenth of its build. Returns
+/// the repeats and each shared drawing's text.
+pub(crate) fn find_exact<K: Hash + Eq>(
+    keys: &[Option<K>],
+    mut text: impl FnMut(usize) -> String,
+) -> (Repeats, Vec<String>) {
+    let mut of_key: HashMap<&K, usize> = HashMap::new();
+    let mut of_text: HashMap<String, usize> = HashMap::new();
+    let mut texts: Vec<String> = Vec::new();
+    let drawing: Vec<Option<usize>> = keys
+        .iter()
+        .enumerate()
+        .map(|(g, key)| {
+            let key = key.as_ref()?;
+            if let Some(&d) = of_key.get(key) {
+                return Some(d);
+            }
+            let t = text(g);
+            let next = texts.len();
+            let d = *of_text.entry(t.clone()).or_insert(next);
+            if d == next {
+                texts.push(t);
+            }
+            of_key.insert(key, d);
+            Some(d)
+        })
+        .collect();
+    let repeats = find(&drawing);
+    let shared = repeats
+        .first
+        .iter()
+        .map(|&g| std::mem::take(&mut texts[drawing[g].expect("a shared group has a key")]))
+        .collect();
+    (repeats, shared)
+}
+
+/// Each group's `key` on the page grid relative to its anchor `at` (None
+/// for a group without one): how the SVG and PNG writers compare drawings.
+pub(crate) fn page_keys(groups: &[Group], at: &[Option<(i64, i64)>]) -> Vec<Option<Vec<i64>>> {
+    groups
+        .iter()
+        .zip(at)
+        .map(|(g, at)| {
+            let (ax, ay) = (*at)?;
+            Some(key(g, &|p| [units(p.x) - ax, units(p.y) - ay]))
+        })
+        .collect()
+}
+
+/// A group's drawing as integers, exactly: each point through `grid` (the
+/// writer's grid units relative to the anchor), other numbers by their
+/// bits. Groups of equal keys draw the same up to a move.
+pub(crate) fn key(g: &Group, grid: &dyn Fn(DVec2) -> [i64; 2]) -> Vec<i64> {
+    let mut k = Vec::with_capacity(8 * g.items.len());
+    let colour =
+        |c: Option<[u8; 3]>| c.map_or(-1, |[r, g, b]| i64::from_be_bytes([0, 0, 0, 0, 0, r, g, b]));
+    for i in &g.items {
+        k.extend([
+            i.layer as i64,
+            colour(i.ink.stroke),
+            colour(i.ink.fill),
+            i.ink.width.to_bits() as i64,
+        ]);
+        match &i.shape {
+            Shape::Circle { center, radius } => {
+                k.push(0);
+                k.extend(grid(*center));
+                k.push(radius.to_bits() as i64);
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                k.extend([1, *closed as i64, segments.len() as i64]);
+                k.extend(grid(*start));
+                for s in segments {
+                    match *s {
+                        Segment::Line(p) => {
+                            k.push(0);
+                            k.extend(grid(p));
+                        }
+                        Segment::Arc {
+                            to,
+                            center,
+                            clockwise,
+                        } => {
+                            k.push(1 + clockwise as i64);
+                            k.extend(grid(to));
+                            k.extend(grid(center));
+                        }
+                    }
+                }
+            }
+            Shape::Text {
+                at,
+                size,
+                text,
+                font,
+                align,
+            } => {
+                k.extend([2, size.to_bits() as i64, *font as i64, *align as i64]);
+                k.extend(grid(*at));
+                k.push(text.len() as i64);
+                k.extend(text.bytes().map(i64::from));
+            }
+        }
+    }
+    k
 }
 
 /// A group's anchor on the grid (page mm, y down): its first item's first
@@ -80,6 +197,28 @@ mod tests {
             [Some(0), Some(1), None, None, Some(1), Some(0), Some(1)]
         );
         assert_eq!(r.first, [0, 1]);
+    }
+
+    #[test]
+    fn keys_of_equal_texts_are_one_drawing_and_each_key_is_written_once() {
+        // Keys 1 and 2 print the same text: all their groups share it.
+        let keys = [Some(1), Some(2), None, Some(1), Some(3), Some(2), Some(4)];
+        let texts = ["", "x", "x", "y", "z"];
+        let mut written = Vec::new();
+        let (r, shared) = find_exact(&keys, |g| {
+            written.push(g);
+            texts[keys[g].unwrap()].to_string()
+        });
+        assert_eq!(written, [0, 1, 4, 6]);
+        assert_eq!(
+            r.of_group,
+            [Some(0), Some(0), None, Some(0), None, Some(0), None]
+        );
+        assert_eq!(r.first, [0]);
+        assert_eq!(shared, ["x"]);
+        let k = |s: &str| Some(s.to_string());
+        let by_text = find(&[k("x"), k("x"), None, k("x"), k("y"), k("x"), k("z")]);
+        assert_eq!(by_text.of_group, r.of_group);
     }
 
     #[test]

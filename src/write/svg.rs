@@ -153,18 +153,15 @@ fn relative_items(g: &Group, at: (i64, i64)) -> String {
 /// Returns whether any drawing is shared (the root then declares xlink).
 fn groups(out: &mut String, page: &Page) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
-    let drawn: Vec<Option<String>> = page
-        .groups
-        .iter()
-        .zip(&at)
-        .map(|(g, at)| Some(relative_items(g, (*at)?)))
-        .collect();
-    let shared = repeats::find(&drawn);
+    let keys = repeats::page_keys(&page.groups, &at);
+    let (shared, drawn) = repeats::find_exact(&keys, |g| {
+        relative_items(&page.groups[g], at[g].expect("a keyed group has an anchor"))
+    });
     if !shared.first.is_empty() {
         out.push_str("\n<defs>");
-        for (b, &first) in shared.first.iter().enumerate() {
+        for (b, drawing) in drawn.iter().enumerate() {
             let _ = write!(out, "\n<g id=\"part-{}\">", b + 1);
-            out.push_str(drawn[first].as_deref().expect("a shared drawing"));
+            out.push_str(drawing);
             out.push_str("\n</g>");
         }
         out.push_str("\n</defs>");
