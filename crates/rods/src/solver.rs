@@ -2,25 +2,13 @@
 //! model (one symbolic Cholesky), inertia correction by a multiple of a
 //! diagonal metric, a negative-curvature step to leave saddles, and a
 //! one-step watchdog line search. faer's sparse LLT is the factorisation:
-//! its refusal of an indefinite matrix is the inertia test. Supernodal,
-//! forced: faer's heuristic picks the simplicial one for these matrices,
-//! which is slower here (BENCHMARKS.md, "Simulation").
+//! its refusal of an indefinite matrix is the inertia test.
 
 use crate::model::{Model, Reduction, VarKind};
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
-    factorize_symbolic_cholesky,
-};
+use faer::Side;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, Par, Side};
-
-/// The numeric Cholesky factor of H + tau Dm (values of L over the
-/// system's symbolic factorisation).
-pub struct Llt {
-    values: Vec<f64>,
-}
 
 const NONE: u32 = u32::MAX;
 
@@ -42,7 +30,7 @@ pub struct System {
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
     pattern: SymbolicSparseColMat<usize>,
-    symbolic: SymbolicCholesky<usize>,
+    symbolic: SymbolicLlt<usize>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -152,17 +140,8 @@ impl System {
             })
             .collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        };
-        let symbolic = factorize_symbolic_cholesky(
-            pattern.as_ref(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            params,
-        )
-        .expect("symbolic Cholesky");
+        let symbolic =
+            SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).expect("symbolic Cholesky");
         System {
             free_index,
             free_vars,
@@ -235,7 +214,7 @@ impl System {
     }
 
     /// Cholesky of H + tau Dm, or None if it is not positive definite.
-    pub fn factor(&self, h: &[f64], tau: f64) -> Option<Llt> {
+    pub fn factor(&self, h: &[f64], tau: f64) -> Option<Llt<usize, f64>> {
         let mut vals = h.to_vec();
         if tau != 0.0 {
             for (c, &p) in self.diag_pos.iter().enumerate() {
@@ -246,35 +225,12 @@ impl System {
             return None;
         }
         let mat = SparseColMatRef::new(self.pattern.as_ref(), &vals);
-        let mut values = vec![0.0; self.symbolic.len_val()];
-        let req = self
-            .symbolic
-            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default());
-        let mut buf = MemBuffer::new(req);
-        self.symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut values,
-                mat,
-                Side::Lower,
-                Default::default(),
-                Par::Seq,
-                MemStack::new(&mut buf),
-                Default::default(),
-            )
-            .ok()?;
-        Some(Llt { values })
+        Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Lower).ok()
     }
 
-    pub fn solve(&self, llt: &Llt, rhs: &[f64]) -> Vec<f64> {
+    pub fn solve(llt: &Llt<usize, f64>, rhs: &[f64]) -> Vec<f64> {
         let mut m = faer::Mat::from_fn(rhs.len(), 1, |i, _| rhs[i]);
-        let req = self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq);
-        let mut buf = MemBuffer::new(req);
-        LltRef::new(&self.symbolic, &llt.values).solve_in_place_with_conj(
-            Conj::No,
-            m.as_mut(),
-            Par::Seq,
-            MemStack::new(&mut buf),
-        );
+        llt.solve_in_place(&mut m);
         (0..rhs.len()).map(|i| m[(i, 0)]).collect()
     }
 
@@ -296,14 +252,14 @@ impl System {
 
     /// The lowest generalised eigenpair of (H, Dm) by inverse iteration with
     /// a factor of H + tau Dm (positive definite): (lambda, v).
-    pub fn lowest_mode(&self, h: &[f64], llt: &Llt, seed: u64) -> (f64, Vec<f64>) {
+    pub fn lowest_mode(&self, h: &[f64], llt: &Llt<usize, f64>, seed: u64) -> (f64, Vec<f64>) {
         let n = self.n();
         let mut rng = crate::rng::Rng::new(seed);
         let mut v: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
         let mut lambda = 0.0;
         for it in 0..60 {
             let rhs: Vec<f64> = v.iter().zip(&self.dm).map(|(a, b)| a * b).collect();
-            let y = self.solve(llt, &rhs);
+            let y = Self::solve(llt, &rhs);
             let norm = y
                 .iter()
                 .zip(&self.dm)
@@ -408,7 +364,7 @@ fn newton_step(
         }
     };
     *tau_prev = tau;
-    let mut d: Vec<f64> = sys.solve(&llt, &gf).into_iter().map(|v| -v).collect();
+    let mut d: Vec<f64> = System::solve(&llt, &gf).into_iter().map(|v| -v).collect();
     let mut dec = -gf.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
     if curvature && tau > 0.0 && dec < 1e-6 * model.e_scale {
         let (_, mut v) = sys.lowest_mode(&h, &llt, 1);
