@@ -116,6 +116,54 @@ impl<const N: usize, const T: usize> Dual<N, T> {
     }
 }
 
+/// The second-order chain rule: `outer` is f over M intermediate
+/// variables y (at y's value), `inner` the M intermediates as duals over N
+/// variables q; the result is f(y(q)) with its exact gradient and Hessian
+/// over q: g = sum_k f_k y_k', H = J^T F J + sum_k f_k y_k''. It lets a
+/// stencil take its expensive part over few intermediates (a bend stencil:
+/// the two edges' rotations) and pay the N-variable size only here.
+pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
+    outer: &Dual<M, TM>,
+    inner: &[Dual<N, T>; M],
+) -> Dual<N, T> {
+    let mut out = Dual::<N, T>::cst(outer.v);
+    // p[k] = sum_l F_kl y_l'
+    let mut p = [[0.0; N]; M];
+    for (k, pk) in p.iter_mut().enumerate() {
+        for (l, y) in inner.iter().enumerate() {
+            let f = outer.hess(k, l);
+            if f != 0.0 {
+                for a in 0..N {
+                    pk[a] += f * y.g[a];
+                }
+            }
+        }
+    }
+    for (k, y) in inner.iter().enumerate() {
+        let fk = outer.g[k];
+        if fk != 0.0 {
+            for a in 0..N {
+                out.g[a] += fk * y.g[a];
+            }
+            for t in 0..T {
+                out.h[t] += fk * y.h[t];
+            }
+        }
+    }
+    let mut t = 0;
+    for a in 0..N {
+        for b in a..N {
+            let mut s = 0.0;
+            for k in 0..M {
+                s += inner[k].g[a] * p[k][b];
+            }
+            out.h[t] += s;
+            t += 1;
+        }
+    }
+    out
+}
+
 impl<const N: usize, const T: usize> Scalar for Dual<N, T> {
     #[inline(always)]
     fn cst(v: f64) -> Self {

@@ -2,7 +2,7 @@
 //! frames, eyelet joints, and the energy stencils, evaluated with plain f64
 //! (energy) or with duals (gradient and Hessian).
 
-use crate::dual::{Dual, Scalar, V3};
+use crate::dual::{Dual, Scalar, V3, compose};
 use crate::frames::{joint_frame, material, transport, twist, twist_with};
 use glam::DVec3;
 
@@ -527,8 +527,13 @@ impl Model {
             })
             .collect();
         let get = |i: usize| locals[vars.binary_search(&i).expect("stencil variable")];
-        let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
-        let d = e + t;
+        let d = match *s {
+            Stencil::Bend { e0, e1, lbar, .. } => bend_composed::<N, T>(self, &get, e0, e1, lbar),
+            _ => {
+                let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
+                e + t
+            }
+        };
         let n = vars.len();
         let cols = &plan.columns;
         let g: Vec<f64> = cols
@@ -758,17 +763,7 @@ fn stencil_energy<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, s: &Stencil) -
             let t1 = x2.sub(x1).unit();
             let (d10, d20) = frame_of_in(m, get, a, t0, &mut dirs);
             let (d11, d21) = frame_of_in(m, get, b, t1, &mut dirs);
-            let (c, b) = (t0.dot(t1), t0.cross(t1));
-            let kb = b.scale((c + 1.0).recip() * 2.0);
-            // kb.(d2_0 + d2_1): one dot product instead of two.
-            let k_edge = kb.dot(d20.add(d21)) * 0.5;
-            let k_flat = kb.dot(d10.add(d11)) * -0.5;
-            let tw = twist_with(c, b, d10, t1, d11);
-            let w = 0.5 / lbar;
-            (
-                (k_edge * k_edge * sec.b_edge + k_flat * k_flat * sec.b_flat) * w,
-                tw * tw * (sec.gj * w),
-            )
+            bend_energy(sec, lbar, [t0, d10, d20], [t1, d11, d21])
         }
         Stencil::Load { node, force } => (-pos(node).dot(V3::cst(force)), zero),
         Stencil::Moment { edge, m: moment } => {
@@ -777,6 +772,111 @@ fn stencil_energy<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, s: &Stencil) -
             (-(t.z.atan2(t.x)) * moment, zero)
         }
     }
+}
+
+/// Bending and twist energy at a node from the frames `[t, d1, d2]` of
+/// its two edges, as (bend, twist).
+#[inline(always)]
+fn bend_energy<S: Scalar>(sec: &Section, lbar: f64, f0: [V3<S>; 3], f1: [V3<S>; 3]) -> (S, S) {
+    let ([t0, d10, d20], [t1, d11, d21]) = (f0, f1);
+    let (c, b) = (t0.dot(t1), t0.cross(t1));
+    let kb = b.scale((c + 1.0).recip() * 2.0);
+    // kb.(d2_0 + d2_1): one dot product instead of two.
+    let k_edge = kb.dot(d20.add(d21)) * 0.5;
+    let k_flat = kb.dot(d10.add(d11)) * -0.5;
+    let tw = twist_with(c, b, d10, t1, d11);
+    let w = 0.5 / lbar;
+    (
+        (k_edge * k_edge * sec.b_edge + k_flat * k_flat * sec.b_flat) * w,
+        tw * tw * (sec.gj * w),
+    )
+}
+
+/// A bend stencil's energy with its derivatives over N (reduced) variables,
+/// by the chain rule through small duals (docs/physics.md, "Solver"). The
+/// energy depends on the two edges' material frames only, and a frame
+/// near its present value F0 is R(w) F0 for a small rotation vector w: so
+/// the energy is taken over the 6 rotation coordinates (w0, w1) at 0, each
+/// Ref edge's w over its 4 variables (edge vector, material angle), and
+/// only the maps to the stencil's N variables (arm tips, joint frames) in
+/// N-variable duals. Exact to second order, hence the same value, gradient
+/// and Hessian as `stencil_energy` over N duals (tests/sim.rs checks it):
+/// w = vee(skew(F F0^T)) = (1/2) sum_k f0_k x f_k differs from the
+/// rotation's logarithm by O(|w|^3), and R(w) = I + W + W^2/2 from exp(W)
+/// by O(|w|^3).
+fn bend_composed<const N: usize, const T: usize>(
+    m: &Model,
+    get: &dyn Fn(usize) -> Dual<N, T>,
+    e0: usize,
+    e1: usize,
+    lbar: f64,
+) -> Dual<N, T> {
+    type D4 = Dual<4, 10>;
+    type D6 = Dual<6, 21>;
+    let mut dirs = Dirs::new();
+    let (a, b) = (&m.edges[e0], &m.edges[e1]);
+    let x0 = node_pos_in(m, get, m.nodes[a.a], &mut dirs);
+    let x1 = node_pos_in(m, get, m.nodes[a.b], &mut dirs);
+    let x2 = node_pos_in(m, get, m.nodes[b.b], &mut dirs);
+    // w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
+    fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
+        let w = f[0]
+            .crossc(f0[0])
+            .add(f[1].crossc(f0[1]))
+            .add(f[2].crossc(f0[2]))
+            .scalef(-0.5);
+        [w.x, w.y, w.z]
+    }
+    let mut w = Vec::with_capacity(6);
+    let mut base = [[DVec3::ZERO; 3]; 2];
+    for (k, (edge, xa, xb)) in [(a, x0, x1), (b, x1, x2)].into_iter().enumerate() {
+        let e = xb.sub(xa);
+        let ev = e.val();
+        let t = V3::<f64>::cst(ev).unit();
+        match edge.frame {
+            Frame::Ref { ts, as_, theta } => {
+                let th = get(theta);
+                let (d1, d2) = material::<f64>(ts, as_, t, th.v);
+                let f0 = [t.val(), d1.val(), d2.val()];
+                // The frame over (edge vector, material angle).
+                let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
+                let t4 = e4.unit();
+                let (d14, d24) = material(ts, as_, t4, D4::var(th.v, 3));
+                let inner = [e.x, e.y, e.z, th];
+                for wk in rotation([t4, d14, d24], f0) {
+                    w.push(compose(&wk, &inner));
+                }
+                base[k] = f0;
+            }
+            Frame::Arm { joint, slot, sigma } => {
+                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u.
+                let (u, n) = dirs.get(m, get, joint, slot);
+                let d2 = n.scalef(sigma);
+                let d1 = d2.cross(u);
+                let f0 = [t.val(), d1.val(), d2.val()];
+                w.extend(rotation([u, d1, d2], f0));
+                base[k] = f0;
+            }
+        }
+    }
+    // The energy over the rotations, frames R(w) F0.
+    let frame = |first: usize, f0: [DVec3; 3]| -> [V3<D6>; 3] {
+        let w = V3::new(
+            D6::var(0.0, first),
+            D6::var(0.0, first + 1),
+            D6::var(0.0, first + 2),
+        );
+        let ww = w.dot(w);
+        // R f = f + w x f + (1/2) w x (w x f), w x (w x f) = w (w.f) - f |w|^2.
+        f0.map(|f| {
+            let wf = w.crossc(f);
+            let wwf = w.scale(w.dotc(f)).sub(V3::cscale(f, ww));
+            V3::cst(f).add(wf).add(wwf.scalef(0.5))
+        })
+    };
+    let (eb, et) = bend_energy(&m.section, lbar, frame(0, base[0]), frame(3, base[1]));
+    let inner: [Dual<N, T>; 6] = std::array::from_fn(|i| w[i]);
+    compose(&(eb + et), &inner)
 }
 
 /// Per-node curvatures and twist of a bend stencil now:
