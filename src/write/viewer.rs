@@ -16,6 +16,7 @@ use crate::words::plural;
 use glam::DVec3;
 use serde::{Serialize, Serializer};
 use serde_json::value::RawValue;
+use std::collections::HashMap;
 use std::io;
 
 const PAGE: &str = include_str!("viewer/page.html");
@@ -161,7 +162,7 @@ struct Data<'a> {
     /// Per cell: corners UL, UR, LL, LR, the layers of rods A and B, the step.
     cells: Vec<usize>,
     sheets: usize,
-    strips: Vec<StripJson<'a>>,
+    strips: StripsJson<'a>,
     steps: Vec<StepJson<'a>>,
     verdict: String,
     deploy: Option<DeployJson>,
@@ -189,23 +190,32 @@ struct CameraJson {
     forward: [Num; 3],
 }
 
-/// Per strip (rod order): ID, rod type, tip-to-tip length, the two hole
-/// pitches, its sheet (1-based), the top-left of its box there, whether it
-/// is turned, its cut length and its part type code.
+/// The strips, written compactly: a strip's ID follows from its cell and
+/// rod (`R{row}-C{col}-{A|B}`, strips in rod order, A then B per cell), and
+/// what a strip type shares (lengths, pitches, part code) is written once.
 #[derive(Serialize)]
-struct StripJson<'a>(
-    &'a str,
-    &'static str,
-    Num,
-    Num,
-    Num,
-    usize,
-    Num,
-    Num,
-    u8,
-    Num,
-    &'a str,
-);
+struct StripsJson<'a> {
+    /// Digits of the row and column numbers in IDs, then per run of cells
+    /// in one row with consecutive columns: row, first column, cell count.
+    ids: Vec<usize>,
+    /// Per distinct strip shape (as written): tip-to-tip length, the two
+    /// hole pitches, the cut length and the part type code.
+    shapes: Vec<ShapeJson<'a>>,
+    /// Per strip, five numbers: its shape, its sheet (1-based), the
+    /// top-left of its box there (x, y) and whether it is turned.
+    place: Vec<Field>,
+}
+
+#[derive(Serialize)]
+struct ShapeJson<'a>(Num, Num, Num, Num, &'a str);
+
+/// A whole number or a length, in one flat array of numbers.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Field {
+    Int(usize),
+    Num(Num),
+}
 
 /// A step with the guide's sentences; the strip lists are indices so that
 /// the page can make every ID clickable.
@@ -304,7 +314,7 @@ fn data_json(s: &Scene) -> String {
     String::from_utf8(out).expect("JSON is UTF-8")
 }
 
-fn strips_json<'a>(s: &Scene<'a>) -> Vec<StripJson<'a>> {
+fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
     let mut place = vec![None; s.parts.strips.len()];
     for (i, sheet) in s.layout.sheets.iter().enumerate() {
         for p in &sheet.placements {
@@ -312,27 +322,74 @@ fn strips_json<'a>(s: &Scene<'a>) -> Vec<StripJson<'a>> {
         }
     }
     let fab = &s.design.fabrication;
-    s.parts
-        .strips
-        .iter()
-        .zip(place)
-        .map(|(strip, place)| {
-            let (sheet, p) = place.expect("every strip is placed");
-            StripJson(
-                &strip.id,
-                strip.kind.letter(),
+    // Shapes keyed by their written text, numbered in order of first use,
+    // so that the page shows each strip's own numbers exactly.
+    let mut shapes = Vec::new();
+    let mut shape_of: HashMap<(String, String, String, String, &str), usize> = HashMap::new();
+    let mut flat = Vec::with_capacity(5 * s.parts.strips.len());
+    for (strip, place) in s.parts.strips.iter().zip(place) {
+        let (sheet, p) = place.expect("every strip is placed");
+        let cut = Outline::of(strip.length, fab).length;
+        let code = s.parts.types[strip.part_type].code.as_str();
+        let key = (
+            num(strip.length),
+            num(strip.legs[0]),
+            num(strip.legs[1]),
+            num(cut),
+            code,
+        );
+        let next = shapes.len();
+        let shape = *shape_of.entry(key).or_insert_with(|| {
+            shapes.push(ShapeJson(
                 Num(strip.length),
                 Num(strip.legs[0]),
                 Num(strip.legs[1]),
-                sheet,
-                Num(p.x),
-                Num(p.y),
-                u8::from(p.rotated),
-                Num(Outline::of(strip.length, fab).length),
-                &s.parts.types[strip.part_type].code,
-            )
-        })
-        .collect()
+                Num(cut),
+                code,
+            ));
+            next
+        });
+        flat.extend([
+            Field::Int(shape),
+            Field::Int(sheet),
+            Field::Num(Num(p.x)),
+            Field::Num(Num(p.y)),
+            Field::Int(usize::from(p.rotated)),
+        ]);
+    }
+    StripsJson {
+        ids: id_runs(s.parts),
+        shapes,
+        place: flat,
+    }
+}
+
+/// The strip IDs as runs of cells (see `StripsJson::ids`). Strips come two
+/// per cell, rod A then rod B, so the cell of strip `i` is `i / 2`.
+fn id_runs(parts: &Parts) -> Vec<usize> {
+    // The digit counts are those of the IDs themselves ("R007-C12-A").
+    let digits = |id: &str| {
+        let (row, rest) = id[1..].split_once("-C").unwrap_or(("00", "00-"));
+        let col = rest.split_once('-').map_or("00", |(c, _)| c);
+        (row.len(), col.len())
+    };
+    let (rd, cd) = parts.strips.first().map_or((2, 2), |s| digits(&s.id));
+    let mut out = vec![rd, cd];
+    for pair in parts.strips.chunks(2) {
+        let (row, col) = (pair[0].row as usize, pair[0].col as usize);
+        let n = out.len();
+        if n > 2 && out[n - 3] == row && out[n - 2] + out[n - 1] == col {
+            out[n - 1] += 1;
+        } else {
+            out.extend([row, col, 1]);
+        }
+        debug_assert!(
+            pair.iter()
+                .zip(["A", "B"])
+                .all(|(s, k)| s.id == format!("R{row:0rd$}-C{col:0cd$}-{k}"))
+        );
+    }
+    out
 }
 
 /// Steps with the guide's sentences.

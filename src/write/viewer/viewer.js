@@ -7,20 +7,29 @@
 
   // ---- The model -------------------------------------------------------
   var NC = D.cells.length / 7;
-  var NS = D.strips.length;
+  var NS = D.strips.place.length / 5;
   var NV = D.points.length / 3 - NC;
   var NSTEPS = D.steps.length;
   var T = D.fab.thickness, W = D.fab.width, M = D.fab.end_margin;
   var cellOf = function (c, k) { return D.cells[7 * c + k]; };
-  var strips = D.strips.map(function (s, i) {
-    var c = i >> 1;
-    return {
-      i: i, id: s[0], type: s[1], length: s[2], legs: [s[3], s[4]], sheet: s[5],
-      x: s[6], y: s[7], rotated: !!s[8], cut: s[9], part: s[10] || null,
+  // A strip's ID from its cell's row and column (runs of cells in one row
+  // with consecutive columns) and its rod, A then B per cell.
+  function pad(n, w) { var t = String(n); while (t.length < w) t = "0" + t; return t; }
+  var cellName = [], runs = D.strips.ids;
+  for (var q = 2; q < runs.length; q += 3) {
+    for (var n = 0; n < runs[q + 2]; n++) cellName.push("R" + pad(runs[q], runs[0]) + "-C" + pad(runs[q + 1] + n, runs[1]) + "-");
+  }
+  var strips = [];
+  for (var i = 0; i < NS; i++) {
+    var c = i >> 1, f = D.strips.place.slice(5 * i, 5 * i + 5), sh = D.strips.shapes[f[0]];
+    var type = (i & 1) ? "B" : "A";
+    strips.push({
+      i: i, id: cellName[c] + type, type: type, length: sh[0], legs: [sh[1], sh[2]], sheet: f[1],
+      x: f[2], y: f[3], rotated: !!f[4], cut: sh[3], part: sh[4] || null,
       cell: c, step: cellOf(c, 6), layer: cellOf(c, 4 + (i & 1)),
       start: (i & 1) ? cellOf(c, 1) : cellOf(c, 0), end: (i & 1) ? cellOf(c, 2) : cellOf(c, 3)
-    };
-  });
+    });
+  }
   var byId = {};
   strips.forEach(function (s) { byId[s.id] = s; });
   // Eyelets: one per scissor pivot, one per vertex joint closed in a step.
