@@ -77,6 +77,21 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
     }
 }
 
+/// Positions as the page reads them: differences from the point before
+/// (x, y, z), in mm to 0.001, summed in whole micrometres.
+fn positions(d: &Value) -> Vec<f64> {
+    let mut at = [0i64; 3];
+    d.as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            at[k % 3] += (v.as_f64().unwrap() * 1e3).round() as i64;
+            at[k % 3] as f64 / 1e3
+        })
+        .collect()
+}
+
 /// One strip as the page reads it from the data block.
 struct PageStrip {
     id: String,
@@ -109,12 +124,16 @@ fn strips_of(d: &Value) -> Vec<PageStrip> {
     let shapes = d["strips"]["shapes"].as_array().unwrap();
     let place = d["strips"]["place"].as_array().unwrap();
     assert_eq!(place.len() % 5, 0);
+    let mut at = (0i64, 0i64);
     place
         .chunks(5)
         .enumerate()
         .map(|(i, f)| {
             let sh = &shapes[int(&f[0])];
             let n = |v: &Value| v.as_f64().unwrap();
+            // Places are differences from the strip before, in 0.0001 mm.
+            at.0 += (n(&f[2]) * 1e4).round() as i64;
+            at.1 += (n(&f[3]) * 1e4).round() as i64;
             PageStrip {
                 id: format!("{}{}", cells[i / 2], ["A", "B"][i % 2]),
                 length: n(&sh[0]),
@@ -122,8 +141,8 @@ fn strips_of(d: &Value) -> Vec<PageStrip> {
                 cut: n(&sh[3]),
                 part: sh[4].as_str().unwrap().to_string(),
                 sheet: int(&f[1]),
-                x: n(&f[2]),
-                y: n(&f[3]),
+                x: at.0 as f64 / 1e4,
+                y: at.1 as f64 / 1e4,
                 rotated: int(&f[4]) == 1,
             }
         })
@@ -728,13 +747,22 @@ fn a_simulated_shape_has_its_slot_beside_the_designed_one() {
         .collect();
     scene.simulated = Some(shape);
     let d = data(&String::from_utf8(write(&scene)).unwrap());
-    let (designed, simulated) = (
-        d["points"].as_array().unwrap(),
-        d["simulated"].as_array().unwrap(),
-    );
+    let (designed, simulated) = (positions(&d["points"]), positions(&d["simulated"]));
     assert_eq!(simulated.len(), designed.len());
-    for (k, (a, s)) in designed.iter().zip(simulated).enumerate() {
+    for (k, (a, s)) in designed.iter().zip(&simulated).enumerate() {
         let lift = if k % 3 == 2 { 1.5 } else { 0.0 };
-        assert!((s.as_f64().unwrap() - a.as_f64().unwrap() - lift).abs() < 2e-3);
+        assert!((s - a - lift).abs() < 2e-3);
+    }
+    // The designed positions come back to 0.001 mm.
+    for (k, p) in b
+        .assembled
+        .vertices
+        .iter()
+        .map(|v| v.pos)
+        .chain(b.assembled.cells.iter().map(|c| c.pivot))
+        .enumerate()
+    {
+        let q = &designed[3 * k..3 * k + 3];
+        assert!((p - glam::DVec3::new(q[0], q[1], q[2])).abs().max_element() <= 5.0001e-4);
     }
 }

@@ -3,7 +3,7 @@
 //! CSS and JavaScript live beside this file and are inlined with the build's
 //! data as JSON, so the page needs no network. Same build -> same bytes.
 
-use super::number::num;
+use super::number::{fixed, num, units};
 use crate::assembly::Step;
 use crate::design::Design;
 use crate::drawing::picture::Camera;
@@ -96,7 +96,7 @@ fn html_escape(s: &str) -> String {
 }
 
 /// Number text written as it is, a JSON number: `num`'s 4 decimals,
-/// `coord`'s 3, or Rust's shortest round-trip text.
+/// `Micro`'s 3, or Rust's shortest round-trip text.
 fn raw<S: Serializer>(text: String, s: S) -> Result<S::Ok, S::Error> {
     RawValue::from_string(text)
         .expect("a finite number is JSON")
@@ -113,19 +113,31 @@ impl Serialize for Num {
     }
 }
 
-/// A position to 0.001 mm: a micrometre is far below what a screen shows,
-/// and three decimals keep a 10,000-cell page small.
+/// A difference of positions in micrometres, written in mm: positions
+/// are kept to 0.001 mm (far below what a screen shows) and written as the
+/// difference from the point before, which the page sums in whole
+/// micrometres, so no rounding error accumulates.
 #[derive(Clone, Copy)]
-struct Coord(f64);
+struct Micro(i64);
 
-impl Serialize for Coord {
+impl Serialize for Micro {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut t = format!("{:.3}", self.0);
-        if t.contains('.') {
-            t = t.trim_end_matches('0').trim_end_matches('.').to_string();
-        }
-        raw(if t == "-0" { "0".into() } else { t }, s)
+        raw(fixed(10 * self.0), s)
     }
+}
+
+/// Positions, x, y, z each, as differences from the point before.
+fn coords(ps: impl Iterator<Item = DVec3>) -> Vec<Micro> {
+    let mut before = [0i64; 3];
+    let mut out = Vec::new();
+    for p in ps {
+        for (k, x) in [p.x, p.y, p.z].into_iter().enumerate() {
+            let now = (x * 1e3).round() as i64;
+            out.push(Micro(now - before[k]));
+            before[k] = now;
+        }
+    }
+    out
 }
 
 /// Full precision (the page rebuilds the deployed shape from these), as
@@ -155,15 +167,18 @@ struct Data<'a> {
     width: usize,
     fab: FabJson<'a>,
     camera: CameraJson,
-    /// Designed shape: the vertices, then one pivot per cell, x, y, z each.
-    points: Vec<Coord>,
+    /// Designed shape: the vertices, then one pivot per cell, x, y, z each
+    /// (`coords`: differences, to 0.001 mm).
+    points: Vec<Micro>,
     /// The simulated shape, the same way; null without a simulation.
-    simulated: Option<Vec<Coord>>,
-    /// Per cell: corners UL, UR, LL, LR, the layers of rods A and B, the step.
-    cells: Vec<usize>,
+    simulated: Option<Vec<Micro>>,
+    /// Per cell: corners UL, UR, LL, LR, the layers of rods A and B, the
+    /// step; each written as its difference from the same number of the
+    /// cell before (neighbours differ by 1 or 0: half the bytes).
+    cells: Vec<i64>,
     sheets: usize,
     strips: StripsJson<'a>,
-    steps: Vec<StepJson<'a>>,
+    steps: Vec<StepJson>,
     verdict: String,
     deploy: Option<DeployJson>,
 }
@@ -202,33 +217,43 @@ struct StripsJson<'a> {
     /// hole pitches, the cut length and the part type code.
     shapes: Vec<ShapeJson<'a>>,
     /// Per strip, five numbers: its shape, its sheet (1-based), the
-    /// top-left of its box there (x, y) and whether it is turned.
+    /// top-left of its box there (x, y, to 0.0001 mm, each written as the
+    /// difference from the strip before, summed by the page in whole
+    /// ten-thousandths) and whether it is turned.
     place: Vec<Field>,
 }
 
 #[derive(Serialize)]
 struct ShapeJson<'a>(Num, Num, Num, Num, &'a str);
 
-/// A whole number or a length, in one flat array of numbers.
-#[derive(Serialize)]
-#[serde(untagged)]
+/// A whole number or a difference of lengths in ten-thousandths of a mm,
+/// in one flat array of numbers.
 enum Field {
-    Int(usize),
-    Num(Num),
+    Int(i64),
+    Step(i64),
+}
+
+impl Serialize for Field {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Field::Int(n) => n.serialize(s),
+            Field::Step(n) => raw(fixed(n), s),
+        }
+    }
 }
 
 /// A step with the guide's sentences; the strip lists are indices so that
 /// the page can make every ID clickable.
 #[derive(Serialize)]
-struct StepJson<'a> {
+struct StepJson {
     title: String,
     pair: &'static str,
     close: &'static str,
     eyelets: String,
-    cells: &'a [usize],
-    /// Per joint: the vertex, its key as the guide names it ("[row,col]")
-    /// and the rods closed there, bottom to top.
-    joints: Vec<(u32, String, Vec<usize>)>,
+    /// Per joint: the vertex, its key's row and column (the guide names it
+    /// "[row,col]") and the rods closed there, bottom to top. The step's
+    /// cells are those whose step (in `cells`) is this one.
+    joints: Vec<(u32, u32, u32, Vec<usize>)>,
 }
 
 /// C(theta) of a planar true mechanism (`deploy`).
@@ -245,10 +270,6 @@ fn data_json(s: &Scene) -> String {
     let fab: &Fabrication = &s.design.fabrication;
     let camera = Camera::for_lattice(s.assembled);
     let shown = s.assembled;
-    let coords = |ps: &mut dyn Iterator<Item = DVec3>| -> Vec<Coord> {
-        ps.flat_map(|p| [Coord(p.x), Coord(p.y), Coord(p.z)])
-            .collect()
-    };
     let data = Data {
         name: &s.design.name,
         version: env!("CARGO_PKG_VERSION"),
@@ -275,32 +296,14 @@ fn data_json(s: &Scene) -> String {
             forward: vec3(camera.forward),
         },
         points: coords(
-            &mut shown
+            shown
                 .vertices
                 .iter()
                 .map(|v| v.pos)
                 .chain(shown.cells.iter().map(|c| c.pivot)),
         ),
-        simulated: s
-            .simulated
-            .as_ref()
-            .map(|ps| coords(&mut ps.iter().copied())),
-        cells: lattice
-            .cells
-            .iter()
-            .enumerate()
-            .flat_map(|(i, c)| {
-                [
-                    c.ul as usize,
-                    c.ur as usize,
-                    c.ll as usize,
-                    c.lr as usize,
-                    lattice.layer(c, RodType::A) as usize,
-                    lattice.layer(c, RodType::B) as usize,
-                    lattice.step_of(i),
-                ]
-            })
-            .collect(),
+        simulated: s.simulated.as_ref().map(|ps| coords(ps.iter().copied())),
+        cells: cells_json(lattice),
         sheets: s.layout.sheets.len(),
         strips: strips_json(s),
         steps: steps_json(s),
@@ -312,6 +315,26 @@ fn data_json(s: &Scene) -> String {
     data.serialize(&mut writer).expect("the data serialises");
     out.push(b'\n');
     String::from_utf8(out).expect("JSON is UTF-8")
+}
+
+/// `Data::cells`: the cells' seven numbers as differences.
+fn cells_json(lattice: &Lattice) -> Vec<i64> {
+    let mut before = [0i64; 7];
+    let mut out = Vec::with_capacity(7 * lattice.cells.len());
+    for (i, c) in lattice.cells.iter().enumerate() {
+        let now = [
+            i64::from(c.ul),
+            i64::from(c.ur),
+            i64::from(c.ll),
+            i64::from(c.lr),
+            i64::from(lattice.layer(c, RodType::A)),
+            i64::from(lattice.layer(c, RodType::B)),
+            lattice.step_of(i) as i64,
+        ];
+        out.extend(now.iter().zip(before).map(|(n, b)| n - b));
+        before = now;
+    }
+    out
 }
 
 fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
@@ -327,6 +350,7 @@ fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
     let mut shapes = Vec::new();
     let mut shape_of: HashMap<(String, String, String, String, &str), usize> = HashMap::new();
     let mut flat = Vec::with_capacity(5 * s.parts.strips.len());
+    let mut before = (0, 0);
     for (strip, place) in s.parts.strips.iter().zip(place) {
         let (sheet, p) = place.expect("every strip is placed");
         let cut = Outline::of(strip.length, fab).length;
@@ -349,13 +373,15 @@ fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
             ));
             next
         });
+        let at = (units(p.x), units(p.y));
         flat.extend([
-            Field::Int(shape),
-            Field::Int(sheet),
-            Field::Num(Num(p.x)),
-            Field::Num(Num(p.y)),
-            Field::Int(usize::from(p.rotated)),
+            Field::Int(shape as i64),
+            Field::Int(sheet as i64),
+            Field::Step(at.0 - before.0),
+            Field::Step(at.1 - before.1),
+            Field::Int(i64::from(p.rotated)),
         ]);
+        before = at;
     }
     StripsJson {
         ids: id_runs(s.parts),
@@ -393,7 +419,7 @@ fn id_runs(parts: &Parts) -> Vec<usize> {
 }
 
 /// Steps with the guide's sentences.
-fn steps_json<'a>(s: &Scene<'a>) -> Vec<StepJson<'a>> {
+fn steps_json(s: &Scene) -> Vec<StepJson> {
     let lattice = s.lattice;
     let total = s.parts.eyelets();
     let unit = if lattice.kind == Kind::Helix {
@@ -421,7 +447,6 @@ fn steps_json<'a>(s: &Scene<'a>) -> Vec<StepJson<'a>> {
                 "Eyelets in this step: {}. Set so far: {} of {total}.",
                 step.eyelets, step.total
             ),
-            cells: &step.cells,
             joints: step
                 .joints
                 .iter()
@@ -429,7 +454,8 @@ fn steps_json<'a>(s: &Scene<'a>) -> Vec<StepJson<'a>> {
                     let k = lattice.vertex(j.vertex).key;
                     (
                         j.vertex,
-                        format!("[{},{}]", k.row, k.col),
+                        k.row,
+                        k.col,
                         j.ends.iter().map(|e| e.rod).collect(),
                     )
                 })
