@@ -186,6 +186,32 @@ fn viewer_strips_decode_to_every_strips_own_id_and_numbers() {
                 strip.id
             );
         }
+        // Joints: vertex and rods as differences, keys from runs of vertices.
+        let int = |v: &Value| v.as_i64().unwrap();
+        let runs: Vec<i64> = d["keys"].as_array().unwrap().iter().map(int).collect();
+        let keys: Vec<(i64, i64)> = runs
+            .chunks(3)
+            .flat_map(|r| (0..r[2]).map(move |n| (r[0], r[1] + n)))
+            .collect();
+        assert_eq!(keys.len(), b.lattice.vertices.len(), "{name}");
+        for (st, step) in d["steps"].as_array().unwrap().iter().zip(&b.steps) {
+            let flat: Vec<i64> = st["joints"].as_array().unwrap().iter().map(int).collect();
+            let (mut at, mut v) = (0, 0);
+            for j in &step.joints {
+                v += flat[at];
+                assert_eq!(v, i64::from(j.vertex), "{name}");
+                let key = b.lattice.vertex(j.vertex).key;
+                assert_eq!(keys[v as usize], (key.row.into(), key.col.into()));
+                assert_eq!(flat[at + 1], j.ends.len() as i64);
+                let mut rod = 0;
+                for (k, e) in j.ends.iter().enumerate() {
+                    rod += flat[at + 2 + k];
+                    assert_eq!(rod, e.rod as i64, "{name}");
+                }
+                at += 2 + j.ends.len();
+            }
+            assert_eq!(at, flat.len(), "{name}");
+        }
     }
 }
 

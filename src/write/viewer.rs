@@ -178,6 +178,10 @@ struct Data<'a> {
     cells: Vec<i64>,
     sheets: usize,
     strips: StripsJson<'a>,
+    /// The vertices' keys ([row,col] in the guide): per run of vertices in
+    /// one row with consecutive columns, row, first column, count.
+    keys: Vec<u32>,
+    say: SayJson,
     steps: Vec<StepJson>,
     verdict: String,
     deploy: Option<DeployJson>,
@@ -212,7 +216,7 @@ struct CameraJson {
 struct StripsJson<'a> {
     /// Digits of the row and column numbers in IDs, then per run of cells
     /// in one row with consecutive columns: row, first column, cell count.
-    ids: Vec<usize>,
+    ids: Vec<u32>,
     /// Per distinct strip shape (as written): tip-to-tip length, the two
     /// hole pitches, the cut length and the part type code.
     shapes: Vec<ShapeJson<'a>>,
@@ -242,18 +246,28 @@ impl Serialize for Field {
     }
 }
 
+/// The guide's sentences that every step shares, written once.
+#[derive(Serialize)]
+struct SayJson {
+    pair: &'static str,
+    /// The second instruction of a step that closes joints, and of one that
+    /// closes none.
+    close: &'static str,
+    none: &'static str,
+}
+
 /// A step with the guide's sentences; the strip lists are indices so that
-/// the page can make every ID clickable.
+/// the page can make every ID clickable. The step's cells are those whose
+/// step (in `cells`) is this one.
 #[derive(Serialize)]
 struct StepJson {
     title: String,
-    pair: &'static str,
-    close: &'static str,
     eyelets: String,
-    /// Per joint: the vertex, its key's row and column (the guide names it
-    /// "[row,col]") and the rods closed there, bottom to top. The step's
-    /// cells are those whose step (in `cells`) is this one.
-    joints: Vec<(u32, u32, u32, Vec<usize>)>,
+    /// Per joint closed: its vertex (as the difference from the joint
+    /// before's; the guide names it by its key, from `keys`), the number of
+    /// rods closed there, then the rods bottom to top, the first as it is
+    /// and the others as differences from the rod before.
+    joints: Vec<i64>,
 }
 
 /// C(theta) of a planar true mechanism (`deploy`).
@@ -306,6 +320,12 @@ fn data_json(s: &Scene) -> String {
         cells: cells_json(lattice),
         sheets: s.layout.sheets.len(),
         strips: strips_json(s),
+        keys: runs(lattice.vertices.iter().map(|v| (v.key.row, v.key.col))),
+        say: SayJson {
+            pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
+            close: "2. Close these vertex joints, strips stacked from the table up, one eyelet each:",
+            none: "2. No vertex joint closes in this step.",
+        },
         steps: steps_json(s),
         verdict: s.deployment.verdict(lattice),
         deploy: deploy_json(s),
@@ -390,9 +410,24 @@ fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
     }
 }
 
+/// (row, column) pairs as runs of one row with consecutive columns: row,
+/// first column, count per run.
+fn runs(keys: impl Iterator<Item = (u32, u32)>) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    for (row, col) in keys {
+        let n = out.len();
+        if n >= 3 && out[n - 3] == row && out[n - 2].checked_add(out[n - 1]) == Some(col) {
+            out[n - 1] += 1;
+        } else {
+            out.extend([row, col, 1]);
+        }
+    }
+    out
+}
+
 /// The strip IDs as runs of cells (see `StripsJson::ids`). Strips come two
 /// per cell, rod A then rod B, so the cell of strip `i` is `i / 2`.
-fn id_runs(parts: &Parts) -> Vec<usize> {
+fn id_runs(parts: &Parts) -> Vec<u32> {
     // The digit counts are those of the IDs themselves ("R007-C12-A").
     let digits = |id: &str| {
         let (row, rest) = id[1..].split_once("-C").unwrap_or(("00", "00-"));
@@ -400,21 +435,14 @@ fn id_runs(parts: &Parts) -> Vec<usize> {
         (row.len(), col.len())
     };
     let (rd, cd) = parts.strips.first().map_or((2, 2), |s| digits(&s.id));
-    let mut out = vec![rd, cd];
-    for pair in parts.strips.chunks(2) {
-        let (row, col) = (pair[0].row as usize, pair[0].col as usize);
-        let n = out.len();
-        if n > 2 && out[n - 3] == row && out[n - 2] + out[n - 1] == col {
-            out[n - 1] += 1;
-        } else {
-            out.extend([row, col, 1]);
-        }
-        debug_assert!(
-            pair.iter()
-                .zip(["A", "B"])
-                .all(|(s, k)| s.id == format!("R{row:0rd$}-C{col:0cd$}-{k}"))
-        );
-    }
+    debug_assert!(parts.strips.chunks(2).all(|pair| {
+        let (row, col) = (pair[0].row, pair[0].col);
+        pair.iter()
+            .zip(["A", "B"])
+            .all(|(s, k)| s.id == format!("R{row:0rd$}-C{col:0cd$}-{k}"))
+    }));
+    let mut out = vec![rd as u32, cd as u32];
+    out.extend(runs(parts.strips.chunks(2).map(|p| (p[0].row, p[0].col))));
     out
 }
 
@@ -437,29 +465,24 @@ fn steps_json(s: &Scene) -> Vec<StepJson> {
                 plural(step.strips.len(), "strip"),
                 plural(step.eyelets, "eyelet")
             ),
-            pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
-            close: if step.joints.is_empty() {
-                "2. No vertex joint closes in this step."
-            } else {
-                "2. Close these vertex joints, strips stacked from the table up, one eyelet each:"
-            },
             eyelets: format!(
                 "Eyelets in this step: {}. Set so far: {} of {total}.",
                 step.eyelets, step.total
             ),
-            joints: step
-                .joints
-                .iter()
-                .map(|j| {
-                    let k = lattice.vertex(j.vertex).key;
-                    (
-                        j.vertex,
-                        k.row,
-                        k.col,
-                        j.ends.iter().map(|e| e.rod).collect(),
-                    )
-                })
-                .collect(),
+            joints: {
+                let mut out = Vec::new();
+                let mut before = 0;
+                for j in &step.joints {
+                    out.extend([i64::from(j.vertex) - before, j.ends.len() as i64]);
+                    before = i64::from(j.vertex);
+                    let mut rod = 0;
+                    for e in &j.ends {
+                        out.push(e.rod as i64 - rod);
+                        rod = e.rod as i64;
+                    }
+                }
+                out
+            },
         })
         .collect()
 }

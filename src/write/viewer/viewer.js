@@ -51,11 +51,28 @@
   for (var c = 0; c < NC; c++) {
     eyelets.push({ at: NV + c, cell: c, top: Math.max(cellOf(c, 4), cellOf(c, 5)), step: cellOf(c, 6) });
   }
-  D.steps.forEach(function (st, k) {
-    st.joints.forEach(function (j) {
+  // Joints per step: [vertex, key, rods bottom to top], from the flat
+  // list (vertex and rods written as differences).
+  var keyOf = [], keyRuns = D.keys;
+  for (var q2 = 0; q2 < keyRuns.length; q2 += 3) {
+    for (var n2 = 0; n2 < keyRuns[q2 + 2]; n2++) keyOf.push("[" + keyRuns[q2] + "," + (keyRuns[q2 + 1] + n2) + "]");
+  }
+  var jointsOf = D.steps.map(function (st) {
+    var out = [], J = st.joints, v = 0;
+    for (var a = 0; a < J.length;) {
+      v += J[a];
+      var rods = [], r = 0;
+      for (var b = 0; b < J[a + 1]; b++) { r += J[a + 2 + b]; rods.push(r); }
+      a += 2 + rods.length;
+      out.push([v, keyOf[v], rods]);
+    }
+    return out;
+  });
+  jointsOf.forEach(function (joints, k) {
+    joints.forEach(function (j) {
       var top = 0;
-      j[3].forEach(function (r) { top = Math.max(top, strips[r].layer); });
-      eyelets.push({ at: j[0], cell: j[3][0] >> 1, top: top, step: k });
+      j[2].forEach(function (r) { top = Math.max(top, strips[r].layer); });
+      eyelets.push({ at: j[0], cell: j[2][0] >> 1, top: top, step: k });
     });
   });
 
@@ -475,7 +492,7 @@
     var box = $("step-text");
     box.textContent = "";
     var p = document.createElement("p");
-    p.textContent = st.pair;
+    p.textContent = D.say.pair;
     box.appendChild(p);
     var ul = document.createElement("ul");
     cellsOf[k - 1].forEach(function (c) {
@@ -487,14 +504,14 @@
     });
     box.appendChild(ul);
     p = document.createElement("p");
-    p.textContent = st.close;
+    p.textContent = jointsOf[k - 1].length ? D.say.close : D.say.none;
     box.appendChild(p);
-    if (st.joints.length) {
+    if (jointsOf[k - 1].length) {
       ul = document.createElement("ul");
-      st.joints.forEach(function (j) {
+      jointsOf[k - 1].forEach(function (j) {
         var li = document.createElement("li");
-        li.appendChild(document.createTextNode("[" + j[1] + "," + j[2] + "]  "));
-        j[3].forEach(function (r, n) {
+        li.appendChild(document.createTextNode(j[1] + "  "));
+        j[2].forEach(function (r, n) {
           if (n) li.appendChild(document.createTextNode(" / "));
           li.appendChild(idLink(r));
         });
@@ -765,7 +782,7 @@
     $("panel-toggle").setAttribute("aria-expanded", String(!hide));
     render();
   });
-  var eyeletCount = D.steps.length ? D.steps.reduce(function (n, s, k) { return n + cellsOf[k].length + s.joints.length; }, 0) : 0;
+  var eyeletCount = D.steps.length ? D.steps.reduce(function (n, s, k) { return n + cellsOf[k].length + jointsOf[k].length; }, 0) : 0;
   $("facts").textContent = NC + " cells \u00b7 " + NS + " strips \u00b7 " + eyeletCount + " eyelets \u00b7 " +
     D.sheets + (D.sheets === 1 ? " sheet" : " sheets") + " \u00b7 " + D.fab.material + " " + D.fab.thickness + " x " + D.fab.width + " mm";
   buildGeometry();
