@@ -222,6 +222,7 @@ fn lattice_obj_has_one_box_per_strip() {
     let n = b.parts.strips.len();
     let lines = |p: &str| obj.lines().filter(|l| l.starts_with(p)).count();
     assert_eq!((lines("o "), lines("v "), lines("f ")), (n, 8 * n, 6 * n));
+    assert!(obj.lines().nth(1).unwrap().contains("units mm, to 0.001"));
     let names: Vec<&str> = obj.lines().filter_map(|l| l.strip_prefix("o ")).collect();
     assert_eq!(
         names,
@@ -235,6 +236,10 @@ fn lattice_obj_has_one_box_per_strip() {
         .lines()
         .filter_map(|l| l.strip_prefix("v "))
         .map(|l| {
+            // Coordinates to 0.001 mm, as the header says.
+            for t in l.split(' ') {
+                assert!(t.split_once('.').is_none_or(|(_, d)| d.len() <= 3), "{l}");
+            }
             let x: Vec<f64> = l.split(' ').map(|t| t.parse().unwrap()).collect();
             [x[0], x[1], x[2]]
         })
@@ -255,16 +260,19 @@ fn lattice_obj_has_one_box_per_strip() {
             assert!(written + i >= 0 && written % 8 == 0, "{l}: outside its box");
         }
     }
-    // Each box is as long, wide and thick as its strip.
+    // Each box is as long, wide and thick as its strip, to what 0.001 mm
+    // corners allow (each coordinate off by up to 0.0005: a distance by up
+    // to sqrt(3) * 0.001).
     let fab = &b.design.fabrication;
     let d = |a: [f64; 3], b: [f64; 3]| {
         ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
     };
     for (k, s) in b.parts.strips.iter().enumerate() {
         let c = &v[8 * k..8 * k + 8];
-        assert!((d(c[0], c[1]) - s.length).abs() < 1e-3, "{}", s.id);
-        assert!((d(c[0], c[2]) - fab.material.width).abs() < 1e-3);
-        assert!((d(c[0], c[4]) - fab.material.thickness).abs() < 1e-3);
+        let tol = 3f64.sqrt() * 1e-3;
+        assert!((d(c[0], c[1]) - s.length).abs() <= tol, "{}", s.id);
+        assert!((d(c[0], c[2]) - fab.material.width).abs() <= tol);
+        assert!((d(c[0], c[4]) - fab.material.thickness).abs() <= tol);
     }
 }
 

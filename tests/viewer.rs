@@ -53,7 +53,7 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
         assert!(!text.contains(what), "{what} in the page");
     }
     let d = data(&text);
-    assert_eq!(d["strips"].as_array().unwrap().len(), b.parts.strips.len());
+    assert_eq!(strips_of(&d).len(), b.parts.strips.len());
     assert_eq!(d["steps"].as_array().unwrap().len(), b.lattice.steps());
     assert_eq!(
         d["cells"].as_array().unwrap().len(),
@@ -64,13 +64,153 @@ fn viewer_page_is_self_contained_deterministic_and_small() {
         3 * (b.lattice.vertices.len() + b.lattice.cells.len())
     );
     // Strips carry their sheet and position from the layout.
+    let strips = strips_of(&d);
     for (s, sheet) in b.layout.sheets.iter().enumerate() {
         for p in &sheet.placements {
-            let row = &d["strips"][p.part];
-            assert_eq!(row[0], json!(b.parts.strips[p.part].id));
-            assert_eq!(row[5], json!(s + 1));
-            assert!((row[6].as_f64().unwrap() - p.x).abs() < 1e-4);
-            assert!((row[7].as_f64().unwrap() - p.y).abs() < 1e-4);
+            let row = &strips[p.part];
+            assert_eq!(row.id, b.parts.strips[p.part].id);
+            assert_eq!(row.sheet, s + 1);
+            assert!((row.x - p.x).abs() < 1e-4);
+            assert!((row.y - p.y).abs() < 1e-4);
+            assert_eq!(row.rotated, p.rotated);
+        }
+    }
+}
+
+/// Positions as the page reads them: differences from the point before
+/// (x, y, z), in mm to 0.001, summed in whole micrometres.
+fn positions(d: &Value) -> Vec<f64> {
+    let mut at = [0i64; 3];
+    d.as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            at[k % 3] += (v.as_f64().unwrap() * 1e3).round() as i64;
+            at[k % 3] as f64 / 1e3
+        })
+        .collect()
+}
+
+/// One strip as the page reads it from the data block.
+struct PageStrip {
+    id: String,
+    length: f64,
+    legs: [f64; 2],
+    cut: f64,
+    part: String,
+    sheet: usize,
+    x: f64,
+    y: f64,
+    rotated: bool,
+}
+
+/// The strips decoded as viewer.js decodes them: IDs from the runs of
+/// cells (row, first column, count) and the rod (A then B per cell),
+/// numbers from the shape table, places five numbers a strip.
+fn strips_of(d: &Value) -> Vec<PageStrip> {
+    let int = |v: &Value| v.as_u64().unwrap() as usize;
+    let runs: Vec<usize> = d["strips"]["ids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(int)
+        .collect();
+    let (rd, cd) = (runs[0], runs[1]);
+    let cells: Vec<String> = runs[2..]
+        .chunks(3)
+        .flat_map(|r| (0..r[2]).map(move |n| format!("R{:0rd$}-C{:0cd$}-", r[0], r[1] + n)))
+        .collect();
+    let shapes = d["strips"]["shapes"].as_array().unwrap();
+    let place = d["strips"]["place"].as_array().unwrap();
+    assert_eq!(place.len() % 5, 0);
+    let mut at = (0i64, 0i64);
+    place
+        .chunks(5)
+        .enumerate()
+        .map(|(i, f)| {
+            let sh = &shapes[int(&f[0])];
+            let n = |v: &Value| v.as_f64().unwrap();
+            // Places are differences from the strip before, in 0.0001 mm.
+            at.0 += (n(&f[2]) * 1e4).round() as i64;
+            at.1 += (n(&f[3]) * 1e4).round() as i64;
+            PageStrip {
+                id: format!("{}{}", cells[i / 2], ["A", "B"][i % 2]),
+                length: n(&sh[0]),
+                legs: [n(&sh[1]), n(&sh[2])],
+                cut: n(&sh[3]),
+                part: sh[4].as_str().unwrap().to_string(),
+                sheet: int(&f[1]),
+                x: at.0 as f64 / 1e4,
+                y: at.1 as f64 / 1e4,
+                rotated: int(&f[4]) == 1,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn viewer_strips_decode_to_every_strips_own_id_and_numbers() {
+    // The compact strip table (IDs from cells, shared shapes) must give
+    // every strip of every example its own ID, lengths, part and place.
+    for entry in std::fs::read_dir(repo().join("examples")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let name = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let b = built(&name);
+        let d = data(&String::from_utf8(page(b)).unwrap());
+        let strips = strips_of(&d);
+        assert_eq!(strips.len(), b.parts.strips.len(), "{name}");
+        let fab = &b.design.fabrication;
+        let mut place = vec![None; strips.len()];
+        for (s, sheet) in b.layout.sheets.iter().enumerate() {
+            for p in &sheet.placements {
+                place[p.part] = Some((s + 1, *p));
+            }
+        }
+        for ((page, strip), place) in strips.iter().zip(&b.parts.strips).zip(place) {
+            let (sheet, p) = place.unwrap();
+            let near = |a: f64, b: f64| (a - b).abs() <= 5.0001e-5;
+            assert_eq!(page.id, strip.id, "{name}");
+            assert!(near(page.length, strip.length), "{name} {}", strip.id);
+            assert!(near(page.legs[0], strip.legs[0]), "{name} {}", strip.id);
+            assert!(near(page.legs[1], strip.legs[1]), "{name} {}", strip.id);
+            assert!(near(page.cut, Outline::of(strip.length, fab).length));
+            assert_eq!(page.part, b.parts.types[strip.part_type].code);
+            assert_eq!((page.sheet, page.rotated), (sheet, p.rotated));
+            assert!(
+                near(page.x, p.x) && near(page.y, p.y),
+                "{name} {}",
+                strip.id
+            );
+        }
+        // Joints: vertex and rods as differences, keys from runs of vertices.
+        let int = |v: &Value| v.as_i64().unwrap();
+        let runs: Vec<i64> = d["keys"].as_array().unwrap().iter().map(int).collect();
+        let keys: Vec<(i64, i64)> = runs
+            .chunks(3)
+            .flat_map(|r| (0..r[2]).map(move |n| (r[0], r[1] + n)))
+            .collect();
+        assert_eq!(keys.len(), b.lattice.vertices.len(), "{name}");
+        for (st, step) in d["steps"].as_array().unwrap().iter().zip(&b.steps) {
+            let flat: Vec<i64> = st["joints"].as_array().unwrap().iter().map(int).collect();
+            let (mut at, mut v) = (0, 0);
+            for j in &step.joints {
+                v += flat[at];
+                assert_eq!(v, i64::from(j.vertex), "{name}");
+                let key = b.lattice.vertex(j.vertex).key;
+                assert_eq!(keys[v as usize], (key.row.into(), key.col.into()));
+                assert_eq!(flat[at + 1], j.ends.len() as i64);
+                let mut rod = 0;
+                for (k, e) in j.ends.iter().enumerate() {
+                    rod += flat[at + 2 + k];
+                    assert_eq!(rod, e.rod as i64, "{name}");
+                }
+                at += 2 + j.ends.len();
+            }
+            assert_eq!(at, flat.len(), "{name}");
         }
     }
 }
@@ -633,13 +773,22 @@ fn a_simulated_shape_has_its_slot_beside_the_designed_one() {
         .collect();
     scene.simulated = Some(shape);
     let d = data(&String::from_utf8(write(&scene)).unwrap());
-    let (designed, simulated) = (
-        d["points"].as_array().unwrap(),
-        d["simulated"].as_array().unwrap(),
-    );
+    let (designed, simulated) = (positions(&d["points"]), positions(&d["simulated"]));
     assert_eq!(simulated.len(), designed.len());
-    for (k, (a, s)) in designed.iter().zip(simulated).enumerate() {
+    for (k, (a, s)) in designed.iter().zip(&simulated).enumerate() {
         let lift = if k % 3 == 2 { 1.5 } else { 0.0 };
-        assert!((s.as_f64().unwrap() - a.as_f64().unwrap() - lift).abs() < 2e-3);
+        assert!((s - a - lift).abs() < 2e-3);
+    }
+    // The designed positions come back to 0.001 mm.
+    for (k, p) in b
+        .assembled
+        .vertices
+        .iter()
+        .map(|v| v.pos)
+        .chain(b.assembled.cells.iter().map(|c| c.pivot))
+        .enumerate()
+    {
+        let q = &designed[3 * k..3 * k + 3];
+        assert!((p - glam::DVec3::new(q[0], q[1], q[2])).abs().max_element() <= 5.0001e-4);
     }
 }

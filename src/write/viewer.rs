@@ -3,7 +3,7 @@
 //! CSS and JavaScript live beside this file and are inlined with the build's
 //! data as JSON, so the page needs no network. Same build -> same bytes.
 
-use super::number::num;
+use super::number::{fixed, num, units};
 use crate::assembly::Step;
 use crate::design::Design;
 use crate::drawing::picture::Camera;
@@ -16,6 +16,7 @@ use crate::words::plural;
 use glam::DVec3;
 use serde::{Serialize, Serializer};
 use serde_json::value::RawValue;
+use std::collections::HashMap;
 use std::io;
 
 const PAGE: &str = include_str!("viewer/page.html");
@@ -95,7 +96,7 @@ fn html_escape(s: &str) -> String {
 }
 
 /// Number text written as it is, a JSON number: `num`'s 4 decimals,
-/// `coord`'s 3, or Rust's shortest round-trip text.
+/// `Micro`'s 3, or Rust's shortest round-trip text.
 fn raw<S: Serializer>(text: String, s: S) -> Result<S::Ok, S::Error> {
     RawValue::from_string(text)
         .expect("a finite number is JSON")
@@ -112,19 +113,31 @@ impl Serialize for Num {
     }
 }
 
-/// A position to 0.001 mm: a micrometre is far below what a screen shows,
-/// and three decimals keep a 10,000-cell page small.
+/// A difference of positions in micrometres, written in mm: positions
+/// are kept to 0.001 mm (far below what a screen shows) and written as the
+/// difference from the point before, which the page sums in whole
+/// micrometres, so no rounding error accumulates.
 #[derive(Clone, Copy)]
-struct Coord(f64);
+struct Micro(i64);
 
-impl Serialize for Coord {
+impl Serialize for Micro {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut t = format!("{:.3}", self.0);
-        if t.contains('.') {
-            t = t.trim_end_matches('0').trim_end_matches('.').to_string();
-        }
-        raw(if t == "-0" { "0".into() } else { t }, s)
+        raw(fixed(10 * self.0), s)
     }
+}
+
+/// Positions, x, y, z each, as differences from the point before.
+fn coords(ps: impl Iterator<Item = DVec3>) -> Vec<Micro> {
+    let mut before = [0i64; 3];
+    let mut out = Vec::new();
+    for p in ps {
+        for (k, x) in [p.x, p.y, p.z].into_iter().enumerate() {
+            let now = (x * 1e3).round() as i64;
+            out.push(Micro(now - before[k]));
+            before[k] = now;
+        }
+    }
+    out
 }
 
 /// Full precision (the page rebuilds the deployed shape from these), as
@@ -154,15 +167,22 @@ struct Data<'a> {
     width: usize,
     fab: FabJson<'a>,
     camera: CameraJson,
-    /// Designed shape: the vertices, then one pivot per cell, x, y, z each.
-    points: Vec<Coord>,
+    /// Designed shape: the vertices, then one pivot per cell, x, y, z each
+    /// (`coords`: differences, to 0.001 mm).
+    points: Vec<Micro>,
     /// The simulated shape, the same way; null without a simulation.
-    simulated: Option<Vec<Coord>>,
-    /// Per cell: corners UL, UR, LL, LR, the layers of rods A and B, the step.
-    cells: Vec<usize>,
+    simulated: Option<Vec<Micro>>,
+    /// Per cell: corners UL, UR, LL, LR, the layers of rods A and B, the
+    /// step; each written as its difference from the same number of the
+    /// cell before (neighbours differ by 1 or 0: half the bytes).
+    cells: Vec<i64>,
     sheets: usize,
-    strips: Vec<StripJson<'a>>,
-    steps: Vec<StepJson<'a>>,
+    strips: StripsJson<'a>,
+    /// The vertices' keys ([row,col] in the guide): per run of vertices in
+    /// one row with consecutive columns, row, first column, count.
+    keys: Vec<u32>,
+    say: SayJson,
+    steps: Vec<StepJson>,
     verdict: String,
     deploy: Option<DeployJson>,
 }
@@ -189,36 +209,65 @@ struct CameraJson {
     forward: [Num; 3],
 }
 
-/// Per strip (rod order): ID, rod type, tip-to-tip length, the two hole
-/// pitches, its sheet (1-based), the top-left of its box there, whether it
-/// is turned, its cut length and its part type code.
+/// The strips, written compactly: a strip's ID follows from its cell and
+/// rod (`R{row}-C{col}-{A|B}`, strips in rod order, A then B per cell), and
+/// what a strip type shares (lengths, pitches, part code) is written once.
 #[derive(Serialize)]
-struct StripJson<'a>(
-    &'a str,
-    &'static str,
-    Num,
-    Num,
-    Num,
-    usize,
-    Num,
-    Num,
-    u8,
-    Num,
-    &'a str,
-);
+struct StripsJson<'a> {
+    /// Digits of the row and column numbers in IDs, then per run of cells
+    /// in one row with consecutive columns: row, first column, cell count.
+    ids: Vec<u32>,
+    /// Per distinct strip shape (as written): tip-to-tip length, the two
+    /// hole pitches, the cut length and the part type code.
+    shapes: Vec<ShapeJson<'a>>,
+    /// Per strip, five numbers: its shape, its sheet (1-based), the
+    /// top-left of its box there (x, y, to 0.0001 mm, each written as the
+    /// difference from the strip before, summed by the page in whole
+    /// ten-thousandths) and whether it is turned.
+    place: Vec<Field>,
+}
+
+#[derive(Serialize)]
+struct ShapeJson<'a>(Num, Num, Num, Num, &'a str);
+
+/// A whole number or a difference of lengths in ten-thousandths of a mm,
+/// in one flat array of numbers.
+enum Field {
+    Int(i64),
+    Step(i64),
+}
+
+impl Serialize for Field {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Field::Int(n) => n.serialize(s),
+            Field::Step(n) => raw(fixed(n), s),
+        }
+    }
+}
+
+/// The guide's sentences that every step shares, written once.
+#[derive(Serialize)]
+struct SayJson {
+    pair: &'static str,
+    /// The second instruction of a step that closes joints, and of one that
+    /// closes none.
+    close: &'static str,
+    none: &'static str,
+}
 
 /// A step with the guide's sentences; the strip lists are indices so that
-/// the page can make every ID clickable.
+/// the page can make every ID clickable. The step's cells are those whose
+/// step (in `cells`) is this one.
 #[derive(Serialize)]
-struct StepJson<'a> {
+struct StepJson {
     title: String,
-    pair: &'static str,
-    close: &'static str,
     eyelets: String,
-    cells: &'a [usize],
-    /// Per joint: the vertex, its key as the guide names it ("[row,col]")
-    /// and the rods closed there, bottom to top.
-    joints: Vec<(u32, String, Vec<usize>)>,
+    /// Per joint closed: its vertex (as the difference from the joint
+    /// before's; the guide names it by its key, from `keys`), the number of
+    /// rods closed there, then the rods bottom to top, the first as it is
+    /// and the others as differences from the rod before.
+    joints: Vec<i64>,
 }
 
 /// C(theta) of a planar true mechanism (`deploy`).
@@ -235,10 +284,6 @@ fn data_json(s: &Scene) -> String {
     let fab: &Fabrication = &s.design.fabrication;
     let camera = Camera::for_lattice(s.assembled);
     let shown = s.assembled;
-    let coords = |ps: &mut dyn Iterator<Item = DVec3>| -> Vec<Coord> {
-        ps.flat_map(|p| [Coord(p.x), Coord(p.y), Coord(p.z)])
-            .collect()
-    };
     let data = Data {
         name: &s.design.name,
         version: env!("CARGO_PKG_VERSION"),
@@ -265,34 +310,22 @@ fn data_json(s: &Scene) -> String {
             forward: vec3(camera.forward),
         },
         points: coords(
-            &mut shown
+            shown
                 .vertices
                 .iter()
                 .map(|v| v.pos)
                 .chain(shown.cells.iter().map(|c| c.pivot)),
         ),
-        simulated: s
-            .simulated
-            .as_ref()
-            .map(|ps| coords(&mut ps.iter().copied())),
-        cells: lattice
-            .cells
-            .iter()
-            .enumerate()
-            .flat_map(|(i, c)| {
-                [
-                    c.ul as usize,
-                    c.ur as usize,
-                    c.ll as usize,
-                    c.lr as usize,
-                    lattice.layer(c, RodType::A) as usize,
-                    lattice.layer(c, RodType::B) as usize,
-                    lattice.step_of(i),
-                ]
-            })
-            .collect(),
+        simulated: s.simulated.as_ref().map(|ps| coords(ps.iter().copied())),
+        cells: cells_json(lattice),
         sheets: s.layout.sheets.len(),
         strips: strips_json(s),
+        keys: runs(lattice.vertices.iter().map(|v| (v.key.row, v.key.col))),
+        say: SayJson {
+            pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
+            close: "2. Close these vertex joints, strips stacked from the table up, one eyelet each:",
+            none: "2. No vertex joint closes in this step.",
+        },
         steps: steps_json(s),
         verdict: s.deployment.verdict(lattice),
         deploy: deploy_json(s),
@@ -304,7 +337,27 @@ fn data_json(s: &Scene) -> String {
     String::from_utf8(out).expect("JSON is UTF-8")
 }
 
-fn strips_json<'a>(s: &Scene<'a>) -> Vec<StripJson<'a>> {
+/// `Data::cells`: the cells' seven numbers as differences.
+fn cells_json(lattice: &Lattice) -> Vec<i64> {
+    let mut before = [0i64; 7];
+    let mut out = Vec::with_capacity(7 * lattice.cells.len());
+    for (i, c) in lattice.cells.iter().enumerate() {
+        let now = [
+            i64::from(c.ul),
+            i64::from(c.ur),
+            i64::from(c.ll),
+            i64::from(c.lr),
+            i64::from(lattice.layer(c, RodType::A)),
+            i64::from(lattice.layer(c, RodType::B)),
+            lattice.step_of(i) as i64,
+        ];
+        out.extend(now.iter().zip(before).map(|(n, b)| n - b));
+        before = now;
+    }
+    out
+}
+
+fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
     let mut place = vec![None; s.parts.strips.len()];
     for (i, sheet) in s.layout.sheets.iter().enumerate() {
         for p in &sheet.placements {
@@ -312,31 +365,89 @@ fn strips_json<'a>(s: &Scene<'a>) -> Vec<StripJson<'a>> {
         }
     }
     let fab = &s.design.fabrication;
-    s.parts
-        .strips
-        .iter()
-        .zip(place)
-        .map(|(strip, place)| {
-            let (sheet, p) = place.expect("every strip is placed");
-            StripJson(
-                &strip.id,
-                strip.kind.letter(),
+    // Shapes keyed by their written text, numbered in order of first use,
+    // so that the page shows each strip's own numbers exactly.
+    let mut shapes = Vec::new();
+    let mut shape_of: HashMap<(String, String, String, String, &str), usize> = HashMap::new();
+    let mut flat = Vec::with_capacity(5 * s.parts.strips.len());
+    let mut before = (0, 0);
+    for (strip, place) in s.parts.strips.iter().zip(place) {
+        let (sheet, p) = place.expect("every strip is placed");
+        let cut = Outline::of(strip.length, fab).length;
+        let code = s.parts.types[strip.part_type].code.as_str();
+        let key = (
+            num(strip.length),
+            num(strip.legs[0]),
+            num(strip.legs[1]),
+            num(cut),
+            code,
+        );
+        let next = shapes.len();
+        let shape = *shape_of.entry(key).or_insert_with(|| {
+            shapes.push(ShapeJson(
                 Num(strip.length),
                 Num(strip.legs[0]),
                 Num(strip.legs[1]),
-                sheet,
-                Num(p.x),
-                Num(p.y),
-                u8::from(p.rotated),
-                Num(Outline::of(strip.length, fab).length),
-                &s.parts.types[strip.part_type].code,
-            )
-        })
-        .collect()
+                Num(cut),
+                code,
+            ));
+            next
+        });
+        let at = (units(p.x), units(p.y));
+        flat.extend([
+            Field::Int(shape as i64),
+            Field::Int(sheet as i64),
+            Field::Step(at.0 - before.0),
+            Field::Step(at.1 - before.1),
+            Field::Int(i64::from(p.rotated)),
+        ]);
+        before = at;
+    }
+    StripsJson {
+        ids: id_runs(s.parts),
+        shapes,
+        place: flat,
+    }
+}
+
+/// (row, column) pairs as runs of one row with consecutive columns: row,
+/// first column, count per run.
+fn runs(keys: impl Iterator<Item = (u32, u32)>) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::new();
+    for (row, col) in keys {
+        let n = out.len();
+        if n >= 3 && out[n - 3] == row && out[n - 2].checked_add(out[n - 1]) == Some(col) {
+            out[n - 1] += 1;
+        } else {
+            out.extend([row, col, 1]);
+        }
+    }
+    out
+}
+
+/// The strip IDs as runs of cells (see `StripsJson::ids`). Strips come two
+/// per cell, rod A then rod B, so the cell of strip `i` is `i / 2`.
+fn id_runs(parts: &Parts) -> Vec<u32> {
+    // The digit counts are those of the IDs themselves ("R007-C12-A").
+    let digits = |id: &str| {
+        let (row, rest) = id[1..].split_once("-C").unwrap_or(("00", "00-"));
+        let col = rest.split_once('-').map_or("00", |(c, _)| c);
+        (row.len(), col.len())
+    };
+    let (rd, cd) = parts.strips.first().map_or((2, 2), |s| digits(&s.id));
+    debug_assert!(parts.strips.chunks(2).all(|pair| {
+        let (row, col) = (pair[0].row, pair[0].col);
+        pair.iter()
+            .zip(["A", "B"])
+            .all(|(s, k)| s.id == format!("R{row:0rd$}-C{col:0cd$}-{k}"))
+    }));
+    let mut out = vec![rd as u32, cd as u32];
+    out.extend(runs(parts.strips.chunks(2).map(|p| (p[0].row, p[0].col))));
+    out
 }
 
 /// Steps with the guide's sentences.
-fn steps_json<'a>(s: &Scene<'a>) -> Vec<StepJson<'a>> {
+fn steps_json(s: &Scene) -> Vec<StepJson> {
     let lattice = s.lattice;
     let total = s.parts.eyelets();
     let unit = if lattice.kind == Kind::Helix {
@@ -354,29 +465,24 @@ fn steps_json<'a>(s: &Scene<'a>) -> Vec<StepJson<'a>> {
                 plural(step.strips.len(), "strip"),
                 plural(step.eyelets, "eyelet")
             ),
-            pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
-            close: if step.joints.is_empty() {
-                "2. No vertex joint closes in this step."
-            } else {
-                "2. Close these vertex joints, strips stacked from the table up, one eyelet each:"
-            },
             eyelets: format!(
                 "Eyelets in this step: {}. Set so far: {} of {total}.",
                 step.eyelets, step.total
             ),
-            cells: &step.cells,
-            joints: step
-                .joints
-                .iter()
-                .map(|j| {
-                    let k = lattice.vertex(j.vertex).key;
-                    (
-                        j.vertex,
-                        format!("[{},{}]", k.row, k.col),
-                        j.ends.iter().map(|e| e.rod).collect(),
-                    )
-                })
-                .collect(),
+            joints: {
+                let mut out = Vec::new();
+                let mut before = 0;
+                for j in &step.joints {
+                    out.extend([i64::from(j.vertex) - before, j.ends.len() as i64]);
+                    before = i64::from(j.vertex);
+                    let mut rod = 0;
+                    for e in &j.ends {
+                        out.push(e.rod as i64 - rod);
+                        rod = e.rod as i64;
+                    }
+                }
+                out
+            },
         })
         .collect()
 }

@@ -7,20 +7,43 @@
 
   // ---- The model -------------------------------------------------------
   var NC = D.cells.length / 7;
-  var NS = D.strips.length;
+  var NS = D.strips.place.length / 5;
   var NV = D.points.length / 3 - NC;
+  // Positions are written as differences from the point before, in mm to
+  // 0.001: summed in whole micrometres, so they come back exactly.
+  function positions(d) {
+    var out = new Float64Array(d.length), at = [0, 0, 0];
+    for (var k = 0; k < d.length; k++) { at[k % 3] += Math.round(d[k] * 1000); out[k] = at[k % 3] / 1000; }
+    return out;
+  }
   var NSTEPS = D.steps.length;
   var T = D.fab.thickness, W = D.fab.width, M = D.fab.end_margin;
-  var cellOf = function (c, k) { return D.cells[7 * c + k]; };
-  var strips = D.strips.map(function (s, i) {
-    var c = i >> 1;
-    return {
-      i: i, id: s[0], type: s[1], length: s[2], legs: [s[3], s[4]], sheet: s[5],
-      x: s[6], y: s[7], rotated: !!s[8], cut: s[9], part: s[10] || null,
+  // Each cell's seven numbers are written as differences from the cell before.
+  var CELLS = new Int32Array(D.cells.length);
+  for (var k0 = 0; k0 < D.cells.length; k0++) CELLS[k0] = D.cells[k0] + (k0 >= 7 ? CELLS[k0 - 7] : 0);
+  var cellOf = function (c, k) { return CELLS[7 * c + k]; };
+  // The cells of each step, in index order (the guide's order).
+  var cellsOf = D.steps.map(function () { return []; });
+  for (var c0 = 0; c0 < NC; c0++) cellsOf[cellOf(c0, 6)].push(c0);
+  // A strip's ID from its cell's row and column (runs of cells in one row
+  // with consecutive columns) and its rod, A then B per cell.
+  function pad(n, w) { var t = String(n); while (t.length < w) t = "0" + t; return t; }
+  var cellName = [], runs = D.strips.ids;
+  for (var q = 2; q < runs.length; q += 3) {
+    for (var n = 0; n < runs[q + 2]; n++) cellName.push("R" + pad(runs[q], runs[0]) + "-C" + pad(runs[q + 1] + n, runs[1]) + "-");
+  }
+  var strips = [], atX = 0, atY = 0; // places: differences, in 0.0001 mm
+  for (var i = 0; i < NS; i++) {
+    var c = i >> 1, f = D.strips.place.slice(5 * i, 5 * i + 5), sh = D.strips.shapes[f[0]];
+    var type = (i & 1) ? "B" : "A";
+    atX += Math.round(f[2] * 1e4); atY += Math.round(f[3] * 1e4);
+    strips.push({
+      i: i, id: cellName[c] + type, type: type, length: sh[0], legs: [sh[1], sh[2]], sheet: f[1],
+      x: atX / 1e4, y: atY / 1e4, rotated: !!f[4], cut: sh[3], part: sh[4] || null,
       cell: c, step: cellOf(c, 6), layer: cellOf(c, 4 + (i & 1)),
       start: (i & 1) ? cellOf(c, 1) : cellOf(c, 0), end: (i & 1) ? cellOf(c, 2) : cellOf(c, 3)
-    };
-  });
+    });
+  }
   var byId = {};
   strips.forEach(function (s) { byId[s.id] = s; });
   // Eyelets: one per scissor pivot, one per vertex joint closed in a step.
@@ -28,8 +51,25 @@
   for (var c = 0; c < NC; c++) {
     eyelets.push({ at: NV + c, cell: c, top: Math.max(cellOf(c, 4), cellOf(c, 5)), step: cellOf(c, 6) });
   }
-  D.steps.forEach(function (st, k) {
-    st.joints.forEach(function (j) {
+  // Joints per step: [vertex, key, rods bottom to top], from the flat
+  // list (vertex and rods written as differences).
+  var keyOf = [], keyRuns = D.keys;
+  for (var q2 = 0; q2 < keyRuns.length; q2 += 3) {
+    for (var n2 = 0; n2 < keyRuns[q2 + 2]; n2++) keyOf.push("[" + keyRuns[q2] + "," + (keyRuns[q2 + 1] + n2) + "]");
+  }
+  var jointsOf = D.steps.map(function (st) {
+    var out = [], J = st.joints, v = 0;
+    for (var a = 0; a < J.length;) {
+      v += J[a];
+      var rods = [], r = 0;
+      for (var b = 0; b < J[a + 1]; b++) { r += J[a + 2 + b]; rods.push(r); }
+      a += 2 + rods.length;
+      out.push([v, keyOf[v], rods]);
+    }
+    return out;
+  });
+  jointsOf.forEach(function (joints, k) {
+    joints.forEach(function (j) {
       var top = 0;
       j[2].forEach(function (r) { top = Math.max(top, strips[r].layer); });
       eyelets.push({ at: j[0], cell: j[2][0] >> 1, top: top, step: k });
@@ -46,7 +86,7 @@
     theta: D.deploy ? D.deploy.theta_design : null,
     shape: "designed"
   };
-  var designed = new Float64Array(D.points);
+  var designed = positions(D.points);
   var P = designed;        // the positions drawn now
 
   // ---- Small vector helpers ------------------------------------------------
@@ -452,10 +492,10 @@
     var box = $("step-text");
     box.textContent = "";
     var p = document.createElement("p");
-    p.textContent = st.pair;
+    p.textContent = D.say.pair;
     box.appendChild(p);
     var ul = document.createElement("ul");
-    st.cells.forEach(function (c) {
+    cellsOf[k - 1].forEach(function (c) {
       var li = document.createElement("li");
       li.appendChild(idLink(2 * c));
       li.appendChild(document.createTextNode(" + "));
@@ -464,11 +504,11 @@
     });
     box.appendChild(ul);
     p = document.createElement("p");
-    p.textContent = st.close;
+    p.textContent = jointsOf[k - 1].length ? D.say.close : D.say.none;
     box.appendChild(p);
-    if (st.joints.length) {
+    if (jointsOf[k - 1].length) {
       ul = document.createElement("ul");
-      st.joints.forEach(function (j) {
+      jointsOf[k - 1].forEach(function (j) {
         var li = document.createElement("li");
         li.appendChild(document.createTextNode(j[1] + "  "));
         j[2].forEach(function (r, n) {
@@ -717,12 +757,13 @@
   $("verdict").textContent = "Deployment: " + D.verdict + "." +
     (D.extrinsic ? "" : " Rows grown on rebuilt fronts are drawn placed on the row above, shared vertices halfway where the strips bend.");
   if (D.simulated) {
+    var simulatedShape = positions(D.simulated);
     $("shape-choice").hidden = false;
     document.querySelectorAll("input[name=shape]").forEach(function (r) {
       r.addEventListener("change", function () {
         if (!r.checked) return;
         state.shape = r.value;
-        P = r.value === "simulated" ? new Float64Array(D.simulated) : designed;
+        P = r.value === "simulated" ? simulatedShape : designed;
         rebuild();
       });
     });
@@ -741,7 +782,7 @@
     $("panel-toggle").setAttribute("aria-expanded", String(!hide));
     render();
   });
-  var eyeletCount = D.steps.length ? D.steps.reduce(function (n, s) { return n + s.cells.length + s.joints.length; }, 0) : 0;
+  var eyeletCount = D.steps.length ? D.steps.reduce(function (n, s, k) { return n + cellsOf[k].length + jointsOf[k].length; }, 0) : 0;
   $("facts").textContent = NC + " cells \u00b7 " + NS + " strips \u00b7 " + eyeletCount + " eyelets \u00b7 " +
     D.sheets + (D.sheets === 1 ? " sheet" : " sheets") + " \u00b7 " + D.fab.material + " " + D.fab.thickness + " x " + D.fab.width + " mm";
   buildGeometry();
