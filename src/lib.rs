@@ -83,7 +83,7 @@ pub use layout::{Bounds, Layout, Placement, Sheet, nest};
 // Drawing: one model of pages in millimetres that every writer reads, and
 // the assembly guide drawn in it.
 pub use drawing::{Align, Font, Group, Ink, Item, Layer, Page, Segment, Shape, Symbol};
-pub use guide::{Guide, guide};
+pub use guide::{Guide, guide, guide_showing};
 
 /// Bytes: one module per file format, each with its own `write`.
 pub mod formats {

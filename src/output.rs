@@ -3,7 +3,7 @@
 //! reports, and is the only place that knows which writer makes which file.
 
 use crate::drawing::picture::preview;
-use crate::guide::guide;
+use crate::guide::guide_showing;
 use crate::lattice::Lattice;
 use crate::parts::solid;
 use crate::pipeline::Build;
@@ -97,7 +97,10 @@ fn rest_of_files(b: &Build) -> Vec<(String, Vec<u8>)> {
         "parts.csv".to_string(),
         parts_csv::write(&b.parts.strips, &b.layout),
     ));
-    let g = guide(b);
+    // The simulated shape is placed once, for the guide's cover, the
+    // preview and the viewer.
+    let simulated = simulated_shape(b);
+    let g = guide_showing(b, simulated.as_ref());
     files.push((
         "parts-types.csv".to_string(),
         part_types_csv::write(&b.parts),
@@ -106,8 +109,6 @@ fn rest_of_files(b: &Build) -> Vec<(String, Vec<u8>)> {
         "assembly.pdf".to_string(),
         pdf::write_with_symbols(&format!("{name} assembly guide"), &g.pages, &g.symbols),
     ));
-    // The simulated shape is placed once, for the preview and the viewer.
-    let simulated = simulated_shape(b);
     let picture = match &simulated {
         Some(placed) => crate::drawing::picture::preview_captioned(
             placed,

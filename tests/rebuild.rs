@@ -94,7 +94,7 @@ fn a_changed_input_or_a_damaged_state_is_solved_again() {
     let state = dir.join("fresh").join(karigami::STATE_FILE);
     // Each damage: the build solves, and its files are a fresh solve's.
     type Damage = fn(&Path);
-    let damages: [(&str, Damage); 5] = [
+    let damages: [(&str, Damage); 6] = [
         ("a flipped byte", |p| {
             let mut b = fs::read(p).unwrap();
             let n = b.len();
@@ -113,6 +113,28 @@ fn a_changed_input_or_a_damaged_state_is_solved_again() {
             let mut b = b;
             b[at] = if b[at] == b'0' { b'1' } else { b'0' };
             fs::write(p, b).unwrap();
+        }),
+        ("a NaN energy under a recomputed hash", |p| {
+            // A hand-made state whose header checks out: the NaN must not
+            // slip through the energy comparison.
+            let b = fs::read(p).unwrap();
+            let split = b.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+            let mut payload = b[split..].to_vec();
+            let n = payload.len();
+            payload[n - 8..].copy_from_slice(&f64::NAN.to_bits().to_le_bytes());
+            let hash = payload.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &x| {
+                (h ^ u64::from(x)).wrapping_mul(0x0100_0000_01b3)
+            });
+            let head = String::from_utf8_lossy(&b[..split]).into_owned();
+            let mut lines: Vec<String> = head.trim_end().lines().map(str::to_owned).collect();
+            let at = lines
+                .iter()
+                .position(|l| l.starts_with("payload "))
+                .unwrap();
+            lines[at] = format!("payload {n} bytes, fnv1a {hash:016x}");
+            let mut out = (lines.join("\n") + "\n\n").into_bytes();
+            out.extend_from_slice(&payload);
+            fs::write(p, out).unwrap();
         }),
         ("gone", |p| fs::remove_file(p).unwrap()),
     ];

@@ -7,25 +7,35 @@ use crate::assembly::Step;
 use crate::drawing::Font;
 use crate::drawing::flow::{BLACK, BODY, GREY, MARGIN, PageFlow};
 use crate::drawing::picture::{Camera, Fit, RodStyle, lattice_picture};
+use crate::lattice::Lattice;
 use crate::pipeline::Build;
 use crate::words::plural;
 use glam::DVec2;
 
-pub(super) fn cover(w: &mut PageFlow, b: &Build, steps: &[Step], side: &stacking::Side) {
+pub(super) fn cover(
+    w: &mut PageFlow,
+    b: &Build,
+    simulated: Option<&Lattice>,
+    steps: &[Step],
+    side: &stacking::Side,
+) {
     let fab = &b.design.fabrication;
     w.text(&b.design.name, 10.0, Font::Bold, BLACK);
     w.text("Scissor lattice - assembly guide", 5.0, Font::Regular, GREY);
     w.y += 4.0;
+    // The shape the strips take: simulated where the build simulated it
+    // (bent strips), else as designed (a true mechanism, or not simulated).
+    let shown = simulated.unwrap_or(&b.assembled);
     let box_size = DVec2::new(w.width(), 120.0);
     let fit = Fit::new(
-        &b.assembled,
-        Camera::for_lattice(&b.assembled),
+        shown,
+        Camera::for_lattice(shown),
         DVec2::new(MARGIN, w.y),
         box_size,
     );
     let width = (0.6 * fit.scale() * fab.material.width).clamp(0.3, 1.6);
     w.push(lattice_picture(
-        &b.assembled,
+        shown,
         &fit,
         |_| {
             Some(RodStyle {
@@ -35,8 +45,19 @@ pub(super) fn cover(w: &mut PageFlow, b: &Build, steps: &[Step], side: &stacking
         },
         width * 0.9,
     ));
-    w.y += box_size.y + 8.0;
-    let (lo, hi) = b.assembled.extent();
+    w.y += box_size.y + 2.0;
+    w.text(
+        if simulated.is_some() {
+            "Shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)"
+        } else {
+            "Shown: the deployed shape as designed"
+        },
+        BODY,
+        Font::Regular,
+        GREY,
+    );
+    w.y += 6.0;
+    let (lo, hi) = shown.extent();
     let size = hi - lo;
     let dims: Vec<String> = size.to_array()[..b.lattice.dim]
         .iter()

@@ -16,7 +16,7 @@ mod step_text;
 
 use crate::drawing::flow::PageFlow;
 use crate::drawing::{Page, Shape, Symbol};
-use crate::lattice::VertexKey;
+use crate::lattice::{Lattice, VertexKey};
 use crate::pipeline::Build;
 use checklist::checklist;
 use cover::cover;
@@ -53,8 +53,16 @@ pub struct Guide {
     pub symbols: Vec<Symbol>,
 }
 
-/// The guide for a build, on its paper (A4 or US Letter, portrait).
+/// The guide for a build, on its paper (A4 or US Letter, portrait), its
+/// cover showing the designed deployed shape.
 pub fn guide(b: &Build) -> Guide {
+    guide_showing(b, None)
+}
+
+/// The guide with the cover showing `simulated`, the simulated deployed
+/// shape of a build that was simulated (what `build` writes), else the
+/// designed one; the caption says which.
+pub fn guide_showing(b: &Build, simulated: Option<&Lattice>) -> Guide {
     let fab = &b.design.fabrication;
     let mut w = PageFlow::new(
         fab.paper.size(),
@@ -62,7 +70,7 @@ pub fn guide(b: &Build) -> Guide {
     );
     let steps = &b.steps;
     let side = stacking::side(&b.lattice);
-    cover(&mut w, b, steps, &side);
+    cover(&mut w, b, simulated, steps, &side);
     materials(&mut w, b);
     test_piece_block(&mut w, b);
     let layout = StepLayout::new(b, steps, w.width());

@@ -208,13 +208,30 @@ pub(crate) fn restore(
         lambda_min: r.float()?,
         energy: r.float()?,
     };
-    if !r.0.is_empty() || !m.q.iter().all(|q| q.is_finite()) {
+    // Only a converged state with every number finite: a NaN would slip
+    // through the comparisons below (they are written so that it fails them).
+    let frames_finite = m.edges.iter().all(|e| match &e.frame {
+        Frame::Ref { ts, as_, .. } => ts.is_finite() && as_.is_finite(),
+        _ => true,
+    }) && m
+        .joints
+        .iter()
+        .all(|j| j.frame.iter().all(|v| v.is_finite()));
+    let stats_finite = [stats.force, stats.moment, stats.lambda_min, stats.energy]
+        .iter()
+        .all(|x| x.is_finite());
+    if !r.0.is_empty()
+        || !stats.converged
+        || !stats_finite
+        || !frames_finite
+        || !m.q.iter().all(|q| q.is_finite())
+    {
         return None;
     }
     // The energy the solver ended with, recomputed: a last guard that the
     // state fits the model.
     let e = m.energy();
-    if (e - stats.energy).abs() > 1e-9 * (stats.energy.abs() + m.e_scale) {
+    if !((e - stats.energy).abs() <= 1e-9 * (stats.energy.abs() + m.e_scale)) {
         return None;
     }
     // What a fresh solve reports on its model, reported on this one.

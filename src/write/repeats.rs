@@ -47,7 +47,7 @@ pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
     repeats
 }
 
-/// `find` made cheap and exact: groups are first sorted by `keys` (equal
+/// `find` made cheap and exact: groups are first told apart by `keys` (equal
 /// keys must mean equal drawings: a key holds every number its writer
 /// prints, on the grid), and `text(g)` is written only for the first group
 /// of each key; keys of equal texts are one drawing, so the repeats are

@@ -291,6 +291,16 @@ impl OutDir {
         if !matches!(self.previous, Previous::Build | Previous::Added(_)) {
             return None;
         }
+        // Every folder on the way must be a real folder inside this one: a
+        // batch subfolder replaced by a link would lead outside it.
+        let rel = Path::new(rel);
+        let mut path = self.target.clone();
+        for part in rel.parent().into_iter().flat_map(Path::components) {
+            path.push(part);
+            if !fs::symlink_metadata(&path).ok()?.is_dir() {
+                return None;
+            }
+        }
         let path = self.target.join(rel);
         let meta = fs::symlink_metadata(&path).ok()?;
         if !meta.is_file() || meta.len() > limit {
