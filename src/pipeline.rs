@@ -207,9 +207,11 @@ impl Checked {
 }
 
 /// The most cells karigami makes parts for (two strips a cell). Growth and
-/// verification go to `MAX_CELLS`. A build costs about 0.3 to 0.35 ms of
-/// CPU, 19 KiB of memory and 10 KB of files a cell (BENCHMARKS.md): 20,000
-/// cells build in about 7 s and 390 MiB.
+/// verification go to `MAX_CELLS`. A build costs about 0.2 ms of CPU,
+/// 13 KiB of memory and 2.4 KB of files a cell (BENCHMARKS.md, measured
+/// 2026-11-30): 20,000 cells build in about 4.5 s of CPU and 260 MiB,
+/// with a 200-step guide; more would pass 5 s and make a guide too long to
+/// print.
 pub(crate) const MAX_FABRICATED_CELLS: usize = 20_000;
 
 /// The assembly guide has a page or more for every growth step, and each
