@@ -8,7 +8,7 @@
 //! grid steps, so anchor plus offset is exactly the point a flat file prints.
 
 use super::number::units;
-use crate::drawing::{Group, Segment, Shape};
+use crate::drawing::{Group, Item, Segment, Shape};
 use glam::DVec2;
 use std::collections::HashMap;
 use std::hash::Hash;
@@ -96,7 +96,7 @@ pub(crate) fn page_keys(groups: &[Group], at: &[Option<(i64, i64)>]) -> Vec<Opti
         .zip(at)
         .map(|(g, at)| {
             let (ax, ay) = (*at)?;
-            Some(key(g, &|p| [units(p.x) - ax, units(p.y) - ay]))
+            Some(key(&g.items, &|p| [units(p.x) - ax, units(p.y) - ay]))
         })
         .collect()
 }
@@ -104,11 +104,11 @@ pub(crate) fn page_keys(groups: &[Group], at: &[Option<(i64, i64)>]) -> Vec<Opti
 /// A group's drawing as integers, exactly: each point through `grid` (the
 /// writer's grid units relative to the anchor), other numbers by their
 /// bits. Groups of equal keys draw the same up to a move.
-pub(crate) fn key(g: &Group, grid: &dyn Fn(DVec2) -> [i64; 2]) -> Vec<i64> {
-    let mut k = Vec::with_capacity(8 * g.items.len());
+pub(crate) fn key(items: &[Item], grid: &dyn Fn(DVec2) -> [i64; 2]) -> Vec<i64> {
+    let mut k = Vec::with_capacity(8 * items.len());
     let colour =
         |c: Option<[u8; 3]>| c.map_or(-1, |[r, g, b]| i64::from_be_bytes([0, 0, 0, 0, 0, r, g, b]));
-    for i in &g.items {
+    for i in items {
         k.extend([
             i.layer as i64,
             colour(i.ink.stroke),

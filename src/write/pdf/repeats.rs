@@ -39,75 +39,14 @@ fn moved(shape: &Shape, d: DVec2) -> Shape {
 }
 
 /// A group's drawing relative to its anchor `a`, as numbers (coordinates
-/// on the 0.1 um grid, sizes and widths by their bits): two groups with the
-/// same key draw the same thing, moved. Numbers rather than text: building
-/// the text was 7 % of a 100 x 100 build.
+/// on the 0.1 um grid, finer than the 0.01 pt the PDF prints; other numbers
+/// by their bits): two groups with the same key draw the same thing, moved.
+/// Numbers rather than text: building the text was 7 % of a 100 x 100 build.
 fn key(items: &[Item], a: DVec2) -> Vec<i64> {
-    let mut k = Vec::with_capacity(12 * items.len());
-    let p = |k: &mut Vec<i64>, v: DVec2| {
+    crate::write::repeats::key(items, &|v| {
         let d = v - a;
-        k.push((d.x * 1e4).round() as i64);
-        k.push((d.y * 1e4).round() as i64);
-    };
-    let colour =
-        |c: Option<[u8; 3]>| c.map_or(-1, |[r, g, b]| i64::from_be_bytes([0, 0, 0, 0, 0, r, g, b]));
-    for i in items {
-        k.extend([
-            i.layer as i64,
-            colour(i.ink.stroke),
-            colour(i.ink.fill),
-            i.ink.width.to_bits() as i64,
-        ]);
-        match &i.shape {
-            Shape::Circle { center, radius } => {
-                k.extend([-1, radius.to_bits() as i64]);
-                p(&mut k, *center);
-            }
-            Shape::Path {
-                start,
-                segments,
-                closed,
-            } => {
-                k.extend([-2 - *closed as i64, segments.len() as i64]);
-                p(&mut k, *start);
-                for s in segments {
-                    match s {
-                        Segment::Line(q) => {
-                            k.push(0);
-                            p(&mut k, *q);
-                        }
-                        Segment::Arc {
-                            to,
-                            center,
-                            clockwise,
-                        } => {
-                            k.push(1 + *clockwise as i64);
-                            p(&mut k, *to);
-                            p(&mut k, *center);
-                        }
-                    }
-                }
-            }
-            Shape::Text {
-                at,
-                size,
-                text,
-                font,
-                align,
-            } => {
-                k.extend([
-                    -4,
-                    size.to_bits() as i64,
-                    *font as i64,
-                    *align as i64,
-                    text.len() as i64,
-                ]);
-                k.extend(text.bytes().map(i64::from));
-                p(&mut k, *at);
-            }
-        }
-    }
-    k
+        [(d.x * 1e4).round() as i64, (d.y * 1e4).round() as i64]
+    })
 }
 
 /// A group's anchor and key.
