@@ -122,9 +122,7 @@ fn a_changed_input_or_a_damaged_state_is_solved_again() {
             let mut payload = b[split..].to_vec();
             let n = payload.len();
             payload[n - 8..].copy_from_slice(&f64::NAN.to_bits().to_le_bytes());
-            let hash = payload.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &x| {
-                (h ^ u64::from(x)).wrapping_mul(0x0100_0000_01b3)
-            });
+            let hash = karigami::util::fnv1a(&payload);
             let head = String::from_utf8_lossy(&b[..split]).into_owned();
             let mut lines: Vec<String> = head.trim_end().lines().map(str::to_owned).collect();
             let at = lines

@@ -16,6 +16,7 @@
 //! equilibrium ends a few ulp away from a fresh one, and the files would
 //! then depend on the folder's history instead of on the recipe.
 
+use crate::hash::{Fnv1a, fnv1a};
 use crate::sim::model::Frame;
 use crate::sim::{Derived, Settings, Simulation, Stats, equilibrium, prepare_with};
 use glam::DVec3;
@@ -57,28 +58,6 @@ pub const SOURCES: [(&str, &str); 13] = sources![
     "Cargo.lock",
 ];
 
-/// FNV-1a fed by `write!`, so that large values are hashed without
-/// building their text.
-struct Fnv(u64);
-
-impl Fnv {
-    fn new() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-    fn bytes(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-}
-
-impl std::fmt::Write for Fnv {
-    fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        self.bytes(s.as_bytes());
-        Ok(())
-    }
-}
-
 /// What the solve reads, as one number: the karigami version, the code
 /// (`SOURCES`), the lattice, its placement and joints, the strip section
 /// and the settings. `Debug` prints every field and every f64 exactly
@@ -92,7 +71,7 @@ pub(crate) fn fingerprint(
     thickness: f64,
     settings: &Settings,
 ) -> u64 {
-    let mut h = Fnv::new();
+    let mut h = Fnv1a::new();
     let _ = writeln!(h, "karigami {} {FORMAT}", env!("CARGO_PKG_VERSION"));
     for (name, text) in SOURCES {
         let _ = writeln!(h, "{name} {}", text.len());
@@ -147,12 +126,10 @@ pub(crate) fn state(run: &Simulation, fingerprint: u64) -> Vec<u8> {
 }
 
 fn head(fingerprint: u64, payload: &[u8]) -> String {
-    let mut h = Fnv::new();
-    h.bytes(payload);
     format!(
         "{HEAD}\nformat {FORMAT}\nfingerprint {fingerprint:016x}\npayload {} bytes, fnv1a {:016x}\n\n",
         payload.len(),
-        h.0
+        fnv1a(payload)
     )
 }
 
@@ -208,24 +185,8 @@ pub(crate) fn restore(
         lambda_min: r.float()?,
         energy: r.float()?,
     };
-    // Only a converged state with every number finite: a NaN would slip
-    // through the comparisons below (they are written so that it fails them).
-    let frames_finite = m.edges.iter().all(|e| match &e.frame {
-        Frame::Ref { ts, as_, .. } => ts.is_finite() && as_.is_finite(),
-        _ => true,
-    }) && m
-        .joints
-        .iter()
-        .all(|j| j.frame.iter().all(|v| v.is_finite()));
-    let stats_finite = [stats.force, stats.moment, stats.lambda_min, stats.energy]
-        .iter()
-        .all(|x| x.is_finite());
-    if !r.0.is_empty()
-        || !stats.converged
-        || !stats_finite
-        || !frames_finite
-        || !m.q.iter().all(|q| q.is_finite())
-    {
+    // Only a converged state (every number is finite: `Reader::float`).
+    if !r.0.is_empty() || !stats.converged {
         return None;
     }
     // The energy the solver ended with, recomputed: a last guard that the
@@ -274,8 +235,10 @@ impl Reader<'_> {
     fn count(&mut self) -> Option<usize> {
         usize::try_from(self.word()?).ok()
     }
+    /// A finite number: a NaN would slip through the comparisons that
+    /// guard a restore.
     fn float(&mut self) -> Option<f64> {
-        Some(f64::from_bits(self.word()?))
+        Some(f64::from_bits(self.word()?)).filter(|x| x.is_finite())
     }
     fn vec(&mut self) -> Option<DVec3> {
         Some(DVec3::new(self.float()?, self.float()?, self.float()?))
