@@ -163,15 +163,19 @@ pub(crate) fn key(items: &[Item], grid: &dyn Fn(DVec2) -> [i64; 2]) -> Vec<i64> 
     k
 }
 
-/// A group's anchor on the grid (page mm, y down): its first item's first
-/// point; None for an empty group.
-pub(crate) fn anchor(g: &Group) -> Option<(i64, i64)> {
-    let p = match &g.items.first()?.shape {
+/// A group's anchor (page mm, y down): its first item's first point;
+/// None for an empty group.
+pub(crate) fn first_point(g: &Group) -> Option<DVec2> {
+    Some(match &g.items.first()?.shape {
         Shape::Circle { center, .. } => *center,
         Shape::Path { start, .. } => *start,
         Shape::Text { at, .. } => *at,
-    };
-    Some((units(p.x), units(p.y)))
+    })
+}
+
+/// `first_point` on the grid.
+pub(crate) fn anchor(g: &Group) -> Option<(i64, i64)> {
+    first_point(g).map(|p| (units(p.x), units(p.y)))
 }
 
 /// Page points to offsets from `at` (grid units) in whole grid steps, mm.

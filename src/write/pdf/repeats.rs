@@ -1,42 +1,10 @@
 //! Drawings that repeat, up to a move (the strips of one part type on the
 //! cut sheets), found and replaced by places of one shared symbol.
 
-use crate::drawing::{Group, Item, Page, Place, Segment, Shape, Symbol};
+use crate::drawing::{Item, Page, Place, Symbol};
+use crate::write::repeats::first_point;
 use glam::DVec2;
 use std::collections::HashMap;
-
-/// Where a group is anchored: the first point of its first item.
-fn anchor(g: &Group) -> Option<DVec2> {
-    match &g.items.first()?.shape {
-        Shape::Circle { center, .. } => Some(*center),
-        Shape::Path { start, .. } => Some(*start),
-        Shape::Text { at, .. } => Some(*at),
-    }
-}
-
-/// `shape` moved by `d`.
-fn moved(shape: &Shape, d: DVec2) -> Shape {
-    let mut shape = shape.clone();
-    match &mut shape {
-        Shape::Circle { center, .. } => *center += d,
-        Shape::Text { at, .. } => *at += d,
-        Shape::Path {
-            start, segments, ..
-        } => {
-            *start += d;
-            for s in segments {
-                match s {
-                    Segment::Line(p) => *p += d,
-                    Segment::Arc { to, center, .. } => {
-                        *to += d;
-                        *center += d;
-                    }
-                }
-            }
-        }
-    }
-    shape
-}
 
 /// A group's drawing relative to its anchor `a`, as numbers (coordinates
 /// on the 0.1 um grid, finer than the 0.01 pt the PDF prints; other numbers
@@ -64,7 +32,7 @@ pub(super) fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
             page.groups
                 .iter()
                 .map(|g| {
-                    let a = anchor(g).filter(|_| g.symbols.is_empty())?;
+                    let a = first_point(g).filter(|_| g.symbols.is_empty())?;
                     Some((a, key(&g.items, a)))
                 })
                 .collect()
@@ -91,7 +59,7 @@ pub(super) fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
                     .items
                     .iter()
                     .map(|i| Item {
-                        shape: moved(&i.shape, -*at),
+                        shape: i.shape.moved(&|p| p - *at),
                         ..i.clone()
                     })
                     .collect();
@@ -112,7 +80,7 @@ pub(super) fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::drawing::Layer;
+    use crate::drawing::{Group, Layer, Shape};
     use crate::write::pdf::write;
 
     /// A strip-like group (a hole and a closed outline) anchored at `at`.
