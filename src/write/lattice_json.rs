@@ -8,7 +8,7 @@
 //! Format 1 also wrote the derived numbers and every vertex key again in
 //! each cell, rod and eyelet: 14.2 MB for a 100 x 100 sheet, 2.25 MB now.
 
-use crate::lattice::{Cell, Joint, Kind, Lattice, RodType, VertexKey};
+use crate::lattice::{Cell, Kind, Lattice, RodType, VertexKey};
 use glam::DVec3;
 use serde::Serialize;
 
@@ -57,7 +57,7 @@ fn cell_key(lattice: &Lattice, c: &Cell) -> Vec<u32> {
 
 /// The lattice as lattice.json bytes. Its joints (`lattice::joints`) are
 /// not written: they follow from the cells' corners and layers.
-pub(crate) fn write(lattice: &Lattice, _joints: &[Joint]) -> Vec<u8> {
+pub(crate) fn write(lattice: &Lattice) -> Vec<u8> {
     let dim = lattice.dim;
     let pos = |p: DVec3| p.to_array()[..dim].to_vec();
     let extrinsic = lattice.extrinsic();
