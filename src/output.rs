@@ -67,10 +67,7 @@ fn sheet_pictures(b: &Build) -> Vec<Vec<u8>> {
 
 /// lattice.json and every sheet's files, given the sheets' pictures.
 fn sheet_files(b: &Build, pictures: Vec<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
-    let mut files = vec![(
-        "lattice.json".to_string(),
-        lattice_json::write(&b.lattice),
-    )];
+    let mut files = vec![("lattice.json".to_string(), lattice_json::write(&b.lattice))];
     for ((i, page), picture) in b.pages.iter().enumerate().zip(pictures) {
         files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
         files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
