@@ -183,17 +183,6 @@ impl Check {
     pub(crate) fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
-
-    /// This check followed by the records of `later` (of the same
-    /// invariant): what recording them here one by one would give.
-    fn then(mut self, later: Check) -> Check {
-        self.count += later.count;
-        if !self.max.is_nan() && (later.max.is_nan() || later.max > self.max) {
-            self.max = later.max;
-            self.site = later.site;
-        }
-        self
-    }
 }
 
 /// The verification of one lattice: the largest residual of every
@@ -247,23 +236,22 @@ const LL: usize = 2;
 const LR: usize = 3;
 
 impl Incidence {
-    /// The incidence and the sum of the cells' mean legs (in cell order),
-    /// in one pass over the cells. The legs themselves are not kept: the
-    /// checks take them from a `LegWindow`, a few rows at a time, so that
-    /// verification allocates 16 bytes a vertex and 8 a vertex for the
-    /// collapsed z, not 32 bytes a cell more (a third of the lattice's
-    /// own size, every page of it supplied by the kernel).
-    fn with_leg_sum(lattice: &Lattice) -> (Self, f64) {
+    /// The incidence, in one pass over the cells' corner indices. The legs
+    /// are not measured here: the checks take them from a `LegWindow`, a
+    /// few rows at a time, and sum their means as they go, so that every
+    /// leg is measured once and verification allocates 16 bytes a vertex
+    /// (and 8 a vertex and 8 a cell for the collapsed state), not 32 bytes
+    /// a cell more (a third of the lattice's own size, every page of it
+    /// supplied by the kernel).
+    fn new(lattice: &Lattice) -> Self {
         let mut inc = vec![[NONE; 4]; lattice.vertices.len()];
-        let mut leg_sum = 0.0;
         for (c, cell) in lattice.cells.iter().enumerate() {
             inc[cell.ul as usize][UL] = c as u32;
             inc[cell.ur as usize][UR] = c as u32;
             inc[cell.ll as usize][LL] = c as u32;
             inc[cell.lr as usize][LR] = c as u32;
-            leg_sum += mean(&lattice.legs(cell));
         }
-        (Self(inc), leg_sum)
+        Self(inc)
     }
 
     /// The cell in which vertex `v` is the corner `corner`.
@@ -386,9 +374,10 @@ fn mean(legs: &Legs) -> f64 {
 /// Check every invariant of MATH.md 8.0-8.3.
 pub fn verify(lattice: &Lattice) -> Report {
     use Invariant as I;
-    // One sum of the mean legs serves the tolerance and the collapsed
-    // state's scale (the same sum, in the same order, as each made it).
-    let (inc, leg_sum) = Incidence::with_leg_sum(lattice);
+    let inc = Incidence::new(lattice);
+    // The sum of the cells' mean legs, in cell order: the tolerance's and
+    // the collapsed state's scale, known once every cell is checked.
+    let mut leg_sum = 0.0;
     let mut legs = LegWindow::new(lattice);
     let width = lattice.width;
     // Every corner is its vertex's stored position when no row grew on a
@@ -407,12 +396,13 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut slope = Check::new(I::CompatibilitySlope);
     let mut intercept = Check::new(I::CompatibilityIntercept);
     let mut natural = Check::new(I::CompatibilityInterceptNatural);
-    let mut collapsed = Collapsed::new(lattice, leg_sum);
+    let mut collapsed = Collapsed::new(lattice);
     for (c, cell) in lattice.cells.iter().enumerate() {
         legs.advance(c + width + 1);
         let own = legs.get(c);
         let [l1, l2, l3, l4] = own;
         let scale = mean(&own);
+        leg_sum += scale;
         let inv = 1.0 / scale;
         let site = || lattice.cell_name(cell);
         let rel = |x: f64| x * inv;
@@ -500,7 +490,7 @@ pub fn verify(lattice: &Lattice) -> Report {
         }
     }
 
-    let (collapsed, extent) = collapsed.finish(lattice);
+    let (collapsed, extent) = collapsed.finish(lattice, leg_sum);
     let tolerance = tolerance_of(lattice, leg_sum, extent);
     Report {
         tolerance,
@@ -531,22 +521,21 @@ pub fn verify(lattice: &Lattice) -> Report {
 /// (`step`), with the rod lengths of the cell just swept: its corners' z
 /// are final then, unless some cell was not reached, when `finish`
 /// measures the rods again after the sweep, as they were measured before.
-/// A pivot's z is final once its cell is swept, so it is compared with
-/// the construction there; the vertices' after the sweep, and the two
-/// comparisons are joined as if the vertices' had come first.
+/// The comparison with the construction needs the lattice's mean leg,
+/// known only after the pass: the pivots' recomputed z are kept (8 bytes
+/// a cell) and compared in `finish`, after the vertices', in cell order.
 struct Collapsed {
     single: Check,
     rods: Check,
-    /// The pivots' comparison with the construction.
-    pivots: Check,
     z: Vec<f64>,
-    /// The mean leg of the lattice: the scale of the comparison.
-    global: f64,
+    /// The recomputed z of every pivot swept, in cell order (NaN if the
+    /// cell was reached through no corner).
+    pivots: Vec<f64>,
     all_reached: bool,
 }
 
 impl Collapsed {
-    fn new(lattice: &Lattice, leg_sum: f64) -> Self {
+    fn new(lattice: &Lattice) -> Self {
         use Invariant as I;
         let mut z = vec![f64::NAN; lattice.vertices.len()];
         if let Some(first) = z.first_mut() {
@@ -555,9 +544,8 @@ impl Collapsed {
         Self {
             single: Check::new(I::CollapsedSingleValued),
             rods: Check::new(I::CollapsedRodLength),
-            pivots: Check::new(I::CollapsedMatchesConstruction),
             z,
-            global: leg_sum / lattice.cells.len().max(1) as f64,
+            pivots: Vec::with_capacity(lattice.cells.len()),
             all_reached: true,
         }
     }
@@ -575,18 +563,14 @@ impl Collapsed {
             (!zv.is_nan()).then_some(zv - off)
         });
         // An unreached pivot has no z: its comparison is NaN and fails.
-        let zp = found.unwrap_or(f64::NAN);
-        self.pivots
-            .record_ratio(zp - cell.z_pivot, self.global + cell.z_pivot.abs(), || {
-                lattice.cell_name(cell)
-            });
-        if found.is_none() {
+        self.pivots.push(found.unwrap_or(f64::NAN));
+        let Some(zp) = found else {
             self.single.record(f64::NAN, || {
                 format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
             });
             self.all_reached = false;
             return;
-        }
+        };
         for (corner, offset) in offsets {
             let expect = zp + offset;
             let slot = &mut z[corner as usize];
@@ -611,17 +595,19 @@ impl Collapsed {
         }
     }
 
-    /// The comparison with the construction, after the sweep.
-    /// Also the largest `vertex_extent`, measured in the same pass.
-    fn finish(self, lattice: &Lattice) -> ([Check; 3], f64) {
+    /// The comparison with the construction, after the sweep, on the scale
+    /// of the lattice's mean leg (`leg_sum` over the cells): the vertices'
+    /// first, then the pivots'. Also the largest `vertex_extent`, measured
+    /// in the same pass.
+    fn finish(self, lattice: &Lattice, leg_sum: f64) -> ([Check; 3], f64) {
         let Self {
             single,
             mut rods,
-            pivots,
             z,
-            global,
+            pivots,
             all_reached,
         } = self;
+        let global = leg_sum / lattice.cells.len().max(1) as f64;
         let mut matches = Check::new(Invariant::CollapsedMatchesConstruction);
         let mut extent: f64 = 0.0;
         for (v, vertex) in lattice.vertices.iter().enumerate() {
@@ -630,7 +616,11 @@ impl Collapsed {
                 vertex_site(lattice, v)
             });
         }
-        let matches = matches.then(pivots);
+        for (cell, zp) in lattice.cells.iter().zip(pivots) {
+            matches.record_ratio(zp - cell.z_pivot, global + cell.z_pivot.abs(), || {
+                lattice.cell_name(cell)
+            });
+        }
         if !all_reached {
             rods = Check::new(Invariant::CollapsedRodLength);
             for cell in &lattice.cells {
