@@ -122,22 +122,26 @@ impl Check {
     #[inline(always)]
     fn record(&mut self, residual: f64, site: impl FnOnce() -> String) {
         self.count += 1;
-        // A NaN residual must fail the check, so it sticks once seen.
-        if self.max.is_nan() {
-            return;
-        }
-        if residual.is_nan() || residual.abs() > self.max {
+        // One comparison for the common case: false for a residual above
+        // the largest, for a NaN residual and for a NaN largest.
+        if !(residual.abs() <= self.max) {
             self.raise(residual, site);
         }
     }
 
     /// A new largest residual: rare after the first cells, and its site's
-    /// name (a formatted string) kept out of the checks' loop.
+    /// name (a formatted string) kept out of the checks' loop. A NaN
+    /// residual must fail the check, so it sticks once seen.
     #[cold]
     #[inline(never)]
     fn raise(&mut self, residual: f64, site: impl FnOnce() -> String) {
-        self.max = residual.abs();
-        self.site = Some(site());
+        if self.max.is_nan() {
+            return;
+        }
+        if residual.is_nan() || residual.abs() > self.max {
+            self.max = residual.abs();
+            self.site = Some(site());
+        }
     }
 
     /// `record(num / den, site)`, without the division when the quotient
@@ -510,6 +514,9 @@ pub fn verify(lattice: &Lattice) -> Report {
     }
 }
 
+/// `Collapsed::reached` of a cell reached through no corner.
+const UNREACHED: u8 = u8::MAX;
+
 /// MATH.md 8.3: z from leg lengths alone, starting from `z = 0` at vertex 0,
 /// then compared with the construction and with the deployed rod lengths.
 /// Cells are stored in growth order, so sweeping them in that order reaches
@@ -522,15 +529,17 @@ pub fn verify(lattice: &Lattice) -> Report {
 /// are final then, unless some cell was not reached, when `finish`
 /// measures the rods again after the sweep, as they were measured before.
 /// The comparison with the construction needs the lattice's mean leg,
-/// known only after the pass: the pivots' recomputed z are kept (8 bytes
-/// a cell) and compared in `finish`, after the vertices', in cell order.
+/// known only after the pass: `finish` compares the vertices', then the
+/// pivots' in cell order, each pivot's z taken again from the corner it
+/// was reached through (a byte a cell remembers which) and that corner's
+/// leg, measured again: the same bits, since a z once set never changes.
 struct Collapsed {
     single: Check,
     rods: Check,
     z: Vec<f64>,
-    /// The recomputed z of every pivot swept, in cell order (NaN if the
-    /// cell was reached through no corner).
-    pivots: Vec<f64>,
+    /// For every cell swept, in cell order, the corner (0 to 3: UL, UR,
+    /// LL, LR) whose z gave the pivot's, or `UNREACHED`.
+    reached: Vec<u8>,
     all_reached: bool,
 }
 
@@ -545,7 +554,7 @@ impl Collapsed {
             single: Check::new(I::CollapsedSingleValued),
             rods: Check::new(I::CollapsedRodLength),
             z,
-            pivots: Vec::with_capacity(lattice.cells.len()),
+            reached: Vec::with_capacity(lattice.cells.len()),
             all_reached: true,
         }
     }
@@ -558,19 +567,17 @@ impl Collapsed {
         let z = &mut self.z;
         // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
         let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
-        let found = offsets.iter().find_map(|&(v, off)| {
-            let zv = z[v as usize];
-            (!zv.is_nan()).then_some(zv - off)
-        });
-        // An unreached pivot has no z: its comparison is NaN and fails.
-        self.pivots.push(found.unwrap_or(f64::NAN));
-        let Some(zp) = found else {
+        let found = offsets.iter().position(|&(v, _)| !z[v as usize].is_nan());
+        self.reached.push(found.map_or(UNREACHED, |k| k as u8));
+        let Some(k) = found else {
             self.single.record(f64::NAN, || {
                 format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
             });
             self.all_reached = false;
             return;
         };
+        let (v, off) = offsets[k];
+        let zp = z[v as usize] - off;
         for (corner, offset) in offsets {
             let expect = zp + offset;
             let slot = &mut z[corner as usize];
@@ -604,7 +611,7 @@ impl Collapsed {
             single,
             mut rods,
             z,
-            pivots,
+            reached,
             all_reached,
         } = self;
         let global = leg_sum / lattice.cells.len().max(1) as f64;
@@ -616,7 +623,22 @@ impl Collapsed {
                 vertex_site(lattice, v)
             });
         }
-        for (cell, zp) in lattice.cells.iter().zip(pivots) {
+        for (cell, &k) in lattice.cells.iter().zip(&reached) {
+            // An unreached pivot has no z: its comparison is NaN and fails.
+            let zp = match k {
+                UNREACHED => f64::NAN,
+                k => {
+                    let [ul, ur, ll, lr] = lattice.corners(cell);
+                    let p = cell.pivot;
+                    let (v, off) = match k {
+                        0 => (cell.ul, -p.distance(ul)),
+                        1 => (cell.ur, -p.distance(ur)),
+                        2 => (cell.ll, p.distance(ll)),
+                        _ => (cell.lr, p.distance(lr)),
+                    };
+                    z[v as usize] - off
+                }
+            };
             matches.record_ratio(zp - cell.z_pivot, global + cell.z_pivot.abs(), || {
                 lattice.cell_name(cell)
             });
@@ -650,7 +672,8 @@ mod tests {
         fixtures::sheet(&fixtures::line(3), &[0.0; 3], 1, 45.0, 3)
     }
 
-    /// The shortcuts of `record_ratio` and `record_bend` keep the largest
+    /// `record` keeps the largest residual (a NaN sticks) and its first
+    /// site; the shortcuts of `record_ratio` and `record_bend` keep the largest
     /// residual, its site and the count of `record` of the full formula,
     /// over residuals of every magnitude, with zeros, NaNs and infinities.
     #[test]
@@ -672,6 +695,7 @@ mod tests {
                 Check::new(Invariant::RodStraightness),
                 Check::new(Invariant::RodStraightness),
             );
+            let mut reference: (f64, Option<String>) = (0.0, None);
             for k in 0..500 {
                 // Mostly near-equal residuals, as in a good lattice.
                 let scale = if round % 2 == 0 { 1e-12 } else { 1.0 };
@@ -686,7 +710,13 @@ mod tests {
                     1.0 + rng.uniform()
                 };
                 let site = || format!("{k}");
-                full.record(num / den, site);
+                // `record`'s rule spelled out: a NaN sticks once seen, a
+                // larger residual (or the first NaN) replaces the largest.
+                let r = num / den;
+                if !reference.0.is_nan() && (r.is_nan() || r.abs() > reference.0) {
+                    reference = (r.abs(), Some(site()));
+                }
+                full.record(r, site);
                 ratio.record_ratio(num, den, site);
                 let a = DVec3::new(rng.signed(), scale * rng.signed(), num.min(1e3));
                 let b = DVec3::new(rng.signed(), rng.signed(), rng.signed());
@@ -694,6 +724,9 @@ mod tests {
                 full_bend.record(bend(a, la, b, lb), site);
                 bend_check.record_bend((a, la), (b, lb), site);
             }
+            assert_eq!(full.count, 500);
+            assert_eq!(full.max.to_bits(), reference.0.to_bits(), "round {round}");
+            assert_eq!(full.site, reference.1, "round {round}");
             for (x, y) in [(&full, &ratio), (&full_bend, &bend_check)] {
                 assert_eq!(x.count, y.count);
                 assert_eq!(x.max.to_bits(), y.max.to_bits(), "round {round}");
