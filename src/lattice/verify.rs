@@ -230,9 +230,71 @@ impl Report {
 
 const NONE: u32 = u32::MAX;
 
-/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE),
-/// side by side: a vertex's four in one cache line.
-struct Incidence(Vec<[u32; 4]>);
+/// For every vertex, the cell in which it is UL, UR, LL, LR (or NONE).
+enum Incidence {
+    /// Read from the cells' corner indices: a vertex's four side by side,
+    /// in one cache line.
+    Table(Vec<[u32; 4]>),
+    /// A sheet or loop whose every cell has the corner indices of its row
+    /// and column, as growth numbers them (checked cell by cell, see
+    /// `Incidence::grid`): the table is then a formula, and verification
+    /// neither fills nor allocates it (16 bytes a vertex, every page
+    /// supplied by the kernel).
+    Grid(Grid),
+}
+
+/// The numbering of a regular sheet or loop: `rows` rows of `width` cells
+/// on fronts of `front` vertices (`width + 1` for a sheet, `width` for a
+/// loop, whose cells wrap).
+#[derive(Clone, Copy)]
+struct Grid {
+    width: usize,
+    front: usize,
+    rows: usize,
+    closed: bool,
+}
+
+impl Grid {
+    /// The corner indices `[UL, UR, LL, LR]` of cell `(i, j)`.
+    #[inline]
+    fn corners(&self, i: usize, j: usize) -> [usize; 4] {
+        let (top, bottom) = (i * self.front, (i + 1) * self.front);
+        let right = (j + 1) % self.front;
+        [top + j, top + right, bottom + j, bottom + right]
+    }
+
+    /// `Incidence::Table`'s entry for the vertex in row `r`, column `c`
+    /// of the fronts, from the numbering.
+    #[inline(always)]
+    fn at_vertex(&self, r: usize, c: usize) -> [u32; 4] {
+        let cell = |i: usize, j: usize| (i * self.width + j) as u32;
+        // The column of the cell left of vertex column c, if any.
+        let left = match (c, self.closed) {
+            (0, true) => Some(self.width - 1),
+            (0, false) => None,
+            _ => Some(c - 1),
+        };
+        let here = (c < self.width).then_some(c);
+        let mut out = [NONE; 4];
+        if r < self.rows {
+            if let Some(j) = here {
+                out[UL] = cell(r, j);
+            }
+            if let Some(j) = left {
+                out[UR] = cell(r, j);
+            }
+        }
+        if r >= 1 && r <= self.rows {
+            if let Some(j) = here {
+                out[LL] = cell(r - 1, j);
+            }
+            if let Some(j) = left {
+                out[LR] = cell(r - 1, j);
+            }
+        }
+        out
+    }
+}
 
 const UL: usize = 0;
 const UR: usize = 1;
@@ -240,14 +302,17 @@ const LL: usize = 2;
 const LR: usize = 3;
 
 impl Incidence {
-    /// The incidence, in one pass over the cells' corner indices. The legs
-    /// are not measured here: the checks take them from a `LegWindow`, a
-    /// few rows at a time, and sum their means as they go, so that every
-    /// leg is measured once and verification allocates 16 bytes a vertex
-    /// (and 8 a vertex and 8 a cell for the collapsed state), not 32 bytes
-    /// a cell more (a third of the lattice's own size, every page of it
-    /// supplied by the kernel).
+    /// The incidence, in one pass over the cells' corner indices (the legs
+    /// are measured later, once, by the checks' `LegWindow`).
     fn new(lattice: &Lattice) -> Self {
+        match Self::grid(lattice) {
+            Some(grid) => Self::Grid(grid),
+            None => Self::table(lattice),
+        }
+    }
+
+    /// The table, read from the cells' corner indices.
+    fn table(lattice: &Lattice) -> Self {
         let mut inc = vec![[NONE; 4]; lattice.vertices.len()];
         for (c, cell) in lattice.cells.iter().enumerate() {
             inc[cell.ul as usize][UL] = c as u32;
@@ -255,13 +320,64 @@ impl Incidence {
             inc[cell.ll as usize][LL] = c as u32;
             inc[cell.lr as usize][LR] = c as u32;
         }
-        Self(inc)
+        Self::Table(inc)
     }
 
-    /// The cell in which vertex `v` is the corner `corner`.
-    #[inline]
-    fn at(&self, v: u32, corner: usize) -> u32 {
-        self.0[v as usize][corner]
+    /// The grid of a sheet or loop of whole rows whose every cell has
+    /// the corners of its position and whose vertices are exactly its
+    /// rows' fronts: then every vertex is each corner of at most the one
+    /// cell `Grid::at_vertex` names, which is the table's entry. Anything
+    /// else (a helix, a corrupted lattice) gets the table.
+    fn grid(lattice: &Lattice) -> Option<Grid> {
+        let width = lattice.width;
+        let closed = match lattice.kind {
+            super::Kind::Sheet => false,
+            super::Kind::Loop => true,
+            super::Kind::Helix => return None,
+        };
+        let front = if closed { width } else { width + 1 };
+        let cells = lattice.cells.len();
+        if width == 0 || (closed && width < 3) || cells % width != 0 {
+            return None;
+        }
+        let grid = Grid {
+            width,
+            front,
+            rows: cells / width,
+            closed,
+        };
+        if lattice.vertices.len() != (grid.rows + 1) * front {
+            return None;
+        }
+        let regular = lattice
+            .cells
+            .chunks_exact(width)
+            .enumerate()
+            .all(|(i, row)| {
+                row.iter().enumerate().all(|(j, cell)| {
+                    [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize) == grid.corners(i, j)
+                })
+            });
+        regular.then_some(grid)
+    }
+
+    /// The cell in which vertex `v` is the corner `corner`; `rc` is the
+    /// vertex's row and column on the grid (ignored by a table).
+    #[inline(always)]
+    fn at(&self, v: u32, rc: (usize, usize), corner: usize) -> u32 {
+        match self {
+            Self::Table(inc) => inc[v as usize][corner],
+            Self::Grid(grid) => grid.at_vertex(rc.0, rc.1)[corner],
+        }
+    }
+
+    /// The cells in which vertex `v` is UL, UR, LL and LR (`rc` as in `at`).
+    #[inline(always)]
+    fn of(&self, v: u32, rc: (usize, usize)) -> [u32; 4] {
+        match self {
+            Self::Table(inc) => inc[v as usize],
+            Self::Grid(grid) => grid.at_vertex(rc.0, rc.1),
+        }
     }
 }
 
@@ -377,8 +493,12 @@ fn mean(legs: &Legs) -> f64 {
 
 /// Check every invariant of MATH.md 8.0-8.3.
 pub fn verify(lattice: &Lattice) -> Report {
+    verify_with(lattice, Incidence::new(lattice))
+}
+
+/// `verify` with the incidence given (a grid or a table: the same report).
+fn verify_with(lattice: &Lattice, inc: Incidence) -> Report {
     use Invariant as I;
-    let inc = Incidence::new(lattice);
     // The sum of the cells' mean legs, in cell order: the tolerance's and
     // the collapsed state's scale, known once every cell is checked.
     let mut leg_sum = 0.0;
@@ -401,7 +521,15 @@ pub fn verify(lattice: &Lattice) -> Report {
     let mut intercept = Check::new(I::CompatibilityIntercept);
     let mut natural = Check::new(I::CompatibilityInterceptNatural);
     let mut collapsed = Collapsed::new(lattice);
+    // Row and column of the cell on a grid (`Incidence::Grid`), counted
+    // along, not divided out; the column of its upper-right corner.
+    let front = match &inc {
+        Incidence::Grid(grid) => grid.front,
+        Incidence::Table(_) => usize::MAX,
+    };
+    let (mut i, mut j) = (0, 0);
     for (c, cell) in lattice.cells.iter().enumerate() {
+        let j_right = if j + 1 == front { 0 } else { j + 1 };
         legs.advance(c + width + 1);
         let own = legs.get(c);
         let [l1, l2, l3, l4] = own;
@@ -431,7 +559,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             seed.record(rel((l4 - l1) - lattice.kappa(cell)), site);
         }
         // Right neighbour: B.UL = A.UR and B.LL = A.LR.
-        let right = inc.at(cell.ur, UL);
+        let right = inc.at(cell.ur, (i, j_right), UL);
         if right != NONE && lattice.cells[right as usize].ll == cell.lr {
             let b = &lattice.cells[right as usize];
             let theirs = legs.get(right as usize);
@@ -443,7 +571,7 @@ pub fn verify(lattice: &Lattice) -> Report {
             edges.record(edge_residual(ur, lr, bul, bll, s), site);
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        let below = inc.at(cell.ll, UL);
+        let below = inc.at(cell.ll, (i + 1, j), UL);
         if below != NONE && lattice.cells[below as usize].ur == cell.lr {
             let b = &lattice.cells[below as usize];
             let theirs = legs.get(below as usize);
@@ -459,7 +587,7 @@ pub fn verify(lattice: &Lattice) -> Report {
         // each vertex once, at the cell its incidence names, in the order
         // of the cells (that of their UL vertices), without a pass of its own.
         let v = cell.ul as usize;
-        let [ul_of, ur_of, ll_of, lr_of] = inc.0[v];
+        let [ul_of, ur_of, ll_of, lr_of] = inc.of(cell.ul, (i, j));
         let (a, b, cc, d) = (c as u32, ll_of, lr_of, ur_of);
         if ul_of == a && ![b, cc, d].contains(&NONE) {
             let [a, b, cc, d] = [
@@ -491,6 +619,10 @@ pub fn verify(lattice: &Lattice) -> Report {
             slope.record(m - 1.0, site);
             intercept.record_ratio(k, s2, site);
             natural.record_ratio(k, magnitude, site);
+        }
+        j += 1;
+        if j >= width {
+            (i, j) = (i + 1, 0);
         }
     }
 
@@ -732,6 +864,42 @@ mod tests {
                 assert_eq!(x.max.to_bits(), y.max.to_bits(), "round {round}");
                 assert_eq!(x.site, y.site, "round {round}");
             }
+        }
+    }
+
+    /// A grown sheet or loop is a grid whose formula names the cells the
+    /// table read from the corner indices holds, for every vertex, and
+    /// verification gives the same report with either; a cell with other
+    /// corners, or a vertex more, makes it a table again.
+    #[test]
+    fn a_grid_names_the_cells_of_the_table() {
+        let text = include_str!("../../templates/tube.toml");
+        let tube = crate::parse_with(text, "tube", &Default::default())
+            .expect("the tube template parses")
+            .grow()
+            .expect("and grows");
+        assert_eq!(tube.kind, crate::lattice::Kind::Loop);
+        for lattice in [sheet(), tube] {
+            let grid = Incidence::grid(&lattice).expect("a grown sheet or loop is a grid");
+            let Incidence::Table(table) = Incidence::table(&lattice) else {
+                unreachable!("a table")
+            };
+            assert_eq!(table.len(), lattice.vertices.len());
+            for (v, entry) in table.iter().enumerate() {
+                let rc = (v / grid.front, v % grid.front);
+                assert_eq!(grid.at_vertex(rc.0, rc.1), *entry, "vertex {v}");
+            }
+            // Both give the same report, bit for bit.
+            assert_eq!(
+                verify_with(&lattice, Incidence::table(&lattice)),
+                verify(&lattice)
+            );
+            let mut odd = lattice.clone();
+            odd.cells[1].ur = odd.cells[1].ul;
+            assert!(Incidence::grid(&odd).is_none());
+            let mut extra = lattice.clone();
+            extra.vertices.push(extra.vertices[0]);
+            assert!(Incidence::grid(&extra).is_none());
         }
     }
 
