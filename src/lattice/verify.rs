@@ -493,11 +493,11 @@ fn mean(legs: &Legs) -> f64 {
 
 /// Check every invariant of MATH.md 8.0-8.3.
 pub fn verify(lattice: &Lattice) -> Report {
-    verify_with(lattice, Incidence::new(lattice))
+    verify_with(lattice, &Incidence::new(lattice))
 }
 
 /// `verify` with the incidence given (a grid or a table: the same report).
-fn verify_with(lattice: &Lattice, inc: Incidence) -> Report {
+fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
     use Invariant as I;
     // The sum of the cells' mean legs, in cell order: the tolerance's and
     // the collapsed state's scale, known once every cell is checked.
@@ -523,7 +523,7 @@ fn verify_with(lattice: &Lattice, inc: Incidence) -> Report {
     let mut collapsed = Collapsed::new(lattice);
     // Row and column of the cell on a grid (`Incidence::Grid`), counted
     // along, not divided out; the column of its upper-right corner.
-    let front = match &inc {
+    let front = match inc {
         Incidence::Grid(grid) => grid.front,
         Incidence::Table(_) => usize::MAX,
     };
@@ -798,7 +798,7 @@ impl Collapsed {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lattice::fixtures;
+    use crate::lattice::{Kind, fixtures};
 
     fn sheet() -> Lattice {
         fixtures::sheet(&fixtures::line(3), &[0.0; 3], 1, 45.0, 3)
@@ -873,12 +873,22 @@ mod tests {
     /// corners, or a vertex more, makes it a table again.
     #[test]
     fn a_grid_names_the_cells_of_the_table() {
-        let text = include_str!("../../templates/tube.toml");
-        let tube = crate::parse_with(text, "tube", &Default::default())
-            .expect("the tube template parses")
-            .grow()
-            .expect("and grows");
-        assert_eq!(tube.kind, crate::lattice::Kind::Loop);
+        // The tube of templates/tube.toml: ten points round a circle.
+        let ring: Vec<DVec3> = (0..10)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 10.0;
+                DVec3::new(30.0 * a.cos(), 30.0 * a.sin(), 0.0)
+            })
+            .collect();
+        let row = crate::lattice::RowParams {
+            direction: Some(crate::legs::Direction::Angles {
+                angle_deg: 45.0,
+                tilt_deg: 90.0,
+            }),
+            ..Default::default()
+        };
+        let tube = crate::lattice::grow(Kind::Loop, 3, &ring, &[0.0; 10], &vec![row; 3])
+            .expect("the tube grows");
         for lattice in [sheet(), tube] {
             let grid = Incidence::grid(&lattice).expect("a grown sheet or loop is a grid");
             let Incidence::Table(table) = Incidence::table(&lattice) else {
@@ -891,7 +901,7 @@ mod tests {
             }
             // Both give the same report, bit for bit.
             assert_eq!(
-                verify_with(&lattice, Incidence::table(&lattice)),
+                verify_with(&lattice, &Incidence::table(&lattice)),
                 verify(&lattice)
             );
             let mut odd = lattice.clone();
