@@ -874,11 +874,9 @@ mod tests {
     #[test]
     fn a_grid_names_the_cells_of_the_table() {
         // The tube of templates/tube.toml: ten points round a circle.
-        let ring: Vec<DVec3> = (0..10)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / 10.0;
-                DVec3::new(30.0 * a.cos(), 30.0 * a.sin(), 0.0)
-            })
+        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / 10.0);
+        let ring: Vec<DVec3> = std::iter::successors(Some(30.0 * DVec3::X), |p| Some(step * *p))
+            .take(10)
             .collect();
         let row = crate::lattice::RowParams {
             direction: Some(crate::legs::Direction::Angles {
