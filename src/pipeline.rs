@@ -132,19 +132,86 @@ pub struct Verified<'a> {
 /// lattice and work out its deployment. Only growth can fail here; a
 /// failed verification is in the report.
 pub fn check(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Checked, Diagnostic> {
+    check_on(design, progress, false, false)
+}
+
+/// Lattices with fewer cells are checked on one thread: a second one
+/// would cost more to start than it saves.
+const TWO_THREADS_FROM_CELLS: usize = 10_000;
+
+/// `check`, measuring at once when `measure` (a report that shows the
+/// measures: `karigami check` without `-q`). After growth, the work falls
+/// into two independent halves of about equal cost on large lattices:
+/// verification with the deployment (C(theta), then the misfits), and the
+/// placement with the measures (shape, fit, clashes). With `two_threads`
+/// the second half (or, without measures, the deployment) runs on a
+/// second thread; every result is the same computation either way, so the
+/// reports are byte-identical.
+pub fn check_on(
+    design: Design,
+    progress: &mut dyn FnMut(&str),
+    measure: bool,
+    two_threads: bool,
+) -> Result<Checked, Diagnostic> {
     let lattice = design.grow_with(progress)?;
-    let report = verify(&lattice);
-    let deployment = deployment(&lattice);
+    let placed_and_measured = |lattice: &Lattice| {
+        let placed = place(lattice);
+        let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
+        (placed, measures)
+    };
+    let two_threads = two_threads && lattice.cells.len() >= TWO_THREADS_FROM_CELLS;
+    let (report, deployment, measured) = match (two_threads, measure) {
+        (false, _) => (
+            verify(&lattice),
+            deployment(&lattice),
+            measure.then(|| placed_and_measured(&lattice)),
+        ),
+        (true, true) => std::thread::scope(|s| {
+            let measured = s.spawn(|| placed_and_measured(&lattice));
+            let report = verify(&lattice);
+            let deployment = deployment(&lattice);
+            let measured = measured
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (report, deployment, Some(measured))
+        }),
+        (true, false) => std::thread::scope(|s| {
+            let deployed = s.spawn(|| deployment(&lattice));
+            let report = verify(&lattice);
+            let deployment = deployed
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (report, deployment, None)
+        }),
+    };
+    let (placed, measures) = match measured {
+        Some((placed, measures)) => (OnceCell::from(placed), OnceCell::from(measures)),
+        None => (OnceCell::new(), OnceCell::new()),
+    };
     Ok(Checked {
         design,
         lattice,
         report,
         deployment,
-        placed: OnceCell::new(),
-        measures: OnceCell::new(),
+        placed,
+        measures,
         joints: OnceCell::new(),
         parts: OnceCell::new(),
     })
+}
+
+/// `Lattice::placed`, None when that is the grown lattice (extrinsic).
+fn place(lattice: &Lattice) -> Option<Lattice> {
+    match lattice.placed() {
+        Cow::Owned(placed) => Some(placed),
+        Cow::Borrowed(_) => None,
+    }
+}
+
+/// The measures of `lattice`, as assembled `assembled` (`place`): the one
+/// place the pipeline measures, lazily or at once (`check_on`).
+fn measured(design: &Design, lattice: &Lattice, assembled: &Lattice) -> Measures {
+    measure_assembled(design, lattice, assembled)
 }
 
 impl Checked {
@@ -158,10 +225,7 @@ impl Checked {
     /// the rows they hang from (`Lattice::placed`), placed once.
     pub fn assembled(&self) -> &Lattice {
         self.placed
-            .get_or_init(|| match self.lattice.placed() {
-                Cow::Owned(placed) => Some(placed),
-                Cow::Borrowed(_) => None,
-            })
+            .get_or_init(|| place(&self.lattice))
             .as_ref()
             .unwrap_or(&self.lattice)
     }
@@ -169,7 +233,7 @@ impl Checked {
     /// The shape, fit and clash measures, measured once.
     pub fn measures(&self) -> &Measures {
         self.measures
-            .get_or_init(|| measure_assembled(&self.design, &self.lattice, self.assembled()))
+            .get_or_init(|| measured(&self.design, &self.lattice, self.assembled()))
     }
 
     /// The vertex joints, found once.
