@@ -4,7 +4,7 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled};
+use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
@@ -141,12 +141,12 @@ const TWO_THREADS_FROM_CELLS: usize = 10_000;
 
 /// `check`, measuring at once when `measure` (a report that shows the
 /// measures: `karigami check` without `-q`). After growth, the work falls
-/// into two independent halves of about equal cost on large lattices:
-/// verification with the deployment (C(theta), then the misfits), and the
-/// placement with the measures (shape, fit, clashes). With `two_threads`
-/// the second half (or, without measures, the deployment) runs on a
-/// second thread; every result is the same computation either way, so the
-/// reports are byte-identical.
+/// into two independent halves of about equal cost on large lattices: the
+/// deployment (C(theta), then the misfits) with the shape and fit
+/// measures, and the placement, the clash search and verification. With
+/// `two_threads` the second half (or, without measures, the deployment
+/// beside verification) runs on a second thread; every result is the
+/// same computation either way, so the reports are byte-identical.
 pub fn check_on(
     design: Design,
     progress: &mut dyn FnMut(&str),
@@ -166,14 +166,25 @@ pub fn check_on(
             deployment(&lattice),
             measure.then(|| placed_and_measured(&lattice)),
         ),
+        // The clash search is the largest single measure: it goes with
+        // verification, the rest of the measures with the deployment.
         (true, true) => std::thread::scope(|s| {
-            let measured = s.spawn(|| placed_and_measured(&lattice));
-            let report = verify(&lattice);
+            let other = s.spawn(|| {
+                let placed = place(&lattice);
+                let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
+                (placed, clashes, verify(&lattice))
+            });
             let deployment = deployment(&lattice);
-            let measured = measured
-                .join()
-                .unwrap_or_else(|p| std::panic::resume_unwind(p));
-            (report, deployment, Some(measured))
+            let mut rest = None;
+            let measures = measure_with(&design, &lattice, || {
+                let (placed, clashes, report) = other
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p));
+                rest = Some((placed, report));
+                clashes
+            });
+            let (placed, report) = rest.expect("joined for the clashes");
+            (report, deployment, Some((placed, measures)))
         }),
         (true, false) => std::thread::scope(|s| {
             let deployed = s.spawn(|| deployment(&lattice));
