@@ -167,9 +167,13 @@ fn layer_clashes(
         .max(1e-6)
         .max((hi - lo).max_element() / (1u64 << 20) as f64);
     // Every point keyed lies in the box [lo, hi], so the quotient is not
-    // negative and truncation is its floor (without a libm call).
+    // negative and truncation is its floor (without a libm call). A product
+    // by 1 / h rather than a quotient (three divisions a key, six keys a
+    // line): the keys may differ from the quotient's by a rounding, but
+    // they still grow with the point, which is all the grid needs.
+    let inv_h = 1.0 / h;
     let key = |p: DVec3| {
-        let q = (p - lo) / h;
+        let q = (p - lo) * inv_h;
         [q.x as i32, q.y as i32, q.z as i32]
     };
     let dims = key(hi).map(|k| k as usize + 1);
