@@ -135,8 +135,8 @@ pub fn check(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Checked, 
     check_on(design, progress, false, false)
 }
 
-/// Lattices with fewer cells are checked on one thread: a second one
-/// would cost more to start than it saves.
+/// Lattices with fewer cells are checked on one thread: their whole
+/// check takes milliseconds, so a second thread has little to save.
 const TWO_THREADS_FROM_CELLS: usize = 10_000;
 
 /// `check`, measuring at once when `measure` (a report that shows the
