@@ -3,8 +3,8 @@
 //! Cases: every recipe in examples/, flat sheets of C x R cells (default
 //! 10x10, 30x30, 100x100 and 200x100, the largest `build` accepts, on a
 //! 3000 x 2000 mm sheet so that long strips fit) built end to end, and
-//! `check` of a 1000 x 1000 sheet (grow, verify, deployment: what
-//! `karigami check` computes). A case given on the command line is `CxR`
+//! `check` of a 1000 x 1000 sheet (grow, verify, deployment, measures
+//! and the text report: what `karigami check` computes). A case given on the command line is `CxR`
 //! (a build) or `check:CxR`.
 //!
 //! Each case runs in a child process of its own, so that its peak resident
@@ -12,12 +12,30 @@
 //! /proc: robust when other work shares the cores), peak memory, bytes
 //! written, cells per second, and bytes and memory per cell.
 
-use karigami::{Overrides, build, deploy::deployment, verify};
+use karigami::{Overrides, build, verify};
 mod common;
 
-use common::{cpu_seconds, peak_rss, sheet_recipe, size};
+use common::cpu_seconds as thread_cpu_seconds;
+use common::{peak_rss, sheet_recipe, size};
 use std::process::Command;
 use std::time::Instant;
+
+/// CPU seconds (user + system) of the whole process, every thread
+/// included, ended ones too (`/proc/self/stat`, in clock ticks of 10 ms):
+/// `check` and `files` work on two threads, and `common::cpu_seconds`
+/// reads the calling thread's alone.
+fn cpu_seconds() -> f64 {
+    std::fs::read_to_string("/proc/self/stat")
+        .ok()
+        .and_then(|s| {
+            // Fields after the command's closing parenthesis; utime and
+            // stime are the 14th and 15th of the line.
+            let rest = &s[s.rfind(')')? + 2..];
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            Some(f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?)
+        })
+        .map_or(f64::NAN, |ticks| ticks as f64 / 100.0)
+}
 
 /// The child: build one recipe and print its figures on one line:
 /// cells strips sheets files bytes grow+verify-s wall-s cpu-s peak-bytes.
@@ -44,20 +62,29 @@ fn one(name: &str, text: &str) {
     );
 }
 
-/// The child for `check`: what `karigami check` computes, no files.
+/// The child for `check`: what `karigami check` computes for its text
+/// report (grow, then verify and the deployment beside the measures on a
+/// second core where there is one, then the report), no files; "output"
+/// is the report's bytes. Growth and verification are then timed alone
+/// for the g+v column, in CPU seconds of this thread (the one they run
+/// on), after the peak: the lattice is dropped first.
 fn check(text: &str) {
     let (t0, c0) = (Instant::now(), cpu_seconds());
     let d = karigami::parse_with(text, "check", &Overrides::default()).expect("parses");
-    let lattice = d.grow().expect("grows");
-    let report = verify(&lattice);
-    let grow_verify = t0.elapsed().as_secs_f64();
-    let deploy = deployment(&lattice);
+    let two = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    let checked = karigami::check_on(d.clone(), &mut |_| {}, true, two).expect("grows");
+    let report = karigami::check_text(&checked.verified());
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
-    assert!(report.passed());
-    std::hint::black_box(&deploy);
+    assert!(checked.report.passed());
+    let cells = checked.lattice.cells.len();
+    drop(checked);
+    let c1 = thread_cpu_seconds();
+    let lattice = d.grow().expect("grows");
+    std::hint::black_box(verify(&lattice));
+    let grow_verify = thread_cpu_seconds() - c1;
     println!(
-        "{} 0 0 0 0 {grow_verify} {wall} {cpu} {}",
-        lattice.cells.len(),
+        "{cells} 0 0 1 {} {grow_verify} {wall} {cpu} {}",
+        report.len(),
         peak_rss().unwrap_or(0)
     );
 }

@@ -44,6 +44,7 @@ mod write;
 // with the reports `check` and `build` print.
 pub use output::files_on;
 pub use output::{files, viewer_scene};
+pub use pipeline::check_on;
 pub use pipeline::{Build, Checked, Verified, build, build_with, check};
 pub use pipeline::{STATE_FILE, build_reusing};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};

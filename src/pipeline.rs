@@ -4,7 +4,7 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled};
+use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
@@ -132,19 +132,97 @@ pub struct Verified<'a> {
 /// lattice and work out its deployment. Only growth can fail here; a
 /// failed verification is in the report.
 pub fn check(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Checked, Diagnostic> {
+    check_on(design, progress, false, false)
+}
+
+/// Lattices with fewer cells are checked on one thread: their whole
+/// check takes milliseconds, so a second thread has little to save.
+const TWO_THREADS_FROM_CELLS: usize = 10_000;
+
+/// `check`, measuring at once when `measure` (a report that shows the
+/// measures: `karigami check` without `-q`). After growth, the work falls
+/// into two independent halves of about equal cost on large lattices: the
+/// deployment (C(theta), then the misfits) with the shape and fit
+/// measures, and the placement, the clash search and verification. With
+/// `two_threads` the second half (or, without measures, the deployment
+/// beside verification) runs on a second thread; every result is the
+/// same computation either way, so the reports are byte-identical.
+pub fn check_on(
+    design: Design,
+    progress: &mut dyn FnMut(&str),
+    measure: bool,
+    two_threads: bool,
+) -> Result<Checked, Diagnostic> {
     let lattice = design.grow_with(progress)?;
-    let report = verify(&lattice);
-    let deployment = deployment(&lattice);
+    let placed_and_measured = |lattice: &Lattice| {
+        let placed = place(lattice);
+        let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
+        (placed, measures)
+    };
+    let two_threads = two_threads && lattice.cells.len() >= TWO_THREADS_FROM_CELLS;
+    let (report, deployment, measured) = match (two_threads, measure) {
+        (false, _) => (
+            verify(&lattice),
+            deployment(&lattice),
+            measure.then(|| placed_and_measured(&lattice)),
+        ),
+        // The clash search is the largest single measure: it goes with
+        // verification, the rest of the measures with the deployment.
+        (true, true) => std::thread::scope(|s| {
+            let other = s.spawn(|| {
+                let placed = place(&lattice);
+                let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
+                (placed, clashes, verify(&lattice))
+            });
+            let deployment = deployment(&lattice);
+            let mut rest = None;
+            let measures = measure_with(&design, &lattice, || {
+                let (placed, clashes, report) = other
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p));
+                rest = Some((placed, report));
+                clashes
+            });
+            let (placed, report) = rest.expect("joined for the clashes");
+            (report, deployment, Some((placed, measures)))
+        }),
+        (true, false) => std::thread::scope(|s| {
+            let deployed = s.spawn(|| deployment(&lattice));
+            let report = verify(&lattice);
+            let deployment = deployed
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (report, deployment, None)
+        }),
+    };
+    let (placed, measures) = match measured {
+        Some((placed, measures)) => (OnceCell::from(placed), OnceCell::from(measures)),
+        None => (OnceCell::new(), OnceCell::new()),
+    };
     Ok(Checked {
         design,
         lattice,
         report,
         deployment,
-        placed: OnceCell::new(),
-        measures: OnceCell::new(),
+        placed,
+        measures,
         joints: OnceCell::new(),
         parts: OnceCell::new(),
     })
+}
+
+/// `Lattice::placed`, None when that is the grown lattice (extrinsic).
+fn place(lattice: &Lattice) -> Option<Lattice> {
+    match lattice.placed() {
+        Cow::Owned(placed) => Some(placed),
+        Cow::Borrowed(_) => None,
+    }
+}
+
+/// The measures of `lattice`, as assembled `assembled` (`place`): the one
+/// place the pipeline measures, lazily or at once (`check_on`).
+fn measured(design: &Design, lattice: &Lattice, assembled: &Lattice) -> Measures {
+    measure_assembled(design, lattice, assembled)
 }
 
 impl Checked {
@@ -158,10 +236,7 @@ impl Checked {
     /// the rows they hang from (`Lattice::placed`), placed once.
     pub fn assembled(&self) -> &Lattice {
         self.placed
-            .get_or_init(|| match self.lattice.placed() {
-                Cow::Owned(placed) => Some(placed),
-                Cow::Borrowed(_) => None,
-            })
+            .get_or_init(|| place(&self.lattice))
             .as_ref()
             .unwrap_or(&self.lattice)
     }
@@ -169,7 +244,7 @@ impl Checked {
     /// The shape, fit and clash measures, measured once.
     pub fn measures(&self) -> &Measures {
         self.measures
-            .get_or_init(|| measure_assembled(&self.design, &self.lattice, self.assembled()))
+            .get_or_init(|| measured(&self.design, &self.lattice, self.assembled()))
     }
 
     /// The vertex joints, found once.

@@ -188,3 +188,28 @@ fn a_build_carries_what_its_check_derived() {
     assert_eq!(build_text(&built), build_text(&fresh));
     assert!(build_text(&built).contains(&shown));
 }
+
+/// `karigami check` on two threads (verification and the deployment beside
+/// the placement and measures, from 10,000 cells) reports what one thread
+/// and the lazy derivation report, to the byte; so does `-q`'s split
+/// (verification beside the deployment).
+#[test]
+fn a_check_on_two_threads_reports_what_one_thread_does() {
+    let text = "name = \"sheet-100x100\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n\
+        [lattice.line]\nfrom = [0.0, 0.0]\nto = [2000.0, 0.0]\ncells = 100\n\
+        [lattice.grow]\nrows = 100\nstart = 50\nangle = 45.0\n\
+        [sheet]\nwidth = 3000.0\nheight = 2000.0\n";
+    let design = parse(text, "sheet-100x100").unwrap();
+    let lazy = check(design.clone(), &mut |_| {}).unwrap();
+    assert!(
+        lazy.lattice.cells.len() >= 10_000,
+        "large enough for two threads"
+    );
+    let (text, json) = (check_text(&lazy.verified()), check_json(&lazy.verified()));
+    for (measure, two) in [(true, true), (true, false), (false, true)] {
+        let c = karigami::check_on(design.clone(), &mut |_| {}, measure, two).unwrap();
+        assert_eq!(c.report, lazy.report, "{measure} {two}");
+        assert_eq!(check_text(&c.verified()), text, "{measure} {two}");
+        assert_eq!(check_json(&c.verified()), json, "{measure} {two}");
+    }
+}

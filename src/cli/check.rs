@@ -93,7 +93,11 @@ fn check_one(
         Ok(d) => d,
         Err(e) => return fail(e, bar),
     };
-    let checked = match karigami::check(design, &mut |note| fit_note(note, v, bar)) {
+    // A shown report reads the measures: taken at once, on a second core
+    // beside verification where there is one (the report is the same).
+    let shown = json || !v.quiet;
+    let two = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    let checked = match karigami::check_on(design, &mut |note| fit_note(note, v, bar), shown, two) {
         Ok(c) => c,
         Err(d) => return fail(recipe.error(&d), bar),
     };

@@ -65,6 +65,33 @@ pub fn measure(design: &Design, lattice: &Lattice) -> Measures {
 /// `measure` with the lattice as assembled (`Lattice::placed`) at hand: the
 /// pipeline places it once and measures once (`pipeline::Checked`).
 pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice) -> Measures {
+    // The clash search first: its buffers are freed before the shape's
+    // are taken, and the shape's curvature list (kept) is not held while
+    // the search runs (one peak of memory, not their sum, on 4 M cells).
+    let clashes = strip_clashes(design, assembled);
+    measure_with(design, lattice, || clashes)
+}
+
+/// The strip clashes of a design's lattice as assembled (an intrinsic
+/// lattice meets itself as assembled: rows placed onto each other).
+pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Vec<Clash> {
+    let fab = &design.fabrication;
+    clashes(
+        assembled,
+        fab.material.width,
+        fab.end_margin,
+        design.clash.clearance,
+    )
+}
+
+/// `measure_assembled` with the clashes (`strip_clashes`) given by
+/// `clashes`, called once every other measure is taken: the pipeline
+/// searches them on another thread meanwhile (`pipeline::check_on`).
+pub(crate) fn measure_with(
+    design: &Design,
+    lattice: &Lattice,
+    clashes: impl FnOnce() -> Vec<Clash>,
+) -> Measures {
     let shape = lattice.shape();
     let curvature = summary(&shape.curvature);
     let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
@@ -79,14 +106,6 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
         }
         None => (None, None, None, None),
     };
-    let fab = &design.fabrication;
-    // An intrinsic lattice meets itself as assembled: rows placed onto each other.
-    let clashes = clashes(
-        assembled,
-        fab.material.width,
-        fab.end_margin,
-        design.clash.clearance,
-    );
     let n = shape.curvature.len().max(1) as f64;
     let bumps = shape
         .curvature
@@ -109,15 +128,16 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
             cols.insert(key.col);
         }
     }
+    let turns = turns(lattice);
     Measures {
-        turns: turns(lattice),
+        clashes: clashes(),
+        turns,
         shape,
         curvature,
         fit_distance,
         fit_relative,
         boundary_distance,
         coverage,
-        clashes,
         bump_rows: rows.len(),
         bump_cols: cols.len(),
         bumps,

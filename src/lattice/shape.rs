@@ -105,20 +105,26 @@ fn add_corners(at: &mut CornerSums, ids: [u32; 4], corners: [DVec3; 4], area: f6
 
 /// The vertices shared by four cells, with their defect and curvature.
 fn defects(at: CornerSums) -> Vec<VertexCurvature> {
-    at.into_iter()
-        .zip(0u32..)
-        .filter(|((n, _, _), _)| *n == 4)
-        .map(|((_, sum, area), vertex)| {
-            let defect = TAU - sum;
-            let area = area / 4.0;
-            VertexCurvature {
-                vertex,
-                defect,
-                area,
-                k: defect / area.max(f64::MIN_POSITIVE),
-            }
-        })
-        .collect()
+    // Counted first: the list is allocated once at its size (a filtered
+    // collect doubles its way there, holding two copies at the last step).
+    let interior = at.iter().filter(|(n, _, _)| *n == 4).count();
+    let mut out = Vec::with_capacity(interior);
+    out.extend(
+        at.into_iter()
+            .zip(0u32..)
+            .filter(|((n, _, _), _)| *n == 4)
+            .map(|((_, sum, area), vertex)| {
+                let defect = TAU - sum;
+                let area = area / 4.0;
+                VertexCurvature {
+                    vertex,
+                    defect,
+                    area,
+                    k: defect / area.max(f64::MIN_POSITIVE),
+                }
+            }),
+    );
+    out
 }
 
 impl Lattice {
@@ -143,7 +149,11 @@ impl Lattice {
         let mut cell_ratios = Vec::with_capacity(self.cells.len());
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
         let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
-        let mut strips: Vec<u128> = Vec::with_capacity(2 * self.cells.len());
+        // Each strip's key, less the repeats of the key before it of the
+        // same rod (A or B): neighbouring cells of a regular lattice have
+        // the same strips, and only the distinct keys count below.
+        let mut strips: Vec<u128> = Vec::new();
+        let mut last = [None; 2];
         for cell in &self.cells {
             let corners = self.corners(cell);
             let [ul, ur, ll, lr] = corners;
@@ -164,8 +174,16 @@ impl Lattice {
             cell_ratios.push(h / l);
             let [l1, l2, l3, l4] = legs;
             // A strip turned end for end is the same strip.
-            strips.push(strip_key(l1.min(l3), l1.max(l3)));
-            strips.push(strip_key(l4.min(l2), l4.max(l2)));
+            let keys = [
+                strip_key(l1.min(l3), l1.max(l3)),
+                strip_key(l4.min(l2), l4.max(l2)),
+            ];
+            for (key, last) in keys.into_iter().zip(&mut last) {
+                if *last != Some(key) {
+                    strips.push(key);
+                    *last = Some(key);
+                }
+            }
             add_corners(&mut at, [cell.ul, cell.ur, cell.ll, cell.lr], corners, area);
         }
         // The median and the largest, without sorting the whole list.
@@ -182,7 +200,6 @@ impl Lattice {
             }
         };
         drop(cell_ratios);
-        let count = strips.len();
         Shape {
             curvature: defects(at),
             area_ratio: amax / amin,
@@ -192,7 +209,7 @@ impl Lattice {
             cell_leg_ratio_max: max,
             front_gaps: self.front_gaps(),
             distinct_strips: distinct_keys(strips),
-            strips: count,
+            strips: 2 * self.cells.len(),
         }
     }
 

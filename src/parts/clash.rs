@@ -32,10 +32,6 @@ struct Line {
     /// cell are in different layers, and are also told apart below).
     start: u32,
     end: u32,
-    /// Grid cells of the lower and upper corners of its box widened by half
-    /// the reach.
-    lo: [i32; 3],
-    hi: [i32; 3],
     /// The unit normal of its direction in the xy plane (zero for a strip
     /// along z): an axis on which neighbouring parallel strips lie apart.
     across: DVec2,
@@ -68,26 +64,31 @@ pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Ve
     let reach = width + clearance;
     let rods = 2 * lattice.cells.len();
     // Rods grouped by layer (a counting sort, in id order within a layer).
-    let layer_of: Vec<u32> = lattice
-        .cells
-        .iter()
-        .flat_map(|c| [lattice.layer(c, RodType::A), lattice.layer(c, RodType::B)])
-        .collect();
-    let layers = layer_of.iter().max().map_or(0, |&m| m as usize + 1);
-    let mut start = vec![0usize; layers + 1];
-    for &l in &layer_of {
+    // Each rod's layer is worked out twice rather than stored: a few
+    // integer operations against 4 bytes a rod.
+    let layer_of = || {
+        lattice
+            .cells
+            .iter()
+            .flat_map(|c| [lattice.layer(c, RodType::A), lattice.layer(c, RodType::B)])
+    };
+    let mut start = Vec::new();
+    for l in layer_of() {
+        if start.len() < l as usize + 2 {
+            start.resize(l as usize + 2, 0usize);
+        }
         start[l as usize + 1] += 1;
     }
+    let layers = start.len().saturating_sub(1);
     for l in 0..layers {
         start[l + 1] += start[l];
     }
     let mut order = vec![0u32; rods];
     let mut fill = start.clone();
-    for (r, &l) in layer_of.iter().enumerate() {
+    for (r, l) in layer_of().enumerate() {
         order[fill[l as usize]] = r as u32;
         fill[l as usize] += 1;
     }
-    drop(layer_of);
     let mut out = Vec::new();
     let mut scratch = Scratch::default();
     for l in 0..layers {
@@ -144,8 +145,6 @@ fn layer_clashes(
             b: e + margin * dir,
             start,
             end,
-            lo: [0; 3],
-            hi: [0; 3],
             across: DVec2::new(-dir.y, dir.x).normalize_or_zero(),
         }
     }));
@@ -168,23 +167,28 @@ fn layer_clashes(
         .max(1e-6)
         .max((hi - lo).max_element() / (1u64 << 20) as f64);
     // Every point keyed lies in the box [lo, hi], so the quotient is not
-    // negative and truncation is its floor (without a libm call).
+    // negative and truncation is its floor (without a libm call). A product
+    // by 1 / h rather than a quotient (three divisions a key, six keys a
+    // line): the keys may differ from the quotient's by a rounding, but
+    // they still grow with the point, which is all the grid needs.
+    let inv_h = 1.0 / h;
     let key = |p: DVec3| {
-        let q = (p - lo) / h;
+        let q = (p - lo) * inv_h;
         [q.x as i32, q.y as i32, q.z as i32]
     };
     let dims = key(hi).map(|k| k as usize + 1);
-    for l in lines.iter_mut() {
-        l.lo = key(l.a.min(l.b) - half);
-        l.hi = key(l.a.max(l.b) + half);
-    }
+    // Grid cells of the lower and upper corners of a line's box widened by
+    // half the reach: computed where needed rather than stored (a layer of
+    // a 4 M-cell sheet has a million lines).
+    let span = |l: &Line| (key(l.a.min(l.b) - half), key(l.a.max(l.b) + half));
     // A strip far longer than the rest (a runaway design tried by the
     // optimiser) would be listed in every grid cell of its whole box, which
     // can be billions: such strips are measured against every strip instead.
     long.clear();
     long.extend(lines.iter().map(|l| {
+        let (lo, hi) = span(l);
         (0..3)
-            .map(|k| (l.hi[k] - l.lo[k]) as f64 + 1.0)
+            .map(|k| (hi[k] - lo[k]) as f64 + 1.0)
             .product::<f64>()
             > 512.0
     }));
@@ -258,10 +262,10 @@ fn layer_clashes(
             offset.clear();
             offset.resize(g + 1, 0);
             for l in lines.iter().zip(long).filter(|&(_, &g)| !g).map(|(l, _)| l) {
-                let h = l.hi;
-                for z in l.lo[2]..=h[2] {
-                    for y in l.lo[1]..=h[1] {
-                        for x in l.lo[0]..=h[0] {
+                let (lo, h) = span(l);
+                for z in lo[2]..=h[2] {
+                    for y in lo[1]..=h[1] {
+                        for x in lo[0]..=h[0] {
                             offset[index([x, y, z]) + 1] += 1;
                         }
                     }
@@ -275,12 +279,12 @@ fn layer_clashes(
             entries.clear();
             entries.resize(offset[g] as usize, 0);
             for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                let h = l.hi;
-                for z in l.lo[2]..=h[2] {
-                    for y in l.lo[1]..=h[1] {
-                        for x in l.lo[0]..=h[0] {
+                let (lo, h) = span(l);
+                for z in lo[2]..=h[2] {
+                    for y in lo[1]..=h[1] {
+                        for x in lo[0]..=h[0] {
                             let c = index([x, y, z]);
-                            entries[fill[c] as usize] = entry(i, l.lo, [x, y, z]);
+                            entries[fill[c] as usize] = entry(i, lo, [x, y, z]);
                             fill[c] += 1;
                         }
                     }
@@ -302,11 +306,11 @@ fn layer_clashes(
         _ => {
             let mut entries: Vec<([i32; 3], u32)> = Vec::new();
             for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                let h = l.hi;
-                for z in l.lo[2]..=h[2] {
-                    for y in l.lo[1]..=h[1] {
-                        for x in l.lo[0]..=h[0] {
-                            entries.push(([z, y, x], entry(i, l.lo, [x, y, z])));
+                let (lo, h) = span(l);
+                for z in lo[2]..=h[2] {
+                    for y in lo[1]..=h[1] {
+                        for x in lo[0]..=h[0] {
+                            entries.push(([z, y, x], entry(i, lo, [x, y, z])));
                         }
                     }
                 }
