@@ -735,6 +735,28 @@ fn slot_dir_composed<const N: usize, const T: usize>(
     j: usize,
     slot: usize,
 ) -> (V3<Dual<N, T>>, V3<Dual<N, T>>) {
+    let (u, n, inner) = slot_dir_small(m, get, j, slot);
+    let up = |v: V3<Dual<3, 6>>| {
+        V3::new(
+            compose(&v.x, &inner),
+            compose(&v.y, &inner),
+            compose(&v.z, &inner),
+        )
+    };
+    (up(u), up(n))
+}
+
+/// A slot's directions (u, n) over its own variables in 3-variable duals,
+/// with those variables as N duals (`compose`'s inner values): the tilt
+/// (a, b) and the angle, or for a ball joint the angle and two zeros.
+#[allow(clippy::type_complexity)]
+fn slot_dir_small<const N: usize, const T: usize>(
+    m: &Model,
+    get: &dyn Fn(usize) -> Dual<N, T>,
+    j: usize,
+    slot: usize,
+) -> (V3<Dual<3, 6>>, V3<Dual<3, 6>>, [Dual<N, T>; 3]) {
+    type D3 = Dual<3, 6>;
     let jt = &m.joints[j];
     let sl = jt.slots[slot];
     let mut alpha = get(sl.angle[0]);
@@ -742,31 +764,21 @@ fn slot_dir_composed<const N: usize, const T: usize>(
         alpha = alpha + get(sl.angle[1]);
     }
     let [ns, ps, qs] = jt.frame;
-    let up = |v: V3<Dual<3, 6>>, inner: &[Dual<N, T>; 3]| {
-        V3::new(
-            compose(&v.x, inner),
-            compose(&v.y, inner),
-            compose(&v.z, inner),
-        )
-    };
     match jt.tilt {
         Some(t) => {
-            type D3 = Dual<3, 6>;
             let inner = [get(t), get(t + 1), alpha];
             let (n, p, q) = joint_frame(ns, ps, qs, D3::var(inner[0].v, 0), D3::var(inner[1].v, 1));
             let a = D3::var(inner[2].v, 2);
             let u = p.scale(a.cos()).add(q.scale(a.sin()));
-            (up(u, &inner), up(n, &inner))
+            (u, n, inner)
         }
         None => {
             // A ball joint: the frame is constant, the angle alone moves u.
-            let a = Dual::<1, 1>::var(alpha.v, 0);
-            let u = V3::<Dual<1, 1>>::cst(ps)
+            let a = D3::var(alpha.v, 0);
+            let u = V3::<D3>::cst(ps)
                 .scale(a.cos())
                 .add(V3::cst(qs).scale(a.sin()));
-            let inner = [alpha];
-            let c = |d: &Dual<1, 1>| compose(d, &inner);
-            (V3::new(c(&u.x), c(&u.y), c(&u.z)), V3::cst(ns))
+            (u, V3::cst(ns), [alpha, Dual::cst(0.0), Dual::cst(0.0)])
         }
     }
 }
@@ -922,12 +934,16 @@ fn bend_composed<const N: usize, const T: usize>(
                 base[k] = f0;
             }
             Frame::Arm { joint, slot, sigma } => {
-                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u.
-                let (u, n) = dirs.get(m, get, joint, slot);
+                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u,
+                // and the rotation, over the slot's 3 variables; only the
+                // rotation is carried to N.
+                let (u, n, inner) = slot_dir_small(m, get, joint, slot);
                 let d2 = n.scalef(sigma);
                 let d1 = d2.cross(u);
                 let f0 = [t.val(), d1.val(), d2.val()];
-                w.extend(rotation([u, d1, d2], f0));
+                for wk in rotation([u, d1, d2], f0) {
+                    w.push(compose(&wk, &inner));
+                }
                 base[k] = f0;
             }
         }
