@@ -97,6 +97,13 @@ impl<const N: usize, const T: usize> Dual<N, T> {
         }
     }
 
+    /// Set Hessian entry (i, j) (and so (j, i)).
+    #[inline(always)]
+    pub fn set_hess(&mut self, i: usize, j: usize, v: f64) {
+        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+        self.h[packed(N, i, j)] = v;
+    }
+
     /// f(self) from f, f', f'' at the value (the chain rule).
     #[inline(always)]
     fn chain(mut self, f: f64, f1: f64, f2: f64) -> Self {

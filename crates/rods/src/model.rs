@@ -367,22 +367,39 @@ impl Model {
         vars: &[usize],
         plan: &Reduction,
     ) -> (f64, Vec<f64>, Vec<f64>) {
+        let (mut g, mut h) = (Vec::new(), Vec::new());
+        let e = self.stencil_derivatives_into(s, vars, plan, &mut g, &mut h);
+        (e, g, h)
+    }
+
+    /// `stencil_derivatives_with` into the caller's buffers (resized to
+    /// vars.len() and its square): the solver's assembly reuses two
+    /// buffers for all stencils instead of two allocations per stencil.
+    pub fn stencil_derivatives_into(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+        plan: &Reduction,
+        g: &mut Vec<f64>,
+        h: &mut Vec<f64>,
+    ) -> f64 {
+        let n = vars.len();
+        g.clear();
+        g.resize(n, 0.0);
+        h.clear();
+        h.resize(n * n, 0.0);
         match plan.size {
-            0 => (
-                self.stencil_value(s),
-                vec![0.0; vars.len()],
-                vec![0.0; vars.len().pow(2)],
-            ),
-            1..=3 => self.reduced_n::<3, 6>(s, vars, plan),
-            4..=6 => self.reduced_n::<6, 21>(s, vars, plan),
-            7 => self.reduced_n::<7, 28>(s, vars, plan),
-            8 => self.reduced_n::<8, 36>(s, vars, plan),
-            9 => self.reduced_n::<9, 45>(s, vars, plan),
-            10 => self.reduced_n::<10, 55>(s, vars, plan),
-            11 => self.reduced_n::<11, 66>(s, vars, plan),
-            12 => self.reduced_n::<12, 78>(s, vars, plan),
-            13 => self.reduced_n::<13, 91>(s, vars, plan),
-            14..=17 => self.reduced_n::<17, 153>(s, vars, plan),
+            0 => self.stencil_value(s),
+            1..=3 => self.reduced_n::<3, 6>(s, vars, plan, g, h),
+            4..=6 => self.reduced_n::<6, 21>(s, vars, plan, g, h),
+            7 => self.reduced_n::<7, 28>(s, vars, plan, g, h),
+            8 => self.reduced_n::<8, 36>(s, vars, plan, g, h),
+            9 => self.reduced_n::<9, 45>(s, vars, plan, g, h),
+            10 => self.reduced_n::<10, 55>(s, vars, plan, g, h),
+            11 => self.reduced_n::<11, 66>(s, vars, plan, g, h),
+            12 => self.reduced_n::<12, 78>(s, vars, plan, g, h),
+            13 => self.reduced_n::<13, 91>(s, vars, plan, g, h),
+            14..=17 => self.reduced_n::<17, 153>(s, vars, plan, g, h),
             n => panic!("a stencil with {n} reduced variables"),
         }
     }
@@ -514,19 +531,20 @@ impl Model {
         s: &Stencil,
         vars: &[usize],
         plan: &Reduction,
-    ) -> (f64, Vec<f64>, Vec<f64>) {
-        let locals: Vec<Dual<N, T>> = plan
-            .source
-            .iter()
-            .enumerate()
-            .map(|(k, src)| match *src {
-                Source::Var(i) => Dual::var(self.q[vars[k]], i),
-                Source::SumAt(i, p) => Dual::var(self.q[vars[k]] + self.q[vars[p]], i),
-                Source::Const => Dual::cst(self.q[vars[k]]),
+        g: &mut [f64],
+        h: &mut [f64],
+    ) -> f64 {
+        // Each dual made where it is read: no vector of duals to fill and
+        // copy from (they are up to 1.4 kB each).
+        let get = |i: usize| {
+            let k = vars.binary_search(&i).expect("stencil variable");
+            match plan.source[k] {
+                Source::Var(d) => Dual::var(self.q[i], d),
+                Source::SumAt(d, p) => Dual::var(self.q[i] + self.q[vars[p]], d),
+                Source::Const => Dual::<N, T>::cst(self.q[i]),
                 Source::Zero => Dual::cst(0.0),
-            })
-            .collect();
-        let get = |i: usize| locals[vars.binary_search(&i).expect("stencil variable")];
+            }
+        };
         let d = match *s {
             Stencil::Bend { e0, e1, lbar, .. } => bend_composed::<N, T>(self, &get, e0, e1, lbar),
             _ => {
@@ -536,11 +554,9 @@ impl Model {
         };
         let n = vars.len();
         let cols = &plan.columns;
-        let g: Vec<f64> = cols
-            .iter()
-            .map(|c| c.iter().map(|&(i, a)| a * d.g[i]).sum())
-            .collect();
-        let mut h = vec![0.0; n * n];
+        for (ga, c) in g.iter_mut().zip(cols) {
+            *ga = c.iter().map(|&(i, a)| a * d.g[i]).sum();
+        }
         for a in 0..n {
             for b in a..n {
                 let mut v = 0.0;
@@ -553,7 +569,7 @@ impl Model {
                 h[b * n + a] = v;
             }
         }
-        (d.v, g, h)
+        d.v
     }
 
     fn derivatives_n<const N: usize, const T: usize>(
@@ -671,12 +687,20 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
 /// stencil's cost. The same arithmetic, so the same numbers.
 struct Dirs<S> {
     known: [Option<(usize, usize, V3<S>, V3<S>)>; 4],
+    /// How a slot's directions are computed: `slot_dir`, or for the
+    /// solver's duals `slot_dir_composed` (the same derivatives).
+    dir: SlotDir<S>,
 }
+
+type SlotDir<S> = fn(&Model, &dyn Fn(usize) -> S, usize, usize) -> (V3<S>, V3<S>);
 
 impl<S: Scalar> Dirs<S> {
     #[inline(always)]
     fn new() -> Self {
-        Dirs { known: [None; 4] }
+        Dirs {
+            known: [None; 4],
+            dir: slot_dir::<S>,
+        }
     }
 
     #[inline(always)]
@@ -692,11 +716,70 @@ impl<S: Scalar> Dirs<S> {
                 return (k.2, k.3);
             }
         }
-        let (u, n) = slot_dir(m, get, j, slot);
+        let (u, n) = (self.dir)(m, get, j, slot);
         if let Some(free) = self.known.iter_mut().find(|k| k.is_none()) {
             *free = Some((j, slot, u, n));
         }
         (u, n)
+    }
+}
+
+/// `slot_dir` over N duals by the chain rule: the directions are taken
+/// over the slot's own 3 variables (tilt a, b and the angle) in small
+/// duals, and `compose` carries them to N. The joint frame and the angle's
+/// sine and cosine at full size were about 8 % of the solve (memmove of
+/// N-duals included).
+fn slot_dir_composed<const N: usize, const T: usize>(
+    m: &Model,
+    get: &dyn Fn(usize) -> Dual<N, T>,
+    j: usize,
+    slot: usize,
+) -> (V3<Dual<N, T>>, V3<Dual<N, T>>) {
+    let (u, n, inner) = slot_dir_small(m, get, j, slot);
+    let up = |v: V3<Dual<3, 6>>| {
+        V3::new(
+            compose(&v.x, &inner),
+            compose(&v.y, &inner),
+            compose(&v.z, &inner),
+        )
+    };
+    (up(u), up(n))
+}
+
+/// A slot's directions (u, n) over its own variables in 3-variable duals,
+/// with those variables as N duals (`compose`'s inner values): the tilt
+/// (a, b) and the angle, or for a ball joint the angle and two zeros.
+#[allow(clippy::type_complexity)]
+fn slot_dir_small<const N: usize, const T: usize>(
+    m: &Model,
+    get: &dyn Fn(usize) -> Dual<N, T>,
+    j: usize,
+    slot: usize,
+) -> (V3<Dual<3, 6>>, V3<Dual<3, 6>>, [Dual<N, T>; 3]) {
+    type D3 = Dual<3, 6>;
+    let jt = &m.joints[j];
+    let sl = jt.slots[slot];
+    let mut alpha = get(sl.angle[0]);
+    if sl.terms == 2 {
+        alpha = alpha + get(sl.angle[1]);
+    }
+    let [ns, ps, qs] = jt.frame;
+    match jt.tilt {
+        Some(t) => {
+            let inner = [get(t), get(t + 1), alpha];
+            let (n, p, q) = joint_frame(ns, ps, qs, D3::var(inner[0].v, 0), D3::var(inner[1].v, 1));
+            let a = D3::var(inner[2].v, 2);
+            let u = p.scale(a.cos()).add(q.scale(a.sin()));
+            (u, n, inner)
+        }
+        None => {
+            // A ball joint: the frame is constant, the angle alone moves u.
+            let a = D3::var(alpha.v, 0);
+            let u = V3::<D3>::cst(ps)
+                .scale(a.cos())
+                .add(V3::cst(qs).scale(a.sin()));
+            (u, V3::cst(ns), [alpha, Dual::cst(0.0), Dual::cst(0.0)])
+        }
     }
 }
 
@@ -812,8 +895,10 @@ fn bend_composed<const N: usize, const T: usize>(
     lbar: f64,
 ) -> Dual<N, T> {
     type D4 = Dual<4, 10>;
-    type D6 = Dual<6, 21>;
-    let mut dirs = Dirs::new();
+    let mut dirs = Dirs::<Dual<N, T>> {
+        known: [None; 4],
+        dir: slot_dir_composed::<N, T>,
+    };
     let (a, b) = (&m.edges[e0], &m.edges[e1]);
     let x0 = node_pos_in(m, get, m.nodes[a.a], &mut dirs);
     let x1 = node_pos_in(m, get, m.nodes[a.b], &mut dirs);
@@ -849,34 +934,61 @@ fn bend_composed<const N: usize, const T: usize>(
                 base[k] = f0;
             }
             Frame::Arm { joint, slot, sigma } => {
-                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u.
-                let (u, n) = dirs.get(m, get, joint, slot);
+                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u,
+                // and the rotation, over the slot's 3 variables; only the
+                // rotation is carried to N.
+                let (u, n, inner) = slot_dir_small(m, get, joint, slot);
                 let d2 = n.scalef(sigma);
                 let d1 = d2.cross(u);
                 let f0 = [t.val(), d1.val(), d2.val()];
-                w.extend(rotation([u, d1, d2], f0));
+                for wk in rotation([u, d1, d2], f0) {
+                    w.push(compose(&wk, &inner));
+                }
                 base[k] = f0;
             }
         }
     }
     // The energy over the rotations, frames R(w) F0.
-    let frame = |first: usize, f0: [DVec3; 3]| -> [V3<D6>; 3] {
-        let w = V3::new(
-            D6::var(0.0, first),
-            D6::var(0.0, first + 1),
-            D6::var(0.0, first + 2),
-        );
-        let ww = w.dot(w);
-        // R f = f + w x f + (1/2) w x (w x f), w x (w x f) = w (w.f) - f |w|^2.
-        f0.map(|f| {
-            let wf = w.crossc(f);
-            let wwf = w.scale(w.dotc(f)).sub(V3::cscale(f, ww));
-            V3::cst(f).add(wf).add(wwf.scalef(0.5))
-        })
+    let f0 = [0, 1, 2].map(|k| rotated(base[0][k], 0));
+    let f1 = [0, 1, 2].map(|k| rotated(base[1][k], 3));
+    let (eb, et) = bend_energy(&m.section, lbar, f0, f1);
+    let inner: &[Dual<N, T>; 6] = w.as_slice().try_into().expect("two rotations");
+    compose(&(eb + et), inner)
+}
+
+/// `R(w) f` at w = 0 over the rotation coordinates w = (z_first, ..,
+/// z_first+2) of 6 duals, written out: R f = f + w x f + (1/2) (w (w.f) -
+/// f |w|^2), so the value is f, d/dw_i = e_i x f and d2/dw_i dw_j of
+/// component c is (delta_ci f_j + delta_cj f_i) / 2 - f_c delta_ij: the
+/// numbers the dual products of that formula give, without their
+/// arithmetic (tests/sim.rs checks the stencil against direct duals).
+#[inline(always)]
+fn rotated(f: DVec3, first: usize) -> V3<Dual<6, 21>> {
+    let fa = f.to_array();
+    let comp = |c: usize| {
+        let mut d = Dual::<6, 21>::cst(fa[c]);
+        // (e_i x f)_c = eps_{c i k} f_k: nonzero for i != c.
+        let (i1, i2) = ((c + 1) % 3, (c + 2) % 3);
+        d.g[first + i1] = fa[i2];
+        d.g[first + i2] = -fa[i1];
+        for i in 0..3 {
+            for j in i..3 {
+                let mut v = 0.0;
+                if i == c {
+                    v += 0.5 * fa[j];
+                }
+                if j == c {
+                    v += 0.5 * fa[i];
+                }
+                if i == j {
+                    v -= fa[c];
+                }
+                d.set_hess(first + i, first + j, v);
+            }
+        }
+        d
     };
-    let (eb, et) = bend_energy(&m.section, lbar, frame(0, base[0]), frame(3, base[1]));
-    let inner: [Dual<N, T>; 6] = std::array::from_fn(|i| w[i]);
-    compose(&(eb + et), &inner)
+    V3::new(comp(0), comp(1), comp(2))
 }
 
 /// Per-node curvatures and twist of a bend stencil now:

@@ -166,10 +166,10 @@ impl System {
         let mut g = vec![0.0; model.q.len()];
         let mut h = vec![0.0; self.pattern.row_idx().len()];
         let mut e = 0.0;
+        let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
         for (s, st) in model.stencils.iter().enumerate() {
             let vars = &self.stencil_vars[s];
-            let (es, gs, hs) = model.stencil_derivatives_with(st, vars, &self.reductions[s]);
-            e += es;
+            e += model.stencil_derivatives_into(st, vars, &self.reductions[s], &mut gs, &mut hs);
             let k = vars.len();
             for a in 0..k {
                 g[vars[a]] += gs[a];
