@@ -98,7 +98,7 @@ pub mod simulation {
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
         Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,
-        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance,
+        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_at,
         placed_lattice, prepare, simulate,
     };
 }

@@ -489,6 +489,18 @@ fn simulated(
     warnings: &mut Vec<crate::parts::Warning>,
 ) -> Result<Simulated, Diagnostic> {
     if !crate::sim::wanted(lattice, deployment) {
+        let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
+        if !planar_mechanism && lattice.cells.len() > crate::sim::MAX_SIMULATED_CELLS {
+            warnings.push(crate::parts::Warning {
+                strip: None,
+                message: format!(
+                    "the deployed shape is not simulated: build simulates lattices of up to {} cells and this one has {}; \
+                     preview.png and the guide show the shape as designed, not the one its strips will take (docs/physics.md)",
+                    crate::sim::MAX_SIMULATED_CELLS,
+                    lattice.cells.len()
+                ),
+            });
+        }
         return Ok((None, None));
     }
     let settings = &design.simulation;

@@ -318,3 +318,52 @@ fn full_precision_numbers_round_trip() {
     assert!(raw.contains(&format!("{x:?}")));
     assert!(!raw.contains("NaN") && !raw.contains("null") && !raw.contains("inf"));
 }
+
+/// `karigami simulate --explore` on the eggbox, as a user runs it: the
+/// report's figures are printed, several stable equilibria are found, and
+/// between them vertices pop through (their angle defect changes sign,
+/// measured on each simulated shape).
+#[test]
+fn simulate_explore_finds_the_eggboxs_pop_through() {
+    let out = karigami(
+        &["simulate", "examples/eggbox.toml", "--explore", "6"],
+        &repo(),
+    );
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{}{}", stdout, text(&out.stderr));
+    for line in [
+        "energy: ",
+        "largest strain: ",
+        "largest joint reaction: ",
+        "distance from the design (largest joint, after the best rigid fit): ",
+        "curvature (simulated): ",
+    ] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(line)),
+            "no {line:?} in\n{stdout}"
+        );
+    }
+    let found: usize = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("explore: 6 starts"))
+        .and_then(|l| l.rsplit_once(": ")?.1.split(' ').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no explore line in\n{stdout}"));
+    assert!(
+        found >= 2,
+        "the eggbox is multistable, found {found}:\n{stdout}"
+    );
+    let popped: Vec<usize> = stdout
+        .lines()
+        .filter(|l| l.contains(" against 1: "))
+        .map(|l| {
+            let n = l.split(" against 1: ").nth(1).unwrap();
+            n.split(' ').next().unwrap().parse().unwrap()
+        })
+        .collect();
+    assert_eq!(popped.len(), found - 1, "{stdout}");
+    assert!(
+        popped.iter().any(|&n| n >= 1),
+        "no vertex pops through:\n{stdout}"
+    );
+    assert!(stdout.contains("build uses "), "{stdout}");
+}

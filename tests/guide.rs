@@ -843,3 +843,71 @@ fn column_stacking_says_each_order_and_names_only_engraved_ids() {
         }
     }
 }
+
+/// The cover's relief is counted on the shape it shows: for the eggbox the
+/// simulated one, where the strips' stiffness flattens some of the design's
+/// curved vertices. The counts are taken here again from a fresh
+/// simulation of the recipe and from the design, and both must be in the
+/// cover's text (read back with poppler) and differ from each other.
+#[test]
+fn cover_counts_the_relief_of_the_shape_it_shows() {
+    use karigami::simulation::{placed_lattice, simulate};
+    let dir = scratch("cover-relief");
+    let out = dir.join("o");
+    let built = karigami(
+        &[
+            "-q",
+            "build",
+            "examples/eggbox.toml",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &repo(),
+    );
+    assert!(
+        built.status.success(),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let pdf = out.join("assembly.pdf");
+    let Some(text) = run(
+        "pdftotext",
+        &["-f", "1", "-l", "2", pdf.to_str().unwrap(), "-"],
+    ) else {
+        return;
+    };
+    let text: String = String::from_utf8_lossy(&text.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    let source = std::fs::read_to_string(repo().join("examples/eggbox.toml")).unwrap();
+    let d = karigami::parse(&source, "eggbox").unwrap();
+    let lattice = d.grow().unwrap();
+    let deployment = karigami::deploy::deployment(&lattice);
+    let m = &d.fabrication.material;
+    let run = simulate(&lattice, &deployment, m.width, m.thickness, &d.simulation).unwrap();
+    let count = |l: &karigami::Lattice| {
+        let c = l.curvature();
+        let dome = c.iter().filter(|v| v.defect.to_degrees() >= 3.0).count();
+        let saddle = c.iter().filter(|v| v.defect.to_degrees() <= -3.0).count();
+        (dome, saddle, c.len())
+    };
+    let designed = count(&lattice);
+    let simulated = count(&placed_lattice(&lattice, &run.lm));
+    assert_ne!(designed, simulated, "the strips change the eggbox's relief");
+    let said_design = format!(
+        "the design makes {} of its {} inner vertices dome-like",
+        designed.0, designed.2
+    );
+    let said_simulated = format!(
+        "{} are dome-like and {} saddle-like",
+        simulated.0, simulated.1
+    );
+    for said in [
+        said_design,
+        said_simulated,
+        format!("and {} saddle-like", designed.1),
+    ] {
+        assert!(text.contains(&said), "{said:?} not on the cover:\n{text}");
+    }
+}

@@ -41,7 +41,7 @@ pub(super) enum Command {
     Simulate {
         /// Recipe file (TOML).
         design: PathBuf,
-        /// Opening of the reference cell (cell 0) in degrees; default: the recipe's [simulation] theta, else the design's.
+        /// Opening held, in degrees: the mean of all cells' openings, or the first cell's with `[simulation] actuation = "first-cell"`; default: the recipe's [simulation] theta, else the design's.
         #[arg(long, value_name = "DEG")]
         theta: Option<f64>,
         /// Also solve from N seeded perturbations and list the distinct stable equilibria.

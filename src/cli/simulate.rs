@@ -277,10 +277,66 @@ fn explore_text(
             to_lowest
         );
     }
+    // Pop-through: vertices whose curvature changes sign between the
+    // lowest equilibrium and another, measured on each shape.
+    if let Some(lowest) = lowest {
+        let base = curvature_at(lattice, lm, &lowest.points);
+        for (k, f) in found.iter().enumerate().skip(1) {
+            let popped = popped(
+                lattice,
+                &base,
+                &curvature_at(lattice, lm, &f.equilibrium.points),
+            );
+            let shown: Vec<&str> = popped.iter().take(8).map(String::as_str).collect();
+            let _ = writeln!(
+                o,
+                "  {} against 1: {} through (defect from beyond +-{} deg to beyond it the other way){}{}",
+                k + 1,
+                plural(popped.len(), "vertex pops"),
+                shape::CURVED_DEG,
+                if popped.is_empty() { "" } else { ": " },
+                shown.join(", ")
+                    + if popped.len() > shown.len() {
+                        ", ..."
+                    } else {
+                        ""
+                    }
+            );
+        }
+    }
+    if let Some(k) = found.iter().position(|f| f.hits.contains(&0)) {
+        let _ = writeln!(
+            o,
+            "  build uses {}: the one reached from the unperturbed start",
+            k + 1
+        );
+    }
     for (seed, why) in rejected {
         let _ = writeln!(o, "  start {seed}: {why}");
     }
-    let _ = lattice;
-    let _ = lm;
     o
+}
+
+/// The angle defects of the lattice placed at an equilibrium's points.
+fn curvature_at(
+    lattice: &Lattice,
+    lm: &LatticeModel,
+    points: &[glam::DVec3],
+) -> Vec<VertexCurvature> {
+    sim::placed_at(lattice, lm, points).curvature()
+}
+
+/// The interior vertices curved one way in `a` and the other way in `b`
+/// (beyond `shape::CURVED_DEG` both times), named with their defects.
+fn popped(lattice: &Lattice, a: &[VertexCurvature], b: &[VertexCurvature]) -> Vec<String> {
+    let c = shape::CURVED_DEG;
+    a.iter()
+        .zip(b)
+        .filter_map(|(x, y)| {
+            let (dx, dy) = (x.defect.to_degrees(), y.defect.to_degrees());
+            let flipped = x.vertex == y.vertex && ((dx >= c && dy <= -c) || (dx <= -c && dy >= c));
+            let key = lattice.vertices[x.vertex as usize].key;
+            flipped.then(|| format!("[{}, {}] {dx:+.1} -> {dy:+.1} deg", key.row, key.col))
+        })
+        .collect()
 }

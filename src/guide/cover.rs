@@ -125,7 +125,7 @@ pub(super) fn cover(
         BODY,
         BLACK,
     );
-    if let Some(bumps) = bumps(b) {
+    if let Some(bumps) = bumps(b, simulated) {
         w.paragraph(&bumps, BODY, BLACK);
     }
     w.paragraph(

@@ -88,24 +88,51 @@ pub fn guide_showing(b: &Build, simulated: Option<&Lattice>) -> Guide {
     }
 }
 
-/// How a bent-facet lattice takes its shape, with its bumps and dimples
+/// How a bent-facet lattice takes its shape, with its curved vertices
 /// counted (interior vertices with an angle defect of at least +3 degrees,
-/// or at most -3), or None for a lattice whose shape the geometry fixes.
-fn bumps(b: &Build) -> Option<String> {
-    if b.lattice.extrinsic() || b.lattice.dim == 2 {
+/// dome-like: a bump or a cup, or at most -3, saddle-like), or None for a
+/// lattice whose shape the geometry fixes. The counts are measured on the
+/// shape the cover shows, the simulated one when the build simulated it
+/// (what the strips make), and the text says which.
+fn bumps(b: &Build, simulated: Option<&Lattice>) -> Option<String> {
+    if !bent_facets(b) {
         return None;
     }
-    let c = b.lattice.curvature();
-    let bumps = c.iter().filter(|v| v.defect.to_degrees() >= 3.0).count();
-    let dimples = c.iter().filter(|v| v.defect.to_degrees() <= -3.0).count();
+    let count = |l: &Lattice| {
+        let c = l.curvature();
+        let dome = c.iter().filter(|v| v.defect.to_degrees() >= 3.0).count();
+        let saddle = c.iter().filter(|v| v.defect.to_degrees() <= -3.0).count();
+        (dome, saddle, c.len())
+    };
+    let (dome, saddle, inner) = count(&b.lattice);
+    let designed = format!(
+        "the design makes {dome} of its {inner} inner vertices dome-like (a bump or a cup: angle defect +3 deg or \
+         more) and {saddle} saddle-like (-3 deg or less)"
+    );
+    let relief = match simulated {
+        Some(s) => {
+            let (s_dome, s_saddle, _) = count(s);
+            format!(
+                "{designed}; in the simulated shape of preview.png and deployed.obj, where the strips' stiffness \
+                 has its say, {s_dome} are dome-like and {s_saddle} saddle-like"
+            )
+        }
+        None => format!(
+            "{designed} (this build did not simulate the strips: how far the relief forms is not measured)"
+        ),
+    };
     Some(format!(
         "Bent facets: rows of this lattice grew on rebuilt fronts, so where two rows join, the strips must bend. \
          Assemble every joint with the strips straight; as you open the lattice the strips bend at the row joins \
-         and the relief forms by itself: {bumps} of its {} inner vertices become bumps (angle defect +3 deg or \
-         more) and {dimples} dimples (-3 deg or less), as preview.png and deployed.obj show. Open it slowly and \
-         evenly; how far the bumps rise depends on the strips' stiffness (docs/physics.md).",
-        c.len()
+         and the relief forms by itself: {relief}. Open it slowly and evenly; how far the bumps rise depends on \
+         the strips' stiffness (docs/physics.md)."
     ))
+}
+
+/// Whether the lattice has bent facets (rows on rebuilt fronts, in 3-D):
+/// its strips bend at the row joins as it opens.
+fn bent_facets(b: &Build) -> bool {
+    !b.lattice.extrinsic() && b.lattice.dim != 2
 }
 
 /// A rectangle from its top-left corner and size (mm).

@@ -2,7 +2,7 @@
 //! and each joint to close with its stack in order.
 
 use super::stacking;
-use super::{NEW, bumps, key, mm};
+use super::{NEW, bent_facets, key, mm};
 use crate::assembly::Step;
 use crate::drawing::flow::{BLACK, GREY};
 use crate::lattice::Joint;
@@ -63,7 +63,7 @@ pub(super) fn step_text(
         false,
         BLACK,
     ));
-    if bumps(b).is_some() && step.number > 1 {
+    if bent_facets(b) && step.number > 1 {
         lines.push((
             format!(
                 "Bent facets: where this {what} joins the work its strips will bend as the lattice opens; join them straight now."

@@ -366,7 +366,12 @@ pub(crate) fn simulate_with(
 /// (rows of a bent-facet lattice all share the simulated vertices): for
 /// pictures of the deployed shape, e.g. the preview and the guide's cover.
 pub fn placed_lattice(lattice: &Lattice, lm: &LatticeModel) -> Lattice {
-    let points = lm.points();
+    placed_at(lattice, lm, &lm.points())
+}
+
+/// `placed_lattice` at `points`, every vertex then every pivot as in
+/// `Equilibrium::points` (e.g. another equilibrium of the same model).
+pub fn placed_at(lattice: &Lattice, lm: &LatticeModel, points: &[DVec3]) -> Lattice {
     let nv = lattice.vertices.len();
     let mut out = lattice.clone();
     for (v, vertex) in out.vertices.iter_mut().enumerate() {
