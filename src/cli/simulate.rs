@@ -193,6 +193,18 @@ pub(super) fn text(
         lo.to_degrees(),
         hi.to_degrees()
     );
+    let inverted = eq.openings.iter().filter(|p| **p <= 0.0).count();
+    if inverted > 0 {
+        let _ = writeln!(
+            o,
+            "  warning: {} at or below 0 deg: inverted, their strips would pass through each other (hold a larger theta)",
+            if inverted == 1 {
+                "1 cell opens".to_string()
+            } else {
+                format!("{inverted} cells open")
+            }
+        );
+    }
     if eq.openings.len() <= 12 {
         let list: Vec<String> = eq
             .openings
@@ -292,7 +304,10 @@ fn explore_text(
                 o,
                 "  {} against 1: {} through (defect from beyond +-{} deg to beyond it the other way){}{}",
                 k + 1,
-                plural(popped.len(), "vertex pops"),
+                match popped.len() {
+                    1 => "1 vertex pops".to_string(),
+                    n => format!("{n} vertices pop"),
+                },
                 shape::CURVED_DEG,
                 if popped.is_empty() { "" } else { ": " },
                 shown.join(", ")
