@@ -1,4 +1,4 @@
-//! Multistability (PHYSICS.md 8): solve from seeded perturbations of the
+//! Multistability (docs/physics.md, "Multistability"): solve from seeded perturbations of the
 //! start and keep the distinct stable equilibria.
 
 use super::model::{Frame, Model, Node};

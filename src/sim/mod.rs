@@ -26,7 +26,7 @@ use crate::lattice::deploy::Deployment;
 use glam::DVec3;
 use std::time::Instant;
 
-/// The strip material (PHYSICS.md 1). Defaults: ABS, see docs/physics.md.
+/// The strip material. Defaults: ABS (docs/physics.md, "ABS and the recipe's `[simulation]` table").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
     /// Young's modulus (MPa = N/mm^2).
@@ -120,7 +120,7 @@ impl Actuation {
     }
 }
 
-/// Largest continuation step of the prescribed opening (PHYSICS.md 7).
+/// Largest continuation step of the prescribed opening (docs/physics.md, "Deployment").
 pub(crate) const STEP: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
 /// Why a simulation found no equilibrium.

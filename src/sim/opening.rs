@@ -134,7 +134,7 @@ impl LatticeModel {
     }
 
     /// Remove the rigid motions: fix the position, tilt and first rod's
-    /// angle of cell c's pivot (PHYSICS.md 6).
+    /// angle of cell c's pivot (docs/physics.md, "Deployment").
     pub fn anchor(&mut self, c: usize) {
         let j = &self.model.joints[self.pivot[c]];
         let (x, t, a) = (j.x, j.tilt, j.slots[0].angle[0]);

@@ -1,4 +1,4 @@
-//! What an equilibrium says (PHYSICS.md 1, 5, 9): strains and where they
+//! What an equilibrium says (docs/physics.md, "Strain and what is allowed"): strains and where they
 //! are, joint reactions, distance from the design after the best rigid
 //! fit, and a discrete curvature measure of the deployed shape.
 

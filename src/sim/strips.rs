@@ -1,4 +1,4 @@
-//! The model of a lattice (PHYSICS.md 2, 5): every rod a chain of nodes
+//! The model of a lattice (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"): every rod a chain of nodes
 //! with rigid arms at its holes, every pivot and every shared vertex an
 //! eyelet joint (or, for vertices, a ball joint). Stack offsets (strip
 //! thickness at a joint) are neglected: all strips at a joint meet at one
@@ -8,7 +8,7 @@ use super::model::{Edge, Frame, Joint, Model, Node, RodPath, Section, Slot, Sten
 use crate::lattice::{Joint as LatticeJoint, Lattice, joints};
 use glam::DVec3;
 
-/// How rod ends at a shared vertex are joined (PHYSICS.md 5).
+/// How rod ends at a shared vertex are joined (docs/physics.md, "Eyelets").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VertexJoint {
     /// Centre lines meet and faces stay stacked; each strip turns freely
@@ -64,8 +64,8 @@ pub struct LatticeModel {
     pub(crate) start_openings: Vec<f64>,
 }
 
-/// The measure of the deployment that is prescribed (PHYSICS.md 6,
-/// docs/physics.md "Deployment").
+/// The measure of the deployment that is prescribed (docs/physics.md,
+/// "Deployment").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Hold {
     /// Nothing yet: only rigid motions are removed.
