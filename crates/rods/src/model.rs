@@ -948,12 +948,94 @@ fn bend_composed<const N: usize, const T: usize>(
             }
         }
     }
-    // The energy over the rotations, frames R(w) F0.
-    let f0 = [0, 1, 2].map(|k| rotated(base[0][k], 0));
-    let f1 = [0, 1, 2].map(|k| rotated(base[1][k], 3));
-    let (eb, et) = bend_energy(&m.section, lbar, f0, f1);
+    let e6 = bend_energy_rotations(&m.section, lbar, base[0], base[1]);
     let inner: &[Dual<N, T>; 6] = w.as_slice().try_into().expect("two rotations");
-    compose(&(eb + et), inner)
+    compose(&e6, inner)
+}
+
+/// The bend and twist energy over the two edges' rotation coordinates
+/// (w0, w1) at 0, frames R(w) F0, in closed form: every quantity of
+/// `bend_energy` is a function of the nine products M_ij = a_i . b_j of
+/// the first edge's frame a = (t0, d10, d20) with the second's b = (t1,
+/// d11, d21) (the frames being orthonormal and right-handed), and M's
+/// value, gradient and Hessian in w are written out (`rotation_product`).
+/// The same numbers as `bend_energy` over `rotated` frames to round-off
+/// (`bend_energy_rotations_dual`, the reference tests/sim.rs compares it
+/// with), with about a third of the 6-variable dual products.
+#[inline(always)]
+fn bend_energy_rotations(sec: &Section, lbar: f64, a: [DVec3; 3], b: [DVec3; 3]) -> Dual<6, 21> {
+    let mm = |i: usize, j: usize| rotation_product(a[i], b[j]);
+    let (m00, m01, m02) = (mm(0, 0), mm(0, 1), mm(0, 2));
+    let (m10, m11, m12) = (mm(1, 0), mm(1, 1), mm(1, 2));
+    let m20 = mm(2, 0);
+    // kb = 2 t0 x t1 / (1 + c); kb.d20 = 2 M10 / (1 + c), kb.d21 = -2 M01
+    // / (1 + c), kb.d10 = -2 M20 / (1 + c), kb.d11 = 2 M02 / (1 + c).
+    let inv = (m00 + 1.0).recip();
+    let k_edge = (m10 - m01) * inv;
+    let k_flat = (m20 - m02) * inv;
+    // The twist (`twist_with`): u = the transported d10, with b.(d10 x
+    // d11) = -M01 M10 and b.(d10 x d21) = -M02 M10 (Binet-Cauchy).
+    let k = m20 * inv;
+    let m01m10 = m01 * m10;
+    let u_d11 = m00 * m11 - m01m10 - k * m02;
+    let u_d21 = m00 * m12 - m02 * m10 + k * m01;
+    let tw = (-u_d21).atan2(u_d11);
+    let w = 0.5 / lbar;
+    (k_edge * k_edge * (sec.b_edge * w) + k_flat * k_flat * (sec.b_flat * w))
+        + tw * tw * (sec.gj * w)
+}
+
+/// `(R(w0) a) . (R(w1) b)` at w = 0 over (w0, w1), written out: the value
+/// a.b; d/dw0 = a x b, d/dw1 = -(a x b); d2/dw0_k dw0_l = d2/dw1_k dw1_l
+/// = (a_k b_l + a_l b_k) / 2 - a.b delta_kl; d2/dw0_k dw1_l = a.b
+/// delta_kl - b_k a_l.
+#[inline(always)]
+fn rotation_product(a: DVec3, b: DVec3) -> Dual<6, 21> {
+    let ab = a.dot(b);
+    let x = a.cross(b).to_array();
+    let (a, b) = (a.to_array(), b.to_array());
+    let mut d = Dual::<6, 21>::cst(ab);
+    for k in 0..3 {
+        d.g[k] = x[k];
+        d.g[3 + k] = -x[k];
+        for l in k..3 {
+            let mut v = 0.5 * (a[k] * b[l] + a[l] * b[k]);
+            if k == l {
+                v -= ab;
+            }
+            d.set_hess(k, l, v);
+            d.set_hess(3 + k, 3 + l, v);
+        }
+        for l in 0..3 {
+            let v = if k == l { ab } else { 0.0 } - b[k] * a[l];
+            d.set_hess(k, 3 + l, v);
+        }
+    }
+    d
+}
+
+/// `bend_energy_rotations` by dual products over the rotated frames: the
+/// reference the closed form is tested against.
+pub fn bend_energy_rotations_dual(
+    sec: &Section,
+    lbar: f64,
+    a: [DVec3; 3],
+    b: [DVec3; 3],
+) -> Dual<6, 21> {
+    let f0 = [0, 1, 2].map(|k| rotated(a[k], 0));
+    let f1 = [0, 1, 2].map(|k| rotated(b[k], 3));
+    let (eb, et) = bend_energy(sec, lbar, f0, f1);
+    eb + et
+}
+
+/// `bend_energy_rotations`, public for the test against the reference.
+pub fn bend_energy_rotations_closed(
+    sec: &Section,
+    lbar: f64,
+    a: [DVec3; 3],
+    b: [DVec3; 3],
+) -> Dual<6, 21> {
+    bend_energy_rotations(sec, lbar, a, b)
 }
 
 /// `R(w) f` at w = 0 over the rotation coordinates w = (z_first, ..,
