@@ -955,7 +955,7 @@ fn bend_composed<const N: usize, const T: usize>(
     // The energy over the 6 rotations, then over the 8 edge variables,
     // and only then over N: one N-sized chain rule of 8 intermediates
     // instead of seven (six rotations of 4 and the energy of 6).
-    let e6 = bend_energy_rotations(&m.section, lbar, base[0], base[1]);
+    let e6 = bend_energy_rotations(&m.section, lbar, base);
     compose(&compose(&e6, &w), &inner)
 }
 
@@ -982,7 +982,7 @@ fn embed<const M: usize, const TM: usize>(d: &Dual<M, TM>, offset: usize) -> Dua
 /// (`bend_energy_rotations_dual`, the reference tests/sim.rs compares it
 /// with), with about a third of the 6-variable dual products.
 #[inline(always)]
-fn bend_energy_rotations(sec: &Section, lbar: f64, a: [DVec3; 3], b: [DVec3; 3]) -> Dual<6, 21> {
+pub fn bend_energy_rotations(sec: &Section, lbar: f64, [a, b]: [[DVec3; 3]; 2]) -> Dual<6, 21> {
     let mm = |i: usize, j: usize| rotation_product(a[i], b[j]);
     let (m00, m01, m02) = (mm(0, 0), mm(0, 1), mm(0, 2));
     let (m10, m11, m12) = (mm(1, 0), mm(1, 1), mm(1, 2));
@@ -1038,23 +1038,12 @@ fn rotation_product(a: DVec3, b: DVec3) -> Dual<6, 21> {
 pub fn bend_energy_rotations_dual(
     sec: &Section,
     lbar: f64,
-    a: [DVec3; 3],
-    b: [DVec3; 3],
+    [a, b]: [[DVec3; 3]; 2],
 ) -> Dual<6, 21> {
     let f0 = [0, 1, 2].map(|k| rotated(a[k], 0));
     let f1 = [0, 1, 2].map(|k| rotated(b[k], 3));
     let (eb, et) = bend_energy(sec, lbar, f0, f1);
     eb + et
-}
-
-/// `bend_energy_rotations`, public for the test against the reference.
-pub fn bend_energy_rotations_closed(
-    sec: &Section,
-    lbar: f64,
-    a: [DVec3; 3],
-    b: [DVec3; 3],
-) -> Dual<6, 21> {
-    bend_energy_rotations(sec, lbar, a, b)
 }
 
 /// `R(w) f` at w = 0 over the rotation coordinates w = (z_first, ..,
