@@ -272,7 +272,7 @@ right_leg = "match"
 }
 
 /// Gradient and Hessian of every stencil against central differences at
-/// random states of a lattice model with eyelets (PHYSICS.md 7).
+/// random states of a lattice model with eyelets (docs/physics.md, "Solver").
 #[test]
 fn gradient_and_hessian_match_finite_differences() {
     for (lattice, joint) in [
@@ -546,7 +546,7 @@ fn uniform_grid_follows_the_ideal_linkage() {
 
 /// The symmetric torus, a 3-D mechanism: with ball vertex joints it opens
 /// without energy, every cell following C(theta); with eyelets its strips
-/// must twist where cells in different planes meet (PHYSICS.md 5).
+/// must twist where cells in different planes meet (docs/physics.md, "Eyelets").
 #[test]
 fn torus_with_ball_joints_opens_freely_and_with_eyelets_twists() {
     let torus = load("examples/torus.toml");
@@ -616,7 +616,7 @@ fn torus_with_ball_joints_opens_freely_and_with_eyelets_twists() {
 }
 
 /// Halving the edge length moves the saddle ring's equilibrium by less
-/// than 1 % of its size (PHYSICS.md 10e). About 23 s of CPU in the test
+/// than 1 % of its size (the discretisation converges). About 23 s of CPU in the test
 /// profile (the rod crate is optimised there), so it runs in every suite.
 #[test]
 fn saddle_ring_converges_under_refinement() {

@@ -1,4 +1,4 @@
-//! Frames (PHYSICS.md 3, 5): parallel transport, the time-parallel
+//! Frames (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"): parallel transport, the time-parallel
 //! reference frame of an edge, a joint's tilted frame, and the twist
 //! between two edges.
 

@@ -1,4 +1,4 @@
-//! The discrete model (PHYSICS.md 2-5): variables, nodes, edges with their
+//! The discrete model (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"): variables, nodes, edges with their
 //! frames, eyelet joints, and the energy stencils, evaluated with plain f64
 //! (energy) or with duals (gradient and Hessian).
 
@@ -6,7 +6,7 @@ use crate::dual::{Dual, Scalar, V3, compose};
 use crate::frames::{joint_frame, material, transport, twist, twist_with};
 use glam::DVec3;
 
-/// Stiffness of the strip's cross-section (PHYSICS.md 1).
+/// Stiffness of the strip's cross-section (docs/physics.md, "ABS and the recipe's `[simulation]` table").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Section {
     /// Flatwise bending E w t^3 / 12 (N mm^2): the centre line moves along the face normal.
@@ -600,7 +600,7 @@ impl Model {
     }
 
     /// After an accepted iterate: re-base every reference frame on its edge
-    /// and every joint frame on its tilt (PHYSICS.md 3, 5). The energy does
+    /// and every joint frame on its tilt (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"). The energy does
     /// not change.
     pub fn update_frames(&mut self) {
         for e in 0..self.edges.len() {
@@ -627,7 +627,7 @@ impl Model {
         }
     }
 
-    /// The stored frames, to save with q (PHYSICS.md 2: q means nothing
+    /// The stored frames, to save with q (docs/physics.md, "Rebuilds": q means nothing
     /// without them).
     pub fn frames(&self) -> (Vec<Frame>, Vec<[DVec3; 3]>) {
         (
@@ -1103,7 +1103,7 @@ pub fn bend_measures(m: &Model, e0: usize, e1: usize) -> (f64, f64, f64) {
 impl Model {
     /// A single straight strip through `points` (free nodes), its face
     /// normal `d2` (perpendicular to the strip), rest state as given: for
-    /// the analytic checks of PHYSICS.md 10.
+    /// the analytic checks of tests/sim.rs.
     pub fn strip(section: Section, points: &[DVec3], d2: DVec3) -> Model {
         let length: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
         let mut m = Model::new(section, section.b_flat / length);

@@ -1,4 +1,4 @@
-//! Modified Newton (PHYSICS.md 7): sparse Hessian with a pattern fixed per
+//! Modified Newton (docs/physics.md, "Solver"): sparse Hessian with a pattern fixed per
 //! model (one symbolic Cholesky), inertia correction by a multiple of a
 //! diagonal metric, a negative-curvature step to leave saddles, and a
 //! one-step watchdog line search. faer's sparse LLT is the factorisation:
