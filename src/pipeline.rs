@@ -489,8 +489,7 @@ fn simulated(
     warnings: &mut Vec<crate::parts::Warning>,
 ) -> Result<Simulated, Diagnostic> {
     if !crate::sim::wanted(lattice, deployment) {
-        let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
-        if !planar_mechanism && lattice.cells.len() > crate::sim::MAX_SIMULATED_CELLS {
+        if crate::sim::needed(lattice, deployment) {
             warnings.push(crate::parts::Warning {
                 strip: None,
                 message: format!(

@@ -219,13 +219,7 @@ fn segment_distance(a0: DVec2, a1: DVec2, b0: DVec2, b1: DVec2) -> f64 {
 /// rod B (id 2c + 1) UR-pivot-LL, UL and UR from `top` where a row rebuilt.
 pub(crate) fn rod_legs(lattice: &Value) -> Vec<[f64; 2]> {
     let vertices = lattice["vertices"].as_array().unwrap();
-    let xyz = |v: &Value| -> Vec<f64> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect()
-    };
+    let xyz = crate::util::floats;
     let dist = |a: &[f64], b: &[f64]| {
         a.iter()
             .zip(b)

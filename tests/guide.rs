@@ -911,3 +911,30 @@ fn cover_counts_the_relief_of_the_shape_it_shows() {
         assert!(text.contains(&said), "{said:?} not on the cover:\n{text}");
     }
 }
+
+/// A bent-facet lattice above the cells `build` simulates is built without
+/// its simulated shape, and the build says so (a warning in report.txt and
+/// on the terminal), instead of passing the design off as what the strips
+/// make.
+#[test]
+fn a_lattice_too_large_to_simulate_is_built_with_a_warning() {
+    let text = std::fs::read_to_string(repo().join("templates/bumps.toml"))
+        .unwrap()
+        .replace("to = [240.0, 0.0, 0.0]", "to = [2400.0, 0.0, 0.0]")
+        .replace("cells = 6", "cells = 60")
+        .replace("rows = 5", "rows = 40");
+    let b = karigami::build(karigami::parse(&text, "big-bumps").unwrap()).unwrap();
+    assert!(
+        b.lattice.cells.len() > 2000,
+        "{} cells",
+        b.lattice.cells.len()
+    );
+    assert_eq!(b.simulation_reused(), None, "not simulated");
+    let report = karigami::build_text(&b);
+    assert!(
+        report.contains(
+            "the deployed shape is not simulated: build simulates lattices of up to 2000 cells"
+        ),
+        "{report}"
+    );
+}

@@ -142,3 +142,13 @@ pub(crate) fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
         dir.join("out")
     })
 }
+
+/// A JSON array of numbers as floats (panics on anything else: a test's
+/// own files).
+pub(crate) fn floats(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}

@@ -682,13 +682,7 @@ fn viewer_works_in_headless_chromium() {
             next();
         }
         next(); // click Z
-        let dir = |v: &Value| -> Vec<f64> {
-            v.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        };
+        let dir = crate::util::floats;
         let z = dir(next());
         assert!((z[2] + 1.0).abs() < 1e-9, "{name}: Z looks down z: {z:?}");
         next(); // shot

@@ -81,7 +81,8 @@ fn pct(x: f64) -> String {
     format!("{:.3} %", 100.0 * x)
 }
 
-/// The report of one simulation (docs/physics.md, "Strain and what is allowed"; README, `simulate`).
+/// The report of one simulation (docs/physics.md, "Strain and what is
+/// allowed"; README, `simulate`).
 pub(super) fn text(
     file: &str,
     lattice: &Lattice,

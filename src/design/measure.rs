@@ -5,7 +5,7 @@
 
 use super::Design;
 use super::fit::{self, Coverage};
-use crate::lattice::shape::{CurvatureSummary, Shape, summary};
+use crate::lattice::shape::{CurvatureSummary, Shape, relief, summary};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
 use serde::Serialize;
@@ -107,18 +107,8 @@ pub(crate) fn measure_with(
         None => (None, None, None, None),
     };
     let n = shape.curvature.len().max(1) as f64;
-    let bumps = shape
-        .curvature
-        .iter()
-        .filter(|v| v.defect.to_degrees() >= BUMP_DEG)
-        .count() as f64
-        / n;
-    let dimples = shape
-        .curvature
-        .iter()
-        .filter(|v| v.defect.to_degrees() <= -BUMP_DEG)
-        .count() as f64
-        / n;
+    let (domes, saddles) = relief(&shape.curvature, BUMP_DEG);
+    let (bumps, dimples) = (domes as f64 / n, saddles as f64 / n);
     let mut rows = std::collections::BTreeSet::new();
     let mut cols = std::collections::BTreeSet::new();
     for v in &shape.curvature {

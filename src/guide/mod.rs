@@ -14,8 +14,10 @@ mod step_page;
 mod step_pictures;
 mod step_text;
 
+use crate::design::measure::BUMP_DEG;
 use crate::drawing::flow::PageFlow;
 use crate::drawing::{Page, Shape, Symbol};
+use crate::lattice::shape::relief;
 use crate::lattice::{Lattice, VertexKey};
 use crate::pipeline::Build;
 use checklist::checklist;
@@ -98,20 +100,16 @@ fn bumps(b: &Build, simulated: Option<&Lattice>) -> Option<String> {
     if !bent_facets(b) {
         return None;
     }
-    let count = |l: &Lattice| {
-        let c = l.curvature();
-        let dome = c.iter().filter(|v| v.defect.to_degrees() >= 3.0).count();
-        let saddle = c.iter().filter(|v| v.defect.to_degrees() <= -3.0).count();
-        (dome, saddle, c.len())
-    };
-    let (dome, saddle, inner) = count(&b.lattice);
+    let c = b.lattice.curvature();
+    let (dome, saddle) = relief(&c, BUMP_DEG);
     let designed = format!(
-        "the design makes {dome} of its {inner} inner vertices dome-like (a bump or a cup: angle defect +3 deg or \
-         more) and {saddle} saddle-like (-3 deg or less)"
+        "the design makes {dome} of its {} inner vertices dome-like (a bump or a cup: angle defect \
+         +{BUMP_DEG} deg or more) and {saddle} saddle-like (-{BUMP_DEG} deg or less)",
+        c.len()
     );
-    let relief = match simulated {
+    let shape = match simulated {
         Some(s) => {
-            let (s_dome, s_saddle, _) = count(s);
+            let (s_dome, s_saddle) = relief(&s.curvature(), BUMP_DEG);
             format!(
                 "{designed}; in the simulated shape of preview.png and deployed.obj, where the strips' stiffness \
                  has its say, {s_dome} are dome-like and {s_saddle} saddle-like"
@@ -124,7 +122,7 @@ fn bumps(b: &Build, simulated: Option<&Lattice>) -> Option<String> {
     Some(format!(
         "Bent facets: rows of this lattice grew on rebuilt fronts, so where two rows join, the strips must bend. \
          Assemble every joint with the strips straight; as you open the lattice the strips bend at the row joins \
-         and the relief forms by itself: {relief}. Open it slowly and evenly; how far the bumps rise depends on \
+         and the relief forms by itself: {shape}. Open it slowly and evenly; how far the bumps rise depends on \
          the strips' stiffness (docs/physics.md)."
     ))
 }

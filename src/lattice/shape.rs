@@ -336,6 +336,19 @@ pub struct CurvatureSummary {
     pub(crate) max_at: u32,
 }
 
+/// How many of the interior vertices `c` are dome-like (angle defect at
+/// least +`deg` degrees: a bump or a cup) and how many saddle-like (at
+/// most -`deg`).
+pub fn relief(c: &[VertexCurvature], deg: f64) -> (usize, usize) {
+    c.iter().fold((0, 0), |(dome, saddle), v| {
+        let d = v.defect.to_degrees();
+        (
+            dome + usize::from(d >= deg),
+            saddle + usize::from(d <= -deg),
+        )
+    })
+}
+
 /// Defect and Gaussian-curvature statistics of the interior vertices `c`;
 /// None when there are none.
 pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {

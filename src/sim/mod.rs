@@ -26,7 +26,8 @@ use crate::lattice::deploy::Deployment;
 use glam::DVec3;
 use std::time::Instant;
 
-/// The strip material. Defaults: ABS (docs/physics.md, "ABS and the recipe's `[simulation]` table").
+/// The strip material. Defaults: ABS (docs/physics.md, "ABS and the
+/// recipe's `[simulation]` table").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
     /// Young's modulus (MPa = N/mm^2).
@@ -466,11 +467,17 @@ fn check_symmetry(lattice: &Lattice, lm: &LatticeModel, n: u32) -> Result<(), Si
 /// Lattices above this many cells are not simulated by `build`.
 pub(crate) const MAX_SIMULATED_CELLS: usize = 2_000;
 
-/// Whether `build` simulates a lattice: unless it is a planar true
-/// mechanism (its design is its deployed shape, strips straight), or too
-/// large. Eyelets make 3-D designs twist where cells in different planes
-/// meet, so those are simulated too.
-pub(crate) fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
+/// Whether a lattice's deployed shape needs the simulation: unless it is
+/// a planar true mechanism (its design is its deployed shape, strips
+/// straight). Eyelets make 3-D designs twist where cells in different
+/// planes meet, so those need it too.
+pub(crate) fn needed(lattice: &Lattice, deployment: &Deployment) -> bool {
     let planar_mechanism = lattice.dim == 2 && lattice.extrinsic() && deployment.is_mechanism();
-    !planar_mechanism && lattice.cells.len() <= MAX_SIMULATED_CELLS && !lattice.cells.is_empty()
+    !planar_mechanism && !lattice.cells.is_empty()
+}
+
+/// Whether `build` simulates a lattice: when it is `needed` and not too
+/// large.
+pub(crate) fn wanted(lattice: &Lattice, deployment: &Deployment) -> bool {
+    needed(lattice, deployment) && lattice.cells.len() <= MAX_SIMULATED_CELLS
 }

@@ -1,8 +1,8 @@
-//! The model of a lattice (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"): every rod a chain of nodes
-//! with rigid arms at its holes, every pivot and every shared vertex an
-//! eyelet joint (or, for vertices, a ball joint). Stack offsets (strip
-//! thickness at a joint) are neglected: all strips at a joint meet at one
-//! point.
+//! The model of a lattice (docs/physics.md, "Strips as discrete elastic
+//! rods", "Eyelets"): every rod a chain of nodes with rigid arms at its
+//! holes, every pivot and every shared vertex an eyelet joint (or, for
+//! vertices, a ball joint). Stack offsets (strip thickness at a joint) are
+//! neglected: all strips at a joint meet at one point.
 
 use super::model::{Edge, Frame, Joint, Model, Node, RodPath, Section, Slot, Stencil, VarKind};
 use crate::lattice::{Joint as LatticeJoint, Lattice, joints};

@@ -1,6 +1,6 @@
-//! Frames (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"): parallel transport, the time-parallel
-//! reference frame of an edge, a joint's tilted frame, and the twist
-//! between two edges.
+//! Frames (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"):
+//! parallel transport, the time-parallel reference frame of an edge, a
+//! joint's tilted frame, and the twist between two edges.
 
 use crate::dual::{Scalar, V3};
 use glam::DVec3;

@@ -1,12 +1,14 @@
-//! The discrete model (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"): variables, nodes, edges with their
-//! frames, eyelet joints, and the energy stencils, evaluated with plain f64
-//! (energy) or with duals (gradient and Hessian).
+//! The discrete model (docs/physics.md, "Strips as discrete elastic rods",
+//! "Eyelets"): variables, nodes, edges with their frames, eyelet joints,
+//! and the energy stencils, evaluated with plain f64 (energy) or with duals
+//! (gradient and Hessian).
 
 use crate::dual::{Dual, Scalar, V3, compose};
 use crate::frames::{joint_frame, material, transport, twist, twist_with};
 use glam::DVec3;
 
-/// Stiffness of the strip's cross-section (docs/physics.md, "ABS and the recipe's `[simulation]` table").
+/// Stiffness of the strip's cross-section (docs/physics.md, "ABS and the
+/// recipe's `[simulation]` table").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Section {
     /// Flatwise bending E w t^3 / 12 (N mm^2): the centre line moves along the face normal.
@@ -600,8 +602,8 @@ impl Model {
     }
 
     /// After an accepted iterate: re-base every reference frame on its edge
-    /// and every joint frame on its tilt (docs/physics.md, "Strips as discrete elastic rods", "Eyelets"). The energy does
-    /// not change.
+    /// and every joint frame on its tilt (docs/physics.md, "Strips as
+    /// discrete elastic rods", "Eyelets"). The energy does not change.
     pub fn update_frames(&mut self) {
         for e in 0..self.edges.len() {
             if let Frame::Ref { ts, as_, theta } = self.edges[e].frame {
