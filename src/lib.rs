@@ -45,6 +45,7 @@ mod write;
 pub use output::files_on;
 pub use output::{files, viewer_scene};
 pub use pipeline::check_on;
+pub use pipeline::contact;
 pub use pipeline::{Build, Checked, Verified, build, build_with, check};
 pub use pipeline::{STATE_FILE, build_reusing};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
@@ -55,7 +56,7 @@ pub use diagnostic::{Diagnostic, ErrorKind};
 // Design: the parsed recipe, its fabrication settings, and the solvers
 // that search for a recipe's values.
 pub use design::fit::{Coverage, Fit};
-pub use design::measure::{Measures, Turn, measure, measure_assembled};
+pub use design::measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
 pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};

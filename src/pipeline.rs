@@ -547,7 +547,39 @@ fn simulated(
             message: format!("{what}; the recipe accepts it ([simulation] accept_overstrain)"),
         });
     }
+    let shape = crate::sim::placed_lattice(lattice, &run.lm);
+    if let Some(message) = contact(design, &shape) {
+        warnings.push(crate::parts::Warning {
+            strip: None,
+            message,
+        });
+    }
     Ok((Some(run), Some((key, reused))))
+}
+
+/// The clash rule of `check` applied to a simulated deployed `shape`: None
+/// when no two strips of one layer come closer than the strip width plus
+/// the clearance, else what a maker should know. The simulation has no
+/// contact between strips, so where its shape breaks the rule the real
+/// strips press on each other instead.
+pub fn contact(design: &Design, shape: &Lattice) -> Option<String> {
+    let clashes = strip_clashes(design, shape);
+    let c = clashes.first()?;
+    let name = |r: usize| crate::parts::clash::rod_name(shape, r);
+    Some(format!(
+        "in the simulated deployed shape, {} of strips in one layer come closer than the strip width {} mm plus {} mm clearance \
+         (closest: {} and {}, {:.2} mm apart at ({:.1}, {:.1}, {:.1})); the simulation does not model contact, so there \
+         the strips press on each other and the piece may not take the shape shown (docs/physics.md, Limits)",
+        crate::words::plural(clashes.len(), "pair"),
+        design.fabrication.material.width,
+        design.clash.clearance,
+        name(c.rods[0]),
+        name(c.rods[1]),
+        c.distance,
+        c.at.x,
+        c.at.y,
+        c.at.z
+    ))
 }
 
 fn locate(design: &Design, e: PartsError) -> Diagnostic {

@@ -320,13 +320,15 @@ fn full_precision_numbers_round_trip() {
 }
 
 /// `karigami simulate --explore` on the eggbox, as a user runs it: the
-/// report's figures are printed, several stable equilibria are found, and
-/// between them vertices pop through (their angle defect changes sign,
-/// measured on each simulated shape).
+/// report's figures are printed, several stable equilibria are found (3 of
+/// 12 starts with the 0.5 mm strips), and between them bumps pop through
+/// as the paper describes: a dome-like vertex turned inside out, standing
+/// out to the other side of the sheet and still dome-like (measured on
+/// each simulated shape).
 #[test]
 fn simulate_explore_finds_the_eggboxs_pop_through() {
     let out = karigami(
-        &["simulate", "examples/eggbox.toml", "--explore", "6"],
+        &["simulate", "examples/eggbox.toml", "--explore", "12"],
         &repo(),
     );
     let stdout = text(&out.stdout);
@@ -345,7 +347,7 @@ fn simulate_explore_finds_the_eggboxs_pop_through() {
     }
     let found: usize = stdout
         .lines()
-        .find_map(|l| l.strip_prefix("explore: 6 starts"))
+        .find_map(|l| l.strip_prefix("explore: 12 starts"))
         .and_then(|l| l.rsplit_once(": ")?.1.split(' ').next()?.parse().ok())
         .unwrap_or_else(|| panic!("no explore line in\n{stdout}"));
     assert!(
@@ -354,7 +356,7 @@ fn simulate_explore_finds_the_eggboxs_pop_through() {
     );
     let popped: Vec<usize> = stdout
         .lines()
-        .filter(|l| l.contains(" against 1: "))
+        .filter(|l| l.contains(" against 1: ") && l.contains(" pop"))
         .map(|l| {
             let n = l.split(" against 1: ").nth(1).unwrap();
             n.split(' ').next().unwrap().parse().unwrap()
@@ -363,7 +365,7 @@ fn simulate_explore_finds_the_eggboxs_pop_through() {
     assert_eq!(popped.len(), found - 1, "{stdout}");
     assert!(
         popped.iter().any(|&n| n >= 1),
-        "no vertex pops through:\n{stdout}"
+        "no bump pops through:\n{stdout}"
     );
     assert!(stdout.contains("build uses "), "{stdout}");
 }

@@ -676,22 +676,47 @@ fn degrees(c: &[karigami::shape::VertexCurvature]) -> Vec<f64> {
     c.iter().map(|v| v.defect.to_degrees()).collect()
 }
 
-/// The eggbox's cells are cut to make bumps and dips in a checkerboard.
-/// Its simulated equilibrium (the strips' own choice, not the rigid-fit
-/// picture), deployed by holding the mean opening of all cells (the
-/// default), keeps that sign pattern: of the vertices designed at +-3 deg
-/// or more, at least 85 % keep their sign with at least 0.5 deg, at least
-/// 40 % keep it beyond 3 deg, at most one changes sign; bumps and dips in
-/// both halves of the sheet, and no strip beyond 3 % strain.
+/// The eggbox's recipe with 1 mm strips instead of 0.5 mm, and `extra`
+/// appended.
+fn thick_eggbox(extra: &str) -> String {
+    let text = std::fs::read_to_string("examples/eggbox.toml").expect("recipe");
+    assert!(text.contains("\n[material]\nthickness = 0.5\n"));
+    format!(
+        "{}\n{extra}",
+        text.replace(
+            "\n[material]\nthickness = 0.5\n",
+            "\n[material]\nthickness = 1.0\n"
+        )
+    )
+}
+
+/// Issue 11's measures of a shape, taken on the simulated equilibrium of
+/// a gallery recipe (its own strip, material and `[simulation]`
+/// settings): the shape the strips make, not the design's picture.
+fn simulated_measures(path: &str) -> (Lattice, Lattice, sim::Simulation, karigami::Measures) {
+    let (design, placed, run) = simulated_shape(path);
+    let text = std::fs::read_to_string(path).expect("recipe");
+    let d = karigami::parse(&text, "t").expect("parses");
+    let m = karigami::measure_assembled(&d, &placed, &placed);
+    (design, placed, run, m)
+}
+
+/// The eggbox is designed to make bumps and dips in a checkerboard, and
+/// its simulated equilibrium (deployed as its recipe says: 0.5 mm strips,
+/// the mean opening of all cells held at the design's) meets issue 11's
+/// measures of an eggbox: at least 20 % of the interior vertices with an
+/// angle defect of +3 deg or more, spread over at least 3 rows and 3
+/// columns, and at least 20 % at -3 deg or less (over 3 rows too). The
+/// relief is the designed one: no vertex curves beyond 3 deg against its
+/// designed sign, at most one changes sign at all; the strips of the
+/// simulated shape do not clash and stay within the allowable strain.
 ///
-/// Measured truth, stated rather than asserted away (docs/physics.md,
-/// "Deployment"): the design's defects reach +-6.6 deg, the simulated ones
-/// +-4 to 5 deg (the bent strips give part of the bump back), and a few
-/// dips next to stronger bumps flatten; the test prints which. Holding one
-/// cell instead (the corner) flattens every vertex below 3 deg.
+/// Measured (docs/physics.md, "The eggbox: strip thickness and relief"):
+/// 47 % and 37 %, strain 1.16 %; the same design with 1 mm strips keeps
+/// 45 % and 31 % but bends them to 3.0 %.
 #[test]
 fn eggbox_simulates_to_bumps_and_dips() {
-    let (design, placed, run) = simulated_shape("examples/eggbox.toml");
+    let (design, placed, run, m) = simulated_measures("examples/eggbox.toml");
     let designed = design.curvature();
     let got = placed.curvature();
     assert_eq!(
@@ -699,113 +724,108 @@ fn eggbox_simulates_to_bumps_and_dips() {
         got.iter().map(|v| v.vertex).collect::<Vec<_>>()
     );
     let (dd, gd) = (degrees(&designed), degrees(&got));
-    let share = |d: &[f64], f: &dyn Fn(f64) -> bool| {
-        d.iter().filter(|&&x| f(x)).count() as f64 / d.len() as f64
-    };
+    let saddle_rows: std::collections::BTreeSet<u32> = got
+        .iter()
+        .filter(|v| v.defect.to_degrees() <= -3.0)
+        .map(|v| placed.vertex(v.vertex).key.row)
+        .collect();
     println!(
-        "eggbox: design {:.0} % >= +3 deg, {:.0} % <= -3 deg (range {:.2} to {:.2}); simulated {:.0} % >= +0.5 deg, {:.0} % <= -0.5 deg, {:.0} % beyond +-3 deg (range {:.2} to {:.2})",
-        100.0 * share(&dd, &|x| x >= 3.0),
-        100.0 * share(&dd, &|x| x <= -3.0),
-        dd.iter().copied().fold(f64::INFINITY, f64::min),
-        dd.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        100.0 * share(&gd, &|x| x >= 0.5),
-        100.0 * share(&gd, &|x| x <= -0.5),
-        100.0 * share(&gd, &|x| x.abs() >= 3.0),
+        "eggbox at {:.2} deg: simulated {:.0} % >= +3 deg over {} rows and {} columns, {:.0} % <= -3 deg over {} rows (range {:.2} to {:.2}); design range {:.2} to {:.2}; {} clashes; peak strain {:.3} % in {}",
+        run.theta.to_degrees(),
+        100.0 * m.bumps,
+        m.bump_rows,
+        m.bump_cols,
+        100.0 * m.dimples,
+        saddle_rows.len(),
         gd.iter().copied().fold(f64::INFINITY, f64::min),
         gd.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-    );
-    let strong: Vec<(f64, f64)> = dd
-        .iter()
-        .zip(&gd)
-        .filter(|(d, _)| d.abs() >= 3.0)
-        .map(|(&d, &g)| (d, g))
-        .collect();
-    assert!(strong.len() * 2 >= dd.len(), "the design lost its bumps");
-    let kept: Vec<bool> = strong
-        .iter()
-        .map(|&(d, g)| d * g > 0.0 && g.abs() >= 0.5)
-        .collect();
-    let flipped: Vec<String> = strong
-        .iter()
-        .zip(&kept)
-        .filter(|(_, k)| !**k)
-        .map(|((d, g), _)| format!("{d:+.2} -> {g:+.2}"))
-        .collect();
-    println!(
-        "eggbox: {} of {} vertices designed beyond +-3 deg keep their sign with at least 0.5 deg; not: {flipped:?}",
-        strong.len() - flipped.len(),
-        strong.len()
-    );
-    // Most, not all: where the design's bump is weak next to a stronger
-    // neighbour the strips can even the two out (the test prints which).
-    assert!(
-        flipped.len() * 100 <= strong.len() * 15,
-        "the checkerboard is lost: {flipped:?}"
-    );
-    let changed_sign = strong
-        .iter()
-        .filter(|(d, g)| d * g < 0.0 && g.abs() >= 0.5)
-        .count();
-    assert!(changed_sign <= 1, "{changed_sign} vertices changed sign");
-    let beyond_3 = strong
-        .iter()
-        .filter(|(d, g)| d * g > 0.0 && g.abs() >= 3.0)
-        .count();
-    println!(
-        "eggbox: {beyond_3} of {} keep their sign beyond 3 deg; {changed_sign} changed sign; peak strain {:.3} % in {}",
-        strong.len(),
+        dd.iter().copied().fold(f64::INFINITY, f64::min),
+        dd.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        m.clashes.len(),
         100.0 * run.equilibrium.strain.eps,
         run.equilibrium.strain.rod
     );
-    assert!(beyond_3 * 10 >= strong.len() * 4, "{beyond_3} beyond 3 deg");
+    // Issue 11's eggbox, on the simulated shape.
     assert!(
-        run.equilibrium.strain.eps < 0.03,
-        "peak strain {}",
+        m.bumps >= 0.2 && m.dimples >= 0.2,
+        "{} {}",
+        m.bumps,
+        m.dimples
+    );
+    assert!(
+        m.bump_rows >= 3 && m.bump_cols >= 3,
+        "{} {}",
+        m.bump_rows,
+        m.bump_cols
+    );
+    assert!(saddle_rows.len() >= 3, "{saddle_rows:?}");
+    // The designed checkerboard, not another relief.
+    let against: Vec<String> = dd
+        .iter()
+        .zip(&gd)
+        .filter(|(d, g)| *d * *g < 0.0 && g.abs() >= 3.0)
+        .map(|(d, g)| format!("{d:+.2} -> {g:+.2}"))
+        .collect();
+    assert!(against.is_empty(), "curved against the design: {against:?}");
+    let changed = dd
+        .iter()
+        .zip(&gd)
+        .filter(|(d, g)| *d * *g < 0.0 && g.abs() >= 0.5)
+        .count();
+    assert!(changed <= 1, "{changed} vertices changed sign");
+    assert!(m.clashes.is_empty(), "{:?}", m.clashes);
+    let allow = karigami::simulation::Material::ABS.eps_allow;
+    assert!(
+        run.equilibrium.strain.eps <= allow,
+        "peak strain {} above {allow}",
         run.equilibrium.strain.eps
     );
-    // Spread: bumps and dips in each half of the sheet (by vertex row).
-    let rows: Vec<u32> = got
-        .iter()
-        .map(|v| placed.vertices[v.vertex as usize].key.row)
-        .collect();
-    let mid = (rows.iter().min().unwrap() + rows.iter().max().unwrap()) / 2;
-    for half in [false, true] {
-        let d: Vec<f64> = gd
-            .iter()
-            .zip(&rows)
-            .filter(|(_, r)| (**r > mid) == half)
-            .map(|(&x, _)| x)
-            .collect();
-        assert!(
-            d.iter().any(|&x| x >= 0.5) && d.iter().any(|&x| x <= -0.5),
-            "{d:?}"
-        );
-    }
 }
 
-/// The saddle ring is designed saddle-like everywhere: its simulated
-/// equilibrium is negatively curved at nearly every interior vertex, and
-/// keeps at least 75 % of the designed mean defect (measured: -3.62 of
-/// -3.84 deg under the mean-opening hold with its two copies alike).
+/// The saddle ring is designed saddle-like everywhere with a nearly
+/// constant Gaussian curvature, and its simulated equilibrium meets issue
+/// 11's measures of it: at least 90 % of the interior vertices negatively
+/// curved (-0.5 deg or less), mean angle defect -2 deg or less, and the
+/// standard deviation of K at most half its mean; and it keeps at least
+/// 75 % of the designed mean defect (measured: -3.62 of -3.84 deg under
+/// the mean-opening hold with its two copies alike).
 #[test]
 fn saddle_ring_simulates_saddle_like() {
-    let (design, placed, run) = simulated_shape("examples/saddle-ring.toml");
+    let (design, placed, run, m) = simulated_measures("examples/saddle-ring.toml");
     let designed = degrees(&design.curvature());
     let got = degrees(&placed.curvature());
+    let c = m.curvature.expect("interior vertices");
     let negative = got.iter().filter(|&&x| x <= -0.5).count() as f64 / got.len() as f64;
     let mean = got.iter().sum::<f64>() / got.len() as f64;
     println!(
-        "saddle ring: design mean {:.2} deg; simulated mean {mean:.2} deg, {:.0} % <= -0.5 deg (range {:.2} to {:.2}); {} iterations, E {:.1} N mm",
+        "saddle ring: design mean {:.2} deg; simulated mean {mean:.2} deg, {:.0} % <= -0.5 deg (range {:.2} to {:.2}), std/|mean| of K {:.3}; {} clashes; {} iterations, E {:.1} N mm",
         designed.iter().sum::<f64>() / designed.len() as f64,
         100.0 * negative,
         got.iter().copied().fold(f64::INFINITY, f64::min),
         got.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        c.k_std / c.k_mean.abs(),
+        m.clashes.len(),
         run.iterations,
         run.equilibrium.energy.total()
     );
     let designed_mean = designed.iter().sum::<f64>() / designed.len() as f64;
     assert!(designed_mean < 0.0);
-    assert!(mean <= 0.75 * designed_mean && negative >= 0.9, "{got:?}");
+    // Issue 11's saddle ring, on the simulated shape.
+    assert!(negative >= 0.9, "{got:?}");
+    assert!(mean <= -2.0, "{mean}");
+    assert!(c.k_std / c.k_mean.abs() <= 0.5, "{c:?}");
+    assert!(mean <= 0.75 * designed_mean, "{mean} of {designed_mean}");
+    // Not asserted away: the simulated ring brings strips of rows 0 and 2
+    // within the clash distance (48 pairs, closest 6.3 mm; the model has
+    // no contact), and `build` warns of exactly that.
+    let source = std::fs::read_to_string("examples/saddle-ring.toml").expect("recipe");
+    let d = karigami::parse(&source, "t").expect("parses");
+    assert_eq!(
+        karigami::contact(&d, &placed).is_some(),
+        !m.clashes.is_empty(),
+        "{:?}",
+        m.clashes.first()
+    );
 }
 
 /// The eggbox's overstrain at its corner strip (docs/physics.md): the same
@@ -933,12 +953,7 @@ fn previews_of_the_simulated_beside_the_designed() {
 #[test]
 fn simulation_actuation_is_read_from_the_recipe() {
     let text = std::fs::read_to_string("examples/eggbox.toml").expect("recipe");
-    let with = |line: &str| {
-        text.replace(
-            "accept_overstrain = true",
-            &format!("accept_overstrain = true\n{line}"),
-        )
-    };
+    let with = |line: &str| format!("{text}\n[simulation]\n{line}\n");
     let read = |t: &str| karigami::parse(t, "t").map(|d| d.simulation.actuation);
     assert_eq!(read(&text).expect("parses"), Actuation::Mean);
     assert_eq!(
@@ -1044,12 +1059,27 @@ fn simulation_symmetry_is_read_and_checked() {
     );
 }
 
-/// The eggbox's recipe accepts its strips' overstrain: the build still
-/// warns about it, and report.txt states the simulated shape's strain.
+/// The eggbox's design with 1 mm strips instead of its 0.5 mm bends them
+/// beyond the allowable (3.0 %); a recipe that accepts that still builds,
+/// the build still warns about it, and report.txt states the simulated
+/// shape's strain.
 #[test]
 fn an_accepted_overstrain_is_warned_and_reported() {
-    let b = crate::util::example("eggbox");
-    let text = karigami::build_text(b);
+    // Not accepted: refused, naming the strip and what to change.
+    let refused = karigami::parse(&thick_eggbox(""), "eggbox").expect("parses");
+    let Err(e) = karigami::build(refused) else {
+        panic!("built with 3 % strain");
+    };
+    assert_eq!(e.kind.name(), "Overstrain", "{e:?}");
+    assert!(
+        e.message.contains("strip R") && e.message.contains("allowable is 1.50 %"),
+        "{}",
+        e.message
+    );
+    let text = thick_eggbox("[simulation]\naccept_overstrain = true\n");
+    let d = karigami::parse(&text, "eggbox").expect("parses");
+    let b = karigami::build(d).expect("builds");
+    let text = karigami::build_text(&b);
     let warned = text
         .lines()
         .find(|l| {

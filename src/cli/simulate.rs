@@ -5,7 +5,7 @@ use super::args::Verbosity;
 use super::error::Error;
 use super::recipe::Recipe;
 use karigami::{
-    ErrorKind, Lattice, Overrides,
+    Design, ErrorKind, Lattice, Overrides,
     shape::{self, VertexCurvature},
     simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
     util::plural,
@@ -55,6 +55,7 @@ pub(super) fn simulate(
             "{}",
             text(
                 &recipe.file,
+                design,
                 lattice,
                 &deploy.verdict(lattice),
                 &run,
@@ -85,6 +86,7 @@ fn pct(x: f64) -> String {
 /// allowed"; README, `simulate`).
 pub(super) fn text(
     file: &str,
+    design: &Design,
     lattice: &Lattice,
     verdict: &str,
     run: &Simulation,
@@ -182,6 +184,17 @@ pub(super) fn text(
     ] {
         let _ = writeln!(o, "curvature ({what}): {}", curvature_summary(&c));
     }
+    for (what, l) in [("design", lattice), ("simulated", &simulated)] {
+        let _ = writeln!(o, "relief ({what}): {}", relief(l));
+    }
+    let _ = writeln!(
+        o,
+        "clashes: {}",
+        karigami::contact(design, &simulated).unwrap_or_else(|| format!(
+            "none in the simulated deployed shape (same-layer strips at least {} mm + {} mm clearance apart)",
+            sec.width, design.clash.clearance
+        ))
+    );
     let (lo, hi) = eq
         .openings
         .iter()
@@ -253,6 +266,33 @@ pub(super) fn curvature_summary(c: &[VertexCurvature]) -> String {
     )
 }
 
+/// How many interior vertices of `l` are dome-like (angle defect of at
+/// least +3 deg) and saddle-like (-3 or less), and over how many rows and
+/// columns each spreads: the shape measures of `karigami check`.
+fn relief(l: &Lattice) -> String {
+    let c = l.curvature();
+    let deg = karigami::BUMP_DEG;
+    let spread = |keep: &dyn Fn(f64) -> bool| {
+        let (mut rows, mut cols) = (
+            std::collections::BTreeSet::new(),
+            std::collections::BTreeSet::new(),
+        );
+        for v in c.iter().filter(|v| keep(v.defect.to_degrees())) {
+            let k = l.vertex(v.vertex).key;
+            rows.insert(k.row);
+            cols.insert(k.col);
+        }
+        format!("{} rows, {} columns", rows.len(), cols.len())
+    };
+    let (dome, saddle) = shape::relief(&c, deg);
+    format!(
+        "{dome} of {} interior vertices at +{deg} deg or more (over {}), {saddle} at -{deg} deg or less (over {})",
+        c.len(),
+        spread(&|d| d >= deg),
+        spread(&|d| d <= -deg)
+    )
+}
+
 fn explore_text(
     lattice: &Lattice,
     lm: &LatticeModel,
@@ -290,33 +330,33 @@ fn explore_text(
             to_lowest
         );
     }
-    // Pop-through: vertices whose curvature changes sign between the
-    // lowest equilibrium and another, measured on each shape.
+    // Pop-through (the paper's: a bump turned inside out, still a bump),
+    // and vertices that change from dome-like to saddle-like or back,
+    // between the lowest equilibrium and each other, measured on each shape.
     if let Some(lowest) = lowest {
-        let base = curvature_at(lattice, lm, &lowest.points);
+        let base = Relief::at(lattice, lm, &lowest.points);
         for (k, f) in found.iter().enumerate().skip(1) {
-            let popped = popped(
-                lattice,
-                &base,
-                &curvature_at(lattice, lm, &f.equilibrium.points),
-            );
-            let shown: Vec<&str> = popped.iter().take(8).map(String::as_str).collect();
+            let other = Relief::at(lattice, lm, &f.equilibrium.points);
             let _ = writeln!(
                 o,
-                "  {} against 1: {} through (defect from beyond +-{} deg to beyond it the other way){}{}",
+                "  {} against 1: {} (dome-like vertices whose height over their neighbours, at least {BUMP_MM} mm, changes side){}",
                 k + 1,
-                match popped.len() {
-                    1 => "1 vertex pops".to_string(),
-                    n => format!("{n} vertices pop"),
+                match base.popped(&other, lattice).len() {
+                    1 => "1 bump pops through".to_string(),
+                    n => format!("{n} bumps pop through"),
+                },
+                listed(&base.popped(&other, lattice))
+            );
+            let _ = writeln!(
+                o,
+                "  {} against 1: {} sign (defect from beyond +-{} deg to beyond it the other way){}",
+                k + 1,
+                match base.flipped(&other, lattice).len() {
+                    1 => "1 vertex changes its curvature's".to_string(),
+                    n => format!("{n} vertices change their curvature's"),
                 },
                 shape::CURVED_DEG,
-                if popped.is_empty() { "" } else { ": " },
-                shown.join(", ")
-                    + if popped.len() > shown.len() {
-                        ", ..."
-                    } else {
-                        ""
-                    }
+                listed(&base.flipped(&other, lattice))
             );
         }
     }
@@ -333,26 +373,107 @@ fn explore_text(
     o
 }
 
-/// The angle defects of the lattice placed at an equilibrium's points.
-fn curvature_at(
-    lattice: &Lattice,
-    lm: &LatticeModel,
-    points: &[glam::DVec3],
-) -> Vec<VertexCurvature> {
-    sim::placed_at(lattice, lm, points).curvature()
+/// The least height (mm) of a bump over its neighbours that counts.
+const BUMP_MM: f64 = 0.5;
+
+/// ": a, b, ..." for up to 8 items, or nothing.
+fn listed(items: &[String]) -> String {
+    if items.is_empty() {
+        return String::new();
+    }
+    let shown: Vec<&str> = items.iter().take(8).map(String::as_str).collect();
+    format!(
+        ": {}{}",
+        shown.join(", "),
+        if items.len() > shown.len() {
+            ", ..."
+        } else {
+            ""
+        }
+    )
 }
 
-/// The interior vertices curved one way in `a` and the other way in `b`
-/// (beyond `shape::CURVED_DEG` both times), named with their defects.
-fn popped(lattice: &Lattice, a: &[VertexCurvature], b: &[VertexCurvature]) -> Vec<String> {
-    let c = shape::CURVED_DEG;
-    a.iter()
-        .zip(b)
-        .filter_map(|(x, y)| {
-            let (dx, dy) = (x.defect.to_degrees(), y.defect.to_degrees());
-            let flipped = x.vertex == y.vertex && ((dx >= c && dy <= -c) || (dx <= -c && dy >= c));
-            let key = lattice.vertices[x.vertex as usize].key;
-            flipped.then(|| format!("[{}, {}] {dx:+.1} -> {dy:+.1} deg", key.row, key.col))
-        })
-        .collect()
+/// The relief of one equilibrium: each interior vertex's angle defect and
+/// its height over the mean of its edge neighbours, along the mean normal
+/// of its cells (each cell's from its diagonals, oriented alike in every
+/// cell of a grown lattice, so the sign says which side of the sheet the
+/// vertex stands out to).
+struct Relief {
+    curvature: Vec<VertexCurvature>,
+    height: Vec<f64>,
+}
+
+impl Relief {
+    fn at(lattice: &Lattice, lm: &LatticeModel, points: &[glam::DVec3]) -> Relief {
+        let l = sim::placed_at(lattice, lm, points);
+        let n = l.vertices.len();
+        let mut normal = vec![glam::DVec3::ZERO; n];
+        let mut near: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for cell in &l.cells {
+            let [ul, ur, ll, lr] = l.corners(cell);
+            let across = (ur - ll).cross(ul - lr);
+            for (v, edges) in [
+                (cell.ul, [cell.ur, cell.ll]),
+                (cell.ur, [cell.ul, cell.lr]),
+                (cell.ll, [cell.ul, cell.lr]),
+                (cell.lr, [cell.ur, cell.ll]),
+            ] {
+                normal[v as usize] += across;
+                for e in edges {
+                    if !near[v as usize].contains(&e) {
+                        near[v as usize].push(e);
+                    }
+                }
+            }
+        }
+        let curvature = l.curvature();
+        let height = curvature
+            .iter()
+            .map(|c| {
+                let v = c.vertex as usize;
+                let ring = &near[v];
+                let mean = ring
+                    .iter()
+                    .map(|&u| l.vertices[u as usize].pos)
+                    .sum::<glam::DVec3>()
+                    / ring.len().max(1) as f64;
+                (l.vertices[v].pos - mean).dot(normal[v].normalize_or_zero())
+            })
+            .collect();
+        Relief { curvature, height }
+    }
+
+    /// The bumps of `self` turned inside out in `other`: dome-like in both,
+    /// standing at least `BUMP_MM` out to one side in one and to the
+    /// other side in the other, named with their heights.
+    fn popped(&self, other: &Relief, lattice: &Lattice) -> Vec<String> {
+        let c = shape::CURVED_DEG;
+        (0..self.curvature.len())
+            .filter_map(|i| {
+                let (x, y) = (&self.curvature[i], &other.curvature[i]);
+                let (ha, hb) = (self.height[i], other.height[i]);
+                let domes = x.defect.to_degrees() >= c && y.defect.to_degrees() >= c;
+                let turned = ha * hb < 0.0 && ha.abs() >= BUMP_MM && hb.abs() >= BUMP_MM;
+                let key = lattice.vertices[x.vertex as usize].key;
+                (domes && turned)
+                    .then(|| format!("[{}, {}] {ha:+.1} -> {hb:+.1} mm", key.row, key.col))
+            })
+            .collect()
+    }
+
+    /// The interior vertices curved one way in `self` and the other way in
+    /// `other` (beyond `shape::CURVED_DEG` both times), with their defects.
+    fn flipped(&self, other: &Relief, lattice: &Lattice) -> Vec<String> {
+        let c = shape::CURVED_DEG;
+        self.curvature
+            .iter()
+            .zip(&other.curvature)
+            .filter_map(|(x, y)| {
+                let (dx, dy) = (x.defect.to_degrees(), y.defect.to_degrees());
+                let flipped = (dx >= c && dy <= -c) || (dx <= -c && dy >= c);
+                let key = lattice.vertices[x.vertex as usize].key;
+                flipped.then(|| format!("[{}, {}] {dx:+.1} -> {dy:+.1} deg", key.row, key.col))
+            })
+            .collect()
+    }
 }

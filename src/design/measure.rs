@@ -54,7 +54,7 @@ pub struct Turn {
 }
 
 /// A defect of at least this (degrees) is a bump of an eggbox.
-pub(crate) const BUMP_DEG: f64 = 3.0;
+pub const BUMP_DEG: f64 = 3.0;
 
 /// Measure a grown design: shape, curvature, target fit and coverage,
 /// strip clashes, helix turns and bumps.

@@ -119,11 +119,19 @@ fn bumps(b: &Build, simulated: Option<&Lattice>) -> Option<String> {
             "{designed} (this build did not simulate the strips: how far the relief forms is not measured)"
         ),
     };
+    // A dome-like vertex can stand out to either side of the sheet
+    // (docs/physics.md, Multistability: the eggbox's bumps pop through).
+    let push = if dome > 0 {
+        " A bump that stands out to the wrong side may be pushed through to the other: such a lattice can \
+         have several stable shapes (karigami simulate --explore lists those it finds)."
+    } else {
+        ""
+    };
     Some(format!(
         "Bent facets: rows of this lattice grew on rebuilt fronts, so where two rows join, the strips must bend. \
          Assemble every joint with the strips straight; as you open the lattice the strips bend at the row joins \
          and the relief forms by itself: {shape}. Open it slowly and evenly; how far the bumps rise depends on \
-         the strips' stiffness (docs/physics.md)."
+         the strips' stiffness (docs/physics.md).{push}"
     ))
 }
 

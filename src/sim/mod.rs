@@ -291,14 +291,50 @@ pub fn deploy(
     if let Some(target) = theta {
         let start = lm.held_opening();
         let n = ((target - start).abs() / STEP).ceil() as usize;
+        // The equilibrium one step back, for the secant predictor.
+        let mut before: Option<Vec<f64>> = None;
         for k in 1..=n {
             let phi = start + (target - start) * k as f64 / n as f64;
+            let here = lm.model.q.clone();
+            let frames = lm.model.frames();
+            if let Some(back) = &before {
+                // The steps are equal: start the next solve where the last
+                // step's change, continued, lands (positions and angles;
+                // the frames follow), not at the last equilibrium. Newton
+                // then corrects a small error instead of a whole step.
+                predict(&mut lm.model, back, &here);
+            }
             lm.set_held_opening(phi);
-            stats = solve_checked(lm, &sys, opts, &mut total)?;
+            stats = match solve_checked(lm, &sys, opts, &mut total) {
+                Ok(s) => s,
+                // A prediction that overshoots (a fold of the path) is
+                // dropped: the step is solved again from the last
+                // equilibrium, as without a predictor.
+                Err(_) if before.is_some() => {
+                    lm.model.q.clone_from(&here);
+                    lm.model.set_frames(&frames);
+                    lm.set_held_opening(phi);
+                    solve_checked(lm, &sys, opts, &mut total)?
+                }
+                Err(e) => return Err(e),
+            };
+            before = Some(here);
             steps += 1;
         }
     }
     Ok((stats, total, steps))
+}
+
+/// Move the free variables of `m` from `here` by the change from `back`
+/// to `here` (a secant step along the deployment path).
+fn predict(m: &mut model::Model, back: &[f64], here: &[f64]) {
+    for (i, q) in m.q.iter_mut().enumerate() {
+        if !m.fixed[i] {
+            *q = here[i] + (here[i] - back[i]);
+        }
+    }
+    m.apply_ties();
+    m.update_frames();
 }
 
 fn solve_checked(
