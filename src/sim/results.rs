@@ -54,6 +54,9 @@ pub(crate) fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)
 }
 
 /// The strain peak over every rod.
+/// Relative difference below which two strains or reactions are a tie.
+const TIE: f64 = 1e-6;
+
 pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
     let sec = &m.section;
     let mut peak = StrainPeak::default();
@@ -80,7 +83,10 @@ pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
             let eq = (eps * eps + 3.0 * (g * gamma / e).powi(2)).sqrt();
             peak.gamma = peak.gamma.max(gamma);
             peak.eps_eq = peak.eps_eq.max(eq);
-            if eps > peak.eps {
+            // Strips alike by symmetry strain alike to within the solver's
+            // tolerance: the first of them is named, not whichever round-off
+            // favours (labels that moved with every change of the solver).
+            if eps > peak.eps * (1.0 + TIE) || (peak.rod.is_empty() && eps > 0.0) {
                 peak.eps = eps;
                 peak.rod = path.name.clone();
                 peak.s = path.s[k];
@@ -119,11 +125,17 @@ pub(crate) fn largest_reaction(m: &Model) -> (f64, usize, String) {
             }
         }
     }
+    // The first of equal reactions (to `TIE`), as for the strain.
     forces
         .into_iter()
-        .map(|((j, r), f)| (f.length(), j, m.rods[r].name.clone()))
-        .max_by(|a, b| a.0.total_cmp(&b.0))
-        .unwrap_or((0.0, 0, String::new()))
+        .map(|((j, r), f)| (f.length(), j, r))
+        .fold(None, |best: Option<(f64, usize, usize)>, x| match best {
+            Some(b) if !(x.0 > b.0 * (1.0 + TIE)) => Some(b),
+            _ => Some(x),
+        })
+        .map_or((0.0, 0, String::new()), |(f, j, r)| {
+            (f, j, m.rods[r].name.clone())
+        })
 }
 
 /// The proper rotation and translation taking `a` onto `b` in the least
