@@ -493,7 +493,10 @@ fn mean(legs: &Legs) -> f64 {
 
 /// Check every invariant of MATH.md 8.0-8.3.
 pub fn verify(lattice: &Lattice) -> Report {
-    verify_with(lattice, &Incidence::new(lattice))
+    match Incidence::new(lattice) {
+        Incidence::Grid(grid) if lattice.extrinsic() => verify_rows(lattice, &grid),
+        inc => verify_with(lattice, &inc),
+    }
 }
 
 /// `verify` with the incidence given (a grid or a table: the same report).
@@ -596,24 +599,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
                 legs.get(cc as usize),
                 legs.get(d as usize),
             ];
-            // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-            let f = |la: f64, lb: f64, lc: f64| {
-                (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
-            };
-            let maps = [
-                f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
-                f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
-                f(cc[3], cc[2], cc[1]), // f_c^(4,3,2): right edge -> bottom edge
-                f(d[0], d[3], d[2]),    // f_d^(1,4,3): top edge -> right edge
-            ];
-            let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
-            for (mi, ci) in maps.iter().rev() {
-                // Outermost map first: accumulate the product of the slopes
-                // applied after each intercept, as in the natural magnitude.
-                magnitude += (m * ci).abs();
-                k += m * ci;
-                m *= mi;
-            }
+            let (m, k, magnitude) = compose(a, b, cc, d);
             let s2 = ul.distance_squared(ll);
             let site = || vertex_site(lattice, v);
             slope.record(m - 1.0, site);
@@ -626,24 +612,304 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
         }
     }
 
+    let checks = [
+        straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
+    ];
+    report(lattice, leg_sum, checks, collapsed)
+}
+
+/// The report of a pass over the cells: its ten checks in `Invariant`
+/// order, then the collapsed state's three, all held to the tolerance.
+fn report(lattice: &Lattice, leg_sum: f64, checks: [Check; 10], collapsed: Collapsed) -> Report {
     let (collapsed, extent) = collapsed.finish(lattice, leg_sum);
     let tolerance = tolerance_of(lattice, leg_sum, extent);
+    let count = |k: usize| checks[k].count;
     Report {
         tolerance,
         cells: lattice.cells.len(),
         vertices: lattice.vertices.len(),
         rods: 2 * lattice.cells.len(),
-        horizontal_pores: pores_h.count,
-        vertical_pores: pores_v.count,
-        interior_vertices: slope.count,
-        checks: [
-            straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
-        ]
-        .into_iter()
-        .chain(collapsed)
-        .map(|c| Check { tolerance, ..c })
-        .collect(),
+        horizontal_pores: count(3),
+        vertical_pores: count(4),
+        interior_vertices: count(7),
+        checks: checks
+            .into_iter()
+            .chain(collapsed)
+            .map(|c| Check { tolerance, ..c })
+            .collect(),
     }
+}
+
+/// The four-map composition around an interior vertex (MATH.md 8.2), from
+/// the legs of the cells in which it is UL (`a`), LL (`b`), LR (`c`) and UR
+/// (`d`): the composed map's slope, intercept and the intercept's natural
+/// magnitude.
+#[inline(always)]
+fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
+    // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
+    let f = |la: f64, lb: f64, lc: f64| {
+        (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
+    };
+    let maps = [
+        f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
+        f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
+        f(cc[3], cc[2], cc[1]), // f_c^(4,3,2): right edge -> bottom edge
+        f(d[0], d[3], d[2]),    // f_d^(1,4,3): top edge -> right edge
+    ];
+    let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
+    for (mi, ci) in maps.iter().rev() {
+        // Outermost map first: accumulate the product of the slopes
+        // applied after each intercept, as in the natural magnitude.
+        magnitude += (m * ci).abs();
+        k += m * ci;
+        m *= mi;
+    }
+    (m, k, magnitude)
+}
+
+/// One row of a grid's cells, measured once (structure of arrays): each
+/// cell's corners `[UL, UR, LL, LR]`, their construction z, its legs and
+/// mean leg.
+#[derive(Default)]
+struct Row {
+    corners: Vec<[DVec3; 4]>,
+    z: Vec<[f64; 4]>,
+    legs: Vec<Legs>,
+    means: Vec<f64>,
+}
+
+impl Row {
+    /// Measure row `i` of `grid` (extrinsic: every corner is its vertex's
+    /// stored position, the legs the same bits as `Lattice::legs`).
+    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) {
+        let (width, front) = (grid.width, grid.front);
+        let cells = &lattice.cells[i * width..(i + 1) * width];
+        let top = &lattice.vertices[i * front..(i + 1) * front];
+        let bottom = &lattice.vertices[(i + 1) * front..(i + 2) * front];
+        self.corners.clear();
+        self.z.clear();
+        self.legs.clear();
+        self.means.clear();
+        for (j, cell) in cells.iter().enumerate() {
+            let right = if j + 1 == front { 0 } else { j + 1 };
+            let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
+            let p = cell.pivot;
+            let legs = [
+                p.distance(ul.pos),
+                p.distance(ll.pos),
+                p.distance(lr.pos),
+                p.distance(ur.pos),
+            ];
+            self.corners.push([ul.pos, ur.pos, ll.pos, lr.pos]);
+            self.z.push([ul.z, ur.z, ll.z, lr.z]);
+            self.legs.push(legs);
+            self.means.push(mean(&legs));
+        }
+    }
+}
+
+/// True when some residual of `series` would raise a check whose largest
+/// is `max` (a NaN residual, or a NaN largest, always does): one
+/// comparison a residual, no branch, over a whole row.
+#[inline]
+fn exceeds(max: f64, series: &[f64]) -> bool {
+    series.iter().fold(false, |any, x| any | !(x.abs() <= max))
+}
+
+/// Record a row's residuals of one check: `series[s][k]` is the `s`-th
+/// residual of the row's cell `first + k` (a series may stop early: its
+/// last cells have none). The order of `record` is cell by cell, each
+/// cell's series in order, as the pass over the cells records them, so the
+/// largest, its site (the first attaining it) and the count are the same
+/// bits; the row is replayed one residual at a time only when it holds a
+/// new largest.
+fn record_row(
+    check: &mut Check,
+    first: usize,
+    series: &[&[f64]],
+    site: impl Fn(usize) -> String,
+) {
+    if !series.iter().any(|s| exceeds(check.max, s)) {
+        check.count += series.iter().map(|s| s.len()).sum::<usize>();
+        return;
+    }
+    let cells = series.iter().map(|s| s.len()).max().unwrap_or(0);
+    for k in 0..cells {
+        for s in series {
+            if let Some(&r) = s.get(k) {
+                check.record(r, || site(first + k));
+            }
+        }
+    }
+}
+
+/// The residuals of one row, one array per recorded quantity, reused
+/// from row to row.
+#[derive(Default)]
+struct RowResiduals {
+    bend_a: Vec<f64>,
+    bend_b: Vec<f64>,
+    legs_z: [Vec<f64>; 4],
+    pores_h: Vec<f64>,
+    edges_right: Vec<f64>,
+    pores_v: Vec<f64>,
+    edges_below: Vec<f64>,
+    slope: Vec<f64>,
+    intercept: Vec<f64>,
+    natural: Vec<f64>,
+}
+
+/// `verify` of a regular, extrinsic sheet or loop, row by row: each row's
+/// legs measured once into arrays (`Row`), each invariant's residuals
+/// computed over the row in a simple loop, then compared with the check's
+/// largest at once (`record_row`). The same residuals, in the same order,
+/// with the same arithmetic as `verify_with`, so the same report bit for
+/// bit (a unit test holds the two together, on good and damaged lattices).
+fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
+    use Invariant as I;
+    let Grid { width, rows, .. } = *grid;
+    let mut leg_sum = 0.0;
+    let [
+        mut straight,
+        mut legs_z,
+        mut seed,
+        mut pores_h,
+        mut pores_v,
+        mut edges,
+        mut closure,
+        mut slope,
+        mut intercept,
+        mut natural,
+    ] = [
+        I::RodStraightness,
+        I::LegsMatchZ,
+        I::SeedKappa,
+        I::HorizontalPores,
+        I::VerticalPores,
+        I::SharedEdges,
+        I::LoopClosure,
+        I::CompatibilitySlope,
+        I::CompatibilityIntercept,
+        I::CompatibilityInterceptNatural,
+    ]
+    .map(Check::new);
+    let mut collapsed = Collapsed::new(lattice);
+    let (mut above, mut here, mut below) = (Row::default(), Row::default(), Row::default());
+    let mut r = RowResiduals::default();
+    if rows > 0 {
+        here.measure(lattice, grid, 0);
+    }
+    // Cells with a right neighbour: all of a loop's, all but a sheet's last.
+    let paired = if grid.closed { width } else { width - 1 };
+    for i in 0..rows {
+        let first = i * width;
+        let cells = &lattice.cells[first..first + width];
+        let cell_site = |k: usize| lattice.cell_name(&cells[k]);
+        let has_below = i + 1 < rows;
+        if has_below {
+            below.measure(lattice, grid, i + 1);
+        }
+        // What runs cell by cell: the collapsed sweep (each cell's z from
+        // the cells before it), the sum of the mean legs in cell order,
+        // and the first row's and column's rare checks.
+        for (j, cell) in cells.iter().enumerate() {
+            let (own, scale, corners) = (here.legs[j], here.means[j], here.corners[j]);
+            leg_sum += scale;
+            let inv = 1.0 / scale;
+            collapsed.step(lattice, first + j, &own, inv, corners);
+            let site = || lattice.cell_name(cell);
+            let [l1, l2, _, l4] = own;
+            let [_, ur, ll, _] = corners;
+            let p = cell.pivot;
+            if lattice.kind == super::Kind::Loop && cell.col == 0 {
+                closure.record(bend(p - ur, l4, ll - p, l2), site);
+            }
+            if cell.row == 0 {
+                seed.record(((l4 - l1) - lattice.kappa(cell)) * inv, site);
+            }
+        }
+        // Each residual over the row.
+        for buffer in [&mut r.bend_a, &mut r.bend_b, &mut r.pores_h, &mut r.edges_right]
+            .into_iter()
+            .chain(&mut r.legs_z)
+            .chain([&mut r.pores_v, &mut r.edges_below])
+            .chain([&mut r.slope, &mut r.intercept, &mut r.natural])
+        {
+            buffer.clear();
+        }
+        for (j, cell) in cells.iter().enumerate() {
+            let [l1, l2, l3, l4] = here.legs[j];
+            let [ul, ur, ll, lr] = here.corners[j];
+            let p = cell.pivot;
+            r.bend_a.push(bend(p - ul, l1, lr - p, l3));
+            r.bend_b.push(bend(p - ur, l4, ll - p, l2));
+            let inv = 1.0 / here.means[j];
+            let [zul, zur, zll, zlr] = here.z[j];
+            let zp = cell.z_pivot;
+            let [a, b, c, d] = &mut r.legs_z;
+            a.push((zp - zul - l1) * inv);
+            b.push((zp - zur - l4) * inv);
+            c.push((zll - zp - l2) * inv);
+            d.push((zlr - zp - l3) * inv);
+        }
+        // Right neighbour: B.UL = A.UR and B.LL = A.LR (the next cell,
+        // the first for a loop's last).
+        for j in 0..paired {
+            let n = if j + 1 == width { 0 } else { j + 1 };
+            let [_, _, l3, l4] = here.legs[j];
+            let [m1, m2, _, _] = here.legs[n];
+            let s = 0.5 * (here.means[j] + here.means[n]);
+            r.pores_h.push(((l3 + l4) - (m1 + m2)) / s);
+            let [_, ur, _, lr] = here.corners[j];
+            r.edges_right.push(edge_residual(ur, lr, ur, lr, s));
+        }
+        // Neighbour below: B.UL = A.LL and B.UR = A.LR.
+        if has_below {
+            for j in 0..width {
+                let [_, l2, l3, _] = here.legs[j];
+                let [m1, _, _, m4] = below.legs[j];
+                let s = 0.5 * (here.means[j] + below.means[j]);
+                r.pores_v.push(((l2 + m1) - (l3 + m4)) / s);
+                let [_, _, ll, lr] = here.corners[j];
+                r.edges_below.push(edge_residual(ll, lr, ll, lr, s));
+            }
+        }
+        // Compatibility at each cell's UL vertex, interior when the cells
+        // above and to the left exist (a loop's left of column 0 is its
+        // last column).
+        let from = if grid.closed { 0 } else { 1 };
+        if i >= 1 {
+            for j in from..width {
+                let left = if j == 0 { width - 1 } else { j - 1 };
+                let (m, k, magnitude) = compose(
+                    here.legs[j],
+                    above.legs[j],
+                    above.legs[left],
+                    here.legs[left],
+                );
+                let [ul, _, ll, _] = here.corners[j];
+                r.slope.push(m - 1.0);
+                r.intercept.push(k / ul.distance_squared(ll));
+                r.natural.push(k / magnitude);
+            }
+        }
+        record_row(&mut straight, 0, &[&r.bend_a, &r.bend_b], cell_site);
+        let [a, b, c, d] = &r.legs_z;
+        record_row(&mut legs_z, 0, &[a, b, c, d], cell_site);
+        record_row(&mut pores_h, 0, &[&r.pores_h], cell_site);
+        record_row(&mut pores_v, 0, &[&r.pores_v], cell_site);
+        record_row(&mut edges, 0, &[&r.edges_right, &r.edges_below], cell_site);
+        let vertex = |k: usize| vertex_site(lattice, cells[k].ul as usize);
+        record_row(&mut slope, from, &[&r.slope], vertex);
+        record_row(&mut intercept, from, &[&r.intercept], vertex);
+        record_row(&mut natural, from, &[&r.natural], vertex);
+        std::mem::swap(&mut above, &mut here);
+        std::mem::swap(&mut here, &mut below);
+    }
+    let checks = [
+        straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
+    ];
+    report(lattice, leg_sum, checks, collapsed)
 }
 
 /// `Collapsed::reached` of a cell reached through no corner.
@@ -908,6 +1174,72 @@ mod tests {
             let mut extra = lattice.clone();
             extra.vertices.push(extra.vertices[0]);
             assert!(Incidence::grid(&extra).is_none());
+        }
+    }
+
+    /// Two reports the same bits (NaN included, which `==` would not
+    /// allow): every check's largest, site and count, and the tolerance.
+    fn same_bits(x: &Report, y: &Report) -> bool {
+        let key = |r: &Report| {
+            let checks: Vec<_> = r
+                .checks
+                .iter()
+                .map(|c| (c.invariant, c.count, c.max.to_bits(), c.site.clone()))
+                .collect();
+            (checks, r.tolerance.to_bits(), r.interior_vertices)
+        };
+        key(x) == key(y)
+    }
+
+    /// Verification by rows gives the report of the pass over the cells,
+    /// bit for bit, on sheets and loops both good and damaged: positions,
+    /// pivots and z moved by amounts from rounding to gross, NaN and
+    /// infinite coordinates, a cell's row or column renamed.
+    #[test]
+    fn rows_give_the_report_of_the_pass_over_the_cells() {
+        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / 7.0);
+        let ring: Vec<DVec3> = std::iter::successors(Some(30.0 * DVec3::X), |p| Some(step * *p))
+            .take(7)
+            .collect();
+        let row = crate::lattice::RowParams {
+            direction: Some(crate::legs::Direction::Angles {
+                angle_deg: 45.0,
+                tilt_deg: 90.0,
+            }),
+            ..Default::default()
+        };
+        let tube = crate::lattice::grow(Kind::Loop, 3, &ring, &[0.0; 7], &vec![row; 4])
+            .expect("the tube grows");
+        let wide = fixtures::sheet(&fixtures::line(6), &[0.0; 6], 2, 40.0, 5);
+        let mut rng = crate::rng::Rng::new(5);
+        for lattice in [sheet(), wide, tube] {
+            let grid = Incidence::grid(&lattice).expect("a grid");
+            assert!(lattice.extrinsic());
+            let table = Incidence::table(&lattice);
+            assert!(same_bits(&verify_rows(&lattice, &grid), &verify_with(&lattice, &table)));
+            for round in 0..300 {
+                let mut bad = lattice.clone();
+                for _ in 0..1 + round % 3 {
+                    let size = match rng.next_u64() % 6 {
+                        0 => f64::NAN,
+                        1 => f64::INFINITY,
+                        k => 10f64.powi(-(3 * k as i32)) * rng.signed(),
+                    };
+                    let v = (rng.next_u64() % bad.vertices.len() as u64) as usize;
+                    let c = (rng.next_u64() % bad.cells.len() as u64) as usize;
+                    let axis = (rng.next_u64() % 3) as usize;
+                    match rng.next_u64() % 5 {
+                        0 => bad.vertices[v].pos[axis] += size,
+                        1 => bad.vertices[v].z += size,
+                        2 => bad.cells[c].pivot[axis] += size,
+                        3 => bad.cells[c].z_pivot += size,
+                        _ => bad.cells[c].col ^= 1,
+                    }
+                }
+                let rows = verify(&bad);
+                let cells = verify_with(&bad, &Incidence::table(&bad));
+                assert!(same_bits(&rows, &cells), "round {round}: {rows:?} {cells:?}");
+            }
         }
     }
 
