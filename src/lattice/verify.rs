@@ -546,7 +546,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
         let p = cell.pivot;
         let corners = lattice.corners(cell);
         let [ul, ur, ll, lr] = corners;
-        collapsed.step(lattice, c, &own, inv, corners);
+        collapsed.step(lattice, c, (&own, inv), &corners, true);
         straight.record_bend((p - ul, l1), (lr - p, l3), site);
         straight.record_bend((p - ur, l4), (ll - p, l2), site);
         if lattice.kind == super::Kind::Loop && cell.col == 0 {
@@ -686,25 +686,43 @@ impl Row {
         let cells = &lattice.cells[i * width..(i + 1) * width];
         let top = &lattice.vertices[i * front..(i + 1) * front];
         let bottom = &lattice.vertices[(i + 1) * front..(i + 2) * front];
-        self.corners.clear();
-        self.z.clear();
-        self.legs.clear();
-        self.means.clear();
-        for (j, cell) in cells.iter().enumerate() {
+        self.corners.resize(width, [DVec3::ZERO; 4]);
+        self.z.resize(width, [0.0; 4]);
+        self.legs.resize(width, [0.0; 4]);
+        self.means.resize(width, 0.0);
+        let out = self
+            .corners
+            .iter_mut()
+            .zip(&mut self.z)
+            .zip(self.legs.iter_mut().zip(&mut self.means));
+        for (j, (cell, ((corners, z), (legs, mean_leg)))) in cells.iter().zip(out).enumerate() {
             let right = if j + 1 == front { 0 } else { j + 1 };
             let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
             let p = cell.pivot;
-            let legs = [
+            *legs = [
                 p.distance(ul.pos),
                 p.distance(ll.pos),
                 p.distance(lr.pos),
                 p.distance(ur.pos),
             ];
-            self.corners.push([ul.pos, ur.pos, ll.pos, lr.pos]);
-            self.z.push([ul.z, ur.z, ll.z, lr.z]);
-            self.legs.push(legs);
-            self.means.push(mean(&legs));
+            *corners = [ul.pos, ur.pos, ll.pos, lr.pos];
+            *z = [ul.z, ur.z, ll.z, lr.z];
+            *mean_leg = mean(legs);
         }
+    }
+}
+
+/// `edge_residual(a, b, a, b, s)`, for the edge a cell shares with a
+/// neighbour holding the same stored corners: 0 when both points are
+/// finite and `s` is neither 0 nor NaN, else NaN (`|a - b|` of a
+/// non-finite point is NaN or infinite, and its difference with itself
+/// NaN). The sign of a zero does not matter to a residual.
+#[inline(always)]
+fn same_edge(a: DVec3, b: DVec3, s: f64) -> f64 {
+    if a.is_finite() && b.is_finite() && s != 0.0 && !s.is_nan() {
+        0.0
+    } else {
+        f64::NAN
     }
 }
 
@@ -757,6 +775,39 @@ struct RowResiduals {
     slope: Vec<f64>,
     intercept: Vec<f64>,
     natural: Vec<f64>,
+    rod_a: Vec<f64>,
+    rod_b: Vec<f64>,
+}
+
+impl RowResiduals {
+    /// Every array `n` long, to be written in place.
+    fn size(&mut self, n: usize) {
+        for buffer in self.all() {
+            buffer.resize(n, 0.0);
+        }
+    }
+
+    /// Cut the neighbours' arrays to the cells that have them: `paired`
+    /// with a right neighbour, `below` with one below, `interior` UL
+    /// vertices.
+    fn trim(&mut self, paired: usize, below: usize, interior: usize) {
+        self.pores_h.truncate(paired);
+        self.edges_right.truncate(paired);
+        self.pores_v.truncate(below);
+        self.edges_below.truncate(below);
+        for buffer in [&mut self.slope, &mut self.intercept, &mut self.natural] {
+            buffer.truncate(interior);
+        }
+    }
+
+    fn all(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
+        [&mut self.bend_a, &mut self.bend_b, &mut self.pores_h]
+            .into_iter()
+            .chain(&mut self.legs_z)
+            .chain([&mut self.edges_right, &mut self.pores_v])
+            .chain([&mut self.edges_below, &mut self.slope])
+            .chain([&mut self.intercept, &mut self.natural])
+    }
 }
 
 /// `verify` of a regular, extrinsic sheet or loop, row by row: each row's
@@ -813,13 +864,13 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
         // the cells before it), the sum of the mean legs in cell order,
         // and the first row's and column's rare checks.
         for (j, cell) in cells.iter().enumerate() {
-            let (own, scale, corners) = (here.legs[j], here.means[j], here.corners[j]);
+            let (own, scale, corners) = (here.legs[j], here.means[j], &here.corners[j]);
             leg_sum += scale;
             let inv = 1.0 / scale;
-            collapsed.step(lattice, first + j, &own, inv, corners);
+            collapsed.step(lattice, first + j, (&own, inv), corners, false);
             let site = || lattice.cell_name(cell);
             let [l1, l2, _, l4] = own;
-            let [_, ur, ll, _] = corners;
+            let [_, ur, ll, _] = *corners;
             let p = cell.pivot;
             if lattice.kind == super::Kind::Loop && cell.col == 0 {
                 closure.record(bend(p - ur, l4, ll - p, l2), site);
@@ -828,70 +879,106 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
                 seed.record(((l4 - l1) - lattice.kappa(cell)) * inv, site);
             }
         }
-        // Each residual over the row.
-        for buffer in [&mut r.bend_a, &mut r.bend_b, &mut r.pores_h, &mut r.edges_right]
-            .into_iter()
-            .chain(&mut r.legs_z)
-            .chain([&mut r.pores_v, &mut r.edges_below])
-            .chain([&mut r.slope, &mut r.intercept, &mut r.natural])
+        // Each residual over the row, in loops over slices of the row's
+        // length (no bounds checks, nothing but the arithmetic).
+        let n = width;
+        let (legs, corners, z, means) = (
+            &here.legs[..n],
+            &here.corners[..n],
+            &here.z[..n],
+            &here.means[..n],
+        );
+        r.size(n);
         {
-            buffer.clear();
-        }
-        for (j, cell) in cells.iter().enumerate() {
-            let [l1, l2, l3, l4] = here.legs[j];
-            let [ul, ur, ll, lr] = here.corners[j];
-            let p = cell.pivot;
-            r.bend_a.push(bend(p - ul, l1, lr - p, l3));
-            r.bend_b.push(bend(p - ur, l4, ll - p, l2));
-            let inv = 1.0 / here.means[j];
-            let [zul, zur, zll, zlr] = here.z[j];
-            let zp = cell.z_pivot;
-            let [a, b, c, d] = &mut r.legs_z;
-            a.push((zp - zul - l1) * inv);
-            b.push((zp - zur - l4) * inv);
-            c.push((zll - zp - l2) * inv);
-            d.push((zlr - zp - l3) * inv);
+            let (bend_a, bend_b) = (&mut r.bend_a[..n], &mut r.bend_b[..n]);
+            let [za, zb, zc, zd] = &mut r.legs_z;
+            let (za, zb, zc, zd) = (&mut za[..n], &mut zb[..n], &mut zc[..n], &mut zd[..n]);
+            for j in 0..n {
+                let [l1, l2, l3, l4] = legs[j];
+                let [ul, ur, ll, lr] = corners[j];
+                let p = cells[j].pivot;
+                bend_a[j] = bend(p - ul, l1, lr - p, l3);
+                bend_b[j] = bend(p - ur, l4, ll - p, l2);
+                let inv = 1.0 / means[j];
+                let [zul, zur, zll, zlr] = z[j];
+                let zp = cells[j].z_pivot;
+                za[j] = (zp - zul - l1) * inv;
+                zb[j] = (zp - zur - l4) * inv;
+                zc[j] = (zll - zp - l2) * inv;
+                zd[j] = (zlr - zp - l3) * inv;
+            }
         }
         // Right neighbour: B.UL = A.UR and B.LL = A.LR (the next cell,
         // the first for a loop's last).
-        for j in 0..paired {
-            let n = if j + 1 == width { 0 } else { j + 1 };
-            let [_, _, l3, l4] = here.legs[j];
-            let [m1, m2, _, _] = here.legs[n];
-            let s = 0.5 * (here.means[j] + here.means[n]);
-            r.pores_h.push(((l3 + l4) - (m1 + m2)) / s);
-            let [_, ur, _, lr] = here.corners[j];
-            r.edges_right.push(edge_residual(ur, lr, ur, lr, s));
+        {
+            let (pores, edge) = (&mut r.pores_h[..paired], &mut r.edges_right[..paired]);
+            for j in 0..paired {
+                let k = if j + 1 == n { 0 } else { j + 1 };
+                let [_, _, l3, l4] = legs[j];
+                let [m1, m2, _, _] = legs[k];
+                let s = 0.5 * (means[j] + means[k]);
+                pores[j] = ((l3 + l4) - (m1 + m2)) / s;
+                let [_, ur, _, lr] = corners[j];
+                edge[j] = same_edge(ur, lr, s);
+            }
         }
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        if has_below {
-            for j in 0..width {
-                let [_, l2, l3, _] = here.legs[j];
-                let [m1, _, _, m4] = below.legs[j];
-                let s = 0.5 * (here.means[j] + below.means[j]);
-                r.pores_v.push(((l2 + m1) - (l3 + m4)) / s);
-                let [_, _, ll, lr] = here.corners[j];
-                r.edges_below.push(edge_residual(ll, lr, ll, lr, s));
+        let (n_below, from) = (
+            if has_below { n } else { 0 },
+            if grid.closed { 0 } else { 1 },
+        );
+        {
+            let (pores, edge) = (&mut r.pores_v[..n_below], &mut r.edges_below[..n_below]);
+            let (under, under_means) = (&below.legs[..n_below], &below.means[..n_below]);
+            for j in 0..n_below {
+                let [_, l2, l3, _] = legs[j];
+                let [m1, _, _, m4] = under[j];
+                let s = 0.5 * (means[j] + under_means[j]);
+                pores[j] = ((l2 + m1) - (l3 + m4)) / s;
+                let [_, _, ll, lr] = corners[j];
+                edge[j] = same_edge(ll, lr, s);
             }
         }
         // Compatibility at each cell's UL vertex, interior when the cells
         // above and to the left exist (a loop's left of column 0 is its
         // last column).
-        let from = if grid.closed { 0 } else { 1 };
-        if i >= 1 {
-            for j in from..width {
-                let left = if j == 0 { width - 1 } else { j - 1 };
-                let (m, k, magnitude) = compose(
-                    here.legs[j],
-                    above.legs[j],
-                    above.legs[left],
-                    here.legs[left],
-                );
-                let [ul, _, ll, _] = here.corners[j];
-                r.slope.push(m - 1.0);
-                r.intercept.push(k / ul.distance_squared(ll));
-                r.natural.push(k / magnitude);
+        let interior = if i >= 1 { n - from } else { 0 };
+        {
+            let (slopes, intercepts, naturals) = (
+                &mut r.slope[..interior],
+                &mut r.intercept[..interior],
+                &mut r.natural[..interior],
+            );
+            let over = &above.legs[..if i >= 1 { n } else { 0 }];
+            for k in 0..interior {
+                let j = from + k;
+                let left = if j == 0 { n - 1 } else { j - 1 };
+                let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
+                let [ul, _, ll, _] = corners[j];
+                slopes[k] = m - 1.0;
+                intercepts[k] = c / ul.distance_squared(ll);
+                naturals[k] = c / magnitude;
             }
+        }
+        r.trim(paired, n_below, interior);
+        // The collapsed rods, once the row is swept (their check is
+        // measured again after the sweep if some cell was not reached).
+        if collapsed.all_reached {
+            let front = grid.front;
+            let zs = &collapsed.z[i * front..(i + 2) * front];
+            let (rod_a, rod_b) = (&mut r.rod_a, &mut r.rod_b);
+            rod_a.clear();
+            rod_b.clear();
+            for j in 0..n {
+                let right = if j + 1 == front { 0 } else { j + 1 };
+                let (zul, zur) = (zs[j], zs[right]);
+                let (zll, zlr) = (zs[front + j], zs[front + right]);
+                let [ul, ur, ll, lr] = corners[j];
+                let inv = 1.0 / means[j];
+                rod_a.push((zlr - zul - ul.distance(lr)) * inv);
+                rod_b.push((zll - zur - ur.distance(ll)) * inv);
+            }
+            record_row(&mut collapsed.rods, 0, &[rod_a, rod_b], cell_site);
         }
         record_row(&mut straight, 0, &[&r.bend_a, &r.bend_b], cell_site);
         let [a, b, c, d] = &r.legs_z;
@@ -957,9 +1044,18 @@ impl Collapsed {
         }
     }
 
-    /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners).
+    /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners),
+    /// and measure its rods unless `rods` is false (`verify_rows` measures
+    /// a row's after its sweep: the z of a swept cell's corners are final).
     #[inline]
-    fn step(&mut self, lattice: &Lattice, c: usize, legs: &Legs, inv: f64, corners: [DVec3; 4]) {
+    fn step(
+        &mut self,
+        lattice: &Lattice,
+        c: usize,
+        (legs, inv): (&Legs, f64),
+        corners: &[DVec3; 4],
+        rods: bool,
+    ) {
         let cell = &lattice.cells[c];
         let [l1, l2, l3, l4] = *legs;
         let z = &mut self.z;
@@ -986,8 +1082,8 @@ impl Collapsed {
                     .record((*slot - expect) * inv, || lattice.cell_name(cell));
             }
         }
-        if self.all_reached {
-            let [ul, ur, ll, lr] = corners;
+        if rods && self.all_reached {
+            let [ul, ur, ll, lr] = *corners;
             let site = || lattice.cell_name(cell);
             self.rods.record(
                 (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
