@@ -647,9 +647,8 @@ fn report(lattice: &Lattice, leg_sum: f64, checks: [Check; 10], collapsed: Colla
 #[inline(always)]
 fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
     // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-    let f = |la: f64, lb: f64, lc: f64| {
-        (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
-    };
+    let f =
+        |la: f64, lb: f64, lc: f64| (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb));
     let maps = [
         f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
         f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
@@ -741,12 +740,7 @@ fn exceeds(max: f64, series: &[f64]) -> bool {
 /// largest, its site (the first attaining it) and the count are the same
 /// bits; the row is replayed one residual at a time only when it holds a
 /// new largest.
-fn record_row(
-    check: &mut Check,
-    first: usize,
-    series: &[&[f64]],
-    site: impl Fn(usize) -> String,
-) {
+fn record_row(check: &mut Check, first: usize, series: &[&[f64]], site: impl Fn(usize) -> String) {
     if !series.iter().any(|s| exceeds(check.max, s)) {
         check.count += series.iter().map(|s| s.len()).sum::<usize>();
         return;
@@ -1312,7 +1306,10 @@ mod tests {
             let grid = Incidence::grid(&lattice).expect("a grid");
             assert!(lattice.extrinsic());
             let table = Incidence::table(&lattice);
-            assert!(same_bits(&verify_rows(&lattice, &grid), &verify_with(&lattice, &table)));
+            assert!(same_bits(
+                &verify_rows(&lattice, &grid),
+                &verify_with(&lattice, &table)
+            ));
             for round in 0..300 {
                 let mut bad = lattice.clone();
                 for _ in 0..1 + round % 3 {
@@ -1334,7 +1331,10 @@ mod tests {
                 }
                 let rows = verify(&bad);
                 let cells = verify_with(&bad, &Incidence::table(&bad));
-                assert!(same_bits(&rows, &cells), "round {round}: {rows:?} {cells:?}");
+                assert!(
+                    same_bits(&rows, &cells),
+                    "round {round}: {rows:?} {cells:?}"
+                );
             }
         }
     }
