@@ -1223,16 +1223,11 @@ mod tests {
         }
     }
 
-    /// A grown sheet or loop is a grid whose formula names the cells the
-    /// table read from the corner indices holds, for every vertex, and
-    /// verification gives the same report with either; a cell with other
-    /// corners, or a vertex more, makes it a table again.
-    #[test]
-    fn a_grid_names_the_cells_of_the_table() {
-        // The tube of templates/tube.toml: ten points round a circle.
-        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / 10.0);
+    /// A tube of `n` points round a circle, `rows` rows tilted up.
+    fn tube(n: usize, rows: usize) -> Lattice {
+        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / n as f64);
         let ring: Vec<DVec3> = std::iter::successors(Some(30.0 * DVec3::X), |p| Some(step * *p))
-            .take(10)
+            .take(n)
             .collect();
         let row = crate::lattice::RowParams {
             direction: Some(crate::legs::Direction::Angles {
@@ -1241,8 +1236,18 @@ mod tests {
             }),
             ..Default::default()
         };
-        let tube = crate::lattice::grow(Kind::Loop, 3, &ring, &[0.0; 10], &vec![row; 3])
-            .expect("the tube grows");
+        crate::lattice::grow(Kind::Loop, 3, &ring, &vec![0.0; n], &vec![row; rows])
+            .expect("the tube grows")
+    }
+
+    /// A grown sheet or loop is a grid whose formula names the cells the
+    /// table read from the corner indices holds, for every vertex, and
+    /// verification gives the same report with either; a cell with other
+    /// corners, or a vertex more, makes it a table again.
+    #[test]
+    fn a_grid_names_the_cells_of_the_table() {
+        // The tube of templates/tube.toml: ten points round a circle.
+        let tube = tube(10, 3);
         for lattice in [sheet(), tube] {
             let grid = Incidence::grid(&lattice).expect("a grown sheet or loop is a grid");
             let Incidence::Table(table) = Incidence::table(&lattice) else {
@@ -1287,19 +1292,7 @@ mod tests {
     /// infinite coordinates, a cell's row or column renamed.
     #[test]
     fn rows_give_the_report_of_the_pass_over_the_cells() {
-        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / 7.0);
-        let ring: Vec<DVec3> = std::iter::successors(Some(30.0 * DVec3::X), |p| Some(step * *p))
-            .take(7)
-            .collect();
-        let row = crate::lattice::RowParams {
-            direction: Some(crate::legs::Direction::Angles {
-                angle_deg: 45.0,
-                tilt_deg: 90.0,
-            }),
-            ..Default::default()
-        };
-        let tube = crate::lattice::grow(Kind::Loop, 3, &ring, &[0.0; 7], &vec![row; 4])
-            .expect("the tube grows");
+        let tube = tube(7, 4);
         let wide = fixtures::sheet(&fixtures::line(6), &[0.0; 6], 2, 40.0, 5);
         let mut rng = crate::rng::Rng::new(5);
         for lattice in [sheet(), wide, tube] {
