@@ -285,6 +285,14 @@ impl Lattice {
     }
 }
 
+/// `k % n`, with the division only when `k` is past the end: growth and
+/// verification step round a front a vertex or two at a time, and an
+/// integer division costs tens of cycles where the comparison costs one.
+#[inline(always)]
+pub(crate) fn wrap(k: usize, n: usize) -> usize {
+    if k < n { k } else { k % n }
+}
+
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).
 pub(crate) fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))

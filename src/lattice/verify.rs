@@ -259,7 +259,7 @@ impl Grid {
     #[inline]
     fn corners(&self, i: usize, j: usize) -> [usize; 4] {
         let (top, bottom) = (i * self.front, (i + 1) * self.front);
-        let right = (j + 1) % self.front;
+        let right = super::wrap(j + 1, self.front);
         [top + j, top + right, bottom + j, bottom + right]
     }
 
@@ -960,17 +960,17 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
         if collapsed.all_reached {
             let front = grid.front;
             let zs = &collapsed.z[i * front..(i + 2) * front];
-            let (rod_a, rod_b) = (&mut r.rod_a, &mut r.rod_b);
-            rod_a.clear();
-            rod_b.clear();
+            r.rod_a.resize(n, 0.0);
+            r.rod_b.resize(n, 0.0);
+            let (rod_a, rod_b) = (&mut r.rod_a[..n], &mut r.rod_b[..n]);
             for j in 0..n {
                 let right = if j + 1 == front { 0 } else { j + 1 };
                 let (zul, zur) = (zs[j], zs[right]);
                 let (zll, zlr) = (zs[front + j], zs[front + right]);
-                let [ul, ur, ll, lr] = corners[j];
+                let [ul, ur, ll, lr] = &corners[j];
                 let inv = 1.0 / means[j];
-                rod_a.push((zlr - zul - ul.distance(lr)) * inv);
-                rod_b.push((zll - zur - ur.distance(ll)) * inv);
+                rod_a[j] = (zlr - zul - ul.distance(*lr)) * inv;
+                rod_b[j] = (zll - zur - ur.distance(*ll)) * inv;
             }
             record_row(&mut collapsed.rods, 0, &[rod_a, rod_b], cell_site);
         }
