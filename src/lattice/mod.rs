@@ -190,6 +190,16 @@ impl Lattice {
         }
     }
 
+    /// Corner `k` (0 to 3: UL, UR, LL, LR) of `corners`, alone.
+    #[inline]
+    pub(crate) fn corner(&self, cell: &Cell, k: usize) -> DVec3 {
+        let v = &self.vertices[[cell.ul, cell.ur, cell.ll, cell.lr][k] as usize];
+        match self.fronts.get(cell.row as usize) {
+            Some(front) if k < 2 && !front.is_empty() => front[v.key.col as usize],
+            _ => v.pos,
+        }
+    }
+
     /// A vertex as lattice.json and messages name it: `[i, j]`, or `[k]`.
     pub(crate) fn vertex_name(&self, index: u32) -> String {
         let k = self.vertex(index).key;

@@ -1116,13 +1116,12 @@ impl Collapsed {
             let zp = match k {
                 UNREACHED => f64::NAN,
                 k => {
-                    let [ul, ur, ll, lr] = lattice.corners(cell);
-                    let p = cell.pivot;
+                    let leg = cell.pivot.distance(lattice.corner(cell, k as usize));
                     let (v, off) = match k {
-                        0 => (cell.ul, -p.distance(ul)),
-                        1 => (cell.ur, -p.distance(ur)),
-                        2 => (cell.ll, p.distance(ll)),
-                        _ => (cell.lr, p.distance(lr)),
+                        0 => (cell.ul, -leg),
+                        1 => (cell.ur, -leg),
+                        2 => (cell.ll, leg),
+                        _ => (cell.lr, leg),
                     };
                     z[v as usize] - off
                 }
