@@ -491,7 +491,9 @@ fn mean(legs: &Legs) -> f64 {
     legs.iter().sum::<f64>() / 4.0
 }
 
-/// Check every invariant of MATH.md 8.0-8.3.
+/// Check every invariant of MATH.md 8.0-8.3: by rows for a regular,
+/// extrinsic sheet or loop (`verify_rows`), in one pass over the cells for
+/// anything else (`verify_with`); the same report either way.
 pub fn verify(lattice: &Lattice) -> Report {
     match Incidence::new(lattice) {
         Incidence::Grid(grid) if lattice.extrinsic() => verify_rows(lattice, &grid),
