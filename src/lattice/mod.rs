@@ -190,6 +190,16 @@ impl Lattice {
         }
     }
 
+    /// Corner `k` (0 to 3: UL, UR, LL, LR) of `corners`, alone.
+    #[inline]
+    pub(crate) fn corner(&self, cell: &Cell, k: usize) -> DVec3 {
+        let v = &self.vertices[[cell.ul, cell.ur, cell.ll, cell.lr][k] as usize];
+        match self.fronts.get(cell.row as usize) {
+            Some(front) if k < 2 && !front.is_empty() => front[v.key.col as usize],
+            _ => v.pos,
+        }
+    }
+
     /// A vertex as lattice.json and messages name it: `[i, j]`, or `[k]`.
     pub(crate) fn vertex_name(&self, index: u32) -> String {
         let k = self.vertex(index).key;
@@ -283,6 +293,14 @@ impl Lattice {
         }
         (lo, hi)
     }
+}
+
+/// `k % n`, with the division only when `k` is past the end: growth and
+/// verification step round a front a vertex or two at a time, and an
+/// integer division costs tens of cycles where the comparison costs one.
+#[inline(always)]
+pub(crate) fn wrap(k: usize, n: usize) -> usize {
+    if k < n { k } else { k % n }
 }
 
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).

@@ -259,7 +259,7 @@ impl Grid {
     #[inline]
     fn corners(&self, i: usize, j: usize) -> [usize; 4] {
         let (top, bottom) = (i * self.front, (i + 1) * self.front);
-        let right = (j + 1) % self.front;
+        let right = super::wrap(j + 1, self.front);
         [top + j, top + right, bottom + j, bottom + right]
     }
 
@@ -491,9 +491,14 @@ fn mean(legs: &Legs) -> f64 {
     legs.iter().sum::<f64>() / 4.0
 }
 
-/// Check every invariant of MATH.md 8.0-8.3.
+/// Check every invariant of MATH.md 8.0-8.3: by rows for a regular,
+/// extrinsic sheet or loop (`verify_rows`), in one pass over the cells for
+/// anything else (`verify_with`); the same report either way.
 pub fn verify(lattice: &Lattice) -> Report {
-    verify_with(lattice, &Incidence::new(lattice))
+    match Incidence::new(lattice) {
+        Incidence::Grid(grid) if lattice.extrinsic() => verify_rows(lattice, &grid),
+        inc => verify_with(lattice, &inc),
+    }
 }
 
 /// `verify` with the incidence given (a grid or a table: the same report).
@@ -543,7 +548,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
         let p = cell.pivot;
         let corners = lattice.corners(cell);
         let [ul, ur, ll, lr] = corners;
-        collapsed.step(lattice, c, &own, inv, corners);
+        collapsed.step(lattice, c, (&own, inv), &corners, true);
         straight.record_bend((p - ul, l1), (lr - p, l3), site);
         straight.record_bend((p - ur, l4), (ll - p, l2), site);
         if lattice.kind == super::Kind::Loop && cell.col == 0 {
@@ -596,24 +601,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
                 legs.get(cc as usize),
                 legs.get(d as usize),
             ];
-            // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-            let f = |la: f64, lb: f64, lc: f64| {
-                (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb))
-            };
-            let maps = [
-                f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
-                f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
-                f(cc[3], cc[2], cc[1]), // f_c^(4,3,2): right edge -> bottom edge
-                f(d[0], d[3], d[2]),    // f_d^(1,4,3): top edge -> right edge
-            ];
-            let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
-            for (mi, ci) in maps.iter().rev() {
-                // Outermost map first: accumulate the product of the slopes
-                // applied after each intercept, as in the natural magnitude.
-                magnitude += (m * ci).abs();
-                k += m * ci;
-                m *= mi;
-            }
+            let (m, k, magnitude) = compose(a, b, cc, d);
             let s2 = ul.distance_squared(ll);
             let site = || vertex_site(lattice, v);
             slope.record(m - 1.0, site);
@@ -626,24 +614,385 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
         }
     }
 
+    let checks = [
+        straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
+    ];
+    report(lattice, leg_sum, checks, collapsed)
+}
+
+/// The report of a pass over the cells: its ten checks in `Invariant`
+/// order, then the collapsed state's three, all held to the tolerance.
+fn report(lattice: &Lattice, leg_sum: f64, checks: [Check; 10], collapsed: Collapsed) -> Report {
     let (collapsed, extent) = collapsed.finish(lattice, leg_sum);
     let tolerance = tolerance_of(lattice, leg_sum, extent);
+    let count = |k: usize| checks[k].count;
     Report {
         tolerance,
         cells: lattice.cells.len(),
         vertices: lattice.vertices.len(),
         rods: 2 * lattice.cells.len(),
-        horizontal_pores: pores_h.count,
-        vertical_pores: pores_v.count,
-        interior_vertices: slope.count,
-        checks: [
-            straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
-        ]
-        .into_iter()
-        .chain(collapsed)
-        .map(|c| Check { tolerance, ..c })
-        .collect(),
+        horizontal_pores: count(3),
+        vertical_pores: count(4),
+        interior_vertices: count(7),
+        checks: checks
+            .into_iter()
+            .chain(collapsed)
+            .map(|c| Check { tolerance, ..c })
+            .collect(),
     }
+}
+
+/// The four-map composition around an interior vertex (MATH.md 8.2), from
+/// the legs of the cells in which it is UL (`a`), LL (`b`), LR (`c`) and UR
+/// (`d`): the composed map's slope, intercept and the intercept's natural
+/// magnitude.
+#[inline(always)]
+fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
+    // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
+    let f =
+        |la: f64, lb: f64, lc: f64| (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb));
+    let maps = [
+        f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
+        f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
+        f(cc[3], cc[2], cc[1]), // f_c^(4,3,2): right edge -> bottom edge
+        f(d[0], d[3], d[2]),    // f_d^(1,4,3): top edge -> right edge
+    ];
+    let (mut m, mut k, mut magnitude) = (1.0, 0.0, 0.0);
+    for (mi, ci) in maps.iter().rev() {
+        // Outermost map first: accumulate the product of the slopes
+        // applied after each intercept, as in the natural magnitude.
+        magnitude += (m * ci).abs();
+        k += m * ci;
+        m *= mi;
+    }
+    (m, k, magnitude)
+}
+
+/// One row of a grid's cells, measured once (structure of arrays): each
+/// cell's corners `[UL, UR, LL, LR]`, their construction z, its legs and
+/// mean leg.
+#[derive(Default)]
+struct Row {
+    corners: Vec<[DVec3; 4]>,
+    z: Vec<[f64; 4]>,
+    legs: Vec<Legs>,
+    means: Vec<f64>,
+}
+
+impl Row {
+    /// Measure row `i` of `grid` (extrinsic: every corner is its vertex's
+    /// stored position, the legs the same bits as `Lattice::legs`).
+    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) {
+        let (width, front) = (grid.width, grid.front);
+        let cells = &lattice.cells[i * width..(i + 1) * width];
+        let top = &lattice.vertices[i * front..(i + 1) * front];
+        let bottom = &lattice.vertices[(i + 1) * front..(i + 2) * front];
+        self.corners.resize(width, [DVec3::ZERO; 4]);
+        self.z.resize(width, [0.0; 4]);
+        self.legs.resize(width, [0.0; 4]);
+        self.means.resize(width, 0.0);
+        let out = self
+            .corners
+            .iter_mut()
+            .zip(&mut self.z)
+            .zip(self.legs.iter_mut().zip(&mut self.means));
+        for (j, (cell, ((corners, z), (legs, mean_leg)))) in cells.iter().zip(out).enumerate() {
+            let right = if j + 1 == front { 0 } else { j + 1 };
+            let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
+            let p = cell.pivot;
+            *legs = [
+                p.distance(ul.pos),
+                p.distance(ll.pos),
+                p.distance(lr.pos),
+                p.distance(ur.pos),
+            ];
+            *corners = [ul.pos, ur.pos, ll.pos, lr.pos];
+            *z = [ul.z, ur.z, ll.z, lr.z];
+            *mean_leg = mean(legs);
+        }
+    }
+}
+
+/// `edge_residual(a, b, a, b, s)`, for the edge a cell shares with a
+/// neighbour holding the same stored corners: 0 when both points are
+/// finite and `s` is neither 0 nor NaN, else NaN (`|a - b|` of a
+/// non-finite point is NaN or infinite, and its difference with itself
+/// NaN). The sign of a zero does not matter to a residual.
+#[inline(always)]
+fn same_edge(a: DVec3, b: DVec3, s: f64) -> f64 {
+    if a.is_finite() && b.is_finite() && s != 0.0 && !s.is_nan() {
+        0.0
+    } else {
+        f64::NAN
+    }
+}
+
+/// True when some residual of `series` would raise a check whose largest
+/// is `max` (a NaN residual, or a NaN largest, always does): one
+/// comparison a residual, no branch, over a whole row.
+#[inline]
+fn exceeds(max: f64, series: &[f64]) -> bool {
+    series.iter().fold(false, |any, x| any | !(x.abs() <= max))
+}
+
+/// Record a row's residuals of one check: `series[s][k]` is the `s`-th
+/// residual of the row's cell `first + k` (a series may stop early: its
+/// last cells have none). The order of `record` is cell by cell, each
+/// cell's series in order, as the pass over the cells records them, so the
+/// largest, its site (the first attaining it) and the count are the same
+/// bits; the row is replayed one residual at a time only when it holds a
+/// new largest.
+fn record_row(check: &mut Check, first: usize, series: &[&[f64]], site: impl Fn(usize) -> String) {
+    if !series.iter().any(|s| exceeds(check.max, s)) {
+        check.count += series.iter().map(|s| s.len()).sum::<usize>();
+        return;
+    }
+    let cells = series.iter().map(|s| s.len()).max().unwrap_or(0);
+    for k in 0..cells {
+        for s in series {
+            if let Some(&r) = s.get(k) {
+                check.record(r, || site(first + k));
+            }
+        }
+    }
+}
+
+/// The residuals of one row, one array per recorded quantity, reused
+/// from row to row.
+#[derive(Default)]
+struct RowResiduals {
+    bend_a: Vec<f64>,
+    bend_b: Vec<f64>,
+    legs_z: [Vec<f64>; 4],
+    pores_h: Vec<f64>,
+    edges_right: Vec<f64>,
+    pores_v: Vec<f64>,
+    edges_below: Vec<f64>,
+    slope: Vec<f64>,
+    intercept: Vec<f64>,
+    natural: Vec<f64>,
+    rod_a: Vec<f64>,
+    rod_b: Vec<f64>,
+}
+
+impl RowResiduals {
+    /// Every array `n` long, to be written in place.
+    fn size(&mut self, n: usize) {
+        for buffer in self.all() {
+            buffer.resize(n, 0.0);
+        }
+    }
+
+    /// Cut the neighbours' arrays to the cells that have them: `paired`
+    /// with a right neighbour, `below` with one below, `interior` UL
+    /// vertices.
+    fn trim(&mut self, paired: usize, below: usize, interior: usize) {
+        self.pores_h.truncate(paired);
+        self.edges_right.truncate(paired);
+        self.pores_v.truncate(below);
+        self.edges_below.truncate(below);
+        for buffer in [&mut self.slope, &mut self.intercept, &mut self.natural] {
+            buffer.truncate(interior);
+        }
+    }
+
+    fn all(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
+        [&mut self.bend_a, &mut self.bend_b, &mut self.pores_h]
+            .into_iter()
+            .chain(&mut self.legs_z)
+            .chain([&mut self.edges_right, &mut self.pores_v])
+            .chain([&mut self.edges_below, &mut self.slope])
+            .chain([&mut self.intercept, &mut self.natural])
+    }
+}
+
+/// `verify` of a regular, extrinsic sheet or loop, row by row: each row's
+/// legs measured once into arrays (`Row`), each invariant's residuals
+/// computed over the row in a simple loop, then compared with the check's
+/// largest at once (`record_row`). The same residuals, in the same order,
+/// with the same arithmetic as `verify_with`, so the same report bit for
+/// bit (a unit test holds the two together, on good and damaged lattices).
+fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
+    use Invariant as I;
+    let Grid { width, rows, .. } = *grid;
+    let mut leg_sum = 0.0;
+    let [
+        mut straight,
+        mut legs_z,
+        mut seed,
+        mut pores_h,
+        mut pores_v,
+        mut edges,
+        mut closure,
+        mut slope,
+        mut intercept,
+        mut natural,
+    ] = [
+        I::RodStraightness,
+        I::LegsMatchZ,
+        I::SeedKappa,
+        I::HorizontalPores,
+        I::VerticalPores,
+        I::SharedEdges,
+        I::LoopClosure,
+        I::CompatibilitySlope,
+        I::CompatibilityIntercept,
+        I::CompatibilityInterceptNatural,
+    ]
+    .map(Check::new);
+    let mut collapsed = Collapsed::new(lattice);
+    let (mut above, mut here, mut below) = (Row::default(), Row::default(), Row::default());
+    let mut r = RowResiduals::default();
+    if rows > 0 {
+        here.measure(lattice, grid, 0);
+    }
+    // Cells with a right neighbour: all of a loop's, all but a sheet's last.
+    let paired = if grid.closed { width } else { width - 1 };
+    for i in 0..rows {
+        let first = i * width;
+        let cells = &lattice.cells[first..first + width];
+        let cell_site = |k: usize| lattice.cell_name(&cells[k]);
+        let has_below = i + 1 < rows;
+        if has_below {
+            below.measure(lattice, grid, i + 1);
+        }
+        // What runs cell by cell: the collapsed sweep (each cell's z from
+        // the cells before it), the sum of the mean legs in cell order,
+        // and the first row's and column's rare checks.
+        for (j, cell) in cells.iter().enumerate() {
+            let (own, scale, corners) = (here.legs[j], here.means[j], &here.corners[j]);
+            leg_sum += scale;
+            let inv = 1.0 / scale;
+            collapsed.step(lattice, first + j, (&own, inv), corners, false);
+            let site = || lattice.cell_name(cell);
+            let [l1, l2, _, l4] = own;
+            let [_, ur, ll, _] = *corners;
+            let p = cell.pivot;
+            if lattice.kind == super::Kind::Loop && cell.col == 0 {
+                closure.record(bend(p - ur, l4, ll - p, l2), site);
+            }
+            if cell.row == 0 {
+                seed.record(((l4 - l1) - lattice.kappa(cell)) * inv, site);
+            }
+        }
+        // Each residual over the row, in loops over slices of the row's
+        // length (no bounds checks, nothing but the arithmetic).
+        let n = width;
+        let (legs, corners, z, means) = (
+            &here.legs[..n],
+            &here.corners[..n],
+            &here.z[..n],
+            &here.means[..n],
+        );
+        r.size(n);
+        {
+            let (bend_a, bend_b) = (&mut r.bend_a[..n], &mut r.bend_b[..n]);
+            let [za, zb, zc, zd] = &mut r.legs_z;
+            let (za, zb, zc, zd) = (&mut za[..n], &mut zb[..n], &mut zc[..n], &mut zd[..n]);
+            for j in 0..n {
+                let [l1, l2, l3, l4] = legs[j];
+                let [ul, ur, ll, lr] = corners[j];
+                let p = cells[j].pivot;
+                bend_a[j] = bend(p - ul, l1, lr - p, l3);
+                bend_b[j] = bend(p - ur, l4, ll - p, l2);
+                let inv = 1.0 / means[j];
+                let [zul, zur, zll, zlr] = z[j];
+                let zp = cells[j].z_pivot;
+                za[j] = (zp - zul - l1) * inv;
+                zb[j] = (zp - zur - l4) * inv;
+                zc[j] = (zll - zp - l2) * inv;
+                zd[j] = (zlr - zp - l3) * inv;
+            }
+        }
+        // Right neighbour: B.UL = A.UR and B.LL = A.LR (the next cell,
+        // the first for a loop's last).
+        {
+            let (pores, edge) = (&mut r.pores_h[..paired], &mut r.edges_right[..paired]);
+            for j in 0..paired {
+                let k = if j + 1 == n { 0 } else { j + 1 };
+                let [_, _, l3, l4] = legs[j];
+                let [m1, m2, _, _] = legs[k];
+                let s = 0.5 * (means[j] + means[k]);
+                pores[j] = ((l3 + l4) - (m1 + m2)) / s;
+                let [_, ur, _, lr] = corners[j];
+                edge[j] = same_edge(ur, lr, s);
+            }
+        }
+        // Neighbour below: B.UL = A.LL and B.UR = A.LR.
+        let (n_below, from) = (
+            if has_below { n } else { 0 },
+            if grid.closed { 0 } else { 1 },
+        );
+        {
+            let (pores, edge) = (&mut r.pores_v[..n_below], &mut r.edges_below[..n_below]);
+            let (under, under_means) = (&below.legs[..n_below], &below.means[..n_below]);
+            for j in 0..n_below {
+                let [_, l2, l3, _] = legs[j];
+                let [m1, _, _, m4] = under[j];
+                let s = 0.5 * (means[j] + under_means[j]);
+                pores[j] = ((l2 + m1) - (l3 + m4)) / s;
+                let [_, _, ll, lr] = corners[j];
+                edge[j] = same_edge(ll, lr, s);
+            }
+        }
+        // Compatibility at each cell's UL vertex, interior when the cells
+        // above and to the left exist (a loop's left of column 0 is its
+        // last column).
+        let interior = if i >= 1 { n - from } else { 0 };
+        {
+            let (slopes, intercepts, naturals) = (
+                &mut r.slope[..interior],
+                &mut r.intercept[..interior],
+                &mut r.natural[..interior],
+            );
+            let over = &above.legs[..if i >= 1 { n } else { 0 }];
+            for k in 0..interior {
+                let j = from + k;
+                let left = if j == 0 { n - 1 } else { j - 1 };
+                let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
+                let [ul, _, ll, _] = corners[j];
+                slopes[k] = m - 1.0;
+                intercepts[k] = c / ul.distance_squared(ll);
+                naturals[k] = c / magnitude;
+            }
+        }
+        r.trim(paired, n_below, interior);
+        // The collapsed rods, once the row is swept (their check is
+        // measured again after the sweep if some cell was not reached).
+        if collapsed.all_reached {
+            let front = grid.front;
+            let zs = &collapsed.z[i * front..(i + 2) * front];
+            r.rod_a.resize(n, 0.0);
+            r.rod_b.resize(n, 0.0);
+            let (rod_a, rod_b) = (&mut r.rod_a[..n], &mut r.rod_b[..n]);
+            for j in 0..n {
+                let right = if j + 1 == front { 0 } else { j + 1 };
+                let (zul, zur) = (zs[j], zs[right]);
+                let (zll, zlr) = (zs[front + j], zs[front + right]);
+                let [ul, ur, ll, lr] = &corners[j];
+                let inv = 1.0 / means[j];
+                rod_a[j] = (zlr - zul - ul.distance(*lr)) * inv;
+                rod_b[j] = (zll - zur - ur.distance(*ll)) * inv;
+            }
+            record_row(&mut collapsed.rods, 0, &[rod_a, rod_b], cell_site);
+        }
+        record_row(&mut straight, 0, &[&r.bend_a, &r.bend_b], cell_site);
+        let [a, b, c, d] = &r.legs_z;
+        record_row(&mut legs_z, 0, &[a, b, c, d], cell_site);
+        record_row(&mut pores_h, 0, &[&r.pores_h], cell_site);
+        record_row(&mut pores_v, 0, &[&r.pores_v], cell_site);
+        record_row(&mut edges, 0, &[&r.edges_right, &r.edges_below], cell_site);
+        let vertex = |k: usize| vertex_site(lattice, cells[k].ul as usize);
+        record_row(&mut slope, from, &[&r.slope], vertex);
+        record_row(&mut intercept, from, &[&r.intercept], vertex);
+        record_row(&mut natural, from, &[&r.natural], vertex);
+        std::mem::swap(&mut above, &mut here);
+        std::mem::swap(&mut here, &mut below);
+    }
+    let checks = [
+        straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
+    ];
+    report(lattice, leg_sum, checks, collapsed)
 }
 
 /// `Collapsed::reached` of a cell reached through no corner.
@@ -691,9 +1040,18 @@ impl Collapsed {
         }
     }
 
-    /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners).
+    /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners),
+    /// and measure its rods unless `rods` is false (`verify_rows` measures
+    /// a row's after its sweep: the z of a swept cell's corners are final).
     #[inline]
-    fn step(&mut self, lattice: &Lattice, c: usize, legs: &Legs, inv: f64, corners: [DVec3; 4]) {
+    fn step(
+        &mut self,
+        lattice: &Lattice,
+        c: usize,
+        (legs, inv): (&Legs, f64),
+        corners: &[DVec3; 4],
+        rods: bool,
+    ) {
         let cell = &lattice.cells[c];
         let [l1, l2, l3, l4] = *legs;
         let z = &mut self.z;
@@ -720,8 +1078,8 @@ impl Collapsed {
                     .record((*slot - expect) * inv, || lattice.cell_name(cell));
             }
         }
-        if self.all_reached {
-            let [ul, ur, ll, lr] = corners;
+        if rods && self.all_reached {
+            let [ul, ur, ll, lr] = *corners;
             let site = || lattice.cell_name(cell);
             self.rods.record(
                 (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
@@ -760,13 +1118,12 @@ impl Collapsed {
             let zp = match k {
                 UNREACHED => f64::NAN,
                 k => {
-                    let [ul, ur, ll, lr] = lattice.corners(cell);
-                    let p = cell.pivot;
+                    let leg = cell.pivot.distance(lattice.corner(cell, k as usize));
                     let (v, off) = match k {
-                        0 => (cell.ul, -p.distance(ul)),
-                        1 => (cell.ur, -p.distance(ur)),
-                        2 => (cell.ll, p.distance(ll)),
-                        _ => (cell.lr, p.distance(lr)),
+                        0 => (cell.ul, -leg),
+                        1 => (cell.ur, -leg),
+                        2 => (cell.ll, leg),
+                        _ => (cell.lr, leg),
                     };
                     z[v as usize] - off
                 }
@@ -867,16 +1224,11 @@ mod tests {
         }
     }
 
-    /// A grown sheet or loop is a grid whose formula names the cells the
-    /// table read from the corner indices holds, for every vertex, and
-    /// verification gives the same report with either; a cell with other
-    /// corners, or a vertex more, makes it a table again.
-    #[test]
-    fn a_grid_names_the_cells_of_the_table() {
-        // The tube of templates/tube.toml: ten points round a circle.
-        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / 10.0);
+    /// A tube of `n` points round a circle, `rows` rows tilted up.
+    fn tube(n: usize, rows: usize) -> Lattice {
+        let step = glam::DQuat::from_rotation_z(std::f64::consts::TAU / n as f64);
         let ring: Vec<DVec3> = std::iter::successors(Some(30.0 * DVec3::X), |p| Some(step * *p))
-            .take(10)
+            .take(n)
             .collect();
         let row = crate::lattice::RowParams {
             direction: Some(crate::legs::Direction::Angles {
@@ -885,8 +1237,18 @@ mod tests {
             }),
             ..Default::default()
         };
-        let tube = crate::lattice::grow(Kind::Loop, 3, &ring, &[0.0; 10], &vec![row; 3])
-            .expect("the tube grows");
+        crate::lattice::grow(Kind::Loop, 3, &ring, &vec![0.0; n], &vec![row; rows])
+            .expect("the tube grows")
+    }
+
+    /// A grown sheet or loop is a grid whose formula names the cells the
+    /// table read from the corner indices holds, for every vertex, and
+    /// verification gives the same report with either; a cell with other
+    /// corners, or a vertex more, makes it a table again.
+    #[test]
+    fn a_grid_names_the_cells_of_the_table() {
+        // The tube of templates/tube.toml: ten points round a circle.
+        let tube = tube(10, 3);
         for lattice in [sheet(), tube] {
             let grid = Incidence::grid(&lattice).expect("a grown sheet or loop is a grid");
             let Incidence::Table(table) = Incidence::table(&lattice) else {
@@ -908,6 +1270,66 @@ mod tests {
             let mut extra = lattice.clone();
             extra.vertices.push(extra.vertices[0]);
             assert!(Incidence::grid(&extra).is_none());
+        }
+    }
+
+    /// Two reports the same bits (NaN included, which `==` would not
+    /// allow): every check's largest, site and count, and the tolerance.
+    fn same_bits(x: &Report, y: &Report) -> bool {
+        let key = |r: &Report| {
+            let checks: Vec<_> = r
+                .checks
+                .iter()
+                .map(|c| (c.invariant, c.count, c.max.to_bits(), c.site.clone()))
+                .collect();
+            (checks, r.tolerance.to_bits(), r.interior_vertices)
+        };
+        key(x) == key(y)
+    }
+
+    /// Verification by rows gives the report of the pass over the cells,
+    /// bit for bit, on sheets and loops both good and damaged: positions,
+    /// pivots and z moved by amounts from rounding to gross, NaN and
+    /// infinite coordinates, a cell's row or column renamed.
+    #[test]
+    fn rows_give_the_report_of_the_pass_over_the_cells() {
+        let tube = tube(7, 4);
+        let wide = fixtures::sheet(&fixtures::line(6), &[0.0; 6], 2, 40.0, 5);
+        let mut rng = crate::rng::Rng::new(5);
+        for lattice in [sheet(), wide, tube] {
+            let grid = Incidence::grid(&lattice).expect("a grid");
+            assert!(lattice.extrinsic());
+            let table = Incidence::table(&lattice);
+            assert!(same_bits(
+                &verify_rows(&lattice, &grid),
+                &verify_with(&lattice, &table)
+            ));
+            for round in 0..300 {
+                let mut bad = lattice.clone();
+                for _ in 0..1 + round % 3 {
+                    let size = match rng.next_u64() % 6 {
+                        0 => f64::NAN,
+                        1 => f64::INFINITY,
+                        k => 10f64.powi(-(3 * k as i32)) * rng.signed(),
+                    };
+                    let v = (rng.next_u64() % bad.vertices.len() as u64) as usize;
+                    let c = (rng.next_u64() % bad.cells.len() as u64) as usize;
+                    let axis = (rng.next_u64() % 3) as usize;
+                    match rng.next_u64() % 5 {
+                        0 => bad.vertices[v].pos[axis] += size,
+                        1 => bad.vertices[v].z += size,
+                        2 => bad.cells[c].pivot[axis] += size,
+                        3 => bad.cells[c].z_pivot += size,
+                        _ => bad.cells[c].col ^= 1,
+                    }
+                }
+                let rows = verify(&bad);
+                let cells = verify_with(&bad, &Incidence::table(&bad));
+                assert!(
+                    same_bits(&rows, &cells),
+                    "round {round}: {rows:?} {cells:?}"
+                );
+            }
         }
     }
 

@@ -182,7 +182,7 @@ impl Grower {
         for j in 0..n {
             let p = self.pivots[j].expect("pivot grown");
             let lr = right_transfer(x, j, p, i)?;
-            self.next[(j + 1) % n] = Some(lr);
+            self.next[wrap(j + 1, n)] = Some(lr);
             if j + 1 < n {
                 self.pivots[j + 1] = Some(next_pivot(x, j, lr, i)?);
             }
@@ -204,12 +204,12 @@ pub(super) fn loop_map(x: &[Point], v2: DVec3) -> Option<DVec3> {
     let mut p = pivot_from_v2(x[0], x[1], v2).ok()?;
     for j in 0..n {
         let v1 = (p.pos - x[j].pos).normalize();
-        let lr = lower_right(x[j], x[(j + 2) % n], v1).ok()?;
-        let v = (lr.pos - x[(j + 2) % n].pos).normalize();
+        let lr = lower_right(x[j], x[wrap(j + 2, n)], v1).ok()?;
+        let v = (lr.pos - x[wrap(j + 2, n)].pos).normalize();
         if j + 1 == n {
             return Some((lr.pos - x[1].pos).normalize());
         }
-        p = pivot_from_v2(x[j + 1], x[(j + 2) % n], v).ok()?;
+        p = pivot_from_v2(x[j + 1], x[wrap(j + 2, n)], v).ok()?;
     }
     None
 }

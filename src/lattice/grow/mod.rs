@@ -4,7 +4,7 @@
 use super::closure::{Closure, Holonomy, closure};
 use super::construct::{Point, Refusal, lower_left, lower_right, pivot_from_v1, pivot_from_v2};
 use super::front::{FrontMoves, rebuild};
-use super::{Cell, Kind, Lattice, Vertex, VertexKey, angle_between};
+use super::{Cell, Kind, Lattice, Vertex, VertexKey, angle_between, wrap};
 use crate::legs::{Direction, Leg};
 use glam::DVec3;
 use std::fmt;
@@ -322,9 +322,9 @@ impl Grower {
                 row: i as u32,
                 col: j as u32,
                 ul: (base + j) as u32,
-                ur: (base + (j + 1) % n) as u32,
+                ur: (base + wrap(j + 1, n)) as u32,
                 ll: (next_base + j) as u32,
-                lr: (next_base + (j + 1) % n) as u32,
+                lr: (next_base + wrap(j + 1, n)) as u32,
                 pivot: pivot.pos,
                 z_pivot: pivot.z,
             };

@@ -12,7 +12,7 @@ pub(super) fn start_pivot(
     i: usize,
 ) -> Result<Point, GrowthError> {
     let n = x.len();
-    let (ul, ur) = (x[j0], x[(j0 + 1) % n]);
+    let (ul, ur) = (x[j0], x[wrap(j0 + 1, n)]);
     pivot_from_v2(ul, ur, v2).map_err(|_| {
         let t = ur.pos - ul.pos;
         let kappa = ul.z - ur.z;
@@ -39,7 +39,7 @@ pub(super) fn right_transfer(
     p: Point,
     i: usize,
 ) -> Result<Point, GrowthError> {
-    let j2 = (j + 2) % x.len();
+    let j2 = wrap(j + 2, x.len());
     let v1 = (p.pos - x[j].pos).normalize();
     let lr = lower_right(x[j], x[j2], v1).map_err(|r| transfer_error(r, x, j, j2, i, j))?;
     check_leg(lr.z - p.z, "l3", i, j)?;
@@ -50,7 +50,7 @@ pub(super) fn right_transfer(
 /// to `ll`, the lower-right corner just found for cell j.
 pub(super) fn next_pivot(x: &[Point], j: usize, ll: Point, i: usize) -> Result<Point, GrowthError> {
     let n = x.len();
-    let (j1, j2) = ((j + 1) % n, (j + 2) % n);
+    let (j1, j2) = (wrap(j + 1, n), wrap(j + 2, n));
     let v2 = (ll.pos - x[j2].pos).normalize();
     let cell = pivot_from_v2(x[j1], x[j2], v2).map_err(|_| propagated_cone(i, j1))?;
     check_leg(ll.z - cell.z, "l2", i, j1)?;
