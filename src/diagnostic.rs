@@ -298,6 +298,8 @@ error_kinds! {
     OptimiseNegative => EXIT_INVALID,
     /// The optimiser's curvature objective names an unknown pattern.
     UnknownCurvaturePattern => EXIT_INVALID,
+    /// `optimise.target.shape` is neither "design" nor "simulated".
+    UnknownTargetShape => EXIT_INVALID,
     /// `karigami optimise` was run on a recipe with no `[optimise]` table.
     NoOptimiseTable => EXIT_INVALID,
     /// The recipe holds none of the numbers `optimise.vary` names.

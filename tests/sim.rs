@@ -1098,3 +1098,70 @@ fn an_accepted_overstrain_is_warned_and_reported() {
         "{line}"
     );
 }
+
+/// `[optimise.target] shape = "simulated"` makes the curvature objective
+/// measure the simulated deployed shape: the same recipe costs more or less
+/// than with `shape = "design"` by exactly the difference of the curvature
+/// error computed here from the two shapes (the mean squared distance of
+/// each interior vertex's defect from the checkerboard target, over the
+/// target). An unknown shape is refused where it is written.
+#[test]
+fn tune_can_aim_at_the_simulated_relief() {
+    let base = std::fs::read_to_string("examples/eggbox.toml").expect("recipe");
+    // Two variables (the leg angles), a budget of one: a few designs.
+    let recipe = |shape: &str| {
+        base.replace("vary = [\"angle\", \"front\"]", "vary = [\"angle\"]")
+            .replace("budget = 1500", "budget = 1")
+            .replace(
+                "pattern = \"checkerboard\"\n",
+                &format!("pattern = \"checkerboard\"\nshape = \"{shape}\"\n"),
+            )
+    };
+    let cost = |text: &str| {
+        let d = karigami::parse(text, "eggbox").expect("parses");
+        karigami::optimise(&d, text, &mut |_| {})
+            .expect("optimises")
+            .cost_before
+    };
+    let (designed, simulated) = (cost(&recipe("design")), cost(&recipe("simulated")));
+    let d = karigami::parse(&base, "eggbox").expect("parses");
+    let lattice = d.grow().expect("grows");
+    let deploy = karigami::deploy::deployment(&lattice);
+    let m = &d.fabrication.material;
+    let run =
+        sim::simulate(&lattice, &deploy, m.width, m.thickness, &d.simulation).expect("simulates");
+    let error = |l: &Lattice| {
+        let c = l.curvature();
+        c.iter()
+            .map(|v| {
+                let k = l.vertex(v.vertex).key;
+                let want = if (k.row + k.col) % 2 == 0 { 6.5 } else { -6.5 };
+                ((v.defect.to_degrees() - want) / 6.5).powi(2)
+            })
+            .sum::<f64>()
+            / c.len() as f64
+    };
+    let (e_design, e_sim) = (
+        error(&lattice),
+        error(&sim::placed_lattice(&lattice, &run.lm)),
+    );
+    println!(
+        "cost {designed:.6} (design) vs {simulated:.6} (simulated); curvature error {e_design:.6} vs {e_sim:.6}"
+    );
+    assert!((e_sim - e_design).abs() > 1e-3, "the shapes differ");
+    assert!(
+        ((simulated - designed) - (e_sim - e_design)).abs() < 1e-9,
+        "{simulated} - {designed} against {e_sim} - {e_design}"
+    );
+    // Refused, located, with the choices.
+    let bad = recipe("simulate");
+    let e = karigami::parse(&bad, "eggbox").expect_err("refused");
+    assert_eq!(e.kind.name(), "UnknownTargetShape");
+    let at = bad.find("\"simulate\"").unwrap();
+    let line = bad[..at].lines().count();
+    assert_eq!(e.line_col(&bad).map(|(l, _)| l), Some(line), "{e:?}");
+    assert!(
+        e.hint.as_deref().unwrap_or("").contains("\"simulated\""),
+        "{e:?}"
+    );
+}

@@ -15,6 +15,8 @@
 //! [optimise.target]           # what `curvature` aims at
 //! defect = -4.0               # degrees at every interior vertex, or
 //! pattern = "checkerboard"    # +defect and -defect alternating
+//! shape = "simulated"         # measured on the simulated deployed shape
+//!                             # (docs/physics.md), not the design
 //! [optimise.require]          # hard constraints
 //! negative = 0.9
 //! ```
@@ -115,6 +117,9 @@ pub struct Optimise {
     pub(crate) weights: Weights,
     pub(crate) defect_deg: f64,
     pub(crate) pattern: Pattern,
+    /// Whether the curvature objective measures the simulated deployed
+    /// shape (`target.shape = "simulated"`) instead of the design.
+    pub(crate) simulated: bool,
     pub(crate) require: Vec<Requirement>,
     pub(crate) span: Range<usize>,
 }
@@ -258,9 +263,23 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
             bending: weight(w.bending.as_ref(), "objective.bending")?,
         },
     };
-    let (mut defect_deg, mut pattern) = (0.0, Pattern::Constant);
+    let (mut defect_deg, mut pattern, mut simulated) = (0.0, Pattern::Constant, false);
     if let Some(t) = &r.target {
         let t = t.get_ref();
+        if let Some(s) = &t.shape {
+            simulated = match s.get_ref().as_str() {
+                "design" => false,
+                "simulated" => true,
+                other => {
+                    return Err(Diagnostic::new(
+                        ErrorKind::UnknownTargetShape,
+                        format!("unknown target shape \"{other}\""),
+                    )
+                    .at(s.span())
+                    .hint("shape is \"design\" (the cells as cut) or \"simulated\" (the shape the strips take, docs/physics.md)"));
+                }
+            };
+        }
         if let Some(d) = &t.defect {
             defect_deg = super::finite(d, "target.defect")?;
         }
@@ -317,6 +336,7 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
         weights,
         defect_deg,
         pattern,
+        simulated,
         require,
         span: raw.span(),
     })

@@ -528,6 +528,7 @@ pub(crate) struct RawWeights {
 pub(crate) struct RawTarget {
     pub(crate) defect: Option<Num>,
     pub(crate) pattern: Option<Spanned<String>>,
+    pub(crate) shape: Option<Spanned<String>>,
 }
 
 /// Hard constraints, each a bound on one measure.

@@ -40,9 +40,18 @@ pub(crate) fn cost(
     }
     if w.curvature > 0.0 && !m.shape.curvature.is_empty() {
         let scale = opt.defect_deg.abs().max(1.0);
-        let err: f64 = m
-            .shape
-            .curvature
+        let simulated;
+        let curvature = if opt.simulated {
+            simulated = simulated_curvature(d, lattice);
+            match &simulated {
+                Some(c) => c,
+                // No equilibrium: as far from the target as a design can be.
+                None => return (UNGROWN, constraints(opt, m)),
+            }
+        } else {
+            &m.shape.curvature
+        };
+        let err: f64 = curvature
             .iter()
             .map(|v| {
                 let key = lattice.vertex(v.vertex).key;
@@ -105,6 +114,20 @@ pub(crate) fn cost(
     let checks = constraints(opt, m);
     c += PENALTY * checks.iter().map(|k| k.3).sum::<f64>();
     (c, checks)
+}
+
+/// The angle defects of the design's simulated deployed shape (its own
+/// strips and `[simulation]` settings), or None when the simulation finds
+/// no equilibrium.
+fn simulated_curvature(
+    d: &Design,
+    lattice: &Lattice,
+) -> Option<Vec<crate::lattice::shape::VertexCurvature>> {
+    let deployment = crate::lattice::deploy::deployment(lattice);
+    let m = &d.fabrication.material;
+    let run =
+        crate::sim::simulate(lattice, &deployment, m.width, m.thickness, &d.simulation).ok()?;
+    Some(crate::sim::placed_lattice(lattice, &run.lm).curvature())
 }
 
 /// The least-squares sphere through `pts` (algebraic fit:
