@@ -2,7 +2,6 @@
 //! its bytes. This sits above the pipeline (`pipeline`), the guide and the
 //! reports, and is the only place that knows which writer makes which file.
 
-use crate::drawing::picture::preview;
 use crate::guide::guide_showing;
 use crate::lattice::Lattice;
 use crate::parts::solid;
@@ -115,7 +114,19 @@ fn rest_of_files(b: &Build) -> Vec<(String, Vec<u8>)> {
                 "shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)",
             ),
         ),
-        None => preview(&b.assembled, fab.material.width, name),
+        // Not simulated: a planar true mechanism, whose design is its
+        // deployed shape, or a lattice the build could not simulate (its
+        // warnings say why).
+        None => crate::drawing::picture::preview_captioned(
+            &b.assembled,
+            fab.material.width,
+            name,
+            Some(if crate::sim::needed(&b.lattice, &b.deployment) {
+                "shown: the deployed shape as designed, not simulated (see the build's warnings)"
+            } else {
+                "shown: the deployed shape as designed: a true mechanism, its strips need not bend"
+            }),
+        ),
     };
     files.push((
         "preview.png".to_string(),

@@ -529,17 +529,18 @@ fn simulated(
     let allow = settings.material.eps_allow;
     if strain.eps > allow {
         let what = format!(
-            "strip {} is strained {:.2} % ({}) at {:.1} mm from its first hole in the simulated deployed shape; the allowable is {:.2} %",
-            strain.rod,
+            "strained {:.2} % ({}) at {:.1} mm from its first hole in the simulated deployed shape; the allowable is {:.2} %",
             100.0 * strain.eps,
             strain.term,
             strain.s,
             100.0 * allow
         );
         if !settings.accept_overstrain {
-            return Err(Diagnostic::new(ErrorKind::Overstrain, what)
-                .site(format!("strip {}", strain.rod))
-                .hint("use thinner or narrower strips, change the design, or accept it with [simulation] accept_overstrain = true (docs/physics.md)"));
+            return Err(
+                Diagnostic::new(ErrorKind::Overstrain, format!("strip {} is {what}", strain.rod))
+                    .site(format!("strip {}", strain.rod))
+                    .hint("use thinner or narrower strips, change the design, or accept it with [simulation] accept_overstrain = true (docs/physics.md)"),
+            );
         }
         // Accepted by the recipe, but the maker should still hear of it.
         warnings.push(crate::parts::Warning {

@@ -367,11 +367,13 @@ pub fn preview_captioned(
     caption: Option<&str>,
 ) -> super::Page {
     let (w, h) = (160.0, 120.0);
+    // The caption's line is kept clear of the drawing.
+    let below = if caption.is_some() { 21.0 } else { 18.0 };
     let fit = Fit::new(
         lattice,
         Camera::for_lattice(lattice),
         DVec2::new(6.0, 12.0),
-        DVec2::new(w - 12.0, h - 18.0),
+        DVec2::new(w - 12.0, h - below),
     );
     let width = (0.7 * fit.scale() * strip_width).clamp(0.25, 1.5);
     let mut items = lattice_picture(

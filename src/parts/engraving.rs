@@ -87,7 +87,12 @@ pub(super) fn engrave(
         warnings.push(Warning {
             strip: None,
             message: format!(
-                "{typed} strips carry their part type's code and {dotted} its dot code instead of their ID (no room between the eyelets); strips of one type are interchangeable (see parts-types.csv)"
+                "{} their part type's code and {dotted} its dot code instead of their ID (no room between the eyelets); strips of one type are interchangeable (see parts-types.csv)",
+                if typed == 1 {
+                    "1 strip carries".to_string()
+                } else {
+                    format!("{typed} strips carry")
+                }
             ),
         });
     }
