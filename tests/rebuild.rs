@@ -449,3 +449,53 @@ fn kept_files_are_never_written_through() {
     same(&fresh, &tree(&dir.join("out")), "a file replaced by a link");
     assert!(fs::read(&outside).unwrap() == fresh["mirror-arm/sheets/sheet-01.svg"]);
 }
+
+/// Another program (here the same one with a byte appended, which still
+/// runs) never keeps the files of this one: it builds.
+#[test]
+fn another_program_builds_again() {
+    let dir = two_recipes("rebuild-keep-program");
+    batch(&dir, "out", &[]);
+    let fresh = tree(&dir.join("out"));
+    let mut exe = fs::read(env!("CARGO_BIN_EXE_karigami")).unwrap();
+    exe.push(0);
+    let other = dir.join("karigami-other");
+    fs::write(&other, exe).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        fs::set_permissions(&other, fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let run = || {
+        // A test thread that forks while the copy was open for writing
+        // makes it busy for a moment (ETXTBSY): try again.
+        let mut tries = 0;
+        let o = loop {
+            match std::process::Command::new(&other)
+                .args(["build", "recipes", "--out", "out", "--jobs", "2"])
+                .current_dir(&dir)
+                .output()
+            {
+                Err(e) if e.raw_os_error() == Some(26) && tries < 50 => {
+                    tries += 1;
+                    std::thread::sleep(std::time::Duration::from_millis(100));
+                }
+                o => break o.unwrap(),
+            }
+        };
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    assert_eq!(kept(&run()), 0, "another program");
+    let again = tree(&dir.join("out"));
+    assert_eq!(kept(&run()), 2, "the other program's own files");
+    fs::remove_file(&other).unwrap();
+    // The same files but for the record of the program in the marker.
+    for (name, bytes) in &fresh {
+        if name != ".karigami-build" {
+            assert!(again[name] == *bytes, "{name}");
+        }
+    }
+    assert!(again[".karigami-build"] != fresh[".karigami-build"]);
+    assert_eq!(kept(&batch(&dir, "out", &[])), 0, "back to this program");
+}

@@ -58,18 +58,12 @@ impl<'a> Staged<'a> {
     /// added; then each build's record, so that a later build can keep
     /// what did not change (`record`).
     fn write_marker(&self) -> io::Result<()> {
-        let mut files = self
-            .written
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .clone();
-        files.sort();
-        let mut records = self
-            .records
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .clone();
-        records.sort();
+        let sorted = |list: &std::sync::Mutex<Vec<String>>| {
+            let mut list = list.lock().unwrap_or_else(|e| e.into_inner()).clone();
+            list.sort();
+            list
+        };
+        let (files, records) = (sorted(&self.written), sorted(&self.records));
         let text = format!(
             "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by karigami {}; a build replaces this folder whole\nfiles:\n{}\n{RECORDS_HEAD}\n{}",
             self.kind,
