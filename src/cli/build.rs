@@ -196,13 +196,15 @@ fn simulation_line(how: &str, out: &Path) -> String {
 }
 
 /// Check and lock the output folder before any work; say what interrupted
-/// runs left and was repaired, and what `--force` deletes.
+/// runs left and was repaired, and what `--force` deletes. The program's
+/// hash for keeping files (`files::inputs`) starts meanwhile.
 pub(super) fn open_out(
     out: &Path,
     inputs: &[PathBuf],
     force: bool,
     v: Verbosity,
 ) -> Result<files::OutDir, Error> {
+    files::start_program_hash();
     let dir = files::OutDir::open(out, inputs, force)?;
     if !v.quiet {
         for note in &dir.notes {

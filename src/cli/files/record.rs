@@ -92,6 +92,12 @@ fn hash_file(path: &Path) -> io::Result<u64> {
     }
 }
 
+/// Start hashing the program on a thread of its own, so that a build's
+/// other work overlaps it (`inputs` then waits for it, if need be).
+pub(crate) fn start_program_hash() {
+    std::thread::spawn(program);
+}
+
 /// The fingerprint of a build's inputs: the program and `parts` (the
 /// recipe's text, its name, the options...), each with its length so that
 /// no two lists give the same stream. None where the program cannot be
