@@ -72,18 +72,21 @@ fn program() -> Option<u64> {
         } else {
             std::env::current_exe().ok()?
         };
-        hash_file(&exe).ok()
+        hash_file(&exe, &mut vec![0; BUFFER]).ok()
     })
 }
 
-/// The xxh3-64 hash of a file's bytes, read a piece at a time: a large
-/// file read whole would cost more in fresh memory than in hashing.
-fn hash_file(path: &Path) -> io::Result<u64> {
+/// The piece of a file read at a time.
+const BUFFER: usize = 1 << 20;
+
+/// The xxh3-64 hash of a file's bytes, read a piece at a time into `buf`:
+/// a large file read whole would cost more in fresh memory than in
+/// hashing.
+fn hash_file(path: &Path, buf: &mut [u8]) -> io::Result<u64> {
     let mut file = fs::File::open(path)?;
     let mut h = Xxh3::new();
-    let mut buf = vec![0; 1 << 20];
     loop {
-        match io::Read::read(&mut file, &mut buf) {
+        match io::Read::read(&mut file, buf) {
             Ok(0) => return Ok(h.digest()),
             Ok(n) => h.update(&buf[..n]),
             Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
@@ -158,13 +161,14 @@ impl Staged<'_> {
             return Ok(None);
         };
         let mut made = Made::default();
+        let mut buf = vec![0; BUFFER];
         for (name, len, hash) in &record.files {
             let rel = Path::new(folder).join(name);
             if let Err(e) = fault::write(&rel.display().to_string()) {
                 made.undo();
                 return Err(e);
             }
-            if !self.link(out, &rel, *len, hash, &mut made) {
+            if !self.link(out, &rel, (*len, hash), &mut buf, &mut made) {
                 made.undo();
                 return Ok(None);
             }
@@ -180,13 +184,20 @@ impl Staged<'_> {
 
     /// Link the earlier build's `rel` into the new folder and check it: a
     /// plain file of `len` bytes whose hash is `hash`.
-    fn link(&self, out: &OutDir, rel: &Path, len: u64, hash: &str, made: &mut Made) -> bool {
-        let Some(from) = out.plain_file(rel) else {
-            return false;
-        };
+    fn link(
+        &self,
+        out: &OutDir,
+        rel: &Path,
+        (len, hash): (u64, &str),
+        buf: &mut [u8],
+        made: &mut Made,
+    ) -> bool {
         if !stays_inside(rel) {
             return false;
         }
+        let Some(from) = out.plain_file(rel) else {
+            return false;
+        };
         let to = self.fresh.join(rel);
         if let Some(dir) = to.parent() {
             let missing: Vec<PathBuf> = dir
@@ -204,7 +215,7 @@ impl Staged<'_> {
         }
         made.files.push(to.clone());
         fs::symlink_metadata(&to).is_ok_and(|m| m.is_file() && m.len() == len)
-            && hash_file(&to).is_ok_and(|h| hex(h) == hash)
+            && hash_file(&to, buf).is_ok_and(|h| hex(h) == hash)
     }
 }
 
