@@ -96,7 +96,10 @@ impl<'a> Staged<'a> {
             fault::write(&rel.display().to_string())?;
             // A file kept from the earlier build is a link to its file:
             // replaced, never truncated through the link.
-            remove_any(&path)?;
+            match fs::remove_file(&path) {
+                Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
             let mut f = File::create(&path)?;
             f.write_all(bytes)?;
             fault::sync(&f)?;
