@@ -450,23 +450,34 @@ fn kept_files_are_never_written_through() {
     assert!(fs::read(&outside).unwrap() == fresh["mirror-arm/sheets/sheet-01.svg"]);
 }
 
-/// Another program (here the same one with a byte appended, which still
-/// runs) never keeps the files of this one: it builds.
+/// The GNU build ID note of an executable (the linker's hash of it, which
+/// karigami takes as the program's fingerprint): where its 20 bytes start.
+fn build_id_at(exe: &[u8]) -> Option<usize> {
+    let head: &[u8] = &[4, 0, 0, 0, 20, 0, 0, 0, 3, 0, 0, 0, b'G', b'N', b'U', 0];
+    exe.windows(head.len())
+        .take(64 << 10)
+        .position(|w| w == head)
+        .map(|at| at + head.len())
+}
+
+/// Another program (here this one with a byte of its build ID changed, or
+/// without one, a byte appended) never keeps the files of this one: it
+/// builds. The same program with a byte appended (which runs the same) is
+/// the same program where it has a build ID.
 #[test]
 fn another_program_builds_again() {
     let dir = two_recipes("rebuild-keep-program");
     batch(&dir, "out", &[]);
     let fresh = tree(&dir.join("out"));
-    let mut exe = fs::read(env!("CARGO_BIN_EXE_karigami")).unwrap();
-    exe.push(0);
+    let exe = fs::read(env!("CARGO_BIN_EXE_karigami")).unwrap();
     let other = dir.join("karigami-other");
-    fs::write(&other, exe).unwrap();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        fs::set_permissions(&other, fs::Permissions::from_mode(0o755)).unwrap();
-    }
-    let run = || {
+    let run = |bytes: &[u8]| {
+        fs::write(&other, bytes).unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            fs::set_permissions(&other, fs::Permissions::from_mode(0o755)).unwrap();
+        }
         // A test thread that forks while the copy was open for writing
         // makes it busy for a moment (ETXTBSY): try again.
         let mut tries = 0;
@@ -484,11 +495,22 @@ fn another_program_builds_again() {
             }
         };
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stdout).into_owned()
+        kept(&String::from_utf8_lossy(&o.stdout))
     };
-    assert_eq!(kept(&run()), 0, "another program");
+    let mut appended = exe.clone();
+    appended.push(0);
+    let id = build_id_at(&exe);
+    if cfg!(target_os = "linux") && id.is_some() {
+        assert_eq!(run(&appended), 2, "the same build ID");
+    }
+    let mut changed = exe.clone();
+    match id {
+        Some(at) => changed[at] ^= 1,
+        None => changed.push(0),
+    }
+    assert_eq!(run(&changed), 0, "another program");
     let again = tree(&dir.join("out"));
-    assert_eq!(kept(&run()), 2, "the other program's own files");
+    assert_eq!(run(&changed), 2, "the other program's own files");
     fs::remove_file(&other).unwrap();
     // The same files but for the record of the program in the marker.
     for (name, bytes) in &fresh {

@@ -60,8 +60,11 @@ fn hex(x: u64) -> String {
     format!("{x:016x}")
 }
 
-/// A fingerprint of the running program: its executable's bytes, read once
-/// a run. None where they cannot be read (nothing is then kept).
+/// A fingerprint of the running program, worked out once a run: the GNU
+/// build ID of its executable where it has one (the linker's hash of the
+/// whole file, at its start), else the xxh3 hash of its bytes (57 MB for
+/// a release build: about 0.05 s of CPU). None where the file cannot be
+/// read (nothing is then kept).
 fn program() -> Option<u64> {
     static PROGRAM: OnceLock<Option<u64>> = OnceLock::new();
     *PROGRAM.get_or_init(|| {
@@ -72,8 +75,57 @@ fn program() -> Option<u64> {
         } else {
             std::env::current_exe().ok()?
         };
+        if let Some(id) = build_id(&exe) {
+            return Some(xxh3_64(&[b"build-id ".as_slice(), &id].concat()));
+        }
         hash_file(&exe, &mut vec![0; BUFFER]).ok()
     })
+}
+
+/// The GNU build ID of a 64-bit little-endian ELF file: the descriptor of
+/// its note of type 3 (`NT_GNU_BUILD_ID`) owned by "GNU", found through
+/// the program headers' `PT_NOTE` segments, which lie in the file's first
+/// pages.
+fn build_id(path: &Path) -> Option<Vec<u8>> {
+    let mut head = vec![0; 64 << 10];
+    let n = io::Read::read(&mut fs::File::open(path).ok()?, &mut head).ok()?;
+    let head = &head[..n];
+    let u16_at = |at: usize| Some(u16::from_le_bytes(head.get(at..at + 2)?.try_into().ok()?));
+    let u32_at = |at: usize| Some(u32::from_le_bytes(head.get(at..at + 4)?.try_into().ok()?));
+    let u64_at = |at: usize| {
+        let word = u64::from_le_bytes(head.get(at..at + 8)?.try_into().ok()?);
+        usize::try_from(word).ok()
+    };
+    // ELF magic, 64-bit, little-endian.
+    if head.get(..6)? != b"\x7fELF\x02\x01" {
+        return None;
+    }
+    let (phoff, phsize, phnum) = (u64_at(0x20)?, usize::from(u16_at(0x36)?), u16_at(0x38)?);
+    for i in 0..usize::from(phnum) {
+        let ph = phoff.checked_add(i.checked_mul(phsize)?)?;
+        if u32_at(ph)? != 4 {
+            continue;
+        }
+        let (mut at, end) = (
+            u64_at(ph + 8)?,
+            u64_at(ph + 8)?.checked_add(u64_at(ph + 32)?)?,
+        );
+        while at.checked_add(12)? <= end {
+            let (name, desc, kind) = (
+                u32_at(at)? as usize,
+                u32_at(at + 4)? as usize,
+                u32_at(at + 8)?,
+            );
+            let name_at = at + 12;
+            let desc_at = name_at.checked_add(name.checked_add(3)? & !3)?;
+            let next = desc_at.checked_add(desc.checked_add(3)? & !3)?;
+            if kind == 3 && head.get(name_at..name_at + name)? == b"GNU\0" && desc >= 8 {
+                return head.get(desc_at..desc_at + desc).map(<[u8]>::to_vec);
+            }
+            at = next;
+        }
+    }
+    None
 }
 
 /// The piece of a file read at a time.
