@@ -3,11 +3,11 @@
 //! The files written do not depend on the number of jobs or their order.
 
 use super::args::Verbosity;
-use super::build::open_out;
+use super::build::{Report, inputs, kept_line, open_out};
 use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{OutDir, Staged, safe_component};
 use super::progress::Progress;
-use super::recipe::{Recipe, run_recipe, simulation, stem};
+use super::recipe::{Recipe, run_recipe, stem};
 use karigami::{ErrorKind, Overrides, util::plural};
 use serde::Serialize;
 use serde_json::Value;
@@ -22,19 +22,11 @@ struct Outcome {
     file: String,
     folder: String,
     seconds: f64,
-    result: Result<Summary, Error>,
+    result: Result<Report, Error>,
+    /// Its files were kept from the earlier build (`files::Staged::keep`).
+    kept: bool,
     /// Writing its files failed: the batch must not commit.
     write_failed: Option<String>,
-}
-
-struct Summary {
-    cells: usize,
-    strips: usize,
-    sheets: usize,
-    check: Value,
-    build: Value,
-    /// `recipe::simulation`.
-    simulation: Option<&'static str>,
 }
 
 /// One recipe in batch.json and in `build --json`'s report of a batch.
@@ -147,6 +139,14 @@ pub(super) fn build(
         if let Some(line) = reused_line(&outcomes) {
             outln!("{line}");
         }
+        let kept = outcomes.iter().filter(|o| o.kept).count();
+        if kept > 0 {
+            let what = format!(
+                "the files of {kept} of {}",
+                plural(outcomes.len(), "recipe")
+            );
+            outln!("{}", kept_line(&what));
+        }
         outln!("wrote {} to {shown}", plural(outcomes.len(), "build"));
     }
     let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_err()).collect();
@@ -225,8 +225,10 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
     Ok(names)
 }
 
-/// Build one recipe of the batch into its subfolder; with `jobs > 1` its
-/// sheet pictures are drawn on a second thread (`karigami::files_on`).
+/// Build one recipe of the batch into its subfolder, or keep the earlier
+/// build's files there where nothing they are made from changed; with
+/// `jobs > 1` its sheet pictures are drawn on a second thread
+/// (`karigami::files_on`).
 fn build_one(
     path: &Path,
     folder: &str,
@@ -237,29 +239,30 @@ fn build_one(
 ) -> Outcome {
     let started = Instant::now();
     let write_failed = std::cell::RefCell::new(None);
-    let result = Recipe::read(path)
-        .and_then(|recipe| run_recipe(&recipe, overrides, &mut |_| {}, (out, folder)))
-        .and_then(|built| {
-            staged
-                .write(folder, &karigami::files_on(&built, jobs > 1))
-                .map_err(|e| {
-                    *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
-                    Error::io(format!("cannot write {folder}/: {e}"))
-                })?;
-            Ok(Summary {
-                cells: built.lattice.cells.len(),
-                strips: built.parts.strips.len(),
-                sheets: built.layout.sheets.len(),
-                check: karigami::build_check_json(&built),
-                build: karigami::build_json(&built),
-                simulation: simulation(&built),
-            })
-        });
+    let failed = |e: std::io::Error| {
+        *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
+        Error::io(format!("cannot write {folder}/: {e}"))
+    };
+    let mut kept = false;
+    let result = Recipe::read(path).and_then(|recipe| {
+        let key = inputs(&recipe, overrides, folder);
+        if let Some(report) = staged.keep(out, folder, key).map_err(failed)? {
+            kept = true;
+            return Ok(report);
+        }
+        let built = run_recipe(&recipe, overrides, &mut |_| {}, (out, folder))?;
+        let report = Report::of(&built);
+        staged
+            .write_build(folder, &karigami::files_on(&built, jobs > 1), key, &report)
+            .map_err(failed)?;
+        Ok(report)
+    });
     Outcome {
         file: path.display().to_string(),
         folder: folder.to_string(),
         seconds: started.elapsed().as_secs_f64(),
         result,
+        kept,
         write_failed: write_failed.into_inner(),
     }
 }
@@ -278,7 +281,9 @@ impl Outcome {
             build: summary.map(|s| &s.build),
             error,
             seconds: timed.then_some(self.seconds),
-            simulation: summary.and_then(|s| s.simulation).filter(|_| timed),
+            simulation: summary
+                .and_then(|s| s.simulation(self.kept))
+                .filter(|_| timed),
         }
     }
 }
@@ -288,7 +293,7 @@ impl Outcome {
 fn reused_line(outcomes: &[Outcome]) -> Option<String> {
     let how: Vec<&str> = outcomes
         .iter()
-        .filter_map(|o| o.result.as_ref().ok()?.simulation)
+        .filter_map(|o| o.result.as_ref().ok()?.simulation(o.kept))
         .collect();
     let reused = how.iter().filter(|h| **h == "reused").count();
     (!how.is_empty()).then(|| {

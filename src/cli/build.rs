@@ -39,59 +39,149 @@ pub(super) fn build(
 ) -> Result<(), Error> {
     let dir = open_out(out, paths, force, v)?;
     let recipe = match paths.first() {
-        Some(p) => Recipe::read(p),
-        None => Ok(Recipe::built_in()),
+        Some(p) => Recipe::read(p)?,
+        None => Recipe::built_in(),
     };
     let started = Instant::now();
-    let mut bar = Progress::new(1, v.quiet || json);
-    let what = format!(
-        "building {}",
-        paths
-            .first()
-            .map_or("the built-in sheet".into(), |p| p.display().to_string())
-    );
-    let built = progress::heartbeat(&what, v.quiet || json, || {
-        recipe
-            .and_then(|r| run_recipe(&r, overrides, &mut |n| fit_note(n, v, &mut bar), (&dir, "")))
-    });
-    bar.clear();
-    let built = built?;
-    let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
-        karigami::files_on(&built, jobs > 1)
-    });
-    let written = files::Staged::new(&dir, "single").and_then(|staged| {
-        staged.write("", &outputs)?;
-        staged.commit()
-    });
-    if let Err(e) = written {
-        return Err(Error::io(format!(
+    let fail = |e: std::io::Error| {
+        Error::io(format!(
             "cannot write {}: {e}; {}",
             out.display(),
             dir.kept()
-        )));
-    }
+        ))
+    };
+    let staged = files::Staged::new(&dir, "single").map_err(fail)?;
+    let key = inputs(&recipe, overrides, "");
+    // The earlier build's files where nothing they are made from changed.
+    let (report, kept) = match staged.keep::<Report>(&dir, "", key).map_err(fail)? {
+        Some(report) => (report, true),
+        None => {
+            let mut bar = Progress::new(1, v.quiet || json);
+            let what = format!(
+                "building {}",
+                paths
+                    .first()
+                    .map_or("the built-in sheet".into(), |p| p.display().to_string())
+            );
+            let built = progress::heartbeat(&what, v.quiet || json, || {
+                run_recipe(
+                    &recipe,
+                    overrides,
+                    &mut |n| fit_note(n, v, &mut bar),
+                    (&dir, ""),
+                )
+            });
+            bar.clear();
+            let built = built?;
+            let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
+                karigami::files_on(&built, jobs > 1)
+            });
+            let report = Report::of(&built);
+            staged
+                .write_build("", &outputs, key, &report)
+                .map_err(fail)?;
+            (report, false)
+        }
+    };
+    let names = staged.written();
+    staged.commit().map_err(fail)?;
+    let how = report.simulation(kept);
     if json {
         print_json(&Built {
             file: paths.first().map(|p| p.display().to_string()),
             status: "ok",
             out: out.display().to_string(),
-            files: outputs.iter().map(|(n, _)| n.as_str()).collect(),
+            files: names.iter().map(String::as_str).collect(),
             seconds: started.elapsed().as_secs_f64(),
-            check: karigami::build_check_json(&built),
-            build: karigami::build_json(&built),
-            simulation: simulation(&built),
+            check: report.check,
+            build: report.build,
+            simulation: how,
         });
     } else if !v.quiet {
         if v.verbose {
-            out!("{}", karigami::check_text(&built.verified()));
+            out!("{}", report.check_text);
         }
-        out!("{}", karigami::summary(&built));
-        if let Some(how) = simulation(&built) {
+        out!("{}", report.summary);
+        if let Some(how) = how {
             outln!("simulation: {}", simulation_line(how, out));
         }
-        outln!("wrote {} files to {}", outputs.len(), out.display());
+        outln!("wrote {} files to {}", names.len(), out.display());
+        if kept {
+            outln!("{}", kept_line("every file"));
+        }
     }
     Ok(())
+}
+
+/// The fingerprint of what a recipe's files are made from (besides the
+/// program, which `files::inputs` adds): the recipe's text and name, the
+/// command line's options, the subfolder. The number of jobs is left out:
+/// the files are the same with any.
+pub(super) fn inputs(recipe: &Recipe, overrides: &Overrides, folder: &str) -> Option<u64> {
+    let options = format!("{overrides:?}");
+    files::inputs(&[
+        b"karigami build 1",
+        recipe.file.as_bytes(),
+        recipe.stem.as_bytes(),
+        recipe.source.as_bytes(),
+        options.as_bytes(),
+        folder.as_bytes(),
+    ])
+}
+
+/// The line saying what was kept from the earlier build (`what`: "every
+/// file", "the files of 3 of 8 recipes").
+pub(super) fn kept_line(what: &str) -> String {
+    format!(
+        "kept {what} from the earlier build (the same program, recipe and options, and every file as it was written)"
+    )
+}
+
+/// What a build reports, recorded with its files so that a rebuild that
+/// keeps them reports the same without building (`files::Staged::keep`).
+#[derive(Serialize, serde::Deserialize)]
+pub(super) struct Report {
+    pub cells: usize,
+    pub strips: usize,
+    pub sheets: usize,
+    /// Whether the build simulated the deployed shape.
+    pub simulated: bool,
+    pub check: serde_json::Value,
+    pub build: serde_json::Value,
+    /// `karigami::summary`, for the terminal.
+    pub summary: String,
+    /// `karigami::check_text`, for `--verbose`.
+    pub check_text: String,
+    /// Whether this run restored the simulation (not recorded: a rebuild
+    /// says "reused" where a fresh build says "solved").
+    #[serde(skip)]
+    pub reused: bool,
+}
+
+impl Report {
+    pub(super) fn of(b: &karigami::Build) -> Self {
+        Self {
+            cells: b.lattice.cells.len(),
+            strips: b.parts.strips.len(),
+            sheets: b.layout.sheets.len(),
+            simulated: simulation(b).is_some(),
+            check: karigami::build_check_json(b),
+            build: karigami::build_json(b),
+            summary: karigami::summary(b),
+            check_text: karigami::check_text(&b.verified()),
+            reused: simulation(b) == Some("reused"),
+        }
+    }
+
+    /// Where the deployed shape came from (`recipe::simulation`): a build
+    /// that was kept reused it.
+    pub(super) fn simulation(&self, kept: bool) -> Option<&'static str> {
+        self.simulated.then_some(if kept || self.reused {
+            "reused"
+        } else {
+            "solved"
+        })
+    }
 }
 
 /// The terminal's line on where the deployed shape came from.
@@ -106,13 +196,15 @@ fn simulation_line(how: &str, out: &Path) -> String {
 }
 
 /// Check and lock the output folder before any work; say what interrupted
-/// runs left and was repaired, and what `--force` deletes.
+/// runs left and was repaired, and what `--force` deletes. The program's
+/// hash for keeping files (`files::inputs`) starts meanwhile.
 pub(super) fn open_out(
     out: &Path,
     inputs: &[PathBuf],
     force: bool,
     v: Verbosity,
 ) -> Result<files::OutDir, Error> {
+    files::start_program_hash();
     let dir = files::OutDir::open(out, inputs, force)?;
     if !v.quiet {
         for note in &dir.notes {

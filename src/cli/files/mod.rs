@@ -16,11 +16,13 @@ mod atomic;
 mod input;
 mod lock;
 mod out_dir;
+mod record;
 mod staged;
 
 pub(super) use atomic::write_atomic;
 pub(super) use input::{read, recipes, safe_component};
 pub(super) use out_dir::OutDir;
+pub(super) use record::{inputs, start_program_hash};
 pub(super) use staged::Staged;
 
 use std::ffi::OsStr;

@@ -3,6 +3,7 @@
 //! and repaired after interrupted runs.
 
 use super::lock::take_lock;
+use super::record::Earlier;
 use super::{MARKER, MARKER_HEAD, hidden, remove_any};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
@@ -35,6 +36,8 @@ pub(crate) struct OutDir {
     pub previous: Previous,
     /// What the lock holder repaired or cleaned, for the user.
     pub notes: Vec<String>,
+    /// The records of the earlier build in it (`record`), if any.
+    pub(super) earlier: Option<Earlier>,
     lock: (PathBuf, File),
 }
 impl Drop for OutDir {
@@ -89,11 +92,17 @@ impl OutDir {
             name,
             previous: Previous::Nothing,
             notes: Vec::new(),
+            earlier: None,
             lock,
         };
         dir.recover()
             .map_err(|e| Error::io(format!("cannot tidy up beside {shown}: {e}")))?;
         dir.previous = classify(out, inputs, force)?;
+        if matches!(dir.previous, Previous::Build | Previous::Added(_)) {
+            dir.earlier = fs::read_to_string(out.join(MARKER))
+                .ok()
+                .map(|m| Earlier::parse(&m));
+        }
         Ok(dir)
     }
 
@@ -210,6 +219,7 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
             .split_once("\nfiles:\n")
             .map_or("", |(_, l)| l)
             .lines()
+            .take_while(|l| !l.is_empty())
             .collect();
         let added: Vec<String> = files
             .iter()
@@ -288,12 +298,22 @@ impl OutDir {
     /// `limit` bytes. Whatever is read is checked by its reader; a read
     /// that fails is no error (the build just does the work again).
     pub(crate) fn earlier_file(&self, rel: &str, limit: u64) -> Option<Vec<u8>> {
+        let path = self.plain_file(Path::new(rel))?;
+        if fs::symlink_metadata(&path).ok()?.len() > limit {
+            return None;
+        }
+        let bytes = fs::read(&path).ok()?;
+        (bytes.len() as u64 <= limit).then_some(bytes)
+    }
+
+    /// The path of `rel` inside the earlier build in this folder, if it is
+    /// a plain file there (not a link, nor under one).
+    pub(super) fn plain_file(&self, rel: &Path) -> Option<PathBuf> {
         if !matches!(self.previous, Previous::Build | Previous::Added(_)) {
             return None;
         }
         // Every folder on the way must be a real folder inside this one: a
         // batch subfolder replaced by a link would lead outside it.
-        let rel = Path::new(rel);
         let mut path = self.target.clone();
         for part in rel.parent().into_iter().flat_map(Path::components) {
             path.push(part);
@@ -302,12 +322,7 @@ impl OutDir {
             }
         }
         let path = self.target.join(rel);
-        let meta = fs::symlink_metadata(&path).ok()?;
-        if !meta.is_file() || meta.len() > limit {
-            return None;
-        }
-        let bytes = fs::read(&path).ok()?;
-        (bytes.len() as u64 <= limit).then_some(bytes)
+        fs::symlink_metadata(&path).ok()?.is_file().then_some(path)
     }
 
     /// What the folder holds if a build does not commit.

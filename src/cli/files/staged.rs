@@ -2,6 +2,7 @@
 //! replaces it whole on commit, with the marker written last.
 
 use super::super::fault;
+use super::record::{RECORDS_HEAD, line};
 use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove_any};
 use std::fs::{self, File};
 use std::io::{self, Write};
@@ -9,7 +10,7 @@ use std::path::{Component, Path, PathBuf};
 
 /// Whether `rel` is a relative path of plain components that stays inside
 /// the folder it is joined to.
-fn stays_inside(rel: &Path) -> bool {
+pub(super) fn stays_inside(rel: &Path) -> bool {
     rel.components().all(|c| match c {
         Component::Normal(n) => {
             let n = n.to_string_lossy();
@@ -25,10 +26,12 @@ fn stays_inside(rel: &Path) -> bool {
 /// the next run removes it.
 pub(crate) struct Staged<'a> {
     out: &'a OutDir,
-    fresh: PathBuf,
+    pub(super) fresh: PathBuf,
     kind: String,
     /// Every file written (relative paths), for the marker.
-    written: std::sync::Mutex<Vec<String>>,
+    pub(super) written: std::sync::Mutex<Vec<String>>,
+    /// Each build's record line (`record`), for the marker.
+    records: std::sync::Mutex<Vec<String>>,
     committed: bool,
 }
 
@@ -45,25 +48,28 @@ impl<'a> Staged<'a> {
             fresh,
             kind: kind.to_string(),
             written: std::sync::Mutex::new(Vec::new()),
+            records: std::sync::Mutex::new(Vec::new()),
             committed: false,
         })
     }
 
     /// The marker, written last: what the folder is and every file the
     /// build wrote, so that a later build can tell them from files someone
-    /// added.
+    /// added; then each build's record, so that a later build can keep
+    /// what did not change (`record`).
     fn write_marker(&self) -> io::Result<()> {
-        let mut files = self
-            .written
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .clone();
-        files.sort();
+        let sorted = |list: &std::sync::Mutex<Vec<String>>| {
+            let mut list = list.lock().unwrap_or_else(|e| e.into_inner()).clone();
+            list.sort();
+            list
+        };
+        let (files, records) = (sorted(&self.written), sorted(&self.records));
         let text = format!(
-            "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by karigami {}; a build replaces this folder whole\nfiles:\n{}",
+            "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by karigami {}; a build replaces this folder whole\nfiles:\n{}\n{RECORDS_HEAD}\n{}",
             self.kind,
             env!("CARGO_PKG_VERSION"),
-            files.iter().map(|f| format!("{f}\n")).collect::<String>()
+            files.iter().map(|f| format!("{f}\n")).collect::<String>(),
+            records.iter().map(|r| format!("{r}\n")).collect::<String>()
         );
         fault::write(MARKER)?;
         let mut f = File::create(self.fresh.join(MARKER))?;
@@ -88,6 +94,12 @@ impl<'a> Staged<'a> {
                 fs::create_dir_all(dir)?;
             }
             fault::write(&rel.display().to_string())?;
+            // A file kept from the earlier build is a link to its file:
+            // replaced, never truncated through the link.
+            match fs::remove_file(&path) {
+                Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
             let mut f = File::create(&path)?;
             f.write_all(bytes)?;
             fault::sync(&f)?;
@@ -97,6 +109,36 @@ impl<'a> Staged<'a> {
                 .push(rel.display().to_string());
         }
         Ok(())
+    }
+
+    /// Write the files of one build (`write`) and record what they are made
+    /// from (`inputs`, see `record::inputs`) and what the build reported,
+    /// so that a rebuild can keep them (`keep`).
+    pub(crate) fn write_build(
+        &self,
+        sub: &str,
+        files: &[(String, Vec<u8>)],
+        inputs: Option<u64>,
+        report: &impl serde::Serialize,
+    ) -> io::Result<()> {
+        self.write(sub, files)?;
+        self.add_record(line(sub, inputs, files, report));
+        Ok(())
+    }
+
+    /// Every file written so far (paths relative to the folder), in order.
+    pub(crate) fn written(&self) -> Vec<String> {
+        self.written
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    pub(super) fn add_record(&self, line: String) {
+        self.records
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(line);
     }
 
     /// Put the staging folder in the target's place.
