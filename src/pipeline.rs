@@ -515,6 +515,10 @@ fn simulated(
     };
     let run = match solved {
         Ok(run) => run,
+        // A recipe's mistake, not the solver's: refused where it is written.
+        Err(e) if recipe_error(design, &e).is_some() => {
+            return Err(recipe_error(design, &e).expect("checked"));
+        }
         Err(e) => {
             warnings.push(crate::parts::Warning {
                 strip: None,
@@ -556,6 +560,20 @@ fn simulated(
         });
     }
     Ok((Some(run), Some((key, reused))))
+}
+
+/// A simulation error that is the recipe's to fix, located in it: a
+/// `[simulation] symmetry` the lattice does not have. None for the solver's
+/// failures.
+pub fn recipe_error(design: &Design, e: &crate::sim::SimError) -> Option<Diagnostic> {
+    match e {
+        crate::sim::SimError::Symmetry { .. } => Some(
+            Diagnostic::new(ErrorKind::SimulationOutOfRange, e.to_string())
+                .at_opt(design.symmetry_span())
+                .hint("symmetry is how many identical copies of its cells a loop lattice has around the loop; use a divisor of the cells in a row whose copies are alike, or 1 (docs/physics.md)"),
+        ),
+        _ => None,
+    }
 }
 
 /// The clash rule of `check` applied to a simulated deployed `shape`: None

@@ -1165,3 +1165,22 @@ fn tune_can_aim_at_the_simulated_relief() {
         "{e:?}"
     );
 }
+
+/// A `[simulation] symmetry` the lattice does not have is the recipe's
+/// mistake: `build` refuses it where it is written (no files), instead of
+/// warning that the shape could not be simulated.
+#[test]
+fn a_symmetry_the_lattice_lacks_is_refused_where_written() {
+    let text = format!(
+        "{}\n[simulation]\nsymmetry = 3\n",
+        std::fs::read_to_string("examples/eggbox.toml").expect("recipe")
+    );
+    let d = karigami::parse(&text, "eggbox").expect("parses");
+    let Err(e) = karigami::build(d) else {
+        panic!("built with a symmetry of 3 on rows of 8 cells");
+    };
+    assert_eq!(e.kind.name(), "SimulationOutOfRange", "{e:?}");
+    assert!(e.message.contains("not a multiple of 3"), "{}", e.message);
+    let line = text.lines().position(|l| l == "symmetry = 3").unwrap() + 1;
+    assert_eq!(e.line_col(&text), Some((line, 12)), "{e:?}");
+}

@@ -44,12 +44,16 @@ pub(super) fn simulate(
         design.fabrication.material.width,
         design.fabrication.material.thickness,
     );
-    let run = sim::simulate(lattice, deploy, w, t, &settings).map_err(|e| {
-        Error::new(
-            ErrorKind::SimulationFailed,
-            format!("{}: simulation failed: {e}", recipe.file),
-        )
-    })?;
+    let run =
+        sim::simulate(lattice, deploy, w, t, &settings).map_err(
+            |e| match karigami::recipe_error(design, &e) {
+                Some(d) => recipe.error(&d),
+                None => Error::new(
+                    ErrorKind::SimulationFailed,
+                    format!("{}: simulation failed: {e}", recipe.file),
+                ),
+            },
+        )?;
     if !v.quiet {
         print!(
             "{}",

@@ -117,6 +117,11 @@ pub fn parse_with(
         lattice: lattice_span.clone(),
         points: points_span,
         fabrication: fabrication_spans,
+        symmetry: raw
+            .simulation
+            .as_ref()
+            .and_then(|s| s.get_ref().symmetry.as_ref())
+            .map(|n| n.span()),
         ..Spans::default()
     };
     let edges = if kind == Kind::Loop {

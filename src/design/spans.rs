@@ -27,6 +27,8 @@ pub(super) struct Spans {
     pub(super) cells: Range<usize>,
     /// `[lattice.fit]`.
     pub(super) fit: Range<usize>,
+    /// `[simulation] symmetry`, when the recipe sets it.
+    pub(super) symmetry: Option<Range<usize>>,
 }
 
 pub(super) const NO_ENTRY: u32 = u32::MAX;
@@ -59,6 +61,12 @@ impl FieldSpans {
 }
 
 impl Design {
+    /// `[simulation] symmetry`, for errors about a symmetry the lattice
+    /// does not have.
+    pub(crate) fn symmetry_span(&self) -> Option<Range<usize>> {
+        self.spans.symmetry.clone()
+    }
+
     /// The text that sets the lattice's size, for errors about a lattice too
     /// large to build: a helix's `cells`, `[lattice.fit]`, or the table that
     /// gives the last row.
