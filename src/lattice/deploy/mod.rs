@@ -3,7 +3,7 @@
 //! for planar lattices how far a rigid placement of the cells misses at
 //! other angles.
 
-use super::Lattice;
+use super::{Lattice, Legs};
 use crate::words::plural;
 
 mod configuration;
@@ -11,6 +11,7 @@ mod misfit;
 mod mobility;
 
 pub use configuration::{Configuration, configuration};
+pub(crate) use misfit::cell_legs;
 pub use misfit::{planar_misfit, planar_misfits};
 pub use mobility::{MOBILITY_MAX_CELLS, mobility};
 
@@ -32,11 +33,17 @@ pub struct Deployment {
 
 /// Deployment of `lattice`: its C(theta) path, mobility and planar misfits.
 pub fn deployment(lattice: &Lattice) -> Deployment {
-    let config = configuration(lattice);
+    deployment_with(lattice, &cell_legs(lattice))
+}
+
+/// `deployment` with every cell's legs at hand (`cell_legs`): C(theta), the
+/// misfits and the shape measures share one computation of them.
+pub(crate) fn deployment_with(lattice: &Lattice, legs: &[Legs]) -> Deployment {
+    let config = configuration::configuration_with(lattice, legs);
     let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
     let misfits = MISFIT_FRACTIONS
         .iter()
-        .zip(planar_misfits(lattice, &config, &thetas))
+        .zip(misfit::planar_misfits_with(lattice, legs, &config, &thetas))
         .filter_map(|(&f, m)| Some((f, m?)))
         .collect();
     Deployment {
