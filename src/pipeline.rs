@@ -7,7 +7,7 @@ use crate::design::Design;
 use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
-use crate::lattice::deploy::{Deployment, cell_legs, deployment, deployment_with};
+use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Joint, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
@@ -154,38 +154,32 @@ pub fn check_on(
     two_threads: bool,
 ) -> Result<Checked, Diagnostic> {
     let lattice = design.grow_with(progress)?;
+    let placed_and_measured = |lattice: &Lattice| {
+        let placed = place(lattice);
+        let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
+        (placed, measures)
+    };
     let two_threads = two_threads && lattice.cells.len() >= TWO_THREADS_FROM_CELLS;
     let (report, deployment, measured) = match (two_threads, measure) {
-        (false, _) => {
-            // Every cell's legs once, for C(theta), the misfits and the shape.
-            let legs = cell_legs(&lattice);
-            let deployment = deployment_with(&lattice, &legs);
-            let measured = measure.then(|| {
-                let placed = place(&lattice);
-                let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
-                let shape = lattice.shape_with(&legs);
-                (placed, measure_with(&design, &lattice, shape, || clashes))
-            });
-            (verify(&lattice), deployment, measured)
-        }
+        (false, _) => (
+            verify(&lattice),
+            deployment(&lattice),
+            measure.then(|| placed_and_measured(&lattice)),
+        ),
         // The clash search is the largest single measure: it goes with
-        // verification, the rest of the measures with the deployment, and
-        // every cell's legs are computed once for C(theta), the misfits
-        // and the shape. (Four threads, one a piece, held 1.15 GB at once
-        // on 4 M cells, above the goal of 1 GB: BENCHMARKS.md.)
+        // verification, the rest of the measures with the deployment.
         (true, true) => std::thread::scope(|s| {
             let other = s.spawn(|| {
                 let placed = place(&lattice);
                 let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
                 (placed, clashes, verify(&lattice))
             });
-            let legs = cell_legs(&lattice);
-            let deployment = deployment_with(&lattice, &legs);
-            let shape = lattice.shape_with(&legs);
-            drop(legs);
+            let deployment = deployment(&lattice);
             let mut rest = None;
-            let measures = measure_with(&design, &lattice, shape, || {
-                let (placed, clashes, report) = joined(other);
+            let measures = measure_with(&design, &lattice, || {
+                let (placed, clashes, report) = other
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p));
                 rest = Some((placed, report));
                 clashes
             });
@@ -195,7 +189,10 @@ pub fn check_on(
         (true, false) => std::thread::scope(|s| {
             let deployed = s.spawn(|| deployment(&lattice));
             let report = verify(&lattice);
-            (report, joined(deployed), None)
+            let deployment = deployed
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (report, deployment, None)
         }),
     };
     let (placed, measures) = match measured {
@@ -212,13 +209,6 @@ pub fn check_on(
         joints: OnceCell::new(),
         parts: OnceCell::new(),
     })
-}
-
-/// What a scoped thread returned; its panic goes on in the caller.
-fn joined<T>(thread: std::thread::ScopedJoinHandle<'_, T>) -> T {
-    thread
-        .join()
-        .unwrap_or_else(|p| std::panic::resume_unwind(p))
 }
 
 /// `Lattice::placed`, None when that is the grown lattice (extrinsic).

@@ -69,7 +69,7 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
     // are taken, and the shape's curvature list (kept) is not held while
     // the search runs (one peak of memory, not their sum, on 4 M cells).
     let clashes = strip_clashes(design, assembled);
-    measure_with(design, lattice, lattice.shape(), || clashes)
+    measure_with(design, lattice, || clashes)
 }
 
 /// The strip clashes of a design's lattice as assembled (an intrinsic
@@ -84,16 +84,15 @@ pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Vec<Clash> 
     )
 }
 
-/// `measure_assembled` with the target-free shape measures (`Lattice::shape`)
-/// given, and the clashes (`strip_clashes`) given by `clashes`, called once
-/// every other measure is taken: the pipeline searches them and measures
-/// the shape on other threads meanwhile (`pipeline::check_on`).
+/// `measure_assembled` with the clashes (`strip_clashes`) given by
+/// `clashes`, called once every other measure is taken: the pipeline
+/// searches them on another thread meanwhile (`pipeline::check_on`).
 pub(crate) fn measure_with(
     design: &Design,
     lattice: &Lattice,
-    shape: Shape,
     clashes: impl FnOnce() -> Vec<Clash>,
 ) -> Measures {
+    let shape = lattice.shape();
     let curvature = summary(&shape.curvature);
     let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
         Some(f) => {

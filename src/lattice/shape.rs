@@ -145,12 +145,6 @@ impl Lattice {
     /// angles (the same arithmetic, in the same order, as `curvature` and
     /// `legs`, so the figures are those of the separate passes bit for bit).
     pub(crate) fn shape(&self) -> Shape {
-        self.shape_with(&super::deploy::cell_legs(self))
-    }
-
-    /// `shape` with every cell's legs (`Lattice::legs`, in cell order) at
-    /// hand: the deployment computed them already (`pipeline::check_on`).
-    pub(crate) fn shape_with(&self, legs: &[super::Legs]) -> Shape {
         let mut at: CornerSums = vec![(0, 0.0, 0.0); self.vertices.len()];
         let mut cell_ratios = Vec::with_capacity(self.cells.len());
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -160,10 +154,18 @@ impl Lattice {
         // the same strips, and only the distinct keys count below.
         let mut strips: Vec<u128> = Vec::new();
         let mut last = [None; 2];
-        for (cell, &legs) in self.cells.iter().zip(legs) {
+        for cell in &self.cells {
             let corners = self.corners(cell);
+            let [ul, ur, ll, lr] = corners;
             let area = cell_area(corners);
             (amin, amax) = (amin.min(area), amax.max(area));
+            let p = cell.pivot;
+            let legs = [
+                p.distance(ul),
+                p.distance(ll),
+                p.distance(lr),
+                p.distance(ur),
+            ];
             let (l, h) = legs
                 .iter()
                 .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));

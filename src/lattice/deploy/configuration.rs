@@ -206,8 +206,8 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
     configuration_with(lattice, &super::misfit::cell_legs(lattice))
 }
 
-/// `configuration` with every cell's legs at hand (`cell_legs`): the
-/// deployment and the shape measures share one computation of them.
+/// `configuration` with every cell's legs at hand (`cell_legs`): C(theta)
+/// and the misfits share one computation of them (`deployment`).
 pub(crate) fn configuration_with(lattice: &Lattice, legs: &[Legs]) -> Configuration {
     let n = lattice.cells.len();
     let users = Users::new(lattice);

@@ -22,8 +22,8 @@ pub fn planar_misfits(
     planar_misfits_with(lattice, &cell_legs(lattice), config, thetas)
 }
 
-/// `planar_misfits` with every cell's legs (`cell_legs`) at hand: the
-/// deployment and the shape measures share one computation of them.
+/// `planar_misfits` with every cell's legs (`cell_legs`) at hand: C(theta)
+/// and the misfits share one computation of them (`deployment`).
 pub(crate) fn planar_misfits_with(
     lattice: &Lattice,
     legs: &[Legs],

@@ -3,7 +3,7 @@
 //! for planar lattices how far a rigid placement of the cells misses at
 //! other angles.
 
-use super::{Lattice, Legs};
+use super::Lattice;
 use crate::words::plural;
 
 mod configuration;
@@ -11,7 +11,6 @@ mod misfit;
 mod mobility;
 
 pub use configuration::{Configuration, configuration};
-pub(crate) use misfit::cell_legs;
 pub use misfit::{planar_misfit, planar_misfits};
 pub use mobility::{MOBILITY_MAX_CELLS, mobility};
 
@@ -32,13 +31,10 @@ pub struct Deployment {
 }
 
 /// Deployment of `lattice`: its C(theta) path, mobility and planar misfits.
+/// Every cell's legs are computed once, for C(theta) and the misfits.
 pub fn deployment(lattice: &Lattice) -> Deployment {
-    deployment_with(lattice, &cell_legs(lattice))
-}
-
-/// `deployment` with every cell's legs at hand (`cell_legs`): C(theta), the
-/// misfits and the shape measures share one computation of them.
-pub(crate) fn deployment_with(lattice: &Lattice, legs: &[Legs]) -> Deployment {
+    let legs = misfit::cell_legs(lattice);
+    let legs = &legs[..];
     let config = configuration::configuration_with(lattice, legs);
     let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
     let misfits = MISFIT_FRACTIONS
