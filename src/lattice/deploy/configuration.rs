@@ -2,7 +2,7 @@
 //! opening as an affine function of the reference cell's, propagated
 //! through shared edges, with how far two paths disagree.
 
-use super::super::{Cell, Lattice};
+use super::super::{Cell, Lattice, Legs};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -56,6 +56,14 @@ pub(super) fn design_cos(lattice: &Lattice, cell: &Cell) -> f64 {
     (ul - cell.pivot)
         .normalize()
         .dot((ur - cell.pivot).normalize())
+}
+
+/// `design_cos` from the cell's legs (`Lattice::legs`): a leg is the length
+/// `normalize` divides by (`p - q` is exactly `-(q - p)`, so their squares
+/// and roots agree bit for bit), and no square root is taken again.
+fn design_cos_with(lattice: &Lattice, cell: &Cell, legs: &Legs) -> f64 {
+    let [ul, ur, _, _] = lattice.corners(cell);
+    ((ul - cell.pivot) * (1.0 / legs[0])).dot((ur - cell.pivot) * (1.0 / legs[3]))
 }
 
 /// The intrinsic configuration C(theta): every cell's opening as a function
@@ -195,16 +203,18 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
 /// before it or the row above, the shortest path. A cell reached behind
 /// the scan waits in a small heap.
 pub fn configuration(lattice: &Lattice) -> Configuration {
+    configuration_with(lattice, &super::misfit::cell_legs(lattice))
+}
+
+/// `configuration` with every cell's legs at hand (`cell_legs`): C(theta)
+/// and the misfits share one computation of them (`deployment`).
+pub(crate) fn configuration_with(lattice: &Lattice, legs: &[Legs]) -> Configuration {
     let n = lattice.cells.len();
-    let all_legs = || -> Vec<[f64; 4]> { lattice.cells.iter().map(|c| lattice.legs(c)).collect() };
     let users = Users::new(lattice);
     let (cos_phi, reached, path_residual) = match edge_neighbours(lattice, &users) {
         Some(nbr) => {
-            // The corners' users go before the legs come: on a 4 M-cell
-            // lattice they are 80 MB, the legs 128 MB.
             drop(users);
-            let legs = all_legs();
-            propagate(n, &legs, |i, visit| {
+            propagate(n, legs, |i, visit| {
                 for (e, &other) in nbr[i].iter().enumerate() {
                     if other != NO_CELL {
                         let (j, ej) = ((other & ((1 << 30) - 1)) as usize, (other >> 30) as usize);
@@ -213,7 +223,7 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
                 }
             })
         }
-        None => propagate(n, &all_legs(), |i, visit| {
+        None => propagate(n, legs, |i, visit| {
             for e in 0..4 {
                 users.sharers(lattice, i, e, |j, ej| visit(e, j, ej));
             }
@@ -230,8 +240,9 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
     // Each cos(phi) falls as cos(theta) falls; the range ends where the
     // first cell opens flat past pi (cos(phi) = -1).
     let mut c_min: f64 = -1.0;
-    for (f, cell) in cos_phi.iter().zip(&lattice.cells) {
-        design_residual = design_residual.max((f.at(c_design) - design_cos(lattice, cell)).abs());
+    for ((f, cell), legs) in cos_phi.iter().zip(&lattice.cells).zip(legs) {
+        let design = design_cos_with(lattice, cell, legs);
+        design_residual = design_residual.max((f.at(c_design) - design).abs());
         collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
         if f.b > 0.0 {
             c_min = c_min.max((-1.0 - f.a) / f.b);
@@ -313,16 +324,21 @@ mod tests {
     use crate::lattice::fixtures;
     use glam::DVec3;
 
+    /// A sheet of uneven seed spacing and kappa: cells of every shape.
+    fn uneven_sheet() -> Lattice {
+        let points: Vec<DVec3> = (0..7)
+            .map(|j| DVec3::new(10.0 * j as f64 + (j % 3) as f64, 0.3 * (j % 2) as f64, 0.0))
+            .collect();
+        let kappa = [0.5, -0.3, 0.2, 0.0, -0.4, 0.1];
+        fixtures::sheet(&points, &kappa, 2, 50.0, 5)
+    }
+
     /// The propagation over precomputed neighbours and the one asking the
     /// corners each time visit the same cells in the same order and compute
     /// the same numbers, bit for bit.
     #[test]
     fn both_neighbour_searches_agree_bit_for_bit() {
-        let points: Vec<DVec3> = (0..7)
-            .map(|j| DVec3::new(10.0 * j as f64 + (j % 3) as f64, 0.3 * (j % 2) as f64, 0.0))
-            .collect();
-        let kappa = [0.5, -0.3, 0.2, 0.0, -0.4, 0.1];
-        let lattice = fixtures::sheet(&points, &kappa, 2, 50.0, 5);
+        let lattice = uneven_sheet();
         let n = lattice.cells.len();
         let legs: Vec<[f64; 4]> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
         let users = Users::new(&lattice);
@@ -367,5 +383,26 @@ mod tests {
         let back = configuration(&reversed);
         assert_eq!(back.unreached, 0);
         assert!(back.path_residual < 1e-12, "{}", back.path_residual);
+    }
+
+    /// The design opening from the shared legs is the one from normalising
+    /// the legs' vectors, bit for bit.
+    #[test]
+    fn the_design_opening_from_the_legs_is_bit_for_bit_the_same() {
+        let lattice = uneven_sheet();
+        let mut rng = crate::rng::Rng::new(9);
+        let mut moved = lattice.clone();
+        for v in &mut moved.vertices {
+            v.pos += DVec3::new(rng.signed(), rng.signed(), rng.signed());
+        }
+        for lattice in [&lattice, &moved] {
+            for cell in &lattice.cells {
+                let legs = lattice.legs(cell);
+                assert_eq!(
+                    design_cos_with(lattice, cell, &legs).to_bits(),
+                    design_cos(lattice, cell).to_bits()
+                );
+            }
+        }
     }
 }

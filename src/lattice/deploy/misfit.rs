@@ -1,7 +1,7 @@
 //! How far a rigid placement of a planar lattice's cells misses at other
 //! openings than the design's (MATH.md 8.4).
 
-use super::super::Lattice;
+use super::super::{Lattice, Legs};
 use super::Configuration;
 use glam::{DVec2, DVec3};
 
@@ -19,6 +19,17 @@ pub fn planar_misfits(
     config: &Configuration,
     thetas: &[f64],
 ) -> Vec<Option<f64>> {
+    planar_misfits_with(lattice, &cell_legs(lattice), config, thetas)
+}
+
+/// `planar_misfits` with every cell's legs (`cell_legs`) at hand: C(theta)
+/// and the misfits share one computation of them (`deployment`).
+pub(crate) fn planar_misfits_with(
+    lattice: &Lattice,
+    legs: &[Legs],
+    config: &Configuration,
+    thetas: &[f64],
+) -> Vec<Option<f64>> {
     let valid = |t: f64| lattice.dim == 2 && (0.0..=config.theta_max).contains(&t);
     // The openings tried, with their own placements (vertex by vertex).
     let tried: Vec<(usize, f64)> = (0..thetas.len())
@@ -29,66 +40,118 @@ pub fn planar_misfits(
     if tried.is_empty() {
         return out;
     }
-    let t = tried.len();
     let nv = lattice.vertices.len();
-    let mut placed = vec![DVec2::ZERO; nv * t];
-    // Which vertices are placed depends on the cells only, not on theta.
-    let mut is_placed = vec![false; nv];
+    // The placements live in a ring of `window` vertices (vertex v in slot
+    // v mod window): growth numbers a cell's corners within about two
+    // fronts of each other, so a ring of a few thousand slots stands for
+    // the whole lattice (on 4 M cells: 190 MB fewer, and in cache). A
+    // lattice whose corners spread wider is measured again with a slot for
+    // every vertex; either way every number is the same.
+    let window = (2 * lattice.width + 8).next_power_of_two();
+    for chunk in tried.chunks(LANES) {
+        // Unused lanes repeat the first opening; their results are dropped.
+        let cos = std::array::from_fn(|k| chunk.get(k).unwrap_or(&chunk[0]).1);
+        let misfit = (window < nv)
+            .then(|| misfits_in(lattice, legs, config, cos, window))
+            .flatten()
+            .unwrap_or_else(|| {
+                misfits_in(lattice, legs, config, cos, nv.next_power_of_two())
+                    .expect("a slot for every vertex")
+            });
+        for (&(k, _), m) in chunk.iter().zip(misfit) {
+            out[k] = Some(m.sqrt());
+        }
+    }
+    out
+}
+
+/// Every cell's legs (`Lattice::legs`), in cell order.
+pub(crate) fn cell_legs(lattice: &Lattice) -> Vec<Legs> {
+    lattice.cells.iter().map(|c| lattice.legs(c)).collect()
+}
+
+/// Openings placed side by side in one pass (`MISFIT_FRACTIONS` has three):
+/// each lane's square roots and divisions wait on the cell before, so the
+/// lanes are computed stage by stage, each stage's three independent.
+const LANES: usize = 3;
+
+/// The largest squared miss over the squared mean leg at each opening
+/// whose cosine is in `cos`, the placements held in a ring of `window`
+/// vertices (a power of two); None when some cell's corners lie too far
+/// apart in vertex order for it.
+///
+/// Why the ring holds what a slot per vertex would: every cell's corners
+/// lie in `(high - window, high]`, `high` the largest corner index so far.
+/// A corner read at a cell and another index of its slot written after it
+/// would both lie in the window of that later write (the indices only
+/// grow), which holds no two indices of one slot.
+fn misfits_in(
+    lattice: &Lattice,
+    legs: &[Legs],
+    config: &Configuration,
+    cos: [f64; LANES],
+    window: usize,
+) -> Option<[f64; LANES]> {
+    let mask = window - 1;
+    let mut placed = vec![[DVec2::ZERO; LANES]; window];
+    // Which vertex each slot holds (placed by an earlier cell); which
+    // vertices are placed depends on the cells only, not on theta.
+    let mut holds = vec![u32::MAX; window];
+    let mut high = 0usize;
     // The largest squared miss over the squared mean leg, per opening.
-    let mut misfit = vec![0.0f64; t];
+    let mut misfit = [0.0f64; LANES];
     for (i, cell) in lattice.cells.iter().enumerate() {
         let corners = lattice.corners(cell);
-        let p = cell.pivot;
-        let [ul, ur, ll, lr] = corners;
-        let legs = [
-            p.distance(ul),
-            p.distance(ll),
-            p.distance(lr),
-            p.distance(ur),
-        ];
-        let side = side(corners, p);
+        let legs = legs[i];
+        let side = side(corners, cell.pivot);
         let scale = legs.iter().sum::<f64>() / 4.0;
         // Misses compared squared, over the squared scale: one square
         // root per opening at the end, not one per corner.
         let inv_scale2 = 1.0 / (scale * scale);
-        let ids = [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize);
+        let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
+        let (lo, hi) = ids
+            .iter()
+            .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
+        high = high.max(hi as usize);
+        if lo as usize + window <= high {
+            return None;
+        }
+        let slots = ids.map(|v| v as usize & mask);
         // The fit uses the corners placed before this cell; a corner
         // repeated in the cell is placed by its first occurrence.
-        let before = ids.map(|v| is_placed[v]);
+        let before = [0, 1, 2, 3].map(|c| holds[slots[c]] == ids[c]);
         let mut known = before;
         for c in 1..4 {
             known[c] |= ids[..c].contains(&ids[c]);
         }
-        for (k, &(_, cos_theta)) in tried.iter().enumerate() {
-            let cos_phi = config.cos_phi[i].at(cos_theta).clamp(-1.0, 1.0);
-            let local = cell_at(legs, side, cos_phi);
-            let mut pairs = [(DVec2::ZERO, DVec2::ZERO); 4];
-            let mut m = 0;
-            for c in 0..4 {
-                if before[c] {
-                    pairs[m] = (local[c], placed[ids[c] * t + k]);
-                    m += 1;
-                }
+        let f = config.cos_phi[i];
+        let local = cos.map(|c| cell_at(legs, side, f.at(c).clamp(-1.0, 1.0)));
+        let mut pairs = [[(DVec2::ZERO, DVec2::ZERO); LANES]; 4];
+        let mut m = 0;
+        for c in 0..4 {
+            if before[c] {
+                let at = &placed[slots[c]];
+                pairs[m] = std::array::from_fn(|k| (local[k][c], at[k]));
+                m += 1;
             }
-            let fit = rigid_fit(&pairs[..m]);
-            for c in 0..4 {
-                let q = fit(local[c]);
-                let slot = &mut placed[ids[c] * t + k];
+        }
+        let fits = rigid_fits(&pairs[..m]);
+        for c in 0..4 {
+            let slot = &mut placed[slots[c]];
+            for k in 0..LANES {
+                let q = fits[k].apply(local[k][c]);
                 if known[c] {
-                    misfit[k] = misfit[k].max(slot.distance_squared(q) * inv_scale2);
+                    misfit[k] = misfit[k].max(slot[k].distance_squared(q) * inv_scale2);
                 } else {
-                    *slot = q;
+                    slot[k] = q;
                 }
             }
         }
-        for v in ids {
-            is_placed[v] = true;
+        for c in 0..4 {
+            holds[slots[c]] = ids[c];
         }
     }
-    for (&(k, _), m) in tried.iter().zip(misfit) {
-        out[k] = Some(m.sqrt());
-    }
-    out
+    Some(misfit)
 }
 
 /// Which way a cell turns from the leg to UL to the leg to UR: +1 or -1.
@@ -114,31 +177,68 @@ fn cell_at(legs: [f64; 4], side: f64, cos_phi: f64) -> [DVec2; 4] {
     [dir_a * l1, dir_b * l4, -dir_b * l2, -dir_a * l3]
 }
 
+/// A proper rigid motion of the plane: `p -> cq + rot (p - cp)`.
+#[derive(Clone, Copy)]
+struct Fit {
+    cp: DVec2,
+    cq: DVec2,
+    rot: DVec2,
+}
+
+impl Fit {
+    #[inline]
+    fn apply(&self, p: DVec2) -> DVec2 {
+        self.cq + self.rot.rotate(p - self.cp)
+    }
+}
+
 /// The proper rigid motion taking the first points of `pairs` onto the
 /// second (least squares); the identity when there are none.
+#[cfg(test)]
 fn rigid_fit(pairs: &[(DVec2, DVec2)]) -> impl Fn(DVec2) -> DVec2 + use<> {
+    let lanes: Vec<[(DVec2, DVec2); 1]> = pairs.iter().map(|&p| [p]).collect();
+    let [fit] = rigid_fits(&lanes);
+    move |p: DVec2| fit.apply(p)
+}
+
+/// `rigid_fit` of every lane: `pairs[j][k]` is pair j of lane k. The lanes
+/// are independent and computed stage by stage, so that their divisions
+/// and square roots overlap.
+#[inline]
+fn rigid_fits<const L: usize>(pairs: &[[(DVec2, DVec2); L]]) -> [Fit; L] {
     let n = pairs.len().max(1) as f64;
-    let (cp, cq) = pairs
-        .iter()
-        .fold((DVec2::ZERO, DVec2::ZERO), |(a, b), (p, q)| {
-            (a + *p, b + *q)
-        });
-    let (cp, cq) = (cp / n, cq / n);
+    let (mut cp, mut cq) = ([DVec2::ZERO; L], [DVec2::ZERO; L]);
+    for lanes in pairs {
+        for k in 0..L {
+            let (p, q) = lanes[k];
+            (cp[k], cq[k]) = (cp[k] + p, cq[k] + q);
+        }
+    }
+    let (cp, cq) = (cp.map(|c| c / n), cq.map(|c| c / n));
     // The rotation maximising sum q'.R p' (2-D Kabsch): the direction of
     // (c, s), normalised (no angle taken and turned back into a vector).
-    let (mut s, mut c) = (0.0, 0.0);
-    for (p, q) in pairs {
-        let (p, q) = (*p - cp, *q - cq);
-        c += p.dot(q);
-        s += p.x * q.y - p.y * q.x;
+    let (mut s, mut c) = ([0.0; L], [0.0; L]);
+    for lanes in pairs {
+        for k in 0..L {
+            let (p, q) = lanes[k];
+            let (p, q) = (p - cp[k], q - cq[k]);
+            c[k] += p.dot(q);
+            s[k] += p.x * q.y - p.y * q.x;
+        }
     }
-    let h = (c * c + s * s).sqrt();
-    let rot = if pairs.len() < 2 || h == 0.0 {
-        DVec2::X
-    } else {
-        DVec2::new(c / h, s / h)
-    };
-    move |p: DVec2| cq + rot.rotate(p - cp)
+    std::array::from_fn(|k| {
+        let h = (c[k] * c[k] + s[k] * s[k]).sqrt();
+        let rot = if pairs.len() < 2 || h == 0.0 {
+            DVec2::X
+        } else {
+            DVec2::new(c[k] / h, s[k] / h)
+        };
+        Fit {
+            cp: cp[k],
+            cq: cq[k],
+            rot,
+        }
+    })
 }
 
 #[cfg(test)]
@@ -168,5 +268,74 @@ mod tests {
             assert!(fit(p).distance(q) < 1e-14);
         }
         assert_eq!(rigid_fit(&[])(DVec2::new(1.0, 2.0)), DVec2::new(1.0, 2.0));
+    }
+
+    /// The ring of placements measures what a slot per vertex does, bit
+    /// for bit, down to the smallest ring the corners allow; a ring too
+    /// small for them says so, and a lattice stored out of order is
+    /// measured with a slot per vertex.
+    #[test]
+    fn the_ring_of_placements_measures_what_a_slot_per_vertex_does() {
+        use crate::lattice::{Kind, RowParams, grow};
+        use crate::legs::{Direction, Leg};
+        let mut rng = crate::rng::Rng::new(5);
+        let mut measured = 0;
+        for trial in 0..24 {
+            let n = 3 + trial % 7;
+            let points: Vec<DVec3> = (0..=n)
+                .map(|j| DVec3::new(10.0 * j as f64 + rng.signed(), 0.3 * rng.signed(), 0.0))
+                .collect();
+            let kappa: Vec<f64> = (0..n).map(|_| 0.4 * rng.signed()).collect();
+            let row = RowParams {
+                start: n / 2,
+                direction: Some(Direction::Angles {
+                    angle_deg: 45.0 + 15.0 * rng.signed(),
+                    tilt_deg: 0.0,
+                }),
+                left_leg: Leg::Match,
+                right_leg: Leg::Match,
+                ..RowParams::default()
+            };
+            let Ok(lattice) = grow(Kind::Sheet, 2, &points, &kappa, &vec![row; 3 + trial % 5])
+            else {
+                continue;
+            };
+            let legs = cell_legs(&lattice);
+            let config = super::super::configuration(&lattice);
+            let cos = [0.99, 0.9, 0.5].map(|f: f64| (f * config.theta_design).cos());
+            let nv = lattice.vertices.len();
+            let every = misfits_in(&lattice, &legs, &config, cos, nv.next_power_of_two())
+                .expect("a slot for every vertex");
+            assert!(every.iter().all(|m| m.is_finite()));
+            let usual = (2 * lattice.width + 8).next_power_of_two();
+            let ring = misfits_in(&lattice, &legs, &config, cos, usual).expect("a sheet fits");
+            assert_eq!(ring.map(f64::to_bits), every.map(f64::to_bits));
+            // Smaller rings wrap around every few cells: each that takes
+            // the corners gives the same bits; the smallest is refused.
+            let mut smallest = usual;
+            for window in [4, 8, 16, 32].into_iter().filter(|&w| w < usual) {
+                if let Some(ring) = misfits_in(&lattice, &legs, &config, cos, window) {
+                    assert_eq!(ring.map(f64::to_bits), every.map(f64::to_bits));
+                    smallest = smallest.min(window);
+                }
+            }
+            assert!(misfits_in(&lattice, &legs, &config, cos, 2).is_none());
+            assert!(smallest <= (lattice.width + 3).next_power_of_two());
+            measured += 1;
+            // Out of order (the cells reversed): too spread for a small
+            // ring, and measured as with a slot per vertex.
+            let mut reversed = lattice.clone();
+            reversed.cells.reverse();
+            let config = super::super::configuration(&reversed);
+            let legs = cell_legs(&reversed);
+            let thetas = [0.9 * config.theta_design];
+            let cos = [thetas[0].cos(); LANES];
+            assert!(misfits_in(&reversed, &legs, &config, cos, 8).is_none());
+            let every = misfits_in(&reversed, &legs, &config, cos, nv.next_power_of_two())
+                .expect("a slot for every vertex");
+            let got = planar_misfits(&reversed, &config, &thetas)[0].expect("planar");
+            assert_eq!(got.to_bits(), every[0].sqrt().to_bits());
+        }
+        assert!(measured >= 12, "{measured} lattices grew");
     }
 }

@@ -31,12 +31,15 @@ pub struct Deployment {
 }
 
 /// Deployment of `lattice`: its C(theta) path, mobility and planar misfits.
+/// Every cell's legs are computed once, for C(theta) and the misfits.
 pub fn deployment(lattice: &Lattice) -> Deployment {
-    let config = configuration(lattice);
+    let legs = misfit::cell_legs(lattice);
+    let legs = &legs[..];
+    let config = configuration::configuration_with(lattice, legs);
     let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
     let misfits = MISFIT_FRACTIONS
         .iter()
-        .zip(planar_misfits(lattice, &config, &thetas))
+        .zip(misfit::planar_misfits_with(lattice, legs, &config, &thetas))
         .filter_map(|(&f, m)| Some((f, m?)))
         .collect();
     Deployment {
