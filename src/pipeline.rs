@@ -515,11 +515,11 @@ fn simulated(
     };
     let run = match solved {
         Ok(run) => run,
-        // A recipe's mistake, not the solver's: refused where it is written.
-        Err(e) if recipe_error(design, &e).is_some() => {
-            return Err(recipe_error(design, &e).expect("checked"));
-        }
         Err(e) => {
+            // A recipe's mistake, not the solver's: refused where it is written.
+            if let Some(d) = recipe_error(design, &e) {
+                return Err(d);
+            }
             warnings.push(crate::parts::Warning {
                 strip: None,
                 message: format!(
