@@ -570,7 +570,7 @@ pub fn recipe_error(design: &Design, e: &crate::sim::SimError) -> Option<Diagnos
         crate::sim::SimError::Symmetry { .. } => Some(
             Diagnostic::new(ErrorKind::SimulationOutOfRange, e.to_string())
                 .at_opt(design.symmetry_span())
-                .hint("symmetry is how many identical copies of its cells a loop lattice has around the loop; use a divisor of the cells in a row whose copies are alike, or 1 (docs/physics.md)"),
+                .hint("symmetry is for loop lattices: how many identical copies of its cells the loop has; use a divisor of the cells in a row whose copies are alike, or 1, which a sheet always has (docs/physics.md)"),
         ),
         _ => None,
     }

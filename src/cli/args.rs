@@ -87,10 +87,10 @@ pub(super) enum Command {
     /// the recipe asks for, or, with an [optimise] table, the variables it
     /// frees for its objectives and hard constraints.
     #[command(after_help = format!(
-        "Example:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n\nA helix recipe must give its seed as `points = [...]` with one kappa per edge.\nOnly the tuned values change; comments and other settings are kept.\n\n{EXIT_CODES}"
+        "Examples:\n  karigami tune my-bowl.toml --out my-bowl-tuned.toml\n  karigami tune examples/eggbox.toml --out eggbox-tuned.toml\n\nA helix recipe must give its seed as `points = [...]` with one kappa per edge.\nWith [optimise], `[optimise.target] shape = \"simulated\"` aims the curvature objective at the\nsimulated deployed shape (each design tried is simulated: keep the budget small; docs/recipe.md).\nOnly the tuned values change; comments and other settings are kept.\n\n{EXIT_CODES}"
     ))]
     Tune {
-        /// Helix recipe file (TOML).
+        /// Recipe file (TOML): a helix seed, or a recipe with an [optimise] table.
         design: PathBuf,
         /// Grow this many cells instead of the recipe's `cells`.
         #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_CELLS))]

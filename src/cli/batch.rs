@@ -147,7 +147,8 @@ pub(super) fn build(
             );
             outln!("{}", kept_line(&what));
         }
-        outln!("wrote {} to {shown}", plural(outcomes.len(), "build"));
+        let built = outcomes.iter().filter(|o| o.result.is_ok()).count();
+        outln!("wrote {} to {shown}", plural(built, "build"));
     }
     let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_err()).collect();
     if failed.is_empty() {

@@ -87,12 +87,13 @@ pub(super) fn engrave(
         warnings.push(Warning {
             strip: None,
             message: format!(
-                "{} their part type's code and {dotted} its dot code instead of their ID (no room between the eyelets); strips of one type are interchangeable (see parts-types.csv)",
+                "{} and {dotted} its dot code instead of {} ID (no room between the eyelets); strips of one type are interchangeable (see parts-types.csv)",
                 if typed == 1 {
-                    "1 strip carries".to_string()
+                    "1 strip carries its part type's code".to_string()
                 } else {
-                    format!("{typed} strips carry")
-                }
+                    format!("{typed} strips carry their part type's code")
+                },
+                if typed == 1 { "its" } else { "their" }
             ),
         });
     }

@@ -53,14 +53,14 @@ pub(crate) fn rod_strains(m: &Model, rod: usize, nu: f64) -> Vec<(f64, f64, f64)
     out
 }
 
-/// The strain peak over every rod.
 /// Relative difference below which two strains or reactions are a tie.
 const TIE: f64 = 1e-6;
 
+/// The strain peak over every rod.
 pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
     let sec = &m.section;
     let mut peak = StrainPeak::default();
-    for (r, path) in m.rods.iter().enumerate() {
+    for path in &m.rods {
         for k in 1..path.nodes.len().saturating_sub(1) {
             let (e0, e1) = (path.edges[k - 1], path.edges[k]);
             let lbar = (m.edges[e0].rest + m.edges[e1].rest) / 2.0;
@@ -95,7 +95,6 @@ pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
                     .max_by(|a, b| a.0.total_cmp(&b.0))
                     .map_or("", |t| t.1);
             }
-            let _ = r;
         }
     }
     peak
