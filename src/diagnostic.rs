@@ -300,6 +300,8 @@ error_kinds! {
     UnknownCurvaturePattern => EXIT_INVALID,
     /// `optimise.target.shape` is neither "design" nor "simulated".
     UnknownTargetShape => EXIT_INVALID,
+    /// `target.shape = "simulated"` without a curvature objective to measure.
+    TargetShapeUnused => EXIT_INVALID,
     /// `karigami optimise` was run on a recipe with no `[optimise]` table.
     NoOptimiseTable => EXIT_INVALID,
     /// The recipe holds none of the numbers `optimise.vary` names.

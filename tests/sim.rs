@@ -1104,7 +1104,9 @@ fn an_accepted_overstrain_is_warned_and_reported() {
 /// than with `shape = "design"` by exactly the difference of the curvature
 /// error computed here from the two shapes (the mean squared distance of
 /// each interior vertex's defect from the checkerboard target, over the
-/// target). An unknown shape is refused where it is written.
+/// target), plus, where the simulated strips exceed the allowable strain,
+/// that excess as a hard constraint's shortfall. An unknown shape, or one
+/// with no curvature objective to measure, is refused.
 #[test]
 fn tune_can_aim_at_the_simulated_relief() {
     let base = std::fs::read_to_string("examples/eggbox.toml").expect("recipe");
@@ -1153,6 +1155,36 @@ fn tune_can_aim_at_the_simulated_relief() {
         ((simulated - designed) - (e_sim - e_design)).abs() < 1e-9,
         "{simulated} - {designed} against {e_sim} - {e_design}"
     );
+    // With 1 mm strips the simulated strain (3.0 %) is beyond the
+    // allowable, and the build would refuse the design: the cost adds it
+    // as a hard constraint's shortfall (100 times its share of the
+    // allowable), so the search keeps to buildable designs.
+    let thick = |shape: &str| {
+        recipe(shape).replace(
+            "\n[material]\nthickness = 0.5\n",
+            "\n[material]\nthickness = 1.0\n",
+        )
+    };
+    let (thick_designed, thick_simulated) = (cost(&thick("design")), cost(&thick("simulated")));
+    let heavy = sim::simulate(&lattice, &deploy, m.width, 1.0, &d.simulation).expect("simulates");
+    let eps = heavy.equilibrium.strain.eps;
+    let allow = d.simulation.material.eps_allow;
+    assert!(eps > allow, "{eps}");
+    let e_thick = error(&sim::placed_lattice(&lattice, &heavy.lm));
+    assert!(
+        (thick_designed - designed).abs() < 1e-12,
+        "the design's cost ignores the strips"
+    );
+    assert!(
+        ((thick_simulated - thick_designed) - (e_thick - e_design + 100.0 * (eps - allow) / allow))
+            .abs()
+            < 1e-9,
+        "{thick_simulated} - {thick_designed} against {e_thick} - {e_design} and strain {eps}"
+    );
+    // Nothing to measure: refused where written.
+    let unused = recipe("simulated").replace("curvature = 1.0\n", "curvature = 0.0\n");
+    let e = karigami::parse(&unused, "eggbox").expect_err("refused");
+    assert_eq!(e.kind.name(), "TargetShapeUnused", "{e:?}");
     // Refused, located, with the choices.
     let bad = recipe("simulate");
     let e = karigami::parse(&bad, "eggbox").expect_err("refused");

@@ -327,6 +327,19 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
             }
         }
     }
+    if simulated && weights.curvature == 0.0 {
+        let span = r
+            .target
+            .as_ref()
+            .and_then(|t| t.get_ref().shape.as_ref())
+            .map(|s| s.span());
+        return Err(Diagnostic::new(
+            ErrorKind::TargetShapeUnused,
+            "target.shape = \"simulated\" measures the curvature objective, but its weight is 0",
+        )
+        .at_opt(span)
+        .hint("give [optimise.objective] a curvature weight, or drop shape"));
+    }
     Ok(Optimise {
         vary,
         method,

@@ -13,6 +13,8 @@ pub(crate) fn cost(
 ) -> (f64, Vec<(&'static str, f64, f64, f64)>) {
     let w = &opt.weights;
     let mut c = 0.0;
+    // The simulated strips' strain beyond the allowable (`shape = "simulated"`).
+    let mut c_over = 0.0;
     let size = d.fit.as_ref().map_or(1.0, |f| f.surface.size());
     if w.surface > 0.0 {
         c += w.surface * m.fit_distance.unwrap_or(0.0) / size;
@@ -42,9 +44,17 @@ pub(crate) fn cost(
         let scale = opt.defect_deg.abs().max(1.0);
         let simulated;
         let curvature = if opt.simulated {
-            simulated = simulated_curvature(d, lattice);
+            simulated = simulated_shape(d, lattice);
             match &simulated {
-                Some(c) => c,
+                Some((c, eps)) => {
+                    // Strips the build would refuse: a cost as for a hard
+                    // constraint, so the search keeps to buildable designs.
+                    let allow = d.simulation.material.eps_allow;
+                    if !d.simulation.accept_overstrain && *eps > allow {
+                        c_over = PENALTY * (eps - allow) / allow;
+                    }
+                    c
+                }
                 // No equilibrium: as far from the target as a design can be.
                 None => return (UNGROWN, constraints(opt, m)),
             }
@@ -112,22 +122,23 @@ pub(crate) fn cost(
         c += w.bending * m.shape.front_gaps.map_or(0.0, |g| g.max_rel);
     }
     let checks = constraints(opt, m);
-    c += PENALTY * checks.iter().map(|k| k.3).sum::<f64>();
+    c += c_over + PENALTY * checks.iter().map(|k| k.3).sum::<f64>();
     (c, checks)
 }
 
 /// The angle defects of the design's simulated deployed shape (its own
-/// strips and `[simulation]` settings), or None when the simulation finds
-/// no equilibrium.
-fn simulated_curvature(
+/// strips and `[simulation]` settings) and its largest strain, or None when
+/// the simulation finds no equilibrium.
+fn simulated_shape(
     d: &Design,
     lattice: &Lattice,
-) -> Option<Vec<crate::lattice::shape::VertexCurvature>> {
+) -> Option<(Vec<crate::lattice::shape::VertexCurvature>, f64)> {
     let deployment = crate::lattice::deploy::deployment(lattice);
     let m = &d.fabrication.material;
     let run =
         crate::sim::simulate(lattice, &deployment, m.width, m.thickness, &d.simulation).ok()?;
-    Some(crate::sim::placed_lattice(lattice, &run.lm).curvature())
+    let curvature = crate::sim::placed_lattice(lattice, &run.lm).curvature();
+    Some((curvature, run.equilibrium.strain.eps))
 }
 
 /// The least-squares sphere through `pts` (algebraic fit:
