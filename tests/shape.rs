@@ -389,3 +389,32 @@ fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
     let twice = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
     assert_eq!(once.text, twice.text);
 }
+
+/// `Lattice::heights`: on a flat sheet every interior vertex stands 0 mm
+/// out of it; one lifted 1 mm out of the plane stands out by about that
+/// (its cells tilt a little), to one side, and pushed 1 mm the other way,
+/// to the other side, with the same size.
+#[test]
+fn heights_say_how_far_and_to_which_side_a_vertex_stands_out() {
+    let (_, lattice, _) = example("flat-sheet");
+    assert!(
+        lattice.extrinsic(),
+        "cells read the vertices' own positions"
+    );
+    let c = lattice.curvature();
+    assert!(!c.is_empty());
+    for h in lattice.heights(&c) {
+        assert!(h.abs() < 1e-9, "{h}");
+    }
+    let v = c[c.len() / 2].vertex as usize;
+    let lifted = |dz: f64| {
+        let mut l = lattice.clone();
+        l.vertices[v].pos.z += dz;
+        let c = l.curvature();
+        let i = c.iter().position(|x| x.vertex as usize == v).unwrap();
+        l.heights(&c)[i]
+    };
+    let (up, down) = (lifted(1.0), lifted(-1.0));
+    assert!(up.abs() > 0.9 && up.abs() <= 1.0 + 1e-12, "{up}");
+    assert!((up + down).abs() < 1e-9, "{up} {down}");
+}

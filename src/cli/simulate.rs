@@ -276,24 +276,13 @@ pub(super) fn curvature_summary(c: &[VertexCurvature]) -> String {
 fn relief(l: &Lattice) -> String {
     let c = l.curvature();
     let deg = karigami::BUMP_DEG;
-    let spread = |keep: &dyn Fn(f64) -> bool| {
-        let (mut rows, mut cols) = (
-            std::collections::BTreeSet::new(),
-            std::collections::BTreeSet::new(),
-        );
-        for v in c.iter().filter(|v| keep(v.defect.to_degrees())) {
-            let k = l.vertex(v.vertex).key;
-            rows.insert(k.row);
-            cols.insert(k.col);
-        }
-        format!("{} rows, {} columns", rows.len(), cols.len())
-    };
     let (dome, saddle) = shape::relief(&c, deg);
+    let over = |(rows, cols): (usize, usize)| format!("{rows} rows, {cols} columns");
     format!(
         "{dome} of {} interior vertices at +{deg} deg or more (over {}), {saddle} at -{deg} deg or less (over {})",
         c.len(),
-        spread(&|d| d >= deg),
-        spread(&|d| d <= -deg)
+        over(shape::spread(l, &c, |d| d >= deg)),
+        over(shape::spread(l, &c, |d| d <= -deg))
     )
 }
 
@@ -341,26 +330,27 @@ fn explore_text(
         let base = Relief::at(lattice, lm, &lowest.points);
         for (k, f) in found.iter().enumerate().skip(1) {
             let other = Relief::at(lattice, lm, &f.equilibrium.points);
+            let (popped, flipped) = (base.popped(&other, lattice), base.flipped(&other, lattice));
             let _ = writeln!(
                 o,
                 "  {} against 1: {} (dome-like vertices whose height over their neighbours, at least {BUMP_MM} mm, changes side){}",
                 k + 1,
-                match base.popped(&other, lattice).len() {
+                match popped.len() {
                     1 => "1 bump pops through".to_string(),
                     n => format!("{n} bumps pop through"),
                 },
-                listed(&base.popped(&other, lattice))
+                listed(&popped)
             );
             let _ = writeln!(
                 o,
                 "  {} against 1: {} sign (defect from beyond +-{} deg to beyond it the other way){}",
                 k + 1,
-                match base.flipped(&other, lattice).len() {
+                match flipped.len() {
                     1 => "1 vertex changes its curvature's".to_string(),
                     n => format!("{n} vertices change their curvature's"),
                 },
                 shape::CURVED_DEG,
-                listed(&base.flipped(&other, lattice))
+                listed(&flipped)
             );
         }
     }
@@ -398,10 +388,7 @@ fn listed(items: &[String]) -> String {
 }
 
 /// The relief of one equilibrium: each interior vertex's angle defect and
-/// its height over the mean of its edge neighbours, along the mean normal
-/// of its cells (each cell's from its diagonals, oriented alike in every
-/// cell of a grown lattice, so the sign says which side of the sheet the
-/// vertex stands out to).
+/// how far it stands out of the sheet (`Lattice::heights`).
 struct Relief {
     curvature: Vec<VertexCurvature>,
     height: Vec<f64>,
@@ -410,40 +397,8 @@ struct Relief {
 impl Relief {
     fn at(lattice: &Lattice, lm: &LatticeModel, points: &[glam::DVec3]) -> Relief {
         let l = sim::placed_at(lattice, lm, points);
-        let n = l.vertices.len();
-        let mut normal = vec![glam::DVec3::ZERO; n];
-        let mut near: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for cell in &l.cells {
-            let [ul, ur, ll, lr] = l.corners(cell);
-            let across = (ur - ll).cross(ul - lr);
-            for (v, edges) in [
-                (cell.ul, [cell.ur, cell.ll]),
-                (cell.ur, [cell.ul, cell.lr]),
-                (cell.ll, [cell.ul, cell.lr]),
-                (cell.lr, [cell.ur, cell.ll]),
-            ] {
-                normal[v as usize] += across;
-                for e in edges {
-                    if !near[v as usize].contains(&e) {
-                        near[v as usize].push(e);
-                    }
-                }
-            }
-        }
         let curvature = l.curvature();
-        let height = curvature
-            .iter()
-            .map(|c| {
-                let v = c.vertex as usize;
-                let ring = &near[v];
-                let mean = ring
-                    .iter()
-                    .map(|&u| l.vertices[u as usize].pos)
-                    .sum::<glam::DVec3>()
-                    / ring.len().max(1) as f64;
-                (l.vertices[v].pos - mean).dot(normal[v].normalize_or_zero())
-            })
-            .collect();
+        let height = l.heights(&curvature);
         Relief { curvature, height }
     }
 

@@ -5,7 +5,7 @@
 
 use super::Design;
 use super::fit::{self, Coverage};
-use crate::lattice::shape::{CurvatureSummary, Shape, relief, summary};
+use crate::lattice::shape::{CurvatureSummary, Shape, relief, spread, summary};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
 use serde::Serialize;
@@ -109,15 +109,7 @@ pub(crate) fn measure_with(
     let n = shape.curvature.len().max(1) as f64;
     let (domes, saddles) = relief(&shape.curvature, BUMP_DEG);
     let (bumps, dimples) = (domes as f64 / n, saddles as f64 / n);
-    let mut rows = std::collections::BTreeSet::new();
-    let mut cols = std::collections::BTreeSet::new();
-    for v in &shape.curvature {
-        if v.defect.to_degrees() >= BUMP_DEG {
-            let key = lattice.vertex(v.vertex).key;
-            rows.insert(key.row);
-            cols.insert(key.col);
-        }
-    }
+    let (bump_rows, bump_cols) = spread(lattice, &shape.curvature, |d| d >= BUMP_DEG);
     let turns = turns(lattice);
     Measures {
         clashes: clashes(),
@@ -128,8 +120,8 @@ pub(crate) fn measure_with(
         fit_relative,
         boundary_distance,
         coverage,
-        bump_rows: rows.len(),
-        bump_cols: cols.len(),
+        bump_rows,
+        bump_cols,
         bumps,
         dimples,
     }

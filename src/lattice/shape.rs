@@ -128,6 +128,47 @@ fn defects(at: CornerSums) -> Vec<VertexCurvature> {
 }
 
 impl Lattice {
+    /// How far each interior vertex of `c` (this lattice's `curvature`)
+    /// stands out of the sheet (mm): its height over the mean of its edge
+    /// neighbours, along the mean normal of its cells. Each cell's normal
+    /// comes from its diagonals, oriented alike in every cell of a grown
+    /// lattice, so the sign says to which side: a bump pushed through to
+    /// the other side changes it and keeps its defect.
+    pub fn heights(&self, c: &[VertexCurvature]) -> Vec<f64> {
+        let n = self.vertices.len();
+        let mut normal = vec![DVec3::ZERO; n];
+        let mut near: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for cell in &self.cells {
+            let [ul, ur, ll, lr] = self.corners(cell);
+            let across = (ur - ll).cross(ul - lr);
+            for (v, edges) in [
+                (cell.ul, [cell.ur, cell.ll]),
+                (cell.ur, [cell.ul, cell.lr]),
+                (cell.ll, [cell.ul, cell.lr]),
+                (cell.lr, [cell.ur, cell.ll]),
+            ] {
+                normal[v as usize] += across;
+                for e in edges {
+                    if !near[v as usize].contains(&e) {
+                        near[v as usize].push(e);
+                    }
+                }
+            }
+        }
+        c.iter()
+            .map(|c| {
+                let v = c.vertex as usize;
+                let ring = &near[v];
+                let mean = ring
+                    .iter()
+                    .map(|&u| self.vertices[u as usize].pos)
+                    .sum::<DVec3>()
+                    / ring.len().max(1) as f64;
+                (self.vertices[v].pos - mean).dot(normal[v].normalize_or_zero())
+            })
+            .collect()
+    }
+
     /// The angle defect and Gaussian curvature at every vertex shared by
     /// four cells, in vertex order.
     pub fn curvature(&self) -> Vec<VertexCurvature> {
@@ -347,6 +388,23 @@ pub fn relief(c: &[VertexCurvature], deg: f64) -> (usize, usize) {
             saddle + usize::from(d <= -deg),
         )
     })
+}
+
+/// Over how many rows and how many columns of `lattice` the interior
+/// vertices `c` whose defect (degrees) passes `keep` spread.
+pub fn spread(
+    lattice: &Lattice,
+    c: &[VertexCurvature],
+    keep: impl Fn(f64) -> bool,
+) -> (usize, usize) {
+    let mut rows = std::collections::BTreeSet::new();
+    let mut cols = std::collections::BTreeSet::new();
+    for v in c.iter().filter(|v| keep(v.defect.to_degrees())) {
+        let key = lattice.vertex(v.vertex).key;
+        rows.insert(key.row);
+        cols.insert(key.col);
+    }
+    (rows.len(), cols.len())
 }
 
 /// Defect and Gaussian-curvature statistics of the interior vertices `c`;

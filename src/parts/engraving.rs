@@ -87,13 +87,9 @@ pub(super) fn engrave(
         warnings.push(Warning {
             strip: None,
             message: format!(
-                "{} and {dotted} its dot code instead of {} ID (no room between the eyelets); strips of one type are interchangeable (see parts-types.csv)",
-                if typed == 1 {
-                    "1 strip carries its part type's code".to_string()
-                } else {
-                    format!("{typed} strips carry their part type's code")
-                },
-                if typed == 1 { "its" } else { "their" }
+                "{typed} {} part type's code and {dotted} its dot code instead of {whose} ID (no room between the eyelets); strips of one type are interchangeable (see parts-types.csv)",
+                if typed == 1 { "strip carries its" } else { "strips carry their" },
+                whose = if typed == 1 { "its" } else { "their" }
             ),
         });
     }

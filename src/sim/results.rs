@@ -86,7 +86,7 @@ pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
             // Strips alike by symmetry strain alike to within the solver's
             // tolerance: the first of them is named, not whichever round-off
             // favours (labels that moved with every change of the solver).
-            if eps > peak.eps * (1.0 + TIE) || (peak.rod.is_empty() && eps > 0.0) {
+            if eps > peak.eps * (1.0 + TIE) {
                 peak.eps = eps;
                 peak.rod = path.name.clone();
                 peak.s = path.s[k];
