@@ -316,19 +316,24 @@ impl Grower {
         }
         // The turn of the lattice's first cell, once a row, not once a cell.
         let mut first = first_turn(&self.lattice);
-        for j in 0..m {
-            let pivot = self.pivots[j].expect("pivot grown");
+        let dim = self.lattice.dim;
+        for (j, pivot) in self.pivots[..m].iter().enumerate() {
+            let pivot = pivot.expect("pivot grown");
+            let right = wrap(j + 1, n);
             let cell = Cell {
                 row: i as u32,
                 col: j as u32,
                 ul: (base + j) as u32,
-                ur: (base + wrap(j + 1, n)) as u32,
+                ur: (base + right) as u32,
                 ll: (next_base + j) as u32,
-                lr: (next_base + wrap(j + 1, n)) as u32,
+                lr: (next_base + right) as u32,
                 pivot: pivot.pos,
                 z_pivot: pivot.z,
             };
-            check_cell_turn(&self.lattice, &cell, first)?;
+            // The row's top corners, the front just committed before it
+            // (one slice, not a lookup a corner).
+            let top = &self.lattice.vertices[base..next_base];
+            check_corners_turn(dim, &cell, top[j].pos, top[right].pos, first)?;
             self.lattice.cells.push(cell);
             if first.is_none() {
                 first = first_turn(&self.lattice);
@@ -400,13 +405,26 @@ fn first_turn(lattice: &Lattice) -> Option<f64> {
 
 /// `check_cell`, given the first cell's turn (`first_turn`).
 fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result<(), GrowthError> {
-    let (i, j) = (cell.row as usize, cell.col as usize);
+    let (ul, ur) = (lattice.vertex(cell.ul).pos, lattice.vertex(cell.ur).pos);
+    check_corners_turn(lattice.dim, cell, ul, ur, first)
+}
+
+/// `check_cell_turn` of a cell whose stored UL and UR are at `ul` and
+/// `ur`, in a lattice of dimension `dim`: inlined into growth's commit,
+/// with the rare cases (a cell near the limit, an error) out of line.
+#[inline(always)]
+fn check_corners_turn(
+    dim: usize,
+    cell: &Cell,
+    ul: DVec3,
+    ur: DVec3,
+    first: Option<f64>,
+) -> Result<(), GrowthError> {
     if !(cell.pivot.is_finite() && cell.z_pivot.is_finite()) {
-        return Err(breakdown(i, j));
+        return Err(breakdown(cell.row as usize, cell.col as usize));
     }
-    let ul = lattice.vertex(cell.ul).pos - cell.pivot;
-    let ur = lattice.vertex(cell.ur).pos - cell.pivot;
-    let (cross, dot) = (ul.cross(ur), ul.dot(ur));
+    let (ul, ur) = (ul - cell.pivot, ur - cell.pivot);
+    let cross = ul.cross(ur);
     // sin^2 phi = |ul x ur|^2 / (|ul|^2 |ur|^2): one square root where the
     // lengths take three, and neither it nor the division for a cell well
     // away from the limit: sin^2 phi >= 4 EPS_ANGLE^2 (twice the angle,
@@ -416,20 +434,32 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
         cross.length_squared(),
         ul.length_squared() * ur.length_squared(),
     );
-    if den.is_finite()
+    if !(den.is_finite()
         && den >= f64::MIN_POSITIVE
         && num.is_finite()
-        && num >= 4.0 * EPS_ANGLE * EPS_ANGLE * den
+        && num >= 4.0 * EPS_ANGLE * EPS_ANGLE * den)
     {
-        return check_turn(lattice, cross, first, i, j);
+        check_angle(cell, ul, ur, num / den)?;
     }
-    let sin_phi = (num / den).sqrt();
+    if dim == 2 && first.is_some_and(|s| s != cross.z.signum()) {
+        return Err(inverted(cell));
+    }
+    Ok(())
+}
+
+/// The full test of a cell's opening angle, given `sin^2 phi` and its
+/// legs to UL and UR from the pivot: a cell near 0 or 180 deg.
+#[cold]
+#[inline(never)]
+fn check_angle(cell: &Cell, ul: DVec3, ur: DVec3, sin2: f64) -> Result<(), GrowthError> {
+    let (i, j) = (cell.row as usize, cell.col as usize);
+    let sin_phi = sin2.sqrt();
     if !sin_phi.is_finite() {
         return Err(breakdown(i, j));
     }
     if sin_phi < EPS_ANGLE {
         let phi = angle_between(ul / ul.length(), ur / ur.length());
-        let state = if dot > 0.0 {
+        let state = if ul.dot(ur) > 0.0 {
             "collapsed (phi near 0)"
         } else {
             "flat-open (phi near 180 deg)"
@@ -443,38 +473,22 @@ fn check_cell_turn(lattice: &Lattice, cell: &Cell, first: Option<f64>) -> Result
             "change this row's direction so the cell opens between 0 and 180 deg",
         ));
     }
-    check_turn(lattice, cross, first, i, j)
+    Ok(())
 }
 
 /// A cell of a planar lattice turns the same way as the lattice's first
-/// cell (`first`); `cross` is its `(UL - P) x (UR - P)`.
-#[inline]
-fn check_turn(
-    lattice: &Lattice,
-    cross: DVec3,
-    first: Option<f64>,
-    i: usize,
-    j: usize,
-) -> Result<(), GrowthError> {
-    if lattice.dim == 2 {
-        // Every cell turns the same way as the first cell of the lattice.
-        let sign = cross.z.signum();
-        match first {
-            None => {}
-            Some(s) if s != sign => {
-                return Err(GrowthError::new(
-                    ErrorKind::InvertedCell,
-                    Param::Direction,
-                    Some(i),
-                    Some(j),
-                    "the cell is mirrored relative to the first cell of the lattice (its rods cross the other way)",
-                    "keep every row's direction on the same side of the front",
-                ));
-            }
-            Some(_) => {}
-        }
-    }
-    Ok(())
+/// cell: this one is mirrored.
+#[cold]
+#[inline(never)]
+fn inverted(cell: &Cell) -> GrowthError {
+    GrowthError::new(
+        ErrorKind::InvertedCell,
+        Param::Direction,
+        Some(cell.row as usize),
+        Some(cell.col as usize),
+        "the cell is mirrored relative to the first cell of the lattice (its rods cross the other way)",
+        "keep every row's direction on the same side of the front",
+    )
 }
 
 /// Lengths in messages: enough digits to compare, no float noise.
