@@ -548,7 +548,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
         let p = cell.pivot;
         let corners = lattice.corners(cell);
         let [ul, ur, ll, lr] = corners;
-        collapsed.step(lattice, c, (&own, inv), &corners, true);
+        collapsed.step(lattice, c, (&own, inv), &corners);
         straight.record_bend((p - ul, l1), (lr - p, l3), site);
         straight.record_bend((p - ur, l4), (ll - p, l2), site);
         if lattice.kind == super::Kind::Loop && cell.col == 0 {
@@ -677,6 +677,9 @@ struct Row {
     z: Vec<[f64; 4]>,
     legs: Vec<Legs>,
     means: Vec<f64>,
+    /// `1 / means[j]`: one division a cell, where the sweep, the legs'
+    /// and the rods' residuals each took it.
+    invs: Vec<f64>,
 }
 
 impl Row {
@@ -691,12 +694,15 @@ impl Row {
         self.z.resize(width, [0.0; 4]);
         self.legs.resize(width, [0.0; 4]);
         self.means.resize(width, 0.0);
-        let out = self
-            .corners
-            .iter_mut()
-            .zip(&mut self.z)
-            .zip(self.legs.iter_mut().zip(&mut self.means));
-        for (j, (cell, ((corners, z), (legs, mean_leg)))) in cells.iter().zip(out).enumerate() {
+        self.invs.resize(width, 0.0);
+        let out = self.corners.iter_mut().zip(&mut self.z).zip(
+            self.legs
+                .iter_mut()
+                .zip(self.means.iter_mut().zip(&mut self.invs)),
+        );
+        for (j, (cell, ((corners, z), (legs, (mean_leg, inv))))) in
+            cells.iter().zip(out).enumerate()
+        {
             let right = if j + 1 == front { 0 } else { j + 1 };
             let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
             let p = cell.pivot;
@@ -709,6 +715,7 @@ impl Row {
             *corners = [ul.pos, ur.pos, ll.pos, lr.pos];
             *z = [ul.z, ur.z, ll.z, lr.z];
             *mean_leg = mean(legs);
+            *inv = 1.0 / *mean_leg;
         }
     }
 }
@@ -856,14 +863,14 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
         if has_below {
             below.measure(lattice, grid, i + 1);
         }
-        // What runs cell by cell: the collapsed sweep (each cell's z from
-        // the cells before it), the sum of the mean legs in cell order,
-        // and the first row's and column's rare checks.
+        // The collapsed sweep (each cell's z from the cells before it),
+        // then what runs cell by cell: the sum of the mean legs in cell
+        // order, and the first row's and column's rare checks.
+        collapsed.sweep_row(lattice, grid, i, &here.legs, &here.invs);
         for (j, cell) in cells.iter().enumerate() {
-            let (own, scale, corners) = (here.legs[j], here.means[j], &here.corners[j]);
-            leg_sum += scale;
-            let inv = 1.0 / scale;
-            collapsed.step(lattice, first + j, (&own, inv), corners, false);
+            let (own, corners) = (here.legs[j], &here.corners[j]);
+            leg_sum += here.means[j];
+            let inv = here.invs[j];
             let site = || lattice.cell_name(cell);
             let [l1, l2, _, l4] = own;
             let [_, ur, ll, _] = *corners;
@@ -878,11 +885,12 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
         // Each residual over the row, in loops over slices of the row's
         // length (no bounds checks, nothing but the arithmetic).
         let n = width;
-        let (legs, corners, z, means) = (
+        let (legs, corners, z, means, invs) = (
             &here.legs[..n],
             &here.corners[..n],
             &here.z[..n],
             &here.means[..n],
+            &here.invs[..n],
         );
         r.size(n);
         {
@@ -895,7 +903,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
                 let p = cells[j].pivot;
                 bend_a[j] = bend(p - ul, l1, lr - p, l3);
                 bend_b[j] = bend(p - ur, l4, ll - p, l2);
-                let inv = 1.0 / means[j];
+                let inv = invs[j];
                 let [zul, zur, zll, zlr] = z[j];
                 let zp = cells[j].z_pivot;
                 za[j] = (zp - zul - l1) * inv;
@@ -970,7 +978,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
                 let (zul, zur) = (zs[j], zs[right]);
                 let (zll, zlr) = (zs[front + j], zs[front + right]);
                 let [ul, ur, ll, lr] = &corners[j];
-                let inv = 1.0 / means[j];
+                let inv = invs[j];
                 rod_a[j] = (zlr - zul - ul.distance(*lr)) * inv;
                 rod_b[j] = (zll - zur - ur.distance(*ll)) * inv;
             }
@@ -989,6 +997,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
         std::mem::swap(&mut above, &mut here);
         std::mem::swap(&mut here, &mut below);
     }
+    collapsed.last_front(lattice, grid);
     let checks = [
         straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
     ];
@@ -1022,6 +1031,82 @@ struct Collapsed {
     /// LL, LR) whose z gave the pivot's, or `UNREACHED`.
     reached: Vec<u8>,
     all_reached: bool,
+    /// Swept by rows (`sweep_row`): a `Block` of the comparison with the
+    /// construction for every front of vertices, then every row of cells,
+    /// and the largest `vertex_extent`, measured in the rows' pass.
+    blocks: Option<Blocks>,
+}
+
+/// What the rows' pass measured of the comparison with the construction,
+/// so that `Collapsed::finish` replays only the fronts and rows that may
+/// hold a new largest residual: for a good lattice a few, not the whole
+/// lattice read again.
+struct Blocks {
+    /// Vertices a front, cells a row.
+    front: usize,
+    width: usize,
+    fronts: Vec<Block>,
+    rows: Vec<Block>,
+    extent: f64,
+}
+
+impl Blocks {
+    fn new(grid: &Grid) -> Self {
+        Self {
+            front: grid.front,
+            width: grid.width,
+            fronts: Vec::with_capacity(grid.rows + 1),
+            rows: Vec::with_capacity(grid.rows),
+            extent: 0.0,
+        }
+    }
+}
+
+/// The comparisons `num / (global + den)` of a front or row (`num` the
+/// difference of the recomputed and the construction z, `den` the
+/// construction z's magnitude), summed up: their largest `|num|` and
+/// smallest `den` (a NaN left out), and the sum of all of them, which is
+/// not finite when any is NaN (or infinite, or the sum overflows: such a
+/// block is replayed, which is never wrong).
+#[derive(Clone, Copy)]
+struct Block {
+    num: f64,
+    den: f64,
+    sum: f64,
+}
+
+impl Block {
+    /// A block of no comparison yet.
+    const EMPTY: Self = Self {
+        num: 0.0,
+        den: f64::INFINITY,
+        sum: 0.0,
+    };
+
+    /// Plain comparisons (one instruction each), not `f64::max` and `min`,
+    /// whose rules for NaN `sum` already covers.
+    #[inline(always)]
+    fn add(&mut self, num: f64, den: f64) {
+        let num_abs = num.abs();
+        if num_abs > self.num {
+            self.num = num_abs;
+        }
+        if den < self.den {
+            self.den = den;
+        }
+        self.sum += num + den;
+    }
+
+    /// True when none of the block's comparisons can raise `check`, on the
+    /// scale `global`: every denominator is at least `d = global + den`
+    /// (rounding is monotone), so with `d > 0` every residual is at most
+    /// `num / d`, rounded the same way. False whenever a NaN is involved
+    /// (or the block's `sum` is not finite),
+    /// unless `check`'s largest is already NaN (which nothing raises).
+    fn quiet(self, check: &Check, global: f64) -> bool {
+        let d = global + self.den;
+        check.max.is_nan() || (self.sum.is_finite() && d > 0.0 && self.num / d <= check.max)
+    }
 }
 
 impl Collapsed {
@@ -1037,12 +1122,14 @@ impl Collapsed {
             z,
             reached: Vec::with_capacity(lattice.cells.len()),
             all_reached: true,
+            blocks: None,
         }
     }
 
     /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners),
-    /// and measure its rods unless `rods` is false (`verify_rows` measures
-    /// a row's after its sweep: the z of a swept cell's corners are final).
+    /// and measure its rods (`verify_rows` sweeps a row with `sweep_row`
+    /// and measures its rods after: the z of a swept cell's corners are
+    /// final).
     #[inline]
     fn step(
         &mut self,
@@ -1050,35 +1137,26 @@ impl Collapsed {
         c: usize,
         (legs, inv): (&Legs, f64),
         corners: &[DVec3; 4],
-        rods: bool,
     ) {
         let cell = &lattice.cells[c];
         let [l1, l2, l3, l4] = *legs;
-        let z = &mut self.z;
-        // Offsets of UL, UR, LL, LR from the pivot (MATH.md 3.2).
-        let offsets = [(cell.ul, -l1), (cell.ur, -l4), (cell.ll, l2), (cell.lr, l3)];
-        let found = offsets.iter().position(|&(v, _)| !z[v as usize].is_nan());
-        self.reached.push(found.map_or(UNREACHED, |k| k as u8));
-        let Some(k) = found else {
-            self.single.record(f64::NAN, || {
-                format!("{} (not connected to vertex 0)", lattice.cell_name(cell))
-            });
+        let at = [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize);
+        let site = || lattice.cell_name(cell);
+        let (k, _) = sweep(
+            &mut self.single,
+            &mut self.z,
+            at,
+            [-l1, -l4, l2, l3],
+            inv,
+            site,
+        );
+        self.reached.push(k);
+        if k == UNREACHED {
             self.all_reached = false;
             return;
-        };
-        let (v, off) = offsets[k];
-        let zp = z[v as usize] - off;
-        for (corner, offset) in offsets {
-            let expect = zp + offset;
-            let slot = &mut z[corner as usize];
-            if slot.is_nan() {
-                *slot = expect;
-            } else {
-                self.single
-                    .record((*slot - expect) * inv, || lattice.cell_name(cell));
-            }
         }
-        if rods && self.all_reached {
+        let z = &self.z;
+        if self.all_reached {
             let [ul, ur, ll, lr] = *corners;
             let site = || lattice.cell_name(cell);
             self.rods.record(
@@ -1092,6 +1170,56 @@ impl Collapsed {
         }
     }
 
+    /// `step` of every cell of row `i` of a grid in turn (`legs` and
+    /// `invs` its cells' legs and `1 / mean leg`), without its rods: the
+    /// corners of cell `(i, j)` are columns `j` and `j + 1` (wrapped) of
+    /// the row's two fronts, one slice of the z.
+    fn sweep_row(&mut self, lattice: &Lattice, grid: &Grid, i: usize, legs: &[Legs], invs: &[f64]) {
+        let (width, front) = (grid.width, grid.front);
+        let cells = &lattice.cells[i * width..(i + 1) * width];
+        let z = &mut self.z[i * front..(i + 2) * front];
+        // The comparison with the construction of the row's pivots.
+        let mut block = Block::EMPTY;
+        for (j, ((cell, legs), &inv)) in cells.iter().zip(legs).zip(invs).enumerate() {
+            let right = if j + 1 == front { 0 } else { j + 1 };
+            let [l1, l2, l3, l4] = *legs;
+            let at = [j, right, front + j, front + right];
+            let offsets = [-l1, -l4, l2, l3];
+            let site = || lattice.cell_name(cell);
+            let (k, zp) = sweep(&mut self.single, z, at, offsets, inv, site);
+            self.reached.push(k);
+            // The pivot's z is what `finish` takes again (NaN if unreached).
+            block.add(zp - cell.z_pivot, cell.z_pivot.abs());
+            self.all_reached &= k != UNREACHED;
+        }
+        let blocks = self.blocks.get_or_insert_with(|| Blocks::new(grid));
+        blocks.rows.push(block);
+        // Front i's z are final once its two rows of cells are swept.
+        Self::front_block(blocks, lattice, &self.z, i);
+    }
+
+    /// The block of front `f` of a grid swept by rows, and its extent.
+    fn front_block(blocks: &mut Blocks, lattice: &Lattice, z: &[f64], f: usize) {
+        let front = blocks.front;
+        let range = f * front..(f + 1) * front;
+        let mut block = Block::EMPTY;
+        for (zc, vertex) in z[range.clone()].iter().zip(&lattice.vertices[range]) {
+            // `extent.max(x)` (an extent is never NaN), in one instruction.
+            let x = vertex_extent(vertex);
+            if x > blocks.extent {
+                blocks.extent = x;
+            }
+            block.add(zc - vertex.z, vertex.z.abs());
+        }
+        blocks.fronts.push(block);
+    }
+
+    /// The last front of a grid swept by rows (`rows` of them).
+    fn last_front(&mut self, lattice: &Lattice, grid: &Grid) {
+        let blocks = self.blocks.get_or_insert_with(|| Blocks::new(grid));
+        Self::front_block(blocks, lattice, &self.z, grid.rows);
+    }
+
     /// The comparison with the construction, after the sweep, on the scale
     /// of the lattice's mean leg (`leg_sum` over the cells): the vertices'
     /// first, then the pivots'. Also the largest `vertex_extent`, measured
@@ -1103,34 +1231,69 @@ impl Collapsed {
             z,
             reached,
             all_reached,
+            blocks,
         } = self;
         let global = leg_sum / lattice.cells.len().max(1) as f64;
         let mut matches = Check::new(Invariant::CollapsedMatchesConstruction);
-        let mut extent: f64 = 0.0;
-        for (v, vertex) in lattice.vertices.iter().enumerate() {
-            extent = extent.max(vertex_extent(vertex));
-            matches.record_ratio(z[v] - vertex.z, global + vertex.z.abs(), || {
-                vertex_site(lattice, v)
-            });
+        // Without blocks, the whole lattice is one front and one row, each
+        // replayed.
+        let (front, width, fronts, rows, extent) = match blocks {
+            Some(b) => (b.front, b.width, b.fronts, b.rows, b.extent),
+            None => (
+                lattice.vertices.len().max(1),
+                lattice.cells.len().max(1),
+                Vec::new(),
+                Vec::new(),
+                lattice
+                    .vertices
+                    .iter()
+                    .fold(0.0, |e: f64, v| e.max(vertex_extent(v))),
+            ),
+        };
+        let quiet = |blocks: &[Block], k: usize, check: &Check| {
+            blocks.get(k).is_some_and(|b| b.quiet(check, global))
+        };
+        for (f, vertices) in lattice.vertices.chunks(front).enumerate() {
+            if quiet(&fronts, f, &matches) {
+                matches.count += vertices.len();
+                continue;
+            }
+            for (k, vertex) in vertices.iter().enumerate() {
+                let v = f * front + k;
+                matches.record_ratio(z[v] - vertex.z, global + vertex.z.abs(), || {
+                    vertex_site(lattice, v)
+                });
+            }
         }
-        for (cell, &k) in lattice.cells.iter().zip(&reached) {
-            // An unreached pivot has no z: its comparison is NaN and fails.
-            let zp = match k {
-                UNREACHED => f64::NAN,
-                k => {
-                    let leg = cell.pivot.distance(lattice.corner(cell, k as usize));
-                    let (v, off) = match k {
-                        0 => (cell.ul, -leg),
-                        1 => (cell.ur, -leg),
-                        2 => (cell.ll, leg),
-                        _ => (cell.lr, leg),
-                    };
-                    z[v as usize] - off
-                }
-            };
-            matches.record_ratio(zp - cell.z_pivot, global + cell.z_pivot.abs(), || {
-                lattice.cell_name(cell)
-            });
+        for (i, (cells, reached)) in lattice
+            .cells
+            .chunks(width)
+            .zip(reached.chunks(width))
+            .enumerate()
+        {
+            if quiet(&rows, i, &matches) {
+                matches.count += cells.len();
+                continue;
+            }
+            for (cell, &k) in cells.iter().zip(reached) {
+                // An unreached pivot has no z: its comparison is NaN and fails.
+                let zp = match k {
+                    UNREACHED => f64::NAN,
+                    k => {
+                        let leg = cell.pivot.distance(lattice.corner(cell, k as usize));
+                        let (v, off) = match k {
+                            0 => (cell.ul, -leg),
+                            1 => (cell.ur, -leg),
+                            2 => (cell.ll, leg),
+                            _ => (cell.lr, leg),
+                        };
+                        z[v as usize] - off
+                    }
+                };
+                matches.record_ratio(zp - cell.z_pivot, global + cell.z_pivot.abs(), || {
+                    lattice.cell_name(cell)
+                });
+            }
         }
         if !all_reached {
             rods = Check::new(Invariant::CollapsedRodLength);
@@ -1150,6 +1313,40 @@ impl Collapsed {
         }
         ([single, matches, rods], extent)
     }
+}
+
+/// The sweep of one cell whose corners UL, UR, LL, LR have their z at
+/// `z[at[k]]` (NaN while unknown), `offsets[k]` from its pivot's (MATH.md
+/// 3.2): the pivot's z from the first corner that has one, then each
+/// corner in turn set, or compared with what it has (`inv` = 1 / the
+/// cell's mean leg). Returns that corner and the pivot's z, or
+/// `UNREACHED` and NaN (and records a failure) when none has a z.
+#[inline(always)]
+fn sweep(
+    single: &mut Check,
+    z: &mut [f64],
+    at: [usize; 4],
+    offsets: [f64; 4],
+    inv: f64,
+    site: impl Fn() -> String,
+) -> (u8, f64) {
+    let Some(k) = at.iter().position(|&v| !z[v].is_nan()) else {
+        single.record(f64::NAN, || {
+            format!("{} (not connected to vertex 0)", site())
+        });
+        return (UNREACHED, f64::NAN);
+    };
+    let zp = z[at[k]] - offsets[k];
+    for (v, offset) in at.into_iter().zip(offsets) {
+        let expect = zp + offset;
+        let slot = &mut z[v];
+        if slot.is_nan() {
+            *slot = expect;
+        } else {
+            single.record((*slot - expect) * inv, &site);
+        }
+    }
+    (k as u8, zp)
 }
 
 #[cfg(test)]
@@ -1295,8 +1492,11 @@ mod tests {
     fn rows_give_the_report_of_the_pass_over_the_cells() {
         let tube = tube(7, 4);
         let wide = fixtures::sheet(&fixtures::line(6), &[0.0; 6], 2, 40.0, 5);
+        // Rows enough that most fronts and rows are left out of the
+        // comparison with the construction, unless damaged (`Block`).
+        let tall = fixtures::sheet(&fixtures::line(12), &[0.0; 12], 5, 45.0, 12);
         let mut rng = crate::rng::Rng::new(5);
-        for lattice in [sheet(), wide, tube] {
+        for lattice in [sheet(), wide, tube, tall] {
             let grid = Incidence::grid(&lattice).expect("a grid");
             assert!(lattice.extrinsic());
             let table = Incidence::table(&lattice);
