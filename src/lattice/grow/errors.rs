@@ -142,17 +142,17 @@ pub(super) fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), 
     if leg.is_finite() && leg > 0.0 {
         return Ok(());
     }
-    leg_error(leg, name, i, j)
+    Err(leg_error(leg, name, i, j))
 }
 
 /// `check_leg`'s refusal, out of the growth loop's way.
 #[cold]
 #[inline(never)]
-fn leg_error(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError> {
+pub(super) fn leg_error(leg: f64, name: &str, i: usize, j: usize) -> GrowthError {
     if !leg.is_finite() {
-        return Err(breakdown(i, j));
+        return breakdown(i, j);
     }
-    Err(GrowthError::new(
+    GrowthError::new(
         ErrorKind::NonPositiveLeg,
         Param::Direction,
         Some(i),
@@ -162,7 +162,7 @@ fn leg_error(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError
             fmt_len(leg)
         ),
         "choose a direction nearer the cone axis for this row",
-    ))
+    )
 }
 
 pub(super) fn check_boundary_leg(

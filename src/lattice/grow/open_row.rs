@@ -57,7 +57,7 @@ impl Grower {
         let mut ok = true;
         for k in 0..right_steps.max(j0) {
             if k < right_steps {
-                match right_step(x, j0 + k, right, i) {
+                match right_step(x, j0 + k, right) {
                     Ok((lr, p)) => {
                         self.next[j0 + k + 1] = Some(lr);
                         self.pivots[j0 + k + 1] = Some(p);
@@ -70,7 +70,7 @@ impl Grower {
                 }
             }
             if k < j0 {
-                match left_step(x, j0 - k, left, i) {
+                match left_step(x, j0 - k, left) {
                     Ok((ll, p)) => {
                         self.next[j0 - k] = Some(ll);
                         self.pivots[j0 - k - 1] = Some(p);
@@ -88,14 +88,14 @@ impl Grower {
             // which fixes rod B (and so the pivot) of cell j + 1.
             for j in j0..m.saturating_sub(1) {
                 let p = self.pivots[j].expect("pivot grown");
-                let (lr, next) = right_step(x, j, p, i)?;
+                let (lr, next) = right_step(x, j, p).map_err(|f| f.error(x, i))?;
                 self.next[j + 1] = Some(lr);
                 self.pivots[j + 1] = Some(next);
             }
             // Left of j0, the mirror image.
             for j in (1..=j0).rev() {
                 let p = self.pivots[j].expect("pivot grown");
-                let (ll, cell) = left_step(x, j, p, i)?;
+                let (ll, cell) = left_step(x, j, p).map_err(|f| f.error(x, i))?;
                 self.next[j] = Some(ll);
                 self.pivots[j - 1] = Some(cell);
             }

@@ -31,6 +31,51 @@ pub(super) fn start_pivot(
     })
 }
 
+/// Why a step of a chain of transfers stopped: small and `Copy`, so the
+/// chains' loop carries no `GrowthError` (about 100 bytes) through every
+/// step; `Fail::error` makes the message, off the growth loop's way.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Fail {
+    /// `transfer_error` across the front's vertices `a` and `b`, at cell `j`.
+    Transfer {
+        refusal: Refusal,
+        a: usize,
+        b: usize,
+        j: usize,
+    },
+    /// `propagated_cone` at cell `j`.
+    Cone { j: usize },
+    /// `check_leg` refused leg `name` of cell `j`.
+    Leg {
+        leg: f64,
+        name: &'static str,
+        j: usize,
+    },
+}
+
+impl Fail {
+    /// The growth error of row `i` grown on front `x`.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn error(self, x: &[Point], i: usize) -> GrowthError {
+        match self {
+            Fail::Transfer { refusal, a, b, j } => transfer_error(refusal, x, a, b, i, j),
+            Fail::Cone { j } => propagated_cone(i, j),
+            Fail::Leg { leg, name, j } => leg_error(leg, name, i, j),
+        }
+    }
+}
+
+/// `check_leg`'s test, with a `Fail`.
+#[inline(always)]
+fn leg(leg: f64, name: &'static str, j: usize) -> Result<(), Fail> {
+    if leg.is_finite() && leg > 0.0 {
+        Ok(())
+    } else {
+        Err(Fail::Leg { leg, name, j })
+    }
+}
+
 /// Right transfer from cell j (4.3), indices mod the front length: the
 /// lower-right corner of cell j, on rod A beyond its pivot `p`.
 pub(super) fn right_transfer(
@@ -39,53 +84,62 @@ pub(super) fn right_transfer(
     p: Point,
     i: usize,
 ) -> Result<Point, GrowthError> {
+    lower_right_of(x, j, p).map_err(|f| f.error(x, i))
+}
+
+#[inline(always)]
+fn lower_right_of(x: &[Point], j: usize, p: Point) -> Result<Point, Fail> {
     let j2 = wrap(j + 2, x.len());
     let v1 = (p.pos - x[j].pos).normalize();
-    let lr = lower_right(x[j], x[j2], v1).map_err(|r| transfer_error(r, x, j, j2, i, j))?;
-    check_leg(lr.z - p.z, "l3", i, j)?;
+    let lr = lower_right(x[j], x[j2], v1).map_err(|refusal| Fail::Transfer {
+        refusal,
+        a: j,
+        b: j2,
+        j,
+    })?;
+    leg(lr.z - p.z, "l3", j)?;
     Ok(lr)
 }
 
 /// The pivot of cell j + 1, whose rod B runs from its upper-right corner
 /// to `ll`, the lower-right corner just found for cell j.
 pub(super) fn next_pivot(x: &[Point], j: usize, ll: Point, i: usize) -> Result<Point, GrowthError> {
+    next_pivot_of(x, j, ll).map_err(|f| f.error(x, i))
+}
+
+#[inline(always)]
+fn next_pivot_of(x: &[Point], j: usize, ll: Point) -> Result<Point, Fail> {
     let n = x.len();
     let (j1, j2) = (wrap(j + 1, n), wrap(j + 2, n));
     let v2 = (ll.pos - x[j2].pos).normalize();
-    let cell = pivot_from_v2(x[j1], x[j2], v2).map_err(|_| propagated_cone(i, j1))?;
-    check_leg(ll.z - cell.z, "l2", i, j1)?;
+    let cell = pivot_from_v2(x[j1], x[j2], v2).map_err(|_| Fail::Cone { j: j1 })?;
+    leg(ll.z - cell.z, "l2", j1)?;
     Ok(cell)
 }
 
 /// One step right of the start: from the pivot `p` of cell j, the
 /// lower-right corner of cell j and the pivot of cell j + 1.
-#[inline]
-pub(super) fn right_step(
-    x: &[Point],
-    j: usize,
-    p: Point,
-    i: usize,
-) -> Result<(Point, Point), GrowthError> {
-    let lr = right_transfer(x, j, p, i)?;
-    Ok((lr, next_pivot(x, j, lr, i)?))
+#[inline(always)]
+pub(super) fn right_step(x: &[Point], j: usize, p: Point) -> Result<(Point, Point), Fail> {
+    let lr = lower_right_of(x, j, p)?;
+    Ok((lr, next_pivot_of(x, j, lr)?))
 }
 
 /// One step left of the start: from the pivot `p` of cell j, the
 /// lower-left corner of cell j and the pivot of cell j - 1.
-#[inline]
-pub(super) fn left_step(
-    x: &[Point],
-    j: usize,
-    p: Point,
-    i: usize,
-) -> Result<(Point, Point), GrowthError> {
+#[inline(always)]
+pub(super) fn left_step(x: &[Point], j: usize, p: Point) -> Result<(Point, Point), Fail> {
     let v2 = (p.pos - x[j + 1].pos).normalize();
-    let ll =
-        lower_left(x[j - 1], x[j + 1], v2).map_err(|r| transfer_error(r, x, j - 1, j + 1, i, j))?;
-    check_leg(ll.z - p.z, "l2", i, j)?;
+    let ll = lower_left(x[j - 1], x[j + 1], v2).map_err(|refusal| Fail::Transfer {
+        refusal,
+        a: j - 1,
+        b: j + 1,
+        j,
+    })?;
+    leg(ll.z - p.z, "l2", j)?;
     let v1 = (ll.pos - x[j - 1].pos).normalize();
-    let cell = pivot_from_v1(x[j - 1], x[j], v1).map_err(|_| propagated_cone(i, j - 1))?;
-    check_leg(ll.z - cell.z, "l3", i, j - 1)?;
+    let cell = pivot_from_v1(x[j - 1], x[j], v1).map_err(|_| Fail::Cone { j: j - 1 })?;
+    leg(ll.z - cell.z, "l3", j - 1)?;
     Ok((ll, cell))
 }
 
