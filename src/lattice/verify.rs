@@ -1015,14 +1015,17 @@ const UNREACHED: u8 = u8::MAX;
 /// through no corner is a disconnected lattice and fails the check.
 ///
 /// The sweep runs a cell at a time inside `verify`'s pass over the cells
-/// (`step`), with the rod lengths of the cell just swept: its corners' z
-/// are final then, unless some cell was not reached, when `finish`
-/// measures the rods again after the sweep, as they were measured before.
-/// The comparison with the construction needs the lattice's mean leg,
-/// known only after the pass: `finish` compares the vertices', then the
-/// pivots' in cell order, each pivot's z taken again from the corner it
-/// was reached through (a byte a cell remembers which) and that corner's
-/// leg, measured again: the same bits, since a z once set never changes.
+/// (`step`), or a row at a time in `verify_rows` (`sweep_row`), with the
+/// rod lengths of the cells just swept: their corners' z are final then,
+/// unless some cell was not reached, when `finish` measures the rods
+/// again after the sweep, as they were measured before. The comparison
+/// with the construction needs the lattice's mean leg, known only after
+/// the pass: `finish` compares the vertices', then the pivots' in cell
+/// order, each pivot's z taken again from the corner it was reached
+/// through (a byte a cell remembers which) and that corner's leg,
+/// measured again: the same bits, since a z once set never changes. A
+/// sweep by rows bounds each front's and row's comparisons (`Block`), and
+/// `finish` replays only those that may hold a new largest.
 struct Collapsed {
     single: Check,
     rods: Check,
@@ -1222,8 +1225,9 @@ impl Collapsed {
 
     /// The comparison with the construction, after the sweep, on the scale
     /// of the lattice's mean leg (`leg_sum` over the cells): the vertices'
-    /// first, then the pivots'. Also the largest `vertex_extent`, measured
-    /// in the same pass.
+    /// first, then the pivots', each front and row replayed unless its
+    /// `Block` shows it holds no new largest. Also the largest
+    /// `vertex_extent` (measured by the rows' pass, if any).
     fn finish(self, lattice: &Lattice, leg_sum: f64) -> ([Check; 3], f64) {
         let Self {
             single,
