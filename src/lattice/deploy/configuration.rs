@@ -58,14 +58,6 @@ pub(super) fn design_cos(lattice: &Lattice, cell: &Cell) -> f64 {
         .dot((ur - cell.pivot).normalize())
 }
 
-/// `design_cos` from the cell's legs (`Lattice::legs`): a leg is the length
-/// `normalize` divides by (`p - q` is exactly `-(q - p)`, so their squares
-/// and roots agree bit for bit), and no square root is taken again.
-fn design_cos_with(lattice: &Lattice, cell: &Cell, legs: &Legs) -> f64 {
-    let [ul, ur, _, _] = lattice.corners(cell);
-    ((ul - cell.pivot) * (1.0 / legs[0])).dot((ur - cell.pivot) * (1.0 / legs[3]))
-}
-
 /// The intrinsic configuration C(theta): every cell's opening as a function
 /// of the reference cell's.
 #[derive(Clone, Debug)]
@@ -203,18 +195,19 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
 /// before it or the row above, the shortest path. A cell reached behind
 /// the scan waits in a small heap.
 pub fn configuration(lattice: &Lattice) -> Configuration {
-    configuration_with(lattice, &super::misfit::cell_legs(lattice))
-}
-
-/// `configuration` with every cell's legs at hand (`cell_legs`): C(theta)
-/// and the misfits share one computation of them (`deployment`).
-pub(crate) fn configuration_with(lattice: &Lattice, legs: &[Legs]) -> Configuration {
     let n = lattice.cells.len();
     let (cos_phi, reached, path_residual) = match grid_width(lattice) {
         // A grown sheet: the neighbours are read off the grid (no lists of
-        // corner users and edge neighbours: 144 MB on 4 M cells).
-        Some(w) => propagate(n, legs, grid_neighbours(n, w)),
+        // corner users and edge neighbours: 144 MB on 4 M cells), and the
+        // legs of the cells within a row of the one taken kept in a ring
+        // (`LegRing`; 128 MB for every cell's).
+        Some(w) => {
+            let mut ring = LegRing::new(lattice, w);
+            propagate(n, |k| ring.get(k), grid_neighbours(n, w))
+        }
         None => {
+            let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+            let legs = |k: usize| legs[k];
             let users = Users::new(lattice);
             match edge_neighbours(lattice, &users) {
                 Some(nbr) => {
@@ -248,8 +241,8 @@ pub(crate) fn configuration_with(lattice: &Lattice, legs: &[Legs]) -> Configurat
     // Each cos(phi) falls as cos(theta) falls; the range ends where the
     // first cell opens flat past pi (cos(phi) = -1).
     let mut c_min: f64 = -1.0;
-    for ((f, cell), legs) in cos_phi.iter().zip(&lattice.cells).zip(legs) {
-        let design = design_cos_with(lattice, cell, legs);
+    for (f, cell) in cos_phi.iter().zip(&lattice.cells) {
+        let design = design_cos(lattice, cell);
         design_residual = design_residual.max((f.at(c_design) - design).abs());
         collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
         if f.b > 0.0 {
@@ -308,12 +301,48 @@ fn grid_neighbours(n: usize, w: usize) -> impl Fn(usize, &mut dyn FnMut(usize, u
     }
 }
 
+/// The legs (`Lattice::legs`) of a grid's cells (`grid_width`) in a ring:
+/// the propagation over a grid takes its cells in order, each asking for
+/// its own legs and its neighbours' (one row before it to one row after
+/// it), so the ring holds two rows and computes each cell's legs once, as
+/// the cells a row ahead are first asked for.
+struct LegRing<'a> {
+    lattice: &'a Lattice,
+    legs: Vec<Legs>,
+    mask: usize,
+    /// The cells below this have their legs computed.
+    next: usize,
+}
+
+impl<'a> LegRing<'a> {
+    fn new(lattice: &'a Lattice, w: usize) -> Self {
+        let window = (2 * w + 2).next_power_of_two();
+        Self {
+            lattice,
+            legs: vec![[0.0; 4]; window],
+            mask: window - 1,
+            next: 0,
+        }
+    }
+
+    /// The legs of cell k, which lies in the ring's window.
+    #[inline]
+    fn get(&mut self, k: usize) -> Legs {
+        while self.next <= k {
+            self.legs[self.next & self.mask] = self.lattice.legs(&self.lattice.cells[self.next]);
+            self.next += 1;
+        }
+        assert!(k + self.legs.len() >= self.next, "cell {k} behind the ring");
+        self.legs[k & self.mask]
+    }
+}
+
 /// The propagation of `configuration` over `neighbours(i, visit)`, which
 /// calls `visit(e, j, ej)` for each cell j sharing edge e of cell i as its
 /// edge ej.
 fn propagate(
     n: usize,
-    legs: &[[f64; 4]],
+    mut legs: impl FnMut(usize) -> Legs,
     neighbours: impl Fn(usize, &mut dyn FnMut(usize, usize, usize)),
 ) -> (Vec<Affine>, Vec<bool>, f64) {
     let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
@@ -342,12 +371,13 @@ fn propagate(
             }
         };
         let f = cos_phi[i];
+        let legs_i = legs(i);
         neighbours(i, &mut |e, j, ej| {
             // The squared edge as a function of cos(theta), then the
             // neighbour's cos(phi) from its own formula for that edge.
-            let (alpha, beta) = edge_coefficients(legs[i], e);
+            let (alpha, beta) = edge_coefficients(legs_i, e);
             let (ea, eb) = (alpha + beta * f.a, beta * f.b);
-            let (alpha_j, beta_j) = edge_coefficients(legs[j], ej);
+            let (alpha_j, beta_j) = edge_coefficients(legs(j), ej);
             let g = Affine {
                 a: (ea - alpha_j) / beta_j,
                 b: eb / beta_j,
@@ -401,18 +431,26 @@ mod tests {
                 assert_eq!(o, asked, "cell {i} edge {e}");
             }
         }
-        let (fast, reached, residual) = propagate(n, &legs, |i, visit| {
-            for (e, &o) in nbr[i].iter().enumerate() {
-                if o != NO_CELL {
-                    visit(e, (o & ((1 << 30) - 1)) as usize, (o >> 30) as usize);
+        let (fast, reached, residual) = propagate(
+            n,
+            |k| legs[k],
+            |i, visit| {
+                for (e, &o) in nbr[i].iter().enumerate() {
+                    if o != NO_CELL {
+                        visit(e, (o & ((1 << 30) - 1)) as usize, (o >> 30) as usize);
+                    }
                 }
-            }
-        });
-        let (slow, reached_slow, residual_slow) = propagate(n, &legs, |i, visit| {
-            for e in 0..4 {
-                users.sharers(&lattice, i, e, |j, ej| visit(e, j, ej));
-            }
-        });
+            },
+        );
+        let (slow, reached_slow, residual_slow) = propagate(
+            n,
+            |k| legs[k],
+            |i, visit| {
+                for e in 0..4 {
+                    users.sharers(&lattice, i, e, |j, ej| visit(e, j, ej));
+                }
+            },
+        );
         assert!(reached.iter().all(|r| *r));
         assert_eq!(reached, reached_slow);
         // The grid's neighbours are the ones found through the corners.
@@ -429,10 +467,14 @@ mod tests {
                 .collect();
             assert_eq!(seen, listed, "cell {i}");
         }
-        let (on_grid, reached_grid, residual_grid) = propagate(n, &legs, &grid);
+        let (on_grid, reached_grid, residual_grid) = propagate(n, |k| legs[k], &grid);
         assert_eq!(reached, reached_grid);
         assert_eq!(residual.to_bits(), residual_grid.to_bits());
         assert_eq!(on_grid, fast);
+        // `configuration` itself: the grid and the ring of legs.
+        let config = configuration(&lattice);
+        assert_eq!(config.cos_phi, fast);
+        assert_eq!(config.path_residual.to_bits(), residual.to_bits());
         assert_eq!(residual.to_bits(), residual_slow.to_bits());
         assert!(residual > 0.0, "rounding differs along paths: {residual}");
         for (f, s) in fast.iter().zip(&slow) {
@@ -451,26 +493,5 @@ mod tests {
         let back = configuration(&reversed);
         assert_eq!(back.unreached, 0);
         assert!(back.path_residual < 1e-12, "{}", back.path_residual);
-    }
-
-    /// The design opening from the shared legs is the one from normalising
-    /// the legs' vectors, bit for bit.
-    #[test]
-    fn the_design_opening_from_the_legs_is_bit_for_bit_the_same() {
-        let lattice = uneven_sheet();
-        let mut rng = crate::rng::Rng::new(9);
-        let mut moved = lattice.clone();
-        for v in &mut moved.vertices {
-            v.pos += DVec3::new(rng.signed(), rng.signed(), rng.signed());
-        }
-        for lattice in [&lattice, &moved] {
-            for cell in &lattice.cells {
-                let legs = lattice.legs(cell);
-                assert_eq!(
-                    design_cos_with(lattice, cell, &legs).to_bits(),
-                    design_cos(lattice, cell).to_bits()
-                );
-            }
-        }
     }
 }
