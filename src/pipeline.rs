@@ -4,7 +4,7 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_apart, measure_assembled, strip_clashes};
+use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
@@ -167,24 +167,21 @@ pub fn check_on(
             measure.then(|| placed_and_measured(&lattice)),
         ),
         // The clash search is the largest single measure: it goes with
-        // verification and the curvature (its buffers freed before the
-        // curvature list is taken), the rest of the measures with the
-        // deployment.
+        // verification, the rest of the measures with the deployment.
         (true, true) => std::thread::scope(|s| {
             let other = s.spawn(|| {
                 let placed = place(&lattice);
                 let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
-                let report = verify(&lattice);
-                (placed, clashes, report, lattice.curvature())
+                (placed, clashes, verify(&lattice))
             });
             let deployment = deployment(&lattice);
             let mut rest = None;
-            let measures = measure_apart(&design, &lattice, || {
-                let (placed, clashes, report, curvature) = other
+            let measures = measure_with(&design, &lattice, || {
+                let (placed, clashes, report) = other
                     .join()
                     .unwrap_or_else(|p| std::panic::resume_unwind(p));
                 rest = Some((placed, report));
-                (clashes, curvature)
+                clashes
             });
             let (placed, report) = rest.expect("joined for the clashes");
             (report, deployment, Some((placed, measures)))

@@ -5,7 +5,7 @@
 
 use super::Design;
 use super::fit::{self, Coverage};
-use crate::lattice::shape::{CurvatureSummary, Shape, VertexCurvature, relief, spread, summary};
+use crate::lattice::shape::{CurvatureSummary, Shape, relief, spread, summary};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
 use serde::Serialize;
@@ -69,7 +69,7 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
     // are taken, and the shape's curvature list (kept) is not held while
     // the search runs (one peak of memory, not their sum, on 4 M cells).
     let clashes = strip_clashes(design, assembled);
-    measured(design, lattice, lattice.shape(), || (clashes, None))
+    measure_with(design, lattice, || clashes)
 }
 
 /// The strip clashes of a design's lattice as assembled (an intrinsic
@@ -84,29 +84,16 @@ pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Vec<Clash> 
     )
 }
 
-/// `measure_assembled` with the clashes (`strip_clashes`) and the
-/// curvature (`Lattice::curvature`) given by `joined`, called once every
-/// other measure is taken: the pipeline measures them on another thread
-/// meanwhile (`pipeline::check_on`).
-pub(crate) fn measure_apart(
+/// `measure_assembled` with the clashes (`strip_clashes`) given by
+/// `clashes`, called once every other measure is taken: the pipeline
+/// searches them on another thread meanwhile (`pipeline::check_on`).
+pub(crate) fn measure_with(
     design: &Design,
     lattice: &Lattice,
-    joined: impl FnOnce() -> (Vec<Clash>, Vec<VertexCurvature>),
+    clashes: impl FnOnce() -> Vec<Clash>,
 ) -> Measures {
-    measured(design, lattice, lattice.shape_apart(), || {
-        let (clashes, curvature) = joined();
-        (clashes, Some(curvature))
-    })
-}
-
-/// The measures from `shape`, the clashes and, when `shape` was measured
-/// without it, the curvature from `joined` (called once the rest is taken).
-fn measured(
-    design: &Design,
-    lattice: &Lattice,
-    mut shape: Shape,
-    joined: impl FnOnce() -> (Vec<Clash>, Option<Vec<VertexCurvature>>),
-) -> Measures {
+    let shape = lattice.shape();
+    let curvature = summary(&shape.curvature);
     let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
         Some(f) => {
             let (abs, rel) = fit::error(f, lattice);
@@ -119,18 +106,13 @@ fn measured(
         }
         None => (None, None, None, None),
     };
-    let turns = turns(lattice);
-    let (clashes, curvature) = joined();
-    if let Some(c) = curvature {
-        shape.curvature = c;
-    }
-    let curvature = summary(&shape.curvature);
     let n = shape.curvature.len().max(1) as f64;
     let (domes, saddles) = relief(&shape.curvature, BUMP_DEG);
     let (bumps, dimples) = (domes as f64 / n, saddles as f64 / n);
     let (bump_rows, bump_cols) = spread(lattice, &shape.curvature, |d| d >= BUMP_DEG);
+    let turns = turns(lattice);
     Measures {
-        clashes,
+        clashes: clashes(),
         turns,
         shape,
         curvature,

@@ -257,22 +257,15 @@ impl Lattice {
     /// `legs`, so the figures are those of the separate passes bit for bit).
     pub(crate) fn shape(&self) -> Shape {
         let (window, full) = Curvatures::windows(self);
-        self.shape_in(Some(window))
-            .or_else(|| self.shape_in(Some(full)))
+        self.shape_in(window)
+            .or_else(|| self.shape_in(full))
             .expect("a slot for every vertex")
     }
 
-    /// `shape` but for its curvature (left empty): the pipeline measures
-    /// that (`curvature`) on another thread meanwhile.
-    pub(crate) fn shape_apart(&self) -> Shape {
-        self.shape_in(None).expect("no ring to outgrow")
-    }
-
     /// `shape` with the curvature sums in a ring of `window` slots
-    /// (`Curvatures`), or without the curvature; None when some cell's
-    /// corners lie too far apart for the ring.
-    fn shape_in(&self, window: Option<usize>) -> Option<Shape> {
-        let mut at = window.map(|w| Curvatures::new(self.vertices.len(), w));
+    /// (`Curvatures`); None when some cell's corners lie too far apart.
+    fn shape_in(&self, window: usize) -> Option<Shape> {
+        let mut at = Curvatures::new(self.vertices.len(), window);
         let mut cell_ratios = Vec::with_capacity(self.cells.len());
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
         let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
@@ -299,9 +292,7 @@ impl Lattice {
             for key in strip_keys(legs) {
                 range.add(key);
             }
-            if let Some(at) = &mut at
-                && !at.add([cell.ul, cell.ur, cell.ll, cell.lr], corners, area)
-            {
+            if !at.add([cell.ul, cell.ur, cell.ll, cell.lr], corners, area) {
                 return None;
             }
         }
@@ -319,7 +310,7 @@ impl Lattice {
             }
         };
         drop(cell_ratios);
-        let curvature = at.map_or_else(Vec::new, |at| at.finish(self.vertices.len()));
+        let curvature = at.finish(self.vertices.len());
         // Strips whose legs all lie within the tolerance of each other are
         // one class (what sorting them and grouping finds, see `Range`);
         // otherwise their keys are taken in a second pass and sorted.
@@ -755,20 +746,9 @@ mod tests {
             };
             let (usual, _) = Curvatures::windows(&lattice);
             assert_eq!(bits(&lattice.curvature()), bits(&every));
-            let shape = lattice
-                .shape_in(Some(full))
-                .expect("a slot for every vertex");
+            let shape = lattice.shape_in(full).expect("a slot for every vertex");
             assert_eq!(bits(&shape.curvature), bits(&every));
             assert_eq!(lattice.shape(), shape);
-            let apart = lattice.shape_apart();
-            assert!(apart.curvature.is_empty());
-            assert_eq!(
-                Shape {
-                    curvature: every.clone(),
-                    ..apart
-                },
-                shape
-            );
             let mut smallest = usual;
             for window in [4, 8, 16, 32].into_iter().filter(|&w| w < usual) {
                 if let Some(ring) = lattice.curvature_in(window) {
@@ -787,7 +767,7 @@ mod tests {
             let mut sorted = bits(&reversed.curvature());
             sorted.sort();
             assert_eq!(sorted.len(), every.len());
-            assert!(reversed.shape_in(Some(8)).is_none());
+            assert!(reversed.shape_in(8).is_none());
             assert_eq!(reversed.shape().curvature, reversed.curvature());
         }
         assert!(measured >= 12, "{measured} lattices grew");
