@@ -557,25 +557,36 @@ pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
         return None;
     }
     let n = c.len() as f64;
-    let deg: Vec<f64> = c.iter().map(|v| v.defect.to_degrees()).collect();
+    // One pass for all but the variance (no list of the defects in
+    // degrees: 32 MB on 4 M cells); the sums run in vertex order, as
+    // summing the lists would.
     let (mut min_i, mut max_i) = (0, 0);
-    for i in 0..deg.len() {
-        if deg[i] < deg[min_i] {
-            min_i = i;
+    let (mut min_deg, mut max_deg) = (c[0].defect.to_degrees(), c[0].defect.to_degrees());
+    // From -0.0, as `Sum` starts (defects all -0.0 sum to -0.0).
+    let (mut deg_sum, mut k_sum) = (-0.0, -0.0);
+    let (mut positive, mut negative) = (0usize, 0usize);
+    for (i, v) in c.iter().enumerate() {
+        let d = v.defect.to_degrees();
+        if d < min_deg {
+            (min_i, min_deg) = (i, d);
         }
-        if deg[i] > deg[max_i] {
-            max_i = i;
+        if d > max_deg {
+            (max_i, max_deg) = (i, d);
         }
+        deg_sum += d;
+        k_sum += v.k;
+        positive += usize::from(d > CURVED_DEG);
+        negative += usize::from(d < -CURVED_DEG);
     }
-    let k_mean = c.iter().map(|v| v.k).sum::<f64>() / n;
+    let k_mean = k_sum / n;
     let k_var = c.iter().map(|v| (v.k - k_mean).powi(2)).sum::<f64>() / n;
     Some(CurvatureSummary {
         interior: c.len(),
-        min_deg: deg[min_i],
-        mean_deg: deg.iter().sum::<f64>() / n,
-        max_deg: deg[max_i],
-        positive: deg.iter().filter(|&&d| d > CURVED_DEG).count() as f64 / n,
-        negative: deg.iter().filter(|&&d| d < -CURVED_DEG).count() as f64 / n,
+        min_deg,
+        mean_deg: deg_sum / n,
+        max_deg,
+        positive: positive as f64 / n,
+        negative: negative as f64 / n,
         k_mean,
         k_std: k_var.sqrt(),
         min_at: c[min_i].vertex,
@@ -789,5 +800,42 @@ mod tests {
         let mut range = Range::default();
         range.add(strip_key(f64::NAN, 20.0));
         assert!(!range.within(SAME_STRIP_MM));
+    }
+
+    /// The one-pass summary is the lists' arithmetic bit for bit, down to
+    /// the sign of a zero mean.
+    #[test]
+    fn the_summary_in_one_pass_is_the_lists_bit_for_bit() {
+        let mut rng = crate::rng::Rng::new(13);
+        let vertex = |i: u32, defect: f64, area: f64| VertexCurvature {
+            vertex: i,
+            defect,
+            area,
+            k: defect / area,
+        };
+        let random: Vec<VertexCurvature> = (0..500)
+            .map(|i| vertex(i, 0.05 * rng.signed(), 10.0 + rng.uniform()))
+            .collect();
+        let zeros: Vec<VertexCurvature> = (0..5).map(|i| vertex(i, -0.0, 1.0)).collect();
+        for c in [&random, &zeros] {
+            let n = c.len() as f64;
+            let deg: Vec<f64> = c.iter().map(|v| v.defect.to_degrees()).collect();
+            let k_mean = c.iter().map(|v| v.k).sum::<f64>() / n;
+            let s = summary(c).unwrap();
+            assert_eq!(
+                s.mean_deg.to_bits(),
+                (deg.iter().sum::<f64>() / n).to_bits()
+            );
+            assert_eq!(s.k_mean.to_bits(), k_mean.to_bits());
+            let lo = deg.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = deg.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            assert_eq!((s.min_deg, s.max_deg), (lo, hi));
+            let first = |x: f64| deg.iter().position(|&d| d == x).unwrap() as u32;
+            assert_eq!((s.min_at, s.max_at), (first(lo), first(hi)));
+            let share = |f: fn(f64) -> bool| deg.iter().filter(|&&d| f(d)).count() as f64 / n;
+            assert_eq!(s.positive, share(|d| d > CURVED_DEG));
+            assert_eq!(s.negative, share(|d| d < -CURVED_DEG));
+        }
+        assert!(summary(&zeros).unwrap().mean_deg.is_sign_negative());
     }
 }
