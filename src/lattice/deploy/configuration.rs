@@ -272,10 +272,11 @@ fn grid_width(lattice: &Lattice) -> Option<usize> {
     if w == 0 || n == 0 || n % w != 0 {
         return None;
     }
-    let grid = lattice.cells.iter().enumerate().all(|(i, cell)| {
-        let ul = i / w * (w + 1) + i % w;
-        [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
-            == [ul, ul + 1, ul + w + 1, ul + w + 2]
+    let grid = lattice.cells.chunks_exact(w).enumerate().all(|(r, row)| {
+        row.iter().zip(r * (w + 1)..).all(|(cell, ul)| {
+            [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
+                == [ul, ul + 1, ul + w + 1, ul + w + 2]
+        })
     });
     grid.then_some(w)
 }
