@@ -460,7 +460,7 @@ mod tests {
         for (i, row) in nbr.iter().enumerate() {
             let mut seen = Vec::new();
             grid(i, &mut |e, j, ej| {
-                seen.push((e, j as u32 | (ej as u32) << 30))
+                seen.push((e, j as u32 | (ej as u32) << 30));
             });
             let listed: Vec<_> = (0..4)
                 .filter(|&e| row[e] != NO_CELL)
