@@ -82,6 +82,19 @@ pub(crate) fn corner_angles(c: [DVec3; 4]) -> [f64; 4] {
     ]
 }
 
+/// A cell's legs `[l1, l2, l3, l4]` from its pivot to UL, LL, LR, UR, given
+/// its corners `[UL, UR, LL, LR]`: `Lattice::legs` from corners at hand.
+#[inline]
+pub(crate) fn legs_of(corners: [DVec3; 4], pivot: DVec3) -> Legs {
+    let [ul, ur, ll, lr] = corners;
+    [
+        pivot.distance(ul),
+        pivot.distance(ll),
+        pivot.distance(lr),
+        pivot.distance(ur),
+    ]
+}
+
 /// Area of a cell: half the cross product of its diagonals (the rods cross,
 /// so the quad is planar and convex).
 pub(crate) fn cell_area(c: [DVec3; 4]) -> f64 {
@@ -273,16 +286,9 @@ impl Lattice {
         let mut range = Range::default();
         for cell in &self.cells {
             let corners = self.corners(cell);
-            let [ul, ur, ll, lr] = corners;
             let area = cell_area(corners);
             (amin, amax) = (amin.min(area), amax.max(area));
-            let p = cell.pivot;
-            let legs = [
-                p.distance(ul),
-                p.distance(ll),
-                p.distance(lr),
-                p.distance(ur),
-            ];
+            let legs = legs_of(corners, cell.pivot);
             let (l, h) = legs
                 .iter()
                 .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
@@ -594,6 +600,34 @@ pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
     })
 }
 
+/// A sheet of `3 + trial % 7` uneven cells a row and `3 + trial % 5` rows,
+/// random seed points, kappa and start leg (tilted out of the plane in
+/// 3-D); None when it does not grow.
+#[cfg(test)]
+pub(crate) fn random_sheet(rng: &mut crate::rng::Rng, trial: usize, dim: usize) -> Option<Lattice> {
+    use super::{RowParams, grow};
+    use crate::legs::{Direction, Leg};
+    let n = 3 + trial % 7;
+    let points: Vec<DVec3> = (0..=n)
+        .map(|j| {
+            let (x, y) = (10.0 * j as f64 + rng.signed(), 0.3 * rng.signed());
+            DVec3::new(x, y, if dim == 3 { 2.0 * rng.signed() } else { 0.0 })
+        })
+        .collect();
+    let kappa: Vec<f64> = (0..n).map(|_| 0.4 * rng.signed()).collect();
+    let row = RowParams {
+        start: n / 2,
+        direction: Some(Direction::Angles {
+            angle_deg: 45.0 + 15.0 * rng.signed(),
+            tilt_deg: if dim == 3 { 10.0 * rng.signed() } else { 0.0 },
+        }),
+        left_leg: Leg::Match,
+        right_leg: Leg::Match,
+        ..RowParams::default()
+    };
+    grow(Kind::Sheet, dim, &points, &kappa, &vec![row; 3 + trial % 5]).ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -712,31 +746,7 @@ mod tests {
         let mut rng = crate::rng::Rng::new(11);
         let mut measured = 0;
         for trial in 0..24 {
-            let n = 3 + trial % 7;
-            let dim = 2 + trial % 2;
-            let z = if dim == 3 { 2.0 } else { 0.0 };
-            let points: Vec<DVec3> = (0..=n)
-                .map(|j| {
-                    DVec3::new(
-                        10.0 * j as f64 + rng.signed(),
-                        0.3 * rng.signed(),
-                        z * rng.signed(),
-                    )
-                })
-                .collect();
-            let kappa: Vec<f64> = (0..n).map(|_| 0.4 * rng.signed()).collect();
-            let row = RowParams {
-                start: n / 2,
-                direction: Some(Direction::Angles {
-                    angle_deg: 45.0 + 15.0 * rng.signed(),
-                    tilt_deg: if dim == 3 { 10.0 * rng.signed() } else { 0.0 },
-                }),
-                left_leg: Leg::Match,
-                right_leg: Leg::Match,
-                ..RowParams::default()
-            };
-            let Ok(lattice) = grow(Kind::Sheet, dim, &points, &kappa, &vec![row; 3 + trial % 5])
-            else {
+            let Some(lattice) = random_sheet(&mut rng, trial, 2 + trial % 2) else {
                 continue;
             };
             let nv = lattice.vertices.len();

@@ -2,6 +2,7 @@
 //! openings than the design's (MATH.md 8.4).
 
 use super::super::Lattice;
+use super::super::shape::legs_of;
 use super::Configuration;
 use glam::{DVec2, DVec3};
 
@@ -85,16 +86,9 @@ fn misfits_in(
     let mut misfit = [0.0f64; LANES];
     for (i, cell) in lattice.cells.iter().enumerate() {
         let corners = lattice.corners(cell);
-        // `Lattice::legs`, from the corners at hand (4 square roots a cell
-        // cost less than storing every cell's legs and reading them back).
-        let [ul, ur, ll, lr] = corners;
-        let p = cell.pivot;
-        let legs = [
-            p.distance(ul),
-            p.distance(ll),
-            p.distance(lr),
-            p.distance(ur),
-        ];
+        // From the corners at hand: 4 square roots a cell cost less than
+        // storing every cell's legs and reading them back.
+        let legs = legs_of(corners, cell.pivot);
         let side = side(corners, cell.pivot);
         let scale = legs.iter().sum::<f64>() / 4.0;
         // Misses compared squared, over the squared scale: one square
@@ -268,28 +262,10 @@ mod tests {
     /// measured with a slot per vertex.
     #[test]
     fn the_ring_of_placements_measures_what_a_slot_per_vertex_does() {
-        use crate::lattice::{Kind, RowParams, grow};
-        use crate::legs::{Direction, Leg};
         let mut rng = crate::rng::Rng::new(5);
         let mut measured = 0;
         for trial in 0..24 {
-            let n = 3 + trial % 7;
-            let points: Vec<DVec3> = (0..=n)
-                .map(|j| DVec3::new(10.0 * j as f64 + rng.signed(), 0.3 * rng.signed(), 0.0))
-                .collect();
-            let kappa: Vec<f64> = (0..n).map(|_| 0.4 * rng.signed()).collect();
-            let row = RowParams {
-                start: n / 2,
-                direction: Some(Direction::Angles {
-                    angle_deg: 45.0 + 15.0 * rng.signed(),
-                    tilt_deg: 0.0,
-                }),
-                left_leg: Leg::Match,
-                right_leg: Leg::Match,
-                ..RowParams::default()
-            };
-            let Ok(lattice) = grow(Kind::Sheet, 2, &points, &kappa, &vec![row; 3 + trial % 5])
-            else {
+            let Some(lattice) = crate::lattice::shape::random_sheet(&mut rng, trial, 2) else {
                 continue;
             };
             let config = super::super::configuration(&lattice);
