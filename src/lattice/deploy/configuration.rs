@@ -58,6 +58,14 @@ pub(super) fn design_cos(lattice: &Lattice, cell: &Cell) -> f64 {
         .dot((ur - cell.pivot).normalize())
 }
 
+/// `design_cos` from the cell's legs (`Lattice::legs`): a leg is the length
+/// `normalize` divides by (`p - q` is exactly `-(q - p)`, so their squares
+/// and roots agree bit for bit), and no square root is taken again.
+fn design_cos_with(lattice: &Lattice, cell: &Cell, legs: &Legs) -> f64 {
+    let [ul, ur, _, _] = lattice.corners(cell);
+    ((ul - cell.pivot) * (1.0 / legs[0])).dot((ur - cell.pivot) * (1.0 / legs[3]))
+}
+
 /// The intrinsic configuration C(theta): every cell's opening as a function
 /// of the reference cell's.
 #[derive(Clone, Debug)]
@@ -196,54 +204,82 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
 /// the scan waits in a small heap.
 pub fn configuration(lattice: &Lattice) -> Configuration {
     let n = lattice.cells.len();
-    let (cos_phi, reached, path_residual) = match grid_width(lattice) {
-        // A grown sheet: the neighbours are read off the grid (no lists of
-        // corner users and edge neighbours: 144 MB on 4 M cells), and the
-        // legs of the cells within a row of the one taken kept in a ring
-        // (`LegRing`; 128 MB for every cell's).
-        Some(w) => {
-            let mut ring = LegRing::new(lattice, w);
-            propagate(n, |k| ring.get(k), grid_neighbours(n, w))
-        }
-        None => {
-            let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
-            let legs = |k: usize| legs[k];
-            let users = Users::new(lattice);
-            match edge_neighbours(lattice, &users) {
-                Some(nbr) => {
-                    drop(users);
-                    propagate(n, legs, |i, visit| {
-                        for (e, &other) in nbr[i].iter().enumerate() {
-                            if other != NO_CELL {
-                                let (j, ej) =
-                                    ((other & ((1 << 30) - 1)) as usize, (other >> 30) as usize);
-                                visit(e, j, ej);
-                            }
-                        }
-                    })
-                }
-                None => propagate(n, legs, |i, visit| {
-                    for e in 0..4 {
-                        users.sharers(lattice, i, e, |j, ej| visit(e, j, ej));
-                    }
-                }),
-            }
-        }
-    };
-    let unreached = reached.iter().filter(|r| !**r).count();
     let theta_design = lattice
         .cells
         .first()
         .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos());
     let c_design = theta_design.cos();
     let mut design_residual: f64 = 0.0;
+    // How far cell i's cos(phi) at the design opening misses its own.
+    let mut design_check = |i: usize, f: Affine, legs: &Legs| {
+        let design = design_cos_with(lattice, &lattice.cells[i], legs);
+        design_residual = design_residual.max((f.at(c_design) - design).abs());
+    };
+    let grid = grid_width(lattice);
+    let (cos_phi, reached, path_residual) = match grid {
+        // A grown sheet: the neighbours are read off the grid (no lists of
+        // corner users and edge neighbours: 144 MB on 4 M cells), and the
+        // legs of the cells within a row of the one taken kept in a ring
+        // (`LegRing`; 128 MB for every cell's). Every cell is taken, and
+        // checked against its design opening then, with its legs at hand.
+        Some(w) => {
+            let mut ring = LegRing::new(lattice, w);
+            propagate(
+                n,
+                |k| ring.get(k),
+                grid_neighbours(n, w),
+                |i, f, legs| {
+                    design_check(i, f, legs);
+                },
+            )
+        }
+        None => {
+            let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+            let users = Users::new(lattice);
+            let found = match edge_neighbours(lattice, &users) {
+                Some(nbr) => {
+                    drop(users);
+                    propagate(
+                        n,
+                        |k| legs[k],
+                        |i, visit| {
+                            for (e, &other) in nbr[i].iter().enumerate() {
+                                if other != NO_CELL {
+                                    let (j, ej) = (
+                                        (other & ((1 << 30) - 1)) as usize,
+                                        (other >> 30) as usize,
+                                    );
+                                    visit(e, j, ej);
+                                }
+                            }
+                        },
+                        |_, _, _| {},
+                    )
+                }
+                None => propagate(
+                    n,
+                    |k| legs[k],
+                    |i, visit| {
+                        for e in 0..4 {
+                            users.sharers(lattice, i, e, |j, ej| visit(e, j, ej));
+                        }
+                    },
+                    |_, _, _| {},
+                ),
+            };
+            // Every cell, reached or not (an unreached one keeps cos(phi) = 1).
+            for (i, legs) in legs.iter().enumerate() {
+                design_check(i, found.0[i], legs);
+            }
+            found
+        }
+    };
+    let unreached = reached.iter().filter(|r| !**r).count();
     let mut collapse_residual: f64 = 0.0;
     // Each cos(phi) falls as cos(theta) falls; the range ends where the
     // first cell opens flat past pi (cos(phi) = -1).
     let mut c_min: f64 = -1.0;
-    for (f, cell) in cos_phi.iter().zip(&lattice.cells) {
-        let design = design_cos(lattice, cell);
-        design_residual = design_residual.max((f.at(c_design) - design).abs());
+    for f in &cos_phi {
         collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
         if f.b > 0.0 {
             c_min = c_min.max((-1.0 - f.a) / f.b);
@@ -340,11 +376,13 @@ impl<'a> LegRing<'a> {
 
 /// The propagation of `configuration` over `neighbours(i, visit)`, which
 /// calls `visit(e, j, ej)` for each cell j sharing edge e of cell i as its
-/// edge ej.
+/// edge ej; `taken(i, cos_phi, legs)` sees each cell as it is taken, its
+/// cos(phi) final.
 fn propagate(
     n: usize,
     mut legs: impl FnMut(usize) -> Legs,
     neighbours: impl Fn(usize, &mut dyn FnMut(usize, usize, usize)),
+    mut taken: impl FnMut(usize, Affine, &Legs),
 ) -> (Vec<Affine>, Vec<bool>, f64) {
     let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
     let mut reached = vec![false; n];
@@ -373,6 +411,7 @@ fn propagate(
         };
         let f = cos_phi[i];
         let legs_i = legs(i);
+        taken(i, f, &legs_i);
         neighbours(i, &mut |e, j, ej| {
             // The squared edge as a function of cos(theta), then the
             // neighbour's cos(phi) from its own formula for that edge.
@@ -442,6 +481,7 @@ mod tests {
                     }
                 }
             },
+            |_, _, _| {},
         );
         let (slow, reached_slow, residual_slow) = propagate(
             n,
@@ -451,6 +491,7 @@ mod tests {
                     users.sharers(&lattice, i, e, |j, ej| visit(e, j, ej));
                 }
             },
+            |_, _, _| {},
         );
         assert!(reached.iter().all(|r| *r));
         assert_eq!(reached, reached_slow);
@@ -468,7 +509,12 @@ mod tests {
                 .collect();
             assert_eq!(seen, listed, "cell {i}");
         }
-        let (on_grid, reached_grid, residual_grid) = propagate(n, |k| legs[k], &grid);
+        // Every cell of a grid is taken once, in order, its cos(phi) final.
+        let mut taken = Vec::new();
+        let (on_grid, reached_grid, residual_grid) =
+            propagate(n, |k| legs[k], &grid, |i, f, _| taken.push((i, f)));
+        let in_order: Vec<_> = (0..n).map(|i| (i, on_grid[i])).collect();
+        assert_eq!(taken, in_order);
         assert_eq!(reached, reached_grid);
         assert_eq!(residual.to_bits(), residual_grid.to_bits());
         assert_eq!(on_grid, fast);
@@ -476,6 +522,15 @@ mod tests {
         let config = configuration(&lattice);
         assert_eq!(config.cos_phi, fast);
         assert_eq!(config.path_residual.to_bits(), residual.to_bits());
+        let c_design = config.theta_design.cos();
+        let design = lattice
+            .cells
+            .iter()
+            .zip(&fast)
+            .fold(0.0f64, |m, (cell, f)| {
+                m.max((f.at(c_design) - design_cos(&lattice, cell)).abs())
+            });
+        assert_eq!(config.design_residual.to_bits(), design.to_bits());
         assert_eq!(residual.to_bits(), residual_slow.to_bits());
         assert!(residual > 0.0, "rounding differs along paths: {residual}");
         for (f, s) in fast.iter().zip(&slow) {
@@ -494,5 +549,26 @@ mod tests {
         let back = configuration(&reversed);
         assert_eq!(back.unreached, 0);
         assert!(back.path_residual < 1e-12, "{}", back.path_residual);
+    }
+
+    /// The design opening from the shared legs is the one from normalising
+    /// the legs' vectors, bit for bit.
+    #[test]
+    fn the_design_opening_from_the_legs_is_bit_for_bit_the_same() {
+        let lattice = uneven_sheet();
+        let mut rng = crate::rng::Rng::new(9);
+        let mut moved = lattice.clone();
+        for v in &mut moved.vertices {
+            v.pos += DVec3::new(rng.signed(), rng.signed(), rng.signed());
+        }
+        for lattice in [&lattice, &moved] {
+            for cell in &lattice.cells {
+                let legs = lattice.legs(cell);
+                assert_eq!(
+                    design_cos_with(lattice, cell, &legs).to_bits(),
+                    design_cos(lattice, cell).to_bits()
+                );
+            }
+        }
     }
 }
