@@ -5,7 +5,7 @@
 //! strips there are. Target fit and coverage depend on the recipe's target
 //! and live with it (`design::fit`).
 
-use super::{Kind, Lattice, angle_between};
+use super::{Kind, Lattice, Legs, angle_between};
 use glam::DVec3;
 use std::f64::consts::TAU;
 
@@ -82,6 +82,19 @@ pub(crate) fn corner_angles(c: [DVec3; 4]) -> [f64; 4] {
     ]
 }
 
+/// A cell's legs `[l1, l2, l3, l4]` from its pivot to UL, LL, LR, UR, given
+/// its corners `[UL, UR, LL, LR]`: `Lattice::legs` from corners at hand.
+#[inline]
+pub(crate) fn legs_of(corners: [DVec3; 4], pivot: DVec3) -> Legs {
+    let [ul, ur, ll, lr] = corners;
+    [
+        pivot.distance(ul),
+        pivot.distance(ll),
+        pivot.distance(lr),
+        pivot.distance(ur),
+    ]
+}
+
 /// Area of a cell: half the cross product of its diagonals (the rods cross,
 /// so the quad is planar and convex).
 pub(crate) fn cell_area(c: [DVec3; 4]) -> f64 {
@@ -89,42 +102,101 @@ pub(crate) fn cell_area(c: [DVec3; 4]) -> f64 {
     0.5 * (lr - ul).cross(ll - ur).length()
 }
 
-/// Per vertex: cells seen, sum of their corner angles, sum of their areas.
-type CornerSums = Vec<(u32, f64, f64)>;
-
-/// Add one cell's corner angles and area to its four vertices' sums.
-#[inline]
-fn add_corners(at: &mut CornerSums, ids: [u32; 4], corners: [DVec3; 4], area: f64) {
-    for (v, a) in ids.into_iter().zip(corner_angles(corners)) {
-        let e = &mut at[v as usize];
-        e.0 += 1;
-        e.1 += a;
-        e.2 += area;
-    }
+/// The angle defects and curvatures of a lattice's vertices, summed cell
+/// by cell and emitted in vertex order as the cells pass.
+///
+/// Each vertex's count, angle sum and area sum live in a ring of `window`
+/// slots (vertex v in slot v mod window), as the planar misfits keep their
+/// placements: growth numbers a cell's corners within about two fronts of
+/// each other, so a few thousand slots stand for the whole lattice (on 4 M
+/// cells: 96 MB fewer, and in cache). Every cell's corners lie in
+/// `(high - window, high]`, `high` the largest corner so far; no later
+/// cell then reaches a vertex at or below `high - window`, whose sums are
+/// final and are emitted, freeing its slot for the vertex `window` above.
+/// A cell whose corners lie farther apart (cells stored out of order)
+/// stops the ring (`add` says false) and the caller measures again with a
+/// slot for every vertex. Sums are taken in cell order either way, so the
+/// numbers are those of one slot per vertex bit for bit.
+struct Curvatures {
+    /// Cells seen, sum of their corner angles, sum of their areas.
+    sums: Vec<(u32, f64, f64)>,
+    mask: usize,
+    /// The largest corner seen, and the next vertex to emit.
+    high: usize,
+    next: usize,
+    out: Vec<VertexCurvature>,
 }
 
-/// The vertices shared by four cells, with their defect and curvature.
-fn defects(at: CornerSums) -> Vec<VertexCurvature> {
-    // Counted first: the list is allocated once at its size (a filtered
-    // collect doubles its way there, holding two copies at the last step).
-    let interior = at.iter().filter(|(n, _, _)| *n == 4).count();
-    let mut out = Vec::with_capacity(interior);
-    out.extend(
-        at.into_iter()
-            .zip(0u32..)
-            .filter(|((n, _, _), _)| *n == 4)
-            .map(|((_, sum, area), vertex)| {
+impl Curvatures {
+    /// A ring of `window` slots (a power of two) for `vertices` vertices.
+    fn new(vertices: usize, window: usize) -> Self {
+        Self {
+            sums: vec![(0, 0.0, 0.0); window],
+            mask: window - 1,
+            high: 0,
+            next: 0,
+            // Reserved, not touched: the pages of the unused part are never
+            // faulted in, and `finish` hands them back.
+            out: Vec::with_capacity(vertices),
+        }
+    }
+
+    /// The ring's size for `lattice`, and the size that takes any lattice.
+    fn windows(lattice: &Lattice) -> (usize, usize) {
+        let full = lattice.vertices.len().next_power_of_two();
+        ((2 * lattice.width + 8).next_power_of_two().min(full), full)
+    }
+
+    /// Add one cell's corner angles and area to its four vertices' sums;
+    /// false when its corners do not fit in the ring.
+    #[inline]
+    fn add(&mut self, ids: [u32; 4], corners: [DVec3; 4], area: f64) -> bool {
+        let (lo, hi) = ids
+            .iter()
+            .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
+        self.high = self.high.max(hi as usize);
+        let window = self.mask + 1;
+        if lo as usize + window <= self.high {
+            return false;
+        }
+        if self.high >= window {
+            self.emit_to(self.high - window + 1);
+        }
+        for (v, a) in ids.into_iter().zip(corner_angles(corners)) {
+            let e = &mut self.sums[v as usize & self.mask];
+            e.0 += 1;
+            e.1 += a;
+            e.2 += area;
+        }
+        true
+    }
+
+    /// Emit the vertices below `end` not yet emitted, and free their slots.
+    fn emit_to(&mut self, end: usize) {
+        for vertex in self.next..end {
+            let (n, sum, area) =
+                std::mem::replace(&mut self.sums[vertex & self.mask], (0, 0.0, 0.0));
+            // The vertices shared by four cells.
+            if n == 4 {
                 let defect = TAU - sum;
                 let area = area / 4.0;
-                VertexCurvature {
-                    vertex,
+                self.out.push(VertexCurvature {
+                    vertex: vertex as u32,
                     defect,
                     area,
                     k: defect / area.max(f64::MIN_POSITIVE),
-                }
-            }),
-    );
-    out
+                });
+            }
+        }
+        self.next = self.next.max(end);
+    }
+
+    /// Every vertex shared by four cells, with its defect and curvature.
+    fn finish(mut self, vertices: usize) -> Vec<VertexCurvature> {
+        self.emit_to(vertices);
+        self.out.shrink_to_fit();
+        self.out
+    }
 }
 
 impl Lattice {
@@ -172,13 +244,24 @@ impl Lattice {
     /// The angle defect and Gaussian curvature at every vertex shared by
     /// four cells, in vertex order.
     pub fn curvature(&self) -> Vec<VertexCurvature> {
-        let mut at: CornerSums = vec![(0, 0.0, 0.0); self.vertices.len()];
+        let (window, full) = Curvatures::windows(self);
+        self.curvature_in(window)
+            .or_else(|| self.curvature_in(full))
+            .expect("a slot for every vertex")
+    }
+
+    /// `curvature` with a ring of `window` slots (`Curvatures`); None when
+    /// some cell's corners lie too far apart for it.
+    fn curvature_in(&self, window: usize) -> Option<Vec<VertexCurvature>> {
+        let mut at = Curvatures::new(self.vertices.len(), window);
         for cell in &self.cells {
             let corners = self.corners(cell);
             let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
-            add_corners(&mut at, ids, corners, cell_area(corners));
+            if !at.add(ids, corners, cell_area(corners)) {
+                return None;
+            }
         }
-        defects(at)
+        Some(at.finish(self.vertices.len()))
     }
 
     /// Every target-free shape measure, in one pass over the cells: each
@@ -186,46 +269,38 @@ impl Lattice {
     /// angles (the same arithmetic, in the same order, as `curvature` and
     /// `legs`, so the figures are those of the separate passes bit for bit).
     pub(crate) fn shape(&self) -> Shape {
-        let mut at: CornerSums = vec![(0, 0.0, 0.0); self.vertices.len()];
+        let (window, full) = Curvatures::windows(self);
+        self.shape_in(window)
+            .or_else(|| self.shape_in(full))
+            .expect("a slot for every vertex")
+    }
+
+    /// `shape` with the curvature sums in a ring of `window` slots
+    /// (`Curvatures`); None when some cell's corners lie too far apart.
+    fn shape_in(&self, window: usize) -> Option<Shape> {
+        let mut at = Curvatures::new(self.vertices.len(), window);
         let mut cell_ratios = Vec::with_capacity(self.cells.len());
         let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
         let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
-        // Each strip's key, less the repeats of the key before it of the
-        // same rod (A or B): neighbouring cells of a regular lattice have
-        // the same strips, and only the distinct keys count below.
-        let mut strips: Vec<u128> = Vec::new();
-        let mut last = [None; 2];
+        // The range of the strips' short and long legs, as `order_key`s.
+        let mut range = Range::default();
         for cell in &self.cells {
             let corners = self.corners(cell);
-            let [ul, ur, ll, lr] = corners;
             let area = cell_area(corners);
             (amin, amax) = (amin.min(area), amax.max(area));
-            let p = cell.pivot;
-            let legs = [
-                p.distance(ul),
-                p.distance(ll),
-                p.distance(lr),
-                p.distance(ur),
-            ];
+            let legs = legs_of(corners, cell.pivot);
             let (l, h) = legs
                 .iter()
                 .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
             lo = lo.min(l);
             hi = hi.max(h);
             cell_ratios.push(h / l);
-            let [l1, l2, l3, l4] = legs;
-            // A strip turned end for end is the same strip.
-            let keys = [
-                strip_key(l1.min(l3), l1.max(l3)),
-                strip_key(l4.min(l2), l4.max(l2)),
-            ];
-            for (key, last) in keys.into_iter().zip(&mut last) {
-                if *last != Some(key) {
-                    strips.push(key);
-                    *last = Some(key);
-                }
+            for key in strip_keys(legs) {
+                range.add(key);
             }
-            add_corners(&mut at, [cell.ul, cell.ur, cell.ll, cell.lr], corners, area);
+            if !at.add([cell.ul, cell.ur, cell.ll, cell.lr], corners, area) {
+                return None;
+            }
         }
         // The median and the largest, without sorting the whole list.
         let (median, max) = match cell_ratios.len() {
@@ -241,17 +316,45 @@ impl Lattice {
             }
         };
         drop(cell_ratios);
-        Shape {
-            curvature: defects(at),
+        let curvature = at.finish(self.vertices.len());
+        // Strips whose legs all lie within the tolerance of each other are
+        // one class (what sorting them and grouping finds, see `Range`);
+        // otherwise their keys are taken in a second pass and sorted.
+        let distinct_strips = if self.cells.is_empty() {
+            0
+        } else if range.within(SAME_STRIP_MM) {
+            1
+        } else {
+            distinct_keys(self.strip_keys())
+        };
+        Some(Shape {
+            curvature,
             area_ratio: amax / amin,
             leg_ratio: hi / lo,
             min_leg: lo,
             cell_leg_ratio_median: median,
             cell_leg_ratio_max: max,
             front_gaps: self.front_gaps(),
-            distinct_strips: distinct_keys(strips),
+            distinct_strips,
             strips: 2 * self.cells.len(),
+        })
+    }
+
+    /// Every strip's key (`strip_keys`), less the repeats of the key before
+    /// it of the same rod (A or B): neighbouring cells of a regular lattice
+    /// have the same strips, and only the distinct keys count.
+    fn strip_keys(&self) -> Vec<u128> {
+        let mut strips = Vec::new();
+        let mut last = [None; 2];
+        for cell in &self.cells {
+            for (key, last) in strip_keys(self.legs(cell)).into_iter().zip(&mut last) {
+                if *last != Some(key) {
+                    strips.push(key);
+                    *last = Some(key);
+                }
+            }
         }
+        strips
     }
 
     /// How far each rebuilt front misses its row (None for an extrinsic lattice).
@@ -315,6 +418,52 @@ fn strip_key(short: f64, long: f64) -> u128 {
 /// The number inverse to `order_key`.
 fn key_value(k: u64) -> f64 {
     f64::from_bits(if k >> 63 == 1 { k & !(1 << 63) } else { !k })
+}
+
+/// The keys of a cell's two strips, rod A's (legs 1 and 3) and rod B's
+/// (legs 4 and 2): a strip turned end for end is the same strip.
+fn strip_keys(legs: Legs) -> [u128; 2] {
+    let [l1, l2, l3, l4] = legs;
+    [
+        strip_key(l1.min(l3), l1.max(l3)),
+        strip_key(l4.min(l2), l4.max(l2)),
+    ]
+}
+
+/// The least and largest short leg and long leg of strips, as `order_key`s.
+///
+/// When both ranges are within the tolerance, `classes` finds one class
+/// without sorting: its first strip has the least short leg `a0` and any
+/// other `(a, b)` has `a - a0 <= max - min` and `|b - b0| <= max - min` of
+/// the long legs, in floating point too (a rounded difference grows with
+/// its first term and falls with its second).
+struct Range {
+    short: (u64, u64),
+    long: (u64, u64),
+}
+
+impl Default for Range {
+    fn default() -> Self {
+        Self {
+            short: (u64::MAX, 0),
+            long: (u64::MAX, 0),
+        }
+    }
+}
+
+impl Range {
+    #[inline]
+    fn add(&mut self, key: u128) {
+        let (s, l) = ((key >> 64) as u64, key as u64);
+        self.short = (self.short.0.min(s), self.short.1.max(s));
+        self.long = (self.long.0.min(l), self.long.1.max(l));
+    }
+
+    /// Both ranges within `tol` (false for NaN or infinite legs).
+    fn within(&self, tol: f64) -> bool {
+        let spread = |(lo, hi): (u64, u64)| key_value(hi) - key_value(lo);
+        spread(self.short) <= tol && spread(self.long) <= tol
+    }
 }
 
 /// The number of distinct strips among `strip_key`s.
@@ -414,30 +563,69 @@ pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
         return None;
     }
     let n = c.len() as f64;
-    let deg: Vec<f64> = c.iter().map(|v| v.defect.to_degrees()).collect();
+    // One pass for all but the variance (no list of the defects in
+    // degrees: 32 MB on 4 M cells); the sums run in vertex order, as
+    // summing the lists would.
     let (mut min_i, mut max_i) = (0, 0);
-    for i in 0..deg.len() {
-        if deg[i] < deg[min_i] {
-            min_i = i;
+    let (mut min_deg, mut max_deg) = (c[0].defect.to_degrees(), c[0].defect.to_degrees());
+    // From -0.0, as `Sum` starts (defects all -0.0 sum to -0.0).
+    let (mut deg_sum, mut k_sum) = (-0.0, -0.0);
+    let (mut positive, mut negative) = (0usize, 0usize);
+    for (i, v) in c.iter().enumerate() {
+        let d = v.defect.to_degrees();
+        if d < min_deg {
+            (min_i, min_deg) = (i, d);
         }
-        if deg[i] > deg[max_i] {
-            max_i = i;
+        if d > max_deg {
+            (max_i, max_deg) = (i, d);
         }
+        deg_sum += d;
+        k_sum += v.k;
+        positive += usize::from(d > CURVED_DEG);
+        negative += usize::from(d < -CURVED_DEG);
     }
-    let k_mean = c.iter().map(|v| v.k).sum::<f64>() / n;
+    let k_mean = k_sum / n;
     let k_var = c.iter().map(|v| (v.k - k_mean).powi(2)).sum::<f64>() / n;
     Some(CurvatureSummary {
         interior: c.len(),
-        min_deg: deg[min_i],
-        mean_deg: deg.iter().sum::<f64>() / n,
-        max_deg: deg[max_i],
-        positive: deg.iter().filter(|&&d| d > CURVED_DEG).count() as f64 / n,
-        negative: deg.iter().filter(|&&d| d < -CURVED_DEG).count() as f64 / n,
+        min_deg,
+        mean_deg: deg_sum / n,
+        max_deg,
+        positive: positive as f64 / n,
+        negative: negative as f64 / n,
         k_mean,
         k_std: k_var.sqrt(),
         min_at: c[min_i].vertex,
         max_at: c[max_i].vertex,
     })
+}
+
+/// A sheet of `3 + trial % 7` uneven cells a row and `3 + trial % 5` rows,
+/// random seed points, kappa and start leg (tilted out of the plane in
+/// 3-D); None when it does not grow.
+#[cfg(test)]
+pub(crate) fn random_sheet(rng: &mut crate::rng::Rng, trial: usize, dim: usize) -> Option<Lattice> {
+    use super::{RowParams, grow};
+    use crate::legs::{Direction, Leg};
+    let n = 3 + trial % 7;
+    let points: Vec<DVec3> = (0..=n)
+        .map(|j| {
+            let (x, y) = (10.0 * j as f64 + rng.signed(), 0.3 * rng.signed());
+            DVec3::new(x, y, if dim == 3 { 2.0 * rng.signed() } else { 0.0 })
+        })
+        .collect();
+    let kappa: Vec<f64> = (0..n).map(|_| 0.4 * rng.signed()).collect();
+    let row = RowParams {
+        start: n / 2,
+        direction: Some(Direction::Angles {
+            angle_deg: 45.0 + 15.0 * rng.signed(),
+            tilt_deg: if dim == 3 { 10.0 * rng.signed() } else { 0.0 },
+        }),
+        left_leg: Leg::Match,
+        right_leg: Leg::Match,
+        ..RowParams::default()
+    };
+    grow(Kind::Sheet, dim, &points, &kappa, &vec![row; 3 + trial % 5]).ok()
 }
 
 #[cfg(test)]
@@ -546,5 +734,118 @@ mod tests {
             .collect();
         let keys = pairs.iter().map(|&(a, b)| strip_key(a, b)).collect();
         assert_eq!(distinct_keys(keys), distinct(&mut pairs));
+    }
+
+    /// The ring of curvature sums measures what a slot per vertex does, bit
+    /// for bit, down to the smallest ring the corners allow; a ring too
+    /// small says so, and a lattice stored out of order is measured with a
+    /// slot per vertex. The strips' one-class shortcut counts what sorting
+    /// them does.
+    #[test]
+    fn the_ring_of_curvature_sums_measures_what_a_slot_per_vertex_does() {
+        let mut rng = crate::rng::Rng::new(11);
+        let mut measured = 0;
+        for trial in 0..24 {
+            let Some(lattice) = random_sheet(&mut rng, trial, 2 + trial % 2) else {
+                continue;
+            };
+            let nv = lattice.vertices.len();
+            let full = nv.next_power_of_two();
+            let every = lattice.curvature_in(full).expect("a slot for every vertex");
+            assert!(!every.is_empty());
+            let bits = |c: &[VertexCurvature]| {
+                c.iter()
+                    .map(|v| {
+                        (
+                            v.vertex,
+                            v.defect.to_bits(),
+                            v.area.to_bits(),
+                            v.k.to_bits(),
+                        )
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let (usual, _) = Curvatures::windows(&lattice);
+            assert_eq!(bits(&lattice.curvature()), bits(&every));
+            let shape = lattice.shape_in(full).expect("a slot for every vertex");
+            assert_eq!(bits(&shape.curvature), bits(&every));
+            assert_eq!(lattice.shape(), shape);
+            let mut smallest = usual;
+            for window in [4, 8, 16, 32].into_iter().filter(|&w| w < usual) {
+                if let Some(ring) = lattice.curvature_in(window) {
+                    assert_eq!(bits(&ring), bits(&every));
+                    smallest = smallest.min(window);
+                }
+            }
+            assert!(lattice.curvature_in(2).is_none());
+            assert!(smallest <= (lattice.width + 3).next_power_of_two());
+            // The strips counted by sorting every key.
+            assert_eq!(shape.distinct_strips, distinct_keys(lattice.strip_keys()));
+            measured += 1;
+            let mut reversed = lattice.clone();
+            reversed.cells.reverse();
+            assert!(reversed.curvature_in(8).is_none());
+            let mut sorted = bits(&reversed.curvature());
+            sorted.sort();
+            assert_eq!(sorted.len(), every.len());
+            assert!(reversed.shape_in(8).is_none());
+            assert_eq!(reversed.shape().curvature, reversed.curvature());
+        }
+        assert!(measured >= 12, "{measured} lattices grew");
+        // One class without sorting: a regular grid's strips, and strips
+        // spread just within the tolerance; a little more takes the sort.
+        let g = grid(4);
+        assert_eq!(g.shape().distinct_strips, 1);
+        assert_eq!(distinct_keys(g.strip_keys()), 1);
+        for (spread, within) in [(0.049, true), (0.051, false)] {
+            let mut range = Range::default();
+            let keys = [
+                strip_key(10.0, 20.0),
+                strip_key(10.0 + spread, 20.0 - spread),
+            ];
+            keys.iter().for_each(|&k| range.add(k));
+            assert_eq!(range.within(SAME_STRIP_MM), within);
+            assert_eq!(distinct_keys(keys.to_vec()), if within { 1 } else { 2 });
+        }
+        let mut range = Range::default();
+        range.add(strip_key(f64::NAN, 20.0));
+        assert!(!range.within(SAME_STRIP_MM));
+    }
+
+    /// The one-pass summary is the lists' arithmetic bit for bit, down to
+    /// the sign of a zero mean.
+    #[test]
+    fn the_summary_in_one_pass_is_the_lists_bit_for_bit() {
+        let mut rng = crate::rng::Rng::new(13);
+        let vertex = |i: u32, defect: f64, area: f64| VertexCurvature {
+            vertex: i,
+            defect,
+            area,
+            k: defect / area,
+        };
+        let random: Vec<VertexCurvature> = (0..500)
+            .map(|i| vertex(i, 0.05 * rng.signed(), 10.0 + rng.uniform()))
+            .collect();
+        let zeros: Vec<VertexCurvature> = (0..5).map(|i| vertex(i, -0.0, 1.0)).collect();
+        for c in [&random, &zeros] {
+            let n = c.len() as f64;
+            let deg: Vec<f64> = c.iter().map(|v| v.defect.to_degrees()).collect();
+            let k_mean = c.iter().map(|v| v.k).sum::<f64>() / n;
+            let s = summary(c).unwrap();
+            assert_eq!(
+                s.mean_deg.to_bits(),
+                (deg.iter().sum::<f64>() / n).to_bits()
+            );
+            assert_eq!(s.k_mean.to_bits(), k_mean.to_bits());
+            let lo = deg.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = deg.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            assert_eq!((s.min_deg, s.max_deg), (lo, hi));
+            let first = |x: f64| deg.iter().position(|&d| d == x).unwrap() as u32;
+            assert_eq!((s.min_at, s.max_at), (first(lo), first(hi)));
+            let share = |f: fn(f64) -> bool| deg.iter().filter(|&&d| f(d)).count() as f64 / n;
+            assert_eq!(s.positive, share(|d| d > CURVED_DEG));
+            assert_eq!(s.negative, share(|d| d < -CURVED_DEG));
+        }
+        assert!(summary(&zeros).unwrap().mean_deg.is_sign_negative());
     }
 }

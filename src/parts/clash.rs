@@ -130,7 +130,9 @@ fn layer_clashes(
         entries,
     } = scratch;
     lines.clear();
-    lines.extend(ids.iter().map(|&r| {
+    // The lines' bounding box, taken as they are built (one pass over them).
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for &r in ids {
         let cell = &lattice.cells[r as usize / 2];
         let [ul, ur, ll, lr] = lattice.corners(cell);
         let (s, e, start, end) = if r % 2 == 0 {
@@ -139,25 +141,26 @@ fn layer_clashes(
             (ur, ll, cell.ur, cell.ll)
         };
         let dir = (e - s).normalize_or_zero();
-        Line {
+        let (a, b) = (s - margin * dir, e + margin * dir);
+        (lo, hi) = (lo.min(a.min(b)), hi.max(a.max(b)));
+        lines.push(Line {
             rod: r,
-            a: s - margin * dir,
-            b: e + margin * dir,
+            a,
+            b,
             start,
             end,
             across: DVec2::new(-dir.y, dir.x).normalize_or_zero(),
-        }
-    }));
-    // Grid cells about one strip long, so each strip touches a few.
+        });
+    }
+    // Grid cells about one strip long, so each strip touches a few: the
+    // median length of a sample of the lines spread over the layer (the
+    // grid's size changes how fast the search is, never what it finds).
     lengths.clear();
-    lengths.extend(lines.iter().map(|l| l.a.distance(l.b)));
+    let step = (lines.len() / LENGTH_SAMPLES).max(1);
+    lengths.extend(lines.iter().step_by(step).map(|l| l.a.distance(l.b)));
     let mid = lengths.len() / 2;
     let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
     let half = DVec3::splat(reach / 2.0);
-    let (lo, hi) = lines.iter().fold(
-        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo, hi), l| (lo.min(l.a.min(l.b)), hi.max(l.a.max(l.b))),
-    );
     let (lo, hi) = (lo - half, hi + half);
     if !(lo.is_finite() && hi.is_finite()) {
         return;
@@ -183,16 +186,17 @@ fn layer_clashes(
     let span = |l: &Line| (key(l.a.min(l.b) - half), key(l.a.max(l.b) + half));
     // A strip far longer than the rest (a runaway design tried by the
     // optimiser) would be listed in every grid cell of its whole box, which
-    // can be billions: such strips are measured against every strip instead.
-    long.clear();
-    long.extend(lines.iter().map(|l| {
-        let (lo, hi) = span(l);
+    // can be billions: such strips are measured against every strip
+    // instead. Marked as the grid is filled (`long`).
+    let is_long = |(lo, hi): ([i32; 3], [i32; 3])| {
         (0..3)
             .map(|k| (hi[k] - lo[k]) as f64 + 1.0)
             .product::<f64>()
             > 512.0
-    }));
-    let (lines, long) = (&lines[..], &long[..]);
+    };
+    long.clear();
+    long.resize(lines.len(), false);
+    let lines = &lines[..];
     // Far above the rounding of a projection (1e-16 of the coordinates):
     // a pair is only skipped when it is surely out of reach.
     let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()).max_element());
@@ -229,16 +233,6 @@ fn layer_clashes(
             at: (p + q) / 2.0,
         })
     };
-    for (i, li) in lines.iter().enumerate() {
-        if long[i] {
-            // Long against short here; long against long once (j > i).
-            for (j, lj) in lines.iter().enumerate() {
-                if j != i && (!long[j] || j > i) {
-                    out.extend(pair(li, lj));
-                }
-            }
-        }
-    }
     // A pair is measured in the first grid cell both boxes touch only: the
     // cell where, on every axis, one of the two boxes starts. Each entry of
     // a grid cell's list carries the axes on which its box starts there
@@ -261,8 +255,12 @@ fn layer_clashes(
                 |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
             offset.clear();
             offset.resize(g + 1, 0);
-            for l in lines.iter().zip(long).filter(|&(_, &g)| !g).map(|(l, _)| l) {
+            for (l, long) in lines.iter().zip(long.iter_mut()) {
                 let (lo, h) = span(l);
+                if is_long((lo, h)) {
+                    *long = true;
+                    continue;
+                }
                 for z in lo[2]..=h[2] {
                     for y in lo[1]..=h[1] {
                         for x in lo[0]..=h[0] {
@@ -305,8 +303,12 @@ fn layer_clashes(
         // Sparse (a curved surface in a large box): the entries sorted by cell.
         _ => {
             let mut entries: Vec<([i32; 3], u32)> = Vec::new();
-            for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
+            for (i, l) in lines.iter().enumerate() {
                 let (lo, h) = span(l);
+                if is_long((lo, h)) {
+                    long[i] = true;
+                    continue;
+                }
                 for z in lo[2]..=h[2] {
                     for y in lo[1]..=h[1] {
                         for x in lo[0]..=h[0] {
@@ -326,7 +328,20 @@ fn layer_clashes(
             }
         }
     }
+    for (i, li) in lines.iter().enumerate() {
+        if long[i] {
+            // Long against short here; long against long once (j > i).
+            for (j, lj) in lines.iter().enumerate() {
+                if j != i && (!long[j] || j > i) {
+                    out.extend(pair(li, lj));
+                }
+            }
+        }
+    }
 }
+
+/// How many lines of a layer give the median length the grid is sized by.
+const LENGTH_SAMPLES: usize = 4096;
 
 /// Bits of a grid entry holding the line's index; the three above them say
 /// on which axes the line's box starts in the entry's grid cell.

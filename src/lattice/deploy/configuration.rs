@@ -203,46 +203,83 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
 /// before it or the row above, the shortest path. A cell reached behind
 /// the scan waits in a small heap.
 pub fn configuration(lattice: &Lattice) -> Configuration {
-    configuration_with(lattice, &super::misfit::cell_legs(lattice))
-}
-
-/// `configuration` with every cell's legs at hand (`cell_legs`): C(theta)
-/// and the misfits share one computation of them (`deployment`).
-pub(crate) fn configuration_with(lattice: &Lattice, legs: &[Legs]) -> Configuration {
     let n = lattice.cells.len();
-    let users = Users::new(lattice);
-    let (cos_phi, reached, path_residual) = match edge_neighbours(lattice, &users) {
-        Some(nbr) => {
-            drop(users);
-            propagate(n, legs, |i, visit| {
-                for (e, &other) in nbr[i].iter().enumerate() {
-                    if other != NO_CELL {
-                        let (j, ej) = ((other & ((1 << 30) - 1)) as usize, (other >> 30) as usize);
-                        visit(e, j, ej);
-                    }
-                }
-            })
-        }
-        None => propagate(n, legs, |i, visit| {
-            for e in 0..4 {
-                users.sharers(lattice, i, e, |j, ej| visit(e, j, ej));
-            }
-        }),
-    };
-    let unreached = reached.iter().filter(|r| !**r).count();
     let theta_design = lattice
         .cells
         .first()
         .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos());
     let c_design = theta_design.cos();
     let mut design_residual: f64 = 0.0;
+    // How far cell i's cos(phi) at the design opening misses its own.
+    let mut design_check = |i: usize, f: Affine, legs: &Legs| {
+        let design = design_cos_with(lattice, &lattice.cells[i], legs);
+        design_residual = design_residual.max((f.at(c_design) - design).abs());
+    };
+    let grid = grid_width(lattice);
+    let (cos_phi, reached, path_residual) = match grid {
+        // A grown sheet: the neighbours are read off the grid (no lists of
+        // corner users and edge neighbours: 144 MB on 4 M cells), and the
+        // legs of the cells within a row of the one taken kept in a ring
+        // (`LegRing`; 128 MB for every cell's). Every cell is taken, and
+        // checked against its design opening then, with its legs at hand.
+        Some(w) => {
+            let mut ring = LegRing::new(lattice, w);
+            propagate(
+                n,
+                |k| ring.get(k),
+                grid_neighbours(n, w),
+                |i, f, legs| {
+                    design_check(i, f, legs);
+                },
+            )
+        }
+        None => {
+            let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
+            let users = Users::new(lattice);
+            let found = match edge_neighbours(lattice, &users) {
+                Some(nbr) => {
+                    drop(users);
+                    propagate(
+                        n,
+                        |k| legs[k],
+                        |i, visit| {
+                            for (e, &other) in nbr[i].iter().enumerate() {
+                                if other != NO_CELL {
+                                    let (j, ej) = (
+                                        (other & ((1 << 30) - 1)) as usize,
+                                        (other >> 30) as usize,
+                                    );
+                                    visit(e, j, ej);
+                                }
+                            }
+                        },
+                        |_, _, _| {},
+                    )
+                }
+                None => propagate(
+                    n,
+                    |k| legs[k],
+                    |i, visit| {
+                        for e in 0..4 {
+                            users.sharers(lattice, i, e, |j, ej| visit(e, j, ej));
+                        }
+                    },
+                    |_, _, _| {},
+                ),
+            };
+            // Every cell, reached or not (an unreached one keeps cos(phi) = 1).
+            for (i, legs) in legs.iter().enumerate() {
+                design_check(i, found.0[i], legs);
+            }
+            found
+        }
+    };
+    let unreached = reached.iter().filter(|r| !**r).count();
     let mut collapse_residual: f64 = 0.0;
     // Each cos(phi) falls as cos(theta) falls; the range ends where the
     // first cell opens flat past pi (cos(phi) = -1).
     let mut c_min: f64 = -1.0;
-    for ((f, cell), legs) in cos_phi.iter().zip(&lattice.cells).zip(legs) {
-        let design = design_cos_with(lattice, cell, legs);
-        design_residual = design_residual.max((f.at(c_design) - design).abs());
+    for f in &cos_phi {
         collapse_residual = collapse_residual.max((f.at(1.0) - 1.0).abs());
         if f.b > 0.0 {
             c_min = c_min.max((-1.0 - f.a) / f.b);
@@ -259,13 +296,93 @@ pub(crate) fn configuration_with(lattice: &Lattice, legs: &[Legs]) -> Configurat
     }
 }
 
+/// The width `w` of a lattice whose cells form a grid numbered as growth
+/// numbers a sheet: cell `i` in row `r = i / w`, column `c = i % w`, with
+/// corners `x[r][c]`, `x[r][c + 1]`, `x[r + 1][c]`, `x[r + 1][c + 1]`, vertex
+/// `x[r][c]` numbered `r (w + 1) + c`, and whole rows. Distinct grid points
+/// have distinct numbers, so each edge belongs to the two cells the grid
+/// puts on either side of it and to no other (`grid_neighbours`): exactly
+/// what `edge_neighbours` would find. None for any other lattice.
+fn grid_width(lattice: &Lattice) -> Option<usize> {
+    let (n, w) = (lattice.cells.len(), lattice.width);
+    if w == 0 || n == 0 || n % w != 0 {
+        return None;
+    }
+    let grid = lattice.cells.chunks_exact(w).enumerate().all(|(r, row)| {
+        row.iter().zip(r * (w + 1)..).all(|(cell, ul)| {
+            [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
+                == [ul, ul + 1, ul + w + 1, ul + w + 2]
+        })
+    });
+    grid.then_some(w)
+}
+
+/// The cells sharing each edge of cell i of a grid `w` cells wide
+/// (`grid_width`), as `propagate` asks for them: `visit(e, j, ej)` in edge
+/// order top, bottom, left, right (`edge_keys`).
+fn grid_neighbours(n: usize, w: usize) -> impl Fn(usize, &mut dyn FnMut(usize, usize, usize)) {
+    move |i, visit| {
+        let c = i % w;
+        if i >= w {
+            visit(0, i - w, 1);
+        }
+        if i + w < n {
+            visit(1, i + w, 0);
+        }
+        if c > 0 {
+            visit(2, i - 1, 3);
+        }
+        if c + 1 < w {
+            visit(3, i + 1, 2);
+        }
+    }
+}
+
+/// The legs (`Lattice::legs`) of a grid's cells (`grid_width`) in a ring:
+/// the propagation over a grid takes its cells in order, each asking for
+/// its own legs and its neighbours' (one row before it to one row after
+/// it), so the ring holds two rows and computes each cell's legs once, as
+/// the cells a row ahead are first asked for.
+struct LegRing<'a> {
+    lattice: &'a Lattice,
+    legs: Vec<Legs>,
+    mask: usize,
+    /// The cells below this have their legs computed.
+    next: usize,
+}
+
+impl<'a> LegRing<'a> {
+    fn new(lattice: &'a Lattice, w: usize) -> Self {
+        let window = (2 * w + 2).next_power_of_two();
+        Self {
+            lattice,
+            legs: vec![[0.0; 4]; window],
+            mask: window - 1,
+            next: 0,
+        }
+    }
+
+    /// The legs of cell k, which lies in the ring's window.
+    #[inline]
+    fn get(&mut self, k: usize) -> Legs {
+        while self.next <= k {
+            self.legs[self.next & self.mask] = self.lattice.legs(&self.lattice.cells[self.next]);
+            self.next += 1;
+        }
+        assert!(k + self.legs.len() >= self.next, "cell {k} behind the ring");
+        self.legs[k & self.mask]
+    }
+}
+
 /// The propagation of `configuration` over `neighbours(i, visit)`, which
 /// calls `visit(e, j, ej)` for each cell j sharing edge e of cell i as its
-/// edge ej.
+/// edge ej; `taken(i, cos_phi, legs)` sees each cell as it is taken, its
+/// cos(phi) final.
 fn propagate(
     n: usize,
-    legs: &[[f64; 4]],
+    mut legs: impl FnMut(usize) -> Legs,
     neighbours: impl Fn(usize, &mut dyn FnMut(usize, usize, usize)),
+    mut taken: impl FnMut(usize, Affine, &Legs),
 ) -> (Vec<Affine>, Vec<bool>, f64) {
     let mut cos_phi = vec![Affine { a: 1.0, b: 0.0 }; n];
     let mut reached = vec![false; n];
@@ -293,12 +410,14 @@ fn propagate(
             }
         };
         let f = cos_phi[i];
+        let legs_i = legs(i);
+        taken(i, f, &legs_i);
         neighbours(i, &mut |e, j, ej| {
             // The squared edge as a function of cos(theta), then the
             // neighbour's cos(phi) from its own formula for that edge.
-            let (alpha, beta) = edge_coefficients(legs[i], e);
+            let (alpha, beta) = edge_coefficients(legs_i, e);
             let (ea, eb) = (alpha + beta * f.a, beta * f.b);
-            let (alpha_j, beta_j) = edge_coefficients(legs[j], ej);
+            let (alpha_j, beta_j) = edge_coefficients(legs(j), ej);
             let g = Affine {
                 a: (ea - alpha_j) / beta_j,
                 b: eb / beta_j,
@@ -352,20 +471,66 @@ mod tests {
                 assert_eq!(o, asked, "cell {i} edge {e}");
             }
         }
-        let (fast, reached, residual) = propagate(n, &legs, |i, visit| {
-            for (e, &o) in nbr[i].iter().enumerate() {
-                if o != NO_CELL {
-                    visit(e, (o & ((1 << 30) - 1)) as usize, (o >> 30) as usize);
+        let (fast, reached, residual) = propagate(
+            n,
+            |k| legs[k],
+            |i, visit| {
+                for (e, &o) in nbr[i].iter().enumerate() {
+                    if o != NO_CELL {
+                        visit(e, (o & ((1 << 30) - 1)) as usize, (o >> 30) as usize);
+                    }
                 }
-            }
-        });
-        let (slow, reached_slow, residual_slow) = propagate(n, &legs, |i, visit| {
-            for e in 0..4 {
-                users.sharers(&lattice, i, e, |j, ej| visit(e, j, ej));
-            }
-        });
+            },
+            |_, _, _| {},
+        );
+        let (slow, reached_slow, residual_slow) = propagate(
+            n,
+            |k| legs[k],
+            |i, visit| {
+                for e in 0..4 {
+                    users.sharers(&lattice, i, e, |j, ej| visit(e, j, ej));
+                }
+            },
+            |_, _, _| {},
+        );
         assert!(reached.iter().all(|r| *r));
         assert_eq!(reached, reached_slow);
+        // The grid's neighbours are the ones found through the corners.
+        let w = grid_width(&lattice).expect("a grown sheet is a grid");
+        let grid = grid_neighbours(n, w);
+        for (i, row) in nbr.iter().enumerate() {
+            let mut seen = Vec::new();
+            grid(i, &mut |e, j, ej| {
+                seen.push((e, j as u32 | (ej as u32) << 30));
+            });
+            let listed: Vec<_> = (0..4)
+                .filter(|&e| row[e] != NO_CELL)
+                .map(|e| (e, row[e]))
+                .collect();
+            assert_eq!(seen, listed, "cell {i}");
+        }
+        // Every cell of a grid is taken once, in order, its cos(phi) final.
+        let mut taken = Vec::new();
+        let (on_grid, reached_grid, residual_grid) =
+            propagate(n, |k| legs[k], &grid, |i, f, _| taken.push((i, f)));
+        let in_order: Vec<_> = (0..n).map(|i| (i, on_grid[i])).collect();
+        assert_eq!(taken, in_order);
+        assert_eq!(reached, reached_grid);
+        assert_eq!(residual.to_bits(), residual_grid.to_bits());
+        assert_eq!(on_grid, fast);
+        // `configuration` itself: the grid and the ring of legs.
+        let config = configuration(&lattice);
+        assert_eq!(config.cos_phi, fast);
+        assert_eq!(config.path_residual.to_bits(), residual.to_bits());
+        let c_design = config.theta_design.cos();
+        let design = lattice
+            .cells
+            .iter()
+            .zip(&fast)
+            .fold(0.0f64, |m, (cell, f)| {
+                m.max((f.at(c_design) - design_cos(&lattice, cell)).abs())
+            });
+        assert_eq!(config.design_residual.to_bits(), design.to_bits());
         assert_eq!(residual.to_bits(), residual_slow.to_bits());
         assert!(residual > 0.0, "rounding differs along paths: {residual}");
         for (f, s) in fast.iter().zip(&slow) {
@@ -380,6 +545,7 @@ mod tests {
         let mut reversed = lattice.clone();
         reversed.cells.reverse();
         reversed.cells.swap(0, n / 2);
+        assert_eq!(grid_width(&reversed), None);
         let back = configuration(&reversed);
         assert_eq!(back.unreached, 0);
         assert!(back.path_residual < 1e-12, "{}", back.path_residual);

@@ -1,7 +1,8 @@
 //! How far a rigid placement of a planar lattice's cells misses at other
 //! openings than the design's (MATH.md 8.4).
 
-use super::super::{Lattice, Legs};
+use super::super::Lattice;
+use super::super::shape::legs_of;
 use super::Configuration;
 use glam::{DVec2, DVec3};
 
@@ -16,17 +17,6 @@ pub fn planar_misfit(lattice: &Lattice, config: &Configuration, theta: f64) -> O
 /// cell's corners, legs and side are read and measured once for all.
 pub fn planar_misfits(
     lattice: &Lattice,
-    config: &Configuration,
-    thetas: &[f64],
-) -> Vec<Option<f64>> {
-    planar_misfits_with(lattice, &cell_legs(lattice), config, thetas)
-}
-
-/// `planar_misfits` with every cell's legs (`cell_legs`) at hand: C(theta)
-/// and the misfits share one computation of them (`deployment`).
-pub(crate) fn planar_misfits_with(
-    lattice: &Lattice,
-    legs: &[Legs],
     config: &Configuration,
     thetas: &[f64],
 ) -> Vec<Option<f64>> {
@@ -52,10 +42,10 @@ pub(crate) fn planar_misfits_with(
         // Unused lanes repeat the first opening; their results are dropped.
         let cos = std::array::from_fn(|k| chunk.get(k).unwrap_or(&chunk[0]).1);
         let misfit = (window < nv)
-            .then(|| misfits_in(lattice, legs, config, cos, window))
+            .then(|| misfits_in(lattice, config, cos, window))
             .flatten()
             .unwrap_or_else(|| {
-                misfits_in(lattice, legs, config, cos, nv.next_power_of_two())
+                misfits_in(lattice, config, cos, nv.next_power_of_two())
                     .expect("a slot for every vertex")
             });
         for (&(k, _), m) in chunk.iter().zip(misfit) {
@@ -63,11 +53,6 @@ pub(crate) fn planar_misfits_with(
         }
     }
     out
-}
-
-/// Every cell's legs (`Lattice::legs`), in cell order.
-pub(crate) fn cell_legs(lattice: &Lattice) -> Vec<Legs> {
-    lattice.cells.iter().map(|c| lattice.legs(c)).collect()
 }
 
 /// Openings placed side by side in one pass (`MISFIT_FRACTIONS` has three):
@@ -87,7 +72,6 @@ const LANES: usize = 3;
 /// grow), which holds no two indices of one slot.
 fn misfits_in(
     lattice: &Lattice,
-    legs: &[Legs],
     config: &Configuration,
     cos: [f64; LANES],
     window: usize,
@@ -102,7 +86,9 @@ fn misfits_in(
     let mut misfit = [0.0f64; LANES];
     for (i, cell) in lattice.cells.iter().enumerate() {
         let corners = lattice.corners(cell);
-        let legs = legs[i];
+        // From the corners at hand: 4 square roots a cell cost less than
+        // storing every cell's legs and reading them back.
+        let legs = legs_of(corners, cell.pivot);
         let side = side(corners, cell.pivot);
         let scale = legs.iter().sum::<f64>() / 4.0;
         // Misses compared squared, over the squared scale: one square
@@ -276,50 +262,31 @@ mod tests {
     /// measured with a slot per vertex.
     #[test]
     fn the_ring_of_placements_measures_what_a_slot_per_vertex_does() {
-        use crate::lattice::{Kind, RowParams, grow};
-        use crate::legs::{Direction, Leg};
         let mut rng = crate::rng::Rng::new(5);
         let mut measured = 0;
         for trial in 0..24 {
-            let n = 3 + trial % 7;
-            let points: Vec<DVec3> = (0..=n)
-                .map(|j| DVec3::new(10.0 * j as f64 + rng.signed(), 0.3 * rng.signed(), 0.0))
-                .collect();
-            let kappa: Vec<f64> = (0..n).map(|_| 0.4 * rng.signed()).collect();
-            let row = RowParams {
-                start: n / 2,
-                direction: Some(Direction::Angles {
-                    angle_deg: 45.0 + 15.0 * rng.signed(),
-                    tilt_deg: 0.0,
-                }),
-                left_leg: Leg::Match,
-                right_leg: Leg::Match,
-                ..RowParams::default()
-            };
-            let Ok(lattice) = grow(Kind::Sheet, 2, &points, &kappa, &vec![row; 3 + trial % 5])
-            else {
+            let Some(lattice) = crate::lattice::shape::random_sheet(&mut rng, trial, 2) else {
                 continue;
             };
-            let legs = cell_legs(&lattice);
             let config = super::super::configuration(&lattice);
             let cos = [0.99, 0.9, 0.5].map(|f: f64| (f * config.theta_design).cos());
             let nv = lattice.vertices.len();
-            let every = misfits_in(&lattice, &legs, &config, cos, nv.next_power_of_two())
+            let every = misfits_in(&lattice, &config, cos, nv.next_power_of_two())
                 .expect("a slot for every vertex");
             assert!(every.iter().all(|m| m.is_finite()));
             let usual = (2 * lattice.width + 8).next_power_of_two();
-            let ring = misfits_in(&lattice, &legs, &config, cos, usual).expect("a sheet fits");
+            let ring = misfits_in(&lattice, &config, cos, usual).expect("a sheet fits");
             assert_eq!(ring.map(f64::to_bits), every.map(f64::to_bits));
             // Smaller rings wrap around every few cells: each that takes
             // the corners gives the same bits; the smallest is refused.
             let mut smallest = usual;
             for window in [4, 8, 16, 32].into_iter().filter(|&w| w < usual) {
-                if let Some(ring) = misfits_in(&lattice, &legs, &config, cos, window) {
+                if let Some(ring) = misfits_in(&lattice, &config, cos, window) {
                     assert_eq!(ring.map(f64::to_bits), every.map(f64::to_bits));
                     smallest = smallest.min(window);
                 }
             }
-            assert!(misfits_in(&lattice, &legs, &config, cos, 2).is_none());
+            assert!(misfits_in(&lattice, &config, cos, 2).is_none());
             assert!(smallest <= (lattice.width + 3).next_power_of_two());
             measured += 1;
             // Out of order (the cells reversed): too spread for a small
@@ -327,11 +294,10 @@ mod tests {
             let mut reversed = lattice.clone();
             reversed.cells.reverse();
             let config = super::super::configuration(&reversed);
-            let legs = cell_legs(&reversed);
             let thetas = [0.9 * config.theta_design];
             let cos = [thetas[0].cos(); LANES];
-            assert!(misfits_in(&reversed, &legs, &config, cos, 8).is_none());
-            let every = misfits_in(&reversed, &legs, &config, cos, nv.next_power_of_two())
+            assert!(misfits_in(&reversed, &config, cos, 8).is_none());
+            let every = misfits_in(&reversed, &config, cos, nv.next_power_of_two())
                 .expect("a slot for every vertex");
             let got = planar_misfits(&reversed, &config, &thetas)[0].expect("planar");
             assert_eq!(got.to_bits(), every[0].sqrt().to_bits());

@@ -31,15 +31,12 @@ pub struct Deployment {
 }
 
 /// Deployment of `lattice`: its C(theta) path, mobility and planar misfits.
-/// Every cell's legs are computed once, for C(theta) and the misfits.
 pub fn deployment(lattice: &Lattice) -> Deployment {
-    let legs = misfit::cell_legs(lattice);
-    let legs = &legs[..];
-    let config = configuration::configuration_with(lattice, legs);
+    let config = configuration(lattice);
     let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
     let misfits = MISFIT_FRACTIONS
         .iter()
-        .zip(misfit::planar_misfits_with(lattice, legs, &config, &thetas))
+        .zip(planar_misfits(lattice, &config, &thetas))
         .filter_map(|(&f, m)| Some((f, m?)))
         .collect();
     Deployment {
