@@ -129,9 +129,13 @@ impl<const N: usize, const T: usize> Dual<N, T> {
 /// over q: g = sum_k f_k y_k', H = J^T F J + sum_k f_k y_k''. It lets a
 /// stencil take its expensive part over few intermediates (a bend stencil:
 /// the two edges' rotations) and pay the N-variable size only here.
+/// `curved[k]` says whether y_k may have a Hessian: the term f_k y_k'' is
+/// skipped for the others (an edge vector between free nodes, a variable),
+/// which is most of them.
 pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
     outer: &Dual<M, TM>,
     inner: &[Dual<N, T>; M],
+    curved: &[bool; M],
 ) -> Dual<N, T> {
     let mut out = Dual::<N, T>::cst(outer.v);
     // p[k] = sum_l F_kl y_l'
@@ -152,8 +156,10 @@ pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
             for a in 0..N {
                 out.g[a] += fk * y.g[a];
             }
-            for t in 0..T {
-                out.h[t] += fk * y.h[t];
+            if curved[k] {
+                for t in 0..T {
+                    out.h[t] += fk * y.h[t];
+                }
             }
         }
     }

@@ -559,12 +559,23 @@ impl Model {
         for (ga, c) in g.iter_mut().zip(cols) {
             *ga = c.iter().map(|&(i, a)| a * d.g[i]).sum();
         }
+        // The packed Hessian unpacked once: the loop below reads each
+        // entry up to 16 times (the anchor's columns), by plain indexing.
+        let mut full = [[0.0; N]; N];
+        let mut k = 0;
+        for i in 0..N {
+            for j in i..N {
+                full[i][j] = d.h[k];
+                full[j][i] = d.h[k];
+                k += 1;
+            }
+        }
         for a in 0..n {
             for b in a..n {
                 let mut v = 0.0;
                 for &(i, x) in &cols[a] {
                     for &(j, y) in &cols[b] {
-                        v += x * y * d.hess(i, j);
+                        v += x * y * full[i][j];
                     }
                 }
                 h[a * n + b] = v;
@@ -738,11 +749,13 @@ fn slot_dir_composed<const N: usize, const T: usize>(
     slot: usize,
 ) -> (V3<Dual<N, T>>, V3<Dual<N, T>>) {
     let (u, n, inner) = slot_dir_small(m, get, j, slot);
+    // The slot's variables are variables (or a sum of two): no Hessian.
+    let flat = [false; 3];
     let up = |v: V3<Dual<3, 6>>| {
         V3::new(
-            compose(&v.x, &inner),
-            compose(&v.y, &inner),
-            compose(&v.z, &inner),
+            compose(&v.x, &inner, &flat),
+            compose(&v.y, &inner, &flat),
+            compose(&v.z, &inner, &flat),
         )
     };
     (up(u), up(n))
@@ -918,9 +931,14 @@ fn bend_composed<const N: usize, const T: usize>(
     // material angle; 3 for an arm: the slot's), side by side as 8 small
     // duals; their N-dual variables in `inner`.
     let mut w = [Dual::<8, 36>::cst(0.0); 6];
-    let mut inner = [Dual::<N, T>::cst(0.0); 8];
     let mut base = [[DVec3::ZERO; 3]; 2];
-    for (k, (edge, xa, xb)) in [(a, x0, x1), (b, x1, x2)].into_iter().enumerate() {
+    // Which of the 8 have a Hessian: an edge vector with an arm tip at
+    // either end (the tip turns with its slot); variables have none.
+    let mut curved = [false; 8];
+    let arm = |n: usize| matches!(m.nodes[n], Node::Arm { .. });
+    // Each edge's 4 N-dual variables, made in place (no zeroed array of
+    // eight 1.4 kB duals to fill).
+    let mut part = |k: usize, edge: &Edge, xa: V3<Dual<N, T>>, xb: V3<Dual<N, T>>| {
         let e = xb.sub(xa);
         let ev = e.val();
         let t = V3::<f64>::cst(ev).unit();
@@ -936,8 +954,10 @@ fn bend_composed<const N: usize, const T: usize>(
                 for (c, wk) in rotation([t4, d14, d24], f0).iter().enumerate() {
                     w[3 * k + c] = embed(wk, 4 * k);
                 }
-                inner[4 * k..4 * k + 4].copy_from_slice(&[e.x, e.y, e.z, th]);
                 base[k] = f0;
+                let bent = arm(edge.a) || arm(edge.b);
+                curved[4 * k..4 * k + 3].copy_from_slice(&[bent; 3]);
+                [e.x, e.y, e.z, th]
             }
             Frame::Arm { joint, slot, sigma } => {
                 // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u,
@@ -949,16 +969,20 @@ fn bend_composed<const N: usize, const T: usize>(
                 for (c, wk) in rotation([u, d1, d2], f0).iter().enumerate() {
                     w[3 * k + c] = embed(wk, 4 * k);
                 }
-                inner[4 * k..4 * k + 3].copy_from_slice(&slot_vars);
                 base[k] = f0;
+                let [s0, s1, s2] = slot_vars;
+                [s0, s1, s2, Dual::cst(0.0)]
             }
         }
-    }
+    };
+    let [i0, i1, i2, i3] = part(0, a, x0, x1);
+    let [i4, i5, i6, i7] = part(1, b, x1, x2);
+    let inner = [i0, i1, i2, i3, i4, i5, i6, i7];
     // The energy over the 6 rotations, then over the 8 edge variables,
     // and only then over N: one N-sized chain rule of 8 intermediates
     // instead of seven (six rotations of 4 and the energy of 6).
     let e6 = bend_energy_rotations(&m.section, lbar, base);
-    compose(&compose(&e6, &w), &inner)
+    compose(&compose(&e6, &w, &[true; 6]), &inner, &curved)
 }
 
 /// A small dual as one over 8 variables, its variables at `offset..`.

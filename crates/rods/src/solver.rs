@@ -5,10 +5,17 @@
 //! its refusal of an indefinite matrix is the inertia test.
 
 use crate::model::{Model, Reduction, VarKind};
-use faer::Side;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::simplicial::{
+    SimplicialLltRef, SymbolicSimplicialCholesky, factorize_simplicial_numeric_llt,
+    factorize_simplicial_numeric_llt_scratch,
+};
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, Par, Side};
 
 const NONE: u32 = u32::MAX;
 
@@ -30,7 +37,15 @@ pub struct System {
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
     pattern: SymbolicSparseColMat<usize>,
-    symbolic: SymbolicLlt<usize>,
+    /// The Cholesky factor's structure, analysed once: the Hessian's upper
+    /// triangle in the fill-reducing order (`upper`, into which `upper_pos`
+    /// maps each slot of `pattern`), so that no factorisation permutes it
+    /// again, and the simplicial symbolic factor of that matrix.
+    upper: SymbolicSparseColMat<usize>,
+    upper_pos: Vec<usize>,
+    /// perm[new] = old free index.
+    perm: Vec<usize>,
+    chol: SymbolicSimplicialCholesky<usize>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -140,8 +155,7 @@ impl System {
             })
             .collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic =
-            SymbolicLlt::try_new(pattern.as_ref(), Side::Lower).expect("symbolic Cholesky");
+        let (upper, upper_pos, perm, chol) = factor_structure(&pattern);
         System {
             free_index,
             free_vars,
@@ -151,7 +165,10 @@ impl System {
             stencil_entries,
             stencil_pos,
             pattern,
-            symbolic,
+            upper,
+            upper_pos,
+            perm,
+            chol,
             diag_pos,
             dm,
         }
@@ -214,24 +231,52 @@ impl System {
     }
 
     /// Cholesky of H + tau Dm, or None if it is not positive definite.
-    pub fn factor(&self, h: &[f64], tau: f64) -> Option<Llt<usize, f64>> {
-        let mut vals = h.to_vec();
+    pub fn factor(&self, h: &[f64], tau: f64) -> Option<Factor> {
+        // The values straight into the factor's order: the same matrix,
+        // entry for entry, as faer's own permutation made, so the same
+        // factor to the bit.
+        let mut vals = vec![0.0; h.len()];
+        for (&p, &v) in self.upper_pos.iter().zip(h) {
+            vals[p] = v;
+        }
         if tau != 0.0 {
             for (c, &p) in self.diag_pos.iter().enumerate() {
-                vals[p] += tau * self.dm[c];
+                vals[self.upper_pos[p]] += tau * self.dm[c];
             }
         }
         if vals.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        let mat = SparseColMatRef::new(self.pattern.as_ref(), &vals);
-        Llt::try_new_with_symbolic(self.symbolic.clone(), mat, Side::Lower).ok()
+        let n = self.n();
+        let mat = SparseColMatRef::new(self.upper.as_ref(), &vals);
+        let mut l = vec![0.0; self.chol.len_val()];
+        let mut mem = MemBuffer::new(factorize_simplicial_numeric_llt_scratch::<usize, f64>(n));
+        factorize_simplicial_numeric_llt(
+            &mut l,
+            mat,
+            Default::default(),
+            &self.chol,
+            MemStack::new(&mut mem),
+        )
+        .ok()?;
+        Some(Factor { l })
     }
 
-    pub fn solve(llt: &Llt<usize, f64>, rhs: &[f64]) -> Vec<f64> {
-        let mut m = faer::Mat::from_fn(rhs.len(), 1, |i, _| rhs[i]);
-        llt.solve_in_place(&mut m);
-        (0..rhs.len()).map(|i| m[(i, 0)]).collect()
+    /// Solve (H + tau Dm) x = rhs with a factor of it.
+    pub fn solve(&self, f: &Factor, rhs: &[f64]) -> Vec<f64> {
+        let n = rhs.len();
+        let mut m = faer::Mat::from_fn(n, 1, |i, _| rhs[self.perm[i]]);
+        SimplicialLltRef::new(&self.chol, &f.l).solve_in_place_with_conj(
+            Conj::No,
+            m.as_mut(),
+            Par::Seq,
+            MemStack::new(&mut MemBuffer::new(faer::dyn_stack::StackReq::EMPTY)),
+        );
+        let mut x = vec![0.0; n];
+        for (i, &old) in self.perm.iter().enumerate() {
+            x[old] = m[(i, 0)];
+        }
+        x
     }
 
     /// y = H v from the lower triangle.
@@ -252,14 +297,14 @@ impl System {
 
     /// The lowest generalised eigenpair of (H, Dm) by inverse iteration with
     /// a factor of H + tau Dm (positive definite): (lambda, v).
-    pub fn lowest_mode(&self, h: &[f64], llt: &Llt<usize, f64>, seed: u64) -> (f64, Vec<f64>) {
+    pub fn lowest_mode(&self, h: &[f64], llt: &Factor, seed: u64) -> (f64, Vec<f64>) {
         let n = self.n();
         let mut rng = crate::rng::Rng::new(seed);
         let mut v: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
         let mut lambda = 0.0;
         for it in 0..60 {
             let rhs: Vec<f64> = v.iter().zip(&self.dm).map(|(a, b)| a * b).collect();
-            let y = Self::solve(llt, &rhs);
+            let y = self.solve(llt, &rhs);
             let norm = y
                 .iter()
                 .zip(&self.dm)
@@ -280,6 +325,82 @@ impl System {
         }
         (lambda, v)
     }
+}
+
+/// The numeric Cholesky factor of one shifted Hessian, in the order of
+/// `System::chol`.
+pub struct Factor {
+    l: Vec<f64>,
+}
+
+/// The fill-reducing order (faer's AMD, as `SymbolicLlt` computes it), the
+/// lower-triangle `pattern` moved into it as an upper triangle, each of
+/// its slots' place there, and the simplicial symbolic factor: (upper,
+/// upper_pos, perm, symbolic).
+fn factor_structure(
+    pattern: &SymbolicSparseColMat<usize>,
+) -> (
+    SymbolicSparseColMat<usize>,
+    Vec<usize>,
+    Vec<usize>,
+    SymbolicSimplicialCholesky<usize>,
+) {
+    let n = pattern.nrows();
+    let amd = factorize_symbolic_cholesky(
+        pattern.as_ref(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .expect("symbolic Cholesky");
+    let (perm, inv): (Vec<usize>, Vec<usize>) = match amd.perm() {
+        Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
+        None => ((0..n).collect(), (0..n).collect()),
+    };
+    // Entry (r, c), r >= c, lands at (min, max) of (inv r, inv c).
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut at = Vec::with_capacity(ri.len());
+    let mut count = vec![0usize; n + 1];
+    for c in 0..n {
+        for &r in &ri[cp[c]..cp[c + 1]] {
+            let (a, b) = (inv[r], inv[c]);
+            let (row, col) = (a.min(b), a.max(b));
+            at.push((row, col));
+            count[col + 1] += 1;
+        }
+    }
+    for c in 0..n {
+        count[c + 1] += count[c];
+    }
+    let col_ptr = count.clone();
+    // Within a column in the order met, as faer's own permutation
+    // (`permute_self_adjoint_to_unsorted`) leaves them: the symbolic and
+    // numeric factors then visit the entries in the same order, and the
+    // factor is the same to the bit.
+    let mut order: Vec<usize> = (0..at.len()).collect();
+    order.sort_by_key(|&k| at[k].1);
+    let mut row_idx = vec![0usize; at.len()];
+    let mut upper_pos = vec![0usize; at.len()];
+    for (slot, &k) in order.iter().enumerate() {
+        row_idx[slot] = at[k].0;
+        upper_pos[k] = slot;
+    }
+    let upper = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+        ..Default::default()
+    };
+    let sym = factorize_symbolic_cholesky(
+        upper.as_ref(),
+        Side::Upper,
+        SymmetricOrdering::Identity,
+        params,
+    )
+    .expect("symbolic Cholesky");
+    let SymbolicCholeskyRaw::Simplicial(chol) = sym.raw() else {
+        unreachable!("simplicial forced")
+    };
+    (upper, upper_pos, perm, chol.clone())
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -364,7 +485,7 @@ fn newton_step(
         }
     };
     *tau_prev = tau;
-    let mut d: Vec<f64> = System::solve(&llt, &gf).into_iter().map(|v| -v).collect();
+    let mut d: Vec<f64> = sys.solve(&llt, &gf).into_iter().map(|v| -v).collect();
     let mut dec = -gf.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
     if curvature && tau > 0.0 && dec < 1e-6 * model.e_scale {
         let (_, mut v) = sys.lowest_mode(&h, &llt, 1);
