@@ -8,7 +8,7 @@ use crate::design::measure::{Measures, measure_assembled, measure_with, strip_cl
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
-use crate::lattice::{Joint, Lattice, Report, joints, verify};
+use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
@@ -288,6 +288,23 @@ impl Checked {
 /// with a 200-step guide; more would pass 5 s and make a guide too long to
 /// print.
 pub(crate) const MAX_FABRICATED_CELLS: usize = 20_000;
+
+/// A guess of what `build` of a design costs, read off the recipe without
+/// growing it, for ordering a batch's work: its cells, times 50 where the
+/// build solves an elastic equilibrium over Newton iterations (a lattice
+/// that leaves the plane or grows on rebuilt fronts, up to
+/// `sim::MAX_SIMULATED_CELLS`; a plane lattice's strips are solved in one).
+pub fn build_cost(design: &Design) -> usize {
+    let rows = design.fit.as_ref().map_or(design.rows.len(), |f| f.rows);
+    let cells = match design.kind {
+        Kind::Helix => design.helix_cells,
+        Kind::Sheet => rows.saturating_mul(design.points.len().saturating_sub(1)),
+        Kind::Loop => rows.saturating_mul(design.points.len()),
+    };
+    let bent = design.dim == 3 || design.rows.iter().any(|r| r.front.is_some());
+    let simulated = bent && cells <= crate::sim::MAX_SIMULATED_CELLS;
+    cells.saturating_mul(if simulated { 50 } else { 1 })
+}
 
 /// The assembly guide has a page or more for every growth step, and each
 /// step page places about 2 sqrt(steps) shared row drawings: at most this

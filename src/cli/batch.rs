@@ -232,33 +232,23 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
 /// The recipes' indices in the order to start them: with several jobs the
 /// dearest first, so that the jobs end together instead of one finishing
 /// a long simulation alone (the examples' saddle ring and torus are last by
-/// name). The cost is a guess from the grown lattice, which is cheap next
-/// to a build: its cells, times 50 where the build simulates an elastic
-/// equilibrium that takes Newton iterations (bent facets, or a lattice
-/// that leaves the plane; a plane lattice's strips are solved in one). A
-/// recipe that does not grow costs nothing. Ties keep the name order.
+/// name). The cost is `karigami::build_cost`, read off the parsed recipe
+/// without growing it (growth waits for the build, and a kept recipe never
+/// grows); a recipe that does not parse costs nothing. Ties keep the name
+/// order.
 fn dearest_first(paths: &[PathBuf], overrides: &Overrides, jobs: usize) -> Vec<usize> {
     let mut order: Vec<usize> = (0..paths.len()).collect();
     if jobs < 2 || paths.len() < 2 {
         return order;
     }
-    let cost = |path: &PathBuf| -> usize {
-        let Ok(lattice) = Recipe::read(path)
-            .and_then(|r| r.parse(overrides))
-            .map(|d| d.grow())
-        else {
-            return 0;
-        };
-        let Ok(lattice) = lattice else { return 0 };
-        let spatial = lattice.vertices.iter().any(|v| v.pos.z.abs() > 1e-6);
-        let weight = if !lattice.extrinsic() || spatial {
-            50
-        } else {
-            1
-        };
-        lattice.cells.len() * weight
-    };
-    let costs: Vec<usize> = paths.iter().map(cost).collect();
+    let costs: Vec<usize> = paths
+        .iter()
+        .map(|path| {
+            Recipe::read(path)
+                .and_then(|r| r.parse(overrides))
+                .map_or(0, |d| karigami::build_cost(&d))
+        })
+        .collect();
     order.sort_by_key(|&i| std::cmp::Reverse(costs[i]));
     order
 }

@@ -255,14 +255,7 @@ impl Lattice {
     /// from the construction, so checks on them mean something).
     #[inline]
     pub fn legs(&self, cell: &Cell) -> Legs {
-        let [ul, ur, ll, lr] = self.corners(cell);
-        let p = cell.pivot;
-        [
-            p.distance(ul),
-            p.distance(ll),
-            p.distance(lr),
-            p.distance(ur),
-        ]
+        shape::legs_of(self.corners(cell), cell.pivot)
     }
 
     /// The collapsibility parameter `kappa = z(UL) - z(UR)` of a cell.

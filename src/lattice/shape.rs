@@ -268,6 +268,10 @@ impl Lattice {
     /// cell's corners are read once for its area, legs, strips and corner
     /// angles (the same arithmetic, in the same order, as `curvature` and
     /// `legs`, so the figures are those of the separate passes bit for bit).
+    /// Two cases read the cells again: strips whose legs spread wider than
+    /// the tolerance (most irregular designs) take their keys in a second
+    /// pass to sort them, and a lattice stored out of order (wider than the
+    /// ring) is measured again with a slot a vertex.
     pub(crate) fn shape(&self) -> Shape {
         let (window, full) = Curvatures::windows(self);
         self.shape_in(window)

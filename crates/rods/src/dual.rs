@@ -160,6 +160,9 @@ pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
                 for t in 0..T {
                     out.h[t] += fk * y.h[t];
                 }
+            } else {
+                // A caller that calls an intermediate linear must mean it.
+                debug_assert!(y.h.iter().all(|&x| x == 0.0), "intermediate {k} is curved");
             }
         }
     }

@@ -193,8 +193,9 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
 }
 
 /// Propagate cos(phi) from the reference cell (cell 0) through shared
-/// edges. The cells sharing an edge are found through their corners
-/// (precomputed once when every edge has at most two cells).
+/// edges. The cells sharing an edge are read off the grid of a grown sheet
+/// (`grid_width`), or else found through their corners (precomputed once
+/// when every edge has at most two cells).
 ///
 /// The cells are taken in increasing index among those reached and not
 /// yet taken, not breadth first: growth stores the cells row by row, so
@@ -353,7 +354,10 @@ struct LegRing<'a> {
 
 impl<'a> LegRing<'a> {
     fn new(lattice: &'a Lattice, w: usize) -> Self {
-        let window = (2 * w + 2).next_power_of_two();
+        // Never more slots than cells: a one-row sheet is as wide as it is long.
+        let window = (2 * w + 2)
+            .min(lattice.cells.len().max(1))
+            .next_power_of_two();
         Self {
             lattice,
             legs: vec![[0.0; 4]; window],
