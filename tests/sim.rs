@@ -661,13 +661,20 @@ fn refinement_moves_joints_less_than_1_percent(path: &str) {
 /// put it, measured by lattice::shape like any design.
 fn simulated_shape(path: &str) -> (Lattice, Lattice, sim::Simulation) {
     let text = std::fs::read_to_string(path).expect("recipe");
-    let d = karigami::parse(&text, "t").expect("parses");
+    let (lattice, placed, run) = simulated_recipe(&text);
+    assert!(run.equilibrium.stats.lambda_min > 0.0, "{path}: not stable");
+    (lattice, placed, run)
+}
+
+/// A recipe's lattice, its simulated shape and the simulation, with the
+/// recipe's own strips and `[simulation]` settings.
+fn simulated_recipe(text: &str) -> (Lattice, Lattice, sim::Simulation) {
+    let d = karigami::parse(text, "t").expect("parses");
     let lattice = d.grow().expect("grows");
     let deploy = karigami::deploy::deployment(&lattice);
     let m = &d.fabrication.material;
     let run =
         sim::simulate(&lattice, &deploy, m.width, m.thickness, &d.simulation).expect("simulates");
-    assert!(run.equilibrium.stats.lambda_min > 0.0, "{path}: not stable");
     let placed = sim::placed_lattice(&lattice, &run.lm);
     (lattice, placed, run)
 }
@@ -1126,12 +1133,7 @@ fn tune_can_aim_at_the_simulated_relief() {
             .cost_before
     };
     let (designed, simulated) = (cost(&recipe("design")), cost(&recipe("simulated")));
-    let d = karigami::parse(&base, "eggbox").expect("parses");
-    let lattice = d.grow().expect("grows");
-    let deploy = karigami::deploy::deployment(&lattice);
-    let m = &d.fabrication.material;
-    let run =
-        sim::simulate(&lattice, &deploy, m.width, m.thickness, &d.simulation).expect("simulates");
+    let (lattice, placed, _) = simulated_recipe(&base);
     let error = |l: &Lattice| {
         let c = l.curvature();
         c.iter()
@@ -1143,10 +1145,7 @@ fn tune_can_aim_at_the_simulated_relief() {
             .sum::<f64>()
             / c.len() as f64
     };
-    let (e_design, e_sim) = (
-        error(&lattice),
-        error(&sim::placed_lattice(&lattice, &run.lm)),
-    );
+    let (e_design, e_sim) = (error(&lattice), error(&placed));
     println!(
         "cost {designed:.6} (design) vs {simulated:.6} (simulated); curvature error {e_design:.6} vs {e_sim:.6}"
     );
@@ -1166,11 +1165,15 @@ fn tune_can_aim_at_the_simulated_relief() {
         )
     };
     let (thick_designed, thick_simulated) = (cost(&thick("design")), cost(&thick("simulated")));
-    let heavy = sim::simulate(&lattice, &deploy, m.width, 1.0, &d.simulation).expect("simulates");
+    let (_, heavy_placed, heavy) = simulated_recipe(&thick_eggbox(""));
     let eps = heavy.equilibrium.strain.eps;
-    let allow = d.simulation.material.eps_allow;
+    let allow = karigami::parse(&base, "eggbox")
+        .expect("parses")
+        .simulation
+        .material
+        .eps_allow;
     assert!(eps > allow, "{eps}");
-    let e_thick = error(&sim::placed_lattice(&lattice, &heavy.lm));
+    let e_thick = error(&heavy_placed);
     assert!(
         (thick_designed - designed).abs() < 1e-12,
         "the design's cost ignores the strips"

@@ -389,18 +389,13 @@ fn parts_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result
 /// command line.
 fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result<(), Diagnostic> {
     if let Some(g) = raw.sheet.as_ref().and_then(|s| s.get_ref().group.as_ref()) {
-        f.group_by_step = match g.get_ref().as_str() {
-            "step" => true,
-            "none" => false,
-            other => {
-                return Err(Diagnostic::new(
-                    ErrorKind::UnknownGrouping,
-                    format!("unknown sheet grouping \"{other}\""),
-                )
-                .at(g.span())
-                .hint("use \"step\" (each assembly step's strips in lanes of their own, steps in order) or \"none\""));
-            }
-        };
+        f.group_by_step = super::choice(
+            g,
+            "sheet grouping",
+            &[("step", true), ("none", false)],
+            ErrorKind::UnknownGrouping,
+            "use \"step\" (each assembly step's strips in lanes of their own, steps in order) or \"none\"",
+        )?;
     }
     if let Some(g) = o.group_by_step {
         f.group_by_step = g;

@@ -24,7 +24,7 @@ use raw::RawDesign;
 use seed::{dimension, helix_cell_count, seed_kappa, seed_points};
 use spans::Spans;
 // fit.rs, optimise.rs and simulation.rs check their numbers with these too.
-use values::{coords, count, finite};
+use values::{choice, coords, count, finite};
 
 /// A validated recipe: seed, rows and every setting, each problem already
 /// reported with its place in the text.

@@ -267,35 +267,28 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
     if let Some(t) = &r.target {
         let t = t.get_ref();
         if let Some(s) = &t.shape {
-            simulated = match s.get_ref().as_str() {
-                "design" => false,
-                "simulated" => true,
-                other => {
-                    return Err(Diagnostic::new(
-                        ErrorKind::UnknownTargetShape,
-                        format!("unknown target shape \"{other}\""),
-                    )
-                    .at(s.span())
-                    .hint("shape is \"design\" (the cells as cut) or \"simulated\" (the shape the strips take, docs/physics.md)"));
-                }
-            };
+            simulated = super::choice(
+                s,
+                "target shape",
+                &[("design", false), ("simulated", true)],
+                ErrorKind::UnknownTargetShape,
+                "shape is \"design\" (the cells as cut) or \"simulated\" (the shape the strips take, docs/physics.md)",
+            )?;
         }
         if let Some(d) = &t.defect {
             defect_deg = super::finite(d, "target.defect")?;
         }
         if let Some(p) = &t.pattern {
-            pattern = match p.get_ref().as_str() {
-                "constant" => Pattern::Constant,
-                "checkerboard" => Pattern::Checkerboard,
-                other => {
-                    return Err(Diagnostic::new(
-                        ErrorKind::UnknownCurvaturePattern,
-                        format!("unknown curvature pattern \"{other}\""),
-                    )
-                    .at(p.span())
-                    .hint("pattern is \"constant\" or \"checkerboard\""));
-                }
-            };
+            pattern = super::choice(
+                p,
+                "curvature pattern",
+                &[
+                    ("constant", Pattern::Constant),
+                    ("checkerboard", Pattern::Checkerboard),
+                ],
+                ErrorKind::UnknownCurvaturePattern,
+                "pattern is \"constant\" or \"checkerboard\"",
+            )?;
         }
     }
     let mut require = Vec::new();

@@ -111,7 +111,7 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
         s.accept_overstrain = *a.get_ref();
     }
     if let Some(a) = &r.actuation {
-        s.actuation = choice(
+        s.actuation = super::choice(
             a,
             "actuation",
             &[
@@ -123,7 +123,7 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
         )?;
     }
     if let Some(j) = &r.vertex_joint {
-        s.vertex_joint = choice(
+        s.vertex_joint = super::choice(
             j,
             "vertex_joint",
             &[("eyelet", VertexJoint::Eyelet), ("ball", VertexJoint::Ball)],
@@ -132,25 +132,4 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
         )?;
     }
     Ok(s)
-}
-
-/// One of a few words: its value, or an error at the word naming the
-/// choices.
-fn choice<T: Copy>(
-    word: &Spanned<String>,
-    what: &str,
-    options: &[(&str, T)],
-    kind: ErrorKind,
-    hint: &str,
-) -> Result<T, Diagnostic> {
-    let w = word.get_ref().as_str();
-    options
-        .iter()
-        .find(|(name, _)| *name == w)
-        .map(|&(_, v)| v)
-        .ok_or_else(|| {
-            Diagnostic::new(kind, format!("unknown {what} \"{w}\""))
-                .at(word.span())
-                .hint(hint)
-        })
 }

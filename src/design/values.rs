@@ -50,3 +50,24 @@ pub(super) fn coords(c: &Coords, what: &str) -> Result<(DVec3, usize), Diagnosti
     }
     Ok((out, v.len()))
 }
+
+/// One of a few words: its value, or an error at the word naming the
+/// choices.
+pub(super) fn choice<T: Copy>(
+    word: &Spanned<String>,
+    what: &str,
+    options: &[(&str, T)],
+    kind: ErrorKind,
+    hint: &str,
+) -> Result<T, Diagnostic> {
+    let w = word.get_ref().as_str();
+    options
+        .iter()
+        .find(|(name, _)| *name == w)
+        .map(|&(_, v)| v)
+        .ok_or_else(|| {
+            Diagnostic::new(kind, format!("unknown {what} \"{w}\""))
+                .at(word.span())
+                .hint(hint)
+        })
+}
