@@ -160,16 +160,17 @@ pub(super) struct Report {
 
 impl Report {
     pub(super) fn of(b: &karigami::Build) -> Self {
+        let how = simulation(b);
         Self {
             cells: b.lattice.cells.len(),
             strips: b.parts.strips.len(),
             sheets: b.layout.sheets.len(),
-            simulated: simulation(b).is_some(),
+            simulated: how.is_some(),
             check: karigami::build_check_json(b),
             build: karigami::build_json(b),
             summary: karigami::summary(b),
             check_text: karigami::check_text(&b.verified()),
-            reused: simulation(b) == Some("reused"),
+            reused: how == Some("reused"),
         }
     }
 
