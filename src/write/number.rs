@@ -8,7 +8,7 @@
 /// a rounding tie for its own rounding error not to matter, which is nearly
 /// always: the writers print millions of numbers and the general formatter
 /// was a sixth of a big build.
-pub(crate) fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> Text {
     if let Some(units) = on_grid(x) {
         return fixed(units);
     }
@@ -16,7 +16,68 @@ pub(crate) fn num(x: f64) -> String {
     if s.contains('.') {
         s = s.trim_end_matches('0').trim_end_matches('.').to_string();
     }
-    if s == "-0" { "0".to_string() } else { s }
+    Text::General(if s == "-0" { "0".to_string() } else { s })
+}
+
+/// A number's text (`num`, `fixed`), shown with `Display`: on the grid
+/// (nearly always) held in place, without the heap allocation a `String`
+/// per number cost the writers (half a million numbers in the torus's
+/// files).
+#[derive(Clone)]
+pub(crate) enum Text {
+    /// ASCII text in `digits[start..]`.
+    Grid { digits: [u8; 24], start: u8 },
+    /// The general formatter's text.
+    General(String),
+}
+
+impl Text {
+    pub(crate) fn as_str(&self) -> &str {
+        match self {
+            Text::Grid { digits, start } => {
+                std::str::from_utf8(&digits[*start as usize..]).unwrap_or_default()
+            }
+            Text::General(s) => s,
+        }
+    }
+}
+
+impl std::fmt::Display for Text {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::fmt::Debug for Text {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Debug::fmt(self.as_str(), f)
+    }
+}
+
+impl PartialEq for Text {
+    fn eq(&self, other: &Self) -> bool {
+        self.as_str() == other.as_str()
+    }
+}
+
+impl Eq for Text {}
+
+impl std::hash::Hash for Text {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        self.as_str().hash(h);
+    }
+}
+
+impl PartialEq<&str> for Text {
+    fn eq(&self, other: &&str) -> bool {
+        self.as_str() == *other
+    }
+}
+
+impl PartialEq<String> for Text {
+    fn eq(&self, other: &String) -> bool {
+        self.as_str() == other
+    }
 }
 
 /// `units(x)` when `num(x)` prints it as `fixed` of that (nearly always).
@@ -36,27 +97,43 @@ pub(crate) fn units(x: f64) -> i64 {
 }
 
 /// `units` ten-thousandths as decimal text, trailing zeros trimmed.
-pub(crate) fn fixed(units: i64) -> String {
-    let (whole, mut frac) = (units.unsigned_abs() / 10_000, units.unsigned_abs() % 10_000);
-    let mut s = String::with_capacity(16);
-    if units < 0 {
-        s.push('-');
-    }
-    s.push_str(&whole.to_string());
+pub(crate) fn fixed(units: i64) -> Text {
+    // Digits laid right to left in place: the writers print millions of
+    // numbers, and `to_string` of the whole and fractional parts was three
+    // allocations a number.
+    let mut buf = [0u8; 24];
+    let mut at = buf.len();
+    let mut push = |b: u8| {
+        at -= 1;
+        buf[at] = b;
+    };
+    let (mut whole, mut frac) = (units.unsigned_abs() / 10_000, units.unsigned_abs() % 10_000);
     if frac > 0 {
         let mut digits = 4;
         while frac % 10 == 0 {
             frac /= 10;
             digits -= 1;
         }
-        s.push('.');
-        let text = frac.to_string();
-        for _ in text.len()..digits {
-            s.push('0');
+        for _ in 0..digits {
+            push(b'0' + (frac % 10) as u8);
+            frac /= 10;
         }
-        s.push_str(&text);
+        push(b'.');
     }
-    s
+    loop {
+        push(b'0' + (whole % 10) as u8);
+        whole /= 10;
+        if whole == 0 {
+            break;
+        }
+    }
+    if units < 0 {
+        push(b'-');
+    }
+    Text::Grid {
+        digits: buf,
+        start: at as u8,
+    }
 }
 
 #[cfg(test)]
@@ -86,6 +163,16 @@ mod tests {
             s = s.trim_end_matches('0').trim_end_matches('.').to_string();
         }
         if s == "-0" { "0".to_string() } else { s }
+    }
+
+    #[test]
+    fn fixed_prints_ten_thousandths() {
+        use super::fixed;
+        assert_eq!(fixed(0), "0");
+        assert_eq!(fixed(-5), "-0.0005");
+        assert_eq!(fixed(120_000), "12");
+        assert_eq!(fixed(-1_234_500), "-123.45");
+        assert_eq!(fixed(i64::MIN), "-922337203685477.5808");
     }
 
     #[test]

@@ -21,7 +21,7 @@ const FACES: [[usize; 4]; 6] = [
 
 /// `x` mm to 0.001 (1 um), trailing zeros trimmed: `num` of the nearest
 /// thousandth, so the same value always prints the same way.
-fn micro(x: f64) -> String {
+fn micro(x: f64) -> super::number::Text {
     num((x * 1e3).round() / 1e3)
 }
 

@@ -30,9 +30,9 @@ pub(crate) fn write(parts: &Parts) -> Vec<u8> {
         let fields = [
             t.code.clone(),
             t.strips.len().to_string(),
-            num(t.length),
-            num(t.legs[0]),
-            num(t.legs[1]),
+            num(t.length).to_string(),
+            num(t.legs[0]).to_string(),
+            num(t.legs[1]).to_string(),
             t.symmetric.to_string(),
             of(&|m| matches!(m, Marking::Id | Marking::Compact)),
             of(&|m| *m == Marking::Type),

@@ -326,76 +326,111 @@ fn sixteen_levels(c: u8) -> u8 {
 /// pixels), the smallest bit depth that indexes it and the packed rows of
 /// an opaque pixmap, each channel mapped by `level`; None when that leaves
 /// more than 256 colours.
+///
+/// One pass over the pixels numbers the colours in order of first sight
+/// (a small hash table: most pixels repeat the one before and skip it),
+/// one byte a pixel; the numbers are then mapped to the sorted palette's
+/// and packed. (A bitset of all 2^24 colours cost 2.5 MB zeroed a picture
+/// and a second pass over the pixels.)
 fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
     let rgb = |p: &PremultipliedColorU8| {
         u32::from_be_bytes([0, level(p.red()), level(p.green()), level(p.blue())])
     };
-    // The colours seen, one bit each (2 MB): a set bit's index in the
-    // palette is the count of bits below it, so no search per pixel.
-    let mut seen = vec![0u64; 1 << 18];
-    let mut count = 0;
-    let mut last = None;
-    for p in pixmap.pixels() {
-        // Most pixels repeat the one before (white between strips).
-        if last != Some(*p) {
-            last = Some(*p);
-            let c = rgb(p);
-            let (word, bit) = ((c >> 6) as usize, 1u64 << (c & 63));
-            if seen[word] & bit == 0 {
-                if count == 256 {
-                    return None;
-                }
-                seen[word] |= bit;
-                count += 1;
+    let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
+    let mut colours = Colours::default();
+    let mut seen = vec![0u8; w * h];
+    let mut last: Option<(PremultipliedColorU8, u8)> = None;
+    for (p, out) in pixmap.pixels().iter().zip(&mut seen) {
+        *out = match last {
+            // Most pixels repeat the one before (white between strips).
+            Some((q, i)) if q == *p => i,
+            _ => {
+                let i = colours.number(rgb(p))?;
+                last = Some((*p, i));
+                i
             }
-        }
+        };
     }
-    let mut below = vec![0u16; seen.len()];
-    let mut palette = Vec::with_capacity(3 * count);
-    let mut sum = 0u16;
-    for (word, (&bits, below)) in seen.iter().zip(&mut below).enumerate() {
-        *below = sum;
-        sum += bits.count_ones() as u16;
-        let mut rest = bits;
-        while rest != 0 {
-            let c = (word as u32) << 6 | rest.trailing_zeros();
-            palette.extend_from_slice(&c.to_be_bytes()[1..]);
-            rest &= rest - 1;
-        }
+    let mut sorted: Vec<(u32, u8)> = colours.found();
+    sorted.sort_unstable();
+    let mut rank = [0u8; 256];
+    let mut palette = Vec::with_capacity(3 * sorted.len());
+    for (r, &(c, first)) in sorted.iter().enumerate() {
+        rank[first as usize] = r as u8;
+        palette.extend_from_slice(&c.to_be_bytes()[1..]);
     }
-    let index = |c: u32| {
-        let (word, bit) = ((c >> 6) as usize, 1u64 << (c & 63));
-        (below[word] + (seen[word] & (bit - 1)).count_ones() as u16) as u8
-    };
-    let (depth, bits) = match count {
+    let (depth, bits) = match sorted.len() {
         0..=2 => (png::BitDepth::One, 1),
         3..=4 => (png::BitDepth::Two, 2),
         5..=16 => (png::BitDepth::Four, 4),
         _ => (png::BitDepth::Eight, 8),
     };
-    let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
+    if bits == 8 {
+        seen.iter_mut().for_each(|i| *i = rank[*i as usize]);
+        return Some((palette, depth, seen));
+    }
     let row_bytes = (w * bits).div_ceil(8);
     let mut raw = vec![0u8; row_bytes * h];
-    for (row, out) in pixmap
-        .pixels()
+    for (row, out) in seen
         .chunks_exact(w.max(1))
         .zip(raw.chunks_exact_mut(row_bytes.max(1)))
     {
-        let mut last = (row[0], index(rgb(&row[0])));
-        for (x, p) in row.iter().enumerate() {
-            if *p != last.0 {
-                last = (*p, index(rgb(p)));
-            }
-            if bits == 8 {
-                out[x] = last.1;
-            } else {
-                let bit = x * bits;
-                // Pixels fill each byte from its most significant bits.
-                out[bit / 8] |= last.1 << (8 - bits - bit % 8);
-            }
+        for (x, &i) in row.iter().enumerate() {
+            let bit = x * bits;
+            // Pixels fill each byte from its most significant bits.
+            out[bit / 8] |= rank[i as usize] << (8 - bits - bit % 8);
         }
     }
     Some((palette, depth, raw))
+}
+
+/// Up to 256 colours (0x00RRGGBB) numbered in order of first sight, in an
+/// open-addressed table four times that size.
+struct Colours {
+    keys: [u32; 1024],
+    numbers: [u8; 1024],
+    count: usize,
+}
+
+impl Default for Colours {
+    fn default() -> Self {
+        Self {
+            keys: [u32::MAX; 1024],
+            numbers: [0; 1024],
+            count: 0,
+        }
+    }
+}
+
+impl Colours {
+    /// `c`'s number, numbering it if new; None past 256 colours.
+    fn number(&mut self, c: u32) -> Option<u8> {
+        let mut slot = (c.wrapping_mul(0x9E37_79B1) >> 22) as usize;
+        loop {
+            match self.keys[slot] {
+                k if k == c => return Some(self.numbers[slot]),
+                u32::MAX => break,
+                _ => slot = (slot + 1) % self.keys.len(),
+            }
+        }
+        if self.count == 256 {
+            return None;
+        }
+        self.keys[slot] = c;
+        self.numbers[slot] = self.count as u8;
+        self.count += 1;
+        Some(self.numbers[slot])
+    }
+
+    /// Every colour with its number.
+    fn found(&self) -> Vec<(u32, u8)> {
+        self.keys
+            .iter()
+            .zip(&self.numbers)
+            .filter(|(k, _)| **k != u32::MAX)
+            .map(|(&k, &n)| (k, n))
+            .collect()
+    }
 }
 
 /// The PNG of `raw` rows in the given colour type and depth.

@@ -3,7 +3,7 @@
 //! CSS and JavaScript live beside this file and are inlined with the build's
 //! data as JSON, so the page needs no network. Same build -> same bytes.
 
-use super::number::{fixed, num, units};
+use super::number::{Text, fixed, num, units};
 use crate::assembly::Step;
 use crate::design::Design;
 use crate::drawing::picture::Camera;
@@ -109,7 +109,7 @@ struct Num(f64);
 
 impl Serialize for Num {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        raw(num(self.0), s)
+        raw(num(self.0).to_string(), s)
     }
 }
 
@@ -122,7 +122,7 @@ struct Micro(i64);
 
 impl Serialize for Micro {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        raw(fixed(10 * self.0), s)
+        raw(fixed(10 * self.0).to_string(), s)
     }
 }
 
@@ -241,7 +241,7 @@ impl Serialize for Field {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match *self {
             Field::Int(n) => n.serialize(s),
-            Field::Step(n) => raw(fixed(n), s),
+            Field::Step(n) => raw(fixed(n).to_string(), s),
         }
     }
 }
@@ -368,7 +368,7 @@ fn strips_json<'a>(s: &Scene<'a>) -> StripsJson<'a> {
     // Shapes keyed by their written text, numbered in order of first use,
     // so that the page shows each strip's own numbers exactly.
     let mut shapes = Vec::new();
-    let mut shape_of: HashMap<(String, String, String, String, &str), usize> = HashMap::new();
+    let mut shape_of: HashMap<(Text, Text, Text, Text, &str), usize> = HashMap::new();
     let mut flat = Vec::with_capacity(5 * s.parts.strips.len());
     let mut before = (0, 0);
     for (strip, place) in s.parts.strips.iter().zip(place) {

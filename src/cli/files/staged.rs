@@ -7,6 +7,8 @@ use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove_any};
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Component, Path, PathBuf};
+use std::sync::mpsc::{SyncSender, sync_channel};
+use std::thread::JoinHandle;
 
 /// Whether `rel` is a relative path of plain components that stays inside
 /// the folder it is joined to.
@@ -32,7 +34,57 @@ pub(crate) struct Staged<'a> {
     pub(super) written: std::sync::Mutex<Vec<String>>,
     /// Each build's record line (`record`), for the marker.
     records: std::sync::Mutex<Vec<String>>,
+    /// Flushes the written files to the disk (`Syncer`).
+    syncer: Syncer,
     committed: bool,
+}
+
+/// Written files are flushed to the disk (fsync) on a thread of their own:
+/// an fsync waits for the disk (a median 0.6 ms, up to 20 ms, here), and
+/// writing the examples' 161 files waited 0.3 s for them in all while the
+/// builds could draw. `commit` waits for every flush before the marker.
+struct Syncer {
+    send: Option<SyncSender<File>>,
+    thread: Option<JoinHandle<io::Result<()>>>,
+}
+
+impl Syncer {
+    fn start() -> Self {
+        // A bounded queue: a slow disk holds the writers back before they
+        // hold hundreds of files open.
+        let (send, files) = sync_channel::<File>(64);
+        let thread = std::thread::spawn(move || {
+            let mut first = Ok(());
+            for f in files {
+                if let Err(e) = fault::sync(&f) {
+                    first = first.and(Err(e));
+                }
+            }
+            first
+        });
+        Self {
+            send: Some(send),
+            thread: Some(thread),
+        }
+    }
+
+    fn push(&self, f: File) -> io::Result<()> {
+        match &self.send {
+            Some(send) => send.send(f).or_else(|unsent| fault::sync(&unsent.0)),
+            None => fault::sync(&f),
+        }
+    }
+
+    /// Wait until every file pushed is flushed; the first failure.
+    fn finish(&mut self) -> io::Result<()> {
+        self.send = None;
+        match self.thread.take() {
+            Some(thread) => thread
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+            None => Ok(()),
+        }
+    }
 }
 
 impl<'a> Staged<'a> {
@@ -49,6 +101,7 @@ impl<'a> Staged<'a> {
             kind: kind.to_string(),
             written: std::sync::Mutex::new(Vec::new()),
             records: std::sync::Mutex::new(Vec::new()),
+            syncer: Syncer::start(),
             committed: false,
         })
     }
@@ -102,7 +155,7 @@ impl<'a> Staged<'a> {
             }
             let mut f = File::create(&path)?;
             f.write_all(bytes)?;
-            fault::sync(&f)?;
+            self.syncer.push(f)?;
             self.written
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
@@ -143,6 +196,7 @@ impl<'a> Staged<'a> {
 
     /// Put the staging folder in the target's place.
     pub(crate) fn commit(mut self) -> io::Result<()> {
+        self.syncer.finish()?;
         self.write_marker()?;
         fault::sync(&File::open(&self.fresh)?)?;
         let target = &self.out.target;
@@ -201,6 +255,7 @@ fn exchange(_: &Path, _: &Path) -> io::Result<bool> {
 
 impl Drop for Staged<'_> {
     fn drop(&mut self) {
+        let _ = self.syncer.finish();
         if !self.committed {
             let _ = remove_any(&self.fresh);
         }
