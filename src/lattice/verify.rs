@@ -155,8 +155,7 @@ impl Check {
     /// much of verification's time, are mostly skipped.
     #[inline(always)]
     fn record_ratio(&mut self, num: f64, den: f64, site: impl FnOnce() -> String) {
-        let bound = self.max * den.abs();
-        if bound.is_finite() && bound >= f64::MIN_POSITIVE && num.abs() < 0.999 * bound {
+        if ratio_below(num, den, self.max) {
             self.count += 1;
             return;
         }
@@ -173,11 +172,8 @@ impl Check {
         (b, lb): (DVec3, f64),
         site: impl FnOnce() -> String,
     ) {
-        let cross = a.cross(b).length_squared();
-        let den = la * lb;
-        let bound = self.max * den;
-        let bound2 = bound * bound;
-        if bound2.is_finite() && bound2 >= f64::MIN_POSITIVE && cross < 0.998 * bound2 {
+        let (cross, den) = (a.cross(b).length_squared(), la * lb);
+        if bend_below(cross, den, self.max) {
             self.count += 1;
             return;
         }
@@ -187,6 +183,25 @@ impl Check {
     pub(crate) fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
+}
+
+/// True when `|num / den|` cannot exceed `max`: `|num| < 0.999 max |den|`
+/// with `max |den|` a normal, finite number puts the exact quotient below
+/// `max` by far more than its rounding (false for a NaN anywhere, a zero
+/// or subnormal bound, an overflow).
+#[inline(always)]
+fn ratio_below(num: f64, den: f64, max: f64) -> bool {
+    let bound = max * den.abs();
+    bound.is_finite() && bound >= f64::MIN_POSITIVE && num.abs() < 0.999 * bound
+}
+
+/// True when the sine `sqrt(cross) / den` of a bend cannot exceed `max`
+/// (`cross < 0.998 (max den)^2`, as `ratio_below`).
+#[inline(always)]
+fn bend_below(cross: f64, den: f64, max: f64) -> bool {
+    let bound = max * den;
+    let bound2 = bound * bound;
+    bound2.is_finite() && bound2 >= f64::MIN_POSITIVE && cross < 0.998 * bound2
 }
 
 /// The verification of one lattice: the largest residual of every
@@ -734,94 +749,138 @@ fn same_edge(a: DVec3, b: DVec3, s: f64) -> f64 {
     }
 }
 
-/// True when some residual of `series` would raise a check whose largest
-/// is `max` (a NaN residual, or a NaN largest, always does): one
-/// comparison a residual, no branch, over a whole row.
-#[inline]
-fn exceeds(max: f64, series: &[f64]) -> bool {
-    series.iter().fold(false, |any, x| any | !(x.abs() <= max))
+/// A check's largest when a row starts, and whether some residual of the
+/// row may exceed it: each residual is compared as it is computed (no
+/// array of them stored and read again), and only a row that may hold a
+/// new largest is recorded again one residual at a time (`settle`).
+#[derive(Clone, Copy)]
+struct Watch {
+    max: f64,
+    raised: bool,
 }
 
-/// Record a row's residuals of one check: `series[s][k]` is the `s`-th
-/// residual of the row's cell `first + k` (a series may stop early: its
-/// last cells have none). The order of `record` is cell by cell, each
-/// cell's series in order, as the pass over the cells records them, so the
-/// largest, its site (the first attaining it) and the count are the same
-/// bits; the row is replayed one residual at a time only when it holds a
-/// new largest.
-fn record_row(check: &mut Check, first: usize, series: &[&[f64]], site: impl Fn(usize) -> String) {
-    if !series.iter().any(|s| exceeds(check.max, s)) {
-        check.count += series.iter().map(|s| s.len()).sum::<usize>();
-        return;
+impl Watch {
+    fn of(check: &Check) -> Self {
+        Self {
+            max: check.max,
+            raised: false,
+        }
     }
-    let cells = series.iter().map(|s| s.len()).max().unwrap_or(0);
-    for k in 0..cells {
-        for s in series {
-            if let Some(&r) = s.get(k) {
-                check.record(r, || site(first + k));
-            }
+
+    /// `record`'s test of one residual: one comparison, no branch (a NaN
+    /// residual, or a NaN largest, raises).
+    #[inline(always)]
+    fn see(&mut self, residual: f64) {
+        self.raised |= !(residual.abs() <= self.max);
+    }
+
+    /// `see(num / den)`, without the division when the quotient cannot
+    /// exceed the largest (`ratio_below`, `record_ratio`'s shortcut).
+    #[inline(always)]
+    fn see_ratio(&mut self, num: f64, den: f64) {
+        if !ratio_below(num, den, self.max) {
+            self.see(num / den);
+        }
+    }
+
+    /// `see(bend(a, la, b, lb))`, without the square root and the
+    /// division when the sine cannot exceed the largest (`bend_below`).
+    #[inline(always)]
+    fn see_bend(&mut self, (a, la, b, lb): Bend) {
+        if !bend_below(a.cross(b).length_squared(), la * lb, self.max) {
+            self.see(bend(a, la, b, lb));
+        }
+    }
+
+    /// Count a row's `count` residuals into `check` when none may raise
+    /// it; else record them again one at a time, cell by cell over
+    /// `cells`, each cell's in the order `residuals(k, record)` gives
+    /// them: the order of the pass over the cells, so the largest, its
+    /// site (the first attaining it) and the count are the same bits.
+    #[inline(always)]
+    fn settle(
+        self,
+        check: &mut Check,
+        count: usize,
+        cells: std::ops::Range<usize>,
+        residuals: impl Fn(usize, &mut dyn FnMut(f64)),
+        site: impl Fn(usize) -> String,
+    ) {
+        if self.raised {
+            replay(check, cells, residuals, site);
+        } else {
+            check.count += count;
         }
     }
 }
 
-/// The residuals of one row, one array per recorded quantity, reused
-/// from row to row.
-#[derive(Default)]
-struct RowResiduals {
-    bend_a: Vec<f64>,
-    bend_b: Vec<f64>,
-    legs_z: [Vec<f64>; 4],
-    pores_h: Vec<f64>,
-    edges_right: Vec<f64>,
-    pores_v: Vec<f64>,
-    edges_below: Vec<f64>,
-    slope: Vec<f64>,
-    intercept: Vec<f64>,
-    natural: Vec<f64>,
-    rod_a: Vec<f64>,
-    rod_b: Vec<f64>,
+/// `Watch::settle` of a row that may hold a new largest.
+#[cold]
+#[inline(never)]
+fn replay(
+    check: &mut Check,
+    cells: std::ops::Range<usize>,
+    residuals: impl Fn(usize, &mut dyn FnMut(f64)),
+    site: impl Fn(usize) -> String,
+) {
+    for k in cells {
+        residuals(k, &mut |r| check.record(r, || site(k)));
+    }
 }
 
-impl RowResiduals {
-    /// Every array `n` long, to be written in place.
-    fn size(&mut self, n: usize) {
-        for buffer in self.all() {
-            buffer.resize(n, 0.0);
-        }
-    }
+/// The two legs of a rod on either side of its pivot, with their lengths:
+/// what `bend` takes.
+type Bend = (DVec3, f64, DVec3, f64);
 
-    /// Cut the neighbours' arrays to the cells that have them: `paired`
-    /// with a right neighbour, `below` with one below, `interior` UL
-    /// vertices.
-    fn trim(&mut self, paired: usize, below: usize, interior: usize) {
-        self.pores_h.truncate(paired);
-        self.edges_right.truncate(paired);
-        self.pores_v.truncate(below);
-        self.edges_below.truncate(below);
-        for buffer in [&mut self.slope, &mut self.intercept, &mut self.natural] {
-            buffer.truncate(interior);
-        }
-    }
+/// The legs of a cell's rods A (UL to LR) and B (UR to LL) at its pivot.
+#[inline(always)]
+fn rod_legs([l1, l2, l3, l4]: Legs, [ul, ur, ll, lr]: [DVec3; 4], p: DVec3) -> [Bend; 2] {
+    [(p - ul, l1, lr - p, l3), (p - ur, l4, ll - p, l2)]
+}
 
-    fn all(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
-        [&mut self.bend_a, &mut self.bend_b, &mut self.pores_h]
-            .into_iter()
-            .chain(&mut self.legs_z)
-            .chain([&mut self.edges_right, &mut self.pores_v])
-            .chain([&mut self.edges_below, &mut self.slope])
-            .chain([&mut self.intercept, &mut self.natural])
-    }
+/// Each leg against the difference of the construction z at its ends
+/// (`z` of UL, UR, LL, LR; `zp` the pivot's; `inv` 1 / the mean leg).
+#[inline(always)]
+fn legs_z_of(
+    [l1, l2, l3, l4]: Legs,
+    [zul, zur, zll, zlr]: [f64; 4],
+    zp: f64,
+    inv: f64,
+) -> [f64; 4] {
+    [
+        (zp - zul - l1) * inv,
+        (zp - zur - l4) * inv,
+        (zll - zp - l2) * inv,
+        (zlr - zp - l3) * inv,
+    ]
+}
+
+/// The collapsed rods' lengths against the deployed (`zs` the recomputed
+/// z of UL, UR, LL, LR).
+#[inline(always)]
+fn rods_of([zul, zur, zll, zlr]: [f64; 4], [ul, ur, ll, lr]: &[DVec3; 4], inv: f64) -> [f64; 2] {
+    [
+        (zlr - zul - ul.distance(*lr)) * inv,
+        (zll - zur - ur.distance(*ll)) * inv,
+    ]
 }
 
 /// `verify` of a regular, extrinsic sheet or loop, row by row: each row's
 /// legs measured once into arrays (`Row`), each invariant's residuals
-/// computed over the row in a simple loop, then compared with the check's
-/// largest at once (`record_row`). The same residuals, in the same order,
-/// with the same arithmetic as `verify_with`, so the same report bit for
-/// bit (a unit test holds the two together, on good and damaged lattices).
+/// computed over the row in a simple loop and compared with the check's
+/// largest as they are computed (`Watch`); a row that may hold a new
+/// largest is recorded again one residual at a time. The same residuals,
+/// in the same order, with the same arithmetic as `verify_with`, so the
+/// same report bit for bit (a unit test holds the two together, on good
+/// and damaged lattices).
 fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     use Invariant as I;
-    let Grid { width, rows, .. } = *grid;
+    let Grid {
+        width,
+        rows,
+        front,
+        closed,
+    } = *grid;
     let mut leg_sum = 0.0;
     let [
         mut straight,
@@ -849,12 +908,16 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     .map(Check::new);
     let mut collapsed = Collapsed::new(lattice);
     let (mut above, mut here, mut below) = (Row::default(), Row::default(), Row::default());
-    let mut r = RowResiduals::default();
     if rows > 0 {
         here.measure(lattice, grid, 0);
     }
     // Cells with a right neighbour: all of a loop's, all but a sheet's last.
-    let paired = if grid.closed { width } else { width - 1 };
+    let paired = if closed { width } else { width - 1 };
+    // The first cell whose UL vertex has a cell on its left.
+    let from = if closed { 0 } else { 1 };
+    let n = width;
+    let right_of = |j: usize| if j + 1 == n { 0 } else { j + 1 };
+    let left_of = |j: usize| if j == 0 { n - 1 } else { j - 1 };
     for i in 0..rows {
         let first = i * width;
         let cells = &lattice.cells[first..first + width];
@@ -883,8 +946,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
             }
         }
         // Each residual over the row, in loops over slices of the row's
-        // length (no bounds checks, nothing but the arithmetic).
-        let n = width;
+        // length, compared with its check's largest as it is computed.
         let (legs, corners, z, means, invs) = (
             &here.legs[..n],
             &here.corners[..n],
@@ -892,108 +954,180 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
             &here.means[..n],
             &here.invs[..n],
         );
-        r.size(n);
-        {
-            let (bend_a, bend_b) = (&mut r.bend_a[..n], &mut r.bend_b[..n]);
-            let [za, zb, zc, zd] = &mut r.legs_z;
-            let (za, zb, zc, zd) = (&mut za[..n], &mut zb[..n], &mut zc[..n], &mut zd[..n]);
-            for j in 0..n {
-                let [l1, l2, l3, l4] = legs[j];
-                let [ul, ur, ll, lr] = corners[j];
-                let p = cells[j].pivot;
-                bend_a[j] = bend(p - ul, l1, lr - p, l3);
-                bend_b[j] = bend(p - ur, l4, ll - p, l2);
-                let inv = invs[j];
-                let [zul, zur, zll, zlr] = z[j];
-                let zp = cells[j].z_pivot;
-                za[j] = (zp - zul - l1) * inv;
-                zb[j] = (zp - zur - l4) * inv;
-                zc[j] = (zll - zp - l2) * inv;
-                zd[j] = (zlr - zp - l3) * inv;
-            }
-        }
+        let n_below = if has_below { n } else { 0 };
+        let (under, under_means) = (&below.legs[..n_below], &below.means[..n_below]);
+        let over = &above.legs[..if i >= 1 { n } else { 0 }];
+        let bends = |j: usize| rod_legs(legs[j], corners[j], cells[j].pivot);
+        let legs_z_at = |j: usize| legs_z_of(legs[j], z[j], cells[j].z_pivot, invs[j]);
         // Right neighbour: B.UL = A.UR and B.LL = A.LR (the next cell,
-        // the first for a loop's last).
-        {
-            let (pores, edge) = (&mut r.pores_h[..paired], &mut r.edges_right[..paired]);
-            for j in 0..paired {
-                let k = if j + 1 == n { 0 } else { j + 1 };
-                let [_, _, l3, l4] = legs[j];
-                let [m1, m2, _, _] = legs[k];
-                let s = 0.5 * (means[j] + means[k]);
-                pores[j] = ((l3 + l4) - (m1 + m2)) / s;
-                let [_, ur, _, lr] = corners[j];
-                edge[j] = same_edge(ur, lr, s);
-            }
-        }
+        // the first for a loop's last): the pore's numerator and scale.
+        let pore_h = |j: usize| {
+            let k = right_of(j);
+            let ([_, _, l3, l4], [m1, m2, _, _]) = (legs[j], legs[k]);
+            ((l3 + l4) - (m1 + m2), 0.5 * (means[j] + means[k]))
+        };
         // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        let (n_below, from) = (
-            if has_below { n } else { 0 },
-            if grid.closed { 0 } else { 1 },
-        );
-        {
-            let (pores, edge) = (&mut r.pores_v[..n_below], &mut r.edges_below[..n_below]);
-            let (under, under_means) = (&below.legs[..n_below], &below.means[..n_below]);
-            for j in 0..n_below {
-                let [_, l2, l3, _] = legs[j];
-                let [m1, _, _, m4] = under[j];
-                let s = 0.5 * (means[j] + under_means[j]);
-                pores[j] = ((l2 + m1) - (l3 + m4)) / s;
-                let [_, _, ll, lr] = corners[j];
-                edge[j] = same_edge(ll, lr, s);
-            }
-        }
-        // Compatibility at each cell's UL vertex, interior when the cells
+        let pore_v = |j: usize| {
+            let ([_, l2, l3, _], [m1, _, _, m4]) = (legs[j], under[j]);
+            ((l2 + m1) - (l3 + m4), 0.5 * (means[j] + under_means[j]))
+        };
+        // Compatibility at cell j's UL vertex, interior when the cells
         // above and to the left exist (a loop's left of column 0 is its
-        // last column).
-        let interior = if i >= 1 { n - from } else { 0 };
-        {
-            let (slopes, intercepts, naturals) = (
-                &mut r.slope[..interior],
-                &mut r.intercept[..interior],
-                &mut r.natural[..interior],
-            );
-            let over = &above.legs[..if i >= 1 { n } else { 0 }];
-            for k in 0..interior {
-                let j = from + k;
-                let left = if j == 0 { n - 1 } else { j - 1 };
-                let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
-                let [ul, _, ll, _] = corners[j];
-                slopes[k] = m - 1.0;
-                intercepts[k] = c / ul.distance_squared(ll);
-                naturals[k] = c / magnitude;
+        // last column): slope, intercept and its two scales.
+        let compat = |j: usize| {
+            let left = left_of(j);
+            let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
+            let [ul, _, ll, _] = corners[j];
+            (m, c, ul.distance_squared(ll), magnitude)
+        };
+        let compat_cells = if i >= 1 { from..n } else { 0..0 };
+
+        let [mut w_straight, mut w_legs_z] = [&straight, &legs_z].map(Watch::of);
+        for j in 0..n {
+            let [a, b] = bends(j);
+            w_straight.see_bend(a);
+            w_straight.see_bend(b);
+            for r in legs_z_at(j) {
+                w_legs_z.see(r);
             }
         }
-        r.trim(paired, n_below, interior);
+        let [mut w_pores_h, mut w_pores_v, mut w_edges] =
+            [&pores_h, &pores_v, &edges].map(Watch::of);
+        for j in 0..paired {
+            let (num, s) = pore_h(j);
+            w_pores_h.see_ratio(num, s);
+            let [_, ur, _, lr] = corners[j];
+            w_edges.see(same_edge(ur, lr, s));
+        }
+        for j in 0..n_below {
+            let (num, s) = pore_v(j);
+            w_pores_v.see_ratio(num, s);
+            let [_, _, ll, lr] = corners[j];
+            w_edges.see(same_edge(ll, lr, s));
+        }
+        let [mut w_slope, mut w_intercept, mut w_natural] =
+            [&slope, &intercept, &natural].map(Watch::of);
+        for j in compat_cells.clone() {
+            let (m, c, s2, magnitude) = compat(j);
+            w_slope.see(m - 1.0);
+            w_intercept.see_ratio(c, s2);
+            w_natural.see_ratio(c, magnitude);
+        }
         // The collapsed rods, once the row is swept (their check is
         // measured again after the sweep if some cell was not reached).
         if collapsed.all_reached {
-            let front = grid.front;
             let zs = &collapsed.z[i * front..(i + 2) * front];
-            r.rod_a.resize(n, 0.0);
-            r.rod_b.resize(n, 0.0);
-            let (rod_a, rod_b) = (&mut r.rod_a[..n], &mut r.rod_b[..n]);
-            for j in 0..n {
+            let rods = |j: usize| {
                 let right = if j + 1 == front { 0 } else { j + 1 };
-                let (zul, zur) = (zs[j], zs[right]);
-                let (zll, zlr) = (zs[front + j], zs[front + right]);
-                let [ul, ur, ll, lr] = &corners[j];
-                let inv = invs[j];
-                rod_a[j] = (zlr - zul - ul.distance(*lr)) * inv;
-                rod_b[j] = (zll - zur - ur.distance(*ll)) * inv;
+                let at = [zs[j], zs[right], zs[front + j], zs[front + right]];
+                rods_of(at, &corners[j], invs[j])
+            };
+            let mut watch = Watch::of(&collapsed.rods);
+            for j in 0..n {
+                for r in rods(j) {
+                    watch.see(r);
+                }
             }
-            record_row(&mut collapsed.rods, 0, &[rod_a, rod_b], cell_site);
+            watch.settle(
+                &mut collapsed.rods,
+                2 * n,
+                0..n,
+                |j, record| {
+                    for r in rods(j) {
+                        record(r);
+                    }
+                },
+                cell_site,
+            );
         }
-        record_row(&mut straight, 0, &[&r.bend_a, &r.bend_b], cell_site);
-        let [a, b, c, d] = &r.legs_z;
-        record_row(&mut legs_z, 0, &[a, b, c, d], cell_site);
-        record_row(&mut pores_h, 0, &[&r.pores_h], cell_site);
-        record_row(&mut pores_v, 0, &[&r.pores_v], cell_site);
-        record_row(&mut edges, 0, &[&r.edges_right, &r.edges_below], cell_site);
+        w_straight.settle(
+            &mut straight,
+            2 * n,
+            0..n,
+            |j, record| {
+                for (a, la, b, lb) in bends(j) {
+                    record(bend(a, la, b, lb));
+                }
+            },
+            cell_site,
+        );
+        w_legs_z.settle(
+            &mut legs_z,
+            4 * n,
+            0..n,
+            |j, record| {
+                for r in legs_z_at(j) {
+                    record(r);
+                }
+            },
+            cell_site,
+        );
+        w_pores_h.settle(
+            &mut pores_h,
+            paired,
+            0..paired,
+            |j, record| {
+                let (num, s) = pore_h(j);
+                record(num / s);
+            },
+            cell_site,
+        );
+        w_pores_v.settle(
+            &mut pores_v,
+            n_below,
+            0..n_below,
+            |j, record| {
+                let (num, s) = pore_v(j);
+                record(num / s);
+            },
+            cell_site,
+        );
+        w_edges.settle(
+            &mut edges,
+            paired + n_below,
+            0..n,
+            |j, record| {
+                let [_, ur, ll, lr] = corners[j];
+                if j < paired {
+                    record(same_edge(ur, lr, pore_h(j).1));
+                }
+                if j < n_below {
+                    record(same_edge(ll, lr, pore_v(j).1));
+                }
+            },
+            cell_site,
+        );
         let vertex = |k: usize| vertex_site(lattice, cells[k].ul as usize);
-        record_row(&mut slope, from, &[&r.slope], vertex);
-        record_row(&mut intercept, from, &[&r.intercept], vertex);
-        record_row(&mut natural, from, &[&r.natural], vertex);
+        let interior = compat_cells.len();
+        w_slope.settle(
+            &mut slope,
+            interior,
+            compat_cells.clone(),
+            |j, record| {
+                record(compat(j).0 - 1.0);
+            },
+            vertex,
+        );
+        w_intercept.settle(
+            &mut intercept,
+            interior,
+            compat_cells.clone(),
+            |j, record| {
+                let (_, c, s2, _) = compat(j);
+                record(c / s2);
+            },
+            vertex,
+        );
+        w_natural.settle(
+            &mut natural,
+            interior,
+            compat_cells,
+            |j, record| {
+                let (_, c, _, magnitude) = compat(j);
+                record(c / magnitude);
+            },
+            vertex,
+        );
         std::mem::swap(&mut above, &mut here);
         std::mem::swap(&mut here, &mut below);
     }
