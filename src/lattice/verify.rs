@@ -155,7 +155,8 @@ impl Check {
     /// much of verification's time, are mostly skipped.
     #[inline(always)]
     fn record_ratio(&mut self, num: f64, den: f64, site: impl FnOnce() -> String) {
-        if ratio_below(num, den, self.max) {
+        let bound = self.max * den.abs();
+        if bound.is_finite() && bound >= f64::MIN_POSITIVE && num.abs() < 0.999 * bound {
             self.count += 1;
             return;
         }
@@ -172,8 +173,11 @@ impl Check {
         (b, lb): (DVec3, f64),
         site: impl FnOnce() -> String,
     ) {
-        let (cross, den) = (a.cross(b).length_squared(), la * lb);
-        if bend_below(cross, den, self.max) {
+        let cross = a.cross(b).length_squared();
+        let den = la * lb;
+        let bound = self.max * den;
+        let bound2 = bound * bound;
+        if bound2.is_finite() && bound2 >= f64::MIN_POSITIVE && cross < 0.998 * bound2 {
             self.count += 1;
             return;
         }
@@ -183,25 +187,6 @@ impl Check {
     pub(crate) fn passed(&self) -> bool {
         self.max <= self.tolerance
     }
-}
-
-/// True when `|num / den|` cannot exceed `max`: `|num| < 0.999 max |den|`
-/// with `max |den|` a normal, finite number puts the exact quotient below
-/// `max` by far more than its rounding (false for a NaN anywhere, a zero
-/// or subnormal bound, an overflow).
-#[inline(always)]
-fn ratio_below(num: f64, den: f64, max: f64) -> bool {
-    let bound = max * den.abs();
-    bound.is_finite() && bound >= f64::MIN_POSITIVE && num.abs() < 0.999 * bound
-}
-
-/// True when the sine `sqrt(cross) / den` of a bend cannot exceed `max`
-/// (`cross < 0.998 (max den)^2`, as `ratio_below`).
-#[inline(always)]
-fn bend_below(cross: f64, den: f64, max: f64) -> bool {
-    let bound = max * den;
-    let bound2 = bound * bound;
-    bound2.is_finite() && bound2 >= f64::MIN_POSITIVE && cross < 0.998 * bound2
 }
 
 /// The verification of one lattice: the largest residual of every
@@ -664,8 +649,13 @@ fn report(lattice: &Lattice, leg_sum: f64, checks: [Check; 10], collapsed: Colla
 #[inline(always)]
 fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
     // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-    let f =
-        |la: f64, lb: f64, lc: f64| (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb));
+    // One division a map: `-(lc / la)` is `-lc / la`, bit for bit
+    // (division rounds the same either side of 0; a NaN differs at most in
+    // its sign, which every residual's `abs` drops).
+    let f = |la: f64, lb: f64, lc: f64| {
+        let q = lc / la;
+        (-q, lb * lb + lc * lc + q * (la * la + lb * lb))
+    };
     let maps = [
         f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
         f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
@@ -749,82 +739,75 @@ fn same_edge(a: DVec3, b: DVec3, s: f64) -> f64 {
     }
 }
 
-/// A check's largest when a row starts, and whether some residual of the
-/// row may exceed it: each residual is compared as it is computed (no
-/// array of them stored and read again), and only a row that may hold a
-/// new largest is recorded again one residual at a time (`settle`).
+/// A check's largest when a row starts, and the first and last cells of
+/// the row with a residual that may exceed it: each residual is compared
+/// as it is computed (no array of them stored and read again), and only
+/// the cells from the first to the last of those are recorded again, one
+/// residual at a time (`settle`): the others cannot raise the check.
 #[derive(Clone, Copy)]
 struct Watch {
     max: f64,
-    raised: bool,
+    first: usize,
+    last: usize,
 }
 
 impl Watch {
     fn of(check: &Check) -> Self {
         Self {
             max: check.max,
-            raised: false,
+            first: usize::MAX,
+            last: 0,
         }
     }
 
-    /// `record`'s test of one residual: one comparison, no branch (a NaN
-    /// residual, or a NaN largest, raises).
+    /// Cell j's residuals, compared with the largest: `record`'s test, one
+    /// comparison a residual and one branch a cell (a NaN residual, or a
+    /// NaN largest, may raise).
     #[inline(always)]
-    fn see(&mut self, residual: f64) {
-        self.raised |= !(residual.abs() <= self.max);
-    }
-
-    /// `see(num / den)`, without the division when the quotient cannot
-    /// exceed the largest (`ratio_below`, `record_ratio`'s shortcut).
-    #[inline(always)]
-    fn see_ratio(&mut self, num: f64, den: f64) {
-        if !ratio_below(num, den, self.max) {
-            self.see(num / den);
+    fn cell<const K: usize>(&mut self, j: usize, residuals: [f64; K]) {
+        let over = residuals
+            .iter()
+            .fold(false, |any, r| any | !(r.abs() <= self.max));
+        if over {
+            self.first = self.first.min(j);
+            self.last = self.last.max(j);
         }
     }
 
-    /// `see(bend(a, la, b, lb))`, without the square root and the
-    /// division when the sine cannot exceed the largest (`bend_below`).
+    /// Count a row's `count` residuals into `check`, recording those of
+    /// the cells that may raise it one at a time, cell by cell, each
+    /// cell's in the order `residuals(j)` gives them: the order of the
+    /// pass over the cells, so the largest, its site (the first attaining
+    /// it) and the count are the same bits.
     #[inline(always)]
-    fn see_bend(&mut self, (a, la, b, lb): Bend) {
-        if !bend_below(a.cross(b).length_squared(), la * lb, self.max) {
-            self.see(bend(a, la, b, lb));
-        }
-    }
-
-    /// Count a row's `count` residuals into `check` when none may raise
-    /// it; else record them again one at a time, cell by cell over
-    /// `cells`, each cell's in the order `residuals(k, record)` gives
-    /// them: the order of the pass over the cells, so the largest, its
-    /// site (the first attaining it) and the count are the same bits.
-    #[inline(always)]
-    fn settle(
+    fn settle<I: IntoIterator<Item = f64>>(
         self,
         check: &mut Check,
         count: usize,
-        cells: std::ops::Range<usize>,
-        residuals: impl Fn(usize, &mut dyn FnMut(f64)),
+        residuals: impl Fn(usize) -> I,
         site: impl Fn(usize) -> String,
     ) {
-        if self.raised {
-            replay(check, cells, residuals, site);
-        } else {
-            check.count += count;
+        let before = check.count;
+        if self.first <= self.last {
+            replay(check, self.first..self.last + 1, residuals, site);
         }
+        check.count = before + count;
     }
 }
 
 /// `Watch::settle` of a row that may hold a new largest.
 #[cold]
 #[inline(never)]
-fn replay(
+fn replay<I: IntoIterator<Item = f64>>(
     check: &mut Check,
     cells: std::ops::Range<usize>,
-    residuals: impl Fn(usize, &mut dyn FnMut(f64)),
+    residuals: impl Fn(usize) -> I,
     site: impl Fn(usize) -> String,
 ) {
     for k in cells {
-        residuals(k, &mut |r| check.record(r, || site(k)));
+        for r in residuals(k) {
+            check.record(r, || site(k));
+        }
     }
 }
 
@@ -863,6 +846,97 @@ fn rods_of([zul, zur, zll, zlr]: [f64; 4], [ul, ur, ll, lr]: &[DVec3; 4], inv: f
         (zlr - zul - ul.distance(*lr)) * inv,
         (zll - zur - ur.distance(*ll)) * inv,
     ]
+}
+
+/// One row's measured arrays (`Row`) and its neighbours' legs, each
+/// residual of a cell computed by one method, inlined: the watch over the
+/// row and the replay of a row that may hold a new largest use the same
+/// arithmetic.
+struct RowView<'a> {
+    cells: &'a [super::Cell],
+    legs: &'a [Legs],
+    corners: &'a [[DVec3; 4]],
+    z: &'a [[f64; 4]],
+    means: &'a [f64],
+    invs: &'a [f64],
+    /// The legs and mean legs of the row below (empty for the last row).
+    under: &'a [Legs],
+    under_means: &'a [f64],
+    /// The legs of the row above (empty for the first row).
+    over: &'a [Legs],
+}
+
+impl RowView<'_> {
+    /// Cell j's rods' legs at the pivot, for `bend`.
+    #[inline(always)]
+    fn bends(&self, j: usize) -> [Bend; 2] {
+        rod_legs(self.legs[j], self.corners[j], self.cells[j].pivot)
+    }
+
+    /// Cell j's legs against the construction z.
+    #[inline(always)]
+    fn legs_z(&self, j: usize) -> [f64; 4] {
+        legs_z_of(self.legs[j], self.z[j], self.cells[j].z_pivot, self.invs[j])
+    }
+
+    /// The horizontal pore between cell j and its right neighbour (the
+    /// next cell, the first for a loop's last; B.UL = A.UR, B.LL = A.LR):
+    /// its numerator and scale.
+    #[inline(always)]
+    fn pore_h(&self, j: usize) -> (f64, f64) {
+        let k = if j + 1 == self.legs.len() { 0 } else { j + 1 };
+        let ([_, _, l3, l4], [m1, m2, _, _]) = (self.legs[j], self.legs[k]);
+        ((l3 + l4) - (m1 + m2), 0.5 * (self.means[j] + self.means[k]))
+    }
+
+    /// The vertical pore between cell j and the cell below (B.UL = A.LL,
+    /// B.UR = A.LR).
+    #[inline(always)]
+    fn pore_v(&self, j: usize) -> (f64, f64) {
+        let ([_, l2, l3, _], [m1, _, _, m4]) = (self.legs[j], self.under[j]);
+        (
+            (l2 + m1) - (l3 + m4),
+            0.5 * (self.means[j] + self.under_means[j]),
+        )
+    }
+
+    /// Cell j's right edge against its neighbour's left edge, on scale `s`:
+    /// the same stored corners (extrinsic).
+    #[inline(always)]
+    fn edge_right(&self, j: usize, s: f64) -> f64 {
+        let [_, ur, _, lr] = self.corners[j];
+        same_edge(ur, lr, s)
+    }
+
+    /// Cell j's bottom edge against the top edge of the cell below.
+    #[inline(always)]
+    fn edge_below(&self, j: usize, s: f64) -> f64 {
+        let [_, _, ll, lr] = self.corners[j];
+        same_edge(ll, lr, s)
+    }
+
+    /// The compatibility at cell j's UL vertex, whose cells above and to
+    /// the left exist (a loop's left of column 0 is its last column): the
+    /// slope, the intercept, its squared left edge and its natural
+    /// magnitude.
+    #[inline(always)]
+    fn compat(&self, j: usize) -> (f64, f64, f64, f64) {
+        let left = if j == 0 { self.legs.len() - 1 } else { j - 1 };
+        let (legs, over) = (self.legs, self.over);
+        let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
+        let [ul, _, ll, _] = self.corners[j];
+        (m, c, ul.distance_squared(ll), magnitude)
+    }
+
+    /// Cell j's collapsed rods, `zs` the recomputed z of the row's two
+    /// fronts.
+    #[inline(always)]
+    fn rods(&self, zs: &[f64], j: usize) -> [f64; 2] {
+        let front = zs.len() / 2;
+        let right = if j + 1 == front { 0 } else { j + 1 };
+        let at = [zs[j], zs[right], zs[front + j], zs[front + right]];
+        rods_of(at, &self.corners[j], self.invs[j])
+    }
 }
 
 /// `verify` of a regular, extrinsic sheet or loop, row by row: each row's
@@ -916,8 +990,6 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     // The first cell whose UL vertex has a cell on its left.
     let from = if closed { 0 } else { 1 };
     let n = width;
-    let right_of = |j: usize| if j + 1 == n { 0 } else { j + 1 };
-    let left_of = |j: usize| if j == 0 { n - 1 } else { j - 1 };
     for i in 0..rows {
         let first = i * width;
         let cells = &lattice.cells[first..first + width];
@@ -945,189 +1017,93 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
                 seed.record(((l4 - l1) - lattice.kappa(cell)) * inv, site);
             }
         }
-        // Each residual over the row, in loops over slices of the row's
-        // length, compared with its check's largest as it is computed.
-        let (legs, corners, z, means, invs) = (
-            &here.legs[..n],
-            &here.corners[..n],
-            &here.z[..n],
-            &here.means[..n],
-            &here.invs[..n],
-        );
+        // Each residual over the row, in loops over the row's cells,
+        // compared with its check's largest as it is computed.
         let n_below = if has_below { n } else { 0 };
-        let (under, under_means) = (&below.legs[..n_below], &below.means[..n_below]);
-        let over = &above.legs[..if i >= 1 { n } else { 0 }];
-        let bends = |j: usize| rod_legs(legs[j], corners[j], cells[j].pivot);
-        let legs_z_at = |j: usize| legs_z_of(legs[j], z[j], cells[j].z_pivot, invs[j]);
-        // Right neighbour: B.UL = A.UR and B.LL = A.LR (the next cell,
-        // the first for a loop's last): the pore's numerator and scale.
-        let pore_h = |j: usize| {
-            let k = right_of(j);
-            let ([_, _, l3, l4], [m1, m2, _, _]) = (legs[j], legs[k]);
-            ((l3 + l4) - (m1 + m2), 0.5 * (means[j] + means[k]))
-        };
-        // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        let pore_v = |j: usize| {
-            let ([_, l2, l3, _], [m1, _, _, m4]) = (legs[j], under[j]);
-            ((l2 + m1) - (l3 + m4), 0.5 * (means[j] + under_means[j]))
-        };
-        // Compatibility at cell j's UL vertex, interior when the cells
-        // above and to the left exist (a loop's left of column 0 is its
-        // last column): slope, intercept and its two scales.
-        let compat = |j: usize| {
-            let left = left_of(j);
-            let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
-            let [ul, _, ll, _] = corners[j];
-            (m, c, ul.distance_squared(ll), magnitude)
+        let view = RowView {
+            cells,
+            legs: &here.legs[..n],
+            corners: &here.corners[..n],
+            z: &here.z[..n],
+            means: &here.means[..n],
+            invs: &here.invs[..n],
+            under: &below.legs[..n_below],
+            under_means: &below.means[..n_below],
+            over: &above.legs[..if i >= 1 { n } else { 0 }],
         };
         let compat_cells = if i >= 1 { from..n } else { 0..0 };
-
         let [mut w_straight, mut w_legs_z] = [&straight, &legs_z].map(Watch::of);
         for j in 0..n {
-            let [a, b] = bends(j);
-            w_straight.see_bend(a);
-            w_straight.see_bend(b);
-            for r in legs_z_at(j) {
-                w_legs_z.see(r);
-            }
+            w_straight.cell(j, view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb)));
+            w_legs_z.cell(j, view.legs_z(j));
         }
         let [mut w_pores_h, mut w_pores_v, mut w_edges] =
             [&pores_h, &pores_v, &edges].map(Watch::of);
         for j in 0..paired {
-            let (num, s) = pore_h(j);
-            w_pores_h.see_ratio(num, s);
-            let [_, ur, _, lr] = corners[j];
-            w_edges.see(same_edge(ur, lr, s));
+            let (num, s) = view.pore_h(j);
+            w_pores_h.cell(j, [num / s]);
+            w_edges.cell(j, [view.edge_right(j, s)]);
         }
         for j in 0..n_below {
-            let (num, s) = pore_v(j);
-            w_pores_v.see_ratio(num, s);
-            let [_, _, ll, lr] = corners[j];
-            w_edges.see(same_edge(ll, lr, s));
+            let (num, s) = view.pore_v(j);
+            w_pores_v.cell(j, [num / s]);
+            w_edges.cell(j, [view.edge_below(j, s)]);
         }
         let [mut w_slope, mut w_intercept, mut w_natural] =
             [&slope, &intercept, &natural].map(Watch::of);
         for j in compat_cells.clone() {
-            let (m, c, s2, magnitude) = compat(j);
-            w_slope.see(m - 1.0);
-            w_intercept.see_ratio(c, s2);
-            w_natural.see_ratio(c, magnitude);
+            let (m, c, s2, magnitude) = view.compat(j);
+            w_slope.cell(j, [m - 1.0]);
+            w_intercept.cell(j, [c / s2]);
+            w_natural.cell(j, [c / magnitude]);
         }
         // The collapsed rods, once the row is swept (their check is
         // measured again after the sweep if some cell was not reached).
         if collapsed.all_reached {
             let zs = &collapsed.z[i * front..(i + 2) * front];
-            let rods = |j: usize| {
-                let right = if j + 1 == front { 0 } else { j + 1 };
-                let at = [zs[j], zs[right], zs[front + j], zs[front + right]];
-                rods_of(at, &corners[j], invs[j])
-            };
             let mut watch = Watch::of(&collapsed.rods);
             for j in 0..n {
-                for r in rods(j) {
-                    watch.see(r);
-                }
+                watch.cell(j, view.rods(zs, j));
             }
-            watch.settle(
-                &mut collapsed.rods,
-                2 * n,
-                0..n,
-                |j, record| {
-                    for r in rods(j) {
-                        record(r);
-                    }
-                },
-                cell_site,
-            );
+            let rods = |j: usize| view.rods(zs, j);
+            watch.settle(&mut collapsed.rods, 2 * n, rods, cell_site);
         }
-        w_straight.settle(
-            &mut straight,
-            2 * n,
-            0..n,
-            |j, record| {
-                for (a, la, b, lb) in bends(j) {
-                    record(bend(a, la, b, lb));
-                }
-            },
-            cell_site,
-        );
-        w_legs_z.settle(
-            &mut legs_z,
-            4 * n,
-            0..n,
-            |j, record| {
-                for r in legs_z_at(j) {
-                    record(r);
-                }
-            },
-            cell_site,
-        );
-        w_pores_h.settle(
-            &mut pores_h,
-            paired,
-            0..paired,
-            |j, record| {
-                let (num, s) = pore_h(j);
-                record(num / s);
-            },
-            cell_site,
-        );
-        w_pores_v.settle(
-            &mut pores_v,
-            n_below,
-            0..n_below,
-            |j, record| {
-                let (num, s) = pore_v(j);
-                record(num / s);
-            },
-            cell_site,
-        );
-        w_edges.settle(
-            &mut edges,
-            paired + n_below,
-            0..n,
-            |j, record| {
-                let [_, ur, ll, lr] = corners[j];
-                if j < paired {
-                    record(same_edge(ur, lr, pore_h(j).1));
-                }
-                if j < n_below {
-                    record(same_edge(ll, lr, pore_v(j).1));
-                }
-            },
-            cell_site,
-        );
+        // The same residuals again, for the cells that may raise a check.
+        let bends = |j: usize| view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb));
+        w_straight.settle(&mut straight, 2 * n, bends, cell_site);
+        w_legs_z.settle(&mut legs_z, 4 * n, |j| view.legs_z(j), cell_site);
+        let pore_h = |j: usize| {
+            let (num, s) = view.pore_h(j);
+            [num / s]
+        };
+        w_pores_h.settle(&mut pores_h, paired, pore_h, cell_site);
+        let pore_v = |j: usize| {
+            let (num, s) = view.pore_v(j);
+            [num / s]
+        };
+        w_pores_v.settle(&mut pores_v, n_below, pore_v, cell_site);
+        // A cell's right edge, then its bottom edge, as the pass over the
+        // cells records them.
+        let edge = |j: usize| {
+            let right = (j < paired).then(|| view.edge_right(j, view.pore_h(j).1));
+            let below = (j < n_below).then(|| view.edge_below(j, view.pore_v(j).1));
+            [right, below].into_iter().flatten()
+        };
+        w_edges.settle(&mut edges, paired + n_below, edge, cell_site);
         let vertex = |k: usize| vertex_site(lattice, cells[k].ul as usize);
         let interior = compat_cells.len();
-        w_slope.settle(
-            &mut slope,
-            interior,
-            compat_cells.clone(),
-            |j, record| {
-                record(compat(j).0 - 1.0);
-            },
-            vertex,
-        );
-        w_intercept.settle(
-            &mut intercept,
-            interior,
-            compat_cells.clone(),
-            |j, record| {
-                let (_, c, s2, _) = compat(j);
-                record(c / s2);
-            },
-            vertex,
-        );
-        w_natural.settle(
-            &mut natural,
-            interior,
-            compat_cells,
-            |j, record| {
-                let (_, c, _, magnitude) = compat(j);
-                record(c / magnitude);
-            },
-            vertex,
-        );
+        let slopes = |j: usize| [view.compat(j).0 - 1.0];
+        w_slope.settle(&mut slope, interior, slopes, vertex);
+        let intercepts = |j: usize| {
+            let (_, c, s2, _) = view.compat(j);
+            [c / s2]
+        };
+        w_intercept.settle(&mut intercept, interior, intercepts, vertex);
+        let naturals = |j: usize| {
+            let (_, c, _, magnitude) = view.compat(j);
+            [c / magnitude]
+        };
+        w_natural.settle(&mut natural, interior, naturals, vertex);
         std::mem::swap(&mut above, &mut here);
         std::mem::swap(&mut here, &mut below);
     }
