@@ -263,6 +263,37 @@ impl Grid {
         [top + j, top + right, bottom + j, bottom + right]
     }
 
+    /// The grid a sheet or loop of whole rows would have, if its cells
+    /// hold the corners of their positions (`holds`, checked apart: by
+    /// `Incidence::grid` at once, by `verify_rows` row by row as it
+    /// measures them) and its vertices are exactly its rows' fronts.
+    fn of(lattice: &Lattice) -> Option<Grid> {
+        let width = lattice.width;
+        let closed = match lattice.kind {
+            super::Kind::Sheet => false,
+            super::Kind::Loop => true,
+            super::Kind::Helix => return None,
+        };
+        let front = if closed { width } else { width + 1 };
+        let cells = lattice.cells.len();
+        if width == 0 || (closed && width < 3) || cells % width != 0 {
+            return None;
+        }
+        let grid = Grid {
+            width,
+            front,
+            rows: cells / width,
+            closed,
+        };
+        (lattice.vertices.len() == (grid.rows + 1) * front).then_some(grid)
+    }
+
+    /// True when `cell` has the corner indices of cell `(i, j)`.
+    #[inline(always)]
+    fn holds(&self, i: usize, j: usize, cell: &super::Cell) -> bool {
+        [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize) == self.corners(i, j)
+    }
+
     /// `Incidence::Table`'s entry for the vertex in row `r`, column `c`
     /// of the fronts, from the numbering.
     #[inline(always)]
@@ -329,34 +360,15 @@ impl Incidence {
     /// cell `Grid::at_vertex` names, which is the table's entry. Anything
     /// else (a helix, a corrupted lattice) gets the table.
     fn grid(lattice: &Lattice) -> Option<Grid> {
-        let width = lattice.width;
-        let closed = match lattice.kind {
-            super::Kind::Sheet => false,
-            super::Kind::Loop => true,
-            super::Kind::Helix => return None,
-        };
-        let front = if closed { width } else { width + 1 };
-        let cells = lattice.cells.len();
-        if width == 0 || (closed && width < 3) || cells % width != 0 {
-            return None;
-        }
-        let grid = Grid {
-            width,
-            front,
-            rows: cells / width,
-            closed,
-        };
-        if lattice.vertices.len() != (grid.rows + 1) * front {
-            return None;
-        }
+        let grid = Grid::of(lattice)?;
         let regular = lattice
             .cells
-            .chunks_exact(width)
+            .chunks_exact(grid.width)
             .enumerate()
             .all(|(i, row)| {
-                row.iter().enumerate().all(|(j, cell)| {
-                    [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize) == grid.corners(i, j)
-                })
+                row.iter()
+                    .enumerate()
+                    .all(|(j, cell)| grid.holds(i, j, cell))
             });
         regular.then_some(grid)
     }
@@ -495,10 +507,15 @@ fn mean(legs: &Legs) -> f64 {
 /// extrinsic sheet or loop (`verify_rows`), in one pass over the cells for
 /// anything else (`verify_with`); the same report either way.
 pub fn verify(lattice: &Lattice) -> Report {
-    match Incidence::new(lattice) {
-        Incidence::Grid(grid) if lattice.extrinsic() => verify_rows(lattice, &grid),
-        inc => verify_with(lattice, &inc),
+    // The rows' pass checks each row's corner indices as it measures the
+    // row (no pass of its own over the cells), and gives up on the first
+    // row that is not its grid's.
+    if let Some(grid) = Grid::of(lattice).filter(|_| lattice.extrinsic())
+        && let Some(report) = verify_rows(lattice, &grid)
+    {
+        return report;
     }
+    verify_with(lattice, &Incidence::new(lattice))
 }
 
 /// `verify` with the incidence given (a grid or a table: the same report).
@@ -689,8 +706,10 @@ struct Row {
 
 impl Row {
     /// Measure row `i` of `grid` (extrinsic: every corner is its vertex's
-    /// stored position, the legs the same bits as `Lattice::legs`).
-    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) {
+    /// stored position, the legs the same bits as `Lattice::legs`); false
+    /// when some cell of the row does not hold its grid corners
+    /// (`Grid::holds`), and the row's measures are then meaningless.
+    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) -> bool {
         let (width, front) = (grid.width, grid.front);
         let cells = &lattice.cells[i * width..(i + 1) * width];
         let top = &lattice.vertices[i * front..(i + 1) * front];
@@ -705,10 +724,18 @@ impl Row {
                 .iter_mut()
                 .zip(self.means.iter_mut().zip(&mut self.invs)),
         );
+        let mut regular = true;
         for (j, (cell, ((corners, z), (legs, (mean_leg, inv))))) in
             cells.iter().zip(out).enumerate()
         {
             let right = if j + 1 == front { 0 } else { j + 1 };
+            // `grid.holds(i, j, cell)`, from the indices at hand, without
+            // a branch.
+            let (t, b) = (i * front, (i + 1) * front);
+            regular &= (cell.ul as usize == t + j)
+                & (cell.ur as usize == t + right)
+                & (cell.ll as usize == b + j)
+                & (cell.lr as usize == b + right);
             let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
             let p = cell.pivot;
             *legs = [
@@ -722,6 +749,7 @@ impl Row {
             *mean_leg = mean(legs);
             *inv = 1.0 / *mean_leg;
         }
+        regular
     }
 }
 
@@ -946,8 +974,9 @@ impl RowView<'_> {
 /// largest is recorded again one residual at a time. The same residuals,
 /// in the same order, with the same arithmetic as `verify_with`, so the
 /// same report bit for bit (a unit test holds the two together, on good
-/// and damaged lattices).
-fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
+/// and damaged lattices). None, as soon as a row's cells do not hold the
+/// corners of the grid (`verify` then takes the pass over the cells).
+fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
     use Invariant as I;
     let Grid {
         width,
@@ -982,8 +1011,8 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     .map(Check::new);
     let mut collapsed = Collapsed::new(lattice);
     let (mut above, mut here, mut below) = (Row::default(), Row::default(), Row::default());
-    if rows > 0 {
-        here.measure(lattice, grid, 0);
+    if rows > 0 && !here.measure(lattice, grid, 0) {
+        return None;
     }
     // Cells with a right neighbour: all of a loop's, all but a sheet's last.
     let paired = if closed { width } else { width - 1 };
@@ -995,8 +1024,8 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
         let cells = &lattice.cells[first..first + width];
         let cell_site = |k: usize| lattice.cell_name(&cells[k]);
         let has_below = i + 1 < rows;
-        if has_below {
-            below.measure(lattice, grid, i + 1);
+        if has_below && !below.measure(lattice, grid, i + 1) {
+            return None;
         }
         // The collapsed sweep (each cell's z from the cells before it),
         // then what runs cell by cell: the sum of the mean legs in cell
@@ -1111,7 +1140,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     let checks = [
         straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
     ];
-    report(lattice, leg_sum, checks, collapsed)
+    Some(report(lattice, leg_sum, checks, collapsed))
 }
 
 /// `Collapsed::reached` of a cell reached through no corner.
@@ -1601,7 +1630,7 @@ mod tests {
     /// Verification by rows gives the report of the pass over the cells,
     /// bit for bit, on sheets and loops both good and damaged: positions,
     /// pivots and z moved by amounts from rounding to gross, NaN and
-    /// infinite coordinates, a cell's row or column renamed.
+    /// infinite coordinates, a cell's column renamed, a corner index moved off the grid.
     #[test]
     fn rows_give_the_report_of_the_pass_over_the_cells() {
         let tube = tube(7, 4);
@@ -1615,7 +1644,7 @@ mod tests {
             assert!(lattice.extrinsic());
             let table = Incidence::table(&lattice);
             assert!(same_bits(
-                &verify_rows(&lattice, &grid),
+                &verify_rows(&lattice, &grid).expect("a regular grid"),
                 &verify_with(&lattice, &table)
             ));
             for round in 0..300 {
@@ -1629,12 +1658,16 @@ mod tests {
                     let v = (rng.next_u64() % bad.vertices.len() as u64) as usize;
                     let c = (rng.next_u64() % bad.cells.len() as u64) as usize;
                     let axis = (rng.next_u64() % 3) as usize;
-                    match rng.next_u64() % 5 {
+                    match rng.next_u64() % 6 {
                         0 => bad.vertices[v].pos[axis] += size,
                         1 => bad.vertices[v].z += size,
                         2 => bad.cells[c].pivot[axis] += size,
                         3 => bad.cells[c].z_pivot += size,
-                        _ => bad.cells[c].col ^= 1,
+                        4 => bad.cells[c].col ^= 1,
+                        // A corner index off the grid: the rows' pass
+                        // gives up at that row, the pass over the cells
+                        // reports.
+                        _ => bad.cells[c].lr = bad.cells[c].ll,
                     }
                 }
                 let rows = verify(&bad);
