@@ -263,6 +263,37 @@ impl Grid {
         [top + j, top + right, bottom + j, bottom + right]
     }
 
+    /// The grid a sheet or loop of whole rows would have, if its cells
+    /// hold the corners of their positions (`holds`, checked apart: by
+    /// `Incidence::grid` at once, by `verify_rows` row by row as it
+    /// measures them) and its vertices are exactly its rows' fronts.
+    fn of(lattice: &Lattice) -> Option<Grid> {
+        let width = lattice.width;
+        let closed = match lattice.kind {
+            super::Kind::Sheet => false,
+            super::Kind::Loop => true,
+            super::Kind::Helix => return None,
+        };
+        let front = if closed { width } else { width + 1 };
+        let cells = lattice.cells.len();
+        if width == 0 || (closed && width < 3) || cells % width != 0 {
+            return None;
+        }
+        let grid = Grid {
+            width,
+            front,
+            rows: cells / width,
+            closed,
+        };
+        (lattice.vertices.len() == (grid.rows + 1) * front).then_some(grid)
+    }
+
+    /// True when `cell` has the corner indices of cell `(i, j)`.
+    #[inline(always)]
+    fn holds(&self, i: usize, j: usize, cell: &super::Cell) -> bool {
+        [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize) == self.corners(i, j)
+    }
+
     /// `Incidence::Table`'s entry for the vertex in row `r`, column `c`
     /// of the fronts, from the numbering.
     #[inline(always)]
@@ -329,34 +360,15 @@ impl Incidence {
     /// cell `Grid::at_vertex` names, which is the table's entry. Anything
     /// else (a helix, a corrupted lattice) gets the table.
     fn grid(lattice: &Lattice) -> Option<Grid> {
-        let width = lattice.width;
-        let closed = match lattice.kind {
-            super::Kind::Sheet => false,
-            super::Kind::Loop => true,
-            super::Kind::Helix => return None,
-        };
-        let front = if closed { width } else { width + 1 };
-        let cells = lattice.cells.len();
-        if width == 0 || (closed && width < 3) || cells % width != 0 {
-            return None;
-        }
-        let grid = Grid {
-            width,
-            front,
-            rows: cells / width,
-            closed,
-        };
-        if lattice.vertices.len() != (grid.rows + 1) * front {
-            return None;
-        }
+        let grid = Grid::of(lattice)?;
         let regular = lattice
             .cells
-            .chunks_exact(width)
+            .chunks_exact(grid.width)
             .enumerate()
             .all(|(i, row)| {
-                row.iter().enumerate().all(|(j, cell)| {
-                    [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize) == grid.corners(i, j)
-                })
+                row.iter()
+                    .enumerate()
+                    .all(|(j, cell)| grid.holds(i, j, cell))
             });
         regular.then_some(grid)
     }
@@ -495,10 +507,15 @@ fn mean(legs: &Legs) -> f64 {
 /// extrinsic sheet or loop (`verify_rows`), in one pass over the cells for
 /// anything else (`verify_with`); the same report either way.
 pub fn verify(lattice: &Lattice) -> Report {
-    match Incidence::new(lattice) {
-        Incidence::Grid(grid) if lattice.extrinsic() => verify_rows(lattice, &grid),
-        inc => verify_with(lattice, &inc),
+    // The rows' pass checks each row's corner indices as it measures the
+    // row (no pass of its own over the cells), and gives up on the first
+    // row that is not its grid's.
+    if let Some(grid) = Grid::of(lattice).filter(|_| lattice.extrinsic())
+        && let Some(report) = verify_rows(lattice, &grid)
+    {
+        return report;
     }
+    verify_with(lattice, &Incidence::new(lattice))
 }
 
 /// `verify` with the incidence given (a grid or a table: the same report).
@@ -649,8 +666,13 @@ fn report(lattice: &Lattice, leg_sum: f64, checks: [Check; 10], collapsed: Colla
 #[inline(always)]
 fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
     // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
-    let f =
-        |la: f64, lb: f64, lc: f64| (-lc / la, lb * lb + lc * lc + lc / la * (la * la + lb * lb));
+    // One division a map: `-(lc / la)` is `-lc / la`, bit for bit
+    // (division rounds the same either side of 0; a NaN differs at most in
+    // its sign, which every residual's `abs` drops).
+    let f = |la: f64, lb: f64, lc: f64| {
+        let q = lc / la;
+        (-q, lb * lb + lc * lc + q * (la * la + lb * lb))
+    };
     let maps = [
         f(a[1], a[0], a[3]),    // f_a^(2,1,4): left edge -> top edge
         f(b[2], b[1], b[0]),    // f_b^(3,2,1): bottom edge -> left edge
@@ -684,8 +706,10 @@ struct Row {
 
 impl Row {
     /// Measure row `i` of `grid` (extrinsic: every corner is its vertex's
-    /// stored position, the legs the same bits as `Lattice::legs`).
-    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) {
+    /// stored position, the legs the same bits as `Lattice::legs`); false
+    /// when some cell of the row does not hold its grid corners
+    /// (`Grid::holds`), and the row's measures are then meaningless.
+    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) -> bool {
         let (width, front) = (grid.width, grid.front);
         let cells = &lattice.cells[i * width..(i + 1) * width];
         let top = &lattice.vertices[i * front..(i + 1) * front];
@@ -700,10 +724,18 @@ impl Row {
                 .iter_mut()
                 .zip(self.means.iter_mut().zip(&mut self.invs)),
         );
+        let mut regular = true;
         for (j, (cell, ((corners, z), (legs, (mean_leg, inv))))) in
             cells.iter().zip(out).enumerate()
         {
             let right = if j + 1 == front { 0 } else { j + 1 };
+            // `grid.holds(i, j, cell)`, from the indices at hand, without
+            // a branch.
+            let (t, b) = (i * front, (i + 1) * front);
+            regular &= (cell.ul as usize == t + j)
+                & (cell.ur as usize == t + right)
+                & (cell.ll as usize == b + j)
+                & (cell.lr as usize == b + right);
             let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
             let p = cell.pivot;
             *legs = [
@@ -717,6 +749,7 @@ impl Row {
             *mean_leg = mean(legs);
             *inv = 1.0 / *mean_leg;
         }
+        regular
     }
 }
 
@@ -734,94 +767,223 @@ fn same_edge(a: DVec3, b: DVec3, s: f64) -> f64 {
     }
 }
 
-/// True when some residual of `series` would raise a check whose largest
-/// is `max` (a NaN residual, or a NaN largest, always does): one
-/// comparison a residual, no branch, over a whole row.
-#[inline]
-fn exceeds(max: f64, series: &[f64]) -> bool {
-    series.iter().fold(false, |any, x| any | !(x.abs() <= max))
+/// A check's largest when a row starts, and the first and last cells of
+/// the row with a residual that may exceed it: each residual is compared
+/// as it is computed (no array of them stored and read again), and only
+/// the cells from the first to the last of those are recorded again, one
+/// residual at a time (`settle`): the others cannot raise the check.
+#[derive(Clone, Copy)]
+struct Watch {
+    max: f64,
+    first: usize,
+    last: usize,
 }
 
-/// Record a row's residuals of one check: `series[s][k]` is the `s`-th
-/// residual of the row's cell `first + k` (a series may stop early: its
-/// last cells have none). The order of `record` is cell by cell, each
-/// cell's series in order, as the pass over the cells records them, so the
-/// largest, its site (the first attaining it) and the count are the same
-/// bits; the row is replayed one residual at a time only when it holds a
-/// new largest.
-fn record_row(check: &mut Check, first: usize, series: &[&[f64]], site: impl Fn(usize) -> String) {
-    if !series.iter().any(|s| exceeds(check.max, s)) {
-        check.count += series.iter().map(|s| s.len()).sum::<usize>();
-        return;
+impl Watch {
+    fn of(check: &Check) -> Self {
+        Self {
+            max: check.max,
+            first: usize::MAX,
+            last: 0,
+        }
     }
-    let cells = series.iter().map(|s| s.len()).max().unwrap_or(0);
-    for k in 0..cells {
-        for s in series {
-            if let Some(&r) = s.get(k) {
-                check.record(r, || site(first + k));
-            }
+
+    /// Cell j's residuals, compared with the largest: `record`'s test, one
+    /// comparison a residual and one branch a cell (a NaN residual, or a
+    /// NaN largest, may raise).
+    #[inline(always)]
+    fn cell<const K: usize>(&mut self, j: usize, residuals: [f64; K]) {
+        let over = residuals
+            .iter()
+            .fold(false, |any, r| any | !(r.abs() <= self.max));
+        if over {
+            self.first = self.first.min(j);
+            self.last = self.last.max(j);
+        }
+    }
+
+    /// Count a row's `count` residuals into `check`, recording those of
+    /// the cells that may raise it one at a time, cell by cell, each
+    /// cell's in the order `residuals(j)` gives them: the order of the
+    /// pass over the cells, so the largest, its site (the first attaining
+    /// it) and the count are the same bits.
+    #[inline(always)]
+    fn settle<I: IntoIterator<Item = f64>>(
+        self,
+        check: &mut Check,
+        count: usize,
+        residuals: impl Fn(usize) -> I,
+        site: impl Fn(usize) -> String,
+    ) {
+        let before = check.count;
+        if self.first <= self.last {
+            replay(check, self.first..self.last + 1, residuals, site);
+        }
+        check.count = before + count;
+    }
+}
+
+/// `Watch::settle` of a row that may hold a new largest.
+#[cold]
+#[inline(never)]
+fn replay<I: IntoIterator<Item = f64>>(
+    check: &mut Check,
+    cells: std::ops::Range<usize>,
+    residuals: impl Fn(usize) -> I,
+    site: impl Fn(usize) -> String,
+) {
+    for k in cells {
+        for r in residuals(k) {
+            check.record(r, || site(k));
         }
     }
 }
 
-/// The residuals of one row, one array per recorded quantity, reused
-/// from row to row.
-#[derive(Default)]
-struct RowResiduals {
-    bend_a: Vec<f64>,
-    bend_b: Vec<f64>,
-    legs_z: [Vec<f64>; 4],
-    pores_h: Vec<f64>,
-    edges_right: Vec<f64>,
-    pores_v: Vec<f64>,
-    edges_below: Vec<f64>,
-    slope: Vec<f64>,
-    intercept: Vec<f64>,
-    natural: Vec<f64>,
-    rod_a: Vec<f64>,
-    rod_b: Vec<f64>,
+/// The two legs of a rod on either side of its pivot, with their lengths:
+/// what `bend` takes.
+type Bend = (DVec3, f64, DVec3, f64);
+
+/// The legs of a cell's rods A (UL to LR) and B (UR to LL) at its pivot.
+#[inline(always)]
+fn rod_legs([l1, l2, l3, l4]: Legs, [ul, ur, ll, lr]: [DVec3; 4], p: DVec3) -> [Bend; 2] {
+    [(p - ul, l1, lr - p, l3), (p - ur, l4, ll - p, l2)]
 }
 
-impl RowResiduals {
-    /// Every array `n` long, to be written in place.
-    fn size(&mut self, n: usize) {
-        for buffer in self.all() {
-            buffer.resize(n, 0.0);
-        }
+/// Each leg against the difference of the construction z at its ends
+/// (`z` of UL, UR, LL, LR; `zp` the pivot's; `inv` 1 / the mean leg).
+#[inline(always)]
+fn legs_z_of(
+    [l1, l2, l3, l4]: Legs,
+    [zul, zur, zll, zlr]: [f64; 4],
+    zp: f64,
+    inv: f64,
+) -> [f64; 4] {
+    [
+        (zp - zul - l1) * inv,
+        (zp - zur - l4) * inv,
+        (zll - zp - l2) * inv,
+        (zlr - zp - l3) * inv,
+    ]
+}
+
+/// The collapsed rods' lengths against the deployed (`zs` the recomputed
+/// z of UL, UR, LL, LR).
+#[inline(always)]
+fn rods_of([zul, zur, zll, zlr]: [f64; 4], [ul, ur, ll, lr]: &[DVec3; 4], inv: f64) -> [f64; 2] {
+    [
+        (zlr - zul - ul.distance(*lr)) * inv,
+        (zll - zur - ur.distance(*ll)) * inv,
+    ]
+}
+
+/// One row's measured arrays (`Row`) and its neighbours' legs, each
+/// residual of a cell computed by one method, inlined: the watch over the
+/// row and the replay of a row that may hold a new largest use the same
+/// arithmetic.
+struct RowView<'a> {
+    cells: &'a [super::Cell],
+    legs: &'a [Legs],
+    corners: &'a [[DVec3; 4]],
+    z: &'a [[f64; 4]],
+    means: &'a [f64],
+    invs: &'a [f64],
+    /// The legs and mean legs of the row below (empty for the last row).
+    under: &'a [Legs],
+    under_means: &'a [f64],
+    /// The legs of the row above (empty for the first row).
+    over: &'a [Legs],
+}
+
+impl RowView<'_> {
+    /// Cell j's rods' legs at the pivot, for `bend`.
+    #[inline(always)]
+    fn bends(&self, j: usize) -> [Bend; 2] {
+        rod_legs(self.legs[j], self.corners[j], self.cells[j].pivot)
     }
 
-    /// Cut the neighbours' arrays to the cells that have them: `paired`
-    /// with a right neighbour, `below` with one below, `interior` UL
-    /// vertices.
-    fn trim(&mut self, paired: usize, below: usize, interior: usize) {
-        self.pores_h.truncate(paired);
-        self.edges_right.truncate(paired);
-        self.pores_v.truncate(below);
-        self.edges_below.truncate(below);
-        for buffer in [&mut self.slope, &mut self.intercept, &mut self.natural] {
-            buffer.truncate(interior);
-        }
+    /// Cell j's legs against the construction z.
+    #[inline(always)]
+    fn legs_z(&self, j: usize) -> [f64; 4] {
+        legs_z_of(self.legs[j], self.z[j], self.cells[j].z_pivot, self.invs[j])
     }
 
-    fn all(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
-        [&mut self.bend_a, &mut self.bend_b, &mut self.pores_h]
-            .into_iter()
-            .chain(&mut self.legs_z)
-            .chain([&mut self.edges_right, &mut self.pores_v])
-            .chain([&mut self.edges_below, &mut self.slope])
-            .chain([&mut self.intercept, &mut self.natural])
+    /// The horizontal pore between cell j and its right neighbour (the
+    /// next cell, the first for a loop's last; B.UL = A.UR, B.LL = A.LR):
+    /// its numerator and scale.
+    #[inline(always)]
+    fn pore_h(&self, j: usize) -> (f64, f64) {
+        let k = if j + 1 == self.legs.len() { 0 } else { j + 1 };
+        let ([_, _, l3, l4], [m1, m2, _, _]) = (self.legs[j], self.legs[k]);
+        ((l3 + l4) - (m1 + m2), 0.5 * (self.means[j] + self.means[k]))
+    }
+
+    /// The vertical pore between cell j and the cell below (B.UL = A.LL,
+    /// B.UR = A.LR).
+    #[inline(always)]
+    fn pore_v(&self, j: usize) -> (f64, f64) {
+        let ([_, l2, l3, _], [m1, _, _, m4]) = (self.legs[j], self.under[j]);
+        (
+            (l2 + m1) - (l3 + m4),
+            0.5 * (self.means[j] + self.under_means[j]),
+        )
+    }
+
+    /// Cell j's right edge against its neighbour's left edge, on scale `s`:
+    /// the same stored corners (extrinsic).
+    #[inline(always)]
+    fn edge_right(&self, j: usize, s: f64) -> f64 {
+        let [_, ur, _, lr] = self.corners[j];
+        same_edge(ur, lr, s)
+    }
+
+    /// Cell j's bottom edge against the top edge of the cell below.
+    #[inline(always)]
+    fn edge_below(&self, j: usize, s: f64) -> f64 {
+        let [_, _, ll, lr] = self.corners[j];
+        same_edge(ll, lr, s)
+    }
+
+    /// The compatibility at cell j's UL vertex, whose cells above and to
+    /// the left exist (a loop's left of column 0 is its last column): the
+    /// slope, the intercept, its squared left edge and its natural
+    /// magnitude.
+    #[inline(always)]
+    fn compat(&self, j: usize) -> (f64, f64, f64, f64) {
+        let left = if j == 0 { self.legs.len() - 1 } else { j - 1 };
+        let (legs, over) = (self.legs, self.over);
+        let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
+        let [ul, _, ll, _] = self.corners[j];
+        (m, c, ul.distance_squared(ll), magnitude)
+    }
+
+    /// Cell j's collapsed rods, `zs` the recomputed z of the row's two
+    /// fronts.
+    #[inline(always)]
+    fn rods(&self, zs: &[f64], j: usize) -> [f64; 2] {
+        let front = zs.len() / 2;
+        let right = if j + 1 == front { 0 } else { j + 1 };
+        let at = [zs[j], zs[right], zs[front + j], zs[front + right]];
+        rods_of(at, &self.corners[j], self.invs[j])
     }
 }
 
 /// `verify` of a regular, extrinsic sheet or loop, row by row: each row's
 /// legs measured once into arrays (`Row`), each invariant's residuals
-/// computed over the row in a simple loop, then compared with the check's
-/// largest at once (`record_row`). The same residuals, in the same order,
-/// with the same arithmetic as `verify_with`, so the same report bit for
-/// bit (a unit test holds the two together, on good and damaged lattices).
-fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
+/// computed over the row in a simple loop and compared with the check's
+/// largest as they are computed (`Watch`); a row that may hold a new
+/// largest is recorded again one residual at a time. The same residuals,
+/// in the same order, with the same arithmetic as `verify_with`, so the
+/// same report bit for bit (a unit test holds the two together, on good
+/// and damaged lattices). None, as soon as a row's cells do not hold the
+/// corners of the grid (`verify` then takes the pass over the cells).
+fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
     use Invariant as I;
-    let Grid { width, rows, .. } = *grid;
+    let Grid {
+        width,
+        rows,
+        front,
+        closed,
+    } = *grid;
     let mut leg_sum = 0.0;
     let [
         mut straight,
@@ -849,19 +1011,21 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     .map(Check::new);
     let mut collapsed = Collapsed::new(lattice);
     let (mut above, mut here, mut below) = (Row::default(), Row::default(), Row::default());
-    let mut r = RowResiduals::default();
-    if rows > 0 {
-        here.measure(lattice, grid, 0);
+    if rows > 0 && !here.measure(lattice, grid, 0) {
+        return None;
     }
     // Cells with a right neighbour: all of a loop's, all but a sheet's last.
-    let paired = if grid.closed { width } else { width - 1 };
+    let paired = if closed { width } else { width - 1 };
+    // The first cell whose UL vertex has a cell on its left.
+    let from = if closed { 0 } else { 1 };
+    let n = width;
     for i in 0..rows {
         let first = i * width;
         let cells = &lattice.cells[first..first + width];
         let cell_site = |k: usize| lattice.cell_name(&cells[k]);
         let has_below = i + 1 < rows;
-        if has_below {
-            below.measure(lattice, grid, i + 1);
+        if has_below && !below.measure(lattice, grid, i + 1) {
+            return None;
         }
         // The collapsed sweep (each cell's z from the cells before it),
         // then what runs cell by cell: the sum of the mean legs in cell
@@ -882,118 +1046,93 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
                 seed.record(((l4 - l1) - lattice.kappa(cell)) * inv, site);
             }
         }
-        // Each residual over the row, in loops over slices of the row's
-        // length (no bounds checks, nothing but the arithmetic).
-        let n = width;
-        let (legs, corners, z, means, invs) = (
-            &here.legs[..n],
-            &here.corners[..n],
-            &here.z[..n],
-            &here.means[..n],
-            &here.invs[..n],
-        );
-        r.size(n);
-        {
-            let (bend_a, bend_b) = (&mut r.bend_a[..n], &mut r.bend_b[..n]);
-            let [za, zb, zc, zd] = &mut r.legs_z;
-            let (za, zb, zc, zd) = (&mut za[..n], &mut zb[..n], &mut zc[..n], &mut zd[..n]);
-            for j in 0..n {
-                let [l1, l2, l3, l4] = legs[j];
-                let [ul, ur, ll, lr] = corners[j];
-                let p = cells[j].pivot;
-                bend_a[j] = bend(p - ul, l1, lr - p, l3);
-                bend_b[j] = bend(p - ur, l4, ll - p, l2);
-                let inv = invs[j];
-                let [zul, zur, zll, zlr] = z[j];
-                let zp = cells[j].z_pivot;
-                za[j] = (zp - zul - l1) * inv;
-                zb[j] = (zp - zur - l4) * inv;
-                zc[j] = (zll - zp - l2) * inv;
-                zd[j] = (zlr - zp - l3) * inv;
-            }
+        // Each residual over the row, in loops over the row's cells,
+        // compared with its check's largest as it is computed.
+        let n_below = if has_below { n } else { 0 };
+        let view = RowView {
+            cells,
+            legs: &here.legs[..n],
+            corners: &here.corners[..n],
+            z: &here.z[..n],
+            means: &here.means[..n],
+            invs: &here.invs[..n],
+            under: &below.legs[..n_below],
+            under_means: &below.means[..n_below],
+            over: &above.legs[..if i >= 1 { n } else { 0 }],
+        };
+        let compat_cells = if i >= 1 { from..n } else { 0..0 };
+        let [mut w_straight, mut w_legs_z] = [&straight, &legs_z].map(Watch::of);
+        for j in 0..n {
+            w_straight.cell(j, view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb)));
+            w_legs_z.cell(j, view.legs_z(j));
         }
-        // Right neighbour: B.UL = A.UR and B.LL = A.LR (the next cell,
-        // the first for a loop's last).
-        {
-            let (pores, edge) = (&mut r.pores_h[..paired], &mut r.edges_right[..paired]);
-            for j in 0..paired {
-                let k = if j + 1 == n { 0 } else { j + 1 };
-                let [_, _, l3, l4] = legs[j];
-                let [m1, m2, _, _] = legs[k];
-                let s = 0.5 * (means[j] + means[k]);
-                pores[j] = ((l3 + l4) - (m1 + m2)) / s;
-                let [_, ur, _, lr] = corners[j];
-                edge[j] = same_edge(ur, lr, s);
-            }
+        let [mut w_pores_h, mut w_pores_v, mut w_edges] =
+            [&pores_h, &pores_v, &edges].map(Watch::of);
+        for j in 0..paired {
+            let (num, s) = view.pore_h(j);
+            w_pores_h.cell(j, [num / s]);
+            w_edges.cell(j, [view.edge_right(j, s)]);
         }
-        // Neighbour below: B.UL = A.LL and B.UR = A.LR.
-        let (n_below, from) = (
-            if has_below { n } else { 0 },
-            if grid.closed { 0 } else { 1 },
-        );
-        {
-            let (pores, edge) = (&mut r.pores_v[..n_below], &mut r.edges_below[..n_below]);
-            let (under, under_means) = (&below.legs[..n_below], &below.means[..n_below]);
-            for j in 0..n_below {
-                let [_, l2, l3, _] = legs[j];
-                let [m1, _, _, m4] = under[j];
-                let s = 0.5 * (means[j] + under_means[j]);
-                pores[j] = ((l2 + m1) - (l3 + m4)) / s;
-                let [_, _, ll, lr] = corners[j];
-                edge[j] = same_edge(ll, lr, s);
-            }
+        for j in 0..n_below {
+            let (num, s) = view.pore_v(j);
+            w_pores_v.cell(j, [num / s]);
+            w_edges.cell(j, [view.edge_below(j, s)]);
         }
-        // Compatibility at each cell's UL vertex, interior when the cells
-        // above and to the left exist (a loop's left of column 0 is its
-        // last column).
-        let interior = if i >= 1 { n - from } else { 0 };
-        {
-            let (slopes, intercepts, naturals) = (
-                &mut r.slope[..interior],
-                &mut r.intercept[..interior],
-                &mut r.natural[..interior],
-            );
-            let over = &above.legs[..if i >= 1 { n } else { 0 }];
-            for k in 0..interior {
-                let j = from + k;
-                let left = if j == 0 { n - 1 } else { j - 1 };
-                let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
-                let [ul, _, ll, _] = corners[j];
-                slopes[k] = m - 1.0;
-                intercepts[k] = c / ul.distance_squared(ll);
-                naturals[k] = c / magnitude;
-            }
+        let [mut w_slope, mut w_intercept, mut w_natural] =
+            [&slope, &intercept, &natural].map(Watch::of);
+        for j in compat_cells.clone() {
+            let (m, c, s2, magnitude) = view.compat(j);
+            w_slope.cell(j, [m - 1.0]);
+            w_intercept.cell(j, [c / s2]);
+            w_natural.cell(j, [c / magnitude]);
         }
-        r.trim(paired, n_below, interior);
         // The collapsed rods, once the row is swept (their check is
         // measured again after the sweep if some cell was not reached).
         if collapsed.all_reached {
-            let front = grid.front;
             let zs = &collapsed.z[i * front..(i + 2) * front];
-            r.rod_a.resize(n, 0.0);
-            r.rod_b.resize(n, 0.0);
-            let (rod_a, rod_b) = (&mut r.rod_a[..n], &mut r.rod_b[..n]);
+            let mut watch = Watch::of(&collapsed.rods);
             for j in 0..n {
-                let right = if j + 1 == front { 0 } else { j + 1 };
-                let (zul, zur) = (zs[j], zs[right]);
-                let (zll, zlr) = (zs[front + j], zs[front + right]);
-                let [ul, ur, ll, lr] = &corners[j];
-                let inv = invs[j];
-                rod_a[j] = (zlr - zul - ul.distance(*lr)) * inv;
-                rod_b[j] = (zll - zur - ur.distance(*ll)) * inv;
+                watch.cell(j, view.rods(zs, j));
             }
-            record_row(&mut collapsed.rods, 0, &[rod_a, rod_b], cell_site);
+            let rods = |j: usize| view.rods(zs, j);
+            watch.settle(&mut collapsed.rods, 2 * n, rods, cell_site);
         }
-        record_row(&mut straight, 0, &[&r.bend_a, &r.bend_b], cell_site);
-        let [a, b, c, d] = &r.legs_z;
-        record_row(&mut legs_z, 0, &[a, b, c, d], cell_site);
-        record_row(&mut pores_h, 0, &[&r.pores_h], cell_site);
-        record_row(&mut pores_v, 0, &[&r.pores_v], cell_site);
-        record_row(&mut edges, 0, &[&r.edges_right, &r.edges_below], cell_site);
+        // The same residuals again, for the cells that may raise a check.
+        let bends = |j: usize| view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb));
+        w_straight.settle(&mut straight, 2 * n, bends, cell_site);
+        w_legs_z.settle(&mut legs_z, 4 * n, |j| view.legs_z(j), cell_site);
+        let pore_h = |j: usize| {
+            let (num, s) = view.pore_h(j);
+            [num / s]
+        };
+        w_pores_h.settle(&mut pores_h, paired, pore_h, cell_site);
+        let pore_v = |j: usize| {
+            let (num, s) = view.pore_v(j);
+            [num / s]
+        };
+        w_pores_v.settle(&mut pores_v, n_below, pore_v, cell_site);
+        // A cell's right edge, then its bottom edge, as the pass over the
+        // cells records them.
+        let edge = |j: usize| {
+            let right = (j < paired).then(|| view.edge_right(j, view.pore_h(j).1));
+            let below = (j < n_below).then(|| view.edge_below(j, view.pore_v(j).1));
+            [right, below].into_iter().flatten()
+        };
+        w_edges.settle(&mut edges, paired + n_below, edge, cell_site);
         let vertex = |k: usize| vertex_site(lattice, cells[k].ul as usize);
-        record_row(&mut slope, from, &[&r.slope], vertex);
-        record_row(&mut intercept, from, &[&r.intercept], vertex);
-        record_row(&mut natural, from, &[&r.natural], vertex);
+        let interior = compat_cells.len();
+        let slopes = |j: usize| [view.compat(j).0 - 1.0];
+        w_slope.settle(&mut slope, interior, slopes, vertex);
+        let intercepts = |j: usize| {
+            let (_, c, s2, _) = view.compat(j);
+            [c / s2]
+        };
+        w_intercept.settle(&mut intercept, interior, intercepts, vertex);
+        let naturals = |j: usize| {
+            let (_, c, _, magnitude) = view.compat(j);
+            [c / magnitude]
+        };
+        w_natural.settle(&mut natural, interior, naturals, vertex);
         std::mem::swap(&mut above, &mut here);
         std::mem::swap(&mut here, &mut below);
     }
@@ -1001,7 +1140,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Report {
     let checks = [
         straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
     ];
-    report(lattice, leg_sum, checks, collapsed)
+    Some(report(lattice, leg_sum, checks, collapsed))
 }
 
 /// `Collapsed::reached` of a cell reached through no corner.
@@ -1491,7 +1630,7 @@ mod tests {
     /// Verification by rows gives the report of the pass over the cells,
     /// bit for bit, on sheets and loops both good and damaged: positions,
     /// pivots and z moved by amounts from rounding to gross, NaN and
-    /// infinite coordinates, a cell's row or column renamed.
+    /// infinite coordinates, a cell's column renamed, a corner index moved off the grid.
     #[test]
     fn rows_give_the_report_of_the_pass_over_the_cells() {
         let tube = tube(7, 4);
@@ -1505,7 +1644,7 @@ mod tests {
             assert!(lattice.extrinsic());
             let table = Incidence::table(&lattice);
             assert!(same_bits(
-                &verify_rows(&lattice, &grid),
+                &verify_rows(&lattice, &grid).expect("a regular grid"),
                 &verify_with(&lattice, &table)
             ));
             for round in 0..300 {
@@ -1519,12 +1658,16 @@ mod tests {
                     let v = (rng.next_u64() % bad.vertices.len() as u64) as usize;
                     let c = (rng.next_u64() % bad.cells.len() as u64) as usize;
                     let axis = (rng.next_u64() % 3) as usize;
-                    match rng.next_u64() % 5 {
+                    match rng.next_u64() % 6 {
                         0 => bad.vertices[v].pos[axis] += size,
                         1 => bad.vertices[v].z += size,
                         2 => bad.cells[c].pivot[axis] += size,
                         3 => bad.cells[c].z_pivot += size,
-                        _ => bad.cells[c].col ^= 1,
+                        4 => bad.cells[c].col ^= 1,
+                        // A corner index off the grid: the rows' pass
+                        // gives up at that row, the pass over the cells
+                        // reports.
+                        _ => bad.cells[c].lr = bad.cells[c].ll,
                     }
                 }
                 let rows = verify(&bad);
