@@ -4,10 +4,10 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled, measure_with_shape, strip_clashes};
+use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
-use crate::lattice::deploy::{Deployment, deployment, deployment_and_shape};
+use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
@@ -174,9 +174,9 @@ pub fn check_on(
                 let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
                 (placed, clashes, verify(&lattice))
             });
-            let (deployment, shape) = deployment_and_shape(&lattice);
+            let deployment = deployment(&lattice);
             let mut rest = None;
-            let measures = measure_with_shape(&design, &lattice, shape, || {
+            let measures = measure_with(&design, &lattice, || {
                 let (placed, clashes, report) = other
                     .join()
                     .unwrap_or_else(|p| std::panic::resume_unwind(p));

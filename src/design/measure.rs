@@ -92,17 +92,7 @@ pub(crate) fn measure_with(
     lattice: &Lattice,
     clashes: impl FnOnce() -> Vec<Clash>,
 ) -> Measures {
-    measure_with_shape(design, lattice, lattice.shape(), clashes)
-}
-
-/// `measure_with` with the lattice's `shape` taken already (by
-/// `deploy::deployment_and_shape`, from the same read of each cell).
-pub(crate) fn measure_with_shape(
-    design: &Design,
-    lattice: &Lattice,
-    shape: Shape,
-    clashes: impl FnOnce() -> Vec<Clash>,
-) -> Measures {
+    let shape = lattice.shape();
     let curvature = summary(&shape.curvature);
     let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
         Some(f) => {

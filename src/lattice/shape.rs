@@ -5,7 +5,7 @@
 //! strips there are. Target fit and coverage depend on the recipe's target
 //! and live with it (`design::fit`).
 
-use super::{Cell, Kind, Lattice, Legs, angle_between};
+use super::{Kind, Lattice, Legs, angle_between};
 use glam::DVec3;
 use std::f64::consts::TAU;
 
@@ -199,104 +199,6 @@ impl Curvatures {
     }
 }
 
-/// The shape measures taken cell by cell, in cell order (`Lattice::shape`):
-/// a pass over the cells that reads their corners and legs for its own
-/// sake (the planar misfits, `deploy::misfit`) feeds them here too, and
-/// the figures are those of `Lattice::shape` bit for bit.
-pub(crate) struct ShapeSums {
-    at: Curvatures,
-    cell_ratios: Vec<f64>,
-    /// The shortest and longest leg, the smallest and largest area.
-    legs: (f64, f64),
-    areas: (f64, f64),
-    /// The range of the strips' short and long legs, as `order_key`s.
-    range: Range,
-}
-
-impl ShapeSums {
-    /// The sums of an empty pass over `lattice`, the curvature sums in a
-    /// ring of `window` slots (`windows`).
-    pub(crate) fn new(lattice: &Lattice, window: usize) -> Self {
-        Self {
-            at: Curvatures::new(lattice.vertices.len(), window),
-            cell_ratios: Vec::with_capacity(lattice.cells.len()),
-            legs: (f64::INFINITY, 0.0),
-            areas: (f64::INFINITY, 0.0),
-            range: Range::default(),
-        }
-    }
-
-    /// The ring's size for `lattice`, and the size that takes any lattice.
-    pub(crate) fn windows(lattice: &Lattice) -> (usize, usize) {
-        Curvatures::windows(lattice)
-    }
-
-    /// Add the next cell, with its corners and its legs (`legs_of`); false
-    /// when its corners lie too far apart for the ring.
-    #[inline(always)]
-    pub(crate) fn add(&mut self, cell: &Cell, corners: [DVec3; 4], legs: Legs) -> bool {
-        let area = cell_area(corners);
-        self.areas = (self.areas.0.min(area), self.areas.1.max(area));
-        let (l, h) = legs
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
-        self.legs = (self.legs.0.min(l), self.legs.1.max(h));
-        self.cell_ratios.push(h / l);
-        for key in strip_keys(legs) {
-            self.range.add(key);
-        }
-        self.at
-            .add([cell.ul, cell.ur, cell.ll, cell.lr], corners, area)
-    }
-
-    /// The shape of `lattice`, every cell added.
-    pub(crate) fn finish(self, lattice: &Lattice) -> Shape {
-        let Self {
-            at,
-            mut cell_ratios,
-            legs: (lo, hi),
-            areas: (amin, amax),
-            range,
-        } = self;
-        // The median and the largest, without sorting the whole list.
-        let (median, max) = match cell_ratios.len() {
-            0 => (1.0, 1.0),
-            n => {
-                let (_, &mut median, upper) =
-                    cell_ratios.select_nth_unstable_by(n / 2, f64::total_cmp);
-                let max = upper
-                    .iter()
-                    .copied()
-                    .fold(median, |m, x| if x.total_cmp(&m).is_gt() { x } else { m });
-                (median, max)
-            }
-        };
-        drop(cell_ratios);
-        let curvature = at.finish(lattice.vertices.len());
-        // Strips whose legs all lie within the tolerance of each other are
-        // one class (what sorting them and grouping finds, see `Range`);
-        // otherwise their keys are taken in a second pass and sorted.
-        let distinct_strips = if lattice.cells.is_empty() {
-            0
-        } else if range.within(SAME_STRIP_MM) {
-            1
-        } else {
-            distinct_keys(lattice.strip_keys())
-        };
-        Shape {
-            curvature,
-            area_ratio: amax / amin,
-            leg_ratio: hi / lo,
-            min_leg: lo,
-            cell_leg_ratio_median: median,
-            cell_leg_ratio_max: max,
-            front_gaps: lattice.front_gaps(),
-            distinct_strips,
-            strips: 2 * lattice.cells.len(),
-        }
-    }
-}
-
 impl Lattice {
     /// How far each interior vertex of `c` (this lattice's `curvature`)
     /// stands out of the sheet (mm): its height over the mean of its edge
@@ -380,14 +282,66 @@ impl Lattice {
     /// `shape` with the curvature sums in a ring of `window` slots
     /// (`Curvatures`); None when some cell's corners lie too far apart.
     fn shape_in(&self, window: usize) -> Option<Shape> {
-        let mut sums = ShapeSums::new(self, window);
+        let mut at = Curvatures::new(self.vertices.len(), window);
+        let mut cell_ratios = Vec::with_capacity(self.cells.len());
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
+        // The range of the strips' short and long legs, as `order_key`s.
+        let mut range = Range::default();
         for cell in &self.cells {
             let corners = self.corners(cell);
-            if !sums.add(cell, corners, legs_of(corners, cell.pivot)) {
+            let area = cell_area(corners);
+            (amin, amax) = (amin.min(area), amax.max(area));
+            let legs = legs_of(corners, cell.pivot);
+            let (l, h) = legs
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+            lo = lo.min(l);
+            hi = hi.max(h);
+            cell_ratios.push(h / l);
+            for key in strip_keys(legs) {
+                range.add(key);
+            }
+            if !at.add([cell.ul, cell.ur, cell.ll, cell.lr], corners, area) {
                 return None;
             }
         }
-        Some(sums.finish(self))
+        // The median and the largest, without sorting the whole list.
+        let (median, max) = match cell_ratios.len() {
+            0 => (1.0, 1.0),
+            n => {
+                let (_, &mut median, upper) =
+                    cell_ratios.select_nth_unstable_by(n / 2, f64::total_cmp);
+                let max = upper
+                    .iter()
+                    .copied()
+                    .fold(median, |m, x| if x.total_cmp(&m).is_gt() { x } else { m });
+                (median, max)
+            }
+        };
+        drop(cell_ratios);
+        let curvature = at.finish(self.vertices.len());
+        // Strips whose legs all lie within the tolerance of each other are
+        // one class (what sorting them and grouping finds, see `Range`);
+        // otherwise their keys are taken in a second pass and sorted.
+        let distinct_strips = if self.cells.is_empty() {
+            0
+        } else if range.within(SAME_STRIP_MM) {
+            1
+        } else {
+            distinct_keys(self.strip_keys())
+        };
+        Some(Shape {
+            curvature,
+            area_ratio: amax / amin,
+            leg_ratio: hi / lo,
+            min_leg: lo,
+            cell_leg_ratio_median: median,
+            cell_leg_ratio_max: max,
+            front_gaps: self.front_gaps(),
+            distinct_strips,
+            strips: 2 * self.cells.len(),
+        })
     }
 
     /// Every strip's key (`strip_keys`), less the repeats of the key before

@@ -1,8 +1,8 @@
 //! How far a rigid placement of a planar lattice's cells misses at other
 //! openings than the design's (MATH.md 8.4).
 
-use super::super::shape::{Shape, ShapeSums, legs_of};
-use super::super::{Cell, Lattice};
+use super::super::Lattice;
+use super::super::shape::legs_of;
 use super::Configuration;
 use glam::{DVec2, DVec3};
 
@@ -20,18 +20,32 @@ pub fn planar_misfits(
     config: &Configuration,
     thetas: &[f64],
 ) -> Vec<Option<f64>> {
-    let tried = tried(lattice, config, thetas);
+    let valid = |t: f64| lattice.dim == 2 && (0.0..=config.theta_max).contains(&t);
+    // The openings tried, with their own placements (vertex by vertex).
+    let tried: Vec<(usize, f64)> = (0..thetas.len())
+        .filter(|&k| valid(thetas[k]))
+        .map(|k| (k, thetas[k].cos()))
+        .collect();
     let mut out = vec![None; thetas.len()];
     if tried.is_empty() {
         return out;
     }
     let nv = lattice.vertices.len();
+    // The placements live in a ring of `window` vertices (vertex v in slot
+    // v mod window): growth numbers a cell's corners within about two
+    // fronts of each other, so a ring of a few thousand slots stands for
+    // the whole lattice (on 4 M cells: 190 MB fewer, and in cache). A
+    // lattice whose corners spread wider is measured again with a slot for
+    // every vertex; either way every number is the same.
+    let window = (2 * lattice.width + 8).next_power_of_two();
     for chunk in tried.chunks(LANES) {
-        let misfit = (ring_window(lattice) < nv)
-            .then(|| misfits_in(lattice, config, lanes(chunk), ring_window(lattice)))
+        // Unused lanes repeat the first opening; their results are dropped.
+        let cos = std::array::from_fn(|k| chunk.get(k).unwrap_or(&chunk[0]).1);
+        let misfit = (window < nv)
+            .then(|| misfits_in(lattice, config, cos, window))
             .flatten()
             .unwrap_or_else(|| {
-                misfits_in(lattice, config, lanes(chunk), nv.next_power_of_two())
+                misfits_in(lattice, config, cos, nv.next_power_of_two())
                     .expect("a slot for every vertex")
             });
         for (&(k, _), m) in chunk.iter().zip(misfit) {
@@ -39,79 +53,6 @@ pub fn planar_misfits(
         }
     }
     out
-}
-
-/// `planar_misfits` and `Lattice::shape` from one read of each cell's
-/// corners and legs, when the openings fit in one pass (`LANES`) and the
-/// corners in the rings; otherwise each as on its own. The numbers are
-/// theirs bit for bit: each takes the same arithmetic in the same order.
-pub(crate) fn planar_misfits_and_shape(
-    lattice: &Lattice,
-    config: &Configuration,
-    thetas: &[f64],
-) -> (Vec<Option<f64>>, Shape) {
-    fused(lattice, config, thetas)
-        .unwrap_or_else(|| (planar_misfits(lattice, config, thetas), lattice.shape()))
-}
-
-/// `planar_misfits_and_shape` in one pass, the rings' windows those each
-/// tries first; None when the openings take more than one pass, or none,
-/// or the corners do not fit in a ring.
-fn fused(
-    lattice: &Lattice,
-    config: &Configuration,
-    thetas: &[f64],
-) -> Option<(Vec<Option<f64>>, Shape)> {
-    let tried = tried(lattice, config, thetas);
-    if tried.is_empty() || tried.len() > LANES {
-        return None;
-    }
-    let nv = lattice.vertices.len();
-    let window = ring_window(lattice);
-    let window = if window < nv {
-        window
-    } else {
-        nv.next_power_of_two()
-    };
-    let mut ring = Placements::new(lanes(&tried), window);
-    let mut sums = ShapeSums::new(lattice, ShapeSums::windows(lattice).0);
-    for (i, cell) in lattice.cells.iter().enumerate() {
-        let corners = lattice.corners(cell);
-        let legs = legs_of(corners, cell.pivot);
-        if !(ring.add(config, i, cell, corners, legs) && sums.add(cell, corners, legs)) {
-            return None;
-        }
-    }
-    let mut out = vec![None; thetas.len()];
-    for (&(k, _), m) in tried.iter().zip(ring.misfit) {
-        out[k] = Some(m.sqrt());
-    }
-    Some((out, sums.finish(lattice)))
-}
-
-/// The openings of `thetas` a planar placement is tried at (index, cosine).
-fn tried(lattice: &Lattice, config: &Configuration, thetas: &[f64]) -> Vec<(usize, f64)> {
-    let valid = |t: f64| lattice.dim == 2 && (0.0..=config.theta_max).contains(&t);
-    (0..thetas.len())
-        .filter(|&k| valid(thetas[k]))
-        .map(|k| (k, thetas[k].cos()))
-        .collect()
-}
-
-/// The placements live in a ring of this many vertices (vertex v in slot
-/// v mod window): growth numbers a cell's corners within about two fronts
-/// of each other, so a ring of a few thousand slots stands for the whole
-/// lattice (on 4 M cells: 190 MB fewer, and in cache). A lattice whose
-/// corners spread wider is measured again with a slot for every vertex;
-/// either way every number is the same.
-fn ring_window(lattice: &Lattice) -> usize {
-    (2 * lattice.width + 8).next_power_of_two()
-}
-
-/// The cosines of up to `LANES` openings tried in one pass; unused lanes
-/// repeat the first opening, and their results are dropped.
-fn lanes(chunk: &[(usize, f64)]) -> [f64; LANES] {
-    std::array::from_fn(|k| chunk.get(k).unwrap_or(&chunk[0]).1)
 }
 
 /// Openings placed side by side in one pass (`MISFIT_FRACTIONS` has three):
@@ -135,66 +76,20 @@ fn misfits_in(
     cos: [f64; LANES],
     window: usize,
 ) -> Option<[f64; LANES]> {
-    let mut ring = Placements::new(cos, window);
+    let mask = window - 1;
+    let mut placed = vec![[DVec2::ZERO; LANES]; window];
+    // Which vertex each slot holds (placed by an earlier cell); which
+    // vertices are placed depends on the cells only, not on theta.
+    let mut holds = vec![u32::MAX; window];
+    let mut high = 0usize;
+    // The largest squared miss over the squared mean leg, per opening.
+    let mut misfit = [0.0f64; LANES];
     for (i, cell) in lattice.cells.iter().enumerate() {
         let corners = lattice.corners(cell);
         // From the corners at hand: 4 square roots a cell are no slower
         // than storing every cell's legs (128 MB on 4 M cells) and reading
         // them back.
         let legs = legs_of(corners, cell.pivot);
-        if !ring.add(config, i, cell, corners, legs) {
-            return None;
-        }
-    }
-    Some(ring.misfit)
-}
-
-/// The placements of `misfits_in`, cell by cell: a pass over the cells
-/// that also takes the shape measures (`planar_misfits_and_shape`) feeds
-/// both from one read of each cell's corners and legs.
-struct Placements {
-    cos: [f64; LANES],
-    mask: usize,
-    placed: Vec<[DVec2; LANES]>,
-    /// Which vertex each slot holds (placed by an earlier cell); which
-    /// vertices are placed depends on the cells only, not on theta.
-    holds: Vec<u32>,
-    high: usize,
-    /// The largest squared miss over the squared mean leg, per opening.
-    misfit: [f64; LANES],
-}
-
-impl Placements {
-    fn new(cos: [f64; LANES], window: usize) -> Self {
-        Self {
-            cos,
-            mask: window - 1,
-            placed: vec![[DVec2::ZERO; LANES]; window],
-            holds: vec![u32::MAX; window],
-            high: 0,
-            misfit: [0.0; LANES],
-        }
-    }
-
-    /// Place cell `i`, with its corners and legs (`legs_of`), and measure
-    /// its misses; false when its corners lie too far apart for the ring.
-    #[inline(always)]
-    fn add(
-        &mut self,
-        config: &Configuration,
-        i: usize,
-        cell: &Cell,
-        corners: [DVec3; 4],
-        legs: [f64; 4],
-    ) -> bool {
-        let Self {
-            cos,
-            mask,
-            placed,
-            holds,
-            high,
-            misfit,
-        } = self;
         let side = side(corners, cell.pivot);
         let scale = legs.iter().sum::<f64>() / 4.0;
         // Misses compared squared, over the squared scale: one square
@@ -204,11 +99,11 @@ impl Placements {
         let (lo, hi) = ids
             .iter()
             .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
-        *high = (*high).max(hi as usize);
-        if lo as usize + *mask + 1 <= *high {
-            return false;
+        high = high.max(hi as usize);
+        if lo as usize + window <= high {
+            return None;
         }
-        let slots = ids.map(|v| v as usize & *mask);
+        let slots = ids.map(|v| v as usize & mask);
         // The fit uses the corners placed before this cell; a corner
         // repeated in the cell is placed by its first occurrence.
         let before = [0, 1, 2, 3].map(|c| holds[slots[c]] == ids[c]);
@@ -242,8 +137,8 @@ impl Placements {
         for c in 0..4 {
             holds[slots[c]] = ids[c];
         }
-        true
     }
+    Some(misfit)
 }
 
 /// Which way a cell turns from the leg to UL to the leg to UR: +1 or -1.
@@ -409,44 +304,5 @@ mod tests {
             assert_eq!(got.to_bits(), every[0].sqrt().to_bits());
         }
         assert!(measured >= 12, "{measured} lattices grew");
-    }
-
-    /// The misfits and the shape from one read of each cell are those of
-    /// the two passes, bit for bit (`{:?}` prints every bit of a finite
-    /// number and the sign of a zero): on random 2-D and 3-D sheets, with
-    /// one, two and three openings (some outside the valid range), and on
-    /// sheets stored out of order (both measured again on their own).
-    #[test]
-    fn misfits_and_shape_in_one_pass_are_the_two_passes() {
-        let mut rng = crate::rng::Rng::new(17);
-        let mut fused = 0;
-        for trial in 0..24 {
-            let dim = 2 + trial % 3 / 2;
-            let Some(lattice) = crate::lattice::shape::random_sheet(&mut rng, trial, dim) else {
-                continue;
-            };
-            let mut reversed = lattice.clone();
-            reversed.cells.reverse();
-            for (lattice, in_order) in [(lattice, true), (reversed, false)] {
-                let config = super::super::configuration(&lattice);
-                let d = config.theta_design;
-                for thetas in [
-                    vec![0.9 * d],
-                    vec![0.99 * d, 0.5 * d],
-                    vec![0.99 * d, 0.9 * d, 0.5 * d],
-                    vec![0.99 * d, -1.0, 0.5 * d],
-                ] {
-                    let (misfits, shape) = planar_misfits_and_shape(&lattice, &config, &thetas);
-                    let apart = (planar_misfits(&lattice, &config, &thetas), lattice.shape());
-                    assert_eq!(format!("{:?}", (&misfits, &shape)), format!("{apart:?}"));
-                    // In one pass when in order, planar, and some opening valid.
-                    let one = super::fused(&lattice, &config, &thetas).is_some();
-                    let planar = misfits.iter().any(Option::is_some);
-                    assert!(one || !planar || !in_order, "trial {trial}");
-                    fused += usize::from(one);
-                }
-            }
-        }
-        assert!(fused >= 20, "{fused} cases in one pass");
     }
 }

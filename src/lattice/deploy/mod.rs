@@ -4,7 +4,6 @@
 //! other angles.
 
 use super::Lattice;
-use super::shape::Shape;
 use crate::words::plural;
 
 mod configuration;
@@ -35,33 +34,19 @@ pub struct Deployment {
 pub fn deployment(lattice: &Lattice) -> Deployment {
     let config = configuration(lattice);
     let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
-    let misfits = planar_misfits(lattice, &config, &thetas);
-    Deployment::of(lattice, config, misfits)
-}
-
-/// `deployment` and `Lattice::shape`, the same numbers: the misfits and
-/// the shape read each cell's corners and legs once for both.
-pub(crate) fn deployment_and_shape(lattice: &Lattice) -> (Deployment, Shape) {
-    let config = configuration(lattice);
-    let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
-    let (misfits, shape) = misfit::planar_misfits_and_shape(lattice, &config, &thetas);
-    (Deployment::of(lattice, config, misfits), shape)
+    let misfits = MISFIT_FRACTIONS
+        .iter()
+        .zip(planar_misfits(lattice, &config, &thetas))
+        .filter_map(|(&f, m)| Some((f, m?)))
+        .collect();
+    Deployment {
+        mobility: mobility(lattice),
+        config,
+        misfits,
+    }
 }
 
 impl Deployment {
-    fn of(lattice: &Lattice, config: Configuration, misfits: Vec<Option<f64>>) -> Self {
-        let misfits = MISFIT_FRACTIONS
-            .iter()
-            .zip(misfits)
-            .filter_map(|(&f, m)| Some((f, m?)))
-            .collect();
-        Self {
-            mobility: mobility(lattice),
-            config,
-            misfits,
-        }
-    }
-
     /// A mechanism: the ideal linkage moves at the design state and, in
     /// the plane, the cells also place without misfit at other angles (in
     /// space only the first-order count is known).
