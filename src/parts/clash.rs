@@ -252,13 +252,16 @@ fn layer_clashes(
         for (n, &ei) in list.iter().enumerate() {
             let (mi, (lo_i, hi_i)) = (ei >> INDEX_BITS, boxes[n]);
             for (&ej, &(lo_j, hi_j)) in list[n + 1..].iter().zip(&boxes[n + 1..]) {
-                if mi | ej >> INDEX_BITS == ALL_AXES
-                    && (lo_i - hi_j).max(lo_j - hi_i).max_element() < reach
-                {
-                    let (li, lj) = (&lines[(ei & INDEX) as usize], &lines[(ej & INDEX) as usize]);
-                    if let Some(c) = pair(li, lj) {
-                        out.push(c);
-                    }
+                if mi | ej >> INDEX_BITS != ALL_AXES {
+                    continue;
+                }
+                // Not `< reach`: a NaN gap goes on to `pair`, as before.
+                if (lo_i - hi_j).max(lo_j - hi_i).max_element() >= reach {
+                    continue;
+                }
+                let (li, lj) = (&lines[(ei & INDEX) as usize], &lines[(ej & INDEX) as usize]);
+                if let Some(c) = pair(li, lj) {
+                    out.push(c);
                 }
             }
         }
