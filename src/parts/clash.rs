@@ -149,7 +149,7 @@ fn layer_clashes(
             b,
             start,
             end,
-            across: DVec2::new(-dir.y, dir.x).normalize_or_zero(),
+            across: across(dir),
         });
     }
     // Grid cells about one strip long, so each strip touches a few: the
@@ -237,12 +237,31 @@ fn layer_clashes(
     // cell where, on every axis, one of the two boxes starts. Each entry of
     // a grid cell's list carries the axes on which its box starts there
     // (`entry`), so that test reads no line.
+    //
+    // Most pairs that share a grid cell have boxes apart by the reach
+    // (strips of the rows above and below): `pair`'s first test, taken here
+    // on the list's boxes, each computed once a grid cell rather than once
+    // a pair, so that only pairs whose boxes meet read their lines.
+    let mut boxes: Vec<(DVec3, DVec3)> = Vec::new();
     let mut visit = |list: &[u32]| {
+        boxes.clear();
+        boxes.extend(list.iter().map(|&e| {
+            let l = &lines[(e & INDEX) as usize];
+            (l.a.min(l.b), l.a.max(l.b))
+        }));
         for (n, &ei) in list.iter().enumerate() {
-            let (mi, li) = (ei >> INDEX_BITS, &lines[(ei & INDEX) as usize]);
-            for &ej in &list[n + 1..] {
-                if mi | ej >> INDEX_BITS == ALL_AXES {
-                    out.extend(pair(li, &lines[(ej & INDEX) as usize]));
+            let (mi, (lo_i, hi_i)) = (ei >> INDEX_BITS, boxes[n]);
+            for (&ej, &(lo_j, hi_j)) in list[n + 1..].iter().zip(&boxes[n + 1..]) {
+                if mi | ej >> INDEX_BITS != ALL_AXES {
+                    continue;
+                }
+                // Not `< reach`: a NaN gap goes on to `pair`, as before.
+                if (lo_i - hi_j).max(lo_j - hi_i).max_element() >= reach {
+                    continue;
+                }
+                let (li, lj) = (&lines[(ei & INDEX) as usize], &lines[(ej & INDEX) as usize]);
+                if let Some(c) = pair(li, lj) {
+                    out.push(c);
                 }
             }
         }
@@ -337,6 +356,22 @@ fn layer_clashes(
                 }
             }
         }
+    }
+}
+
+/// The unit normal in the xy plane of a line's unit direction `dir` (zero
+/// for a line along z). A direction in the plane (every strip of a flat
+/// sheet) gives it without a second square root: its xy part is unit to
+/// within a rounding, and the normal only skips pairs apart by more than
+/// the reach plus a slack far above that rounding, so which pairs clash
+/// and their figures are those of normalising it again.
+#[inline]
+fn across(dir: DVec3) -> DVec2 {
+    let normal = DVec2::new(-dir.y, dir.x);
+    if dir.z == 0.0 {
+        normal
+    } else {
+        normal.normalize_or_zero()
     }
 }
 
