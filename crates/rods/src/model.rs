@@ -390,6 +390,13 @@ impl Model {
         g.resize(n, 0.0);
         h.clear();
         h.resize(n * n, 0.0);
+        match *s {
+            Stencil::Bend { e0, e1, lbar, .. } => {
+                return bend_local(self, (e0, e1, lbar), vars, g, h);
+            }
+            Stencil::Stretch { edge, .. } => return stretch_local(self, edge, vars, g, h),
+            _ => {}
+        }
         match plan.size {
             0 => self.stencil_value(s),
             1..=3 => self.reduced_n::<3, 6>(s, vars, plan, g, h),
@@ -547,13 +554,10 @@ impl Model {
                 Source::Zero => Dual::cst(0.0),
             }
         };
-        let d = match *s {
-            Stencil::Bend { e0, e1, lbar, .. } => bend_composed::<N, T>(self, &get, e0, e1, lbar),
-            _ => {
-                let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
-                e + t
-            }
-        };
+        // Rod terms take `bend_local` and `stretch_local`: these are
+        // load and moment terms.
+        let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
+        let d = e + t;
         let n = vars.len();
         let cols = &plan.columns;
         for (ga, c) in g.iter_mut().zip(cols) {
@@ -700,20 +704,12 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
 /// stencil's cost. The same arithmetic, so the same numbers.
 struct Dirs<S> {
     known: [Option<(usize, usize, V3<S>, V3<S>)>; 4],
-    /// How a slot's directions are computed: `slot_dir`, or for the
-    /// solver's duals `slot_dir_composed` (the same derivatives).
-    dir: SlotDir<S>,
 }
-
-type SlotDir<S> = fn(&Model, &dyn Fn(usize) -> S, usize, usize) -> (V3<S>, V3<S>);
 
 impl<S: Scalar> Dirs<S> {
     #[inline(always)]
     fn new() -> Self {
-        Dirs {
-            known: [None; 4],
-            dir: slot_dir::<S>,
-        }
+        Dirs { known: [None; 4] }
     }
 
     #[inline(always)]
@@ -729,72 +725,11 @@ impl<S: Scalar> Dirs<S> {
                 return (k.2, k.3);
             }
         }
-        let (u, n) = (self.dir)(m, get, j, slot);
+        let (u, n) = slot_dir(m, get, j, slot);
         if let Some(free) = self.known.iter_mut().find(|k| k.is_none()) {
             *free = Some((j, slot, u, n));
         }
         (u, n)
-    }
-}
-
-/// `slot_dir` over N duals by the chain rule: the directions are taken
-/// over the slot's own 3 variables (tilt a, b and the angle) in small
-/// duals, and `compose` carries them to N. The joint frame and the angle's
-/// sine and cosine at full size were about 8 % of the solve (memmove of
-/// N-duals included).
-fn slot_dir_composed<const N: usize, const T: usize>(
-    m: &Model,
-    get: &dyn Fn(usize) -> Dual<N, T>,
-    j: usize,
-    slot: usize,
-) -> (V3<Dual<N, T>>, V3<Dual<N, T>>) {
-    let (u, n, inner) = slot_dir_small(m, get, j, slot);
-    // The slot's variables are variables (or a sum of two): no Hessian.
-    let flat = [false; 3];
-    let up = |v: V3<Dual<3, 6>>| {
-        V3::new(
-            compose(&v.x, &inner, &flat),
-            compose(&v.y, &inner, &flat),
-            compose(&v.z, &inner, &flat),
-        )
-    };
-    (up(u), up(n))
-}
-
-/// A slot's directions (u, n) over its own variables in 3-variable duals,
-/// with those variables as N duals (`compose`'s inner values): the tilt
-/// (a, b) and the angle, or for a ball joint the angle and two zeros.
-#[allow(clippy::type_complexity)]
-fn slot_dir_small<const N: usize, const T: usize>(
-    m: &Model,
-    get: &dyn Fn(usize) -> Dual<N, T>,
-    j: usize,
-    slot: usize,
-) -> (V3<Dual<3, 6>>, V3<Dual<3, 6>>, [Dual<N, T>; 3]) {
-    type D3 = Dual<3, 6>;
-    let jt = &m.joints[j];
-    let sl = jt.slots[slot];
-    let mut alpha = get(sl.angle[0]);
-    if sl.terms == 2 {
-        alpha = alpha + get(sl.angle[1]);
-    }
-    let [ns, ps, qs] = jt.frame;
-    match jt.tilt {
-        Some(t) => {
-            let inner = [get(t), get(t + 1), alpha];
-            let (n, p, q) = joint_frame(ns, ps, qs, D3::var(inner[0].v, 0), D3::var(inner[1].v, 1));
-            let a = D3::var(inner[2].v, 2);
-            let u = p.scale(a.cos()).add(q.scale(a.sin()));
-            (u, n, inner)
-        }
-        None => {
-            // A ball joint: the frame is constant, the angle alone moves u.
-            let a = D3::var(alpha.v, 0);
-            let u = V3::<D3>::cst(ps)
-                .scale(a.cos())
-                .add(V3::cst(qs).scale(a.sin()));
-            (u, V3::cst(ns), [alpha, Dual::cst(0.0), Dual::cst(0.0)])
-        }
     }
 }
 
@@ -890,99 +825,285 @@ fn bend_energy<S: Scalar>(sec: &Section, lbar: f64, f0: [V3<S>; 3], f1: [V3<S>; 
     )
 }
 
-/// A bend stencil's energy with its derivatives over N (reduced) variables,
-/// by the chain rule through small duals (docs/physics.md, "Solver"). The
-/// energy depends on the two edges' material frames only, and a frame
-/// near its present value F0 is R(w) F0 for a small rotation vector w: so
-/// the energy is taken over the 6 rotation coordinates (w0, w1) at 0, each
-/// Ref edge's w over its 4 variables (edge vector, material angle), and
-/// only the maps to the stencil's N variables (arm tips, joint frames) in
-/// N-variable duals. Exact to second order, hence the same value, gradient
-/// and Hessian as `stencil_energy` over N duals (tests/sim.rs checks it):
-/// w = vee(skew(F F0^T)) = (1/2) sum_k f0_k x f_k differs from the
-/// rotation's logarithm by O(|w|^3), and R(w) = I + W + W^2/2 from exp(W)
-/// by O(|w|^3).
-fn bend_composed<const N: usize, const T: usize>(
-    m: &Model,
-    get: &dyn Fn(usize) -> Dual<N, T>,
-    e0: usize,
-    e1: usize,
-    lbar: f64,
-) -> Dual<N, T> {
-    type D4 = Dual<4, 10>;
-    let mut dirs = Dirs::<Dual<N, T>> {
-        known: [None; 4],
-        dir: slot_dir_composed::<N, T>,
-    };
-    let (a, b) = (&m.edges[e0], &m.edges[e1]);
-    let x0 = node_pos_in(m, get, m.nodes[a.a], &mut dirs);
-    let x1 = node_pos_in(m, get, m.nodes[a.b], &mut dirs);
-    let x2 = node_pos_in(m, get, m.nodes[b.b], &mut dirs);
-    // w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
-    fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
-        let w = f[0]
-            .crossc(f0[0])
-            .add(f[1].crossc(f0[1]))
-            .add(f[2].crossc(f0[2]))
-            .scalef(-0.5);
-        [w.x, w.y, w.z]
+/// The most local variables a rod term has (three nodes with a joint slot
+/// each and two frames: fewer in practice).
+const MAX_LOCAL: usize = 24;
+
+/// A joint slot's directions (u, n) over its own three inputs in small
+/// duals (tilt a, b and the angle; for a ball joint the angle alone), and
+/// which of the term's local variables each input is: one, or two for a
+/// pivot's second rod, whose angle is the sum of two variables.
+#[derive(Clone, Copy)]
+struct LocalSlot {
+    key: (usize, usize),
+    u: V3<Dual<3, 6>>,
+    n: V3<Dual<3, 6>>,
+    inputs: [([usize; 2], usize); 3],
+}
+
+/// The last step of a rod term's chain rule, in plain numbers (docs/physics.md,
+/// "Solver"): up to 8 intermediates (edge vectors, material angles, slot
+/// inputs) over the term's local variables. An edge vector is x_b - x_a,
+/// plus r u at an arm tip, the only intermediate with a Hessian (over its
+/// slot's 3 inputs); a material angle or a slot input is one variable or
+/// a sum of two. So no N-variable duals are made: making, copying and
+/// zeroing them was about a third of the solve.
+struct Chain<'a> {
+    m: &'a Model,
+    vars: &'a [usize],
+    /// Row k: the gradient of intermediate k over the local variables.
+    jac: [[f64; MAX_LOCAL]; 8],
+    /// The arm tips in edge vectors: (the vector's first row, sign times
+    /// r, the slot).
+    tips: [Option<(usize, f64, LocalSlot)>; 4],
+    known: [Option<LocalSlot>; 4],
+}
+
+impl<'a> Chain<'a> {
+    fn new(m: &'a Model, vars: &'a [usize]) -> Self {
+        assert!(
+            vars.len() <= MAX_LOCAL,
+            "a rod term with {} variables",
+            vars.len()
+        );
+        Chain {
+            m,
+            vars,
+            jac: [[0.0; MAX_LOCAL]; 8],
+            tips: [None; 4],
+            known: [None; 4],
+        }
     }
-    // The rotations over each edge's own variables (4: edge vector and
-    // material angle; 3 for an arm: the slot's), side by side as 8 small
-    // duals; their N-dual variables in `inner`.
-    let mut w = [Dual::<8, 36>::cst(0.0); 6];
-    let mut base = [[DVec3::ZERO; 3]; 2];
-    // Which of the 8 have a Hessian: an edge vector with an arm tip at
-    // either end (the tip turns with its slot); variables have none.
-    let mut curved = [false; 8];
-    let arm = |n: usize| matches!(m.nodes[n], Node::Arm { .. });
-    // Each edge's 4 N-dual variables, made in place (no zeroed array of
-    // eight 1.4 kB duals to fill).
-    let mut part = |k: usize, edge: &Edge, xa: V3<Dual<N, T>>, xb: V3<Dual<N, T>>| {
-        let e = xb.sub(xa);
-        let ev = e.val();
-        let t = V3::<f64>::cst(ev).unit();
-        match edge.frame {
-            Frame::Ref { ts, as_, theta } => {
-                let th = get(theta);
-                let (d1, d2) = material::<f64>(ts, as_, t, th.v);
-                let f0 = [t.val(), d1.val(), d2.val()];
-                // The frame over (edge vector, material angle).
-                let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
-                let t4 = e4.unit();
-                let (d14, d24) = material(ts, as_, t4, D4::var(th.v, 3));
-                for (c, wk) in rotation([t4, d14, d24], f0).iter().enumerate() {
-                    w[3 * k + c] = embed(wk, 4 * k);
+
+    fn loc(&self, v: usize) -> usize {
+        self.vars.binary_search(&v).expect("a stencil variable")
+    }
+
+    /// A slot's directions, each computed once per term (an arm tip's
+    /// position and the arm's frame share them).
+    fn slot(&mut self, j: usize, slot: usize) -> LocalSlot {
+        type D3 = Dual<3, 6>;
+        if let Some(s) = self.known.iter().flatten().find(|s| s.key == (j, slot)) {
+            return *s;
+        }
+        let m = self.m;
+        let jt = &m.joints[j];
+        let sl = jt.slots[slot];
+        let mut alpha = m.q[sl.angle[0]];
+        let mut angle = ([self.loc(sl.angle[0]), 0], 1);
+        if sl.terms == 2 {
+            alpha += m.q[sl.angle[1]];
+            angle = ([angle.0[0], self.loc(sl.angle[1])], 2);
+        }
+        let [ns, ps, qs] = jt.frame;
+        let s = match jt.tilt {
+            Some(t) => {
+                let (n, p, q) = joint_frame(ns, ps, qs, D3::var(m.q[t], 0), D3::var(m.q[t + 1], 1));
+                let a = D3::var(alpha, 2);
+                LocalSlot {
+                    key: (j, slot),
+                    u: p.scale(a.cos()).add(q.scale(a.sin())),
+                    n,
+                    inputs: [([self.loc(t), 0], 1), ([self.loc(t + 1), 0], 1), angle],
                 }
-                base[k] = f0;
-                let bent = arm(edge.a) || arm(edge.b);
-                curved[4 * k..4 * k + 3].copy_from_slice(&[bent; 3]);
-                [e.x, e.y, e.z, th]
             }
-            Frame::Arm { joint, slot, sigma } => {
-                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u,
-                // and the rotation, over the slot's 3 variables.
-                let (u, n, slot_vars) = slot_dir_small(m, get, joint, slot);
-                let d2 = n.scalef(sigma);
-                let d1 = d2.cross(u);
-                let f0 = [t.val(), d1.val(), d2.val()];
-                for (c, wk) in rotation([u, d1, d2], f0).iter().enumerate() {
-                    w[3 * k + c] = embed(wk, 4 * k);
+            None => {
+                let a = D3::var(alpha, 0);
+                LocalSlot {
+                    key: (j, slot),
+                    u: V3::<D3>::cst(ps)
+                        .scale(a.cos())
+                        .add(V3::cst(qs).scale(a.sin())),
+                    n: V3::cst(ns),
+                    inputs: [angle, ([0, 0], 0), ([0, 0], 0)],
                 }
-                base[k] = f0;
-                let [s0, s1, s2] = slot_vars;
-                [s0, s1, s2, Dual::cst(0.0)]
+            }
+        };
+        if let Some(free) = self.known.iter_mut().find(|k| k.is_none()) {
+            *free = Some(s);
+        }
+        s
+    }
+
+    /// A node's position; its coordinates enter rows `row..row + 3` (an
+    /// edge vector) with `sign` (-1 at the edge's start, +1 at its end).
+    fn place(&mut self, row: usize, node: usize, sign: f64) -> DVec3 {
+        let m = self.m;
+        let (x, tip) = match m.nodes[node] {
+            Node::Free(i) => (i, None),
+            Node::Hole(j) => (m.joints[j].x, None),
+            Node::Arm { joint, slot, r } => (m.joints[joint].x, Some((self.slot(joint, slot), r))),
+        };
+        for c in 0..3 {
+            let l = self.loc(x + c);
+            self.jac[row + c][l] += sign;
+        }
+        let p = DVec3::new(m.q[x], m.q[x + 1], m.q[x + 2]);
+        let Some((s, r)) = tip else { return p };
+        for (c, uc) in [s.u.x, s.u.y, s.u.z].iter().enumerate() {
+            for (i, &(ls, count)) in s.inputs.iter().enumerate() {
+                for &l in &ls[..count] {
+                    self.jac[row + c][l] += sign * r * uc.g[i];
+                }
             }
         }
-    };
-    let [i0, i1, i2, i3] = part(0, a, x0, x1);
-    let [i4, i5, i6, i7] = part(1, b, x1, x2);
-    let inner = [i0, i1, i2, i3, i4, i5, i6, i7];
-    // The energy over the 6 rotations, then over the 8 edge variables,
-    // and only then over N: one N-sized chain rule of 8 intermediates
-    // instead of seven (six rotations of 4 and the energy of 6).
-    let e6 = bend_energy_rotations(&m.section, lbar, base);
-    compose(&compose(&e6, &w, &[true; 6]), &inner, &curved)
+        if let Some(free) = self.tips.iter_mut().find(|k| k.is_none()) {
+            *free = Some((row, sign * r, s));
+        }
+        p + s.u.val() * r
+    }
+
+    /// Rows `row..row + 3` as a slot's three inputs (an arm's frame),
+    /// instead of the edge vector `place` put there.
+    fn inputs(&mut self, row: usize, s: &LocalSlot) {
+        for tip in &mut self.tips {
+            if tip.is_some_and(|t| t.0 == row) {
+                *tip = None;
+            }
+        }
+        for (i, &(ls, count)) in s.inputs.iter().enumerate() {
+            self.jac[row + i].fill(0.0);
+            for &l in &ls[..count] {
+                self.jac[row + i][l] = 1.0;
+            }
+        }
+    }
+
+    /// g = J^T g_o and H = J^T H_o J + the arm tips' own Hessians times
+    /// their rows' g_o, for `outer` over the first M intermediates.
+    fn finish<const M: usize, const TM: usize>(
+        &self,
+        outer: &Dual<M, TM>,
+        g: &mut [f64],
+        h: &mut [f64],
+    ) -> f64 {
+        let n = self.vars.len();
+        let jac = &self.jac[..M];
+        let mut p = [[0.0; MAX_LOCAL]; M];
+        for (k, pk) in p.iter_mut().enumerate() {
+            for (l, jl) in jac.iter().enumerate() {
+                let f = outer.hess(k, l);
+                if f != 0.0 {
+                    for (pb, jb) in pk[..n].iter_mut().zip(&jl[..n]) {
+                        *pb += f * jb;
+                    }
+                }
+            }
+        }
+        for (k, jk) in jac.iter().enumerate() {
+            for a in 0..n {
+                let c = jk[a];
+                if c != 0.0 {
+                    g[a] += outer.g[k] * c;
+                    for (hb, pb) in h[a * n..(a + 1) * n].iter_mut().zip(&p[k][..n]) {
+                        *hb += c * pb;
+                    }
+                }
+            }
+        }
+        for &(row, sr, s) in self.tips.iter().flatten() {
+            for (c, uc) in [s.u.x, s.u.y, s.u.z].iter().enumerate() {
+                let f = outer.g[row + c] * sr;
+                if f == 0.0 {
+                    continue;
+                }
+                for (i, &(li, ci)) in s.inputs.iter().enumerate() {
+                    for (j, &(lj, cj)) in s.inputs.iter().enumerate() {
+                        let v = f * uc.hess(i, j);
+                        for &a in &li[..ci] {
+                            for &b in &lj[..cj] {
+                                h[a * n + b] += v;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        outer.v
+    }
+}
+
+/// A bend stencil's energy with its gradient and Hessian over its local
+/// variables `vars` (docs/physics.md, "Solver"): the energy over the two
+/// edges' 6 rotation coordinates in closed form, carried to the edges' 8
+/// variables (edge vector and material angle, or an arm's 3 slot inputs)
+/// in small duals, and from those to the stencil's variables by `Chain`.
+fn bend_local(
+    m: &Model,
+    (e0, e1, lbar): (usize, usize, f64),
+    vars: &[usize],
+    g: &mut [f64],
+    h: &mut [f64],
+) -> f64 {
+    type D4 = Dual<4, 10>;
+    let mut chain = Chain::new(m, vars);
+    let (ea, eb) = (&m.edges[e0], &m.edges[e1]);
+    let x0 = chain.place(0, ea.a, -1.0);
+    let x1 = chain.place(0, ea.b, 1.0);
+    chain.place(4, eb.a, -1.0);
+    let x2 = chain.place(4, eb.b, 1.0);
+    // The rotations over each edge's own variables, side by side as 8
+    // small duals.
+    let mut w = [Dual::<8, 36>::cst(0.0); 6];
+    let mut base = [[DVec3::ZERO; 3]; 2];
+    for (k, edge, ev) in [(0, ea, x1 - x0), (1, eb, x2 - x1)] {
+        let t = V3::<f64>::cst(ev).unit();
+        let rot = match edge.frame {
+            Frame::Ref { ts, as_, theta } => {
+                let th = m.q[theta];
+                let (d1, d2) = material::<f64>(ts, as_, t, th);
+                base[k] = [t.val(), d1.val(), d2.val()];
+                let l = chain.loc(theta);
+                chain.jac[4 * k + 3][l] = 1.0;
+                let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
+                let t4 = e4.unit();
+                let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
+                rotation([t4, d14, d24], base[k]).map(|wk| embed(&wk, 4 * k))
+            }
+            Frame::Arm { joint, slot, sigma } => {
+                // t = u, d2 = sigma n, d1 = d2 x u, over the slot's inputs.
+                let s = chain.slot(joint, slot);
+                chain.inputs(4 * k, &s);
+                let d2 = s.n.scalef(sigma);
+                let d1 = d2.cross(s.u);
+                base[k] = [t.val(), d1.val(), d2.val()];
+                rotation([s.u, d1, d2], base[k]).map(|wk| embed(&wk, 4 * k))
+            }
+        };
+        w[3 * k..3 * k + 3].copy_from_slice(&rot);
+    }
+    let e8 = compose(
+        &bend_energy_rotations(&m.section, lbar, base),
+        &w,
+        &[true; 6],
+    );
+    chain.finish(&e8, g, h)
+}
+
+/// A stretch stencil's energy with its derivatives over its local
+/// variables: over the edge vector in 3 small duals, then `Chain`.
+fn stretch_local(m: &Model, edge: usize, vars: &[usize], g: &mut [f64], h: &mut [f64]) -> f64 {
+    type D3 = Dual<3, 6>;
+    let mut chain = Chain::new(m, vars);
+    let e = &m.edges[edge];
+    let xa = chain.place(0, e.a, -1.0);
+    let ev = chain.place(0, e.b, 1.0) - xa;
+    let len = V3::new(D3::var(ev.x, 0), D3::var(ev.y, 1), D3::var(ev.z, 2)).norm();
+    let strain = len * (1.0 / e.rest) + -1.0;
+    let energy = strain * strain * (0.5 * m.section.ea * e.rest);
+    chain.finish(&energy, g, h)
+}
+
+/// The rotation vector w taking the frame f0 to f (to second order):
+/// w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
+#[inline(always)]
+fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
+    let w = f[0]
+        .crossc(f0[0])
+        .add(f[1].crossc(f0[1]))
+        .add(f[2].crossc(f0[2]))
+        .scalef(-0.5);
+    [w.x, w.y, w.z]
 }
 
 /// A small dual as one over 8 variables, its variables at `offset..`.
