@@ -295,54 +295,6 @@ impl System {
         y
     }
 
-    /// Whether the vector `x` shows H + tau Dm indefinite with a margin
-    /// far above the Cholesky's round-off (x^T A x below -1e-6 of x^T |A|
-    /// x): then its factorisation would fail, and need not be tried.
-    pub fn shows_indefinite(&self, h: &[f64], x: &[f64], tau: f64) -> bool {
-        if x.is_empty() {
-            return false;
-        }
-        let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
-        let (mut xhx, mut xahx) = (0.0, 0.0);
-        for c in 0..x.len() {
-            for p in cp[c]..cp[c + 1] {
-                let r = ri[p];
-                let v = h[p] * x[r] * x[c];
-                let w = if r == c { 1.0 } else { 2.0 };
-                xhx += w * v;
-                xahx += w * v.abs();
-            }
-        }
-        let xdx: f64 = x.iter().zip(&self.dm).map(|(a, d)| a * a * d).sum();
-        xhx + tau * xdx < -1e-6 * (xahx + tau * xdx)
-    }
-
-    /// A few steps of inverse iteration with a factor of H + tau Dm from
-    /// the last witness (or a seeded random vector): a vector along the
-    /// lowest eigenvector of (H, Dm), which the next Hessians are likely
-    /// to be indefinite along too (`shows_indefinite`).
-    pub fn refine_witness(&self, llt: &Factor, witness: &mut Vec<f64>) {
-        if witness.len() != self.n() {
-            let mut rng = crate::rng::Rng::new(3);
-            *witness = (0..self.n()).map(|_| rng.normal()).collect();
-        }
-        for _ in 0..3 {
-            let rhs: Vec<f64> = witness.iter().zip(&self.dm).map(|(a, b)| a * b).collect();
-            let y = self.solve(llt, &rhs);
-            let norm = y
-                .iter()
-                .zip(&self.dm)
-                .map(|(a, b)| a * a * b)
-                .sum::<f64>()
-                .sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
-                witness.clear();
-                return;
-            }
-            *witness = y.iter().map(|a| a / norm).collect();
-        }
-    }
-
     /// The lowest generalised eigenpair of (H, Dm) by inverse iteration with
     /// a factor of H + tau Dm (positive definite): (lambda, v).
     pub fn lowest_mode(&self, h: &[f64], llt: &Factor, seed: u64) -> (f64, Vec<f64>) {
@@ -510,7 +462,6 @@ fn newton_step(
     sys: &System,
     model: &Model,
     tau_prev: &mut f64,
-    witness: &mut Vec<f64>,
     curvature: bool,
 ) -> Option<(Step, Vec<f64>)> {
     let (_, g, h) = sys.assemble(model);
@@ -520,16 +471,10 @@ fn newton_step(
     let gf = sys.free_gradient(&g);
     let h_s = sys.diagonal_scale(&h);
     let mut tau = 0.0;
-    let mut shifted = false;
     let llt = loop {
-        // A shift the witness shows too small would fail to factor:
-        // skipping it leaves the same shift to be found, so the same path.
-        if !sys.shows_indefinite(&h, witness, tau) {
-            if let Some(f) = sys.factor(&h, tau) {
-                break f;
-            }
+        if let Some(f) = sys.factor(&h, tau) {
+            break f;
         }
-        shifted = true;
         tau = if tau == 0.0 {
             (*tau_prev / 4.0).max(1e-8 * h_s)
         } else {
@@ -540,9 +485,6 @@ fn newton_step(
         }
     };
     *tau_prev = tau;
-    if shifted {
-        sys.refine_witness(&llt, witness);
-    }
     let mut d: Vec<f64> = sys.solve(&llt, &gf).into_iter().map(|v| -v).collect();
     let mut dec = -gf.iter().zip(&d).map(|(a, b)| a * b).sum::<f64>();
     if curvature && tau > 0.0 && dec < 1e-6 * model.e_scale {
@@ -585,7 +527,6 @@ fn step_size(sys: &System, model: &Model, d: &[f64]) -> f64 {
 pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, SolveError> {
     let mut e = model.energy();
     let mut tau_prev = 0.0;
-    let mut witness = Vec::new();
     let mut converged = false;
     let mut iterations = 0;
     for it in 0..opts.max_iterations {
@@ -593,7 +534,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         if !e.is_finite() {
             return Err(SolveError::NotFinite { iteration: it });
         }
-        let Some((step, _)) = newton_step(sys, model, &mut tau_prev, &mut witness, true) else {
+        let Some((step, _)) = newton_step(sys, model, &mut tau_prev, true) else {
             return Err(SolveError::NotFinite { iteration: it });
         };
         let small = step_size(sys, model, &step.d) < 1e-8;
@@ -620,7 +561,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         // (ii) the watchdog: one more step from there.
         model.update_frames();
         let mut tau2 = tau_prev;
-        if let Some((step2, _)) = newton_step(sys, model, &mut tau2, &mut witness, false) {
+        if let Some((step2, _)) = newton_step(sys, model, &mut tau2, false) {
             apply(sys, model, &step2.d, 1.0);
             let e2 = model.energy();
             if e2 <= e - 1e-4 * step.dec {
