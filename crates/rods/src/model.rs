@@ -150,34 +150,6 @@ pub struct Model {
     pub e_scale: f64,
 }
 
-/// Where a stencil's local variable gets its dual number from.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Source {
-    /// Its own dual variable.
-    Var(usize),
-    /// The dual variable of a pivot slot's angle sum (alpha_A + delta):
-    /// this variable plus local variable `.1`.
-    SumAt(usize, usize),
-    /// A constant at its value: the anchor position.
-    Const,
-    /// A constant 0: the second term of a merged sum.
-    Zero,
-}
-
-/// A stencil's reduction to fewer dual variables, exact because a rod term
-/// depends on positions only through differences (one position triple, the
-/// anchor, is held constant and its derivatives are minus the sum of the
-/// others') and on a pivot's second rod through alpha_A + delta only. The
-/// dual arithmetic costs about the square of the number of variables, so
-/// an 11-variable free stencil computed over 8 costs about half.
-/// `columns[k]` lists (dual index, coefficient): d/dq_k = sum coef d/dz_i.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Reduction {
-    pub size: usize,
-    pub source: Vec<Source>,
-    pub columns: Vec<Vec<(usize, f64)>>,
-}
-
 /// A variable eliminated by a linear constraint: `q[var] = offset + sum
 /// coef q[u]` over `terms`. The solver moves the terms and recomputes the
 /// variable (exact, no penalty); used to hold the mean opening of all
@@ -357,31 +329,20 @@ impl Model {
     /// Energy, gradient (over `vars`) and the local Hessian (row-major) of
     /// one stencil, for its variables `vars` (as `stencil_vars` lists them).
     pub fn stencil_derivatives(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
-        let plan = self.reduction(s, vars);
-        self.stencil_derivatives_with(s, vars, &plan)
-    }
-
-    /// `stencil_derivatives` with the stencil's reduction computed once
-    /// (the solver keeps one per stencil).
-    pub fn stencil_derivatives_with(
-        &self,
-        s: &Stencil,
-        vars: &[usize],
-        plan: &Reduction,
-    ) -> (f64, Vec<f64>, Vec<f64>) {
         let (mut g, mut h) = (Vec::new(), Vec::new());
-        let e = self.stencil_derivatives_into(s, vars, plan, &mut g, &mut h);
+        let e = self.stencil_derivatives_into(s, vars, &mut g, &mut h);
         (e, g, h)
     }
 
-    /// `stencil_derivatives_with` into the caller's buffers (resized to
+    /// `stencil_derivatives` into the caller's buffers (resized to
     /// vars.len() and its square): the solver's assembly reuses two
     /// buffers for all stencils instead of two allocations per stencil.
+    /// Rod terms take the chain rule of `Chain`; a load or a moment (the
+    /// analytic checks' terms) takes a dual variable per local variable.
     pub fn stencil_derivatives_into(
         &self,
         s: &Stencil,
         vars: &[usize],
-        plan: &Reduction,
         g: &mut Vec<f64>,
         h: &mut Vec<f64>,
     ) -> f64 {
@@ -391,31 +352,19 @@ impl Model {
         h.clear();
         h.resize(n * n, 0.0);
         match *s {
-            Stencil::Bend { e0, e1, lbar, .. } => {
-                return bend_local(self, (e0, e1, lbar), vars, g, h);
+            Stencil::Bend { e0, e1, lbar, .. } => bend_local(self, (e0, e1, lbar), vars, g, h),
+            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, g, h),
+            Stencil::Load { .. } | Stencil::Moment { .. } => {
+                let (e, gf, hf) = self.stencil_derivatives_full(s, vars);
+                g.copy_from_slice(&gf);
+                h.copy_from_slice(&hf);
+                e
             }
-            Stencil::Stretch { edge, .. } => return stretch_local(self, edge, vars, g, h),
-            _ => {}
-        }
-        match plan.size {
-            0 => self.stencil_value(s),
-            1..=3 => self.reduced_n::<3, 6>(s, vars, plan, g, h),
-            4..=6 => self.reduced_n::<6, 21>(s, vars, plan, g, h),
-            7 => self.reduced_n::<7, 28>(s, vars, plan, g, h),
-            8 => self.reduced_n::<8, 36>(s, vars, plan, g, h),
-            9 => self.reduced_n::<9, 45>(s, vars, plan, g, h),
-            10 => self.reduced_n::<10, 55>(s, vars, plan, g, h),
-            11 => self.reduced_n::<11, 66>(s, vars, plan, g, h),
-            12 => self.reduced_n::<12, 78>(s, vars, plan, g, h),
-            13 => self.reduced_n::<13, 91>(s, vars, plan, g, h),
-            14..=17 => self.reduced_n::<17, 153>(s, vars, plan, g, h),
-            n => panic!("a stencil with {n} reduced variables"),
         }
     }
 
-    /// The same derivatives with a dual variable for every local variable,
-    /// without the reduction: the reference the reduced form is tested
-    /// against.
+    /// The same derivatives with a dual variable for every local variable:
+    /// the reference the rod terms' chain rule is tested against.
     pub fn stencil_derivatives_full(
         &self,
         s: &Stencil,
@@ -432,161 +381,6 @@ impl Model {
             17..=20 => self.derivatives_n::<20, 210>(s, vars),
             n => panic!("a stencil with {n} variables"),
         }
-    }
-
-    /// How a stencil's local variables map onto fewer dual variables
-    /// (module `Reduction`). Only rod terms (stretch, bend) are reduced:
-    /// they depend on positions through differences only.
-    pub fn reduction(&self, s: &Stencil, vars: &[usize]) -> Reduction {
-        let identity = || Reduction {
-            size: vars.len(),
-            source: (0..vars.len()).map(Source::Var).collect(),
-            columns: (0..vars.len()).map(|k| vec![(k, 1.0)]).collect(),
-        };
-        let edges: Vec<usize> = match *s {
-            Stencil::Stretch { edge, .. } => vec![edge],
-            Stencil::Bend { e0, e1, .. } => vec![e0, e1],
-            _ => return identity(),
-        };
-        let local = |v: usize| vars.binary_search(&v).expect("a stencil variable");
-        // Position triples (free nodes, joint positions) and joint slots.
-        let mut triples: Vec<usize> = Vec::new();
-        let mut slots: Vec<(usize, usize)> = Vec::new();
-        let node = |n: usize, triples: &mut Vec<usize>, slots: &mut Vec<(usize, usize)>| match self
-            .nodes[n]
-        {
-            Node::Free(i) => triples.push(i),
-            Node::Hole(j) => triples.push(self.joints[j].x),
-            Node::Arm { joint, slot, .. } => {
-                triples.push(self.joints[joint].x);
-                slots.push((joint, slot));
-            }
-        };
-        for &e in &edges {
-            node(self.edges[e].a, &mut triples, &mut slots);
-            node(self.edges[e].b, &mut triples, &mut slots);
-            if let Frame::Arm { joint, slot, .. } = self.edges[e].frame {
-                slots.push((joint, slot));
-            }
-        }
-        triples.sort_unstable();
-        triples.dedup();
-        slots.sort_unstable();
-        slots.dedup();
-        // An angle variable may be merged into its pair's sum only when it
-        // enters this stencil through that one slot.
-        let mut uses = std::collections::HashMap::new();
-        for &(j, sl) in &slots {
-            let slot = self.joints[j].slots[sl];
-            for &a in &slot.angle[..slot.terms] {
-                *uses.entry(a).or_insert(0usize) += 1;
-            }
-        }
-        let mut merged_into = vec![usize::MAX; vars.len()];
-        for &(j, sl) in &slots {
-            let slot = self.joints[j].slots[sl];
-            if slot.terms == 2 && uses[&slot.angle[0]] == 1 && uses[&slot.angle[1]] == 1 {
-                merged_into[local(slot.angle[1])] = local(slot.angle[0]);
-            }
-        }
-        let mut is_anchor = vec![false; vars.len()];
-        if let Some(&a) = triples.first() {
-            for c in 0..3 {
-                is_anchor[local(a + c)] = true;
-            }
-        }
-        // Dual indices for the variables that stay.
-        let mut dual = vec![usize::MAX; vars.len()];
-        let mut size = 0;
-        for k in 0..vars.len() {
-            if !is_anchor[k] && merged_into[k] == usize::MAX {
-                dual[k] = size;
-                size += 1;
-            }
-        }
-        let mut source = Vec::with_capacity(vars.len());
-        let mut columns = Vec::with_capacity(vars.len());
-        for k in 0..vars.len() {
-            if is_anchor[k] {
-                // z_P = x_P - x_anchor for every other position triple.
-                let c = vars[k] - triples[0];
-                source.push(Source::Const);
-                columns.push(
-                    triples[1..]
-                        .iter()
-                        .map(|&t| (dual[local(t + c)], -1.0))
-                        .collect(),
-                );
-            } else if merged_into[k] != usize::MAX {
-                source.push(Source::Zero);
-                columns.push(vec![(dual[merged_into[k]], 1.0)]);
-            } else {
-                source.push(match merged_into.iter().position(|&m| m == k) {
-                    Some(partner) => Source::SumAt(dual[k], partner),
-                    None => Source::Var(dual[k]),
-                });
-                columns.push(vec![(dual[k], 1.0)]);
-            }
-        }
-        Reduction {
-            size,
-            source,
-            columns,
-        }
-    }
-
-    fn reduced_n<const N: usize, const T: usize>(
-        &self,
-        s: &Stencil,
-        vars: &[usize],
-        plan: &Reduction,
-        g: &mut [f64],
-        h: &mut [f64],
-    ) -> f64 {
-        // Each dual made where it is read: no vector of duals to fill and
-        // copy from (they are up to 1.4 kB each).
-        let get = |i: usize| {
-            let k = vars.binary_search(&i).expect("stencil variable");
-            match plan.source[k] {
-                Source::Var(d) => Dual::var(self.q[i], d),
-                Source::SumAt(d, p) => Dual::var(self.q[i] + self.q[vars[p]], d),
-                Source::Const => Dual::<N, T>::cst(self.q[i]),
-                Source::Zero => Dual::cst(0.0),
-            }
-        };
-        // Rod terms take `bend_local` and `stretch_local`: these are
-        // load and moment terms.
-        let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
-        let d = e + t;
-        let n = vars.len();
-        let cols = &plan.columns;
-        for (ga, c) in g.iter_mut().zip(cols) {
-            *ga = c.iter().map(|&(i, a)| a * d.g[i]).sum();
-        }
-        // The packed Hessian unpacked once: the loop below reads each
-        // entry up to 16 times (the anchor's columns), by plain indexing.
-        let mut full = [[0.0; N]; N];
-        let mut k = 0;
-        for i in 0..N {
-            for j in i..N {
-                full[i][j] = d.h[k];
-                full[j][i] = d.h[k];
-                k += 1;
-            }
-        }
-        for a in 0..n {
-            for b in a..n {
-                let mut v = 0.0;
-                for &(i, x) in &cols[a] {
-                    for &(j, y) in &cols[b] {
-                        v += x * y * full[i][j];
-                    }
-                }
-                h[a * n + b] = v;
-                h[b * n + a] = v;
-            }
-        }
-        d.v
     }
 
     fn derivatives_n<const N: usize, const T: usize>(
