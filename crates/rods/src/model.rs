@@ -648,8 +648,8 @@ struct Chain<'a> {
     /// Row k: the gradient of intermediate k over the local variables.
     jac: [[f64; MAX_LOCAL]; 8],
     /// The arm tips in edge vectors: (the vector's first row, sign times
-    /// r, the slot).
-    tips: [Option<(usize, f64, LocalSlot)>; 4],
+    /// r, the slot's place in `known`); by index, not copies of the slot.
+    tips: [Option<(usize, f64, usize)>; 4],
     known: [Option<LocalSlot>; 4],
 }
 
@@ -675,10 +675,14 @@ impl<'a> Chain<'a> {
 
     /// A slot's directions, each computed once per term (an arm tip's
     /// position and the arm's frame share them).
-    fn slot(&mut self, j: usize, slot: usize) -> LocalSlot {
+    fn slot(&mut self, j: usize, slot: usize) -> usize {
         type D3 = Dual<3, 6>;
-        if let Some(s) = self.known.iter().flatten().find(|s| s.key == (j, slot)) {
-            return *s;
+        if let Some(i) = self
+            .known
+            .iter()
+            .position(|s| s.as_ref().is_some_and(|s| s.key == (j, slot)))
+        {
+            return i;
         }
         let m = self.m;
         let jt = &m.joints[j];
@@ -713,10 +717,17 @@ impl<'a> Chain<'a> {
                 }
             }
         };
-        if let Some(free) = self.known.iter_mut().find(|k| k.is_none()) {
-            *free = Some(s);
-        }
-        s
+        let i = self
+            .known
+            .iter()
+            .position(|k| k.is_none())
+            .expect("at most 4 slots in a rod term");
+        self.known[i] = Some(s);
+        i
+    }
+
+    fn known(&self, i: usize) -> &LocalSlot {
+        self.known[i].as_ref().expect("a known slot")
     }
 
     /// A node's position; its coordinates enter rows `row..row + 3` (an
@@ -733,29 +744,32 @@ impl<'a> Chain<'a> {
             self.jac[row + c][l] += sign;
         }
         let p = DVec3::new(m.q[x], m.q[x + 1], m.q[x + 2]);
-        let Some((s, r)) = tip else { return p };
-        for (c, uc) in [s.u.x, s.u.y, s.u.z].iter().enumerate() {
+        let Some((si, r)) = tip else { return p };
+        let s = self.known[si].as_ref().expect("a known slot");
+        for (c, uc) in [&s.u.x, &s.u.y, &s.u.z].into_iter().enumerate() {
             for (i, &(ls, count)) in s.inputs.iter().enumerate() {
                 for &l in &ls[..count] {
                     self.jac[row + c][l] += sign * r * uc.g[i];
                 }
             }
         }
+        let at = p + s.u.val() * r;
         if let Some(free) = self.tips.iter_mut().find(|k| k.is_none()) {
-            *free = Some((row, sign * r, s));
+            *free = Some((row, sign * r, si));
         }
-        p + s.u.val() * r
+        at
     }
 
     /// Rows `row..row + 3` as a slot's three inputs (an arm's frame),
     /// instead of the edge vector `place` put there.
-    fn inputs(&mut self, row: usize, s: &LocalSlot) {
+    fn inputs(&mut self, row: usize, si: usize) {
         for tip in &mut self.tips {
             if tip.is_some_and(|t| t.0 == row) {
                 *tip = None;
             }
         }
-        for (i, &(ls, count)) in s.inputs.iter().enumerate() {
+        let inputs = self.known(si).inputs;
+        for (i, &(ls, count)) in inputs.iter().enumerate() {
             self.jac[row + i].fill(0.0);
             for &l in &ls[..count] {
                 self.jac[row + i][l] = 1.0;
@@ -795,8 +809,9 @@ impl<'a> Chain<'a> {
                 }
             }
         }
-        for &(row, sr, s) in self.tips.iter().flatten() {
-            for (c, uc) in [s.u.x, s.u.y, s.u.z].iter().enumerate() {
+        for &(row, sr, si) in self.tips.iter().flatten() {
+            let s = self.known(si);
+            for (c, uc) in [&s.u.x, &s.u.y, &s.u.z].into_iter().enumerate() {
                 let f = outer.g[row + c] * sr;
                 if f == 0.0 {
                     continue;
@@ -842,7 +857,7 @@ fn bend_local(
     let mut base = [[DVec3::ZERO; 3]; 2];
     for (k, edge, ev) in [(0, ea, x1 - x0), (1, eb, x2 - x1)] {
         let t = V3::<f64>::cst(ev).unit();
-        let rot = match edge.frame {
+        match edge.frame {
             Frame::Ref { ts, as_, theta } => {
                 let th = m.q[theta];
                 let (d1, d2) = material::<f64>(ts, as_, t, th);
@@ -852,19 +867,19 @@ fn bend_local(
                 let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
                 let t4 = e4.unit();
                 let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
-                rotation([t4, d14, d24], base[k]).map(|wk| embed(&wk, 4 * k))
+                place_rotation(&mut w, k, &rotation([t4, d14, d24], base[k]));
             }
             Frame::Arm { joint, slot, sigma } => {
                 // t = u, d2 = sigma n, d1 = d2 x u, over the slot's inputs.
-                let s = chain.slot(joint, slot);
-                chain.inputs(4 * k, &s);
+                let si = chain.slot(joint, slot);
+                chain.inputs(4 * k, si);
+                let s = chain.known(si);
                 let d2 = s.n.scalef(sigma);
                 let d1 = d2.cross(s.u);
                 base[k] = [t.val(), d1.val(), d2.val()];
-                rotation([s.u, d1, d2], base[k]).map(|wk| embed(&wk, 4 * k))
+                place_rotation(&mut w, k, &rotation([s.u, d1, d2], base[k]));
             }
-        };
-        w[3 * k..3 * k + 3].copy_from_slice(&rot);
+        }
     }
     let e8 = compose(
         &bend_energy_rotations(&m.section, lbar, base),
@@ -898,6 +913,20 @@ fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
         .add(f[2].crossc(f0[2]))
         .scalef(-0.5);
     [w.x, w.y, w.z]
+}
+
+/// Edge k's rotation over its own variables as three of the 8-variable
+/// duals, each written in place: an array of them mapped and copied was
+/// about 2 % of the solve (memmove).
+#[inline(always)]
+fn place_rotation<const M: usize, const TM: usize>(
+    w: &mut [Dual<8, 36>; 6],
+    k: usize,
+    rot: &[Dual<M, TM>; 3],
+) {
+    for (c, wk) in rot.iter().enumerate() {
+        w[3 * k + c] = embed(wk, 4 * k);
+    }
 }
 
 /// A small dual as one over 8 variables, its variables at `offset..`.
