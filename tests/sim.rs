@@ -309,8 +309,9 @@ fn gradient_and_hessian_match_finite_differences() {
                 let vars = m.stencil_vars(&st);
                 let (e, g, h) = m.stencil_derivatives(&st, &vars);
                 let k = vars.len();
-                // The reduced duals (translation, pivot angle sums) against a
-                // dual variable for every local variable.
+                // The solver's derivatives (a rod term's chain rule in plain
+                // numbers, `Chain`) against a dual variable for every local
+                // variable.
                 let (ef, gf, hf) = m.stencil_derivatives_full(&st, &vars);
                 let close = |a: &[f64], b: &[f64]| {
                     let scale = b.iter().fold(1e-300f64, |s, x| s.max(x.abs()));
@@ -320,8 +321,11 @@ fn gradient_and_hessian_match_finite_differences() {
                     (e - ef).abs() <= 1e-12 * ef.abs().max(1e-300),
                     "energy {e} vs {ef}"
                 );
-                assert!(close(&g, &gf), "reduced gradient differs: {g:?} vs {gf:?}");
-                assert!(close(&h, &hf), "reduced Hessian differs");
+                assert!(
+                    close(&g, &gf),
+                    "chain-rule gradient differs: {g:?} vs {gf:?}"
+                );
+                assert!(close(&h, &hf), "chain-rule Hessian differs");
                 reduced_checked += 1;
                 let step = |i: usize| match m.kinds[vars[i]] {
                     karigami_rods::model::VarKind::Length => 1e-6,

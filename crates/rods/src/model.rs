@@ -150,34 +150,6 @@ pub struct Model {
     pub e_scale: f64,
 }
 
-/// Where a stencil's local variable gets its dual number from.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Source {
-    /// Its own dual variable.
-    Var(usize),
-    /// The dual variable of a pivot slot's angle sum (alpha_A + delta):
-    /// this variable plus local variable `.1`.
-    SumAt(usize, usize),
-    /// A constant at its value: the anchor position.
-    Const,
-    /// A constant 0: the second term of a merged sum.
-    Zero,
-}
-
-/// A stencil's reduction to fewer dual variables, exact because a rod term
-/// depends on positions only through differences (one position triple, the
-/// anchor, is held constant and its derivatives are minus the sum of the
-/// others') and on a pivot's second rod through alpha_A + delta only. The
-/// dual arithmetic costs about the square of the number of variables, so
-/// an 11-variable free stencil computed over 8 costs about half.
-/// `columns[k]` lists (dual index, coefficient): d/dq_k = sum coef d/dz_i.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Reduction {
-    pub size: usize,
-    pub source: Vec<Source>,
-    pub columns: Vec<Vec<(usize, f64)>>,
-}
-
 /// A variable eliminated by a linear constraint: `q[var] = offset + sum
 /// coef q[u]` over `terms`. The solver moves the terms and recomputes the
 /// variable (exact, no penalty); used to hold the mean opening of all
@@ -357,31 +329,20 @@ impl Model {
     /// Energy, gradient (over `vars`) and the local Hessian (row-major) of
     /// one stencil, for its variables `vars` (as `stencil_vars` lists them).
     pub fn stencil_derivatives(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
-        let plan = self.reduction(s, vars);
-        self.stencil_derivatives_with(s, vars, &plan)
-    }
-
-    /// `stencil_derivatives` with the stencil's reduction computed once
-    /// (the solver keeps one per stencil).
-    pub fn stencil_derivatives_with(
-        &self,
-        s: &Stencil,
-        vars: &[usize],
-        plan: &Reduction,
-    ) -> (f64, Vec<f64>, Vec<f64>) {
         let (mut g, mut h) = (Vec::new(), Vec::new());
-        let e = self.stencil_derivatives_into(s, vars, plan, &mut g, &mut h);
+        let e = self.stencil_derivatives_into(s, vars, &mut g, &mut h);
         (e, g, h)
     }
 
-    /// `stencil_derivatives_with` into the caller's buffers (resized to
+    /// `stencil_derivatives` into the caller's buffers (resized to
     /// vars.len() and its square): the solver's assembly reuses two
     /// buffers for all stencils instead of two allocations per stencil.
+    /// Rod terms take the chain rule of `Chain`; a load or a moment (the
+    /// analytic checks' terms) takes a dual variable per local variable.
     pub fn stencil_derivatives_into(
         &self,
         s: &Stencil,
         vars: &[usize],
-        plan: &Reduction,
         g: &mut Vec<f64>,
         h: &mut Vec<f64>,
     ) -> f64 {
@@ -390,25 +351,20 @@ impl Model {
         g.resize(n, 0.0);
         h.clear();
         h.resize(n * n, 0.0);
-        match plan.size {
-            0 => self.stencil_value(s),
-            1..=3 => self.reduced_n::<3, 6>(s, vars, plan, g, h),
-            4..=6 => self.reduced_n::<6, 21>(s, vars, plan, g, h),
-            7 => self.reduced_n::<7, 28>(s, vars, plan, g, h),
-            8 => self.reduced_n::<8, 36>(s, vars, plan, g, h),
-            9 => self.reduced_n::<9, 45>(s, vars, plan, g, h),
-            10 => self.reduced_n::<10, 55>(s, vars, plan, g, h),
-            11 => self.reduced_n::<11, 66>(s, vars, plan, g, h),
-            12 => self.reduced_n::<12, 78>(s, vars, plan, g, h),
-            13 => self.reduced_n::<13, 91>(s, vars, plan, g, h),
-            14..=17 => self.reduced_n::<17, 153>(s, vars, plan, g, h),
-            n => panic!("a stencil with {n} reduced variables"),
+        match *s {
+            Stencil::Bend { e0, e1, lbar, .. } => bend_local(self, (e0, e1, lbar), vars, g, h),
+            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, g, h),
+            Stencil::Load { .. } | Stencil::Moment { .. } => {
+                let (e, gf, hf) = self.stencil_derivatives_full(s, vars);
+                g.copy_from_slice(&gf);
+                h.copy_from_slice(&hf);
+                e
+            }
         }
     }
 
-    /// The same derivatives with a dual variable for every local variable,
-    /// without the reduction: the reference the reduced form is tested
-    /// against.
+    /// The same derivatives with a dual variable for every local variable:
+    /// the reference the rod terms' chain rule is tested against.
     pub fn stencil_derivatives_full(
         &self,
         s: &Stencil,
@@ -425,164 +381,6 @@ impl Model {
             17..=20 => self.derivatives_n::<20, 210>(s, vars),
             n => panic!("a stencil with {n} variables"),
         }
-    }
-
-    /// How a stencil's local variables map onto fewer dual variables
-    /// (module `Reduction`). Only rod terms (stretch, bend) are reduced:
-    /// they depend on positions through differences only.
-    pub fn reduction(&self, s: &Stencil, vars: &[usize]) -> Reduction {
-        let identity = || Reduction {
-            size: vars.len(),
-            source: (0..vars.len()).map(Source::Var).collect(),
-            columns: (0..vars.len()).map(|k| vec![(k, 1.0)]).collect(),
-        };
-        let edges: Vec<usize> = match *s {
-            Stencil::Stretch { edge, .. } => vec![edge],
-            Stencil::Bend { e0, e1, .. } => vec![e0, e1],
-            _ => return identity(),
-        };
-        let local = |v: usize| vars.binary_search(&v).expect("a stencil variable");
-        // Position triples (free nodes, joint positions) and joint slots.
-        let mut triples: Vec<usize> = Vec::new();
-        let mut slots: Vec<(usize, usize)> = Vec::new();
-        let node = |n: usize, triples: &mut Vec<usize>, slots: &mut Vec<(usize, usize)>| match self
-            .nodes[n]
-        {
-            Node::Free(i) => triples.push(i),
-            Node::Hole(j) => triples.push(self.joints[j].x),
-            Node::Arm { joint, slot, .. } => {
-                triples.push(self.joints[joint].x);
-                slots.push((joint, slot));
-            }
-        };
-        for &e in &edges {
-            node(self.edges[e].a, &mut triples, &mut slots);
-            node(self.edges[e].b, &mut triples, &mut slots);
-            if let Frame::Arm { joint, slot, .. } = self.edges[e].frame {
-                slots.push((joint, slot));
-            }
-        }
-        triples.sort_unstable();
-        triples.dedup();
-        slots.sort_unstable();
-        slots.dedup();
-        // An angle variable may be merged into its pair's sum only when it
-        // enters this stencil through that one slot.
-        let mut uses = std::collections::HashMap::new();
-        for &(j, sl) in &slots {
-            let slot = self.joints[j].slots[sl];
-            for &a in &slot.angle[..slot.terms] {
-                *uses.entry(a).or_insert(0usize) += 1;
-            }
-        }
-        let mut merged_into = vec![usize::MAX; vars.len()];
-        for &(j, sl) in &slots {
-            let slot = self.joints[j].slots[sl];
-            if slot.terms == 2 && uses[&slot.angle[0]] == 1 && uses[&slot.angle[1]] == 1 {
-                merged_into[local(slot.angle[1])] = local(slot.angle[0]);
-            }
-        }
-        let mut is_anchor = vec![false; vars.len()];
-        if let Some(&a) = triples.first() {
-            for c in 0..3 {
-                is_anchor[local(a + c)] = true;
-            }
-        }
-        // Dual indices for the variables that stay.
-        let mut dual = vec![usize::MAX; vars.len()];
-        let mut size = 0;
-        for k in 0..vars.len() {
-            if !is_anchor[k] && merged_into[k] == usize::MAX {
-                dual[k] = size;
-                size += 1;
-            }
-        }
-        let mut source = Vec::with_capacity(vars.len());
-        let mut columns = Vec::with_capacity(vars.len());
-        for k in 0..vars.len() {
-            if is_anchor[k] {
-                // z_P = x_P - x_anchor for every other position triple.
-                let c = vars[k] - triples[0];
-                source.push(Source::Const);
-                columns.push(
-                    triples[1..]
-                        .iter()
-                        .map(|&t| (dual[local(t + c)], -1.0))
-                        .collect(),
-                );
-            } else if merged_into[k] != usize::MAX {
-                source.push(Source::Zero);
-                columns.push(vec![(dual[merged_into[k]], 1.0)]);
-            } else {
-                source.push(match merged_into.iter().position(|&m| m == k) {
-                    Some(partner) => Source::SumAt(dual[k], partner),
-                    None => Source::Var(dual[k]),
-                });
-                columns.push(vec![(dual[k], 1.0)]);
-            }
-        }
-        Reduction {
-            size,
-            source,
-            columns,
-        }
-    }
-
-    fn reduced_n<const N: usize, const T: usize>(
-        &self,
-        s: &Stencil,
-        vars: &[usize],
-        plan: &Reduction,
-        g: &mut [f64],
-        h: &mut [f64],
-    ) -> f64 {
-        // Each dual made where it is read: no vector of duals to fill and
-        // copy from (they are up to 1.4 kB each).
-        let get = |i: usize| {
-            let k = vars.binary_search(&i).expect("stencil variable");
-            match plan.source[k] {
-                Source::Var(d) => Dual::var(self.q[i], d),
-                Source::SumAt(d, p) => Dual::var(self.q[i] + self.q[vars[p]], d),
-                Source::Const => Dual::<N, T>::cst(self.q[i]),
-                Source::Zero => Dual::cst(0.0),
-            }
-        };
-        let d = match *s {
-            Stencil::Bend { e0, e1, lbar, .. } => bend_composed::<N, T>(self, &get, e0, e1, lbar),
-            _ => {
-                let (e, t) = stencil_energy::<Dual<N, T>>(self, &get, s);
-                e + t
-            }
-        };
-        let n = vars.len();
-        let cols = &plan.columns;
-        for (ga, c) in g.iter_mut().zip(cols) {
-            *ga = c.iter().map(|&(i, a)| a * d.g[i]).sum();
-        }
-        // The packed Hessian unpacked once: the loop below reads each
-        // entry up to 16 times (the anchor's columns), by plain indexing.
-        let mut full = [[0.0; N]; N];
-        let mut k = 0;
-        for i in 0..N {
-            for j in i..N {
-                full[i][j] = d.h[k];
-                full[j][i] = d.h[k];
-                k += 1;
-            }
-        }
-        for a in 0..n {
-            for b in a..n {
-                let mut v = 0.0;
-                for &(i, x) in &cols[a] {
-                    for &(j, y) in &cols[b] {
-                        v += x * y * full[i][j];
-                    }
-                }
-                h[a * n + b] = v;
-                h[b * n + a] = v;
-            }
-        }
-        d.v
     }
 
     fn derivatives_n<const N: usize, const T: usize>(
@@ -700,20 +498,12 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
 /// stencil's cost. The same arithmetic, so the same numbers.
 struct Dirs<S> {
     known: [Option<(usize, usize, V3<S>, V3<S>)>; 4],
-    /// How a slot's directions are computed: `slot_dir`, or for the
-    /// solver's duals `slot_dir_composed` (the same derivatives).
-    dir: SlotDir<S>,
 }
-
-type SlotDir<S> = fn(&Model, &dyn Fn(usize) -> S, usize, usize) -> (V3<S>, V3<S>);
 
 impl<S: Scalar> Dirs<S> {
     #[inline(always)]
     fn new() -> Self {
-        Dirs {
-            known: [None; 4],
-            dir: slot_dir::<S>,
-        }
+        Dirs { known: [None; 4] }
     }
 
     #[inline(always)]
@@ -729,72 +519,11 @@ impl<S: Scalar> Dirs<S> {
                 return (k.2, k.3);
             }
         }
-        let (u, n) = (self.dir)(m, get, j, slot);
+        let (u, n) = slot_dir(m, get, j, slot);
         if let Some(free) = self.known.iter_mut().find(|k| k.is_none()) {
             *free = Some((j, slot, u, n));
         }
         (u, n)
-    }
-}
-
-/// `slot_dir` over N duals by the chain rule: the directions are taken
-/// over the slot's own 3 variables (tilt a, b and the angle) in small
-/// duals, and `compose` carries them to N. The joint frame and the angle's
-/// sine and cosine at full size were about 8 % of the solve (memmove of
-/// N-duals included).
-fn slot_dir_composed<const N: usize, const T: usize>(
-    m: &Model,
-    get: &dyn Fn(usize) -> Dual<N, T>,
-    j: usize,
-    slot: usize,
-) -> (V3<Dual<N, T>>, V3<Dual<N, T>>) {
-    let (u, n, inner) = slot_dir_small(m, get, j, slot);
-    // The slot's variables are variables (or a sum of two): no Hessian.
-    let flat = [false; 3];
-    let up = |v: V3<Dual<3, 6>>| {
-        V3::new(
-            compose(&v.x, &inner, &flat),
-            compose(&v.y, &inner, &flat),
-            compose(&v.z, &inner, &flat),
-        )
-    };
-    (up(u), up(n))
-}
-
-/// A slot's directions (u, n) over its own variables in 3-variable duals,
-/// with those variables as N duals (`compose`'s inner values): the tilt
-/// (a, b) and the angle, or for a ball joint the angle and two zeros.
-#[allow(clippy::type_complexity)]
-fn slot_dir_small<const N: usize, const T: usize>(
-    m: &Model,
-    get: &dyn Fn(usize) -> Dual<N, T>,
-    j: usize,
-    slot: usize,
-) -> (V3<Dual<3, 6>>, V3<Dual<3, 6>>, [Dual<N, T>; 3]) {
-    type D3 = Dual<3, 6>;
-    let jt = &m.joints[j];
-    let sl = jt.slots[slot];
-    let mut alpha = get(sl.angle[0]);
-    if sl.terms == 2 {
-        alpha = alpha + get(sl.angle[1]);
-    }
-    let [ns, ps, qs] = jt.frame;
-    match jt.tilt {
-        Some(t) => {
-            let inner = [get(t), get(t + 1), alpha];
-            let (n, p, q) = joint_frame(ns, ps, qs, D3::var(inner[0].v, 0), D3::var(inner[1].v, 1));
-            let a = D3::var(inner[2].v, 2);
-            let u = p.scale(a.cos()).add(q.scale(a.sin()));
-            (u, n, inner)
-        }
-        None => {
-            // A ball joint: the frame is constant, the angle alone moves u.
-            let a = D3::var(alpha.v, 0);
-            let u = V3::<D3>::cst(ps)
-                .scale(a.cos())
-                .add(V3::cst(qs).scale(a.sin()));
-            (u, V3::cst(ns), [alpha, Dual::cst(0.0), Dual::cst(0.0)])
-        }
     }
 }
 
@@ -890,99 +619,314 @@ fn bend_energy<S: Scalar>(sec: &Section, lbar: f64, f0: [V3<S>; 3], f1: [V3<S>; 
     )
 }
 
-/// A bend stencil's energy with its derivatives over N (reduced) variables,
-/// by the chain rule through small duals (docs/physics.md, "Solver"). The
-/// energy depends on the two edges' material frames only, and a frame
-/// near its present value F0 is R(w) F0 for a small rotation vector w: so
-/// the energy is taken over the 6 rotation coordinates (w0, w1) at 0, each
-/// Ref edge's w over its 4 variables (edge vector, material angle), and
-/// only the maps to the stencil's N variables (arm tips, joint frames) in
-/// N-variable duals. Exact to second order, hence the same value, gradient
-/// and Hessian as `stencil_energy` over N duals (tests/sim.rs checks it):
-/// w = vee(skew(F F0^T)) = (1/2) sum_k f0_k x f_k differs from the
-/// rotation's logarithm by O(|w|^3), and R(w) = I + W + W^2/2 from exp(W)
-/// by O(|w|^3).
-fn bend_composed<const N: usize, const T: usize>(
-    m: &Model,
-    get: &dyn Fn(usize) -> Dual<N, T>,
-    e0: usize,
-    e1: usize,
-    lbar: f64,
-) -> Dual<N, T> {
-    type D4 = Dual<4, 10>;
-    let mut dirs = Dirs::<Dual<N, T>> {
-        known: [None; 4],
-        dir: slot_dir_composed::<N, T>,
-    };
-    let (a, b) = (&m.edges[e0], &m.edges[e1]);
-    let x0 = node_pos_in(m, get, m.nodes[a.a], &mut dirs);
-    let x1 = node_pos_in(m, get, m.nodes[a.b], &mut dirs);
-    let x2 = node_pos_in(m, get, m.nodes[b.b], &mut dirs);
-    // w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
-    fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
-        let w = f[0]
-            .crossc(f0[0])
-            .add(f[1].crossc(f0[1]))
-            .add(f[2].crossc(f0[2]))
-            .scalef(-0.5);
-        [w.x, w.y, w.z]
+/// The most local variables a rod term has (three nodes with a joint slot
+/// each and two frames: fewer in practice).
+const MAX_LOCAL: usize = 24;
+
+/// A joint slot's directions (u, n) over its own three inputs in small
+/// duals (tilt a, b and the angle; for a ball joint the angle alone), and
+/// which of the term's local variables each input is: one, or two for a
+/// pivot's second rod, whose angle is the sum of two variables.
+#[derive(Clone, Copy)]
+struct LocalSlot {
+    key: (usize, usize),
+    u: V3<Dual<3, 6>>,
+    n: V3<Dual<3, 6>>,
+    inputs: [([usize; 2], usize); 3],
+}
+
+/// The last step of a rod term's chain rule, in plain numbers (docs/physics.md,
+/// "Solver"): up to 8 intermediates (edge vectors, material angles, slot
+/// inputs) over the term's local variables. An edge vector is x_b - x_a,
+/// plus r u at an arm tip, the only intermediate with a Hessian (over its
+/// slot's 3 inputs); a material angle or a slot input is one variable or
+/// a sum of two. So no N-variable duals are made: making, copying and
+/// zeroing them was about a third of the solve.
+struct Chain<'a> {
+    m: &'a Model,
+    vars: &'a [usize],
+    /// Row k: the gradient of intermediate k over the local variables.
+    jac: [[f64; MAX_LOCAL]; 8],
+    /// The arm tips in edge vectors: (the vector's first row, sign times
+    /// r, the slot's place in `known`); by index, not copies of the slot.
+    tips: [Option<(usize, f64, usize)>; 4],
+    known: [Option<LocalSlot>; 4],
+}
+
+impl<'a> Chain<'a> {
+    fn new(m: &'a Model, vars: &'a [usize]) -> Self {
+        assert!(
+            vars.len() <= MAX_LOCAL,
+            "a rod term with {} variables",
+            vars.len()
+        );
+        Chain {
+            m,
+            vars,
+            jac: [[0.0; MAX_LOCAL]; 8],
+            tips: [None; 4],
+            known: [None; 4],
+        }
     }
-    // The rotations over each edge's own variables (4: edge vector and
-    // material angle; 3 for an arm: the slot's), side by side as 8 small
-    // duals; their N-dual variables in `inner`.
+
+    fn loc(&self, v: usize) -> usize {
+        self.vars.binary_search(&v).expect("a stencil variable")
+    }
+
+    /// A slot's directions, each computed once per term (an arm tip's
+    /// position and the arm's frame share them).
+    fn slot(&mut self, j: usize, slot: usize) -> usize {
+        type D3 = Dual<3, 6>;
+        if let Some(i) = self
+            .known
+            .iter()
+            .position(|s| s.as_ref().is_some_and(|s| s.key == (j, slot)))
+        {
+            return i;
+        }
+        let m = self.m;
+        let jt = &m.joints[j];
+        let sl = jt.slots[slot];
+        let mut alpha = m.q[sl.angle[0]];
+        let mut angle = ([self.loc(sl.angle[0]), 0], 1);
+        if sl.terms == 2 {
+            alpha += m.q[sl.angle[1]];
+            angle = ([angle.0[0], self.loc(sl.angle[1])], 2);
+        }
+        let [ns, ps, qs] = jt.frame;
+        let s = match jt.tilt {
+            Some(t) => {
+                let (n, p, q) = joint_frame(ns, ps, qs, D3::var(m.q[t], 0), D3::var(m.q[t + 1], 1));
+                let a = D3::var(alpha, 2);
+                LocalSlot {
+                    key: (j, slot),
+                    u: p.scale(a.cos()).add(q.scale(a.sin())),
+                    n,
+                    inputs: [([self.loc(t), 0], 1), ([self.loc(t + 1), 0], 1), angle],
+                }
+            }
+            None => {
+                let a = D3::var(alpha, 0);
+                LocalSlot {
+                    key: (j, slot),
+                    u: V3::<D3>::cst(ps)
+                        .scale(a.cos())
+                        .add(V3::cst(qs).scale(a.sin())),
+                    n: V3::cst(ns),
+                    inputs: [angle, ([0, 0], 0), ([0, 0], 0)],
+                }
+            }
+        };
+        let i = self
+            .known
+            .iter()
+            .position(|k| k.is_none())
+            .expect("at most 4 slots in a rod term");
+        self.known[i] = Some(s);
+        i
+    }
+
+    fn known(&self, i: usize) -> &LocalSlot {
+        self.known[i].as_ref().expect("a known slot")
+    }
+
+    /// A node's position; its coordinates enter rows `row..row + 3` (an
+    /// edge vector) with `sign` (-1 at the edge's start, +1 at its end).
+    fn place(&mut self, row: usize, node: usize, sign: f64) -> DVec3 {
+        let m = self.m;
+        let (x, tip) = match m.nodes[node] {
+            Node::Free(i) => (i, None),
+            Node::Hole(j) => (m.joints[j].x, None),
+            Node::Arm { joint, slot, r } => (m.joints[joint].x, Some((self.slot(joint, slot), r))),
+        };
+        for c in 0..3 {
+            let l = self.loc(x + c);
+            self.jac[row + c][l] += sign;
+        }
+        let p = DVec3::new(m.q[x], m.q[x + 1], m.q[x + 2]);
+        let Some((si, r)) = tip else { return p };
+        let s = self.known[si].as_ref().expect("a known slot");
+        for (c, uc) in [&s.u.x, &s.u.y, &s.u.z].into_iter().enumerate() {
+            for (i, &(ls, count)) in s.inputs.iter().enumerate() {
+                for &l in &ls[..count] {
+                    self.jac[row + c][l] += sign * r * uc.g[i];
+                }
+            }
+        }
+        let at = p + s.u.val() * r;
+        if let Some(free) = self.tips.iter_mut().find(|k| k.is_none()) {
+            *free = Some((row, sign * r, si));
+        }
+        at
+    }
+
+    /// Rows `row..row + 3` as a slot's three inputs (an arm's frame),
+    /// instead of the edge vector `place` put there.
+    fn inputs(&mut self, row: usize, si: usize) {
+        for tip in &mut self.tips {
+            if tip.is_some_and(|t| t.0 == row) {
+                *tip = None;
+            }
+        }
+        let inputs = self.known(si).inputs;
+        for (i, &(ls, count)) in inputs.iter().enumerate() {
+            self.jac[row + i].fill(0.0);
+            for &l in &ls[..count] {
+                self.jac[row + i][l] = 1.0;
+            }
+        }
+    }
+
+    /// g = J^T g_o and H = J^T H_o J + the arm tips' own Hessians times
+    /// their rows' g_o, for `outer` over the first M intermediates.
+    fn finish<const M: usize, const TM: usize>(
+        &self,
+        outer: &Dual<M, TM>,
+        g: &mut [f64],
+        h: &mut [f64],
+    ) -> f64 {
+        let n = self.vars.len();
+        let jac = &self.jac[..M];
+        let mut p = [[0.0; MAX_LOCAL]; M];
+        for (k, pk) in p.iter_mut().enumerate() {
+            for (l, jl) in jac.iter().enumerate() {
+                let f = outer.hess(k, l);
+                if f != 0.0 {
+                    for (pb, jb) in pk[..n].iter_mut().zip(&jl[..n]) {
+                        *pb += f * jb;
+                    }
+                }
+            }
+        }
+        for (k, jk) in jac.iter().enumerate() {
+            for a in 0..n {
+                let c = jk[a];
+                if c != 0.0 {
+                    g[a] += outer.g[k] * c;
+                    for (hb, pb) in h[a * n..(a + 1) * n].iter_mut().zip(&p[k][..n]) {
+                        *hb += c * pb;
+                    }
+                }
+            }
+        }
+        for &(row, sr, si) in self.tips.iter().flatten() {
+            let s = self.known(si);
+            for (c, uc) in [&s.u.x, &s.u.y, &s.u.z].into_iter().enumerate() {
+                let f = outer.g[row + c] * sr;
+                if f == 0.0 {
+                    continue;
+                }
+                for (i, &(li, ci)) in s.inputs.iter().enumerate() {
+                    for (j, &(lj, cj)) in s.inputs.iter().enumerate() {
+                        let v = f * uc.hess(i, j);
+                        for &a in &li[..ci] {
+                            for &b in &lj[..cj] {
+                                h[a * n + b] += v;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        outer.v
+    }
+}
+
+/// A bend stencil's energy with its gradient and Hessian over its local
+/// variables `vars` (docs/physics.md, "Solver"): the energy over the two
+/// edges' 6 rotation coordinates in closed form, carried to the edges' 8
+/// variables (edge vector and material angle, or an arm's 3 slot inputs)
+/// in small duals, and from those to the stencil's variables by `Chain`.
+fn bend_local(
+    m: &Model,
+    (e0, e1, lbar): (usize, usize, f64),
+    vars: &[usize],
+    g: &mut [f64],
+    h: &mut [f64],
+) -> f64 {
+    type D4 = Dual<4, 10>;
+    let mut chain = Chain::new(m, vars);
+    let (ea, eb) = (&m.edges[e0], &m.edges[e1]);
+    let x0 = chain.place(0, ea.a, -1.0);
+    let x1 = chain.place(0, ea.b, 1.0);
+    chain.place(4, eb.a, -1.0);
+    let x2 = chain.place(4, eb.b, 1.0);
+    // The rotations over each edge's own variables, side by side as 8
+    // small duals.
     let mut w = [Dual::<8, 36>::cst(0.0); 6];
     let mut base = [[DVec3::ZERO; 3]; 2];
-    // Which of the 8 have a Hessian: an edge vector with an arm tip at
-    // either end (the tip turns with its slot); variables have none.
-    let mut curved = [false; 8];
-    let arm = |n: usize| matches!(m.nodes[n], Node::Arm { .. });
-    // Each edge's 4 N-dual variables, made in place (no zeroed array of
-    // eight 1.4 kB duals to fill).
-    let mut part = |k: usize, edge: &Edge, xa: V3<Dual<N, T>>, xb: V3<Dual<N, T>>| {
-        let e = xb.sub(xa);
-        let ev = e.val();
+    for (k, edge, ev) in [(0, ea, x1 - x0), (1, eb, x2 - x1)] {
         let t = V3::<f64>::cst(ev).unit();
         match edge.frame {
             Frame::Ref { ts, as_, theta } => {
-                let th = get(theta);
-                let (d1, d2) = material::<f64>(ts, as_, t, th.v);
-                let f0 = [t.val(), d1.val(), d2.val()];
-                // The frame over (edge vector, material angle).
+                let th = m.q[theta];
+                let (d1, d2) = material::<f64>(ts, as_, t, th);
+                base[k] = [t.val(), d1.val(), d2.val()];
+                let l = chain.loc(theta);
+                chain.jac[4 * k + 3][l] = 1.0;
                 let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
                 let t4 = e4.unit();
-                let (d14, d24) = material(ts, as_, t4, D4::var(th.v, 3));
-                for (c, wk) in rotation([t4, d14, d24], f0).iter().enumerate() {
-                    w[3 * k + c] = embed(wk, 4 * k);
-                }
-                base[k] = f0;
-                let bent = arm(edge.a) || arm(edge.b);
-                curved[4 * k..4 * k + 3].copy_from_slice(&[bent; 3]);
-                [e.x, e.y, e.z, th]
+                let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
+                place_rotation(&mut w, k, &rotation([t4, d14, d24], base[k]));
             }
             Frame::Arm { joint, slot, sigma } => {
-                // t = u (the arm's direction), d2 = sigma n, d1 = d2 x u,
-                // and the rotation, over the slot's 3 variables.
-                let (u, n, slot_vars) = slot_dir_small(m, get, joint, slot);
-                let d2 = n.scalef(sigma);
-                let d1 = d2.cross(u);
-                let f0 = [t.val(), d1.val(), d2.val()];
-                for (c, wk) in rotation([u, d1, d2], f0).iter().enumerate() {
-                    w[3 * k + c] = embed(wk, 4 * k);
-                }
-                base[k] = f0;
-                let [s0, s1, s2] = slot_vars;
-                [s0, s1, s2, Dual::cst(0.0)]
+                // t = u, d2 = sigma n, d1 = d2 x u, over the slot's inputs.
+                let si = chain.slot(joint, slot);
+                chain.inputs(4 * k, si);
+                let s = chain.known(si);
+                let d2 = s.n.scalef(sigma);
+                let d1 = d2.cross(s.u);
+                base[k] = [t.val(), d1.val(), d2.val()];
+                place_rotation(&mut w, k, &rotation([s.u, d1, d2], base[k]));
             }
         }
-    };
-    let [i0, i1, i2, i3] = part(0, a, x0, x1);
-    let [i4, i5, i6, i7] = part(1, b, x1, x2);
-    let inner = [i0, i1, i2, i3, i4, i5, i6, i7];
-    // The energy over the 6 rotations, then over the 8 edge variables,
-    // and only then over N: one N-sized chain rule of 8 intermediates
-    // instead of seven (six rotations of 4 and the energy of 6).
-    let e6 = bend_energy_rotations(&m.section, lbar, base);
-    compose(&compose(&e6, &w, &[true; 6]), &inner, &curved)
+    }
+    let e8 = compose(
+        &bend_energy_rotations(&m.section, lbar, base),
+        &w,
+        &[true; 6],
+    );
+    chain.finish(&e8, g, h)
+}
+
+/// A stretch stencil's energy with its derivatives over its local
+/// variables: over the edge vector in 3 small duals, then `Chain`.
+fn stretch_local(m: &Model, edge: usize, vars: &[usize], g: &mut [f64], h: &mut [f64]) -> f64 {
+    type D3 = Dual<3, 6>;
+    let mut chain = Chain::new(m, vars);
+    let e = &m.edges[edge];
+    let xa = chain.place(0, e.a, -1.0);
+    let ev = chain.place(0, e.b, 1.0) - xa;
+    let len = V3::new(D3::var(ev.x, 0), D3::var(ev.y, 1), D3::var(ev.z, 2)).norm();
+    let strain = len * (1.0 / e.rest) + -1.0;
+    let energy = strain * strain * (0.5 * m.section.ea * e.rest);
+    chain.finish(&energy, g, h)
+}
+
+/// The rotation vector w taking the frame f0 to f (to second order):
+/// w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
+#[inline(always)]
+fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
+    let w = f[0]
+        .crossc(f0[0])
+        .add(f[1].crossc(f0[1]))
+        .add(f[2].crossc(f0[2]))
+        .scalef(-0.5);
+    [w.x, w.y, w.z]
+}
+
+/// Edge k's rotation over its own variables as three of the 8-variable
+/// duals, each written in place: an array of them mapped and copied was
+/// about 2 % of the solve (memmove).
+#[inline(always)]
+fn place_rotation<const M: usize, const TM: usize>(
+    w: &mut [Dual<8, 36>; 6],
+    k: usize,
+    rot: &[Dual<M, TM>; 3],
+) {
+    for (c, wk) in rot.iter().enumerate() {
+        w[3 * k + c] = embed(wk, 4 * k);
+    }
 }
 
 /// A small dual as one over 8 variables, its variables at `offset..`.

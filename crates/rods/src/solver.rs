@@ -4,7 +4,7 @@
 //! one-step watchdog line search. faer's sparse LLT is the factorisation:
 //! its refusal of an indefinite matrix is the inertia test.
 
-use crate::model::{Model, Reduction, VarKind};
+use crate::model::{Model, VarKind};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::simplicial::{
@@ -27,8 +27,6 @@ pub struct System {
     /// Tied variables (`Model::ties`): (variable, [(free index, coef)]).
     tied: Vec<(usize, Vec<(usize, f64)>)>,
     stencil_vars: Vec<Vec<usize>>,
-    /// Each stencil's reduction to fewer dual variables.
-    reductions: Vec<Reduction>,
     /// For each stencil, its local variables expanded over free ones:
     /// (local index, coefficient); a tied variable gives one entry per
     /// free term, a fixed one none.
@@ -88,12 +86,6 @@ impl System {
             .stencils
             .iter()
             .map(|s| model.stencil_vars(s))
-            .collect();
-        let reductions = model
-            .stencils
-            .iter()
-            .zip(&stencil_vars)
-            .map(|(s, vars)| model.reduction(s, vars))
             .collect();
         // (local index, free index, coefficient) of each stencil.
         let entries: Vec<Vec<(usize, usize, f64)>> = stencil_vars
@@ -161,7 +153,6 @@ impl System {
             free_vars,
             tied,
             stencil_vars,
-            reductions,
             stencil_entries,
             stencil_pos,
             pattern,
@@ -186,7 +177,7 @@ impl System {
         let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
         for (s, st) in model.stencils.iter().enumerate() {
             let vars = &self.stencil_vars[s];
-            e += model.stencil_derivatives_into(st, vars, &self.reductions[s], &mut gs, &mut hs);
+            e += model.stencil_derivatives_into(st, vars, &mut gs, &mut hs);
             let k = vars.len();
             for a in 0..k {
                 g[vars[a]] += gs[a];
