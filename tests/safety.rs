@@ -231,6 +231,35 @@ fn a_full_disk_keeps_the_previous_build_single_and_batch() {
     assert!(!dir.join("out").exists());
 }
 
+/// A flush to the disk that fails (an fsync error, reported by the thread
+/// that flushes the written files) fails the build: its exit code and
+/// message name the file, --out keeps the previous build, nothing is left.
+#[test]
+fn a_failed_flush_keeps_the_previous_build() {
+    let dir = workspace("failed-flush");
+    let old = reference(&dir, &["build", "a.toml", "b.toml"], "ref-old");
+    let out = dir.join("out");
+    // The first flushes are the written files' (the marker and the folders
+    // come after them); the last of them in the sweep is a late one.
+    for k in [1, 2, 7] {
+        put_tree(&out, &old);
+        let o = run(
+            &["build", "a.toml", "c.toml", "--out", "out", "--jobs", "2"],
+            &dir,
+            Some(&format!("syncfail@{k}")),
+        );
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "k={k}: {stderr}");
+        assert!(
+            stderr.contains("flushing ") && stderr.contains("Input/output error"),
+            "k={k}: the message names the file and the error: {stderr}"
+        );
+        assert!(stderr.contains("out was left as it was"), "k={k}: {stderr}");
+        assert!(tree(&out) == old, "k={k}: --out changed");
+        assert_eq!(hidden(&dir), Vec::<String>::new(), "k={k}");
+    }
+}
+
 /// A real full disk where the machine lets us mount a small tmpfs (root on
 /// Linux); the write hook above covers every step everywhere.
 #[test]
@@ -847,11 +876,15 @@ fn the_tolerance_scales_with_extent_only_where_rounding_needs_it() {
 fn long_phases_say_so_and_budgets_are_bounded() {
     let dir = scratch("progress");
     let torus = repo().join("examples/torus.toml");
-    let o = run(
-        &["build", torus.to_str().unwrap(), "--out", "o"],
-        &dir,
-        None,
-    );
+    // The first line after 50 ms instead of 2 s: the torus builds in about
+    // 2 s unoptimised, too close to the default to show a line for sure.
+    let o = Command::new(env!("CARGO_BIN_EXE_karigami"))
+        .args(["build", torus.to_str().unwrap(), "--out", "o"])
+        .current_dir(&dir)
+        .env("KARIGAMI_FAULT", "nosync")
+        .env("KARIGAMI_FIRST_NOTE_MS", "50")
+        .output()
+        .expect("runs karigami");
     assert!(o.status.success());
     let stderr = text(&o.stderr);
     assert!(

@@ -7,7 +7,9 @@
 //! - `noexchange`: commit without the atomic folder swap, as on systems
 //!   that lack it, to test the fallback and its recovery;
 //! - `nosync`: skip fsync, which guards against power loss, not the kills
-//!   and full disks simulated here (hundreds of runs on a busy CI disk).
+//!   and full disks simulated here (hundreds of runs on a busy CI disk);
+//! - `syncfail@K`: fail the K-th flush to the disk (fsync, counted apart
+//!   from the steps) with an I/O error, as a failing disk would.
 //!
 //! It is compiled in so that the tests exercise the shipped binary.
 
@@ -21,6 +23,7 @@ struct Plan {
     enospc_from: Option<usize>,
     no_exchange: bool,
     no_sync: bool,
+    sync_fail_at: Option<usize>,
 }
 
 fn plan() -> &'static Plan {
@@ -34,6 +37,7 @@ fn plan() -> &'static Plan {
             match item.split_once('@') {
                 Some(("abort", k)) => plan.abort_at = k.parse().ok(),
                 Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
+                Some(("syncfail", k)) => plan.sync_fail_at = k.parse().ok(),
                 _ if item == "noexchange" => plan.no_exchange = true,
                 _ if item == "nosync" => plan.no_sync = true,
                 _ => {}
@@ -44,6 +48,7 @@ fn plan() -> &'static Plan {
 }
 
 static STEP: AtomicUsize = AtomicUsize::new(0);
+static SYNCS: AtomicUsize = AtomicUsize::new(0);
 
 fn next(what: &str) -> usize {
     let k = STEP.fetch_add(1, Ordering::SeqCst) + 1;
@@ -74,6 +79,11 @@ pub(super) fn no_exchange() -> bool {
 
 /// Flush a file or folder to the disk (unless `nosync`).
 pub(super) fn sync(file: &std::fs::File) -> io::Result<()> {
+    if let Some(k) = plan().sync_fail_at
+        && SYNCS.fetch_add(1, Ordering::SeqCst) + 1 == k
+    {
+        return Err(io::Error::from_raw_os_error(5));
+    }
     if plan().no_sync {
         return Ok(());
     }

@@ -98,6 +98,16 @@ impl Progress {
 /// How often a line of progress is printed off a terminal.
 const NOTE_EVERY: Duration = Duration::from_secs(5);
 
+/// How long a phase runs off a terminal before its first line: 2 s, or
+/// `KARIGAMI_FIRST_NOTE_MS` (the tests', so that they see a line however
+/// fast the machine builds).
+fn first_note() -> Duration {
+    std::env::var("KARIGAMI_FIRST_NOTE_MS")
+        .ok()
+        .and_then(|ms| ms.parse().ok())
+        .map_or(Duration::from_secs(2), Duration::from_millis)
+}
+
 /// Run `work`, and while it runs longer than a second say so on stderr:
 /// the elapsed time redrawn in place on a terminal, a line every
 /// `NOTE_EVERY` otherwise (logs, CI); nothing when `quiet`. For phases that
@@ -115,7 +125,7 @@ pub(super) fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) ->
             let (first, every) = if tty {
                 (Duration::from_secs(1), Duration::from_millis(500))
             } else {
-                (Duration::from_secs(2), NOTE_EVERY)
+                (first_note(), NOTE_EVERY)
             };
             let mut next = first;
             let mut drawn = 0;

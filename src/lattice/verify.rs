@@ -265,8 +265,9 @@ impl Grid {
 
     /// The grid a sheet or loop of whole rows would have, if its cells
     /// hold the corners of their positions (`holds`, checked apart: by
-    /// `Incidence::grid` at once, by `verify_rows` row by row as it
-    /// measures them) and its vertices are exactly its rows' fronts.
+    /// `Incidence::grid` at once, and row by row by `Row::measure`'s
+    /// branch-free copy of it) and its vertices are exactly its rows'
+    /// fronts.
     fn of(lattice: &Lattice) -> Option<Grid> {
         let width = lattice.width;
         let closed = match lattice.kind {
@@ -1061,30 +1062,39 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
             over: &above.legs[..if i >= 1 { n } else { 0 }],
         };
         let compat_cells = if i >= 1 { from..n } else { 0..0 };
+        // Each residual's formula, written once: the watch loops and the
+        // replays below must compute the same bits, or a replay could miss
+        // a cell the watch let through.
+        let bends = |j: usize| view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb));
+        let pore = |(num, s): (f64, f64)| [num / s];
+        let compat = |j: usize| {
+            let (m, c, s2, magnitude) = view.compat(j);
+            [m - 1.0, c / s2, c / magnitude]
+        };
         let [mut w_straight, mut w_legs_z] = [&straight, &legs_z].map(Watch::of);
         for j in 0..n {
-            w_straight.cell(j, view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb)));
+            w_straight.cell(j, bends(j));
             w_legs_z.cell(j, view.legs_z(j));
         }
         let [mut w_pores_h, mut w_pores_v, mut w_edges] =
             [&pores_h, &pores_v, &edges].map(Watch::of);
         for j in 0..paired {
-            let (num, s) = view.pore_h(j);
-            w_pores_h.cell(j, [num / s]);
-            w_edges.cell(j, [view.edge_right(j, s)]);
+            let h = view.pore_h(j);
+            w_pores_h.cell(j, pore(h));
+            w_edges.cell(j, [view.edge_right(j, h.1)]);
         }
         for j in 0..n_below {
-            let (num, s) = view.pore_v(j);
-            w_pores_v.cell(j, [num / s]);
-            w_edges.cell(j, [view.edge_below(j, s)]);
+            let v = view.pore_v(j);
+            w_pores_v.cell(j, pore(v));
+            w_edges.cell(j, [view.edge_below(j, v.1)]);
         }
         let [mut w_slope, mut w_intercept, mut w_natural] =
             [&slope, &intercept, &natural].map(Watch::of);
         for j in compat_cells.clone() {
-            let (m, c, s2, magnitude) = view.compat(j);
-            w_slope.cell(j, [m - 1.0]);
-            w_intercept.cell(j, [c / s2]);
-            w_natural.cell(j, [c / magnitude]);
+            let [slope, intercept, natural] = compat(j);
+            w_slope.cell(j, [slope]);
+            w_intercept.cell(j, [intercept]);
+            w_natural.cell(j, [natural]);
         }
         // The collapsed rods, once the row is swept (their check is
         // measured again after the sweep if some cell was not reached).
@@ -1098,18 +1108,11 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
             watch.settle(&mut collapsed.rods, 2 * n, rods, cell_site);
         }
         // The same residuals again, for the cells that may raise a check.
-        let bends = |j: usize| view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb));
         w_straight.settle(&mut straight, 2 * n, bends, cell_site);
         w_legs_z.settle(&mut legs_z, 4 * n, |j| view.legs_z(j), cell_site);
-        let pore_h = |j: usize| {
-            let (num, s) = view.pore_h(j);
-            [num / s]
-        };
+        let pore_h = |j: usize| pore(view.pore_h(j));
         w_pores_h.settle(&mut pores_h, paired, pore_h, cell_site);
-        let pore_v = |j: usize| {
-            let (num, s) = view.pore_v(j);
-            [num / s]
-        };
+        let pore_v = |j: usize| pore(view.pore_v(j));
         w_pores_v.settle(&mut pores_v, n_below, pore_v, cell_site);
         // A cell's right edge, then its bottom edge, as the pass over the
         // cells records them.
@@ -1121,18 +1124,9 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
         w_edges.settle(&mut edges, paired + n_below, edge, cell_site);
         let vertex = |k: usize| vertex_site(lattice, cells[k].ul as usize);
         let interior = compat_cells.len();
-        let slopes = |j: usize| [view.compat(j).0 - 1.0];
-        w_slope.settle(&mut slope, interior, slopes, vertex);
-        let intercepts = |j: usize| {
-            let (_, c, s2, _) = view.compat(j);
-            [c / s2]
-        };
-        w_intercept.settle(&mut intercept, interior, intercepts, vertex);
-        let naturals = |j: usize| {
-            let (_, c, _, magnitude) = view.compat(j);
-            [c / magnitude]
-        };
-        w_natural.settle(&mut natural, interior, naturals, vertex);
+        w_slope.settle(&mut slope, interior, |j| [compat(j)[0]], vertex);
+        w_intercept.settle(&mut intercept, interior, |j| [compat(j)[1]], vertex);
+        w_natural.settle(&mut natural, interior, |j| [compat(j)[2]], vertex);
         std::mem::swap(&mut above, &mut here);
         std::mem::swap(&mut here, &mut below);
     }

@@ -35,7 +35,7 @@ impl Text {
     pub(crate) fn as_str(&self) -> &str {
         match self {
             Text::Grid { digits, start } => {
-                std::str::from_utf8(&digits[*start as usize..]).unwrap_or_default()
+                std::str::from_utf8(&digits[*start as usize..]).expect("ASCII digits")
             }
             Text::General(s) => s,
         }

@@ -329,18 +329,19 @@ fn sixteen_levels(c: u8) -> u8 {
 ///
 /// One pass over the pixels numbers the colours in order of first sight
 /// (a small hash table: most pixels repeat the one before and skip it),
-/// one byte a pixel; the numbers are then mapped to the sorted palette's
-/// and packed. (A bitset of all 2^24 colours cost 2.5 MB zeroed a picture
-/// and a second pass over the pixels.)
+/// one byte a pixel (w h bytes: more than a 2^24-bit set of colours on
+/// pictures over 2 Mpixel, but written once); the numbers are then mapped
+/// to the sorted palette's and packed. (That bitset, 2 MiB zeroed a picture,
+/// cost a second pass over the pixels.)
 fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
     let rgb = |p: &PremultipliedColorU8| {
         u32::from_be_bytes([0, level(p.red()), level(p.green()), level(p.blue())])
     };
     let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
     let mut colours = Colours::default();
-    let mut seen = vec![0u8; w * h];
+    let mut numbers = vec![0u8; w * h];
     let mut last: Option<(PremultipliedColorU8, u8)> = None;
-    for (p, out) in pixmap.pixels().iter().zip(&mut seen) {
+    for (p, out) in pixmap.pixels().iter().zip(&mut numbers) {
         *out = match last {
             // Most pixels repeat the one before (white between strips).
             Some((q, i)) if q == *p => i,
@@ -366,12 +367,12 @@ fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDep
         _ => (png::BitDepth::Eight, 8),
     };
     if bits == 8 {
-        seen.iter_mut().for_each(|i| *i = rank[*i as usize]);
-        return Some((palette, depth, seen));
+        numbers.iter_mut().for_each(|i| *i = rank[*i as usize]);
+        return Some((palette, depth, numbers));
     }
     let row_bytes = (w * bits).div_ceil(8);
     let mut raw = vec![0u8; row_bytes * h];
-    for (row, out) in seen
+    for (row, out) in numbers
         .chunks_exact(w.max(1))
         .zip(raw.chunks_exact_mut(row_bytes.max(1)))
     {

@@ -126,16 +126,12 @@ impl<const N: usize, const T: usize> Dual<N, T> {
 /// The second-order chain rule: `outer` is f over M intermediate
 /// variables y (at y's value), `inner` the M intermediates as duals over N
 /// variables q; the result is f(y(q)) with its exact gradient and Hessian
-/// over q: g = sum_k f_k y_k', H = J^T F J + sum_k f_k y_k''. It lets a
-/// stencil take its expensive part over few intermediates (a bend stencil:
-/// the two edges' rotations) and pay the N-variable size only here.
-/// `curved[k]` says whether y_k may have a Hessian: the term f_k y_k'' is
-/// skipped for the others (an edge vector between free nodes, a variable),
-/// which is most of them.
+/// over q: g = sum_k f_k y_k', H = J^T F J + sum_k f_k y_k''. A bend term
+/// takes it from the two edges' 6 rotation coordinates to their 8 local
+/// variables (`bend_local`), keeping its expensive part over 6.
 pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
     outer: &Dual<M, TM>,
     inner: &[Dual<N, T>; M],
-    curved: &[bool; M],
 ) -> Dual<N, T> {
     let mut out = Dual::<N, T>::cst(outer.v);
     // p[k] = sum_l F_kl y_l'
@@ -156,13 +152,8 @@ pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
             for a in 0..N {
                 out.g[a] += fk * y.g[a];
             }
-            if curved[k] {
-                for t in 0..T {
-                    out.h[t] += fk * y.h[t];
-                }
-            } else {
-                // A caller that calls an intermediate linear must mean it.
-                debug_assert!(y.h.iter().all(|&x| x == 0.0), "intermediate {k} is curved");
+            for t in 0..T {
+                out.h[t] += fk * y.h[t];
             }
         }
     }

@@ -754,9 +754,10 @@ impl<'a> Chain<'a> {
             }
         }
         let at = p + s.u.val() * r;
-        if let Some(free) = self.tips.iter_mut().find(|k| k.is_none()) {
-            *free = Some((row, sign * r, si));
-        }
+        // An arm tip's own Hessian is added in `finish`: a term with more
+        // tips than the array holds would lose one.
+        let free = self.tips.iter_mut().find(|k| k.is_none());
+        *free.expect("at most four arm tips a term") = Some((row, sign * r, si));
         at
     }
 
@@ -847,6 +848,9 @@ fn bend_local(
     type D4 = Dual<4, 10>;
     let mut chain = Chain::new(m, vars);
     let (ea, eb) = (&m.edges[e0], &m.edges[e1]);
+    // Consecutive edges of a rod share their middle node: edge b's vector
+    // is x2 - x1 below, with x1 placed once as edge a's end.
+    debug_assert_eq!(ea.b, eb.a, "a bend joins consecutive edges");
     let x0 = chain.place(0, ea.a, -1.0);
     let x1 = chain.place(0, ea.b, 1.0);
     chain.place(4, eb.a, -1.0);
@@ -881,11 +885,7 @@ fn bend_local(
             }
         }
     }
-    let e8 = compose(
-        &bend_energy_rotations(&m.section, lbar, base),
-        &w,
-        &[true; 6],
-    );
+    let e8 = compose(&bend_energy_rotations(&m.section, lbar, base), &w);
     chain.finish(&e8, g, h)
 }
 

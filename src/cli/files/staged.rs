@@ -7,6 +7,8 @@ use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove_any};
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{SyncSender, sync_channel};
 use std::thread::JoinHandle;
 
@@ -44,34 +46,56 @@ pub(crate) struct Staged<'a> {
 /// writing the examples' 161 files waited 0.3 s for them in all while the
 /// builds could draw. `commit` waits for every flush before the marker.
 struct Syncer {
-    send: Option<SyncSender<File>>,
+    send: Option<SyncSender<(File, String)>>,
     thread: Option<JoinHandle<io::Result<()>>>,
+    /// Set when the staging folder is dropped uncommitted: its files are
+    /// about to be deleted, so the flushes still queued are skipped.
+    cancel: Arc<AtomicBool>,
 }
 
 impl Syncer {
     fn start() -> Self {
         // A bounded queue: a slow disk holds the writers back before they
         // hold hundreds of files open.
-        let (send, files) = sync_channel::<File>(64);
-        let thread = std::thread::spawn(move || {
-            let mut first = Ok(());
-            for f in files {
-                if let Err(e) = fault::sync(&f) {
-                    first = first.and(Err(e));
+        let (send, files) = sync_channel::<(File, String)>(64);
+        let cancel = Arc::new(AtomicBool::new(false));
+        let skip = Arc::clone(&cancel);
+        let thread = std::thread::Builder::new()
+            .name("fsync".into())
+            .spawn(move || {
+                let mut first = Ok(());
+                for (f, rel) in files {
+                    if skip.load(Ordering::Relaxed) {
+                        continue;
+                    }
+                    if let Err(e) = fault::sync(&f) {
+                        first = first.and(Err(flush_failed(&rel, &e)));
+                    }
                 }
-            }
-            first
-        });
-        Self {
-            send: Some(send),
-            thread: Some(thread),
+                first
+            });
+        // Without a thread (the system refused one) each file is flushed
+        // as it is written, as before the thread.
+        match thread {
+            Ok(thread) => Self {
+                send: Some(send),
+                thread: Some(thread),
+                cancel,
+            },
+            Err(_) => Self {
+                send: None,
+                thread: None,
+                cancel,
+            },
         }
     }
 
-    fn push(&self, f: File) -> io::Result<()> {
+    fn push(&self, f: File, rel: String) -> io::Result<()> {
+        let sync_here =
+            |(f, rel): (File, String)| fault::sync(&f).map_err(|e| flush_failed(&rel, &e));
         match &self.send {
-            Some(send) => send.send(f).or_else(|unsent| fault::sync(&unsent.0)),
-            None => fault::sync(&f),
+            Some(send) => send.send((f, rel)).or_else(|unsent| sync_here(unsent.0)),
+            None => sync_here((f, rel)),
         }
     }
 
@@ -85,6 +109,22 @@ impl Syncer {
             None => Ok(()),
         }
     }
+
+    /// Stop flushing (the files are about to be deleted) and wait for the
+    /// thread, without unwinding again if it panicked.
+    fn abandon(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
+        self.send = None;
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// An fsync failure, with the file it was for (the error comes back from
+/// `commit`, away from the build that wrote the file).
+fn flush_failed(rel: &str, e: &io::Error) -> io::Error {
+    io::Error::new(e.kind(), format!("flushing {rel} to the disk: {e}"))
 }
 
 impl<'a> Staged<'a> {
@@ -155,11 +195,12 @@ impl<'a> Staged<'a> {
             }
             let mut f = File::create(&path)?;
             f.write_all(bytes)?;
-            self.syncer.push(f)?;
+            let rel = rel.display().to_string();
+            self.syncer.push(f, rel.clone())?;
             self.written
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
-                .push(rel.display().to_string());
+                .push(rel);
         }
         Ok(())
     }
@@ -255,7 +296,7 @@ fn exchange(_: &Path, _: &Path) -> io::Result<bool> {
 
 impl Drop for Staged<'_> {
     fn drop(&mut self) {
-        let _ = self.syncer.finish();
+        self.syncer.abandon();
         if !self.committed {
             let _ = remove_any(&self.fresh);
         }
