@@ -238,6 +238,7 @@ impl<'a> Staged<'a> {
     /// Put the staging folder in the target's place.
     pub(crate) fn commit(mut self) -> io::Result<()> {
         self.syncer.finish()?;
+        sync_folders(&self.fresh)?;
         self.write_marker()?;
         fault::sync(&File::open(&self.fresh)?)?;
         let target = &self.out.target;
@@ -272,6 +273,25 @@ impl<'a> Staged<'a> {
         }
         Ok(())
     }
+}
+
+/// Flush every folder inside `root` to the disk: a file's own fsync makes
+/// its bytes durable, not its name in a folder made for it (`write`'s
+/// `create_dir_all`, or a link `keep` made). `root` itself is flushed after
+/// the marker.
+fn sync_folders(root: &Path) -> io::Result<()> {
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir)? {
+            let entry = entry?;
+            if entry.file_type()?.is_dir() {
+                let path = entry.path();
+                fault::sync(&File::open(&path)?)?;
+                stack.push(path);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Swap two paths atomically; false where the system cannot.
