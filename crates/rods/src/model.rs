@@ -379,6 +379,9 @@ impl Model {
             12..=14 => self.derivatives_n::<14, 105>(s, vars),
             15..=16 => self.derivatives_n::<16, 136>(s, vars),
             17..=20 => self.derivatives_n::<20, 210>(s, vars),
+            21..=MAX_LOCAL => {
+                self.derivatives_n::<MAX_LOCAL, { MAX_LOCAL * (MAX_LOCAL + 1) / 2 }>(s, vars)
+            }
             n => panic!("a stencil with {n} variables"),
         }
     }
