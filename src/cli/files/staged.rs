@@ -43,8 +43,8 @@ pub(crate) struct Staged<'a> {
 
 /// Written files are flushed to the disk (fsync) on a thread of their own:
 /// an fsync waits for the disk (a median 0.6 ms, up to 20 ms, here), and
-/// writing the examples' 161 files waited 0.3 s for them in all while the
-/// builds could draw. `commit` waits for every flush before the marker.
+/// the examples' batch waited 0.32 s for its 169 in all while the builds
+/// could draw (BENCHMARKS.md, "Examples batch, third round"). `commit` waits for every flush before the marker.
 struct Syncer {
     send: Option<SyncSender<(File, String)>>,
     thread: Option<JoinHandle<io::Result<()>>>,

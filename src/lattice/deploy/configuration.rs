@@ -225,14 +225,7 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
         // checked against its design opening then, with its legs at hand.
         Some(w) => {
             let mut ring = LegRing::new(lattice, w);
-            propagate(
-                n,
-                |k| ring.get(k),
-                grid_neighbours(n, w),
-                |i, f, legs| {
-                    design_check(i, f, legs);
-                },
-            )
+            propagate(n, |k| ring.get(k), grid_neighbours(n, w), &mut design_check)
         }
         None => {
             let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
