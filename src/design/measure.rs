@@ -5,7 +5,7 @@
 
 use super::Design;
 use super::fit::{self, Coverage};
-use crate::lattice::shape::{CurvatureSummary, Shape, relief, spread, summary};
+use crate::lattice::shape::{CurvatureSummary, Shape, survey};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
 use serde::Serialize;
@@ -117,7 +117,8 @@ pub(crate) fn measure_with(
     clashes: Vec<Clash>,
     whole: Whole,
 ) -> Measures {
-    let curvature = summary(&shape.curvature);
+    let (curvature, (domes, saddles), (bump_rows, bump_cols)) =
+        survey(lattice, &shape.curvature, BUMP_DEG);
     let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
         Some(f) => {
             let (abs, rel) = fit::error(f, lattice);
@@ -131,9 +132,7 @@ pub(crate) fn measure_with(
         None => (None, None, None, None),
     };
     let n = shape.curvature.len().max(1) as f64;
-    let (domes, saddles) = relief(&shape.curvature, BUMP_DEG);
     let (bumps, dimples) = (domes as f64 / n, saddles as f64 / n);
-    let (bump_rows, bump_cols) = spread(lattice, &shape.curvature, |d| d >= BUMP_DEG);
     let turns = turns(lattice);
     Measures {
         clashes,
