@@ -462,7 +462,7 @@ impl Regularity {
     }
 
     /// Take in the figures of other cells.
-    fn merge(&mut self, other: Regularity) {
+    fn merge(&mut self, other: &Regularity) {
         (self.amin, self.amax) = (self.amin.min(other.amin), self.amax.max(other.amax));
         (self.lo, self.hi) = (self.lo.min(other.lo), self.hi.max(other.hi));
         self.ratios.extend_from_slice(&other.ratios);
@@ -602,7 +602,7 @@ impl<'a> ShapeShare<'a> {
                 && cells
                     .into_iter()
                     .all(|(cell, &(angles, area))| at.add_angles(corner_ids(cell), angles, area));
-            regularity.merge(h.regularity);
+            regularity.merge(&h.regularity);
         }
         if fits {
             lattice.shape_of(at, regularity)
@@ -872,6 +872,20 @@ pub(crate) fn random_sheet(rng: &mut crate::rng::Rng, trial: usize, dim: usize) 
     grow(Kind::Sheet, dim, &points, &kappa, &vec![row; 3 + trial % 5]).ok()
 }
 
+/// The sheets `random_sheet` grows in `trials` trials from `seed`, the
+/// trial's dimension `dim(trial)`.
+#[cfg(test)]
+pub(crate) fn random_sheets(
+    seed: u64,
+    trials: usize,
+    dim: impl Fn(usize) -> usize,
+) -> Vec<Lattice> {
+    let mut rng = crate::rng::Rng::new(seed);
+    (0..trials)
+        .filter_map(|trial| random_sheet(&mut rng, trial, dim(trial)))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -892,6 +906,20 @@ mod tests {
             ..RowParams::default()
         };
         grow(Kind::Sheet, 2, &points, &[0.0; 5], &vec![row; rows]).unwrap()
+    }
+
+    /// Every figure of a curvature list, as bits.
+    fn curvature_bits(c: &[VertexCurvature]) -> Vec<(u32, u64, u64, u64)> {
+        c.iter()
+            .map(|v| {
+                (
+                    v.vertex,
+                    v.defect.to_bits(),
+                    v.area.to_bits(),
+                    v.k.to_bits(),
+                )
+            })
+            .collect()
     }
 
     #[test]
@@ -997,27 +1025,15 @@ mod tests {
             let full = nv.next_power_of_two();
             let every = lattice.curvature_in(full).expect("a slot for every vertex");
             assert!(!every.is_empty());
-            let bits = |c: &[VertexCurvature]| {
-                c.iter()
-                    .map(|v| {
-                        (
-                            v.vertex,
-                            v.defect.to_bits(),
-                            v.area.to_bits(),
-                            v.k.to_bits(),
-                        )
-                    })
-                    .collect::<Vec<_>>()
-            };
             let (usual, _) = Curvatures::windows(&lattice);
-            assert_eq!(bits(&lattice.curvature()), bits(&every));
+            assert_eq!(curvature_bits(&lattice.curvature()), curvature_bits(&every));
             let shape = lattice.shape_in(full).expect("a slot for every vertex");
-            assert_eq!(bits(&shape.curvature), bits(&every));
+            assert_eq!(curvature_bits(&shape.curvature), curvature_bits(&every));
             assert_eq!(lattice.shape(), shape);
             let mut smallest = usual;
             for window in [4, 8, 16, 32].into_iter().filter(|&w| w < usual) {
                 if let Some(ring) = lattice.curvature_in(window) {
-                    assert_eq!(bits(&ring), bits(&every));
+                    assert_eq!(curvature_bits(&ring), curvature_bits(&every));
                     smallest = smallest.min(window);
                 }
             }
@@ -1029,7 +1045,7 @@ mod tests {
             let mut reversed = lattice.clone();
             reversed.cells.reverse();
             assert!(reversed.curvature_in(8).is_none());
-            let mut sorted = bits(&reversed.curvature());
+            let mut sorted = curvature_bits(&reversed.curvature());
             sorted.sort();
             assert_eq!(sorted.len(), every.len());
             assert!(reversed.shape_in(8).is_none());
@@ -1062,24 +1078,9 @@ mod tests {
     /// order falls back to a slot per vertex, still the same.
     #[test]
     fn the_shared_shape_is_the_shape_bit_for_bit() {
-        let mut rng = crate::rng::Rng::new(17);
-        let bits = |c: &[VertexCurvature]| {
-            c.iter()
-                .map(|v| {
-                    (
-                        v.vertex,
-                        v.defect.to_bits(),
-                        v.area.to_bits(),
-                        v.k.to_bits(),
-                    )
-                })
-                .collect::<Vec<_>>()
-        };
-        let mut measured = 0;
-        for trial in 0..16 {
-            let Some(lattice) = random_sheet(&mut rng, trial, 2 + trial % 2) else {
-                continue;
-            };
+        let sheets = random_sheets(17, 16, |trial| 2 + trial % 2);
+        assert!(sheets.len() >= 8, "{} lattices grew", sheets.len());
+        for lattice in sheets {
             let mut reversed = lattice.clone();
             reversed.cells.reverse();
             for lattice in [&lattice, &reversed] {
@@ -1090,27 +1091,24 @@ mod tests {
                     let chunks = lattice.cells.len().div_ceil(chunk);
                     assert_eq!(helped.len(), chunks - chunks / 2);
                     let shared = share.measure(|| helped);
-                    assert_eq!(bits(&shared.curvature), bits(&one.curvature));
+                    assert_eq!(
+                        curvature_bits(&shared.curvature),
+                        curvature_bits(&one.curvature)
+                    );
                     assert_eq!(shared, one);
                     // No help: the measuring thread takes every chunk.
                     let alone = ShapeShare::in_chunks(lattice, chunk).measure(Vec::new);
                     assert_eq!(alone, one);
                 }
             }
-            measured += 1;
         }
-        assert!(measured >= 8, "{measured} lattices grew");
     }
 
     /// The survey gives `summary`, `relief` and `spread` as they are.
     #[test]
     fn the_survey_is_the_summary_relief_and_spread() {
-        let mut rng = crate::rng::Rng::new(19);
         let mut bumpy = 0;
-        for trial in 0..16 {
-            let Some(lattice) = random_sheet(&mut rng, trial, 3) else {
-                continue;
-            };
+        for lattice in random_sheets(19, 16, |_| 3) {
             let c = lattice.curvature();
             for deg in [0.0, 0.5, 3.0] {
                 let (sum, relief_at, spread_at) = survey(&lattice, &c, deg);
@@ -1121,8 +1119,9 @@ mod tests {
             }
         }
         assert!(bumpy > 0, "no vertex at or beyond the thresholds");
-        let empty = random_sheet(&mut rng, 0, 2).expect("grows");
-        assert_eq!(survey(&empty, &[], 3.0), (None, (0, 0), (0, 0)));
+        let sheets = random_sheets(19, 8, |_| 2);
+        let flat = sheets.first().expect("a sheet grew");
+        assert_eq!(survey(flat, &[], 3.0), (None, (0, 0), (0, 0)));
     }
 
     /// The one-pass summary is the lists' arithmetic bit for bit, down to
