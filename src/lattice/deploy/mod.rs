@@ -37,8 +37,9 @@ pub struct Deployment {
 /// in a second pass reading every cell again: every opening is placed, and
 /// those outside the valid range, known once every cell is taken, dropped.
 /// Each opening's placement is computed on its own (`misfit::LANES`), so
-/// its misfit is the second pass's bit for bit; a lattice whose corners
-/// spread wider than the ring is measured by the second pass.
+/// its misfit is the second pass's bit for bit. Any other lattice (not a
+/// grown sheet's grid, or corners spread wider than the ring) is measured
+/// by the second pass.
 pub fn deployment(lattice: &Lattice) -> Deployment {
     let thetas = MISFIT_FRACTIONS.map(|f| f * configuration::theta_design(lattice));
     let mut placing = (lattice.dim == 2 && !lattice.cells.is_empty()).then(|| {
