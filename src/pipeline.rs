@@ -4,10 +4,11 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes};
+use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
+use crate::lattice::shape::ShapeShare;
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
 use crate::parts::{Outline, Parts, PartsError, parts};
@@ -142,8 +143,9 @@ const TWO_THREADS_FROM_CELLS: usize = 10_000;
 /// `check`, measuring at once when `measure` (a report that shows the
 /// measures: `karigami check` without `-q`). After growth, the work falls
 /// into two independent halves of about equal cost on large lattices: the
-/// deployment (C(theta), then the misfits) with the shape and fit
-/// measures, and the placement, the clash search and verification. With
+/// deployment (C(theta) with the misfits) with the shape and fit
+/// measures, and the placement, the clash search and verification, the
+/// shape shared by whichever finishes first. With
 /// `two_threads` the second half (or, without measures, the deployment
 /// beside verification) runs on a second thread; every result is the
 /// same computation either way, so the reports are byte-identical.
@@ -167,25 +169,33 @@ pub fn check_on(
             measure.then(|| placed_and_measured(&lattice)),
         ),
         // The clash search is the largest single measure: it goes with
-        // verification, the rest of the measures with the deployment.
-        (true, true) => std::thread::scope(|s| {
-            let other = s.spawn(|| {
-                let placed = place(&lattice);
-                let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
-                (placed, clashes, verify(&lattice))
-            });
-            let deployment = deployment(&lattice);
-            let mut rest = None;
-            let measures = measure_with(&design, &lattice, || {
-                let (placed, clashes, report) = other
-                    .join()
-                    .unwrap_or_else(|p| std::panic::resume_unwind(p));
-                rest = Some((placed, report));
-                clashes
-            });
-            let (placed, report) = rest.expect("joined for the clashes");
-            (report, deployment, Some((placed, measures)))
-        }),
+        // verification, the shape with the deployment. The shape is shared
+        // (`ShapeShare`): the second thread, its own work done, measures
+        // cells from the far end until the two meet.
+        (true, true) => {
+            let share = ShapeShare::new(&lattice);
+            std::thread::scope(|s| {
+                let other = s.spawn(|| {
+                    let placed = place(&lattice);
+                    let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
+                    let report = verify(&lattice);
+                    let whole = whole(&lattice, placed.as_ref().unwrap_or(&lattice));
+                    (placed, clashes, report, whole, share.help())
+                });
+                let deployment = deployment(&lattice);
+                let mut rest = None;
+                let shape = share.measure(|| {
+                    let (placed, clashes, report, whole, helped) = other
+                        .join()
+                        .unwrap_or_else(|p| std::panic::resume_unwind(p));
+                    rest = Some((placed, clashes, report, whole));
+                    helped
+                });
+                let (placed, clashes, report, whole) = rest.expect("joined for the shape");
+                let measures = measure_with(&design, &lattice, shape, clashes, whole);
+                (report, deployment, Some((placed, measures)))
+            })
+        }
         (true, false) => std::thread::scope(|s| {
             let deployed = s.spawn(|| deployment(&lattice));
             let report = verify(&lattice);

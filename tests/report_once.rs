@@ -190,26 +190,40 @@ fn a_build_carries_what_its_check_derived() {
 }
 
 /// `karigami check` on two threads (verification and the deployment beside
-/// the placement and measures, from 10,000 cells) reports what one thread
-/// and the lazy derivation report, to the byte; so does `-q`'s split
-/// (verification beside the deployment).
+/// the placement and measures, from 10,000 cells, the shape shared between
+/// them) reports what one thread and the lazy derivation report, to the
+/// byte; so does `-q`'s split (verification beside the deployment). A
+/// plane sheet (C(theta) placing its cells as it takes them), an intrinsic
+/// 3-D sheet (measured as assembled) and a plane loop (no grid: the
+/// misfits in a pass of their own).
 #[test]
 fn a_check_on_two_threads_reports_what_one_thread_does() {
-    let text = "name = \"sheet-100x100\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n\
+    let sheet = "name = \"sheet-100x100\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n\
         [lattice.line]\nfrom = [0.0, 0.0]\nto = [2000.0, 0.0]\ncells = 100\n\
         [lattice.grow]\nrows = 100\nstart = 50\nangle = 45.0\n\
         [sheet]\nwidth = 3000.0\nheight = 2000.0\n";
-    let design = parse(text, "sheet-100x100").unwrap();
-    let lazy = check(design.clone(), &mut |_| {}).unwrap();
-    assert!(
-        lazy.lattice.cells.len() >= 10_000,
-        "large enough for two threads"
-    );
-    let (text, json) = (check_text(&lazy.verified()), check_json(&lazy.verified()));
-    for (measure, two) in [(true, true), (true, false), (false, true)] {
-        let c = karigami::check_on(design.clone(), &mut |_| {}, measure, two).unwrap();
-        assert_eq!(c.report, lazy.report, "{measure} {two}");
-        assert_eq!(check_text(&c.verified()), text, "{measure} {two}");
-        assert_eq!(check_json(&c.verified()), json, "{measure} {two}");
+    let bumps = "name = \"bumps\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n\
+        [lattice.line]\nfrom = [0.0, 0.0, 0.0]\nto = [4000.0, 0.0, 0.0]\ncells = 100\n\
+        [lattice.grow]\nrows = 100\nstart = 50\nangle = [40.0, 0.0]\n\
+        left_leg = \"match\"\nright_leg = \"match\"\n\
+        [[lattice.rows]]\nrow = 2\nfront = { zigzag = 15.0 }\n\
+        [[lattice.rows]]\nrow = 50\nfront = { zigzag = 10.0 }\n";
+    let ring = "name = \"ring\"\n[lattice]\nseed = \"loop\"\nkappa = 0.0\n\
+        [lattice.circle]\ncenter = [0.0, 0.0]\nradius = 2000.0\npoints = 200\n\
+        [lattice.grow]\nrows = 50\nangle = 60.0\n";
+    for (name, text) in [("sheet", sheet), ("bumps", bumps), ("ring", ring)] {
+        let design = parse(text, name).unwrap();
+        let lazy = check(design.clone(), &mut |_| {}).unwrap();
+        assert!(
+            lazy.lattice.cells.len() >= 10_000,
+            "{name}: large enough for two threads"
+        );
+        let (text, json) = (check_text(&lazy.verified()), check_json(&lazy.verified()));
+        for (measure, two) in [(true, true), (true, false), (false, true)] {
+            let c = karigami::check_on(design.clone(), &mut |_| {}, measure, two).unwrap();
+            assert_eq!(c.report, lazy.report, "{name} {measure} {two}");
+            assert_eq!(check_text(&c.verified()), text, "{name} {measure} {two}");
+            assert_eq!(check_json(&c.verified()), json, "{name} {measure} {two}");
+        }
     }
 }

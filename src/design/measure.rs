@@ -5,7 +5,7 @@
 
 use super::Design;
 use super::fit::{self, Coverage};
-use crate::lattice::shape::{CurvatureSummary, Shape, relief, spread, summary};
+use crate::lattice::shape::{CurvatureSummary, Shape, survey};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clash, clashes};
 use serde::Serialize;
@@ -39,6 +39,28 @@ pub struct Measures {
     pub bumps: f64,
     /// Share of interior vertices with defect <= -3 deg.
     pub dimples: f64,
+    /// The size and eyelets of the whole lattice, for the report's head.
+    pub(crate) whole: Whole,
+}
+
+/// The size and the vertex eyelets of a lattice, for the check report's
+/// head lines: two passes over every vertex and cell, measured with the
+/// rest (on the second thread in `pipeline::check_on`) rather than as the
+/// report is written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Whole {
+    /// The box of the lattice as assembled (`Lattice::extent`).
+    pub(crate) extent: (glam::DVec3, glam::DVec3),
+    /// Vertices holding an eyelet (`lattice::vertex_eyelet_count`).
+    pub(crate) vertex_eyelets: usize,
+}
+
+/// The `Whole` of `lattice`, as assembled `assembled`.
+pub(crate) fn whole(lattice: &Lattice, assembled: &Lattice) -> Whole {
+    Whole {
+        extent: assembled.extent(),
+        vertex_eyelets: crate::lattice::vertex_eyelet_count(lattice),
+    }
 }
 
 /// One complete turn of a helix, about the axis through the mean of the
@@ -69,7 +91,8 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
     // are taken, and the shape's curvature list (kept) is not held while
     // the search runs (one peak of memory, not their sum, on 4 M cells).
     let clashes = strip_clashes(design, assembled);
-    measure_with(design, lattice, || clashes)
+    let whole = whole(lattice, assembled);
+    measure_with(design, lattice, lattice.shape(), clashes, whole)
 }
 
 /// The strip clashes of a design's lattice as assembled (an intrinsic
@@ -84,16 +107,18 @@ pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Vec<Clash> 
     )
 }
 
-/// `measure_assembled` with the clashes (`strip_clashes`) given by
-/// `clashes`, called once every other measure is taken: the pipeline
-/// searches them on another thread meanwhile (`pipeline::check_on`).
+/// `measure_assembled` with the shape (`Lattice::shape`), the clashes
+/// (`strip_clashes`) and the `whole` given: the pipeline measures them on
+/// two threads (`pipeline::check_on`).
 pub(crate) fn measure_with(
     design: &Design,
     lattice: &Lattice,
-    clashes: impl FnOnce() -> Vec<Clash>,
+    shape: Shape,
+    clashes: Vec<Clash>,
+    whole: Whole,
 ) -> Measures {
-    let shape = lattice.shape();
-    let curvature = summary(&shape.curvature);
+    let (curvature, (domes, saddles), (bump_rows, bump_cols)) =
+        survey(lattice, &shape.curvature, BUMP_DEG);
     let (fit_distance, fit_relative, boundary_distance, coverage) = match &design.fit {
         Some(f) => {
             let (abs, rel) = fit::error(f, lattice);
@@ -107,12 +132,10 @@ pub(crate) fn measure_with(
         None => (None, None, None, None),
     };
     let n = shape.curvature.len().max(1) as f64;
-    let (domes, saddles) = relief(&shape.curvature, BUMP_DEG);
     let (bumps, dimples) = (domes as f64 / n, saddles as f64 / n);
-    let (bump_rows, bump_cols) = spread(lattice, &shape.curvature, |d| d >= BUMP_DEG);
     let turns = turns(lattice);
     Measures {
-        clashes: clashes(),
+        clashes,
         turns,
         shape,
         curvature,
@@ -124,6 +147,7 @@ pub(crate) fn measure_with(
         bump_cols,
         bumps,
         dimples,
+        whole,
     }
 }
 

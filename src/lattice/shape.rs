@@ -5,9 +5,10 @@
 //! strips there are. Target fit and coverage depend on the recipe's target
 //! and live with it (`design::fit`).
 
-use super::{Kind, Lattice, Legs, angle_between};
+use super::{Cell, Kind, Lattice, Legs, angle_between};
 use glam::DVec3;
 use std::f64::consts::TAU;
+use std::sync::{Mutex, PoisonError};
 
 /// An angle defect beyond this (degrees) counts as curved, positive or
 /// negative; below it a vertex is flat (a planar grid's defects are ~1e-14).
@@ -151,6 +152,12 @@ impl Curvatures {
     /// false when its corners do not fit in the ring.
     #[inline]
     fn add(&mut self, ids: [u32; 4], corners: [DVec3; 4], area: f64) -> bool {
+        self.add_angles(ids, corner_angles(corners), area)
+    }
+
+    /// `add` with the cell's corner angles (`corner_angles`) at hand.
+    #[inline]
+    fn add_angles(&mut self, ids: [u32; 4], angles: [f64; 4], area: f64) -> bool {
         let (lo, hi) = ids
             .iter()
             .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
@@ -162,7 +169,7 @@ impl Curvatures {
         if self.high >= window {
             self.emit_to(self.high - window + 1);
         }
-        for (v, a) in ids.into_iter().zip(corner_angles(corners)) {
+        for (v, a) in ids.into_iter().zip(angles) {
             let e = &mut self.sums[v as usize & self.mask];
             e.0 += 1;
             e.1 += a;
@@ -283,30 +290,30 @@ impl Lattice {
     /// (`Curvatures`); None when some cell's corners lie too far apart.
     fn shape_in(&self, window: usize) -> Option<Shape> {
         let mut at = Curvatures::new(self.vertices.len(), window);
-        let mut cell_ratios = Vec::with_capacity(self.cells.len());
-        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-        let (mut amin, mut amax) = (f64::INFINITY, 0.0f64);
-        // The range of the strips' short and long legs, as `order_key`s.
-        let mut range = Range::default();
+        let mut regularity = Regularity::new(self.cells.len());
         for cell in &self.cells {
             let corners = self.corners(cell);
             let area = cell_area(corners);
-            (amin, amax) = (amin.min(area), amax.max(area));
-            let legs = legs_of(corners, cell.pivot);
-            let (l, h) = legs
-                .iter()
-                .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
-            lo = lo.min(l);
-            hi = hi.max(h);
-            cell_ratios.push(h / l);
-            for key in strip_keys(legs) {
-                range.add(key);
-            }
-            if !at.add([cell.ul, cell.ur, cell.ll, cell.lr], corners, area) {
+            regularity.add(area, legs_of(corners, cell.pivot));
+            if !at.add(corner_ids(cell), corners, area) {
                 return None;
             }
         }
-        // The median and the largest, without sorting the whole list.
+        Some(self.shape_of(at, regularity))
+    }
+
+    /// The shape from every cell's curvature sums and regularity.
+    fn shape_of(&self, at: Curvatures, regularity: Regularity) -> Shape {
+        let Regularity {
+            amin,
+            amax,
+            lo,
+            hi,
+            ratios: mut cell_ratios,
+            range,
+        } = regularity;
+        // The median and the largest, without sorting the whole list (the
+        // ratios in any order: both are order statistics of `total_cmp`).
         let (median, max) = match cell_ratios.len() {
             0 => (1.0, 1.0),
             n => {
@@ -331,7 +338,7 @@ impl Lattice {
         } else {
             distinct_keys(self.strip_keys())
         };
-        Some(Shape {
+        Shape {
             curvature,
             area_ratio: amax / amin,
             leg_ratio: hi / lo,
@@ -341,7 +348,7 @@ impl Lattice {
             front_gaps: self.front_gaps(),
             distinct_strips,
             strips: 2 * self.cells.len(),
-        })
+        }
     }
 
     /// Every strip's key (`strip_keys`), less the repeats of the key before
@@ -402,6 +409,206 @@ impl Lattice {
         out.mean = sum / n.max(1) as f64;
         out.mean_rel = sum_rel / n.max(1) as f64;
         Some(out)
+    }
+}
+
+/// A cell's corners `[UL, UR, LL, LR]` as vertex indices.
+#[inline]
+fn corner_ids(cell: &Cell) -> [u32; 4] {
+    [cell.ul, cell.ur, cell.ll, cell.lr]
+}
+
+/// The regularity figures of cells: the smallest and largest area and leg,
+/// each cell's longest over shortest leg, and the range of its strips'
+/// legs. Every figure is a least, a largest or a list whose order the shape
+/// does not read, so cells measured in parts (`ShapeShare`) and merged
+/// give the figures of one pass bit for bit (areas and legs are never -0).
+struct Regularity {
+    amin: f64,
+    amax: f64,
+    lo: f64,
+    hi: f64,
+    ratios: Vec<f64>,
+    /// The range of the strips' short and long legs, as `order_key`s.
+    range: Range,
+}
+
+impl Regularity {
+    /// Room for `cells` cells' ratios.
+    fn new(cells: usize) -> Self {
+        Self {
+            amin: f64::INFINITY,
+            amax: 0.0,
+            lo: f64::INFINITY,
+            hi: 0.0,
+            ratios: Vec::with_capacity(cells),
+            range: Range::default(),
+        }
+    }
+
+    /// One cell, of this area and these legs.
+    #[inline]
+    fn add(&mut self, area: f64, legs: Legs) {
+        (self.amin, self.amax) = (self.amin.min(area), self.amax.max(area));
+        let (l, h) = legs
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(l, h), &x| (l.min(x), h.max(x)));
+        self.lo = self.lo.min(l);
+        self.hi = self.hi.max(h);
+        self.ratios.push(h / l);
+        for key in strip_keys(legs) {
+            self.range.add(key);
+        }
+    }
+
+    /// Take in the figures of other cells.
+    fn merge(&mut self, other: &Regularity) {
+        (self.amin, self.amax) = (self.amin.min(other.amin), self.amax.max(other.amax));
+        (self.lo, self.hi) = (self.lo.min(other.lo), self.hi.max(other.hi));
+        self.ratios.extend_from_slice(&other.ratios);
+        let (s, l) = (other.range.short, other.range.long);
+        self.range.short = (self.range.short.0.min(s.0), self.range.short.1.max(s.1));
+        self.range.long = (self.range.long.0.min(l.0), self.range.long.1.max(l.1));
+    }
+}
+
+/// Cells a claim of `ShapeShare` takes (a few milliseconds of work).
+const SHARE_CHUNK: usize = 8192;
+
+/// `Lattice::shape` on two threads, bit for bit: the measuring thread takes
+/// chunks of cells from the front and measures them as `shape` does; a
+/// helper that has finished its own work meanwhile (`help`) takes chunks
+/// from the back and measures each cell's corner angles, area and
+/// regularity, the costly part (four `atan2` and nine square roots a
+/// cell). Once the two meet, the measuring thread adds the helper's figures
+/// to the curvature sums in cell order (`measure`), so every sum is taken
+/// in the order of one pass. The helper stops at half the chunks: its
+/// figures (40 bytes a cell) wait in memory until then.
+pub(crate) struct ShapeShare<'a> {
+    lattice: &'a Lattice,
+    /// Cells a claim takes (`SHARE_CHUNK`).
+    chunk: usize,
+    /// The next chunk from the front, and the end of those left from the back.
+    claims: Mutex<(usize, usize)>,
+    /// The first chunk the helper may take.
+    floor: usize,
+}
+
+/// A chunk the helper measured: each cell's corner angles and area, and
+/// the chunk's regularity.
+pub(crate) struct Helped {
+    chunk: usize,
+    cells: Vec<([f64; 4], f64)>,
+    regularity: Regularity,
+}
+
+impl<'a> ShapeShare<'a> {
+    /// Nothing measured yet.
+    pub(crate) fn new(lattice: &'a Lattice) -> Self {
+        Self::in_chunks(lattice, SHARE_CHUNK)
+    }
+
+    /// Claims of `chunk` cells.
+    fn in_chunks(lattice: &'a Lattice, chunk: usize) -> Self {
+        let chunks = lattice.cells.len().div_ceil(chunk);
+        Self {
+            lattice,
+            chunk,
+            claims: Mutex::new((0, chunks)),
+            floor: chunks / 2,
+        }
+    }
+
+    fn cells(&self, chunk: usize) -> &'a [Cell] {
+        let cells = &self.lattice.cells;
+        &cells[chunk * self.chunk..((chunk + 1) * self.chunk).min(cells.len())]
+    }
+
+    /// The claims, through a panic on the other thread (they stay consistent).
+    fn claims(&self) -> std::sync::MutexGuard<'_, (usize, usize)> {
+        self.claims.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The helper's part: chunks from the back, until they meet the
+    /// measuring thread's or reach the floor.
+    pub(crate) fn help(&self) -> Vec<Helped> {
+        let mut helped = Vec::new();
+        loop {
+            let chunk = {
+                let mut claims = self.claims();
+                if claims.1 <= claims.0.max(self.floor) {
+                    break;
+                }
+                claims.1 -= 1;
+                claims.1
+            };
+            let cells = self.cells(chunk);
+            let mut regularity = Regularity::new(cells.len());
+            let figures = cells
+                .iter()
+                .map(|cell| {
+                    let corners = self.lattice.corners(cell);
+                    let area = cell_area(corners);
+                    regularity.add(area, legs_of(corners, cell.pivot));
+                    (corner_angles(corners), area)
+                })
+                .collect();
+            helped.push(Helped {
+                chunk,
+                cells: figures,
+                regularity,
+            });
+        }
+        helped
+    }
+
+    /// The shape: chunks from the front until every chunk is taken, then
+    /// the helper's chunks, which `helped` returns (it must return every
+    /// chunk `help` measured: the helper's thread joined).
+    pub(crate) fn measure(&self, helped: impl FnOnce() -> Vec<Helped>) -> Shape {
+        let lattice = self.lattice;
+        let (window, full) = Curvatures::windows(lattice);
+        let mut at = Curvatures::new(lattice.vertices.len(), window);
+        let mut regularity = Regularity::new(lattice.cells.len());
+        let mut fits = true;
+        while fits {
+            let chunk = {
+                let mut claims = self.claims();
+                if claims.0 >= claims.1 {
+                    break;
+                }
+                claims.0 += 1;
+                claims.0 - 1
+            };
+            for cell in self.cells(chunk) {
+                let corners = lattice.corners(cell);
+                let area = cell_area(corners);
+                regularity.add(area, legs_of(corners, cell.pivot));
+                if !at.add(corner_ids(cell), corners, area) {
+                    // Out of order: measured again below with a slot a
+                    // vertex; the helper stops.
+                    fits = false;
+                    let mut claims = self.claims();
+                    claims.0 = claims.1;
+                    break;
+                }
+            }
+        }
+        let mut helped = helped();
+        helped.sort_unstable_by_key(|h| h.chunk);
+        for h in helped {
+            let cells = self.cells(h.chunk).iter().zip(&h.cells);
+            fits = fits
+                && cells
+                    .into_iter()
+                    .all(|(cell, &(angles, area))| at.add_angles(corner_ids(cell), angles, area));
+            regularity.merge(&h.regularity);
+        }
+        if fits {
+            lattice.shape_of(at, regularity)
+        } else {
+            lattice.shape_in(full).expect("a slot for every vertex")
+        }
     }
 }
 
@@ -563,6 +770,38 @@ pub fn spread(
 /// Defect and Gaussian-curvature statistics of the interior vertices `c`;
 /// None when there are none.
 pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
+    summary_visiting(c, |_, _| {})
+}
+
+/// The check report's curvature figures: `summary`, `relief` at `deg`
+/// and the `spread` of the vertices at or beyond +`deg`, in the one pass
+/// `summary` takes (and its second, for K's variance) rather than four
+/// passes over the list (128 MB on 4 M cells).
+pub(crate) fn survey(
+    lattice: &Lattice,
+    c: &[VertexCurvature],
+    deg: f64,
+) -> (Option<CurvatureSummary>, (usize, usize), (usize, usize)) {
+    let (mut domes, mut saddles) = (0, 0);
+    let mut rows = std::collections::BTreeSet::new();
+    let mut cols = std::collections::BTreeSet::new();
+    let summary = summary_visiting(c, |v, d| {
+        domes += usize::from(d >= deg);
+        saddles += usize::from(d <= -deg);
+        if d >= deg {
+            let key = lattice.vertex(v.vertex).key;
+            rows.insert(key.row);
+            cols.insert(key.col);
+        }
+    });
+    (summary, (domes, saddles), (rows.len(), cols.len()))
+}
+
+/// `summary`, showing `visit` every vertex with its defect in degrees.
+fn summary_visiting(
+    c: &[VertexCurvature],
+    mut visit: impl FnMut(&VertexCurvature, f64),
+) -> Option<CurvatureSummary> {
     if c.is_empty() {
         return None;
     }
@@ -577,6 +816,7 @@ pub fn summary(c: &[VertexCurvature]) -> Option<CurvatureSummary> {
     let (mut positive, mut negative) = (0usize, 0usize);
     for (i, v) in c.iter().enumerate() {
         let d = v.defect.to_degrees();
+        visit(v, d);
         if d < min_deg {
             (min_i, min_deg) = (i, d);
         }
@@ -632,6 +872,20 @@ pub(crate) fn random_sheet(rng: &mut crate::rng::Rng, trial: usize, dim: usize) 
     grow(Kind::Sheet, dim, &points, &kappa, &vec![row; 3 + trial % 5]).ok()
 }
 
+/// The sheets `random_sheet` grows in `trials` trials from `seed`, the
+/// trial's dimension `dim(trial)`.
+#[cfg(test)]
+pub(crate) fn random_sheets(
+    seed: u64,
+    trials: usize,
+    dim: impl Fn(usize) -> usize,
+) -> Vec<Lattice> {
+    let mut rng = crate::rng::Rng::new(seed);
+    (0..trials)
+        .filter_map(|trial| random_sheet(&mut rng, trial, dim(trial)))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -652,6 +906,20 @@ mod tests {
             ..RowParams::default()
         };
         grow(Kind::Sheet, 2, &points, &[0.0; 5], &vec![row; rows]).unwrap()
+    }
+
+    /// Every figure of a curvature list, as bits.
+    fn curvature_bits(c: &[VertexCurvature]) -> Vec<(u32, u64, u64, u64)> {
+        c.iter()
+            .map(|v| {
+                (
+                    v.vertex,
+                    v.defect.to_bits(),
+                    v.area.to_bits(),
+                    v.k.to_bits(),
+                )
+            })
+            .collect()
     }
 
     #[test]
@@ -757,27 +1025,15 @@ mod tests {
             let full = nv.next_power_of_two();
             let every = lattice.curvature_in(full).expect("a slot for every vertex");
             assert!(!every.is_empty());
-            let bits = |c: &[VertexCurvature]| {
-                c.iter()
-                    .map(|v| {
-                        (
-                            v.vertex,
-                            v.defect.to_bits(),
-                            v.area.to_bits(),
-                            v.k.to_bits(),
-                        )
-                    })
-                    .collect::<Vec<_>>()
-            };
             let (usual, _) = Curvatures::windows(&lattice);
-            assert_eq!(bits(&lattice.curvature()), bits(&every));
+            assert_eq!(curvature_bits(&lattice.curvature()), curvature_bits(&every));
             let shape = lattice.shape_in(full).expect("a slot for every vertex");
-            assert_eq!(bits(&shape.curvature), bits(&every));
+            assert_eq!(curvature_bits(&shape.curvature), curvature_bits(&every));
             assert_eq!(lattice.shape(), shape);
             let mut smallest = usual;
             for window in [4, 8, 16, 32].into_iter().filter(|&w| w < usual) {
                 if let Some(ring) = lattice.curvature_in(window) {
-                    assert_eq!(bits(&ring), bits(&every));
+                    assert_eq!(curvature_bits(&ring), curvature_bits(&every));
                     smallest = smallest.min(window);
                 }
             }
@@ -789,7 +1045,7 @@ mod tests {
             let mut reversed = lattice.clone();
             reversed.cells.reverse();
             assert!(reversed.curvature_in(8).is_none());
-            let mut sorted = bits(&reversed.curvature());
+            let mut sorted = curvature_bits(&reversed.curvature());
             sorted.sort();
             assert_eq!(sorted.len(), every.len());
             assert!(reversed.shape_in(8).is_none());
@@ -814,6 +1070,58 @@ mod tests {
         let mut range = Range::default();
         range.add(strip_key(f64::NAN, 20.0));
         assert!(!range.within(SAME_STRIP_MM));
+    }
+
+    /// The shape measured in chunks shared with a helper is `shape`'s bit
+    /// for bit: the helper's chunks from the back (up to half), the rest
+    /// from the front, in chunks of every size; a lattice stored out of
+    /// order falls back to a slot per vertex, still the same.
+    #[test]
+    fn the_shared_shape_is_the_shape_bit_for_bit() {
+        let sheets = random_sheets(17, 16, |trial| 2 + trial % 2);
+        assert!(sheets.len() >= 8, "{} lattices grew", sheets.len());
+        for lattice in sheets {
+            let mut reversed = lattice.clone();
+            reversed.cells.reverse();
+            for lattice in [&lattice, &reversed] {
+                let one = lattice.shape();
+                for chunk in [1, 2, 3, 7, 1000] {
+                    let share = ShapeShare::in_chunks(lattice, chunk);
+                    let helped = share.help();
+                    let chunks = lattice.cells.len().div_ceil(chunk);
+                    assert_eq!(helped.len(), chunks - chunks / 2);
+                    let shared = share.measure(|| helped);
+                    assert_eq!(
+                        curvature_bits(&shared.curvature),
+                        curvature_bits(&one.curvature)
+                    );
+                    assert_eq!(shared, one);
+                    // No help: the measuring thread takes every chunk.
+                    let alone = ShapeShare::in_chunks(lattice, chunk).measure(Vec::new);
+                    assert_eq!(alone, one);
+                }
+            }
+        }
+    }
+
+    /// The survey gives `summary`, `relief` and `spread` as they are.
+    #[test]
+    fn the_survey_is_the_summary_relief_and_spread() {
+        let mut bumpy = 0;
+        for lattice in random_sheets(19, 16, |_| 3) {
+            let c = lattice.curvature();
+            for deg in [0.0, 0.5, 3.0] {
+                let (sum, relief_at, spread_at) = survey(&lattice, &c, deg);
+                assert_eq!(sum, summary(&c));
+                assert_eq!(relief_at, relief(&c, deg));
+                assert_eq!(spread_at, spread(&lattice, &c, |d| d >= deg));
+                bumpy += usize::from(spread_at.0 > 0);
+            }
+        }
+        assert!(bumpy > 0, "no vertex at or beyond the thresholds");
+        let sheets = random_sheets(19, 8, |_| 2);
+        let flat = sheets.first().expect("a sheet grew");
+        assert_eq!(survey(flat, &[], 3.0), (None, (0, 0), (0, 0)));
     }
 
     /// The one-pass summary is the lists' arithmetic bit for bit, down to

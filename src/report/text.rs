@@ -1,8 +1,8 @@
 //! The human-readable reports of a check and a build: `karigami check`'s
 //! verification report, report.txt and the terminal summary.
 
+use crate::lattice::Lattice;
 use crate::lattice::deploy::Deployment;
-use crate::lattice::{Lattice, vertex_eyelet_count};
 use crate::pipeline::{Build, Verified};
 use std::fmt::Write as _;
 
@@ -16,9 +16,9 @@ pub fn check_text(v: &Verified) -> String {
     } = *v;
     let mut out = String::new();
     // An intrinsic lattice is measured as assembled (rows placed onto each other).
-    let (lo, hi) = v.assembled.extent();
+    let (lo, hi) = v.measures.whole.extent;
     let size = hi - lo;
-    let eyelets = vertex_eyelet_count(lattice);
+    let eyelets = v.measures.whole.vertex_eyelets;
     let _ = writeln!(out, "design: {}", design.name);
     let shape = match lattice.kind {
         crate::lattice::Kind::Helix => {

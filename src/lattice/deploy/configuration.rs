@@ -3,6 +3,7 @@
 //! through shared edges, with how far two paths disagree.
 
 use super::super::{Cell, Lattice, Legs};
+use glam::DVec3;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -58,12 +59,22 @@ pub(super) fn design_cos(lattice: &Lattice, cell: &Cell) -> f64 {
         .dot((ur - cell.pivot).normalize())
 }
 
-/// `design_cos` from the cell's legs (`Lattice::legs`): a leg is the length
-/// `normalize` divides by (`p - q` is exactly `-(q - p)`, so their squares
-/// and roots agree bit for bit), and no square root is taken again.
-fn design_cos_with(lattice: &Lattice, cell: &Cell, legs: &Legs) -> f64 {
-    let [ul, ur, _, _] = lattice.corners(cell);
-    ((ul - cell.pivot) * (1.0 / legs[0])).dot((ur - cell.pivot) * (1.0 / legs[3]))
+/// `design_cos` from the cell's corners and legs (`Lattice::legs`): a leg
+/// is the length `normalize` divides by (`p - q` is exactly `-(q - p)`, so
+/// their squares and roots agree bit for bit), and no square root is taken
+/// again.
+fn design_cos_with(corners: [DVec3; 4], pivot: DVec3, legs: &Legs) -> f64 {
+    let [ul, ur, _, _] = corners;
+    ((ul - pivot) * (1.0 / legs[0])).dot((ur - pivot) * (1.0 / legs[3]))
+}
+
+/// The reference cell's (cell 0's) opening in the design (radians; 0
+/// without cells): `Configuration::theta_design`.
+pub(super) fn theta_design(lattice: &Lattice) -> f64 {
+    lattice
+        .cells
+        .first()
+        .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos())
 }
 
 /// The intrinsic configuration C(theta): every cell's opening as a function
@@ -204,30 +215,53 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
 /// before it or the row above, the shortest path. A cell reached behind
 /// the scan waits in a small heap.
 pub fn configuration(lattice: &Lattice) -> Configuration {
+    configuration_with(lattice, |_, _, _, _| {}).0
+}
+
+/// `configuration`, showing `each(cell, corners, legs, cos_phi)` every cell
+/// in cell order as the propagation over a grown sheet's grid takes it
+/// (`grid_width`), its corners and legs at hand and its cos(phi) final;
+/// true when it did (else `each` saw no cell, or not all in order).
+pub(super) fn configuration_with(
+    lattice: &Lattice,
+    mut each: impl FnMut(&Cell, [DVec3; 4], &Legs, Affine),
+) -> (Configuration, bool) {
     let n = lattice.cells.len();
-    let theta_design = lattice
-        .cells
-        .first()
-        .map_or(0.0, |c| design_cos(lattice, c).clamp(-1.0, 1.0).acos());
+    let theta_design = theta_design(lattice);
     let c_design = theta_design.cos();
     let mut design_residual: f64 = 0.0;
-    // How far cell i's cos(phi) at the design opening misses its own.
-    let mut design_check = |i: usize, f: Affine, legs: &Legs| {
-        let design = design_cos_with(lattice, &lattice.cells[i], legs);
+    // How far a cell's cos(phi) at the design opening misses its own.
+    let mut design_check = |corners: [DVec3; 4], pivot: DVec3, f: Affine, legs: &Legs| {
+        let design = design_cos_with(corners, pivot, legs);
         design_residual = design_residual.max((f.at(c_design) - design).abs());
     };
+    // The next cell `each` expects: all of them, in order, or it says so.
+    let mut next = 0;
     let grid = grid_width(lattice);
     let (cos_phi, reached, path_residual) = match grid {
         // A grown sheet: the neighbours are read off the grid (no lists of
         // corner users and edge neighbours: 144 MB on 4 M cells), and the
         // legs of the cells within a row of the one taken kept in a ring
         // (`LegRing`; 128 MB for every cell's). Every cell is taken, and
-        // checked against its design opening then, with its legs at hand.
+        // checked against its design opening then, with its corners and
+        // legs at hand.
         Some(w) => {
             let mut ring = LegRing::new(lattice, w);
-            propagate(n, |k| ring.get(k), grid_neighbours(n, w), &mut design_check)
+            let taken = |i: usize, f: Affine, legs: &Legs| {
+                let cell = &lattice.cells[i];
+                let corners = lattice.corners(cell);
+                design_check(corners, cell.pivot, f, legs);
+                if i == next {
+                    each(cell, corners, legs, f);
+                    next += 1;
+                } else {
+                    next = usize::MAX;
+                }
+            };
+            propagate(n, |k| ring.get(k), grid_neighbours(n, w), taken)
         }
         None => {
+            next = usize::MAX;
             let legs: Vec<Legs> = lattice.cells.iter().map(|c| lattice.legs(c)).collect();
             let users = Users::new(lattice);
             let found = match edge_neighbours(lattice, &users) {
@@ -262,8 +296,8 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
                 ),
             };
             // Every cell, reached or not (an unreached one keeps cos(phi) = 1).
-            for (i, legs) in legs.iter().enumerate() {
-                design_check(i, found.0[i], legs);
+            for ((cell, legs), &f) in lattice.cells.iter().zip(&legs).zip(&found.0) {
+                design_check(lattice.corners(cell), cell.pivot, f, legs);
             }
             found
         }
@@ -279,7 +313,7 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
             c_min = c_min.max((-1.0 - f.a) / f.b);
         }
     }
-    Configuration {
+    let config = Configuration {
         cos_phi,
         theta_design,
         theta_max: c_min.clamp(-1.0, 1.0).acos(),
@@ -287,7 +321,8 @@ pub fn configuration(lattice: &Lattice) -> Configuration {
         design_residual,
         collapse_residual,
         unreached,
-    }
+    };
+    (config, next == n)
 }
 
 /// The width `w` of a lattice whose cells form a grid numbered as growth
@@ -562,7 +597,7 @@ mod tests {
             for cell in &lattice.cells {
                 let legs = lattice.legs(cell);
                 assert_eq!(
-                    design_cos_with(lattice, cell, &legs).to_bits(),
+                    design_cos_with(lattice.corners(cell), cell.pivot, &legs).to_bits(),
                     design_cos(lattice, cell).to_bits()
                 );
             }

@@ -1,9 +1,10 @@
 //! How far a rigid placement of a planar lattice's cells misses at other
 //! openings than the design's (MATH.md 8.4).
 
-use super::super::Lattice;
 use super::super::shape::legs_of;
+use super::super::{Cell, Lattice, Legs};
 use super::Configuration;
+use super::configuration::Affine;
 use glam::{DVec2, DVec3};
 
 /// The largest misfit (relative to the mean leg) of placing a planar
@@ -58,91 +59,131 @@ pub fn planar_misfits(
 /// Openings placed side by side in one pass (`MISFIT_FRACTIONS` has three):
 /// each lane's square roots and divisions wait on the cell before, so the
 /// lanes are computed stage by stage, each stage's three independent.
-const LANES: usize = 3;
+pub(super) const LANES: usize = 3;
 
 /// The largest squared miss over the squared mean leg at each opening
 /// whose cosine is in `cos`, the placements held in a ring of `window`
 /// vertices (a power of two); None when some cell's corners lie too far
 /// apart in vertex order for it.
-///
-/// Why the ring holds what a slot per vertex would: every cell's corners
-/// lie in `(high - window, high]`, `high` the largest corner index so far.
-/// A corner read at a cell and another index of its slot written after it
-/// would both lie in the window of that later write (the indices only
-/// grow), which holds no two indices of one slot.
 fn misfits_in(
     lattice: &Lattice,
     config: &Configuration,
     cos: [f64; LANES],
     window: usize,
 ) -> Option<[f64; LANES]> {
-    let mask = window - 1;
-    let mut placed = vec![[DVec2::ZERO; LANES]; window];
-    // Which vertex each slot holds (placed by an earlier cell); which
-    // vertices are placed depends on the cells only, not on theta.
-    let mut holds = vec![u32::MAX; window];
-    let mut high = 0usize;
-    // The largest squared miss over the squared mean leg, per opening.
-    let mut misfit = [0.0f64; LANES];
-    for (i, cell) in lattice.cells.iter().enumerate() {
-        let corners = lattice.corners(cell);
+    let mut placements = Placements::new(cos, window);
+    for (cell, &f) in lattice.cells.iter().zip(&config.cos_phi) {
         // From the corners at hand: 4 square roots a cell are no slower
         // than storing every cell's legs (128 MB on 4 M cells) and reading
         // them back.
-        let legs = legs_of(corners, cell.pivot);
+        let corners = lattice.corners(cell);
+        if !placements.add(cell, corners, legs_of(corners, cell.pivot), f) {
+            return None;
+        }
+    }
+    Some(placements.finish())
+}
+
+/// The planar misfits' running state, fed the cells in order
+/// (`misfits_in`, or C(theta) as it takes a grid's cells in order, with
+/// their corners and legs at hand: `deployment`): each opening's
+/// placements of the vertices in a ring of `window` slots (vertex v in slot
+/// v mod window), and its largest squared miss over the squared mean leg.
+///
+/// Why the ring holds what a slot per vertex would: every cell's corners
+/// lie in `(high - window, high]`, `high` the largest corner index so far.
+/// A corner read at a cell and another index of its slot written after it
+/// would both lie in the window of that later write (the indices only
+/// grow), which holds no two indices of one slot.
+pub(super) struct Placements {
+    cos: [f64; LANES],
+    mask: usize,
+    placed: Vec<[DVec2; LANES]>,
+    /// Which vertex each slot holds (placed by an earlier cell); which
+    /// vertices are placed depends on the cells only, not on theta.
+    holds: Vec<u32>,
+    high: usize,
+    /// The largest squared miss over the squared mean leg, per opening.
+    misfit: [f64; LANES],
+}
+
+impl Placements {
+    /// Placements at the openings whose cosines are `cos`, in a ring of
+    /// `window` slots (a power of two).
+    pub(super) fn new(cos: [f64; LANES], window: usize) -> Self {
+        Self {
+            cos,
+            mask: window - 1,
+            placed: vec![[DVec2::ZERO; LANES]; window],
+            holds: vec![u32::MAX; window],
+            high: 0,
+            misfit: [0.0; LANES],
+        }
+    }
+
+    /// Place the next cell, with its corners, legs and `cos(phi)` as a
+    /// function of the reference opening; false when its corners lie too
+    /// far apart in vertex order for the ring.
+    #[inline]
+    pub(super) fn add(&mut self, cell: &Cell, corners: [DVec3; 4], legs: Legs, f: Affine) -> bool {
+        let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
+        let (lo, hi) = ids
+            .iter()
+            .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
+        self.high = self.high.max(hi as usize);
+        if lo as usize + self.mask < self.high {
+            return false;
+        }
         let side = side(corners, cell.pivot);
         let scale = legs.iter().sum::<f64>() / 4.0;
         // Misses compared squared, over the squared scale: one square
         // root per opening at the end, not one per corner.
         let inv_scale2 = 1.0 / (scale * scale);
-        let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
-        let (lo, hi) = ids
-            .iter()
-            .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
-        high = high.max(hi as usize);
-        if lo as usize + window <= high {
-            return None;
-        }
         // `from_fn` rather than `map` on the arrays of this loop: the same
         // values, and the compiler inlines it (`map` went through a drain
         // guard in some builds, 12 % more instructions in this loop).
-        let slots: [usize; 4] = std::array::from_fn(|c| ids[c] as usize & mask);
+        let slots: [usize; 4] = std::array::from_fn(|c| ids[c] as usize & self.mask);
         // The fit uses the corners placed before this cell; a corner
         // repeated in the cell is placed by its first occurrence.
-        let before: [bool; 4] = std::array::from_fn(|c| holds[slots[c]] == ids[c]);
+        let before: [bool; 4] = std::array::from_fn(|c| self.holds[slots[c]] == ids[c]);
         let mut known = before;
         for c in 1..4 {
             known[c] |= ids[..c].contains(&ids[c]);
         }
-        let f = config.cos_phi[i];
+        let cos = self.cos;
         let local: [[DVec2; 4]; LANES] =
             std::array::from_fn(|k| cell_at(legs, side, f.at(cos[k]).clamp(-1.0, 1.0)));
         let mut pairs = [[(DVec2::ZERO, DVec2::ZERO); LANES]; 4];
         let mut m = 0;
         for c in 0..4 {
             if before[c] {
-                let at = &placed[slots[c]];
+                let at = &self.placed[slots[c]];
                 pairs[m] = std::array::from_fn(|k| (local[k][c], at[k]));
                 m += 1;
             }
         }
         let fits = rigid_fits(&pairs[..m]);
         for c in 0..4 {
-            let slot = &mut placed[slots[c]];
+            let slot = &mut self.placed[slots[c]];
             for k in 0..LANES {
                 let q = fits[k].apply(local[k][c]);
                 if known[c] {
-                    misfit[k] = misfit[k].max(slot[k].distance_squared(q) * inv_scale2);
+                    self.misfit[k] = self.misfit[k].max(slot[k].distance_squared(q) * inv_scale2);
                 } else {
                     slot[k] = q;
                 }
             }
         }
         for c in 0..4 {
-            holds[slots[c]] = ids[c];
+            self.holds[slots[c]] = ids[c];
         }
+        true
     }
-    Some(misfit)
+
+    /// The largest squared miss over the squared mean leg, per opening.
+    pub(super) fn finish(self) -> [f64; LANES] {
+        self.misfit
+    }
 }
 
 /// Which way a cell turns from the leg to UL to the leg to UR: +1 or -1.
@@ -309,5 +350,34 @@ mod tests {
             assert_eq!(got.to_bits(), every[0].sqrt().to_bits());
         }
         assert!(measured >= 12, "{measured} lattices grew");
+    }
+
+    /// `deployment` places a grown sheet's cells as C(theta) takes them:
+    /// its misfits are those of the second pass bit for bit, in order and
+    /// out of order (then measured by the second pass).
+    #[test]
+    fn the_misfits_placed_with_c_theta_are_the_second_passes() {
+        let sheets = crate::lattice::shape::random_sheets(23, 24, |_| 2);
+        assert!(sheets.len() >= 12, "{} lattices grew", sheets.len());
+        for lattice in sheets {
+            let mut reversed = lattice.clone();
+            reversed.cells.reverse();
+            for lattice in [&lattice, &reversed] {
+                let d = super::super::deployment(lattice);
+                let thetas = super::super::MISFIT_FRACTIONS.map(|f| f * d.config.theta_design);
+                let apart: Vec<(f64, f64)> = super::super::MISFIT_FRACTIONS
+                    .iter()
+                    .zip(planar_misfits(lattice, &d.config, &thetas))
+                    .filter_map(|(&f, m)| Some((f, m?)))
+                    .collect();
+                let as_bits = |m: &[(f64, f64)]| {
+                    m.iter()
+                        .map(|(f, m)| (f.to_bits(), m.to_bits()))
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(as_bits(&d.misfits), as_bits(&apart));
+                assert!(!d.misfits.is_empty());
+            }
+        }
     }
 }

@@ -31,12 +31,43 @@ pub struct Deployment {
 }
 
 /// Deployment of `lattice`: its C(theta) path, mobility and planar misfits.
+///
+/// A planar grown sheet is placed as C(theta) takes its cells, in order
+/// with their corners and legs at hand (`configuration_with`), rather than
+/// in a second pass reading every cell again: every opening is placed, and
+/// those outside the valid range, known once every cell is taken, dropped.
+/// Each opening's placement is computed on its own (`misfit::LANES`), so
+/// its misfit is the second pass's bit for bit. Any other lattice (not a
+/// grown sheet's grid, or corners spread wider than the ring) is measured
+/// by the second pass.
 pub fn deployment(lattice: &Lattice) -> Deployment {
-    let config = configuration(lattice);
-    let thetas = MISFIT_FRACTIONS.map(|f| f * config.theta_design);
+    let thetas = MISFIT_FRACTIONS.map(|f| f * configuration::theta_design(lattice));
+    let mut placing = (lattice.dim == 2 && !lattice.cells.is_empty()).then(|| {
+        let nv = lattice.vertices.len();
+        let window = (2 * lattice.width + 8).min(nv).next_power_of_two();
+        misfit::Placements::new(thetas.map(f64::cos), window)
+    });
+    let (config, in_order) =
+        configuration::configuration_with(lattice, |cell, corners, legs, f| {
+            if let Some(p) = &mut placing
+                && !p.add(cell, corners, *legs, f)
+            {
+                placing = None;
+            }
+        });
+    let placed = match placing {
+        Some(p) if in_order => {
+            let valid = |t: f64| (0.0..=config.theta_max).contains(&t);
+            let misfit = p.finish();
+            (0..thetas.len())
+                .map(|k| valid(thetas[k]).then(|| misfit[k].sqrt()))
+                .collect()
+        }
+        _ => planar_misfits(lattice, &config, &thetas),
+    };
     let misfits = MISFIT_FRACTIONS
         .iter()
-        .zip(planar_misfits(lattice, &config, &thetas))
+        .zip(placed)
         .filter_map(|(&f, m)| Some((f, m?)))
         .collect();
     Deployment {
