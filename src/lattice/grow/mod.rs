@@ -437,10 +437,12 @@ fn check_corners_turn(
         cross.length_squared(),
         ul.length_squared() * ur.length_squared(),
     );
-    // (Finite as `<= f64::MAX`: see `finite`.)
+    // (Finite as `<= f64::MAX`: see `finite`. Not `RangeInclusive::
+    // contains` for `den`, which clippy suggests: measured, 6 more
+    // instructions a cell.)
     if !(den >= f64::MIN_POSITIVE
-        && den <= f64::MAX
         && num <= f64::MAX
+        && den <= f64::MAX
         && num >= 4.0 * EPS_ANGLE * EPS_ANGLE * den)
     {
         check_angle(cell, ul, ur, num / den)?;
