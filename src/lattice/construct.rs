@@ -1,6 +1,7 @@
 //! The elementary constructions of MATH.md section 4, all built on one
 //! primitive: the intersection of a ray with a null cone (formula P).
 
+use super::finite;
 use glam::DVec3;
 
 /// A point with its collapsed coordinate.
@@ -37,7 +38,7 @@ pub(crate) fn null_ray(a: Point, b: Point, v: DVec3) -> Result<f64, Refusal> {
         return Err(Refusal::MissesCone);
     }
     let r = (dz * dz - len * len) / (2.0 * den);
-    if r.is_finite() {
+    if finite(r) {
         Ok(r)
     } else {
         Err(Refusal::MissesCone)

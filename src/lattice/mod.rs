@@ -296,9 +296,68 @@ pub(crate) fn wrap(k: usize, n: usize) -> usize {
     if k < n { k } else { k % n }
 }
 
+// Finiteness tests written as comparisons with `f64::MAX`: LLVM turns
+// `is_finite()` and `x < INFINITY`, with `x > 0.0` beside them, into a
+// test of the number's class done on its bits in integer registers, 16
+// instructions for `is_finite() && x > 0.0` where the two comparisons
+// below are 4, and growth runs such a test on every leg it makes.
+
+/// `x` is finite: `|x| <= f64::MAX` (false for a NaN and an infinity).
+#[inline(always)]
+pub(crate) fn finite(x: f64) -> bool {
+    x.abs() <= f64::MAX
+}
+
+/// Every one of `xs` is finite (`finite`), tested without a branch each.
+#[inline(always)]
+pub(crate) fn all_finite<const N: usize>(xs: [f64; N]) -> bool {
+    xs.iter().fold(true, |all, &x| all & finite(x))
+}
+
+/// `x` is finite and above 0 (false for a NaN).
+#[inline(always)]
+pub(crate) fn positive_finite(x: f64) -> bool {
+    x > 0.0 && x <= f64::MAX
+}
+
 /// Angle between two unit vectors, accurate near 0 and pi (atan2 form).
 pub(crate) fn angle_between(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{all_finite, finite, positive_finite};
+
+    /// The comparisons with `f64::MAX` give `is_finite`'s verdicts on
+    /// every kind of number.
+    #[test]
+    fn finiteness_tests_agree_with_is_finite() {
+        let values = [
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+            f64::MIN_POSITIVE / 4.0,
+            -f64::MIN_POSITIVE / 4.0,
+            1.0,
+            -1.0,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            -f64::NAN,
+        ];
+        for x in values {
+            assert_eq!(finite(x), x.is_finite(), "{x}");
+            assert_eq!(positive_finite(x), x.is_finite() && x > 0.0, "{x}");
+            for y in values {
+                let both = x.is_finite() && y.is_finite();
+                assert_eq!(all_finite([x, y, 1.0, -2.0]), both, "{x} {y}");
+                assert_eq!(all_finite([1.0, y, x]), both, "{x} {y}");
+            }
+        }
+    }
 }
 
 /// Small lattices for the unit tests of the lattice's modules.

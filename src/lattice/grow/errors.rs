@@ -139,7 +139,7 @@ pub(super) fn propagated_cone(i: usize, j: usize) -> GrowthError {
 
 #[inline]
 pub(super) fn check_leg(leg: f64, name: &str, i: usize, j: usize) -> Result<(), GrowthError> {
-    if leg.is_finite() && leg > 0.0 {
+    if positive_finite(leg) {
         return Ok(());
     }
     Err(leg_error(leg, name, i, j))
@@ -171,7 +171,7 @@ pub(super) fn check_boundary_leg(
     i: usize,
     j: usize,
 ) -> Result<(), GrowthError> {
-    if leg.is_finite() && leg > 0.0 {
+    if positive_finite(leg) {
         return Ok(());
     }
     let name = if param == Param::LeftLeg {

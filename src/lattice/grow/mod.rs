@@ -4,7 +4,9 @@
 use super::closure::{Closure, Holonomy, closure};
 use super::construct::{Point, Refusal, lower_left, lower_right, pivot_from_v1, pivot_from_v2};
 use super::front::{FrontMoves, rebuild};
-use super::{Cell, Kind, Lattice, Vertex, VertexKey, angle_between, wrap};
+use super::{
+    Cell, Kind, Lattice, Vertex, VertexKey, all_finite, angle_between, positive_finite, wrap,
+};
 use crate::legs::{Direction, Leg};
 use glam::DVec3;
 use std::fmt;
@@ -302,7 +304,7 @@ impl Grower {
         let next_base = base + n;
         for j in 0..n {
             let q = self.next[j].expect("front vertex grown");
-            if !(q.pos.is_finite() && q.z.is_finite()) {
+            if !all_finite([q.pos.x, q.pos.y, q.pos.z, q.z]) {
                 return Err(breakdown(i, j));
             }
             self.lattice.vertices.push(Vertex {
@@ -420,7 +422,8 @@ fn check_corners_turn(
     ur: DVec3,
     first: Option<f64>,
 ) -> Result<(), GrowthError> {
-    if !(cell.pivot.is_finite() && cell.z_pivot.is_finite()) {
+    let p = cell.pivot;
+    if !all_finite([p.x, p.y, p.z, cell.z_pivot]) {
         return Err(breakdown(cell.row as usize, cell.col as usize));
     }
     let (ul, ur) = (ul - cell.pivot, ur - cell.pivot);
@@ -434,9 +437,12 @@ fn check_corners_turn(
         cross.length_squared(),
         ul.length_squared() * ur.length_squared(),
     );
-    if !(den.is_finite()
-        && den >= f64::MIN_POSITIVE
-        && num.is_finite()
+    // (Finite as `<= f64::MAX`: see `finite`. Not `RangeInclusive::
+    // contains` for `den`, which clippy suggests: measured, 6 more
+    // instructions a cell.)
+    if !(den >= f64::MIN_POSITIVE
+        && num <= f64::MAX
+        && den <= f64::MAX
         && num >= 4.0 * EPS_ANGLE * EPS_ANGLE * den)
     {
         check_angle(cell, ul, ur, num / den)?;

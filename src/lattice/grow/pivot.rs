@@ -69,7 +69,7 @@ impl Fail {
 /// `check_leg`'s test, with a `Fail`.
 #[inline(always)]
 fn leg(leg: f64, name: &'static str, j: usize) -> Result<(), Fail> {
-    if leg.is_finite() && leg > 0.0 {
+    if positive_finite(leg) {
         Ok(())
     } else {
         Err(Fail::Leg { leg, name, j })
