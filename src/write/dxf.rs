@@ -421,7 +421,20 @@ impl Blocks {
             .zip(&at)
             .map(|(g, at)| Some(drawing_key(g, page.height, (*at)?)))
             .collect();
-        let (repeats, _) = repeats::find_exact(&keys, |g| {
+        // Each circle is one CIRCLE entity, its centre printed on the grid.
+        let coarse: Vec<Option<Vec<i64>>> = page
+            .groups
+            .iter()
+            .zip(&at)
+            .map(|(g, at)| {
+                let map = relative(page.height, (*at)?);
+                Some(repeats::circles(&g.items, &|p| {
+                    let q = map(p);
+                    [units(q.x), units(q.y)]
+                }))
+            })
+            .collect();
+        let (repeats, _) = repeats::find_exact(&keys, &coarse, |g| {
             let at = at[g].expect("a keyed group has an anchor");
             let mut probe = Dxf {
                 out: String::new(),

@@ -49,18 +49,37 @@ pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
 
 /// `find` made cheap and exact: groups are first told apart by `keys` (equal
 /// keys must mean equal drawings: a key holds every number its writer
-/// prints, on the grid), and `text(g)` is written only for the first group
-/// of each key; keys of equal texts are one drawing, so the repeats are
+/// prints, on the grid), and keys of equal texts (`text(g)`, written only
+/// for the first group of each key) are one drawing, so the repeats are
 /// those of the texts. A big sheet's 20,000 strips have a few keys: writing
-/// every strip's text to compare them took a tenth of its build. Returns
-/// the repeats and each shared drawing's text.
-pub(crate) fn find_exact<K: Hash + Eq>(
+/// every strip's text to compare them took a tenth of its build.
+///
+/// `coarse` is part of what the text shows (equal texts must have equal
+/// coarse keys: the holes' centres, say): a key alone in its coarse class
+/// prints a text no other key prints, so its text is written only if the
+/// key is shared. The examples' strips all differ, and writing each text
+/// once to compare and again to draw the strip was half of their writers.
+/// Returns the repeats and each shared drawing's text.
+pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
     keys: &[Option<K>],
+    coarse: &[Option<C>],
     mut text: impl FnMut(usize) -> String,
 ) -> (Repeats, Vec<String>) {
+    // The distinct keys of each coarse class.
+    let mut keys_of: HashMap<&C, HashMap<&K, ()>> = HashMap::new();
+    for (key, c) in keys.iter().zip(coarse) {
+        if let (Some(key), Some(c)) = (key, c) {
+            keys_of.entry(c).or_default().insert(key, ());
+        }
+    }
+    let alone = |g: usize| {
+        let c = coarse[g].as_ref();
+        c.is_some_and(|c| keys_of[c].len() == 1)
+    };
     let mut of_key: HashMap<&K, usize> = HashMap::new();
     let mut of_text: HashMap<String, usize> = HashMap::new();
-    let mut texts: Vec<String> = Vec::new();
+    // Per drawing: its text, where it was written.
+    let mut texts: Vec<Option<String>> = Vec::new();
     let drawing: Vec<Option<usize>> = keys
         .iter()
         .enumerate()
@@ -69,12 +88,18 @@ pub(crate) fn find_exact<K: Hash + Eq>(
             if let Some(&d) = of_key.get(key) {
                 return Some(d);
             }
-            let t = text(g);
             let next = texts.len();
-            let d = *of_text.entry(t.clone()).or_insert(next);
-            if d == next {
-                texts.push(t);
-            }
+            let d = if alone(g) {
+                texts.push(None);
+                next
+            } else {
+                let t = text(g);
+                let d = *of_text.entry(t.clone()).or_insert(next);
+                if d == next {
+                    texts.push(Some(t));
+                }
+                d
+            };
             of_key.insert(key, d);
             Some(d)
         })
@@ -83,9 +108,28 @@ pub(crate) fn find_exact<K: Hash + Eq>(
     let shared = repeats
         .first
         .iter()
-        .map(|&g| std::mem::take(&mut texts[drawing[g].expect("a shared group has a key")]))
+        .map(|&g| {
+            let d = drawing[g].expect("a shared group has a key");
+            texts[d].take().unwrap_or_else(|| text(g))
+        })
         .collect();
     (repeats, shared)
+}
+
+/// What of a group's drawing both writers print as such, relative to its
+/// anchor: each circle's layer and centre on the grid (`grid`, the
+/// writer's grid units relative to the anchor), in order. Equal texts have
+/// equal circles: a coarse key for `find_exact` (None for a group without
+/// an anchor).
+pub(crate) fn circles(items: &[Item], grid: &dyn Fn(DVec2) -> [i64; 2]) -> Vec<i64> {
+    let mut k = Vec::new();
+    for i in items {
+        if let Shape::Circle { center, .. } = &i.shape {
+            k.push(i.layer as i64);
+            k.extend(grid(*center));
+        }
+    }
+    k
 }
 
 /// Each group's `key` on the page grid relative to its anchor `at` (None
@@ -209,7 +253,8 @@ mod tests {
         let keys = [Some(1), Some(2), None, Some(1), Some(3), Some(2), Some(4)];
         let texts = ["", "x", "x", "y", "z"];
         let mut written = Vec::new();
-        let (r, shared) = find_exact(&keys, |g| {
+        let coarse = [Some(0); 7];
+        let (r, shared) = find_exact(&keys, &coarse, |g| {
             written.push(g);
             texts[keys[g].unwrap()].to_string()
         });
@@ -223,6 +268,24 @@ mod tests {
         let k = |s: &str| Some(s.to_string());
         let by_text = find(&[k("x"), k("x"), None, k("x"), k("y"), k("x"), k("z")]);
         assert_eq!(by_text.of_group, r.of_group);
+    }
+
+    #[test]
+    fn a_key_alone_in_its_coarse_class_is_not_written_to_compare() {
+        // Key 1 is the only key of class 10: its text is written once, for
+        // its shared drawing; keys 2 and 3 print the same text.
+        let keys = [Some(1), Some(2), Some(1), Some(3), Some(4)];
+        let coarse = [Some(10), Some(20), Some(10), Some(20), Some(30)];
+        let texts = ["", "x", "y", "y", "z"];
+        let mut written = Vec::new();
+        let (r, shared) = find_exact(&keys, &coarse, |g| {
+            written.push(g);
+            texts[keys[g].unwrap()].to_string()
+        });
+        assert_eq!(written, [1, 3, 0]);
+        assert_eq!(r.of_group, [Some(0), Some(1), Some(0), Some(1), None]);
+        assert_eq!(r.first, [0, 1]);
+        assert_eq!(shared, ["x", "y"]);
     }
 
     #[test]

@@ -154,7 +154,19 @@ fn relative_items(g: &Group, at: (i64, i64)) -> String {
 fn groups(out: &mut String, page: &Page) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
     let keys = repeats::page_keys(&page.groups, &at);
-    let (shared, drawn) = repeats::find_exact(&keys, |g| {
+    // Each item is one element, each circle's centre printed on the grid.
+    let coarse: Vec<Option<Vec<i64>>> = page
+        .groups
+        .iter()
+        .zip(&at)
+        .map(|(g, at)| {
+            let (ax, ay) = (*at)?;
+            let mut k = repeats::circles(&g.items, &|p| [units(p.x) - ax, units(p.y) - ay]);
+            k.push(g.items.len() as i64);
+            Some(k)
+        })
+        .collect();
+    let (shared, drawn) = repeats::find_exact(&keys, &coarse, |g| {
         relative_items(&page.groups[g], at[g].expect("a keyed group has an anchor"))
     });
     if !shared.first.is_empty() {
