@@ -290,7 +290,7 @@ fn encode(pixmap: &Pixmap) -> Vec<u8> {
     if opaque {
         let found = indexed(pixmap, |c| c).or_else(|| indexed(pixmap, sixteen_levels));
         if let Some((palette, depth, raw)) = found {
-            return deflate(pixmap, png::ColorType::Indexed, depth, Some(palette), &raw);
+            return indexed_png(pixmap, depth, palette, &raw);
         }
     }
     let raw: Vec<u8> = if opaque {
@@ -434,6 +434,65 @@ impl Colours {
     }
 }
 
+/// The indexed-colour PNG of `raw` rows: the bytes `deflate` writes, made
+/// without flate2's writer, which zeroed its 32 kB output buffer before
+/// each of png's two writes a row (1.2 G of the examples' 8.7 G
+/// instructions, in memset). The rows are unfiltered (see `deflate`), and
+/// the compressor is handed what png hands flate2, call by call (deflate's
+/// blocks depend on how its input comes: one call for the whole picture
+/// gave other bytes): `indexed_pictures_are_the_bytes_png_writes`.
+fn indexed_png(pixmap: &Pixmap, depth: png::BitDepth, palette: Vec<u8>, raw: &[u8]) -> Vec<u8> {
+    let row = raw.len() / (pixmap.height() as usize).max(1);
+    let zlib = zlib_level_1(raw.chunks_exact(row.max(1)));
+    let mut bytes = Vec::with_capacity(zlib.len() + palette.len() + 128);
+    let mut encoder = png::Encoder::new(&mut bytes, pixmap.width(), pixmap.height());
+    encoder.set_color(png::ColorType::Indexed);
+    encoder.set_depth(depth);
+    encoder.set_palette(palette);
+    encoder.validate_sequence(false);
+    let mut writer = encoder
+        .write_header()
+        .expect("PNG header of an in-memory pixmap");
+    // One IDAT chunk, as png writes up to 2 GiB.
+    writer
+        .write_chunk(png::chunk::IDAT, &zlib)
+        .expect("PNG data of an in-memory pixmap");
+    writer.finish().expect("PNG end of an in-memory pixmap");
+    bytes
+}
+
+/// Unfiltered `rows` as the zlib stream png writes at level 1 through
+/// flate2 (miniz_oxide set up as `Compression::new(1)` sets it up): each
+/// row's filter byte (0) and its bytes handed over as two writes, into a
+/// 32 kB output buffer, then finished.
+fn zlib_level_1<'a>(rows: impl Iterator<Item = &'a [u8]>) -> Vec<u8> {
+    use miniz_oxide::deflate::core::CompressorOxide;
+    use miniz_oxide::deflate::stream::deflate;
+    use miniz_oxide::{DataFormat, MZFlush, MZStatus};
+    let mut compressor = Box::<CompressorOxide>::default();
+    compressor.set_format_and_level(DataFormat::Zlib, 1);
+    let mut buffer = vec![0u8; 32 * 1024];
+    let mut out = Vec::new();
+    for row in rows {
+        for mut input in [&[0u8][..], row] {
+            while !input.is_empty() {
+                let r = deflate(&mut compressor, input, &mut buffer, MZFlush::None);
+                r.status.expect("deflate of an in-memory buffer");
+                out.extend_from_slice(&buffer[..r.bytes_written]);
+                input = &input[r.bytes_consumed..];
+            }
+        }
+    }
+    loop {
+        let r = deflate(&mut compressor, &[], &mut buffer, MZFlush::Finish);
+        out.extend_from_slice(&buffer[..r.bytes_written]);
+        let status = r.status.expect("deflate of an in-memory buffer");
+        if status == MZStatus::StreamEnd || r.bytes_written == 0 {
+            return out;
+        }
+    }
+}
+
 /// The PNG of `raw` rows in the given colour type and depth.
 fn deflate(
     pixmap: &Pixmap,
@@ -470,6 +529,49 @@ fn deflate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn indexed_pictures_are_the_bytes_png_writes() {
+        // Strips of two layer colours, in many deflate blocks; a picture of
+        // one colour (one bit a pixel).
+        let page = |width: f64, groups: Vec<Group>| Page {
+            width,
+            height: 80.0,
+            title: "t".into(),
+            metadata: Vec::new(),
+            groups,
+        };
+        let strips = (0..12)
+            .map(|i| {
+                let mut g = strip(
+                    DVec2::new(5.0 + 7.0 * i as f64, 10.0 + 5.0 * i as f64),
+                    i % 2 == 0,
+                );
+                if i % 3 == 0 {
+                    for item in &mut g.items {
+                        item.layer = crate::drawing::Layer::Reference;
+                    }
+                }
+                g
+            })
+            .collect();
+        let (strips, blank) = (page(120.0, strips), page(30.0, Vec::new()));
+        let mut depths = Vec::new();
+        for (page, px_per_mm) in [(&strips, 10.0), (&strips, 3.0), (&blank, 5.0)] {
+            let pixmap = render(page, px_per_mm, 1.0, true);
+            let (palette, depth, raw) = indexed(&pixmap, sixteen_levels).expect("few colours");
+            depths.push(depth);
+            let png = deflate(
+                &pixmap,
+                png::ColorType::Indexed,
+                depth,
+                Some(palette.clone()),
+                &raw,
+            );
+            assert_eq!(indexed_png(&pixmap, depth, palette, &raw), png);
+        }
+        assert_eq!(depths[2], png::BitDepth::One);
+    }
 
     /// Largest channel difference, and the number of pixels off by more
     /// than 12 levels, between a page drawn with tiles and item by item.
