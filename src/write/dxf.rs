@@ -421,17 +421,25 @@ impl Blocks {
             .zip(&at)
             .map(|(g, at)| Some(drawing_key(g, page.height, (*at)?)))
             .collect();
-        // Each circle is one CIRCLE entity, its centre printed on the grid.
+        // A circle is one CIRCLE, a closed path one closed LWPOLYLINE (text
+        // strokes are open), their points printed on the grid.
+        let outline = |start: DVec2, segments: &[Segment]| {
+            bulged(start, segments, true)
+                .into_iter()
+                .map(|(p, _)| p)
+                .collect()
+        };
         let coarse: Vec<Option<Vec<i64>>> = page
             .groups
             .iter()
             .zip(&at)
             .map(|(g, at)| {
                 let map = relative(page.height, (*at)?);
-                Some(repeats::circles(&g.items, &|p| {
+                let grid = |p: DVec2| {
                     let q = map(p);
                     [units(q.x), units(q.y)]
-                }))
+                };
+                Some(repeats::printed_shapes(&g.items, &grid, &outline))
             })
             .collect();
         let (repeats, _) = repeats::find_exact(&keys, &coarse, |g| {

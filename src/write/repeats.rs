@@ -116,17 +116,36 @@ pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
     (repeats, shared)
 }
 
-/// What of a group's drawing both writers print as such, relative to its
-/// anchor: each circle's layer and centre on the grid (`grid`, the
-/// writer's grid units relative to the anchor), in order. Equal texts have
-/// equal circles: a coarse key for `find_exact` (None for a group without
-/// an anchor).
-pub(crate) fn circles(items: &[Item], grid: &dyn Fn(DVec2) -> [i64; 2]) -> Vec<i64> {
+/// What of a group's drawing the SVG and DXF writers print as such,
+/// relative to its anchor: each circle's layer and centre and each closed
+/// path's layer and vertices (`outline`: the points its writer prints, a
+/// closed path's mark in both formats), on the grid (`grid`: the writer's
+/// grid units relative to the anchor), in order. Equal texts have equal
+/// such keys: a coarse key for `find_exact`.
+pub(crate) fn printed_shapes(
+    items: &[Item],
+    grid: &dyn Fn(DVec2) -> [i64; 2],
+    outline: &dyn Fn(DVec2, &[Segment]) -> Vec<DVec2>,
+) -> Vec<i64> {
     let mut k = Vec::new();
     for i in items {
-        if let Shape::Circle { center, .. } = &i.shape {
-            k.push(i.layer as i64);
-            k.extend(grid(*center));
+        match &i.shape {
+            Shape::Circle { center, .. } => {
+                k.extend([0, i.layer as i64]);
+                k.extend(grid(*center));
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed: true,
+            } => {
+                let points = outline(*start, segments);
+                k.extend([1, i.layer as i64, points.len() as i64]);
+                for p in points {
+                    k.extend(grid(p));
+                }
+            }
+            _ => {}
         }
     }
     k

@@ -154,14 +154,21 @@ fn relative_items(g: &Group, at: (i64, i64)) -> String {
 fn groups(out: &mut String, page: &Page) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
     let keys = repeats::page_keys(&page.groups, &at);
-    // Each item is one element, each circle's centre printed on the grid.
+    // Each item is one element; a circle's centre and a closed path's
+    // points (the only paths that end in `z`) are printed on the grid.
+    let outline = |start: glam::DVec2, segments: &[Segment]| {
+        std::iter::once(start)
+            .chain(segments.iter().map(|s| s.end()))
+            .collect()
+    };
     let coarse: Vec<Option<Vec<i64>>> = page
         .groups
         .iter()
         .zip(&at)
         .map(|(g, at)| {
             let (ax, ay) = (*at)?;
-            let mut k = repeats::circles(&g.items, &|p| [units(p.x) - ax, units(p.y) - ay]);
+            let grid = |p: glam::DVec2| [units(p.x) - ax, units(p.y) - ay];
+            let mut k = repeats::printed_shapes(&g.items, &grid, &outline);
             k.push(g.items.len() as i64);
             Some(k)
         })
