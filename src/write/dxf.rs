@@ -421,26 +421,11 @@ impl Blocks {
             .zip(&at)
             .map(|(g, at)| Some(drawing_key(g, page.height, (*at)?)))
             .collect();
-        // A circle is one CIRCLE, a closed path one closed LWPOLYLINE (text
-        // strokes are open), their points printed on the grid.
-        let outline = |start: DVec2, segments: &[Segment]| {
-            bulged(start, segments, true)
-                .into_iter()
-                .map(|(p, _)| p)
-                .collect()
-        };
         let coarse: Vec<Option<Vec<i64>>> = page
             .groups
             .iter()
             .zip(&at)
-            .map(|(g, at)| {
-                let map = relative(page.height, (*at)?);
-                let grid = |p: DVec2| {
-                    let q = map(p);
-                    [units(q.x), units(q.y)]
-                };
-                Some(repeats::printed_shapes(&g.items, &grid, &outline))
-            })
+            .map(|(g, at)| Some(printed_points(g, page.height, (*at)?)))
             .collect();
         let (repeats, _) = repeats::find_exact(&keys, &coarse, |g| {
             let at = at[g].expect("a keyed group has an anchor");
@@ -508,6 +493,49 @@ fn drawing_key(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
                     k.push(stroke.len() as i64);
                     for p in stroke {
                         k.extend(grid(p));
+                    }
+                }
+            }
+        }
+    }
+    k
+}
+
+/// The points a group's entities print relative to the insertion point
+/// `at`, on the grid, entity by entity: a CIRCLE's layer and centre, an
+/// LWPOLYLINE's layer, closed flag and vertices (an outline's, or one text
+/// stroke's). Equal texts print equal points: the coarse key
+/// `repeats::find_exact` tells most groups apart by without their text.
+fn printed_points(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
+    let map = relative(height, at);
+    let q = |p: DVec2| {
+        let m = map(p);
+        [units(m.x), units(m.y)]
+    };
+    let mut k = Vec::with_capacity(16 * g.items.len());
+    for i in &g.items {
+        let layer = i.layer as i64;
+        match &i.shape {
+            Shape::Circle { center, .. } => {
+                k.extend([0, layer]);
+                k.extend(q(*center));
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                let vertices = bulged(*start, segments, *closed);
+                k.extend([1, layer, *closed as i64, vertices.len() as i64]);
+                for (p, _) in vertices {
+                    k.extend(q(p));
+                }
+            }
+            text @ Shape::Text { .. } => {
+                for stroke in crate::drawing::text::strokes(text) {
+                    k.extend([1, layer, 0, stroke.len() as i64]);
+                    for p in stroke {
+                        k.extend(q(p));
                     }
                 }
             }

@@ -54,8 +54,9 @@ pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
 /// those of the texts. A big sheet's 20,000 strips have a few keys: writing
 /// every strip's text to compare them took a tenth of its build.
 ///
-/// `coarse` is part of what the text shows (equal texts must have equal
-/// coarse keys: the holes' centres, say): a key alone in its coarse class
+/// `coarse` is part of what the text shows, for each keyed group (equal
+/// texts must have equal coarse keys: the points it prints, say, without
+/// the inks): a key alone in its coarse class
 /// prints a text no other key prints, so its text is written only if the
 /// key is shared. The examples' strips all differ, and writing each text
 /// once to compare and again to draw the strip was half of their writers.
@@ -114,41 +115,6 @@ pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
         })
         .collect();
     (repeats, shared)
-}
-
-/// What of a group's drawing the SVG and DXF writers print as such,
-/// relative to its anchor: each circle's layer and centre and each closed
-/// path's layer and vertices (`outline`: the points its writer prints, a
-/// closed path's mark in both formats), on the grid (`grid`: the writer's
-/// grid units relative to the anchor), in order. Equal texts have equal
-/// such keys: a coarse key for `find_exact`.
-pub(crate) fn printed_shapes(
-    items: &[Item],
-    grid: &dyn Fn(DVec2) -> [i64; 2],
-    outline: &dyn Fn(DVec2, &[Segment]) -> Vec<DVec2>,
-) -> Vec<i64> {
-    let mut k = Vec::new();
-    for i in items {
-        match &i.shape {
-            Shape::Circle { center, .. } => {
-                k.extend([0, i.layer as i64]);
-                k.extend(grid(*center));
-            }
-            Shape::Path {
-                start,
-                segments,
-                closed: true,
-            } => {
-                let points = outline(*start, segments);
-                k.extend([1, i.layer as i64, points.len() as i64]);
-                for p in points {
-                    k.extend(grid(p));
-                }
-            }
-            _ => {}
-        }
-    }
-    k
 }
 
 /// Each group's `key` on the page grid relative to its anchor `at` (None

@@ -148,30 +148,59 @@ fn relative_items(g: &Group, at: (i64, i64)) -> String {
     out
 }
 
+/// The points `relative_items` prints, on the grid, element by element:
+/// a circle's layer and centre; a path's layer, whether it is closed (ends
+/// in `z`) and the points of each of its subpaths (the start of each `M`
+/// and each command's end). Equal texts print equal points: the coarse key
+/// `repeats::find_exact` tells most groups apart by without their text.
+fn printed_points(g: &Group, at: (i64, i64)) -> Vec<i64> {
+    let shift = repeats::offset(at);
+    let q = |p: glam::DVec2| [units(p.x), units(p.y)];
+    let mut k = Vec::with_capacity(16 * g.items.len());
+    for i in &g.items {
+        let layer = i.layer as i64;
+        match &i.shape {
+            Shape::Circle { center, .. } => {
+                k.extend([0, layer]);
+                k.extend(q(shift(*center)));
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                k.extend([1, layer, *closed as i64, 1, 1 + segments.len() as i64]);
+                k.extend(q(shift(*start)));
+                for s in segments {
+                    k.extend(q(shift(s.end())));
+                }
+            }
+            text @ Shape::Text { .. } => {
+                let strokes = crate::drawing::text::strokes(&text.moved(&shift));
+                k.extend([1, layer, 0, strokes.len() as i64]);
+                for stroke in strokes {
+                    k.push(stroke.len() as i64);
+                    for p in stroke {
+                        k.extend(q(p));
+                    }
+                }
+            }
+        }
+    }
+    k
+}
+
 /// The groups, with each drawing used more than once defined in `<defs>`
 /// (`part-1`, `part-2`...) and placed by a `<use>` in each strip's group.
 /// Returns whether any drawing is shared (the root then declares xlink).
 fn groups(out: &mut String, page: &Page) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
     let keys = repeats::page_keys(&page.groups, &at);
-    // Each item is one element; a circle's centre and a closed path's
-    // points (the only paths that end in `z`) are printed on the grid.
-    let outline = |start: glam::DVec2, segments: &[Segment]| {
-        std::iter::once(start)
-            .chain(segments.iter().map(|s| s.end()))
-            .collect()
-    };
     let coarse: Vec<Option<Vec<i64>>> = page
         .groups
         .iter()
         .zip(&at)
-        .map(|(g, at)| {
-            let (ax, ay) = (*at)?;
-            let grid = |p: glam::DVec2| [units(p.x) - ax, units(p.y) - ay];
-            let mut k = repeats::printed_shapes(&g.items, &grid, &outline);
-            k.push(g.items.len() as i64);
-            Some(k)
-        })
+        .map(|(g, at)| Some(printed_points(g, (*at)?)))
         .collect();
     let (shared, drawn) = repeats::find_exact(&keys, &coarse, |g| {
         relative_items(&page.groups[g], at[g].expect("a keyed group has an anchor"))
