@@ -288,8 +288,7 @@ fn encode(pixmap: &Pixmap) -> Vec<u8> {
     // less to filter, deflate and store than RGBA.
     let opaque = pixmap.pixels().iter().all(|p| p.alpha() == u8::MAX);
     if opaque {
-        let found = indexed(pixmap, |c| c).or_else(|| indexed(pixmap, sixteen_levels));
-        if let Some((palette, depth, raw)) = found {
+        if let Some((palette, depth, raw)) = indexed(pixmap) {
             return indexed_png(pixmap, depth, palette, &raw);
         }
     }
@@ -324,29 +323,55 @@ fn sixteen_levels(c: u8) -> u8 {
 
 /// The palette (RGB triples, sorted, so that the bytes depend only on the
 /// pixels), the smallest bit depth that indexes it and the packed rows of
-/// an opaque pixmap, each channel mapped by `level`; None when that leaves
-/// more than 256 colours.
+/// an opaque pixmap: its exact colours if there are at most 256, else its
+/// colours with each channel at `sixteen_levels`; None when those are more
+/// than 256 too.
 ///
 /// One pass over the pixels numbers the colours in order of first sight
 /// (a small hash table: most pixels repeat the one before and skip it),
 /// one byte a pixel (w h bytes: more than a 2^24-bit set of colours on
 /// pictures over 2 Mpixel, but written once); the numbers are then mapped
 /// to the sorted palette's and packed. (That bitset, 2 MiB zeroed a picture,
-/// cost a second pass over the pixels.)
-fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
-    let rgb = |p: &PremultipliedColorU8| {
-        u32::from_be_bytes([0, level(p.red()), level(p.green()), level(p.blue())])
+/// cost a second pass over the pixels.) The pass numbers exact colours
+/// until the 257th, then renumbers the pixels before it by their colours'
+/// levels (a table of 256) and goes on in levels: a cut sheet's picture
+/// has more than 256 exact colours, and a second pass over it in levels
+/// cost a third of the palette's time.
+fn indexed(pixmap: &Pixmap) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
+    let exact = |p: &PremultipliedColorU8| u32::from_be_bytes([0, p.red(), p.green(), p.blue()]);
+    let levels = |c: u32| {
+        let [_, r, g, b] = c.to_be_bytes();
+        u32::from_be_bytes([0, sixteen_levels(r), sixteen_levels(g), sixteen_levels(b)])
     };
     let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
     let mut colours = Colours::default();
+    let mut levelled = false;
     let mut numbers = vec![0u8; w * h];
     let mut last: Option<(PremultipliedColorU8, u8)> = None;
-    for (p, out) in pixmap.pixels().iter().zip(&mut numbers) {
-        *out = match last {
+    for (at, p) in pixmap.pixels().iter().enumerate() {
+        numbers[at] = match last {
             // Most pixels repeat the one before (white between strips).
             Some((q, i)) if q == *p => i,
             _ => {
-                let i = colours.number(rgb(p))?;
+                let c = exact(p);
+                let i = match colours.number(if levelled { levels(c) } else { c }) {
+                    Some(i) => i,
+                    None if !levelled => {
+                        // The 257th colour: the pixels so far in levels.
+                        let mut by_level = Colours::default();
+                        let mut renumber = [0u8; 256];
+                        for (c, i) in colours.found() {
+                            renumber[i as usize] = by_level.number(levels(c))?;
+                        }
+                        for n in &mut numbers[..at] {
+                            *n = renumber[*n as usize];
+                        }
+                        colours = by_level;
+                        levelled = true;
+                        colours.number(levels(c))?
+                    }
+                    None => return None,
+                };
                 last = Some((*p, i));
                 i
             }
@@ -559,7 +584,7 @@ mod tests {
         let mut depths = Vec::new();
         for (page, px_per_mm) in [(&strips, 10.0), (&strips, 3.0), (&blank, 5.0)] {
             let pixmap = render(page, px_per_mm, 1.0, true);
-            let (palette, depth, raw) = indexed(&pixmap, sixteen_levels).expect("few colours");
+            let (palette, depth, raw) = indexed(&pixmap).expect("few colours");
             depths.push(depth);
             let png = deflate(
                 &pixmap,
