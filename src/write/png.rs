@@ -338,44 +338,27 @@ fn sixteen_levels(c: u8) -> u8 {
 /// has more than 256 exact colours, and a second pass over it in levels
 /// cost a third of the palette's time.
 fn indexed(pixmap: &Pixmap) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
-    let exact = |p: &PremultipliedColorU8| u32::from_be_bytes([0, p.red(), p.green(), p.blue()]);
+    let exact = |c: u32| c;
     let levels = |c: u32| {
         let [_, r, g, b] = c.to_be_bytes();
         u32::from_be_bytes([0, sixteen_levels(r), sixteen_levels(g), sixteen_levels(b)])
     };
     let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
+    let pixels = pixmap.pixels();
     let mut colours = Colours::default();
-    let mut levelled = false;
     let mut numbers = vec![0u8; w * h];
-    let mut last: Option<(PremultipliedColorU8, u8)> = None;
-    for (at, p) in pixmap.pixels().iter().enumerate() {
-        numbers[at] = match last {
-            // Most pixels repeat the one before (white between strips).
-            Some((q, i)) if q == *p => i,
-            _ => {
-                let c = exact(p);
-                let i = match colours.number(if levelled { levels(c) } else { c }) {
-                    Some(i) => i,
-                    None if !levelled => {
-                        // The 257th colour: the pixels so far in levels.
-                        let mut by_level = Colours::default();
-                        let mut renumber = [0u8; 256];
-                        for (c, i) in colours.found() {
-                            renumber[i as usize] = by_level.number(levels(c))?;
-                        }
-                        for n in &mut numbers[..at] {
-                            *n = renumber[*n as usize];
-                        }
-                        colours = by_level;
-                        levelled = true;
-                        colours.number(levels(c))?
-                    }
-                    None => return None,
-                };
-                last = Some((*p, i));
-                i
-            }
-        };
+    if let Err(at) = number_colours(pixels, &mut numbers, &mut colours, exact) {
+        // The 257th colour: the pixels before it in levels, and on.
+        let mut by_level = Colours::default();
+        let mut renumber = [0u8; 256];
+        for (c, i) in colours.found() {
+            renumber[i as usize] = by_level.number(levels(c))?;
+        }
+        for n in &mut numbers[..at] {
+            *n = renumber[*n as usize];
+        }
+        colours = by_level;
+        number_colours(&pixels[at..], &mut numbers[at..], &mut colours, levels).ok()?;
     }
     let mut sorted: Vec<(u32, u8)> = colours.found();
     sorted.sort_unstable();
@@ -408,6 +391,30 @@ fn indexed(pixmap: &Pixmap) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
         }
     }
     Some((palette, depth, raw))
+}
+
+/// Each pixel's colour (0x00RRGGBB, through `level`) numbered in
+/// `colours`, into `numbers`; Err(the first pixel past 256 colours).
+fn number_colours(
+    pixels: &[PremultipliedColorU8],
+    numbers: &mut [u8],
+    colours: &mut Colours,
+    level: impl Fn(u32) -> u32,
+) -> Result<(), usize> {
+    let mut last: Option<(PremultipliedColorU8, u8)> = None;
+    for (at, (p, out)) in pixels.iter().zip(numbers).enumerate() {
+        *out = match last {
+            // Most pixels repeat the one before (white between strips).
+            Some((q, i)) if q == *p => i,
+            _ => {
+                let c = u32::from_be_bytes([0, p.red(), p.green(), p.blue()]);
+                let i = colours.number(level(c)).ok_or(at)?;
+                last = Some((*p, i));
+                i
+            }
+        };
+    }
+    Ok(())
 }
 
 /// Up to 256 colours (0x00RRGGBB) numbered in order of first sight, in an
