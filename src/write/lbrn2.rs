@@ -145,11 +145,10 @@ fn path_shape(out: &mut String, cut: usize, data: &PathData, shared: &mut Shared
             let _ = write!(verts, "c1x{x}c1y{y}");
         }
     }
-    let prims: String = data
-        .prims
-        .iter()
-        .map(|&(bezier, a, b)| format!("{}{a} {b}", if bezier { 'B' } else { 'L' }))
-        .collect();
+    let mut prims = String::with_capacity(8 * data.prims.len());
+    for &(bezier, a, b) in &data.prims {
+        let _ = write!(prims, "{}{a} {b}", if bezier { 'B' } else { 'L' });
+    }
     let (vid, verts) = Shared::id(&mut shared.verts, verts);
     let (pid, prims) = Shared::id(&mut shared.prims, prims);
     let _ = write!(
