@@ -415,18 +415,16 @@ impl Blocks {
             .iter()
             .map(|g| repeats::anchor(g).map(|(x, y)| (x, units(page.height) - y)))
             .collect();
-        let keys: Vec<Option<Vec<i64>>> = page
-            .groups
-            .iter()
-            .zip(&at)
-            .map(|(g, at)| Some(drawing_key(g, page.height, (*at)?)))
-            .collect();
-        let coarse: Vec<Option<Vec<i64>>> = page
-            .groups
-            .iter()
-            .zip(&at)
-            .map(|(g, at)| Some(printed_points(g, page.height, (*at)?)))
-            .collect();
+        // Each keyed group's key and coarse key (`repeats::find_exact`).
+        let (keys, coarse): (Vec<_>, Vec<_>) = (page.groups.iter().zip(&at))
+            .map(|(g, at)| match *at {
+                Some(at) => (
+                    Some(drawing_key(g, page.height, at)),
+                    Some(printed_points(g, page.height, at)),
+                ),
+                None => (None, None),
+            })
+            .unzip();
         let (repeats, _) = repeats::find_exact(&keys, &coarse, |g| {
             let at = at[g].expect("a keyed group has an anchor");
             let mut probe = Dxf {
@@ -516,32 +514,33 @@ fn printed_points(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
     for i in &g.items {
         let layer = i.layer as i64;
         match &i.shape {
-            Shape::Circle { center, .. } => {
-                k.extend([0, layer]);
-                k.extend(q(*center));
-            }
-            Shape::Path {
-                start,
-                segments,
-                closed,
-            } => {
-                let vertices = bulged(*start, segments, *closed);
-                k.extend([1, layer, *closed as i64, vertices.len() as i64]);
-                for (p, _) in vertices {
-                    k.extend(q(p));
-                }
+            Shape::Circle { center, .. } => repeats::push_points(&mut k, &[0, layer], [q(*center)]),
+            path @ Shape::Path { closed, .. } => {
+                let vertices = path_vertices(path);
+                let head = [1, layer, *closed as i64, vertices.len() as i64];
+                repeats::push_points(&mut k, &head, vertices.into_iter().map(|(p, _)| q(p)));
             }
             text @ Shape::Text { .. } => {
                 for stroke in crate::drawing::text::strokes(text) {
-                    k.extend([1, layer, 0, stroke.len() as i64]);
-                    for p in stroke {
-                        k.extend(q(p));
-                    }
+                    let head = [1, layer, 0, stroke.len() as i64];
+                    repeats::push_points(&mut k, &head, stroke.into_iter().map(q));
                 }
             }
         }
     }
     k
+}
+
+/// A path's LWPOLYLINE vertices (`bulged`); none for other shapes.
+fn path_vertices(path: &Shape) -> Vec<(DVec2, f64)> {
+    match path {
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => bulged(*start, segments, *closed),
+        _ => Vec::new(),
+    }
 }
 
 /// Page points to a block's coordinates: flipped (about the page height on

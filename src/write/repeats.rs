@@ -117,6 +117,19 @@ pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
     (repeats, shared)
 }
 
+/// Appends `head` and each of `points` (grid coordinates) to a coarse key
+/// for `find_exact`.
+pub(crate) fn push_points(
+    k: &mut Vec<i64>,
+    head: &[i64],
+    points: impl IntoIterator<Item = [i64; 2]>,
+) {
+    k.extend_from_slice(head);
+    for p in points {
+        k.extend(p);
+    }
+}
+
 /// Each group's `key` on the page grid relative to its anchor `at` (None
 /// for a group without one): how the SVG and PNG writers compare drawings.
 pub(crate) fn page_keys(groups: &[Group], at: &[Option<(i64, i64)>]) -> Vec<Option<Vec<i64>>> {

@@ -161,28 +161,23 @@ fn printed_points(g: &Group, at: (i64, i64)) -> Vec<i64> {
         let layer = i.layer as i64;
         match &i.shape {
             Shape::Circle { center, .. } => {
-                k.extend([0, layer]);
-                k.extend(q(shift(*center)));
+                repeats::push_points(&mut k, &[0, layer], [q(shift(*center))]);
             }
             Shape::Path {
                 start,
                 segments,
                 closed,
             } => {
-                k.extend([1, layer, *closed as i64, 1, 1 + segments.len() as i64]);
-                k.extend(q(shift(*start)));
-                for s in segments {
-                    k.extend(q(shift(s.end())));
-                }
+                let head = [1, layer, *closed as i64, 1, 1 + segments.len() as i64];
+                let ends = segments.iter().map(|s| s.end());
+                let points = std::iter::once(*start).chain(ends);
+                repeats::push_points(&mut k, &head, points.map(|p| q(shift(p))));
             }
             text @ Shape::Text { .. } => {
                 let strokes = crate::drawing::text::strokes(&text.moved(&shift));
                 k.extend([1, layer, 0, strokes.len() as i64]);
                 for stroke in strokes {
-                    k.push(stroke.len() as i64);
-                    for p in stroke {
-                        k.extend(q(p));
-                    }
+                    repeats::push_points(&mut k, &[stroke.len() as i64], stroke.into_iter().map(q));
                 }
             }
         }
@@ -196,10 +191,7 @@ fn printed_points(g: &Group, at: (i64, i64)) -> Vec<i64> {
 fn groups(out: &mut String, page: &Page) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
     let keys = repeats::page_keys(&page.groups, &at);
-    let coarse: Vec<Option<Vec<i64>>> = page
-        .groups
-        .iter()
-        .zip(&at)
+    let coarse: Vec<Option<Vec<i64>>> = (page.groups.iter().zip(&at))
         .map(|(g, at)| Some(printed_points(g, (*at)?)))
         .collect();
     let (shared, drawn) = repeats::find_exact(&keys, &coarse, |g| {
