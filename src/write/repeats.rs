@@ -11,7 +11,51 @@ use super::number::units;
 use crate::drawing::{Group, Item, Segment, Shape};
 use glam::DVec2;
 use std::collections::HashMap;
-use std::hash::Hash;
+use std::hash::{BuildHasherDefault, Hash, Hasher};
+
+/// A hash map for the writers' lookups of drawings and their texts (keys
+/// of hundreds of integers or bytes), hashed eight bytes a step by
+/// `KeyHasher` instead of std's SipHash, which is built against hostile
+/// keys: these come from the build itself. Only looked up, never iterated,
+/// so no file depends on the hash.
+pub(crate) type KeyMap<K, V> = HashMap<K, V, BuildHasherDefault<KeyHasher>>;
+
+/// FxHash's step (rotate, xor, multiply) over eight bytes at a time.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct KeyHasher(u64);
+
+impl KeyHasher {
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for KeyHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.add(u64::from_le_bytes(w.try_into().expect("eight bytes")));
+        }
+        let rest = words.remainder();
+        if !rest.is_empty() {
+            let mut last = [0u8; 8];
+            last[..rest.len()].copy_from_slice(rest);
+            self.add(u64::from_le_bytes(last) ^ (rest.len() as u64) << 59);
+        }
+    }
+
+    fn write_u64(&mut self, n: u64) {
+        self.add(n);
+    }
+
+    fn write_usize(&mut self, n: usize) {
+        self.add(n as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
 
 /// Which groups share a drawing with another group.
 pub(crate) struct Repeats {
@@ -24,11 +68,11 @@ pub(crate) struct Repeats {
 /// The shared drawings among groups keyed by their drawing relative to
 /// their anchor (None: never shared); numbered in order of first use.
 pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
-    let mut count: HashMap<&K, usize> = HashMap::new();
+    let mut count: KeyMap<&K, usize> = KeyMap::default();
     for key in keys.iter().flatten() {
         *count.entry(key).or_default() += 1;
     }
-    let mut index: HashMap<&K, usize> = HashMap::new();
+    let mut index: KeyMap<&K, usize> = KeyMap::default();
     let mut repeats = Repeats {
         of_group: Vec::with_capacity(keys.len()),
         first: Vec::new(),
@@ -67,7 +111,7 @@ pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
     mut text: impl FnMut(usize) -> String,
 ) -> (Repeats, Vec<String>) {
     // The distinct keys of each coarse class.
-    let mut keys_of: HashMap<&C, HashMap<&K, ()>> = HashMap::new();
+    let mut keys_of: KeyMap<&C, KeyMap<&K, ()>> = KeyMap::default();
     for (key, c) in keys.iter().zip(coarse) {
         if let (Some(key), Some(c)) = (key, c) {
             keys_of.entry(c).or_default().insert(key, ());
@@ -77,8 +121,8 @@ pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
         let c = coarse[g].as_ref();
         c.is_some_and(|c| keys_of[c].len() == 1)
     };
-    let mut of_key: HashMap<&K, usize> = HashMap::new();
-    let mut of_text: HashMap<String, usize> = HashMap::new();
+    let mut of_key: KeyMap<&K, usize> = KeyMap::default();
+    let mut of_text: KeyMap<String, usize> = KeyMap::default();
     // Per drawing: its text, where it was written.
     let mut texts: Vec<Option<String>> = Vec::new();
     let drawing: Vec<Option<usize>> = keys
