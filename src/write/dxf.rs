@@ -415,13 +415,17 @@ impl Blocks {
             .iter()
             .map(|g| repeats::anchor(g).map(|(x, y)| (x, units(page.height) - y)))
             .collect();
-        let keys: Vec<Option<Vec<i64>>> = page
-            .groups
-            .iter()
-            .zip(&at)
-            .map(|(g, at)| Some(drawing_key(g, page.height, (*at)?)))
-            .collect();
-        let (repeats, _) = repeats::find_exact(&keys, |g| {
+        // Each keyed group's key and coarse key (`repeats::find_exact`).
+        let (keys, coarse): (Vec<_>, Vec<_>) = (page.groups.iter().zip(&at))
+            .map(|(g, at)| match *at {
+                Some(at) => (
+                    Some(drawing_key(g, page.height, at)),
+                    Some(printed_points(g, page.height, at)),
+                ),
+                None => (None, None),
+            })
+            .unzip();
+        let (repeats, _) = repeats::find_exact(&keys, &coarse, |g| {
             let at = at[g].expect("a keyed group has an anchor");
             let mut probe = Dxf {
                 out: String::new(),
@@ -493,6 +497,50 @@ fn drawing_key(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
         }
     }
     k
+}
+
+/// The points a group's entities print relative to the insertion point
+/// `at`, on the grid, entity by entity: a CIRCLE's layer and centre, an
+/// LWPOLYLINE's layer, closed flag and vertices (an outline's, or one text
+/// stroke's). Equal texts print equal points: the coarse key
+/// `repeats::find_exact` tells most groups apart by without their text.
+fn printed_points(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
+    let map = relative(height, at);
+    let q = |p: DVec2| {
+        let m = map(p);
+        [units(m.x), units(m.y)]
+    };
+    let mut k = Vec::with_capacity(16 * g.items.len());
+    for i in &g.items {
+        let layer = i.layer as i64;
+        match &i.shape {
+            Shape::Circle { center, .. } => repeats::push_points(&mut k, &[0, layer], [q(*center)]),
+            path @ Shape::Path { closed, .. } => {
+                let vertices = path_vertices(path);
+                let head = [1, layer, *closed as i64, vertices.len() as i64];
+                repeats::push_points(&mut k, &head, vertices.into_iter().map(|(p, _)| q(p)));
+            }
+            text @ Shape::Text { .. } => {
+                for stroke in crate::drawing::text::strokes(text) {
+                    let head = [1, layer, 0, stroke.len() as i64];
+                    repeats::push_points(&mut k, &head, stroke.into_iter().map(q));
+                }
+            }
+        }
+    }
+    k
+}
+
+/// A path's LWPOLYLINE vertices (`bulged`); none for other shapes.
+fn path_vertices(path: &Shape) -> Vec<(DVec2, f64)> {
+    match path {
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => bulged(*start, segments, *closed),
+        _ => Vec::new(),
+    }
 }
 
 /// Page points to a block's coordinates: flipped (about the page height on

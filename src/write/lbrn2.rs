@@ -19,12 +19,12 @@
 //! labels.
 
 use super::number::{fixed, num, units};
+use super::repeats::KeyMap;
 use crate::drawing::{
     Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, circle_to_cubics, path_end,
     text, walk,
 };
 use glam::DVec2;
-use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
 
@@ -104,13 +104,13 @@ impl PathData {
 /// A sheet of identical strips then costs one short line a shape.
 #[derive(Default)]
 struct Shared {
-    verts: HashMap<String, usize>,
-    prims: HashMap<String, usize>,
+    verts: KeyMap<String, usize>,
+    prims: KeyMap<String, usize>,
 }
 
 impl Shared {
     /// The ID of `text` in `table`, and whether it is new (to be written).
-    fn id(table: &mut HashMap<String, usize>, text: String) -> (usize, Option<String>) {
+    fn id(table: &mut KeyMap<String, usize>, text: String) -> (usize, Option<String>) {
         let next = table.len();
         match table.entry(text) {
             Entry::Occupied(e) => (*e.get(), None),
@@ -145,11 +145,10 @@ fn path_shape(out: &mut String, cut: usize, data: &PathData, shared: &mut Shared
             let _ = write!(verts, "c1x{x}c1y{y}");
         }
     }
-    let prims: String = data
-        .prims
-        .iter()
-        .map(|&(bezier, a, b)| format!("{}{a} {b}", if bezier { 'B' } else { 'L' }))
-        .collect();
+    let mut prims = String::with_capacity(8 * data.prims.len());
+    for &(bezier, a, b) in &data.prims {
+        let _ = write!(prims, "{}{a} {b}", if bezier { 'B' } else { 'L' });
+    }
     let (vid, verts) = Shared::id(&mut shared.verts, verts);
     let (pid, prims) = Shared::id(&mut shared.prims, prims);
     let _ = write!(

@@ -288,9 +288,8 @@ fn encode(pixmap: &Pixmap) -> Vec<u8> {
     // less to filter, deflate and store than RGBA.
     let opaque = pixmap.pixels().iter().all(|p| p.alpha() == u8::MAX);
     if opaque {
-        let found = indexed(pixmap, |c| c).or_else(|| indexed(pixmap, sixteen_levels));
-        if let Some((palette, depth, raw)) = found {
-            return deflate(pixmap, png::ColorType::Indexed, depth, Some(palette), &raw);
+        if let Some((palette, depth, raw)) = indexed(pixmap) {
+            return indexed_png(pixmap, depth, palette, &raw);
         }
     }
     let raw: Vec<u8> = if opaque {
@@ -324,33 +323,42 @@ fn sixteen_levels(c: u8) -> u8 {
 
 /// The palette (RGB triples, sorted, so that the bytes depend only on the
 /// pixels), the smallest bit depth that indexes it and the packed rows of
-/// an opaque pixmap, each channel mapped by `level`; None when that leaves
-/// more than 256 colours.
+/// an opaque pixmap: its exact colours if there are at most 256, else its
+/// colours with each channel at `sixteen_levels`; None when those are more
+/// than 256 too.
 ///
 /// One pass over the pixels numbers the colours in order of first sight
 /// (a small hash table: most pixels repeat the one before and skip it),
 /// one byte a pixel (w h bytes: more than a 2^24-bit set of colours on
 /// pictures over 2 Mpixel, but written once); the numbers are then mapped
 /// to the sorted palette's and packed. (That bitset, 2 MiB zeroed a picture,
-/// cost a second pass over the pixels.)
-fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
-    let rgb = |p: &PremultipliedColorU8| {
-        u32::from_be_bytes([0, level(p.red()), level(p.green()), level(p.blue())])
+/// cost a second pass over the pixels.) The pass numbers exact colours
+/// until the 257th, then renumbers the pixels before it by their colours'
+/// levels (a table of 256) and goes on in levels: a cut sheet's picture
+/// has more than 256 exact colours, and a second pass over it in levels
+/// cost a third of the palette's time.
+fn indexed(pixmap: &Pixmap) -> Option<(Vec<u8>, png::BitDepth, Vec<u8>)> {
+    let exact = |c: u32| c;
+    let levels = |c: u32| {
+        let [_, r, g, b] = c.to_be_bytes();
+        u32::from_be_bytes([0, sixteen_levels(r), sixteen_levels(g), sixteen_levels(b)])
     };
     let (w, h) = (pixmap.width() as usize, pixmap.height() as usize);
+    let pixels = pixmap.pixels();
     let mut colours = Colours::default();
     let mut numbers = vec![0u8; w * h];
-    let mut last: Option<(PremultipliedColorU8, u8)> = None;
-    for (p, out) in pixmap.pixels().iter().zip(&mut numbers) {
-        *out = match last {
-            // Most pixels repeat the one before (white between strips).
-            Some((q, i)) if q == *p => i,
-            _ => {
-                let i = colours.number(rgb(p))?;
-                last = Some((*p, i));
-                i
-            }
-        };
+    if let Err(at) = number_colours(pixels, &mut numbers, &mut colours, exact) {
+        // The 257th colour: the pixels before it in levels, and on.
+        let mut by_level = Colours::default();
+        let mut renumber = [0u8; 256];
+        for (c, i) in colours.found() {
+            renumber[i as usize] = by_level.number(levels(c))?;
+        }
+        for n in &mut numbers[..at] {
+            *n = renumber[*n as usize];
+        }
+        colours = by_level;
+        number_colours(&pixels[at..], &mut numbers[at..], &mut colours, levels).ok()?;
     }
     let mut sorted: Vec<(u32, u8)> = colours.found();
     sorted.sort_unstable();
@@ -383,6 +391,30 @@ fn indexed(pixmap: &Pixmap, level: fn(u8) -> u8) -> Option<(Vec<u8>, png::BitDep
         }
     }
     Some((palette, depth, raw))
+}
+
+/// Each pixel's colour (0x00RRGGBB, through `level`) numbered in
+/// `colours`, into `numbers`; Err(the first pixel past 256 colours).
+fn number_colours(
+    pixels: &[PremultipliedColorU8],
+    numbers: &mut [u8],
+    colours: &mut Colours,
+    level: impl Fn(u32) -> u32,
+) -> Result<(), usize> {
+    let mut last: Option<(PremultipliedColorU8, u8)> = None;
+    for (at, (p, out)) in pixels.iter().zip(numbers).enumerate() {
+        *out = match last {
+            // Most pixels repeat the one before (white between strips).
+            Some((q, i)) if q == *p => i,
+            _ => {
+                let c = u32::from_be_bytes([0, p.red(), p.green(), p.blue()]);
+                let i = colours.number(level(c)).ok_or(at)?;
+                last = Some((*p, i));
+                i
+            }
+        };
+    }
+    Ok(())
 }
 
 /// Up to 256 colours (0x00RRGGBB) numbered in order of first sight, in an
@@ -434,6 +466,65 @@ impl Colours {
     }
 }
 
+/// The indexed-colour PNG of `raw` rows: the bytes `deflate` writes, made
+/// without flate2's writer, which zeroed its 32 kB output buffer before
+/// each of png's two writes a row (1.2 G of the examples' 8.7 G
+/// instructions, in memset). The rows are unfiltered (see `deflate`), and
+/// the compressor is handed what png hands flate2, call by call (deflate's
+/// blocks depend on how its input comes: one call for the whole picture
+/// gave other bytes): `indexed_pictures_are_the_bytes_png_writes`.
+fn indexed_png(pixmap: &Pixmap, depth: png::BitDepth, palette: Vec<u8>, raw: &[u8]) -> Vec<u8> {
+    let row = raw.len() / (pixmap.height() as usize).max(1);
+    let zlib = zlib_level_1(raw.chunks_exact(row.max(1)));
+    let mut bytes = Vec::with_capacity(zlib.len() + palette.len() + 128);
+    let mut encoder = png::Encoder::new(&mut bytes, pixmap.width(), pixmap.height());
+    encoder.set_color(png::ColorType::Indexed);
+    encoder.set_depth(depth);
+    encoder.set_palette(palette);
+    encoder.validate_sequence(false);
+    let mut writer = encoder
+        .write_header()
+        .expect("PNG header of an in-memory pixmap");
+    // One IDAT chunk, as png writes up to 2 GiB.
+    writer
+        .write_chunk(png::chunk::IDAT, &zlib)
+        .expect("PNG data of an in-memory pixmap");
+    writer.finish().expect("PNG end of an in-memory pixmap");
+    bytes
+}
+
+/// Unfiltered `rows` as the zlib stream png writes at level 1 through
+/// flate2 (miniz_oxide set up as `Compression::new(1)` sets it up): each
+/// row's filter byte (0) and its bytes handed over as two writes, into a
+/// 32 kB output buffer, then finished.
+fn zlib_level_1<'a>(rows: impl Iterator<Item = &'a [u8]>) -> Vec<u8> {
+    use miniz_oxide::deflate::core::CompressorOxide;
+    use miniz_oxide::deflate::stream::deflate;
+    use miniz_oxide::{DataFormat, MZFlush, MZStatus};
+    let mut compressor = Box::<CompressorOxide>::default();
+    compressor.set_format_and_level(DataFormat::Zlib, 1);
+    let mut buffer = vec![0u8; 32 * 1024];
+    let mut out = Vec::new();
+    for row in rows {
+        for mut input in [&[0u8][..], row] {
+            while !input.is_empty() {
+                let r = deflate(&mut compressor, input, &mut buffer, MZFlush::None);
+                r.status.expect("deflate of an in-memory buffer");
+                out.extend_from_slice(&buffer[..r.bytes_written]);
+                input = &input[r.bytes_consumed..];
+            }
+        }
+    }
+    loop {
+        let r = deflate(&mut compressor, &[], &mut buffer, MZFlush::Finish);
+        out.extend_from_slice(&buffer[..r.bytes_written]);
+        let status = r.status.expect("deflate of an in-memory buffer");
+        if status == MZStatus::StreamEnd || r.bytes_written == 0 {
+            return out;
+        }
+    }
+}
+
 /// The PNG of `raw` rows in the given colour type and depth.
 fn deflate(
     pixmap: &Pixmap,
@@ -470,6 +561,49 @@ fn deflate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn indexed_pictures_are_the_bytes_png_writes() {
+        // Strips of two layer colours, in many deflate blocks; a picture of
+        // one colour (one bit a pixel).
+        let page = |width: f64, groups: Vec<Group>| Page {
+            width,
+            height: 80.0,
+            title: "t".into(),
+            metadata: Vec::new(),
+            groups,
+        };
+        let strips = (0..12)
+            .map(|i| {
+                let mut g = strip(
+                    DVec2::new(5.0 + 7.0 * i as f64, 10.0 + 5.0 * i as f64),
+                    i % 2 == 0,
+                );
+                if i % 3 == 0 {
+                    for item in &mut g.items {
+                        item.layer = crate::drawing::Layer::Reference;
+                    }
+                }
+                g
+            })
+            .collect();
+        let (strips, blank) = (page(120.0, strips), page(30.0, Vec::new()));
+        let mut depths = Vec::new();
+        for (page, px_per_mm) in [(&strips, 10.0), (&strips, 3.0), (&blank, 5.0)] {
+            let pixmap = render(page, px_per_mm, 1.0, true);
+            let (palette, depth, raw) = indexed(&pixmap).expect("few colours");
+            depths.push(depth);
+            let png = deflate(
+                &pixmap,
+                png::ColorType::Indexed,
+                depth,
+                Some(palette.clone()),
+                &raw,
+            );
+            assert_eq!(indexed_png(&pixmap, depth, palette, &raw), png);
+        }
+        assert_eq!(depths[2], png::BitDepth::One);
+    }
 
     /// Largest channel difference, and the number of pixels off by more
     /// than 12 levels, between a page drawn with tiles and item by item.

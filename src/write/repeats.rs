@@ -11,7 +11,51 @@ use super::number::units;
 use crate::drawing::{Group, Item, Segment, Shape};
 use glam::DVec2;
 use std::collections::HashMap;
-use std::hash::Hash;
+use std::hash::{BuildHasherDefault, Hash, Hasher};
+
+/// A hash map for the writers' lookups of drawings and their texts (keys
+/// of hundreds of integers or bytes), hashed eight bytes a step by
+/// `KeyHasher` instead of std's SipHash, which is built against hostile
+/// keys: these come from the build itself. Only looked up, never iterated,
+/// so no file depends on the hash.
+pub(crate) type KeyMap<K, V> = HashMap<K, V, BuildHasherDefault<KeyHasher>>;
+
+/// FxHash's step (rotate, xor, multiply) over eight bytes at a time.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct KeyHasher(u64);
+
+impl KeyHasher {
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for KeyHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.add(u64::from_le_bytes(w.try_into().expect("eight bytes")));
+        }
+        let rest = words.remainder();
+        if !rest.is_empty() {
+            let mut last = [0u8; 8];
+            last[..rest.len()].copy_from_slice(rest);
+            self.add(u64::from_le_bytes(last) ^ (rest.len() as u64) << 59);
+        }
+    }
+
+    fn write_u64(&mut self, n: u64) {
+        self.add(n);
+    }
+
+    fn write_usize(&mut self, n: usize) {
+        self.add(n as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
 
 /// Which groups share a drawing with another group.
 pub(crate) struct Repeats {
@@ -24,11 +68,11 @@ pub(crate) struct Repeats {
 /// The shared drawings among groups keyed by their drawing relative to
 /// their anchor (None: never shared); numbered in order of first use.
 pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
-    let mut count: HashMap<&K, usize> = HashMap::new();
+    let mut count: KeyMap<&K, usize> = KeyMap::default();
     for key in keys.iter().flatten() {
         *count.entry(key).or_default() += 1;
     }
-    let mut index: HashMap<&K, usize> = HashMap::new();
+    let mut index: KeyMap<&K, usize> = KeyMap::default();
     let mut repeats = Repeats {
         of_group: Vec::with_capacity(keys.len()),
         first: Vec::new(),
@@ -49,18 +93,38 @@ pub(crate) fn find<K: Hash + Eq>(keys: &[Option<K>]) -> Repeats {
 
 /// `find` made cheap and exact: groups are first told apart by `keys` (equal
 /// keys must mean equal drawings: a key holds every number its writer
-/// prints, on the grid), and `text(g)` is written only for the first group
-/// of each key; keys of equal texts are one drawing, so the repeats are
+/// prints, on the grid), and keys of equal texts (`text(g)`, written only
+/// for the first group of each key) are one drawing, so the repeats are
 /// those of the texts. A big sheet's 20,000 strips have a few keys: writing
-/// every strip's text to compare them took a tenth of its build. Returns
-/// the repeats and each shared drawing's text.
-pub(crate) fn find_exact<K: Hash + Eq>(
+/// every strip's text to compare them took a tenth of its build.
+///
+/// `coarse` is part of what the text shows, for each keyed group (equal
+/// texts must have equal coarse keys: the points it prints, say, without
+/// the inks): a key alone in its coarse class
+/// prints a text no other key prints, so its text is written only if the
+/// key is shared. The examples' strips all differ, and writing each text
+/// once to compare and again to draw the strip was half of their writers.
+/// Returns the repeats and each shared drawing's text.
+pub(crate) fn find_exact<K: Hash + Eq, C: Hash + Eq>(
     keys: &[Option<K>],
+    coarse: &[Option<C>],
     mut text: impl FnMut(usize) -> String,
 ) -> (Repeats, Vec<String>) {
-    let mut of_key: HashMap<&K, usize> = HashMap::new();
-    let mut of_text: HashMap<String, usize> = HashMap::new();
-    let mut texts: Vec<String> = Vec::new();
+    // The distinct keys of each coarse class.
+    let mut keys_of: KeyMap<&C, KeyMap<&K, ()>> = KeyMap::default();
+    for (key, c) in keys.iter().zip(coarse) {
+        if let (Some(key), Some(c)) = (key, c) {
+            keys_of.entry(c).or_default().insert(key, ());
+        }
+    }
+    let alone = |g: usize| {
+        let c = coarse[g].as_ref();
+        c.is_some_and(|c| keys_of[c].len() == 1)
+    };
+    let mut of_key: KeyMap<&K, usize> = KeyMap::default();
+    let mut of_text: KeyMap<String, usize> = KeyMap::default();
+    // Per drawing: its text, where it was written.
+    let mut texts: Vec<Option<String>> = Vec::new();
     let drawing: Vec<Option<usize>> = keys
         .iter()
         .enumerate()
@@ -69,12 +133,18 @@ pub(crate) fn find_exact<K: Hash + Eq>(
             if let Some(&d) = of_key.get(key) {
                 return Some(d);
             }
-            let t = text(g);
             let next = texts.len();
-            let d = *of_text.entry(t.clone()).or_insert(next);
-            if d == next {
-                texts.push(t);
-            }
+            let d = if alone(g) {
+                texts.push(None);
+                next
+            } else {
+                let t = text(g);
+                let d = *of_text.entry(t.clone()).or_insert(next);
+                if d == next {
+                    texts.push(Some(t));
+                }
+                d
+            };
             of_key.insert(key, d);
             Some(d)
         })
@@ -83,9 +153,25 @@ pub(crate) fn find_exact<K: Hash + Eq>(
     let shared = repeats
         .first
         .iter()
-        .map(|&g| std::mem::take(&mut texts[drawing[g].expect("a shared group has a key")]))
+        .map(|&g| {
+            let d = drawing[g].expect("a shared group has a key");
+            texts[d].take().unwrap_or_else(|| text(g))
+        })
         .collect();
     (repeats, shared)
+}
+
+/// Appends `head` and each of `points` (grid coordinates) to a coarse key
+/// for `find_exact`.
+pub(crate) fn push_points(
+    k: &mut Vec<i64>,
+    head: &[i64],
+    points: impl IntoIterator<Item = [i64; 2]>,
+) {
+    k.extend_from_slice(head);
+    for p in points {
+        k.extend(p);
+    }
 }
 
 /// Each group's `key` on the page grid relative to its anchor `at` (None
@@ -209,7 +295,8 @@ mod tests {
         let keys = [Some(1), Some(2), None, Some(1), Some(3), Some(2), Some(4)];
         let texts = ["", "x", "x", "y", "z"];
         let mut written = Vec::new();
-        let (r, shared) = find_exact(&keys, |g| {
+        let coarse = [Some(0); 7];
+        let (r, shared) = find_exact(&keys, &coarse, |g| {
             written.push(g);
             texts[keys[g].unwrap()].to_string()
         });
@@ -223,6 +310,24 @@ mod tests {
         let k = |s: &str| Some(s.to_string());
         let by_text = find(&[k("x"), k("x"), None, k("x"), k("y"), k("x"), k("z")]);
         assert_eq!(by_text.of_group, r.of_group);
+    }
+
+    #[test]
+    fn a_key_alone_in_its_coarse_class_is_not_written_to_compare() {
+        // Key 1 is the only key of class 10: its text is written once, for
+        // its shared drawing; keys 2 and 3 print the same text.
+        let keys = [Some(1), Some(2), Some(1), Some(3), Some(4)];
+        let coarse = [Some(10), Some(20), Some(10), Some(20), Some(30)];
+        let texts = ["", "x", "y", "y", "z"];
+        let mut written = Vec::new();
+        let (r, shared) = find_exact(&keys, &coarse, |g| {
+            written.push(g);
+            texts[keys[g].unwrap()].to_string()
+        });
+        assert_eq!(written, [1, 3, 0]);
+        assert_eq!(r.of_group, [Some(0), Some(1), Some(0), Some(1), None]);
+        assert_eq!(r.first, [0, 1]);
+        assert_eq!(shared, ["x", "y"]);
     }
 
     #[test]

@@ -148,13 +148,53 @@ fn relative_items(g: &Group, at: (i64, i64)) -> String {
     out
 }
 
+/// The points `relative_items` prints, on the grid, element by element:
+/// a circle's layer and centre; a path's layer, whether it is closed (ends
+/// in `z`) and the points of each of its subpaths (the start of each `M`
+/// and each command's end). Equal texts print equal points: the coarse key
+/// `repeats::find_exact` tells most groups apart by without their text.
+fn printed_points(g: &Group, at: (i64, i64)) -> Vec<i64> {
+    let shift = repeats::offset(at);
+    let q = |p: glam::DVec2| [units(p.x), units(p.y)];
+    let mut k = Vec::with_capacity(16 * g.items.len());
+    for i in &g.items {
+        let layer = i.layer as i64;
+        match &i.shape {
+            Shape::Circle { center, .. } => {
+                repeats::push_points(&mut k, &[0, layer], [q(shift(*center))]);
+            }
+            Shape::Path {
+                start,
+                segments,
+                closed,
+            } => {
+                let head = [1, layer, *closed as i64, 1, 1 + segments.len() as i64];
+                let ends = segments.iter().map(|s| s.end());
+                let points = std::iter::once(*start).chain(ends);
+                repeats::push_points(&mut k, &head, points.map(|p| q(shift(p))));
+            }
+            text @ Shape::Text { .. } => {
+                let strokes = crate::drawing::text::strokes(&text.moved(&shift));
+                k.extend([1, layer, 0, strokes.len() as i64]);
+                for stroke in strokes {
+                    repeats::push_points(&mut k, &[stroke.len() as i64], stroke.into_iter().map(q));
+                }
+            }
+        }
+    }
+    k
+}
+
 /// The groups, with each drawing used more than once defined in `<defs>`
 /// (`part-1`, `part-2`...) and placed by a `<use>` in each strip's group.
 /// Returns whether any drawing is shared (the root then declares xlink).
 fn groups(out: &mut String, page: &Page) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
     let keys = repeats::page_keys(&page.groups, &at);
-    let (shared, drawn) = repeats::find_exact(&keys, |g| {
+    let coarse: Vec<Option<Vec<i64>>> = (page.groups.iter().zip(&at))
+        .map(|(g, at)| Some(printed_points(g, (*at)?)))
+        .collect();
+    let (shared, drawn) = repeats::find_exact(&keys, &coarse, |g| {
         relative_items(&page.groups[g], at[g].expect("a keyed group has an anchor"))
     });
     if !shared.first.is_empty() {

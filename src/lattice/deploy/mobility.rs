@@ -98,7 +98,7 @@ fn normals(axis: DVec3, d: usize) -> Vec<DVec3> {
 /// unit-scaled geometric constraints).
 fn rank(rows: Vec<Vec<(usize, f64)>>, n: usize) -> usize {
     // Rows as dense spans [lo, lo + len) so that banded rows stay short.
-    let mut spans: Vec<(usize, Vec<f64>)> = rows
+    let mut spans: Vec<Span> = rows
         .into_iter()
         .filter(|r| !r.is_empty())
         .map(|r| {
@@ -108,56 +108,97 @@ fn rank(rows: Vec<Vec<(usize, f64)>>, n: usize) -> usize {
             for (c, v) in r {
                 dense[c - lo] += v;
             }
-            (lo, dense)
+            Span {
+                lo,
+                values: dense,
+                kept_by: None,
+            }
         })
         .collect();
-    spans.sort_by_key(|s| s.0);
+    spans.sort_by_key(|s| s.lo);
     let scale = spans
         .iter()
-        .flat_map(|s| s.1.iter())
+        .flat_map(|s| s.values.iter())
         .fold(0.0f64, |m, v| m.max(v.abs()));
     let tol = 1e-9 * scale.max(f64::MIN_POSITIVE);
     let mut rank = 0;
-    let mut active: Vec<(usize, Vec<f64>)> = Vec::new();
-    let mut next = 0;
+    let mut active: Vec<Span> = Vec::new();
+    let mut spans = spans.into_iter().peekable();
     for col in 0..n {
         // Rows whose first possible non-zero is at or before this column.
-        while next < spans.len() && spans[next].0 <= col {
-            active.push(std::mem::take(&mut spans[next]));
-            next += 1;
+        while let Some(s) = spans.next_if(|s| s.lo <= col) {
+            active.push(s);
         }
-        let entry = |r: &(usize, Vec<f64>)| r.1.get(col.wrapping_sub(r.0)).copied().unwrap_or(0.0);
-        let Some(best) = (0..active.len())
-            .max_by(|&a, &b| entry(&active[a]).abs().total_cmp(&entry(&active[b]).abs()))
-        else {
+        // The largest entry in this column; the last of equals, as
+        // `Iterator::max_by` picks.
+        let mut best: Option<(usize, f64)> = None;
+        for (i, r) in active.iter().enumerate() {
+            let e = r.entry(col).abs();
+            if best.is_none_or(|(_, b)| e.total_cmp(&b).is_ge()) {
+                best = Some((i, e));
+            }
+        }
+        let Some((best, largest)) = best else {
             continue;
         };
-        if entry(&active[best]).abs() <= tol {
+        if largest <= tol {
             continue;
         }
         let pivot = active.swap_remove(best);
         rank += 1;
-        let pv = entry(&pivot);
+        let pv = pivot.entry(col);
+        let end = pivot.lo + pivot.values.len();
+        let tail = &pivot.values[col - pivot.lo..];
         for r in &mut active {
-            let v = entry(r);
+            let v = r.entry(col);
             if v == 0.0 {
                 continue;
             }
             let factor = v / pv;
-            let end = pivot.0 + pivot.1.len();
-            if r.0 + r.1.len() < end {
-                r.1.resize(end - r.0, 0.0);
+            if r.lo + r.values.len() < end {
+                // Entries before this column are never read again: drop
+                // them before the row grows rather than copy them.
+                r.values.drain(..col - r.lo);
+                r.lo = col;
+                r.values.resize(end - col, 0.0);
             }
-            for c in col..end {
-                r.1[c - r.0] -= factor * pivot.1[c - pivot.0];
+            for (x, p) in r.values[col - r.lo..end - r.lo].iter_mut().zip(tail) {
+                *x -= factor * p;
             }
+            r.kept_by = None;
         }
         // Rows that are now zero from here on can be dropped.
-        active.retain(|r| {
-            r.1[col.saturating_sub(r.0).min(r.1.len())..]
-                .iter()
-                .any(|v| v.abs() > tol)
-        });
+        active.retain_mut(|r| r.nonzero_from(col, tol));
     }
     rank
+}
+
+/// A row of the elimination: its values from column `lo` on.
+struct Span {
+    lo: usize,
+    values: Vec<f64>,
+    /// A column at or after the last one checked whose value is above the
+    /// tolerance (None: not checked since the row last changed), so that a
+    /// row that elimination did not touch is not scanned again.
+    kept_by: Option<usize>,
+}
+
+impl Span {
+    /// The value in column `col` (at or after `lo`).
+    fn entry(&self, col: usize) -> f64 {
+        self.values.get(col - self.lo).copied().unwrap_or(0.0)
+    }
+
+    /// Whether any value from column `col` on is above `tol`.
+    fn nonzero_from(&mut self, col: usize, tol: f64) -> bool {
+        if self.kept_by.is_some_and(|k| k >= col) {
+            return true;
+        }
+        let from = (col - self.lo).min(self.values.len());
+        self.kept_by = self.values[from..]
+            .iter()
+            .position(|v| v.abs() > tol)
+            .map(|i| self.lo + from + i);
+        self.kept_by.is_some()
+    }
 }

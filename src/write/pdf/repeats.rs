@@ -2,9 +2,9 @@
 //! cut sheets), found and replaced by places of one shared symbol.
 
 use crate::drawing::{Item, Page, Place, Symbol};
+use crate::write::repeats::KeyMap;
 use crate::write::repeats::first_point;
 use glam::DVec2;
-use std::collections::HashMap;
 
 /// A group's drawing relative to its anchor `a`, as numbers (coordinates
 /// on the 0.1 um grid, finer than the 0.01 pt the PDF prints; other numbers
@@ -38,11 +38,11 @@ pub(super) fn share_repeats(pages: &[Page]) -> (Vec<Page>, Vec<Symbol>) {
                 .collect()
         })
         .collect();
-    let mut count: HashMap<&[i64], usize> = HashMap::new();
+    let mut count: KeyMap<&[i64], usize> = KeyMap::default();
     for (_, k) in keys.iter().flatten().flatten() {
         *count.entry(k).or_default() += 1;
     }
-    let mut index: HashMap<&[i64], usize> = HashMap::new();
+    let mut index: KeyMap<&[i64], usize> = KeyMap::default();
     let mut symbols: Vec<Symbol> = Vec::new();
     let mut out = Vec::with_capacity(pages.len());
     for (page, keys) in pages.iter().zip(&keys) {
