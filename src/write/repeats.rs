@@ -10,52 +10,14 @@
 use super::number::units;
 use crate::drawing::{Group, Item, Segment, Shape};
 use glam::DVec2;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hash, Hasher};
+use std::hash::Hash;
 
 /// A hash map for the writers' lookups of drawings and their texts (keys
-/// of hundreds of integers or bytes), hashed eight bytes a step by
-/// `KeyHasher` instead of std's SipHash, which is built against hostile
-/// keys: these come from the build itself. Only looked up, never iterated,
-/// so no file depends on the hash.
-pub(crate) type KeyMap<K, V> = HashMap<K, V, BuildHasherDefault<KeyHasher>>;
-
-/// FxHash's step (rotate, xor, multiply) over eight bytes at a time.
-#[derive(Default, Clone, Copy)]
-pub(crate) struct KeyHasher(u64);
-
-impl KeyHasher {
-    fn add(&mut self, word: u64) {
-        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-impl Hasher for KeyHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        let mut words = bytes.chunks_exact(8);
-        for w in &mut words {
-            self.add(u64::from_le_bytes(w.try_into().expect("eight bytes")));
-        }
-        let rest = words.remainder();
-        if !rest.is_empty() {
-            let mut last = [0u8; 8];
-            last[..rest.len()].copy_from_slice(rest);
-            self.add(u64::from_le_bytes(last) ^ (rest.len() as u64) << 59);
-        }
-    }
-
-    fn write_u64(&mut self, n: u64) {
-        self.add(n);
-    }
-
-    fn write_usize(&mut self, n: usize) {
-        self.add(n as u64);
-    }
-
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
+/// of hundreds of integers or bytes), hashed by rustc-hash's FxHash
+/// instead of std's SipHash, which is built against hostile keys: these
+/// come from the build itself. Only looked up, never iterated, so no file
+/// depends on the hash.
+pub(crate) type KeyMap<K, V> = rustc_hash::FxHashMap<K, V>;
 
 /// Which groups share a drawing with another group.
 pub(crate) struct Repeats {
