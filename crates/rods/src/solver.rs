@@ -67,7 +67,7 @@ pub struct System {
     chol: SymbolicSimplicialCholesky<usize>,
     numeric: Numeric,
     /// A factor's buffer kept for the next factorisation.
-    spare: std::sync::Mutex<Option<Vec<f64>>>,
+    spare: std::sync::Mutex<Option<Factor>>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -273,14 +273,18 @@ impl System {
 
     /// Cholesky of H + tau Dm, or None if it is not positive definite.
     pub fn factor(&self, h: &[f64], tau: f64) -> Option<Factor> {
-        let mut l = self.spare.lock().map(|mut s| s.take()).ok().flatten().unwrap_or_default();
-        l.resize(self.chol.len_val(), 0.0);
+        let mut f = self.spare.lock().ok().and_then(|mut s| s.take()).unwrap_or(Factor {
+            l: Vec::new(),
+            inv: Vec::new(),
+        });
+        f.l.resize(self.chol.len_val(), 0.0);
+        f.inv.resize(self.n(), 0.0);
         FACTORISATIONS.fetch_add(1, Relaxed);
-        match self.numeric.factor(h, tau, &mut l) {
-            Ok(()) => Some(Factor { l }),
+        match self.numeric.factor(h, tau, &mut f.l, &mut f.inv) {
+            Ok(()) => Some(f),
             Err(_) => {
                 FAILED.fetch_add(1, Relaxed);
-                self.release(Factor { l });
+                self.release(f);
                 None
             }
         }
@@ -290,7 +294,7 @@ impl System {
     /// factor is megabytes: a fresh one each time costs page faults).
     pub fn release(&self, f: Factor) {
         if let Ok(mut s) = self.spare.lock() {
-            *s = Some(f.l);
+            *s = Some(f);
         }
     }
 
@@ -300,7 +304,7 @@ impl System {
         for (yi, &old) in y.iter_mut().zip(&self.perm) {
             *yi = rhs[old];
         }
-        self.numeric.solve_in_place(&f.l, &mut y);
+        self.numeric.solve_in_place(f, &mut y);
         let mut x = vec![0.0; rhs.len()];
         for (&yi, &old) in y.iter().zip(&self.perm) {
             x[old] = yi;
@@ -455,9 +459,10 @@ impl Numeric {
         vec![0.0; self.dm.len().next_power_of_two()]
     }
 
-    /// The factor of H + tau Dm into `l`, or the row where a pivot is not
-    /// positive or a value not finite.
-    fn factor(&self, h: &[f64], tau: f64, l: &mut [f64]) -> Result<(), usize> {
+    /// The factor of H + tau Dm into `l` (and the reciprocals of its
+    /// diagonal into `inv`), or the row where a pivot is not positive or a
+    /// value not finite.
+    fn factor(&self, h: &[f64], tau: f64, l: &mut [f64], inv: &mut [f64]) -> Result<(), usize> {
         let n = self.dm.len();
         let mut work = self.work();
         let mask = work.len() - 1;
@@ -487,7 +492,7 @@ impl Numeric {
                 let slot = next[j];
                 let xj = x[j & mask];
                 x[j & mask] = 0.0;
-                let lkj = xj * (1.0 / l[start]);
+                let lkj = xj * inv[j];
                 let done = start + 1..slot;
                 for (&i, &lij) in self.l_row[done.clone()].iter().zip(&l[done]) {
                     x[i as usize & mask] -= lij * lkj;
@@ -498,7 +503,9 @@ impl Numeric {
             if !(d > 0.0) {
                 return Err(k);
             }
-            l[self.l_ptr[k]] = d.sqrt();
+            let ljj = d.sqrt();
+            l[self.l_ptr[k]] = ljj;
+            inv[k] = 1.0 / ljj;
         }
         Ok(())
     }
@@ -506,13 +513,14 @@ impl Numeric {
     /// Solve L L^T y = b in place (`y` from `work`, b in its first n
     /// entries), as faer's simplicial solve does it, operation for
     /// operation: forward by columns, then backward by dot products.
-    fn solve_in_place(&self, l: &[f64], y: &mut [f64]) {
+    fn solve_in_place(&self, f: &Factor, y: &mut [f64]) {
+        let (l, inv) = (&f.l, &f.inv);
         let n = self.dm.len();
         let mask = y.len() - 1;
         let y = &mut y[..=mask];
         for j in 0..n {
             let (lo, hi) = (self.l_ptr[j], self.l_ptr[j + 1]);
-            let yj = y[j & mask] * (1.0 / l[lo]);
+            let yj = y[j & mask] * inv[j];
             y[j & mask] = yj;
             for (&i, &lij) in self.l_row[lo + 1..hi].iter().zip(&l[lo + 1..hi]) {
                 y[i as usize & mask] -= lij * yj;
@@ -524,7 +532,7 @@ impl Numeric {
             for (&i, &lij) in self.l_row[lo + 1..hi].iter().zip(&l[lo + 1..hi]).rev() {
                 acc += lij * y[i as usize & mask];
             }
-            y[j & mask] = (y[j & mask] - acc) * (1.0 / l[lo]);
+            y[j & mask] = (y[j & mask] - acc) * inv[j];
         }
     }
 }
@@ -533,6 +541,9 @@ impl Numeric {
 /// `System::chol`.
 pub struct Factor {
     l: Vec<f64>,
+    /// The reciprocals of the factor's diagonal, each computed once (1 /
+    /// L[j][j] is what every row that column j updates needs).
+    inv: Vec<f64>,
 }
 
 /// The fill-reducing order (faer's AMD, as `SymbolicLlt` computes it), the
@@ -917,8 +928,11 @@ mod tests {
                     vals[upper_pos[cp[c]]] += tau * d;
                 }
             }
-            let mut ours = vec![0.0; chol.len_val()];
-            let got = numeric.factor(&h, tau, &mut ours);
+            let mut ours = Factor {
+                l: vec![0.0; chol.len_val()],
+                inv: vec![0.0; n],
+            };
+            let got = numeric.factor(&h, tau, &mut ours.l, &mut ours.inv);
             let mut theirs = vec![0.0; chol.len_val()];
             let mut mem = MemBuffer::new(factorize_simplicial_numeric_llt_scratch::<usize, f64>(n));
             let want = factorize_simplicial_numeric_llt(
@@ -931,7 +945,7 @@ mod tests {
             match (got, want) {
                 (Ok(()), Ok(_)) => {
                     assert!(
-                        ours.iter().zip(&theirs).all(|(a, b)| a.to_bits() == b.to_bits()),
+                        ours.l.iter().zip(&theirs).all(|(a, b)| a.to_bits() == b.to_bits()),
                         "case {case}: factors differ"
                     );
                     let rhs: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
