@@ -1,8 +1,10 @@
 //! Modified Newton (docs/physics.md, "Solver"): sparse Hessian with a pattern fixed per
 //! model (one symbolic Cholesky), inertia correction by a multiple of a
 //! diagonal metric, a negative-curvature step to leave saddles, and a
-//! one-step watchdog line search. faer's sparse LLT is the factorisation:
-//! its refusal of an indefinite matrix is the inertia test.
+//! one-step watchdog line search. faer's simplicial sparse LLT is the
+//! factorisation (its symbolic part from faer, its numeric part written
+//! out here, `Numeric`): its refusal of an indefinite matrix is the
+//! inertia test.
 
 use crate::model::{Model, VarKind};
 use faer::Side;
@@ -366,9 +368,10 @@ impl System {
 /// operation for operation, so the factor is the same to the bit, but
 /// with each row's elimination reach (faer's `ereach`, a walk up the
 /// elimination tree every row of every factorisation) kept as a list,
-/// the Hessian's values read straight from their slots, and no bounds
-/// assertions on the factor's indices. The rows of the factor are visited
-/// in order and a non-positive pivot stops it there.
+/// the Hessian's values read straight from their slots, each pivot's
+/// reciprocal taken once, and no bounds check per entry of the work
+/// vector (`work`). The rows of the factor are visited in order and a
+/// non-positive pivot stops it there.
 struct Numeric {
     /// The upper triangle in the factor's order: column pointers, row of
     /// each entry, and the Hessian slot it holds.
