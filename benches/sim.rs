@@ -2,14 +2,17 @@
 //! For each gallery example (default: all), the equilibrium of its strips
 //! from the start placement (the design, or the rigid-fit placement of a
 //! bent-facet lattice) at the design opening, on one core: wall time,
-//! Newton iterations, variables, energy, largest strain and distance from
-//! the start. Also a 10 x 10-cell flat sheet (100 cells). `--first-cell`
-//! holds the first cell's opening instead of the mean of all cells.
+//! Newton iterations, Hessian assemblies and factorisations (those that
+//! found the shifted Hessian indefinite in brackets), variables, energy,
+//! largest strain and distance from the start. Also a 10 x 10-cell flat
+//! sheet (100 cells). `--first-cell` holds the first cell's opening
+//! instead of the mean of all cells.
 
 use karigami::{
     deploy::deployment,
     simulation::{self as sim, Actuation, Settings},
 };
+use karigami_rods::solver::counts;
 use std::time::Instant;
 
 const SHEET_100: &str = r#"
@@ -43,14 +46,22 @@ fn run(name: &str, text: &str, actuation: Actuation) {
     let m = &d.fabrication.material;
     let clock = Instant::now();
     let cpu0 = cpu_seconds();
+    let work0 = counts();
     let result = sim::simulate(&lattice, &dep, m.width, m.thickness, &settings);
     let cpu = cpu_seconds() - cpu0;
+    let work = counts();
+    let work = format!(
+        "{}, {} ({} failed)",
+        work.assemblies - work0.assemblies,
+        work.factorisations - work0.factorisations,
+        work.failed - work0.failed
+    );
     let secs = clock.elapsed().as_secs_f64();
     match result {
         Ok(run) => {
             let eq = &run.equilibrium;
             println!(
-                "| {name} | {} | {} | {} | {cpu:.2} | {:.2} | {} | {:.3e} | {:.3} % ({}) | {:.3} |",
+                "| {name} | {} | {} | {} | {cpu:.2} | {:.2} | {} | {work} | {:.3e} | {:.3} % ({}) | {:.3} |",
                 lattice.cells.len(),
                 run.lm.model.fixed.iter().filter(|f| !**f).count(),
                 if lattice.extrinsic() && dep.is_mechanism() {
@@ -69,7 +80,7 @@ fn run(name: &str, text: &str, actuation: Actuation) {
             );
         }
         Err(e) => println!(
-            "| {name} | {} | | | {cpu:.2} | {secs:.2} | failed: {e} | | | |",
+            "| {name} | {} | | | {cpu:.2} | {secs:.2} | failed: {e} | {work} | | | |",
             lattice.cells.len()
         ),
     }
@@ -105,9 +116,9 @@ fn main() {
         Actuation::Mean
     };
     println!(
-        "| example | cells | variables | linkage | CPU s | wall s | Newton iterations | energy (N mm) | largest strain | distance from start (mm) |"
+        "| example | cells | variables | linkage | CPU s | wall s | Newton iterations | Hessians, factorisations | energy (N mm) | largest strain | distance from start (mm) |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut names: Vec<_> = std::fs::read_dir("examples")
         .expect("examples/")
         .filter_map(|e| e.ok())

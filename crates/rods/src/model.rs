@@ -792,13 +792,28 @@ impl<'a> Chain<'a> {
     ) -> f64 {
         let n = self.vars.len();
         let jac = &self.jac[..M];
+        // Each row of J has a few nonzeros (a coordinate's +-1 at each
+        // end, an arm tip's r du, an angle's 1): P = H_o J over those
+        // alone. The same sums: the terms left out add zero to a sum that
+        // starts at +0.
+        let mut nz = [[0u8; MAX_LOCAL]; M];
+        let mut nnz = [0usize; M];
+        for ((jl, nzl), count) in jac.iter().zip(&mut nz).zip(&mut nnz) {
+            for (b, &v) in jl[..n].iter().enumerate() {
+                if v != 0.0 {
+                    nzl[*count] = b as u8;
+                    *count += 1;
+                }
+            }
+        }
         let mut p = [[0.0; MAX_LOCAL]; M];
         for (k, pk) in p.iter_mut().enumerate() {
             for (l, jl) in jac.iter().enumerate() {
                 let f = outer.hess(k, l);
                 if f != 0.0 {
-                    for (pb, jb) in pk[..n].iter_mut().zip(&jl[..n]) {
-                        *pb += f * jb;
+                    for &b in &nz[l][..nnz[l]] {
+                        let b = b as usize;
+                        pk[b] += f * jl[b];
                     }
                 }
             }

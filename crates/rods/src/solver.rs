@@ -1,23 +1,46 @@
 //! Modified Newton (docs/physics.md, "Solver"): sparse Hessian with a pattern fixed per
 //! model (one symbolic Cholesky), inertia correction by a multiple of a
 //! diagonal metric, a negative-curvature step to leave saddles, and a
-//! one-step watchdog line search. faer's sparse LLT is the factorisation:
-//! its refusal of an indefinite matrix is the inertia test.
+//! one-step watchdog line search. faer's simplicial sparse LLT is the
+//! factorisation (its symbolic part from faer, its numeric part written
+//! out here, `Numeric`): its refusal of an indefinite matrix is the
+//! inertia test.
 
 use crate::model::{Model, VarKind};
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::Side;
+use faer::sparse::SymbolicSparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::simplicial::{
-    SimplicialLltRef, SymbolicSimplicialCholesky, factorize_simplicial_numeric_llt,
-    factorize_simplicial_numeric_llt_scratch,
-};
+use faer::sparse::linalg::cholesky::simplicial::SymbolicSimplicialCholesky;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, Par, Side};
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 const NONE: u32 = u32::MAX;
+
+/// The solver's work since the process started, over every model and
+/// thread: Hessian assemblies and factorisations, and how many of those
+/// found the shifted Hessian indefinite. For benchmarks (`counts`).
+static ASSEMBLIES: AtomicUsize = AtomicUsize::new(0);
+static FACTORISATIONS: AtomicUsize = AtomicUsize::new(0);
+static FAILED: AtomicUsize = AtomicUsize::new(0);
+
+/// The solver's work so far in this process (`ASSEMBLIES`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    pub assemblies: usize,
+    pub factorisations: usize,
+    /// Factorisations that stopped at a pivot that was not positive.
+    pub failed: usize,
+}
+
+pub fn counts() -> Counts {
+    Counts {
+        assemblies: ASSEMBLIES.load(Relaxed),
+        factorisations: FACTORISATIONS.load(Relaxed),
+        failed: FAILED.load(Relaxed),
+    }
+}
 
 /// The free variables and the Hessian's lower-triangle pattern.
 pub struct System {
@@ -34,16 +57,19 @@ pub struct System {
     /// For each stencil, the value slot of each entry pair (p, q) whose
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
+    /// Whether a stencil's entries are its local variables in order, each
+    /// with coefficient 1 (no fixed or tied variable).
+    stencil_plain: Vec<bool>,
     pattern: SymbolicSparseColMat<usize>,
-    /// The Cholesky factor's structure, analysed once: the Hessian's upper
-    /// triangle in the fill-reducing order (`upper`, into which `upper_pos`
-    /// maps each slot of `pattern`), so that no factorisation permutes it
-    /// again, and the simplicial symbolic factor of that matrix.
-    upper: SymbolicSparseColMat<usize>,
-    upper_pos: Vec<usize>,
-    /// perm[new] = old free index.
+    /// The Cholesky factor's structure, analysed once (`factor_structure`):
+    /// the fill-reducing order, perm[new] = old free index, and the
+    /// simplicial symbolic factor of the Hessian's upper triangle in that
+    /// order; `numeric` reads the Hessian's slots straight into it.
     perm: Vec<usize>,
     chol: SymbolicSimplicialCholesky<usize>,
+    numeric: Numeric,
+    /// A factor's buffer kept for the next factorisation.
+    spare: std::sync::Mutex<Option<Factor>>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -134,12 +160,23 @@ impl System {
                 pos
             })
             .collect();
-        let stencil_entries = entries
+        let stencil_entries: Vec<Vec<(u32, f64)>> = entries
             .iter()
             .map(|list| list.iter().map(|&(a, _, c)| (a as u32, c)).collect())
             .collect();
+        let stencil_plain = stencil_entries
+            .iter()
+            .zip(&stencil_vars)
+            .map(|(list, vars)| {
+                list.len() == vars.len()
+                    && list
+                        .iter()
+                        .enumerate()
+                        .all(|(p, &(a, c))| a as usize == p && c == 1.0)
+            })
+            .collect();
         let diag_pos = (0..n).map(|c| slot(c, c)).collect();
-        let dm = free_vars
+        let dm: Vec<f64> = free_vars
             .iter()
             .map(|&v| match model.kinds[v] {
                 VarKind::Length => 1.0,
@@ -148,6 +185,7 @@ impl System {
             .collect();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let (upper, upper_pos, perm, chol) = factor_structure(&pattern);
+        let numeric = Numeric::new(&upper, &upper_pos, &perm, &dm, &chol);
         System {
             free_index,
             free_vars,
@@ -155,11 +193,12 @@ impl System {
             stencil_vars,
             stencil_entries,
             stencil_pos,
+            stencil_plain,
             pattern,
-            upper,
-            upper_pos,
             perm,
             chol,
+            numeric,
+            spare: std::sync::Mutex::new(None),
             diag_pos,
             dm,
         }
@@ -171,6 +210,7 @@ impl System {
 
     /// Energy, gradient over every variable, and the free Hessian's lower values.
     pub fn assemble(&self, model: &Model) -> (f64, Vec<f64>, Vec<f64>) {
+        ASSEMBLIES.fetch_add(1, Relaxed);
         let mut g = vec![0.0; model.q.len()];
         let mut h = vec![0.0; self.pattern.row_idx().len()];
         let mut e = 0.0;
@@ -185,6 +225,18 @@ impl System {
             let entries = &self.stencil_entries[s];
             let ne = entries.len();
             let pos = &self.stencil_pos[s];
+            if self.stencil_plain[s] {
+                // One entry per local variable, coefficient 1: the
+                // products below are the values themselves.
+                for (p, row) in hs.chunks_exact(k).enumerate() {
+                    for (&slot, &v) in pos[p * k..(p + 1) * k].iter().zip(row) {
+                        if slot != NONE {
+                            h[slot as usize] += v;
+                        }
+                    }
+                }
+                continue;
+            }
             for (p, &(a, ca)) in entries.iter().enumerate() {
                 let row = &hs[a as usize * k..(a as usize + 1) * k];
                 for (q, &(b, cb)) in entries.iter().enumerate() {
@@ -223,49 +275,41 @@ impl System {
 
     /// Cholesky of H + tau Dm, or None if it is not positive definite.
     pub fn factor(&self, h: &[f64], tau: f64) -> Option<Factor> {
-        // The values straight into the factor's order: the same matrix,
-        // entry for entry, as faer's own permutation made, so the same
-        // factor to the bit.
-        let mut vals = vec![0.0; h.len()];
-        for (&p, &v) in self.upper_pos.iter().zip(h) {
-            vals[p] = v;
-        }
-        if tau != 0.0 {
-            for (c, &p) in self.diag_pos.iter().enumerate() {
-                vals[self.upper_pos[p]] += tau * self.dm[c];
+        let mut f = self.spare.lock().ok().and_then(|mut s| s.take()).unwrap_or(Factor {
+            l: Vec::new(),
+            inv: Vec::new(),
+        });
+        f.l.resize(self.chol.len_val(), 0.0);
+        f.inv.resize(self.n(), 0.0);
+        FACTORISATIONS.fetch_add(1, Relaxed);
+        match self.numeric.factor(h, tau, &mut f.l, &mut f.inv) {
+            Ok(()) => Some(f),
+            Err(_) => {
+                FAILED.fetch_add(1, Relaxed);
+                self.release(f);
+                None
             }
         }
-        if vals.iter().any(|v| !v.is_finite()) {
-            return None;
+    }
+
+    /// Hand a factor's buffer back for the next factorisation (a Hessian's
+    /// factor is megabytes: a fresh one each time costs page faults).
+    pub fn release(&self, f: Factor) {
+        if let Ok(mut s) = self.spare.lock() {
+            *s = Some(f);
         }
-        let n = self.n();
-        let mat = SparseColMatRef::new(self.upper.as_ref(), &vals);
-        let mut l = vec![0.0; self.chol.len_val()];
-        let mut mem = MemBuffer::new(factorize_simplicial_numeric_llt_scratch::<usize, f64>(n));
-        factorize_simplicial_numeric_llt(
-            &mut l,
-            mat,
-            Default::default(),
-            &self.chol,
-            MemStack::new(&mut mem),
-        )
-        .ok()?;
-        Some(Factor { l })
     }
 
     /// Solve (H + tau Dm) x = rhs with a factor of it.
     pub fn solve(&self, f: &Factor, rhs: &[f64]) -> Vec<f64> {
-        let n = rhs.len();
-        let mut m = faer::Mat::from_fn(n, 1, |i, _| rhs[self.perm[i]]);
-        SimplicialLltRef::new(&self.chol, &f.l).solve_in_place_with_conj(
-            Conj::No,
-            m.as_mut(),
-            Par::Seq,
-            MemStack::new(&mut MemBuffer::new(faer::dyn_stack::StackReq::EMPTY)),
-        );
-        let mut x = vec![0.0; n];
-        for (i, &old) in self.perm.iter().enumerate() {
-            x[old] = m[(i, 0)];
+        let mut y = self.numeric.work();
+        for (yi, &old) in y.iter_mut().zip(&self.perm) {
+            *yi = rhs[old];
+        }
+        self.numeric.solve_in_place(f, &mut y);
+        let mut x = vec![0.0; rhs.len()];
+        for (&yi, &old) in y.iter().zip(&self.perm) {
+            x[old] = yi;
         }
         x
     }
@@ -318,10 +362,191 @@ impl System {
     }
 }
 
+/// The numeric Cholesky of the shifted Hessian, with everything that does
+/// not depend on the values worked out once per model: faer's up-looking
+/// simplicial LLT (`factorize_simplicial_numeric_llt`), step for step and
+/// operation for operation, so the factor is the same to the bit, but
+/// with each row's elimination reach (faer's `ereach`, a walk up the
+/// elimination tree every row of every factorisation) kept as a list,
+/// the Hessian's values read straight from their slots, each pivot's
+/// reciprocal taken once, and no bounds check per entry of the work
+/// vector (`work`). The rows of the factor are visited in order and a
+/// non-positive pivot stops it there.
+struct Numeric {
+    /// The upper triangle in the factor's order: column pointers, row of
+    /// each entry, and the Hessian slot it holds.
+    a_ptr: Vec<usize>,
+    a_row: Vec<u32>,
+    a_src: Vec<u32>,
+    /// The metric of each column in the factor's order.
+    dm: Vec<f64>,
+    /// The factor's columns (faer's simplicial symbolic factor).
+    l_ptr: Vec<usize>,
+    l_row: Vec<u32>,
+    /// Row k's reach: the columns j < k with L[k][j] != 0, in faer's order.
+    reach_ptr: Vec<usize>,
+    reach: Vec<u32>,
+}
+
+impl Numeric {
+    fn new(
+        upper: &SymbolicSparseColMat<usize>,
+        upper_pos: &[usize],
+        perm: &[usize],
+        dm: &[f64],
+        chol: &SymbolicSimplicialCholesky<usize>,
+    ) -> Numeric {
+        let n = upper.ncols();
+        let a_ptr = upper.col_ptr().to_vec();
+        let a_row: Vec<u32> = upper.row_idx().iter().map(|&r| r as u32).collect();
+        let mut a_src = vec![0u32; upper_pos.len()];
+        for (slot, &p) in upper_pos.iter().enumerate() {
+            a_src[p] = slot as u32;
+        }
+        let l_ptr = chol.col_ptr().to_vec();
+        let l_row: Vec<u32> = chol.row_idx().iter().map(|&r| r as u32).collect();
+        // Column j's entries are its rows in increasing order, the
+        // diagonal first: its parent in the elimination tree is the next.
+        let parent: Vec<usize> = (0..n)
+            .map(|j| {
+                if l_ptr[j + 1] - l_ptr[j] > 1 {
+                    l_row[l_ptr[j] + 1] as usize
+                } else {
+                    usize::MAX
+                }
+            })
+            .collect();
+        // faer's `ereach`: from each entry of A's column k above the
+        // diagonal, up the tree to a node already met; each such path is
+        // put before the paths found earlier.
+        let mut reach_ptr = vec![0usize];
+        let mut reach = Vec::with_capacity(l_row.len() - n);
+        let mut visited = vec![usize::MAX; n];
+        let mut path = Vec::new();
+        let mut row: Vec<u32> = Vec::new();
+        for k in 0..n {
+            visited[k] = k;
+            row.clear();
+            for &i in &a_row[a_ptr[k]..a_ptr[k + 1]] {
+                let mut i = i as usize;
+                if i >= k {
+                    continue;
+                }
+                path.clear();
+                while visited[i] != k {
+                    path.push(i as u32);
+                    visited[i] = k;
+                    i = parent[i];
+                }
+                row.splice(0..0, path.iter().copied());
+            }
+            reach.extend_from_slice(&row);
+            reach_ptr.push(reach.len());
+        }
+        Numeric {
+            a_ptr,
+            a_row,
+            a_src,
+            dm: perm.iter().map(|&old| dm[old]).collect(),
+            l_ptr,
+            l_row,
+            reach_ptr,
+            reach,
+        }
+    }
+
+    /// A zeroed vector of the factor's size, padded to a power of two: its
+    /// entries are indexed `i & mask`, which the compiler knows to be in
+    /// bounds (no check per entry of the factor's inner loops).
+    fn work(&self) -> Vec<f64> {
+        vec![0.0; self.dm.len().next_power_of_two()]
+    }
+
+    /// The factor of H + tau Dm into `l` (and the reciprocals of its
+    /// diagonal into `inv`), or the row where a pivot is not positive or a
+    /// value not finite.
+    fn factor(&self, h: &[f64], tau: f64, l: &mut [f64], inv: &mut [f64]) -> Result<(), usize> {
+        let n = self.dm.len();
+        let mut work = self.work();
+        let mask = work.len() - 1;
+        let x = &mut work[..=mask];
+        let mut next: Vec<usize> = self.l_ptr[..n].to_vec();
+        for k in 0..n {
+            let (lo, hi) = (self.a_ptr[k], self.a_ptr[k + 1]);
+            let mut finite = true;
+            for (&i, &src) in self.a_row[lo..hi].iter().zip(&self.a_src[lo..hi]) {
+                let i = i as usize;
+                let mut v = h[src as usize];
+                if i == k && tau != 0.0 {
+                    v += tau * self.dm[k];
+                }
+                finite &= v.is_finite();
+                x[i & mask] += v;
+            }
+            if !finite {
+                return Err(k);
+            }
+            let mut d = x[k & mask];
+            x[k & mask] = 0.0;
+            for &j in &self.reach[self.reach_ptr[k]..self.reach_ptr[k + 1]] {
+                let j = j as usize;
+                let start = self.l_ptr[j];
+                next[j] += 1;
+                let slot = next[j];
+                let xj = x[j & mask];
+                x[j & mask] = 0.0;
+                let lkj = xj * inv[j];
+                let done = start + 1..slot;
+                for (&i, &lij) in self.l_row[done.clone()].iter().zip(&l[done]) {
+                    x[i as usize & mask] -= lij * lkj;
+                }
+                d -= lkj * lkj;
+                l[slot] = lkj;
+            }
+            if !(d > 0.0) {
+                return Err(k);
+            }
+            let ljj = d.sqrt();
+            l[self.l_ptr[k]] = ljj;
+            inv[k] = 1.0 / ljj;
+        }
+        Ok(())
+    }
+
+    /// Solve L L^T y = b in place (`y` from `work`, b in its first n
+    /// entries), as faer's simplicial solve does it, operation for
+    /// operation: forward by columns, then backward by dot products.
+    fn solve_in_place(&self, f: &Factor, y: &mut [f64]) {
+        let (l, inv) = (&f.l, &f.inv);
+        let n = self.dm.len();
+        let mask = y.len() - 1;
+        let y = &mut y[..=mask];
+        for j in 0..n {
+            let (lo, hi) = (self.l_ptr[j], self.l_ptr[j + 1]);
+            let yj = y[j & mask] * inv[j];
+            y[j & mask] = yj;
+            for (&i, &lij) in self.l_row[lo + 1..hi].iter().zip(&l[lo + 1..hi]) {
+                y[i as usize & mask] -= lij * yj;
+            }
+        }
+        for j in (0..n).rev() {
+            let (lo, hi) = (self.l_ptr[j], self.l_ptr[j + 1]);
+            let mut acc = 0.0;
+            for (&i, &lij) in self.l_row[lo + 1..hi].iter().zip(&l[lo + 1..hi]).rev() {
+                acc += lij * y[i as usize & mask];
+            }
+            y[j & mask] = (y[j & mask] - acc) * inv[j];
+        }
+    }
+}
+
 /// The numeric Cholesky factor of one shifted Hessian, in the order of
 /// `System::chol`.
 pub struct Factor {
     l: Vec<f64>,
+    /// The reciprocals of the factor's diagonal, each computed once (1 /
+    /// L[j][j] is what every row that column j updates needs).
+    inv: Vec<f64>,
 }
 
 /// The fill-reducing order (faer's AMD, as `SymbolicLlt` computes it), the
@@ -493,6 +718,7 @@ fn newton_step(
         // linear term is small; keep the Armijo test meaningful.
         dec = dec.max(1e-6 * model.e_scale);
     }
+    sys.release(llt);
     Some((Step { d, dec, tau }, g))
 }
 
@@ -602,7 +828,11 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
         }
     }
     let lambda_min = match sys.factor(&h, 0.0) {
-        Some(llt) if sys.n() > 0 => sys.lowest_mode(&h, &llt, 7).0,
+        Some(llt) if sys.n() > 0 => {
+            let lambda = sys.lowest_mode(&h, &llt, 7).0;
+            sys.release(llt);
+            lambda
+        }
         Some(_) => f64::INFINITY,
         None => {
             // Indefinite: estimate the negative eigenvalue with a shift.
@@ -625,5 +855,126 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
         moment,
         lambda_min,
         energy: e,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::SparseColMatRef;
+    use faer::sparse::linalg::cholesky::simplicial::{
+        SimplicialLltRef, factorize_simplicial_numeric_llt,
+        factorize_simplicial_numeric_llt_scratch,
+    };
+    use faer::{Conj, Par};
+
+    /// A random symmetric pattern over n variables, as `System::new`
+    /// builds a Hessian's: the lower triangle, rows sorted in each column,
+    /// the diagonal included.
+    fn random_pattern(n: usize, rng: &mut Rng) -> SymbolicSparseColMat<usize> {
+        let mut col_ptr = vec![0usize];
+        let mut row_idx = Vec::new();
+        for c in 0..n {
+            let mut rows = vec![c];
+            for r in c + 1..n {
+                // Near neighbours often (a band, like a rod's), far ones seldom.
+                let p = if r - c <= 3 { 0.6 } else { 2.0 / n as f64 };
+                if rng.uniform() < p {
+                    rows.push(r);
+                }
+            }
+            row_idx.extend_from_slice(&rows);
+            col_ptr.push(row_idx.len());
+        }
+        SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+    }
+
+    /// `Numeric` factors and solves as faer's simplicial LLT does, to the
+    /// bit, and stops at the row where faer finds a pivot that is not
+    /// positive: the solver's path and equilibria are faer's.
+    #[test]
+    fn numeric_factor_and_solve_equal_faers_to_the_bit() {
+        let mut rng = Rng::new(5);
+        let mut failed = 0;
+        for case in 0..60 {
+            let n = 5 + case * 3;
+            let pattern = random_pattern(n, &mut rng);
+            let (upper, upper_pos, perm, chol) = factor_structure(&pattern);
+            let dm: Vec<f64> = (0..n).map(|_| 0.5 + rng.uniform()).collect();
+            let numeric = Numeric::new(&upper, &upper_pos, &perm, &dm, &chol);
+            // Off-diagonal values in [-1, 1); the diagonal from below to
+            // above the row sums, so some matrices are indefinite.
+            let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+            let mut h: Vec<f64> = ri.iter().map(|_| rng.signed()).collect();
+            let mut sums = vec![0.0; n];
+            for c in 0..n {
+                for p in cp[c]..cp[c + 1] {
+                    if ri[p] != c {
+                        sums[c] += h[p].abs();
+                        sums[ri[p]] += h[p].abs();
+                    }
+                }
+            }
+            let scale = 0.1 + rng.uniform();
+            for c in 0..n {
+                h[cp[c]] = scale * sums[c] + 0.1;
+            }
+            let tau = if case % 3 == 0 { 0.0 } else { 0.05 * case as f64 };
+            let mut vals = vec![0.0; h.len()];
+            for (&p, &v) in upper_pos.iter().zip(&h) {
+                vals[p] = v;
+            }
+            if tau != 0.0 {
+                for (c, &d) in dm.iter().enumerate() {
+                    vals[upper_pos[cp[c]]] += tau * d;
+                }
+            }
+            let mut ours = Factor {
+                l: vec![0.0; chol.len_val()],
+                inv: vec![0.0; n],
+            };
+            let got = numeric.factor(&h, tau, &mut ours.l, &mut ours.inv);
+            let mut theirs = vec![0.0; chol.len_val()];
+            let mut mem = MemBuffer::new(factorize_simplicial_numeric_llt_scratch::<usize, f64>(n));
+            let want = factorize_simplicial_numeric_llt(
+                &mut theirs,
+                SparseColMatRef::new(upper.as_ref(), &vals),
+                Default::default(),
+                &chol,
+                MemStack::new(&mut mem),
+            );
+            match (got, want) {
+                (Ok(()), Ok(_)) => {
+                    assert!(
+                        ours.l.iter().zip(&theirs).all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "case {case}: factors differ"
+                    );
+                    let rhs: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
+                    let mut y = numeric.work();
+                    y[..n].copy_from_slice(&rhs);
+                    numeric.solve_in_place(&ours, &mut y);
+                    let mut m = faer::Mat::from_fn(n, 1, |i, _| rhs[i]);
+                    SimplicialLltRef::new(&chol, &theirs).solve_in_place_with_conj(
+                        Conj::No,
+                        m.as_mut(),
+                        Par::Seq,
+                        MemStack::new(&mut MemBuffer::new(faer::dyn_stack::StackReq::EMPTY)),
+                    );
+                    for i in 0..n {
+                        assert_eq!(y[i].to_bits(), m[(i, 0)].to_bits(), "case {case}: solves differ");
+                    }
+                }
+                (Err(k), Err(e)) => {
+                    failed += 1;
+                    let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } =
+                        e;
+                    assert_eq!(k + 1, index, "case {case}: stops at another row");
+                }
+                (got, want) => panic!("case {case}: ours {got:?}, faer's {want:?}"),
+            }
+        }
+        assert!(failed > 5 && failed < 55, "indefinite cases: {failed} of 60");
     }
 }
