@@ -431,7 +431,11 @@ impl Boxed {
     }
 
     /// Boxes apart by `reach` on some axis: no clash (and no closest points
-    /// to compute). Every coordinate is finite here, so no gap is NaN.
+    /// to compute). No coordinate is infinite here (such a layer has no
+    /// finite box and is not searched); a NaN one may hide from the layer's
+    /// box, but a line with one never clashes (its closest points are NaN),
+    /// so this test and glam's `max` of the gaps, which treat NaN apart,
+    /// find the same clashes.
     #[inline]
     fn apart(&self, other: &Self, reach: f64) -> bool {
         let (i, j) = (self, other);
