@@ -45,6 +45,7 @@ struct Scratch {
     lines: Vec<Line>,
     lengths: Vec<f64>,
     long: Vec<bool>,
+    spans: Vec<[u32; 3]>,
     offset: Vec<u32>,
     fill: Vec<u32>,
     entries: Vec<u32>,
@@ -125,6 +126,7 @@ fn layer_clashes(
         lines,
         lengths,
         long,
+        spans,
         offset,
         fill,
         entries,
@@ -200,19 +202,14 @@ fn layer_clashes(
     // Far above the rounding of a projection (1e-16 of the coordinates):
     // a pair is only skipped when it is surely out of reach.
     let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()).max_element());
-    // The clash of two strips of this layer, if they clash.
+    // The clash of two strips of this layer whose boxes are not apart by
+    // the reach (`Boxed::apart`, taken first), if they clash.
     let pair = |li: &Line, lj: &Line| -> Option<Clash> {
         if [li.start, li.end]
             .iter()
             .any(|v| [lj.start, lj.end].contains(v))
             || li.rod / 2 == lj.rod / 2
         {
-            return None;
-        }
-        // Boxes apart by the reach on some axis: no clash (and no closest
-        // points to compute).
-        let gap = (li.a.min(li.b) - lj.a.max(lj.b)).max(lj.a.min(lj.b) - li.a.max(li.b));
-        if gap.max_element() >= reach {
             return None;
         }
         // Projections on any unit axis are no farther apart than the
@@ -236,32 +233,54 @@ fn layer_clashes(
     // A pair is measured in the first grid cell both boxes touch only: the
     // cell where, on every axis, one of the two boxes starts. Each entry of
     // a grid cell's list carries the axes on which its box starts there
-    // (`entry`), so that test reads no line.
+    // (`entry`), so that test reads no line; the list is sorted into a
+    // bucket per set of axes (stable: line order within a bucket), and only
+    // buckets whose sets cover every axis together are paired, so the
+    // pairs that cannot count (most of them) are never visited.
     //
-    // Most pairs that share a grid cell have boxes apart by the reach
-    // (strips of the rows above and below): `pair`'s first test, taken here
-    // on the list's boxes, each computed once a grid cell rather than once
-    // a pair, so that only pairs whose boxes meet read their lines.
-    let mut boxes: Vec<(DVec3, DVec3)> = Vec::new();
-    let mut visit = |list: &[u32]| {
+    // Most pairs left have boxes apart by the reach (strips of the rows
+    // above and below): `pair`'s first test, taken here on the list's
+    // boxes, each computed once a grid cell rather than once a pair, so
+    // that only pairs whose boxes meet read their lines.
+    let mut boxes: Vec<Boxed> = Vec::new();
+    let mut visit = |list: &mut [u32]| {
+        // An entry holds its axes above its line's index: in numeric order
+        // the list comes bucket by bucket, in line order within each (a
+        // line is listed once in a grid cell).
+        list.sort_unstable();
+        let mut bounds = [0usize; BUCKETS + 1];
         boxes.clear();
         boxes.extend(list.iter().map(|&e| {
-            let l = &lines[(e & INDEX) as usize];
-            (l.a.min(l.b), l.a.max(l.b))
+            bounds[(e >> INDEX_BITS) as usize + 1] += 1;
+            Boxed::of(e & INDEX, &lines[(e & INDEX) as usize])
         }));
-        for (n, &ei) in list.iter().enumerate() {
-            let (mi, (lo_i, hi_i)) = (ei >> INDEX_BITS, boxes[n]);
-            for (&ej, &(lo_j, hi_j)) in list[n + 1..].iter().zip(&boxes[n + 1..]) {
-                if mi | ej >> INDEX_BITS != ALL_AXES {
-                    continue;
-                }
-                // Not `< reach`: a NaN gap goes on to `pair`, as before.
-                if (lo_i - hi_j).max(lo_j - hi_i).max_element() >= reach {
-                    continue;
-                }
-                let (li, lj) = (&lines[(ei & INDEX) as usize], &lines[(ej & INDEX) as usize]);
-                if let Some(c) = pair(li, lj) {
-                    out.push(c);
+        for m in 0..BUCKETS {
+            bounds[m + 1] += bounds[m];
+        }
+        let bucket = |m: usize| &boxes[bounds[m]..bounds[m + 1]];
+        let mut measure = |i: &Boxed, j: &Boxed| {
+            if !i.apart(j, reach) {
+                // The earlier line first, as in the list.
+                let (i, j) = if i.line < j.line { (i, j) } else { (j, i) };
+                out.extend(pair(&lines[i.line as usize], &lines[j.line as usize]));
+            }
+        };
+        let all = bucket(ALL_AXES as usize);
+        for (n, i) in all.iter().enumerate() {
+            for j in &all[n + 1..] {
+                measure(i, j);
+            }
+        }
+        for m in 0..ALL_AXES as usize {
+            let first = bucket(m);
+            if first.is_empty() {
+                continue;
+            }
+            for n in (m + 1..BUCKETS).filter(|&n| m | n == ALL_AXES as usize) {
+                for i in first {
+                    for j in bucket(n) {
+                        measure(i, j);
+                    }
                 }
             }
         }
@@ -274,12 +293,18 @@ fn layer_clashes(
                 |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
             offset.clear();
             offset.resize(g + 1, 0);
+            // Each line's span, kept from the count for the fill (12 bytes
+            // a line rather than its keys computed again).
+            spans.clear();
+            spans.reserve(lines.len());
             for (l, long) in lines.iter().zip(long.iter_mut()) {
                 let (lo, h) = span(l);
                 if is_long((lo, h)) {
                     *long = true;
+                    spans.push([0; 3]);
                     continue;
                 }
+                spans.push(pack(lo, h));
                 for z in lo[2]..=h[2] {
                     for y in lo[1]..=h[1] {
                         for x in lo[0]..=h[0] {
@@ -295,8 +320,8 @@ fn layer_clashes(
             fill.extend_from_slice(&offset[..]);
             entries.clear();
             entries.resize(offset[g] as usize, 0);
-            for (i, l) in lines.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                let (lo, h) = span(l);
+            for (i, &span) in spans.iter().enumerate().filter(|&(i, _)| !long[i]) {
+                let (lo, h) = unpack(span);
                 for z in lo[2]..=h[2] {
                     for y in lo[1]..=h[1] {
                         for x in lo[0]..=h[0] {
@@ -311,7 +336,7 @@ fn layer_clashes(
                 for y in 0..dims[1] {
                     for x in 0..dims[0] {
                         let c = index([x as i32, y as i32, z as i32]);
-                        let list = &entries[offset[c] as usize..offset[c + 1] as usize];
+                        let list = &mut entries[offset[c] as usize..offset[c + 1] as usize];
                         if list.len() > 1 {
                             visit(list);
                         }
@@ -342,7 +367,7 @@ fn layer_clashes(
                 if run.len() > 1 {
                     list.clear();
                     list.extend(run.iter().map(|e| e.1));
-                    visit(&list);
+                    visit(&mut list);
                 }
             }
         }
@@ -351,7 +376,10 @@ fn layer_clashes(
         if long[i] {
             // Long against short here; long against long once (j > i).
             for (j, lj) in lines.iter().enumerate() {
-                if j != i && (!long[j] || j > i) {
+                if j != i
+                    && (!long[j] || j > i)
+                    && !Boxed::of(0, li).apart(&Boxed::of(0, lj), reach)
+                {
                     out.extend(pair(li, lj));
                 }
             }
@@ -383,6 +411,62 @@ const LENGTH_SAMPLES: usize = 4096;
 const INDEX_BITS: u32 = 29;
 const INDEX: u32 = (1 << INDEX_BITS) - 1;
 const ALL_AXES: u32 = 0b111;
+/// One bucket of a grid cell's list per set of axes.
+const BUCKETS: usize = 8;
+
+/// A grid cell's entry with its line's bounding box.
+struct Boxed {
+    line: u32,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Boxed {
+    fn of(line: u32, l: &Line) -> Self {
+        Self {
+            line,
+            lo: l.a.min(l.b),
+            hi: l.a.max(l.b),
+        }
+    }
+
+    /// Boxes apart by `reach` on some axis: no clash (and no closest points
+    /// to compute). No coordinate is infinite here (such a layer has no
+    /// finite box and is not searched); a NaN one may hide from the layer's
+    /// box, but a line with one never clashes (its closest points are NaN),
+    /// so this test and glam's `max` of the gaps, which treat NaN apart,
+    /// find the same clashes.
+    #[inline]
+    fn apart(&self, other: &Self, reach: f64) -> bool {
+        let (i, j) = (self, other);
+        i.lo.x - j.hi.x >= reach
+            || j.lo.x - i.hi.x >= reach
+            || i.lo.y - j.hi.y >= reach
+            || j.lo.y - i.hi.y >= reach
+            || i.lo.z - j.hi.z >= reach
+            || j.lo.z - i.hi.z >= reach
+    }
+}
+
+/// Bits of a packed span's axis holding the grid cell where it starts (the
+/// grid has at most 2^20 + 2 cells along an axis); the bits above hold how
+/// many more cells it covers (at most 511: a span of more than 512 grid
+/// cells is a long line's, not packed).
+const KEY_BITS: u32 = 21;
+
+/// A short line's span, the grid cells `lo` to `hi`, in 12 bytes.
+#[inline]
+fn pack(lo: [i32; 3], hi: [i32; 3]) -> [u32; 3] {
+    [0, 1, 2].map(|k| lo[k] as u32 | ((hi[k] - lo[k]) as u32) << KEY_BITS)
+}
+
+/// The span `pack` packed.
+#[inline]
+fn unpack(span: [u32; 3]) -> ([i32; 3], [i32; 3]) {
+    let lo = span.map(|a| (a & ((1 << KEY_BITS) - 1)) as i32);
+    let hi = [0, 1, 2].map(|k| lo[k] + (span[k] >> KEY_BITS) as i32);
+    (lo, hi)
+}
 
 /// The grid entry of line `i`, whose box starts in grid cell `lo`, in grid
 /// cell `at`.
@@ -477,6 +561,18 @@ mod tests {
             DVec3::new(5.0, 0.0, 0.0),
         );
         assert!((p.distance(q) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_span_packs_at_the_grids_limits() {
+        let far = (1 << 20) + 1;
+        for (lo, hi) in [
+            ([0, 0, 0], [0, 0, 0]),
+            ([far, 7, 0], [far, 7 + 511, 0]),
+            ([3, far - 511, far], [3 + 511, far, far]),
+        ] {
+            assert_eq!(unpack(pack(lo, hi)), (lo, hi));
+        }
     }
 
     /// A sheet of `rows` rows of 40 mm cells, legs at `angle` degrees.
