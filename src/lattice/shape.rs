@@ -1099,6 +1099,16 @@ mod tests {
                     // No help: the measuring thread takes every chunk.
                     let alone = ShapeShare::in_chunks(lattice, chunk).measure(Vec::new);
                     assert_eq!(alone, one);
+                    // Every split the threads' timing can give: the helper
+                    // takes the chunks from `k` on, the measuring thread
+                    // the others.
+                    for k in chunks / 2..=chunks {
+                        let mut share = ShapeShare::in_chunks(lattice, chunk);
+                        share.floor = k;
+                        let helped = share.help();
+                        assert_eq!(helped.len(), chunks - k);
+                        assert_eq!(share.measure(|| helped), one);
+                    }
                 }
             }
         }
