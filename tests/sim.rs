@@ -467,7 +467,7 @@ fn ideal_linkage(lattice: &Lattice, theta: f64) -> Vec<DVec3> {
         let phi = phis[i];
         let (da, db) = (DVec2::X, DVec2::new(phi.cos(), side * phi.sin()));
         let local = [da * l1, db * l4, -db * l2, -da * l3];
-        let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
+        let ids = cell.corner_ids();
         let pairs: Vec<(DVec2, DVec2)> = ids
             .iter()
             .zip(local)

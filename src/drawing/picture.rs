@@ -247,7 +247,7 @@ pub(crate) fn lattice_picture(
         let mut shown_vertices = vec![false; lattice.vertices.len()];
         for &c in &shown {
             let cell = &lattice.cells[c];
-            for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+            for v in cell.corner_ids() {
                 shown_vertices[v as usize] = true;
             }
         }

@@ -157,7 +157,7 @@ pub(super) fn step_block(
         let mut corner = vec![false; l.vertices.len()];
         for &c in &step.cells {
             let cell = &l.cells[c];
-            for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+            for v in cell.corner_ids() {
                 corner[v as usize] = true;
             }
         }
@@ -165,10 +165,7 @@ pub(super) fn step_block(
         let around: Vec<usize> = (0..l.cells.len())
             .filter(|&c| {
                 let cell = &l.cells[c];
-                l.step_of(c) < k0
-                    && [cell.ul, cell.ur, cell.ll, cell.lr]
-                        .iter()
-                        .any(|&v| corner[v as usize])
+                l.step_of(c) < k0 && cell.corner_ids().iter().any(|&v| corner[v as usize])
             })
             .collect();
         let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();

@@ -46,7 +46,7 @@ impl StepPictures {
         for (k, step) in steps.iter().enumerate() {
             for &c in &step.cells {
                 let cell = &lattice.cells[c];
-                for v in [cell.ul, cell.ur, cell.ll, cell.lr] {
+                for v in cell.corner_ids() {
                     if first[v as usize] == usize::MAX {
                         first[v as usize] = k;
                         new_vertices[k].push(v as usize);
@@ -131,7 +131,7 @@ pub(super) fn corners(l: &crate::lattice::Lattice, cells: &[usize]) -> Vec<usize
         .iter()
         .flat_map(|&c| {
             let cell = &l.cells[c];
-            [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
+            cell.corner_ids().map(|v| v as usize)
         })
         .collect();
     vertices.sort_unstable();
@@ -178,7 +178,7 @@ pub(super) fn details(w: &mut PageFlow, b: &Build, step: &Step, named: &[usize])
             .collect();
         let points = cells.iter().chain(&above).flat_map(|&c| {
             let cell = &l.cells[c];
-            [cell.ul, cell.ur, cell.ll, cell.lr]
+            cell.corner_ids()
                 .map(|v| l.vertex(v).pos)
                 .into_iter()
                 .chain([cell.pivot])

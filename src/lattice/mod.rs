@@ -100,6 +100,15 @@ pub struct Cell {
     pub z_pivot: f64,
 }
 
+impl Cell {
+    /// Its corners `[UL, UR, LL, LR]` as vertex indices, in the order of
+    /// `Lattice::corners`.
+    #[inline]
+    pub fn corner_ids(&self) -> [u32; 4] {
+        [self.ul, self.ur, self.ll, self.lr]
+    }
+}
+
 /// Legs of a cell measured from the pivot: `[l1, l2, l3, l4]` to UL, LL, LR, UR.
 pub(crate) type Legs = [f64; 4];
 
@@ -193,7 +202,7 @@ impl Lattice {
     /// Corner `k` (0 to 3: UL, UR, LL, LR) of `corners`, alone.
     #[inline]
     pub(crate) fn corner(&self, cell: &Cell, k: usize) -> DVec3 {
-        let v = &self.vertices[[cell.ul, cell.ur, cell.ll, cell.lr][k] as usize];
+        let v = &self.vertices[cell.corner_ids()[k] as usize];
         match self.fronts.get(cell.row as usize) {
             Some(front) if k < 2 && !front.is_empty() => front[v.key.col as usize],
             _ => v.pos,

@@ -263,7 +263,7 @@ impl Lattice {
         let mut at = Curvatures::new(self.vertices.len(), window);
         for cell in &self.cells {
             let corners = self.corners(cell);
-            let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
+            let ids = cell.corner_ids();
             if !at.add(ids, corners, cell_area(corners)) {
                 return None;
             }
@@ -292,10 +292,8 @@ impl Lattice {
         let mut at = Curvatures::new(self.vertices.len(), window);
         let mut regularity = Regularity::new(self.cells.len());
         for cell in &self.cells {
-            let corners = self.corners(cell);
-            let area = cell_area(corners);
-            regularity.add(area, legs_of(corners, cell.pivot));
-            if !at.add(corner_ids(cell), corners, area) {
+            let (corners, area) = regularity.measure(self, cell);
+            if !at.add(cell.corner_ids(), corners, area) {
                 return None;
             }
         }
@@ -412,12 +410,6 @@ impl Lattice {
     }
 }
 
-/// A cell's corners `[UL, UR, LL, LR]` as vertex indices.
-#[inline]
-fn corner_ids(cell: &Cell) -> [u32; 4] {
-    [cell.ul, cell.ur, cell.ll, cell.lr]
-}
-
 /// The regularity figures of cells: the smallest and largest area and leg,
 /// each cell's longest over shortest leg, and the range of its strips'
 /// legs. Every figure is a least, a largest or a list whose order the shape
@@ -459,6 +451,16 @@ impl Regularity {
         for key in strip_keys(legs) {
             self.range.add(key);
         }
+    }
+
+    /// One cell of `lattice` added: its corners and area, for the
+    /// curvature sums.
+    #[inline]
+    fn measure(&mut self, lattice: &Lattice, cell: &Cell) -> ([DVec3; 4], f64) {
+        let corners = lattice.corners(cell);
+        let area = cell_area(corners);
+        self.add(area, legs_of(corners, cell.pivot));
+        (corners, area)
     }
 
     /// Take in the figures of other cells.
@@ -547,9 +549,7 @@ impl<'a> ShapeShare<'a> {
             let figures = cells
                 .iter()
                 .map(|cell| {
-                    let corners = self.lattice.corners(cell);
-                    let area = cell_area(corners);
-                    regularity.add(area, legs_of(corners, cell.pivot));
+                    let (corners, area) = regularity.measure(self.lattice, cell);
                     (corner_angles(corners), area)
                 })
                 .collect();
@@ -581,10 +581,8 @@ impl<'a> ShapeShare<'a> {
                 claims.0 - 1
             };
             for cell in self.cells(chunk) {
-                let corners = lattice.corners(cell);
-                let area = cell_area(corners);
-                regularity.add(area, legs_of(corners, cell.pivot));
-                if !at.add(corner_ids(cell), corners, area) {
+                let (corners, area) = regularity.measure(lattice, cell);
+                if !at.add(cell.corner_ids(), corners, area) {
                     // Out of order: measured again below with a slot a
                     // vertex; the helper stops.
                     fits = false;
@@ -601,7 +599,7 @@ impl<'a> ShapeShare<'a> {
             fits = fits
                 && cells
                     .into_iter()
-                    .all(|(cell, &(angles, area))| at.add_angles(corner_ids(cell), angles, area));
+                    .all(|(cell, &(angles, area))| at.add_angles(cell.corner_ids(), angles, area));
             regularity.merge(&h.regularity);
         }
         if fits {

@@ -292,7 +292,7 @@ impl Grid {
     /// True when `cell` has the corner indices of cell `(i, j)`.
     #[inline(always)]
     fn holds(&self, i: usize, j: usize, cell: &super::Cell) -> bool {
-        [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize) == self.corners(i, j)
+        cell.corner_ids().map(|v| v as usize) == self.corners(i, j)
     }
 
     /// `Incidence::Table`'s entry for the vertex in row `r`, column `c`
@@ -1276,7 +1276,7 @@ impl Collapsed {
     ) {
         let cell = &lattice.cells[c];
         let [l1, l2, l3, l4] = *legs;
-        let at = [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize);
+        let at = cell.corner_ids().map(|v| v as usize);
         let site = || lattice.cell_name(cell);
         let (k, _) = sweep(
             &mut self.single,
@@ -1686,7 +1686,7 @@ mod tests {
         // reaches them.
         let last = lattice.cells.len() - 1;
         let cell = lattice.cells[last];
-        for corner in [cell.ul, cell.ur, cell.ll, cell.lr] {
+        for corner in cell.corner_ids() {
             let copy = lattice.vertices[corner as usize];
             lattice.vertices.push(copy);
         }

@@ -102,7 +102,7 @@ pub(crate) fn write(lattice: &Lattice) -> Vec<u8> {
             let [ul, ur, _, _] = lattice.corners(c);
             CellJson {
                 key: cell_key(lattice, c),
-                vertices: [c.ul, c.ur, c.ll, c.lr],
+                vertices: c.corner_ids(),
                 frame: (!extrinsic).then(|| frame_of(c.row)),
                 top: rebuilt(c.row).then(|| [pos(ul), pos(ur)]),
                 pivot: pos(c.pivot),

@@ -124,7 +124,7 @@ struct Users {
 
 impl Users {
     fn new(lattice: &Lattice) -> Self {
-        let corners = |c: &Cell| [c.ul, c.ur, c.ll, c.lr];
+        let corners = |c: &Cell| c.corner_ids();
         let mut start = vec![0u32; lattice.vertices.len() + 1];
         for cell in &lattice.cells {
             for v in corners(cell) {
@@ -178,7 +178,7 @@ fn edge_neighbours(lattice: &Lattice, users: &Users) -> Option<Vec<[u32; 4]>> {
     }
     let mut nbr = vec![[NO_CELL; 4]; lattice.cells.len()];
     for (i, cell) in lattice.cells.iter().enumerate() {
-        let c = [cell.ul, cell.ur, cell.ll, cell.lr];
+        let c = cell.corner_ids();
         if (0..4).any(|a| (a + 1..4).any(|b| c[a] == c[b])) {
             return None;
         }
@@ -339,8 +339,7 @@ fn grid_width(lattice: &Lattice) -> Option<usize> {
     }
     let grid = lattice.cells.chunks_exact(w).enumerate().all(|(r, row)| {
         row.iter().zip(r * (w + 1)..).all(|(cell, ul)| {
-            [cell.ul, cell.ur, cell.ll, cell.lr].map(|v| v as usize)
-                == [ul, ul + 1, ul + w + 1, ul + w + 2]
+            cell.corner_ids().map(|v| v as usize) == [ul, ul + 1, ul + w + 1, ul + w + 2]
         })
     });
     grid.then_some(w)

@@ -126,7 +126,7 @@ impl Placements {
     /// far apart in vertex order for the ring.
     #[inline]
     pub(super) fn add(&mut self, cell: &Cell, corners: [DVec3; 4], legs: Legs, f: Affine) -> bool {
-        let ids = [cell.ul, cell.ur, cell.ll, cell.lr];
+        let ids = cell.corner_ids();
         let (lo, hi) = ids
             .iter()
             .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
