@@ -272,7 +272,8 @@ right_leg = "match"
 }
 
 /// Gradient and Hessian of every third stencil (of every kind) against
-/// central differences at random states of a lattice model with eyelets (docs/physics.md, "Solver").
+/// central differences at random states of a lattice model with eyelets
+/// (docs/physics.md, "Solver").
 #[test]
 fn gradient_and_hessian_match_finite_differences() {
     for (lattice, joint) in [
@@ -311,7 +312,9 @@ fn gradient_and_hessian_match_finite_differences() {
                 let k = vars.len();
                 // The solver's derivatives (a rod term's chain rule in plain
                 // numbers, `Chain`) against a dual variable for every local
-                // variable.
+                // variable. (Loads and moments have no chain rule: there both
+                // sides are the duals, and only the finite differences below
+                // check them.)
                 let (ef, gf, hf) = m.stencil_derivatives_full(&st, &vars);
                 let close = |a: &[f64], b: &[f64]| {
                     let scale = b.iter().fold(1e-300f64, |s, x| s.max(x.abs()));

@@ -169,25 +169,15 @@ pub(crate) fn obj(title: &str, strips: &[DeployedStrip], width: f64, thickness: 
     out.into_bytes()
 }
 
-/// An OBJ face line of four vertex numbers, written digit by digit rather
-/// than through `writeln!`'s formatter (the torus's deployed.obj has
-/// 21,744 faces and 22,656 vertices).
+/// An OBJ face line of four vertex numbers, written by `number::fixed`'s
+/// digit loop rather than through `writeln!`'s formatter (the torus's
+/// deployed.obj has 21,744 faces and 22,656 vertices).
 fn face(out: &mut String, vertices: [usize; 4]) {
     out.push('f');
     for v in vertices {
         out.push(' ');
-        let mut digits = [0u8; 20];
-        let mut at = digits.len();
-        let mut n = v;
-        loop {
-            at -= 1;
-            digits[at] = b'0' + (n % 10) as u8;
-            n /= 10;
-            if n == 0 {
-                break;
-            }
-        }
-        out.push_str(std::str::from_utf8(&digits[at..]).expect("ASCII digits"));
+        // A whole number of ten-thousandths prints without a fraction.
+        out.push_str(super::number::fixed(v as i64 * 10_000).as_str());
     }
     out.push('\n');
 }

@@ -496,9 +496,9 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
 
 /// The directions (u, n) of the joint slots a stencil touches, each
 /// computed once: a bend stencil next to a joint needs its slot for an
-/// arm tip's position and again for the arm's frame, and the joint frame
-/// (a unit vector and two transports in duals) is a large part of the
-/// stencil's cost. The same arithmetic, so the same numbers.
+/// arm tip's position and again for the arm's frame (in the plain-number
+/// energies and the dual reference `stencil_derivatives_full`). The same
+/// arithmetic, so the same numbers.
 struct Dirs<S> {
     known: [Option<(usize, usize, V3<S>, V3<S>)>; 4],
 }
@@ -868,7 +868,7 @@ fn bend_local(
     let mut chain = Chain::new(m, vars);
     let (ea, eb) = (&m.edges[e0], &m.edges[e1]);
     // Consecutive edges of a rod share their middle node: edge b's vector
-    // is x2 - x1 below, with x1 placed once as edge a's end.
+    // is x2 - x1 below, x1's value taken from edge a's end.
     debug_assert_eq!(ea.b, eb.a, "a bend joins consecutive edges");
     let x0 = chain.place(0, ea.a, -1.0);
     let x1 = chain.place(0, ea.b, 1.0);

@@ -1,10 +1,10 @@
 //! Modified Newton (docs/physics.md, "Solver"): sparse Hessian with a pattern fixed per
 //! model (one symbolic Cholesky), inertia correction by a multiple of a
 //! diagonal metric, a negative-curvature step to leave saddles, and a
-//! one-step watchdog line search. faer's simplicial sparse LLT is the
-//! factorisation (its symbolic part from faer, its numeric part written
-//! out here, `Numeric`): its refusal of an indefinite matrix is the
-//! inertia test.
+//! one-step watchdog line search. The factorisation is a simplicial sparse
+//! LLT: its ordering and symbolic part from faer, its numeric part faer's
+//! written out here (`Numeric`), whose refusal of an indefinite matrix is
+//! the inertia test.
 
 use crate::model::{Model, VarKind};
 use faer::Side;

@@ -41,13 +41,18 @@ pub(crate) struct Staged<'a> {
     committed: bool,
 }
 
+/// A file written and its path in the build, to flush.
+type Written = (File, String);
+
 /// Written files are flushed to the disk (fsync) on a thread of their own:
 /// an fsync waits for the disk (a median 0.6 ms, up to 20 ms, here), and
 /// the examples' batch waited 0.32 s for its 169 in all while the builds
-/// could draw (BENCHMARKS.md, "Examples batch, third round"). `commit` waits for every flush before the marker.
+/// could draw (BENCHMARKS.md, "Examples batch, third round"). `commit`
+/// waits for every flush before the marker.
 struct Syncer {
-    send: Option<SyncSender<(File, String)>>,
-    thread: Option<JoinHandle<io::Result<()>>>,
+    /// The queue to the flushing thread, and the thread; None when the
+    /// system refused a thread: each file is then flushed as it is written.
+    worker: Option<(SyncSender<Written>, JoinHandle<io::Result<()>>)>,
     /// Set when the staging folder is dropped uncommitted: its files are
     /// about to be deleted, so the flushes still queued are skipped.
     cancel: Arc<AtomicBool>,
@@ -57,7 +62,7 @@ impl Syncer {
     fn start() -> Self {
         // A bounded queue: a slow disk holds the writers back before they
         // hold hundreds of files open.
-        let (send, files) = sync_channel::<(File, String)>(64);
+        let (send, files) = sync_channel::<Written>(64);
         let cancel = Arc::new(AtomicBool::new(false));
         let skip = Arc::clone(&cancel);
         let thread = std::thread::Builder::new()
@@ -65,47 +70,38 @@ impl Syncer {
             .spawn(move || {
                 let mut first = Ok(());
                 for (f, rel) in files {
-                    if skip.load(Ordering::Relaxed) {
-                        continue;
-                    }
-                    if let Err(e) = fault::sync(&f) {
-                        first = first.and(Err(flush_failed(&rel, &e)));
+                    if !skip.load(Ordering::Relaxed) {
+                        first = first.and(flush(&f, &rel));
                     }
                 }
                 first
             });
-        // Without a thread (the system refused one) each file is flushed
-        // as it is written, as before the thread.
-        match thread {
-            Ok(thread) => Self {
-                send: Some(send),
-                thread: Some(thread),
-                cancel,
-            },
-            Err(_) => Self {
-                send: None,
-                thread: None,
-                cancel,
-            },
+        Self {
+            worker: thread.ok().map(|thread| (send, thread)),
+            cancel,
         }
     }
 
     fn push(&self, f: File, rel: String) -> io::Result<()> {
-        let sync_here =
-            |(f, rel): (File, String)| fault::sync(&f).map_err(|e| flush_failed(&rel, &e));
-        match &self.send {
-            Some(send) => send.send((f, rel)).or_else(|unsent| sync_here(unsent.0)),
-            None => sync_here((f, rel)),
+        match &self.worker {
+            Some((send, _)) => send.send((f, rel)).or_else(|unsent| {
+                let (f, rel) = unsent.0;
+                flush(&f, &rel)
+            }),
+            None => flush(&f, &rel),
         }
     }
 
     /// Wait until every file pushed is flushed; the first failure.
     fn finish(&mut self) -> io::Result<()> {
-        self.send = None;
-        match self.thread.take() {
-            Some(thread) => thread
-                .join()
-                .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+        match self.worker.take() {
+            Some((send, thread)) => {
+                // The queue closed, the thread ends once it is empty.
+                drop(send);
+                thread
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p))
+            }
             None => Ok(()),
         }
     }
@@ -114,11 +110,16 @@ impl Syncer {
     /// thread, without unwinding again if it panicked.
     fn abandon(&mut self) {
         self.cancel.store(true, Ordering::Relaxed);
-        self.send = None;
-        if let Some(thread) = self.thread.take() {
+        if let Some((send, thread)) = self.worker.take() {
+            drop(send);
             let _ = thread.join();
         }
     }
+}
+
+/// Flush one written file to the disk (fsync), its error naming the file.
+fn flush(f: &File, rel: &str) -> io::Result<()> {
+    fault::sync(f).map_err(|e| flush_failed(rel, &e))
 }
 
 /// An fsync failure, with the file it was for (the error comes back from
