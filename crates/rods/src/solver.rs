@@ -64,9 +64,9 @@ pub struct System {
     /// The Cholesky factor's structure, analysed once (`factor_structure`):
     /// the fill-reducing order, perm[new] = old free index, and the
     /// simplicial symbolic factor of the Hessian's upper triangle in that
-    /// order; `numeric` reads the Hessian's slots straight into it.
+    /// order (kept in `numeric`, which reads the Hessian's slots straight
+    /// into it).
     perm: Vec<usize>,
-    chol: SymbolicSimplicialCholesky<usize>,
     numeric: Numeric,
     /// A factor's buffer kept for the next factorisation.
     spare: std::sync::Mutex<Option<Factor>>,
@@ -196,7 +196,6 @@ impl System {
             stencil_plain,
             pattern,
             perm,
-            chol,
             numeric,
             spare: std::sync::Mutex::new(None),
             diag_pos,
@@ -279,7 +278,7 @@ impl System {
             l: Vec::new(),
             inv: Vec::new(),
         });
-        f.l.resize(self.chol.len_val(), 0.0);
+        f.l.resize(self.numeric.len_val(), 0.0);
         f.inv.resize(self.n(), 0.0);
         FACTORISATIONS.fetch_add(1, Relaxed);
         match self.numeric.factor(h, tau, &mut f.l, &mut f.inv) {
@@ -389,6 +388,11 @@ struct Numeric {
 }
 
 impl Numeric {
+    /// The factor's number of entries.
+    fn len_val(&self) -> usize {
+        self.l_ptr[self.l_ptr.len() - 1]
+    }
+
     fn new(
         upper: &SymbolicSparseColMat<usize>,
         upper_pos: &[usize],
@@ -541,7 +545,7 @@ impl Numeric {
 }
 
 /// The numeric Cholesky factor of one shifted Hessian, in the order of
-/// `System::chol`.
+/// `System::perm`, on the structure of `Numeric`.
 pub struct Factor {
     l: Vec<f64>,
     /// The reciprocals of the factor's diagonal, each computed once (1 /
