@@ -887,8 +887,7 @@ fn long_phases_say_so_and_budgets_are_bounded() {
     let o = Command::new(env!("CARGO_BIN_EXE_karigami"))
         .args(["build", torus.to_str().unwrap(), "--out", "o"])
         .current_dir(&dir)
-        .env("KARIGAMI_FAULT", "nosync")
-        .env("KARIGAMI_FIRST_NOTE_MS", "50")
+        .env("KARIGAMI_FAULT", "nosync,firstnote@50")
         .output()
         .expect("runs karigami");
     assert!(o.status.success());

@@ -9,7 +9,10 @@
 //! - `nosync`: skip fsync, which guards against power loss, not the kills
 //!   and full disks simulated here (hundreds of runs on a busy CI disk);
 //! - `syncfail@K`: fail the K-th flush to the disk (fsync, counted apart
-//!   from the steps) with an I/O error, as a failing disk would.
+//!   from the steps) with an I/O error, as a failing disk would;
+//! - `firstnote@MS`: not a fault but the tests' clock: a phase off a
+//!   terminal prints its first progress line after MS milliseconds instead
+//!   of 2 s, so that a test sees one however fast the machine builds.
 //!
 //! It is compiled in so that the tests exercise the shipped binary.
 
@@ -24,6 +27,7 @@ struct Plan {
     no_exchange: bool,
     no_sync: bool,
     sync_fail_at: Option<usize>,
+    first_note_ms: Option<u64>,
 }
 
 fn plan() -> &'static Plan {
@@ -38,6 +42,7 @@ fn plan() -> &'static Plan {
                 Some(("abort", k)) => plan.abort_at = k.parse().ok(),
                 Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
                 Some(("syncfail", k)) => plan.sync_fail_at = k.parse().ok(),
+                Some(("firstnote", ms)) => plan.first_note_ms = ms.parse().ok(),
                 _ if item == "noexchange" => plan.no_exchange = true,
                 _ if item == "nosync" => plan.no_sync = true,
                 _ => {}
@@ -71,6 +76,11 @@ pub(super) fn write(what: &str) -> io::Result<()> {
 /// A rename or removal of the commit is about to happen.
 pub(super) fn commit(what: &str) {
     next(what);
+}
+
+/// When a phase's first progress line is due (`firstnote@MS`), if set.
+pub(super) fn first_note() -> Option<std::time::Duration> {
+    plan().first_note_ms.map(std::time::Duration::from_millis)
 }
 
 pub(super) fn no_exchange() -> bool {

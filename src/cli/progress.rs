@@ -99,13 +99,9 @@ impl Progress {
 const NOTE_EVERY: Duration = Duration::from_secs(5);
 
 /// How long a phase runs off a terminal before its first line: 2 s, or
-/// `KARIGAMI_FIRST_NOTE_MS` (the tests', so that they see a line however
-/// fast the machine builds).
+/// the tests' `firstnote@MS` (`fault`).
 fn first_note() -> Duration {
-    std::env::var("KARIGAMI_FIRST_NOTE_MS")
-        .ok()
-        .and_then(|ms| ms.parse().ok())
-        .map_or(Duration::from_secs(2), Duration::from_millis)
+    super::fault::first_note().unwrap_or(Duration::from_secs(2))
 }
 
 /// Run `work`, and while it runs longer than a second say so on stderr:

@@ -55,6 +55,24 @@ fn hidden(name: &OsStr, suffix: &str) -> String {
     format!(".{short}.karigami-{suffix}")
 }
 
+/// Visit every entry under `root`, folders before their contents, without
+/// following links: `visit(path, is_folder)`.
+fn walk(root: &Path, mut visit: impl FnMut(&Path, bool) -> io::Result<()>) -> io::Result<()> {
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir)? {
+            let entry = entry?;
+            let path = entry.path();
+            let folder = entry.file_type()?.is_dir();
+            visit(&path, folder)?;
+            if folder {
+                stack.push(path);
+            }
+        }
+    }
+    Ok(())
+}
+
 fn remove_any(path: &Path) -> io::Result<()> {
     match fs::symlink_metadata(path) {
         Ok(m) if m.is_dir() => fs::remove_dir_all(path),

@@ -348,19 +348,13 @@ fn shortlist(files: &[String]) -> String {
 /// Every file under `dir` (relative, sorted), without following links.
 fn list_files(dir: &Path) -> io::Result<Vec<String>> {
     let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in fs::read_dir(&d)? {
-            let entry = entry?;
-            let path = entry.path();
-            if entry.file_type()?.is_dir() {
-                stack.push(path);
-            } else {
-                let rel = path.strip_prefix(dir).unwrap_or(&path);
-                out.push(rel.display().to_string());
-            }
+    super::walk(dir, |path, folder| {
+        if !folder {
+            let rel = path.strip_prefix(dir).unwrap_or(path);
+            out.push(rel.display().to_string());
         }
-    }
+        Ok(())
+    })?;
     out.sort();
     Ok(out)
 }

@@ -281,18 +281,12 @@ impl<'a> Staged<'a> {
 /// `create_dir_all`, or a link `keep` made). `root` itself is flushed after
 /// the marker.
 fn sync_folders(root: &Path) -> io::Result<()> {
-    let mut stack = vec![root.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        for entry in fs::read_dir(&dir)? {
-            let entry = entry?;
-            if entry.file_type()?.is_dir() {
-                let path = entry.path();
-                fault::sync(&File::open(&path)?)?;
-                stack.push(path);
-            }
+    super::walk(root, |path, folder| {
+        if folder {
+            fault::sync(&File::open(path)?)?;
         }
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Swap two paths atomically; false where the system cannot.
