@@ -455,8 +455,8 @@ fn vertex_site(lattice: &Lattice, v: usize) -> String {
     format!("vertex {}", lattice.vertex_name(v as u32))
 }
 
-/// Sine of the angle between two consecutive legs `a`, `b` of one rod,
-/// given their lengths.
+/// Sine of the angle between two legs `a`, `b` of one rod (either way
+/// round: the sine is the same), given their lengths.
 fn bend(a: DVec3, la: f64, b: DVec3, lb: f64) -> f64 {
     a.cross(b).length() / (la * lb)
 }
@@ -740,19 +740,31 @@ fn fronts<'a>(lattice: &'a Lattice, grid: &Grid, i: usize) -> [&'a [Vertex]; 2] 
     ]
 }
 
+/// The vectors from a cell's corners to its pivot `p`, in the order of its
+/// legs (UL, LL, LR, UR): their lengths are the legs (`p.distance(c)` is
+/// `|p - c|`), and each rod's bend is the angle between two of them
+/// (`(p - a) x (b - p)` is `-((p - a) x (p - b))` exactly, so the same
+/// sine).
+#[inline(always)]
+fn to_pivot(p: DVec3, [ul, ur, ll, lr]: [DVec3; 4]) -> [DVec3; 4] {
+    [p - ul, p - ll, p - lr, p - ur]
+}
+
 /// A cell's residuals that need no neighbour, from its corner vertices
-/// `[UL, UR, LL, LR]`, legs and `1 / mean leg`: its rods' bends (A, B) and
-/// its legs against the construction z. One formula for `Row::measure`
-/// and the replays.
+/// `[UL, UR, LL, LR]`, the vectors from them to its pivot (`to_pivot`),
+/// its legs and `1 / mean leg`: its rods' bends (A, B) and its legs
+/// against the construction z. One formula for `Row::measure` and the
+/// replays.
 #[inline(always)]
 fn local_residuals(
     cell: &Cell,
     [ul, ur, ll, lr]: [&Vertex; 4],
+    [d1, d2, d3, d4]: [DVec3; 4],
     legs: Legs,
     inv: f64,
 ) -> ([f64; 2], [f64; 4]) {
-    let corners = [ul.pos, ur.pos, ll.pos, lr.pos];
-    let bends = rod_legs(legs, corners, cell.pivot).map(|(a, la, b, lb)| bend(a, la, b, lb));
+    let [l1, l2, l3, l4] = legs;
+    let bends = [bend(d1, l1, d3, l3), bend(d4, l4, d2, l2)];
     let z = [ul.z, ur.z, ll.z, lr.z];
     (bends, legs_z_of(legs, z, cell.z_pivot, inv))
 }
@@ -792,21 +804,17 @@ impl Row {
                 & (cell.ll as usize == b + j)
                 & (cell.lr as usize == b + right);
             let vertices = [&top[j], &top[right], &bottom[j], &bottom[right]];
-            let [ul, ur, ll, lr] = vertices.map(|v| v.pos);
-            let p = cell.pivot;
-            *legs = [
-                p.distance(ul),
-                p.distance(ll),
-                p.distance(lr),
-                p.distance(ur),
-            ];
+            let corners = vertices.map(|v| v.pos);
+            let [ul, ur, ll, lr] = corners;
+            let d = to_pivot(cell.pivot, corners);
+            *legs = d.map(DVec3::length);
             *mean_leg = mean(legs);
             *inv = 1.0 / *mean_leg;
             *span = [ul.distance(lr), ur.distance(ll)];
             *left2 = ul.distance_squared(ll);
             local.leg_sum += *mean_leg;
             finite &= super::finite(*mean_leg);
-            let (bends, legs_zs) = local_residuals(cell, vertices, *legs, *inv);
+            let (bends, legs_zs) = local_residuals(cell, vertices, d, *legs, *inv);
             straight.cell(j, bends);
             legs_z.cell(j, legs_zs);
             let site = || lattice.cell_name(cell);
@@ -919,16 +927,6 @@ fn replay<I: IntoIterator<Item = f64>>(
     }
 }
 
-/// The two legs of a rod on either side of its pivot, with their lengths:
-/// what `bend` takes.
-type Bend = (DVec3, f64, DVec3, f64);
-
-/// The legs of a cell's rods A (UL to LR) and B (UR to LL) at its pivot.
-#[inline(always)]
-fn rod_legs([l1, l2, l3, l4]: Legs, [ul, ur, ll, lr]: [DVec3; 4], p: DVec3) -> [Bend; 2] {
-    [(p - ul, l1, lr - p, l3), (p - ur, l4, ll - p, l2)]
-}
-
 /// Each leg against the difference of the construction z at its ends
 /// (`z` of UL, UR, LL, LR; `zp` the pivot's; `inv` 1 / the mean leg).
 #[inline(always)]
@@ -993,7 +991,9 @@ impl RowView<'_> {
     /// again: for the replays of `Row::measure`'s watches.
     #[inline(always)]
     fn local(&self, j: usize) -> ([f64; 2], [f64; 4]) {
-        local_residuals(&self.cells[j], self.corners(j), self.legs[j], self.invs[j])
+        let (cell, corners) = (&self.cells[j], self.corners(j));
+        let d = to_pivot(cell.pivot, corners.map(|v| v.pos));
+        local_residuals(cell, corners, d, self.legs[j], self.invs[j])
     }
 
     /// The horizontal pore between cell j and its right neighbour (the
