@@ -1425,14 +1425,22 @@ impl Collapsed {
         let front = blocks.front;
         let range = f * front..(f + 1) * front;
         let mut block = Block::EMPTY;
+        let mut extent = blocks.extent;
         for (zc, vertex) in z[range.clone()].iter().zip(&lattice.vertices[range]) {
-            // `extent.max(x)` (an extent is never NaN), in one instruction.
-            let x = vertex_extent(vertex);
-            if x > blocks.extent {
-                blocks.extent = x;
+            // `extent.max(vertex_extent(vertex))` (an extent is never
+            // NaN), a comparison each: `f64::max` of the coordinates'
+            // largest and `|z|` leaves out whichever is NaN, as a
+            // comparison does.
+            let [xyz, z] = [vertex.pos.abs().max_element(), vertex.z.abs()];
+            if xyz > extent {
+                extent = xyz;
             }
-            block.add(zc - vertex.z, vertex.z.abs());
+            if z > extent {
+                extent = z;
+            }
+            block.add(zc - vertex.z, z);
         }
+        blocks.extent = extent;
         blocks.fronts.push(block);
     }
 
