@@ -2,7 +2,7 @@
 //! recomputed from the stored positions and z values, never copied from the
 //! construction, and made relative (lengths over the cell's mean leg).
 
-use super::{Lattice, Legs};
+use super::{Cell, Lattice, Legs, Vertex};
 use glam::DVec3;
 
 /// A lattice passes when every relative residual is at most this (or, for
@@ -455,8 +455,8 @@ fn vertex_site(lattice: &Lattice, v: usize) -> String {
     format!("vertex {}", lattice.vertex_name(v as u32))
 }
 
-/// Sine of the angle between two consecutive legs `a`, `b` of one rod,
-/// given their lengths.
+/// Sine of the angle between two legs `a`, `b` of one rod (either way
+/// round: the sine is the same), given their lengths.
 fn bend(a: DVec3, la: f64, b: DVec3, lb: f64) -> f64 {
     a.cross(b).length() / (la * lb)
 }
@@ -692,41 +692,107 @@ fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
 }
 
 /// One row of a grid's cells, measured once (structure of arrays): each
-/// cell's corners `[UL, UR, LL, LR]`, their construction z, its legs and
-/// mean leg.
+/// cell's legs, mean leg and its inverse, and what the checks with its
+/// neighbours need of its corners, so that no corner is copied. The
+/// residuals a cell needs no neighbour for (its rods' bends, its legs
+/// against the construction z) are computed as the row is measured, with
+/// the corners at hand, and compared with their checks' largest then
+/// (`Watch`: a largest of an earlier row is never above the one the row is
+/// settled against, so the watch lets through at least the cells it must).
 #[derive(Default)]
 struct Row {
-    corners: Vec<[DVec3; 4]>,
-    z: Vec<[f64; 4]>,
     legs: Vec<Legs>,
     means: Vec<f64>,
     /// `1 / means[j]`: one division a cell, where the sweep, the legs'
     /// and the rods' residuals each took it.
     invs: Vec<f64>,
+    /// `|LR - UL|` and `|LL - UR|`: the rods' lengths the collapsed state
+    /// must keep.
+    spans: Vec<[f64; 2]>,
+    /// `|UL - LL|^2`: the compatibility's scale at the cell's UL vertex.
+    left2: Vec<f64>,
+    /// Every mean leg of the row is finite, so every corner is: a corner
+    /// with a NaN or infinite coordinate makes its leg NaN or infinite.
+    finite: bool,
+    straight: Watch,
+    legs_z: Watch,
+}
+
+/// What the rows' pass records as it measures each row, in cell order:
+/// the sum of the mean legs, the checks a cell needs no neighbour for
+/// (watched: rod straightness, legs against z; recorded: the first row's
+/// and the loop's first column's rare checks).
+struct Local {
+    leg_sum: f64,
+    straight: Check,
+    legs_z: Check,
+    seed: Check,
+    closure: Check,
+}
+
+/// Fronts `i` and `i + 1` of a grid, the top and bottom corners of row `i`.
+fn fronts<'a>(lattice: &'a Lattice, grid: &Grid, i: usize) -> [&'a [Vertex]; 2] {
+    let front = grid.front;
+    let v = &lattice.vertices;
+    [
+        &v[i * front..(i + 1) * front],
+        &v[(i + 1) * front..(i + 2) * front],
+    ]
+}
+
+/// The vectors from a cell's corners to its pivot `p`, in the order of its
+/// legs (UL, LL, LR, UR): their lengths are the legs (`p.distance(c)` is
+/// `|p - c|`), and each rod's bend is the angle between two of them
+/// (`(p - a) x (b - p)` is `-((p - a) x (p - b))` exactly, so the same
+/// sine).
+#[inline(always)]
+fn to_pivot(p: DVec3, [ul, ur, ll, lr]: [DVec3; 4]) -> [DVec3; 4] {
+    [p - ul, p - ll, p - lr, p - ur]
+}
+
+/// A cell's residuals that need no neighbour, from its corner vertices
+/// `[UL, UR, LL, LR]`, the vectors from them to its pivot (`to_pivot`),
+/// its legs and `1 / mean leg`: its rods' bends (A, B) and its legs
+/// against the construction z. One formula for `Row::measure` and the
+/// replays.
+#[inline(always)]
+fn local_residuals(
+    cell: &Cell,
+    [ul, ur, ll, lr]: [&Vertex; 4],
+    [d1, d2, d3, d4]: [DVec3; 4],
+    legs: Legs,
+    inv: f64,
+) -> ([f64; 2], [f64; 4]) {
+    let [l1, l2, l3, l4] = legs;
+    let bends = [bend(d1, l1, d3, l3), bend(d4, l4, d2, l2)];
+    let z = [ul.z, ur.z, ll.z, lr.z];
+    (bends, legs_z_of(legs, z, cell.z_pivot, inv))
 }
 
 impl Row {
     /// Measure row `i` of `grid` (extrinsic: every corner is its vertex's
-    /// stored position, the legs the same bits as `Lattice::legs`); false
-    /// when some cell of the row does not hold its grid corners
-    /// (`Grid::holds`), and the row's measures are then meaningless.
-    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize) -> bool {
+    /// stored position, the legs the same bits as `Lattice::legs`) and
+    /// record its cells into `local`; false when some cell of the row does
+    /// not hold its grid corners (`Grid::holds`), and the row's measures
+    /// are then meaningless.
+    fn measure(&mut self, lattice: &Lattice, grid: &Grid, i: usize, local: &mut Local) -> bool {
         let (width, front) = (grid.width, grid.front);
         let cells = &lattice.cells[i * width..(i + 1) * width];
-        let top = &lattice.vertices[i * front..(i + 1) * front];
-        let bottom = &lattice.vertices[(i + 1) * front..(i + 2) * front];
-        self.corners.resize(width, [DVec3::ZERO; 4]);
-        self.z.resize(width, [0.0; 4]);
+        let [top, bottom] = fronts(lattice, grid, i);
         self.legs.resize(width, [0.0; 4]);
         self.means.resize(width, 0.0);
         self.invs.resize(width, 0.0);
-        let out = self.corners.iter_mut().zip(&mut self.z).zip(
-            self.legs
+        self.spans.resize(width, [0.0; 2]);
+        self.left2.resize(width, 0.0);
+        let out = self.legs.iter_mut().zip(&mut self.means).zip(
+            self.invs
                 .iter_mut()
-                .zip(self.means.iter_mut().zip(&mut self.invs)),
+                .zip(self.spans.iter_mut().zip(&mut self.left2)),
         );
-        let mut regular = true;
-        for (j, (cell, ((corners, z), (legs, (mean_leg, inv))))) in
+        let (mut straight, mut legs_z) = (Watch::of(&local.straight), Watch::of(&local.legs_z));
+        let is_loop = lattice.kind == super::Kind::Loop;
+        let (mut regular, mut finite) = (true, true);
+        for (j, (cell, ((legs, mean_leg), (inv, (span, left2))))) in
             cells.iter().zip(out).enumerate()
         {
             let right = if j + 1 == front { 0 } else { j + 1 };
@@ -737,19 +803,33 @@ impl Row {
                 & (cell.ur as usize == t + right)
                 & (cell.ll as usize == b + j)
                 & (cell.lr as usize == b + right);
-            let [ul, ur, ll, lr] = [&top[j], &top[right], &bottom[j], &bottom[right]];
-            let p = cell.pivot;
-            *legs = [
-                p.distance(ul.pos),
-                p.distance(ll.pos),
-                p.distance(lr.pos),
-                p.distance(ur.pos),
-            ];
-            *corners = [ul.pos, ur.pos, ll.pos, lr.pos];
-            *z = [ul.z, ur.z, ll.z, lr.z];
+            let vertices = [&top[j], &top[right], &bottom[j], &bottom[right]];
+            let corners = vertices.map(|v| v.pos);
+            let [ul, ur, ll, lr] = corners;
+            let d = to_pivot(cell.pivot, corners);
+            *legs = d.map(DVec3::length);
             *mean_leg = mean(legs);
             *inv = 1.0 / *mean_leg;
+            *span = [ul.distance(lr), ur.distance(ll)];
+            *left2 = ul.distance_squared(ll);
+            local.leg_sum += *mean_leg;
+            finite &= super::finite(*mean_leg);
+            let (bends, legs_zs) = local_residuals(cell, vertices, d, *legs, *inv);
+            straight.cell(j, bends);
+            legs_z.cell(j, legs_zs);
+            let site = || lattice.cell_name(cell);
+            if is_loop && cell.col == 0 {
+                // Rod B of cell 0 ends where the round of transfers came back.
+                local.closure.record(bends[1], site);
+            }
+            if cell.row == 0 {
+                // `Lattice::kappa` of a cell holding its grid corners.
+                let [l1, _, _, l4] = *legs;
+                let kappa = top[j].z - top[right].z;
+                local.seed.record(((l4 - l1) - kappa) * *inv, site);
+            }
         }
+        (self.finite, self.straight, self.legs_z) = (finite, straight, legs_z);
         regular
     }
 }
@@ -778,6 +858,13 @@ struct Watch {
     max: f64,
     first: usize,
     last: usize,
+}
+
+/// A watch that lets no cell through (until `Row::measure` sets it).
+impl Default for Watch {
+    fn default() -> Self {
+        Self::of(&Check::new(Invariant::RodStraightness))
+    }
 }
 
 impl Watch {
@@ -840,16 +927,6 @@ fn replay<I: IntoIterator<Item = f64>>(
     }
 }
 
-/// The two legs of a rod on either side of its pivot, with their lengths:
-/// what `bend` takes.
-type Bend = (DVec3, f64, DVec3, f64);
-
-/// The legs of a cell's rods A (UL to LR) and B (UR to LL) at its pivot.
-#[inline(always)]
-fn rod_legs([l1, l2, l3, l4]: Legs, [ul, ur, ll, lr]: [DVec3; 4], p: DVec3) -> [Bend; 2] {
-    [(p - ul, l1, lr - p, l3), (p - ur, l4, ll - p, l2)]
-}
-
 /// Each leg against the difference of the construction z at its ends
 /// (`z` of UL, UR, LL, LR; `zp` the pivot's; `inv` 1 / the mean leg).
 #[inline(always)]
@@ -868,13 +945,10 @@ fn legs_z_of(
 }
 
 /// The collapsed rods' lengths against the deployed (`zs` the recomputed
-/// z of UL, UR, LL, LR).
+/// z of UL, UR, LL, LR; `spans` `|LR - UL|` and `|LL - UR|`).
 #[inline(always)]
-fn rods_of([zul, zur, zll, zlr]: [f64; 4], [ul, ur, ll, lr]: &[DVec3; 4], inv: f64) -> [f64; 2] {
-    [
-        (zlr - zul - ul.distance(*lr)) * inv,
-        (zll - zur - ur.distance(*ll)) * inv,
-    ]
+fn rods_of([zul, zur, zll, zlr]: [f64; 4], [a, b]: [f64; 2], inv: f64) -> [f64; 2] {
+    [(zlr - zul - a) * inv, (zll - zur - b) * inv]
 }
 
 /// One row's measured arrays (`Row`) and its neighbours' legs, each
@@ -882,12 +956,17 @@ fn rods_of([zul, zur, zll, zlr]: [f64; 4], [ul, ur, ll, lr]: &[DVec3; 4], inv: f
 /// row and the replay of a row that may hold a new largest use the same
 /// arithmetic.
 struct RowView<'a> {
-    cells: &'a [super::Cell],
+    cells: &'a [Cell],
+    /// The row's top and bottom fronts (its corners).
+    top: &'a [Vertex],
+    bottom: &'a [Vertex],
     legs: &'a [Legs],
-    corners: &'a [[DVec3; 4]],
-    z: &'a [[f64; 4]],
     means: &'a [f64],
     invs: &'a [f64],
+    spans: &'a [[f64; 2]],
+    left2: &'a [f64],
+    /// Every corner of the row is finite (`Row::finite`).
+    finite: bool,
     /// The legs and mean legs of the row below (empty for the last row).
     under: &'a [Legs],
     under_means: &'a [f64],
@@ -896,16 +975,25 @@ struct RowView<'a> {
 }
 
 impl RowView<'_> {
-    /// Cell j's rods' legs at the pivot, for `bend`.
+    /// The corner vertices `[UL, UR, LL, LR]` of cell j.
     #[inline(always)]
-    fn bends(&self, j: usize) -> [Bend; 2] {
-        rod_legs(self.legs[j], self.corners[j], self.cells[j].pivot)
+    fn corners(&self, j: usize) -> [&Vertex; 4] {
+        let right = if j + 1 == self.top.len() { 0 } else { j + 1 };
+        [
+            &self.top[j],
+            &self.top[right],
+            &self.bottom[j],
+            &self.bottom[right],
+        ]
     }
 
-    /// Cell j's legs against the construction z.
+    /// Cell j's residuals that need no neighbour (`local_residuals`),
+    /// again: for the replays of `Row::measure`'s watches.
     #[inline(always)]
-    fn legs_z(&self, j: usize) -> [f64; 4] {
-        legs_z_of(self.legs[j], self.z[j], self.cells[j].z_pivot, self.invs[j])
+    fn local(&self, j: usize) -> ([f64; 2], [f64; 4]) {
+        let (cell, corners) = (&self.cells[j], self.corners(j));
+        let d = to_pivot(cell.pivot, corners.map(|v| v.pos));
+        local_residuals(cell, corners, d, self.legs[j], self.invs[j])
     }
 
     /// The horizontal pore between cell j and its right neighbour (the
@@ -929,19 +1017,30 @@ impl RowView<'_> {
         )
     }
 
-    /// Cell j's right edge against its neighbour's left edge, on scale `s`:
-    /// the same stored corners (extrinsic).
+    /// `same_edge(a, b, s)` for two corners `a`, `b` of cell j (indices
+    /// into its corners), without reading them when the row's corners are
+    /// all finite.
     #[inline(always)]
-    fn edge_right(&self, j: usize, s: f64) -> f64 {
-        let [_, ur, _, lr] = self.corners[j];
-        same_edge(ur, lr, s)
+    fn edge(&self, j: usize, [a, b]: [usize; 2], s: f64) -> f64 {
+        if self.finite {
+            same_edge(DVec3::ZERO, DVec3::ZERO, s)
+        } else {
+            let corners = self.corners(j);
+            same_edge(corners[a].pos, corners[b].pos, s)
+        }
     }
 
-    /// Cell j's bottom edge against the top edge of the cell below.
+    /// Cell j's right edge UR-LR against its neighbour's left edge, on
+    /// scale `s`: the same stored corners (extrinsic).
+    #[inline(always)]
+    fn edge_right(&self, j: usize, s: f64) -> f64 {
+        self.edge(j, [1, 3], s)
+    }
+
+    /// Cell j's bottom edge LL-LR against the top edge of the cell below.
     #[inline(always)]
     fn edge_below(&self, j: usize, s: f64) -> f64 {
-        let [_, _, ll, lr] = self.corners[j];
-        same_edge(ll, lr, s)
+        self.edge(j, [2, 3], s)
     }
 
     /// The compatibility at cell j's UL vertex, whose cells above and to
@@ -953,8 +1052,7 @@ impl RowView<'_> {
         let left = if j == 0 { self.legs.len() - 1 } else { j - 1 };
         let (legs, over) = (self.legs, self.over);
         let (m, c, magnitude) = compose(legs[j], over[j], over[left], legs[left]);
-        let [ul, _, ll, _] = self.corners[j];
-        (m, c, ul.distance_squared(ll), magnitude)
+        (m, c, self.left2[j], magnitude)
     }
 
     /// Cell j's collapsed rods, `zs` the recomputed z of the row's two
@@ -964,7 +1062,7 @@ impl RowView<'_> {
         let front = zs.len() / 2;
         let right = if j + 1 == front { 0 } else { j + 1 };
         let at = [zs[j], zs[right], zs[front + j], zs[front + right]];
-        rods_of(at, &self.corners[j], self.invs[j])
+        rods_of(at, self.spans[j], self.invs[j])
     }
 }
 
@@ -985,26 +1083,24 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
         front,
         closed,
     } = *grid;
-    let mut leg_sum = 0.0;
+    let mut local = Local {
+        leg_sum: 0.0,
+        straight: Check::new(I::RodStraightness),
+        legs_z: Check::new(I::LegsMatchZ),
+        seed: Check::new(I::SeedKappa),
+        closure: Check::new(I::LoopClosure),
+    };
     let [
-        mut straight,
-        mut legs_z,
-        mut seed,
         mut pores_h,
         mut pores_v,
         mut edges,
-        mut closure,
         mut slope,
         mut intercept,
         mut natural,
     ] = [
-        I::RodStraightness,
-        I::LegsMatchZ,
-        I::SeedKappa,
         I::HorizontalPores,
         I::VerticalPores,
         I::SharedEdges,
-        I::LoopClosure,
         I::CompatibilitySlope,
         I::CompatibilityIntercept,
         I::CompatibilityInterceptNatural,
@@ -1012,7 +1108,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
     .map(Check::new);
     let mut collapsed = Collapsed::new(lattice);
     let (mut above, mut here, mut below) = (Row::default(), Row::default(), Row::default());
-    if rows > 0 && !here.measure(lattice, grid, 0) {
+    if rows > 0 && !here.measure(lattice, grid, 0, &mut local) {
         return None;
     }
     // Cells with a right neighbour: all of a loop's, all but a sheet's last.
@@ -1025,38 +1121,27 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
         let cells = &lattice.cells[first..first + width];
         let cell_site = |k: usize| lattice.cell_name(&cells[k]);
         let has_below = i + 1 < rows;
-        if has_below && !below.measure(lattice, grid, i + 1) {
+        if has_below && !below.measure(lattice, grid, i + 1, &mut local) {
             return None;
         }
         // The collapsed sweep (each cell's z from the cells before it),
-        // then what runs cell by cell: the sum of the mean legs in cell
-        // order, and the first row's and column's rare checks.
-        collapsed.sweep_row(lattice, grid, i, &here.legs, &here.invs);
-        for (j, cell) in cells.iter().enumerate() {
-            let (own, corners) = (here.legs[j], &here.corners[j]);
-            leg_sum += here.means[j];
-            let inv = here.invs[j];
-            let site = || lattice.cell_name(cell);
-            let [l1, l2, _, l4] = own;
-            let [_, ur, ll, _] = *corners;
-            let p = cell.pivot;
-            if lattice.kind == super::Kind::Loop && cell.col == 0 {
-                closure.record(bend(p - ur, l4, ll - p, l2), site);
-            }
-            if cell.row == 0 {
-                seed.record(((l4 - l1) - lattice.kappa(cell)) * inv, site);
-            }
-        }
-        // Each residual over the row, in loops over the row's cells,
-        // compared with its check's largest as it is computed.
+        // with the collapsed rods, whose corners' z are final once the
+        // cell is swept.
+        let rods_watch = collapsed.sweep_row(lattice, grid, i, &here);
+        // Each residual with a neighbour over the row, in loops over the
+        // row's cells, compared with its check's largest as it is computed.
         let n_below = if has_below { n } else { 0 };
+        let [top, bottom] = fronts(lattice, grid, i);
         let view = RowView {
             cells,
+            top,
+            bottom,
             legs: &here.legs[..n],
-            corners: &here.corners[..n],
-            z: &here.z[..n],
             means: &here.means[..n],
             invs: &here.invs[..n],
+            spans: &here.spans[..n],
+            left2: &here.left2[..n],
+            finite: here.finite,
             under: &below.legs[..n_below],
             under_means: &below.means[..n_below],
             over: &above.legs[..if i >= 1 { n } else { 0 }],
@@ -1065,17 +1150,11 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
         // Each residual's formula, written once: the watch loops and the
         // replays below must compute the same bits, or a replay could miss
         // a cell the watch let through.
-        let bends = |j: usize| view.bends(j).map(|(a, la, b, lb)| bend(a, la, b, lb));
         let pore = |(num, s): (f64, f64)| [num / s];
         let compat = |j: usize| {
             let (m, c, s2, magnitude) = view.compat(j);
             [m - 1.0, c / s2, c / magnitude]
         };
-        let [mut w_straight, mut w_legs_z] = [&straight, &legs_z].map(Watch::of);
-        for j in 0..n {
-            w_straight.cell(j, bends(j));
-            w_legs_z.cell(j, view.legs_z(j));
-        }
         let [mut w_pores_h, mut w_pores_v, mut w_edges] =
             [&pores_h, &pores_v, &edges].map(Watch::of);
         for j in 0..paired {
@@ -1096,20 +1175,20 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
             w_intercept.cell(j, [intercept]);
             w_natural.cell(j, [natural]);
         }
-        // The collapsed rods, once the row is swept (their check is
-        // measured again after the sweep if some cell was not reached).
+        // The same residuals again, for the cells that may raise a check.
+        // The collapsed rods are measured again after the sweep if some
+        // cell was not reached.
         if collapsed.all_reached {
             let zs = &collapsed.z[i * front..(i + 2) * front];
-            let mut watch = Watch::of(&collapsed.rods);
-            for j in 0..n {
-                watch.cell(j, view.rods(zs, j));
-            }
             let rods = |j: usize| view.rods(zs, j);
-            watch.settle(&mut collapsed.rods, 2 * n, rods, cell_site);
+            rods_watch.settle(&mut collapsed.rods, 2 * n, rods, cell_site);
         }
-        // The same residuals again, for the cells that may raise a check.
-        w_straight.settle(&mut straight, 2 * n, bends, cell_site);
-        w_legs_z.settle(&mut legs_z, 4 * n, |j| view.legs_z(j), cell_site);
+        let bends = |j: usize| view.local(j).0;
+        here.straight
+            .settle(&mut local.straight, 2 * n, bends, cell_site);
+        let legs_z = |j: usize| view.local(j).1;
+        here.legs_z
+            .settle(&mut local.legs_z, 4 * n, legs_z, cell_site);
         let pore_h = |j: usize| pore(view.pore_h(j));
         w_pores_h.settle(&mut pores_h, paired, pore_h, cell_site);
         let pore_v = |j: usize| pore(view.pore_v(j));
@@ -1131,6 +1210,13 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
         std::mem::swap(&mut here, &mut below);
     }
     collapsed.last_front(lattice, grid);
+    let Local {
+        leg_sum,
+        straight,
+        legs_z,
+        seed,
+        closure,
+    } = local;
     let checks = [
         straight, legs_z, seed, pores_h, pores_v, edges, closure, slope, intercept, natural,
     ];
@@ -1278,7 +1364,7 @@ impl Collapsed {
         let [l1, l2, l3, l4] = *legs;
         let at = cell.corner_ids().map(|v| v as usize);
         let site = || lattice.cell_name(cell);
-        let (k, _) = sweep(
+        let (k, _, zs) = sweep(
             &mut self.single,
             &mut self.z,
             at,
@@ -1291,39 +1377,38 @@ impl Collapsed {
             self.all_reached = false;
             return;
         }
-        let z = &self.z;
         if self.all_reached {
             let [ul, ur, ll, lr] = *corners;
-            let site = || lattice.cell_name(cell);
-            self.rods.record(
-                (z[cell.lr as usize] - z[cell.ul as usize] - ul.distance(lr)) * inv,
-                site,
-            );
-            self.rods.record(
-                (z[cell.ll as usize] - z[cell.ur as usize] - ur.distance(ll)) * inv,
-                site,
-            );
+            let spans = [ul.distance(lr), ur.distance(ll)];
+            for r in rods_of(zs, spans, inv) {
+                self.rods.record(r, site);
+            }
         }
     }
 
-    /// `step` of every cell of row `i` of a grid in turn (`legs` and
-    /// `invs` its cells' legs and `1 / mean leg`), without its rods: the
-    /// corners of cell `(i, j)` are columns `j` and `j + 1` (wrapped) of
-    /// the row's two fronts, one slice of the z.
-    fn sweep_row(&mut self, lattice: &Lattice, grid: &Grid, i: usize, legs: &[Legs], invs: &[f64]) {
+    /// `step` of every cell of row `i` of a grid in turn (`row` its
+    /// measures): the corners of cell `(i, j)` are columns `j` and `j + 1`
+    /// (wrapped) of the row's two fronts, one slice of the z. Its rods are
+    /// compared with their check's largest as each cell is swept; the
+    /// watch is returned, for the caller to settle if every cell so far
+    /// was reached.
+    fn sweep_row(&mut self, lattice: &Lattice, grid: &Grid, i: usize, row: &Row) -> Watch {
         let (width, front) = (grid.width, grid.front);
         let cells = &lattice.cells[i * width..(i + 1) * width];
         let z = &mut self.z[i * front..(i + 2) * front];
         // The comparison with the construction of the row's pivots.
         let mut block = Block::EMPTY;
-        for (j, ((cell, legs), &inv)) in cells.iter().zip(legs).zip(invs).enumerate() {
+        let mut rods = Watch::of(&self.rods);
+        let measures = row.legs.iter().zip(&row.invs).zip(&row.spans);
+        for (j, (cell, ((legs, &inv), &spans))) in cells.iter().zip(measures).enumerate() {
             let right = if j + 1 == front { 0 } else { j + 1 };
             let [l1, l2, l3, l4] = *legs;
             let at = [j, right, front + j, front + right];
             let offsets = [-l1, -l4, l2, l3];
             let site = || lattice.cell_name(cell);
-            let (k, zp) = sweep(&mut self.single, z, at, offsets, inv, site);
+            let (k, zp, zs) = sweep(&mut self.single, z, at, offsets, inv, site);
             self.reached.push(k);
+            rods.cell(j, rods_of(zs, spans, inv));
             // The pivot's z is what `finish` takes again (NaN if unreached).
             block.add(zp - cell.z_pivot, cell.z_pivot.abs());
             self.all_reached &= k != UNREACHED;
@@ -1332,6 +1417,7 @@ impl Collapsed {
         blocks.rows.push(block);
         // Front i's z are final once its two rows of cells are swept.
         Self::front_block(blocks, lattice, &self.z, i);
+        rods
     }
 
     /// The block of front `f` of a grid swept by rows, and its extent.
@@ -1339,14 +1425,22 @@ impl Collapsed {
         let front = blocks.front;
         let range = f * front..(f + 1) * front;
         let mut block = Block::EMPTY;
+        let mut extent = blocks.extent;
         for (zc, vertex) in z[range.clone()].iter().zip(&lattice.vertices[range]) {
-            // `extent.max(x)` (an extent is never NaN), in one instruction.
-            let x = vertex_extent(vertex);
-            if x > blocks.extent {
-                blocks.extent = x;
+            // `extent.max(vertex_extent(vertex))` (an extent is never
+            // NaN), a comparison each: `f64::max` of the coordinates'
+            // largest and `|z|` leaves out whichever is NaN, as a
+            // comparison does.
+            let [xyz, z] = [vertex.pos.abs().max_element(), vertex.z.abs()];
+            if xyz > extent {
+                extent = xyz;
             }
-            block.add(zc - vertex.z, vertex.z.abs());
+            if z > extent {
+                extent = z;
+            }
+            block.add(zc - vertex.z, z);
         }
+        blocks.extent = extent;
         blocks.fronts.push(block);
     }
 
@@ -1456,8 +1550,9 @@ impl Collapsed {
 /// `z[at[k]]` (NaN while unknown), `offsets[k]` from its pivot's (MATH.md
 /// 3.2): the pivot's z from the first corner that has one, then each
 /// corner in turn set, or compared with what it has (`inv` = 1 / the
-/// cell's mean leg). Returns that corner and the pivot's z, or
-/// `UNREACHED` and NaN (and records a failure) when none has a z.
+/// cell's mean leg). Returns that corner, the pivot's z and the corners'
+/// z (final: a z once set never changes), or `UNREACHED` and NaN (and
+/// records a failure) when none has a z.
 #[inline(always)]
 fn sweep(
     single: &mut Check,
@@ -1466,15 +1561,16 @@ fn sweep(
     offsets: [f64; 4],
     inv: f64,
     site: impl Fn() -> String,
-) -> (u8, f64) {
+) -> (u8, f64, [f64; 4]) {
     let Some(k) = at.iter().position(|&v| !z[v].is_nan()) else {
         single.record(f64::NAN, || {
             format!("{} (not connected to vertex 0)", site())
         });
-        return (UNREACHED, f64::NAN);
+        return (UNREACHED, f64::NAN, [f64::NAN; 4]);
     };
     let zp = z[at[k]] - offsets[k];
-    for (v, offset) in at.into_iter().zip(offsets) {
+    let mut zs = [0.0; 4];
+    for ((v, offset), out) in at.into_iter().zip(offsets).zip(&mut zs) {
         let expect = zp + offset;
         let slot = &mut z[v];
         if slot.is_nan() {
@@ -1482,8 +1578,9 @@ fn sweep(
         } else {
             single.record((*slot - expect) * inv, &site);
         }
+        *out = *slot;
     }
-    (k as u8, zp)
+    (k as u8, zp, zs)
 }
 
 #[cfg(test)]
