@@ -123,46 +123,62 @@ impl<const N: usize, const T: usize> Dual<N, T> {
     }
 }
 
-/// The second-order chain rule: `outer` is f over M intermediate
-/// variables y (at y's value), `inner` the M intermediates as duals over N
-/// variables q; the result is f(y(q)) with its exact gradient and Hessian
-/// over q: g = sum_k f_k y_k', H = J^T F J + sum_k f_k y_k''. A bend term
-/// takes it from the two edges' 6 rotation coordinates to their 8 local
-/// variables (`bend_local`), keeping its expensive part over 6.
-pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
-    outer: &Dual<M, TM>,
-    inner: &[Dual<N, T>; M],
-) -> Dual<N, T> {
-    let mut out = Dual::<N, T>::cst(outer.v);
-    // p[k] = sum_l F_kl y_l'
-    let mut p = [[0.0; N]; M];
-    for (k, pk) in p.iter_mut().enumerate() {
-        for (l, y) in inner.iter().enumerate() {
-            let f = outer.hess(k, l);
-            if f != 0.0 {
-                for a in 0..N {
-                    pk[a] += f * y.g[a];
+/// The second-order chain rule of a bend term (`bend_local`): `outer`
+/// is its energy over the two edges' rotations (w0, w1), `inner[e]` edge
+/// e's rotation over the edge's own 4 variables (edge vector and material
+/// angle, or an arm's slot inputs and a zero); the result is the energy
+/// over the 8 variables, g = sum_k f_k w_k' and H = J^T F J + sum_k f_k
+/// w_k''. Edge 0's rotation does not depend on edge 1's variables nor the
+/// other way round, so the products with those zeros are left out: each
+/// sum keeps the order and the other terms of the chain rule over the
+/// rotations as 8-variable duals (`tests::compose_full`), and so its
+/// value to the bit (a product left out is +-0, and a sum that starts at
+/// +0 is never -0, so adding it changes nothing).
+pub fn compose_edges(outer: &Dual<6, 21>, inner: &[[Dual<4, 10>; 3]; 2]) -> Dual<8, 36> {
+    let mut f = [[0.0; 6]; 6];
+    for (k, fk) in f.iter_mut().enumerate() {
+        for (l, fkl) in fk.iter_mut().enumerate() {
+            *fkl = outer.hess(k, l);
+        }
+    }
+    // p[k][a] = sum_l F_kl w_l'(a), over the rotations l of a's edge.
+    let mut p = [[0.0; 8]; 6];
+    for (pk, fk) in p.iter_mut().zip(&f) {
+        for (e, rot) in inner.iter().enumerate() {
+            for (w, &fkl) in rot.iter().zip(&fk[3 * e..3 * e + 3]) {
+                if fkl != 0.0 {
+                    for a in 0..4 {
+                        pk[4 * e + a] += fkl * w.g[a];
+                    }
                 }
             }
         }
     }
-    for (k, y) in inner.iter().enumerate() {
-        let fk = outer.g[k];
-        if fk != 0.0 {
-            for a in 0..N {
-                out.g[a] += fk * y.g[a];
-            }
-            for t in 0..T {
-                out.h[t] += fk * y.h[t];
+    let mut out = Dual::<8, 36>::cst(outer.v);
+    for (e, rot) in inner.iter().enumerate() {
+        for (w, &fk) in rot.iter().zip(&outer.g[3 * e..3 * e + 3]) {
+            if fk != 0.0 {
+                for a in 0..4 {
+                    out.g[4 * e + a] += fk * w.g[a];
+                }
+                let mut t = 0;
+                for a in 0..4 {
+                    for b in a..4 {
+                        out.h[packed(8, 4 * e + a, 4 * e + b)] += fk * w.h[t];
+                        t += 1;
+                    }
+                }
             }
         }
     }
     let mut t = 0;
-    for a in 0..N {
-        for b in a..N {
+    for a in 0..8 {
+        let (e, i) = (a / 4, a % 4);
+        let rot = &inner[e];
+        for b in a..8 {
             let mut s = 0.0;
-            for k in 0..M {
-                s += inner[k].g[a] * p[k][b];
+            for (k, w) in rot.iter().enumerate() {
+                s += w.g[i] * p[3 * e + k][b];
             }
             out.h[t] += s;
             t += 1;
@@ -400,5 +416,100 @@ impl<S: Scalar> V3<S> {
         // chain rule and a product.
         let inv = self.norm().recip();
         self.scale(inv)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    /// The general second-order chain rule, `outer` over M intermediates
+    /// y, `inner` the intermediates over N variables: g = sum_k f_k y_k',
+    /// H = J^T F J + sum_k f_k y_k'' (the bend terms' chain rule before
+    /// `compose_edges`, kept as its reference).
+    fn compose_full<const M: usize, const TM: usize, const N: usize, const T: usize>(
+        outer: &Dual<M, TM>,
+        inner: &[Dual<N, T>; M],
+    ) -> Dual<N, T> {
+        let mut out = Dual::<N, T>::cst(outer.v);
+        let mut p = [[0.0; N]; M];
+        for (k, pk) in p.iter_mut().enumerate() {
+            for (l, y) in inner.iter().enumerate() {
+                let f = outer.hess(k, l);
+                if f != 0.0 {
+                    for a in 0..N {
+                        pk[a] += f * y.g[a];
+                    }
+                }
+            }
+        }
+        for (k, y) in inner.iter().enumerate() {
+            let fk = outer.g[k];
+            if fk != 0.0 {
+                for a in 0..N {
+                    out.g[a] += fk * y.g[a];
+                }
+                for t in 0..T {
+                    out.h[t] += fk * y.h[t];
+                }
+            }
+        }
+        let mut t = 0;
+        for a in 0..N {
+            for b in a..N {
+                let mut s = 0.0;
+                for k in 0..M {
+                    s += inner[k].g[a] * p[k][b];
+                }
+                out.h[t] += s;
+                t += 1;
+            }
+        }
+        out
+    }
+
+    fn random<const N: usize, const T: usize>(rng: &mut Rng, zeros: bool) -> Dual<N, T> {
+        let mut d = Dual::<N, T>::cst(rng.normal());
+        // Some exact zeros, as an arm's unused fourth variable and a
+        // zero-curvature term give.
+        let mut x = || {
+            let v = rng.normal();
+            if zeros && v.abs() < 0.3 { 0.0 } else { v }
+        };
+        d.g.iter_mut().for_each(|g| *g = x());
+        d.h.iter_mut().for_each(|h| *h = x());
+        d
+    }
+
+    /// `compose_edges` equals the full chain rule over the rotations as
+    /// 8-variable duals to the bit: value, gradient and Hessian.
+    #[test]
+    fn compose_edges_equals_the_full_chain_rule_to_the_bit() {
+        let mut rng = Rng::new(3);
+        for case in 0..200 {
+            let zeros = case % 2 == 1;
+            let outer = random::<6, 21>(&mut rng, zeros);
+            let inner: [[Dual<4, 10>; 3]; 2] =
+                std::array::from_fn(|_| std::array::from_fn(|_| random(&mut rng, zeros)));
+            // Edge e's rotations as 8-variable duals, its variables at 4 e..
+            let full: [Dual<8, 36>; 6] = std::array::from_fn(|k| {
+                let (e, w) = (k / 3, &inner[k / 3][k % 3]);
+                let mut d = Dual::<8, 36>::cst(w.v);
+                for i in 0..4 {
+                    d.g[4 * e + i] = w.g[i];
+                    for j in i..4 {
+                        d.set_hess(4 * e + i, 4 * e + j, w.hess(i, j));
+                    }
+                }
+                d
+            });
+            let want = compose_full(&outer, &full);
+            let got = compose_edges(&outer, &inner);
+            assert_eq!(got.v.to_bits(), want.v.to_bits());
+            for (x, y) in got.g.iter().zip(&want.g).chain(got.h.iter().zip(&want.h)) {
+                assert_eq!(x.to_bits(), y.to_bits(), "case {case}: {x} vs {y}");
+            }
+        }
     }
 }

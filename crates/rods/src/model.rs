@@ -3,7 +3,7 @@
 //! and the energy stencils, evaluated with plain f64 (energy) or with duals
 //! (gradient and Hessian).
 
-use crate::dual::{Dual, Scalar, V3, compose};
+use crate::dual::{Dual, Scalar, V3, compose_edges};
 use crate::frames::{joint_frame, material, transport, twist, twist_with};
 use glam::DVec3;
 
@@ -346,14 +346,29 @@ impl Model {
         g: &mut Vec<f64>,
         h: &mut Vec<f64>,
     ) -> f64 {
+        self.stencil_derivatives_memo(s, vars, g, h, &mut Memo::new())
+    }
+
+    /// `stencil_derivatives_into` with what the last terms of the same
+    /// state computed (`Memo`): the assembly's path, the same numbers.
+    pub(crate) fn stencil_derivatives_memo(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+        g: &mut Vec<f64>,
+        h: &mut Vec<f64>,
+        memo: &mut Memo,
+    ) -> f64 {
         let n = vars.len();
         g.clear();
         g.resize(n, 0.0);
         h.clear();
         h.resize(n * n, 0.0);
         match *s {
-            Stencil::Bend { e0, e1, lbar, .. } => bend_local(self, (e0, e1, lbar), vars, g, h),
-            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, g, h),
+            Stencil::Bend { e0, e1, lbar, .. } => {
+                bend_local(self, (e0, e1, lbar), vars, g, h, memo)
+            }
+            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, g, h, memo),
             Stencil::Load { .. } | Stencil::Moment { .. } => {
                 let (e, gf, hf) = self.stencil_derivatives_full(s, vars);
                 g.copy_from_slice(&gf);
@@ -638,6 +653,40 @@ struct LocalSlot {
     inputs: [([usize; 2], usize); 3],
 }
 
+/// An edge with a reference frame, over its own 4 variables (edge vector
+/// and material angle): its frame now, and the rotation from that frame
+/// in small duals.
+#[derive(Clone, Copy)]
+struct EdgeRotation {
+    edge: usize,
+    base: [DVec3; 3],
+    rot: [Dual<4, 10>; 3],
+}
+
+/// What consecutive rod terms of one state share, computed by the first
+/// and reused by the next: a rod lists its stretch terms, then its bend
+/// terms (e_i, e_i+1) in order, so a bend's second edge is the next
+/// bend's first, and a joint slot's directions serve the arm tips and arm
+/// frames of several terms in a row. The same arithmetic on the same
+/// inputs, so the same numbers; valid for one state (q and the stored
+/// frames): the assembly makes one per Hessian.
+pub(crate) struct Memo {
+    edge: Option<EdgeRotation>,
+    /// Slot directions (u, n) by (joint, slot), the oldest replaced.
+    slots: [Option<((usize, usize), V3<Dual<3, 6>>, V3<Dual<3, 6>>)>; 4],
+    next_slot: usize,
+}
+
+impl Memo {
+    pub(crate) fn new() -> Memo {
+        Memo {
+            edge: None,
+            slots: [None; 4],
+            next_slot: 0,
+        }
+    }
+}
+
 /// The last step of a rod term's chain rule, in plain numbers (docs/physics.md,
 /// "Solver"): up to 8 intermediates (edge vectors, material angles, slot
 /// inputs) over the term's local variables. An edge vector is x_b - x_a,
@@ -649,6 +698,7 @@ struct LocalSlot {
 struct Chain<'a> {
     m: &'a Model,
     vars: &'a [usize],
+    memo: &'a mut Memo,
     /// Row k: the gradient of intermediate k over the local variables.
     jac: [[f64; MAX_LOCAL]; 8],
     /// The arm tips in edge vectors: (the vector's first row, sign times
@@ -658,7 +708,7 @@ struct Chain<'a> {
 }
 
 impl<'a> Chain<'a> {
-    fn new(m: &'a Model, vars: &'a [usize]) -> Self {
+    fn new(m: &'a Model, vars: &'a [usize], memo: &'a mut Memo) -> Self {
         assert!(
             vars.len() <= MAX_LOCAL,
             "a rod term with {} variables",
@@ -667,6 +717,7 @@ impl<'a> Chain<'a> {
         Chain {
             m,
             vars,
+            memo,
             jac: [[0.0; MAX_LOCAL]; 8],
             tips: [None; 4],
             known: [None; 4],
@@ -691,35 +742,48 @@ impl<'a> Chain<'a> {
         let m = self.m;
         let jt = &m.joints[j];
         let sl = jt.slots[slot];
-        let mut alpha = m.q[sl.angle[0]];
         let mut angle = ([self.loc(sl.angle[0]), 0], 1);
         if sl.terms == 2 {
-            alpha += m.q[sl.angle[1]];
             angle = ([angle.0[0], self.loc(sl.angle[1])], 2);
         }
-        let [ns, ps, qs] = jt.frame;
-        let s = match jt.tilt {
-            Some(t) => {
-                let (n, p, q) = joint_frame(ns, ps, qs, D3::var(m.q[t], 0), D3::var(m.q[t + 1], 1));
-                let a = D3::var(alpha, 2);
-                LocalSlot {
-                    key: (j, slot),
-                    u: p.scale(a.cos()).add(q.scale(a.sin())),
-                    n,
-                    inputs: [([self.loc(t), 0], 1), ([self.loc(t + 1), 0], 1), angle],
-                }
-            }
+        let inputs = match jt.tilt {
+            Some(t) => [([self.loc(t), 0], 1), ([self.loc(t + 1), 0], 1), angle],
+            None => [angle, ([0, 0], 0), ([0, 0], 0)],
+        };
+        let memo = &mut *self.memo;
+        let (u, n) = match memo.slots.iter().flatten().find(|d| d.0 == (j, slot)) {
+            Some(&(_, u, n)) => (u, n),
             None => {
-                let a = D3::var(alpha, 0);
-                LocalSlot {
-                    key: (j, slot),
-                    u: V3::<D3>::cst(ps)
-                        .scale(a.cos())
-                        .add(V3::cst(qs).scale(a.sin())),
-                    n: V3::cst(ns),
-                    inputs: [angle, ([0, 0], 0), ([0, 0], 0)],
+                let mut alpha = m.q[sl.angle[0]];
+                if sl.terms == 2 {
+                    alpha += m.q[sl.angle[1]];
                 }
+                let [ns, ps, qs] = jt.frame;
+                let (u, n) = match jt.tilt {
+                    Some(t) => {
+                        let (n, p, q) =
+                            joint_frame(ns, ps, qs, D3::var(m.q[t], 0), D3::var(m.q[t + 1], 1));
+                        let a = D3::var(alpha, 2);
+                        (p.scale(a.cos()).add(q.scale(a.sin())), n)
+                    }
+                    None => {
+                        let a = D3::var(alpha, 0);
+                        let u = V3::<D3>::cst(ps)
+                            .scale(a.cos())
+                            .add(V3::cst(qs).scale(a.sin()));
+                        (u, V3::cst(ns))
+                    }
+                };
+                memo.slots[memo.next_slot] = Some(((j, slot), u, n));
+                memo.next_slot = (memo.next_slot + 1) % memo.slots.len();
+                (u, n)
             }
+        };
+        let s = LocalSlot {
+            key: (j, slot),
+            u,
+            n,
+            inputs,
         };
         let i = self
             .known
@@ -808,10 +872,14 @@ impl<'a> Chain<'a> {
         }
         let mut p = [[0.0; MAX_LOCAL]; M];
         for (k, pk) in p.iter_mut().enumerate() {
-            for (l, jl) in jac.iter().enumerate() {
-                let f = outer.hess(k, l);
+            // Row k of H_o, unpacked once.
+            let mut hk = [0.0; M];
+            for (l, f) in hk.iter_mut().enumerate() {
+                *f = outer.hess(k, l);
+            }
+            for (((jl, &f), nzl), &count) in jac.iter().zip(&hk).zip(&nz).zip(&nnz) {
                 if f != 0.0 {
-                    for &b in &nz[l][..nnz[l]] {
+                    for &b in &nzl[..count] {
                         let b = b as usize;
                         pk[b] += f * jl[b];
                     }
@@ -863,9 +931,9 @@ fn bend_local(
     vars: &[usize],
     g: &mut [f64],
     h: &mut [f64],
+    memo: &mut Memo,
 ) -> f64 {
-    type D4 = Dual<4, 10>;
-    let mut chain = Chain::new(m, vars);
+    let mut chain = Chain::new(m, vars, memo);
     let (ea, eb) = (&m.edges[e0], &m.edges[e1]);
     // Consecutive edges of a rod share their middle node: edge b's vector
     // is x2 - x1 below, x1's value taken from edge a's end.
@@ -874,45 +942,87 @@ fn bend_local(
     let x1 = chain.place(0, ea.b, 1.0);
     chain.place(4, eb.a, -1.0);
     let x2 = chain.place(4, eb.b, 1.0);
-    // The rotations over each edge's own variables, side by side as 8
-    // small duals.
-    let mut w = [Dual::<8, 36>::cst(0.0); 6];
+    // Each edge's rotation over its own 4 variables.
+    let mut w = [[Dual::<4, 10>::cst(0.0); 3]; 2];
     let mut base = [[DVec3::ZERO; 3]; 2];
-    for (k, edge, ev) in [(0, ea, x1 - x0), (1, eb, x2 - x1)] {
-        let t = V3::<f64>::cst(ev).unit();
+    for (k, e, edge, ev) in [(0, e0, ea, x1 - x0), (1, e1, eb, x2 - x1)] {
         match edge.frame {
             Frame::Ref { ts, as_, theta } => {
-                let th = m.q[theta];
-                let (d1, d2) = material::<f64>(ts, as_, t, th);
-                base[k] = [t.val(), d1.val(), d2.val()];
                 let l = chain.loc(theta);
                 chain.jac[4 * k + 3][l] = 1.0;
-                let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
-                let t4 = e4.unit();
-                let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
-                place_rotation(&mut w, k, &rotation([t4, d14, d24], base[k]));
+                let r = match chain.memo.edge {
+                    Some(r) if r.edge == e => r,
+                    _ => {
+                        let r = edge_rotation(e, (ts, as_, m.q[theta]), ev);
+                        chain.memo.edge = Some(r);
+                        r
+                    }
+                };
+                (base[k], w[k]) = (r.base, r.rot);
             }
             Frame::Arm { joint, slot, sigma } => {
                 // t = u, d2 = sigma n, d1 = d2 x u, over the slot's inputs.
+                let t = V3::<f64>::cst(ev).unit();
                 let si = chain.slot(joint, slot);
                 chain.inputs(4 * k, si);
                 let s = chain.known(si);
                 let d2 = s.n.scalef(sigma);
                 let d1 = d2.cross(s.u);
                 base[k] = [t.val(), d1.val(), d2.val()];
-                place_rotation(&mut w, k, &rotation([s.u, d1, d2], base[k]));
+                for (wc, r) in w[k].iter_mut().zip(&rotation([s.u, d1, d2], base[k])) {
+                    *wc = widen(r);
+                }
             }
         }
     }
-    let e8 = compose(&bend_energy_rotations(&m.section, lbar, base), &w);
+    let e8 = compose_edges(&bend_energy_rotations(&m.section, lbar, base), &w);
     chain.finish(&e8, g, h)
+}
+
+/// Edge `e` with a reference frame (stored tangent and director, material
+/// angle th) and edge vector `ev`: its frame now and the rotation from it
+/// over (ev, th).
+fn edge_rotation(e: usize, (ts, as_, th): (DVec3, DVec3, f64), ev: DVec3) -> EdgeRotation {
+    type D4 = Dual<4, 10>;
+    let t = V3::<f64>::cst(ev).unit();
+    let (d1, d2) = material::<f64>(ts, as_, t, th);
+    let base = [t.val(), d1.val(), d2.val()];
+    let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
+    let t4 = e4.unit();
+    let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
+    EdgeRotation {
+        edge: e,
+        base,
+        rot: rotation([t4, d14, d24], base),
+    }
+}
+
+/// An arm's rotation over its slot's 3 inputs as one over 4 variables,
+/// the fourth unused.
+#[inline(always)]
+fn widen(d: &Dual<3, 6>) -> Dual<4, 10> {
+    let mut out = Dual::<4, 10>::cst(d.v);
+    for i in 0..3 {
+        out.g[i] = d.g[i];
+        for j in i..3 {
+            out.set_hess(i, j, d.hess(i, j));
+        }
+    }
+    out
 }
 
 /// A stretch stencil's energy with its derivatives over its local
 /// variables: over the edge vector in 3 small duals, then `Chain`.
-fn stretch_local(m: &Model, edge: usize, vars: &[usize], g: &mut [f64], h: &mut [f64]) -> f64 {
+fn stretch_local(
+    m: &Model,
+    edge: usize,
+    vars: &[usize],
+    g: &mut [f64],
+    h: &mut [f64],
+    memo: &mut Memo,
+) -> f64 {
     type D3 = Dual<3, 6>;
-    let mut chain = Chain::new(m, vars);
+    let mut chain = Chain::new(m, vars, memo);
     let e = &m.edges[edge];
     let xa = chain.place(0, e.a, -1.0);
     let ev = chain.place(0, e.b, 1.0) - xa;
@@ -932,33 +1042,6 @@ fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
         .add(f[2].crossc(f0[2]))
         .scalef(-0.5);
     [w.x, w.y, w.z]
-}
-
-/// Edge k's rotation over its own variables as three of the 8-variable
-/// duals, each written in place: an array of them mapped and copied was
-/// about 2 % of the solve (memmove).
-#[inline(always)]
-fn place_rotation<const M: usize, const TM: usize>(
-    w: &mut [Dual<8, 36>; 6],
-    k: usize,
-    rot: &[Dual<M, TM>; 3],
-) {
-    for (c, wk) in rot.iter().enumerate() {
-        w[3 * k + c] = embed(wk, 4 * k);
-    }
-}
-
-/// A small dual as one over 8 variables, its variables at `offset..`.
-#[inline(always)]
-fn embed<const M: usize, const TM: usize>(d: &Dual<M, TM>, offset: usize) -> Dual<8, 36> {
-    let mut out = Dual::<8, 36>::cst(d.v);
-    for i in 0..M {
-        out.g[offset + i] = d.g[i];
-        for j in i..M {
-            out.set_hess(offset + i, offset + j, d.hess(i, j));
-        }
-    }
-    out
 }
 
 /// The bend and twist energy over the two edges' rotation coordinates

@@ -6,7 +6,7 @@
 //! written out here (`Numeric`), whose refusal of an indefinite matrix is
 //! the inertia test.
 
-use crate::model::{Model, VarKind};
+use crate::model::{Memo, Model, VarKind};
 use faer::Side;
 use faer::sparse::SymbolicSparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -214,9 +214,10 @@ impl System {
         let mut h = vec![0.0; self.pattern.row_idx().len()];
         let mut e = 0.0;
         let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
+        let mut memo = Memo::new();
         for (s, st) in model.stencils.iter().enumerate() {
             let vars = &self.stencil_vars[s];
-            e += model.stencil_derivatives_into(st, vars, &mut gs, &mut hs);
+            e += model.stencil_derivatives_memo(st, vars, &mut gs, &mut hs, &mut memo);
             let k = vars.len();
             for a in 0..k {
                 g[vars[a]] += gs[a];
