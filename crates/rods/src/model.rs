@@ -346,11 +346,12 @@ impl Model {
         g: &mut Vec<f64>,
         h: &mut Vec<f64>,
     ) -> f64 {
-        self.stencil_derivatives_memo(s, vars, g, h, &mut Memo::new())
+        self.stencil_derivatives_memo(s, vars, g, h, &mut Memo::new(), false)
     }
 
     /// `stencil_derivatives_into` with what the last terms of the same
     /// state computed (`Memo`): the assembly's path, the same numbers.
+    /// With `lower`, a rod term's Hessian only where row >= column (`Chain::finish`).
     pub(crate) fn stencil_derivatives_memo(
         &self,
         s: &Stencil,
@@ -358,6 +359,7 @@ impl Model {
         g: &mut Vec<f64>,
         h: &mut Vec<f64>,
         memo: &mut Memo,
+        lower: bool,
     ) -> f64 {
         let n = vars.len();
         g.clear();
@@ -366,9 +368,9 @@ impl Model {
         h.resize(n * n, 0.0);
         match *s {
             Stencil::Bend { e0, e1, lbar, .. } => {
-                bend_local(self, (e0, e1, lbar), vars, g, h, memo)
+                bend_local(self, (e0, e1, lbar), vars, (g, h, lower), memo)
             }
-            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, g, h, memo),
+            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, (g, h, lower), memo),
             Stencil::Load { .. } | Stencil::Moment { .. } => {
                 let (e, gf, hf) = self.stencil_derivatives_full(s, vars);
                 g.copy_from_slice(&gf);
@@ -847,43 +849,43 @@ impl<'a> Chain<'a> {
     }
 
     /// g = J^T g_o and H = J^T H_o J + the arm tips' own Hessians times
-    /// their rows' g_o, for `outer` over the first M intermediates.
+    /// their rows' g_o, for `outer` over the first M intermediates. With
+    /// `lower`, only the entries h[a][b] with b <= a (what the assembly of
+    /// a term without fixed or tied variables reads); the others stay 0.
     fn finish<const M: usize, const TM: usize>(
         &self,
         outer: &Dual<M, TM>,
         g: &mut [f64],
         h: &mut [f64],
+        lower: bool,
     ) -> f64 {
         let n = self.vars.len();
         let jac = &self.jac[..M];
-        // Each row of J has a few nonzeros (a coordinate's +-1 at each
-        // end, an arm tip's r du, an angle's 1): P = H_o J over those
-        // alone. The same sums: the terms left out add zero to a sum that
-        // starts at +0.
-        let mut nz = [[0u8; MAX_LOCAL]; M];
-        let mut nnz = [0usize; M];
-        for ((jl, nzl), count) in jac.iter().zip(&mut nz).zip(&mut nnz) {
-            for (b, &v) in jl[..n].iter().enumerate() {
-                if v != 0.0 {
-                    nzl[*count] = b as u8;
-                    *count += 1;
+        // P = H_o J by its columns: P[.][b] = sum_l H_o[.][l] J[l][b] over
+        // the few nonzeros of J (a coordinate's +-1 at each end, an arm
+        // tip's r du, an angle's 1), a row of H_o at a time (H_o is
+        // symmetric: its row l is its column l). Each sum keeps its order
+        // over l; a term left out adds a zero.
+        let mut ho = [[0.0; M]; M];
+        for (k, hk) in ho.iter_mut().enumerate() {
+            for (l, f) in hk.iter_mut().enumerate() {
+                *f = outer.hess(k, l);
+            }
+        }
+        let mut pt = [[0.0; M]; MAX_LOCAL];
+        for (jl, hl) in jac.iter().zip(&ho) {
+            for (ptb, &c) in pt.iter_mut().zip(&jl[..n]) {
+                if c != 0.0 {
+                    for (p, &f) in ptb.iter_mut().zip(hl) {
+                        *p += f * c;
+                    }
                 }
             }
         }
         let mut p = [[0.0; MAX_LOCAL]; M];
-        for (k, pk) in p.iter_mut().enumerate() {
-            // Row k of H_o, unpacked once.
-            let mut hk = [0.0; M];
-            for (l, f) in hk.iter_mut().enumerate() {
-                *f = outer.hess(k, l);
-            }
-            for (((jl, &f), nzl), &count) in jac.iter().zip(&hk).zip(&nz).zip(&nnz) {
-                if f != 0.0 {
-                    for &b in &nzl[..count] {
-                        let b = b as usize;
-                        pk[b] += f * jl[b];
-                    }
-                }
+        for (b, ptb) in pt[..n].iter().enumerate() {
+            for (pk, &v) in p.iter_mut().zip(ptb) {
+                pk[b] = v;
             }
         }
         for (k, jk) in jac.iter().enumerate() {
@@ -891,7 +893,8 @@ impl<'a> Chain<'a> {
                 let c = jk[a];
                 if c != 0.0 {
                     g[a] += outer.g[k] * c;
-                    for (hb, pb) in h[a * n..(a + 1) * n].iter_mut().zip(&p[k][..n]) {
+                    let end = if lower { a + 1 } else { n };
+                    for (hb, pb) in h[a * n..a * n + end].iter_mut().zip(&p[k][..end]) {
                         *hb += c * pb;
                     }
                 }
@@ -909,7 +912,9 @@ impl<'a> Chain<'a> {
                         let v = f * uc.hess(i, j);
                         for &a in &li[..ci] {
                             for &b in &lj[..cj] {
-                                h[a * n + b] += v;
+                                if !lower || b <= a {
+                                    h[a * n + b] += v;
+                                }
                             }
                         }
                     }
@@ -929,8 +934,7 @@ fn bend_local(
     m: &Model,
     (e0, e1, lbar): (usize, usize, f64),
     vars: &[usize],
-    g: &mut [f64],
-    h: &mut [f64],
+    (g, h, lower): (&mut [f64], &mut [f64], bool),
     memo: &mut Memo,
 ) -> f64 {
     let mut chain = Chain::new(m, vars, memo);
@@ -976,7 +980,7 @@ fn bend_local(
         }
     }
     let e8 = compose_edges(&bend_energy_rotations(&m.section, lbar, base), &w);
-    chain.finish(&e8, g, h)
+    chain.finish(&e8, g, h, lower)
 }
 
 /// Edge `e` with a reference frame (stored tangent and director, material
@@ -1049,8 +1053,7 @@ fn stretch_local(
     m: &Model,
     edge: usize,
     vars: &[usize],
-    g: &mut [f64],
-    h: &mut [f64],
+    (g, h, lower): (&mut [f64], &mut [f64], bool),
     memo: &mut Memo,
 ) -> f64 {
     type D3 = Dual<3, 6>;
@@ -1061,7 +1064,7 @@ fn stretch_local(
     let len = V3::new(D3::var(ev.x, 0), D3::var(ev.y, 1), D3::var(ev.z, 2)).norm();
     let strain = len * (1.0 / e.rest) + -1.0;
     let energy = strain * strain * (0.5 * m.section.ea * e.rest);
-    chain.finish(&energy, g, h)
+    chain.finish(&energy, g, h, lower)
 }
 
 /// The rotation vector w taking the frame f0 to f (to second order):

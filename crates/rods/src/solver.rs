@@ -58,7 +58,9 @@ pub struct System {
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
     /// Whether a stencil's entries are its local variables in order, each
-    /// with coefficient 1 (no fixed or tied variable).
+    /// with coefficient 1 and their free indices increasing (no fixed or
+    /// tied variable): then its slots are those of its local Hessian's
+    /// lower triangle, the only part of it computed.
     stencil_plain: Vec<bool>,
     pattern: SymbolicSparseColMat<usize>,
     /// The Cholesky factor's structure, analysed once (`factor_structure`):
@@ -164,7 +166,9 @@ impl System {
             .iter()
             .map(|list| list.iter().map(|&(a, _, c)| (a as u32, c)).collect())
             .collect();
-        let stencil_plain = stencil_entries
+        // A variable tied to one other with coefficient 1 is one entry
+        // too, but out of order: not plain.
+        let stencil_plain = entries
             .iter()
             .zip(&stencil_vars)
             .map(|(list, vars)| {
@@ -172,7 +176,8 @@ impl System {
                     && list
                         .iter()
                         .enumerate()
-                        .all(|(p, &(a, c))| a as usize == p && c == 1.0)
+                        .all(|(p, &(a, _, c))| a == p && c == 1.0)
+                    && list.windows(2).all(|w| w[0].1 < w[1].1)
             })
             .collect();
         let diag_pos = (0..n).map(|c| slot(c, c)).collect();
@@ -217,7 +222,8 @@ impl System {
         let mut memo = Memo::new();
         for (s, st) in model.stencils.iter().enumerate() {
             let vars = &self.stencil_vars[s];
-            e += model.stencil_derivatives_memo(st, vars, &mut gs, &mut hs, &mut memo);
+            let plain = self.stencil_plain[s];
+            e += model.stencil_derivatives_memo(st, vars, &mut gs, &mut hs, &mut memo, plain);
             let k = vars.len();
             for a in 0..k {
                 g[vars[a]] += gs[a];
@@ -225,7 +231,7 @@ impl System {
             let entries = &self.stencil_entries[s];
             let ne = entries.len();
             let pos = &self.stencil_pos[s];
-            if self.stencil_plain[s] {
+            if plain {
                 // One entry per local variable, coefficient 1: the
                 // products below are the values themselves.
                 for (p, row) in hs.chunks_exact(k).enumerate() {
