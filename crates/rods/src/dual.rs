@@ -338,6 +338,244 @@ impl<const N: usize, const T: usize> Mul<f64> for Dual<N, T> {
     }
 }
 
+/// A dual over the two edges' rotations (w0, w1) of a bend term's
+/// quantity whose gradient over w1 is minus that over w0 and whose
+/// Hessian's (w1, w1) block equals its (w0, w0) block, to the bit: true of
+/// every product M_ij = a_i . b_j of the two frames (`rotation_product`
+/// in model.rs) and kept by sums, products and functions of them (each
+/// w1 entry is the w0 entry's formula with its two gradient factors
+/// negated, and (-x)(-y) = xy, -x - y = -(x + y) exactly). So those parts
+/// are stored once: 19 numbers for `Dual<6, 21>`'s 28, and the same
+/// arithmetic, in the same order, for the rest (`to_dual`).
+#[derive(Clone, Copy, Debug)]
+pub struct Relative {
+    pub v: f64,
+    /// Gradient over w0 (over w1: its negative).
+    pub g: [f64; 3],
+    /// The (w0, w0) block, packed (= the (w1, w1) block).
+    pub h: [f64; 6],
+    /// The (w0, w1) block, c[3 i + j] = d2 / dw0_i dw1_j.
+    pub c: [f64; 9],
+}
+
+impl Relative {
+    /// The same numbers as a dual over (w0, w1).
+    pub fn to_dual(&self) -> Dual<6, 21> {
+        let mut d = Dual::<6, 21>::cst(self.v);
+        let mut t = 0;
+        for i in 0..3 {
+            d.g[i] = self.g[i];
+            d.g[3 + i] = -self.g[i];
+            for j in i..3 {
+                d.set_hess(i, j, self.h[t]);
+                d.set_hess(3 + i, 3 + j, self.h[t]);
+                t += 1;
+            }
+            for j in 0..3 {
+                d.set_hess(i, 3 + j, self.c[3 * i + j]);
+            }
+        }
+        d
+    }
+
+    /// `Dual::chain`'s arithmetic on the stored parts.
+    #[inline(always)]
+    fn chain(mut self, f: f64, f1: f64, f2: f64) -> Self {
+        let mut k = 0;
+        for i in 0..3 {
+            let gi = f2 * self.g[i];
+            for j in i..3 {
+                self.h[k] = f1 * self.h[k] + gi * self.g[j];
+                k += 1;
+            }
+            for j in 0..3 {
+                self.c[3 * i + j] = f1 * self.c[3 * i + j] + gi * -self.g[j];
+            }
+        }
+        for i in 0..3 {
+            self.g[i] *= f1;
+        }
+        self.v = f;
+        self
+    }
+
+}
+
+/// `Dual`'s arithmetic on the stored parts, function for function.
+impl Scalar for Relative {
+    #[inline(always)]
+    fn cst(v: f64) -> Self {
+        Relative {
+            v,
+            g: [0.0; 3],
+            h: [0.0; 6],
+            c: [0.0; 9],
+        }
+    }
+    #[inline(always)]
+    fn val(&self) -> f64 {
+        self.v
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        let s = self.v.sqrt();
+        let v = self.v;
+        self.chain(s, 0.5 / s, -0.25 / (s * v))
+    }
+    #[inline(always)]
+    fn recip(self) -> Self {
+        let inv = 1.0 / self.v;
+        self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(s, c, -s)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        let (s, c) = self.v.sin_cos();
+        self.chain(c, -s, -c)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        let y = self;
+        let r2 = x.v * x.v + y.v * y.v;
+        let (ay, ax) = (x.v / r2, -y.v / r2);
+        let r4 = r2 * r2;
+        let hyy = -2.0 * x.v * y.v / r4;
+        let hxx = 2.0 * x.v * y.v / r4;
+        let hxy = (y.v * y.v - x.v * x.v) / r4;
+        let mut out = Self::cst(y.v.atan2(x.v));
+        let mut k = 0;
+        for i in 0..3 {
+            out.g[i] = ay * y.g[i] + ax * x.g[i];
+            for j in i..3 {
+                out.h[k] = ay * y.h[k]
+                    + ax * x.h[k]
+                    + hyy * y.g[i] * y.g[j]
+                    + hxx * x.g[i] * x.g[j]
+                    + hxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+                k += 1;
+            }
+            for j in 0..3 {
+                let t = 3 * i + j;
+                let (ygj, xgj) = (-y.g[j], -x.g[j]);
+                out.c[t] = ay * y.c[t]
+                    + ax * x.c[t]
+                    + hyy * y.g[i] * ygj
+                    + hxx * x.g[i] * xgj
+                    + hxy * (y.g[i] * xgj + x.g[i] * ygj);
+            }
+        }
+        out
+    }
+}
+
+impl Add for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn add(mut self, o: Self) -> Self {
+        self.v += o.v;
+        for i in 0..3 {
+            self.g[i] += o.g[i];
+        }
+        for k in 0..6 {
+            self.h[k] += o.h[k];
+        }
+        for t in 0..9 {
+            self.c[t] += o.c[t];
+        }
+        self
+    }
+}
+
+impl Sub for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(mut self, o: Self) -> Self {
+        self.v -= o.v;
+        for i in 0..3 {
+            self.g[i] -= o.g[i];
+        }
+        for k in 0..6 {
+            self.h[k] -= o.h[k];
+        }
+        for t in 0..9 {
+            self.c[t] -= o.c[t];
+        }
+        self
+    }
+}
+
+impl Mul for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        let mut out = Self::cst(self.v * o.v);
+        let mut k = 0;
+        for i in 0..3 {
+            out.g[i] = self.v * o.g[i] + o.v * self.g[i];
+            for j in i..3 {
+                out.h[k] =
+                    self.v * o.h[k] + o.v * self.h[k] + self.g[i] * o.g[j] + o.g[i] * self.g[j];
+                k += 1;
+            }
+            for j in 0..3 {
+                let t = 3 * i + j;
+                out.c[t] = self.v * o.c[t]
+                    + o.v * self.c[t]
+                    + self.g[i] * -o.g[j]
+                    + o.g[i] * -self.g[j];
+            }
+        }
+        out
+    }
+}
+
+impl Div for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        self * o.recip()
+    }
+}
+
+impl Neg for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+
+impl Add<f64> for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn add(mut self, o: f64) -> Self {
+        self.v += o;
+        self
+    }
+}
+
+impl Mul<f64> for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(mut self, o: f64) -> Self {
+        self.v *= o;
+        for i in 0..3 {
+            self.g[i] *= o;
+        }
+        for k in 0..6 {
+            self.h[k] *= o;
+        }
+        for t in 0..9 {
+            self.c[t] *= o;
+        }
+        self
+    }
+}
+
 /// A 3-vector over any scalar.
 #[derive(Clone, Copy, Debug)]
 pub struct V3<S> {
