@@ -809,9 +809,11 @@ impl<'a> Chain<'a> {
             Node::Hole(j) => (m.joints[j].x, None),
             Node::Arm { joint, slot, r } => (m.joints[joint].x, Some((self.slot(joint, slot), r))),
         };
+        // A position's three variables are consecutive numbers, so they
+        // follow each other in the sorted `vars`.
+        let l = self.loc(x);
         for c in 0..3 {
-            let l = self.loc(x + c);
-            self.jac[row + c][l] += sign;
+            self.jac[row + c][l + c] += sign;
         }
         let p = DVec3::new(m.q[x], m.q[x + 1], m.q[x + 2]);
         let Some((si, r)) = tip else { return p };

@@ -233,12 +233,11 @@ impl System {
             let pos = &self.stencil_pos[s];
             if plain {
                 // One entry per local variable, coefficient 1: the
-                // products below are the values themselves.
+                // products below are the values themselves, and the
+                // slots those of the lower triangle.
                 for (p, row) in hs.chunks_exact(k).enumerate() {
-                    for (&slot, &v) in pos[p * k..(p + 1) * k].iter().zip(row) {
-                        if slot != NONE {
-                            h[slot as usize] += v;
-                        }
+                    for (&slot, &v) in pos[p * k..=p * k + p].iter().zip(row) {
+                        h[slot as usize] += v;
                     }
                 }
                 continue;
