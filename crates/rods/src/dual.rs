@@ -123,6 +123,26 @@ impl<const N: usize, const T: usize> Dual<N, T> {
     }
 }
 
+/// Where edge e's packed 4 x 4 Hessian block lies in the packed 8 x 8 one.
+const EDGE_BLOCK: [[usize; 10]; 2] = {
+    let mut out = [[0; 10]; 2];
+    let mut e = 0;
+    while e < 2 {
+        let (mut a, mut t) = (0, 0);
+        while a < 4 {
+            let mut b = a;
+            while b < 4 {
+                out[e][t] = packed(8, 4 * e + a, 4 * e + b);
+                t += 1;
+                b += 1;
+            }
+            a += 1;
+        }
+        e += 1;
+    }
+    out
+};
+
 /// The second-order chain rule of a bend term (`bend_local`): `outer`
 /// is its energy over the two edges' rotations (w0, w1), `inner[e]` edge
 /// e's rotation over the edge's own 4 variables (edge vector and material
@@ -156,19 +176,20 @@ pub fn compose_edges(outer: &Dual<6, 21>, inner: &[[Dual<4, 10>; 3]; 2]) -> Dual
     }
     let mut out = Dual::<8, 36>::cst(outer.v);
     for (e, rot) in inner.iter().enumerate() {
+        // sum_k f_k w_k'' over the edge's own 4 variables, then into place.
+        let mut block = [0.0; 10];
         for (w, &fk) in rot.iter().zip(&outer.g[3 * e..3 * e + 3]) {
             if fk != 0.0 {
                 for a in 0..4 {
                     out.g[4 * e + a] += fk * w.g[a];
                 }
-                let mut t = 0;
-                for a in 0..4 {
-                    for b in a..4 {
-                        out.h[packed(8, 4 * e + a, 4 * e + b)] += fk * w.h[t];
-                        t += 1;
-                    }
+                for (b, &h) in block.iter_mut().zip(&w.h) {
+                    *b += fk * h;
                 }
             }
+        }
+        for (&t, b) in EDGE_BLOCK[e].iter().zip(block) {
+            out.h[t] = b;
         }
     }
     let mut t = 0;

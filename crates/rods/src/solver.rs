@@ -324,12 +324,13 @@ impl System {
         let mut y = vec![0.0; v.len()];
         let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
         for c in 0..v.len() {
-            for p in cp[c]..cp[c + 1] {
+            // Each column's rows are sorted, the diagonal first (`new`).
+            let d = cp[c];
+            y[c] += h[d] * v[c];
+            for p in d + 1..cp[c + 1] {
                 let r = ri[p];
                 y[r] += h[p] * v[c];
-                if r != c {
-                    y[c] += h[p] * v[r];
-                }
+                y[c] += h[p] * v[r];
             }
         }
         y
