@@ -208,6 +208,68 @@ pub fn compose_edges(outer: &Dual<6, 21>, inner: &[[Dual<4, 10>; 3]; 2]) -> Dual
     out
 }
 
+/// `Scalar`'s value and elementary functions of a dual type with a field
+/// `v` (its value) and a method `chain(f, f', f'')` (the chain rule of a
+/// function of it), written once for `Dual` and `Relative`.
+macro_rules! elementary_functions {
+    () => {
+        #[inline(always)]
+        fn val(&self) -> f64 {
+            self.v
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            let s = self.v.sqrt();
+            let v = self.v;
+            self.chain(s, 0.5 / s, -0.25 / (s * v))
+        }
+        #[inline(always)]
+        fn recip(self) -> Self {
+            let inv = 1.0 / self.v;
+            self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+        }
+        #[inline(always)]
+        fn sin(self) -> Self {
+            let (s, c) = self.v.sin_cos();
+            self.chain(s, c, -s)
+        }
+        #[inline(always)]
+        fn cos(self) -> Self {
+            let (s, c) = self.v.sin_cos();
+            self.chain(c, -s, -c)
+        }
+    };
+}
+
+/// One second-derivative entry of atan2(y, x) over the dual's variables
+/// (i, j): from y's and x's entries (yh, xh) and gradient entries (yi, yj),
+/// (xi, xj), with `atan2_derivatives` d.
+#[inline(always)]
+fn atan2_entry(
+    d: &[f64; 5],
+    (yh, xh): (f64, f64),
+    (yi, yj): (f64, f64),
+    (xi, xj): (f64, f64),
+) -> f64 {
+    let [ay, ax, hyy, hxx, hxy] = *d;
+    ay * yh + ax * xh + hyy * yi * yj + hxx * xi * xj + hxy * (yi * xj + xi * yj)
+}
+
+/// The derivatives of atan2(y, x) at (y, x): first in y and x, then the
+/// second in (y, y), (x, x) and (y, x).
+#[inline(always)]
+fn atan2_derivatives(y: f64, x: f64) -> [f64; 5] {
+    let r2 = x * x + y * y;
+    let r4 = r2 * r2;
+    [
+        x / r2,
+        -y / r2,
+        -2.0 * x * y / r4,
+        2.0 * x * y / r4,
+        (y * y - x * x) / r4,
+    ]
+}
+
 impl<const N: usize, const T: usize> Scalar for Dual<N, T> {
     #[inline(always)]
     fn cst(v: f64) -> Self {
@@ -218,52 +280,17 @@ impl<const N: usize, const T: usize> Scalar for Dual<N, T> {
             h: [0.0; T],
         }
     }
-    #[inline(always)]
-    fn val(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        let s = self.v.sqrt();
-        let v = self.v;
-        self.chain(s, 0.5 / s, -0.25 / (s * v))
-    }
-    #[inline(always)]
-    fn recip(self) -> Self {
-        let inv = 1.0 / self.v;
-        self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        let (s, c) = self.v.sin_cos();
-        self.chain(s, c, -s)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        let (s, c) = self.v.sin_cos();
-        self.chain(c, -s, -c)
-    }
+    elementary_functions!();
     /// atan2(y, x) with y = self: d = (x dy - y dx) / r2.
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
-        let y = self;
-        let r2 = x.v * x.v + y.v * y.v;
-        let (ay, ax) = (x.v / r2, -y.v / r2);
-        // Second derivatives of atan2 in (y, x).
-        let r4 = r2 * r2;
-        let hyy = -2.0 * x.v * y.v / r4;
-        let hxx = 2.0 * x.v * y.v / r4;
-        let hxy = (y.v * y.v - x.v * x.v) / r4;
+        let (y, d) = (self, atan2_derivatives(self.v, x.v));
         let mut out = Self::cst(y.v.atan2(x.v));
         let mut k = 0;
         for i in 0..N {
-            out.g[i] = ay * y.g[i] + ax * x.g[i];
+            out.g[i] = d[0] * y.g[i] + d[1] * x.g[i];
             for j in i..N {
-                out.h[k] = ay * y.h[k]
-                    + ax * x.h[k]
-                    + hyy * y.g[i] * y.g[j]
-                    + hxx * x.g[i] * x.g[j]
-                    + hxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+                out.h[k] = atan2_entry(&d, (y.h[k], x.h[k]), (y.g[i], y.g[j]), (x.g[i], x.g[j]));
                 k += 1;
             }
         }
@@ -433,61 +460,23 @@ impl Scalar for Relative {
             c: [0.0; 9],
         }
     }
-    #[inline(always)]
-    fn val(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        let s = self.v.sqrt();
-        let v = self.v;
-        self.chain(s, 0.5 / s, -0.25 / (s * v))
-    }
-    #[inline(always)]
-    fn recip(self) -> Self {
-        let inv = 1.0 / self.v;
-        self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        let (s, c) = self.v.sin_cos();
-        self.chain(s, c, -s)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        let (s, c) = self.v.sin_cos();
-        self.chain(c, -s, -c)
-    }
+    elementary_functions!();
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
-        let y = self;
-        let r2 = x.v * x.v + y.v * y.v;
-        let (ay, ax) = (x.v / r2, -y.v / r2);
-        let r4 = r2 * r2;
-        let hyy = -2.0 * x.v * y.v / r4;
-        let hxx = 2.0 * x.v * y.v / r4;
-        let hxy = (y.v * y.v - x.v * x.v) / r4;
-        let mut out = Self::cst(y.v.atan2(x.v));
-        let mut k = 0;
+        let d = atan2_derivatives(self.v, x.v);
+        let mut out = Self::cst(self.v.atan2(x.v));
+        let (y, mut k) = (self, 0);
         for i in 0..3 {
-            out.g[i] = ay * y.g[i] + ax * x.g[i];
             for j in i..3 {
-                out.h[k] = ay * y.h[k]
-                    + ax * x.h[k]
-                    + hyy * y.g[i] * y.g[j]
-                    + hxx * x.g[i] * x.g[j]
-                    + hxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+                out.h[k] = atan2_entry(&d, (y.h[k], x.h[k]), (y.g[i], y.g[j]), (x.g[i], x.g[j]));
                 k += 1;
             }
+            // Over w1, the gradients' second factor is negated.
             for j in 0..3 {
                 let t = 3 * i + j;
-                let (ygj, xgj) = (-y.g[j], -x.g[j]);
-                out.c[t] = ay * y.c[t]
-                    + ax * x.c[t]
-                    + hyy * y.g[i] * ygj
-                    + hxx * x.g[i] * xgj
-                    + hxy * (y.g[i] * xgj + x.g[i] * ygj);
+                out.c[t] = atan2_entry(&d, (y.c[t], x.c[t]), (y.g[i], -y.g[j]), (x.g[i], -x.g[j]));
             }
+            out.g[i] = d[0] * y.g[i] + d[1] * x.g[i];
         }
         out
     }
