@@ -123,52 +123,151 @@ impl<const N: usize, const T: usize> Dual<N, T> {
     }
 }
 
-/// The second-order chain rule: `outer` is f over M intermediate
-/// variables y (at y's value), `inner` the M intermediates as duals over N
-/// variables q; the result is f(y(q)) with its exact gradient and Hessian
-/// over q: g = sum_k f_k y_k', H = J^T F J + sum_k f_k y_k''. A bend term
-/// takes it from the two edges' 6 rotation coordinates to their 8 local
-/// variables (`bend_local`), keeping its expensive part over 6.
-pub fn compose<const M: usize, const TM: usize, const N: usize, const T: usize>(
-    outer: &Dual<M, TM>,
-    inner: &[Dual<N, T>; M],
-) -> Dual<N, T> {
-    let mut out = Dual::<N, T>::cst(outer.v);
-    // p[k] = sum_l F_kl y_l'
-    let mut p = [[0.0; N]; M];
-    for (k, pk) in p.iter_mut().enumerate() {
-        for (l, y) in inner.iter().enumerate() {
-            let f = outer.hess(k, l);
-            if f != 0.0 {
-                for a in 0..N {
-                    pk[a] += f * y.g[a];
+/// Where edge e's packed 4 x 4 Hessian block lies in the packed 8 x 8 one.
+const EDGE_BLOCK: [[usize; 10]; 2] = {
+    let mut out = [[0; 10]; 2];
+    let mut e = 0;
+    while e < 2 {
+        let (mut a, mut t) = (0, 0);
+        while a < 4 {
+            let mut b = a;
+            while b < 4 {
+                out[e][t] = packed(8, 4 * e + a, 4 * e + b);
+                t += 1;
+                b += 1;
+            }
+            a += 1;
+        }
+        e += 1;
+    }
+    out
+};
+
+/// The second-order chain rule of a bend term (`bend_local`): `outer`
+/// is its energy over the two edges' rotations (w0, w1), `inner[e]` edge
+/// e's rotation over the edge's own 4 variables (edge vector and material
+/// angle, or an arm's slot inputs and a zero); the result is the energy
+/// over the 8 variables, g = sum_k f_k w_k' and H = J^T F J + sum_k f_k
+/// w_k''. Edge 0's rotation does not depend on edge 1's variables nor the
+/// other way round, so the products with those zeros are left out: each
+/// sum keeps the order and the other terms of the chain rule over the
+/// rotations as 8-variable duals (`tests::compose_full`), and so its
+/// value to the bit (a product left out is +-0, and a sum that starts at
+/// +0 is never -0, so adding it changes nothing).
+pub fn compose_edges(outer: &Dual<6, 21>, inner: &[[Dual<4, 10>; 3]; 2]) -> Dual<8, 36> {
+    let mut f = [[0.0; 6]; 6];
+    for (k, fk) in f.iter_mut().enumerate() {
+        for (l, fkl) in fk.iter_mut().enumerate() {
+            *fkl = outer.hess(k, l);
+        }
+    }
+    // p[k][a] = sum_l F_kl w_l'(a), over the rotations l of a's edge.
+    let mut p = [[0.0; 8]; 6];
+    for (pk, fk) in p.iter_mut().zip(&f) {
+        for (e, rot) in inner.iter().enumerate() {
+            for (w, &fkl) in rot.iter().zip(&fk[3 * e..3 * e + 3]) {
+                if fkl != 0.0 {
+                    for a in 0..4 {
+                        pk[4 * e + a] += fkl * w.g[a];
+                    }
                 }
             }
         }
     }
-    for (k, y) in inner.iter().enumerate() {
-        let fk = outer.g[k];
-        if fk != 0.0 {
-            for a in 0..N {
-                out.g[a] += fk * y.g[a];
+    let mut out = Dual::<8, 36>::cst(outer.v);
+    for (e, rot) in inner.iter().enumerate() {
+        // sum_k f_k w_k'' over the edge's own 4 variables, then into place.
+        let mut block = [0.0; 10];
+        for (w, &fk) in rot.iter().zip(&outer.g[3 * e..3 * e + 3]) {
+            if fk != 0.0 {
+                for a in 0..4 {
+                    out.g[4 * e + a] += fk * w.g[a];
+                }
+                for (b, &h) in block.iter_mut().zip(&w.h) {
+                    *b += fk * h;
+                }
             }
-            for t in 0..T {
-                out.h[t] += fk * y.h[t];
-            }
+        }
+        for (&t, b) in EDGE_BLOCK[e].iter().zip(block) {
+            out.h[t] = b;
         }
     }
     let mut t = 0;
-    for a in 0..N {
-        for b in a..N {
+    for a in 0..8 {
+        let (e, i) = (a / 4, a % 4);
+        let rot = &inner[e];
+        for b in a..8 {
             let mut s = 0.0;
-            for k in 0..M {
-                s += inner[k].g[a] * p[k][b];
+            for (k, w) in rot.iter().enumerate() {
+                s += w.g[i] * p[3 * e + k][b];
             }
             out.h[t] += s;
             t += 1;
         }
     }
     out
+}
+
+/// `Scalar`'s value and elementary functions of a dual type with a field
+/// `v` (its value) and a method `chain(f, f', f'')` (the chain rule of a
+/// function of it), written once for `Dual` and `Relative`.
+macro_rules! elementary_functions {
+    () => {
+        #[inline(always)]
+        fn val(&self) -> f64 {
+            self.v
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            let s = self.v.sqrt();
+            let v = self.v;
+            self.chain(s, 0.5 / s, -0.25 / (s * v))
+        }
+        #[inline(always)]
+        fn recip(self) -> Self {
+            let inv = 1.0 / self.v;
+            self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
+        }
+        #[inline(always)]
+        fn sin(self) -> Self {
+            let (s, c) = self.v.sin_cos();
+            self.chain(s, c, -s)
+        }
+        #[inline(always)]
+        fn cos(self) -> Self {
+            let (s, c) = self.v.sin_cos();
+            self.chain(c, -s, -c)
+        }
+    };
+}
+
+/// One second-derivative entry of atan2(y, x) over the dual's variables
+/// (i, j): from y's and x's entries (yh, xh) and gradient entries (yi, yj),
+/// (xi, xj), with `atan2_derivatives` d.
+#[inline(always)]
+fn atan2_entry(
+    d: &[f64; 5],
+    (yh, xh): (f64, f64),
+    (yi, yj): (f64, f64),
+    (xi, xj): (f64, f64),
+) -> f64 {
+    let [ay, ax, hyy, hxx, hxy] = *d;
+    ay * yh + ax * xh + hyy * yi * yj + hxx * xi * xj + hxy * (yi * xj + xi * yj)
+}
+
+/// The derivatives of atan2(y, x) at (y, x): first in y and x, then the
+/// second in (y, y), (x, x) and (y, x).
+#[inline(always)]
+fn atan2_derivatives(y: f64, x: f64) -> [f64; 5] {
+    let r2 = x * x + y * y;
+    let r4 = r2 * r2;
+    [
+        x / r2,
+        -y / r2,
+        -2.0 * x * y / r4,
+        2.0 * x * y / r4,
+        (y * y - x * x) / r4,
+    ]
 }
 
 impl<const N: usize, const T: usize> Scalar for Dual<N, T> {
@@ -181,52 +280,17 @@ impl<const N: usize, const T: usize> Scalar for Dual<N, T> {
             h: [0.0; T],
         }
     }
-    #[inline(always)]
-    fn val(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        let s = self.v.sqrt();
-        let v = self.v;
-        self.chain(s, 0.5 / s, -0.25 / (s * v))
-    }
-    #[inline(always)]
-    fn recip(self) -> Self {
-        let inv = 1.0 / self.v;
-        self.chain(inv, -inv * inv, 2.0 * inv * inv * inv)
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        let (s, c) = self.v.sin_cos();
-        self.chain(s, c, -s)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        let (s, c) = self.v.sin_cos();
-        self.chain(c, -s, -c)
-    }
+    elementary_functions!();
     /// atan2(y, x) with y = self: d = (x dy - y dx) / r2.
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
-        let y = self;
-        let r2 = x.v * x.v + y.v * y.v;
-        let (ay, ax) = (x.v / r2, -y.v / r2);
-        // Second derivatives of atan2 in (y, x).
-        let r4 = r2 * r2;
-        let hyy = -2.0 * x.v * y.v / r4;
-        let hxx = 2.0 * x.v * y.v / r4;
-        let hxy = (y.v * y.v - x.v * x.v) / r4;
+        let (y, d) = (self, atan2_derivatives(self.v, x.v));
         let mut out = Self::cst(y.v.atan2(x.v));
         let mut k = 0;
         for i in 0..N {
-            out.g[i] = ay * y.g[i] + ax * x.g[i];
+            out.g[i] = d[0] * y.g[i] + d[1] * x.g[i];
             for j in i..N {
-                out.h[k] = ay * y.h[k]
-                    + ax * x.h[k]
-                    + hyy * y.g[i] * y.g[j]
-                    + hxx * x.g[i] * x.g[j]
-                    + hxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+                out.h[k] = atan2_entry(&d, (y.h[k], x.h[k]), (y.g[i], y.g[j]), (x.g[i], x.g[j]));
                 k += 1;
             }
         }
@@ -322,6 +386,206 @@ impl<const N: usize, const T: usize> Mul<f64> for Dual<N, T> {
     }
 }
 
+/// A dual over the two edges' rotations (w0, w1) of a bend term's
+/// quantity whose gradient over w1 is minus that over w0 and whose
+/// Hessian's (w1, w1) block equals its (w0, w0) block, to the bit: true of
+/// every product M_ij = a_i . b_j of the two frames (`rotation_product`
+/// in model.rs) and kept by sums, products and functions of them (each
+/// w1 entry is the w0 entry's formula with its two gradient factors
+/// negated, and (-x)(-y) = xy, -x - y = -(x + y) exactly). So those parts
+/// are stored once: 19 numbers for `Dual<6, 21>`'s 28, and the same
+/// arithmetic, in the same order, for the rest (`to_dual`).
+#[derive(Clone, Copy, Debug)]
+pub struct Relative {
+    pub v: f64,
+    /// Gradient over w0 (over w1: its negative).
+    pub g: [f64; 3],
+    /// The (w0, w0) block, packed (= the (w1, w1) block).
+    pub h: [f64; 6],
+    /// The (w0, w1) block, c[3 i + j] = d2 / dw0_i dw1_j.
+    pub c: [f64; 9],
+}
+
+impl Relative {
+    /// The same numbers as a dual over (w0, w1).
+    pub fn to_dual(&self) -> Dual<6, 21> {
+        let mut d = Dual::<6, 21>::cst(self.v);
+        let mut t = 0;
+        for i in 0..3 {
+            d.g[i] = self.g[i];
+            d.g[3 + i] = -self.g[i];
+            for j in i..3 {
+                d.set_hess(i, j, self.h[t]);
+                d.set_hess(3 + i, 3 + j, self.h[t]);
+                t += 1;
+            }
+            for j in 0..3 {
+                d.set_hess(i, 3 + j, self.c[3 * i + j]);
+            }
+        }
+        d
+    }
+
+    /// `Dual::chain`'s arithmetic on the stored parts.
+    #[inline(always)]
+    fn chain(mut self, f: f64, f1: f64, f2: f64) -> Self {
+        let mut k = 0;
+        for i in 0..3 {
+            let gi = f2 * self.g[i];
+            for j in i..3 {
+                self.h[k] = f1 * self.h[k] + gi * self.g[j];
+                k += 1;
+            }
+            for j in 0..3 {
+                self.c[3 * i + j] = f1 * self.c[3 * i + j] + gi * -self.g[j];
+            }
+        }
+        for i in 0..3 {
+            self.g[i] *= f1;
+        }
+        self.v = f;
+        self
+    }
+
+}
+
+/// `Dual`'s arithmetic on the stored parts, function for function.
+impl Scalar for Relative {
+    #[inline(always)]
+    fn cst(v: f64) -> Self {
+        Relative {
+            v,
+            g: [0.0; 3],
+            h: [0.0; 6],
+            c: [0.0; 9],
+        }
+    }
+    elementary_functions!();
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        let d = atan2_derivatives(self.v, x.v);
+        let mut out = Self::cst(self.v.atan2(x.v));
+        let (y, mut k) = (self, 0);
+        for i in 0..3 {
+            for j in i..3 {
+                out.h[k] = atan2_entry(&d, (y.h[k], x.h[k]), (y.g[i], y.g[j]), (x.g[i], x.g[j]));
+                k += 1;
+            }
+            // Over w1, the gradients' second factor is negated.
+            for j in 0..3 {
+                let t = 3 * i + j;
+                out.c[t] = atan2_entry(&d, (y.c[t], x.c[t]), (y.g[i], -y.g[j]), (x.g[i], -x.g[j]));
+            }
+            out.g[i] = d[0] * y.g[i] + d[1] * x.g[i];
+        }
+        out
+    }
+}
+
+impl Add for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn add(mut self, o: Self) -> Self {
+        self.v += o.v;
+        for i in 0..3 {
+            self.g[i] += o.g[i];
+        }
+        for k in 0..6 {
+            self.h[k] += o.h[k];
+        }
+        for t in 0..9 {
+            self.c[t] += o.c[t];
+        }
+        self
+    }
+}
+
+impl Sub for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(mut self, o: Self) -> Self {
+        self.v -= o.v;
+        for i in 0..3 {
+            self.g[i] -= o.g[i];
+        }
+        for k in 0..6 {
+            self.h[k] -= o.h[k];
+        }
+        for t in 0..9 {
+            self.c[t] -= o.c[t];
+        }
+        self
+    }
+}
+
+impl Mul for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        let mut out = Self::cst(self.v * o.v);
+        let mut k = 0;
+        for i in 0..3 {
+            out.g[i] = self.v * o.g[i] + o.v * self.g[i];
+            for j in i..3 {
+                out.h[k] =
+                    self.v * o.h[k] + o.v * self.h[k] + self.g[i] * o.g[j] + o.g[i] * self.g[j];
+                k += 1;
+            }
+            for j in 0..3 {
+                let t = 3 * i + j;
+                out.c[t] = self.v * o.c[t]
+                    + o.v * self.c[t]
+                    + self.g[i] * -o.g[j]
+                    + o.g[i] * -self.g[j];
+            }
+        }
+        out
+    }
+}
+
+impl Div for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        self * o.recip()
+    }
+}
+
+impl Neg for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self * -1.0
+    }
+}
+
+impl Add<f64> for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn add(mut self, o: f64) -> Self {
+        self.v += o;
+        self
+    }
+}
+
+impl Mul<f64> for Relative {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(mut self, o: f64) -> Self {
+        self.v *= o;
+        for i in 0..3 {
+            self.g[i] *= o;
+        }
+        for k in 0..6 {
+            self.h[k] *= o;
+        }
+        for t in 0..9 {
+            self.c[t] *= o;
+        }
+        self
+    }
+}
+
 /// A 3-vector over any scalar.
 #[derive(Clone, Copy, Debug)]
 pub struct V3<S> {
@@ -400,5 +664,100 @@ impl<S: Scalar> V3<S> {
         // chain rule and a product.
         let inv = self.norm().recip();
         self.scale(inv)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    /// The general second-order chain rule, `outer` over M intermediates
+    /// y, `inner` the intermediates over N variables: g = sum_k f_k y_k',
+    /// H = J^T F J + sum_k f_k y_k'' (the bend terms' chain rule before
+    /// `compose_edges`, kept as its reference).
+    fn compose_full<const M: usize, const TM: usize, const N: usize, const T: usize>(
+        outer: &Dual<M, TM>,
+        inner: &[Dual<N, T>; M],
+    ) -> Dual<N, T> {
+        let mut out = Dual::<N, T>::cst(outer.v);
+        let mut p = [[0.0; N]; M];
+        for (k, pk) in p.iter_mut().enumerate() {
+            for (l, y) in inner.iter().enumerate() {
+                let f = outer.hess(k, l);
+                if f != 0.0 {
+                    for a in 0..N {
+                        pk[a] += f * y.g[a];
+                    }
+                }
+            }
+        }
+        for (k, y) in inner.iter().enumerate() {
+            let fk = outer.g[k];
+            if fk != 0.0 {
+                for a in 0..N {
+                    out.g[a] += fk * y.g[a];
+                }
+                for t in 0..T {
+                    out.h[t] += fk * y.h[t];
+                }
+            }
+        }
+        let mut t = 0;
+        for a in 0..N {
+            for b in a..N {
+                let mut s = 0.0;
+                for k in 0..M {
+                    s += inner[k].g[a] * p[k][b];
+                }
+                out.h[t] += s;
+                t += 1;
+            }
+        }
+        out
+    }
+
+    fn random<const N: usize, const T: usize>(rng: &mut Rng, zeros: bool) -> Dual<N, T> {
+        let mut d = Dual::<N, T>::cst(rng.normal());
+        // Some exact zeros, as an arm's unused fourth variable and a
+        // zero-curvature term give.
+        let mut x = || {
+            let v = rng.normal();
+            if zeros && v.abs() < 0.3 { 0.0 } else { v }
+        };
+        d.g.iter_mut().for_each(|g| *g = x());
+        d.h.iter_mut().for_each(|h| *h = x());
+        d
+    }
+
+    /// `compose_edges` equals the full chain rule over the rotations as
+    /// 8-variable duals to the bit: value, gradient and Hessian.
+    #[test]
+    fn compose_edges_equals_the_full_chain_rule_to_the_bit() {
+        let mut rng = Rng::new(3);
+        for case in 0..200 {
+            let zeros = case % 2 == 1;
+            let outer = random::<6, 21>(&mut rng, zeros);
+            let inner: [[Dual<4, 10>; 3]; 2] =
+                std::array::from_fn(|_| std::array::from_fn(|_| random(&mut rng, zeros)));
+            // Edge e's rotations as 8-variable duals, its variables at 4 e..
+            let full: [Dual<8, 36>; 6] = std::array::from_fn(|k| {
+                let (e, w) = (k / 3, &inner[k / 3][k % 3]);
+                let mut d = Dual::<8, 36>::cst(w.v);
+                for i in 0..4 {
+                    d.g[4 * e + i] = w.g[i];
+                    for j in i..4 {
+                        d.set_hess(4 * e + i, 4 * e + j, w.hess(i, j));
+                    }
+                }
+                d
+            });
+            let want = compose_full(&outer, &full);
+            let got = compose_edges(&outer, &inner);
+            assert_eq!(got.v.to_bits(), want.v.to_bits());
+            for (x, y) in got.g.iter().zip(&want.g).chain(got.h.iter().zip(&want.h)) {
+                assert_eq!(x.to_bits(), y.to_bits(), "case {case}: {x} vs {y}");
+            }
+        }
     }
 }

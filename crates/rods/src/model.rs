@@ -3,8 +3,8 @@
 //! and the energy stencils, evaluated with plain f64 (energy) or with duals
 //! (gradient and Hessian).
 
-use crate::dual::{Dual, Scalar, V3, compose};
-use crate::frames::{joint_frame, material, transport, twist, twist_with};
+use crate::dual::{Dual, Relative, Scalar, V3, compose_edges};
+use crate::frames::{joint_frame, material, transport, transport_c, twist, twist_with};
 use glam::DVec3;
 
 /// Stiffness of the strip's cross-section (docs/physics.md, "ABS and the
@@ -346,14 +346,31 @@ impl Model {
         g: &mut Vec<f64>,
         h: &mut Vec<f64>,
     ) -> f64 {
+        self.stencil_derivatives_memo(s, vars, g, h, &mut Memo::new(), false)
+    }
+
+    /// `stencil_derivatives_into` with what the last terms of the same
+    /// state computed (`Memo`): the assembly's path, the same numbers.
+    /// With `lower`, a rod term's Hessian only where row >= column (`Chain::finish`).
+    pub(crate) fn stencil_derivatives_memo(
+        &self,
+        s: &Stencil,
+        vars: &[usize],
+        g: &mut Vec<f64>,
+        h: &mut Vec<f64>,
+        memo: &mut Memo,
+        lower: bool,
+    ) -> f64 {
         let n = vars.len();
         g.clear();
         g.resize(n, 0.0);
         h.clear();
         h.resize(n * n, 0.0);
         match *s {
-            Stencil::Bend { e0, e1, lbar, .. } => bend_local(self, (e0, e1, lbar), vars, g, h),
-            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, g, h),
+            Stencil::Bend { e0, e1, lbar, .. } => {
+                bend_local(self, (e0, e1, lbar), vars, (g, h, lower), memo)
+            }
+            Stencil::Stretch { edge, .. } => stretch_local(self, edge, vars, (g, h, lower), memo),
             Stencil::Load { .. } | Stencil::Moment { .. } => {
                 let (e, gf, hf) = self.stencil_derivatives_full(s, vars);
                 g.copy_from_slice(&gf);
@@ -638,6 +655,40 @@ struct LocalSlot {
     inputs: [([usize; 2], usize); 3],
 }
 
+/// An edge with a reference frame, over its own 4 variables (edge vector
+/// and material angle): its frame now, and the rotation from that frame
+/// in small duals.
+#[derive(Clone, Copy)]
+struct EdgeRotation {
+    edge: usize,
+    base: [DVec3; 3],
+    rot: [Dual<4, 10>; 3],
+}
+
+/// What consecutive rod terms of one state share, computed by the first
+/// and reused by the next: a rod lists its stretch terms, then its bend
+/// terms (e_i, e_i+1) in order, so a bend's second edge is the next
+/// bend's first, and a joint slot's directions serve the arm tips and arm
+/// frames of several terms in a row. The same arithmetic on the same
+/// inputs, so the same numbers; valid for one state (q and the stored
+/// frames): the assembly makes one per Hessian.
+pub(crate) struct Memo {
+    edge: Option<EdgeRotation>,
+    /// Slot directions (u, n) by (joint, slot), the oldest replaced.
+    slots: [Option<((usize, usize), V3<Dual<3, 6>>, V3<Dual<3, 6>>)>; 4],
+    next_slot: usize,
+}
+
+impl Memo {
+    pub(crate) fn new() -> Memo {
+        Memo {
+            edge: None,
+            slots: [None; 4],
+            next_slot: 0,
+        }
+    }
+}
+
 /// The last step of a rod term's chain rule, in plain numbers (docs/physics.md,
 /// "Solver"): up to 8 intermediates (edge vectors, material angles, slot
 /// inputs) over the term's local variables. An edge vector is x_b - x_a,
@@ -649,6 +700,7 @@ struct LocalSlot {
 struct Chain<'a> {
     m: &'a Model,
     vars: &'a [usize],
+    memo: &'a mut Memo,
     /// Row k: the gradient of intermediate k over the local variables.
     jac: [[f64; MAX_LOCAL]; 8],
     /// The arm tips in edge vectors: (the vector's first row, sign times
@@ -658,7 +710,7 @@ struct Chain<'a> {
 }
 
 impl<'a> Chain<'a> {
-    fn new(m: &'a Model, vars: &'a [usize]) -> Self {
+    fn new(m: &'a Model, vars: &'a [usize], memo: &'a mut Memo) -> Self {
         assert!(
             vars.len() <= MAX_LOCAL,
             "a rod term with {} variables",
@@ -667,6 +719,7 @@ impl<'a> Chain<'a> {
         Chain {
             m,
             vars,
+            memo,
             jac: [[0.0; MAX_LOCAL]; 8],
             tips: [None; 4],
             known: [None; 4],
@@ -691,35 +744,48 @@ impl<'a> Chain<'a> {
         let m = self.m;
         let jt = &m.joints[j];
         let sl = jt.slots[slot];
-        let mut alpha = m.q[sl.angle[0]];
         let mut angle = ([self.loc(sl.angle[0]), 0], 1);
         if sl.terms == 2 {
-            alpha += m.q[sl.angle[1]];
             angle = ([angle.0[0], self.loc(sl.angle[1])], 2);
         }
-        let [ns, ps, qs] = jt.frame;
-        let s = match jt.tilt {
-            Some(t) => {
-                let (n, p, q) = joint_frame(ns, ps, qs, D3::var(m.q[t], 0), D3::var(m.q[t + 1], 1));
-                let a = D3::var(alpha, 2);
-                LocalSlot {
-                    key: (j, slot),
-                    u: p.scale(a.cos()).add(q.scale(a.sin())),
-                    n,
-                    inputs: [([self.loc(t), 0], 1), ([self.loc(t + 1), 0], 1), angle],
-                }
-            }
+        let inputs = match jt.tilt {
+            Some(t) => [([self.loc(t), 0], 1), ([self.loc(t + 1), 0], 1), angle],
+            None => [angle, ([0, 0], 0), ([0, 0], 0)],
+        };
+        let memo = &mut *self.memo;
+        let (u, n) = match memo.slots.iter().flatten().find(|d| d.0 == (j, slot)) {
+            Some(&(_, u, n)) => (u, n),
             None => {
-                let a = D3::var(alpha, 0);
-                LocalSlot {
-                    key: (j, slot),
-                    u: V3::<D3>::cst(ps)
-                        .scale(a.cos())
-                        .add(V3::cst(qs).scale(a.sin())),
-                    n: V3::cst(ns),
-                    inputs: [angle, ([0, 0], 0), ([0, 0], 0)],
+                let mut alpha = m.q[sl.angle[0]];
+                if sl.terms == 2 {
+                    alpha += m.q[sl.angle[1]];
                 }
+                let [ns, ps, qs] = jt.frame;
+                let (u, n) = match jt.tilt {
+                    Some(t) => {
+                        let (n, p, q) =
+                            joint_frame(ns, ps, qs, D3::var(m.q[t], 0), D3::var(m.q[t + 1], 1));
+                        let a = D3::var(alpha, 2);
+                        (p.scale(a.cos()).add(q.scale(a.sin())), n)
+                    }
+                    None => {
+                        let a = D3::var(alpha, 0);
+                        let u = V3::<D3>::cst(ps)
+                            .scale(a.cos())
+                            .add(V3::cst(qs).scale(a.sin()));
+                        (u, V3::cst(ns))
+                    }
+                };
+                memo.slots[memo.next_slot] = Some(((j, slot), u, n));
+                memo.next_slot = (memo.next_slot + 1) % memo.slots.len();
+                (u, n)
             }
+        };
+        let s = LocalSlot {
+            key: (j, slot),
+            u,
+            n,
+            inputs,
         };
         let i = self
             .known
@@ -743,9 +809,11 @@ impl<'a> Chain<'a> {
             Node::Hole(j) => (m.joints[j].x, None),
             Node::Arm { joint, slot, r } => (m.joints[joint].x, Some((self.slot(joint, slot), r))),
         };
+        // A position's three variables are consecutive numbers, so they
+        // follow each other in the sorted `vars`.
+        let l = self.loc(x);
         for c in 0..3 {
-            let l = self.loc(x + c);
-            self.jac[row + c][l] += sign;
+            self.jac[row + c][l + c] += sign;
         }
         let p = DVec3::new(m.q[x], m.q[x + 1], m.q[x + 2]);
         let Some((si, r)) = tip else { return p };
@@ -783,39 +851,43 @@ impl<'a> Chain<'a> {
     }
 
     /// g = J^T g_o and H = J^T H_o J + the arm tips' own Hessians times
-    /// their rows' g_o, for `outer` over the first M intermediates.
+    /// their rows' g_o, for `outer` over the first M intermediates. With
+    /// `lower`, only the entries h[a][b] with b <= a (what the assembly of
+    /// a term without fixed or tied variables reads); the others stay 0.
     fn finish<const M: usize, const TM: usize>(
         &self,
         outer: &Dual<M, TM>,
         g: &mut [f64],
         h: &mut [f64],
+        lower: bool,
     ) -> f64 {
         let n = self.vars.len();
         let jac = &self.jac[..M];
-        // Each row of J has a few nonzeros (a coordinate's +-1 at each
-        // end, an arm tip's r du, an angle's 1): P = H_o J over those
-        // alone. The same sums: the terms left out add zero to a sum that
-        // starts at +0.
-        let mut nz = [[0u8; MAX_LOCAL]; M];
-        let mut nnz = [0usize; M];
-        for ((jl, nzl), count) in jac.iter().zip(&mut nz).zip(&mut nnz) {
-            for (b, &v) in jl[..n].iter().enumerate() {
-                if v != 0.0 {
-                    nzl[*count] = b as u8;
-                    *count += 1;
+        // P = H_o J by its columns: P[.][b] = sum_l H_o[.][l] J[l][b] over
+        // the few nonzeros of J (a coordinate's +-1 at each end, an arm
+        // tip's r du, an angle's 1), a row of H_o at a time (H_o is
+        // symmetric: its row l is its column l). Each sum keeps its order
+        // over l; a term left out adds a zero.
+        let mut ho = [[0.0; M]; M];
+        for (k, hk) in ho.iter_mut().enumerate() {
+            for (l, f) in hk.iter_mut().enumerate() {
+                *f = outer.hess(k, l);
+            }
+        }
+        let mut pt = [[0.0; M]; MAX_LOCAL];
+        for (jl, hl) in jac.iter().zip(&ho) {
+            for (ptb, &c) in pt.iter_mut().zip(&jl[..n]) {
+                if c != 0.0 {
+                    for (p, &f) in ptb.iter_mut().zip(hl) {
+                        *p += f * c;
+                    }
                 }
             }
         }
         let mut p = [[0.0; MAX_LOCAL]; M];
-        for (k, pk) in p.iter_mut().enumerate() {
-            for (l, jl) in jac.iter().enumerate() {
-                let f = outer.hess(k, l);
-                if f != 0.0 {
-                    for &b in &nz[l][..nnz[l]] {
-                        let b = b as usize;
-                        pk[b] += f * jl[b];
-                    }
-                }
+        for (b, ptb) in pt[..n].iter().enumerate() {
+            for (pk, &v) in p.iter_mut().zip(ptb) {
+                pk[b] = v;
             }
         }
         for (k, jk) in jac.iter().enumerate() {
@@ -823,7 +895,8 @@ impl<'a> Chain<'a> {
                 let c = jk[a];
                 if c != 0.0 {
                     g[a] += outer.g[k] * c;
-                    for (hb, pb) in h[a * n..(a + 1) * n].iter_mut().zip(&p[k][..n]) {
+                    let end = if lower { a + 1 } else { n };
+                    for (hb, pb) in h[a * n..a * n + end].iter_mut().zip(&p[k][..end]) {
                         *hb += c * pb;
                     }
                 }
@@ -841,7 +914,9 @@ impl<'a> Chain<'a> {
                         let v = f * uc.hess(i, j);
                         for &a in &li[..ci] {
                             for &b in &lj[..cj] {
-                                h[a * n + b] += v;
+                                if !lower || b <= a {
+                                    h[a * n + b] += v;
+                                }
                             }
                         }
                     }
@@ -861,11 +936,10 @@ fn bend_local(
     m: &Model,
     (e0, e1, lbar): (usize, usize, f64),
     vars: &[usize],
-    g: &mut [f64],
-    h: &mut [f64],
+    (g, h, lower): (&mut [f64], &mut [f64], bool),
+    memo: &mut Memo,
 ) -> f64 {
-    type D4 = Dual<4, 10>;
-    let mut chain = Chain::new(m, vars);
+    let mut chain = Chain::new(m, vars, memo);
     let (ea, eb) = (&m.edges[e0], &m.edges[e1]);
     // Consecutive edges of a rod share their middle node: edge b's vector
     // is x2 - x1 below, x1's value taken from edge a's end.
@@ -874,52 +948,125 @@ fn bend_local(
     let x1 = chain.place(0, ea.b, 1.0);
     chain.place(4, eb.a, -1.0);
     let x2 = chain.place(4, eb.b, 1.0);
-    // The rotations over each edge's own variables, side by side as 8
-    // small duals.
-    let mut w = [Dual::<8, 36>::cst(0.0); 6];
+    // Each edge's rotation over its own 4 variables.
+    let mut w = [[Dual::<4, 10>::cst(0.0); 3]; 2];
     let mut base = [[DVec3::ZERO; 3]; 2];
-    for (k, edge, ev) in [(0, ea, x1 - x0), (1, eb, x2 - x1)] {
-        let t = V3::<f64>::cst(ev).unit();
+    for (k, e, edge, ev) in [(0, e0, ea, x1 - x0), (1, e1, eb, x2 - x1)] {
         match edge.frame {
             Frame::Ref { ts, as_, theta } => {
-                let th = m.q[theta];
-                let (d1, d2) = material::<f64>(ts, as_, t, th);
-                base[k] = [t.val(), d1.val(), d2.val()];
                 let l = chain.loc(theta);
                 chain.jac[4 * k + 3][l] = 1.0;
-                let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
-                let t4 = e4.unit();
-                let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
-                place_rotation(&mut w, k, &rotation([t4, d14, d24], base[k]));
+                let r = match chain.memo.edge {
+                    Some(r) if r.edge == e => r,
+                    _ => {
+                        let r = edge_rotation(e, (ts, as_, m.q[theta]), ev);
+                        chain.memo.edge = Some(r);
+                        r
+                    }
+                };
+                (base[k], w[k]) = (r.base, r.rot);
             }
             Frame::Arm { joint, slot, sigma } => {
                 // t = u, d2 = sigma n, d1 = d2 x u, over the slot's inputs.
+                let t = V3::<f64>::cst(ev).unit();
                 let si = chain.slot(joint, slot);
                 chain.inputs(4 * k, si);
                 let s = chain.known(si);
                 let d2 = s.n.scalef(sigma);
                 let d1 = d2.cross(s.u);
                 base[k] = [t.val(), d1.val(), d2.val()];
-                place_rotation(&mut w, k, &rotation([s.u, d1, d2], base[k]));
+                for (wc, r) in w[k].iter_mut().zip(&rotation([s.u, d1, d2], base[k])) {
+                    *wc = widen(r);
+                }
             }
         }
     }
-    let e8 = compose(&bend_energy_rotations(&m.section, lbar, base), &w);
-    chain.finish(&e8, g, h)
+    let e8 = compose_edges(&bend_energy_rotations(&m.section, lbar, base), &w);
+    chain.finish(&e8, g, h, lower)
+}
+
+/// Edge `e` with a reference frame (stored tangent and director, material
+/// angle th) and edge vector `ev`: its frame now and the rotation from it
+/// over (ev, th). The tangent and the transported director (a1, a2 = t x
+/// a1) depend on the edge vector alone, so they are taken over its 3
+/// variables, and the angle enters by `turned`: the numbers of the same
+/// frame in 4-variable duals (`tests`), without the products of the
+/// zeros that the angle's and the edge vector's entries of each other
+/// are.
+fn edge_rotation(e: usize, (ts, as_, th): (DVec3, DVec3, f64), ev: DVec3) -> EdgeRotation {
+    type D3 = Dual<3, 6>;
+    let t = V3::<f64>::cst(ev).unit();
+    let (d1, d2) = material::<f64>(ts, as_, t, th);
+    let base = [t.val(), d1.val(), d2.val()];
+    let t3 = V3::new(D3::var(ev.x, 0), D3::var(ev.y, 1), D3::var(ev.z, 2)).unit();
+    let a1 = transport_c(ts, t3, as_);
+    let a2 = t3.cross(a1);
+    // cos and sin of the angle: value, first and second derivative.
+    let (s, c) = th.sin_cos();
+    let (cos, sin) = ((c, -s, -c), (s, c, -s));
+    let turn = |x: V3<D3>, f| V3::new(turned(&x.x, f), turned(&x.y, f), turned(&x.z, f));
+    // d1 = a1 cos + a2 sin, d2 = a2 cos - a1 sin (`material`).
+    let d14 = turn(a1, cos).add(turn(a2, sin));
+    let d24 = turn(a2, cos).sub(turn(a1, sin));
+    let t4 = V3::new(widen(&t3.x), widen(&t3.y), widen(&t3.z));
+    EdgeRotation {
+        edge: e,
+        base,
+        rot: rotation([t4, d14, d24], base),
+    }
+}
+
+/// x (over the edge vector) times f(th), the material angle's cosine or
+/// sine with its derivatives f1, f2, over the 4 variables: each entry the
+/// one nonzero term of the 4-variable dual product x f (x's entries in
+/// th and f's in the edge vector being zeros), so the same number.
+#[inline(always)]
+fn turned(x: &Dual<3, 6>, (f, f1, f2): (f64, f64, f64)) -> Dual<4, 10> {
+    let mut out = Dual::<4, 10>::cst(x.v * f);
+    for i in 0..3 {
+        out.g[i] = f * x.g[i];
+        for j in i..3 {
+            out.set_hess(i, j, f * x.hess(i, j));
+        }
+        out.set_hess(i, 3, x.g[i] * f1);
+    }
+    out.g[3] = x.v * f1;
+    out.set_hess(3, 3, x.v * f2);
+    out
+}
+
+/// An arm's rotation over its slot's 3 inputs as one over 4 variables,
+/// the fourth unused.
+#[inline(always)]
+fn widen(d: &Dual<3, 6>) -> Dual<4, 10> {
+    let mut out = Dual::<4, 10>::cst(d.v);
+    for i in 0..3 {
+        out.g[i] = d.g[i];
+        for j in i..3 {
+            out.set_hess(i, j, d.hess(i, j));
+        }
+    }
+    out
 }
 
 /// A stretch stencil's energy with its derivatives over its local
 /// variables: over the edge vector in 3 small duals, then `Chain`.
-fn stretch_local(m: &Model, edge: usize, vars: &[usize], g: &mut [f64], h: &mut [f64]) -> f64 {
+fn stretch_local(
+    m: &Model,
+    edge: usize,
+    vars: &[usize],
+    (g, h, lower): (&mut [f64], &mut [f64], bool),
+    memo: &mut Memo,
+) -> f64 {
     type D3 = Dual<3, 6>;
-    let mut chain = Chain::new(m, vars);
+    let mut chain = Chain::new(m, vars, memo);
     let e = &m.edges[edge];
     let xa = chain.place(0, e.a, -1.0);
     let ev = chain.place(0, e.b, 1.0) - xa;
     let len = V3::new(D3::var(ev.x, 0), D3::var(ev.y, 1), D3::var(ev.z, 2)).norm();
     let strain = len * (1.0 / e.rest) + -1.0;
     let energy = strain * strain * (0.5 * m.section.ea * e.rest);
-    chain.finish(&energy, g, h)
+    chain.finish(&energy, g, h, lower)
 }
 
 /// The rotation vector w taking the frame f0 to f (to second order):
@@ -934,33 +1081,6 @@ fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
     [w.x, w.y, w.z]
 }
 
-/// Edge k's rotation over its own variables as three of the 8-variable
-/// duals, each written in place: an array of them mapped and copied was
-/// about 2 % of the solve (memmove).
-#[inline(always)]
-fn place_rotation<const M: usize, const TM: usize>(
-    w: &mut [Dual<8, 36>; 6],
-    k: usize,
-    rot: &[Dual<M, TM>; 3],
-) {
-    for (c, wk) in rot.iter().enumerate() {
-        w[3 * k + c] = embed(wk, 4 * k);
-    }
-}
-
-/// A small dual as one over 8 variables, its variables at `offset..`.
-#[inline(always)]
-fn embed<const M: usize, const TM: usize>(d: &Dual<M, TM>, offset: usize) -> Dual<8, 36> {
-    let mut out = Dual::<8, 36>::cst(d.v);
-    for i in 0..M {
-        out.g[offset + i] = d.g[i];
-        for j in i..M {
-            out.set_hess(offset + i, offset + j, d.hess(i, j));
-        }
-    }
-    out
-}
-
 /// The bend and twist energy over the two edges' rotation coordinates
 /// (w0, w1) at 0, frames R(w) F0, in closed form: every quantity of
 /// `bend_energy` is a function of the nine products M_ij = a_i . b_j of
@@ -972,7 +1092,13 @@ fn embed<const M: usize, const TM: usize>(d: &Dual<M, TM>, offset: usize) -> Dua
 /// with), with about a third of the 6-variable dual products.
 #[inline(always)]
 pub fn bend_energy_rotations(sec: &Section, lbar: f64, [a, b]: [[DVec3; 3]; 2]) -> Dual<6, 21> {
-    let mm = |i: usize, j: usize| rotation_product(a[i], b[j]);
+    bend_energy_products(sec, lbar, |i, j| rotation_product(a[i], b[j])).to_dual()
+}
+
+/// The bend and twist energy from the products M_ij = `mm(i, j)` of the
+/// two edges' frames (`bend_energy_rotations`).
+#[inline(always)]
+fn bend_energy_products<S: Scalar>(sec: &Section, lbar: f64, mm: impl Fn(usize, usize) -> S) -> S {
     let (m00, m01, m02) = (mm(0, 0), mm(0, 1), mm(0, 2));
     let (m10, m11, m12) = (mm(1, 0), mm(1, 1), mm(1, 2));
     let m20 = mm(2, 0);
@@ -998,25 +1124,24 @@ pub fn bend_energy_rotations(sec: &Section, lbar: f64, [a, b]: [[DVec3; 3]; 2]) 
 /// = (a_k b_l + a_l b_k) / 2 - a.b delta_kl; d2/dw0_k dw1_l = a.b
 /// delta_kl - b_k a_l.
 #[inline(always)]
-fn rotation_product(a: DVec3, b: DVec3) -> Dual<6, 21> {
+fn rotation_product(a: DVec3, b: DVec3) -> Relative {
     let ab = a.dot(b);
     let x = a.cross(b).to_array();
     let (a, b) = (a.to_array(), b.to_array());
-    let mut d = Dual::<6, 21>::cst(ab);
+    let mut d = Relative::cst(ab);
+    let mut t = 0;
     for k in 0..3 {
         d.g[k] = x[k];
-        d.g[3 + k] = -x[k];
         for l in k..3 {
             let mut v = 0.5 * (a[k] * b[l] + a[l] * b[k]);
             if k == l {
                 v -= ab;
             }
-            d.set_hess(k, l, v);
-            d.set_hess(3 + k, 3 + l, v);
+            d.h[t] = v;
+            t += 1;
         }
         for l in 0..3 {
-            let v = if k == l { ab } else { 0.0 } - b[k] * a[l];
-            d.set_hess(k, 3 + l, v);
+            d.c[3 * k + l] = if k == l { ab } else { 0.0 } - b[k] * a[l];
         }
     }
     d
@@ -1159,5 +1284,73 @@ impl Model {
         let p = self.pos(self.nodes.len() - 1);
         self.nodes.pop();
         p
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    /// The bend energy over the rotations with the products stored as
+    /// `Relative` equals the same formula in `Dual<6, 21>` to the bit, on
+    /// random frame pairs.
+    #[test]
+    fn bend_energy_relative_equals_the_six_variable_duals_to_the_bit() {
+        let sec = Section {
+            b_flat: 229.2,
+            b_edge: 91667.0,
+            ea: 11000.0,
+            gj: 328.8,
+            width: 10.0,
+            thickness: 0.5,
+        };
+        let mut rng = Rng::new(13);
+        let v = |rng: &mut Rng| DVec3::new(rng.normal(), rng.normal(), rng.normal());
+        let frame = |t: DVec3, d: DVec3| {
+            let t = t.normalize();
+            let d1 = (d - t * d.dot(t)).normalize();
+            [t, d1, t.cross(d1)]
+        };
+        for _ in 0..300 {
+            let a = frame(v(&mut rng), v(&mut rng));
+            let b = frame(a[0] + 0.4 * v(&mut rng), v(&mut rng));
+            let lbar = 1.0 + 10.0 * rng.uniform();
+            let got = bend_energy_rotations(&sec, lbar, [a, b]);
+            let want =
+                bend_energy_products(&sec, lbar, |i, j| rotation_product(a[i], b[j]).to_dual());
+            assert_eq!(got.v.to_bits(), want.v.to_bits());
+            for (x, y) in got.g.iter().zip(&want.g).chain(got.h.iter().zip(&want.h)) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{x} vs {y}");
+            }
+        }
+    }
+
+    /// `edge_rotation` equals the rotation of the edge's frame computed in
+    /// 4-variable duals throughout (edge vector and angle), entry for
+    /// entry (`==`: a zero may differ in sign, which no sum it enters
+    /// notices), on random edges, frames and angles.
+    #[test]
+    fn edge_rotation_equals_the_four_variable_duals() {
+        type D4 = Dual<4, 10>;
+        let mut rng = Rng::new(9);
+        let v = |rng: &mut Rng| DVec3::new(rng.normal(), rng.normal(), rng.normal());
+        for _ in 0..300 {
+            let ev = v(&mut rng) * (1.0 + 20.0 * rng.uniform());
+            let ts = (ev.normalize() + 0.3 * v(&mut rng)).normalize();
+            let as_ = ts.any_orthonormal_vector();
+            let th = 0.5 * rng.normal();
+            let got = edge_rotation(7, (ts, as_, th), ev);
+            let e4 = V3::new(D4::var(ev.x, 0), D4::var(ev.y, 1), D4::var(ev.z, 2));
+            let t4 = e4.unit();
+            let (d14, d24) = material(ts, as_, t4, D4::var(th, 3));
+            let want = rotation([t4, d14, d24], got.base);
+            for (x, y) in got.rot.iter().zip(&want) {
+                assert_eq!(x.v.to_bits(), y.v.to_bits());
+                for (a, b) in x.g.iter().zip(&y.g).chain(x.h.iter().zip(&y.h)) {
+                    assert!(a == b, "{a} vs {b}");
+                }
+            }
+        }
     }
 }

@@ -6,7 +6,7 @@
 //! written out here (`Numeric`), whose refusal of an indefinite matrix is
 //! the inertia test.
 
-use crate::model::{Model, VarKind};
+use crate::model::{Memo, Model, VarKind};
 use faer::Side;
 use faer::sparse::SymbolicSparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -58,7 +58,9 @@ pub struct System {
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
     /// Whether a stencil's entries are its local variables in order, each
-    /// with coefficient 1 (no fixed or tied variable).
+    /// with coefficient 1 and their free indices increasing (no fixed or
+    /// tied variable): then its slots are those of its local Hessian's
+    /// lower triangle, the only part of it computed.
     stencil_plain: Vec<bool>,
     pattern: SymbolicSparseColMat<usize>,
     /// The Cholesky factor's structure, analysed once (`factor_structure`):
@@ -164,7 +166,9 @@ impl System {
             .iter()
             .map(|list| list.iter().map(|&(a, _, c)| (a as u32, c)).collect())
             .collect();
-        let stencil_plain = stencil_entries
+        // A variable tied to one other with coefficient 1 is one entry
+        // too, but out of order: not plain.
+        let stencil_plain = entries
             .iter()
             .zip(&stencil_vars)
             .map(|(list, vars)| {
@@ -172,7 +176,8 @@ impl System {
                     && list
                         .iter()
                         .enumerate()
-                        .all(|(p, &(a, c))| a as usize == p && c == 1.0)
+                        .all(|(p, &(a, _, c))| a == p && c == 1.0)
+                    && list.windows(2).all(|w| w[0].1 < w[1].1)
             })
             .collect();
         let diag_pos = (0..n).map(|c| slot(c, c)).collect();
@@ -214,9 +219,11 @@ impl System {
         let mut h = vec![0.0; self.pattern.row_idx().len()];
         let mut e = 0.0;
         let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
+        let mut memo = Memo::new();
         for (s, st) in model.stencils.iter().enumerate() {
             let vars = &self.stencil_vars[s];
-            e += model.stencil_derivatives_into(st, vars, &mut gs, &mut hs);
+            let plain = self.stencil_plain[s];
+            e += model.stencil_derivatives_memo(st, vars, &mut gs, &mut hs, &mut memo, plain);
             let k = vars.len();
             for a in 0..k {
                 g[vars[a]] += gs[a];
@@ -224,14 +231,13 @@ impl System {
             let entries = &self.stencil_entries[s];
             let ne = entries.len();
             let pos = &self.stencil_pos[s];
-            if self.stencil_plain[s] {
+            if plain {
                 // One entry per local variable, coefficient 1: the
-                // products below are the values themselves.
+                // products below are the values themselves, and the
+                // slots those of the lower triangle.
                 for (p, row) in hs.chunks_exact(k).enumerate() {
-                    for (&slot, &v) in pos[p * k..(p + 1) * k].iter().zip(row) {
-                        if slot != NONE {
-                            h[slot as usize] += v;
-                        }
+                    for (&slot, &v) in pos[p * k..=p * k + p].iter().zip(row) {
+                        h[slot as usize] += v;
                     }
                 }
                 continue;
@@ -318,12 +324,13 @@ impl System {
         let mut y = vec![0.0; v.len()];
         let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
         for c in 0..v.len() {
-            for p in cp[c]..cp[c + 1] {
+            // Each column's rows are sorted, the diagonal first (`new`).
+            let d = cp[c];
+            y[c] += h[d] * v[c];
+            for p in d + 1..cp[c + 1] {
                 let r = ri[p];
                 y[r] += h[p] * v[c];
-                if r != c {
-                    y[c] += h[p] * v[r];
-                }
+                y[c] += h[p] * v[r];
             }
         }
         y
