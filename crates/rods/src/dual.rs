@@ -349,6 +349,8 @@ impl<const N: usize, const T: usize> Mul for Dual<N, T> {
 impl<const N: usize, const T: usize> Div for Dual<N, T> {
     type Output = Self;
     #[inline(always)]
+    // A quotient is the product with the reciprocal: one dual product.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn div(self, o: Self) -> Self {
         self * o.recip()
     }
@@ -446,7 +448,6 @@ impl Relative {
         self.v = f;
         self
     }
-
 }
 
 /// `Dual`'s arithmetic on the stored parts, function for function.
@@ -533,10 +534,8 @@ impl Mul for Relative {
             }
             for j in 0..3 {
                 let t = 3 * i + j;
-                out.c[t] = self.v * o.c[t]
-                    + o.v * self.c[t]
-                    + self.g[i] * -o.g[j]
-                    + o.g[i] * -self.g[j];
+                out.c[t] =
+                    self.v * o.c[t] + o.v * self.c[t] + self.g[i] * -o.g[j] + o.g[i] * -self.g[j];
             }
         }
         out
@@ -546,6 +545,8 @@ impl Mul for Relative {
 impl Div for Relative {
     type Output = Self;
     #[inline(always)]
+    // A quotient is the product with the reciprocal: one dual product.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn div(self, o: Self) -> Self {
         self * o.recip()
     }
@@ -620,14 +621,6 @@ impl<S: Scalar> V3<S> {
         )
     }
     #[inline(always)]
-    pub fn add(self, o: Self) -> Self {
-        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
-    }
-    #[inline(always)]
-    pub fn sub(self, o: Self) -> Self {
-        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
-    }
-    #[inline(always)]
     pub fn scale(self, s: S) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
@@ -664,6 +657,22 @@ impl<S: Scalar> V3<S> {
         // chain rule and a product.
         let inv = self.norm().recip();
         self.scale(inv)
+    }
+}
+
+impl<S: Scalar> Add for V3<S> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl<S: Scalar> Sub for V3<S> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
     }
 }
 

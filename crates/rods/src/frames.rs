@@ -4,6 +4,7 @@
 
 use crate::dual::{Scalar, V3};
 use glam::DVec3;
+use std::ops::{Add, Sub};
 
 /// The minimal rotation taking unit `t1` to unit `t2`, applied to `v`
 /// (smooth while t1.t2 > -1).

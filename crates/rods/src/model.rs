@@ -6,6 +6,7 @@
 use crate::dual::{Dual, Relative, Scalar, V3, compose_edges};
 use crate::frames::{joint_frame, material, transport, transport_c, twist, twist_with};
 use glam::DVec3;
+use std::ops::{Add, Sub};
 
 /// Stiffness of the strip's cross-section (docs/physics.md, "ABS and the
 /// recipe's `[simulation]` table").
@@ -511,13 +512,16 @@ fn node_pos<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, node: Node) -> V3<S>
     node_pos_in(m, get, node, &mut Dirs::new())
 }
 
+/// A joint slot (joint, slot) with its directions (u, n).
+type SlotDirs<S> = (usize, usize, V3<S>, V3<S>);
+
 /// The directions (u, n) of the joint slots a stencil touches, each
 /// computed once: a bend stencil next to a joint needs its slot for an
 /// arm tip's position and again for the arm's frame (in the plain-number
 /// energies and the dual reference `stencil_derivatives_full`). The same
 /// arithmetic, so the same numbers.
 struct Dirs<S> {
-    known: [Option<(usize, usize, V3<S>, V3<S>)>; 4],
+    known: [Option<SlotDirs<S>>; 4],
 }
 
 impl<S: Scalar> Dirs<S> {
@@ -665,6 +669,10 @@ struct EdgeRotation {
     rot: [Dual<4, 10>; 3],
 }
 
+/// A joint slot (joint, slot) and its directions (u, n) over a bend's
+/// local variables.
+type SlotMemo = ((usize, usize), V3<Dual<3, 6>>, V3<Dual<3, 6>>);
+
 /// What consecutive rod terms of one state share, computed by the first
 /// and reused by the next: a rod lists its stretch terms, then its bend
 /// terms (e_i, e_i+1) in order, so a bend's second edge is the next
@@ -675,7 +683,7 @@ struct EdgeRotation {
 pub(crate) struct Memo {
     edge: Option<EdgeRotation>,
     /// Slot directions (u, n) by (joint, slot), the oldest replaced.
-    slots: [Option<((usize, usize), V3<Dual<3, 6>>, V3<Dual<3, 6>>)>; 4],
+    slots: [Option<SlotMemo>; 4],
     next_slot: usize,
 }
 

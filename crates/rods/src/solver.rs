@@ -280,10 +280,15 @@ impl System {
 
     /// Cholesky of H + tau Dm, or None if it is not positive definite.
     pub fn factor(&self, h: &[f64], tau: f64) -> Option<Factor> {
-        let mut f = self.spare.lock().ok().and_then(|mut s| s.take()).unwrap_or(Factor {
-            l: Vec::new(),
-            inv: Vec::new(),
-        });
+        let mut f = self
+            .spare
+            .lock()
+            .ok()
+            .and_then(|mut s| s.take())
+            .unwrap_or(Factor {
+                l: Vec::new(),
+                inv: Vec::new(),
+            });
         f.l.resize(self.numeric.len_val(), 0.0);
         f.inv.resize(self.n(), 0.0);
         FACTORISATIONS.fetch_add(1, Relaxed);
@@ -932,7 +937,11 @@ mod tests {
             for c in 0..n {
                 h[cp[c]] = scale * sums[c] + 0.1;
             }
-            let tau = if case % 3 == 0 { 0.0 } else { 0.05 * case as f64 };
+            let tau = if case % 3 == 0 {
+                0.0
+            } else {
+                0.05 * case as f64
+            };
             let mut vals = vec![0.0; h.len()];
             for (&p, &v) in upper_pos.iter().zip(&h) {
                 vals[p] = v;
@@ -959,7 +968,10 @@ mod tests {
             match (got, want) {
                 (Ok(()), Ok(_)) => {
                     assert!(
-                        ours.l.iter().zip(&theirs).all(|(a, b)| a.to_bits() == b.to_bits()),
+                        ours.l
+                            .iter()
+                            .zip(&theirs)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()),
                         "case {case}: factors differ"
                     );
                     let rhs: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
@@ -974,7 +986,11 @@ mod tests {
                         MemStack::new(&mut MemBuffer::new(faer::dyn_stack::StackReq::EMPTY)),
                     );
                     for i in 0..n {
-                        assert_eq!(y[i].to_bits(), m[(i, 0)].to_bits(), "case {case}: solves differ");
+                        assert_eq!(
+                            y[i].to_bits(),
+                            m[(i, 0)].to_bits(),
+                            "case {case}: solves differ"
+                        );
                     }
                 }
                 (Err(k), Err(e)) => {
@@ -986,6 +1002,9 @@ mod tests {
                 (got, want) => panic!("case {case}: ours {got:?}, faer's {want:?}"),
             }
         }
-        assert!(failed > 5 && failed < 55, "indefinite cases: {failed} of 60");
+        assert!(
+            failed > 5 && failed < 55,
+            "indefinite cases: {failed} of 60"
+        );
     }
 }
