@@ -1349,9 +1349,9 @@ impl Collapsed {
     }
 
     /// Sweep cell `c` (`inv` = 1 / its mean leg, `corners` its corners),
-    /// and measure its rods (`verify_rows` sweeps a row with `sweep_row`
-    /// and measures its rods after: the z of a swept cell's corners are
-    /// final).
+    /// and measure its rods (`verify_rows` has `sweep_row` compare each
+    /// swept cell's rods with their check as it goes, and settles them
+    /// after the row: the z of a swept cell's corners are final).
     #[inline]
     fn step(
         &mut self,

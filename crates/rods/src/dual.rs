@@ -152,8 +152,9 @@ const EDGE_BLOCK: [[usize; 10]; 2] = {
 /// other way round, so the products with those zeros are left out: each
 /// sum keeps the order and the other terms of the chain rule over the
 /// rotations as 8-variable duals (`tests::compose_full`), and so its
-/// value to the bit (a product left out is +-0, and a sum that starts at
-/// +0 is never -0, so adding it changes nothing).
+/// value to the bit while the derivatives are finite (a product left out
+/// is then +-0, and a sum that starts at +0 is never -0, so adding it
+/// changes nothing; an infinite one would have made NaN there).
 pub fn compose_edges(outer: &Dual<6, 21>, inner: &[[Dual<4, 10>; 3]; 2]) -> Dual<8, 36> {
     let mut f = [[0.0; 6]; 6];
     for (k, fk) in f.iter_mut().enumerate() {

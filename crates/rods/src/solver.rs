@@ -58,9 +58,11 @@ pub struct System {
     /// free row >= free column, else NONE.
     stencil_pos: Vec<Vec<u32>>,
     /// Whether a stencil's entries are its local variables in order, each
-    /// with coefficient 1 and their free indices increasing (no fixed or
-    /// tied variable): then its slots are those of its local Hessian's
-    /// lower triangle, the only part of it computed.
+    /// with coefficient 1 and their free indices increasing (a fixed
+    /// variable has no entry; one tied to another with coefficient 1 keeps
+    /// it plain only if its free index keeps the order): then its slots
+    /// are those of its local Hessian's lower triangle, the only part of it
+    /// computed.
     stencil_plain: Vec<bool>,
     pattern: SymbolicSparseColMat<usize>,
     /// The Cholesky factor's structure, analysed once (`factor_structure`):
@@ -167,7 +169,7 @@ impl System {
             .map(|list| list.iter().map(|&(a, _, c)| (a as u32, c)).collect())
             .collect();
         // A variable tied to one other with coefficient 1 is one entry
-        // too, but out of order: not plain.
+        // too: plain only if its free index keeps the order.
         let stencil_plain = entries
             .iter()
             .zip(&stencil_vars)
