@@ -144,8 +144,9 @@ const TWO_THREADS_FROM_CELLS: usize = 10_000;
 /// measures: `karigami check` without `-q`). After growth, the work falls
 /// into two independent halves of about equal cost on large lattices: the
 /// deployment (C(theta) with the misfits) with the shape and fit
-/// measures, and the placement, the clash search and verification, the
-/// shape shared by whichever finishes first. With
+/// measures, and the placement, the clash search and verification. The
+/// first half measures the shape, and the second, its own work done,
+/// helps it from the far end (`ShapeShare`). With
 /// `two_threads` the second half (or, without measures, the deployment
 /// beside verification) runs on a second thread; every result is the
 /// same computation either way, so the reports are byte-identical.
@@ -177,9 +178,10 @@ pub fn check_on(
             std::thread::scope(|s| {
                 let other = s.spawn(|| {
                     let placed = place(&lattice);
-                    let clashes = strip_clashes(&design, placed.as_ref().unwrap_or(&lattice));
+                    let assembled = placed.as_ref().unwrap_or(&lattice);
+                    let clashes = strip_clashes(&design, assembled);
                     let report = verify(&lattice);
-                    let whole = whole(&lattice, placed.as_ref().unwrap_or(&lattice));
+                    let whole = whole(&lattice, assembled);
                     (placed, clashes, report, whole, share.help())
                 });
                 let deployment = deployment(&lattice);

@@ -147,6 +147,17 @@ pub enum Stacking {
 }
 
 impl Lattice {
+    /// The sizes of a ring of per-vertex sums (vertex v in slot v mod
+    /// size) for passes over the cells in order, and the size that holds
+    /// every vertex: growth numbers a cell's corners within about two
+    /// fronts of each other, so a few thousand slots stand for the whole
+    /// lattice (and stay in cache). A pass whose corners spread wider than
+    /// the ring starts again with the full size; both give the same sums.
+    pub(crate) fn vertex_rings(&self) -> (usize, usize) {
+        let full = self.vertices.len().next_power_of_two();
+        ((2 * self.width + 8).next_power_of_two().min(full), full)
+    }
+
     /// Number of grown rows of cells (started turns, for a helix).
     pub fn rows(&self) -> usize {
         self.cells.len().div_ceil(self.width.max(1))

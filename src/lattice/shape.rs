@@ -8,7 +8,7 @@
 use super::{Cell, Kind, Lattice, Legs, angle_between};
 use glam::DVec3;
 use std::f64::consts::TAU;
-use std::sync::{Mutex, PoisonError};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// An angle defect beyond this (degrees) counts as curved, positive or
 /// negative; below it a vertex is flat (a planar grid's defects are ~1e-14).
@@ -142,12 +142,6 @@ impl Curvatures {
         }
     }
 
-    /// The ring's size for `lattice`, and the size that takes any lattice.
-    fn windows(lattice: &Lattice) -> (usize, usize) {
-        let full = lattice.vertices.len().next_power_of_two();
-        ((2 * lattice.width + 8).next_power_of_two().min(full), full)
-    }
-
     /// Add one cell's corner angles and area to its four vertices' sums;
     /// false when its corners do not fit in the ring.
     #[inline]
@@ -251,7 +245,7 @@ impl Lattice {
     /// The angle defect and Gaussian curvature at every vertex shared by
     /// four cells, in vertex order.
     pub fn curvature(&self) -> Vec<VertexCurvature> {
-        let (window, full) = Curvatures::windows(self);
+        let (window, full) = self.vertex_rings();
         self.curvature_in(window)
             .or_else(|| self.curvature_in(full))
             .expect("a slot for every vertex")
@@ -280,7 +274,7 @@ impl Lattice {
     /// pass to sort them, and a lattice stored out of order (wider than the
     /// ring) is measured again with a slot a vertex.
     pub(crate) fn shape(&self) -> Shape {
-        let (window, full) = Curvatures::windows(self);
+        let (window, full) = self.vertex_rings();
         self.shape_in(window)
             .or_else(|| self.shape_in(full))
             .expect("a slot for every vertex")
@@ -468,9 +462,7 @@ impl Regularity {
         (self.amin, self.amax) = (self.amin.min(other.amin), self.amax.max(other.amax));
         (self.lo, self.hi) = (self.lo.min(other.lo), self.hi.max(other.hi));
         self.ratios.extend_from_slice(&other.ratios);
-        let (s, l) = (other.range.short, other.range.long);
-        self.range.short = (self.range.short.0.min(s.0), self.range.short.1.max(s.1));
-        self.range.long = (self.range.long.0.min(l.0), self.range.long.1.max(l.1));
+        self.range.merge(&other.range);
     }
 }
 
@@ -527,7 +519,7 @@ impl<'a> ShapeShare<'a> {
     }
 
     /// The claims, through a panic on the other thread (they stay consistent).
-    fn claims(&self) -> std::sync::MutexGuard<'_, (usize, usize)> {
+    fn claims(&self) -> MutexGuard<'_, (usize, usize)> {
         self.claims.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
@@ -567,7 +559,7 @@ impl<'a> ShapeShare<'a> {
     /// chunk `help` measured: the helper's thread joined).
     pub(crate) fn measure(&self, helped: impl FnOnce() -> Vec<Helped>) -> Shape {
         let lattice = self.lattice;
-        let (window, full) = Curvatures::windows(lattice);
+        let (window, full) = lattice.vertex_rings();
         let mut at = Curvatures::new(lattice.vertices.len(), window);
         let mut regularity = Regularity::new(lattice.cells.len());
         let mut fits = true;
@@ -668,6 +660,13 @@ impl Range {
         self.long = (self.long.0.min(l), self.long.1.max(l));
     }
 
+    /// Take in another range's keys.
+    fn merge(&mut self, other: &Range) {
+        let (s, l) = (other.short, other.long);
+        self.short = (self.short.0.min(s.0), self.short.1.max(s.1));
+        self.long = (self.long.0.min(l.0), self.long.1.max(l.1));
+    }
+
     /// Both ranges within `tol` (false for NaN or infinite legs).
     fn within(&self, tol: f64) -> bool {
         let spread = |(lo, hi): (u64, u64)| key_value(hi) - key_value(lo);
@@ -755,14 +754,31 @@ pub fn spread(
     c: &[VertexCurvature],
     keep: impl Fn(f64) -> bool,
 ) -> (usize, usize) {
-    let mut rows = std::collections::BTreeSet::new();
-    let mut cols = std::collections::BTreeSet::new();
+    let mut spread = Spread::default();
     for v in c.iter().filter(|v| keep(v.defect.to_degrees())) {
-        let key = lattice.vertex(v.vertex).key;
-        rows.insert(key.row);
-        cols.insert(key.col);
+        spread.add(lattice, v);
     }
-    (rows.len(), cols.len())
+    spread.counts()
+}
+
+/// The rows and columns some interior vertices lie on (`spread`).
+#[derive(Default)]
+struct Spread {
+    rows: std::collections::BTreeSet<u32>,
+    cols: std::collections::BTreeSet<u32>,
+}
+
+impl Spread {
+    fn add(&mut self, lattice: &Lattice, v: &VertexCurvature) {
+        let key = lattice.vertex(v.vertex).key;
+        self.rows.insert(key.row);
+        self.cols.insert(key.col);
+    }
+
+    /// How many rows and how many columns.
+    fn counts(&self) -> (usize, usize) {
+        (self.rows.len(), self.cols.len())
+    }
 }
 
 /// Defect and Gaussian-curvature statistics of the interior vertices `c`;
@@ -781,18 +797,16 @@ pub(crate) fn survey(
     deg: f64,
 ) -> (Option<CurvatureSummary>, (usize, usize), (usize, usize)) {
     let (mut domes, mut saddles) = (0, 0);
-    let mut rows = std::collections::BTreeSet::new();
-    let mut cols = std::collections::BTreeSet::new();
+    let mut spread = Spread::default();
     let summary = summary_visiting(c, |v, d| {
-        domes += usize::from(d >= deg);
+        let dome = d >= deg;
+        domes += usize::from(dome);
         saddles += usize::from(d <= -deg);
-        if d >= deg {
-            let key = lattice.vertex(v.vertex).key;
-            rows.insert(key.row);
-            cols.insert(key.col);
+        if dome {
+            spread.add(lattice, v);
         }
     });
-    (summary, (domes, saddles), (rows.len(), cols.len()))
+    (summary, (domes, saddles), spread.counts())
 }
 
 /// `summary`, showing `visit` every vertex with its defect in degrees.
@@ -1023,7 +1037,7 @@ mod tests {
             let full = nv.next_power_of_two();
             let every = lattice.curvature_in(full).expect("a slot for every vertex");
             assert!(!every.is_empty());
-            let (usual, _) = Curvatures::windows(&lattice);
+            let (usual, _) = lattice.vertex_rings();
             assert_eq!(curvature_bits(&lattice.curvature()), curvature_bits(&every));
             let shape = lattice.shape_in(full).expect("a slot for every vertex");
             assert_eq!(curvature_bits(&shape.curvature), curvature_bits(&every));

@@ -374,12 +374,10 @@ fn layer_clashes(
     }
     for (i, li) in lines.iter().enumerate() {
         if long[i] {
+            let boxed = Boxed::of(0, li);
             // Long against short here; long against long once (j > i).
             for (j, lj) in lines.iter().enumerate() {
-                if j != i
-                    && (!long[j] || j > i)
-                    && !Boxed::of(0, li).apart(&Boxed::of(0, lj), reach)
-                {
+                if j != i && (!long[j] || j > i) && !boxed.apart(&Boxed::of(0, lj), reach) {
                     out.extend(pair(li, lj));
                 }
             }

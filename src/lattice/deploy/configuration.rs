@@ -98,10 +98,15 @@ pub struct Configuration {
 }
 
 impl Configuration {
+    /// Whether the reference opening `theta` lies in [0, theta_max].
+    pub fn holds(&self, theta: f64) -> bool {
+        (0.0..=self.theta_max).contains(&theta)
+    }
+
     /// `phi` of every cell at the reference opening `theta`, or None for
     /// a theta outside [0, theta_max].
     pub fn angles(&self, theta: f64) -> Option<Vec<f64>> {
-        if !(0.0..=self.theta_max).contains(&theta) {
+        if !self.holds(theta) {
             return None;
         }
         let c = theta.cos();

@@ -21,7 +21,7 @@ pub fn planar_misfits(
     config: &Configuration,
     thetas: &[f64],
 ) -> Vec<Option<f64>> {
-    let valid = |t: f64| lattice.dim == 2 && (0.0..=config.theta_max).contains(&t);
+    let valid = |t: f64| lattice.dim == 2 && config.holds(t);
     // The openings tried, with their own placements (vertex by vertex).
     let tried: Vec<(usize, f64)> = (0..thetas.len())
         .filter(|&k| valid(thetas[k]))
@@ -31,23 +31,17 @@ pub fn planar_misfits(
     if tried.is_empty() {
         return out;
     }
-    let nv = lattice.vertices.len();
-    // The placements live in a ring of `window` vertices (vertex v in slot
-    // v mod window): growth numbers a cell's corners within about two
-    // fronts of each other, so a ring of a few thousand slots stands for
-    // the whole lattice (on 4 M cells: 190 MB fewer, and in cache). A
-    // lattice whose corners spread wider is measured again with a slot for
-    // every vertex; either way every number is the same.
-    let window = (2 * lattice.width + 8).next_power_of_two();
+    // The placements live in a ring of vertices (`Lattice::vertex_rings`;
+    // on 4 M cells 190 MB fewer than a slot each).
+    let (window, full) = lattice.vertex_rings();
     for chunk in tried.chunks(LANES) {
         // Unused lanes repeat the first opening; their results are dropped.
         let cos = std::array::from_fn(|k| chunk.get(k).unwrap_or(&chunk[0]).1);
-        let misfit = (window < nv)
+        let misfit = (window < full)
             .then(|| misfits_in(lattice, config, cos, window))
             .flatten()
             .unwrap_or_else(|| {
-                misfits_in(lattice, config, cos, nv.next_power_of_two())
-                    .expect("a slot for every vertex")
+                misfits_in(lattice, config, cos, full).expect("a slot for every vertex")
             });
         for (&(k, _), m) in chunk.iter().zip(misfit) {
             out[k] = Some(m.sqrt());
@@ -321,7 +315,7 @@ mod tests {
             let every = misfits_in(&lattice, &config, cos, nv.next_power_of_two())
                 .expect("a slot for every vertex");
             assert!(every.iter().all(|m| m.is_finite()));
-            let usual = (2 * lattice.width + 8).next_power_of_two();
+            let (usual, _) = lattice.vertex_rings();
             let ring = misfits_in(&lattice, &config, cos, usual).expect("a sheet fits");
             assert_eq!(ring.map(f64::to_bits), every.map(f64::to_bits));
             // Smaller rings wrap around every few cells: each that takes
@@ -352,9 +346,10 @@ mod tests {
         assert!(measured >= 12, "{measured} lattices grew");
     }
 
-    /// `deployment` places a grown sheet's cells as C(theta) takes them:
-    /// its misfits are those of the second pass bit for bit, in order and
-    /// out of order (then measured by the second pass).
+    /// `deployment` places a grown sheet's cells as C(theta) takes them
+    /// (every cell, in order: that path is the one taken) and out of order
+    /// measures them by the second pass: its misfits are the second pass's
+    /// bit for bit either way.
     #[test]
     fn the_misfits_placed_with_c_theta_are_the_second_passes() {
         let sheets = crate::lattice::shape::random_sheets(23, 24, |_| 2);
@@ -362,7 +357,14 @@ mod tests {
         for lattice in sheets {
             let mut reversed = lattice.clone();
             reversed.cells.reverse();
-            for lattice in [&lattice, &reversed] {
+            for (lattice, grid) in [(&lattice, true), (&reversed, false)] {
+                let mut taken = 0;
+                let (_, in_order) =
+                    super::super::configuration::configuration_with(lattice, |_, _, _, _| {
+                        taken += 1;
+                    });
+                assert_eq!(in_order, grid);
+                assert_eq!(taken == lattice.cells.len(), grid);
                 let d = super::super::deployment(lattice);
                 let thetas = super::super::MISFIT_FRACTIONS.map(|f| f * d.config.theta_design);
                 let apart: Vec<(f64, f64)> = super::super::MISFIT_FRACTIONS

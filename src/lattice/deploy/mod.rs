@@ -42,11 +42,8 @@ pub struct Deployment {
 /// by the second pass.
 pub fn deployment(lattice: &Lattice) -> Deployment {
     let thetas = MISFIT_FRACTIONS.map(|f| f * configuration::theta_design(lattice));
-    let mut placing = (lattice.dim == 2 && !lattice.cells.is_empty()).then(|| {
-        let nv = lattice.vertices.len();
-        let window = (2 * lattice.width + 8).min(nv).next_power_of_two();
-        misfit::Placements::new(thetas.map(f64::cos), window)
-    });
+    let mut placing = (lattice.dim == 2 && !lattice.cells.is_empty())
+        .then(|| misfit::Placements::new(thetas.map(f64::cos), lattice.vertex_rings().0));
     let (config, in_order) =
         configuration::configuration_with(lattice, |cell, corners, legs, f| {
             if let Some(p) = &mut placing
@@ -57,10 +54,9 @@ pub fn deployment(lattice: &Lattice) -> Deployment {
         });
     let placed = match placing {
         Some(p) if in_order => {
-            let valid = |t: f64| (0.0..=config.theta_max).contains(&t);
             let misfit = p.finish();
             (0..thetas.len())
-                .map(|k| valid(thetas[k]).then(|| misfit[k].sqrt()))
+                .map(|k| config.holds(thetas[k]).then(|| misfit[k].sqrt()))
                 .collect()
         }
         _ => planar_misfits(lattice, &config, &thetas),

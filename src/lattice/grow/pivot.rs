@@ -153,7 +153,7 @@ pub(super) fn resolve_direction(
     match direction {
         Direction::Vector(v) => {
             let len = v.length();
-            if !(len.is_finite() && len > 0.0) {
+            if !positive_finite(len) {
                 return Err((
                     "the direction vector has zero length".into(),
                     "give a non-zero direction, e.g. [-0.87, -0.5]".into(),
