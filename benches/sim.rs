@@ -49,12 +49,10 @@ fn run(name: &str, text: &str, actuation: Actuation) {
     let work0 = counts();
     let result = sim::simulate(&lattice, &dep, m.width, m.thickness, &settings);
     let cpu = cpu_seconds() - cpu0;
-    let work = counts();
+    let work = counts().since(work0);
     let work = format!(
         "{}, {} ({} failed)",
-        work.assemblies - work0.assemblies,
-        work.factorisations - work0.factorisations,
-        work.failed - work0.failed
+        work.assemblies, work.factorisations, work.failed
     );
     let secs = clock.elapsed().as_secs_f64();
     match result {

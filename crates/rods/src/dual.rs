@@ -1,8 +1,10 @@
 //! Second-order forward-mode automatic differentiation for the stencil
 //! energies: a value with its gradient and Hessian over N local variables.
 //! Written here rather than taken from num-dual, which brings nalgebra (a
-//! long compile) for what is 200 lines; checked against finite
-//! differences in tests/sim.rs.
+//! long compile) for what is a few hundred lines; checked against finite
+//! differences in tests/sim.rs. `Relative` is the same arithmetic over the
+//! two rotations of a bend, stored in fewer numbers; `compose_edges` the
+//! chain rule from a bend's rotations to its edges' variables.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -104,6 +106,32 @@ impl<const N: usize, const T: usize> Dual<N, T> {
         self.h[packed(N, i, j)] = v;
     }
 
+    /// The whole Hessian, both triangles (row k is column k).
+    #[inline(always)]
+    pub fn hess_matrix(&self) -> [[f64; N]; N] {
+        let mut out = [[0.0; N]; N];
+        for (k, row) in out.iter_mut().enumerate() {
+            for (l, f) in row.iter_mut().enumerate() {
+                *f = self.hess(k, l);
+            }
+        }
+        out
+    }
+
+    /// `d`, over M of this dual's variables, as a dual over all N: its
+    /// variables at `offset`.., no dependence on the others.
+    #[inline(always)]
+    pub fn embed<const M: usize, const TM: usize>(d: &Dual<M, TM>, offset: usize) -> Self {
+        let mut out = Self::cst(d.v);
+        for i in 0..M {
+            out.g[offset + i] = d.g[i];
+            for j in i..M {
+                out.set_hess(offset + i, offset + j, d.hess(i, j));
+            }
+        }
+        out
+    }
+
     /// f(self) from f, f', f'' at the value (the chain rule).
     #[inline(always)]
     fn chain(mut self, f: f64, f1: f64, f2: f64) -> Self {
@@ -156,12 +184,7 @@ const EDGE_BLOCK: [[usize; 10]; 2] = {
 /// is then +-0, and a sum that starts at +0 is never -0, so adding it
 /// changes nothing; an infinite one would have made NaN there).
 pub fn compose_edges(outer: &Dual<6, 21>, inner: &[[Dual<4, 10>; 3]; 2]) -> Dual<8, 36> {
-    let mut f = [[0.0; 6]; 6];
-    for (k, fk) in f.iter_mut().enumerate() {
-        for (l, fkl) in fk.iter_mut().enumerate() {
-            *fkl = outer.hess(k, l);
-        }
-    }
+    let f = outer.hess_matrix();
     // p[k][a] = sum_l F_kl w_l'(a), over the rotations l of a's edge.
     let mut p = [[0.0; 8]; 6];
     for (pk, fk) in p.iter_mut().zip(&f) {
@@ -752,15 +775,8 @@ mod tests {
                 std::array::from_fn(|_| std::array::from_fn(|_| random(&mut rng, zeros)));
             // Edge e's rotations as 8-variable duals, its variables at 4 e..
             let full: [Dual<8, 36>; 6] = std::array::from_fn(|k| {
-                let (e, w) = (k / 3, &inner[k / 3][k % 3]);
-                let mut d = Dual::<8, 36>::cst(w.v);
-                for i in 0..4 {
-                    d.g[4 * e + i] = w.g[i];
-                    for j in i..4 {
-                        d.set_hess(4 * e + i, 4 * e + j, w.hess(i, j));
-                    }
-                }
-                d
+                let e = k / 3;
+                Dual::<8, 36>::embed(&inner[e][k % 3], 4 * e)
             });
             let want = compose_full(&outer, &full);
             let got = compose_edges(&outer, &inner);

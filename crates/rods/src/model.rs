@@ -331,28 +331,17 @@ impl Model {
     /// one stencil, for its variables `vars` (as `stencil_vars` lists them).
     pub fn stencil_derivatives(&self, s: &Stencil, vars: &[usize]) -> (f64, Vec<f64>, Vec<f64>) {
         let (mut g, mut h) = (Vec::new(), Vec::new());
-        let e = self.stencil_derivatives_into(s, vars, &mut g, &mut h);
+        let e = self.stencil_derivatives_memo(s, vars, &mut g, &mut h, &mut Memo::new(), false);
         (e, g, h)
     }
 
     /// `stencil_derivatives` into the caller's buffers (resized to
-    /// vars.len() and its square): the solver's assembly reuses two
-    /// buffers for all stencils instead of two allocations per stencil.
-    /// Rod terms take the chain rule of `Chain`; a load or a moment (the
+    /// vars.len() and its square), with what the last terms of the same
+    /// state computed (`Memo`): the solver's assembly reuses two buffers
+    /// and the memo for all stencils, the same numbers. With `lower`, a
+    /// rod term's Hessian only where row >= column (`Chain::finish`). Rod
+    /// terms take the chain rule of `Chain`; a load or a moment (the
     /// analytic checks' terms) takes a dual variable per local variable.
-    pub fn stencil_derivatives_into(
-        &self,
-        s: &Stencil,
-        vars: &[usize],
-        g: &mut Vec<f64>,
-        h: &mut Vec<f64>,
-    ) -> f64 {
-        self.stencil_derivatives_memo(s, vars, g, h, &mut Memo::new(), false)
-    }
-
-    /// `stencil_derivatives_into` with what the last terms of the same
-    /// state computed (`Memo`): the assembly's path, the same numbers.
-    /// With `lower`, a rod term's Hessian only where row >= column (`Chain::finish`).
     pub(crate) fn stencil_derivatives_memo(
         &self,
         s: &Stencil,
@@ -669,10 +658,6 @@ struct EdgeRotation {
     rot: [Dual<4, 10>; 3],
 }
 
-/// A joint slot (joint, slot) and its directions (u, n) over a bend's
-/// local variables.
-type SlotMemo = ((usize, usize), V3<Dual<3, 6>>, V3<Dual<3, 6>>);
-
 /// What consecutive rod terms of one state share, computed by the first
 /// and reused by the next: a rod lists its stretch terms, then its bend
 /// terms (e_i, e_i+1) in order, so a bend's second edge is the next
@@ -683,7 +668,7 @@ type SlotMemo = ((usize, usize), V3<Dual<3, 6>>, V3<Dual<3, 6>>);
 pub(crate) struct Memo {
     edge: Option<EdgeRotation>,
     /// Slot directions (u, n) by (joint, slot), the oldest replaced.
-    slots: [Option<SlotMemo>; 4],
+    slots: [Option<SlotDirs<Dual<3, 6>>>; 4],
     next_slot: usize,
 }
 
@@ -738,8 +723,9 @@ impl<'a> Chain<'a> {
         self.vars.binary_search(&v).expect("a stencil variable")
     }
 
-    /// A slot's directions, each computed once per term (an arm tip's
-    /// position and the arm's frame share them).
+    /// A slot's directions, each computed once per term (`known`: an arm
+    /// tip's position and the arm's frame share them), and across
+    /// consecutive terms of one state (`Memo`).
     fn slot(&mut self, j: usize, slot: usize) -> usize {
         type D3 = Dual<3, 6>;
         if let Some(i) = self
@@ -761,8 +747,13 @@ impl<'a> Chain<'a> {
             None => [angle, ([0, 0], 0), ([0, 0], 0)],
         };
         let memo = &mut *self.memo;
-        let (u, n) = match memo.slots.iter().flatten().find(|d| d.0 == (j, slot)) {
-            Some(&(_, u, n)) => (u, n),
+        let (u, n) = match memo
+            .slots
+            .iter()
+            .flatten()
+            .find(|d| (d.0, d.1) == (j, slot))
+        {
+            Some(&(_, _, u, n)) => (u, n),
             None => {
                 let mut alpha = m.q[sl.angle[0]];
                 if sl.terms == 2 {
@@ -784,7 +775,7 @@ impl<'a> Chain<'a> {
                         (u, V3::cst(ns))
                     }
                 };
-                memo.slots[memo.next_slot] = Some(((j, slot), u, n));
+                memo.slots[memo.next_slot] = Some((j, slot, u, n));
                 memo.next_slot = (memo.next_slot + 1) % memo.slots.len();
                 (u, n)
             }
@@ -876,12 +867,7 @@ impl<'a> Chain<'a> {
         // tip's r du, an angle's 1), a row of H_o at a time (H_o is
         // symmetric: its row l is its column l). Each sum keeps its order
         // over l; a term left out adds a zero.
-        let mut ho = [[0.0; M]; M];
-        for (k, hk) in ho.iter_mut().enumerate() {
-            for (l, f) in hk.iter_mut().enumerate() {
-                *f = outer.hess(k, l);
-            }
-        }
+        let ho = outer.hess_matrix();
         let mut pt = [[0.0; M]; MAX_LOCAL];
         for (jl, hl) in jac.iter().zip(&ho) {
             for (ptb, &c) in pt.iter_mut().zip(&jl[..n]) {
@@ -1047,14 +1033,7 @@ fn turned(x: &Dual<3, 6>, (f, f1, f2): (f64, f64, f64)) -> Dual<4, 10> {
 /// the fourth unused.
 #[inline(always)]
 fn widen(d: &Dual<3, 6>) -> Dual<4, 10> {
-    let mut out = Dual::<4, 10>::cst(d.v);
-    for i in 0..3 {
-        out.g[i] = d.g[i];
-        for j in i..3 {
-            out.set_hess(i, j, d.hess(i, j));
-        }
-    }
-    out
+    Dual::embed(d, 0)
 }
 
 /// A stretch stencil's energy with its derivatives over its local

@@ -26,7 +26,7 @@ static FACTORISATIONS: AtomicUsize = AtomicUsize::new(0);
 static FAILED: AtomicUsize = AtomicUsize::new(0);
 
 /// The solver's work so far in this process (`ASSEMBLIES`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct Counts {
     pub assemblies: usize,
     pub factorisations: usize,
@@ -34,6 +34,18 @@ pub struct Counts {
     pub failed: usize,
 }
 
+impl Counts {
+    /// The work done since `earlier`.
+    pub fn since(self, earlier: Counts) -> Counts {
+        Counts {
+            assemblies: self.assemblies - earlier.assemblies,
+            factorisations: self.factorisations - earlier.factorisations,
+            failed: self.failed - earlier.failed,
+        }
+    }
+}
+
+/// The solver's work so far in this process, counted on every thread.
 pub fn counts() -> Counts {
     Counts {
         assemblies: ASSEMBLIES.load(Relaxed),
