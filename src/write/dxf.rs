@@ -515,12 +515,8 @@ fn printed_points(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
         let layer = i.layer as i64;
         match &i.shape {
             Shape::Circle { center, .. } => repeats::push_points(&mut k, &[0, layer], [q(*center)]),
-            Shape::Path {
-                start,
-                segments,
-                closed,
-            } => {
-                let vertices = bulged(*start, segments, *closed);
+            path @ Shape::Path { closed, .. } => {
+                let vertices = path_vertices(path);
                 let head = [1, layer, *closed as i64, vertices.len() as i64];
                 repeats::push_points(&mut k, &head, vertices.into_iter().map(|(p, _)| q(p)));
             }
@@ -533,6 +529,18 @@ fn printed_points(g: &Group, height: f64, at: (i64, i64)) -> Vec<i64> {
         }
     }
     k
+}
+
+/// A path's LWPOLYLINE vertices (`bulged`); none for other shapes.
+fn path_vertices(path: &Shape) -> Vec<(DVec2, f64)> {
+    match path {
+        Shape::Path {
+            start,
+            segments,
+            closed,
+        } => bulged(*start, segments, *closed),
+        _ => Vec::new(),
+    }
 }
 
 /// Page points to a block's coordinates: flipped (about the page height on
