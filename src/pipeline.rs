@@ -80,7 +80,55 @@ pub fn build_reusing(
     progress: &mut dyn FnMut(&str),
     previous: Option<&[u8]>,
 ) -> Result<Build, Diagnostic> {
-    assemble(check(design, progress)?, previous)
+    build_unsimulated(design, progress)?.simulate(previous)
+}
+
+/// `build_with` up to the simulation (`Unsimulated::simulate`), which
+/// takes most of a bent lattice's build: a batch runs its recipes'
+/// simulations, the longest chains of its work, before drawing any files.
+pub fn build_unsimulated(
+    design: Design,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Unsimulated, Diagnostic> {
+    assemble(check(design, progress)?)
+}
+
+/// A build whose deployed shape is still to be simulated: every field of
+/// its `Build` is made except the simulation's.
+pub struct Unsimulated(Build);
+
+impl Unsimulated {
+    /// Whether `simulate` solves an equilibrium (or restores one).
+    pub fn simulates(&self) -> bool {
+        crate::sim::wanted(&self.0.lattice, &self.0.deployment)
+    }
+
+    /// The lattice's cells.
+    pub fn cells(&self) -> usize {
+        self.0.lattice.cells.len()
+    }
+
+    /// The build with its simulated deployed shape, restored from the
+    /// `STATE_FILE` of an earlier build (`previous`) when nothing it
+    /// depends on changed. Strips strained beyond the allowable are an
+    /// error unless the recipe accepts them (`simulated`).
+    pub fn simulate(self, previous: Option<&[u8]>) -> Result<Build, Diagnostic> {
+        let mut b = self.0;
+        let (simulation, simulation_key) = simulated(
+            &b.design,
+            &b.lattice,
+            &crate::sim::Derived {
+                placed: &b.assembled,
+                joints: &b.joints,
+            },
+            &b.deployment,
+            previous,
+            &mut b.parts.warnings,
+        )?;
+        b.simulation = simulation;
+        b.simulation_key = simulation_key;
+        Ok(b)
+    }
 }
 
 /// The first stage of every build, and all of `karigami check`: a design
@@ -289,7 +337,7 @@ impl Checked {
     /// one that failed verification or a fabrication check, is refused
     /// with a located error.
     pub fn assemble(self) -> Result<Build, Diagnostic> {
-        assemble(self, None)
+        assemble(self)?.simulate(None)
     }
 }
 
@@ -301,18 +349,24 @@ impl Checked {
 /// print.
 pub(crate) const MAX_FABRICATED_CELLS: usize = 20_000;
 
+/// The cells growing `design` makes, read off the recipe without growing
+/// it (a batch bounds the cells of the builds it holds in memory at once).
+pub fn build_cells(design: &Design) -> usize {
+    let rows = design.fit.as_ref().map_or(design.rows.len(), |f| f.rows);
+    match design.kind {
+        Kind::Helix => design.helix_cells,
+        Kind::Sheet => rows.saturating_mul(design.points.len().saturating_sub(1)),
+        Kind::Loop => rows.saturating_mul(design.points.len()),
+    }
+}
+
 /// A guess of what `build` of a design costs, read off the recipe without
 /// growing it, for ordering a batch's work: its cells, times 50 where the
 /// build solves an elastic equilibrium over Newton iterations (a lattice
 /// that leaves the plane or grows on rebuilt fronts, up to
 /// `sim::MAX_SIMULATED_CELLS`; a plane lattice's strips are solved in one).
 pub fn build_cost(design: &Design) -> usize {
-    let rows = design.fit.as_ref().map_or(design.rows.len(), |f| f.rows);
-    let cells = match design.kind {
-        Kind::Helix => design.helix_cells,
-        Kind::Sheet => rows.saturating_mul(design.points.len().saturating_sub(1)),
-        Kind::Loop => rows.saturating_mul(design.points.len()),
-    };
+    let cells = build_cells(design);
     let bent = design.dim == 3 || design.rows.iter().any(|r| r.front.is_some());
     let simulated = bent && cells <= crate::sim::MAX_SIMULATED_CELLS;
     cells.saturating_mul(if simulated { 50 } else { 1 })
@@ -354,8 +408,9 @@ fn too_large_to_fabricate(design: &Design, lattice: &Lattice) -> Option<Diagnost
 }
 
 /// The parts, layout and pages of a grown and verified lattice
-/// (`Checked::assemble`), from what the check derived already.
-fn assemble(checked: Checked, previous: Option<&[u8]>) -> Result<Build, Diagnostic> {
+/// (`Checked::assemble`), from what the check derived already; the
+/// simulation is left to `Unsimulated::simulate`.
+fn assemble(checked: Checked) -> Result<Unsimulated, Diagnostic> {
     if let Some(e) = checked.too_large_to_fabricate() {
         return Err(e);
     }
@@ -445,23 +500,11 @@ fn assemble(checked: Checked, previous: Option<&[u8]>) -> Result<Build, Diagnost
         .into_inner()
         .flatten()
         .unwrap_or_else(|| lattice.clone());
-    let mut parts = parts;
-    let (simulation, simulation_key) = simulated(
-        &design,
-        &lattice,
-        &crate::sim::Derived {
-            placed: &assembled,
-            joints: &joints,
-        },
-        &deployment,
-        previous,
-        &mut parts.warnings,
-    )?;
-    Ok(Build {
+    Ok(Unsimulated(Build {
         steps: steps(&lattice, &joints),
         joints,
-        simulation,
-        simulation_key,
+        simulation: None,
+        simulation_key: None,
         design,
         assembled,
         measures,
@@ -473,7 +516,7 @@ fn assemble(checked: Checked, previous: Option<&[u8]>) -> Result<Build, Diagnost
         pages,
         job,
         advice,
-    })
+    }))
 }
 
 /// What there is to nest.

@@ -7,26 +7,23 @@ use super::build::{Report, inputs, kept_line, open_out};
 use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{OutDir, Staged, safe_component};
 use super::progress::Progress;
-use super::recipe::{Recipe, run_recipe, stem};
-use karigami::{ErrorKind, Overrides, util::plural};
+use super::recipe::{Recipe, simulate, stem};
+use super::stages::{Stages, StopOnPanic, Task};
+use karigami::{Build, ErrorKind, Overrides, Unsimulated, util::plural};
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// What became of one recipe.
 struct Outcome {
     file: String,
     folder: String,
+    /// Seconds spent on it, over its stages.
     seconds: f64,
-    result: Result<Report, Error>,
-    /// Its files were kept from the earlier build (`files::Staged::keep`).
-    kept: bool,
-    /// Writing its files failed: the batch must not commit.
-    write_failed: Option<String>,
+    ended: Ended,
 }
 
 /// One recipe in batch.json and in `build --json`'s report of a batch.
@@ -65,12 +62,33 @@ pub(super) fn build(
     let staged = Staged::new(out, "batch")
         .map_err(|e| Error::io(format!("cannot write {shown}: {e}; {}", out.kept())))?;
     let outcomes: Vec<Mutex<Option<Outcome>>> = paths.iter().map(|_| Mutex::new(None)).collect();
-    let order = dearest_first(paths, overrides, jobs);
-    let next = AtomicUsize::new(0);
-    // A write that failed (a full disk) stops the batch: it cannot commit.
-    let stop = AtomicBool::new(false);
+    let stages = Stages::new(dearest_first(paths, overrides, jobs));
     let bar = Mutex::new(Progress::new(paths.len(), v.quiet || json));
     let what = format!("building {}", plural(paths.len(), "recipe"));
+    // A recipe has ended: its outcome recorded and shown. A write that
+    // failed (a full disk) stops the batch: it cannot commit.
+    let end = |i: usize, seconds: f64, ended: Ended| {
+        let outcome = Outcome {
+            file: paths[i].display().to_string(),
+            folder: folders[i].clone(),
+            seconds,
+            ended,
+        };
+        if outcome.ended.write_failed.is_some() {
+            stages.stop();
+        }
+        let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
+        match &outcome.ended.result {
+            Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
+            Err(e) => {
+                bar.print(&e.text);
+                bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+            }
+        }
+        drop(bar);
+        *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+        stages.finish(i);
+    };
     // On a terminal the bar shows progress; off one, finished recipes are
     // lines and a long one still gets a line now and then.
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -78,27 +96,61 @@ pub(super) fn build(
         std::thread::scope(|s| {
             for _ in 0..jobs.min(paths.len()) {
                 s.spawn(|| {
-                    loop {
-                        if stop.load(Ordering::SeqCst) {
-                            break;
-                        }
-                        let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) else {
-                            break;
-                        };
-                        let path = &paths[i];
-                        let outcome = build_one(path, &folders[i], out, &staged, overrides, jobs);
-                        if outcome.write_failed.is_some() {
-                            stop.store(true, Ordering::SeqCst);
-                        }
-                        let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
-                        match &outcome.result {
-                            Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
-                            Err(e) => {
-                                bar.print(&e.text);
-                                bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+                    let _stop = StopOnPanic(&stages);
+                    while let Some(task) = stages.take() {
+                        match task {
+                            Task::Start(i) => {
+                                let clock = Instant::now();
+                                match start(&paths[i], &folders[i], out, &staged, overrides) {
+                                    Started::Ended(ended) => {
+                                        end(i, clock.elapsed().as_secs_f64(), ended);
+                                    }
+                                    Started::Simulate(mut work) => {
+                                        work.seconds += clock.elapsed().as_secs_f64();
+                                        stages.simulate(i, work.build.cells(), work);
+                                    }
+                                    Started::Draw(mut work) => {
+                                        work.seconds += clock.elapsed().as_secs_f64();
+                                        stages.draw(i, work.build.lattice.cells.len(), work);
+                                    }
+                                }
+                            }
+                            Task::Simulate(i, work) => {
+                                let clock = Instant::now();
+                                let Work {
+                                    recipe,
+                                    key,
+                                    seconds,
+                                    build,
+                                } = work;
+                                let simulated = simulate(&recipe, build, (out, &folders[i]));
+                                let seconds = seconds + clock.elapsed().as_secs_f64();
+                                match simulated {
+                                    Ok(build) => {
+                                        let cells = build.lattice.cells.len();
+                                        let work = Work {
+                                            recipe,
+                                            key,
+                                            seconds,
+                                            build,
+                                        };
+                                        stages.draw(i, cells, work);
+                                    }
+                                    Err(e) => end(i, seconds, Ended::failed(e)),
+                                }
+                            }
+                            Task::Draw {
+                                recipe: i,
+                                work,
+                                alone,
+                            } => {
+                                let clock = Instant::now();
+                                // A second thread for the pictures only where
+                                // no other stage would use the core.
+                                let ended = draw(&work, &folders[i], &staged, jobs > 1 && alone);
+                                end(i, work.seconds + clock.elapsed().as_secs_f64(), ended);
                             }
                         }
-                        *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
                     }
                 });
             }
@@ -109,7 +161,7 @@ pub(super) fn build(
         .into_iter()
         .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
         .collect();
-    if let Some(why) = outcomes.iter().find_map(|o| o.write_failed.as_ref()) {
+    if let Some(why) = outcomes.iter().find_map(|o| o.ended.write_failed.as_ref()) {
         drop(staged);
         return Err(Error::io(format!(
             "cannot write {shown}/{why}; the batch was not committed and {}",
@@ -142,7 +194,7 @@ pub(super) fn build(
         if let Some(line) = reused_line(&outcomes) {
             outln!("{line}");
         }
-        let kept = outcomes.iter().filter(|o| o.kept).count();
+        let kept = outcomes.iter().filter(|o| o.ended.kept).count();
         if kept > 0 {
             let what = format!(
                 "the files of {kept} of {}",
@@ -150,17 +202,23 @@ pub(super) fn build(
             );
             outln!("{}", kept_line(&what));
         }
-        let built = outcomes.iter().filter(|o| o.result.is_ok()).count();
+        let built = outcomes.iter().filter(|o| o.ended.result.is_ok()).count();
         outln!("wrote {} to {shown}", plural(built, "build"));
     }
-    let failed: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_err()).collect();
+    let failed: Vec<&Outcome> = outcomes
+        .iter()
+        .filter(|o| o.ended.result.is_err())
+        .collect();
     if failed.is_empty() {
         return Ok(());
     }
     let names: Vec<&str> = failed.iter().map(|o| o.file.as_str()).collect();
-    let io = failed
-        .iter()
-        .any(|o| o.result.as_ref().is_err_and(|e| e.kind == ErrorKind::Io));
+    let io = failed.iter().any(|o| {
+        o.ended
+            .result
+            .as_ref()
+            .is_err_and(|e| e.kind == ErrorKind::Io)
+    });
     // Each failure was shown as it happened, and the JSON report has them.
     let kind = if io {
         ErrorKind::Io
@@ -229,75 +287,148 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
     Ok(names)
 }
 
-/// The recipes' indices in the order to start them: with several jobs the
-/// dearest first, so that the jobs end together instead of one finishing
-/// a long simulation alone (the examples' saddle ring and torus are last by
-/// name). The cost is `karigami::build_cost`, read off the parsed recipe
-/// without growing it (growth waits for the build, and a kept recipe never
-/// grows); a recipe that does not parse costs nothing. Ties keep the name
-/// order.
-fn dearest_first(paths: &[PathBuf], overrides: &Overrides, jobs: usize) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..paths.len()).collect();
-    if jobs < 2 || paths.len() < 2 {
-        return order;
-    }
-    let costs: Vec<usize> = paths
+/// The recipes' indices in the order to start them, each with the cells
+/// its build will hold (`karigami::build_cells`, for `stages::HELD_CELLS`):
+/// with several jobs the dearest first, so that the longest simulations
+/// are known and started early (the examples' saddle ring and torus are
+/// last by name). The cost is `karigami::build_cost`, read off the parsed
+/// recipe without growing it (growth waits for the build, and a kept
+/// recipe never grows); a recipe that does not parse costs nothing. Ties
+/// keep the name order.
+fn dearest_first(paths: &[PathBuf], overrides: &Overrides, jobs: usize) -> Vec<(usize, usize)> {
+    let parsed: Vec<(usize, usize)> = paths
         .iter()
         .map(|path| {
             Recipe::read(path)
                 .and_then(|r| r.parse(overrides))
-                .map_or(0, |d| karigami::build_cost(&d))
+                .map_or((0, 0), |d| {
+                    (karigami::build_cost(&d), karigami::build_cells(&d))
+                })
         })
         .collect();
-    order.sort_by_key(|&i| std::cmp::Reverse(costs[i]));
-    order
+    let mut order: Vec<usize> = (0..paths.len()).collect();
+    if jobs > 1 {
+        order.sort_by_key(|&i| std::cmp::Reverse(parsed[i].0));
+    }
+    order.into_iter().map(|i| (i, parsed[i].1)).collect()
 }
 
-/// Build one recipe of the batch into its subfolder, or keep the earlier
-/// build's files there where nothing they are made from changed; with
-/// `jobs > 1` its sheet pictures are drawn on a second thread
-/// (`karigami::files_on`).
-fn build_one(
+/// A started recipe's work, carried from stage to stage.
+struct Work<T> {
+    recipe: Recipe,
+    /// The fingerprint of its inputs (`build::inputs`).
+    key: Option<u64>,
+    /// Seconds spent on it so far, over its stages.
+    seconds: f64,
+    build: T,
+}
+
+/// What starting a recipe led to.
+enum Started {
+    /// Its files kept from the earlier build, or a failure.
+    Ended(Ended),
+    Simulate(Work<Unsimulated>),
+    Draw(Work<Build>),
+}
+
+/// How a recipe's stages ended.
+struct Ended {
+    result: Result<Report, Error>,
+    /// Its files were kept from the earlier build (`files::Staged::keep`).
+    kept: bool,
+    /// Writing its files failed: the batch must not commit.
+    write_failed: Option<String>,
+}
+
+impl Ended {
+    fn failed(e: Error) -> Self {
+        Self {
+            result: Err(e),
+            kept: false,
+            write_failed: None,
+        }
+    }
+
+    fn write_failed(folder: &str, e: &std::io::Error) -> Self {
+        Self {
+            result: Err(Error::io(format!("cannot write {folder}/: {e}"))),
+            kept: false,
+            write_failed: Some(format!("{folder}/: {e}")),
+        }
+    }
+}
+
+/// The first stage of one recipe of the batch: keep the earlier build's
+/// files in its subfolder where nothing they are made from changed, else
+/// build it up to its simulation; one that does not simulate is built
+/// whole here.
+fn start(
     path: &Path,
     folder: &str,
     out: &OutDir,
     staged: &Staged,
     overrides: &Overrides,
-    jobs: usize,
-) -> Outcome {
-    let started = Instant::now();
-    let write_failed = std::cell::RefCell::new(None);
-    let failed = |e: std::io::Error| {
-        *write_failed.borrow_mut() = Some(format!("{folder}/: {e}"));
-        Error::io(format!("cannot write {folder}/: {e}"))
+) -> Started {
+    let recipe = match Recipe::read(path) {
+        Ok(recipe) => recipe,
+        Err(e) => return Started::Ended(Ended::failed(e)),
     };
-    let mut kept = false;
-    let result = Recipe::read(path).and_then(|recipe| {
-        let key = inputs(&recipe, overrides, folder);
-        if let Some(report) = staged.keep(out, folder, key).map_err(failed)? {
-            kept = true;
-            return Ok(report);
+    let key = inputs(&recipe, overrides, folder);
+    match staged.keep(out, folder, key) {
+        Err(e) => return Started::Ended(Ended::write_failed(folder, &e)),
+        Ok(Some(report)) => {
+            return Started::Ended(Ended {
+                result: Ok(report),
+                kept: true,
+                write_failed: None,
+            });
         }
-        let built = run_recipe(&recipe, overrides, &mut |_| {}, (out, folder))?;
-        let report = Report::of(&built);
-        staged
-            .write_build(folder, &karigami::files_on(&built, jobs > 1), key, &report)
-            .map_err(failed)?;
-        Ok(report)
+        Ok(None) => {}
+    }
+    let unsimulated = recipe.parse(overrides).and_then(|design| {
+        karigami::build_unsimulated(design, &mut |_| {}).map_err(|d| recipe.error(&d))
     });
-    Outcome {
-        file: path.display().to_string(),
-        folder: folder.to_string(),
-        seconds: started.elapsed().as_secs_f64(),
-        result,
-        kept,
-        write_failed: write_failed.into_inner(),
+    let build = match unsimulated {
+        Ok(b) if b.simulates() => {
+            return Started::Simulate(Work {
+                recipe,
+                key,
+                seconds: 0.0,
+                build: b,
+            });
+        }
+        Ok(b) => simulate(&recipe, b, (out, folder)),
+        Err(e) => Err(e),
+    };
+    match build {
+        Ok(build) => Started::Draw(Work {
+            recipe,
+            key,
+            seconds: 0.0,
+            build,
+        }),
+        Err(e) => Started::Ended(Ended::failed(e)),
+    }
+}
+
+/// The last stage of one recipe: its files made (the sheet pictures on a
+/// second thread with `two_threads`, `karigami::files_on`) and written.
+fn draw(work: &Work<Build>, folder: &str, staged: &Staged, two_threads: bool) -> Ended {
+    let report = Report::of(&work.build);
+    let files = karigami::files_on(&work.build, two_threads);
+    match staged.write_build(folder, &files, work.key, &report) {
+        Ok(()) => Ended {
+            result: Ok(report),
+            kept: false,
+            write_failed: None,
+        },
+        Err(e) => Ended::write_failed(folder, &e),
     }
 }
 
 impl Outcome {
     fn record(&self, timed: bool) -> Record<'_> {
-        let (status, summary, error) = match &self.result {
+        let (status, summary, error) = match &self.ended.result {
             Ok(s) => ("ok", Some(s), None),
             Err(e) => ("error", None, e.json.as_deref()),
         };
@@ -310,7 +441,7 @@ impl Outcome {
             error,
             seconds: timed.then_some(self.seconds),
             simulation: summary
-                .and_then(|s| s.simulation(self.kept))
+                .and_then(|s| s.simulation(self.ended.kept))
                 .filter(|_| timed),
         }
     }
@@ -321,7 +452,7 @@ impl Outcome {
 fn reused_line(outcomes: &[Outcome]) -> Option<String> {
     let how: Vec<&str> = outcomes
         .iter()
-        .filter_map(|o| o.result.as_ref().ok()?.simulation(o.kept))
+        .filter_map(|o| o.ended.result.as_ref().ok()?.simulation(o.ended.kept))
         .collect();
     let reused = how.iter().filter(|h| **h == "reused").count();
     (!how.is_empty()).then(|| {
@@ -346,7 +477,7 @@ fn table(outcomes: &[Outcome]) -> String {
     );
     for o in outcomes {
         let time = format!("{:.2} s", o.seconds);
-        match &o.result {
+        match &o.ended.result {
             Ok(s) => out.push_str(&format!(
                 "{:<width$}  {:<28} {:>7} {:>7} {:>6} {:>8}\n",
                 o.file, "ok", s.cells, s.strips, s.sheets, time

@@ -34,6 +34,7 @@ mod optimise;
 mod progress;
 mod recipe;
 mod simulate;
+mod stages;
 mod tune;
 
 use args::{Args, Command, Verbosity};

@@ -4,7 +4,7 @@
 use super::args::DEFAULT_TEMPLATE;
 use super::error::Error;
 use super::files;
-use karigami::{Build, Design, Diagnostic, Overrides, build_reusing, template};
+use karigami::{Build, Design, Diagnostic, Overrides, Unsimulated, build_unsimulated, template};
 use std::path::Path;
 
 /// A recipe as read: its text, its name for messages, its default design name.
@@ -66,10 +66,25 @@ pub(super) fn run_recipe(
     earlier: (&files::OutDir, &str),
 ) -> Result<Build, Error> {
     let design = recipe.parse(overrides)?;
-    let (out, sub) = earlier;
-    let state = Path::new(sub).join(karigami::STATE_FILE);
-    let state = out.earlier_file(&state.to_string_lossy(), STATE_LIMIT);
-    build_reusing(design, progress, state.as_deref()).map_err(|d| recipe.error(&d))
+    build_unsimulated(design, progress)
+        .map_err(|d| recipe.error(&d))
+        .and_then(|b| simulate(recipe, b, earlier))
+}
+
+/// `run_recipe`'s last stage: the simulation of a build run up to it
+/// (`karigami::build_unsimulated`), reusing the earlier build's.
+pub(super) fn simulate(
+    recipe: &Recipe,
+    unsimulated: Unsimulated,
+    (out, sub): (&files::OutDir, &str),
+) -> Result<Build, Error> {
+    let state = unsimulated.simulates().then(|| {
+        let state = Path::new(sub).join(karigami::STATE_FILE);
+        out.earlier_file(&state.to_string_lossy(), STATE_LIMIT)
+    });
+    unsimulated
+        .simulate(state.flatten().as_deref())
+        .map_err(|d| recipe.error(&d))
 }
 
 /// Where a build's simulated deployed shape came from, for the terminal
