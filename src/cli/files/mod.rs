@@ -17,6 +17,7 @@ mod input;
 mod lock;
 mod out_dir;
 mod record;
+mod remove;
 mod staged;
 
 pub(super) use atomic::write_atomic;
@@ -75,7 +76,7 @@ fn walk(root: &Path, mut visit: impl FnMut(&Path, bool) -> io::Result<()>) -> io
 
 fn remove_any(path: &Path) -> io::Result<()> {
     match fs::symlink_metadata(path) {
-        Ok(m) if m.is_dir() => fs::remove_dir_all(path),
+        Ok(m) if m.is_dir() => remove::remove_folder(path),
         Ok(_) => fs::remove_file(path),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
         Err(e) => Err(e),
