@@ -778,7 +778,7 @@ fn step_size(sys: &System, model: &Model, d: &[f64]) -> f64 {
 pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, SolveError> {
     let mut e = model.energy();
     let mut tau_prev = 0.0;
-    let mut prev_size = f64::INFINITY;
+    let mut prev_size: Option<f64> = None;
     let mut converged = false;
     let mut iterations = 0;
     for it in 0..opts.max_iterations {
@@ -793,10 +793,10 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         // predicts it, below 1e-8. Near a regular minimum Newton's steps
         // shrink faster than that rate (the saddle ring's last ones: 2.4e-5,
         // 3.4e-7, 3.8e-11 mm), so the step that would only confirm
-        // convergence is not taken.
+        // convergence is not taken. The first step has no rate.
         let size = step_size(sys, model, &step.d);
-        let small = size < 1e-8 || size * (size / prev_size) < 1e-8;
-        prev_size = size;
+        let small = size < 1e-8 || prev_size.is_some_and(|p| size * (size / p) < 1e-8);
+        prev_size = Some(size);
         if step.tau == 0.0 && step.dec < 1e-12 * model.e_scale {
             apply(sys, model, &step.d, 1.0);
             model.update_frames();
