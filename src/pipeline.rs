@@ -4,13 +4,16 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
+use crate::design::measure::{
+    Measures, measure_assembled, measure_with, strip_clashes, strip_clashes_in, whole,
+};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
-use crate::lattice::shape::ShapeShare;
+use crate::lattice::shape::{ShapeRoom, ShapeShare};
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
+use crate::parts::clash::Scratch;
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -156,7 +159,23 @@ pub fn check_on(
     measure: bool,
     two_threads: bool,
 ) -> Result<Checked, Diagnostic> {
-    let lattice = design.grow_with(progress)?;
+    // The measures' largest buffers (the clash search's, the shape's lists)
+    // have their pages written on the second core while the first grows
+    // the lattice (about 3 us a page, which the measures would otherwise
+    // pay after growth, when both cores are busy).
+    let cells = cells(&design).min(crate::lattice::MAX_CELLS);
+    let prepare = two_threads && measure && cells >= TWO_THREADS_FROM_CELLS;
+    let (lattice, room) = if prepare {
+        std::thread::scope(|s| {
+            let room = s.spawn(|| (Scratch::touched(cells), ShapeRoom::touched(cells)));
+            let lattice = design.grow_with(progress);
+            let room = room.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+            (lattice, Some(room))
+        })
+    } else {
+        (design.grow_with(progress), None)
+    };
+    let lattice = lattice?;
     let placed_and_measured = |lattice: &Lattice| {
         let placed = place(lattice);
         let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
@@ -174,12 +193,15 @@ pub fn check_on(
         // (`ShapeShare`): the second thread, its own work done, measures
         // cells from the far end until the two meet.
         (true, true) => {
-            let share = ShapeShare::new(&lattice);
+            let (scratch, share) = match room {
+                Some((scratch, room)) => (scratch, ShapeShare::with_room(&lattice, room)),
+                None => (Scratch::default(), ShapeShare::new(&lattice)),
+            };
             std::thread::scope(|s| {
                 let other = s.spawn(|| {
                     let placed = place(&lattice);
                     let assembled = placed.as_ref().unwrap_or(&lattice);
-                    let clashes = strip_clashes(&design, assembled);
+                    let clashes = strip_clashes_in(&design, assembled, scratch);
                     let report = verify(&lattice);
                     let whole = whole(&lattice, assembled);
                     (placed, clashes, report, whole, share.help())
@@ -307,15 +329,20 @@ pub(crate) const MAX_FABRICATED_CELLS: usize = 20_000;
 /// that leaves the plane or grows on rebuilt fronts, up to
 /// `sim::MAX_SIMULATED_CELLS`; a plane lattice's strips are solved in one).
 pub fn build_cost(design: &Design) -> usize {
-    let rows = design.fit.as_ref().map_or(design.rows.len(), |f| f.rows);
-    let cells = match design.kind {
-        Kind::Helix => design.helix_cells,
-        Kind::Sheet => rows.saturating_mul(design.points.len().saturating_sub(1)),
-        Kind::Loop => rows.saturating_mul(design.points.len()),
-    };
+    let cells = cells(design);
     let bent = design.dim == 3 || design.rows.iter().any(|r| r.front.is_some());
     let simulated = bent && cells <= crate::sim::MAX_SIMULATED_CELLS;
     cells.saturating_mul(if simulated { 50 } else { 1 })
+}
+
+/// The cells `design` grows, read off the recipe without growing it.
+fn cells(design: &Design) -> usize {
+    let rows = design.fit.as_ref().map_or(design.rows.len(), |f| f.rows);
+    match design.kind {
+        Kind::Helix => design.helix_cells,
+        Kind::Sheet => rows.saturating_mul(design.points.len().saturating_sub(1)),
+        Kind::Loop => rows.saturating_mul(design.points.len()),
+    }
 }
 
 /// The assembly guide has a page or more for every growth step, and each
