@@ -150,11 +150,21 @@ fn layer_clashes(
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for &r in ids {
         let cell = &lattice.cells[r as usize / 2];
-        let [ul, ur, ll, lr] = lattice.corners(cell);
+        // Corners UL to LR for an A rod, UR to LL for a B (`corners`).
         let (s, e, start, end) = if r % 2 == 0 {
-            (ul, lr, cell.ul, cell.lr)
+            (
+                lattice.corner(cell, 0),
+                lattice.corner(cell, 3),
+                cell.ul,
+                cell.lr,
+            )
         } else {
-            (ur, ll, cell.ur, cell.ll)
+            (
+                lattice.corner(cell, 1),
+                lattice.corner(cell, 2),
+                cell.ur,
+                cell.ll,
+            )
         };
         let dir = (e - s).normalize_or_zero();
         let (a, b) = (s - margin * dir, e + margin * dir);
