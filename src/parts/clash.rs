@@ -114,8 +114,8 @@ impl Scratch {
             long: touched(lines, false),
             spans: touched(lines, [0; 3]),
             offset: Vec::new(),
-            // A strip of a sheet is listed in three or four grid cells.
-            entries: touched(4 * lines, 0),
+            // A strip of a sheet is listed in two or three grid cells.
+            entries: touched(3 * lines, 0),
         }
     }
 }
@@ -186,9 +186,10 @@ fn layer_clashes(
     if lines.len() < 2 {
         return;
     }
-    // Grid cells about one strip long, so each strip touches a few: the
-    // median length of a sample of the lines spread over the layer (the
-    // grid's size changes how fast the search is, never what it finds).
+    // Grid cells `GRID_STRIPS` strips long, so each strip touches a few: a
+    // strip's length is the median of a sample of the lines spread over
+    // the layer (the grid's size changes how fast the search is, never
+    // what it finds).
     lengths.clear();
     let step = (lines.len() / LENGTH_SAMPLES).max(1);
     lengths.extend(lines.iter().step_by(step).map(|l| l.a.distance(l.b)));
@@ -200,7 +201,7 @@ fn layer_clashes(
         return;
     }
     // Never more than about 2^20 grid cells along an axis.
-    let h = (median + reach)
+    let h = (GRID_STRIPS * (median + reach))
         .max(1e-6)
         .max((hi - lo).max_element() / (1u64 << 20) as f64);
     // Every point keyed lies in the box [lo, hi], so the quotient is not
@@ -428,6 +429,14 @@ fn layer_clashes(
         }
     }
 }
+
+/// Grid cells are this many strips (each its median length plus the
+/// reach) wide. Wider cells list each strip in fewer of them but pair more
+/// strips in each; on a 500 x 500 sheet (strips at 45 deg) the search
+/// took 817, 684, 625, 591, 570, 567, 587, 613 and 690 M instructions at
+/// 0.6, 0.8, 1, 1.3, 1.7, 2, 2.5, 3 and 4: 1.7 is within 1 % of the
+/// least, and pairs fewer strips a cell than 2 where they lie denser.
+const GRID_STRIPS: f64 = 1.7;
 
 /// How many lines of a layer give the median length the grid is sized by.
 const LENGTH_SAMPLES: usize = 4096;
