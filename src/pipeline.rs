@@ -162,26 +162,29 @@ pub fn check_on(
     // The measures' largest buffers (the clash search's, the shape's lists)
     // have their pages written on the second core while the first grows
     // the lattice (about 3 us a page, which the measures would otherwise
-    // pay after growth, when both cores are busy).
+    // pay after growth, when both cores are busy). Nobody waits for them
+    // but the clash search, which comes after the placement on the second
+    // thread; the shape takes its room if it has come by then.
     let cells = cells(&design).min(crate::lattice::MAX_CELLS);
-    let prepare = two_threads && measure && cells >= TWO_THREADS_FROM_CELLS;
-    let (lattice, room) = if prepare {
-        std::thread::scope(|s| {
-            let room = s.spawn(|| (Scratch::touched(cells), ShapeRoom::touched(cells)));
-            let lattice = design.grow_with(progress);
-            let room = room.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-            (lattice, Some(room))
-        })
-    } else {
-        (design.grow_with(progress), None)
-    };
+    let mut prepared = (two_threads && measure && cells >= TWO_THREADS_FROM_CELLS)
+        .then(|| std::thread::spawn(move || (Scratch::touched(cells), ShapeRoom::touched(cells))));
+    let lattice = design.grow_with(progress);
+    let two_threads = two_threads
+        && lattice
+            .as_ref()
+            .is_ok_and(|l| l.cells.len() >= TWO_THREADS_FROM_CELLS);
+    if !(two_threads && measure) {
+        // Not used: a growth error, or fewer cells than the recipe said.
+        if let Some(thread) = prepared.take() {
+            joined(thread);
+        }
+    }
     let lattice = lattice?;
     let placed_and_measured = |lattice: &Lattice| {
         let placed = place(lattice);
         let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
         (placed, measures)
     };
-    let two_threads = two_threads && lattice.cells.len() >= TWO_THREADS_FROM_CELLS;
     let (report, deployment, measured) = match (two_threads, measure) {
         (false, _) => (
             verify(&lattice),
@@ -193,14 +196,18 @@ pub fn check_on(
         // (`ShapeShare`): the second thread, its own work done, measures
         // cells from the far end until the two meet.
         (true, true) => {
-            let (scratch, share) = match room {
-                Some((scratch, room)) => (scratch, ShapeShare::with_room(&lattice, room)),
-                None => (Scratch::default(), ShapeShare::new(&lattice)),
-            };
+            let share = ShapeShare::new(&lattice);
             std::thread::scope(|s| {
                 let other = s.spawn(|| {
                     let placed = place(&lattice);
                     let assembled = placed.as_ref().unwrap_or(&lattice);
+                    let scratch = match prepared.map(joined) {
+                        Some((scratch, room)) => {
+                            share.give(room);
+                            scratch
+                        }
+                        None => Scratch::default(),
+                    };
                     let clashes = strip_clashes_in(&design, assembled, scratch);
                     let report = verify(&lattice);
                     let whole = whole(&lattice, assembled);
@@ -243,6 +250,13 @@ pub fn check_on(
         joints: OnceCell::new(),
         parts: OnceCell::new(),
     })
+}
+
+/// What a thread returned, or its panic resumed here.
+fn joined<T>(thread: std::thread::JoinHandle<T>) -> T {
+    thread
+        .join()
+        .unwrap_or_else(|p| std::panic::resume_unwind(p))
 }
 
 /// `Lattice::placed`, None when that is the grown lattice (extrinsic).

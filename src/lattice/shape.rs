@@ -517,7 +517,7 @@ pub(crate) struct ShapeShare<'a> {
     claims: Mutex<(usize, usize)>,
     /// The first chunk the helper may take.
     floor: usize,
-    /// Room for the measuring thread's lists, when given (`with_room`).
+    /// Room for the measuring thread's lists, when given (`give`).
     room: Mutex<Option<ShapeRoom>>,
 }
 
@@ -547,11 +547,10 @@ impl<'a> ShapeShare<'a> {
         }
     }
 
-    /// `new`, the measuring thread's lists kept in `room`.
-    pub(crate) fn with_room(lattice: &'a Lattice, room: ShapeRoom) -> Self {
-        let share = Self::new(lattice);
-        *share.room.lock().unwrap_or_else(PoisonError::into_inner) = Some(room);
-        share
+    /// Room for the measuring thread's lists, used if it comes before
+    /// `measure` starts (the figures are the same either way).
+    pub(crate) fn give(&self, room: ShapeRoom) {
+        *self.room.lock().unwrap_or_else(PoisonError::into_inner) = Some(room);
     }
 
     fn cells(&self, chunk: usize) -> &'a [Cell] {
