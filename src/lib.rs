@@ -30,6 +30,7 @@ mod lattice;
 mod layout;
 mod legs;
 mod output;
+mod pages;
 mod parts;
 mod pipeline;
 mod report;

@@ -4,13 +4,16 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
+use crate::design::measure::{
+    Measures, measure_assembled, measure_with, strip_clashes, strip_clashes_in, whole,
+};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::lattice::deploy::{Deployment, deployment};
-use crate::lattice::shape::ShapeShare;
+use crate::lattice::shape::{ShapeRoom, ShapeShare};
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
+use crate::parts::clash::Scratch;
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -204,13 +207,32 @@ pub fn check_on(
     measure: bool,
     two_threads: bool,
 ) -> Result<Checked, Diagnostic> {
-    let lattice = design.grow_with(progress)?;
+    // The measures' largest buffers (the clash search's, the shape's lists)
+    // have their pages written on the second core while the first grows
+    // the lattice (about 3 us a page, which the measures would otherwise
+    // pay after growth, when both cores are busy). Nobody waits for them
+    // but the clash search, which comes after the placement on the second
+    // thread; the shape takes its room if it has come by then.
+    let cells = build_cells(&design).min(crate::lattice::MAX_CELLS);
+    let mut prepared = (two_threads && measure && cells >= TWO_THREADS_FROM_CELLS)
+        .then(|| std::thread::spawn(move || (Scratch::touched(cells), ShapeRoom::touched(cells))));
+    let lattice = design.grow_with(progress);
+    let two_threads = two_threads
+        && lattice
+            .as_ref()
+            .is_ok_and(|l| l.cells.len() >= TWO_THREADS_FROM_CELLS);
+    if !(two_threads && measure) {
+        // Not used: a growth error, or fewer cells than the recipe said.
+        if let Some(thread) = prepared.take() {
+            joined(thread);
+        }
+    }
+    let lattice = lattice?;
     let placed_and_measured = |lattice: &Lattice| {
         let placed = place(lattice);
         let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
         (placed, measures)
     };
-    let two_threads = two_threads && lattice.cells.len() >= TWO_THREADS_FROM_CELLS;
     let (report, deployment, measured) = match (two_threads, measure) {
         (false, _) => (
             verify(&lattice),
@@ -227,7 +249,14 @@ pub fn check_on(
                 let other = s.spawn(|| {
                     let placed = place(&lattice);
                     let assembled = placed.as_ref().unwrap_or(&lattice);
-                    let clashes = strip_clashes(&design, assembled);
+                    let scratch = match prepared.map(joined) {
+                        Some((scratch, room)) => {
+                            share.give(room);
+                            scratch
+                        }
+                        None => Scratch::default(),
+                    };
+                    let clashes = strip_clashes_in(&design, assembled, scratch);
                     let report = verify(&lattice);
                     let whole = whole(&lattice, assembled);
                     (placed, clashes, report, whole, share.help())
@@ -269,6 +298,13 @@ pub fn check_on(
         joints: OnceCell::new(),
         parts: OnceCell::new(),
     })
+}
+
+/// What a thread returned, or its panic resumed here.
+fn joined<T>(thread: std::thread::JoinHandle<T>) -> T {
+    thread
+        .join()
+        .unwrap_or_else(|p| std::panic::resume_unwind(p))
 }
 
 /// `Lattice::placed`, None when that is the grown lattice (extrinsic).

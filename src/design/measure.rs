@@ -7,7 +7,7 @@ use super::Design;
 use super::fit::{self, Coverage};
 use crate::lattice::shape::{CurvatureSummary, Shape, survey};
 use crate::lattice::{Kind, Lattice};
-use crate::parts::clash::{Clash, clashes};
+use crate::parts::clash::{Clash, Scratch, clashes_in};
 use serde::Serialize;
 
 /// Every shape and fit number of a grown design (see the module comment).
@@ -98,12 +98,22 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
 /// The strip clashes of a design's lattice as assembled (an intrinsic
 /// lattice meets itself as assembled: rows placed onto each other).
 pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Vec<Clash> {
+    strip_clashes_in(design, assembled, Scratch::default())
+}
+
+/// `strip_clashes`, searched in the buffers of `scratch`.
+pub(crate) fn strip_clashes_in(
+    design: &Design,
+    assembled: &Lattice,
+    scratch: Scratch,
+) -> Vec<Clash> {
     let fab = &design.fabrication;
-    clashes(
+    clashes_in(
         assembled,
         fab.material.width,
         fab.end_margin,
         design.clash.clearance,
+        scratch,
     )
 }
 

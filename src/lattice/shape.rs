@@ -6,6 +6,7 @@
 //! and live with it (`design::fit`).
 
 use super::{Cell, Kind, Lattice, Legs, angle_between};
+use crate::pages::touched;
 use glam::DVec3;
 use std::f64::consts::TAU;
 use std::sync::{Mutex, MutexGuard, PoisonError};
@@ -131,14 +132,20 @@ struct Curvatures {
 impl Curvatures {
     /// A ring of `window` slots (a power of two) for `vertices` vertices.
     fn new(vertices: usize, window: usize) -> Self {
+        // Reserved, not touched: the pages of the unused part are never
+        // faulted in, and `finish` hands them back.
+        Self::into(Vec::with_capacity(vertices), window)
+    }
+
+    /// `new`, the curvatures listed in `out` (emptied, its room kept).
+    fn into(mut out: Vec<VertexCurvature>, window: usize) -> Self {
+        out.clear();
         Self {
             sums: vec![(0, 0.0, 0.0); window],
             mask: window - 1,
             high: 0,
             next: 0,
-            // Reserved, not touched: the pages of the unused part are never
-            // faulted in, and `finish` hands them back.
-            out: Vec::with_capacity(vertices),
+            out,
         }
     }
 
@@ -466,6 +473,30 @@ impl Regularity {
     }
 }
 
+/// Room for the largest lists of a shape: its curvature list (32 bytes
+/// an interior vertex) and the cells' leg ratios (8 bytes a cell).
+pub(crate) struct ShapeRoom {
+    curvature: Vec<VertexCurvature>,
+    ratios: Vec<f64>,
+}
+
+impl ShapeRoom {
+    /// Room for about `cells` cells (a sheet has about as many interior
+    /// vertices), each page written now (`pages::touched`).
+    pub(crate) fn touched(cells: usize) -> Self {
+        let none = VertexCurvature {
+            vertex: 0,
+            defect: 0.0,
+            area: 0.0,
+            k: 0.0,
+        };
+        Self {
+            curvature: touched(cells, none),
+            ratios: touched(cells, 0.0),
+        }
+    }
+}
+
 /// Cells a claim of `ShapeShare` takes (a few milliseconds of work).
 const SHARE_CHUNK: usize = 8192;
 
@@ -486,6 +517,8 @@ pub(crate) struct ShapeShare<'a> {
     claims: Mutex<(usize, usize)>,
     /// The first chunk the helper may take.
     floor: usize,
+    /// Room for the measuring thread's lists, when given (`give`).
+    room: Mutex<Option<ShapeRoom>>,
 }
 
 /// A chunk the helper measured: each cell's corner angles and area, and
@@ -510,7 +543,14 @@ impl<'a> ShapeShare<'a> {
             chunk,
             claims: Mutex::new((0, chunks)),
             floor: chunks / 2,
+            room: Mutex::new(None),
         }
+    }
+
+    /// Room for the measuring thread's lists, used if it comes before
+    /// `measure` starts (the figures are the same either way).
+    pub(crate) fn give(&self, room: ShapeRoom) {
+        *self.room.lock().unwrap_or_else(PoisonError::into_inner) = Some(room);
     }
 
     fn cells(&self, chunk: usize) -> &'a [Cell] {
@@ -560,8 +600,30 @@ impl<'a> ShapeShare<'a> {
     pub(crate) fn measure(&self, helped: impl FnOnce() -> Vec<Helped>) -> Shape {
         let lattice = self.lattice;
         let (window, full) = lattice.vertex_rings();
-        let mut at = Curvatures::new(lattice.vertices.len(), window);
-        let mut regularity = Regularity::new(lattice.cells.len());
+        let room = self
+            .room
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take();
+        let (mut at, mut regularity) = match room {
+            Some(ShapeRoom {
+                curvature,
+                mut ratios,
+            }) => {
+                ratios.clear();
+                (
+                    Curvatures::into(curvature, window),
+                    Regularity {
+                        ratios,
+                        ..Regularity::new(0)
+                    },
+                )
+            }
+            None => (
+                Curvatures::new(lattice.vertices.len(), window),
+                Regularity::new(lattice.cells.len()),
+            ),
+        };
         let mut fits = true;
         while fits {
             let chunk = {

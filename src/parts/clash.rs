@@ -5,7 +5,8 @@
 //! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.
 
 use crate::lattice::{Lattice, RodType};
-use glam::{DVec2, DVec3};
+use crate::pages::touched;
+use glam::DVec3;
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
@@ -22,32 +23,34 @@ pub struct Clash {
     pub(crate) at: DVec3,
 }
 
-/// A strip's centre line: the rod from tip to tip.
+/// A strip's centre line: the rod from tip to tip. 64 bytes: the normal
+/// `pair` tests first is worked out there, for the few pairs whose boxes
+/// meet, rather than stored for every line (a layer of a 4 M-cell sheet
+/// has two million lines).
+#[derive(Clone, Default)]
 struct Line {
-    /// Rod id (lattice.json order).
-    rod: u32,
     a: DVec3,
     b: DVec3,
+    /// Rod id (lattice.json order).
+    rod: u32,
     /// Its two vertices (a rod's pivot is its own cell's: two rods of one
     /// cell are in different layers, and are also told apart below).
     start: u32,
     end: u32,
-    /// The unit normal of its direction in the xy plane (zero for a strip
-    /// along z): an axis on which neighbouring parallel strips lie apart.
-    across: DVec2,
 }
 
-/// Buffers of one layer's search, kept for the next layer: the lattice's
-/// largest allocations then take their pages from the kernel once, not
-/// once a layer.
+/// Buffers of the search, each layer's kept for the next layer: the
+/// lattice's largest allocations then take their pages from the kernel
+/// once, not once a layer, or before the search (`Scratch::touched`).
 #[derive(Default)]
-struct Scratch {
+pub(crate) struct Scratch {
+    /// The rods of each layer.
+    layers: Vec<Vec<u32>>,
     lines: Vec<Line>,
     lengths: Vec<f64>,
     long: Vec<bool>,
     spans: Vec<[u32; 3]>,
     offset: Vec<u32>,
-    fill: Vec<u32>,
     entries: Vec<u32>,
 }
 
@@ -62,48 +65,59 @@ struct Scratch {
 /// midpoint of their closest points; a pair is measured once, in the first
 /// grid cell the two boxes share. Cost and memory are linear in the strips.
 pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
+    clashes_in(lattice, width, margin, clearance, Scratch::default())
+}
+
+/// `clashes`, searched in the buffers of `scratch`.
+pub(crate) fn clashes_in(
+    lattice: &Lattice,
+    width: f64,
+    margin: f64,
+    clearance: f64,
+    mut scratch: Scratch,
+) -> Vec<Clash> {
     let reach = width + clearance;
-    let rods = 2 * lattice.cells.len();
-    // Rods grouped by layer (a counting sort, in id order within a layer).
-    // Each rod's layer is worked out twice rather than stored: a few
-    // integer operations against 4 bytes a rod.
-    let layer_of = || {
-        lattice
-            .cells
-            .iter()
-            .flat_map(|c| [lattice.layer(c, RodType::A), lattice.layer(c, RodType::B)])
-    };
-    let mut start = Vec::new();
-    for l in layer_of() {
-        if start.len() < l as usize + 2 {
-            start.resize(l as usize + 2, 0usize);
+    // Rods grouped by layer, in id order within a layer: one pass over the
+    // cells (a counting sort would read them twice, 56 bytes a cell).
+    let mut layers = std::mem::take(&mut scratch.layers);
+    layers.iter_mut().for_each(Vec::clear);
+    let quarter = lattice.cells.len() / 2;
+    for (c, cell) in lattice.cells.iter().enumerate() {
+        for (r, kind) in [(2 * c, RodType::A), (2 * c + 1, RodType::B)] {
+            let l = lattice.layer(cell, kind) as usize;
+            if layers.len() <= l {
+                // Room for a quarter of the rods (four layers, as most
+                // lattices have): reserved, not touched.
+                layers.resize_with(l + 1, || Vec::with_capacity(quarter));
+            }
+            layers[l].push(r as u32);
         }
-        start[l as usize + 1] += 1;
-    }
-    let layers = start.len().saturating_sub(1);
-    for l in 0..layers {
-        start[l + 1] += start[l];
-    }
-    let mut order = vec![0u32; rods];
-    let mut fill = start.clone();
-    for (r, l) in layer_of().enumerate() {
-        order[fill[l as usize]] = r as u32;
-        fill[l as usize] += 1;
     }
     let mut out = Vec::new();
-    let mut scratch = Scratch::default();
-    for l in 0..layers {
-        layer_clashes(
-            lattice,
-            &order[start[l]..start[l + 1]],
-            margin,
-            reach,
-            &mut scratch,
-            &mut out,
-        );
+    for ids in &layers {
+        layer_clashes(lattice, ids, margin, reach, &mut scratch, &mut out);
     }
     out.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.rods.cmp(&b.rods)));
     out
+}
+
+impl Scratch {
+    /// Buffers for a lattice of about `cells` cells in four layers (a
+    /// sheet's or a loop's: half as many lines a layer as cells), each page
+    /// written now. Another lattice only takes more pages in the search.
+    pub(crate) fn touched(cells: usize) -> Self {
+        let lines = cells / 2;
+        Self {
+            layers: (0..4).map(|_| touched(lines, 0)).collect(),
+            lines: touched(lines, Line::default()),
+            lengths: Vec::new(),
+            long: touched(lines, false),
+            spans: touched(lines, [0; 3]),
+            offset: Vec::new(),
+            // A strip of a sheet is listed in two or three grid cells.
+            entries: touched(3 * lines, 0),
+        }
+    }
 }
 
 /// The clashes among `ids`, rods of one layer in increasing id order.
@@ -123,12 +137,12 @@ fn layer_clashes(
         "a layer of more than 2^29 strips"
     );
     let Scratch {
+        layers: _,
         lines,
         lengths,
         long,
         spans,
         offset,
-        fill,
         entries,
     } = scratch;
     lines.clear();
@@ -136,27 +150,46 @@ fn layer_clashes(
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for &r in ids {
         let cell = &lattice.cells[r as usize / 2];
-        let [ul, ur, ll, lr] = lattice.corners(cell);
+        // Corners UL to LR for an A rod, UR to LL for a B (`corners`).
         let (s, e, start, end) = if r % 2 == 0 {
-            (ul, lr, cell.ul, cell.lr)
+            (
+                lattice.corner(cell, 0),
+                lattice.corner(cell, 3),
+                cell.ul,
+                cell.lr,
+            )
         } else {
-            (ur, ll, cell.ur, cell.ll)
+            (
+                lattice.corner(cell, 1),
+                lattice.corner(cell, 2),
+                cell.ur,
+                cell.ll,
+            )
         };
         let dir = (e - s).normalize_or_zero();
         let (a, b) = (s - margin * dir, e + margin * dir);
+        // A line with a NaN coordinate never clashes (its closest points
+        // to any line are NaN), and would hide from the box (glam's `min`
+        // and `max` keep either side of a NaN): it is left out.
+        if a.is_nan() || b.is_nan() {
+            continue;
+        }
         (lo, hi) = (lo.min(a.min(b)), hi.max(a.max(b)));
         lines.push(Line {
-            rod: r,
             a,
             b,
+            rod: r,
             start,
             end,
-            across: across(dir),
         });
     }
-    // Grid cells about one strip long, so each strip touches a few: the
-    // median length of a sample of the lines spread over the layer (the
-    // grid's size changes how fast the search is, never what it finds).
+    if lines.len() < 2 {
+        return;
+    }
+    // Grid cells `GRID_STRIPS` strips long, so each strip touches a few: a
+    // strip's length is the median of a sample of the lines spread over
+    // the layer (the grid's size changes how fast the search is, never
+    // what it finds).
     lengths.clear();
     let step = (lines.len() / LENGTH_SAMPLES).max(1);
     lengths.extend(lines.iter().step_by(step).map(|l| l.a.distance(l.b)));
@@ -168,7 +201,7 @@ fn layer_clashes(
         return;
     }
     // Never more than about 2^20 grid cells along an axis.
-    let h = (median + reach)
+    let h = (GRID_STRIPS * (median + reach))
         .max(1e-6)
         .max((hi - lo).max_element() / (1u64 << 20) as f64);
     // Every point keyed lies in the box [lo, hi], so the quotient is not
@@ -192,9 +225,9 @@ fn layer_clashes(
     // instead. Marked as the grid is filled (`long`).
     let is_long = |(lo, hi): ([i32; 3], [i32; 3])| {
         (0..3)
-            .map(|k| (hi[k] - lo[k]) as f64 + 1.0)
-            .product::<f64>()
-            > 512.0
+            .map(|k| i64::from(hi[k] - lo[k]) + 1)
+            .product::<i64>()
+            > 512
     };
     long.clear();
     long.resize(lines.len(), false);
@@ -202,6 +235,7 @@ fn layer_clashes(
     // Far above the rounding of a projection (1e-16 of the coordinates):
     // a pair is only skipped when it is surely out of reach.
     let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()).max_element());
+    let far = (reach + slack) * (reach + slack);
     // The clash of two strips of this layer whose boxes are not apart by
     // the reach (`Boxed::apart`, taken first), if they clash.
     let pair = |li: &Line, lj: &Line| -> Option<Clash> {
@@ -214,11 +248,17 @@ fn layer_clashes(
         }
         // Projections on any unit axis are no farther apart than the
         // strips: across the first strip, parallel neighbours (most of the
-        // pairs whose boxes meet) are apart by more than the reach.
-        let u = li.across;
-        let across = |p: DVec3| p.x * u.x + p.y * u.y;
+        // pairs whose boxes meet) are apart by more than the reach. The
+        // axis is the xy normal of its direction, not normalised: the gap
+        // of the projections on it and its length are compared squared (no
+        // square root or division a pair), within the slack, far above
+        // their rounding. A strip along z has no such normal (gap 0).
+        let d = li.b - li.a;
+        let (nx, ny) = (-d.y, d.x);
+        let across = |p: DVec3| p.x * nx + p.y * ny;
         let (i0, i1, j0, j1) = (across(li.a), across(li.b), across(lj.a), across(lj.b));
-        if (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1)) >= reach + slack {
+        let gap = (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1));
+        if gap > 0.0 && gap * gap >= far * (nx * nx + ny * ny) {
             return None;
         }
         let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
@@ -291,6 +331,19 @@ fn layer_clashes(
         Some(g) if g <= 4 * lines.len() + 1024 => {
             let index =
                 |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
+            // The grid cells of a span: the first of each run along x, and
+            // the run's length.
+            let (row, plane) = (dims[0], dims[0] * dims[1]);
+            let runs = |(lo, hi): ([i32; 3], [i32; 3])| {
+                let first = index(lo);
+                let n = [0, 1, 2].map(|k| (hi[k] - lo[k]) as usize + 1);
+                (0..n[2]).flat_map(move |z| {
+                    (0..n[1]).map(move |y| (first + z * plane + y * row, n[0], z == 0, y == 0))
+                })
+            };
+            // Counted into `offset[c + 1]`, summed, then filled with
+            // `offset[c]` as grid cell c's cursor, which leaves it at the
+            // start of cell c + 1: cell c's list ends there.
             offset.clear();
             offset.resize(g + 1, 0);
             // Each line's span, kept from the count for the fill (12 bytes
@@ -305,43 +358,35 @@ fn layer_clashes(
                     continue;
                 }
                 spans.push(pack(lo, h));
-                for z in lo[2]..=h[2] {
-                    for y in lo[1]..=h[1] {
-                        for x in lo[0]..=h[0] {
-                            offset[index([x, y, z]) + 1] += 1;
-                        }
+                for (c, n, _, _) in runs((lo, h)) {
+                    for count in &mut offset[c + 1..c + 1 + n] {
+                        *count += 1;
                     }
                 }
             }
             for c in 0..g {
                 offset[c + 1] += offset[c];
             }
-            fill.clear();
-            fill.extend_from_slice(&offset[..]);
             entries.clear();
             entries.resize(offset[g] as usize, 0);
             for (i, &span) in spans.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                let (lo, h) = unpack(span);
-                for z in lo[2]..=h[2] {
-                    for y in lo[1]..=h[1] {
-                        for x in lo[0]..=h[0] {
-                            let c = index([x, y, z]);
-                            entries[fill[c] as usize] = entry(i, lo, [x, y, z]);
-                            fill[c] += 1;
-                        }
+                for (c, n, z0, y0) in runs(unpack(span)) {
+                    // The axes on which the line's box starts in each cell
+                    // (`entry`): z and y for the run, x for its first cell.
+                    let zy = i as u32 | (u32::from(z0) << 2 | u32::from(y0) << 1) << INDEX_BITS;
+                    for (x, cursor) in offset[c..c + n].iter_mut().enumerate() {
+                        entries[*cursor as usize] = zy | u32::from(x == 0) << INDEX_BITS;
+                        *cursor += 1;
                     }
                 }
             }
-            for z in 0..dims[2] {
-                for y in 0..dims[1] {
-                    for x in 0..dims[0] {
-                        let c = index([x as i32, y as i32, z as i32]);
-                        let list = &mut entries[offset[c] as usize..offset[c + 1] as usize];
-                        if list.len() > 1 {
-                            visit(list);
-                        }
-                    }
+            let mut begin = 0;
+            for &end in &offset[..g] {
+                let list = &mut entries[begin..end as usize];
+                if list.len() > 1 {
+                    visit(list);
                 }
+                begin = end as usize;
             }
         }
         // Sparse (a curved surface in a large box): the entries sorted by cell.
@@ -385,21 +430,13 @@ fn layer_clashes(
     }
 }
 
-/// The unit normal in the xy plane of a line's unit direction `dir` (zero
-/// for a line along z). A direction in the plane (every strip of a flat
-/// sheet) gives it without a second square root: its xy part is unit to
-/// within a rounding, and the normal only skips pairs apart by more than
-/// the reach plus a slack far above that rounding, so which pairs clash
-/// and their figures are those of normalising it again.
-#[inline]
-fn across(dir: DVec3) -> DVec2 {
-    let normal = DVec2::new(-dir.y, dir.x);
-    if dir.z == 0.0 {
-        normal
-    } else {
-        normal.normalize_or_zero()
-    }
-}
+/// Grid cells are this many strips (each its median length plus the
+/// reach) wide. Wider cells list each strip in fewer of them but pair more
+/// strips in each; on a 500 x 500 sheet (strips at 45 deg) the search
+/// took 817, 684, 625, 591, 570, 567, 587, 613 and 690 M instructions at
+/// 0.6, 0.8, 1, 1.3, 1.7, 2, 2.5, 3 and 4: 1.7 is within 1 % of the
+/// least, and pairs fewer strips a cell than 2 where they lie denser.
+const GRID_STRIPS: f64 = 1.7;
 
 /// How many lines of a layer give the median length the grid is sized by.
 const LENGTH_SAMPLES: usize = 4096;
@@ -429,11 +466,9 @@ impl Boxed {
     }
 
     /// Boxes apart by `reach` on some axis: no clash (and no closest points
-    /// to compute). No coordinate is infinite here (such a layer has no
-    /// finite box and is not searched); a NaN one may hide from the layer's
-    /// box, but a line with one never clashes (its closest points are NaN),
-    /// so this test and glam's `max` of the gaps, which treat NaN apart,
-    /// find the same clashes.
+    /// to compute). No coordinate is infinite or NaN here (a layer with an
+    /// infinite one has no finite box and is not searched; a line with a
+    /// NaN one is left out).
     #[inline]
     fn apart(&self, other: &Self, reach: f64) -> bool {
         let (i, j) = (self, other);
@@ -682,6 +717,139 @@ mod tests {
             assert_eq!(found.len(), all_pairs(&lat));
             assert!(!found.is_empty());
         }
+    }
+
+    /// `clashes` by measuring every pair of a layer, from the definition:
+    /// the oracle of the grid search, clash by clash and bit by bit. A
+    /// layer with a line that has no finite box is not searched.
+    fn every_pair(lat: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
+        let reach = width + clearance;
+        let line = |r: usize| {
+            let cell = &lat.cells[r / 2];
+            let [ul, ur, ll, lr] = lat.corners(cell);
+            let (s, e, ends) = if r % 2 == 0 {
+                (ul, lr, [cell.ul, cell.lr])
+            } else {
+                (ur, ll, [cell.ur, cell.ll])
+            };
+            let dir = (e - s).normalize_or_zero();
+            (s - margin * dir, e + margin * dir, ends)
+        };
+        let kind = |r: usize| if r % 2 == 0 { RodType::A } else { RodType::B };
+        let layer = |r: usize| lat.layer(&lat.cells[r / 2], kind(r));
+        let rods = 2 * lat.cells.len();
+        let mut out = Vec::new();
+        let top = (0..rods).map(layer).max().unwrap_or(0);
+        for l in 0..=top {
+            // A line with a NaN coordinate cannot clash (its closest
+            // points are NaN) and is left out of the layer's box.
+            let ids: Vec<usize> = (0..rods)
+                .filter(|&r| layer(r) == l && !(line(r).0.is_nan() || line(r).1.is_nan()))
+                .collect();
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for &r in &ids {
+                let (a, b, _) = line(r);
+                (lo, hi) = (lo.min(a.min(b)), hi.max(a.max(b)));
+            }
+            let half = DVec3::splat(reach / 2.0);
+            if !((lo - half).is_finite() && (hi + half).is_finite()) {
+                continue;
+            }
+            for (n, &i) in ids.iter().enumerate() {
+                for &j in &ids[n + 1..] {
+                    let ((a, b, vi), (c, d, vj)) = (line(i), line(j));
+                    if vi.iter().any(|v| vj.contains(v)) || i / 2 == j / 2 {
+                        continue;
+                    }
+                    let (p, q) = closest_points(a, b, c, d);
+                    let distance = p.distance(q);
+                    if distance < reach {
+                        out.push(Clash {
+                            rods: [i, j],
+                            distance,
+                            at: (p + q) / 2.0,
+                        });
+                    }
+                }
+            }
+        }
+        out.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.rods.cmp(&b.rods)));
+        out
+    }
+
+    /// The two lists the same clash by clash, every figure to the bit.
+    fn assert_same(found: &[Clash], oracle: &[Clash], what: &str) {
+        let bits = |c: &Clash| {
+            (
+                c.rods,
+                c.distance.to_bits(),
+                c.at.to_array().map(f64::to_bits),
+            )
+        };
+        assert_eq!(found.len(), oracle.len(), "{what}");
+        for (f, o) in found.iter().zip(oracle) {
+            assert_eq!(bits(f), bits(o), "{what}");
+        }
+    }
+
+    #[test]
+    fn the_grid_finds_every_pairs_clashes_on_random_and_damaged_lattices() {
+        let mut rng = crate::rng::Rng::new(14);
+        let mut lattices: Vec<(String, Lattice)> = Vec::new();
+        for (t, lat) in crate::lattice::shape::random_sheets(5, 24, |t| 2 + t % 2)
+            .into_iter()
+            .enumerate()
+        {
+            lattices.push((format!("random sheet {t}"), lat));
+        }
+        for (rows, angle) in [(6, 15.0), (30, 5.0), (25, 45.0), (12, 80.0)] {
+            lattices.push((format!("sheet {rows} rows at {angle}"), sheet(rows, angle)));
+        }
+        // Damaged copies: every vertex moved at random by up to 1, 12 and
+        // 40 mm (in z too, or only in the plane), a vertex thrown far
+        // away (long lines; a sparse grid when thrown along z), two
+        // vertices made one, and a NaN or an infinite coordinate.
+        let base: Vec<(String, Lattice)> = lattices.clone();
+        for (name, lat) in &base {
+            for (k, amp) in [1.0, 12.0, 40.0].into_iter().enumerate() {
+                let mut moved = lat.clone();
+                for v in &mut moved.vertices {
+                    let z = if k == 1 { 0.0 } else { rng.signed() };
+                    v.pos += DVec3::new(rng.signed(), rng.signed(), z) * amp;
+                }
+                lattices.push((format!("{name}, moved {amp} mm"), moved));
+            }
+            let n = lat.vertices.len();
+            for (what, shift) in [
+                ("thrown", DVec3::new(5.0e4, 3.0e4, 2.0e4)),
+                ("thrown along z", DVec3::new(0.0, 0.0, 3.0e4)),
+                ("NaN", DVec3::new(f64::NAN, 0.0, 0.0)),
+                ("infinite", DVec3::new(0.0, f64::INFINITY, 0.0)),
+            ] {
+                let mut hurt = lat.clone();
+                hurt.vertices[n / 2].pos += shift;
+                lattices.push((format!("{name}, a vertex {what}"), hurt));
+            }
+            let mut merged = lat.clone();
+            merged.vertices[n / 3].pos = merged.vertices[n / 3 + 1].pos;
+            lattices.push((format!("{name}, two vertices made one"), merged));
+        }
+        let mut clashing = 0;
+        for (name, lat) in &lattices {
+            for (width, margin, clearance) in [(10.0, 6.0, 1.0), (30.0, 2.0, 0.5), (4.0, 0.0, 0.0)]
+            {
+                let oracle = every_pair(lat, width, margin, clearance);
+                clashing += usize::from(!oracle.is_empty());
+                let found = clashes(lat, width, margin, clearance);
+                assert_same(&found, &oracle, &format!("{name}, {width} mm strips"));
+            }
+        }
+        // The cases must clash, or the comparison says little.
+        assert!(
+            clashing > lattices.len(),
+            "{clashing} of {}",
+            3 * lattices.len()
+        );
     }
 
     #[test]
