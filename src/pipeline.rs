@@ -383,7 +383,7 @@ impl Checked {
 /// 2026-11-30): 20,000 cells build in about 4.5 s of CPU and 260 MiB,
 /// with a 200-step guide; more would pass 5 s and make a guide too long to
 /// print.
-pub(crate) const MAX_FABRICATED_CELLS: usize = 20_000;
+pub const MAX_FABRICATED_CELLS: usize = 20_000;
 
 /// The cells growing `design` makes, read off the recipe without growing
 /// it (a batch bounds the cells of the builds it holds in memory at once).

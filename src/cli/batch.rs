@@ -349,6 +349,15 @@ impl Ended {
         }
     }
 
+    /// Built (or kept from the earlier build, `kept`) and written.
+    fn ok(report: Report, kept: bool) -> Self {
+        Self {
+            result: Ok(report),
+            kept,
+            write_failed: None,
+        }
+    }
+
     fn write_failed(folder: &str, e: &std::io::Error) -> Self {
         Self {
             result: Err(Error::io(format!("cannot write {folder}/: {e}"))),
@@ -377,11 +386,7 @@ fn start(
     match staged.keep(out, folder, key) {
         Err(e) => return Started::Ended(Ended::write_failed(folder, &e)),
         Ok(Some(report)) => {
-            return Started::Ended(Ended {
-                result: Ok(report),
-                kept: true,
-                write_failed: None,
-            });
+            return Started::Ended(Ended::ok(report, true));
         }
         Ok(None) => {}
     }
@@ -417,11 +422,7 @@ fn draw(work: &Work<Build>, folder: &str, staged: &Staged, two_threads: bool) ->
     let report = Report::of(&work.build);
     let files = karigami::files_on(&work.build, two_threads);
     match staged.write_build(folder, &files, work.key, &report) {
-        Ok(()) => Ended {
-            result: Ok(report),
-            kept: false,
-            write_failed: None,
-        },
+        Ok(()) => Ended::ok(report, false),
         Err(e) => Ended::write_failed(folder, &e),
     }
 }

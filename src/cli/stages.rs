@@ -15,10 +15,13 @@ use std::collections::VecDeque;
 use std::sync::{Condvar, Mutex, MutexGuard};
 
 /// The cells of the builds a batch holds in memory at once (started and
-/// not yet written), about 260 MiB at 13 KiB a cell (BENCHMARKS.md): the
-/// examples all fit; recipes of the largest lattices that are built are
-/// started one at a time. A recipe is started whenever none is held.
-pub(super) const HELD_CELLS: usize = 20_000;
+/// not yet written): the most one build makes parts for, so the largest
+/// are started one at a time, and a recipe is started whenever none is
+/// held. Held builds (lattice, parts, layout) took about 2.8 KiB a cell
+/// (4 copies of a 5,000-cell sheet, 41 MiB more than one at a time), so
+/// some 55 MiB at the bound; drawing one peaks at about 13 KiB a cell
+/// (BENCHMARKS.md). The examples all fit.
+pub(super) const HELD_CELLS: usize = karigami::MAX_FABRICATED_CELLS;
 
 /// A stage of one recipe (its index in the batch), as handed to a job.
 pub(super) enum Task<S, D> {
