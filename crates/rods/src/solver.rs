@@ -356,11 +356,7 @@ impl System {
     }
 
     /// The lowest generalised eigenpair of (H, Dm) by inverse iteration with
-    /// a factor of H + tau Dm (positive definite): (lambda, v). In exact
-    /// arithmetic the Rayleigh quotients never rise from one step to the
-    /// next, so a rise means they have reached their round-off (about 1e-7
-    /// of a soft mode's eigenvalue in the saddle ring, which the 1e-10 test
-    /// never met: it ran all 60 steps) and the iteration stops there.
+    /// a factor of H + tau Dm (positive definite): (lambda, v).
     pub fn lowest_mode(&self, h: &[f64], llt: &Factor, seed: u64) -> (f64, Vec<f64>) {
         let n = self.n();
         let mut rng = crate::rng::Rng::new(seed);
@@ -381,7 +377,7 @@ impl System {
             v = y.iter().map(|a| a / norm).collect();
             let hv = self.mul(h, &v);
             let l = v.iter().zip(&hv).map(|(a, b)| a * b).sum::<f64>();
-            if it > 5 && ((l - lambda).abs() <= 1e-10 * l.abs().max(1e-300) || l > lambda) {
+            if it > 5 && (l - lambda).abs() <= 1e-10 * l.abs().max(1e-300) {
                 lambda = l;
                 break;
             }
@@ -778,7 +774,6 @@ fn step_size(sys: &System, model: &Model, d: &[f64]) -> f64 {
 pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, SolveError> {
     let mut e = model.energy();
     let mut tau_prev = 0.0;
-    let mut prev_size: Option<f64> = None;
     let mut converged = false;
     let mut iterations = 0;
     for it in 0..opts.max_iterations {
@@ -789,14 +784,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         let Some((step, _)) = newton_step(sys, model, &mut tau_prev, true) else {
             return Err(SolveError::NotFinite { iteration: it });
         };
-        // Small: this step, or the next one as the last two steps' rate
-        // predicts it, below 1e-8. Near a regular minimum Newton's steps
-        // shrink faster than that rate (the saddle ring's last ones: 2.4e-5,
-        // 3.4e-7, 3.8e-11 mm), so the step that would only confirm
-        // convergence is not taken. The first step has no rate.
-        let size = step_size(sys, model, &step.d);
-        let small = size < 1e-8 || prev_size.is_some_and(|p| size * (size / p) < 1e-8);
-        prev_size = Some(size);
+        let small = step_size(sys, model, &step.d) < 1e-8;
         if step.tau == 0.0 && step.dec < 1e-12 * model.e_scale {
             apply(sys, model, &step.d, 1.0);
             model.update_frames();
