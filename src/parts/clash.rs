@@ -253,12 +253,17 @@ fn layer_clashes(
         // of the projections on it and its length are compared squared (no
         // square root or division a pair), within the slack, far above
         // their rounding. A strip along z has no such normal (gap 0).
+        // Only finite figures rule a pair out: at coordinates near 1e150 mm
+        // the squares overflow (inf >= inf) or a projection is NaN, which
+        // min and max would drop; such a pair goes to the exact test.
         let d = li.b - li.a;
         let (nx, ny) = (-d.y, d.x);
         let across = |p: DVec3| p.x * nx + p.y * ny;
         let (i0, i1, j0, j1) = (across(li.a), across(li.b), across(lj.a), across(lj.b));
         let gap = (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1));
-        if gap > 0.0 && gap * gap >= far * (nx * nx + ny * ny) {
+        let bound = far * (nx * nx + ny * ny);
+        let finite = bound.is_normal() && [i0, i1, j0, j1].iter().all(|x| x.is_finite());
+        if gap > 0.0 && finite && gap * gap >= bound {
             return None;
         }
         let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
@@ -823,6 +828,8 @@ mod tests {
             for (what, shift) in [
                 ("thrown", DVec3::new(5.0e4, 3.0e4, 2.0e4)),
                 ("thrown along z", DVec3::new(0.0, 0.0, 3.0e4)),
+                // Far enough that the pair test's squares overflow.
+                ("thrown 1e200 mm", DVec3::new(1.0, 0.7, 0.3) * 1e200),
                 ("NaN", DVec3::new(f64::NAN, 0.0, 0.0)),
                 ("infinite", DVec3::new(0.0, f64::INFINITY, 0.0)),
             ] {
@@ -850,6 +857,18 @@ mod tests {
             "{clashing} of {}",
             3 * lattices.len()
         );
+    }
+
+    #[test]
+    fn a_strip_thrown_past_the_squares_range_keeps_its_near_clash() {
+        // The runaway strip's near end still clashes at 10.35 mm; the pair
+        // test's squared figures overflow there and must not rule it out
+        // (review24's case).
+        let mut lat = sheet(6, 15.0);
+        lat.vertices[11].pos += DVec3::new(1.0, 0.7, 0.3) * 1e200;
+        let oracle = every_pair(&lat, 10.0, 6.0, 1.0);
+        assert!(oracle.iter().any(|c| c.rods == [11, 13]));
+        assert_same(&clashes(&lat, 10.0, 6.0, 1.0), &oracle, "thrown 1e200 mm");
     }
 
     #[test]
