@@ -4,11 +4,20 @@
 //! that has nothing else to do, and cleared, keeps its pages for the work
 //! that fills it later.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Elements written between two looks at the stop flag: a writer no
+/// longer needed (growth failed) stops within a few milliseconds.
+const STEP: usize = 1 << 16;
+
 /// An empty vector with room for `n` elements, every page of which has
-/// been written (with `value`).
-pub(crate) fn touched<T: Clone>(n: usize, value: T) -> Vec<T> {
+/// been written (with `value`), or as many as were written before `stop`
+/// was set.
+pub(crate) fn touched<T: Clone>(n: usize, value: T, stop: &AtomicBool) -> Vec<T> {
     let mut v = Vec::with_capacity(n);
-    v.resize(n, value);
+    while v.len() < n && !stop.load(Ordering::Relaxed) {
+        v.resize((v.len() + STEP).min(n), value.clone());
+    }
     // The writes are the point: kept even though nothing reads them.
     std::hint::black_box(v.as_mut_slice());
     v.clear();

@@ -17,6 +17,8 @@ use crate::parts::clash::Scratch;
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 mod reuse;
 pub(crate) use reuse::state as simulation_state;
@@ -213,9 +215,24 @@ pub fn check_on(
     // pay after growth, when both cores are busy). Nobody waits for them
     // but the clash search, which comes after the placement on the second
     // thread; the shape takes its room if it has come by then.
+    // A growth error stops the writer (`stop`) rather than wait for it: the
+    // error comes as fast, and with as little memory, as without it. No
+    // thread to be had, the search makes its own buffers.
     let cells = build_cells(&design).min(crate::lattice::MAX_CELLS);
-    let mut prepared = (two_threads && measure && cells >= TWO_THREADS_FROM_CELLS)
-        .then(|| std::thread::spawn(move || (Scratch::touched(cells), ShapeRoom::touched(cells))));
+    let stop = Arc::new(AtomicBool::new(false));
+    let mut prepared = if two_threads && measure && cells >= TWO_THREADS_FROM_CELLS {
+        let stop = Arc::clone(&stop);
+        std::thread::Builder::new()
+            .spawn(move || {
+                (
+                    Scratch::touched(cells, &stop),
+                    ShapeRoom::touched(cells, &stop),
+                )
+            })
+            .ok()
+    } else {
+        None
+    };
     let lattice = design.grow_with(progress);
     let two_threads = two_threads
         && lattice
@@ -223,6 +240,7 @@ pub fn check_on(
             .is_ok_and(|l| l.cells.len() >= TWO_THREADS_FROM_CELLS);
     if !(two_threads && measure) {
         // Not used: a growth error, or fewer cells than the recipe said.
+        stop.store(true, Ordering::Relaxed);
         if let Some(thread) = prepared.take() {
             joined(thread);
         }

@@ -9,6 +9,7 @@ use super::{Cell, Kind, Lattice, Legs, angle_between};
 use crate::pages::touched;
 use glam::DVec3;
 use std::f64::consts::TAU;
+use std::sync::atomic::AtomicBool;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// An angle defect beyond this (degrees) counts as curved, positive or
@@ -482,8 +483,8 @@ pub(crate) struct ShapeRoom {
 
 impl ShapeRoom {
     /// Room for about `cells` cells (a sheet has about as many interior
-    /// vertices), each page written now (`pages::touched`).
-    pub(crate) fn touched(cells: usize) -> Self {
+    /// vertices), each page written now (`pages::touched`, until `stop`).
+    pub(crate) fn touched(cells: usize, stop: &AtomicBool) -> Self {
         let none = VertexCurvature {
             vertex: 0,
             defect: 0.0,
@@ -491,8 +492,8 @@ impl ShapeRoom {
             k: 0.0,
         };
         Self {
-            curvature: touched(cells, none),
-            ratios: touched(cells, 0.0),
+            curvature: touched(cells, none, stop),
+            ratios: touched(cells, 0.0, stop),
         }
     }
 }

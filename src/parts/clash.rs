@@ -7,6 +7,7 @@
 use crate::lattice::{Lattice, RodType};
 use crate::pages::touched;
 use glam::DVec3;
+use std::sync::atomic::AtomicBool;
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
@@ -104,18 +105,19 @@ pub(crate) fn clashes_in(
 impl Scratch {
     /// Buffers for a lattice of about `cells` cells in four layers (a
     /// sheet's or a loop's: half as many lines a layer as cells), each page
-    /// written now. Another lattice only takes more pages in the search.
-    pub(crate) fn touched(cells: usize) -> Self {
+    /// written now (until `stop`). Another lattice only takes more pages
+    /// in the search.
+    pub(crate) fn touched(cells: usize, stop: &AtomicBool) -> Self {
         let lines = cells / 2;
         Self {
-            layers: (0..4).map(|_| touched(lines, 0)).collect(),
-            lines: touched(lines, Line::default()),
+            layers: (0..4).map(|_| touched(lines, 0, stop)).collect(),
+            lines: touched(lines, Line::default(), stop),
             lengths: Vec::new(),
-            long: touched(lines, false),
-            spans: touched(lines, [0; 3]),
+            long: touched(lines, false, stop),
+            spans: touched(lines, [0; 3], stop),
             offset: Vec::new(),
             // A strip of a sheet is listed in two or three grid cells.
-            entries: touched(3 * lines, 0),
+            entries: touched(3 * lines, 0, stop),
         }
     }
 }
