@@ -135,11 +135,11 @@ impl Curvatures {
     fn new(vertices: usize, window: usize) -> Self {
         // Reserved, not touched: the pages of the unused part are never
         // faulted in, and `finish` hands them back.
-        Self::into(Vec::with_capacity(vertices), window)
+        Self::reusing(Vec::with_capacity(vertices), window)
     }
 
     /// `new`, the curvatures listed in `out` (emptied, its room kept).
-    fn into(mut out: Vec<VertexCurvature>, window: usize) -> Self {
+    fn reusing(mut out: Vec<VertexCurvature>, window: usize) -> Self {
         out.clear();
         Self {
             sums: vec![(0, 0.0, 0.0); window],
@@ -613,7 +613,7 @@ impl<'a> ShapeShare<'a> {
             }) => {
                 ratios.clear();
                 (
-                    Curvatures::into(curvature, window),
+                    Curvatures::reusing(curvature, window),
                     Regularity {
                         ratios,
                         ..Regularity::new(0)
