@@ -19,7 +19,7 @@ pub const CURVED_DEG: f64 = 0.5;
 pub(crate) const SAME_STRIP_MM: f64 = 0.05;
 
 /// The discrete curvature at one interior vertex (shared by four cells).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct VertexCurvature {
     /// Index into `Lattice::vertices`.
     pub vertex: u32,
@@ -430,12 +430,18 @@ struct Regularity {
 impl Regularity {
     /// Room for `cells` cells' ratios.
     fn new(cells: usize) -> Self {
+        Self::reusing(Vec::with_capacity(cells))
+    }
+
+    /// `new`, the ratios listed in `ratios` (emptied, its room kept).
+    fn reusing(mut ratios: Vec<f64>) -> Self {
+        ratios.clear();
         Self {
             amin: f64::INFINITY,
             amax: 0.0,
             lo: f64::INFINITY,
             hi: 0.0,
-            ratios: Vec::with_capacity(cells),
+            ratios,
             range: Range::default(),
         }
     }
@@ -485,15 +491,18 @@ impl ShapeRoom {
     /// Room for about `cells` cells (a sheet has about as many interior
     /// vertices), each page written now (`pages::touched`, until `stop`).
     pub(crate) fn touched(cells: usize, stop: &AtomicBool) -> Self {
-        let none = VertexCurvature {
-            vertex: 0,
-            defect: 0.0,
-            area: 0.0,
-            k: 0.0,
-        };
         Self {
-            curvature: touched(cells, none, stop),
+            curvature: touched(cells, VertexCurvature::default(), stop),
             ratios: touched(cells, 0.0, stop),
+        }
+    }
+
+    /// Room reserved, not touched: the pages of the unused part are never
+    /// faulted in, and the lists hand them back when they are finished.
+    fn reserved(vertices: usize, cells: usize) -> Self {
+        Self {
+            curvature: Vec::with_capacity(vertices),
+            ratios: Vec::with_capacity(cells),
         }
     }
 }
@@ -605,26 +614,10 @@ impl<'a> ShapeShare<'a> {
             .room
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
-            .take();
-        let (mut at, mut regularity) = match room {
-            Some(ShapeRoom {
-                curvature,
-                mut ratios,
-            }) => {
-                ratios.clear();
-                (
-                    Curvatures::reusing(curvature, window),
-                    Regularity {
-                        ratios,
-                        ..Regularity::new(0)
-                    },
-                )
-            }
-            None => (
-                Curvatures::new(lattice.vertices.len(), window),
-                Regularity::new(lattice.cells.len()),
-            ),
-        };
+            .take()
+            .unwrap_or_else(|| ShapeRoom::reserved(lattice.vertices.len(), lattice.cells.len()));
+        let mut at = Curvatures::reusing(room.curvature, window);
+        let mut regularity = Regularity::reusing(room.ratios);
         let mut fits = true;
         while fits {
             let chunk = {

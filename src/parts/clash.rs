@@ -82,14 +82,14 @@ pub(crate) fn clashes_in(
     // cells (a counting sort would read them twice, 56 bytes a cell).
     let mut layers = std::mem::take(&mut scratch.layers);
     layers.iter_mut().for_each(Vec::clear);
-    let quarter = lattice.cells.len() / 2;
+    let rods_per_layer = lattice.cells.len() / 2;
     for (c, cell) in lattice.cells.iter().enumerate() {
         for (r, kind) in [(2 * c, RodType::A), (2 * c + 1, RodType::B)] {
             let l = lattice.layer(cell, kind) as usize;
             if layers.len() <= l {
                 // Room for a quarter of the rods (four layers, as most
                 // lattices have): reserved, not touched.
-                layers.resize_with(l + 1, || Vec::with_capacity(quarter));
+                layers.resize_with(l + 1, || Vec::with_capacity(rods_per_layer));
             }
             layers[l].push(r as u32);
         }
