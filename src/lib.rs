@@ -48,7 +48,7 @@ pub use output::{files, viewer_scene};
 pub use pipeline::check_on;
 pub use pipeline::{Build, Checked, Verified, build, build_with, check};
 pub use pipeline::{MAX_FABRICATED_CELLS, build_cells, build_cost, contact, recipe_error};
-pub use pipeline::{STATE_FILE, Unsimulated, build_reusing, build_unsimulated};
+pub use pipeline::{STATE_FILE, Unsimulated, build_unsimulated};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
 
 // Diagnostics: every error the library reports, with its kind and place.

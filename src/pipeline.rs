@@ -76,18 +76,6 @@ pub fn build_with(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Buil
     check(design, progress)?.assemble()
 }
 
-/// `build_with`, given the `STATE_FILE` an earlier build of this design
-/// wrote (read by the caller): its simulation is restored instead of
-/// solved when nothing it depends on changed (`Build::simulation_reused`),
-/// with the same result to the bit; any other file is ignored.
-pub fn build_reusing(
-    design: Design,
-    progress: &mut dyn FnMut(&str),
-    previous: Option<&[u8]>,
-) -> Result<Build, Diagnostic> {
-    build_unsimulated(design, progress)?.simulate(previous)
-}
-
 /// `build_with` up to the simulation (`Unsimulated::simulate`), which
 /// takes most of a bent lattice's build: a batch runs its recipes'
 /// simulations, the longest chains of its work, before drawing any files.
@@ -749,7 +737,7 @@ impl Build {
     }
 
     /// Whether the simulated deployed shape was restored from the earlier
-    /// build given to `build_reusing` (true) or solved (false); None when
+    /// build given to `Unsimulated::simulate` (true) or solved (false); None when
     /// the build did not simulate.
     pub fn simulation_reused(&self) -> Option<bool> {
         self.simulation_key.map(|(_, reused)| reused)

@@ -7,7 +7,7 @@ use super::build::{Report, inputs, kept_line, open_out};
 use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{OutDir, Staged, safe_component};
 use super::progress::Progress;
-use super::recipe::{Recipe, simulate, stem};
+use super::recipe::{Recipe, simulate, stem, unsimulated};
 use super::stages::{Stages, StopOnPanic, Task};
 use karigami::{Build, ErrorKind, Overrides, Unsimulated, util::plural};
 use serde::Serialize;
@@ -390,9 +390,7 @@ fn start(
         }
         Ok(None) => {}
     }
-    let unsimulated = recipe.parse(overrides).and_then(|design| {
-        karigami::build_unsimulated(design, &mut |_| {}).map_err(|d| recipe.error(&d))
-    });
+    let unsimulated = unsimulated(&recipe, overrides, &mut |_| {});
     let build = match unsimulated {
         Ok(b) if b.simulates() => {
             return Started::Simulate(Work {

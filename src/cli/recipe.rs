@@ -58,17 +58,24 @@ pub(super) fn stem(path: &Path) -> String {
 /// `check` stops after `pipeline::check` to report, then assembles),
 /// reusing the simulation of the earlier build into `earlier` (the output
 /// folder and the recipe's subfolder in it) when nothing it depends on
-/// changed (`karigami::build_reusing`).
+/// changed (`karigami::Unsimulated::simulate`).
 pub(super) fn run_recipe(
     recipe: &Recipe,
     overrides: &Overrides,
     progress: &mut dyn FnMut(&str),
     earlier: (&files::OutDir, &str),
 ) -> Result<Build, Error> {
-    let design = recipe.parse(overrides)?;
-    build_unsimulated(design, progress)
-        .map_err(|d| recipe.error(&d))
-        .and_then(|b| simulate(recipe, b, earlier))
+    simulate(recipe, unsimulated(recipe, overrides, progress)?, earlier)
+}
+
+/// `run_recipe`'s first stage: the recipe parsed and built up to its
+/// simulation (`karigami::build_unsimulated`).
+pub(super) fn unsimulated(
+    recipe: &Recipe,
+    overrides: &Overrides,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Unsimulated, Error> {
+    build_unsimulated(recipe.parse(overrides)?, progress).map_err(|d| recipe.error(&d))
 }
 
 /// `run_recipe`'s last stage: the simulation of a build run up to it

@@ -18,7 +18,8 @@ use std::sync::{Condvar, Mutex, MutexGuard};
 /// not yet written): the most one build makes parts for, so the largest
 /// are started one at a time, and a recipe is started whenever none is
 /// held. Held builds (lattice, parts, layout) took about 2.8 KiB a cell
-/// (4 copies of a 5,000-cell sheet, 41 MiB more than one at a time), so
+/// (4 copies of a 5,000-cell sheet, 41 MiB more than one at a time,
+/// BENCHMARKS.md "Examples batch, fifth round"), so
 /// some 55 MiB at the bound; drawing one peaks at about 13 KiB a cell
 /// (BENCHMARKS.md). The examples all fit.
 pub(super) const HELD_CELLS: usize = karigami::MAX_FABRICATED_CELLS;
@@ -60,14 +61,13 @@ struct State<S, D> {
 }
 
 impl<S, D> Stages<S, D> {
-    /// `order`: every recipe's index with the cells it is expected to hold,
-    /// in the order to start them.
+    /// `order`: every recipe's index (each once) with the cells it is
+    /// expected to hold, in the order to start them.
     pub(super) fn new(order: Vec<(usize, usize)>) -> Self {
-        let recipes = order.iter().map(|&(i, _)| i + 1).max().unwrap_or(0);
         Self {
             state: Mutex::new(State {
+                held_by: vec![0; order.len()],
                 next: order.into(),
-                held_by: vec![0; recipes],
                 held: 0,
                 simulate: Vec::new(),
                 draw: Vec::new(),

@@ -90,7 +90,15 @@ mod tests {
             fs::write(tree.join(format!("{i}.txt")), "y").unwrap();
         }
         #[cfg(unix)]
-        std::os::unix::fs::symlink(&outside, tree.join("a/link")).unwrap();
+        {
+            std::os::unix::fs::symlink(&outside, tree.join("a/link")).unwrap();
+            // The unlinks alone (what `remove_dir_all` would otherwise do
+            // for them): every file and the link gone, the folders left.
+            unlink_files(&tree);
+            assert!(!tree.join("0.txt").exists() && !tree.join("a/b/0.txt").exists());
+            assert!(fs::symlink_metadata(tree.join("a/link")).is_err());
+            assert!(tree.join("a/b").is_dir());
+        }
         remove_folder(&tree).unwrap();
         assert!(!tree.exists());
         assert_eq!(
