@@ -1226,3 +1226,31 @@ fn a_symmetry_the_lattice_lacks_is_refused_where_written() {
     let line = text.lines().position(|l| l == "symmetry = 3").unwrap() + 1;
     assert_eq!(e.line_col(&text), Some((line, 12)), "{e:?}");
 }
+
+/// `--explore` solves its starts in parallel and groups them in seed
+/// order: the equilibria found, the seeds that reach each and the starts
+/// left out are the same, to the bit, for any number of jobs.
+#[test]
+fn explore_finds_the_same_equilibria_with_any_number_of_jobs() {
+    let (_, _, run) = simulated_shape("examples/eggbox.toml");
+    let material = Material::ABS;
+    let finish = |lm: &sim::LatticeModel, stats| sim::equilibrium(lm, stats, &material);
+    let explore = |jobs| sim::explore::explore(&run.lm, 7, 2024, jobs, &finish);
+    let (one, left_one) = explore(1);
+    assert!(one.len() >= 2, "the eggbox is multistable: {}", one.len());
+    for jobs in [2, 3] {
+        let (many, left_many) = explore(jobs);
+        assert_eq!(left_many, left_one, "jobs {jobs}");
+        assert_eq!(many.len(), one.len(), "jobs {jobs}");
+        for (a, b) in one.iter().zip(&many) {
+            assert_eq!(a.hits, b.hits, "jobs {jobs}");
+            assert!(a.hits.is_sorted(), "seed order: {:?}", a.hits);
+            let bits = |f: &sim::explore::Found| -> Vec<u64> {
+                let e = &f.equilibrium;
+                let points = e.points.iter().flat_map(|p| p.to_array());
+                points.chain([e.energy.total()]).map(f64::to_bits).collect()
+            };
+            assert_eq!(bits(a), bits(b), "jobs {jobs}");
+        }
+    }
+}

@@ -47,6 +47,9 @@ pub(super) enum Command {
         /// Also solve from N seeded perturbations and list the distinct stable equilibria.
         #[arg(long, value_name = "N")]
         explore: Option<usize>,
+        /// Starts of --explore solved at once (default: all cores). The report does not depend on it.
+        #[arg(long, short, value_name = "N")]
+        jobs: Option<usize>,
     },
     /// Grow designs and verify collapsibility, compatibility, the collapsed
     /// state and that every strip can be cut. Writes nothing.

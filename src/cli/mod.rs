@@ -92,7 +92,8 @@ pub(crate) fn run() -> i32 {
             design,
             theta,
             explore,
-        } => simulate::simulate(&design, theta, explore, v),
+            jobs,
+        } => simulate::simulate(&design, theta, explore, jobs_or_cores(jobs), v),
         Command::Build {
             designs,
             out,
@@ -101,9 +102,7 @@ pub(crate) fn run() -> i32 {
             json,
             fabrication,
         } => {
-            let jobs = jobs
-                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-                .max(1);
+            let jobs = jobs_or_cores(jobs);
             let overrides = fabrication.overrides();
             // Several recipes, or a folder, build as a batch.
             if designs.len() > 1 || designs.iter().any(|p| p.is_dir()) {
@@ -146,4 +145,10 @@ pub(crate) fn run() -> i32 {
             e.exit_code()
         }
     }
+}
+
+/// `--jobs`, or every core when it is not given; at least 1.
+fn jobs_or_cores(jobs: Option<usize>) -> usize {
+    jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1)
 }

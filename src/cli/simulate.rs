@@ -1,4 +1,4 @@
-//! `karigami simulate RECIPE [--theta DEG] [--explore N]`: the deployed
+//! `karigami simulate RECIPE [--theta DEG] [--explore N] [--jobs N]`: the deployed
 //! shape of the strips as elastic rods joined by eyelets (docs/physics.md).
 
 use super::args::Verbosity;
@@ -20,6 +20,7 @@ pub(super) fn simulate(
     path: &Path,
     theta: Option<f64>,
     explore_n: Option<usize>,
+    jobs: usize,
     v: Verbosity,
 ) -> Result<(), Error> {
     let recipe = Recipe::read(path)?;
@@ -69,7 +70,7 @@ pub(super) fn simulate(
     }
     if let Some(n) = explore_n {
         let material = settings.material;
-        let (found, rejected) = explore(&run.lm, n.max(1), EXPLORE_SEED, &|lm, stats| {
+        let (found, rejected) = explore(&run.lm, n.max(1), EXPLORE_SEED, jobs, &|lm, stats| {
             sim::equilibrium(lm, stats, &material)
         });
         if !v.quiet {

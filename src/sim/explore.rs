@@ -5,6 +5,10 @@ use super::model::{Frame, Model, Node};
 use super::solver::{Options, System, solve};
 use super::strips::LatticeModel;
 use super::{Equilibrium, SimError, kabsch_distance};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc;
+use std::thread;
 
 pub use karigami_rods::rng::Rng;
 
@@ -49,58 +53,76 @@ pub struct Found {
     pub hits: Vec<u64>,
 }
 
+/// What one start ended in: its equilibrium, or why it was left out.
+type Outcome = Result<Equilibrium, String>;
+
 /// Solve from `n` seeds (0 = unperturbed) and group the stable results.
 /// Returns the equilibria by increasing energy, and the seeds that failed
-/// or ended unstable.
+/// or ended unstable. The starts are solved `jobs` at a time, each on its
+/// own copy of the model, and grouped in seed order as they come in, so
+/// the result does not depend on `jobs` (the first start to reach an
+/// equilibrium is the one reported for it).
 pub fn explore(
     base: &LatticeModel,
     n: usize,
     seed: u64,
-    finish: &dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium,
+    jobs: usize,
+    finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
 ) -> (Vec<Found>, Vec<(u64, String)>) {
     let sys = System::new(&base.model);
+    let scale = base.model.e_scale;
     let mut found: Vec<Found> = Vec::new();
     let mut rejected = Vec::new();
-    for k in 0..n as u64 {
-        let mut lm = base.clone();
-        if k > 0 {
-            perturb(
-                &mut lm.model,
-                seed.wrapping_add(k),
-                AMPLITUDES[(k as usize - 1) % AMPLITUDES.len()],
-            );
-        }
-        let stats = match solve(&mut lm.model, &sys, &Options::default()) {
-            Ok(s) => s,
-            Err(e) => {
-                rejected.push((k, SimError::Solve(e).to_string()));
-                continue;
+    let mut group = |k: u64, outcome: Outcome| match outcome {
+        Err(why) => rejected.push((k, why)),
+        Ok(eq) => {
+            let same = found.iter_mut().find(|f| {
+                let (e1, e2) = (f.equilibrium.energy.total(), eq.energy.total());
+                (e1 - e2).abs() <= 1e-6 * scale.max(e1.abs())
+                    && kabsch_distance(&f.equilibrium.points, &eq.points) <= 1e-3
+            });
+            match same {
+                Some(f) => f.hits.push(k),
+                None => found.push(Found {
+                    equilibrium: eq,
+                    hits: vec![k],
+                }),
             }
-        };
-        if !stats.converged || !(stats.lambda_min > 0.0) {
-            rejected.push((
-                k,
-                format!(
-                    "ended unstable or unconverged (lambda_min {:.2e})",
-                    stats.lambda_min
-                ),
-            ));
-            continue;
         }
-        let eq = finish(&lm, stats);
-        let scale = lm.model.e_scale;
-        let same = found.iter_mut().find(|f| {
-            let (e1, e2) = (f.equilibrium.energy.total(), eq.energy.total());
-            (e1 - e2).abs() <= 1e-6 * scale.max(e1.abs())
-                && kabsch_distance(&f.equilibrium.points, &eq.points) <= 1e-3
+    };
+    let start = |k: u64| solve_start(base, &sys, k, seed, finish);
+    let jobs = jobs.clamp(1, n.max(1));
+    if jobs == 1 {
+        (0..n as u64).for_each(|k| group(k, start(k)));
+    } else {
+        let next = AtomicU64::new(0);
+        let (send, receive) = mpsc::channel();
+        thread::scope(|s| {
+            for _ in 0..jobs {
+                let send = send.clone();
+                let (next, start) = (&next, &start);
+                s.spawn(move || {
+                    loop {
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        if k >= n as u64 || send.send((k, start(k))).is_err() {
+                            break;
+                        }
+                    }
+                });
+            }
+            drop(send);
+            // Outcomes arrive in any order; group them in seed order,
+            // holding only those that came early.
+            let mut early = BTreeMap::new();
+            let mut due = 0;
+            for (k, outcome) in receive {
+                early.insert(k, outcome);
+                while let Some(outcome) = early.remove(&due) {
+                    group(due, outcome);
+                    due += 1;
+                }
+            }
         });
-        match same {
-            Some(f) => f.hits.push(k),
-            None => found.push(Found {
-                equilibrium: eq,
-                hits: vec![k],
-            }),
-        }
     }
     found.sort_by(|a, b| {
         a.equilibrium
@@ -109,4 +131,32 @@ pub fn explore(
             .total_cmp(&b.equilibrium.energy.total())
     });
     (found, rejected)
+}
+
+/// Start `k`: the model perturbed with its seed (start 0 as it is),
+/// solved, and kept if it ends at a stable equilibrium.
+fn solve_start(
+    base: &LatticeModel,
+    sys: &System,
+    k: u64,
+    seed: u64,
+    finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
+) -> Outcome {
+    let mut lm = base.clone();
+    if k > 0 {
+        perturb(
+            &mut lm.model,
+            seed.wrapping_add(k),
+            AMPLITUDES[(k as usize - 1) % AMPLITUDES.len()],
+        );
+    }
+    let stats = solve(&mut lm.model, sys, &Options::default())
+        .map_err(|e| SimError::Solve(e).to_string())?;
+    if !stats.converged || !(stats.lambda_min > 0.0) {
+        return Err(format!(
+            "ended unstable or unconverged (lambda_min {:.2e})",
+            stats.lambda_min
+        ));
+    }
+    Ok(finish(&lm, stats))
 }
