@@ -241,14 +241,16 @@ fn reaches_and_repeats(method: &str) {
         before < reached - 0.005,
         "the start already meets it: {before} vs {reached}"
     );
-    let once = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
+    let once = karigami::optimise(&d, &text, 2, &mut |_| {}).unwrap();
     assert!(once.measures.coverage.unwrap().share >= reached - 0.005);
     assert!(once.cost_after < once.cost_before);
     // Written back with the comments and every other line kept.
     assert!(once.text.contains("steps = ["));
     assert_eq!(once.text.lines().count(), text.lines().count());
-    let twice = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
+    // Again, one design at a time: the same result (and the same count).
+    let twice = karigami::optimise(&d, &text, 1, &mut |_| {}).unwrap();
     assert_eq!(once.text, twice.text);
+    assert_eq!(once.evaluations, twice.evaluations);
 }
 
 #[test]
@@ -257,7 +259,7 @@ fn an_infeasible_target_is_refused_naming_the_constraint_and_its_shortfall() {
     let source = fs::read_to_string(path).unwrap();
     let want = expectation(&source, path);
     let d = karigami::parse(&source, "bad").unwrap();
-    let e = karigami::optimise(&d, &source, &mut |_| {}).unwrap_err();
+    let e = karigami::optimise(&d, &source, 2, &mut |_| {}).unwrap_err();
     assert_eq!(e.kind.name(), want.class);
     assert_eq!(e.line_col(&source), Some(want.line_col));
     assert!(e.message.contains(&want.message), "{}", e.message);
@@ -352,7 +354,7 @@ fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
     // An arc seed cannot be written back point by point: refused, located.
     let arc = "[lattice]\nseed = \"sheet\"\nkappa = 0.0\n[lattice.arc]\ncenter = [0.0, 0.0]\nradius = 250.0\nfrom = 180.0\nto = 90.0\ncells = 4\n[lattice.fit]\nsurface = \"disk\"\nradius = 250.0\nrows = 3\n[optimise]\nvary = [\"seed\"]\nbudget = 5\n[optimise.objective]\ncoverage = 1.0\n";
     let d = karigami::parse(arc, "arc").unwrap();
-    let e = karigami::optimise(&d, arc, &mut |_| {}).unwrap_err();
+    let e = karigami::optimise(&d, arc, 2, &mut |_| {}).unwrap_err();
     assert!(
         matches!(e.kind, karigami::ErrorKind::NothingToVary),
         "{e:?}"
@@ -374,7 +376,7 @@ fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
         )
         .replace("budget = 5", "budget = 40");
     let d = karigami::parse(&text, "points").unwrap();
-    let once = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
+    let once = karigami::optimise(&d, &text, 2, &mut |_| {}).unwrap();
     assert!(once.cost_after <= once.cost_before);
     assert_ne!(once.text, text, "the seed was moved");
     let grown = once.design.grow().unwrap();
@@ -386,7 +388,7 @@ fn a_disk_seed_is_varied_on_its_circle_and_must_be_written_as_points() {
         .fold(0.0, f64::max);
     assert!(seed_off < 1e-9, "seed {seed_off} mm off the circle");
     assert_eq!(once.design.kappa.len(), 4);
-    let twice = karigami::optimise(&d, &text, &mut |_| {}).unwrap();
+    let twice = karigami::optimise(&d, &text, 2, &mut |_| {}).unwrap();
     assert_eq!(once.text, twice.text);
 }
 

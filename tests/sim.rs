@@ -1135,7 +1135,7 @@ fn tune_can_aim_at_the_simulated_relief() {
     };
     let cost = |text: &str| {
         let d = karigami::parse(text, "eggbox").expect("parses");
-        karigami::optimise(&d, text, &mut |_| {})
+        karigami::optimise(&d, text, 2, &mut |_| {})
             .expect("optimises")
             .cost_before
     };

@@ -104,6 +104,9 @@ pub(super) enum Command {
         /// Give up after this many tries (at most 5000000).
         #[arg(long, default_value_t = 50_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_ITERATIONS))]
         iterations: usize,
+        /// Designs of `method = "evolution"` costed at once (default: all cores). The result does not depend on it.
+        #[arg(long, short, value_name = "N")]
+        jobs: Option<usize>,
     },
     /// Write a starter recipe from a template.
     #[command(after_help = format!(

@@ -118,7 +118,15 @@ pub(crate) fn run() -> i32 {
             cells,
             out,
             iterations,
-        } => tune::tune(&design, cells, out.as_deref(), iterations, v),
+            jobs,
+        } => tune::tune(
+            &design,
+            cells,
+            out.as_deref(),
+            iterations,
+            jobs_or_cores(jobs),
+            v,
+        ),
         Command::New {
             name,
             template,

@@ -15,11 +15,12 @@ pub(super) fn run(
     recipe: &Recipe,
     design: &Design,
     out: Option<&Path>,
+    jobs: usize,
     v: Verbosity,
 ) -> Result<(), Error> {
     let mut bar = Progress::new(1, v.quiet);
     let started = Instant::now();
-    let result = karigami::optimise(design, &recipe.source, &mut |note| {
+    let result = karigami::optimise(design, &recipe.source, jobs, &mut |note| {
         if v.verbose {
             eprintln!("{note}");
         } else {

@@ -13,12 +13,13 @@ pub(super) fn tune(
     cells: Option<usize>,
     out: Option<&Path>,
     iterations: usize,
+    jobs: usize,
     v: Verbosity,
 ) -> Result<(), Error> {
     let recipe = Recipe::read(path)?;
     let design = recipe.parse(&Overrides::default())?;
     if design.optimise.is_some() {
-        return optimise::run(&recipe, &design, out, v);
+        return optimise::run(&recipe, &design, out, jobs, v);
     }
     if design.kind != karigami::Kind::Helix {
         return Err(Error::usage(format!(

@@ -28,12 +28,10 @@ pub(super) fn evolve(problem: &Problem, opt: &Optimise, dims: usize, rng: &mut R
             let best = problem.best.borrow();
             (mean, f_mean, sigma) = (best.1.clone(), best.0, opt.step);
         }
-        let mut pop: Vec<(f64, Vec<f64>)> = (0..lambda)
-            .map(|_| {
-                let y: Vec<f64> = mean.iter().map(|m| m + sigma * rng.normal()).collect();
-                (problem.evaluate(&y), y)
-            })
+        let ys: Vec<Vec<f64>> = (0..lambda)
+            .map(|_| mean.iter().map(|m| m + sigma * rng.normal()).collect())
             .collect();
+        let mut pop: Vec<(f64, Vec<f64>)> = problem.evaluate_all(&ys).into_iter().zip(ys).collect();
         // Ties (two unadmissible designs) keep their draw order: deterministic.
         pop.sort_by(|a, b| a.0.total_cmp(&b.0));
         let success = pop.iter().filter(|p| p.0 < f_mean).count() as f64 / lambda as f64;

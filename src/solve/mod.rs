@@ -86,14 +86,9 @@ pub struct Optimised {
 }
 
 struct Problem<'a> {
-    design: &'a Design,
-    opt: &'a Optimise,
-    slots: Vec<Slot>,
-    /// Start values and the size of one unit of each variable.
-    x0: Vec<f64>,
-    unit: Vec<f64>,
-    frame: Option<Frame>,
-    seed0: Option<Params>,
+    space: Space<'a>,
+    /// Designs costed at once (`evaluate_all`).
+    jobs: usize,
     evaluations: Cell<usize>,
     best: RefCell<(f64, Vec<f64>)>,
     progress: RefCell<&'a mut dyn FnMut(&str)>,
@@ -104,7 +99,20 @@ const UNGROWN: f64 = 1e9;
 /// Weight of a hard constraint's shortfall in the cost.
 const PENALTY: f64 = 100.0;
 
-impl Problem<'_> {
+/// What the optimiser moves and how a point becomes a design: the part of
+/// the problem that several threads may cost designs with at once.
+struct Space<'a> {
+    design: &'a Design,
+    opt: &'a Optimise,
+    slots: Vec<Slot>,
+    /// Start values and the size of one unit of each variable.
+    x0: Vec<f64>,
+    unit: Vec<f64>,
+    frame: Option<Frame>,
+    seed0: Option<Params>,
+}
+
+impl Space<'_> {
     /// The design at scaled variables `x` (0 is the recipe's).
     fn design_at(&self, x: &[f64]) -> Design {
         let mut d = self.design.clone();
@@ -188,14 +196,68 @@ impl Problem<'_> {
         d
     }
 
-    fn evaluate(&self, x: &[f64]) -> f64 {
+    /// The cost of the design at `x`.
+    fn cost_at(&self, x: &[f64]) -> f64 {
         let d = self.design_at(x);
-        let n = self.evaluations.get() + 1;
-        self.evaluations.set(n);
-        let cost = match grown(&d) {
+        match grown(&d) {
             Ok(lattice) => cost(&d, &lattice, self.opt, &measure(&d, &lattice)).0,
             Err(missing) => UNGROWN * (1.0 + missing as f64),
+        }
+    }
+}
+
+impl Problem<'_> {
+    /// The cost of the design at `x`, counted and kept if it is the best.
+    fn evaluate(&self, x: &[f64]) -> f64 {
+        let cost = self.space.cost_at(x);
+        self.record(x, cost);
+        cost
+    }
+
+    /// The costs of the designs at `xs`, `jobs` at a time (a population:
+    /// a bent lattice's simulated shape takes a second a design), recorded
+    /// in their order, so the counts, the best design and the progress
+    /// notes are those of one at a time.
+    fn evaluate_all(&self, xs: &[Vec<f64>]) -> Vec<f64> {
+        let costs = if self.jobs < 2 || xs.len() < 2 {
+            xs.iter().map(|x| self.space.cost_at(x)).collect()
+        } else {
+            let (space, next) = (&self.space, std::sync::atomic::AtomicUsize::new(0));
+            let mut costs = vec![0.0; xs.len()];
+            std::thread::scope(|s| {
+                let workers: Vec<_> = (0..self.jobs.min(xs.len()))
+                    .map(|_| {
+                        s.spawn(|| {
+                            let mut mine = Vec::new();
+                            loop {
+                                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                                let Some(x) = xs.get(k) else { break mine };
+                                mine.push((k, space.cost_at(x)));
+                            }
+                        })
+                    })
+                    .collect();
+                for worker in workers {
+                    let mine = worker
+                        .join()
+                        .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                    for (k, cost) in mine {
+                        costs[k] = cost;
+                    }
+                }
+            });
+            costs
         };
+        for (x, &cost) in xs.iter().zip(&costs) {
+            self.record(x, cost);
+        }
+        costs
+    }
+
+    /// Count a design costed; keep it if it is the best so far.
+    fn record(&self, x: &[f64], cost: f64) {
+        let n = self.evaluations.get() + 1;
+        self.evaluations.set(n);
         let mut best = self.best.borrow_mut();
         if cost < best.0 {
             *best = (cost, x.to_vec());
@@ -206,7 +268,6 @@ impl Problem<'_> {
                 best.0
             ));
         }
-        cost
     }
 }
 
@@ -262,6 +323,7 @@ fn map_front(f: &mut FrontMoves, mut g: impl FnMut(f64) -> f64) {
 pub fn optimise(
     design: &Design,
     source: &str,
+    jobs: usize,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Optimised, Diagnostic> {
     let opt = design.optimise.as_ref().ok_or_else(|| {
@@ -328,13 +390,16 @@ pub fn optimise(
     }
     let dims = x0.len();
     let problem = Problem {
-        design,
-        opt,
-        slots,
-        x0,
-        unit,
-        frame,
-        seed0,
+        space: Space {
+            design,
+            opt,
+            slots,
+            x0,
+            unit,
+            frame,
+            seed0,
+        },
+        jobs,
         evaluations: Cell::new(0),
         best: RefCell::new((f64::INFINITY, vec![0.0; dims])),
         progress: RefCell::new(progress),
@@ -373,7 +438,7 @@ pub fn optimise(
         }
     }
     let best = problem.best.borrow().1.clone();
-    let optimised = problem.design_at(&best);
+    let optimised = problem.space.design_at(&best);
     let text = rewrite(&problem, &optimised, source, &best);
     // Judge what is written: the recipe as it will be read back.
     let design_out = crate::design::parse(&text, &design.name)?;

@@ -25,7 +25,7 @@ pub(super) fn list(v: &[f64]) -> String {
 pub(super) fn rewrite(p: &Problem, d: &Design, source: &str, _x: &[f64]) -> String {
     let mut edits: Vec<(Range<usize>, String)> = Vec::new();
     let mut seed_text = None;
-    for slot in &p.slots {
+    for slot in &p.space.slots {
         match slot {
             Slot::Angle { rows, span } => {
                 if let Some(Direction::Angles {
