@@ -216,6 +216,31 @@ fn recipes_of_the_same_name_get_their_folder_in_front() {
     assert!(dir.join("out/templates-disk/lattice.json").is_file());
 }
 
+/// A recipe named without a folder is in the current one, whose name it
+/// gets in front like the other: `batch-here-chain` and `tpl-chain`.
+#[test]
+fn a_recipe_in_the_current_folder_gets_its_name_in_front_too() {
+    let dir = scratch("batch-here");
+    fs::create_dir_all(dir.join("tpl")).unwrap();
+    let chain = fs::read(repo().join("templates/chain.toml")).unwrap();
+    fs::write(dir.join("chain.toml"), &chain).unwrap();
+    fs::write(dir.join("tpl/chain.toml"), &chain).unwrap();
+    let o = karigami(
+        &[
+            "build",
+            "chain.toml",
+            "tpl/chain.toml",
+            "--out",
+            "out",
+            "-q",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(dir.join("out/batch-here-chain/lattice.json").is_file());
+    assert!(dir.join("out/tpl-chain/lattice.json").is_file());
+}
+
 #[test]
 fn every_template_is_listed_and_new_writes_a_recipe_that_checks() {
     let dir = scratch("templates");
