@@ -11,7 +11,8 @@
 //! - `syncfail@K`: fail the K-th flush to the disk (fsync, counted apart
 //!   from the steps) with an I/O error, as a failing disk would;
 //! - `add@REL`, `addlate@REL`, `addgone@REL`: not a fault but a user:
-//!   create REL (a file, or a folder if it ends in `/`) inside --out just
+//!   create REL (a file, a folder if it ends in `/`, a symbolic link to T
+//!   if it is `NAME->T`) inside --out just
 //!   before a commit checks what appeared in it while the build ran
 //!   (`add`), just after that check, before the swap (`addlate`), or in
 //!   the build swapped out, once it was checked again (`addgone`, as a
@@ -106,7 +107,9 @@ pub(super) fn add(dir: &std::path::Path, at: Moment) {
         return;
     };
     let path = dir.join(rel);
-    let made = if rel.ends_with('/') {
+    let made = if let Some((name, to)) = rel.split_once("->") {
+        link(to, &dir.join(name))
+    } else if rel.ends_with('/') {
         std::fs::create_dir_all(&path)
     } else {
         path.parent()
@@ -116,6 +119,16 @@ pub(super) fn add(dir: &std::path::Path, at: Moment) {
     if let Err(e) = made {
         eprintln!("fault: cannot add {}: {e}", path.display());
     }
+}
+
+#[cfg(unix)]
+fn link(to: &str, at: &std::path::Path) -> io::Result<()> {
+    std::os::unix::fs::symlink(to, at)
+}
+
+#[cfg(not(unix))]
+fn link(_: &str, _: &std::path::Path) -> io::Result<()> {
+    Err(io::Error::other("no symbolic links here"))
 }
 
 /// When a phase's first progress line is due (`firstnote@MS`), if set.

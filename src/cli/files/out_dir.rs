@@ -427,11 +427,7 @@ impl OutDir {
     /// the folder while the build ran.
     pub(super) fn changed(&self, appeared: &[String]) -> Error {
         let shown = self.target.display();
-        let (it, they) = if appeared.len() == 1 {
-            ("it", "it")
-        } else {
-            ("them", "they")
-        };
+        let it = if appeared.len() == 1 { "it" } else { "them" };
         let what = if appeared.iter().any(String::is_empty) {
             format!("{shown} was replaced by a file or a link while the build ran")
         } else {
@@ -444,7 +440,7 @@ impl OutDir {
         Error::new(
             ErrorKind::BuildFolderHasOtherFiles,
             format!(
-                "{what}; the build was not committed and {shown} was left as it was, {they} included; move {it} out of {shown}, or build into another --out, and build again"
+                "{what}; the build was not committed and {shown} was left as it was ({it} too); move {it} out of {shown}, or build into another --out, and build again"
             ),
         )
     }

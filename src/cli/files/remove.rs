@@ -144,6 +144,24 @@ mod tests {
         }
         remove_folder(&tree).unwrap();
         assert!(!tree.exists());
+        // Only what was seen: the rest, and the folders on its way, stay.
+        fs::create_dir_all(tree.join("a/b")).unwrap();
+        fs::create_dir_all(tree.join("new/empty")).unwrap();
+        for f in ["x", "a/y", "a/b/z", "a/b/mine"] {
+            fs::write(tree.join(f), f).unwrap();
+        }
+        let seen: BTreeSet<String> = ["x", "a/", "a/y", "a/b/", "a/b/z"]
+            .map(String::from)
+            .into();
+        assert!(!remove_seen(&tree, &seen).unwrap());
+        assert_eq!(fs::read_to_string(tree.join("a/b/mine")).unwrap(), "a/b/mine");
+        assert!(tree.join("new/empty").is_dir());
+        assert!(!tree.join("x").exists() && !tree.join("a/y").exists());
+        assert!(!tree.join("a/b/z").exists());
+        fs::remove_file(tree.join("a/b/mine")).unwrap();
+        fs::remove_dir_all(tree.join("new")).unwrap();
+        assert!(remove_seen(&tree, &seen).unwrap());
+        assert!(!tree.exists());
         assert_eq!(
             fs::read_to_string(outside.join("keep.txt")).unwrap(),
             "kept"
