@@ -29,6 +29,13 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
+/// `o` exited with `code` and said `message` on stderr.
+fn says(o: &Output, code: i32, message: &str) {
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "{stderr}");
+    assert!(stderr.contains(message), "{stderr}");
+}
+
 /// Every file under `dir` (hidden ones too) with its bytes.
 pub(crate) fn tree(dir: &Path) -> Tree {
     let mut out = Tree::new();
@@ -607,13 +614,10 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
     // A file added to a build folder is not the tool's to delete unasked.
     fs::write(dir.join("mine/sheets/my-notes.txt"), "mine").unwrap();
     let o = run(&["build", "a.toml", "--out", "mine"], &dir, None);
-    assert_eq!(o.status.code(), Some(3));
-    assert!(
-        text(&o.stderr).contains(
-            "mine is a karigami build folder but holds 1 file the build did not write: sheets/my-notes.txt"
-        ),
-        "{}",
-        text(&o.stderr)
+    says(
+        &o,
+        3,
+        "mine is a karigami build folder but holds 1 file the build did not write: sheets/my-notes.txt",
     );
     assert!(dir.join("mine/sheets/my-notes.txt").is_file());
     let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
@@ -1007,12 +1011,20 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
     }
     let before = tree(&dir);
     let mut cases: Vec<(&str, i32, &str)> = vec![
-        ("existing.txt", 2, "existing.txt exists; choose another --out, or pass --force"),
+        (
+            "existing.txt",
+            2,
+            "existing.txt exists; choose another --out, or pass --force",
+        ),
         ("folder", 2, "--out folder is a folder"),
     ];
     #[cfg(unix)]
     cases.extend([
-        ("notelink", 3, "--out notelink is a symbolic link (to note.txt)"),
+        (
+            "notelink",
+            3,
+            "--out notelink is a symbolic link (to note.txt)",
+        ),
         ("linkdir", 3, "--out linkdir is a symbolic link (to folder)"),
     ]);
     for (out, code, message) in cases {
@@ -1026,7 +1038,11 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
             }
             let o = run(&args, &dir, None);
             assert_eq!(o.status.code(), Some(code), "{args:?}: {}", text(&o.stderr));
-            assert!(text(&o.stderr).contains(message), "{args:?}: {}", text(&o.stderr));
+            assert!(
+                text(&o.stderr).contains(message),
+                "{args:?}: {}",
+                text(&o.stderr)
+            );
             assert!(tree(&dir) == before, "{args:?} changed a file");
             #[cfg(unix)]
             for link in ["notelink", "linkdir"] {
@@ -1035,7 +1051,11 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
             assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
         }
     }
-    let o = run(&["tune", "h.toml", "--out", "existing.txt", "--force"], &dir, None);
+    let o = run(
+        &["tune", "h.toml", "--out", "existing.txt", "--force"],
+        &dir,
+        None,
+    );
     assert!(o.status.success(), "{}", text(&o.stderr));
     let tuned = fs::read_to_string(dir.join("existing.txt")).unwrap();
     assert!(tuned.contains("kappa") && tuned != seed, "{tuned}");
@@ -1044,7 +1064,11 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
         fs::write(dir.join("h.toml"), &seed).unwrap();
         let o = run(&["tune", "h.toml", "--out", out], &dir, None);
         assert!(o.status.success(), "{out}: {}", text(&o.stderr));
-        assert_eq!(fs::read_to_string(dir.join("h.toml")).unwrap(), tuned, "{out}");
+        assert_eq!(
+            fs::read_to_string(dir.join("h.toml")).unwrap(),
+            tuned,
+            "{out}"
+        );
     }
     fs::write(dir.join("h.toml"), &seed).unwrap();
     let o = run(&["tune", "h.toml", "--out", "new.toml"], &dir, None);
@@ -1066,7 +1090,10 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
     let out = dir.join("out");
     for batch in [false, true] {
         let (old_args, new_args): (&[&str], &[&str]) = if batch {
-            (&["build", "a.toml", "b.toml"], &["build", "a.toml", "c.toml"])
+            (
+                &["build", "a.toml", "b.toml"],
+                &["build", "a.toml", "c.toml"],
+            )
         } else {
             (&["build", "a.toml"], &["build", "b.toml"])
         };
@@ -1075,16 +1102,28 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
         let mut args = new_args.to_vec();
         args.extend(["--out", "out", "--jobs", "1"]);
         let deep = if batch {
-            ("add@a/sheets/notes3.txt", "a/sheets/notes3.txt", "1 file appeared in out")
+            (
+                "add@a/sheets/notes3.txt",
+                "a/sheets/notes3.txt",
+                "1 file appeared in out",
+            )
         } else {
-            ("add@sheets/notes3.txt", "sheets/notes3.txt", "1 file appeared in out")
+            (
+                "add@sheets/notes3.txt",
+                "sheets/notes3.txt",
+                "1 file appeared in out",
+            )
         };
         let cases = [
             deep,
             ("add@my/deep/dir/", "my/", "1 folder appeared in out"),
             ("addlate@notes/n.txt", "notes/", "1 folder appeared in out"),
             ("addlate@late.txt", "late.txt", "1 file appeared in out"),
-            ("noexchange,addlate@late.txt", "late.txt", "1 file appeared in out"),
+            (
+                "noexchange,addlate@late.txt",
+                "late.txt",
+                "1 file appeared in out",
+            ),
         ];
         for (fault, named, message) in cases {
             let what = format!("batch {batch}, {fault}");
@@ -1109,7 +1148,10 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
         }
         // A link added meanwhile is an entry too; what it leads to stays.
         #[cfg(unix)]
-        for fault in ["add@mylink->../outside.txt", "addlate@mylink->../outside.txt"] {
+        for fault in [
+            "add@mylink->../outside.txt",
+            "addlate@mylink->../outside.txt",
+        ] {
             put_tree(&out, &old);
             fs::write(dir.join("outside.txt"), "outside").unwrap();
             let o = run(&args, &dir, Some(fault));
@@ -1119,17 +1161,29 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
                 "{fault}: {}",
                 text(&o.stderr)
             );
-            assert!(fs::symlink_metadata(out.join("mylink")).unwrap().is_symlink());
-            assert_eq!(fs::read_to_string(dir.join("outside.txt")).unwrap(), "outside");
+            assert!(
+                fs::symlink_metadata(out.join("mylink"))
+                    .unwrap()
+                    .is_symlink()
+            );
+            assert_eq!(
+                fs::read_to_string(dir.join("outside.txt")).unwrap(),
+                "outside"
+            );
             fs::remove_file(out.join("mylink")).unwrap();
-            assert!(tree(&out) == old, "batch {batch}, {fault}: the earlier build changed");
+            assert!(
+                tree(&out) == old,
+                "batch {batch}, {fault}: the earlier build changed"
+            );
         }
         // After the second look: kept aside, visible, the build committed.
         put_tree(&out, &old);
         let o = run(&args, &dir, Some("addgone@sub/gone.txt"));
         assert!(o.status.success(), "{}", text(&o.stderr));
         assert!(
-            text(&o.stderr).contains("files appeared in out as the build replaced it; they are kept in out.kept-1"),
+            text(&o.stderr).contains(
+                "files appeared in out as the build replaced it; they are kept in out.kept-1"
+            ),
             "{}",
             text(&o.stderr)
         );
@@ -1152,7 +1206,11 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
 #[test]
 fn an_empty_folder_added_to_a_build_folder_is_refused() {
     let dir = workspace("empty-folder");
-    assert!(run(&["build", "a.toml", "--out", "bld"], &dir, None).status.success());
+    assert!(
+        run(&["build", "a.toml", "--out", "bld"], &dir, None)
+            .status
+            .success()
+    );
     for batch in [false, true] {
         fs::create_dir_all(dir.join("bld/myemptydir")).unwrap();
         let mut args = vec!["build", "b.toml"];
@@ -1161,13 +1219,10 @@ fn an_empty_folder_added_to_a_build_folder_is_refused() {
         }
         args.extend(["--out", "bld"]);
         let o = run(&args, &dir, None);
-        assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
-        assert!(
-            text(&o.stderr).contains(
-                "bld is a karigami build folder but holds 1 folder the build did not write: myemptydir/"
-            ),
-            "{}",
-            text(&o.stderr)
+        says(
+            &o,
+            3,
+            "bld is a karigami build folder but holds 1 folder the build did not write: myemptydir/",
         );
         assert!(dir.join("bld/myemptydir").is_dir());
         args.push("--force");
@@ -1191,9 +1246,11 @@ fn an_empty_folder_added_to_a_build_folder_is_refused() {
 #[test]
 fn a_link_as_out_with_a_trailing_slash_is_refused_as_a_link() {
     let dir = workspace("link-slash");
-    fs::create_dir_all(dir.join("real/photos")).unwrap();
-    fs::write(dir.join("real/photos/1.jpg"), "jpg").unwrap();
-    fs::write(dir.join("real/thesis.tex"), "tex").unwrap();
+    // The QA's folder: what --force would have listed and then not deleted.
+    let real: Tree = [("photos/1.jpg", "jpg"), ("thesis.tex", "tex")]
+        .map(|(f, b)| (f.to_string(), b.as_bytes().to_vec()))
+        .into();
+    put_tree(&dir.join("real"), &real);
     std::os::unix::fs::symlink("real", dir.join("link2")).unwrap();
     let before = tree(&dir);
     for out in ["link2/", "link2/.", "link2//"] {

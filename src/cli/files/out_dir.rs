@@ -382,11 +382,17 @@ fn counted(entries: &[String]) -> String {
 /// `entries` (sorted) without those inside a folder among them: a folder
 /// someone added is named, not every file in it.
 fn outermost(entries: Vec<String>) -> Vec<String> {
+    // Sorted, a folder's contents follow it at once.
     let mut kept: Vec<String> = Vec::with_capacity(entries.len());
+    let mut folder: Option<String> = None;
     for e in entries {
-        if !kept.iter().any(|k| k.ends_with('/') && e.starts_with(k.as_str())) {
-            kept.push(e);
+        if folder.as_ref().is_some_and(|f| e.starts_with(f.as_str())) {
+            continue;
         }
+        if e.ends_with('/') {
+            folder = Some(e.clone());
+        }
+        kept.push(e);
     }
     kept
 }

@@ -150,11 +150,12 @@ mod tests {
         for f in ["x", "a/y", "a/b/z", "a/b/mine"] {
             fs::write(tree.join(f), f).unwrap();
         }
-        let seen: BTreeSet<String> = ["x", "a/", "a/y", "a/b/", "a/b/z"]
-            .map(String::from)
-            .into();
+        let seen: BTreeSet<String> = ["x", "a/", "a/y", "a/b/", "a/b/z"].map(String::from).into();
         assert!(!remove_seen(&tree, &seen).unwrap());
-        assert_eq!(fs::read_to_string(tree.join("a/b/mine")).unwrap(), "a/b/mine");
+        assert_eq!(
+            fs::read_to_string(tree.join("a/b/mine")).unwrap(),
+            "a/b/mine"
+        );
         assert!(tree.join("new/empty").is_dir());
         assert!(!tree.join("x").exists() && !tree.join("a/y").exists());
         assert!(!tree.join("a/b/z").exists());
