@@ -1182,15 +1182,15 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
         assert!(o.status.success(), "{}", text(&o.stderr));
         assert!(
             text(&o.stderr).contains(
-                "files appeared in out as the build replaced it; they are kept in out.kept-1"
+                "files appeared in out as the build replaced it; they are kept in out.karigami-kept-1"
             ),
             "{}",
             text(&o.stderr)
         );
         assert!(tree(&out) == new, "batch {batch}: the new build");
-        let kept = tree(&dir.join("out.kept-1"));
+        let kept = tree(&dir.join("out.karigami-kept-1"));
         assert_eq!(kept.keys().collect::<Vec<_>>(), ["sub/gone.txt"]);
-        fs::remove_dir_all(dir.join("out.kept-1")).unwrap();
+        fs::remove_dir_all(dir.join("out.karigami-kept-1")).unwrap();
         // Into a folder that did not exist: the folder made meanwhile stays.
         fs::remove_dir_all(&out).unwrap();
         let o = run(&args, &dir, Some("add@mine.txt"));

@@ -298,7 +298,13 @@ impl<'a> Staged<'a> {
             // back if any are there.
             let late = out.appeared(&old).map_err(fail)?;
             if !late.is_empty() {
-                self.swap_back(&old).map_err(fail)?;
+                if let Err(e) = self.swap_back(&old) {
+                    keep_aside(&old, target);
+                    return Err(Error::io(format!(
+                        "cannot put the earlier build back in {}: {e}; the new build is in its place",
+                        target.display()
+                    )));
+                }
                 return Err(out.changed(&late));
             }
             fault::add(&old, fault::Moment::SwappedOut);
@@ -361,9 +367,10 @@ impl<'a> Staged<'a> {
 /// visible folder beside `target`, not left at a staging name that the
 /// next run removes, and the user is told where.
 fn keep_aside(old: &Path, target: &Path) {
-    let name = target.file_name().unwrap_or_default().to_string_lossy();
+    let name = target.file_name().unwrap_or_default();
     for n in 1..100 {
-        let aside = target.with_file_name(format!("{name}.kept-{n}"));
+        // `OUT.karigami-kept-N`: `hidden`'s name (short enough) without its dot.
+        let aside = target.with_file_name(&hidden(name, &format!("kept-{n}"))[1..]);
         if fs::symlink_metadata(&aside).is_err() && fs::rename(old, &aside).is_ok() {
             eprintln!(
                 "warning: files appeared in {} as the build replaced it; they are kept in {}",
@@ -374,7 +381,7 @@ fn keep_aside(old: &Path, target: &Path) {
         }
     }
     eprintln!(
-        "warning: files appeared in {} as the build replaced it; they are kept in {}",
+        "warning: files appeared in {} as the build replaced it; they are in {}, which the next build into {0} removes: move them out first",
         target.display(),
         old.display()
     );
