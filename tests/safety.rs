@@ -29,6 +29,13 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
+/// `o` exited with `code` and said `message` on stderr.
+fn says(o: &Output, code: i32, message: &str) {
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "{stderr}");
+    assert!(stderr.contains(message), "{stderr}");
+}
+
 /// Every file under `dir` (hidden ones too) with its bytes.
 pub(crate) fn tree(dir: &Path) -> Tree {
     let mut out = Tree::new();
@@ -607,13 +614,10 @@ fn force_says_what_it_deletes_and_older_builds_are_named() {
     // A file added to a build folder is not the tool's to delete unasked.
     fs::write(dir.join("mine/sheets/my-notes.txt"), "mine").unwrap();
     let o = run(&["build", "a.toml", "--out", "mine"], &dir, None);
-    assert_eq!(o.status.code(), Some(3));
-    assert!(
-        text(&o.stderr).contains(
-            "mine is a karigami build folder but holds 1 file the build did not write: sheets/my-notes.txt"
-        ),
-        "{}",
-        text(&o.stderr)
+    says(
+        &o,
+        3,
+        "mine is a karigami build folder but holds 1 file the build did not write: sheets/my-notes.txt",
     );
     assert!(dir.join("mine/sheets/my-notes.txt").is_file());
     let o = run(&["build", "a.toml", "--out", "mine", "--force"], &dir, None);
@@ -985,5 +989,315 @@ fn each_refusal_is_its_own_kind() {
             .as_str()
             .or_else(|| doc[0]["error"]["class"].as_str());
         assert_eq!(found, Some(class), "{full:?}: {doc}");
+    }
+}
+
+/// `tune --out` never overwrites a file unasked nor writes through a link:
+/// an existing file other than the recipe needs --force; a link (to a file
+/// or to a folder) and a folder are always refused, and nothing changes;
+/// `tune X.toml --out X.toml` writes the recipe back.
+#[test]
+fn tune_out_refuses_an_existing_file_and_any_link() {
+    let dir = scratch("tune-out");
+    let seed = fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    fs::write(dir.join("h.toml"), &seed).unwrap();
+    fs::write(dir.join("existing.txt"), "mine").unwrap();
+    fs::write(dir.join("note.txt"), "note").unwrap();
+    fs::create_dir_all(dir.join("folder")).unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("note.txt", dir.join("notelink")).unwrap();
+        std::os::unix::fs::symlink("folder", dir.join("linkdir")).unwrap();
+    }
+    let before = tree(&dir);
+    let mut cases: Vec<(&str, i32, &str)> = vec![
+        (
+            "existing.txt",
+            2,
+            "existing.txt exists; choose another --out, or pass --force",
+        ),
+        ("folder", 2, "--out folder is a folder"),
+    ];
+    #[cfg(unix)]
+    cases.extend([
+        (
+            "notelink",
+            3,
+            "--out notelink is a symbolic link (to note.txt)",
+        ),
+        ("linkdir", 3, "--out linkdir is a symbolic link (to folder)"),
+    ]);
+    for (out, code, message) in cases {
+        for force in [false, true] {
+            if force && out == "existing.txt" {
+                continue;
+            }
+            let mut args = vec!["tune", "h.toml", "--out", out];
+            if force {
+                args.push("--force");
+            }
+            let o = run(&args, &dir, None);
+            assert_eq!(o.status.code(), Some(code), "{args:?}: {}", text(&o.stderr));
+            assert!(
+                text(&o.stderr).contains(message),
+                "{args:?}: {}",
+                text(&o.stderr)
+            );
+            assert!(tree(&dir) == before, "{args:?} changed a file");
+            #[cfg(unix)]
+            for link in ["notelink", "linkdir"] {
+                assert!(fs::symlink_metadata(dir.join(link)).unwrap().is_symlink());
+            }
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
+        }
+    }
+    let o = run(
+        &["tune", "h.toml", "--out", "existing.txt", "--force"],
+        &dir,
+        None,
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let tuned = fs::read_to_string(dir.join("existing.txt")).unwrap();
+    assert!(tuned.contains("kappa") && tuned != seed, "{tuned}");
+    // The recipe itself, however it is spelt, is written back unasked.
+    for out in ["h.toml", "./h.toml"] {
+        fs::write(dir.join("h.toml"), &seed).unwrap();
+        let o = run(&["tune", "h.toml", "--out", out], &dir, None);
+        assert!(o.status.success(), "{out}: {}", text(&o.stderr));
+        assert_eq!(
+            fs::read_to_string(dir.join("h.toml")).unwrap(),
+            tuned,
+            "{out}"
+        );
+    }
+    fs::write(dir.join("h.toml"), &seed).unwrap();
+    let o = run(&["tune", "h.toml", "--out", "new.toml"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(fs::read_to_string(dir.join("new.toml")).unwrap(), tuned);
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
+
+/// What appears in --out while a build runs (a file deep in it, an empty
+/// folder, a link) is never deleted, single or batch: added before the
+/// commit's check, the build refuses (exit 3, naming it) and leaves the
+/// earlier build and the new entry as they are; added between the check
+/// and the swap, the swapped-out build is looked at again and swapped
+/// back; added into the swapped-out build after that (a program whose
+/// current folder is inside), it is moved aside, visible, not deleted.
+#[test]
+fn what_appears_in_out_during_a_build_is_never_deleted() {
+    let dir = workspace("appears");
+    let out = dir.join("out");
+    for batch in [false, true] {
+        let (old_args, new_args): (&[&str], &[&str]) = if batch {
+            (
+                &["build", "a.toml", "b.toml"],
+                &["build", "a.toml", "c.toml"],
+            )
+        } else {
+            (&["build", "a.toml"], &["build", "b.toml"])
+        };
+        let old = reference(&dir, old_args, "ref-old");
+        let new = reference(&dir, new_args, "ref-new");
+        let mut args = new_args.to_vec();
+        args.extend(["--out", "out", "--jobs", "1"]);
+        let deep = if batch {
+            (
+                "add@a/sheets/notes3.txt",
+                "a/sheets/notes3.txt",
+                "1 file appeared in out",
+            )
+        } else {
+            (
+                "add@sheets/notes3.txt",
+                "sheets/notes3.txt",
+                "1 file appeared in out",
+            )
+        };
+        let cases = [
+            deep,
+            ("add@my/deep/dir/", "my/", "1 folder appeared in out"),
+            ("addlate@notes/n.txt", "notes/", "1 folder appeared in out"),
+            ("addlate@late.txt", "late.txt", "1 file appeared in out"),
+            (
+                "noexchange,addlate@late.txt",
+                "late.txt",
+                "1 file appeared in out",
+            ),
+        ];
+        for (fault, named, message) in cases {
+            let what = format!("batch {batch}, {fault}");
+            put_tree(&out, &old);
+            let o = run(&args, &dir, Some(fault));
+            let stderr = text(&o.stderr);
+            assert_eq!(o.status.code(), Some(3), "{what}: {stderr}");
+            assert!(
+                stderr.contains(&format!("{message} while the build ran: {named}"))
+                    && stderr.contains("the build was not committed and out was left as it was"),
+                "{what}: {stderr}"
+            );
+            let added = named.trim_end_matches('/');
+            assert!(
+                fs::symlink_metadata(out.join(added)).is_ok(),
+                "{what}: {added} is gone"
+            );
+            let mut now = tree(&out);
+            now.retain(|rel, _| !rel.starts_with(added));
+            assert!(now == old, "{what}: the earlier build changed");
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{what}");
+        }
+        // A link added meanwhile is an entry too; what it leads to stays.
+        #[cfg(unix)]
+        for fault in [
+            "add@mylink->../outside.txt",
+            "addlate@mylink->../outside.txt",
+        ] {
+            put_tree(&out, &old);
+            fs::write(dir.join("outside.txt"), "outside").unwrap();
+            let o = run(&args, &dir, Some(fault));
+            assert_eq!(o.status.code(), Some(3), "{fault}: {}", text(&o.stderr));
+            assert!(
+                text(&o.stderr).contains("1 file appeared in out while the build ran: mylink"),
+                "{fault}: {}",
+                text(&o.stderr)
+            );
+            assert!(
+                fs::symlink_metadata(out.join("mylink"))
+                    .unwrap()
+                    .is_symlink()
+            );
+            assert_eq!(
+                fs::read_to_string(dir.join("outside.txt")).unwrap(),
+                "outside"
+            );
+            fs::remove_file(out.join("mylink")).unwrap();
+            assert!(
+                tree(&out) == old,
+                "batch {batch}, {fault}: the earlier build changed"
+            );
+        }
+        // After the second look: kept aside, visible, the build committed.
+        put_tree(&out, &old);
+        let o = run(&args, &dir, Some("addgone@sub/gone.txt"));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains(
+                "files appeared in out as the build replaced it; they are kept in out.karigami-kept-1"
+            ),
+            "{}",
+            text(&o.stderr)
+        );
+        assert!(tree(&out) == new, "batch {batch}: the new build");
+        let kept = tree(&dir.join("out.karigami-kept-1"));
+        assert_eq!(kept.keys().collect::<Vec<_>>(), ["sub/gone.txt"]);
+        fs::remove_dir_all(dir.join("out.karigami-kept-1")).unwrap();
+        // Into a folder that did not exist: the folder made meanwhile stays.
+        fs::remove_dir_all(&out).unwrap();
+        let o = run(&args, &dir, Some("add@mine.txt"));
+        assert_eq!(o.status.code(), Some(3), "{}", text(&o.stderr));
+        assert_eq!(tree(&out).keys().collect::<Vec<_>>(), ["mine.txt"]);
+        fs::remove_dir_all(&out).unwrap();
+        assert_eq!(hidden(&dir), Vec::<String>::new());
+    }
+}
+
+/// A user's empty folder in a build folder is refused like an added file
+/// (a rebuild removed it silently); --force says it deletes it.
+#[test]
+fn an_empty_folder_added_to_a_build_folder_is_refused() {
+    let dir = workspace("empty-folder");
+    assert!(
+        run(&["build", "a.toml", "--out", "bld"], &dir, None)
+            .status
+            .success()
+    );
+    for batch in [false, true] {
+        fs::create_dir_all(dir.join("bld/myemptydir")).unwrap();
+        let mut args = vec!["build", "b.toml"];
+        if batch {
+            args.push("c.toml");
+        }
+        args.extend(["--out", "bld"]);
+        let o = run(&args, &dir, None);
+        says(
+            &o,
+            3,
+            "bld is a karigami build folder but holds 1 folder the build did not write: myemptydir/",
+        );
+        assert!(dir.join("bld/myemptydir").is_dir());
+        args.push("--force");
+        let o = run(&args, &dir, None);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains("replacing it deletes 1 folder: myemptydir/"),
+            "{}",
+            text(&o.stderr)
+        );
+        assert!(!dir.join("bld/myemptydir").exists());
+    }
+    // The build's own folders (a batch's subfolders, sheets/) are not added.
+    let o = run(&["build", "a.toml", "b.toml", "--out", "bld"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+}
+
+/// `--out link/` (a link to a folder, with a trailing slash, or `link/.`)
+/// is the link: refused as one before anything is listed or deleted.
+#[cfg(unix)]
+#[test]
+fn a_link_as_out_with_a_trailing_slash_is_refused_as_a_link() {
+    let dir = workspace("link-slash");
+    // The QA's folder: what --force would have listed and then not deleted.
+    let real: Tree = [("photos/1.jpg", "jpg"), ("thesis.tex", "tex")]
+        .map(|(f, b)| (f.to_string(), b.as_bytes().to_vec()))
+        .into();
+    put_tree(&dir.join("real"), &real);
+    std::os::unix::fs::symlink("real", dir.join("link2")).unwrap();
+    let before = tree(&dir);
+    for out in ["link2/", "link2/.", "link2//"] {
+        for batch in [false, true] {
+            let mut args = vec!["build", "a.toml"];
+            if batch {
+                args.push("b.toml");
+            }
+            args.extend(["--out", out, "--force"]);
+            let o = run(&args, &dir, None);
+            let stderr = text(&o.stderr);
+            assert_eq!(o.status.code(), Some(3), "{args:?}: {stderr}");
+            assert!(
+                stderr.contains("--out link2 is a symbolic link (to real)")
+                    && !stderr.contains("deletes")
+                    && !stderr.contains("Not a directory"),
+                "{args:?}: {stderr}"
+            );
+            assert!(tree(&dir) == before, "{args:?} changed a file");
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
+        }
+    }
+}
+
+/// `--jobs 0` is a usage error, not silently one job (or none).
+#[test]
+fn jobs_zero_is_a_usage_error() {
+    let dir = workspace("jobs-zero");
+    fs::write(
+        dir.join("h.toml"),
+        fs::read(repo().join("templates/helix.toml")).unwrap(),
+    )
+    .unwrap();
+    let cases: [&[&str]; 4] = [
+        &["build", "a.toml", "--out", "o", "--jobs", "0"],
+        &["build", "a.toml", "b.toml", "--out", "o", "-j", "0"],
+        &["simulate", "a.toml", "--jobs", "0"],
+        &["tune", "h.toml", "--jobs", "0"],
+    ];
+    for args in cases {
+        let o = run(args, &dir, None);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains("invalid value '0' for '--jobs <N>'"),
+            "{args:?}: {}",
+            text(&o.stderr)
+        );
+        assert!(o.stdout.is_empty() && !dir.join("o").exists(), "{args:?}");
     }
 }

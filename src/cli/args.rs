@@ -10,6 +10,13 @@ use std::path::PathBuf;
 pub(super) const MAX_TUNE_ITERATIONS: u64 = 5_000_000;
 pub(super) const MAX_TUNE_CELLS: u64 = 100_000;
 
+/// `--jobs N`: at least 1 (0 would run nothing, or be read as "all"),
+/// at most `MAX_JOBS` threads.
+fn jobs() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_JOBS)
+}
+const MAX_JOBS: u64 = 1024;
+
 /// The design `karigami build` uses when given none.
 pub(super) const DEFAULT_TEMPLATE: &str = "sheet";
 
@@ -48,7 +55,7 @@ pub(super) enum Command {
         #[arg(long, value_name = "N")]
         explore: Option<usize>,
         /// Starts of --explore solved at once (default: all cores). The report does not depend on it.
-        #[arg(long, short, value_name = "N")]
+        #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
     },
     /// Grow designs and verify collapsibility, compatibility, the collapsed
@@ -78,7 +85,7 @@ pub(super) enum Command {
         #[arg(long)]
         force: bool,
         /// Recipes built at once (default: all cores). The files do not depend on it.
-        #[arg(long, short, value_name = "N")]
+        #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
         /// Print a JSON report on stdout instead of text.
         #[arg(long)]
@@ -98,15 +105,18 @@ pub(super) enum Command {
         /// Grow this many cells instead of the recipe's `cells`.
         #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_CELLS))]
         cells: Option<usize>,
-        /// Write the tuned recipe here (default: print it).
+        /// Write the tuned recipe here (default: print it); an existing file other than the recipe only with --force, never a link.
         #[arg(long, short)]
         out: Option<PathBuf>,
         /// Give up after this many tries (at most 5000000).
         #[arg(long, default_value_t = 50_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_TUNE_ITERATIONS))]
         iterations: usize,
         /// Designs of `method = "evolution"` costed at once (default: all cores). The result does not depend on it.
-        #[arg(long, short, value_name = "N")]
+        #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
+        /// Overwrite an existing --out file (the recipe itself is always written back).
+        #[arg(long)]
+        force: bool,
     },
     /// Write a starter recipe from a template.
     #[command(after_help = format!(

@@ -171,21 +171,20 @@ pub(super) fn build(
     // batch.json records every recipe's status; no times, so that it is
     // the same on every run.
     let record: Vec<Record> = outcomes.iter().map(|o| o.record(false)).collect();
-    let written = staged
-        .write(
-            "",
-            &[(
-                "batch.json".to_string(),
-                (json_text(&record) + "\n").into_bytes(),
-            )],
-        )
-        .and_then(|()| staged.commit());
+    let written = staged.write(
+        "",
+        &[(
+            "batch.json".to_string(),
+            (json_text(&record) + "\n").into_bytes(),
+        )],
+    );
     if let Err(e) = written {
         return Err(Error::io(format!(
             "cannot write {shown}: {e}; {}",
             out.kept()
         )));
     }
+    staged.commit()?;
     if json {
         let timed: Vec<Record> = outcomes.iter().map(|o| o.record(true)).collect();
         print_json(&timed);

@@ -84,7 +84,7 @@ pub(super) fn build(
         }
     };
     let names = staged.written();
-    staged.commit().map_err(fail)?;
+    staged.commit()?;
     let how = report.simulation(kept);
     if json {
         print_json(&Built {

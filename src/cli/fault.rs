@@ -10,6 +10,13 @@
 //!   and full disks simulated here (hundreds of runs on a busy CI disk);
 //! - `syncfail@K`: fail the K-th flush to the disk (fsync, counted apart
 //!   from the steps) with an I/O error, as a failing disk would;
+//! - `add@REL`, `addlate@REL`, `addgone@REL`: not a fault but a user:
+//!   create REL (a file, a folder if it ends in `/`, a symbolic link to T
+//!   if it is `NAME->T`) inside --out just
+//!   before a commit checks what appeared in it while the build ran
+//!   (`add`), just after that check, before the swap (`addlate`), or in
+//!   the build swapped out, once it was checked again (`addgone`, as a
+//!   program whose current folder is inside --out would);
 //! - `firstnote@MS`: not a fault but the tests' clock: a phase off a
 //!   terminal prints its first progress line after MS milliseconds instead
 //!   of 2 s, so that a test sees one however fast the machine builds.
@@ -28,6 +35,8 @@ struct Plan {
     no_sync: bool,
     sync_fail_at: Option<usize>,
     first_note_ms: Option<u64>,
+    /// `add`, `addlate` and `addgone` (`Moment`).
+    add: [Option<String>; 3],
 }
 
 fn plan() -> &'static Plan {
@@ -43,6 +52,9 @@ fn plan() -> &'static Plan {
                 Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
                 Some(("syncfail", k)) => plan.sync_fail_at = k.parse().ok(),
                 Some(("firstnote", ms)) => plan.first_note_ms = ms.parse().ok(),
+                Some(("add", rel)) => plan.add[0] = Some(rel.to_string()),
+                Some(("addlate", rel)) => plan.add[1] = Some(rel.to_string()),
+                Some(("addgone", rel)) => plan.add[2] = Some(rel.to_string()),
                 _ if item == "noexchange" => plan.no_exchange = true,
                 _ if item == "nosync" => plan.no_sync = true,
                 _ => {}
@@ -76,6 +88,47 @@ pub(super) fn write(what: &str) -> io::Result<()> {
 /// A rename or removal of the commit is about to happen.
 pub(super) fn commit(what: &str) {
     next(what);
+}
+
+/// When a user adds an entry to a folder being committed.
+#[derive(Clone, Copy)]
+pub(super) enum Moment {
+    /// Before the commit checks what appeared (`add@REL`).
+    BeforeCheck,
+    /// After that check, before the swap (`addlate@REL`).
+    BeforeSwap,
+    /// Into the build swapped out, once checked again (`addgone@REL`).
+    SwappedOut,
+}
+
+/// A user adds an entry to the folder `dir` at the moment `at`.
+pub(super) fn add(dir: &std::path::Path, at: Moment) {
+    let Some(rel) = &plan().add[at as usize] else {
+        return;
+    };
+    let path = dir.join(rel);
+    let made = if let Some((name, to)) = rel.split_once("->") {
+        link(to, &dir.join(name))
+    } else if rel.ends_with('/') {
+        std::fs::create_dir_all(&path)
+    } else {
+        path.parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .and_then(|()| std::fs::write(&path, "added while the build ran\n"))
+    };
+    if let Err(e) = made {
+        eprintln!("fault: cannot add {}: {e}", path.display());
+    }
+}
+
+#[cfg(unix)]
+fn link(to: &str, at: &std::path::Path) -> io::Result<()> {
+    std::os::unix::fs::symlink(to, at)
+}
+
+#[cfg(not(unix))]
+fn link(_: &str, _: &std::path::Path) -> io::Result<()> {
+    Err(io::Error::other("no symbolic links here"))
 }
 
 /// When a phase's first progress line is due (`firstnote@MS`), if set.

@@ -119,10 +119,11 @@ pub(crate) fn run() -> i32 {
             out,
             iterations,
             jobs,
+            force,
         } => tune::tune(
             &design,
             cells,
-            out.as_deref(),
+            out.as_deref().map(|o| (o, force)),
             iterations,
             jobs_or_cores(jobs),
             v,
@@ -155,7 +156,7 @@ pub(crate) fn run() -> i32 {
     }
 }
 
-/// `--jobs`, or every core when it is not given; at least 1.
+/// `--jobs` (at least 1, `args::jobs`), or every core when it is not given.
 fn jobs_or_cores(jobs: Option<usize>) -> usize {
     jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .max(1)

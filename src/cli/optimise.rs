@@ -8,13 +8,12 @@ use super::files;
 use super::progress::Progress;
 use super::recipe::Recipe;
 use karigami::Design;
-use std::path::Path;
 use std::time::Instant;
 
 pub(super) fn run(
     recipe: &Recipe,
     design: &Design,
-    out: Option<&Path>,
+    out: Option<&files::OutFile>,
     jobs: usize,
     v: Verbosity,
 ) -> Result<(), Error> {
@@ -45,8 +44,7 @@ pub(super) fn run(
         );
     }
     match out {
-        Some(o) => files::write_atomic(o, done.text.as_bytes())
-            .map_err(|e| Error::io(format!("cannot write {}: {e}", o.display())))?,
+        Some(o) => o.write(done.text.as_bytes())?,
         None => print!("{}", done.text),
     }
     Ok(())

@@ -8,15 +8,22 @@ use super::{files, optimise, progress};
 use karigami::{ErrorKind, Overrides};
 use std::path::Path;
 
+/// `out`: the file to write the tuned recipe to, and whether `--force`
+/// lets it replace an existing file.
 pub(super) fn tune(
     path: &Path,
     cells: Option<usize>,
-    out: Option<&Path>,
+    out: Option<(&Path, bool)>,
     iterations: usize,
     jobs: usize,
     v: Verbosity,
 ) -> Result<(), Error> {
     let recipe = Recipe::read(path)?;
+    // A refusal before the work, not after minutes of tuning.
+    let out = out
+        .map(|(o, force)| files::OutFile::check(o, path, force))
+        .transpose()?;
+    let out = out.as_ref();
     let design = recipe.parse(&Overrides::default())?;
     if design.optimise.is_some() {
         return optimise::run(&recipe, &design, out, jobs, v);
@@ -63,7 +70,7 @@ pub(super) fn tune(
     // the --out file (often the recipe itself) as it was.
     if tuned.cells_after < target {
         let kept = out.map_or(String::new(), |o| {
-            format!("; {} was not written", o.display())
+            format!("; {} was not written", o.path().display())
         });
         return Err(Error::new(
             ErrorKind::TuneNotReached,
@@ -73,12 +80,7 @@ pub(super) fn tune(
         ));
     }
     match out {
-        Some(o) => files::write_atomic(o, text.as_bytes()).map_err(|e| {
-            Error::io(format!(
-                "cannot write {}: {e}; it was left as it was",
-                o.display()
-            ))
-        })?,
+        Some(o) => o.write(text.as_bytes())?,
         None => out!("{text}"),
     }
     Ok(())

@@ -3,6 +3,8 @@
 
 use super::super::fault;
 use super::hidden;
+use crate::cli::error::Error;
+use karigami::ErrorKind;
 use std::fs::{self, OpenOptions};
 use std::io::{self, Write};
 use std::path::Path;
@@ -21,7 +23,12 @@ pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         f.write_all(bytes)?;
         fault::sync(&f)?;
         fault::commit("rename over the target");
-        fs::rename(&tmp, path)
+        fs::rename(&tmp, path)?;
+        // The new name made durable too (a failure here loses nothing).
+        if let Ok(folder) = fs::File::open(dir_of(path)) {
+            let _ = fault::sync(&folder);
+        }
+        Ok(())
     })();
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
@@ -29,16 +36,20 @@ pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     result
 }
 
+/// The folder `path` is in.
+fn dir_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
 /// Temporary files beside `path` (`prefix` + PID) of runs that were
 /// killed: where the system lists live processes in /proc, those of dead
 /// ones are removed.
 fn remove_stale_temporaries(path: &Path, prefix: &str) {
     let proc = Path::new("/proc/self");
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let Ok(entries) = fs::read_dir(dir) else {
+    let Ok(entries) = fs::read_dir(dir_of(path)) else {
         return;
     };
     if !proc.exists() {
@@ -54,4 +65,93 @@ fn remove_stale_temporaries(path: &Path, prefix: &str) {
             let _ = fs::remove_file(entry.path());
         }
     }
+}
+
+/// The file `tune --out` writes the tuned recipe to: checked before the
+/// work and again just before the write, which is atomic (`write_atomic`).
+/// A link is always refused (the rename would replace the link, not the
+/// file it leads to), and so is a folder; an existing file other than the
+/// recipe only with `--force`; the recipe itself is written back.
+pub(crate) struct OutFile<'a> {
+    path: &'a Path,
+    force: bool,
+    /// Whether `path` named the recipe being tuned (the same file).
+    recipe: bool,
+}
+
+impl<'a> OutFile<'a> {
+    /// Check `path` before any work (`recipe`: the file being tuned).
+    pub(crate) fn check(path: &'a Path, recipe: &Path, force: bool) -> Result<Self, Error> {
+        let mut out = Self {
+            path,
+            force,
+            recipe: false,
+        };
+        out.recipe = fs::symlink_metadata(path).is_ok_and(|m| same_file(&m, path, recipe));
+        out.refusal()?;
+        Ok(out)
+    }
+
+    pub(crate) fn path(&self) -> &Path {
+        self.path
+    }
+
+    /// Why the file must not be written now, if it must not.
+    fn refusal(&self) -> Result<(), Error> {
+        let shown = self.path.display();
+        let meta = match fs::symlink_metadata(self.path) {
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+            Err(e) => return Err(Error::io(format!("cannot read {shown}: {e}"))),
+            Ok(m) => m,
+        };
+        if meta.file_type().is_symlink() {
+            let to = fs::read_link(self.path)
+                .map(|t| t.display().to_string())
+                .unwrap_or_default();
+            return Err(Error::new(
+                ErrorKind::OutIsALink,
+                format!(
+                    "--out {shown} is a symbolic link (to {to}); writing would replace the link, so give the file itself as --out"
+                ),
+            ));
+        }
+        if meta.is_dir() {
+            return Err(Error::usage(format!(
+                "--out {shown} is a folder; give the name of the file to write, such as --out tuned.toml"
+            )));
+        }
+        if !self.recipe && !self.force {
+            return Err(Error::usage(format!(
+                "{shown} exists; choose another --out, or pass --force to overwrite it (`tune X.toml --out X.toml` writes the recipe back)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Write `bytes` to the file, after checking it again: what appeared
+    /// there while tuning is not overwritten unasked either.
+    pub(crate) fn write(&self, bytes: &[u8]) -> Result<(), Error> {
+        self.refusal()?;
+        write_atomic(self.path, bytes).map_err(|e| {
+            Error::io(format!(
+                "cannot write {}: {e}; it was left as it was",
+                self.path.display()
+            ))
+        })
+    }
+}
+
+/// Whether `meta` (of `path`, not followed) is the file at `other`.
+#[cfg(unix)]
+fn same_file(meta: &fs::Metadata, _: &Path, other: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    fs::metadata(other).is_ok_and(|o| o.dev() == meta.dev() && o.ino() == meta.ino())
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &fs::Metadata, path: &Path, other: &Path) -> bool {
+    matches!(
+        (fs::canonicalize(path), fs::canonicalize(other)),
+        (Ok(a), Ok(b)) if a == b
+    )
 }

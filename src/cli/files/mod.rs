@@ -20,7 +20,7 @@ mod record;
 mod remove;
 mod staged;
 
-pub(super) use atomic::write_atomic;
+pub(super) use atomic::{OutFile, write_atomic};
 pub(super) use input::{read, recipes, safe_component};
 pub(super) use out_dir::OutDir;
 pub(super) use record::{inputs, start_program_hash};

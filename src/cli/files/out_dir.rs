@@ -8,6 +8,7 @@ use super::{MARKER, MARKER_HEAD, hidden, remove_any};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
 use karigami::util::plural;
+use std::collections::BTreeSet;
 use std::ffi::OsStr;
 use std::fs::{self, File};
 use std::io;
@@ -38,6 +39,10 @@ pub(crate) struct OutDir {
     pub notes: Vec<String>,
     /// The records of the earlier build in it (`record`), if any.
     pub(super) earlier: Option<Earlier>,
+    /// Every entry the folder held when checked under the lock (`entries`):
+    /// all that a commit may delete. Whatever else appears in it while
+    /// the build runs is someone's, and stops the commit (`appeared`).
+    pub(super) seen: BTreeSet<String>,
     lock: (PathBuf, File),
 }
 impl Drop for OutDir {
@@ -53,6 +58,9 @@ impl OutDir {
     /// input of this run; a build folder unless `force`), take its lock and
     /// repair what interrupted runs left. Errors are whole sentences.
     pub(crate) fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, Error> {
+        // `link/` (or `link/.`) names what the link leads to, not the link:
+        // the folder's own name, without them, is what is checked.
+        let out = &out.components().collect::<PathBuf>();
         let shown = out.display();
         let Some(name) = out.file_name().map(OsStr::to_os_string) else {
             return Err(Error::new(
@@ -93,11 +101,12 @@ impl OutDir {
             previous: Previous::Nothing,
             notes: Vec::new(),
             earlier: None,
+            seen: BTreeSet::new(),
             lock,
         };
         dir.recover()
             .map_err(|e| Error::io(format!("cannot tidy up beside {shown}: {e}")))?;
-        dir.previous = classify(out, inputs, force)?;
+        (dir.previous, dir.seen) = classify(out, inputs, force)?;
         if matches!(dir.previous, Previous::Build | Previous::Added(_)) {
             dir.earlier = fs::read_to_string(out.join(MARKER))
                 .ok()
@@ -151,12 +160,19 @@ impl OutDir {
     }
 }
 
-/// What `target` holds, or why a build must not replace it.
-fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, Error> {
+/// What `target` holds and every entry in it (`entries`), or why a build
+/// must not replace it.
+fn classify(
+    target: &Path,
+    inputs: &[PathBuf],
+    force: bool,
+) -> Result<(Previous, BTreeSet<String>), Error> {
     let refuse = Error::new;
     let shown = target.display();
     let meta = match fs::symlink_metadata(target) {
-        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Previous::Nothing),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            return Ok((Previous::Nothing, BTreeSet::new()));
+        }
         Err(e) => return Err(Error::io(format!("cannot read {shown}: {e}"))),
         Ok(m) => m,
     };
@@ -208,50 +224,57 @@ fn classify(target: &Path, inputs: &[PathBuf], force: bool) -> Result<Previous, 
             ),
         ));
     }
-    let files = list_files(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
+    let seen = entries(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
+    let files: Vec<String> = seen.iter().filter(|e| !e.ends_with('/')).cloned().collect();
     if let Some(ours) = fs::read_to_string(target.join(MARKER))
         .ok()
         .filter(|t| t.starts_with(MARKER_HEAD))
     {
-        // Files someone added to a build folder are not the tool's to delete
-        // without asking.
-        let listed: std::collections::BTreeSet<&str> = ours
+        // Files (and folders) someone added to a build folder are not the
+        // tool's to delete without asking; the build's own folders are
+        // those that hold its files.
+        let listed: BTreeSet<&str> = ours
             .split_once("\nfiles:\n")
             .map_or("", |(_, l)| l)
             .lines()
             .take_while(|l| !l.is_empty())
             .collect();
-        let added: Vec<String> = files
+        let folders: BTreeSet<String> = listed
             .iter()
-            .filter(|f| f.as_str() != MARKER && !listed.contains(f.as_str()))
+            .flat_map(|f| Path::new(f).ancestors().skip(1))
+            .filter(|a| !a.as_os_str().is_empty())
+            .map(|a| format!("{}/", a.display()))
+            .collect();
+        let added: Vec<String> = seen
+            .iter()
+            .filter(|e| {
+                e.as_str() != MARKER && !listed.contains(e.as_str()) && !folders.contains(*e)
+            })
             .cloned()
             .collect();
+        let added = outermost(added);
         if added.is_empty() {
-            return Ok(Previous::Build);
+            return Ok((Previous::Build, seen));
         }
         if force {
-            return Ok(Previous::Added(added));
+            return Ok((Previous::Added(added), seen));
         }
         return Err(refuse(
             ErrorKind::BuildFolderHasOtherFiles,
             format!(
                 "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
-                plural(added.len(), "file"),
+                counted(&added),
                 shortlist(&added),
                 if added.len() == 1 { "it" } else { "them" },
                 if added.len() == 1 { "it" } else { "them" },
             ),
         ));
     }
-    let empty = fs::read_dir(target)
-        .map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?
-        .next()
-        .is_none();
-    if empty {
-        return Ok(Previous::Nothing);
+    if seen.is_empty() {
+        return Ok((Previous::Nothing, seen));
     }
     if force {
-        return Ok(Previous::Foreign(files));
+        return Ok((Previous::Foreign(files), seen));
     }
     let older = ["lattice.json", "batch.json"]
         .iter()
@@ -283,7 +306,7 @@ impl OutDir {
         Some(format!(
             "warning: --force: {} {what}; replacing it deletes {}: {}",
             self.target.display(),
-            plural(files.len(), "file"),
+            counted(files),
             shortlist(files)
         ))
     }
@@ -345,16 +368,86 @@ fn shortlist(files: &[String]) -> String {
     list.join(", ")
 }
 
-/// Every file under `dir` (relative, sorted), without following links.
-fn list_files(dir: &Path) -> io::Result<Vec<String>> {
-    let mut out = Vec::new();
-    super::walk(dir, |path, folder| {
-        if !folder {
-            let rel = path.strip_prefix(dir).unwrap_or(path);
-            out.push(rel.display().to_string());
+/// How many files, folders or both `entries` (from `entries`: a folder's
+/// ends in `/`) are: "1 file", "2 folders", "3 files and folders".
+fn counted(entries: &[String]) -> String {
+    let folders = entries.iter().filter(|e| e.ends_with('/')).count();
+    match (folders, entries.len() - folders) {
+        (0, files) => plural(files, "file"),
+        (folders, 0) => plural(folders, "folder"),
+        _ => format!("{} files and folders", entries.len()),
+    }
+}
+
+/// `entries` (sorted) without those inside a folder among them: a folder
+/// someone added is named, not every file in it.
+fn outermost(entries: Vec<String>) -> Vec<String> {
+    // Sorted, a folder's contents follow it at once.
+    let mut kept: Vec<String> = Vec::with_capacity(entries.len());
+    let mut folder: Option<String> = None;
+    for e in entries {
+        if folder.as_ref().is_some_and(|f| e.starts_with(f.as_str())) {
+            continue;
         }
+        if e.ends_with('/') {
+            folder = Some(e.clone());
+        }
+        kept.push(e);
+    }
+    kept
+}
+
+/// Every entry under `dir` (relative, sorted; a folder's name ends in
+/// `/`), without following links: files, links, folders, empty or not.
+fn entries(dir: &Path) -> io::Result<BTreeSet<String>> {
+    let mut out = BTreeSet::new();
+    super::walk(dir, |path, folder| {
+        let rel = path.strip_prefix(dir).unwrap_or(path).display();
+        out.insert(if folder {
+            format!("{rel}/")
+        } else {
+            rel.to_string()
+        });
         Ok(())
     })?;
-    out.sort();
     Ok(out)
+}
+
+impl OutDir {
+    /// What `dir` (the folder, or the earlier build just swapped out of
+    /// it) holds that it did not when checked (`seen`): entries someone
+    /// added while the build ran, outermost first. A folder that is no
+    /// longer a folder (a link, a file) is itself an entry that appeared.
+    pub(super) fn appeared(&self, dir: &Path) -> io::Result<Vec<String>> {
+        match fs::symlink_metadata(dir) {
+            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
+            Err(e) => return Err(e),
+            Ok(m) if !m.is_dir() => return Ok(vec![String::new()]),
+            Ok(_) => {}
+        }
+        let now = entries(dir)?;
+        Ok(outermost(now.difference(&self.seen).cloned().collect()))
+    }
+
+    /// The refusal of a commit because the entries `appeared` came into
+    /// the folder while the build ran.
+    pub(super) fn changed(&self, appeared: &[String]) -> Error {
+        let shown = self.target.display();
+        let it = if appeared.len() == 1 { "it" } else { "them" };
+        let what = if appeared.iter().any(String::is_empty) {
+            format!("{shown} was replaced by a file or a link while the build ran")
+        } else {
+            format!(
+                "{} appeared in {shown} while the build ran: {}",
+                counted(appeared),
+                shortlist(appeared)
+            )
+        };
+        Error::new(
+            ErrorKind::BuildFolderHasOtherFiles,
+            format!(
+                "{what}; the build was not committed and {shown} was left as it was ({it} too); move {it} out of {shown}, or build into another --out, and build again"
+            ),
+        )
+    }
 }

@@ -5,6 +5,7 @@
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
 //! (BENCHMARKS.md, "Examples batch, fifth round").
 
+use std::collections::BTreeSet;
 use std::io;
 use std::path::Path;
 
@@ -18,15 +19,39 @@ const REMOVERS: usize = 8;
 /// left, and its error is the one returned.
 pub(super) fn remove_folder(path: &Path) -> io::Result<()> {
     #[cfg(unix)]
-    unlink_files(path);
+    unlink_files(path, None);
     std::fs::remove_dir_all(path)
 }
 
-/// Unlink every non-folder under `path`, `REMOVERS` at a time; whatever
-/// fails is left for `remove_dir_all`.
+/// Remove from the folder `path` only the entries named in `seen`
+/// (relative paths, a folder's ending in `/`, as `out_dir::entries` lists
+/// them): files and links are unlinked, folders removed once empty.
+/// Whatever else is in it is someone's and stays, and so does every
+/// folder on the way to it: false when anything stayed.
+pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<String>) -> io::Result<bool> {
+    #[cfg(unix)]
+    unlink_files(path, Some(seen));
+    #[cfg(not(unix))]
+    for rel in seen.iter().filter(|e| !e.ends_with('/')) {
+        let _ = std::fs::remove_file(path.join(rel));
+    }
+    // Deepest first: a folder's contents sort after it.
+    for rel in seen.iter().rev().filter(|e| e.ends_with('/')) {
+        let _ = std::fs::remove_dir(path.join(rel));
+    }
+    match std::fs::remove_dir(path) {
+        Ok(()) => Ok(true),
+        Err(_) if std::fs::read_dir(path)?.next().is_some() => Ok(false),
+        Err(e) => Err(e),
+    }
+}
+
+/// Unlink every non-folder under `path` (with `only`, only those it
+/// names, in folders it names), `REMOVERS` at a time; whatever fails is
+/// left for the caller.
 #[cfg(unix)]
-fn unlink_files(path: &Path) {
-    use rustix::fs::{AtFlags, CWD, Dir, FileType, Mode, OFlags, openat, unlinkat};
+fn unlink_files(path: &Path, only: Option<&BTreeSet<String>>) {
+    use rustix::fs::{AtFlags, CWD, Dir, FileType, Mode, OFlags, openat, statat, unlinkat};
     use std::ffi::CString;
     use std::os::fd::OwnedFd;
     use std::sync::Arc;
@@ -34,10 +59,12 @@ fn unlink_files(path: &Path) {
     let Ok(root) = openat(CWD, path, flags, Mode::empty()) else {
         return;
     };
-    let mut folders = vec![Arc::new(root)];
+    let named = |rel: &str| only.is_none_or(|seen| seen.contains(rel));
+    // Each folder with its path inside `path` ("" or ending in `/`).
+    let mut folders = vec![(Arc::new(root), String::new())];
     let mut files: Vec<(Arc<OwnedFd>, CString)> = Vec::new();
     let mut next = 0;
-    while let Some(folder) = folders.get(next).cloned() {
+    while let Some((folder, prefix)) = folders.get(next).cloned() {
         next += 1;
         let Ok(entries) = Dir::read_from(&*folder) else {
             continue;
@@ -47,15 +74,31 @@ fn unlink_files(path: &Path) {
             if name.to_bytes() == b"." || name.to_bytes() == b".." {
                 continue;
             }
-            match entry.file_type() {
+            let rel = format!("{prefix}{}", name.to_string_lossy());
+            let kind = match entry.file_type() {
+                // Not known from the listing: asked of the entry itself.
+                FileType::Unknown if only.is_some() => {
+                    match statat(&*folder, name, AtFlags::SYMLINK_NOFOLLOW) {
+                        Ok(st) => FileType::from_raw_mode(st.st_mode),
+                        Err(_) => continue,
+                    }
+                }
+                kind => kind,
+            };
+            match kind {
                 FileType::Directory => {
+                    let rel = format!("{rel}/");
+                    if !named(&rel) {
+                        continue;
+                    }
                     if let Ok(inner) = openat(&*folder, name, flags, Mode::empty()) {
-                        folders.push(Arc::new(inner));
+                        folders.push((Arc::new(inner), rel));
                     }
                 }
                 // Not known from the listing: left for remove_dir_all.
                 FileType::Unknown => {}
-                _ => files.push((Arc::clone(&folder), name.to_owned())),
+                _ if named(&rel) => files.push((Arc::clone(&folder), name.to_owned())),
+                _ => {}
             }
         }
     }
@@ -94,12 +137,31 @@ mod tests {
             std::os::unix::fs::symlink(&outside, tree.join("a/link")).unwrap();
             // The unlinks alone (what `remove_dir_all` would otherwise do
             // for them): every file and the link gone, the folders left.
-            unlink_files(&tree);
+            unlink_files(&tree, None);
             assert!(!tree.join("0.txt").exists() && !tree.join("a/b/0.txt").exists());
             assert!(fs::symlink_metadata(tree.join("a/link")).is_err());
             assert!(tree.join("a/b").is_dir());
         }
         remove_folder(&tree).unwrap();
+        assert!(!tree.exists());
+        // Only what was seen: the rest, and the folders on its way, stay.
+        fs::create_dir_all(tree.join("a/b")).unwrap();
+        fs::create_dir_all(tree.join("new/empty")).unwrap();
+        for f in ["x", "a/y", "a/b/z", "a/b/mine"] {
+            fs::write(tree.join(f), f).unwrap();
+        }
+        let seen: BTreeSet<String> = ["x", "a/", "a/y", "a/b/", "a/b/z"].map(String::from).into();
+        assert!(!remove_seen(&tree, &seen).unwrap());
+        assert_eq!(
+            fs::read_to_string(tree.join("a/b/mine")).unwrap(),
+            "a/b/mine"
+        );
+        assert!(tree.join("new/empty").is_dir());
+        assert!(!tree.join("x").exists() && !tree.join("a/y").exists());
+        assert!(!tree.join("a/b/z").exists());
+        fs::remove_file(tree.join("a/b/mine")).unwrap();
+        fs::remove_dir_all(tree.join("new")).unwrap();
+        assert!(remove_seen(&tree, &seen).unwrap());
         assert!(!tree.exists());
         assert_eq!(
             fs::read_to_string(outside.join("keep.txt")).unwrap(),

@@ -3,7 +3,8 @@
 
 use super::super::fault;
 use super::record::{RECORDS_HEAD, line};
-use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove_any};
+use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove, remove_any};
+use crate::cli::error::Error;
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Component, Path, PathBuf};
@@ -261,44 +262,129 @@ impl<'a> Staged<'a> {
             .push(line);
     }
 
-    /// Put the staging folder in the target's place.
-    pub(crate) fn commit(mut self) -> io::Result<()> {
-        sync_folders(&self.fresh, &self.syncer)?;
-        self.syncer.finish()?;
-        self.write_marker()?;
-        fault::sync(&File::open(&self.fresh)?)?;
-        let target = &self.out.target;
+    /// Put the staging folder in the target's place, unless something
+    /// appeared in the target while the build ran (`OutDir::appeared`):
+    /// then nothing is committed, the target is left as it is, and the
+    /// error names what appeared. Errors are whole sentences.
+    pub(crate) fn commit(mut self) -> Result<(), Error> {
+        let out = self.out;
+        let fail = |e: io::Error| {
+            Error::io(format!(
+                "cannot write {}: {e}; {}",
+                out.target.display(),
+                out.kept()
+            ))
+        };
+        sync_folders(&self.fresh, &self.syncer).map_err(fail)?;
+        self.syncer.finish().map_err(fail)?;
+        self.write_marker().map_err(fail)?;
+        fault::sync(&File::open(&self.fresh).map_err(fail)?).map_err(fail)?;
+        let target = &out.target;
+        fault::add(target, fault::Moment::BeforeCheck);
+        let appeared = out.appeared(target).map_err(fail)?;
+        if !appeared.is_empty() {
+            return Err(out.changed(&appeared));
+        }
+        fault::add(target, fault::Moment::BeforeSwap);
         if fs::symlink_metadata(target).is_err() {
             fault::commit("rename into place");
-            fs::rename(&self.fresh, target)?;
+            fs::rename(&self.fresh, target).map_err(fail)?;
             self.committed = true;
-        } else if exchange(&self.fresh, target)? {
-            // The old build now sits at the staging name.
-            self.committed = true;
-            fault::commit("remove the old build");
-            remove_any(&self.fresh)?;
         } else {
-            let old = self.out.parent.join(hidden(
-                &self.out.name,
-                &format!("old-{}", std::process::id()),
-            ));
-            remove_any(&old)?;
-            fault::commit("set the old build aside");
-            fs::rename(target, &old)?;
-            fault::commit("rename into place");
-            if let Err(e) = fs::rename(&self.fresh, target) {
-                let _ = fs::rename(&old, target);
-                return Err(e);
+            let old = self.swap().map_err(fail)?;
+            // Entries that appeared after the check above (at the same
+            // names, or through a handle held inside the folder) are now in
+            // the swapped-out build: it is looked at again, and swapped
+            // back if any are there.
+            let late = out.appeared(&old).map_err(fail)?;
+            if !late.is_empty() {
+                if let Err(e) = self.swap_back(&old) {
+                    keep_aside(&old, target);
+                    return Err(Error::io(format!(
+                        "cannot put the earlier build back in {}: {e}; the new build is in its place",
+                        target.display()
+                    )));
+                }
+                return Err(out.changed(&late));
             }
-            self.committed = true;
+            fault::add(&old, fault::Moment::SwappedOut);
             fault::commit("remove the old build");
-            remove_any(&old)?;
+            // Only what was checked goes: whatever came in since stays.
+            if !remove::remove_seen(&old, &out.seen).map_err(fail)? {
+                keep_aside(&old, target);
+            }
         }
-        if let Ok(parent) = File::open(&self.out.parent) {
+        if let Ok(parent) = File::open(&out.parent) {
             let _ = fault::sync(&parent);
         }
         Ok(())
     }
+
+    /// Swap the staging folder into the target's place (committed from
+    /// then on); where the earlier build now is.
+    fn swap(&mut self) -> io::Result<PathBuf> {
+        let target = &self.out.target;
+        if exchange(&self.fresh, target)? {
+            // The old build now sits at the staging name.
+            self.committed = true;
+            return Ok(self.fresh.clone());
+        }
+        let old = self.out.parent.join(hidden(
+            &self.out.name,
+            &format!("old-{}", std::process::id()),
+        ));
+        remove_any(&old)?;
+        fault::commit("set the old build aside");
+        fs::rename(target, &old)?;
+        fault::commit("rename into place");
+        if let Err(e) = fs::rename(&self.fresh, target) {
+            let _ = fs::rename(&old, target);
+            return Err(e);
+        }
+        self.committed = true;
+        Ok(old)
+    }
+
+    /// Undo `swap`: the earlier build (at `old`) back in the target's place,
+    /// the new one back at the staging name, which `drop` removes.
+    fn swap_back(&mut self, old: &Path) -> io::Result<()> {
+        let target = &self.out.target;
+        if old == self.fresh {
+            if !exchange(&self.fresh, target)? {
+                return Err(io::Error::other("cannot swap the earlier build back"));
+            }
+        } else {
+            fs::rename(target, &self.fresh)?;
+            fs::rename(old, target)?;
+        }
+        self.committed = false;
+        Ok(())
+    }
+}
+
+/// What is left of a swapped-out build at `old` once its own entries are
+/// gone (someone's, which came in as it was swapped out) is moved to a
+/// visible folder beside `target`, not left at a staging name that the
+/// next run removes, and the user is told where.
+fn keep_aside(old: &Path, target: &Path) {
+    let name = target.file_name().unwrap_or_default();
+    for n in 1..100 {
+        // `OUT.karigami-kept-N`: `hidden`'s name (short enough) without its dot.
+        let aside = target.with_file_name(&hidden(name, &format!("kept-{n}"))[1..]);
+        if fs::symlink_metadata(&aside).is_err() && fs::rename(old, &aside).is_ok() {
+            eprintln!(
+                "warning: files appeared in {} as the build replaced it; they are kept in {}",
+                target.display(),
+                aside.display()
+            );
+            return;
+        }
+    }
+    eprintln!(
+        "warning: files appeared in {} as the build replaced it; they are in {}, which the next build into {0} removes: move them out first",
+        target.display(),
+        old.display()
+    );
 }
 
 /// Flush every folder inside `root` to the disk, beside the files still
