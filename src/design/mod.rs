@@ -3,6 +3,7 @@
 //! `Design::grow` grows it and points lattice errors back at the recipe.
 
 mod errors;
+mod fabrication_checks;
 mod fabrication_table;
 pub mod fit;
 pub(crate) mod measure;
