@@ -26,10 +26,7 @@ pub(super) fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<
     } else {
         Err(Diagnostic::new(
             ErrorKind::OutOfRange,
-            format!(
-                "{what} is {v}, but must be {}",
-                range(min as f64, true, max as f64, true)
-            ),
+            format!("{what} is {v}, but must be at least {min} and at most {max}"),
         )
         .at(n.span())
         .hint(format!("give {what} a whole number from {min} to {max}")))
