@@ -29,7 +29,12 @@ pub(super) fn plain(message: &str, source: &str, span: Option<Range<usize>>) -> 
         .strip_prefix("missing field `")
         .and_then(|r| r.strip_suffix('`'))
     {
-        return format!("this table has no `{field}`, which it needs");
+        let table = spanned.trim();
+        return if table.starts_with('[') && !table.contains('\n') {
+            format!("{table} has no `{field}`, which it needs")
+        } else {
+            format!("this table has no `{field}`, which it needs")
+        };
     }
     let (found, expected) = if let Some(rest) = message.strip_prefix("invalid type: ") {
         match rest.split_once(", expected ") {
@@ -251,6 +256,10 @@ mod tests {
             "the table [lattice] is given twice (or its keys were already set)"
         );
         // Syntax errors are the reader's own words.
+        assert_eq!(
+            said("name = \"x\"\n[lattice]\nkappa = 0.0\n"),
+            "[lattice] has no `seed`, which it needs"
+        );
         let m = "unclosed table, expected `]`";
         assert_eq!(plain(m, "[lattice\n", Some(0..1)), m);
     }

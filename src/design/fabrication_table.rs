@@ -133,7 +133,7 @@ fn from_override(v: f64, what: &str, max: f64) -> Result<f64, Diagnostic> {
         Err(Diagnostic::new(
             ErrorKind::FlagOutOfRange,
             format!(
-                "--{what} is {}, but must be a length of at least 0 and at most {} (mm)",
+                "--{what} is {}, but must be a length from 0 to {} (mm)",
                 shown(v),
                 shown(max)
             ),
@@ -419,8 +419,9 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
             return Err(Diagnostic::new(
                 ErrorKind::TabsWiderThanStrip,
                 format!(
-                    "laser.tabs is {} mm, wider than the {tab_limit} mm strips",
-                    f.tabs
+                    "laser.tabs is {} mm, wider than the {} mm strips",
+                    shown(f.tabs),
+                    shown(tab_limit)
                 ),
             )
             .at(t.span())
@@ -433,8 +434,9 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
             return Err(Diagnostic::new(
                 ErrorKind::TabsWiderThanStripFlag,
                 format!(
-                    "--tabs is {} mm, wider than the {tab_limit} mm strips",
-                    f.tabs
+                    "--tabs is {} mm, wider than the {} mm strips",
+                    shown(f.tabs),
+                    shown(tab_limit)
                 ),
             )
             .hint("holding tabs are small bridges: 0.3 to 1 mm holds ABS and breaks by hand"));

@@ -122,8 +122,16 @@ pub(super) fn rows(
     }
     let total = total.unwrap_or(row_entry.len());
     if total == 0 {
-        return Err(Diagnostic::new(ErrorKind::NoRows, "the design grows no rows")
-            .at(spans.lattice.clone())
+        // [lattice.grow] without `rows` is where the count is missing.
+        let (message, span) = match &lat.grow {
+            Some(g) if entries.is_empty() => (
+                "the design grows no rows: [lattice.grow] does not say how many (`rows`)",
+                g.span(),
+            ),
+            _ => ("the design grows no rows", spans.lattice.clone()),
+        };
+        return Err(Diagnostic::new(ErrorKind::NoRows, message)
+            .at(span)
             .hint("add [[lattice.rows]] entries, or [lattice.grow] with `rows = N` and a default direction"));
     }
     row_entry.resize(total, NO_ENTRY);
