@@ -4,6 +4,7 @@
 //! footer instead of running off the paper.
 
 use crate::drawing::Font;
+use crate::drawing::flow::wrap;
 use crate::drawing::text::width;
 
 const MORE: &str = "...";
@@ -12,32 +13,18 @@ const MORE: &str = "...";
 /// wrapped at spaces, a word too long for a line broken between
 /// characters, and the last line cut with "..." when text is left over.
 pub(super) fn lines(text: &str, font: Font, size: f64, room: f64, max_lines: usize) -> Vec<String> {
-    let fits = |s: &str| width(s, font, size) <= room;
     let mut out: Vec<String> = Vec::new();
-    let mut line = String::new();
-    for word in text.split_whitespace() {
-        let joined = if line.is_empty() {
-            word.to_string()
-        } else {
-            format!("{line} {word}")
-        };
-        if fits(&joined) {
-            line = joined;
-            continue;
-        }
-        if !line.is_empty() {
-            out.push(std::mem::take(&mut line));
-        }
-        // The word alone, broken wherever it is wider than a line.
-        for c in word.chars() {
+    // Wrapped at spaces, a line is too wide only when it is one long word:
+    // that one is broken between characters.
+    for wrapped in wrap(text, font, size, room) {
+        let mut line = String::new();
+        for c in wrapped.chars() {
             line.push(c);
-            if !fits(&line) && line.chars().count() > 1 {
+            if width(&line, font, size) > room && line.chars().count() > 1 {
                 line.pop();
                 out.push(std::mem::replace(&mut line, c.to_string()));
             }
         }
-    }
-    if !line.is_empty() {
         out.push(line);
     }
     if out.len() > max_lines.max(1) {
