@@ -951,7 +951,11 @@ fn guide_names_keep_their_letters_and_stay_on_the_page() {
     let long = format!("{} {}", "Lang".repeat(12), "x".repeat(150));
     for (tag, name) in [("umlaut", "Käfer-Brücke – €5 円"), ("long", long.as_str())] {
         let recipe = dir.join(format!("{tag}.toml"));
-        let text = chain.replace("name = \"chain\"", &format!("name = \"{name}\""));
+        let mut text = chain.replace("name = \"chain\"", &format!("name = \"{name}\""));
+        if tag == "long" {
+            // The material's name is on the cover too.
+            text.push_str(&format!("\n[material]\nname = \"{}\"\n", "m".repeat(180)));
+        }
         assert_ne!(text, chain);
         std::fs::write(&recipe, text).unwrap();
         let out = dir.join(tag);

@@ -108,8 +108,11 @@ pub(super) fn cover(
             if helix { "cell" } else { "row" }
         ),
     ];
+    // A long material name wraps too.
     for f in &facts {
-        w.text(f, BODY, Font::Regular, BLACK);
+        for line in super::fit_text::lines(f, Font::Regular, BODY, room, 3) {
+            w.text(&line, BODY, Font::Regular, BLACK);
+        }
     }
     w.y += 3.0;
     w.text("Tools", 4.5, Font::Bold, BLACK);

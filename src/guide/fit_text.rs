@@ -13,6 +13,10 @@ const MORE: &str = "...";
 /// wrapped at spaces, a word too long for a line broken between
 /// characters, and the last line cut with "..." when text is left over.
 pub(super) fn lines(text: &str, font: Font, size: f64, room: f64, max_lines: usize) -> Vec<String> {
+    // A text that fits is left as written (its spaces too).
+    if width(text, font, size) <= room {
+        return vec![text.to_string()];
+    }
     let mut out: Vec<String> = Vec::new();
     // Wrapped at spaces, a line is too wide only when it is one long word:
     // that one is broken between characters.
@@ -60,6 +64,7 @@ mod tests {
         let room = 60.0;
         let name = "Käfer-Brücke";
         assert_eq!(lines(name, Font::Bold, 5.0, room, 3), vec![name]);
+        assert_eq!(lines("a  b", Font::Bold, 5.0, room, 3), vec!["a  b"]);
         // One word of 199 characters: broken into full lines, the third cut.
         let long = "x".repeat(199);
         let got = lines(&long, Font::Bold, 5.0, room, 3);
