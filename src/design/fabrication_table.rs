@@ -68,6 +68,9 @@ pub(crate) const MAX_THICKNESS: f64 = 50.0;
 pub(crate) const MIN_THICKNESS: f64 = 0.05;
 pub(crate) const MAX_STRIP_WIDTH: f64 = 500.0;
 pub(crate) const MAX_EYELET: f64 = 100.0;
+/// The narrowest eyelet hole (mm), as the test piece's smallest step: a
+/// hole of 1e-300 mm was written as a circle of radius 0.
+pub(crate) const MIN_HOLE: f64 = 0.5;
 pub(crate) const MAX_END_MARGIN: f64 = 1000.0;
 pub(crate) const MAX_KERF: f64 = 5.0;
 pub(crate) const MAX_SHEET_MARGIN: f64 = 1000.0;
@@ -193,7 +196,7 @@ pub(crate) fn fabrication(
             f.eyelet.name = "custom".into();
         }
         if let Some(h) = &e.hole {
-            f.eyelet.hole = length(h, "eyelet.hole", (0.0, false), MAX_EYELET)?;
+            f.eyelet.hole = length(h, "eyelet.hole", (MIN_HOLE, true), MAX_EYELET)?;
         }
         if let Some(fl) = &e.flange {
             f.eyelet.flange = length(fl, "eyelet.flange", (0.0, false), 2.0 * MAX_EYELET)?;

@@ -36,6 +36,11 @@ pub(crate) struct RawSimulation {
 /// "lowest eigenvalue 0 (NOT stable)"); examples/eggbox.toml at 1 MPa and
 /// the thinnest stock (`MIN_THICKNESS`) still solves, stable.
 pub(crate) const MIN_YOUNGS: f64 = 1.0;
+/// The smallest opening simulated (degrees): nearer the collapsed bundle
+/// Newton stalls (`theta = 1e-300` on templates/chain.toml and
+/// examples/eggbox.toml: "no decrease after 30 halvings"); both solve,
+/// stable, at 0.1.
+pub(crate) const MIN_THETA: f64 = 0.1;
 /// The stiffest: above diamond (about 1.05e6 MPa).
 pub(crate) const MAX_YOUNGS: f64 = 1e6;
 
@@ -114,7 +119,7 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
     if let Some(t) = number(
         &r.theta,
         "theta",
-        (0.0, false),
+        (MIN_THETA, true),
         (180.0, false),
         " (degrees)",
         "",
