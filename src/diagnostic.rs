@@ -179,6 +179,8 @@ error_kinds! {
     RowsOutsideGrow => EXIT_INVALID,
     /// Two `[[lattice.rows]]` entries describe the same row.
     RowGivenTwice => EXIT_INVALID,
+    /// A `[[lattice.rows]]` entry names a row before an earlier entry's.
+    RowsOutOfOrder => EXIT_INVALID,
     /// A `[[lattice.rows]]` entry reaches past the lattice's last row.
     RowBeyondLattice => EXIT_INVALID,
     /// The design grows no rows.
@@ -250,6 +252,11 @@ error_kinds! {
     /// The eyelet hole leaves less than `MIN_WALL` of material each side of
     /// the strip.
     HoleWiderThanStrip => EXIT_INVALID,
+    /// The eyelet's flange is no wider than its hole.
+    FlangeNotWiderThanHole => EXIT_INVALID,
+    /// Kerf compensation would cut a hole (an eyelet hole or a test piece
+    /// step) to nothing: the recipe's kerf, eyelet or `compensate`.
+    KerfClosesHole => EXIT_INVALID,
     /// `strip.end_margin` puts the end holes closer to the tips than the
     /// rounded end allows.
     HoleTooCloseToEnd => EXIT_INVALID,
@@ -273,6 +280,8 @@ error_kinds! {
     UnknownColoursFlag => EXIT_USAGE,
     /// `--tabs` is wider than the strips.
     TabsWiderThanStripFlag => EXIT_USAGE,
+    /// `--kerf` with compensation would cut a hole to nothing.
+    KerfClosesHoleFlag => EXIT_USAGE,
 
     // Simulation and optimisation settings.
     /// A `[simulation]` value lies outside its allowed range.
@@ -414,6 +423,17 @@ impl Diagnostic {
             let _ = writeln!(out, "{} = help: {hint}", " ".repeat(gutter));
         }
         out
+    }
+}
+
+/// A number for a message, readable whatever its size: as written (the
+/// shortest text that reads back to it) from 1e-4 up to 1e6, else in
+/// e-notation, so `1e-300` is not printed with 300 digits.
+pub(crate) fn shown(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
     }
 }
 
@@ -591,6 +611,17 @@ mod tests {
         assert_eq!(ErrorKind::UnknownSheetFlag.exit_code(), EXIT_USAGE);
         assert_eq!(ErrorKind::UnknownSheet.exit_code(), EXIT_INVALID);
         assert_eq!(ErrorKind::UnknownSheet.name(), "UnknownSheet");
+    }
+
+    #[test]
+    fn numbers_in_messages_stay_short() {
+        assert_eq!(shown(1e-300), "1e-300");
+        assert_eq!(shown(-2.5e-7), "-2.5e-7");
+        assert_eq!(shown(3e12), "3e12");
+        assert_eq!(shown(0.15), "0.15");
+        assert_eq!(shown(-0.0001), "-0.0001");
+        assert_eq!(shown(999999.5), "999999.5");
+        assert_eq!(shown(0.0), "0");
     }
 
     #[test]

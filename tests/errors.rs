@@ -88,3 +88,42 @@ fn every_bad_fixture_is_refused_where_and_why_it_says() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// `--kerf` with `--compensate-kerf` is refused as a flag error (no place in
+/// the recipe) when it would close the eyelet holes or a test piece step;
+/// without compensation, or with the test piece left out, the same kerf
+/// builds (chain --kerf 3.3 used to write r="-0.05" holes, --kerf 3 a test
+/// hole of r="0").
+#[test]
+fn a_kerf_flag_that_closes_a_compensated_hole_is_refused() {
+    let source = std::fs::read_to_string("templates/chain.toml").unwrap();
+    let with = |kerf: f64, compensate: bool, test_piece: bool| {
+        let o = karigami::Overrides {
+            kerf: Some(kerf),
+            compensate_kerf: Some(compensate),
+            test_piece: Some(test_piece),
+            ..Default::default()
+        };
+        karigami::parse_with(&source, "chain", &o)
+    };
+    let e = with(3.3, true, true).unwrap_err();
+    assert_eq!(e.kind, karigami::ErrorKind::KerfClosesHoleFlag);
+    assert!(e.span.is_none(), "{e:?}");
+    assert!(
+        e.message
+            .contains("--kerf 3.3: kerf compensation closes the eyelet holes"),
+        "{}",
+        e.message
+    );
+    assert_eq!(e.kind.exit_code(), 2);
+    // 3 mm closes the test piece's 3.0 mm step, not the 3.2 mm eyelet holes.
+    let e = with(3.0, true, true).unwrap_err();
+    assert!(
+        e.message.contains("the test piece's smallest hole"),
+        "{}",
+        e.message
+    );
+    assert!(with(3.0, true, false).is_ok());
+    assert!(with(3.3, false, true).is_ok());
+    assert!(with(2.999, true, true).is_ok());
+}

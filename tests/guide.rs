@@ -938,3 +938,68 @@ fn a_lattice_too_large_to_simulate_is_built_with_a_warning() {
         "{report}"
     );
 }
+
+/// The guide shows a name's Latin letters as written (WinAnsi, the
+/// built-in Helvetica's encoding: "Käfer-Brücke" was "K?fer-Br?cke"), `?`
+/// only for what the font lacks, and a 199-character name stays inside the
+/// text width on the cover and in the footer (it ran 50 pt past the
+/// right margin and off the page).
+#[test]
+fn guide_names_keep_their_letters_and_stay_on_the_page() {
+    let dir = scratch("guide-names");
+    let chain = std::fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    let long = format!("{} {}", "Lang".repeat(12), "x".repeat(150));
+    for (tag, name) in [("umlaut", "Käfer-Brücke – €5 円"), ("long", long.as_str())] {
+        let recipe = dir.join(format!("{tag}.toml"));
+        let mut text = chain.replace("name = \"chain\"", &format!("name = \"{name}\""));
+        if tag == "long" {
+            // The material's name is on the cover too.
+            text.push_str(&format!("\n[material]\nname = \"{}\"\n", "m".repeat(180)));
+        }
+        assert_ne!(text, chain);
+        std::fs::write(&recipe, text).unwrap();
+        let out = dir.join(tag);
+        let o = karigami(
+            &[
+                "-q",
+                "build",
+                recipe.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &dir,
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let pdf = out.join("assembly.pdf");
+        let Some(words) = run("pdftotext", &["-bbox", pdf.to_str().unwrap(), "-"]) else {
+            return;
+        };
+        let words = String::from_utf8(words.stdout).expect("pdftotext writes UTF-8");
+        if tag == "umlaut" {
+            assert!(words.contains(">Käfer-Brücke<"), "{words}");
+            assert!(words.contains(">€5<") && words.contains(">?<"), "{words}");
+            continue;
+        }
+        // A4: 595.3 pt wide, 15 mm (42.5 pt) margins.
+        let right = 595.3 - 42.5 + 0.5;
+        let mut lines = 0;
+        for w in words.lines().filter(|l| l.contains("<word ")) {
+            let x_max: f64 = w
+                .split("xMax=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(x_max <= right, "past the right margin: {w}");
+            lines += usize::from(w.contains(">xxxxx"));
+        }
+        assert!(lines >= 1, "{words}");
+        assert!(
+            words.contains("...</word>"),
+            "the long name is cut with ..."
+        );
+    }
+}

@@ -4,7 +4,7 @@
 //! applied first so every check sees the values that will be used.
 
 use super::raw::{Num, RawDesign};
-use crate::diagnostic::{Diagnostic, ErrorKind};
+use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::{
     ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_AUTO, SHEET_PRESETS,
     eyelet_preset, longest_preset, preset_names, sheet_size,
@@ -46,19 +46,12 @@ pub(crate) struct FabricationSpans {
     pub(crate) eyelet: Option<Range<usize>>,
     pub(crate) end_margin: Option<Range<usize>>,
     pub(crate) sheet: Option<Range<usize>>,
+    /// `laser.kerf`, when the recipe's kerf is the one used.
+    pub(crate) kerf: Option<Range<usize>>,
 }
 
 /// Thinnest wall of material kept between a hole and a strip edge or tip.
 pub const MIN_WALL: f64 = 1.0;
-
-/// A size for a message: as written, or in e-notation when it is huge.
-fn short(mm: f64) -> String {
-    if mm.abs() < 1e6 {
-        format!("{mm}")
-    } else {
-        format!("{mm:e}")
-    }
-}
 
 /// The largest sheet side: beyond the beds of large-format lasers (3 x 2 m),
 /// and it bounds the memory of the sheet pictures.
@@ -68,32 +61,47 @@ pub(crate) const MAX_SHEET: f64 = 5000.0;
 /// cuts, no stock is sold, and later arithmetic (solids, layout) would
 /// lose its meaning. Sheet sides are bounded by `MAX_SHEET`.
 pub(crate) const MAX_THICKNESS: f64 = 50.0;
+/// The thinnest stock (mm), foil or film: thinner, a strip's bending
+/// stiffness (which goes with the cube of the thickness) underflows in the
+/// simulation; examples/eggbox.toml at 0.05 mm and 1 MPa still solves,
+/// stable.
+pub(crate) const MIN_THICKNESS: f64 = 0.05;
 pub(crate) const MAX_STRIP_WIDTH: f64 = 500.0;
 pub(crate) const MAX_EYELET: f64 = 100.0;
+/// The narrowest eyelet hole (mm), as the test piece's smallest step: a
+/// hole of 1e-300 mm was written as a circle of radius 0.
+pub(crate) const MIN_HOLE: f64 = 0.5;
 pub(crate) const MAX_END_MARGIN: f64 = 1000.0;
 pub(crate) const MAX_KERF: f64 = 5.0;
 pub(crate) const MAX_SHEET_MARGIN: f64 = 1000.0;
 /// Largest tolerance for grouping strips into one part type, mm.
 pub(crate) const MAX_PART_TOLERANCE: f64 = 10.0;
 
-fn length(n: &Num, what: &str, min_exclusive: f64, max: f64) -> Result<f64, Diagnostic> {
+/// A length from `low` (allowed when `low_allowed`) to `max` (allowed).
+fn length(
+    n: &Num,
+    what: &str,
+    (low, low_allowed): (f64, bool),
+    max: f64,
+) -> Result<f64, Diagnostic> {
     let v = *n.get_ref();
-    if v.is_finite() && v > min_exclusive && v <= max {
+    let above = if low_allowed { v >= low } else { v > low };
+    if v.is_finite() && above && v <= max {
         Ok(v)
     } else {
-        let low = if min_exclusive == 0.0 {
-            "positive".to_string()
+        let bound = if low == 0.0 && !low_allowed {
+            let positive = "positive".to_string();
+            if max.is_finite() {
+                format!("{positive} and at most {}", shown(max))
+            } else {
+                positive
+            }
         } else {
-            format!("more than {min_exclusive}")
-        };
-        let bound = if max.is_finite() {
-            format!("{low} and at most {}", short(max))
-        } else {
-            low
+            super::values::range(low, low_allowed, max, true)
         };
         Err(Diagnostic::new(
             ErrorKind::LengthOutOfRange,
-            format!("{what} is {}, but must be {bound} (mm)", short(v)),
+            format!("{what} is {}, but must be {bound} (mm)", shown(v)),
         )
         .at(n.span())
         .hint(format!("give {what} a length in mm, {bound}")))
@@ -108,15 +116,15 @@ fn non_negative(n: &Num, what: &str, max: f64) -> Result<f64, Diagnostic> {
         Err(Diagnostic::new(
             ErrorKind::LengthOutOfRange,
             format!(
-                "{what} is {}, but must be between 0 and {} (mm)",
-                short(v),
-                short(max)
+                "{what} is {}, but must be at least 0 and at most {} (mm)",
+                shown(v),
+                shown(max)
             ),
         )
         .at(n.span())
         .hint(format!(
             "give {what} a length in mm from 0 to {}",
-            short(max)
+            shown(max)
         )))
     }
 }
@@ -129,8 +137,8 @@ fn from_override(v: f64, what: &str, max: f64) -> Result<f64, Diagnostic> {
             ErrorKind::FlagOutOfRange,
             format!(
                 "--{what} is {}, but must be a length from 0 to {} (mm)",
-                short(v),
-                short(max)
+                shown(v),
+                shown(max)
             ),
         ))
     }
@@ -149,10 +157,15 @@ pub(crate) fn fabrication(
             f.material.name = n.get_ref().clone();
         }
         if let Some(t) = &m.thickness {
-            f.material.thickness = length(t, "material.thickness", 0.0, MAX_THICKNESS)?;
+            f.material.thickness = length(
+                t,
+                "material.thickness",
+                (MIN_THICKNESS, true),
+                MAX_THICKNESS,
+            )?;
         }
         if let Some(w) = &m.width {
-            f.material.width = length(w, "material.width", 0.0, MAX_STRIP_WIDTH)?;
+            f.material.width = length(w, "material.width", (0.0, false), MAX_STRIP_WIDTH)?;
             spans.width = Some(w.span());
         }
     }
@@ -183,10 +196,10 @@ pub(crate) fn fabrication(
             f.eyelet.name = "custom".into();
         }
         if let Some(h) = &e.hole {
-            f.eyelet.hole = length(h, "eyelet.hole", 0.0, MAX_EYELET)?;
+            f.eyelet.hole = length(h, "eyelet.hole", (MIN_HOLE, true), MAX_EYELET)?;
         }
         if let Some(fl) = &e.flange {
-            f.eyelet.flange = length(fl, "eyelet.flange", 0.0, 2.0 * MAX_EYELET)?;
+            f.eyelet.flange = length(fl, "eyelet.flange", (0.0, false), 2.0 * MAX_EYELET)?;
         }
     }
     if let Some(name) = &o.eyelet {
@@ -203,7 +216,7 @@ pub(crate) fn fabrication(
     if let Some(s) = &raw.strip {
         let s = s.get_ref();
         if let Some(m) = &s.end_margin {
-            f.end_margin = length(m, "strip.end_margin", 0.0, MAX_END_MARGIN)?;
+            f.end_margin = length(m, "strip.end_margin", (0.0, false), MAX_END_MARGIN)?;
             spans.end_margin = Some(m.span());
         }
         if let Some(l) = &s.label {
@@ -231,6 +244,7 @@ pub(crate) fn fabrication(
         let l = l.get_ref();
         if let Some(k) = &l.kerf {
             f.kerf = non_negative(k, "laser.kerf", MAX_KERF)?;
+            spans.kerf = Some(k.span());
         }
         if let Some(c) = &l.compensate {
             f.compensate_kerf = *c.get_ref();
@@ -238,6 +252,7 @@ pub(crate) fn fabrication(
     }
     if let Some(k) = o.kerf {
         f.kerf = from_override(k, "kerf", MAX_KERF)?;
+        spans.kerf = None;
     }
     if let Some(c) = o.compensate_kerf {
         f.compensate_kerf = c;
@@ -273,11 +288,11 @@ pub(crate) fn fabrication(
             (f.sheet.name, f.sheet.width, f.sheet.height) = (name, w, h);
         }
         if let Some(w) = &s.width {
-            f.sheet.width = length(w, "sheet.width", 0.0, f64::INFINITY)?;
+            f.sheet.width = length(w, "sheet.width", (0.0, false), f64::INFINITY)?;
             f.sheet.name = "custom".into();
         }
         if let Some(h) = &s.height {
-            f.sheet.height = length(h, "sheet.height", 0.0, f64::INFINITY)?;
+            f.sheet.height = length(h, "sheet.height", (0.0, false), f64::INFINITY)?;
             f.sheet.name = "custom".into();
         }
         if let Some(m) = &s.margin {
@@ -328,7 +343,7 @@ pub(crate) fn fabrication(
 
     parts_settings(&mut f, raw, o)?;
     cutting_settings(&mut f, raw, o)?;
-    check_settings(&f, raw, &spans)?;
+    super::fabrication_checks::check_settings(&f, raw, o, &spans)?;
     Ok((f, spans))
 }
 
@@ -407,8 +422,9 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
             return Err(Diagnostic::new(
                 ErrorKind::TabsWiderThanStrip,
                 format!(
-                    "laser.tabs is {} mm, wider than the {tab_limit} mm strips",
-                    f.tabs
+                    "laser.tabs is {} mm, wider than the {} mm strips",
+                    shown(f.tabs),
+                    shown(tab_limit)
                 ),
             )
             .at(t.span())
@@ -421,73 +437,13 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
             return Err(Diagnostic::new(
                 ErrorKind::TabsWiderThanStripFlag,
                 format!(
-                    "--tabs is {} mm, wider than the {tab_limit} mm strips",
-                    f.tabs
+                    "--tabs is {} mm, wider than the {} mm strips",
+                    shown(f.tabs),
+                    shown(tab_limit)
                 ),
             )
             .hint("holding tabs are small bridges: 0.3 to 1 mm holds ABS and breaks by hand"));
         }
-    }
-    Ok(())
-}
-
-/// Checks that concern every strip alike, pointing at the setting.
-fn check_settings(
-    f: &Fabrication,
-    raw: &RawDesign,
-    spans: &FabricationSpans,
-) -> Result<(), Diagnostic> {
-    let w = f.material.width;
-    let d = f.eyelet.hole;
-    let eyelet_span = raw
-        .eyelet
-        .as_ref()
-        .and_then(|e| e.get_ref().hole.as_ref().map(|h| h.span()))
-        .or(spans.eyelet.clone());
-    if d > w - 2.0 * MIN_WALL {
-        return Err(Diagnostic::new(
-            ErrorKind::HoleWiderThanStrip,
-            format!(
-                "the {d} mm eyelet hole leaves less than {MIN_WALL} mm of material on each side of a {w} mm strip"
-            ),
-        )
-        .at_opt(eyelet_span.or(spans.width.clone()))
-        .hint(format!("use wider strips (material.width >= {}) or a smaller eyelet", d + 2.0 * MIN_WALL)));
-    }
-    // The rounded end needs end_margin >= w / 2; with the hole check above
-    // that also leaves at least MIN_WALL between an end hole and the tip.
-    if f.end_margin < w / 2.0 {
-        return Err(Diagnostic::new(
-            ErrorKind::HoleTooCloseToEnd,
-            format!(
-                "strip.end_margin is {} mm: the end holes would sit closer to the tips than the rounded end allows (at least half the {w} mm width, {} mm)",
-                f.end_margin,
-                w / 2.0
-            ),
-        )
-        .at_opt(spans.end_margin.clone())
-        .hint(format!("raise strip.end_margin to {} mm or more", w / 2.0)));
-    }
-    if f.sheet.width.max(f.sheet.height) > MAX_SHEET {
-        return Err(Diagnostic::new(
-            ErrorKind::SheetTooLarge,
-            format!(
-                "the sheet is {} x {} mm; karigami lays out sheets of at most {MAX_SHEET} mm a side",
-                short(f.sheet.width),
-                short(f.sheet.height)
-            ),
-        )
-        .at_opt(spans.sheet.clone())
-        .hint("give the size of your laser's bed or of the stock you cut, in mm"));
-    }
-    let (uw, uh) = f.sheet.usable();
-    if uw < w || uh < w {
-        return Err(Diagnostic::new(
-            ErrorKind::SheetTooSmall,
-            format!("the sheet's usable area ({uw} x {uh} mm inside the margins) is narrower than one strip ({w} mm)"),
-        )
-        .at_opt(spans.sheet.clone())
-        .hint("use a larger sheet or a smaller sheet.margin"));
     }
     Ok(())
 }

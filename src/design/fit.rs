@@ -158,7 +158,10 @@ pub(crate) fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, 
                 let span = raw.step.as_ref().map_or(f.span(), |s| s.span());
                 return Err(Diagnostic::new(
                     ErrorKind::FitStepOutOfRange,
-                    format!("fit.step is {step}, but must be between 0 and 90 degrees"),
+                    format!(
+                        "fit.step is {}, but must be more than 0 and less than 90 degrees",
+                        crate::diagnostic::shown(step)
+                    ),
                 )
                 .at(span)
                 .hint("the tube angle each row adds, in degrees"));

@@ -3,6 +3,7 @@
 //! `Design::grow` grows it and points lattice errors back at the recipe.
 
 mod errors;
+mod fabrication_checks;
 mod fabrication_table;
 pub mod fit;
 pub(crate) mod measure;
@@ -78,7 +79,7 @@ pub fn parse_with(
             .map_or("see the recipe format in README.md".to_string(), |f| {
                 format!("did you mean `{f}`? (the recipe format is in README.md)")
             });
-        Diagnostic::new(ErrorKind::Toml, message)
+        Diagnostic::new(ErrorKind::Toml, errors::plain(&message, source, e.span()))
             .at_opt(e.span())
             .hint(hint)
     })?;

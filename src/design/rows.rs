@@ -71,12 +71,34 @@ pub(super) fn rows(
         };
         if index < row_entry.len() {
             let span = r.row.as_ref().map_or(entry.span(), |n| n.span());
-            return Err(Diagnostic::new(
-                ErrorKind::RowGivenTwice,
-                format!("row {index} is already described by an earlier [[lattice.rows]] entry"),
-            )
-            .at(span)
-            .hint("list [[lattice.rows]] entries in increasing row order"));
+            // A row no entry covers lies before an entry already read: the
+            // entries are out of order, not given twice.
+            let earlier = row_entry[index..]
+                .iter()
+                .find(|&&x| x != NO_ENTRY)
+                .copied()
+                .unwrap_or(NO_ENTRY);
+            let earlier_row = row_entry.iter().position(|&x| x == earlier).unwrap_or(0);
+            return Err(if row_entry[index] == NO_ENTRY {
+                Diagnostic::new(
+                    ErrorKind::RowsOutOfOrder,
+                    format!(
+                        "this entry describes row {index}, but comes after the entry for row {earlier_row}"
+                    ),
+                )
+                .at(span)
+                .hint("list [[lattice.rows]] entries in increasing row order")
+            } else {
+                Diagnostic::new(
+                    ErrorKind::RowGivenTwice,
+                    format!(
+                        "row {index} is already described by an earlier [[lattice.rows]] entry (the one from row {})",
+                        row_entry.iter().position(|&x| x == row_entry[index]).unwrap_or(0)
+                    ),
+                )
+                .at(span)
+                .hint("describe each row once: remove this entry, or lower the earlier entry's `repeat`")
+            });
         }
         let repeat = match &r.repeat {
             Some(n) => count(n, "repeat", 1, max_rows as i64)?,
@@ -100,8 +122,16 @@ pub(super) fn rows(
     }
     let total = total.unwrap_or(row_entry.len());
     if total == 0 {
-        return Err(Diagnostic::new(ErrorKind::NoRows, "the design grows no rows")
-            .at(spans.lattice.clone())
+        // [lattice.grow] without `rows` is where the count is missing.
+        let (message, span) = match &lat.grow {
+            Some(g) if entries.is_empty() => (
+                "the design grows no rows: [lattice.grow] does not say how many (`rows`)",
+                g.span(),
+            ),
+            _ => ("the design grows no rows", spans.lattice.clone()),
+        };
+        return Err(Diagnostic::new(ErrorKind::NoRows, message)
+            .at(span)
             .hint("add [[lattice.rows]] entries, or [lattice.grow] with `rows = N` and a default direction"));
     }
     row_entry.resize(total, NO_ENTRY);

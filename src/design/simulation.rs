@@ -2,7 +2,7 @@
 //! deployment angle, the joint model and the mesh of the elastic
 //! simulation (docs/physics.md). Every field is optional; defaults are ABS.
 
-use crate::diagnostic::{Diagnostic, ErrorKind};
+use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::sim::{Actuation, Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
@@ -29,25 +29,56 @@ pub(crate) struct RawSimulation {
     pub(crate) symmetry: Option<Spanned<i64>>,
 }
 
+/// The softest strip stock karigami simulates (MPa): soft rubbers are
+/// about 1 MPa, plastics and wood 1,000 MPa and more. Below it a strip's
+/// stiffness underflows next to the solver's tolerances and a stable
+/// design reads as unstable (`youngs_modulus = 1e-300` gave energy 0 and
+/// "lowest eigenvalue 0 (NOT stable)"); examples/eggbox.toml at 1 MPa and
+/// the thinnest stock (`MIN_THICKNESS`) still solves, stable.
+pub(crate) const MIN_YOUNGS: f64 = 1.0;
+/// The smallest opening simulated (degrees): nearer the collapsed bundle
+/// Newton stalls (`theta = 1e-300` on templates/chain.toml and
+/// examples/eggbox.toml: "no decrease after 30 halvings"); both solve,
+/// stable, at 0.1.
+pub(crate) const MIN_THETA: f64 = 0.1;
+/// The stiffest: above diamond (about 1.05e6 MPa).
+pub(crate) const MAX_YOUNGS: f64 = 1e6;
+
+/// A `[simulation]` number within `low` to `high`, each end allowed or
+/// not as `range` says it.
 fn number(
     v: &Option<Spanned<f64>>,
     what: &str,
-    ok: impl Fn(f64) -> bool,
-    bound: &str,
+    (low, low_allowed): (f64, bool),
+    (high, high_allowed): (f64, bool),
+    unit: &str,
+    hint: &str,
 ) -> Result<Option<f64>, Diagnostic> {
-    match v {
-        Some(x) if !ok(*x.get_ref()) => Err(Diagnostic::new(
-            ErrorKind::SimulationOutOfRange,
-            format!(
-                "[simulation] {what} is {}, but must be {bound}",
-                x.get_ref()
-            ),
-        )
-        .at(x.span())
-        .hint("see the [simulation] table in README.md")),
-        Some(x) => Ok(Some(*x.get_ref())),
-        None => Ok(None),
+    let Some(x) = v else { return Ok(None) };
+    let value = *x.get_ref();
+    let above = if low_allowed {
+        value >= low
+    } else {
+        value > low
+    };
+    let below = if high_allowed {
+        value <= high
+    } else {
+        value < high
+    };
+    if above && below {
+        return Ok(Some(value));
     }
+    let bound = super::values::range(low, low_allowed, high, high_allowed);
+    Err(Diagnostic::new(
+        ErrorKind::SimulationOutOfRange,
+        format!(
+            "[simulation] {what} is {}, but must be {bound}{unit}",
+            shown(value)
+        ),
+    )
+    .at(x.span())
+    .hint(format!("{hint}see the [simulation] table in README.md")))
 }
 
 /// The settings of a recipe's `[simulation]` table (defaults without one).
@@ -58,40 +89,50 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
     if let Some(e) = number(
         &r.youngs_modulus,
         "youngs_modulus",
-        |x| x > 0.0 && x < 1e6,
-        "between 0 and 1e6 MPa",
+        (MIN_YOUNGS, true),
+        (MAX_YOUNGS, false),
+        " (MPa)",
+        "1 MPa is soft rubber, ABS is about 2000, steel 210000; ",
     )? {
         s.material.youngs = e;
     }
     if let Some(nu) = number(
         &r.poisson_ratio,
         "poisson_ratio",
-        |x| (0.0..0.5).contains(&x),
-        "at least 0 and below 0.5",
+        (0.0, true),
+        (0.5, false),
+        "",
+        "",
     )? {
         s.material.poisson = nu;
     }
     if let Some(eps) = number(
         &r.allowable_strain,
         "allowable_strain",
-        |x| x > 0.0 && x <= 100.0,
-        "above 0 and at most 100 (percent)",
+        (0.0, false),
+        (100.0, true),
+        " (percent)",
+        "",
     )? {
         s.material.eps_allow = eps / 100.0;
     }
     if let Some(t) = number(
         &r.theta,
         "theta",
-        |x| x > 0.0 && x < 180.0,
-        "between 0 and 180 (degrees)",
+        (MIN_THETA, true),
+        (180.0, false),
+        " (degrees)",
+        "",
     )? {
         s.theta = Some(t.to_radians());
     }
     if let Some(h) = number(
         &r.edge_length,
         "edge_length",
-        |x| (0.5..=1000.0).contains(&x),
-        "between 0.5 and 1000 mm",
+        (0.5, true),
+        (1000.0, true),
+        " (mm)",
+        "",
     )? {
         s.h_max = h;
     }
@@ -100,7 +141,7 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
         if !(1..=1000).contains(&v) {
             return Err(Diagnostic::new(
                 ErrorKind::SimulationOutOfRange,
-                format!("[simulation] symmetry is {v}, but must be a whole number from 1 to 1000"),
+                format!("[simulation] symmetry is {v}, but must be a whole number, at least 1 and at most 1000"),
             )
             .at(n.span())
             .hint("symmetry is how many identical copies of its cells a loop lattice has around the loop (1: none); see docs/physics.md"));

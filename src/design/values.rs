@@ -1,7 +1,7 @@
 //! The recipe's numbers and coordinates, checked: finite, in range, 2-D or 3-D.
 
 use super::raw::{Coords, Num};
-use crate::diagnostic::{Diagnostic, ErrorKind};
+use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use glam::DVec3;
 use toml::Spanned;
 
@@ -26,11 +26,30 @@ pub(super) fn count(n: &Spanned<i64>, what: &str, min: i64, max: i64) -> Result<
     } else {
         Err(Diagnostic::new(
             ErrorKind::OutOfRange,
-            format!("{what} is {v}, but must be between {min} and {max}"),
+            format!("{what} is {v}, but must be at least {min} and at most {max}"),
         )
         .at(n.span())
         .hint(format!("give {what} a whole number from {min} to {max}")))
     }
+}
+
+/// A range in words that says which ends are allowed: "at least 0 and
+/// less than 180", "more than 0 and at most 100".
+pub(super) fn range(low: f64, low_allowed: bool, high: f64, high_allowed: bool) -> String {
+    let low = if low_allowed {
+        format!("at least {}", shown(low))
+    } else {
+        format!("more than {}", shown(low))
+    };
+    if !high.is_finite() {
+        return low;
+    }
+    let high = if high_allowed {
+        format!("at most {}", shown(high))
+    } else {
+        format!("less than {}", shown(high))
+    };
+    format!("{low} and {high}")
 }
 
 /// A point or vector of 2 or 3 finite coordinates.

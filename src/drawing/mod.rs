@@ -8,6 +8,7 @@ pub mod picture;
 mod sheet;
 pub mod tabs;
 pub mod text;
+pub(crate) mod winansi;
 
 pub use sheet::TEST_PIECE_ID;
 pub(crate) use sheet::{Meta, sheet_page};

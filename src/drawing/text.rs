@@ -30,14 +30,16 @@ pub fn width(text: &str, font: Font, size: f64) -> f64 {
         Font::Regular => &REGULAR,
         Font::Bold => &BOLD,
     };
+    let ascii = |c: char| table[(c as u32 - 32) as usize] as u32;
+    // Beyond ASCII: the WinAnsi glyph's width, or the `?` shown instead.
+    let bold = matches!(font, Font::Bold);
     let units: u32 = text
         .chars()
         .map(|c| {
-            let i = c as u32;
-            if (32..=126).contains(&i) {
-                table[(i - 32) as usize] as u32
+            if (' '..='~').contains(&c) {
+                ascii(c)
             } else {
-                556
+                super::winansi::upper_width(c, bold).map_or(ascii('?'), u32::from)
             }
         })
         .sum();
@@ -96,6 +98,13 @@ mod tests {
                 < 1e-12
         );
         assert!(width("W", Font::Bold, 10.0) > width("i", Font::Bold, 10.0));
+        // Latin letters by their own glyphs; others as the `?` shown.
+        assert_eq!(
+            width("ü", Font::Regular, 1.0),
+            width("u", Font::Regular, 1.0)
+        );
+        assert_eq!(width("Ä", Font::Bold, 1.0), width("A", Font::Bold, 1.0));
+        assert_eq!(width("円", Font::Bold, 1.0), width("?", Font::Bold, 1.0));
         assert_eq!(
             start(
                 DVec2::new(10.0, 0.0),

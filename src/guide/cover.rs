@@ -20,7 +20,12 @@ pub(super) fn cover(
     side: &stacking::Side,
 ) {
     let fab = &b.design.fabrication;
-    w.text(&b.design.name, 10.0, Font::Bold, BLACK);
+    // A long name wraps (and is cut after three lines) rather than run
+    // off the page.
+    let room = w.width();
+    for line in super::fit_text::lines(&b.design.name, Font::Bold, 10.0, room, 3) {
+        w.text(&line, 10.0, Font::Bold, BLACK);
+    }
     w.text("Scissor lattice - assembly guide", 5.0, Font::Regular, GREY);
     w.y += 4.0;
     // The shape the strips take: simulated where the build simulated it
@@ -103,8 +108,11 @@ pub(super) fn cover(
             if helix { "cell" } else { "row" }
         ),
     ];
+    // A long material name wraps too.
     for f in &facts {
-        w.text(f, BODY, Font::Regular, BLACK);
+        for line in super::fit_text::lines(f, Font::Regular, BODY, room, 3) {
+            w.text(&line, BODY, Font::Regular, BLACK);
+        }
     }
     w.y += 3.0;
     w.text("Tools", 4.5, Font::Bold, BLACK);

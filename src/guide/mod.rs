@@ -5,6 +5,7 @@
 
 mod checklist;
 mod cover;
+mod fit_text;
 mod gauge;
 mod labels;
 mod materials;
@@ -15,7 +16,8 @@ mod step_pictures;
 mod step_text;
 
 use crate::design::measure::BUMP_DEG;
-use crate::drawing::flow::PageFlow;
+use crate::drawing::flow::{MARGIN, PageFlow, SMALL};
+use crate::drawing::{Font, text};
 use crate::drawing::{Page, Shape, Symbol};
 use crate::lattice::shape::relief;
 use crate::lattice::{Lattice, VertexKey};
@@ -66,10 +68,13 @@ pub fn guide(b: &Build) -> Guide {
 /// designed one; the caption says which.
 pub fn guide_showing(b: &Build, simulated: Option<&Lattice>) -> Guide {
     let fab = &b.design.fabrication;
-    let mut w = PageFlow::new(
-        fab.paper.size(),
-        format!("{} assembly guide", b.design.name),
-    );
+    // The footer, "NAME assembly guide - page N", on one line of the text
+    // width (room for a page number of 4 digits).
+    let room = fab.paper.size().0
+        - 2.0 * MARGIN
+        - text::width(" assembly guide - page 0000", Font::Regular, SMALL);
+    let name = fit_text::shortened(&b.design.name, Font::Regular, SMALL, room);
+    let mut w = PageFlow::new(fab.paper.size(), format!("{name} assembly guide"));
     let steps = &b.steps;
     let side = stacking::side(&b.lattice);
     cover(&mut w, b, simulated, steps, &side);

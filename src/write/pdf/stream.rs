@@ -3,7 +3,7 @@
 
 use super::PT_PER_MM;
 use crate::drawing::{
-    Font, Ink, Item, Place, Segment, Shape, arc_to_cubics, circle_to_cubics, text, walk,
+    Font, Ink, Item, Place, Segment, Shape, arc_to_cubics, circle_to_cubics, text, walk, winansi,
 };
 use glam::DVec2;
 use pdf_writer::{Content, Name, Str};
@@ -102,13 +102,6 @@ fn rgb([r, g, b]: [u8; 3]) -> (f32, f32, f32) {
 /// A line width in points, to a hundredth.
 fn width_pt(mm: f64) -> f32 {
     ((mm * PT_PER_MM * 100.0).round() / 100.0) as f32
-}
-
-/// Text the built-in fonts can show (their widths table is ASCII).
-fn ascii(s: &str) -> String {
-    s.chars()
-        .map(|c| if (' '..='~').contains(&c) { c } else { '?' })
-        .collect()
 }
 
 /// A circle of one radius and paint (fill, stroke or both), drawn once as
@@ -252,8 +245,7 @@ impl<'a> Stream<'a> {
             align,
         } = shape
         {
-            let t = ascii(t);
-            let start = text::start(*at, &t, *font, *size, *align);
+            let start = text::start(*at, t, *font, *size, *align);
             let name = match font {
                 Font::Regular => REGULAR,
                 Font::Bold => BOLD,
@@ -271,7 +263,7 @@ impl<'a> Stream<'a> {
                 .begin_text()
                 .set_font(name, (size * PT_PER_MM) as f32)
                 .next_line(x, y)
-                .show(Str(t.as_bytes()))
+                .show(Str(&winansi::encode(t)))
                 .end_text();
             return;
         }
