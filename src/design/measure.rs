@@ -186,6 +186,14 @@ fn turns(lattice: &Lattice) -> Vec<Turn> {
         .collect()
 }
 
+/// `x` to two decimals, without the minus of a value that rounds to zero
+/// (a flat sheet's defects are round-off either side of 0: "-0.00" read
+/// as a shape that is not there).
+fn hundredths(x: f64) -> String {
+    let s = format!("{x:.2}");
+    if s == "-0.00" { "0.00".to_string() } else { s }
+}
+
 impl Measures {
     /// The shape section of `check` and report.txt.
     pub(crate) fn text(&self, lattice: &Lattice, design: &Design) -> String {
@@ -196,12 +204,12 @@ impl Measures {
             Some(c) => {
                 let _ = writeln!(
                     out,
-                    "  angle defect at {} interior vertices: min {:.2} deg at {}, mean {:.2} deg, max {:.2} deg at {}",
+                    "  angle defect at {} interior vertices: min {} deg at {}, mean {} deg, max {} deg at {}",
                     c.interior,
-                    c.min_deg,
+                    hundredths(c.min_deg),
                     lattice.vertex_name(c.min_at),
-                    c.mean_deg,
-                    c.max_deg,
+                    hundredths(c.mean_deg),
+                    hundredths(c.max_deg),
                     lattice.vertex_name(c.max_at)
                 );
                 let _ = writeln!(
@@ -476,4 +484,18 @@ struct ClashJson {
     strips: [String; 2],
     distance_mm: f64,
     at: [f64; 3],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hundredths;
+
+    #[test]
+    fn hundredths_drop_the_minus_of_a_zero_only() {
+        assert_eq!(hundredths(-1e-15), "0.00");
+        assert_eq!(hundredths(-0.0049), "0.00");
+        assert_eq!(hundredths(-0.0051), "-0.01");
+        assert_eq!(hundredths(-3.846), "-3.85");
+        assert_eq!(hundredths(0.0), "0.00");
+    }
 }
