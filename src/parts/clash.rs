@@ -111,8 +111,9 @@ pub(crate) fn count_clashes(
 /// optimiser's cost sums by distance, with room to spare. A lattice of
 /// many overlapping strips has clashes by the square of them (a 1,000-row
 /// torus 588,000, a 3,000-point tube 4.4 million): only their count and
-/// distances' sum grow past this, not the memory (2 x 10,000 x 48 bytes).
-pub(crate) const KEPT: usize = 10_000;
+/// distances' sum grow past this, not the memory (a buffer of at most
+/// 32,768 clashes of 48 bytes: 20,000 found are cut back to 10,000).
+pub const KEPT: usize = 10_000;
 
 /// The clashes a search found: all counted, the closest kept, closest
 /// first (in distance, then rod id order: the same whatever order they
@@ -1015,6 +1016,45 @@ mod tests {
         let oracle = every_pair(&lat, 10.0, 6.0, 1.0);
         assert!(oracle.iter().any(|c| c.rods == [11, 13]));
         assert_same(&clashes(&lat, 10.0, 6.0, 1.0), &oracle, "thrown 1e200 mm");
+    }
+
+    #[test]
+    fn many_clashes_are_all_counted_and_only_the_closest_kept() {
+        // Strips a metre wide on a sheet of 40 mm cells: nearly every pair
+        // of a layer clashes, 70,000 or so. All are counted; the closest
+        // `keep` are kept, exactly the oracle's first ones, and the buffer
+        // stays within a few times that (the search used to keep them all).
+        let lat = sheet(100, 30.0);
+        let oracle = every_pair(&lat, 1000.0, 6.0, 1.0);
+        assert!(oracle.len() > 3 * KEPT, "{}", oracle.len());
+        for keep in [1, 7, 1000, KEPT] {
+            let mut found = Clashes::keeping(keep);
+            let mut most = 0;
+            search(&lat, 1000.0, 6.0, 1.0, Scratch::default(), &mut |c| {
+                found.add(c);
+                most = most.max(found.closest.capacity());
+            });
+            found.finish();
+            assert!(most < 4 * keep.max(2), "{most} held for {keep} kept");
+            assert_eq!(found.len(), oracle.len());
+            assert_eq!(found.iter().len(), keep);
+            let kept: Vec<Clash> = found.iter().cloned().collect();
+            let mut wanted = Clashes::keeping(usize::MAX);
+            wanted.closest = oracle[..keep].to_vec();
+            wanted.count = keep;
+            assert_same(&wanted, &kept, &format!("{keep} kept"));
+            let (dropped, distance) = found.dropped();
+            let rest: f64 = oracle[keep..].iter().map(|c| c.distance).sum();
+            assert_eq!(dropped, oracle.len() - keep);
+            assert!((distance - rest).abs() <= 1e-9 * rest, "{distance} {rest}");
+        }
+        // What `clashes` returns: the same count, `KEPT` kept.
+        let found = clashes(&lat, 1000.0, 6.0, 1.0);
+        assert_eq!((found.len(), found.iter().len()), (oracle.len(), KEPT));
+        assert_eq!(found.first(), oracle.first());
+        // The row fit's count keeps nothing and counts the same.
+        let n = count_clashes(&lat, 1000.0, 6.0, 1.0, |c| c.rods[1] >= 100);
+        assert_eq!(n, oracle.iter().filter(|c| c.rods[1] >= 100).count());
     }
 
     #[test]
