@@ -83,16 +83,18 @@ pub(super) fn simulate(
         design.fabrication.material.width,
         design.fabrication.material.thickness,
     );
-    let run =
-        sim::simulate(lattice, deploy, w, t, &settings).map_err(
-            |e| match karigami::recipe_error(design, &e) {
-                Some(d) => recipe.error(&d),
-                None => Error::new(
-                    ErrorKind::SimulationFailed,
-                    format!("{}: simulation failed: {e}", recipe.file),
-                ),
-            },
-        )?;
+    // A large lattice's solve runs for minutes (a 4,800-cell torus 3 min).
+    let what = format!("simulating {}", recipe.file);
+    let run = progress::heartbeat(&what, v.quiet, || {
+        sim::simulate(lattice, deploy, w, t, &settings)
+    })
+    .map_err(|e| match karigami::recipe_error(design, &e) {
+        Some(d) => recipe.error(&d),
+        None => Error::new(
+            ErrorKind::SimulationFailed,
+            format!("{}: simulation failed: {e}", recipe.file),
+        ),
+    })?;
     if !v.quiet {
         print!(
             "{}",
