@@ -79,7 +79,7 @@ pub(crate) fn clashes_in(
 ) -> Clashes {
     let mut found = Clashes::keeping(KEPT);
     search(lattice, width, margin, clearance, scratch, &mut |c| {
-        found.add(c)
+        found.add(c);
     });
     found.finish();
     found
