@@ -369,3 +369,115 @@ fn simulate_explore_finds_the_eggboxs_pop_through() {
     );
     assert!(stdout.contains("build uses "), "{stdout}");
 }
+
+/// A torus fitted over 1,000 rows winds round its tube 50 times: its
+/// strips overlap those of every turn, 588,000 clashing pairs. The search
+/// counts them all but keeps only the closest (it used to collect every
+/// pair: 10,000 rows, 60 million pairs, aborted at a 3 GB allocation);
+/// `check` refuses with the count and `--json` lists the first hundred.
+#[test]
+fn a_torus_of_a_thousand_rows_is_refused_with_all_its_clashes_counted() {
+    let dir = scratch("clash-count");
+    let torus = fs::read_to_string(repo().join("examples/torus.toml")).unwrap();
+    assert!(torus.contains("\nrows = 19\n"));
+    fs::write(
+        dir.join("torus.toml"),
+        torus.replace("\nrows = 19\n", "\nrows = 1000\n"),
+    )
+    .unwrap();
+    let out = karigami(&["check", "torus.toml"], &dir);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("error[StripClash]: strips R000-C06-B and R020-C06-B ")
+            && stderr.contains("(588000 clashing pairs in all)"),
+        "{stderr}"
+    );
+    assert!(
+        text(&out.stdout)
+            .contains("  strip clashes: 588000 pairs; closest R000-C06-B and R020-C06-B,"),
+        "{}",
+        text(&out.stdout)
+    );
+    let out = karigami(&["check", "--json", "torus.toml"], &dir);
+    let json: Value = serde_json::from_slice(&out.stdout).expect("a JSON report");
+    assert_eq!(json[0]["error"]["class"], "StripClash", "{json}");
+    let shape = &json[0]["check"]["shape"];
+    assert_eq!(shape["clash_count"], 588000, "{shape}");
+    let listed = shape["clashes"].as_array().expect("a list");
+    assert_eq!(listed.len(), 100);
+    assert_eq!(listed[0]["strips"][0], "R000-C06-B");
+    let distances: Vec<f64> = listed
+        .iter()
+        .map(|c| c["distance_mm"].as_f64().unwrap())
+        .collect();
+    assert!(distances.is_sorted(), "closest first: {distances:?}");
+    // What the measures hold: the count, and only the closest few.
+    let d = karigami::parse(
+        &fs::read_to_string(dir.join("torus.toml")).unwrap(),
+        "torus",
+    )
+    .unwrap();
+    let m = karigami::measure(&d, &d.grow().unwrap());
+    let kept = karigami::testing::clash::KEPT;
+    assert_eq!((m.clashes.len(), m.clashes.iter().len()), (588000, kept));
+    assert_eq!(m.clashes.dropped().0, 588000 - kept);
+}
+
+/// `simulate --theta` outside the open range (0, 180) deg is a usage
+/// error naming the flag, with the number readable; `--explore` is
+/// bounded; a long `--explore` says how far it has got on stderr (after
+/// 50 ms here rather than 2 s: the fault module's clock), and `-q` not.
+#[test]
+fn simulates_flags_are_bounded_and_a_long_explore_says_how_far_it_is() {
+    let arm = "examples/mirror-arm.toml";
+    for (theta, shown) in [
+        ("nan", "NaN"),
+        ("inf", "inf"),
+        ("1e300", "1e300"),
+        ("0", "0"),
+        ("180", "180"),
+    ] {
+        let out = karigami(&["simulate", arm, "--theta", theta], &repo());
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{theta}: {stderr}");
+        assert_eq!(
+            stderr,
+            format!(
+                "error: --theta is {shown}, but must be an opening in degrees greater than 0 and less than 180\n"
+            )
+        );
+    }
+    for n in ["0", "10001", "1000000"] {
+        let out = karigami(&["simulate", arm, "--explore", n], &repo());
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{n}: {stderr}");
+        assert_eq!(
+            stderr,
+            format!("error: --explore is {n}, but must be from 1 to 10000 starts\n")
+        );
+    }
+    let explore = |quiet: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_karigami"))
+            .args([&["simulate", arm, "--explore", "40", "-j", "1"], quiet].concat())
+            .current_dir(repo())
+            .env("KARIGAMI_FAULT", "firstnote@50")
+            .output()
+            .expect("runs karigami")
+    };
+    let out = explore(&[]);
+    let stderr = text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l.starts_with("explore: ") && l.contains(" of 40 starts (")),
+        "no progress line: {stderr}"
+    );
+    let quiet = explore(&["-q"]);
+    assert!(
+        quiet.status.success() && quiet.stderr.is_empty(),
+        "{}",
+        text(&quiet.stderr)
+    );
+}

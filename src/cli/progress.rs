@@ -110,6 +110,16 @@ fn first_note() -> Duration {
 /// report no progress of their own (growing, verifying, laying out,
 /// tuning).
 pub(super) fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) -> T {
+    heartbeat_saying(|seconds| format!("{what}: {seconds} s"), quiet, work)
+}
+
+/// `heartbeat` with its line written by `line` from the seconds elapsed
+/// (for phases that count their own progress: `simulate --explore`).
+pub(super) fn heartbeat_saying<T>(
+    line: impl Fn(u64) -> String + Send,
+    quiet: bool,
+    work: impl FnOnce() -> T,
+) -> T {
     if quiet {
         return work();
     }
@@ -131,7 +141,7 @@ pub(super) fn heartbeat<T>(what: &str, quiet: bool, work: impl FnOnce() -> T) ->
                     Err(mpsc::RecvTimeoutError::Timeout) => {}
                     _ => break,
                 }
-                let line = format!("{what}: {} s", started.elapsed().as_secs());
+                let line = line(started.elapsed().as_secs());
                 if tty {
                     eprint!("\r{line}");
                     let _ = std::io::stderr().flush();

@@ -7,7 +7,7 @@ use super::Design;
 use super::fit::{self, Coverage};
 use crate::lattice::shape::{CurvatureSummary, Shape, survey};
 use crate::lattice::{Kind, Lattice};
-use crate::parts::clash::{Clash, Scratch, clashes_in};
+use crate::parts::clash::{Clashes, Scratch, clashes_in};
 use serde::Serialize;
 
 /// Every shape and fit number of a grown design (see the module comment).
@@ -27,7 +27,7 @@ pub struct Measures {
     /// a free revolution profile.
     pub coverage: Option<Coverage>,
     /// Same-layer strips closer than the strip width plus the clearance.
-    pub clashes: Vec<Clash>,
+    pub clashes: Clashes,
     /// Helix: each complete turn's mean radius, mean height and largest
     /// relative departure of a vertex's radius from that mean.
     pub turns: Vec<Turn>,
@@ -97,16 +97,12 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
 
 /// The strip clashes of a design's lattice as assembled (an intrinsic
 /// lattice meets itself as assembled: rows placed onto each other).
-pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Vec<Clash> {
+pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Clashes {
     strip_clashes_in(design, assembled, Scratch::default())
 }
 
 /// `strip_clashes`, searched in the buffers of `scratch`.
-pub(crate) fn strip_clashes_in(
-    design: &Design,
-    assembled: &Lattice,
-    scratch: Scratch,
-) -> Vec<Clash> {
+pub(crate) fn strip_clashes_in(design: &Design, assembled: &Lattice, scratch: Scratch) -> Clashes {
     let fab = &design.fabrication;
     clashes_in(
         assembled,
@@ -124,7 +120,7 @@ pub(crate) fn measure_with(
     design: &Design,
     lattice: &Lattice,
     shape: Shape,
-    clashes: Vec<Clash>,
+    clashes: Clashes,
     whole: Whole,
 ) -> Measures {
     let (curvature, (domes, saddles), (bump_rows, bump_cols)) =

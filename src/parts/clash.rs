@@ -57,7 +57,7 @@ pub(crate) struct Scratch {
 
 /// The clashes of `lattice` (for an intrinsic lattice, pass the assembled
 /// one: the rows placed onto each other), strips `width` wide with
-/// `margin` beyond the end holes, closest first.
+/// `margin` beyond the end holes: all counted, the closest `KEPT` kept.
 ///
 /// Only strips of one layer can clash, so the layers are searched one at a
 /// time: each with a uniform grid of cells about one strip's box wide, each
@@ -65,7 +65,7 @@ pub(crate) struct Scratch {
 /// touches. Two strips closer than the reach share the grid cell of the
 /// midpoint of their closest points; a pair is measured once, in the first
 /// grid cell the two boxes share. Cost and memory are linear in the strips.
-pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Vec<Clash> {
+pub fn clashes(lattice: &Lattice, width: f64, margin: f64, clearance: f64) -> Clashes {
     clashes_in(lattice, width, margin, clearance, Scratch::default())
 }
 
@@ -75,8 +75,154 @@ pub(crate) fn clashes_in(
     width: f64,
     margin: f64,
     clearance: f64,
+    scratch: Scratch,
+) -> Clashes {
+    let mut found = Clashes::keeping(KEPT);
+    search(lattice, width, margin, clearance, scratch, &mut |c| {
+        found.add(c);
+    });
+    found.finish();
+    found
+}
+
+/// How many clashes of `lattice` pass `counts` (strips as in `clashes`),
+/// none of them kept: the row fit's score of a trial row.
+pub(crate) fn count_clashes(
+    lattice: &Lattice,
+    width: f64,
+    margin: f64,
+    clearance: f64,
+    counts: impl Fn(&Clash) -> bool,
+) -> usize {
+    let mut n = 0;
+    search(
+        lattice,
+        width,
+        margin,
+        clearance,
+        Scratch::default(),
+        &mut |c| n += usize::from(counts(&c)),
+    );
+    n
+}
+
+/// How many of the closest clashes a search keeps: what the reports show
+/// (the closest pair; `check --json` lists the first hundred) and the
+/// optimiser's cost sums by distance, with room to spare. A lattice of
+/// many overlapping strips has clashes by the square of them (a 1,000-row
+/// torus 588,000, a 3,000-point tube 4.4 million): only their count and
+/// distances' sum grow past this, not the memory (a buffer of at most
+/// 32,768 clashes of 48 bytes: 20,000 found are cut back to 10,000).
+pub const KEPT: usize = 10_000;
+
+/// The clashes a search found: all counted, the closest kept, closest
+/// first (in distance, then rod id order: the same whatever order they
+/// were found in).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clashes {
+    /// The closest `keep` (closest first once `finish`ed); while the search
+    /// runs, up to twice as many, in the order found.
+    closest: Vec<Clash>,
+    keep: usize,
+    count: usize,
+    /// Distances of the clashes counted but not kept, summed.
+    dropped_distance: f64,
+}
+
+impl Clashes {
+    fn keeping(keep: usize) -> Self {
+        Self {
+            closest: Vec::new(),
+            keep,
+            count: 0,
+            dropped_distance: 0.0,
+        }
+    }
+
+    /// How many clashes were found (kept or not).
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// No clash found.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The closest clash.
+    pub fn first(&self) -> Option<&Clash> {
+        self.closest.first()
+    }
+
+    /// The kept clashes, closest first: all of them unless `dropped`
+    /// says otherwise.
+    pub fn iter(&self) -> std::slice::Iter<'_, Clash> {
+        self.closest.iter()
+    }
+
+    /// How many clashes were counted but not kept (all farther than the
+    /// kept ones), and their distances summed.
+    pub fn dropped(&self) -> (usize, f64) {
+        (self.count - self.closest.len(), self.dropped_distance)
+    }
+
+    #[inline]
+    fn add(&mut self, c: Clash) {
+        self.count += 1;
+        self.closest.push(c);
+        if self.closest.len() >= 2 * self.keep.max(1) {
+            self.cut();
+        }
+    }
+
+    /// Only the closest `keep` left, unordered (amortised: once every
+    /// `keep` clashes found). Kept out of line: `add` is inlined into the
+    /// search's pair loop, which slows by a fifth when it grows (measured).
+    #[cold]
+    #[inline(never)]
+    fn cut(&mut self) {
+        if self.closest.len() > self.keep {
+            if self.keep > 0 {
+                self.closest.select_nth_unstable_by(self.keep - 1, closer);
+            }
+            self.dropped_distance += self.closest[self.keep..]
+                .iter()
+                .map(|c| c.distance)
+                .sum::<f64>();
+            self.closest.truncate(self.keep);
+        }
+    }
+
+    fn finish(&mut self) {
+        self.cut();
+        self.closest.sort_by(closer);
+    }
+}
+
+impl<'a> IntoIterator for &'a Clashes {
+    type Item = &'a Clash;
+    type IntoIter = std::slice::Iter<'a, Clash>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+/// Closest first, then by rod ids (a pair is found once): a total order.
+fn closer(a: &Clash, b: &Clash) -> std::cmp::Ordering {
+    a.distance.total_cmp(&b.distance).then(a.rods.cmp(&b.rods))
+}
+
+/// Every clash of `lattice` (strips as in `clashes`) to `found`, in the
+/// search's order.
+fn search(
+    lattice: &Lattice,
+    width: f64,
+    margin: f64,
+    clearance: f64,
     mut scratch: Scratch,
-) -> Vec<Clash> {
+    found: &mut impl FnMut(Clash),
+) {
     let reach = width + clearance;
     // Rods grouped by layer, in id order within a layer: one pass over the
     // cells (a counting sort would read them twice, 56 bytes a cell).
@@ -94,12 +240,9 @@ pub(crate) fn clashes_in(
             layers[l].push(r as u32);
         }
     }
-    let mut out = Vec::new();
     for ids in &layers {
-        layer_clashes(lattice, ids, margin, reach, &mut scratch, &mut out);
+        layer_clashes(lattice, ids, margin, reach, &mut scratch, found);
     }
-    out.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.rods.cmp(&b.rods)));
-    out
 }
 
 impl Scratch {
@@ -129,7 +272,7 @@ fn layer_clashes(
     margin: f64,
     reach: f64,
     scratch: &mut Scratch,
-    out: &mut Vec<Clash>,
+    found: &mut impl FnMut(Clash),
 ) {
     if ids.len() < 2 {
         return;
@@ -309,7 +452,9 @@ fn layer_clashes(
             if !i.apart(j, reach) {
                 // The earlier line first, as in the list.
                 let (i, j) = if i.line < j.line { (i, j) } else { (j, i) };
-                out.extend(pair(&lines[i.line as usize], &lines[j.line as usize]));
+                if let Some(c) = pair(&lines[i.line as usize], &lines[j.line as usize]) {
+                    found(c);
+                }
             }
         };
         let all = bucket(ALL_AXES as usize);
@@ -430,7 +575,9 @@ fn layer_clashes(
             // Long against short here; long against long once (j > i).
             for (j, lj) in lines.iter().enumerate() {
                 if j != i && (!long[j] || j > i) && !boxed.apart(&Boxed::of(0, lj), reach) {
-                    out.extend(pair(li, lj));
+                    if let Some(c) = pair(li, lj) {
+                        found(c);
+                    }
                 }
             }
         }
@@ -785,7 +932,7 @@ mod tests {
     }
 
     /// The two lists the same clash by clash, every figure to the bit.
-    fn assert_same(found: &[Clash], oracle: &[Clash], what: &str) {
+    fn assert_same(found: &Clashes, oracle: &[Clash], what: &str) {
         let bits = |c: &Clash| {
             (
                 c.rods,
@@ -794,6 +941,7 @@ mod tests {
             )
         };
         assert_eq!(found.len(), oracle.len(), "{what}");
+        assert_eq!(found.dropped(), (0, 0.0), "{what}");
         for (f, o) in found.iter().zip(oracle) {
             assert_eq!(bits(f), bits(o), "{what}");
         }
@@ -871,6 +1019,45 @@ mod tests {
         let oracle = every_pair(&lat, 10.0, 6.0, 1.0);
         assert!(oracle.iter().any(|c| c.rods == [11, 13]));
         assert_same(&clashes(&lat, 10.0, 6.0, 1.0), &oracle, "thrown 1e200 mm");
+    }
+
+    #[test]
+    fn many_clashes_are_all_counted_and_only_the_closest_kept() {
+        // Strips a metre wide on a sheet of 40 mm cells: nearly every pair
+        // of a layer clashes, 70,000 or so. All are counted; the closest
+        // `keep` are kept, exactly the oracle's first ones, and the buffer
+        // stays within a few times that (the search used to keep them all).
+        let lat = sheet(100, 30.0);
+        let oracle = every_pair(&lat, 1000.0, 6.0, 1.0);
+        assert!(oracle.len() > 3 * KEPT, "{}", oracle.len());
+        for keep in [1, 7, 1000, KEPT] {
+            let mut found = Clashes::keeping(keep);
+            let mut most = 0;
+            search(&lat, 1000.0, 6.0, 1.0, Scratch::default(), &mut |c| {
+                found.add(c);
+                most = most.max(found.closest.capacity());
+            });
+            found.finish();
+            assert!(most < 4 * keep.max(2), "{most} held for {keep} kept");
+            assert_eq!(found.len(), oracle.len());
+            assert_eq!(found.iter().len(), keep);
+            let kept: Vec<Clash> = found.iter().cloned().collect();
+            let mut wanted = Clashes::keeping(usize::MAX);
+            wanted.closest = oracle[..keep].to_vec();
+            wanted.count = keep;
+            assert_same(&wanted, &kept, &format!("{keep} kept"));
+            let (dropped, distance) = found.dropped();
+            let rest: f64 = oracle[keep..].iter().map(|c| c.distance).sum();
+            assert_eq!(dropped, oracle.len() - keep);
+            assert!((distance - rest).abs() <= 1e-9 * rest, "{distance} {rest}");
+        }
+        // What `clashes` returns: the same count, `KEPT` kept.
+        let found = clashes(&lat, 1000.0, 6.0, 1.0);
+        assert_eq!((found.len(), found.iter().len()), (oracle.len(), KEPT));
+        assert_eq!(found.first(), oracle.first());
+        // The row fit's count keeps nothing and counts the same.
+        let n = count_clashes(&lat, 1000.0, 6.0, 1.0, |c| c.rods[1] >= 100);
+        assert_eq!(n, oracle.iter().filter(|c| c.rods[1] >= 100).count());
     }
 
     #[test]

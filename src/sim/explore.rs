@@ -6,7 +6,7 @@ use super::solver::{Options, System, solve};
 use super::strips::LatticeModel;
 use super::{Equilibrium, SimError, kabsch_distance};
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::thread;
 
@@ -69,6 +69,19 @@ pub fn explore(
     jobs: usize,
     finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
 ) -> (Vec<Found>, Vec<(u64, String)>) {
+    explore_counting(base, n, seed, jobs, finish, &AtomicUsize::new(0))
+}
+
+/// `explore`, adding one to `solved` as each start is solved (the CLI's
+/// progress line reads it).
+pub fn explore_counting(
+    base: &LatticeModel,
+    n: usize,
+    seed: u64,
+    jobs: usize,
+    finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
+    solved: &AtomicUsize,
+) -> (Vec<Found>, Vec<(u64, String)>) {
     let sys = System::new(&base.model);
     let scale = base.model.e_scale;
     let mut found: Vec<Found> = Vec::new();
@@ -90,7 +103,11 @@ pub fn explore(
             }
         }
     };
-    let start = |k: u64| solve_start(base, &sys, k, seed, finish);
+    let start = |k: u64| {
+        let outcome = solve_start(base, &sys, k, seed, finish);
+        solved.fetch_add(1, Ordering::Relaxed);
+        outcome
+    };
     let jobs = jobs.clamp(1, n.max(1));
     if jobs == 1 {
         (0..n as u64).for_each(|k| group(k, start(k)));

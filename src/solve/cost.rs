@@ -34,11 +34,18 @@ pub(crate) fn cost(
     }
     if w.clashes > 0.0 {
         let reach = d.fabrication.material.width + d.clash.clearance;
+        // Those not kept (beyond the closest `clash::KEPT`) summed alike.
+        let (dropped, distance) = m.clashes.dropped();
         c += w.clashes
-            * m.clashes
+            * (m.clashes
                 .iter()
                 .map(|k| 1.0 + (reach - k.distance) / reach)
-                .sum::<f64>();
+                .sum::<f64>()
+                + if dropped > 0 {
+                    dropped as f64 * 2.0 - distance / reach
+                } else {
+                    0.0
+                });
     }
     if w.curvature > 0.0 && !m.shape.curvature.is_empty() {
         let scale = opt.defect_deg.abs().max(1.0);

@@ -266,10 +266,9 @@ fn ranked_rows(
             let lattice = grower.lattice();
             let first_new = 2 * (lattice.cells.len() - lattice.width);
             let clashes = if score.is_finite() && matches!(surface, Surface::Disk { .. }) {
-                crate::parts::clash::clashes(lattice, strip.0, strip.1, strip.2)
-                    .iter()
-                    .filter(|c| c.rods[1] >= first_new)
-                    .count()
+                crate::parts::clash::count_clashes(lattice, strip.0, strip.1, strip.2, |c| {
+                    c.rods[1] >= first_new
+                })
             } else {
                 0
             };
