@@ -429,7 +429,7 @@ impl Diagnostic {
 /// A number for a message, readable whatever its size: as written (the
 /// shortest text that reads back to it) from 1e-4 up to 1e6, else in
 /// e-notation, so `1e-300` is not printed with 300 digits.
-pub(crate) fn shown(x: f64) -> String {
+pub fn shown(x: f64) -> String {
     if x == 0.0 || (1e-4..1e6).contains(&x.abs()) || !x.is_finite() {
         format!("{x}")
     } else {

@@ -97,6 +97,7 @@ pub mod formats {
 /// settings, the deployed equilibrium, and the search for other stable
 /// shapes (`explore`).
 pub mod simulation {
+    pub use crate::design::simulation::MIN_THETA;
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
         Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,
@@ -113,6 +114,7 @@ pub mod template {
 /// Small helpers the binary shares with the library; not part of its face.
 #[doc(hidden)]
 pub mod util {
+    pub use crate::diagnostic::shown;
     pub use crate::hash::fnv1a;
     pub use crate::words::plural;
 }

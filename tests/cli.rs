@@ -424,7 +424,7 @@ fn a_torus_of_a_thousand_rows_is_refused_with_all_its_clashes_counted() {
     assert_eq!(m.clashes.dropped().0, 588000 - kept);
 }
 
-/// `simulate --theta` outside the open range (0, 180) deg is a usage
+/// `simulate --theta` outside [0.1, 180) deg (the recipe's bounds) is a usage
 /// error naming the flag, with the number readable; `--explore` is
 /// bounded; a long `--explore` says how far it has got on stderr (after
 /// 50 ms here rather than 2 s: the fault module's clock), and `-q` not.
@@ -436,6 +436,8 @@ fn simulates_flags_are_bounded_and_a_long_explore_says_how_far_it_is() {
         ("inf", "inf"),
         ("1e300", "1e300"),
         ("0", "0"),
+        ("0.09", "0.09"),
+        ("1e-300", "1e-300"),
         ("180", "180"),
     ] {
         let out = karigami(&["simulate", arm, "--theta", theta], &repo());
@@ -444,7 +446,7 @@ fn simulates_flags_are_bounded_and_a_long_explore_says_how_far_it_is() {
         assert_eq!(
             stderr,
             format!(
-                "error: --theta is {shown}, but must be an opening in degrees greater than 0 and less than 180\n"
+                "error: --theta is {shown}, but must be an opening in degrees of at least 0.1 and less than 180\n"
             )
         );
     }

@@ -11,7 +11,7 @@ use karigami::{
     simulation::{
         self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore_counting,
     },
-    util::plural,
+    util::{plural, shown},
 };
 use std::fmt::Write as _;
 use std::path::Path;
@@ -28,16 +28,6 @@ pub(super) const EXPLORE_SEED: u64 = 2024;
 /// three in 12); a basin that 10,000 starts miss is not one a maker meets.
 const MAX_EXPLORE: usize = 10_000;
 
-/// A flag's number for a message: as written, in e-notation when it is
-/// huge or tiny (never 300 digits), NaN and inf as such.
-fn readable(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) || !x.is_finite() {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
 pub(super) fn simulate(
     path: &Path,
     theta: Option<f64>,
@@ -46,12 +36,13 @@ pub(super) fn simulate(
     v: Verbosity,
 ) -> Result<(), Error> {
     // The flags first: a usage error before the recipe is read or grown.
-    if let Some(t) = theta.filter(|t| !(*t > 0.0 && *t < 180.0)) {
+    if let Some(t) = theta.filter(|t| !(*t >= sim::MIN_THETA && *t < 180.0)) {
         return Err(Error::new(
             ErrorKind::FlagOutOfRange,
             format!(
-                "--theta is {}, but must be an opening in degrees greater than 0 and less than 180",
-                readable(t)
+                "--theta is {}, but must be an opening in degrees of at least {} and less than 180",
+                shown(t),
+                sim::MIN_THETA
             ),
         ));
     }

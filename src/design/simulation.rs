@@ -40,7 +40,7 @@ pub(crate) const MIN_YOUNGS: f64 = 1.0;
 /// Newton stalls (`theta = 1e-300` on templates/chain.toml and
 /// examples/eggbox.toml: "no decrease after 30 halvings"); both solve,
 /// stable, at 0.1.
-pub(crate) const MIN_THETA: f64 = 0.1;
+pub const MIN_THETA: f64 = 0.1;
 /// The stiffest: above diamond (about 1.05e6 MPa).
 pub(crate) const MAX_YOUNGS: f64 = 1e6;
 
