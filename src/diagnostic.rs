@@ -426,11 +426,16 @@ impl Diagnostic {
     }
 }
 
-/// A number for a message, readable whatever its size: as written (the
-/// shortest text that reads back to it) from 1e-4 up to 1e6, else in
-/// e-notation, so `1e-300` is not printed with 300 digits.
+/// A number for a message, readable whatever its size: to 12 significant
+/// digits (a computed bound such as 2 + 3.97 is 5.970000000000001 in
+/// binary; the message says 5.97), as the shortest text from 1e-4 up to
+/// 1e6, else in e-notation, so `1e-300` is not printed with 300 digits.
 pub fn shown(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) || !x.is_finite() {
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    let x: f64 = format!("{x:.11e}").parse().unwrap_or(x);
+    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) {
         format!("{x}")
     } else {
         format!("{x:e}")
@@ -622,6 +627,10 @@ mod tests {
         assert_eq!(shown(-0.0001), "-0.0001");
         assert_eq!(shown(999999.5), "999999.5");
         assert_eq!(shown(0.0), "0");
+        assert_eq!(shown(2.0 + 3.97), "5.97");
+        assert_eq!(shown(609.6 - 2.0 * 302.7), "4.2");
+        assert_eq!(shown(f64::NAN), "NaN");
+        assert_eq!(shown(-f64::INFINITY), "-inf");
     }
 
     #[test]
