@@ -30,8 +30,15 @@ pub(super) fn plain(message: &str, source: &str, span: Option<Range<usize>>) -> 
         .and_then(|r| r.strip_suffix('`'))
     {
         let table = spanned.trim();
+        // The top level's span starts the recipe (a table's starts at its
+        // header, an inline table's at its brace).
+        let top = span.as_ref().is_none_or(|s| s.start == 0);
         return if table.starts_with('[') && !table.contains('\n') {
             format!("{table} has no `{field}`, which it needs")
+        } else if top && field == "lattice" {
+            "the recipe has no [lattice] table, which it needs".to_string()
+        } else if top {
+            format!("the recipe has no `{field}`, which it needs")
         } else {
             format!("this table has no `{field}`, which it needs")
         };
