@@ -86,11 +86,12 @@ fn is_unit(chars: &[char], k: usize) -> bool {
 
 /// Strokes of `text` with its baseline origin at (0, 0), cap height `height`,
 /// y up. Lower-case letters are drawn as capitals, except the unit `m` or
-/// `mm` (a word of its own); characters the font lacks are drawn as `?`.
+/// `mm` (a word of its own); a Latin letter with a mark is drawn as its
+/// base letter (`folded`), and other characters the font lacks as `?`.
 pub fn text(text: &str, height: f64) -> Vec<Vec<DVec2>> {
     let scale = height / CAP;
     let mut out = Vec::new();
-    let chars: Vec<char> = text.chars().collect();
+    let chars: Vec<char> = folded(text).collect();
     for (k, &c) in chars.iter().enumerate() {
         let c = if c == 'm' && is_unit(&chars, k) {
             c
@@ -117,12 +118,64 @@ pub fn text(text: &str, height: f64) -> Vec<Vec<DVec2>> {
 
 /// Width of `text` at cap height `height` (no trailing spacing).
 pub(crate) fn width(text: &str, height: f64) -> f64 {
-    let n = text.chars().count() as f64;
+    let n = folded(text).count() as f64;
     if n == 0.0 {
         0.0
     } else {
         (n * ADVANCE - (ADVANCE - 4.0)) * height / CAP
     }
+}
+
+/// `text` as it fits in `room` mm at cap height `height`: whole when it
+/// does, else cut and ended with "..." (a recipe's name may be 200
+/// characters; a sheet's caption or a preview's title has one line).
+pub(crate) fn fitted(text: &str, height: f64, room: f64) -> String {
+    if width(text, height) <= room {
+        return text.to_string();
+    }
+    let chars: Vec<char> = text.chars().collect();
+    (0..chars.len())
+        .rev()
+        .map(|n| chars[..n].iter().collect::<String>() + "...")
+        .find(|cut| width(cut, height) <= room)
+        .unwrap_or_default()
+}
+
+/// `text` with each Latin-1 letter that carries a mark (and the Latin
+/// ligatures) as the letters the stroke font has: a name engraved as
+/// KAFER-BRUCKE reads where K?FER-BR?CKE does not. (The guide's PDF
+/// text keeps the marks: its font has them.)
+fn folded(text: &str) -> impl Iterator<Item = char> + '_ {
+    text.chars().flat_map(|c| {
+        let (kept, base) = match base_letters(c) {
+            Some(base) => (None, base),
+            None => (Some(c), ""),
+        };
+        kept.into_iter().chain(base.chars())
+    })
+}
+
+/// The letters a Latin letter with a mark (or a ligature) is written
+/// with when the marks cannot be drawn.
+fn base_letters(c: char) -> Option<&'static str> {
+    Some(match c {
+        'À'..='Å' | 'à'..='å' => "a",
+        'Æ' | 'æ' => "ae",
+        'Ç' | 'ç' => "c",
+        'È'..='Ë' | 'è'..='ë' => "e",
+        'Ì'..='Ï' | 'ì'..='ï' => "i",
+        'Ð' | 'ð' => "d",
+        'Ñ' | 'ñ' => "n",
+        'Ò'..='Ö' | 'Ø' | 'ò'..='ö' | 'ø' => "o",
+        'Œ' | 'œ' => "oe",
+        'Ù'..='Ü' | 'ù'..='ü' => "u",
+        'Ý' | 'ý' | 'ÿ' | 'Ÿ' => "y",
+        'Þ' | 'þ' => "th",
+        'ß' => "ss",
+        'Š' | 'š' => "s",
+        'Ž' | 'ž' => "z",
+        _ => return None,
+    })
 }
 
 #[cfg(test)]
@@ -162,6 +215,25 @@ mod tests {
 
     #[test]
     fn unknown_characters_become_question_marks() {
-        assert_eq!(text("é", 6.0), text("?", 6.0));
+        assert_eq!(text("円", 6.0), text("?", 6.0));
+    }
+
+    #[test]
+    fn a_long_text_is_cut_to_its_room() {
+        assert_eq!(fitted("SHORT", 2.5, 100.0), "SHORT");
+        let long = "N".repeat(199);
+        let cut = fitted(&long, 2.5, 100.0);
+        assert!(cut.ends_with("...") && width(&cut, 2.5) <= 100.0, "{cut}");
+        let one_more = format!("{}N...", &cut[..cut.len() - 3]);
+        assert!(width(&one_more, 2.5) > 100.0);
+        assert_eq!(fitted(&long, 2.5, 0.1), "");
+    }
+
+    #[test]
+    fn latin_letters_with_marks_are_drawn_as_their_base_letters() {
+        assert_eq!(text("Käfer-Brücke", 6.0), text("KAFER-BRUCKE", 6.0));
+        assert_eq!(text("Straße Æ", 6.0), text("STRASSE AE", 6.0));
+        assert_eq!(width("Straße", 6.0), width("STRASSE", 6.0));
+        assert_eq!(text("é円", 6.0), text("E?", 6.0));
     }
 }

@@ -202,10 +202,12 @@ fn reference(page_w: f64, page_h: f64, margin: f64, title: &str) -> Group {
             ),
         ),
     ];
-    let label = format!("{bar} mm   {title}");
+    // A long name is cut at the sheet's right margin, not run off it.
+    let start = x0 + bar + 3.0;
+    let label = font::fitted(&format!("{bar} mm   {title}"), text_h, page_w - x0 - start);
     items.extend(caption(
         &label,
-        DVec2::new(x0 + bar + 3.0, (y + text_h / 2.0).min(page_h - 0.2)),
+        DVec2::new(start, (y + text_h / 2.0).min(page_h - 0.2)),
         text_h,
     ));
     Group::new("reference", items)
