@@ -110,14 +110,26 @@ fn check_margin(
         .and_then(|s| s.get_ref().margin.as_ref())
         .map(|m| m.span());
     let short_side = f.sheet.width.min(f.sheet.height);
-    if let Some(span) = margin.filter(|_| uw <= 0.0 || uh <= 0.0) {
+    // A margin the recipe sets is what to change when it leaves no room,
+    // or room narrower than a strip on a sheet wide enough without it.
+    if let Some(span) = margin.filter(|_| uw <= 0.0 || uh <= 0.0 || short_side >= w) {
+        let what = if uw <= 0.0 || uh <= 0.0 {
+            "twice that is at least the".to_string()
+        } else {
+            format!(
+                "inside the margins {} x {} mm is left of the",
+                shown(uw),
+                shown(uh)
+            )
+        };
         return Err(Diagnostic::new(
             ErrorKind::SheetTooSmall,
             format!(
-                "sheet.margin is {} mm: twice that is more than the {} x {} mm sheet, so the margins leave no room for parts",
+                "sheet.margin is {} mm: {what} {} x {} mm sheet, no room for a {} mm strip",
                 shown(f.sheet.margin),
                 shown(f.sheet.width),
-                shown(f.sheet.height)
+                shown(f.sheet.height),
+                shown(w)
             ),
         )
         .at(span)
