@@ -17,12 +17,20 @@ pub(super) fn plain(message: &str, source: &str, span: Option<Range<usize>>) -> 
             .as_ref()
             .and_then(|s| source.get(..s.start))
             .unwrap_or_default();
-        return match spanned.trim() {
-            "" => "a key is given twice".to_string(),
-            key if before.trim_end().ends_with('[') => {
-                format!("the table [{key}] is given twice (or its keys were already set)")
+        // A header's line starts with `[`: name the whole header, dotted
+        // (`[lattice.grow]`, whose span is `grow` alone).
+        let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
+        let header = line
+            .trim_start()
+            .strip_prefix('[')
+            .map(|h| format!("{h}{}", spanned.trim()));
+        return match (spanned.trim(), header) {
+            ("", _) => "a key is given twice".to_string(),
+            (_, Some(table)) => {
+                let table: String = table.chars().filter(|c| !c.is_whitespace()).collect();
+                format!("the table [{table}] is given twice (or its keys were already set)")
             }
-            key => format!("`{key}` is given twice in this table"),
+            (key, None) => format!("`{key}` is given twice in this table"),
         };
     }
     if let Some(field) = message
@@ -261,6 +269,14 @@ mod tests {
         assert_eq!(
             said("[lattice]\nseed = \"sheet\"\n[lattice]\n"),
             "the table [lattice] is given twice (or its keys were already set)"
+        );
+        assert_eq!(
+            said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nrows = 1\n[ lattice. grow ]\n"),
+            "the table [lattice.grow] is given twice (or its keys were already set)"
+        );
+        assert_eq!(
+            said("name = \"x\"\n"),
+            "the recipe has no [lattice] table, which it needs"
         );
         // Syntax errors are the reader's own words.
         assert_eq!(
