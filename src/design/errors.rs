@@ -51,16 +51,17 @@ pub(super) fn plain(message: &str, source: &str, span: Option<Range<usize>>) -> 
             format!("this table has no `{field}`, which it needs")
         };
     }
-    let (found, expected) = if let Some(rest) = message.strip_prefix("invalid type: ") {
+    let typed = message
+        .strip_prefix("invalid type: ")
+        .or_else(|| message.strip_prefix("invalid value: "));
+    let (found, expected) = if let Some(rest) = typed {
         match rest.split_once(", expected ") {
             Some((found, expected)) => (found_words(found, spanned), expected),
             None => return message.to_string(),
         }
     } else if let Some(rest) = message.strip_prefix("invalid length ") {
         match rest.split_once(", expected ") {
-            Some((n, expected)) if expected.starts_with("struct ") => {
-                (format!("an array of {n} values"), expected)
-            }
+            Some((n, expected)) => (format!("an array of {n} values"), expected),
             _ => return message.to_string(),
         }
     } else {
@@ -273,6 +274,14 @@ mod tests {
         assert_eq!(
             said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nrows = 1\n[ lattice. grow ]\n"),
             "the table [lattice.grow] is given twice (or its keys were already set)"
+        );
+        assert_eq!(
+            said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nleft_leg = \"matchx\"\n"),
+            "left_leg is the text \"matchx\", but must be a leg length in mm or \"match\""
+        );
+        assert_eq!(
+            said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nangle = [40.0, 30.0, 1.0]\n"),
+            "angle is an array of 3 values, but must be an angle in degrees, or [angle, tilt] in degrees for 3-D"
         );
         assert_eq!(
             said("name = \"x\"\n"),
