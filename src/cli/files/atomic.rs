@@ -71,23 +71,32 @@ fn remove_stale_temporaries(path: &Path, prefix: &str) {
 /// work and again just before the write, which is atomic (`write_atomic`).
 /// A link is always refused (the rename would replace the link, not the
 /// file it leads to), and so is a folder; an existing file other than the
-/// recipe only with `--force`; the recipe itself is written back.
+/// recipe only with `--force`; the recipe itself is written back, unless
+/// it was edited meanwhile.
 pub(crate) struct OutFile<'a> {
     path: &'a Path,
     force: bool,
-    /// Whether `path` named the recipe being tuned (the same file).
-    recipe: bool,
+    /// The recipe's text as it was read, if `path` named the recipe being
+    /// tuned (the same file).
+    recipe: Option<&'a str>,
 }
 
 impl<'a> OutFile<'a> {
-    /// Check `path` before any work (`recipe`: the file being tuned).
-    pub(crate) fn check(path: &'a Path, recipe: &Path, force: bool) -> Result<Self, Error> {
+    /// Check `path` before any work (`recipe`: the file being tuned, and
+    /// its text as read).
+    pub(crate) fn check(
+        path: &'a Path,
+        (recipe, text): (&Path, &'a str),
+        force: bool,
+    ) -> Result<Self, Error> {
         let mut out = Self {
             path,
             force,
-            recipe: false,
+            recipe: None,
         };
-        out.recipe = fs::symlink_metadata(path).is_ok_and(|m| same_file(&m, path, recipe));
+        out.recipe = fs::symlink_metadata(path)
+            .is_ok_and(|m| same_file(&m, path, recipe))
+            .then_some(text);
         out.refusal()?;
         Ok(out)
     }
@@ -120,7 +129,7 @@ impl<'a> OutFile<'a> {
                 "--out {shown} is a folder; give the name of the file to write, such as --out tuned.toml"
             )));
         }
-        if !self.recipe && !self.force {
+        if self.recipe.is_none() && !self.force {
             return Err(Error::usage(format!(
                 "{shown} exists; choose another --out, or pass --force to overwrite it (`tune X.toml --out X.toml` writes the recipe back)"
             )));
@@ -129,15 +138,45 @@ impl<'a> OutFile<'a> {
     }
 
     /// Write `bytes` to the file, after checking it again: what appeared
-    /// there while tuning is not overwritten unasked either.
+    /// there while tuning is not overwritten unasked either, nor an edit
+    /// made to the recipe meanwhile (`edited`).
     pub(crate) fn write(&self, bytes: &[u8]) -> Result<(), Error> {
         self.refusal()?;
+        fault::edit(self.path);
+        if let Some(text) = self.recipe
+            && fs::read(self.path).ok().as_deref() != Some(text.as_bytes())
+        {
+            return Err(self.edited(bytes));
+        }
         write_atomic(self.path, bytes).map_err(|e| {
             Error::io(format!(
                 "cannot write {}: {e}; it was left as it was",
                 self.path.display()
             ))
         })
+    }
+}
+
+impl OutFile<'_> {
+    /// The recipe written back was edited (or removed) while tuning ran:
+    /// the edit is the user's and stays; the tuned text goes beside it,
+    /// as `X.toml.tuned` if that name is free, else to stdout.
+    fn edited(&self, bytes: &[u8]) -> Error {
+        let shown = self.path.display();
+        let mut beside = self.path.as_os_str().to_owned();
+        beside.push(".tuned");
+        let beside = Path::new(&beside);
+        let free = fs::symlink_metadata(beside).is_err_and(|e| e.kind() == io::ErrorKind::NotFound);
+        let put = if free && write_atomic(beside, bytes).is_ok() {
+            format!("the tuned recipe is in {}", beside.display())
+        } else {
+            let mut stdout = io::stdout().lock();
+            let _ = stdout.write_all(bytes).and_then(|()| stdout.flush());
+            "the tuned recipe was printed on stdout".to_string()
+        };
+        Error::io(format!(
+            "{shown} changed while tuning ran, so it was not overwritten (the change is kept); {put}"
+        ))
     }
 }
 
