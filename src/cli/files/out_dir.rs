@@ -152,14 +152,14 @@ impl OutDir {
             ));
         }
         stale.extend(old);
+        let mut removed = 0;
         for path in &stale {
-            self.tidy(path)?;
+            removed += usize::from(self.tidy(path)?);
         }
-        if !stale.is_empty() {
+        if removed > 0 {
             self.notes.push(format!(
-                "removed {} staging folder{} left beside {} by interrupted runs",
-                stale.len(),
-                if stale.len() == 1 { "" } else { "s" },
+                "removed {removed} staging folder{} left beside {} by interrupted runs",
+                if removed == 1 { "" } else { "s" },
                 self.target.display()
             ));
         }
@@ -171,16 +171,17 @@ impl OutDir {
     /// removal), and what someone put in it then is theirs: only what the
     /// marker lists goes, the rest is kept beside the folder, visible.
     /// One without was never the folder: all of it is the build's.
-    fn tidy(&mut self, path: &Path) -> io::Result<()> {
+    /// Whether it was removed whole.
+    fn tidy(&mut self, path: &Path) -> io::Result<bool> {
         let Some(marker) = fs::read_to_string(path.join(MARKER))
             .ok()
             .filter(|t| t.starts_with(MARKER_HEAD))
         else {
-            return remove_any(path);
+            return remove_any(path).map(|()| true);
         };
         let shown = self.target.display();
         match clear(path, &own_entries(listed(&marker)), &self.target)? {
-            Cleared::Gone => {}
+            Cleared::Gone => return Ok(true),
             Cleared::Kept(aside) => self.notes.push(format!(
                 "a staging folder an interrupted run left beside {shown} held files the build had not written (added while it was {shown}); they are kept in {}",
                 aside.display()
@@ -192,7 +193,7 @@ impl OutDir {
                 )));
             }
         }
-        Ok(())
+        Ok(false)
     }
 }
 
