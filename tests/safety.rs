@@ -1026,6 +1026,11 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
             "--out notelink is a symbolic link (to note.txt)",
         ),
         ("linkdir", 3, "--out linkdir is a symbolic link (to folder)"),
+        (
+            "linkdir/",
+            3,
+            "--out linkdir/ is a symbolic link (to folder)",
+        ),
     ]);
     for (out, code, message) in cases {
         for force in [false, true] {
@@ -1051,6 +1056,10 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
             assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
         }
     }
+    // --force without --out has nothing to overwrite: a usage error.
+    let o = run(&["tune", "h.toml", "--force"], &dir, None);
+    says(&o, 2, "--out");
+    assert!(tree(&dir) == before);
     let o = run(
         &["tune", "h.toml", "--out", "existing.txt", "--force"],
         &dir,

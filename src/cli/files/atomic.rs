@@ -108,13 +108,15 @@ impl<'a> OutFile<'a> {
     /// Why the file must not be written now, if it must not.
     fn refusal(&self) -> Result<(), Error> {
         let shown = self.path.display();
-        let meta = match fs::symlink_metadata(self.path) {
+        // `link/` names what the link leads to: the link itself is checked.
+        let bare: std::path::PathBuf = self.path.components().collect();
+        let meta = match fs::symlink_metadata(&bare) {
             Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
             Err(e) => return Err(Error::io(format!("cannot read {shown}: {e}"))),
             Ok(m) => m,
         };
         if meta.file_type().is_symlink() {
-            let to = fs::read_link(self.path)
+            let to = fs::read_link(&bare)
                 .map(|t| t.display().to_string())
                 .unwrap_or_default();
             return Err(Error::new(

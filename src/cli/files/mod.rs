@@ -129,9 +129,10 @@ fn own_entries<'a>(files: impl IntoIterator<Item = &'a str>) -> BTreeSet<OsStrin
 enum Cleared {
     /// It held only the build's own entries: it is gone.
     Gone,
-    /// Someone's entries were left: the folder was moved here, beside
-    /// the target, visible, for the user.
-    Kept(PathBuf),
+    /// Entries were left: the folder was moved here (`aside`), beside the
+    /// target, visible, for the user; `theirs` when any is someone's, not
+    /// one of the build's that could not be removed.
+    Kept { aside: PathBuf, theirs: bool },
     /// Someone's entries were left and it could not be moved: still there.
     Left,
 }
@@ -144,12 +145,13 @@ fn clear(dir: &Path, own: &BTreeSet<OsString>, target: &Path) -> io::Result<Clea
     if remove::remove_seen(dir, own)? {
         return Ok(Cleared::Gone);
     }
+    let theirs = out_dir::entries(dir).map_or(true, |left| left.iter().any(|e| !own.contains(e)));
     let name = target.file_name().unwrap_or_default();
     for n in 1..100 {
         // `OUT.karigami-kept-N`: `hidden`'s name (short enough) without its dot.
         let aside = target.with_file_name(&hidden(name, &format!("kept-{n}"))[1..]);
         if fs::symlink_metadata(&aside).is_err() && fs::rename(dir, &aside).is_ok() {
-            return Ok(Cleared::Kept(aside));
+            return Ok(Cleared::Kept { aside, theirs });
         }
     }
     Ok(Cleared::Left)

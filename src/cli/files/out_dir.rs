@@ -182,10 +182,17 @@ impl OutDir {
         let shown = self.target.display();
         match clear(path, &own_entries(listed(&marker)), &self.target)? {
             Cleared::Gone => return Ok(true),
-            Cleared::Kept(aside) => self.notes.push(format!(
-                "a staging folder an interrupted run left beside {shown} held files the build had not written (added while it was {shown}); they are kept in {}",
-                aside.display()
-            )),
+            Cleared::Kept { aside, theirs } => self.notes.push(if theirs {
+                format!(
+                    "a staging folder an interrupted run left beside {shown} held files the build had not written (added while it was {shown}); they are kept in {}",
+                    aside.display()
+                )
+            } else {
+                format!(
+                    "a staging folder an interrupted run left beside {shown} could not be removed whole; what is left of it is in {}",
+                    aside.display()
+                )
+            }),
             Cleared::Left => {
                 return Err(io::Error::other(format!(
                     "{} holds files the build had not written and cannot be moved aside; move them out",
@@ -430,7 +437,7 @@ fn lossy(entries: Vec<OsString>) -> Vec<String> {
 /// Every entry under `dir` (relative, sorted; a folder's name ends in
 /// `/`), without following links: files, links, folders, empty or not.
 /// Names are kept as they are: two that print alike stay apart.
-fn entries(dir: &Path) -> io::Result<BTreeSet<OsString>> {
+pub(super) fn entries(dir: &Path) -> io::Result<BTreeSet<OsString>> {
     let mut out = BTreeSet::new();
     super::walk(dir, |path, folder| {
         let mut rel = path

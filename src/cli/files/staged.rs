@@ -328,9 +328,16 @@ impl<'a> Staged<'a> {
                 let own = own_entries(written.iter().map(String::as_str));
                 match clear(&self.fresh, &own, target) {
                     Ok(Cleared::Gone) => {}
-                    Ok(Cleared::Kept(aside)) => eprintln!(
+                    Ok(Cleared::Kept {
+                        aside,
+                        theirs: true,
+                    }) => eprintln!(
                         "warning: files were written into {} while the new build was in its place; they are kept in {}",
                         target.display(),
+                        aside.display()
+                    ),
+                    Ok(Cleared::Kept { aside, .. }) => eprintln!(
+                        "warning: the new build, not committed, could not be removed whole; what is left of it is in {}",
                         aside.display()
                     ),
                     _ => eprintln!(
@@ -408,8 +415,15 @@ fn keep_aside(old: &Path, seen: &BTreeSet<OsString>, target: &Path) {
     let shown = target.display();
     match clear(old, seen, target) {
         Ok(Cleared::Gone) => {}
-        Ok(Cleared::Kept(aside)) => eprintln!(
+        Ok(Cleared::Kept {
+            aside,
+            theirs: true,
+        }) => eprintln!(
             "warning: files appeared in {shown} as the build replaced it; they are kept in {}",
+            aside.display()
+        ),
+        Ok(Cleared::Kept { aside, .. }) => eprintln!(
+            "warning: the earlier build of {shown} could not be removed whole; what is left of it is in {}",
             aside.display()
         ),
         Ok(Cleared::Left) => eprintln!(
