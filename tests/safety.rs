@@ -1210,6 +1210,14 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
     }
 }
 
+/// A workspace (`dir`), its --out folder (not made yet) and the files of a
+/// build of a.toml, which the tests put into --out before building b.toml.
+fn a_built(dir: PathBuf) -> (PathBuf, PathBuf, Tree) {
+    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let out = dir.join("out");
+    (dir, out, old)
+}
+
 /// Files written into --out while the new build is in its place, in the
 /// moment before the second look swaps it back (an entry came into the
 /// earlier build), are the user's: the new build's own files are removed,
@@ -1217,9 +1225,7 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
 /// staging folder, review31a's finding 1).
 #[test]
 fn what_is_written_into_the_new_build_before_it_is_swapped_back_is_kept() {
-    let dir = workspace("swapped-back");
-    let out = dir.join("out");
-    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let (dir, out, old) = a_built(workspace("swapped-back"));
     let args = ["build", "b.toml", "--out", "out", "--jobs", "1"];
     for extra in ["", "noexchange,"] {
         let what = format!("{extra}addlate, addnew");
@@ -1257,9 +1263,7 @@ fn what_is_written_into_the_new_build_before_it_is_swapped_back_is_kept() {
 #[test]
 fn an_entry_whose_name_prints_like_a_seen_one_is_not_deleted() {
     use std::os::unix::ffi::OsStrExt;
-    let dir = workspace("lossy-names");
-    let out = dir.join("out");
-    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let (dir, out, old) = a_built(workspace("lossy-names"));
     put_tree(&out, &old);
     let theirs = std::ffi::OsStr::from_bytes(b"a\xff");
     fs::write(out.join(theirs), "seen").unwrap();
@@ -1285,9 +1289,7 @@ fn an_entry_whose_name_prints_like_a_seen_one_is_not_deleted() {
 /// note (it removed all of it, review31a's finding 3).
 #[test]
 fn a_run_killed_before_the_old_build_is_removed_leaves_no_one_s_file_to_the_next() {
-    let dir = workspace("killed-swapped");
-    let out = dir.join("out");
-    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let (dir, out, old) = a_built(workspace("killed-swapped"));
     let new = reference(&dir, &["build", "b.toml"], "ref-new");
     let args = ["build", "b.toml", "--out", "out", "--jobs", "1"];
     for extra in ["", ",noexchange"] {
