@@ -156,6 +156,18 @@ fn kill_sweep(
             Vec::<String>::new(),
             "k={k}: left beside --out"
         );
+        // Nothing of anyone's was in the staging folders: nothing kept aside.
+        let kept = fs::read_dir(dir)
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .contains(".karigami-kept-")
+            })
+            .count();
+        assert_eq!(kept, 0, "k={k}: a build's own files kept aside");
     }
     panic!("the build never completed");
 }
