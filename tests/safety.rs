@@ -73,13 +73,16 @@ fn put_tree(dir: &Path, t: &Tree) {
     }
 }
 
-/// Entries of `dir` whose names start with a dot: staging folders, locks.
-fn hidden(dir: &Path) -> Vec<String> {
+/// The names of the entries of `dir`.
+fn names(dir: &Path) -> impl Iterator<Item = String> {
     fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.'))
-        .collect()
+}
+
+/// Entries of `dir` whose names start with a dot: staging folders, locks.
+fn hidden(dir: &Path) -> Vec<String> {
+    names(dir).filter(|n| n.starts_with('.')).collect()
 }
 
 /// A folder with small recipes: a.toml, b.toml, c.toml (chains of 3, 4 and
@@ -157,16 +160,7 @@ fn kill_sweep(
             "k={k}: left beside --out"
         );
         // Nothing of anyone's was in the staging folders: nothing kept aside.
-        let kept = fs::read_dir(dir)
-            .unwrap()
-            .filter(|e| {
-                e.as_ref()
-                    .unwrap()
-                    .file_name()
-                    .to_string_lossy()
-                    .contains(".karigami-kept-")
-            })
-            .count();
+        let kept = names(dir).filter(|n| n.contains(".karigami-kept-")).count();
         assert_eq!(kept, 0, "k={k}: a build's own files kept aside");
     }
     panic!("the build never completed");
