@@ -12,6 +12,13 @@ use std::path::Path;
 /// Write to a temporary file beside the target, then rename it over the
 /// target: the target is either as it was or complete.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_whole(path, bytes, true)
+}
+
+/// `write_atomic`, or with `replace` false a file that must not exist yet:
+/// the temporary file is linked to its name, which fails if it is taken
+/// (however recently), then unlinked.
+fn write_whole(path: &Path, bytes: &[u8], replace: bool) -> io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?;
@@ -23,7 +30,13 @@ pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         f.write_all(bytes)?;
         fault::sync(&f)?;
         fault::commit("rename over the target");
-        fs::rename(&tmp, path)?;
+        if replace {
+            fs::rename(&tmp, path)?;
+        } else {
+            fs::hard_link(&tmp, path)?;
+            // Written either way: a temporary left is tidied by a later run.
+            let _ = fs::remove_file(&tmp);
+        }
         // The new name made durable too (a failure here loses nothing).
         if let Ok(folder) = fs::File::open(dir_of(path)) {
             let _ = fault::sync(&folder);
@@ -168,8 +181,7 @@ impl OutFile<'_> {
         let mut beside = self.path.as_os_str().to_owned();
         beside.push(".tuned");
         let beside = Path::new(&beside);
-        let free = fs::symlink_metadata(beside).is_err_and(|e| e.kind() == io::ErrorKind::NotFound);
-        let put = if free && write_atomic(beside, bytes).is_ok() {
+        let put = if write_whole(beside, bytes, false).is_ok() {
             format!("the tuned recipe is in {}", beside.display())
         } else {
             let mut stdout = io::stdout().lock();
