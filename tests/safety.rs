@@ -1298,32 +1298,59 @@ fn a_run_killed_before_the_old_build_is_removed_leaves_no_one_s_file_to_the_next
     let (dir, out, old) = a_built(workspace("killed-swapped"));
     let new = reference(&dir, &["build", "b.toml"], "ref-new");
     let args = ["build", "b.toml", "--out", "out", "--jobs", "1"];
-    for extra in ["", ",noexchange"] {
-        // The step that removes the earlier build, found by killing at each.
-        let killed = (1..200).find(|k| {
-            put_tree(&out, &old);
-            let fault = format!("addgone@sub/gone.txt,abort@{k}{extra}");
-            let o = run(&args, &dir, Some(&fault));
-            assert!(!o.status.success(), "{extra} k={k}: {}", text(&o.stderr));
-            text(&o.stderr).contains("(remove the old build)")
-        });
-        assert!(killed.is_some(), "{extra}: never killed there");
-        assert!(tree(&out) == new, "{extra}: the new build is in place");
-        let staging = hidden(&dir).into_iter().filter(|n| !n.ends_with("-lock"));
-        assert_eq!(staging.count(), 1, "{extra}: the earlier build beside");
-        let o = run(&args, &dir, None);
-        let stderr = text(&o.stderr);
-        assert!(o.status.success(), "{extra}: {stderr}");
-        assert!(
-            stderr.contains("held files the build had not written (added while it was out); they are kept in out.karigami-kept-1")
-                && !stderr.contains("removed 1 staging folder"),
-            "{extra}: {stderr}"
-        );
-        let kept = tree(&dir.join("out.karigami-kept-1"));
-        assert_eq!(kept.keys().collect::<Vec<_>>(), ["sub/gone.txt"], "{extra}");
-        assert!(tree(&out) == new, "{extra}: the new build");
-        fs::remove_dir_all(dir.join("out.karigami-kept-1")).unwrap();
-        assert_eq!(hidden(&dir), Vec::<String>::new(), "{extra}");
+    let foreign = Tree::from([("mine.txt".to_string(), b"mine".to_vec())]);
+    // An earlier build with a file added as it was swapped out; a folder
+    // of the user's that --force replaces (no marker: it was removed whole).
+    let cases = [
+        (
+            &old,
+            "addgone@sub/gone.txt,",
+            "sub/gone.txt",
+            "held files the build had not written (added while it was out); they are kept in out.karigami-kept-1",
+        ),
+        (
+            &foreign,
+            "",
+            "mine.txt",
+            "the folder an interrupted run was replacing (with --force) was left beside out; it is kept in out.karigami-kept-1",
+        ),
+    ];
+    for (before, add, theirs, note) in cases {
+        for extra in ["", ",noexchange"] {
+            let what = format!("{add}{extra}");
+            let mut args = args.to_vec();
+            if before == &foreign {
+                args.push("--force");
+            }
+            // The step that removes the earlier folder, found by killing at each.
+            let killed = (1..200).find(|k| {
+                put_tree(&out, before);
+                let o = run(&args, &dir, Some(&format!("{add}abort@{k}{extra}")));
+                assert!(!o.status.success(), "{what} k={k}: {}", text(&o.stderr));
+                // A folder a kill at an earlier step set aside, which this
+                // run's recover kept (put_tree made --out again meanwhile).
+                for n in names(&dir).filter(|n| n.starts_with("out.karigami-kept-")) {
+                    fs::remove_dir_all(dir.join(n)).unwrap();
+                }
+                text(&o.stderr).contains("(remove the old build)")
+            });
+            assert!(killed.is_some(), "{what}: never killed there");
+            assert!(tree(&out) == new, "{what}: the new build is in place");
+            let staging = hidden(&dir).into_iter().filter(|n| !n.ends_with("-lock"));
+            assert_eq!(staging.count(), 1, "{what}: the earlier folder beside");
+            let o = run(&args[..6], &dir, None);
+            let stderr = text(&o.stderr);
+            assert!(o.status.success(), "{what}: {stderr}");
+            assert!(
+                stderr.contains(note) && !stderr.contains("removed 1 staging folder"),
+                "{what}: {stderr}"
+            );
+            let kept = tree(&dir.join("out.karigami-kept-1"));
+            assert_eq!(kept.keys().collect::<Vec<_>>(), [theirs], "{what}");
+            assert!(tree(&out) == new, "{what}: the new build");
+            fs::remove_dir_all(dir.join("out.karigami-kept-1")).unwrap();
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{what}");
+        }
     }
 }
 

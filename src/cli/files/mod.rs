@@ -35,6 +35,9 @@ use std::path::{Path, PathBuf};
 /// The marker file of a build folder, and its first line.
 pub(super) const MARKER: &str = ".karigami-build";
 const MARKER_HEAD: &str = "karigami build folder";
+/// A staging folder's tag until its marker is written: a staging folder
+/// that still has it was never `--out`, and all of it is the build's.
+const STAGING: &str = ".karigami-staging";
 /// Bumped when the layout of a build folder changes incompatibly.
 const FORMAT: u32 = 1;
 

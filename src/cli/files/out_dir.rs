@@ -5,7 +5,8 @@
 use super::lock::take_lock;
 use super::record::Earlier;
 use super::{
-    Cleared, MARKER, MARKER_HEAD, clear, hidden, is_folder, listed, own_entries, remove_any,
+    Cleared, MARKER, MARKER_HEAD, STAGING, clear, hidden, is_folder, listed, own_entries,
+    remove_any,
 };
 use crate::cli::error::Error;
 use karigami::ErrorKind;
@@ -166,22 +167,29 @@ impl OutDir {
         Ok(())
     }
 
-    /// Remove a staging folder an interrupted run left. One with a marker
-    /// may have been the folder (a build swapped out, killed before its
-    /// removal), and what someone put in it then is theirs: only what the
-    /// marker lists goes, the rest is kept beside the folder, visible.
-    /// One without was never the folder: all of it is the build's.
-    /// Whether it was removed whole.
+    /// Remove a staging folder an interrupted run left. One still tagged
+    /// (`STAGING`) was never the folder: all of it is the build's. Any
+    /// other may have been (swapped out, the run killed before its
+    /// removal), and what someone put in it then is theirs: only what its
+    /// marker lists goes (nothing, without one: a folder `--force` was
+    /// replacing), the rest is kept beside the folder, visible. Whether it
+    /// was removed whole.
     fn tidy(&mut self, path: &Path) -> io::Result<bool> {
-        let Some(marker) = fs::read_to_string(path.join(MARKER))
-            .ok()
-            .filter(|t| t.starts_with(MARKER_HEAD))
-        else {
+        let tagged = fs::symlink_metadata(path.join(STAGING)).is_ok();
+        if tagged || !fs::symlink_metadata(path)?.is_dir() {
             return remove_any(path).map(|()| true);
-        };
+        }
+        let marker = fs::read_to_string(path.join(MARKER))
+            .ok()
+            .filter(|t| t.starts_with(MARKER_HEAD));
+        let own = own_entries(marker.as_deref().map(listed).into_iter().flatten());
         let shown = self.target.display();
-        match clear(path, &own_entries(listed(&marker)), &self.target)? {
+        match clear(path, &own, &self.target)? {
             Cleared::Gone => return Ok(true),
+            Cleared::Kept { aside, .. } if marker.is_none() => self.notes.push(format!(
+                "the folder an interrupted run was replacing (with --force) was left beside {shown}; it is kept in {}: delete it if it is not needed",
+                aside.display()
+            )),
             Cleared::Kept { aside, theirs } => self.notes.push(if theirs {
                 format!(
                     "a staging folder an interrupted run left beside {shown} held files the build had not written (added while it was {shown}); they are kept in {}",

@@ -3,7 +3,9 @@
 
 use super::super::fault;
 use super::record::{RECORDS_HEAD, line};
-use super::{Cleared, FORMAT, MARKER, MARKER_HEAD, OutDir, clear, hidden, own_entries, remove_any};
+use super::{
+    Cleared, FORMAT, MARKER, MARKER_HEAD, OutDir, STAGING, clear, hidden, own_entries, remove_any,
+};
 use crate::cli::error::Error;
 use std::collections::BTreeSet;
 use std::ffi::OsString;
@@ -168,6 +170,7 @@ impl<'a> Staged<'a> {
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
         remove_any(&fresh)?;
         fs::create_dir(&fresh)?;
+        File::create(fresh.join(STAGING))?;
         Ok(Self {
             out,
             fresh,
@@ -201,7 +204,11 @@ impl<'a> Staged<'a> {
         fault::write(MARKER)?;
         let mut f = File::create(self.fresh.join(MARKER))?;
         f.write_all(text.as_bytes())?;
-        fault::sync(&f)
+        fault::sync(&f)?;
+        // The tag goes once the marker is there (the folder's own flush,
+        // after this, makes it durable): a staging folder has one or the
+        // other at every instant.
+        fs::remove_file(self.fresh.join(STAGING))
     }
 
     /// Write files (paths relative to `sub` inside the folder). Each path
