@@ -9,8 +9,10 @@
 //! the next run repairs (the set-aside `.OUT.karigami-old-PID` is put back).
 //! A lock file beside the folder (`.OUT.karigami-lock`) keeps two runs from
 //! writing the same folder; whoever holds it removes staging folders that
-//! killed runs left behind. Build folders carry a marker file written only
-//! by builds, so that nothing else is mistaken for one.
+//! killed runs left behind: whole if one was never `--out` (it is still
+//! tagged), else only the files a build wrote, keeping the rest aside.
+//! Build folders carry a marker file written only by builds, so that
+//! nothing else is mistaken for one.
 
 mod atomic;
 mod input;
