@@ -73,13 +73,16 @@ fn put_tree(dir: &Path, t: &Tree) {
     }
 }
 
-/// Entries of `dir` whose names start with a dot: staging folders, locks.
-fn hidden(dir: &Path) -> Vec<String> {
+/// The names of the entries of `dir`.
+fn names(dir: &Path) -> impl Iterator<Item = String> {
     fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with('.'))
-        .collect()
+}
+
+/// Entries of `dir` whose names start with a dot: staging folders, locks.
+fn hidden(dir: &Path) -> Vec<String> {
+    names(dir).filter(|n| n.starts_with('.')).collect()
 }
 
 /// A folder with small recipes: a.toml, b.toml, c.toml (chains of 3, 4 and
@@ -156,6 +159,9 @@ fn kill_sweep(
             Vec::<String>::new(),
             "k={k}: left beside --out"
         );
+        // Nothing of anyone's was in the staging folders: nothing kept aside.
+        let kept = names(dir).filter(|n| n.contains(".karigami-kept-")).count();
+        assert_eq!(kept, 0, "k={k}: a build's own files kept aside");
     }
     panic!("the build never completed");
 }
@@ -1026,6 +1032,11 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
             "--out notelink is a symbolic link (to note.txt)",
         ),
         ("linkdir", 3, "--out linkdir is a symbolic link (to folder)"),
+        (
+            "linkdir/",
+            3,
+            "--out linkdir/ is a symbolic link (to folder)",
+        ),
     ]);
     for (out, code, message) in cases {
         for force in [false, true] {
@@ -1051,6 +1062,10 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
             assert_eq!(hidden(&dir), Vec::<String>::new(), "{args:?}");
         }
     }
+    // --force without --out has nothing to overwrite: a usage error.
+    let o = run(&["tune", "h.toml", "--force"], &dir, None);
+    says(&o, 2, "--out");
+    assert!(tree(&dir) == before);
     let o = run(
         &["tune", "h.toml", "--out", "existing.txt", "--force"],
         &dir,
@@ -1199,6 +1214,180 @@ fn what_appears_in_out_during_a_build_is_never_deleted() {
         fs::remove_dir_all(&out).unwrap();
         assert_eq!(hidden(&dir), Vec::<String>::new());
     }
+}
+
+/// A workspace (`dir`), its --out folder (not made yet) and the files of a
+/// build of a.toml, which the tests put into --out before building b.toml.
+fn a_built(dir: PathBuf) -> (PathBuf, PathBuf, Tree) {
+    let old = reference(&dir, &["build", "a.toml"], "ref-old");
+    let out = dir.join("out");
+    (dir, out, old)
+}
+
+/// Files written into --out while the new build is in its place, in the
+/// moment before the second look swaps it back (an entry came into the
+/// earlier build), are the user's: the new build's own files are removed,
+/// theirs kept aside, visible, with a warning (they were deleted with the
+/// staging folder, review31a's finding 1).
+#[test]
+fn what_is_written_into_the_new_build_before_it_is_swapped_back_is_kept() {
+    let (dir, out, old) = a_built(workspace("swapped-back"));
+    let args = ["build", "b.toml", "--out", "out", "--jobs", "1"];
+    for extra in ["", "noexchange,"] {
+        let what = format!("{extra}addlate, addnew");
+        put_tree(&out, &old);
+        let fault = format!("{extra}addlate@late.txt,addnew@sheets/mine.txt");
+        let o = run(&args, &dir, Some(&fault));
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "{what}: {stderr}");
+        assert!(
+            stderr.contains("1 file appeared in out while the build ran: late.txt")
+                && stderr.contains(
+                    "files were written into out while the new build was in its place; they are kept in out.karigami-kept-1"
+                ),
+            "{what}: {stderr}"
+        );
+        let mut now = tree(&out);
+        assert!(now.remove("late.txt").is_some(), "{what}: late.txt is gone");
+        assert!(now == old, "{what}: the earlier build changed");
+        let kept = tree(&dir.join("out.karigami-kept-1"));
+        assert_eq!(
+            kept.keys().collect::<Vec<_>>(),
+            ["sheets/mine.txt"],
+            "{what}: only the user's file is kept"
+        );
+        fs::remove_dir_all(dir.join("out.karigami-kept-1")).unwrap();
+        assert_eq!(hidden(&dir), Vec::<String>::new(), "{what}");
+    }
+}
+
+/// Names are compared as bytes: a name that prints like one the check saw
+/// (`a\xff` and `a\u{FFFD}` both print as `a\u{FFFD}`) is another entry,
+/// which stops the commit and stays (it passed both looks and was
+/// unlinked, review31a's finding 2).
+#[cfg(target_os = "linux")]
+#[test]
+fn an_entry_whose_name_prints_like_a_seen_one_is_not_deleted() {
+    use std::os::unix::ffi::OsStrExt;
+    let (dir, out, old) = a_built(workspace("lossy-names"));
+    put_tree(&out, &old);
+    let theirs = std::ffi::OsStr::from_bytes(b"a\xff");
+    fs::write(out.join(theirs), "seen").unwrap();
+    let args = ["build", "b.toml", "--out", "out", "--force", "--jobs", "1"];
+    let o = run(&args, &dir, Some("add@a\u{FFFD}"));
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("1 file appeared in out while the build ran: a\u{FFFD}"),
+        "{stderr}"
+    );
+    assert_eq!(fs::read_to_string(out.join(theirs)).unwrap(), "seen");
+    assert_eq!(
+        fs::read_to_string(out.join("a\u{FFFD}")).unwrap(),
+        "added while the build ran\n"
+    );
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
+
+/// A run killed after the swap, before the earlier build's removal, leaves
+/// that build (with what came into it meanwhile) at a staging name; the
+/// next run removes only the build's own files and keeps the rest, with a
+/// note (it removed all of it, review31a's finding 3).
+#[test]
+fn a_run_killed_before_the_old_build_is_removed_leaves_no_one_s_file_to_the_next() {
+    let (dir, out, old) = a_built(workspace("killed-swapped"));
+    let new = reference(&dir, &["build", "b.toml"], "ref-new");
+    let args = ["build", "b.toml", "--out", "out", "--jobs", "1"];
+    let foreign = Tree::from([("mine.txt".to_string(), b"mine".to_vec())]);
+    // An earlier build with a file added as it was swapped out; a folder
+    // of the user's that --force replaces (no marker: it was removed whole).
+    let cases = [
+        (
+            &old,
+            "addgone@sub/gone.txt,",
+            "sub/gone.txt",
+            "held files the build had not written (added while it was out); they are kept in out.karigami-kept-1",
+        ),
+        (
+            &foreign,
+            "",
+            "mine.txt",
+            "the folder an interrupted run was replacing (with --force) was left beside out; it is kept in out.karigami-kept-1",
+        ),
+    ];
+    for (before, add, theirs, note) in cases {
+        for extra in ["", ",noexchange"] {
+            let what = format!("{add}{extra}");
+            let mut args = args.to_vec();
+            if before == &foreign {
+                args.push("--force");
+            }
+            // The step that removes the earlier folder, found by killing at each.
+            let killed = (1..200).find(|k| {
+                put_tree(&out, before);
+                let o = run(&args, &dir, Some(&format!("{add}abort@{k}{extra}")));
+                assert!(!o.status.success(), "{what} k={k}: {}", text(&o.stderr));
+                // A folder a kill at an earlier step set aside, which this
+                // run's recover kept (put_tree made --out again meanwhile).
+                for n in names(&dir).filter(|n| n.starts_with("out.karigami-kept-")) {
+                    fs::remove_dir_all(dir.join(n)).unwrap();
+                }
+                text(&o.stderr).contains("(remove the old build)")
+            });
+            assert!(killed.is_some(), "{what}: never killed there");
+            assert!(tree(&out) == new, "{what}: the new build is in place");
+            let staging = hidden(&dir).into_iter().filter(|n| !n.ends_with("-lock"));
+            assert_eq!(staging.count(), 1, "{what}: the earlier folder beside");
+            let o = run(&args[..6], &dir, None);
+            let stderr = text(&o.stderr);
+            assert!(o.status.success(), "{what}: {stderr}");
+            assert!(
+                stderr.contains(note) && !stderr.contains("removed 1 staging folder"),
+                "{what}: {stderr}"
+            );
+            let kept = tree(&dir.join("out.karigami-kept-1"));
+            assert_eq!(kept.keys().collect::<Vec<_>>(), [theirs], "{what}");
+            assert!(tree(&out) == new, "{what}: the new build");
+            fs::remove_dir_all(dir.join("out.karigami-kept-1")).unwrap();
+            assert_eq!(hidden(&dir), Vec::<String>::new(), "{what}");
+        }
+    }
+}
+
+/// `tune X.toml --out X.toml` does not write over an edit made to X.toml
+/// while it tuned: the edit stays, the tuned text goes to X.toml.tuned,
+/// or to stdout when that name is taken (it was overwritten, review31a's
+/// finding 4).
+#[test]
+fn tune_does_not_write_over_an_edit_made_while_it_tuned() {
+    let dir = scratch("tune-edited");
+    let seed = fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    fs::write(dir.join("h.toml"), &seed).unwrap();
+    let o = run(&["tune", "h.toml", "--out", "t.toml"], &dir, None);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let tuned = fs::read(dir.join("t.toml")).unwrap();
+    let edited = format!("{seed}# edited while tuning ran\n");
+    for (put, stdout) in [
+        ("the tuned recipe is in h.toml.tuned", false),
+        ("the tuned recipe was printed on stdout", true),
+    ] {
+        let o = run(&["tune", "h.toml", "--out", "h.toml"], &dir, Some("edit"));
+        let stderr = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "h.toml changed while tuning ran, so it was not overwritten (the change is kept); {put}"
+            )),
+            "{stderr}"
+        );
+        assert_eq!(fs::read_to_string(dir.join("h.toml")).unwrap(), edited);
+        assert_eq!(fs::read(dir.join("h.toml.tuned")).unwrap(), tuned);
+        if stdout {
+            assert_eq!(o.stdout, tuned);
+        }
+        fs::write(dir.join("h.toml"), &seed).unwrap();
+    }
+    assert_eq!(hidden(&dir), Vec::<String>::new());
 }
 
 /// A user's empty folder in a build folder is refused like an added file

@@ -114,8 +114,8 @@ pub(super) enum Command {
         /// Designs of `method = "evolution"` costed at once (default: all cores). The result does not depend on it.
         #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
-        /// Overwrite an existing --out file (the recipe itself is always written back).
-        #[arg(long)]
+        /// Overwrite an existing --out file (the recipe itself is written back unless edited meanwhile).
+        #[arg(long, requires = "out")]
         force: bool,
     },
     /// Write a starter recipe from a template.

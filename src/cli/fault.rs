@@ -16,7 +16,12 @@
 //!   before a commit checks what appeared in it while the build ran
 //!   (`add`), just after that check, before the swap (`addlate`), or in
 //!   the build swapped out, once it was checked again (`addgone`, as a
-//!   program whose current folder is inside --out would);
+//!   program whose current folder is inside --out would), or into --out
+//!   just after the swap, before the second check (`addnew`: a user
+//!   writing into the new build);
+//! - `edit`: not a fault but a user: append a line to the file `tune
+//!   --out` writes, just before it is written (an edit made while tuning
+//!   ran);
 //! - `firstnote@MS`: not a fault but the tests' clock: a phase off a
 //!   terminal prints its first progress line after MS milliseconds instead
 //!   of 2 s, so that a test sees one however fast the machine builds.
@@ -33,10 +38,11 @@ struct Plan {
     enospc_from: Option<usize>,
     no_exchange: bool,
     no_sync: bool,
+    edit: bool,
     sync_fail_at: Option<usize>,
     first_note_ms: Option<u64>,
-    /// `add`, `addlate` and `addgone` (`Moment`).
-    add: [Option<String>; 3],
+    /// `add`, `addlate`, `addgone` and `addnew` (`Moment`).
+    add: [Option<String>; 4],
 }
 
 fn plan() -> &'static Plan {
@@ -55,8 +61,10 @@ fn plan() -> &'static Plan {
                 Some(("add", rel)) => plan.add[0] = Some(rel.to_string()),
                 Some(("addlate", rel)) => plan.add[1] = Some(rel.to_string()),
                 Some(("addgone", rel)) => plan.add[2] = Some(rel.to_string()),
+                Some(("addnew", rel)) => plan.add[3] = Some(rel.to_string()),
                 _ if item == "noexchange" => plan.no_exchange = true,
                 _ if item == "nosync" => plan.no_sync = true,
+                _ if item == "edit" => plan.edit = true,
                 _ => {}
             }
         }
@@ -99,6 +107,9 @@ pub(super) enum Moment {
     BeforeSwap,
     /// Into the build swapped out, once checked again (`addgone@REL`).
     SwappedOut,
+    /// Into the new build just swapped in, before the second check
+    /// (`addnew@REL`).
+    SwappedIn,
 }
 
 /// A user adds an entry to the folder `dir` at the moment `at`.
@@ -129,6 +140,21 @@ fn link(to: &str, at: &std::path::Path) -> io::Result<()> {
 #[cfg(not(unix))]
 fn link(_: &str, _: &std::path::Path) -> io::Result<()> {
     Err(io::Error::other("no symbolic links here"))
+}
+
+/// A user edits the file at `path` (`edit`).
+pub(super) fn edit(path: &std::path::Path) {
+    if !plan().edit {
+        return;
+    }
+    use std::io::Write;
+    let edited = std::fs::OpenOptions::new()
+        .append(true)
+        .open(path)
+        .and_then(|mut f| f.write_all(b"# edited while tuning ran\n"));
+    if let Err(e) = edited {
+        eprintln!("fault: cannot edit {}: {e}", path.display());
+    }
 }
 
 /// When a phase's first progress line is due (`firstnote@MS`), if set.

@@ -21,7 +21,7 @@ pub(super) fn tune(
     let recipe = Recipe::read(path)?;
     // A refusal before the work, not after minutes of tuning.
     let out = out
-        .map(|(o, force)| files::OutFile::check(o, path, force))
+        .map(|(o, force)| files::OutFile::check(o, (path, &recipe.source), force))
         .transpose()?;
     let out = out.as_ref();
     let design = recipe.parse(&Overrides::default())?;

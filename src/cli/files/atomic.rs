@@ -12,6 +12,13 @@ use std::path::Path;
 /// Write to a temporary file beside the target, then rename it over the
 /// target: the target is either as it was or complete.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_whole(path, bytes, true)
+}
+
+/// `write_atomic`, or with `replace` false a file that must not exist yet:
+/// the temporary file is linked to its name, which fails if it is taken
+/// (however recently), then unlinked.
+fn write_whole(path: &Path, bytes: &[u8], replace: bool) -> io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?;
@@ -23,7 +30,13 @@ pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
         f.write_all(bytes)?;
         fault::sync(&f)?;
         fault::commit("rename over the target");
-        fs::rename(&tmp, path)?;
+        if replace {
+            fs::rename(&tmp, path)?;
+        } else {
+            fs::hard_link(&tmp, path)?;
+            // Written either way: a temporary left is tidied by a later run.
+            let _ = fs::remove_file(&tmp);
+        }
         // The new name made durable too (a failure here loses nothing).
         if let Ok(folder) = fs::File::open(dir_of(path)) {
             let _ = fault::sync(&folder);
@@ -71,23 +84,32 @@ fn remove_stale_temporaries(path: &Path, prefix: &str) {
 /// work and again just before the write, which is atomic (`write_atomic`).
 /// A link is always refused (the rename would replace the link, not the
 /// file it leads to), and so is a folder; an existing file other than the
-/// recipe only with `--force`; the recipe itself is written back.
+/// recipe only with `--force`; the recipe itself is written back, unless
+/// it was edited meanwhile.
 pub(crate) struct OutFile<'a> {
     path: &'a Path,
     force: bool,
-    /// Whether `path` named the recipe being tuned (the same file).
-    recipe: bool,
+    /// The recipe's text as it was read, if `path` named the recipe being
+    /// tuned (the same file).
+    recipe: Option<&'a str>,
 }
 
 impl<'a> OutFile<'a> {
-    /// Check `path` before any work (`recipe`: the file being tuned).
-    pub(crate) fn check(path: &'a Path, recipe: &Path, force: bool) -> Result<Self, Error> {
+    /// Check `path` before any work (`recipe`: the file being tuned, and
+    /// its text as read).
+    pub(crate) fn check(
+        path: &'a Path,
+        (recipe, text): (&Path, &'a str),
+        force: bool,
+    ) -> Result<Self, Error> {
         let mut out = Self {
             path,
             force,
-            recipe: false,
+            recipe: None,
         };
-        out.recipe = fs::symlink_metadata(path).is_ok_and(|m| same_file(&m, path, recipe));
+        out.recipe = fs::symlink_metadata(path)
+            .is_ok_and(|m| same_file(&m, path, recipe))
+            .then_some(text);
         out.refusal()?;
         Ok(out)
     }
@@ -99,13 +121,15 @@ impl<'a> OutFile<'a> {
     /// Why the file must not be written now, if it must not.
     fn refusal(&self) -> Result<(), Error> {
         let shown = self.path.display();
-        let meta = match fs::symlink_metadata(self.path) {
+        // `link/` names what the link leads to: the link itself is checked.
+        let bare: std::path::PathBuf = self.path.components().collect();
+        let meta = match fs::symlink_metadata(&bare) {
             Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
             Err(e) => return Err(Error::io(format!("cannot read {shown}: {e}"))),
             Ok(m) => m,
         };
         if meta.file_type().is_symlink() {
-            let to = fs::read_link(self.path)
+            let to = fs::read_link(&bare)
                 .map(|t| t.display().to_string())
                 .unwrap_or_default();
             return Err(Error::new(
@@ -120,7 +144,7 @@ impl<'a> OutFile<'a> {
                 "--out {shown} is a folder; give the name of the file to write, such as --out tuned.toml"
             )));
         }
-        if !self.recipe && !self.force {
+        if self.recipe.is_none() && !self.force {
             return Err(Error::usage(format!(
                 "{shown} exists; choose another --out, or pass --force to overwrite it (`tune X.toml --out X.toml` writes the recipe back)"
             )));
@@ -129,15 +153,44 @@ impl<'a> OutFile<'a> {
     }
 
     /// Write `bytes` to the file, after checking it again: what appeared
-    /// there while tuning is not overwritten unasked either.
+    /// there while tuning is not overwritten unasked either, nor an edit
+    /// made to the recipe meanwhile (`edited`).
     pub(crate) fn write(&self, bytes: &[u8]) -> Result<(), Error> {
         self.refusal()?;
+        fault::edit(self.path);
+        if let Some(text) = self.recipe
+            && fs::read(self.path).ok().as_deref() != Some(text.as_bytes())
+        {
+            return Err(self.edited(bytes));
+        }
         write_atomic(self.path, bytes).map_err(|e| {
             Error::io(format!(
                 "cannot write {}: {e}; it was left as it was",
                 self.path.display()
             ))
         })
+    }
+}
+
+impl OutFile<'_> {
+    /// The recipe written back was edited (or removed) while tuning ran:
+    /// the edit is the user's and stays; the tuned text goes beside it,
+    /// as `X.toml.tuned` if that name is free, else to stdout.
+    fn edited(&self, bytes: &[u8]) -> Error {
+        let shown = self.path.display();
+        let mut beside = self.path.as_os_str().to_owned();
+        beside.push(".tuned");
+        let beside = Path::new(&beside);
+        let put = if write_whole(beside, bytes, false).is_ok() {
+            format!("the tuned recipe is in {}", beside.display())
+        } else {
+            let mut stdout = io::stdout().lock();
+            let _ = stdout.write_all(bytes).and_then(|()| stdout.flush());
+            "the tuned recipe was printed on stdout".to_string()
+        };
+        Error::io(format!(
+            "{shown} changed while tuning ran, so it was not overwritten (the change is kept); {put}"
+        ))
     }
 }
 

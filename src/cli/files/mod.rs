@@ -9,8 +9,10 @@
 //! the next run repairs (the set-aside `.OUT.karigami-old-PID` is put back).
 //! A lock file beside the folder (`.OUT.karigami-lock`) keeps two runs from
 //! writing the same folder; whoever holds it removes staging folders that
-//! killed runs left behind. Build folders carry a marker file written only
-//! by builds, so that nothing else is mistaken for one.
+//! killed runs left behind: whole if one was never `--out` (it is still
+//! tagged), else only the files a build wrote, keeping the rest aside.
+//! Build folders carry a marker file written only by builds, so that
+//! nothing else is mistaken for one.
 
 mod atomic;
 mod input;
@@ -26,14 +28,18 @@ pub(super) use out_dir::OutDir;
 pub(super) use record::{inputs, start_program_hash};
 pub(super) use staged::Staged;
 
-use std::ffi::OsStr;
+use std::collections::BTreeSet;
+use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The marker file of a build folder, and its first line.
 pub(super) const MARKER: &str = ".karigami-build";
 const MARKER_HEAD: &str = "karigami build folder";
+/// A staging folder's tag until its marker is written: a staging folder
+/// that still has it was never `--out`, and all of it is the build's.
+const STAGING: &str = ".karigami-staging";
 /// Bumped when the layout of a build folder changes incompatibly.
 const FORMAT: u32 = 1;
 
@@ -57,14 +63,23 @@ fn hidden(name: &OsStr, suffix: &str) -> String {
 }
 
 /// Visit every entry under `root`, folders before their contents, without
-/// following links: `visit(path, is_folder)`.
+/// following links: `visit(path, is_folder)`. An entry removed while it
+/// is listed is skipped (someone tidying the folder), not an error.
 fn walk(root: &Path, mut visit: impl FnMut(&Path, bool) -> io::Result<()>) -> io::Result<()> {
+    let gone = |e: &io::Error| e.kind() == io::ErrorKind::NotFound;
     let mut stack = vec![root.to_path_buf()];
     while let Some(dir) = stack.pop() {
-        for entry in fs::read_dir(&dir)? {
+        let list = match fs::read_dir(&dir) {
+            Err(e) if gone(&e) && dir != root => continue,
+            list => list?,
+        };
+        for entry in list {
             let entry = entry?;
             let path = entry.path();
-            let folder = entry.file_type()?.is_dir();
+            let folder = match entry.file_type() {
+                Err(e) if gone(&e) => continue,
+                kind => kind?.is_dir(),
+            };
             visit(&path, folder)?;
             if folder {
                 stack.push(path);
@@ -81,4 +96,68 @@ fn remove_any(path: &Path) -> io::Result<()> {
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
         Err(e) => Err(e),
     }
+}
+
+/// The files a build folder's marker (its text) lists as the build's own.
+fn listed(marker: &str) -> impl Iterator<Item = &str> {
+    marker
+        .split_once("\nfiles:\n")
+        .map_or("", |(_, l)| l)
+        .lines()
+        .take_while(|l| !l.is_empty())
+}
+
+/// Whether an entry (as `out_dir::entries` lists them) is a folder: its
+/// name ends in `/`.
+fn is_folder(entry: &OsStr) -> bool {
+    entry.as_encoded_bytes().ends_with(b"/")
+}
+
+/// The entries a build owns in its folder, as `out_dir::entries` lists
+/// them: its `files`, the folders they are in, and the marker.
+fn own_entries<'a>(files: impl IntoIterator<Item = &'a str>) -> BTreeSet<OsString> {
+    let mut own = BTreeSet::from([OsString::from(MARKER)]);
+    for file in files {
+        own.insert(file.into());
+        for folder in Path::new(file).ancestors().skip(1) {
+            if !folder.as_os_str().is_empty() {
+                let mut folder = folder.as_os_str().to_os_string();
+                folder.push("/");
+                own.insert(folder);
+            }
+        }
+    }
+    own
+}
+
+/// What became of a folder that may hold someone's entries (`clear`).
+enum Cleared {
+    /// It held only the build's own entries: it is gone.
+    Gone,
+    /// Entries were left: the folder was moved here (`aside`), beside the
+    /// target, visible, for the user; `theirs` when any is someone's, not
+    /// one of the build's that could not be removed.
+    Kept { aside: PathBuf, theirs: bool },
+    /// Someone's entries were left and it could not be moved: still there.
+    Left,
+}
+
+/// Remove from `dir` (a folder that was, or may have been, the target) only
+/// the entries `own` names; anything else is someone's, and the folder
+/// holding it is moved beside `target` as `OUT.karigami-kept-N`, not left
+/// at a staging name that a later run tidies away.
+fn clear(dir: &Path, own: &BTreeSet<OsString>, target: &Path) -> io::Result<Cleared> {
+    if remove::remove_seen(dir, own)? {
+        return Ok(Cleared::Gone);
+    }
+    let theirs = out_dir::entries(dir).map_or(true, |left| left.iter().any(|e| !own.contains(e)));
+    let name = target.file_name().unwrap_or_default();
+    for n in 1..100 {
+        // `OUT.karigami-kept-N`: `hidden`'s name (short enough) without its dot.
+        let aside = target.with_file_name(&hidden(name, &format!("kept-{n}"))[1..]);
+        if fs::symlink_metadata(&aside).is_err() && fs::rename(dir, &aside).is_ok() {
+            return Ok(Cleared::Kept { aside, theirs });
+        }
+    }
+    Ok(Cleared::Left)
 }

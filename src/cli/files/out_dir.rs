@@ -4,12 +4,15 @@
 
 use super::lock::take_lock;
 use super::record::Earlier;
-use super::{MARKER, MARKER_HEAD, hidden, remove_any};
+use super::{
+    Cleared, MARKER, MARKER_HEAD, STAGING, clear, hidden, is_folder, listed, own_entries,
+    remove_any,
+};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
 use karigami::util::plural;
 use std::collections::BTreeSet;
-use std::ffi::OsStr;
+use std::ffi::{OsStr, OsString};
 use std::fs::{self, File};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -42,7 +45,8 @@ pub(crate) struct OutDir {
     /// Every entry the folder held when checked under the lock (`entries`):
     /// all that a commit may delete. Whatever else appears in it while
     /// the build runs is someone's, and stops the commit (`appeared`).
-    pub(super) seen: BTreeSet<String>,
+    /// Kept byte for byte: two names that print alike are not the same.
+    pub(super) seen: BTreeSet<OsString>,
     lock: (PathBuf, File),
 }
 impl Drop for OutDir {
@@ -118,7 +122,8 @@ impl OutDir {
     /// Staging folders of earlier runs of this folder (we hold the lock, so
     /// their runs are over): a set-aside old build comes back if the folder
     /// is missing (a run died between the two renames of a commit); every
-    /// other one is removed.
+    /// other one is removed, but for what someone put in it while it was
+    /// the folder (`tidy`).
     fn recover(&mut self) -> io::Result<()> {
         let new_prefix = hidden(&self.name, "new-");
         let old_prefix = hidden(&self.name, "old-");
@@ -126,10 +131,13 @@ impl OutDir {
         let mut old: Vec<PathBuf> = Vec::new();
         for entry in fs::read_dir(&self.parent)? {
             let entry = entry?;
-            let file = entry.file_name().to_string_lossy().into_owned();
+            let file = entry.file_name();
             for (prefix, list) in [(&new_prefix, &mut stale), (&old_prefix, &mut old)] {
-                let pid = file.strip_prefix(prefix.as_str()).unwrap_or_default();
-                if !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) {
+                let pid = file
+                    .as_encoded_bytes()
+                    .strip_prefix(prefix.as_bytes())
+                    .unwrap_or_default();
+                if !pid.is_empty() && pid.iter().all(u8::is_ascii_digit) {
                     list.push(entry.path());
                 }
             }
@@ -145,18 +153,62 @@ impl OutDir {
             ));
         }
         stale.extend(old);
+        let mut removed = 0;
         for path in &stale {
-            remove_any(path)?;
+            removed += usize::from(self.tidy(path)?);
         }
-        if !stale.is_empty() {
+        if removed > 0 {
             self.notes.push(format!(
-                "removed {} staging folder{} left beside {} by interrupted runs",
-                stale.len(),
-                if stale.len() == 1 { "" } else { "s" },
+                "removed {removed} staging folder{} left beside {} by interrupted runs",
+                if removed == 1 { "" } else { "s" },
                 self.target.display()
             ));
         }
         Ok(())
+    }
+
+    /// Remove a staging folder an interrupted run left. One still tagged
+    /// (`STAGING`) was never the folder: all of it is the build's. Any
+    /// other may have been (swapped out, the run killed before its
+    /// removal), and what someone put in it then is theirs: only what its
+    /// marker lists goes (nothing, without one: a folder `--force` was
+    /// replacing), the rest is kept beside the folder, visible. Whether it
+    /// was removed whole.
+    fn tidy(&mut self, path: &Path) -> io::Result<bool> {
+        let tagged = fs::symlink_metadata(path.join(STAGING)).is_ok();
+        if tagged || !fs::symlink_metadata(path)?.is_dir() {
+            return remove_any(path).map(|()| true);
+        }
+        let marker = fs::read_to_string(path.join(MARKER))
+            .ok()
+            .filter(|t| t.starts_with(MARKER_HEAD));
+        let own = own_entries(marker.as_deref().map(listed).into_iter().flatten());
+        let shown = self.target.display();
+        match clear(path, &own, &self.target)? {
+            Cleared::Gone => return Ok(true),
+            Cleared::Kept { aside, .. } if marker.is_none() => self.notes.push(format!(
+                "the folder an interrupted run was replacing (with --force) was left beside {shown}; it is kept in {}: delete it if it is not needed",
+                aside.display()
+            )),
+            Cleared::Kept { aside, theirs } => self.notes.push(if theirs {
+                format!(
+                    "a staging folder an interrupted run left beside {shown} held files the build had not written (added while it was {shown}); they are kept in {}",
+                    aside.display()
+                )
+            } else {
+                format!(
+                    "a staging folder an interrupted run left beside {shown} could not be removed whole; what is left of it is in {}",
+                    aside.display()
+                )
+            }),
+            Cleared::Left => {
+                return Err(io::Error::other(format!(
+                    "{} holds files the build had not written and cannot be moved aside; move them out",
+                    path.display()
+                )));
+            }
+        }
+        Ok(false)
     }
 }
 
@@ -166,7 +218,7 @@ fn classify(
     target: &Path,
     inputs: &[PathBuf],
     force: bool,
-) -> Result<(Previous, BTreeSet<String>), Error> {
+) -> Result<(Previous, BTreeSet<OsString>), Error> {
     let refuse = Error::new;
     let shown = target.display();
     let meta = match fs::symlink_metadata(target) {
@@ -225,7 +277,7 @@ fn classify(
         ));
     }
     let seen = entries(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
-    let files: Vec<String> = seen.iter().filter(|e| !e.ends_with('/')).cloned().collect();
+    let files = lossy(seen.iter().filter(|e| !is_folder(e)).cloned().collect());
     if let Some(ours) = fs::read_to_string(target.join(MARKER))
         .ok()
         .filter(|t| t.starts_with(MARKER_HEAD))
@@ -233,26 +285,9 @@ fn classify(
         // Files (and folders) someone added to a build folder are not the
         // tool's to delete without asking; the build's own folders are
         // those that hold its files.
-        let listed: BTreeSet<&str> = ours
-            .split_once("\nfiles:\n")
-            .map_or("", |(_, l)| l)
-            .lines()
-            .take_while(|l| !l.is_empty())
-            .collect();
-        let folders: BTreeSet<String> = listed
-            .iter()
-            .flat_map(|f| Path::new(f).ancestors().skip(1))
-            .filter(|a| !a.as_os_str().is_empty())
-            .map(|a| format!("{}/", a.display()))
-            .collect();
-        let added: Vec<String> = seen
-            .iter()
-            .filter(|e| {
-                e.as_str() != MARKER && !listed.contains(e.as_str()) && !folders.contains(*e)
-            })
-            .cloned()
-            .collect();
-        let added = outermost(added);
+        let own = own_entries(listed(&ours));
+        let added = seen.iter().filter(|e| !own.contains(*e)).cloned().collect();
+        let added = lossy(outermost(added));
         if added.is_empty() {
             return Ok((Previous::Build, seen));
         }
@@ -381,15 +416,16 @@ fn counted(entries: &[String]) -> String {
 
 /// `entries` (sorted) without those inside a folder among them: a folder
 /// someone added is named, not every file in it.
-fn outermost(entries: Vec<String>) -> Vec<String> {
-    // Sorted, a folder's contents follow it at once.
-    let mut kept: Vec<String> = Vec::with_capacity(entries.len());
-    let mut folder: Option<String> = None;
+fn outermost(entries: Vec<OsString>) -> Vec<OsString> {
+    // Sorted (byte by byte), a folder's contents follow it at once.
+    let mut kept: Vec<OsString> = Vec::with_capacity(entries.len());
+    let mut folder: Option<OsString> = None;
     for e in entries {
-        if folder.as_ref().is_some_and(|f| e.starts_with(f.as_str())) {
+        let inside = |f: &OsString| e.as_encoded_bytes().starts_with(f.as_encoded_bytes());
+        if folder.as_ref().is_some_and(inside) {
             continue;
         }
-        if e.ends_with('/') {
+        if is_folder(&e) {
             folder = Some(e.clone());
         }
         kept.push(e);
@@ -397,17 +433,30 @@ fn outermost(entries: Vec<String>) -> Vec<String> {
     kept
 }
 
+/// Entries as the user is told of them (names that are not UTF-8 shown
+/// with a replacement character: for messages only, never to match).
+fn lossy(entries: Vec<OsString>) -> Vec<String> {
+    entries
+        .into_iter()
+        .map(|e| e.to_string_lossy().into_owned())
+        .collect()
+}
+
 /// Every entry under `dir` (relative, sorted; a folder's name ends in
 /// `/`), without following links: files, links, folders, empty or not.
-fn entries(dir: &Path) -> io::Result<BTreeSet<String>> {
+/// Names are kept as they are: two that print alike stay apart.
+pub(super) fn entries(dir: &Path) -> io::Result<BTreeSet<OsString>> {
     let mut out = BTreeSet::new();
     super::walk(dir, |path, folder| {
-        let rel = path.strip_prefix(dir).unwrap_or(path).display();
-        out.insert(if folder {
-            format!("{rel}/")
-        } else {
-            rel.to_string()
-        });
+        let mut rel = path
+            .strip_prefix(dir)
+            .unwrap_or(path)
+            .as_os_str()
+            .to_owned();
+        if folder {
+            rel.push("/");
+        }
+        out.insert(rel);
         Ok(())
     })?;
     Ok(out)
@@ -426,7 +475,9 @@ impl OutDir {
             Ok(_) => {}
         }
         let now = entries(dir)?;
-        Ok(outermost(now.difference(&self.seen).cloned().collect()))
+        Ok(lossy(outermost(
+            now.difference(&self.seen).cloned().collect(),
+        )))
     }
 
     /// The refusal of a commit because the entries `appeared` came into

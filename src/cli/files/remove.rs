@@ -5,7 +5,9 @@
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
 //! (BENCHMARKS.md, "Examples batch, fifth round").
 
+use super::is_folder;
 use std::collections::BTreeSet;
+use std::ffi::OsString;
 use std::io;
 use std::path::Path;
 
@@ -25,18 +27,19 @@ pub(super) fn remove_folder(path: &Path) -> io::Result<()> {
 
 /// Remove from the folder `path` only the entries named in `seen`
 /// (relative paths, a folder's ending in `/`, as `out_dir::entries` lists
-/// them): files and links are unlinked, folders removed once empty.
+/// them, byte for byte): files and links are unlinked, folders removed
+/// once empty.
 /// Whatever else is in it is someone's and stays, and so does every
 /// folder on the way to it: false when anything stayed.
-pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<String>) -> io::Result<bool> {
+pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<bool> {
     #[cfg(unix)]
     unlink_files(path, Some(seen));
     #[cfg(not(unix))]
-    for rel in seen.iter().filter(|e| !e.ends_with('/')) {
+    for rel in seen.iter().filter(|e| !is_folder(e)) {
         let _ = std::fs::remove_file(path.join(rel));
     }
     // Deepest first: a folder's contents sort after it.
-    for rel in seen.iter().rev().filter(|e| e.ends_with('/')) {
+    for rel in seen.iter().rev().filter(|e| is_folder(e)) {
         let _ = std::fs::remove_dir(path.join(rel));
     }
     match std::fs::remove_dir(path) {
@@ -50,18 +53,20 @@ pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<String>) -> io::Result<bo
 /// names, in folders it names), `REMOVERS` at a time; whatever fails is
 /// left for the caller.
 #[cfg(unix)]
-fn unlink_files(path: &Path, only: Option<&BTreeSet<String>>) {
+fn unlink_files(path: &Path, only: Option<&BTreeSet<OsString>>) {
     use rustix::fs::{AtFlags, CWD, Dir, FileType, Mode, OFlags, openat, statat, unlinkat};
-    use std::ffi::CString;
+    use std::ffi::{CString, OsStr};
     use std::os::fd::OwnedFd;
+    use std::os::unix::ffi::OsStrExt;
     use std::sync::Arc;
     let flags = OFlags::RDONLY | OFlags::DIRECTORY | OFlags::NOFOLLOW | OFlags::CLOEXEC;
     let Ok(root) = openat(CWD, path, flags, Mode::empty()) else {
         return;
     };
-    let named = |rel: &str| only.is_none_or(|seen| seen.contains(rel));
-    // Each folder with its path inside `path` ("" or ending in `/`).
-    let mut folders = vec![(Arc::new(root), String::new())];
+    let named = |rel: &OsString| only.is_none_or(|seen| seen.contains(rel));
+    // Each folder with its path inside `path` ("" or ending in `/`), its
+    // bytes as they are: a lossy name could match someone else's entry.
+    let mut folders = vec![(Arc::new(root), OsString::new())];
     let mut files: Vec<(Arc<OwnedFd>, CString)> = Vec::new();
     let mut next = 0;
     while let Some((folder, prefix)) = folders.get(next).cloned() {
@@ -74,7 +79,8 @@ fn unlink_files(path: &Path, only: Option<&BTreeSet<String>>) {
             if name.to_bytes() == b"." || name.to_bytes() == b".." {
                 continue;
             }
-            let rel = format!("{prefix}{}", name.to_string_lossy());
+            let mut rel = prefix.clone();
+            rel.push(OsStr::from_bytes(name.to_bytes()));
             let kind = match entry.file_type() {
                 // Not known from the listing: asked of the entry itself.
                 FileType::Unknown if only.is_some() => {
@@ -87,7 +93,7 @@ fn unlink_files(path: &Path, only: Option<&BTreeSet<String>>) {
             };
             match kind {
                 FileType::Directory => {
-                    let rel = format!("{rel}/");
+                    rel.push("/");
                     if !named(&rel) {
                         continue;
                     }
@@ -150,7 +156,9 @@ mod tests {
         for f in ["x", "a/y", "a/b/z", "a/b/mine"] {
             fs::write(tree.join(f), f).unwrap();
         }
-        let seen: BTreeSet<String> = ["x", "a/", "a/y", "a/b/", "a/b/z"].map(String::from).into();
+        let seen: BTreeSet<OsString> = ["x", "a/", "a/y", "a/b/", "a/b/z"]
+            .map(OsString::from)
+            .into();
         assert!(!remove_seen(&tree, &seen).unwrap());
         assert_eq!(
             fs::read_to_string(tree.join("a/b/mine")).unwrap(),

@@ -3,8 +3,12 @@
 
 use super::super::fault;
 use super::record::{RECORDS_HEAD, line};
-use super::{FORMAT, MARKER, MARKER_HEAD, OutDir, hidden, remove, remove_any};
+use super::{
+    Cleared, FORMAT, MARKER, MARKER_HEAD, OutDir, STAGING, clear, hidden, own_entries, remove_any,
+};
 use crate::cli::error::Error;
+use std::collections::BTreeSet;
+use std::ffi::OsString;
 use std::fs::{self, File};
 use std::io::{self, Write};
 use std::path::{Component, Path, PathBuf};
@@ -40,6 +44,10 @@ pub(crate) struct Staged<'a> {
     /// Flushes the written files to the disk (`Syncer`).
     syncer: Syncer,
     committed: bool,
+    /// Whether the staging folder has been the target (swapped in, then
+    /// back): someone may have written into it meanwhile, so it is never
+    /// removed whole again (`clear`).
+    was_out: bool,
 }
 
 /// A file written and its path in the build, to flush.
@@ -162,6 +170,7 @@ impl<'a> Staged<'a> {
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
         remove_any(&fresh)?;
         fs::create_dir(&fresh)?;
+        File::create(fresh.join(STAGING))?;
         Ok(Self {
             out,
             fresh,
@@ -170,6 +179,7 @@ impl<'a> Staged<'a> {
             records: std::sync::Mutex::new(Vec::new()),
             syncer: Syncer::start(),
             committed: false,
+            was_out: false,
         })
     }
 
@@ -194,7 +204,11 @@ impl<'a> Staged<'a> {
         fault::write(MARKER)?;
         let mut f = File::create(self.fresh.join(MARKER))?;
         f.write_all(text.as_bytes())?;
-        fault::sync(&f)
+        fault::sync(&f)?;
+        // The tag goes once the marker is there (the folder's own flush,
+        // after this, makes it durable): a staging folder has one or the
+        // other at every instant.
+        fs::remove_file(self.fresh.join(STAGING))
     }
 
     /// Write files (paths relative to `sub` inside the folder). Each path
@@ -292,27 +306,59 @@ impl<'a> Staged<'a> {
             self.committed = true;
         } else {
             let old = self.swap().map_err(fail)?;
+            // From here on the new build is in place: an error says so.
+            let fail = |e: io::Error| {
+                Error::io(format!(
+                    "cannot finish replacing {}: {e}; the new build is in its place, and the earlier one in {}, which the next build into {0} tidies",
+                    target.display(),
+                    old.display()
+                ))
+            };
             // Entries that appeared after the check above (at the same
             // names, or through a handle held inside the folder) are now in
             // the swapped-out build: it is looked at again, and swapped
             // back if any are there.
+            fault::add(target, fault::Moment::SwappedIn);
             let late = out.appeared(&old).map_err(fail)?;
             if !late.is_empty() {
                 if let Err(e) = self.swap_back(&old) {
-                    keep_aside(&old, target);
+                    // The earlier build kept whole, with what came into it.
+                    keep_aside(&old, &BTreeSet::new(), target);
                     return Err(Error::io(format!(
                         "cannot put the earlier build back in {}: {e}; the new build is in its place",
                         target.display()
                     )));
+                }
+                // What was written into the new build while it was the
+                // folder is someone's: only the build's own files go.
+                let written = self.written();
+                let own = own_entries(written.iter().map(String::as_str));
+                match clear(&self.fresh, &own, target) {
+                    Ok(Cleared::Gone) => {}
+                    Ok(Cleared::Kept {
+                        aside,
+                        theirs: true,
+                    }) => eprintln!(
+                        "warning: files were written into {} while the new build was in its place; they are kept in {}",
+                        target.display(),
+                        aside.display()
+                    ),
+                    Ok(Cleared::Kept { aside, .. }) => eprintln!(
+                        "warning: the new build, not committed, could not be removed whole; what is left of it is in {}",
+                        aside.display()
+                    ),
+                    _ => eprintln!(
+                        "warning: files may have been written into {} while the new build was in its place; they are in {}, and the next build into {0} keeps them aside",
+                        target.display(),
+                        self.fresh.display()
+                    ),
                 }
                 return Err(out.changed(&late));
             }
             fault::add(&old, fault::Moment::SwappedOut);
             fault::commit("remove the old build");
             // Only what was checked goes: whatever came in since stays.
-            if !remove::remove_seen(&old, &out.seen).map_err(fail)? {
-                keep_aside(&old, target);
-            }
+            keep_aside(&old, &out.seen, target);
         }
         if let Ok(parent) = File::open(&out.parent) {
             let _ = fault::sync(&parent);
@@ -327,6 +373,7 @@ impl<'a> Staged<'a> {
         if exchange(&self.fresh, target)? {
             // The old build now sits at the staging name.
             self.committed = true;
+            self.was_out = true;
             return Ok(self.fresh.clone());
         }
         let old = self.out.parent.join(hidden(
@@ -342,6 +389,7 @@ impl<'a> Staged<'a> {
             return Err(e);
         }
         self.committed = true;
+        self.was_out = true;
         Ok(old)
     }
 
@@ -355,36 +403,45 @@ impl<'a> Staged<'a> {
             }
         } else {
             fs::rename(target, &self.fresh)?;
-            fs::rename(old, target)?;
+            if let Err(e) = fs::rename(old, target) {
+                // The new build back in place, as the error says.
+                let _ = fs::rename(&self.fresh, target);
+                return Err(e);
+            }
         }
         self.committed = false;
         Ok(())
     }
 }
 
-/// What is left of a swapped-out build at `old` once its own entries are
-/// gone (someone's, which came in as it was swapped out) is moved to a
-/// visible folder beside `target`, not left at a staging name that the
-/// next run removes, and the user is told where.
-fn keep_aside(old: &Path, target: &Path) {
-    let name = target.file_name().unwrap_or_default();
-    for n in 1..100 {
-        // `OUT.karigami-kept-N`: `hidden`'s name (short enough) without its dot.
-        let aside = target.with_file_name(&hidden(name, &format!("kept-{n}"))[1..]);
-        if fs::symlink_metadata(&aside).is_err() && fs::rename(old, &aside).is_ok() {
-            eprintln!(
-                "warning: files appeared in {} as the build replaced it; they are kept in {}",
-                target.display(),
-                aside.display()
-            );
-            return;
-        }
+/// Remove from a swapped-out build at `old` what the check saw (`seen`);
+/// what is left (someone's, which came in as it was swapped out) is moved
+/// to a visible folder beside `target`, not left at a staging name, and
+/// the user is told where.
+fn keep_aside(old: &Path, seen: &BTreeSet<OsString>, target: &Path) {
+    let shown = target.display();
+    match clear(old, seen, target) {
+        Ok(Cleared::Gone) => {}
+        Ok(Cleared::Kept {
+            aside,
+            theirs: true,
+        }) => eprintln!(
+            "warning: files appeared in {shown} as the build replaced it; they are kept in {}",
+            aside.display()
+        ),
+        Ok(Cleared::Kept { aside, .. }) => eprintln!(
+            "warning: the earlier build of {shown} could not be removed whole; what is left of it is in {}",
+            aside.display()
+        ),
+        Ok(Cleared::Left) => eprintln!(
+            "warning: files appeared in {shown} as the build replaced it; they are in {}, and the next build into {shown} keeps them aside",
+            old.display()
+        ),
+        Err(e) => eprintln!(
+            "warning: the earlier build of {shown} could not be removed from {}: {e}; the next build into {shown} tidies it",
+            old.display()
+        ),
     }
-    eprintln!(
-        "warning: files appeared in {} as the build replaced it; they are in {}, which the next build into {0} removes: move them out first",
-        target.display(),
-        old.display()
-    );
 }
 
 /// Flush every folder inside `root` to the disk, beside the files still
@@ -424,7 +481,7 @@ fn exchange(_: &Path, _: &Path) -> io::Result<bool> {
 impl Drop for Staged<'_> {
     fn drop(&mut self) {
         self.syncer.abandon();
-        if !self.committed {
+        if !self.committed && !self.was_out {
             let _ = remove_any(&self.fresh);
         }
     }
