@@ -78,7 +78,7 @@ fn number(
         ),
     )
     .at(x.span())
-    .hint(format!("{hint}see the [simulation] table in README.md")))
+    .hint(format!("{hint}see the [simulation] table in docs/recipe.md")))
 }
 
 /// The settings of a recipe's `[simulation]` table (defaults without one).
