@@ -426,15 +426,17 @@ impl Diagnostic {
     }
 }
 
-/// A number for a message, readable whatever its size: to 12 significant
+/// A number for a message, readable whatever its size: to 14 significant
 /// digits (a computed bound such as 2 + 3.97 is 5.970000000000001 in
-/// binary; the message says 5.97), as the shortest text from 1e-4 up to
-/// 1e6, else in e-notation, so `1e-300` is not printed with 300 digits.
+/// binary; the message says 5.97, while a value a user wrote just below a
+/// bound, 0.09999999999999, is not rounded onto it), as the shortest text
+/// from 1e-4 up to 1e6, else in e-notation, so `1e-300` is not printed
+/// with 300 digits.
 pub fn shown(x: f64) -> String {
     if !x.is_finite() {
         return format!("{x}");
     }
-    let x: f64 = format!("{x:.11e}").parse().unwrap_or(x);
+    let x: f64 = format!("{x:.13e}").parse().unwrap_or(x);
     if x == 0.0 || (1e-4..1e6).contains(&x.abs()) {
         format!("{x}")
     } else {
@@ -629,6 +631,7 @@ mod tests {
         assert_eq!(shown(0.0), "0");
         assert_eq!(shown(2.0 + 3.97), "5.97");
         assert_eq!(shown(609.6 - 2.0 * 302.7), "4.2");
+        assert_eq!(shown(0.09999999999999), "0.09999999999999");
         assert_eq!(shown(f64::NAN), "NaN");
         assert_eq!(shown(-f64::INFINITY), "-inf");
     }

@@ -20,9 +20,15 @@ pub(super) fn plain(message: &str, source: &str, span: Option<Range<usize>>) -> 
         // A header's line starts with `[`: name the whole header, dotted
         // (`[lattice.grow]`, whose span is `grow` alone).
         let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
+        // Only a table's own header: `[name.` up to the key, no `[[`
+        // (an array of tables), no `{` or `=` (an array's line).
         let header = line
             .trim_start()
             .strip_prefix('[')
+            .filter(|h| {
+                h.chars()
+                    .all(|c| c.is_alphanumeric() || " ._-\"'".contains(c))
+            })
             .map(|h| format!("{h}{}", spanned.trim()));
         return match (spanned.trim(), header) {
             ("", _) => "a key is given twice".to_string(),
@@ -274,6 +280,10 @@ mod tests {
         assert_eq!(
             said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nrows = 1\n[ lattice. grow ]\n"),
             "the table [lattice.grow] is given twice (or its keys were already set)"
+        );
+        assert_eq!(
+            said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nrows = [\n[{row = 1, row = 2}]]\n"),
+            "`row` is given twice in this table"
         );
         assert_eq!(
             said("[lattice]\nseed = \"sheet\"\n[lattice.grow]\nleft_leg = \"matchx\"\n"),

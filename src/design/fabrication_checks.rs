@@ -135,7 +135,7 @@ fn check_margin(
         .at(span)
         .hint(format!(
             "make sheet.margin at most {} mm (it is kept free on every side), or use a larger sheet",
-            shown(((short_side - w) / 2.0).max(0.0))
+            shown(largest_margin(short_side, w))
         )));
     }
     Err(Diagnostic::new(
@@ -215,4 +215,34 @@ fn check_kerf(
     Err(Diagnostic::new(ErrorKind::KerfClosesHole, message)
         .at_opt(spans.kerf.clone().or(hole_span).or(compensate))
         .hint(hint))
+}
+
+/// The largest margin, in whole hundredths of a mm, that leaves a `w` mm
+/// strip room across a `side` mm sheet side, as a hint can print it and
+/// the check pass it (98.65 on 210 mm for 12.7 mm strips leaves
+/// 12.699999999999989 in binary: 98.64).
+fn largest_margin(side: f64, w: f64) -> f64 {
+    let mut hundredths = ((side - w) / 2.0 * 100.0).round();
+    while hundredths > 0.0 && side - 2.0 * (hundredths / 100.0) < w {
+        hundredths -= 1.0;
+    }
+    (hundredths / 100.0).max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::largest_margin;
+
+    #[test]
+    fn the_margin_a_hint_gives_passes_the_check() {
+        assert_eq!(largest_margin(400.0, 10.0), 195.0);
+        assert_eq!(largest_margin(210.0, 12.7), 98.64);
+        assert_eq!(largest_margin(5.0, 10.0), 0.0);
+        for (side, w) in [(297.0, 4.2), (210.0, 4.2), (400.0, 12.7), (304.8, 9.53)] {
+            let m = largest_margin(side, w);
+            assert!(side - 2.0 * m >= w, "{side} {w}: {m}");
+            let next = ((m * 100.0).round() + 1.0) / 100.0;
+            assert!(side - 2.0 * next < w, "{side} {w}: {m} is not the largest");
+        }
+    }
 }

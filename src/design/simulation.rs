@@ -78,7 +78,9 @@ fn number(
         ),
     )
     .at(x.span())
-    .hint(format!("{hint}see the [simulation] table in docs/recipe.md")))
+    .hint(format!(
+        "{hint}see the [simulation] table in docs/recipe.md"
+    )))
 }
 
 /// The settings of a recipe's `[simulation]` table (defaults without one).

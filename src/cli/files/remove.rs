@@ -5,7 +5,7 @@
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
 //! (BENCHMARKS.md, "Examples batch, fifth round").
 
-use super::is_folder;
+use super::{MARKER, is_folder};
 use std::collections::BTreeSet;
 use std::ffi::OsString;
 use std::io;
@@ -32,11 +32,21 @@ pub(super) fn remove_folder(path: &Path) -> io::Result<()> {
 /// Whatever else is in it is someone's and stays, and so does every
 /// folder on the way to it: false when anything stayed.
 pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<bool> {
+    // The marker goes after every file it lists: a run killed meanwhile
+    // leaves a folder whose marker still names what is left, which the
+    // next run removes, where one without a marker would be kept aside
+    // as a folder that was not a build (review31c).
+    let marker = OsString::from(MARKER);
+    let mut files = seen.clone();
+    let has_marker = files.remove(&marker);
     #[cfg(unix)]
-    unlink_files(path, Some(seen));
+    unlink_files(path, Some(&files));
     #[cfg(not(unix))]
-    for rel in seen.iter().filter(|e| !is_folder(e)) {
+    for rel in files.iter().filter(|e| !is_folder(e)) {
         let _ = std::fs::remove_file(path.join(rel));
+    }
+    if has_marker {
+        let _ = std::fs::remove_file(path.join(&marker));
     }
     // Deepest first: a folder's contents sort after it.
     for rel in seen.iter().rev().filter(|e| is_folder(e)) {
