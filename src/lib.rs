@@ -26,6 +26,7 @@ mod fabrication;
 mod font;
 mod guide;
 mod hash;
+mod in_order;
 mod lattice;
 mod layout;
 mod legs;

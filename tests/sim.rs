@@ -1235,7 +1235,12 @@ fn explore_finds_the_same_equilibria_with_any_number_of_jobs() {
     let (_, _, run) = simulated_shape("examples/eggbox.toml");
     let material = Material::ABS;
     let finish = |lm: &sim::LatticeModel, stats| sim::equilibrium(lm, stats, &material);
-    let explore = |jobs| sim::explore::explore(&run.lm, 7, 2024, jobs, &finish);
+    let explore = |jobs| {
+        let solved = std::sync::atomic::AtomicUsize::new(0);
+        let found = sim::explore::explore(&run.lm, 7, 2024, jobs, &finish, &solved);
+        assert_eq!(solved.into_inner(), 7, "every start counted, jobs {jobs}");
+        found
+    };
     let (one, left_one) = explore(1);
     assert!(one.len() >= 2, "the eggbox is multistable: {}", one.len());
     for jobs in [2, 3] {

@@ -8,9 +8,7 @@ use super::recipe::Recipe;
 use karigami::{
     Design, ErrorKind, Lattice, Overrides,
     shape::{self, VertexCurvature},
-    simulation::{
-        self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore_counting,
-    },
+    simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
     util::{plural, shown},
 };
 use std::fmt::Write as _;
@@ -107,7 +105,7 @@ pub(super) fn simulate(
             format!("explore: {k} of {n} starts ({seconds} s)")
         };
         let (found, rejected) = progress::heartbeat_saying(line, v.quiet, || {
-            explore_counting(
+            explore(
                 &run.lm,
                 n,
                 EXPLORE_SEED,

@@ -5,10 +5,8 @@ use super::model::{Frame, Model, Node};
 use super::solver::{Options, System, solve};
 use super::strips::LatticeModel;
 use super::{Equilibrium, SimError, kabsch_distance};
-use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
-use std::sync::mpsc;
-use std::thread;
+use crate::in_order::in_order;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 pub use karigami_rods::rng::Rng;
 
@@ -58,23 +56,12 @@ type Outcome = Result<Equilibrium, String>;
 
 /// Solve from `n` seeds (0 = unperturbed) and group the stable results.
 /// Returns the equilibria by increasing energy, and the seeds that failed
-/// or ended unstable. The starts are solved `jobs` at a time, each on its
-/// own copy of the model, and grouped in seed order as they come in, so
-/// the result does not depend on `jobs` (the first start to reach an
-/// equilibrium is the one reported for it).
+/// or ended unstable; adds one to `solved` as each start is solved (the
+/// CLI's progress line reads it). The starts are solved `jobs` at a time,
+/// each on its own copy of the model, and grouped in seed order
+/// (`in_order`), so the result does not depend on `jobs` (the first start
+/// to reach an equilibrium is the one reported for it).
 pub fn explore(
-    base: &LatticeModel,
-    n: usize,
-    seed: u64,
-    jobs: usize,
-    finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
-) -> (Vec<Found>, Vec<(u64, String)>) {
-    explore_counting(base, n, seed, jobs, finish, &AtomicUsize::new(0))
-}
-
-/// `explore`, adding one to `solved` as each start is solved (the CLI's
-/// progress line reads it).
-pub fn explore_counting(
     base: &LatticeModel,
     n: usize,
     seed: u64,
@@ -103,44 +90,16 @@ pub fn explore_counting(
             }
         }
     };
-    let start = |k: u64| {
-        let outcome = solve_start(base, &sys, k, seed, finish);
-        solved.fetch_add(1, Ordering::Relaxed);
-        outcome
-    };
-    let jobs = jobs.clamp(1, n.max(1));
-    if jobs == 1 {
-        (0..n as u64).for_each(|k| group(k, start(k)));
-    } else {
-        let next = AtomicU64::new(0);
-        let (send, receive) = mpsc::channel();
-        thread::scope(|s| {
-            for _ in 0..jobs {
-                let send = send.clone();
-                let (next, start) = (&next, &start);
-                s.spawn(move || {
-                    loop {
-                        let k = next.fetch_add(1, Ordering::Relaxed);
-                        if k >= n as u64 || send.send((k, start(k))).is_err() {
-                            break;
-                        }
-                    }
-                });
-            }
-            drop(send);
-            // Outcomes arrive in any order; group them in seed order,
-            // holding only those that came early.
-            let mut early = BTreeMap::new();
-            let mut due = 0;
-            for (k, outcome) in receive {
-                early.insert(k, outcome);
-                while let Some(outcome) = early.remove(&due) {
-                    group(due, outcome);
-                    due += 1;
-                }
-            }
-        });
-    }
+    in_order(
+        n,
+        jobs,
+        |k| {
+            let outcome = solve_start(base, &sys, k as u64, seed, finish);
+            solved.fetch_add(1, Ordering::Relaxed);
+            outcome
+        },
+        |k, outcome| group(k as u64, outcome),
+    );
     found.sort_by(|a, b| {
         a.equilibrium
             .energy

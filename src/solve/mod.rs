@@ -219,38 +219,17 @@ impl Problem<'_> {
     /// in their order, so the counts, the best design and the progress
     /// notes are those of one at a time.
     fn evaluate_all(&self, xs: &[Vec<f64>]) -> Vec<f64> {
-        let costs = if self.jobs < 2 || xs.len() < 2 {
-            xs.iter().map(|x| self.space.cost_at(x)).collect()
-        } else {
-            let (space, next) = (&self.space, std::sync::atomic::AtomicUsize::new(0));
-            let mut costs = vec![0.0; xs.len()];
-            std::thread::scope(|s| {
-                let workers: Vec<_> = (0..self.jobs.min(xs.len()))
-                    .map(|_| {
-                        s.spawn(|| {
-                            let mut mine = Vec::new();
-                            loop {
-                                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                                let Some(x) = xs.get(k) else { break mine };
-                                mine.push((k, space.cost_at(x)));
-                            }
-                        })
-                    })
-                    .collect();
-                for worker in workers {
-                    let mine = worker
-                        .join()
-                        .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                    for (k, cost) in mine {
-                        costs[k] = cost;
-                    }
-                }
-            });
-            costs
-        };
-        for (x, &cost) in xs.iter().zip(&costs) {
-            self.record(x, cost);
-        }
+        let mut costs = Vec::with_capacity(xs.len());
+        let space = &self.space;
+        crate::in_order::in_order(
+            xs.len(),
+            self.jobs,
+            |k| space.cost_at(&xs[k]),
+            |k, cost| {
+                self.record(&xs[k], cost);
+                costs.push(cost);
+            },
+        );
         costs
     }
 
