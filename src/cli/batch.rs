@@ -252,18 +252,10 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
         .iter()
         .map(|p| {
             let name = safe_component(&stem(p));
-            // A bare file name's folder is the current one (its parent
-            // is the empty path, which does not canonicalize).
-            let parent = p
-                .parent()
-                .map(|d| {
-                    if d.as_os_str().is_empty() {
-                        Path::new(".")
-                    } else {
-                        d
-                    }
-                })
-                .and_then(|d| d.canonicalize().ok())
+            // A bare file name's folder is the current one.
+            let parent = super::files::dir_of(p)
+                .canonicalize()
+                .ok()
                 .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()));
             let name = match parent {
                 Some(dir) if count[&name.to_lowercase()] > 1 => {

@@ -159,5 +159,4 @@ pub(crate) fn run() -> i32 {
 /// `--jobs` (at least 1, `args::jobs`), or every core when it is not given.
 fn jobs_or_cores(jobs: Option<usize>) -> usize {
     jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .max(1)
 }

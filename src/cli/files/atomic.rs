@@ -2,7 +2,7 @@
 //! or complete.
 
 use super::super::fault;
-use super::hidden;
+use super::{dir_of, hidden};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
 use std::fs::{self, OpenOptions};
@@ -47,14 +47,6 @@ fn write_whole(path: &Path, bytes: &[u8], replace: bool) -> io::Result<()> {
         let _ = fs::remove_file(&tmp);
     }
     result
-}
-
-/// The folder `path` is in.
-fn dir_of(path: &Path) -> &Path {
-    match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    }
 }
 
 /// Temporary files beside `path` (`prefix` + PID) of runs that were

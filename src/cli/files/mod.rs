@@ -43,6 +43,15 @@ const STAGING: &str = ".karigami-staging";
 /// Bumped when the layout of a build folder changes incompatibly.
 const FORMAT: u32 = 1;
 
+/// The folder `path` is in: its parent, or `.` for a bare name (whose
+/// parent is the empty path).
+pub(super) fn dir_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
 /// A hidden name beside `name` for the tool's own temporary entries; long
 /// names are shortened (with a hash, so that two long names stay apart) to
 /// leave room for the suffix within the 255-byte limit of a file name.

@@ -5,7 +5,7 @@
 use super::lock::take_lock;
 use super::record::Earlier;
 use super::{
-    Cleared, MARKER, MARKER_HEAD, STAGING, clear, hidden, is_folder, listed, own_entries,
+    Cleared, MARKER, MARKER_HEAD, STAGING, clear, dir_of, hidden, is_folder, listed, own_entries,
     remove_any,
 };
 use crate::cli::error::Error;
@@ -74,10 +74,7 @@ impl OutDir {
                 ),
             ));
         };
-        let parent = match out.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
+        let parent = dir_of(out).to_path_buf();
         // The first existing ancestor must be a folder.
         let existing = parent
             .ancestors()
