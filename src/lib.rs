@@ -98,7 +98,7 @@ pub mod formats {
 /// settings, the deployed equilibrium, and the search for other stable
 /// shapes (`explore`).
 pub mod simulation {
-    pub use crate::design::simulation::MIN_THETA;
+    pub use crate::design::simulation::{MAX_THETA, MIN_THETA};
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
         Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,

@@ -112,8 +112,9 @@ fn check_margin(
     let short_side = f.sheet.width.min(f.sheet.height);
     // A margin the recipe sets is what to change when it leaves no room,
     // or room narrower than a strip on a sheet wide enough without it.
-    if let Some(span) = margin.filter(|_| uw <= 0.0 || uh <= 0.0 || short_side >= w) {
-        let what = if uw <= 0.0 || uh <= 0.0 {
+    let no_room = uw <= 0.0 || uh <= 0.0;
+    if let Some(span) = margin.filter(|_| no_room || short_side >= w) {
+        let what = if no_room {
             "twice that is at least the".to_string()
         } else {
             format!(

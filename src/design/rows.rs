@@ -5,7 +5,7 @@ use super::raw;
 use super::raw::{RawFront, RawLattice, RawLeg, RawRow};
 use super::spans::{NO_ENTRY, Spans, field_spans};
 use super::values::{coords, count, finite};
-use crate::diagnostic::{Diagnostic, ErrorKind};
+use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::lattice::{Crank, FrontMoves, Kind, MAX_CELLS, PivotMove, RowParams};
 use crate::legs::{Direction, Leg};
 use toml::Spanned;
@@ -92,8 +92,7 @@ pub(super) fn rows(
                 Diagnostic::new(
                     ErrorKind::RowGivenTwice,
                     format!(
-                        "row {index} is already described by an earlier [[lattice.rows]] entry (the one from row {})",
-                        row_entry.iter().position(|&x| x == row_entry[index]).unwrap_or(0)
+                        "row {index} is already described by an earlier [[lattice.rows]] entry (the one from row {earlier_row})"
                     ),
                 )
                 .at(span)
@@ -247,7 +246,7 @@ fn resolve(
                 RawLeg::Length(v) if v.is_finite() && v > 0.0 => Ok(Leg::Length(v)),
                 RawLeg::Length(v) => Err(Diagnostic::new(
                     ErrorKind::NonPositiveLeg,
-                    format!("{name} is {v}, but must be a positive length"),
+                    format!("{name} is {}, but must be a positive length", shown(v)),
                 )
                 .at(l.span())
                 .hint(format!("give {name} a positive length in mm, or \"match\""))),

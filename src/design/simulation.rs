@@ -41,6 +41,8 @@ pub(crate) const MIN_YOUNGS: f64 = 1.0;
 /// examples/eggbox.toml: "no decrease after 30 halvings"); both solve,
 /// stable, at 0.1.
 pub const MIN_THETA: f64 = 0.1;
+/// The opening simulated is less than this (degrees): a cell opened flat.
+pub const MAX_THETA: f64 = 180.0;
 /// The stiffest: above diamond (about 1.05e6 MPa).
 pub(crate) const MAX_YOUNGS: f64 = 1e6;
 
@@ -122,7 +124,7 @@ pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Di
         &r.theta,
         "theta",
         (MIN_THETA, true),
-        (180.0, false),
+        (MAX_THETA, false),
         " (degrees)",
         "",
     )? {

@@ -392,8 +392,7 @@ pub fn preview_captioned(
         Shape::Text {
             at: DVec2::new(6.0, 8.0),
             size: 4.0,
-            // The stroke font's capitals are 0.7 of the size (`text`).
-            text: crate::font::fitted(title, 0.7 * 4.0, w - 12.0),
+            text: crate::font::fitted(title, super::text::CAP_OF_SIZE * 4.0, w - 12.0),
             font: super::Font::Bold,
             align: super::Align::Left,
         },

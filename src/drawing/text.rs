@@ -56,6 +56,10 @@ pub fn start(at: DVec2, text: &str, font: Font, size: f64, align: Align) -> DVec
     }
 }
 
+/// The stroke font's capitals are this part of a text's size, as in
+/// Helvetica.
+pub(crate) const CAP_OF_SIZE: f64 = 0.7;
+
 /// A text shape as single-stroke polylines on a y-down page.
 pub(crate) fn strokes(shape: &Shape) -> Vec<Vec<DVec2>> {
     let Shape::Text {
@@ -68,8 +72,7 @@ pub(crate) fn strokes(shape: &Shape) -> Vec<Vec<DVec2>> {
     else {
         return Vec::new();
     };
-    // Capitals of the stroke font are 0.7 of the font size, as in Helvetica.
-    let cap = 0.7 * size;
+    let cap = CAP_OF_SIZE * size;
     let w = font::width(text, cap);
     let x0 = match align {
         Align::Left => at.x,

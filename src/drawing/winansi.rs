@@ -133,7 +133,7 @@ const UPPER: [(u8, char, u16, u16); 123] = [
 ];
 
 /// The WinAnsi code of `c`, if the built-in fonts have its glyph.
-pub(crate) fn code(c: char) -> Option<u8> {
+fn code(c: char) -> Option<u8> {
     if (' '..='~').contains(&c) {
         return Some(c as u8);
     }
@@ -168,9 +168,10 @@ mod tests {
         assert_eq!(upper_width('Ä', true), Some(722));
         assert_eq!(upper_width('a', false), None);
         // Every code once, every character once, none of them ASCII.
-        let mut codes: Vec<u8> = UPPER.iter().map(|e| e.0).collect();
-        codes.dedup();
+        let codes: std::collections::BTreeSet<u8> = UPPER.iter().map(|e| e.0).collect();
         assert_eq!(codes.len(), UPPER.len());
+        let chars: std::collections::BTreeSet<char> = UPPER.iter().map(|e| e.1).collect();
+        assert_eq!(chars.len(), UPPER.len());
         assert!(UPPER.iter().all(|e| e.0 >= 0x80 && !e.1.is_ascii()));
     }
 }
