@@ -315,8 +315,6 @@ error_kinds! {
     NoOptimiseTable => EXIT_INVALID,
     /// The recipe holds none of the numbers `optimise.vary` names.
     NothingToVary => EXIT_INVALID,
-    /// The optimiser's library stopped with an error.
-    Optimiser => EXIT_INVALID,
     /// No design the optimiser tried grows every row.
     OptimiseFailed => EXIT_INVALID,
     /// `karigami tune` did not reach the cells asked for.

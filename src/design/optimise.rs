@@ -65,7 +65,7 @@ pub(crate) enum Vary {
 /// How the optimiser searches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Method {
-    /// argmin's Nelder-Mead simplex, restarted about the best point.
+    /// The Nelder-Mead simplex (`solve::simplex`), restarted about the best point.
     NelderMead,
     /// A seeded (mu/mu_w, lambda) evolution strategy: a population about a
     /// moving mean, for rugged costs with many local minima (a helix seed).

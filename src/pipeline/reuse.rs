@@ -40,9 +40,9 @@ macro_rules! sources {
 /// The code an equilibrium comes from: a change to any of it (a solver
 /// tolerance, a new energy term) gives another fingerprint, so a state
 /// written by other code is never restored. `Cargo.lock` stands for the
-/// versions of faer and glam. tests/rebuild.rs checks that the list names
+/// versions of amd and glam. tests/rebuild.rs checks that the list names
 /// every file of `src/sim/` and `crates/rods/src/`.
-pub const SOURCES: [(&str, &str); 13] = sources![
+pub const SOURCES: [(&str, &str); 14] = sources![
     "src/sim/mod.rs",
     "src/sim/explore.rs",
     "src/sim/opening.rs",
@@ -54,6 +54,7 @@ pub const SOURCES: [(&str, &str); 13] = sources![
     "crates/rods/src/model.rs",
     "crates/rods/src/rng.rs",
     "crates/rods/src/solver.rs",
+    "crates/rods/src/sparse.rs",
     "src/pipeline/reuse.rs",
     "Cargo.lock",
 ];

@@ -10,8 +10,8 @@ pub(super) const ROUND: usize = 500;
 /// Nelder-Mead stalls on a helix seed: one cell's admissibility cuts the
 /// cost into many basins, and a population steps over them. Returns the
 /// generations used; the best design tried is kept in `problem.best`.
-/// argmin 0.10 has no CMA-ES, and its particle swarm wants box bounds the
-/// seed variables do not have, so this is written here (about 40 lines).
+/// Written here (about 40 lines), beside the simplex: a particle swarm
+/// would want box bounds the seed variables do not have.
 pub(super) fn evolve(problem: &Problem, opt: &Optimise, dims: usize, rng: &mut Rng) -> usize {
     let lambda = (4 + (3.0 * (dims as f64).ln()) as usize).max(8) + 4;
     let mu = lambda / 2;

@@ -1,7 +1,7 @@
 //! The design optimiser: moves the numbers a recipe's `[optimise]` table
 //! frees (row leg angles, front-move angles, a helix's seed) to minimise
-//! its weighted objectives under its hard constraints, with argmin's
-//! Nelder-Mead (derivative-free: growth is piecewise smooth and refuses
+//! its weighted objectives under its hard constraints, with a
+//! Nelder-Mead simplex (`simplex`; derivative-free: growth is piecewise smooth and refuses
 //! whole regions, so gradients are unreliable). Restarts from the best
 //! point while the budget lasts. Deterministic: the start simplex comes
 //! from the recipe's `seed`, and Nelder-Mead draws nothing at random.
@@ -19,6 +19,7 @@ mod evolve;
 pub(crate) mod fit;
 mod grow;
 mod rewrite;
+mod simplex;
 mod slots;
 pub(crate) mod tune;
 
@@ -34,8 +35,6 @@ use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::lattice::{FrontMoves, Kind, Lattice};
 use crate::legs::Direction;
 use crate::rng::Rng;
-use argmin::core::{CostFunction, Error, Executor, State};
-use argmin::solver::neldermead::NelderMead;
 use glam::DVec3;
 use std::cell::{Cell, RefCell};
 use std::ops::Range;
@@ -250,17 +249,6 @@ impl Problem<'_> {
     }
 }
 
-/// The problem as argmin sees it (borrowed, so its counters stay ours).
-struct Cost<'a, 'b>(&'a Problem<'b>);
-
-impl CostFunction for Cost<'_, '_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, x: &Self::Param) -> Result<f64, Error> {
-        Ok(self.0.evaluate(x))
-    }
-}
-
 /// Grow a design; the error says how many rows or cells it missed.
 fn grown(d: &Design) -> Result<Lattice, usize> {
     if d.kind == Kind::Helix {
@@ -401,15 +389,8 @@ pub fn optimise(
             v[i] += sign * step;
             simplex.push(v);
         }
-        let solver = NelderMead::new(simplex)
-            .with_sd_tolerance(1e-9)
-            .map_err(|e| Diagnostic::new(ErrorKind::Optimiser, e.to_string()))?;
-        let left = (opt.budget - iterations) as u64;
-        let res = Executor::new(Cost(&problem), solver)
-            .configure(|s| s.max_iters(left))
-            .run()
-            .map_err(|e| Diagnostic::new(ErrorKind::Optimiser, e.to_string()))?;
-        let used = res.state().get_iter() as usize;
+        let left = opt.budget - iterations;
+        let used = simplex::minimise(simplex, 1e-9, left, &mut |x| problem.evaluate(x));
         iterations += used.max(1);
         round += 1;
         if used < 2 && round > 3 {

@@ -1,7 +1,7 @@
 //! The inner loop of karigami's elastic simulation (karigami's
 //! docs/physics.md): discrete elastic rods joined by eyelets, their energy
 //! and its exact gradient and Hessian by second-order dual numbers, and
-//! the modified Newton solver on faer's sparse Cholesky.
+//! the modified Newton solver on a sparse Cholesky (`sparse`, `solver`).
 //!
 //! A crate of its own so that it can be compiled optimised in the test
 //! profile (the dual-number arithmetic is about 30 times slower
@@ -12,3 +12,4 @@ pub mod frames;
 pub mod model;
 pub mod rng;
 pub mod solver;
+pub mod sparse;

@@ -2,18 +2,12 @@
 //! model (one symbolic Cholesky), inertia correction by a multiple of a
 //! diagonal metric, a negative-curvature step to leave saddles, and a
 //! one-step watchdog line search. The factorisation is a simplicial sparse
-//! LLT: its ordering and symbolic part from faer, its numeric part faer's
-//! written out here (`Numeric`), whose refusal of an indefinite matrix is
-//! the inertia test.
+//! LLT: its ordering and pattern from `sparse`, its numeric part an
+//! up-looking factorisation here (`Numeric`), whose refusal of an
+//! indefinite matrix is the inertia test.
 
 use crate::model::{Memo, Model, VarKind};
-use faer::Side;
-use faer::sparse::SymbolicSparseColMat;
-use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::cholesky::simplicial::SymbolicSimplicialCholesky;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
-};
+use crate::sparse::{Pattern, amd_order, factor_pattern};
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
 const NONE: u32 = u32::MAX;
@@ -76,7 +70,7 @@ pub struct System {
     /// are those of its local Hessian's lower triangle, the only part of it
     /// computed.
     stencil_plain: Vec<bool>,
-    pattern: SymbolicSparseColMat<usize>,
+    pattern: Pattern,
     /// The Cholesky factor's structure, analysed once (`factor_structure`):
     /// the fill-reducing order, perm[new] = old free index, and the
     /// simplicial symbolic factor of the Hessian's upper triangle in that
@@ -202,7 +196,7 @@ impl System {
                 VarKind::Angle => (model.section.width / 2.0).powi(2),
             })
             .collect();
-        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let pattern = Pattern { col_ptr, row_idx };
         let (upper, upper_pos, perm, chol) = factor_structure(&pattern);
         let numeric = Numeric::new(&upper, &upper_pos, &perm, &dm, &chol);
         System {
@@ -230,7 +224,7 @@ impl System {
     pub fn assemble(&self, model: &Model) -> (f64, Vec<f64>, Vec<f64>) {
         ASSEMBLIES.fetch_add(1, Relaxed);
         let mut g = vec![0.0; model.q.len()];
-        let mut h = vec![0.0; self.pattern.row_idx().len()];
+        let mut h = vec![0.0; self.pattern.row_idx.len()];
         let mut e = 0.0;
         let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
         let mut memo = Memo::new();
@@ -341,7 +335,7 @@ impl System {
     /// y = H v from the lower triangle.
     pub fn mul(&self, h: &[f64], v: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; v.len()];
-        let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
+        let (cp, ri) = (&self.pattern.col_ptr, &self.pattern.row_idx);
         for c in 0..v.len() {
             // Each column's rows are sorted, the diagonal first (`new`).
             let d = cp[c];
@@ -388,11 +382,10 @@ impl System {
 }
 
 /// The numeric Cholesky of the shifted Hessian, with everything that does
-/// not depend on the values worked out once per model: faer's up-looking
-/// simplicial LLT (`factorize_simplicial_numeric_llt`), step for step and
-/// operation for operation, so the factor is the same to the bit, but
-/// with each row's elimination reach (faer's `ereach`, a walk up the
-/// elimination tree every row of every factorisation) kept as a list,
+/// not depend on the values worked out once per model: an up-looking
+/// simplicial LLT (row k of the factor from the rows its elimination
+/// reach names), with each row's reach (a walk up the elimination tree)
+/// worked out once and kept as a list,
 /// the Hessian's values read straight from their slots, each pivot's
 /// reciprocal taken once, and no bounds check per entry of the work
 /// vector (`work`). The rows of the factor are visited in order and a
@@ -405,10 +398,11 @@ struct Numeric {
     a_src: Vec<u32>,
     /// The metric of each column in the factor's order.
     dm: Vec<f64>,
-    /// The factor's columns (faer's simplicial symbolic factor).
+    /// The factor's columns (`sparse::factor_pattern`).
     l_ptr: Vec<usize>,
     l_row: Vec<u32>,
-    /// Row k's reach: the columns j < k with L[k][j] != 0, in faer's order.
+    /// Row k's reach: the columns j < k with L[k][j] != 0, in the order
+    /// the walk below finds them.
     reach_ptr: Vec<usize>,
     reach: Vec<u32>,
 }
@@ -420,21 +414,21 @@ impl Numeric {
     }
 
     fn new(
-        upper: &SymbolicSparseColMat<usize>,
+        upper: &Pattern,
         upper_pos: &[usize],
         perm: &[usize],
         dm: &[f64],
-        chol: &SymbolicSimplicialCholesky<usize>,
+        chol: &Pattern,
     ) -> Numeric {
-        let n = upper.ncols();
-        let a_ptr = upper.col_ptr().to_vec();
-        let a_row: Vec<u32> = upper.row_idx().iter().map(|&r| r as u32).collect();
+        let n = upper.n();
+        let a_ptr = upper.col_ptr.clone();
+        let a_row: Vec<u32> = upper.row_idx.iter().map(|&r| r as u32).collect();
         let mut a_src = vec![0u32; upper_pos.len()];
         for (slot, &p) in upper_pos.iter().enumerate() {
             a_src[p] = slot as u32;
         }
-        let l_ptr = chol.col_ptr().to_vec();
-        let l_row: Vec<u32> = chol.row_idx().iter().map(|&r| r as u32).collect();
+        let l_ptr = chol.col_ptr.clone();
+        let l_row: Vec<u32> = chol.row_idx.iter().map(|&r| r as u32).collect();
         // Column j's entries are its rows in increasing order, the
         // diagonal first: its parent in the elimination tree is the next.
         let parent: Vec<usize> = (0..n)
@@ -446,7 +440,7 @@ impl Numeric {
                 }
             })
             .collect();
-        // faer's `ereach`: from each entry of A's column k above the
+        // The reach: from each entry of A's column k above the
         // diagonal, up the tree to a node already met; each such path is
         // put before the paths found earlier.
         let mut reach_ptr = vec![0usize];
@@ -544,7 +538,7 @@ impl Numeric {
     }
 
     /// Solve L L^T y = b in place (`y` from `work`, b in its first n
-    /// entries), as faer's simplicial solve does it, operation for
+    /// entries), as a simplicial solve does it, operation for
     /// operation: forward by columns, then backward by dot products.
     fn solve_in_place(&self, f: &Factor, y: &mut [f64]) {
         let (l, inv) = (&f.l, &f.inv);
@@ -579,36 +573,17 @@ pub struct Factor {
     inv: Vec<f64>,
 }
 
-/// The fill-reducing order (faer's AMD, as `SymbolicLlt` computes it), the
-/// lower-triangle `pattern` moved into it as an upper triangle, each of
-/// its slots' place there, and the simplicial symbolic factor: (upper,
-/// upper_pos, perm, symbolic).
-fn factor_structure(
-    pattern: &SymbolicSparseColMat<usize>,
-) -> (
-    SymbolicSparseColMat<usize>,
-    Vec<usize>,
-    Vec<usize>,
-    SymbolicSimplicialCholesky<usize>,
-) {
-    let n = pattern.nrows();
-    let amd = factorize_symbolic_cholesky(
-        pattern.as_ref(),
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        Default::default(),
-    )
-    .expect("symbolic Cholesky");
-    let (perm, inv): (Vec<usize>, Vec<usize>) = match amd.perm() {
-        Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
-        None => ((0..n).collect(), (0..n).collect()),
-    };
+/// The fill-reducing order (`sparse::amd_order`), the lower-triangle
+/// `pattern` moved into it as an upper triangle, each of its slots' place
+/// there, and the factor's pattern: (upper, upper_pos, perm, factor).
+fn factor_structure(pattern: &Pattern) -> (Pattern, Vec<usize>, Vec<usize>, Pattern) {
+    let n = pattern.n();
+    let (perm, inv) = amd_order(pattern);
     // Entry (r, c), r >= c, lands at (min, max) of (inv r, inv c).
-    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-    let mut at = Vec::with_capacity(ri.len());
+    let mut at = Vec::with_capacity(pattern.row_idx.len());
     let mut count = vec![0usize; n + 1];
     for c in 0..n {
-        for &r in &ri[cp[c]..cp[c + 1]] {
+        for &r in pattern.column(c) {
             let (a, b) = (inv[r], inv[c]);
             let (row, col) = (a.min(b), a.max(b));
             at.push((row, col));
@@ -618,11 +593,10 @@ fn factor_structure(
     for c in 0..n {
         count[c + 1] += count[c];
     }
-    let col_ptr = count.clone();
-    // Within a column in the order met, as faer's own permutation
-    // (`permute_self_adjoint_to_unsorted`) leaves them: the symbolic and
-    // numeric factors then visit the entries in the same order, and the
-    // factor is the same to the bit.
+    let col_ptr = count;
+    // Within a column in the order met (a stable sort by column): the
+    // numeric factor sums a column's entries in this order, which fixes
+    // its rounding, and with it the solver's path.
     let mut order: Vec<usize> = (0..at.len()).collect();
     order.sort_by_key(|&k| at[k].1);
     let mut row_idx = vec![0usize; at.len()];
@@ -631,22 +605,9 @@ fn factor_structure(
         row_idx[slot] = at[k].0;
         upper_pos[k] = slot;
     }
-    let upper = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
-    let params = CholeskySymbolicParams {
-        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
-        ..Default::default()
-    };
-    let sym = factorize_symbolic_cholesky(
-        upper.as_ref(),
-        Side::Upper,
-        SymmetricOrdering::Identity,
-        params,
-    )
-    .expect("symbolic Cholesky");
-    let SymbolicCholeskyRaw::Simplicial(chol) = sym.raw() else {
-        unreachable!("simplicial forced")
-    };
-    (upper, upper_pos, perm, chol.clone())
+    let upper = Pattern { col_ptr, row_idx };
+    let factor = factor_pattern(&upper);
+    (upper, upper_pos, perm, factor)
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -892,51 +853,49 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
 mod tests {
     use super::*;
     use crate::rng::Rng;
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::sparse::SparseColMatRef;
-    use faer::sparse::linalg::cholesky::simplicial::{
-        SimplicialLltRef, factorize_simplicial_numeric_llt,
-        factorize_simplicial_numeric_llt_scratch,
-    };
-    use faer::{Conj, Par};
+    use crate::sparse::tests_support::random_lower;
 
-    /// A random symmetric pattern over n variables, as `System::new`
-    /// builds a Hessian's: the lower triangle, rows sorted in each column,
-    /// the diagonal included.
-    fn random_pattern(n: usize, rng: &mut Rng) -> SymbolicSparseColMat<usize> {
-        let mut col_ptr = vec![0usize];
-        let mut row_idx = Vec::new();
-        for c in 0..n {
-            let mut rows = vec![c];
-            for r in c + 1..n {
-                // Near neighbours often (a band, like a rod's), far ones seldom.
-                let p = if r - c <= 3 { 0.6 } else { 2.0 / n as f64 };
-                if rng.uniform() < p {
-                    rows.push(r);
+    /// The dense Cholesky of the symmetric matrix in the factor's order,
+    /// column by column: L, or the row of the first pivot that is not
+    /// positive.
+    fn dense_cholesky(a: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, usize> {
+        let n = a.len();
+        let mut l = vec![vec![0.0; n]; n];
+        for k in 0..n {
+            let mut d = a[k][k];
+            for j in 0..k {
+                let mut s = a[k][j];
+                for p in 0..j {
+                    s -= l[k][p] * l[j][p];
                 }
+                l[k][j] = s / l[j][j];
+                d -= l[k][j] * l[k][j];
             }
-            row_idx.extend_from_slice(&rows);
-            col_ptr.push(row_idx.len());
+            if !(d > 0.0) {
+                return Err(k);
+            }
+            l[k][k] = d.sqrt();
         }
-        SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx)
+        Ok(l)
     }
 
-    /// `Numeric` factors and solves as faer's simplicial LLT does, to the
-    /// bit, and stops at the row where faer finds a pivot that is not
-    /// positive: the solver's path and equilibria are faer's.
+    /// `Numeric` factors H + tau Dm exactly when it is positive definite,
+    /// stops at the same row as a dense Cholesky in the same order when it
+    /// is not, and its factor and solve agree with the dense ones to
+    /// rounding.
     #[test]
-    fn numeric_factor_and_solve_equal_faers_to_the_bit() {
+    fn numeric_factor_and_solve_agree_with_dense_cholesky() {
         let mut rng = Rng::new(5);
         let mut failed = 0;
         for case in 0..60 {
             let n = 5 + case * 3;
-            let pattern = random_pattern(n, &mut rng);
+            let pattern = random_lower(n, &mut rng);
             let (upper, upper_pos, perm, chol) = factor_structure(&pattern);
             let dm: Vec<f64> = (0..n).map(|_| 0.5 + rng.uniform()).collect();
             let numeric = Numeric::new(&upper, &upper_pos, &perm, &dm, &chol);
             // Off-diagonal values in [-1, 1); the diagonal from below to
             // above the row sums, so some matrices are indefinite.
-            let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+            let (cp, ri) = (&pattern.col_ptr, &pattern.row_idx);
             let mut h: Vec<f64> = ri.iter().map(|_| rng.signed()).collect();
             let mut sums = vec![0.0; n];
             for c in 0..n {
@@ -951,74 +910,50 @@ mod tests {
             for c in 0..n {
                 h[cp[c]] = scale * sums[c] + 0.1;
             }
-            let tau = if case % 3 == 0 {
-                0.0
-            } else {
-                0.05 * case as f64
-            };
-            let mut vals = vec![0.0; h.len()];
-            for (&p, &v) in upper_pos.iter().zip(&h) {
-                vals[p] = v;
+            let tau = if case % 3 == 0 { 0.0 } else { 0.05 * case as f64 };
+            // The shifted matrix, dense, in the factor's order.
+            let mut inv = vec![0; n];
+            for (new, &old) in perm.iter().enumerate() {
+                inv[old] = new;
             }
-            if tau != 0.0 {
-                for (c, &d) in dm.iter().enumerate() {
-                    vals[upper_pos[cp[c]]] += tau * d;
+            let mut a = vec![vec![0.0; n]; n];
+            for c in 0..n {
+                for p in cp[c]..cp[c + 1] {
+                    let (i, j) = (inv[ri[p]], inv[c]);
+                    a[i][j] = h[p];
+                    a[j][i] = h[p];
                 }
+                a[inv[c]][inv[c]] += tau * dm[c];
             }
             let mut ours = Factor {
-                l: vec![0.0; chol.len_val()],
+                l: vec![0.0; chol.row_idx.len()],
                 inv: vec![0.0; n],
             };
             let got = numeric.factor(&h, tau, &mut ours.l, &mut ours.inv);
-            let mut theirs = vec![0.0; chol.len_val()];
-            let mut mem = MemBuffer::new(factorize_simplicial_numeric_llt_scratch::<usize, f64>(n));
-            let want = factorize_simplicial_numeric_llt(
-                &mut theirs,
-                SparseColMatRef::new(upper.as_ref(), &vals),
-                Default::default(),
-                &chol,
-                MemStack::new(&mut mem),
-            );
-            match (got, want) {
-                (Ok(()), Ok(_)) => {
-                    assert!(
-                        ours.l
-                            .iter()
-                            .zip(&theirs)
-                            .all(|(a, b)| a.to_bits() == b.to_bits()),
-                        "case {case}: factors differ"
-                    );
+            match (got, dense_cholesky(&a)) {
+                (Ok(()), Ok(dense)) => {
+                    for j in 0..n {
+                        for (p, &i) in chol.column(j).iter().enumerate() {
+                            let v = ours.l[chol.col_ptr[j] + p];
+                            assert!((v - dense[i][j]).abs() < 1e-12 * (1.0 + dense[i][j].abs()), "case {case}: L[{i}][{j}]");
+                        }
+                    }
                     let rhs: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
                     let mut y = numeric.work();
                     y[..n].copy_from_slice(&rhs);
                     numeric.solve_in_place(&ours, &mut y);
-                    let mut m = faer::Mat::from_fn(n, 1, |i, _| rhs[i]);
-                    SimplicialLltRef::new(&chol, &theirs).solve_in_place_with_conj(
-                        Conj::No,
-                        m.as_mut(),
-                        Par::Seq,
-                        MemStack::new(&mut MemBuffer::new(faer::dyn_stack::StackReq::EMPTY)),
-                    );
                     for i in 0..n {
-                        assert_eq!(
-                            y[i].to_bits(),
-                            m[(i, 0)].to_bits(),
-                            "case {case}: solves differ"
-                        );
+                        let ay: f64 = (0..n).map(|j| a[i][j] * y[j]).sum();
+                        assert!((ay - rhs[i]).abs() < 1e-9, "case {case}: residual at {i}");
                     }
                 }
-                (Err(k), Err(e)) => {
+                (Err(k), Err(want)) => {
                     failed += 1;
-                    let faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } =
-                        e;
-                    assert_eq!(k + 1, index, "case {case}: stops at another row");
+                    assert_eq!(k, want, "case {case}: stops at another row");
                 }
-                (got, want) => panic!("case {case}: ours {got:?}, faer's {want:?}"),
+                (got, want) => panic!("case {case}: ours {got:?}, dense {:?}", want.map(|_| ())),
             }
         }
-        assert!(
-            failed > 5 && failed < 55,
-            "indefinite cases: {failed} of 60"
-        );
+        assert!(failed > 5 && failed < 55, "indefinite cases: {failed} of 60");
     }
 }
