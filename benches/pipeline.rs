@@ -71,8 +71,9 @@ fn one(name: &str, text: &str) {
 fn check(text: &str) {
     let (t0, c0) = (Instant::now(), cpu_seconds());
     let d = karigami::parse_with(text, "check", &Overrides::default()).expect("parses");
-    let two = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
-    let checked = karigami::check_on(d.clone(), &mut |_| {}, true, two).expect("grows");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = karigami::Jobs::new(cores);
+    let checked = karigami::check_on(d.clone(), &mut |_| {}, true, jobs).expect("grows");
     let report = karigami::check_text(&checked.verified());
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     assert!(checked.report.passed());

@@ -26,12 +26,11 @@ mod fabrication;
 mod font;
 mod guide;
 mod hash;
-mod in_order;
+mod jobs;
 mod lattice;
 mod layout;
 mod legs;
 mod output;
-mod pages;
 mod parts;
 mod pipeline;
 mod report;
@@ -54,6 +53,9 @@ pub use report::{build_check_json, build_json, build_text, check_json, check_tex
 
 // Diagnostics: every error the library reports, with its kind and place.
 pub use diagnostic::{Diagnostic, ErrorKind};
+
+// How many threads the library may use.
+pub use jobs::Jobs;
 
 // Design: the parsed recipe, its fabrication settings, and the solvers
 // that search for a recipe's values.

@@ -3,6 +3,7 @@
 //! reports, and is the only place that knows which writer makes which file.
 
 use crate::guide::guide_showing;
+use crate::jobs::Jobs;
 use crate::lattice::Lattice;
 use crate::parts::solid;
 use crate::pipeline::Build;
@@ -16,37 +17,19 @@ pub(crate) const SHEET_MAX_PX: f64 = 4000.0;
 /// Resolution of preview.png: 8 px/mm on a 160 x 120 mm page (1280 x 960 px).
 pub(crate) const PREVIEW_PX_PER_MM: f64 = 8.0;
 
-/// Every output file: a path relative to the output folder and its bytes.
-/// The sheet pictures, the longest part, are drawn on a second thread
-/// while this one writes the rest (where the machine has a second core);
-/// the files are the same either way.
+/// Every output file: a path relative to the output folder and its bytes,
+/// on every core the machine has (`files_on`).
 pub fn files(b: &Build) -> Vec<(String, Vec<u8>)> {
-    let two = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
-    files_on(b, two)
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    files_on(b, Jobs::new(cores))
 }
 
-/// `files`, on one thread or two: `karigami build --jobs 1` stays on one.
-pub fn files_on(b: &Build, two_threads: bool) -> Vec<(String, Vec<u8>)> {
-    if !two_threads {
-        let pictures = sheet_pictures(b);
-        return files_with(b, pictures);
-    }
-    std::thread::scope(|s| {
-        let pictures = s.spawn(|| sheet_pictures(b));
-        // The rest is made meanwhile; only the sheets' places wait.
-        let rest = rest_of_files(b);
-        let pictures = pictures
-            .join()
-            .unwrap_or_else(|p| std::panic::resume_unwind(p));
-        let mut files = sheet_files(b, pictures);
-        files.extend(rest);
-        files
-    })
-}
-
-fn files_with(b: &Build, pictures: Vec<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
+/// `files`, on `jobs` threads: the sheet pictures, the longest part, may
+/// be drawn while the rest is written; the files are the same either way.
+pub fn files_on(b: &Build, jobs: Jobs) -> Vec<(String, Vec<u8>)> {
+    let (pictures, rest) = jobs.join(|_| sheet_pictures(b), |_| rest_of_files(b));
     let mut files = sheet_files(b, pictures);
-    files.extend(rest_of_files(b));
+    files.extend(rest);
     files
 }
 

@@ -4,21 +4,16 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{
-    Measures, measure_assembled, measure_with, strip_clashes, strip_clashes_in, whole,
-};
+use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
+use crate::jobs::Jobs;
 use crate::lattice::deploy::{Deployment, deployment};
-use crate::lattice::shape::{ShapeRoom, ShapeShare};
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
-use crate::parts::clash::Scratch;
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 mod reuse;
 pub(crate) use reuse::state as simulation_state;
@@ -174,121 +169,49 @@ pub struct Verified<'a> {
 /// lattice and work out its deployment. Only growth can fail here; a
 /// failed verification is in the report.
 pub fn check(design: Design, progress: &mut dyn FnMut(&str)) -> Result<Checked, Diagnostic> {
-    check_on(design, progress, false, false)
+    check_on(design, progress, false, Jobs::ONE)
 }
 
 /// Lattices with fewer cells are checked on one thread: their whole
 /// check takes milliseconds, so a second thread has little to save.
-const TWO_THREADS_FROM_CELLS: usize = 10_000;
+const PARALLEL_FROM_CELLS: usize = 10_000;
 
 /// `check`, measuring at once when `measure` (a report that shows the
-/// measures: `karigami check` without `-q`). After growth, the work falls
-/// into two independent halves of about equal cost on large lattices: the
-/// deployment (C(theta) with the misfits) with the shape and fit
-/// measures, and the placement, the clash search and verification. The
-/// first half measures the shape, and the second, its own work done,
-/// helps it from the far end (`ShapeShare`). With
-/// `two_threads` the second half (or, without measures, the deployment
-/// beside verification) runs on a second thread; every result is the
-/// same computation either way, so the reports are byte-identical.
+/// measures: `karigami check` without `-q`), on `jobs` threads. After
+/// growth, the work falls into two independent halves of about equal cost
+/// on large lattices: the deployment (C(theta) with the misfits) with the
+/// shape, and the placement, the clash search, verification and the
+/// lattice's extent. They may run in parallel (`Jobs::join`); every result
+/// is the same computation either way, so the reports are byte-identical
+/// for any number of jobs.
 pub fn check_on(
     design: Design,
     progress: &mut dyn FnMut(&str),
     measure: bool,
-    two_threads: bool,
+    jobs: Jobs,
 ) -> Result<Checked, Diagnostic> {
-    // The measures' largest buffers (the clash search's, the shape's lists)
-    // have their pages written on the second core while the first grows
-    // the lattice (about 3 us a page, which the measures would otherwise
-    // pay after growth, when both cores are busy). Nobody waits for them
-    // but the clash search, which comes after the placement on the second
-    // thread; the shape takes its room if it has come by then.
-    // A growth error stops the writer (`stop`) rather than wait for it: the
-    // error comes as fast, and with as little memory, as without it. No
-    // thread to be had, the search makes its own buffers.
-    let cells = build_cells(&design).min(crate::lattice::MAX_CELLS);
-    let stop = Arc::new(AtomicBool::new(false));
-    let mut prepared = if two_threads && measure && cells >= TWO_THREADS_FROM_CELLS {
-        let stop = Arc::clone(&stop);
-        std::thread::Builder::new()
-            .spawn(move || {
-                (
-                    Scratch::touched(cells, &stop),
-                    ShapeRoom::touched(cells, &stop),
-                )
-            })
-            .ok()
+    let lattice = design.grow_with(progress)?;
+    let jobs = if lattice.cells.len() >= PARALLEL_FROM_CELLS {
+        jobs
     } else {
-        None
+        Jobs::ONE
     };
-    let lattice = design.grow_with(progress);
-    let two_threads = two_threads
-        && lattice
-            .as_ref()
-            .is_ok_and(|l| l.cells.len() >= TWO_THREADS_FROM_CELLS);
-    if !(two_threads && measure) {
-        // Not used: a growth error, or fewer cells than the recipe said.
-        stop.store(true, Ordering::Relaxed);
-        if let Some(thread) = prepared.take() {
-            joined(thread);
-        }
-    }
-    let lattice = lattice?;
-    let placed_and_measured = |lattice: &Lattice| {
-        let placed = place(lattice);
-        let measures = measured(&design, lattice, placed.as_ref().unwrap_or(lattice));
-        (placed, measures)
-    };
-    let (report, deployment, measured) = match (two_threads, measure) {
-        (false, _) => (
-            verify(&lattice),
-            deployment(&lattice),
-            measure.then(|| placed_and_measured(&lattice)),
-        ),
-        // The clash search is the largest single measure: it goes with
-        // verification, the shape with the deployment. The shape is shared
-        // (`ShapeShare`): the second thread, its own work done, measures
-        // cells from the far end until the two meet.
-        (true, true) => {
-            let share = ShapeShare::new(&lattice);
-            std::thread::scope(|s| {
-                let other = s.spawn(|| {
-                    let placed = place(&lattice);
-                    let assembled = placed.as_ref().unwrap_or(&lattice);
-                    let scratch = match prepared.map(joined) {
-                        Some((scratch, room)) => {
-                            share.give(room);
-                            scratch
-                        }
-                        None => Scratch::default(),
-                    };
-                    let clashes = strip_clashes_in(&design, assembled, scratch);
-                    let report = verify(&lattice);
-                    let whole = whole(&lattice, assembled);
-                    (placed, clashes, report, whole, share.help())
-                });
-                let deployment = deployment(&lattice);
-                let mut rest = None;
-                let shape = share.measure(|| {
-                    let (placed, clashes, report, whole, helped) = other
-                        .join()
-                        .unwrap_or_else(|p| std::panic::resume_unwind(p));
-                    rest = Some((placed, clashes, report, whole));
-                    helped
-                });
-                let (placed, clashes, report, whole) = rest.expect("joined for the shape");
-                let measures = measure_with(&design, &lattice, shape, clashes, whole);
-                (report, deployment, Some((placed, measures)))
-            })
-        }
-        (true, false) => std::thread::scope(|s| {
-            let deployed = s.spawn(|| deployment(&lattice));
-            let report = verify(&lattice);
-            let deployment = deployed
-                .join()
-                .unwrap_or_else(|p| std::panic::resume_unwind(p));
-            (report, deployment, None)
-        }),
+    let (report, deployment, measured) = if measure {
+        let ((deployment, shape), (placed, clashes, report, whole)) = jobs.join(
+            |_| (deployment(&lattice), lattice.shape()),
+            |_| {
+                let placed = place(&lattice);
+                let assembled = placed.as_ref().unwrap_or(&lattice);
+                let clashes = strip_clashes(&design, assembled);
+                let whole = whole(&lattice, assembled);
+                (placed, clashes, verify(&lattice), whole)
+            },
+        );
+        let measures = measure_with(&design, &lattice, shape, clashes, whole);
+        (report, deployment, Some((placed, measures)))
+    } else {
+        let (report, deployment) = jobs.join(|_| verify(&lattice), |_| deployment(&lattice));
+        (report, deployment, None)
     };
     let (placed, measures) = match measured {
         Some((placed, measures)) => (OnceCell::from(placed), OnceCell::from(measures)),
@@ -304,13 +227,6 @@ pub fn check_on(
         joints: OnceCell::new(),
         parts: OnceCell::new(),
     })
-}
-
-/// What a thread returned, or its panic resumed here.
-fn joined<T>(thread: std::thread::JoinHandle<T>) -> T {
-    thread
-        .join()
-        .unwrap_or_else(|p| std::panic::resume_unwind(p))
 }
 
 /// `Lattice::placed`, None when that is the grown lattice (extrinsic).

@@ -189,15 +189,14 @@ fn a_build_carries_what_its_check_derived() {
     assert!(build_text(&built).contains(&shown));
 }
 
-/// `karigami check` on two threads (verification and the deployment beside
-/// the placement and measures, from 10,000 cells, the shape shared between
-/// them) reports what one thread and the lazy derivation report, to the
-/// byte; so does `-q`'s split (verification beside the deployment). A
+/// `karigami check` on several jobs (the deployment and the shape beside
+/// the placement, clashes and verification, from 10,000 cells) reports
+/// what one thread and the lazy derivation report, to the byte; so does `-q`'s split (verification beside the deployment). A
 /// plane sheet (C(theta) placing its cells as it takes them), an intrinsic
 /// 3-D sheet (measured as assembled) and a plane loop (no grid: the
 /// misfits in a pass of their own).
 #[test]
-fn a_check_on_two_threads_reports_what_one_thread_does() {
+fn a_check_on_any_jobs_reports_what_one_thread_does() {
     let sheet = "name = \"sheet-100x100\"\n[lattice]\nseed = \"sheet\"\nkappa = 0.0\n\
         [lattice.line]\nfrom = [0.0, 0.0]\nto = [2000.0, 0.0]\ncells = 100\n\
         [lattice.grow]\nrows = 100\nstart = 50\nangle = 45.0\n\
@@ -219,11 +218,12 @@ fn a_check_on_two_threads_reports_what_one_thread_does() {
             "{name}: large enough for two threads"
         );
         let (text, json) = (check_text(&lazy.verified()), check_json(&lazy.verified()));
-        for (measure, two) in [(true, true), (true, false), (false, true)] {
-            let c = karigami::check_on(design.clone(), &mut |_| {}, measure, two).unwrap();
-            assert_eq!(c.report, lazy.report, "{name} {measure} {two}");
-            assert_eq!(check_text(&c.verified()), text, "{name} {measure} {two}");
-            assert_eq!(check_json(&c.verified()), json, "{name} {measure} {two}");
+        for (measure, jobs) in [(true, 2), (true, 1), (false, 2), (true, 3)] {
+            let jobs = karigami::Jobs::new(jobs);
+            let c = karigami::check_on(design.clone(), &mut |_| {}, measure, jobs).unwrap();
+            assert_eq!(c.report, lazy.report, "{name} {measure} {jobs:?}");
+            assert_eq!(check_text(&c.verified()), text, "{name} {measure} {jobs:?}");
+            assert_eq!(check_json(&c.verified()), json, "{name} {measure} {jobs:?}");
         }
     }
 }

@@ -9,7 +9,7 @@ use super::files::{OutDir, Staged, safe_component};
 use super::progress::Progress;
 use super::recipe::{Recipe, simulate, stem, unsimulated};
 use super::stages::{Stages, StopOnPanic, Task};
-use karigami::{Build, ErrorKind, Overrides, Unsimulated, util::plural};
+use karigami::{Build, ErrorKind, Jobs, Overrides, Unsimulated, util::plural};
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -147,7 +147,12 @@ pub(super) fn build(
                                 let clock = Instant::now();
                                 // A second thread for the pictures only where
                                 // no other stage would use the core.
-                                let ended = draw(&work, &folders[i], &staged, jobs > 1 && alone);
+                                let ended = draw(
+                                    &work,
+                                    &folders[i],
+                                    &staged,
+                                    if alone { Jobs::new(jobs) } else { Jobs::ONE },
+                                );
                                 end(i, work.seconds + clock.elapsed().as_secs_f64(), ended);
                             }
                         }
@@ -414,11 +419,11 @@ fn start(
     }
 }
 
-/// The last stage of one recipe: its files made (the sheet pictures on a
-/// second thread with `two_threads`, `karigami::files_on`) and written.
-fn draw(work: &Work<Build>, folder: &str, staged: &Staged, two_threads: bool) -> Ended {
+/// The last stage of one recipe: its files made (on `jobs` threads,
+/// `karigami::files_on`) and written.
+fn draw(work: &Work<Build>, folder: &str, staged: &Staged, jobs: Jobs) -> Ended {
     let report = Report::of(&work.build);
-    let files = karigami::files_on(&work.build, two_threads);
+    let files = karigami::files_on(&work.build, jobs);
     match staged.write_build(folder, &files, work.key, &report) {
         Ok(()) => Ended::ok(report, false),
         Err(e) => Ended::write_failed(folder, &e),

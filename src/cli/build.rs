@@ -74,7 +74,7 @@ pub(super) fn build(
             bar.clear();
             let built = built?;
             let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
-                karigami::files_on(&built, jobs > 1)
+                karigami::files_on(&built, karigami::Jobs::new(jobs))
             });
             let report = Report::of(&built);
             staged

@@ -96,8 +96,10 @@ fn check_one(
     // A shown report reads the measures: taken at once, on a second core
     // beside verification where there is one (the report is the same).
     let shown = json || !v.quiet;
-    let two = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
-    let checked = match karigami::check_on(design, &mut |note| fit_note(note, v, bar), shown, two) {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let jobs = karigami::Jobs::new(cores);
+    let checked = match karigami::check_on(design, &mut |note| fit_note(note, v, bar), shown, jobs)
+    {
         Ok(c) => c,
         Err(d) => return fail(recipe.error(&d), bar),
     };

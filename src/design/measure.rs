@@ -45,7 +45,7 @@ pub struct Measures {
 
 /// The size and the vertex eyelets of a lattice, for the check report's
 /// head lines: two passes over every vertex and cell, measured with the
-/// rest (on the second thread in `pipeline::check_on`) rather than as the
+/// rest (in parallel with the shape in `pipeline::check_on`) rather than as the
 /// report is written.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Whole {
@@ -98,24 +98,19 @@ pub fn measure_assembled(design: &Design, lattice: &Lattice, assembled: &Lattice
 /// The strip clashes of a design's lattice as assembled (an intrinsic
 /// lattice meets itself as assembled: rows placed onto each other).
 pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Clashes {
-    strip_clashes_in(design, assembled, Scratch::default())
-}
-
-/// `strip_clashes`, searched in the buffers of `scratch`.
-pub(crate) fn strip_clashes_in(design: &Design, assembled: &Lattice, scratch: Scratch) -> Clashes {
     let fab = &design.fabrication;
     clashes_in(
         assembled,
         fab.material.width,
         fab.end_margin,
         design.clash.clearance,
-        scratch,
+        Scratch::default(),
     )
 }
 
 /// `measure_assembled` with the shape (`Lattice::shape`), the clashes
-/// (`strip_clashes`) and the `whole` given: the pipeline measures them on
-/// two threads (`pipeline::check_on`).
+/// (`strip_clashes`) and the `whole` given: the pipeline measures them in
+/// parallel (`pipeline::check_on`).
 pub(crate) fn measure_with(
     design: &Design,
     lattice: &Lattice,

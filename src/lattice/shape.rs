@@ -6,11 +6,8 @@
 //! and live with it (`design::fit`).
 
 use super::{Cell, Kind, Lattice, Legs, angle_between};
-use crate::pages::touched;
 use glam::DVec3;
 use std::f64::consts::TAU;
-use std::sync::atomic::AtomicBool;
-use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// An angle defect beyond this (degrees) counts as curved, positive or
 /// negative; below it a vertex is flat (a planar grid's defects are ~1e-14).
@@ -133,20 +130,14 @@ struct Curvatures {
 impl Curvatures {
     /// A ring of `window` slots (a power of two) for `vertices` vertices.
     fn new(vertices: usize, window: usize) -> Self {
-        // Reserved, not touched: the pages of the unused part are never
-        // faulted in, and `finish` hands them back.
-        Self::reusing(Vec::with_capacity(vertices), window)
-    }
-
-    /// `new`, the curvatures listed in `out` (emptied, its room kept).
-    fn reusing(mut out: Vec<VertexCurvature>, window: usize) -> Self {
-        out.clear();
         Self {
             sums: vec![(0, 0.0, 0.0); window],
             mask: window - 1,
             high: 0,
             next: 0,
-            out,
+            // Reserved, not touched: the pages of the unused part are
+            // never faulted in, and `finish` hands them back.
+            out: Vec::with_capacity(vertices),
         }
     }
 
@@ -154,12 +145,7 @@ impl Curvatures {
     /// false when its corners do not fit in the ring.
     #[inline]
     fn add(&mut self, ids: [u32; 4], corners: [DVec3; 4], area: f64) -> bool {
-        self.add_angles(ids, corner_angles(corners), area)
-    }
-
-    /// `add` with the cell's corner angles (`corner_angles`) at hand.
-    #[inline]
-    fn add_angles(&mut self, ids: [u32; 4], angles: [f64; 4], area: f64) -> bool {
+        let angles = corner_angles(corners);
         let (lo, hi) = ids
             .iter()
             .fold((u32::MAX, 0), |(l, h), &v| (l.min(v), h.max(v)));
@@ -415,8 +401,7 @@ impl Lattice {
 /// The regularity figures of cells: the smallest and largest area and leg,
 /// each cell's longest over shortest leg, and the range of its strips'
 /// legs. Every figure is a least, a largest or a list whose order the shape
-/// does not read, so cells measured in parts (`ShapeShare`) and merged
-/// give the figures of one pass bit for bit (areas and legs are never -0).
+/// does not read.
 struct Regularity {
     amin: f64,
     amax: f64,
@@ -430,18 +415,12 @@ struct Regularity {
 impl Regularity {
     /// Room for `cells` cells' ratios.
     fn new(cells: usize) -> Self {
-        Self::reusing(Vec::with_capacity(cells))
-    }
-
-    /// `new`, the ratios listed in `ratios` (emptied, its room kept).
-    fn reusing(mut ratios: Vec<f64>) -> Self {
-        ratios.clear();
         Self {
             amin: f64::INFINITY,
             amax: 0.0,
             lo: f64::INFINITY,
             hi: 0.0,
-            ratios,
+            ratios: Vec::with_capacity(cells),
             range: Range::default(),
         }
     }
@@ -469,192 +448,6 @@ impl Regularity {
         let area = cell_area(corners);
         self.add(area, legs_of(corners, cell.pivot));
         (corners, area)
-    }
-
-    /// Take in the figures of other cells.
-    fn merge(&mut self, other: &Regularity) {
-        (self.amin, self.amax) = (self.amin.min(other.amin), self.amax.max(other.amax));
-        (self.lo, self.hi) = (self.lo.min(other.lo), self.hi.max(other.hi));
-        self.ratios.extend_from_slice(&other.ratios);
-        self.range.merge(&other.range);
-    }
-}
-
-/// Room for the largest lists of a shape: its curvature list (32 bytes
-/// an interior vertex) and the cells' leg ratios (8 bytes a cell).
-pub(crate) struct ShapeRoom {
-    curvature: Vec<VertexCurvature>,
-    ratios: Vec<f64>,
-}
-
-impl ShapeRoom {
-    /// Room for about `cells` cells (a sheet has about as many interior
-    /// vertices), each page written now (`pages::touched`, until `stop`).
-    pub(crate) fn touched(cells: usize, stop: &AtomicBool) -> Self {
-        Self {
-            curvature: touched(cells, VertexCurvature::default(), stop),
-            ratios: touched(cells, 0.0, stop),
-        }
-    }
-
-    /// Room reserved, not touched: the pages of the unused part are never
-    /// faulted in, and the lists hand them back when they are finished.
-    fn reserved(vertices: usize, cells: usize) -> Self {
-        Self {
-            curvature: Vec::with_capacity(vertices),
-            ratios: Vec::with_capacity(cells),
-        }
-    }
-}
-
-/// Cells a claim of `ShapeShare` takes (a few milliseconds of work).
-const SHARE_CHUNK: usize = 8192;
-
-/// `Lattice::shape` on two threads, bit for bit: the measuring thread takes
-/// chunks of cells from the front and measures them as `shape` does; a
-/// helper that has finished its own work meanwhile (`help`) takes chunks
-/// from the back and measures each cell's corner angles, area and
-/// regularity, the costly part (four `atan2` and nine square roots a
-/// cell). Once the two meet, the measuring thread adds the helper's figures
-/// to the curvature sums in cell order (`measure`), so every sum is taken
-/// in the order of one pass. The helper stops at half the chunks: its
-/// figures (40 bytes a cell) wait in memory until then.
-pub(crate) struct ShapeShare<'a> {
-    lattice: &'a Lattice,
-    /// Cells a claim takes (`SHARE_CHUNK`).
-    chunk: usize,
-    /// The next chunk from the front, and the end of those left from the back.
-    claims: Mutex<(usize, usize)>,
-    /// The first chunk the helper may take.
-    floor: usize,
-    /// Room for the measuring thread's lists, when given (`give`).
-    room: Mutex<Option<ShapeRoom>>,
-}
-
-/// A chunk the helper measured: each cell's corner angles and area, and
-/// the chunk's regularity.
-pub(crate) struct Helped {
-    chunk: usize,
-    cells: Vec<([f64; 4], f64)>,
-    regularity: Regularity,
-}
-
-impl<'a> ShapeShare<'a> {
-    /// Nothing measured yet.
-    pub(crate) fn new(lattice: &'a Lattice) -> Self {
-        Self::in_chunks(lattice, SHARE_CHUNK)
-    }
-
-    /// Claims of `chunk` cells.
-    fn in_chunks(lattice: &'a Lattice, chunk: usize) -> Self {
-        let chunks = lattice.cells.len().div_ceil(chunk);
-        Self {
-            lattice,
-            chunk,
-            claims: Mutex::new((0, chunks)),
-            floor: chunks / 2,
-            room: Mutex::new(None),
-        }
-    }
-
-    /// Room for the measuring thread's lists, used if it comes before
-    /// `measure` starts (the figures are the same either way).
-    pub(crate) fn give(&self, room: ShapeRoom) {
-        *self.room.lock().unwrap_or_else(PoisonError::into_inner) = Some(room);
-    }
-
-    fn cells(&self, chunk: usize) -> &'a [Cell] {
-        let cells = &self.lattice.cells;
-        &cells[chunk * self.chunk..((chunk + 1) * self.chunk).min(cells.len())]
-    }
-
-    /// The claims, through a panic on the other thread (they stay consistent).
-    fn claims(&self) -> MutexGuard<'_, (usize, usize)> {
-        self.claims.lock().unwrap_or_else(PoisonError::into_inner)
-    }
-
-    /// The helper's part: chunks from the back, until they meet the
-    /// measuring thread's or reach the floor.
-    pub(crate) fn help(&self) -> Vec<Helped> {
-        let mut helped = Vec::new();
-        loop {
-            let chunk = {
-                let mut claims = self.claims();
-                if claims.1 <= claims.0.max(self.floor) {
-                    break;
-                }
-                claims.1 -= 1;
-                claims.1
-            };
-            let cells = self.cells(chunk);
-            let mut regularity = Regularity::new(cells.len());
-            let figures = cells
-                .iter()
-                .map(|cell| {
-                    let (corners, area) = regularity.measure(self.lattice, cell);
-                    (corner_angles(corners), area)
-                })
-                .collect();
-            helped.push(Helped {
-                chunk,
-                cells: figures,
-                regularity,
-            });
-        }
-        helped
-    }
-
-    /// The shape: chunks from the front until every chunk is taken, then
-    /// the helper's chunks, which `helped` returns (it must return every
-    /// chunk `help` measured: the helper's thread joined).
-    pub(crate) fn measure(&self, helped: impl FnOnce() -> Vec<Helped>) -> Shape {
-        let lattice = self.lattice;
-        let (window, full) = lattice.vertex_rings();
-        let room = self
-            .room
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .take()
-            .unwrap_or_else(|| ShapeRoom::reserved(lattice.vertices.len(), lattice.cells.len()));
-        let mut at = Curvatures::reusing(room.curvature, window);
-        let mut regularity = Regularity::reusing(room.ratios);
-        let mut fits = true;
-        while fits {
-            let chunk = {
-                let mut claims = self.claims();
-                if claims.0 >= claims.1 {
-                    break;
-                }
-                claims.0 += 1;
-                claims.0 - 1
-            };
-            for cell in self.cells(chunk) {
-                let (corners, area) = regularity.measure(lattice, cell);
-                if !at.add(cell.corner_ids(), corners, area) {
-                    // Out of order: measured again below with a slot a
-                    // vertex; the helper stops.
-                    fits = false;
-                    let mut claims = self.claims();
-                    claims.0 = claims.1;
-                    break;
-                }
-            }
-        }
-        let mut helped = helped();
-        helped.sort_unstable_by_key(|h| h.chunk);
-        for h in helped {
-            let cells = self.cells(h.chunk).iter().zip(&h.cells);
-            fits = fits
-                && cells
-                    .into_iter()
-                    .all(|(cell, &(angles, area))| at.add_angles(cell.corner_ids(), angles, area));
-            regularity.merge(&h.regularity);
-        }
-        if fits {
-            lattice.shape_of(at, regularity)
-        } else {
-            lattice.shape_in(full).expect("a slot for every vertex")
-        }
     }
 }
 
@@ -714,13 +507,6 @@ impl Range {
         let (s, l) = ((key >> 64) as u64, key as u64);
         self.short = (self.short.0.min(s), self.short.1.max(s));
         self.long = (self.long.0.min(l), self.long.1.max(l));
-    }
-
-    /// Take in another range's keys.
-    fn merge(&mut self, other: &Range) {
-        let (s, l) = (other.short, other.long);
-        self.short = (self.short.0.min(s.0), self.short.1.max(s.1));
-        self.long = (self.long.0.min(l.0), self.long.1.max(l.1));
     }
 
     /// Both ranges within `tol` (false for NaN or infinite legs).
@@ -1138,48 +924,6 @@ mod tests {
         let mut range = Range::default();
         range.add(strip_key(f64::NAN, 20.0));
         assert!(!range.within(SAME_STRIP_MM));
-    }
-
-    /// The shape measured in chunks shared with a helper is `shape`'s bit
-    /// for bit: the helper's chunks from the back (up to half), the rest
-    /// from the front, in chunks of every size; a lattice stored out of
-    /// order falls back to a slot per vertex, still the same.
-    #[test]
-    fn the_shared_shape_is_the_shape_bit_for_bit() {
-        let sheets = random_sheets(17, 16, |trial| 2 + trial % 2);
-        assert!(sheets.len() >= 8, "{} lattices grew", sheets.len());
-        for lattice in sheets {
-            let mut reversed = lattice.clone();
-            reversed.cells.reverse();
-            for lattice in [&lattice, &reversed] {
-                let one = lattice.shape();
-                for chunk in [1, 2, 3, 7, 1000] {
-                    let share = ShapeShare::in_chunks(lattice, chunk);
-                    let helped = share.help();
-                    let chunks = lattice.cells.len().div_ceil(chunk);
-                    assert_eq!(helped.len(), chunks - chunks / 2);
-                    let shared = share.measure(|| helped);
-                    assert_eq!(
-                        curvature_bits(&shared.curvature),
-                        curvature_bits(&one.curvature)
-                    );
-                    assert_eq!(shared, one);
-                    // No help: the measuring thread takes every chunk.
-                    let alone = ShapeShare::in_chunks(lattice, chunk).measure(Vec::new);
-                    assert_eq!(alone, one);
-                    // Every split the threads' timing can give: the helper
-                    // takes the chunks from `k` on, the measuring thread
-                    // the others.
-                    for k in chunks / 2..=chunks {
-                        let mut share = ShapeShare::in_chunks(lattice, chunk);
-                        share.floor = k;
-                        let helped = share.help();
-                        assert_eq!(helped.len(), chunks - k);
-                        assert_eq!(share.measure(|| helped), one);
-                    }
-                }
-            }
-        }
     }
 
     /// The survey gives `summary`, `relief` and `spread` as they are.

@@ -5,9 +5,7 @@
 //! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.
 
 use crate::lattice::{Lattice, RodType};
-use crate::pages::touched;
 use glam::DVec3;
-use std::sync::atomic::AtomicBool;
 
 /// Clearance (mm) added to the strip width unless the recipe sets one.
 pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
@@ -42,7 +40,7 @@ struct Line {
 
 /// Buffers of the search, each layer's kept for the next layer: the
 /// lattice's largest allocations then take their pages from the kernel
-/// once, not once a layer, or before the search (`Scratch::touched`).
+/// once, not once a layer.
 #[derive(Default)]
 pub(crate) struct Scratch {
     /// The rods of each layer.
@@ -242,26 +240,6 @@ fn search(
     }
     for ids in &layers {
         layer_clashes(lattice, ids, margin, reach, &mut scratch, found);
-    }
-}
-
-impl Scratch {
-    /// Buffers for a lattice of about `cells` cells in four layers (a
-    /// sheet's or a loop's: half as many lines a layer as cells), each page
-    /// written now (until `stop`). Another lattice only takes more pages
-    /// in the search.
-    pub(crate) fn touched(cells: usize, stop: &AtomicBool) -> Self {
-        let lines = cells / 2;
-        Self {
-            layers: (0..4).map(|_| touched(lines, 0, stop)).collect(),
-            lines: touched(lines, Line::default(), stop),
-            lengths: Vec::new(),
-            long: touched(lines, false, stop),
-            spans: touched(lines, [0; 3], stop),
-            offset: Vec::new(),
-            // A strip of a sheet is listed in two or three grid cells.
-            entries: touched(3 * lines, 0, stop),
-        }
     }
 }
 

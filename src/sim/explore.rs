@@ -5,7 +5,7 @@ use super::model::{Frame, Model, Node};
 use super::solver::{Options, System, solve};
 use super::strips::LatticeModel;
 use super::{Equilibrium, SimError, kabsch_distance};
-use crate::in_order::in_order;
+use crate::jobs::Jobs;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 pub use karigami_rods::rng::Rng;
@@ -90,9 +90,8 @@ pub fn explore(
             }
         }
     };
-    in_order(
+    Jobs::new(jobs).in_order(
         n,
-        jobs,
         |k| {
             let outcome = solve_start(base, &sys, k as u64, seed, finish);
             solved.fetch_add(1, Ordering::Relaxed);

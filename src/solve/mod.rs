@@ -220,9 +220,8 @@ impl Problem<'_> {
     fn evaluate_all(&self, xs: &[Vec<f64>]) -> Vec<f64> {
         let mut costs = Vec::with_capacity(xs.len());
         let space = &self.space;
-        crate::in_order::in_order(
+        crate::jobs::Jobs::new(self.jobs).in_order(
             xs.len(),
-            self.jobs,
             |k| space.cost_at(&xs[k]),
             |k, cost| {
                 self.record(&xs[k], cost);

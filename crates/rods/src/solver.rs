@@ -910,7 +910,11 @@ mod tests {
             for c in 0..n {
                 h[cp[c]] = scale * sums[c] + 0.1;
             }
-            let tau = if case % 3 == 0 { 0.0 } else { 0.05 * case as f64 };
+            let tau = if case % 3 == 0 {
+                0.0
+            } else {
+                0.05 * case as f64
+            };
             // The shifted matrix, dense, in the factor's order.
             let mut inv = vec![0; n];
             for (new, &old) in perm.iter().enumerate() {
@@ -935,7 +939,10 @@ mod tests {
                     for j in 0..n {
                         for (p, &i) in chol.column(j).iter().enumerate() {
                             let v = ours.l[chol.col_ptr[j] + p];
-                            assert!((v - dense[i][j]).abs() < 1e-12 * (1.0 + dense[i][j].abs()), "case {case}: L[{i}][{j}]");
+                            assert!(
+                                (v - dense[i][j]).abs() < 1e-12 * (1.0 + dense[i][j].abs()),
+                                "case {case}: L[{i}][{j}]"
+                            );
                         }
                     }
                     let rhs: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
@@ -954,6 +961,9 @@ mod tests {
                 (got, want) => panic!("case {case}: ours {got:?}, dense {:?}", want.map(|_| ())),
             }
         }
-        assert!(failed > 5 && failed < 55, "indefinite cases: {failed} of 60");
+        assert!(
+            failed > 5 && failed < 55,
+            "indefinite cases: {failed} of 60"
+        );
     }
 }
