@@ -8,7 +8,7 @@ use std::ops::{Add, Sub};
 
 /// The minimal rotation taking unit `t1` to unit `t2`, applied to `v`
 /// (smooth while t1.t2 > -1).
-#[inline(always)]
+#[inline]
 pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
     let c = t1.dot(t2);
     let b = t1.cross(t2);
@@ -18,7 +18,7 @@ pub fn transport<S: Scalar>(t1: V3<S>, t2: V3<S>, v: V3<S>) -> V3<S> {
 
 /// `transport` from a constant unit `t1` of a constant `v` (the stored
 /// reference frame): most products involve a constant, which is cheap.
-#[inline(always)]
+#[inline]
 pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
     let c = t2.dotc(t1);
     // b = t1 x t2 = -(t2 x t1)
@@ -29,7 +29,7 @@ pub fn transport_c<S: Scalar>(t1: DVec3, t2: V3<S>, v: DVec3) -> V3<S> {
 
 /// Material frame `(d1, d2)` of an edge with tangent `t`, stored source
 /// tangent `ts` and director `as_`, and material angle `theta`.
-#[inline(always)]
+#[inline]
 pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>, V3<S>) {
     let a1 = transport_c(ts, t, as_);
     let a2 = t.cross(a1);
@@ -39,7 +39,7 @@ pub fn material<S: Scalar>(ts: DVec3, as_: DVec3, t: V3<S>, theta: S) -> (V3<S>,
 
 /// A joint's axis and in-plane basis from its stored frame and the
 /// gnomonic tilt (a, b): `n = unit(ns + a ps + b qs)`, p and q transported.
-#[inline(always)]
+#[inline]
 pub fn joint_frame<S: Scalar>(
     ns: DVec3,
     ps: DVec3,
@@ -55,7 +55,7 @@ pub fn joint_frame<S: Scalar>(
 }
 
 /// `joint_frame` at any tilt: the reference for `joint_frame_at_rest`.
-#[inline(always)]
+#[inline]
 pub fn joint_frame_general<S: Scalar>(frame: [DVec3; 3], a: S, b: S) -> (V3<S>, V3<S>, V3<S>) {
     let [ns, ps, qs] = frame;
     let n = V3::cst(ns)
@@ -67,14 +67,14 @@ pub fn joint_frame_general<S: Scalar>(frame: [DVec3; 3], a: S, b: S) -> (V3<S>, 
 
 /// Twist between consecutive edges: the angle from the transported `d1`
 /// of the first edge to `d1` of the second, about the second tangent.
-#[inline(always)]
+#[inline]
 pub fn twist<S: Scalar>(t0: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) -> S {
     twist_with(t0.dot(t1), t0.cross(t1), d10, t1, d11)
 }
 
 /// `twist` given c = t0.t1 and b = t0 x t1, which the bending term has
 /// computed already.
-#[inline(always)]
+#[inline]
 pub fn twist_with<S: Scalar>(c: S, b: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) -> S {
     // Parallel transport of d10 from t0 to t1 (`transport`).
     let k = b.dot(d10) * (c + 1.0).recip();
@@ -91,7 +91,7 @@ pub fn twist_with<S: Scalar>(c: S, b: V3<S>, d10: V3<S>, t1: V3<S>, d11: V3<S>) 
 /// n = ns (1 - (a^2 + b^2)/2) + a ps + b qs,
 /// p = ps (1 - a^2/2) - a ns - (ab/2) qs,
 /// q = qs (1 - b^2/2) - b ns - (ab/2) ps.
-#[inline(always)]
+#[inline]
 pub fn joint_frame_at_rest<S: Scalar>(frame: [DVec3; 3], a: S, b: S) -> (V3<S>, V3<S>, V3<S>) {
     let [ns, ps, qs] = frame;
     let (aa, bb, ab) = (a * a * -0.5, b * b * -0.5, a * b * -0.5);

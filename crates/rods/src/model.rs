@@ -514,12 +514,12 @@ struct Dirs<S> {
 }
 
 impl<S: Scalar> Dirs<S> {
-    #[inline(always)]
+    #[inline]
     fn new() -> Self {
         Dirs { known: [None; 4] }
     }
 
-    #[inline(always)]
+    #[inline]
     fn get(
         &mut self,
         m: &Model,
@@ -616,7 +616,7 @@ fn stencil_energy<S: Scalar>(m: &Model, get: &dyn Fn(usize) -> S, s: &Stencil) -
 
 /// Bending and twist energy at a node from the frames `[t, d1, d2]` of
 /// its two edges, as (bend, twist).
-#[inline(always)]
+#[inline]
 fn bend_energy<S: Scalar>(sec: &Section, lbar: f64, f0: [V3<S>; 3], f1: [V3<S>; 3]) -> (S, S) {
     let ([t0, d10, d20], [t1, d11, d21]) = (f0, f1);
     let (c, b) = (t0.dot(t1), t0.cross(t1));
@@ -1014,7 +1014,7 @@ fn edge_rotation(e: usize, (ts, as_, th): (DVec3, DVec3, f64), ev: DVec3) -> Edg
 /// sine with its derivatives f1, f2, over the 4 variables: each entry the
 /// one nonzero term of the 4-variable dual product x f (x's entries in
 /// th and f's in the edge vector being zeros), so the same number.
-#[inline(always)]
+#[inline]
 fn turned(x: &Dual<3, 6>, (f, f1, f2): (f64, f64, f64)) -> Dual<4, 10> {
     let mut out = Dual::<4, 10>::cst(x.v * f);
     for i in 0..3 {
@@ -1031,7 +1031,7 @@ fn turned(x: &Dual<3, 6>, (f, f1, f2): (f64, f64, f64)) -> Dual<4, 10> {
 
 /// An arm's rotation over its slot's 3 inputs as one over 4 variables,
 /// the fourth unused.
-#[inline(always)]
+#[inline]
 fn widen(d: &Dual<3, 6>) -> Dual<4, 10> {
     Dual::embed(d, 0)
 }
@@ -1058,7 +1058,7 @@ fn stretch_local(
 
 /// The rotation vector w taking the frame f0 to f (to second order):
 /// w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
-#[inline(always)]
+#[inline]
 fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
     let w = f[0]
         .crossc(f0[0])
@@ -1077,14 +1077,14 @@ fn rotation<S: Scalar>(f: [V3<S>; 3], f0: [DVec3; 3]) -> [S; 3] {
 /// The same numbers as `bend_energy` over `rotated` frames to round-off
 /// (`bend_energy_rotations_dual`, the reference tests/sim.rs compares it
 /// with), with about a third of the 6-variable dual products.
-#[inline(always)]
+#[inline]
 pub fn bend_energy_rotations(sec: &Section, lbar: f64, [a, b]: [[DVec3; 3]; 2]) -> Dual<6, 21> {
     bend_energy_products(sec, lbar, |i, j| rotation_product(a[i], b[j])).to_dual()
 }
 
 /// The bend and twist energy from the products M_ij = `mm(i, j)` of the
 /// two edges' frames (`bend_energy_rotations`).
-#[inline(always)]
+#[inline]
 fn bend_energy_products<S: Scalar>(sec: &Section, lbar: f64, mm: impl Fn(usize, usize) -> S) -> S {
     let (m00, m01, m02) = (mm(0, 0), mm(0, 1), mm(0, 2));
     let (m10, m11, m12) = (mm(1, 0), mm(1, 1), mm(1, 2));
@@ -1110,7 +1110,7 @@ fn bend_energy_products<S: Scalar>(sec: &Section, lbar: f64, mm: impl Fn(usize, 
 /// a.b; d/dw0 = a x b, d/dw1 = -(a x b); d2/dw0_k dw0_l = d2/dw1_k dw1_l
 /// = (a_k b_l + a_l b_k) / 2 - a.b delta_kl; d2/dw0_k dw1_l = a.b
 /// delta_kl - b_k a_l.
-#[inline(always)]
+#[inline]
 fn rotation_product(a: DVec3, b: DVec3) -> Relative {
     let ab = a.dot(b);
     let x = a.cross(b).to_array();
@@ -1153,7 +1153,7 @@ pub fn bend_energy_rotations_dual(
 /// component c is (delta_ci f_j + delta_cj f_i) / 2 - f_c delta_ij: the
 /// numbers the dual products of that formula give, without their
 /// arithmetic (tests/sim.rs checks the stencil against direct duals).
-#[inline(always)]
+#[inline]
 fn rotated(f: DVec3, first: usize) -> V3<Dual<6, 21>> {
     let fa = f.to_array();
     let comp = |c: usize| {
