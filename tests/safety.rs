@@ -775,7 +775,7 @@ fn bad_inputs_get_their_exit_code_message_and_one_json_document() {
         (
             vec!["check", "/dev/zero"],
             3,
-            "larger than the limit of 1 MiB for a recipe",
+            "cannot read /dev/zero: it is a device, not a regular file",
         ),
         (
             vec!["check", "empty"],
@@ -1540,6 +1540,11 @@ pub(crate) fn faults() -> bool {
 }
 
 /// A marker as a build writes it, listing `files` with `records` lines.
+pub(crate) fn planted_marker(files: &[&str], records: &[String]) -> String {
+    let records: Vec<&str> = records.iter().map(String::as_str).collect();
+    marker(files, &records)
+}
+
 fn marker(files: &[&str], records: &[&str]) -> String {
     let head = "karigami build folder\nformat 1\nkind single\nwritten by karigami 0.1.0; a build replaces this folder whole\nfiles:\n";
     let records_head = "builds (what each build's files are made from, and each file's length and xxh3-64 hash; a rebuild keeps the files that check out):";

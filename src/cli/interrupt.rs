@@ -6,7 +6,7 @@
 //! own would need); on one it waits for a commit under way to finish
 //! (`commit`), removes what is registered, and exits as the signal would.
 
-use super::files::remove_entry;
+use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
 
@@ -49,6 +49,21 @@ fn clean_up() {
         remove_entry(path);
     }
     std::mem::forget(left);
+}
+
+/// Remove a file or folder this run made (a link is removed, never
+/// followed), trying again if a folder is still being written into.
+fn remove_entry(path: &Path) {
+    for _ in 0..5 {
+        let removed = match fs::symlink_metadata(path) {
+            Ok(m) if m.is_dir() => fs::remove_dir_all(path),
+            Ok(_) => fs::remove_file(path),
+            Err(_) => return,
+        };
+        if removed.is_ok() {
+            return;
+        }
+    }
 }
 
 /// An entry removed if the run is interrupted, until this is dropped.

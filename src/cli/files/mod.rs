@@ -114,16 +114,6 @@ fn walk(root: &Path, mut visit: impl FnMut(&Path, bool) -> io::Result<()>) -> io
     Ok(())
 }
 
-/// Remove a file or folder this run made (`interrupt`), trying again if
-/// a folder is still being written into.
-pub(crate) fn remove_entry(path: &Path) {
-    for _ in 0..5 {
-        if remove_any(path).is_ok() {
-            return;
-        }
-    }
-}
-
 fn remove_any(path: &Path) -> io::Result<()> {
     match fs::symlink_metadata(path) {
         Ok(m) if m.is_dir() => remove::remove_folder(path),
