@@ -5,7 +5,8 @@
 //! numbers. Strings get control characters, numbers their extremes.
 //!
 //! CI runs `FUZZ_CASES` cases; the long run is `scripts/fuzz 100000`
-//! (`KARIGAMI_FUZZ_CASES=N`, optional `KARIGAMI_FUZZ_SEED=S`).
+//! (`KARIGAMI_FUZZ_CASES=N`, optional `KARIGAMI_FUZZ_SEED=S`). Hostile build
+//! folders (planted markers, FIFOs) go through the binary the same way.
 
 use crate::cli::{recipes, repo};
 use crate::util::Rng;
@@ -577,4 +578,171 @@ fn the_format_checks_catch_broken_files() {
     for (name, text) in bad {
         assert!(parses(name, text).is_err(), "{name}: {text:?} passed");
     }
+}
+
+/// Hostile build folders (issue 36): markers planted in --out or in a
+/// staging folder beside it, listing paths outside, a user's files with
+/// made-up records, or being a FIFO, a link to /dev/zero or junk; FIFOs
+/// among the files; a FIFO as the recipe. No run hangs or panics, and no
+/// file of anyone's is lost: each victim is still somewhere under the
+/// case's folder (kept aside, perhaps). CI runs `FOLDER_CASES`; the long
+/// run `scripts/fuzz` sets `KARIGAMI_FUZZ_FOLDERS`.
+#[cfg(unix)]
+#[test]
+fn planted_markers_and_fifos_never_hang_nor_cost_a_file() {
+    let cases: u64 = std::env::var("KARIGAMI_FUZZ_FOLDERS")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(FOLDER_CASES);
+    let root = crate::cli::scratch("fuzz-folders");
+    let chain = std::fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    let recipe = chain.replace("rows = 6 ", "rows = 3 ");
+    for i in 0..cases {
+        let mut rng = Rng::new(0x5eed_f01d + i);
+        let case = root.join(format!("case-{i}"));
+        std::fs::create_dir_all(case.join("victim")).unwrap();
+        std::fs::create_dir_all(case.join("far/empty")).unwrap();
+        std::fs::write(case.join("victim/keep.txt"), "victim").unwrap();
+        std::fs::write(case.join("a.toml"), &recipe).unwrap();
+        let notes = format!("notes of case {i}");
+        let (name, args) = planted(&case, &notes, &mut rng);
+        let o = timed_run(&case, &args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        let code = o.status.code();
+        assert!(
+            matches!(code, Some(0 | 2 | 3)),
+            "case {i} ({name}): {code:?}: {stderr}"
+        );
+        assert_eq!(
+            std::fs::read(case.join("victim/keep.txt")).ok().as_deref(),
+            Some(&b"victim"[..]),
+            "case {i} ({name}): {stderr}"
+        );
+        assert!(case.join("far/empty").is_dir(), "case {i} ({name})");
+        assert!(
+            holds(&case, notes.as_bytes()),
+            "case {i} ({name}): the user's notes are gone: {stderr}"
+        );
+    }
+}
+
+/// Hostile-folder cases in CI (each is one or two runs of the binary).
+const FOLDER_CASES: u64 = 12;
+
+/// Plant one hostile shape in `case` (a user's `notes.txt` holding
+/// `notes` in the folder planted in); what it is and the run to try.
+#[cfg(unix)]
+fn planted(case: &std::path::Path, notes: &str, rng: &mut Rng) -> (String, Vec<String>) {
+    use std::os::unix::fs::symlink;
+    let build = |out: &str| ["build", "a.toml", "--out", out].map(String::from).to_vec();
+    if rng.below(8) == 0 {
+        mkfifo(&case.join("f.toml"));
+        std::fs::write(case.join("notes.txt"), notes).unwrap();
+        return (
+            "a FIFO as the recipe".into(),
+            vec!["check".into(), "f.toml".into()],
+        );
+    }
+    let place = if rng.below(2) == 0 {
+        "out"
+    } else {
+        ".out.karigami-new-4242"
+    };
+    let dir = case.join(place);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("notes.txt"), notes).unwrap();
+    let marker = dir.join(".karigami-build");
+    let far = case.join("far/empty/x").display().to_string();
+    let victim = case.join("victim/keep.txt").display().to_string();
+    let listed = [
+        "../victim/keep.txt",
+        "notes.txt",
+        "../far/empty/x",
+        "a/../../victim/keep.txt",
+        "report.txt",
+        "pipe",
+        &far,
+        &victim,
+    ];
+    let shape = rng.below(5);
+    let name = match shape {
+        0 => {
+            mkfifo(&marker);
+            "a FIFO marker"
+        }
+        1 => {
+            symlink("/dev/zero", &marker).unwrap();
+            "a marker linked to /dev/zero"
+        }
+        2 => {
+            let junk: Vec<u8> = (0..rng.below(4096)).map(|_| rng.next_u64() as u8).collect();
+            std::fs::write(
+                &marker,
+                [b"karigami build folder\n".as_slice(), &junk].concat(),
+            )
+            .unwrap();
+            "a junk marker"
+        }
+        _ => {
+            if shape == 4 {
+                mkfifo(&dir.join("pipe"));
+            }
+            let files: Vec<&str> = (0..1 + rng.below(4)).map(|_| *rng.pick(&listed)).collect();
+            let records: Vec<String> = files
+                .iter()
+                .map(|f| {
+                    let len = if rng.below(2) == 0 { notes.len() } else { rng.below(99) };
+                    format!(
+                        r#"{{"folder":"","inputs":"","files":[["{f}",{len},"{:016x}"]],"report":null}}"#,
+                        rng.next_u64()
+                    )
+                })
+                .collect();
+            std::fs::write(&marker, crate::safety::planted_marker(&files, &records)).unwrap();
+            "a marker listing others' files"
+        }
+    };
+    (format!("{name} in {place}"), build("out"))
+}
+
+#[cfg(unix)]
+fn mkfifo(path: &std::path::Path) {
+    let made = std::process::Command::new("mkfifo").arg(path).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo {}", path.display());
+}
+
+/// Run karigami in `dir`, failing the test if it takes over a minute.
+fn timed_run(dir: &std::path::Path, args: &[String]) -> std::process::Output {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_karigami"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs() > 60 {
+            let _ = child.kill();
+            panic!("karigami {args:?} hung");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Whether a regular file under `dir` (links not followed) holds `bytes`.
+fn holds(dir: &std::path::Path, bytes: &[u8]) -> bool {
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let kind = e.file_type().unwrap();
+            if kind.is_dir() {
+                stack.push(e.path());
+            } else if kind.is_file() && std::fs::read(e.path()).is_ok_and(|b| b == bytes) {
+                return true;
+            }
+        }
+    }
+    false
 }

@@ -176,12 +176,16 @@ pub(super) fn build(
     // batch.json records every recipe's status; no times, so that it is
     // the same on every run.
     let record: Vec<Record> = outcomes.iter().map(|o| o.record(false)).collect();
-    let written = staged.write(
+    // Recorded like a build's files (from no inputs, so never kept), so
+    // that a rebuild can tell an edit to it.
+    let written = staged.write_build(
         "",
         &[(
             "batch.json".to_string(),
             (json_text(&record) + "\n").into_bytes(),
         )],
+        None,
+        &(),
     );
     if let Err(e) = written {
         return Err(Error::io(format!(
@@ -241,17 +245,24 @@ pub(super) fn build(
     .text_only())
 }
 
+/// A folder name as file systems that fold names compare it: in Unicode
+/// normal form C (`café` whether its `é` is one character or `e` and a
+/// combining accent) and in lower case.
+fn folded(name: &str) -> String {
+    use unicode_normalization::UnicodeNormalization;
+    name.nfc().collect::<String>().to_lowercase()
+}
+
 /// Each recipe's subfolder: its file name without `.toml`, made a safe
 /// single path component (see `safe_component`); recipes of the same name
 /// from different folders get the folder's name in front (`examples-disk`,
-/// `templates-disk`). Names that differ only in case are refused too, as
-/// they would share a folder on macOS and Windows.
+/// `templates-disk`). Names that differ only in case or in Unicode
+/// normalisation are refused too (`folded`), as they would share a folder
+/// on macOS and Windows, and look alike everywhere.
 fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
     let mut count: BTreeMap<String, usize> = BTreeMap::new();
     for p in paths {
-        *count
-            .entry(safe_component(&stem(p)).to_lowercase())
-            .or_default() += 1;
+        *count.entry(folded(&safe_component(&stem(p)))).or_default() += 1;
     }
     let names: Vec<String> = paths
         .iter()
@@ -263,9 +274,7 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
                 .ok()
                 .and_then(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()));
             let name = match parent {
-                Some(dir) if count[&name.to_lowercase()] > 1 => {
-                    safe_component(&format!("{dir}-{name}"))
-                }
+                Some(dir) if count[&folded(&name)] > 1 => safe_component(&format!("{dir}-{name}")),
                 _ => name,
             };
             // The batch's own file keeps its name.
@@ -278,7 +287,7 @@ fn folders(paths: &[PathBuf]) -> Result<Vec<String>, Error> {
         .collect();
     let mut seen: BTreeMap<String, &Path> = BTreeMap::new();
     for (name, p) in names.iter().zip(paths) {
-        if let Some(first) = seen.insert(name.to_lowercase(), p) {
+        if let Some(first) = seen.insert(folded(name), p) {
             return Err(Error::new(
                 ErrorKind::SameSubfolder,
                 format!(

@@ -209,11 +209,11 @@ pub(super) fn open_out(
     let dir = files::OutDir::open(out, inputs, force)?;
     if !v.quiet {
         for note in &dir.notes {
-            eprintln!("note: {note}");
+            errln!("note: {note}");
         }
     }
     if let Some(warning) = dir.force_warning() {
-        eprintln!("{warning}");
+        errln!("{warning}");
     }
     Ok(dir)
 }

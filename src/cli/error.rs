@@ -124,7 +124,7 @@ impl Error {
     /// Show what is left to show: the text on stderr and, with `--json`,
     /// the error as the run's JSON document.
     pub(super) fn report(&self, json: bool) {
-        eprint!("{}", self.text);
+        err!("{}", self.text);
         if let (true, Some(error)) = (json, self.json.as_deref()) {
             print_json(&Stopped {
                 status: "error",

@@ -6,6 +6,9 @@
 //!   device", as a full disk would;
 //! - `noexchange`: commit without the atomic folder swap, as on systems
 //!   that lack it, to test the fallback and its recovery;
+//! - `exdev`: --out cannot be moved (both the swap and a rename of it
+//!   fail with EXDEV), as an overlay file system's folder from a lower
+//!   layer, to test the commit in place;
 //! - `nosync`: skip fsync, which guards against power loss, not the kills
 //!   and full disks simulated here (hundreds of runs on a busy CI disk);
 //! - `syncfail@K`: fail the K-th flush to the disk (fsync, counted apart
@@ -26,7 +29,9 @@
 //!   terminal prints its first progress line after MS milliseconds instead
 //!   of 2 s, so that a test sees one however fast the machine builds.
 //!
-//! It is compiled in so that the tests exercise the shipped binary.
+//! The variable is read only in a binary built with the cargo feature
+//! `fault-injection` (scripts/test turns it on); the released binary is
+//! built without it, and there every hook is inert.
 
 use std::io;
 use std::sync::OnceLock;
@@ -37,6 +42,7 @@ struct Plan {
     abort_at: Option<usize>,
     enospc_from: Option<usize>,
     no_exchange: bool,
+    cross_device: bool,
     no_sync: bool,
     edit: bool,
     sync_fail_at: Option<usize>,
@@ -47,29 +53,39 @@ struct Plan {
 
 fn plan() -> &'static Plan {
     static PLAN: OnceLock<Plan> = OnceLock::new();
-    PLAN.get_or_init(|| {
-        let mut plan = Plan::default();
-        let Ok(spec) = std::env::var("KARIGAMI_FAULT") else {
-            return plan;
-        };
-        for item in spec.split(',') {
-            match item.split_once('@') {
-                Some(("abort", k)) => plan.abort_at = k.parse().ok(),
-                Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
-                Some(("syncfail", k)) => plan.sync_fail_at = k.parse().ok(),
-                Some(("firstnote", ms)) => plan.first_note_ms = ms.parse().ok(),
-                Some(("add", rel)) => plan.add[0] = Some(rel.to_string()),
-                Some(("addlate", rel)) => plan.add[1] = Some(rel.to_string()),
-                Some(("addgone", rel)) => plan.add[2] = Some(rel.to_string()),
-                Some(("addnew", rel)) => plan.add[3] = Some(rel.to_string()),
-                _ if item == "noexchange" => plan.no_exchange = true,
-                _ if item == "nosync" => plan.no_sync = true,
-                _ if item == "edit" => plan.edit = true,
-                _ => {}
-            }
+    PLAN.get_or_init(read_plan)
+}
+
+/// Without the feature, no plan: nothing read from the environment.
+#[cfg(not(feature = "fault-injection"))]
+fn read_plan() -> Plan {
+    Plan::default()
+}
+
+#[cfg(feature = "fault-injection")]
+fn read_plan() -> Plan {
+    let mut plan = Plan::default();
+    let Ok(spec) = std::env::var("KARIGAMI_FAULT") else {
+        return plan;
+    };
+    for item in spec.split(',') {
+        match item.split_once('@') {
+            Some(("abort", k)) => plan.abort_at = k.parse().ok(),
+            Some(("enospc", k)) => plan.enospc_from = k.parse().ok(),
+            Some(("syncfail", k)) => plan.sync_fail_at = k.parse().ok(),
+            Some(("firstnote", ms)) => plan.first_note_ms = ms.parse().ok(),
+            Some(("add", rel)) => plan.add[0] = Some(rel.to_string()),
+            Some(("addlate", rel)) => plan.add[1] = Some(rel.to_string()),
+            Some(("addgone", rel)) => plan.add[2] = Some(rel.to_string()),
+            Some(("addnew", rel)) => plan.add[3] = Some(rel.to_string()),
+            _ if item == "noexchange" => plan.no_exchange = true,
+            _ if item == "exdev" => plan.cross_device = true,
+            _ if item == "nosync" => plan.no_sync = true,
+            _ if item == "edit" => plan.edit = true,
+            _ => {}
         }
-        plan
-    })
+    }
+    plan
 }
 
 static STEP: AtomicUsize = AtomicUsize::new(0);
@@ -78,7 +94,7 @@ static SYNCS: AtomicUsize = AtomicUsize::new(0);
 fn next(what: &str) -> usize {
     let k = STEP.fetch_add(1, Ordering::SeqCst) + 1;
     if plan().abort_at == Some(k) {
-        eprintln!("fault: abort at step {k} ({what})");
+        errln!("fault: abort at step {k} ({what})");
         std::process::abort();
     }
     k
@@ -128,7 +144,7 @@ pub(super) fn add(dir: &std::path::Path, at: Moment) {
             .and_then(|()| std::fs::write(&path, "added while the build ran\n"))
     };
     if let Err(e) = made {
-        eprintln!("fault: cannot add {}: {e}", path.display());
+        errln!("fault: cannot add {}: {e}", path.display());
     }
 }
 
@@ -153,7 +169,7 @@ pub(super) fn edit(path: &std::path::Path) {
         .open(path)
         .and_then(|mut f| f.write_all(b"# edited while tuning ran\n"));
     if let Err(e) = edited {
-        eprintln!("fault: cannot edit {}: {e}", path.display());
+        errln!("fault: cannot edit {}: {e}", path.display());
     }
 }
 
@@ -164,6 +180,19 @@ pub(super) fn first_note() -> Option<std::time::Duration> {
 
 pub(super) fn no_exchange() -> bool {
     plan().no_exchange
+}
+
+/// Folders cannot be moved (`exdev`).
+pub(super) fn cross_device() -> bool {
+    plan().cross_device
+}
+
+/// Rename the folder `from` to `to`, or fail with EXDEV (`exdev`).
+pub(super) fn rename_folder(from: &std::path::Path, to: &std::path::Path) -> io::Result<()> {
+    if plan().cross_device {
+        return Err(io::Error::from_raw_os_error(18));
+    }
+    std::fs::rename(from, to)
 }
 
 /// Flush a file or folder to the disk (unless `nosync`).

@@ -7,18 +7,35 @@
 //! (`check`, `build` and `batch`, `tune` and `optimise`, `simulate`,
 //! `new`); `files` owns every write, `progress` the terminal.
 
-/// Print on stdout, ignoring a closed pipe (`karigami check --json | head`):
-/// what was asked for has been said, and a panic would be noise.
+/// Print on stdout (`console`: a closed pipe is ignored, any other
+/// failure fails the run).
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = write!(std::io::stdout(), $($arg)*);
+        let written = write!(std::io::stdout(), $($arg)*);
+        $crate::cli::console::noted(written, $crate::cli::console::Stream::Out);
     }};
 }
 macro_rules! outln {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
+        let written = writeln!(std::io::stdout(), $($arg)*);
+        $crate::cli::console::noted(written, $crate::cli::console::Stream::Out);
+    }};
+}
+/// Print on stderr, likewise (where `eprintln!` would panic).
+macro_rules! err {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let written = write!(std::io::stderr(), $($arg)*);
+        $crate::cli::console::noted(written, $crate::cli::console::Stream::Err);
+    }};
+}
+macro_rules! errln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let written = writeln!(std::io::stderr(), $($arg)*);
+        $crate::cli::console::noted(written, $crate::cli::console::Stream::Err);
     }};
 }
 
@@ -26,9 +43,11 @@ mod args;
 mod batch;
 mod build;
 mod check;
+mod console;
 mod error;
 mod fault;
 mod files;
+mod interrupt;
 mod new;
 mod optimise;
 mod progress;
@@ -43,9 +62,19 @@ use error::{Error, ErrorJson};
 use karigami::ErrorKind;
 
 pub(crate) fn run() -> i32 {
+    interrupt::start();
+    let code = run_command();
+    console::exit_code(code)
+}
+
+fn run_command() -> i32 {
     let args = match Args::try_parse() {
         Ok(args) => args,
-        Err(e) if !e.use_stderr() => e.exit(),
+        // --help and --version, on stdout.
+        Err(e) if !e.use_stderr() => {
+            console::noted(e.print(), console::Stream::Out);
+            return e.exit_code();
+        }
         Err(e) => {
             // A usage error is still one JSON document when --json was asked.
             if std::env::args_os().any(|a| a == "--json") {
@@ -138,12 +167,10 @@ pub(crate) fn run() -> i32 {
             Ok(())
         }
         Command::Completions { shell } => {
-            clap_complete::generate(
-                shell,
-                &mut Args::command(),
-                "karigami",
-                &mut std::io::stdout(),
-            );
+            // Into memory first: the generator panics on a failed write.
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Args::command(), "karigami", &mut script);
+            out!("{}", String::from_utf8_lossy(&script));
             Ok(())
         }
     };

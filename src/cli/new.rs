@@ -28,9 +28,16 @@ pub(super) fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Resu
     let plain = file
         .as_deref()
         .filter(|f| !f.starts_with('.') && !f.chars().any(char::is_control) && *f != ".toml");
-    if plain.is_none() || name.chars().any(char::is_control) {
+    // `sub/`, `sub/.` and `sub/..` name a folder, not a file in it (whose
+    // name `Path::file_name` would take to be `sub`).
+    let last = name
+        .rsplit(std::path::is_separator)
+        .next()
+        .unwrap_or_default();
+    let folder = matches!(last, "" | "." | "..");
+    if plain.is_none() || folder || name.chars().any(char::is_control) {
         return Err(Error::usage(format!(
-            "{name:?} is not a usable recipe name: give a name that does not start with a dot and has no control characters, such as `karigami new my-sheet`"
+            "{name:?} is not a usable recipe name: give a file name that does not start with a dot, end in a separator or have control characters, such as `karigami new my-sheet`"
         )));
     }
     let path = if name.ends_with(".toml") {
@@ -38,7 +45,9 @@ pub(super) fn new(name: &str, template: &str, force: bool, v: Verbosity) -> Resu
     } else {
         PathBuf::from(format!("{name}.toml"))
     };
-    if path.exists() && !force {
+    // A link counts as there even if it leads nowhere: writing would
+    // replace it.
+    if std::fs::symlink_metadata(&path).is_ok() && !force {
         return Err(Error::usage(format!(
             "{} exists; choose another name or pass --force to overwrite it",
             path.display()

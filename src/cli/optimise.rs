@@ -21,7 +21,7 @@ pub(super) fn run(
     let started = Instant::now();
     let result = karigami::optimise(design, &recipe.source, jobs, &mut |note| {
         if v.verbose {
-            eprintln!("{note}");
+            errln!("{note}");
         } else {
             bar.note(note);
         }
@@ -32,7 +32,7 @@ pub(super) fn run(
         Err(e) => return Err(recipe.error(&e)),
     };
     if !v.quiet {
-        eprintln!(
+        errln!(
             "optimised {} in {:.1} s: {} variables, {} iterations or generations, {} designs grown; cost {:.6} -> {:.6}; every hard constraint met",
             recipe.file,
             started.elapsed().as_secs_f64(),
@@ -45,7 +45,7 @@ pub(super) fn run(
     }
     match out {
         Some(o) => o.write(done.text.as_bytes())?,
-        None => print!("{}", done.text),
+        None => out!("{}", done.text),
     }
     Ok(())
 }

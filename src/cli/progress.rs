@@ -41,9 +41,10 @@ impl Progress {
         if self.tty {
             self.draw(&format!("{name} {status}"));
         } else {
-            eprintln!(
+            errln!(
                 "[{}/{}] {name}: {status} ({seconds:.2} s)",
-                self.done, self.total
+                self.done,
+                self.total
             );
         }
     }
@@ -54,7 +55,7 @@ impl Progress {
         if self.is_tty() {
             self.draw(text);
         } else if !self.quiet && self.noted.is_none_or(|t| t.elapsed() >= NOTE_EVERY) {
-            eprintln!("{text}");
+            errln!("{text}");
             self.noted = Some(Instant::now());
         }
     }
@@ -62,7 +63,7 @@ impl Progress {
     /// Print a block (an error report) above the bar.
     pub(super) fn print(&mut self, text: &str) {
         self.clear();
-        eprint!("{text}");
+        err!("{text}");
         if self.tty && !self.quiet && self.done > 0 && self.done < self.total {
             self.draw("");
         }
@@ -80,7 +81,7 @@ impl Progress {
         );
         line.truncate(line.char_indices().nth(78).map_or(line.len(), |(i, _)| i));
         let pad = self.drawn.saturating_sub(line.chars().count());
-        eprint!("\r{line}{}", " ".repeat(pad));
+        err!("\r{line}{}", " ".repeat(pad));
         let _ = std::io::stderr().flush();
         self.drawn = line.chars().count();
     }
@@ -88,7 +89,7 @@ impl Progress {
     /// Remove the bar (before the final summary).
     pub(super) fn clear(&mut self) {
         if self.drawn > 0 {
-            eprint!("\r{}\r", " ".repeat(self.drawn));
+            err!("\r{}\r", " ".repeat(self.drawn));
             let _ = std::io::stderr().flush();
             self.drawn = 0;
         }
@@ -143,16 +144,16 @@ pub(super) fn heartbeat_saying<T>(
                 }
                 let line = line(started.elapsed().as_secs());
                 if tty {
-                    eprint!("\r{line}");
+                    err!("\r{line}");
                     let _ = std::io::stderr().flush();
                     drawn = line.chars().count();
                 } else {
-                    eprintln!("{line}");
+                    errln!("{line}");
                 }
                 next += every;
             }
             if drawn > 0 {
-                eprint!("\r{}\r", " ".repeat(drawn));
+                err!("\r{}\r", " ".repeat(drawn));
                 let _ = std::io::stderr().flush();
             }
         });
@@ -165,7 +166,7 @@ pub(super) fn heartbeat_saying<T>(
 /// A fitted row has been grown: shown in place on a terminal, as a line with --verbose.
 pub(super) fn fit_note(note: &str, v: super::args::Verbosity, bar: &mut Progress) {
     if v.verbose {
-        eprintln!("{note}");
+        errln!("{note}");
     } else {
         bar.note(note);
     }

@@ -87,7 +87,7 @@ pub(super) fn simulate(
         ),
     })?;
     if !v.quiet {
-        print!(
+        out!(
             "{}",
             text(
                 &recipe.file,
@@ -117,7 +117,7 @@ pub(super) fn simulate(
             )
         });
         if !v.quiet {
-            print!(
+            out!(
                 "{}",
                 explore_text(lattice, &run.lm, &found, &rejected, n, &settings)
             );

@@ -56,7 +56,7 @@ pub(super) fn tune(
         )));
     };
     if !v.quiet {
-        eprintln!(
+        errln!(
             "tuned {} in {} tries: grows {} of {target} cells with legs of at least {min_leg:.1} mm (was {}); points moved up to {:.3} mm, kappa changed up to {:.3} mm",
             recipe.file,
             tuned.iterations,

@@ -5,6 +5,7 @@ use super::super::fault;
 use super::{dir_of, hidden};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
+use karigami::util::plural;
 use std::fs::{self, OpenOptions};
 use std::io::{self, Write};
 use std::path::Path;
@@ -12,21 +13,31 @@ use std::path::Path;
 /// Write to a temporary file beside the target, then rename it over the
 /// target: the target is either as it was or complete.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    write_whole(path, bytes, true)
+    write_whole(path, bytes, true, None)
 }
 
 /// `write_atomic`, or with `replace` false a file that must not exist yet:
 /// the temporary file is linked to its name, which fails if it is taken
-/// (however recently), then unlinked.
-fn write_whole(path: &Path, bytes: &[u8], replace: bool) -> io::Result<()> {
+/// (however recently), then unlinked. With `like`, the file written gets
+/// the mode and owner of the file it replaces (`like`'s metadata).
+fn write_whole(
+    path: &Path,
+    bytes: &[u8],
+    replace: bool,
+    like: Option<&fs::Metadata>,
+) -> io::Result<()> {
     let name = path
         .file_name()
         .ok_or_else(|| io::Error::other("no file name"))?;
     let tmp = path.with_file_name(hidden(name, &format!("tmp-{}", std::process::id())));
     remove_stale_temporaries(path, &hidden(name, "tmp-"));
+    let _interrupt = crate::cli::interrupt::register(&tmp);
     let result = (|| {
         fault::write(&path.display().to_string())?;
         let mut f = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        if let Some(like) = like {
+            same_identity(&f, like)?;
+        }
         f.write_all(bytes)?;
         fault::sync(&f)?;
         fault::commit("rename over the target");
@@ -47,6 +58,31 @@ fn write_whole(path: &Path, bytes: &[u8], replace: bool) -> io::Result<()> {
         let _ = fs::remove_file(&tmp);
     }
     result
+}
+
+/// Give the file `f` the owner and mode of `like` (the file it is to
+/// replace): a 0600 recipe tuned in place stays 0600, and stays its
+/// owner's. The owner first: changing it clears a set-user-ID bit.
+#[cfg(unix)]
+fn same_identity(f: &fs::File, like: &fs::Metadata) -> io::Result<()> {
+    use rustix::fs::{Gid, Uid, fchown};
+    use std::os::unix::fs::MetadataExt;
+    let mine = f.metadata()?;
+    if (mine.uid(), mine.gid()) != (like.uid(), like.gid()) {
+        let (uid, gid) = (Uid::from_raw(like.uid()), Gid::from_raw(like.gid()));
+        // Only root may give a file away: anyone else's run writes a file
+        // of theirs, as any edit saved by rename does.
+        match fchown(f, Some(uid), Some(gid)) {
+            Err(e) if e != rustix::io::Errno::PERM => return Err(e.into()),
+            _ => {}
+        }
+    }
+    f.set_permissions(like.permissions())
+}
+
+#[cfg(not(unix))]
+fn same_identity(f: &fs::File, like: &fs::Metadata) -> io::Result<()> {
+    f.set_permissions(like.permissions())
 }
 
 /// Temporary files beside `path` (`prefix` + PID) of runs that were
@@ -136,6 +172,9 @@ impl<'a> OutFile<'a> {
                 "--out {shown} is a folder; give the name of the file to write, such as --out tuned.toml"
             )));
         }
+        if let Some(refused) = self.other_links(&meta) {
+            return Err(refused);
+        }
         if self.recipe.is_none() && !self.force {
             return Err(Error::usage(format!(
                 "{shown} exists; choose another --out, or pass --force to overwrite it (`tune X.toml --out X.toml` writes the recipe back)"
@@ -155,7 +194,8 @@ impl<'a> OutFile<'a> {
         {
             return Err(self.edited(bytes));
         }
-        write_atomic(self.path, bytes).map_err(|e| {
+        let like = fs::symlink_metadata(self.path).ok();
+        write_whole(self.path, bytes, true, like.as_ref()).map_err(|e| {
             Error::io(format!(
                 "cannot write {}: {e}; it was left as it was",
                 self.path.display()
@@ -165,6 +205,30 @@ impl<'a> OutFile<'a> {
 }
 
 impl OutFile<'_> {
+    /// The refusal to replace a file with other hard links (`meta` its
+    /// metadata): the new text would reach this name only, and the other
+    /// names would keep the old one.
+    #[cfg(unix)]
+    fn other_links(&self, meta: &fs::Metadata) -> Option<Error> {
+        use std::os::unix::fs::MetadataExt;
+        let others = meta.nlink().checked_sub(1).filter(|n| *n > 0)?;
+        Some(Error::usage(format!(
+            "{} has {} (it is the same file under {}); writing would give the tuned text to this name only: give another --out, or tune a copy",
+            self.path.display(),
+            plural(others as usize, "other hard link"),
+            if others == 1 {
+                "another name"
+            } else {
+                "other names"
+            }
+        )))
+    }
+
+    #[cfg(not(unix))]
+    fn other_links(&self, _: &fs::Metadata) -> Option<Error> {
+        None
+    }
+
     /// The recipe written back was edited (or removed) while tuning ran:
     /// the edit is the user's and stays; the tuned text goes beside it,
     /// as `X.toml.tuned` if that name is free, else to stdout.
@@ -173,11 +237,13 @@ impl OutFile<'_> {
         let mut beside = self.path.as_os_str().to_owned();
         beside.push(".tuned");
         let beside = Path::new(&beside);
-        let put = if write_whole(beside, bytes, false).is_ok() {
+        let like = fs::symlink_metadata(self.path).ok();
+        let put = if write_whole(beside, bytes, false, like.as_ref()).is_ok() {
             format!("the tuned recipe is in {}", beside.display())
         } else {
             let mut stdout = io::stdout().lock();
-            let _ = stdout.write_all(bytes).and_then(|()| stdout.flush());
+            let printed = stdout.write_all(bytes).and_then(|()| stdout.flush());
+            crate::cli::console::noted(printed, crate::cli::console::Stream::Out);
             "the tuned recipe was printed on stdout".to_string()
         };
         Error::io(format!(

@@ -2,10 +2,11 @@
 //! recipes a folder holds, and names derived from them made safe to use as
 //! a folder name.
 
+use super::bounded::{Links, read_plain};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
-use std::fs::{self, File};
-use std::io::{self, Read};
+use std::fs;
+use std::io;
 use std::path::{Path, PathBuf};
 
 /// Recipes larger than this are refused before reading them whole.
@@ -15,21 +16,15 @@ pub(super) const MAX_RECIPE_BYTES: u64 = 1 << 20;
 pub(super) const MAX_NAME_BYTES: usize = 100;
 
 /// Read a recipe: a regular file of at most `MAX_RECIPE_BYTES`, in UTF-8.
+/// A link is followed; a folder, a FIFO or a device is refused at once
+/// (never waited on, nor read without end).
 pub(crate) fn read(path: &Path) -> io::Result<String> {
-    let meta = fs::metadata(path)?;
-    if meta.is_dir() {
-        return Err(io::Error::other("it is a folder, not a recipe file"));
-    }
-    let mut bytes = Vec::new();
-    File::open(path)?
-        .take(MAX_RECIPE_BYTES + 1)
-        .read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > MAX_RECIPE_BYTES {
-        return Err(io::Error::other(format!(
-            "the file is larger than the limit of {} MiB for a recipe",
-            MAX_RECIPE_BYTES >> 20
-        )));
-    }
+    let bytes = read_plain(path, MAX_RECIPE_BYTES, Links::Follow).map_err(|e| match e.kind() {
+        io::ErrorKind::IsADirectory => io::Error::other("it is a folder, not a recipe file"),
+        io::ErrorKind::InvalidInput => io::Error::other(format!("{e}; give a recipe file (.toml)")),
+        io::ErrorKind::FileTooLarge => io::Error::other(format!("{e} for a recipe")),
+        _ => e,
+    })?;
     // The first NUL (binary data) or invalid UTF-8 byte, by line and column.
     let nul = bytes.iter().position(|&b| b == 0);
     let bad = match std::str::from_utf8(&bytes) {

@@ -13,13 +13,15 @@ use std::path::{Path, PathBuf};
 /// file it locked, and tries again if not.
 pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), Error> {
     for _ in 0..100 {
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(path)
-            .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
+        let file = open(path).map_err(|e| {
+            let link = fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+            let why = if link {
+                "it is a symbolic link, which karigami does not follow; remove it".to_string()
+            } else {
+                e.to_string()
+            };
+            Error::io(format!("cannot write {}: {why}", path.display()))
+        })?;
         match try_lock(&file) {
             Ok(true) => {}
             Ok(false) => {
@@ -44,6 +46,24 @@ pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), Erro
         "cannot lock {}: it keeps changing",
         path.display()
     )))
+}
+
+/// Open (or create) the lock file, never through a link: one planted at
+/// its name would have the lock created wherever it leads.
+fn open(path: &Path) -> io::Result<File> {
+    let mut options = OpenOptions::new();
+    options.read(true).write(true).create(true).truncate(false);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        let flags = rustix::fs::OFlags::NOFOLLOW | rustix::fs::OFlags::NONBLOCK;
+        options.custom_flags(flags.bits() as i32);
+    }
+    let file = options.open(path)?;
+    if !file.metadata()?.is_file() {
+        return Err(io::Error::other("it is not a regular file; remove it"));
+    }
+    Ok(file)
 }
 
 /// An exclusive lock without waiting: false when another process holds it.
@@ -72,7 +92,7 @@ fn try_lock(file: &File) -> io::Result<bool> {
 #[cfg(unix)]
 fn same_file(file: &File, path: &Path) -> bool {
     use std::os::unix::fs::MetadataExt;
-    match (file.metadata(), fs::metadata(path)) {
+    match (file.metadata(), fs::symlink_metadata(path)) {
         (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
         _ => false,
     }

@@ -15,12 +15,16 @@
 //! nothing else is mistaken for one.
 
 mod atomic;
+mod bounded;
+mod in_place;
 mod input;
 mod lock;
 mod out_dir;
 mod record;
 mod remove;
 mod staged;
+
+use bounded::Links;
 
 pub(super) use atomic::{OutFile, write_atomic};
 pub(super) use input::{read, recipes, safe_component};
@@ -56,8 +60,20 @@ pub(super) fn dir_of(path: &Path) -> &Path {
 /// names are shortened (with a hash, so that two long names stay apart) to
 /// leave room for the suffix within the 255-byte limit of a file name.
 fn hidden(name: &OsStr, suffix: &str) -> String {
-    let name = name.to_string_lossy();
     const ROOM: usize = 200;
+    // A name that is not UTF-8 is shown with replacement characters, which
+    // two names can share (`q\xfe`, `q\xfd`): the hash of its bytes keeps
+    // their locks and staging folders apart.
+    let bytes = name.as_encoded_bytes();
+    let name = match name.to_str() {
+        Some(plain) => std::borrow::Cow::Borrowed(plain),
+        None => format!(
+            "{}~{:016x}",
+            name.to_string_lossy(),
+            karigami::util::fnv1a(bytes)
+        )
+        .into(),
+    };
     let short = if name.len() <= ROOM {
         name.into_owned()
     } else {
@@ -116,6 +132,61 @@ fn listed(marker: &str) -> impl Iterator<Item = &str> {
         .take_while(|l| !l.is_empty())
 }
 
+/// The first file a marker lists that is not a plain path inside its
+/// folder (absolute, holding `..`): no build writes one, so the marker is
+/// not to be trusted with any delete.
+fn leaves_folder(marker: &str) -> Option<&str> {
+    listed(marker).find(|f| !staged::stays_inside(Path::new(f)))
+}
+
+/// Larger markers are not read (a marker lists each file on a line and
+/// records each build on one; the examples' batch has 18 KiB).
+const MAX_MARKER_BYTES: u64 = 32 << 20;
+
+/// The marker of the build folder `dir`, if it has one: a regular file
+/// (not a link, a FIFO or a device), of at most `MAX_MARKER_BYTES`, in
+/// UTF-8, starting with `MARKER_HEAD`.
+fn read_marker(dir: &Path) -> Option<String> {
+    let bytes = bounded::read_plain(&dir.join(MARKER), MAX_MARKER_BYTES, Links::Refuse).ok()?;
+    String::from_utf8(bytes)
+        .ok()
+        .filter(|t| t.starts_with(MARKER_HEAD))
+}
+
+/// What a build folder's marker claims, checked against the folder `dir`.
+struct Claim {
+    /// The entries that are the build's own (`own_entries`): the files
+    /// listed whose content is what the build recorded.
+    own: BTreeSet<OsString>,
+    /// Files listed whose content is not what was recorded (edited since,
+    /// or never recorded): someone's now, never deleted.
+    changed: Vec<String>,
+}
+
+/// Check each file `marker` lists against what it records (`Claim`); an
+/// error is a listed path that leaves the folder (`leaves_folder`).
+fn claim(dir: &Path, marker: &str) -> Result<Claim, String> {
+    if let Some(bad) = leaves_folder(marker) {
+        return Err(bad.to_string());
+    }
+    let earlier = record::Earlier::parse(marker);
+    let recorded = earlier.recorded();
+    let mut buf = vec![0; record::BUFFER];
+    let (mut same, mut changed) = (Vec::new(), Vec::new());
+    for file in listed(marker) {
+        let path = dir.join(file);
+        match recorded.get(file) {
+            Some(&was) if record::unchanged(&path, was, &mut buf) => same.push(file),
+            _ if fs::symlink_metadata(&path).is_ok() => changed.push(file.to_string()),
+            _ => {}
+        }
+    }
+    Ok(Claim {
+        own: own_entries(same),
+        changed,
+    })
+}
+
 /// Whether an entry (as `out_dir::entries` lists them) is a folder: its
 /// name ends in `/`.
 fn is_folder(entry: &OsStr) -> bool {
@@ -169,4 +240,32 @@ fn clear(dir: &Path, own: &BTreeSet<OsString>, target: &Path) -> io::Result<Clea
         }
     }
     Ok(Cleared::Left)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Finding 10: two names that are not UTF-8 and print alike
+    /// (`q\xfe`, `q\xfd`) get their own lock and staging folder.
+    #[cfg(unix)]
+    #[test]
+    fn names_that_print_alike_stay_apart() {
+        use std::os::unix::ffi::OsStrExt;
+        let (a, b) = (OsStr::from_bytes(b"q\xfe"), OsStr::from_bytes(b"q\xfd"));
+        assert_eq!(a.to_string_lossy(), b.to_string_lossy());
+        assert_ne!(hidden(a, "lock"), hidden(b, "lock"));
+        assert_ne!(hidden(a, "new-1"), hidden(b, "new-1"));
+        assert_eq!(hidden(OsStr::new("out"), "lock"), ".out.karigami-lock");
+    }
+
+    /// Finding 2: a listed path that is absolute or holds `..` is found.
+    #[test]
+    fn a_marker_listing_a_path_outside_is_found() {
+        let marker = |f: &str| format!("{MARKER_HEAD}\nfiles:\na.svg\n{f}\n\nbuilds:\n");
+        assert_eq!(leaves_folder(&marker("b/c.svg")), None);
+        assert_eq!(leaves_folder(&marker("../x")), Some("../x"));
+        assert_eq!(leaves_folder(&marker("/far/y")), Some("/far/y"));
+        assert_eq!(leaves_folder(&marker("b/../../x")), Some("b/../../x"));
+    }
 }

@@ -2,13 +2,15 @@
 //! link, not holding an input, a build folder unless `--force`), locked,
 //! and repaired after interrupted runs.
 
+use super::bounded::{Links, read_plain};
 use super::lock::take_lock;
 use super::record::Earlier;
 use super::{
-    Cleared, MARKER, MARKER_HEAD, STAGING, clear, dir_of, hidden, is_folder, listed, own_entries,
-    remove_any,
+    Cleared, MARKER, STAGING, claim, clear, dir_of, hidden, is_folder, leaves_folder, listed,
+    own_entries, read_marker, remove_any,
 };
 use crate::cli::error::Error;
+use crate::cli::interrupt::{self, Registered};
 use karigami::ErrorKind;
 use karigami::util::plural;
 use std::collections::BTreeSet;
@@ -42,12 +44,16 @@ pub(crate) struct OutDir {
     pub notes: Vec<String>,
     /// The records of the earlier build in it (`record`), if any.
     pub(super) earlier: Option<Earlier>,
+    /// The marker of the earlier build in it, as read when checked.
+    marker: Option<String>,
     /// Every entry the folder held when checked under the lock (`entries`):
     /// all that a commit may delete. Whatever else appears in it while
     /// the build runs is someone's, and stops the commit (`appeared`).
     /// Kept byte for byte: two names that print alike are not the same.
     pub(super) seen: BTreeSet<OsString>,
     lock: (PathBuf, File),
+    /// The lock file, removed on an interrupt.
+    _interrupt: Registered,
 }
 impl Drop for OutDir {
     fn drop(&mut self) {
@@ -95,6 +101,7 @@ impl OutDir {
             .map_err(|e| Error::io(format!("cannot create {}: {e}", parent.display())))?;
         let lock_path = parent.join(hidden(&name, "lock"));
         let lock = take_lock(&lock_path, out)?;
+        let _interrupt = interrupt::register(&lock_path);
         let mut dir = Self {
             target: out.to_path_buf(),
             parent,
@@ -102,16 +109,17 @@ impl OutDir {
             previous: Previous::Nothing,
             notes: Vec::new(),
             earlier: None,
+            marker: None,
             seen: BTreeSet::new(),
             lock,
+            _interrupt,
         };
         dir.recover()
             .map_err(|e| Error::io(format!("cannot tidy up beside {shown}: {e}")))?;
         (dir.previous, dir.seen) = classify(out, inputs, force)?;
         if matches!(dir.previous, Previous::Build | Previous::Added(_)) {
-            dir.earlier = fs::read_to_string(out.join(MARKER))
-                .ok()
-                .map(|m| Earlier::parse(&m));
+            dir.marker = read_marker(out);
+            dir.earlier = dir.marker.as_deref().map(Earlier::parse);
         }
         Ok(dir)
     }
@@ -173,28 +181,51 @@ impl OutDir {
     /// was removed whole.
     fn tidy(&mut self, path: &Path) -> io::Result<bool> {
         let tagged = fs::symlink_metadata(path.join(STAGING)).is_ok();
-        if tagged || !fs::symlink_metadata(path)?.is_dir() {
+        if tagged || !fs::symlink_metadata(path)?.is_dir() || only_folders(path)? {
             return remove_any(path).map(|()| true);
         }
-        let marker = fs::read_to_string(path.join(MARKER))
-            .ok()
-            .filter(|t| t.starts_with(MARKER_HEAD));
-        let own = own_entries(marker.as_deref().map(listed).into_iter().flatten());
+        let marker = read_marker(path);
+        let marked = fs::symlink_metadata(path.join(MARKER)).is_ok();
+        let claimed = marker.as_deref().map(|m| claim(path, m));
+        let (own, changed) = match &claimed {
+            Some(Ok(c)) => (c.own.clone(), c.changed.clone()),
+            _ => (BTreeSet::new(), Vec::new()),
+        };
         let shown = self.target.display();
+        let left = format!("a staging folder an interrupted run left beside {shown}");
         match clear(path, &own, &self.target)? {
             Cleared::Gone => return Ok(true),
+            Cleared::Kept { aside, .. } if marker.is_none() && marked => self.notes.push(format!(
+                "{left} has a marker that karigami cannot read as one (a link, a FIFO, too large), so nothing in it was deleted; it is kept in {}",
+                aside.display()
+            )),
             Cleared::Kept { aside, .. } if marker.is_none() => self.notes.push(format!(
                 "the folder an interrupted run was replacing (with --force) was left beside {shown}; it is kept in {}: delete it if it is not needed",
                 aside.display()
             )),
+            Cleared::Kept { aside, .. } if matches!(claimed, Some(Err(_))) => {
+                let bad = claimed.and_then(Result::err).unwrap_or_default();
+                self.notes.push(format!(
+                    "{left} has a marker that lists {bad}, a path outside it, so karigami did not write it and nothing in it was deleted; it is kept in {}",
+                    aside.display()
+                ));
+            }
+            Cleared::Kept { aside, .. } if !changed.is_empty() => self.notes.push(format!(
+                "{left} held {} changed since the build wrote {}: {}; {} kept in {}",
+                counted(&changed),
+                if changed.len() == 1 { "it" } else { "them" },
+                shortlist(&changed),
+                if changed.len() == 1 { "it is" } else { "they are" },
+                aside.display()
+            )),
             Cleared::Kept { aside, theirs } => self.notes.push(if theirs {
                 format!(
-                    "a staging folder an interrupted run left beside {shown} held files the build had not written (added while it was {shown}); they are kept in {}",
+                    "{left} held files the build had not written (added while it was {shown}); they are kept in {}",
                     aside.display()
                 )
             } else {
                 format!(
-                    "a staging folder an interrupted run left beside {shown} could not be removed whole; what is left of it is in {}",
+                    "{left} could not be removed whole; what is left of it is in {}",
                     aside.display()
                 )
             }),
@@ -206,6 +237,65 @@ impl OutDir {
             }
         }
         Ok(false)
+    }
+
+    /// `seen` without the earlier build's files whose content is not what
+    /// it recorded (edited since it was built), checked in `old` (where the
+    /// earlier build now is): what a commit may delete; and those files.
+    pub(super) fn unedited(&self, old: &Path) -> (BTreeSet<OsString>, Vec<String>) {
+        let Some(Ok(c)) = self.marker.as_deref().map(|m| claim(old, m)) else {
+            return (self.seen.clone(), Vec::new());
+        };
+        let mut seen = self.seen.clone();
+        for file in &c.changed {
+            seen.remove(OsStr::new(file));
+        }
+        (seen, c.changed)
+    }
+}
+
+/// Whether `dir` holds nothing but folders (empty, or holding only
+/// folders): what a run killed while it removed a build's folders leaves,
+/// which holds nothing of anyone's.
+fn only_folders(dir: &Path) -> io::Result<bool> {
+    let mut files = false;
+    super::walk(dir, |_, folder| {
+        files |= !folder;
+        Ok(())
+    })?;
+    Ok(!files)
+}
+
+/// Whether the folder `dir` is where a file system is mounted (a bind
+/// mount of a folder of the same file system too, where the system says).
+#[cfg(target_os = "linux")]
+fn mount_point(dir: &Path) -> bool {
+    use rustix::fs::{AtFlags, CWD, StatxAttributes, StatxFlags, statx};
+    if let Ok(st) = statx(CWD, dir, AtFlags::SYMLINK_NOFOLLOW, StatxFlags::BASIC_STATS)
+        && st.stx_attributes_mask.contains(StatxAttributes::MOUNT_ROOT)
+    {
+        return st.stx_attributes.contains(StatxAttributes::MOUNT_ROOT);
+    }
+    other_device(dir)
+}
+
+#[cfg(all(unix, not(target_os = "linux")))]
+fn mount_point(dir: &Path) -> bool {
+    other_device(dir)
+}
+
+#[cfg(not(unix))]
+fn mount_point(_: &Path) -> bool {
+    false
+}
+
+/// Whether `dir` is on another device than the folder holding it.
+#[cfg(unix)]
+fn other_device(dir: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (fs::symlink_metadata(dir), fs::metadata(dir.join(".."))) {
+        (Ok(d), Ok(up)) => d.dev() != up.dev(),
+        _ => false,
     }
 }
 
@@ -249,6 +339,15 @@ fn classify(
             ),
         ));
     }
+    if mount_point(target) {
+        return Err(refuse(
+            ErrorKind::OutNotAFolderName,
+            format!(
+                "--out {shown} is a mount point (a file system is mounted there), which a build cannot replace: it writes a new folder beside it and swaps the two; give a folder inside it, such as --out {}",
+                target.join("build").display()
+            ),
+        ));
+    }
     let real =
         fs::canonicalize(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
     for input in inputs {
@@ -275,10 +374,20 @@ fn classify(
     }
     let seen = entries(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
     let files = lossy(seen.iter().filter(|e| !is_folder(e)).cloned().collect());
-    if let Some(ours) = fs::read_to_string(target.join(MARKER))
-        .ok()
-        .filter(|t| t.starts_with(MARKER_HEAD))
-    {
+    let marker = read_marker(target);
+    if let Some(bad) = marker.as_deref().and_then(leaves_folder) {
+        if force {
+            return Ok((Previous::Foreign(files), seen));
+        }
+        return Err(refuse(
+            ErrorKind::NotABuildFolder,
+            format!(
+                "{shown} has a {MARKER} marker that lists {bad}, a path outside the folder, so karigami did not write it; choose another --out, or pass --force to replace it (its {} would be deleted)",
+                plural(files.len(), "file")
+            ),
+        ));
+    }
+    if let Some(ours) = marker {
         // Files (and folders) someone added to a build folder are not the
         // tool's to delete without asking; the build's own folders are
         // those that hold its files.
@@ -354,11 +463,7 @@ impl OutDir {
     /// that fails is no error (the build just does the work again).
     pub(crate) fn earlier_file(&self, rel: &str, limit: u64) -> Option<Vec<u8>> {
         let path = self.plain_file(Path::new(rel))?;
-        if fs::symlink_metadata(&path).ok()?.len() > limit {
-            return None;
-        }
-        let bytes = fs::read(&path).ok()?;
-        (bytes.len() as u64 <= limit).then_some(bytes)
+        read_plain(&path, limit, Links::Refuse).ok()
     }
 
     /// The path of `rel` inside the earlier build in this folder, if it is

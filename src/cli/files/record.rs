@@ -10,10 +10,12 @@
 //! short, deleted or replaced by a link) is made and written as usual.
 
 use super::super::fault;
-use super::staged::stays_inside;
+use super::bounded::{Links, open_plain};
+use super::staged::{make_folders, stays_inside};
 use super::{OutDir, Staged};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
@@ -40,6 +42,10 @@ struct Record {
 /// The records of an earlier build folder, each with its line as written.
 pub(crate) struct Earlier(Vec<(Record, String)>);
 
+/// Each file a marker's records name (its path in the build folder), with
+/// its length and hash as recorded.
+pub(super) type Recorded<'a> = BTreeMap<String, (u64, &'a str)>;
+
 impl Earlier {
     /// The records in a marker's text; lines that do not parse are left out
     /// (their builds are made again).
@@ -54,6 +60,30 @@ impl Earlier {
                 .collect(),
         )
     }
+}
+
+impl Earlier {
+    /// Every file the records name, as `Recorded`.
+    pub(super) fn recorded(&self) -> Recorded<'_> {
+        let mut out = Recorded::new();
+        for (record, _) in &self.0 {
+            for (name, len, hash) in &record.files {
+                let rel = Path::new(&record.folder).join(name);
+                out.insert(rel.display().to_string(), (*len, hash.as_str()));
+            }
+        }
+        out
+    }
+}
+
+/// Whether the file at `path` is a regular file (not a link) of `len`
+/// bytes whose hash is `hash`: a build's file as it was written.
+pub(super) fn unchanged(path: &Path, (len, hash): (u64, &str), buf: &mut [u8]) -> bool {
+    let Ok(file) = open_plain(path, Links::Refuse) else {
+        return false;
+    };
+    file.metadata().is_ok_and(|m| m.len() == len)
+        && hash_read(file, buf).is_ok_and(|h| hex(h) == hash)
 }
 
 fn hex(x: u64) -> String {
@@ -129,13 +159,16 @@ fn build_id(path: &Path) -> Option<Vec<u8>> {
 }
 
 /// The piece of a file read at a time.
-const BUFFER: usize = 1 << 20;
+pub(super) const BUFFER: usize = 1 << 20;
 
 /// The xxh3-64 hash of a file's bytes, read a piece at a time into `buf`:
 /// a large file read whole would cost more in fresh memory than in
 /// hashing.
 fn hash_file(path: &Path, buf: &mut [u8]) -> io::Result<u64> {
-    let mut file = fs::File::open(path)?;
+    hash_read(fs::File::open(path)?, buf)
+}
+
+fn hash_read(mut file: fs::File, buf: &mut [u8]) -> io::Result<u64> {
     let mut h = Xxh3::new();
     loop {
         match io::Read::read(&mut file, buf) {
@@ -257,7 +290,8 @@ impl Staged<'_> {
                 .take_while(|d| d.starts_with(&self.fresh) && *d != self.fresh && !d.exists())
                 .map(Path::to_path_buf)
                 .collect();
-            if fs::create_dir_all(dir).is_err() {
+            let inside = dir.strip_prefix(&self.fresh).ok();
+            if make_folders(&self.fresh, inside).is_err() {
                 return false;
             }
             made.dirs.extend(missing.into_iter().rev());

@@ -5,6 +5,7 @@
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
 //! (BENCHMARKS.md, "Examples batch, fifth round").
 
+use super::super::fault;
 use super::{MARKER, is_folder};
 use std::collections::BTreeSet;
 use std::ffi::OsString;
@@ -47,6 +48,9 @@ pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<
     }
     if has_marker {
         let _ = std::fs::remove_file(path.join(&marker));
+        // A kill here leaves folders and no marker: `OutDir::tidy` removes
+        // a staging folder that holds nothing else.
+        fault::commit("remove the build's folders");
     }
     // Deepest first: a folder's contents sort after it.
     for rel in seen.iter().rev().filter(|e| is_folder(e)) {
@@ -56,6 +60,17 @@ pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<
         Ok(()) => Ok(true),
         Err(_) if std::fs::read_dir(path)?.next().is_some() => Ok(false),
         Err(e) => Err(e),
+    }
+}
+
+/// Remove from the folder `path` the files (and links) `files` names (as
+/// `remove_seen`), in the folders it names; no folder is removed.
+pub(super) fn remove_files(path: &Path, files: &BTreeSet<OsString>) {
+    #[cfg(unix)]
+    unlink_files(path, Some(files));
+    #[cfg(not(unix))]
+    for rel in files.iter().filter(|e| !is_folder(e)) {
+        let _ = std::fs::remove_file(path.join(rel));
     }
 }
 

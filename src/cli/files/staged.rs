@@ -7,6 +7,8 @@ use super::{
     Cleared, FORMAT, MARKER, MARKER_HEAD, OutDir, STAGING, clear, hidden, own_entries, remove_any,
 };
 use crate::cli::error::Error;
+use crate::cli::interrupt::{self, Registered};
+use karigami::util::plural;
 use std::collections::BTreeSet;
 use std::ffi::OsString;
 use std::fs::{self, File};
@@ -34,7 +36,7 @@ pub(super) fn stays_inside(rel: &Path) -> bool {
 /// commit, the staging folder is removed and the target untouched; killed,
 /// the next run removes it.
 pub(crate) struct Staged<'a> {
-    out: &'a OutDir,
+    pub(super) out: &'a OutDir,
     pub(super) fresh: PathBuf,
     kind: String,
     /// Every file written (relative paths), for the marker.
@@ -48,6 +50,11 @@ pub(crate) struct Staged<'a> {
     /// back): someone may have written into it meanwhile, so it is never
     /// removed whole again (`clear`).
     was_out: bool,
+    /// The metadata of the folder the build replaces, if it was one: the
+    /// new folder gets its owner and mode.
+    like: Option<fs::Metadata>,
+    /// The staging folder, removed on an interrupt until it is committed.
+    interrupt: Option<Registered>,
 }
 
 /// A file written and its path in the build, to flush.
@@ -170,6 +177,17 @@ impl<'a> Staged<'a> {
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
         remove_any(&fresh)?;
         fs::create_dir(&fresh)?;
+        // The folder it replaces keeps its owner, group and set-group-ID
+        // bit (what is written into it then takes that group) from the
+        // start, and its mode at `commit`: one without write permission
+        // would refuse the build's files.
+        let like = fs::symlink_metadata(&out.target)
+            .ok()
+            .filter(fs::Metadata::is_dir);
+        if let Some(like) = &like {
+            same_owner(&fresh, like)?;
+        }
+        let interrupt = Some(interrupt::register(&fresh));
         File::create(fresh.join(STAGING))?;
         Ok(Self {
             out,
@@ -180,6 +198,8 @@ impl<'a> Staged<'a> {
             syncer: Syncer::start(),
             committed: false,
             was_out: false,
+            like,
+            interrupt,
         })
     }
 
@@ -224,9 +244,7 @@ impl<'a> Staged<'a> {
             }
             let path = self.fresh.join(&rel);
             debug_assert!(path.starts_with(&self.fresh));
-            if let Some(dir) = path.parent() {
-                fs::create_dir_all(dir)?;
-            }
+            make_folders(&self.fresh, rel.parent())?;
             fault::write(&rel.display().to_string())?;
             // A file kept from the earlier build is a link to its file:
             // replaced, never truncated through the link.
@@ -281,6 +299,9 @@ impl<'a> Staged<'a> {
     /// then nothing is committed, the target is left as it is, and the
     /// error names what appeared. Errors are whole sentences.
     pub(crate) fn commit(mut self) -> Result<(), Error> {
+        // An interrupt from here on waits for the commit to end: the
+        // staging folder may become --out at any moment.
+        let _commit = interrupt::commit();
         let out = self.out;
         let fail = |e: io::Error| {
             Error::io(format!(
@@ -292,6 +313,9 @@ impl<'a> Staged<'a> {
         sync_folders(&self.fresh, &self.syncer).map_err(fail)?;
         self.syncer.finish().map_err(fail)?;
         self.write_marker().map_err(fail)?;
+        if let Some(like) = &self.like {
+            fs::set_permissions(&self.fresh, like.permissions()).map_err(fail)?;
+        }
         fault::sync(&File::open(&self.fresh).map_err(fail)?).map_err(fail)?;
         let target = &out.target;
         fault::add(target, fault::Moment::BeforeCheck);
@@ -304,8 +328,12 @@ impl<'a> Staged<'a> {
             fault::commit("rename into place");
             fs::rename(&self.fresh, target).map_err(fail)?;
             self.committed = true;
+            self.interrupt = None;
         } else {
-            let old = self.swap().map_err(fail)?;
+            let Some(old) = self.swap().map_err(fail)? else {
+                // Committed in place: nothing was swapped out.
+                return Ok(());
+            };
             // From here on the new build is in place: an error says so.
             let fail = |e: io::Error| {
                 Error::io(format!(
@@ -323,7 +351,7 @@ impl<'a> Staged<'a> {
             if !late.is_empty() {
                 if let Err(e) = self.swap_back(&old) {
                     // The earlier build kept whole, with what came into it.
-                    keep_aside(&old, &BTreeSet::new(), target);
+                    keep_aside(&old, &BTreeSet::new(), &[], target);
                     return Err(Error::io(format!(
                         "cannot put the earlier build back in {}: {e}; the new build is in its place",
                         target.display()
@@ -338,16 +366,16 @@ impl<'a> Staged<'a> {
                     Ok(Cleared::Kept {
                         aside,
                         theirs: true,
-                    }) => eprintln!(
+                    }) => errln!(
                         "warning: files were written into {} while the new build was in its place; they are kept in {}",
                         target.display(),
                         aside.display()
                     ),
-                    Ok(Cleared::Kept { aside, .. }) => eprintln!(
+                    Ok(Cleared::Kept { aside, .. }) => errln!(
                         "warning: the new build, not committed, could not be removed whole; what is left of it is in {}",
                         aside.display()
                     ),
-                    _ => eprintln!(
+                    _ => errln!(
                         "warning: files may have been written into {} while the new build was in its place; they are in {}, and the next build into {0} keeps them aside",
                         target.display(),
                         self.fresh.display()
@@ -357,8 +385,10 @@ impl<'a> Staged<'a> {
             }
             fault::add(&old, fault::Moment::SwappedOut);
             fault::commit("remove the old build");
-            // Only what was checked goes: whatever came in since stays.
-            keep_aside(&old, &out.seen, target);
+            // Only what was checked goes: whatever came in since stays, and
+            // so does an edit made to the earlier build's files.
+            let (seen, edited) = out.unedited(&old);
+            keep_aside(&old, &seen, &edited, target);
         }
         if let Ok(parent) = File::open(&out.parent) {
             let _ = fault::sync(&parent);
@@ -367,14 +397,17 @@ impl<'a> Staged<'a> {
     }
 
     /// Swap the staging folder into the target's place (committed from
-    /// then on); where the earlier build now is.
-    fn swap(&mut self) -> io::Result<PathBuf> {
+    /// then on); where the earlier build now is: None when the target
+    /// cannot be moved at all and the build was committed into it instead
+    /// (`in_place`).
+    fn swap(&mut self) -> io::Result<Option<PathBuf>> {
         let target = &self.out.target;
         if exchange(&self.fresh, target)? {
             // The old build now sits at the staging name.
             self.committed = true;
+            self.interrupt = None;
             self.was_out = true;
-            return Ok(self.fresh.clone());
+            return Ok(Some(self.fresh.clone()));
         }
         let old = self.out.parent.join(hidden(
             &self.out.name,
@@ -382,15 +415,25 @@ impl<'a> Staged<'a> {
         ));
         remove_any(&old)?;
         fault::commit("set the old build aside");
-        fs::rename(target, &old)?;
+        match fault::rename_folder(target, &old) {
+            Err(e) if cross_device(&e) => {
+                // Its files move out of the staging folder one by one.
+                self.interrupt = None;
+                self.in_place()?;
+                self.committed = true;
+                return Ok(None);
+            }
+            moved => moved?,
+        }
         fault::commit("rename into place");
         if let Err(e) = fs::rename(&self.fresh, target) {
             let _ = fs::rename(&old, target);
             return Err(e);
         }
         self.committed = true;
+        self.interrupt = None;
         self.was_out = true;
-        Ok(old)
+        Ok(Some(old))
     }
 
     /// Undo `swap`: the earlier build (at `old`) back in the target's place,
@@ -415,33 +458,86 @@ impl<'a> Staged<'a> {
 }
 
 /// Remove from a swapped-out build at `old` what the check saw (`seen`);
-/// what is left (someone's, which came in as it was swapped out) is moved
-/// to a visible folder beside `target`, not left at a staging name, and
-/// the user is told where.
-fn keep_aside(old: &Path, seen: &BTreeSet<OsString>, target: &Path) {
+/// what is left (someone's, which came in as it was swapped out, or the
+/// files `edited` since the earlier build wrote them) is moved to a
+/// visible folder beside `target`, not left at a staging name, and the
+/// user is told where.
+fn keep_aside(old: &Path, seen: &BTreeSet<OsString>, edited: &[String], target: &Path) {
     let shown = target.display();
     match clear(old, seen, target) {
         Ok(Cleared::Gone) => {}
+        Ok(Cleared::Kept { aside, .. }) if !edited.is_empty() => {
+            let (n, list) = (edited.len(), edited.join(", "));
+            let (it, is) = if n == 1 {
+                ("it", "it is")
+            } else {
+                ("them", "they are")
+            };
+            errln!(
+                "warning: {} of the earlier build of {shown} changed since karigami wrote {it} ({list}); the rebuild replaced {it}, and {is} kept in {}",
+                plural(n, "file"),
+                aside.display()
+            );
+        }
         Ok(Cleared::Kept {
             aside,
             theirs: true,
-        }) => eprintln!(
+        }) => errln!(
             "warning: files appeared in {shown} as the build replaced it; they are kept in {}",
             aside.display()
         ),
-        Ok(Cleared::Kept { aside, .. }) => eprintln!(
+        Ok(Cleared::Kept { aside, .. }) => errln!(
             "warning: the earlier build of {shown} could not be removed whole; what is left of it is in {}",
             aside.display()
         ),
-        Ok(Cleared::Left) => eprintln!(
+        Ok(Cleared::Left) => errln!(
             "warning: files appeared in {shown} as the build replaced it; they are in {}, and the next build into {shown} keeps them aside",
             old.display()
         ),
-        Err(e) => eprintln!(
+        Err(e) => errln!(
             "warning: the earlier build of {shown} could not be removed from {}: {e}; the next build into {shown} tidies it",
             old.display()
         ),
     }
+}
+
+/// Make the folders of `rel` (a relative path, or none) inside `root`,
+/// which must be there: a staging folder removed on an interrupt is not
+/// made again by a writer still at work.
+pub(super) fn make_folders(root: &Path, rel: Option<&Path>) -> io::Result<()> {
+    let mut dir = root.to_path_buf();
+    for part in rel.into_iter().flat_map(Path::components) {
+        dir.push(part);
+        match fs::create_dir(&dir) {
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
+            made => made?,
+        }
+    }
+    Ok(())
+}
+
+/// Give the new folder `fresh` the owner and group of `like` (the folder
+/// it replaces), and its set-group-ID bit, keeping write permission for
+/// the build (`commit` sets the mode in full).
+#[cfg(unix)]
+fn same_owner(fresh: &Path, like: &fs::Metadata) -> io::Result<()> {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let mine = fs::symlink_metadata(fresh)?;
+    if (mine.uid(), mine.gid()) != (like.uid(), like.gid()) {
+        // Only root may give a folder away: a run of anyone else makes
+        // the folder theirs, as any new file is.
+        match std::os::unix::fs::chown(fresh, Some(like.uid()), Some(like.gid())) {
+            Err(e) if e.kind() != io::ErrorKind::PermissionDenied => return Err(e),
+            _ => {}
+        }
+    }
+    let mode = like.permissions().mode() & 0o7777 | 0o700;
+    fs::set_permissions(fresh, fs::Permissions::from_mode(mode))
+}
+
+#[cfg(not(unix))]
+fn same_owner(_: &Path, _: &fs::Metadata) -> io::Result<()> {
+    Ok(())
 }
 
 /// Flush every folder inside `root` to the disk, beside the files still
@@ -462,16 +558,30 @@ fn sync_folders(root: &Path, syncer: &Syncer) -> io::Result<()> {
 #[cfg(target_os = "linux")]
 fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
     use rustix::fs::{CWD, RenameFlags, renameat_with};
+    use rustix::io::Errno;
     if fault::no_exchange() {
         return Ok(false);
     }
     fault::commit("swap the folders");
+    if fault::cross_device() {
+        return Ok(false);
+    }
+    // EXDEV: an overlay file system's folder from a lower layer cannot be
+    // renamed (a build folder made in an earlier container layer).
     match renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE) {
         Ok(()) => Ok(true),
-        Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => Ok(false),
+        Err(e) if [Errno::INVAL, Errno::NOSYS, Errno::XDEV].contains(&e) => Ok(false),
         Err(e) => Err(e.into()),
     }
 }
+
+/// Whether a rename failed because the path cannot be moved where it was
+/// to go (EXDEV): an overlay file system's folder from a lower layer.
+pub(super) fn cross_device(e: &io::Error) -> bool {
+    e.raw_os_error() == Some(EXDEV)
+}
+
+const EXDEV: i32 = 18;
 
 #[cfg(not(target_os = "linux"))]
 fn exchange(_: &Path, _: &Path) -> io::Result<bool> {
