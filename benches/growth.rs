@@ -18,7 +18,7 @@ use std::time::Instant;
 
 /// A sheet of alternating 10 and 12 mm seed edges with kappa = 0, rows at
 /// 45 deg with matched ends: cells of two sizes, admissible for 1000+ rows
-/// (wide rows with non-zero kappa drift out of the cone: MATH.md 4.6).
+/// (wide rows with non-zero kappa drift out of the cone: docs/math.md 4.6).
 fn design(n: usize) -> (Vec<DVec3>, Vec<f64>, Vec<RowParams>) {
     let points: Vec<DVec3> = (0..=n)
         .map(|j| {

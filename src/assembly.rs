@@ -1,4 +1,4 @@
-//! Assembly steps in growth order (MATH.md 10.3): one step a row (a cell for
+//! Assembly steps in growth order (docs/math.md 10.3): one step a row (a cell for
 //! helices). Each step
 //! pairs the row's strips at their scissor pivots, then closes every vertex
 //! joint whose last strip arrives in this row, stacked in layer order.

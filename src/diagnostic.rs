@@ -12,7 +12,7 @@ pub(crate) const EXIT_USAGE: i32 = 2;
 pub(crate) const EXIT_IO: i32 = 3;
 /// Exit status of a refused `--out` (not a build folder, a file, a link,
 /// holding an input, locked by another run): the same as `EXIT_IO`, as the
-/// README promises, because the folder's state, not the command line, is
+/// docs/commands.md promises, because the folder's state, not the command line, is
 /// what has to change.
 pub(crate) const EXIT_OUT_REFUSED: i32 = 3;
 
@@ -32,7 +32,7 @@ macro_rules! error_kinds {
             #[cfg(test)]
             pub(crate) const ALL: &'static [ErrorKind] = &[$(ErrorKind::$kind,)*];
 
-            /// The name users see and search for (MATH.md 9 for growth).
+            /// The name users see and search for (docs/math.md 9 for growth).
             pub fn name(self) -> &'static str {
                 match self {
                     $(Self::$kind => stringify!($kind),)*
@@ -63,7 +63,7 @@ error_kinds! {
     /// Two recipes of a batch would build into the same subfolder.
     SameSubfolder => EXIT_USAGE,
 
-    // A refused `--out` (README: exit status 3). A refusal writes nothing.
+    // A refused `--out` (docs/commands.md: exit status 3). A refusal writes nothing.
     /// `--out` names no folder (`.`, `/`, `..`).
     OutNotAFolderName => EXIT_OUT_REFUSED,
     /// A folder `--out` would be created in is a file.
@@ -84,8 +84,8 @@ error_kinds! {
     /// Another karigami run is writing `--out` right now.
     OutLocked => EXIT_OUT_REFUSED,
 
-    // Growth (MATH.md 9).
-    /// The seed has too few points to grow (MATH.md 9).
+    // Growth (docs/math.md 9).
+    /// The seed has too few points to grow (docs/math.md 9).
     SeedTooShort => EXIT_INVALID,
     /// A seed or rebuilt front edge is no longer than its |kappa|: `|kappa| >= |t|`.
     SeedEdgeNotSpacelike => EXIT_INVALID,
@@ -323,7 +323,7 @@ error_kinds! {
     ConstraintNotMet => EXIT_INVALID,
 
     // Checks of the grown lattice and its strips.
-    /// The grown lattice fails an invariant of MATH.md 8 beyond the tolerance.
+    /// The grown lattice fails an invariant of docs/math.md 8 beyond the tolerance.
     VerificationFailed => EXIT_INVALID,
     /// Two holes of a strip are closer than the eyelet flange: the eyelets
     /// would overlap.

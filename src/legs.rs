@@ -19,7 +19,7 @@ pub enum Direction {
     },
 }
 
-/// A free boundary leg (MATH.md 4.5).
+/// A free boundary leg (docs/math.md 4.5).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Leg {
     /// The leg's length (mm).

@@ -29,7 +29,7 @@ pub struct Build {
     /// The lattice as assembled, for pictures: rows grown on rebuilt fronts
     /// placed onto the rows they hang from (`Lattice::placed`).
     pub assembled: Lattice,
-    /// Verification of the grown lattice (MATH.md 8).
+    /// Verification of the grown lattice (docs/math.md 8).
     pub report: Report,
     /// Its shape, fit and clash measures, measured once for the clash
     /// refusal and the reports.
@@ -39,7 +39,7 @@ pub struct Build {
     /// The assembly steps in growth order (`assembly::steps`), computed once
     /// for the guide, the viewer and the report.
     pub steps: Vec<Step>,
-    /// How it deploys (MATH.md 8.4), for the reports.
+    /// How it deploys (docs/math.md 8.4), for the reports.
     pub deployment: Deployment,
     /// The strips and eyelets.
     pub parts: Parts,
@@ -133,9 +133,9 @@ pub struct Checked {
     pub design: Design,
     /// The lattice as grown.
     pub lattice: Lattice,
-    /// Verification of the grown lattice (MATH.md 8); it may have failed.
+    /// Verification of the grown lattice (docs/math.md 8); it may have failed.
     pub report: Report,
-    /// How it deploys (MATH.md 8.4).
+    /// How it deploys (docs/math.md 8.4).
     pub deployment: Deployment,
     /// `Lattice::placed`, None when that is the grown lattice (extrinsic).
     placed: OnceCell<Option<Lattice>>,

@@ -1,5 +1,5 @@
-//! Deployment (MATH.md 8.4): C(theta) over random lattices and the gallery,
-//! and the mobility counts MATH.md reports.
+//! Deployment (docs/math.md 8.4): C(theta) over random lattices and the gallery,
+//! and the mobility counts docs/math.md reports.
 
 use crate::property::random_lattice;
 use crate::util::Rng;
@@ -67,7 +67,7 @@ fn random_lattices_have_a_path_independent_configuration() {
 
 #[test]
 fn random_sheets_of_four_or_more_rows_are_rigid_linkages_except_3d_ribbons() {
-    // MATH.md 8.4: generic 2-D and 3-D sheets with 4+ rows have no internal
+    // docs/math.md 8.4: generic 2-D and 3-D sheets with 4+ rows have no internal
     // degree of freedom; they deploy through strip bending.
     let mut rng = Rng::new(5);
     let mut counted = [0, 0];

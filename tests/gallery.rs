@@ -1,5 +1,5 @@
 //! Loops, helices, rebuilt (intrinsic) fronts, Lorentz boosts and fitting
-//! (MATH.md 3.3, 6, 7): property tests over random cases and the gallery.
+//! (docs/math.md 3.3, 6, 7): property tests over random cases and the gallery.
 
 use crate::property::random_lattice;
 use crate::util::Rng;
@@ -108,7 +108,7 @@ fn symmetric_loops_need_a_direction_and_take_any() {
     }
 }
 
-/// MATH.md 3.3: a boost of the lifted lattice (x, z) is again a valid lattice.
+/// docs/math.md 3.3: a boost of the lifted lattice (x, z) is again a valid lattice.
 fn boost(lattice: &Lattice, axis: DVec3, rapidity: f64) -> Lattice {
     let (c, s) = (rapidity.cosh(), rapidity.sinh());
     let lift = |x: DVec3, z: f64| {

@@ -1,4 +1,4 @@
-//! MATH.md 5's worked examples, to 1e-9.
+//! docs/math.md 5's worked examples, to 1e-9.
 
 use crate::util::{close, close_vec, v2};
 use glam::DVec3;
@@ -96,7 +96,7 @@ fn worked_example_from_the_other_start_site() {
 
 #[test]
 fn single_cell_3d() {
-    // MATH.md 5: UL = 0, UR = (2,0,0), kappa = 0.5, v2 = unit(-1,-1,-0.5).
+    // docs/math.md 5: UL = 0, UR = (2,0,0), kappa = 0.5, v2 = unit(-1,-1,-0.5).
     let row = RowParams {
         start: 0,
         direction: Some(Direction::Vector(DVec3::new(-1.0, -1.0, -0.5))),

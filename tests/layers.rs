@@ -1,19 +1,19 @@
-//! The layers of README's "Layout of the code", checked against the code:
+//! The layers of docs/code.md's "Layout of the code", checked against the code:
 //! every `crate::` path in a module of `src/` names a module of a lower
 //! layer, so the list stays true and no import circle comes back.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// The layer (1 = bottom) of each top-level module, read from README's
+/// The layer (1 = bottom) of each top-level module, read from docs/code.md's
 /// numbered list: the backticked names outside parentheses, up to the
 /// binary's item (`cli/`).
 fn readme_layers() -> BTreeMap<String, usize> {
-    let readme = std::fs::read_to_string("README.md").unwrap();
+    let readme = std::fs::read_to_string("docs/code.md").unwrap();
     let section = readme
         .split("## Layout of the code")
         .nth(1)
-        .expect("README has a \"Layout of the code\" section");
+        .expect("docs/code.md has a \"Layout of the code\" section");
     // Items with their continuation lines joined.
     let mut items: Vec<(usize, String)> = Vec::new();
     for line in section.lines().take_while(|l| !l.starts_with('|')) {
@@ -112,7 +112,7 @@ fn every_import_runs_down_the_layers_of_the_readme() {
             continue;
         }
         let Some(&own) = layers.get(module) else {
-            wrong.push(format!("src/{module} is not in README's layer list"));
+            wrong.push(format!("src/{module} is not in docs/code.md's layer list"));
             continue;
         };
         let text = std::fs::read_to_string(file).unwrap();
@@ -127,7 +127,7 @@ fn every_import_runs_down_the_layers_of_the_readme() {
                     file.display()
                 )),
                 None => wrong.push(format!(
-                    "{} imports {r}, which is not in README's layer list",
+                    "{} imports {r}, which is not in docs/code.md's layer list",
                     file.display()
                 )),
             }
@@ -135,7 +135,7 @@ fn every_import_runs_down_the_layers_of_the_readme() {
     }
     assert!(
         layers.len() >= 17,
-        "README's layer list was not read: {layers:?}"
+        "docs/code.md's layer list was not read: {layers:?}"
     );
     assert!(
         wrong.is_empty(),

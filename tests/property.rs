@@ -1,4 +1,4 @@
-//! Property tests over random admissible designs (MATH.md 8): every invariant
+//! Property tests over random admissible designs (docs/math.md 8): every invariant
 //! holds to 1e-9, and a row regrown from another start site is the same row.
 
 use crate::util::Rng;
@@ -28,7 +28,7 @@ fn random_seed(rng: &mut Rng, dim: usize) -> (Vec<DVec3>, Vec<f64>) {
 }
 
 /// A direction strictly inside the admissible cone of the start cell
-/// (MATH.md 4.2): within `acos(kappa/|t|)` of the axis, on the growth side.
+/// (docs/math.md 4.2): within `acos(kappa/|t|)` of the axis, on the growth side.
 fn direction_in_cone(rng: &mut Rng, dim: usize, ul: DVec3, ur: DVec3, kappa: f64) -> Direction {
     let half = (kappa / ul.distance(ur)).acos();
     let angle = rng.range(0.2, 0.8) * half;
@@ -146,7 +146,7 @@ fn random_3d_sheets_satisfy_every_invariant() {
 }
 
 /// Verification must catch a broken lattice: each corruption below breaks
-/// one invariant of MATH.md 8 and the report must say which.
+/// one invariant of docs/math.md 8 and the report must say which.
 #[test]
 fn corrupted_lattices_fail_verification() {
     use karigami::Invariant as I;

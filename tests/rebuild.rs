@@ -1,4 +1,4 @@
-//! Rebuilds reuse the simulation (README "Build folders", docs/physics.md
+//! Rebuilds reuse the simulation (docs/commands.md, "Build folders", docs/physics.md
 //! "Rebuilds"): a rebuild into the same folder restores the earlier
 //! equilibrium instead of solving, and writes every file byte for byte as a
 //! fresh solve does; a changed input, or a state file that is not the one

@@ -847,7 +847,7 @@ fn bad_inputs_get_their_exit_code_message_and_one_json_document() {
     assert_eq!(hidden(&dir), Vec::<String>::new());
 }
 
-/// MATH.md 8.5: residuals of exact constructions drift with the distance
+/// docs/math.md 8.5: residuals of exact constructions drift with the distance
 /// from the origin in legs. The tolerance stays 1e-9 for every lattice of
 /// ordinary size and grows with the extent only beyond that; a real defect
 /// still fails.

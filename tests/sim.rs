@@ -451,7 +451,7 @@ fn bend_energy_over_rotations_closed_form_equals_the_duals() {
 
 /// The ideal linkage of a planar lattice at reference opening theta:
 /// every cell rigid at its C(theta) angle, placed in grid order by a
-/// rigid fit to the vertices already placed (MATH.md 8.4). Vertices,
+/// rigid fit to the vertices already placed (docs/math.md 8.4). Vertices,
 /// then pivots.
 fn ideal_linkage(lattice: &Lattice, theta: f64) -> Vec<DVec3> {
     let phis = configuration(lattice).angles(theta).expect("in range");

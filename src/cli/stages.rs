@@ -19,7 +19,7 @@ use std::sync::{Condvar, Mutex, MutexGuard};
 /// are started one at a time, and a recipe is started whenever none is
 /// held. Held builds (lattice, parts, layout) took about 2.8 KiB a cell
 /// (4 copies of a 5,000-cell sheet, 41 MiB more than one at a time,
-/// BENCHMARKS.md "Examples batch, fifth round"), so
+/// BENCHMARKS.md of 003e36f "Examples batch, fifth round"), so
 /// some 55 MiB at the bound; drawing one peaks at about 13 KiB a cell
 /// (BENCHMARKS.md). The examples all fit.
 pub(super) const HELD_CELLS: usize = karigami::MAX_FABRICATED_CELLS;

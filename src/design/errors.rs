@@ -234,13 +234,13 @@ mod tests {
         let e = parse("[lattice]\nseed = \"sheet\"\nkapa = 0.0\n", "x").unwrap_err();
         assert_eq!(
             e.hint.as_deref(),
-            Some("did you mean `kappa`? (the recipe format is in README.md)")
+            Some("did you mean `kappa`? (the recipe format is in docs/recipe.md)")
         );
         // Far from every field: no guess.
         let e = parse("[lattice]\nseed = \"sheet\"\nwobble = 0.0\n", "x").unwrap_err();
         assert_eq!(
             e.hint.as_deref(),
-            Some("see the recipe format in README.md")
+            Some("see the recipe format in docs/recipe.md")
         );
         assert_eq!(edit_distance("angel", "angle"), 2);
         assert_eq!(edit_distance("", "abc"), 3);

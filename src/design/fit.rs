@@ -1,4 +1,4 @@
-//! Target fitting (MATH.md 6.4): the `[fit]` table of a recipe, the target
+//! Target fitting (docs/math.md 6.4): the `[fit]` table of a recipe, the target
 //! surfaces and how far a lattice is from them (error, coverage). The
 //! search that grows the rows is `solve::fit`.
 

@@ -76,8 +76,8 @@ pub fn parse_with(
     let raw: RawDesign = toml::from_str(source).map_err(|e| {
         let message = e.message().trim_end().to_string();
         let hint = errors::did_you_mean(&message)
-            .map_or("see the recipe format in README.md".to_string(), |f| {
-                format!("did you mean `{f}`? (the recipe format is in README.md)")
+            .map_or("see the recipe format in docs/recipe.md".to_string(), |f| {
+                format!("did you mean `{f}`? (the recipe format is in docs/recipe.md)")
             });
         Diagnostic::new(ErrorKind::Toml, errors::plain(&message, source, e.span()))
             .at_opt(e.span())

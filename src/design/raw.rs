@@ -196,7 +196,7 @@ pub(crate) struct RawRow {
     pub(crate) front: Option<Spanned<RawFront>>,
 }
 
-/// `front = { ... }`: the generators of MATH.md 7. Angles in degrees.
+/// `front = { ... }`: the generators of docs/math.md 7. Angles in degrees.
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawFront {

@@ -304,7 +304,7 @@ fn resolve(
     })
 }
 
-/// The generators of a rebuilt front (MATH.md 7), from `front = { ... }`.
+/// The generators of a rebuilt front (docs/math.md 7), from `front = { ... }`.
 /// `last` is the index of the front's last vertex (N, i.e. vertex 0 again, on a loop).
 fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnostic> {
     let raw = f.get_ref();

@@ -1,4 +1,4 @@
-//! Loop closure (MATH.md 6.2): the holonomy of a periodic front as a product
+//! Loop closure (docs/math.md 6.2): the holonomy of a periodic front as a product
 //! of Lorentz reflections, the symmetric case, and the closing directions as
 //! fixed points of the Moebius map it induces on the sphere of directions.
 
@@ -182,7 +182,7 @@ pub(crate) enum Closure {
     },
 }
 
-/// Closing directions of a front (MATH.md 6.2, closure algorithm). `axis`
+/// Closing directions of a front (docs/math.md 6.2, closure algorithm). `axis`
 /// is the cone axis of cell 0, `-unit(t[0])`.
 pub(crate) fn closure(holonomy: &Holonomy, axis: DVec3, dim: usize) -> Closure {
     let dist = holonomy.distance_from_identity();

@@ -1,4 +1,4 @@
-//! The elementary constructions of MATH.md section 4, all built on one
+//! The elementary constructions of docs/math.md section 4, all built on one
 //! primitive: the intersection of a ray with a null cone (formula P).
 
 use super::finite;
@@ -24,7 +24,7 @@ pub(crate) enum Refusal {
 /// Relative tolerance for "too close to 0" in the constructions.
 pub(crate) const EPS_REL: f64 = 1e-12;
 
-/// Formula P (MATH.md 4.1): the distance `r > 0` along the unit ray `b + r v`
+/// Formula P (docs/math.md 4.1): the distance `r > 0` along the unit ray `b + r v`
 /// to the point `q` with `z(q) = zb + r = za + |q - a|`.
 pub(crate) fn null_ray(a: Point, b: Point, v: DVec3) -> Result<f64, Refusal> {
     let dx = b.pos - a.pos;
@@ -54,7 +54,7 @@ fn null_point(a: Point, b: Point, v: DVec3) -> Result<Point, Refusal> {
     })
 }
 
-/// Paper eq. 4 (MATH.md 4.2): a cell's pivot from its top corners and `v2`,
+/// Paper eq. 4 (docs/math.md 4.2): a cell's pivot from its top corners and `v2`,
 /// the unit direction from UR towards the pivot. Its legs are
 /// `l4 = z(p) - z(UR)` and `l1 = z(p) - z(UL)`.
 pub(crate) fn pivot_from_v2(ul: Point, ur: Point, v2: DVec3) -> Result<Point, Refusal> {
@@ -91,7 +91,7 @@ mod tests {
 
     #[test]
     fn single_cell_3d_golden() {
-        // MATH.md 5: UL = 0, UR = (2,0,0), kappa = 0.5, v2 = unit(-1,-1,-0.5).
+        // docs/math.md 5: UL = 0, UR = (2,0,0), kappa = 0.5, v2 = unit(-1,-1,-0.5).
         let ul = pt(0.0, 0.0, 0.0, 0.0);
         let ur = pt(2.0, 0.0, 0.0, -0.5);
         let v2 = DVec3::new(-1.0, -1.0, -0.5).normalize();

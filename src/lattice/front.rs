@@ -1,4 +1,4 @@
-//! Rebuilt fronts for intrinsic (bent-facet) growth (MATH.md 7): a new front
+//! Rebuilt fronts for intrinsic (bent-facet) growth (docs/math.md 7): a new front
 //! with the same edge lengths (and so the same kappa and z) as the current
 //! one, from generators a designer writes in the recipe.
 

@@ -1,4 +1,4 @@
-//! Helix growth (MATH.md 6.3): one front wrapping onto itself, one cell a
+//! Helix growth (docs/math.md 6.3): one front wrapping onto itself, one cell a
 //! step, fully determined by the seed `y_0 .. y_N` and its kappa.
 
 use super::construct::{Point, lower_right, pivot_from_v2};

@@ -1,5 +1,5 @@
 //! Joints at the vertex pivots: which rod ends meet there and in what
-//! stacking order (MATH.md 10.2).
+//! stacking order (docs/math.md 10.2).
 
 use super::{Lattice, RodType};
 
@@ -28,7 +28,7 @@ pub struct JointEnd {
 pub struct Joint {
     /// The vertex pivot, an index into `Lattice::vertices`.
     pub vertex: u32,
-    /// In the order of MATH.md 10.2: A(i,j) start, B(i,j-1) start,
+    /// In the order of docs/math.md 10.2: A(i,j) start, B(i,j-1) start,
     /// B(i-1,j) end, A(i-1,j-1) end.
     pub ends: Vec<JointEnd>,
 }
@@ -62,7 +62,7 @@ pub(crate) fn vertex_eyelet_count(lattice: &Lattice) -> usize {
 /// The joint of every vertex, in vertex order.
 pub fn joints(lattice: &Lattice) -> Vec<Joint> {
     let n = lattice.vertices.len();
-    // Slots in the order of MATH.md 10.2, filled from the cells' corners.
+    // Slots in the order of docs/math.md 10.2, filled from the cells' corners.
     let mut slots: Vec<[Option<JointEnd>; 4]> = vec![[None; 4]; n];
     for (index, cell) in lattice.cells.iter().enumerate() {
         let end = |kind, end| {

@@ -1,5 +1,5 @@
 //! The grown lattice: vertices, cells (with their scissor pivots), and what is
-//! derived from them (legs, rods, joints). Notation follows MATH.md section 1.
+//! derived from them (legs, rods, joints). Notation follows docs/math.md section 1.
 //!
 //! Geometry is stored in `DVec3` for both 2-D and 3-D lattices; a 2-D lattice
 //! keeps its third coordinate at exactly 0 and `dim` says how many
@@ -34,11 +34,11 @@ use glam::DVec3;
 /// Topology of the seed front.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
-    /// Open front with two free edges (MATH.md 6.1).
+    /// Open front with two free edges (docs/math.md 6.1).
     Sheet,
-    /// Periodic front: a tube or annulus (MATH.md 6.2).
+    /// Periodic front: a tube or annulus (docs/math.md 6.2).
     Loop,
-    /// A single front wrapping onto itself, one cell a step (MATH.md 6.3).
+    /// A single front wrapping onto itself, one cell a step (docs/math.md 6.3).
     Helix,
 }
 
@@ -64,7 +64,7 @@ pub struct VertexKey {
     pub col: u32,
 }
 
-/// A vertex pivot `x[i][j]` with its collapsed coordinate `z` (MATH.md 3.2).
+/// A vertex pivot `x[i][j]` with its collapsed coordinate `z` (docs/math.md 3.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vertex {
     /// How lattice.json and messages name the vertex.
@@ -127,7 +127,7 @@ pub struct Lattice {
     pub vertices: Vec<Vertex>,
     /// Cells row by row, left to right (helix cells in k order).
     pub cells: Vec<Cell>,
-    /// Intrinsic growth (MATH.md 7): for each row grown on a rebuilt front,
+    /// Intrinsic growth (docs/math.md 7): for each row grown on a rebuilt front,
     /// that front's positions (one per front vertex, in the row's own
     /// frame); empty for a row grown on the previous row's vertices. Empty
     /// altogether for an extrinsic lattice.
@@ -179,7 +179,7 @@ impl Lattice {
         }
     }
 
-    /// True unless some row grew on a rebuilt front (MATH.md 7).
+    /// True unless some row grew on a rebuilt front (docs/math.md 7).
     pub fn extrinsic(&self) -> bool {
         self.fronts.iter().all(Vec::is_empty)
     }
@@ -240,7 +240,7 @@ impl Lattice {
         }
     }
 
-    /// Stacking layer of a rod (MATH.md 10.2): all strips meeting at any
+    /// Stacking layer of a rod (docs/math.md 10.2): all strips meeting at any
     /// joint get distinct layers, contiguous (0..3 at a full joint).
     pub fn layer(&self, cell: &Cell, kind: RodType) -> u32 {
         let ab = match kind {
@@ -283,7 +283,7 @@ impl Lattice {
         self.vertex(cell.ul).z - self.vertex(cell.ur).z
     }
 
-    /// Opening angle `phi` at the pivot between legs 1 and 4 (MATH.md 1.3).
+    /// Opening angle `phi` at the pivot between legs 1 and 4 (docs/math.md 1.3).
     pub fn phi(&self, cell: &Cell) -> f64 {
         let [ul, ur, _, _] = self.corners(cell);
         let v1 = (cell.pivot - ul).normalize();

@@ -1,5 +1,5 @@
 //! The assembled shape of an intrinsic lattice, for pictures: each row
-//! grown on a rebuilt front is stored in its own frame (MATH.md 7); here it
+//! grown on a rebuilt front is stored in its own frame (docs/math.md 7); here it
 //! is moved rigidly so that its rebuilt front lies as close as possible
 //! (least squares) on the row it hangs from. Where the two differ the real
 //! strips bend; the picture joins them halfway.

@@ -1,9 +1,9 @@
-//! Rods: the two straight members of each cell (MATH.md 1.2, 10.1).
+//! Rods: the two straight members of each cell (docs/math.md 1.2, 10.1).
 
 use super::{Cell, Lattice};
 use glam::DVec3;
 
-/// Which of a cell's two crossing rods (MATH.md 1.2).
+/// Which of a cell's two crossing rods (docs/math.md 1.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RodType {
     /// UL -> pivot -> LR, legs l1 and l3.

@@ -1,4 +1,4 @@
-//! Verification of a grown lattice (MATH.md 8.0-8.3). Every residual is
+//! Verification of a grown lattice (docs/math.md 8.0-8.3). Every residual is
 //! recomputed from the stored positions and z values, never copied from the
 //! construction, and made relative (lengths over the cell's mean leg).
 
@@ -10,7 +10,7 @@ use glam::DVec3;
 pub const TOLERANCE: f64 = 1e-9;
 
 /// Rounding drift of a relative residual per leg of distance from the
-/// origin. MATH.md 8.5 measured f64 residuals growing linearly with the
+/// origin. docs/math.md 8.5 measured f64 residuals growing linearly with the
 /// extent: 4e-13 at 200 rows, about 2e-15 (9 ulp) per leg; this allows
 /// seven times that.
 pub const DRIFT_PER_LEG: f64 = 64.0 * f64::EPSILON;
@@ -35,7 +35,7 @@ fn tolerance_of(lattice: &Lattice, legs: f64, extent: f64) -> f64 {
     TOLERANCE.max(DRIFT_PER_LEG * extent / leg)
 }
 
-/// An invariant of MATH.md 8.0-8.3 that verification checks; each is one
+/// An invariant of docs/math.md 8.0-8.3 that verification checks; each is one
 /// `Check` of a `Report`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Invariant {
@@ -54,7 +54,7 @@ pub enum Invariant {
     /// Loops: rod B of cell 0, which ends where the round of transfers came
     /// back, is straight.
     LoopClosure,
-    /// Four-map composition around an interior vertex (MATH.md 8.2): slope - 1.
+    /// Four-map composition around an interior vertex (docs/math.md 8.2): slope - 1.
     CompatibilitySlope,
     /// Four-map composition: intercept over the squared left edge.
     CompatibilityIntercept,
@@ -504,7 +504,7 @@ fn mean(legs: &Legs) -> f64 {
     legs.iter().sum::<f64>() / 4.0
 }
 
-/// Check every invariant of MATH.md 8.0-8.3: by rows for a regular,
+/// Check every invariant of docs/math.md 8.0-8.3: by rows for a regular,
 /// extrinsic sheet or loop (`verify_rows`), in one pass over the cells for
 /// anything else (`verify_with`); the same report either way.
 pub fn verify(lattice: &Lattice) -> Report {
@@ -562,7 +562,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
         let site = || lattice.cell_name(cell);
         let rel = |x: f64| x * inv;
         // The sine of each rod's bend at the pivot: first order in a sideways
-        // offset of the pivot, where MATH.md's |LR-UL| - (l1+l3) is second order.
+        // offset of the pivot, where docs/math.md's |LR-UL| - (l1+l3) is second order.
         let p = cell.pivot;
         let corners = lattice.corners(cell);
         let [ul, ur, ll, lr] = corners;
@@ -606,7 +606,7 @@ fn verify_with(lattice: &Lattice, inc: &Incidence) -> Report {
             let (bul, bur) = shared_edge(lattice, extrinsic, b, [0, 1], (ll, lr));
             edges.record(edge_residual(ll, lr, bul, bur, s), site);
         }
-        // Compatibility at the vertex this cell is the UL of (MATH.md 8.2):
+        // Compatibility at the vertex this cell is the UL of (docs/math.md 8.2):
         // each vertex once, at the cell its incidence names, in the order
         // of the cells (that of their UL vertices), without a pass of its own.
         let v = cell.ul as usize;
@@ -660,13 +660,13 @@ fn report(lattice: &Lattice, leg_sum: f64, checks: [Check; 10], collapsed: Colla
     }
 }
 
-/// The four-map composition around an interior vertex (MATH.md 8.2), from
+/// The four-map composition around an interior vertex (docs/math.md 8.2), from
 /// the legs of the cells in which it is UL (`a`), LL (`b`), LR (`c`) and UR
 /// (`d`): the composed map's slope, intercept and the intercept's natural
 /// magnitude.
 #[inline(always)]
 fn compose(a: Legs, b: Legs, cc: Legs, d: Legs) -> (f64, f64, f64) {
-    // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), MATH.md 2.
+    // f^(a,b,c)(S) = gamma - eta S as (slope, intercept), docs/math.md 2.
     // One division a map: `-(lc / la)` is `-lc / la`, bit for bit
     // (division rounds the same either side of 0; a NaN differs at most in
     // its sign, which every residual's `abs` drops).
@@ -1230,7 +1230,7 @@ fn verify_rows(lattice: &Lattice, grid: &Grid) -> Option<Report> {
 /// `Collapsed::reached` of a cell reached through no corner.
 const UNREACHED: u8 = u8::MAX;
 
-/// MATH.md 8.3: z from leg lengths alone, starting from `z = 0` at vertex 0,
+/// docs/math.md 8.3: z from leg lengths alone, starting from `z = 0` at vertex 0,
 /// then compared with the construction and with the deployed rod lengths.
 /// Cells are stored in growth order, so sweeping them in that order reaches
 /// every cell through a corner that already has a z (a breadth-first search
@@ -1551,7 +1551,7 @@ impl Collapsed {
 }
 
 /// The sweep of one cell whose corners UL, UR, LL, LR have their z at
-/// `z[at[k]]` (NaN while unknown), `offsets[k]` from its pivot's (MATH.md
+/// `z[at[k]]` (NaN while unknown), `offsets[k]` from its pivot's (docs/math.md
 /// 3.2): the pivot's z from the first corner that has one, then each
 /// corner in turn set, or compared with what it has (`inv` = 1 / the
 /// cell's mean leg). Returns that corner, the pivot's z and the corners'

@@ -1,5 +1,5 @@
 //! Strip clashes: two strips that share no joint, lie in the same stacking
-//! layer (MATH.md 10.2) and whose centre lines (hole to hole, plus the end
+//! layer (docs/math.md 10.2) and whose centre lines (hole to hole, plus the end
 //! margins) come closer than the strip width plus a clearance overlap in
 //! the built piece. Found with a uniform grid over the strips' bounding
 //! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.

@@ -1,4 +1,4 @@
-//! Parts: one flat strip per rod (MATH.md 10.1) with its holes and
+//! Parts: one flat strip per rod (docs/math.md 10.1) with its holes and
 //! engraving, plus the eyelets, and the fabrication checks that name the
 //! strip at fault. Strip geometry is in the strip's own frame, in mm: x runs
 //! along the axis from the start tip (0) to the end tip (`length`), y across

@@ -1,5 +1,5 @@
 //! Reusing the simulation of an earlier build (docs/physics.md, "Rebuilds";
-//! README, "Build folders").
+//! docs/commands.md, "Build folders").
 //!
 //! The simulated deployed shape is a pure function of the lattice as built
 //! (with its rigid-fit placement and joints), the strip section, the

@@ -96,7 +96,7 @@ pub fn check_text(v: &Verified) -> String {
     out
 }
 
-/// MATH.md 8.4: the intrinsic configuration, the mobility verdict and, in
+/// docs/math.md 8.4: the intrinsic configuration, the mobility verdict and, in
 /// the plane, the placement misfit.
 fn deployment_text(out: &mut String, lattice: &Lattice, d: &Deployment) {
     let c = &d.config;

@@ -25,7 +25,7 @@ impl LatticeModel {
             .collect()
     }
 
-    /// Opening angle phi of cell c now (MATH.md 1.3).
+    /// Opening angle phi of cell c now (docs/math.md 1.3).
     pub fn opening(&self, c: usize) -> f64 {
         let (v, s) = self.delta[c];
         s * self.model.q[v]

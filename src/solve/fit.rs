@@ -1,4 +1,4 @@
-//! Target fitting (MATH.md 6.4): rows found by a search, so that the lattice
+//! Target fitting (docs/math.md 6.4): rows found by a search, so that the lattice
 //! approximates a target surface. The seed comes from the recipe; each row's
 //! free parameters are chosen here, one row at a time, deterministically.
 //!

@@ -1,4 +1,4 @@
-//! The helix seed tuner (MATH.md 6.3): untuned helix seeds degenerate after
+//! The helix seed tuner (docs/math.md 6.3): untuned helix seeds degenerate after
 //! about two turns, so a seeded hill climb moves the seed points (in
 //! cylindrical coordinates about the seed's axis) and redistributes kappa
 //! until the helix grows the cells the recipe asks for. Deterministic: the

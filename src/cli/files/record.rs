@@ -1,4 +1,4 @@
-//! Keeping an earlier build's files (README, "Build folders"): the marker
+//! Keeping an earlier build's files (docs/commands.md, "Build folders"): the marker
 //! of a build folder records, for each build in it (the folder itself, or
 //! each subfolder of a batch), a fingerprint of everything its files are
 //! made from and the length and hash of each file. A rebuild whose inputs

@@ -3,7 +3,7 @@
 //! machine's ext4 an unlink can wait for the journal (3 to 4 ms each while
 //! the disk is busy), and unlinks that wait together share the wait: the
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
-//! (BENCHMARKS.md, "Examples batch, fifth round").
+//! (BENCHMARKS.md of 003e36f, "Examples batch, fifth round").
 
 use super::super::fault;
 use super::{MARKER, is_folder};

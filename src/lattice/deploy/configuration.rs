@@ -1,4 +1,4 @@
-//! The intrinsic configuration C(theta) (MATH.md 8.4): every cell's
+//! The intrinsic configuration C(theta) (docs/math.md 8.4): every cell's
 //! opening as an affine function of the reference cell's, propagated
 //! through shared edges, with how far two paths disagree.
 
@@ -38,7 +38,7 @@ fn key(a: u32, b: u32) -> (u32, u32) {
 }
 
 /// `alpha` and `beta` of edge `e` (in the order of `edge_keys`) of a cell
-/// with these legs: its squared length is `alpha + beta cos(phi)` (MATH.md 2).
+/// with these legs: its squared length is `alpha + beta cos(phi)` (docs/math.md 2).
 #[inline]
 fn edge_coefficients(legs: [f64; 4], e: usize) -> (f64, f64) {
     let [l1, l2, l3, l4] = legs;
@@ -86,7 +86,7 @@ pub struct Configuration {
     pub theta_design: f64,
     /// The reference opening at which the first cell reaches phi = pi.
     pub theta_max: f64,
-    /// Largest disagreement of two propagation paths (MATH.md 8.4:
+    /// Largest disagreement of two propagation paths (docs/math.md 8.4:
     /// compatibility is path independence).
     pub path_residual: f64,
     /// Largest |cos(phi(theta_design)) - cos(phi_design)| over the cells.

@@ -1,5 +1,5 @@
 //! How far a rigid placement of a planar lattice's cells misses at other
-//! openings than the design's (MATH.md 8.4).
+//! openings than the design's (docs/math.md 8.4).
 
 use super::super::shape::legs_of;
 use super::super::{Cell, Lattice, Legs};

@@ -1,4 +1,4 @@
-//! Deployment (MATH.md 8.4): the intrinsic configuration C(theta), its
+//! Deployment (docs/math.md 8.4): the intrinsic configuration C(theta), its
 //! valid range, the mobility of the ideal linkage at the design state, and
 //! for planar lattices how far a rigid placement of the cells misses at
 //! other angles.

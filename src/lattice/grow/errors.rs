@@ -1,4 +1,4 @@
-//! Growth errors (MATH.md 9): what failed, the design parameter it is
+//! Growth errors (docs/math.md 9): what failed, the design parameter it is
 //! about, and where (row and column), with the helpers that build them.
 
 use super::*;
@@ -34,7 +34,7 @@ pub(crate) enum Param {
 /// A design that cannot be grown, with the place it fails.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrowthError {
-    /// What failed (a growth kind of MATH.md 9); decides the name shown and the
+    /// What failed (a growth kind of docs/math.md 9); decides the name shown and the
     /// exit status.
     pub kind: ErrorKind,
     pub(crate) param: Param,

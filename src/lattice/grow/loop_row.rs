@@ -1,10 +1,10 @@
-//! A row grown on a closed front (MATH.md 6.2): its direction is fixed by
+//! A row grown on a closed front (docs/math.md 6.2): its direction is fixed by
 //! closure, found by a scan and polished by Newton steps.
 
 use super::*;
 
 impl Grower {
-    /// MATH.md 6.2: a row on a closed front, its direction fixed by closure.
+    /// docs/math.md 6.2: a row on a closed front, its direction fixed by closure.
     pub(super) fn grow_loop_row(
         &mut self,
         i: usize,

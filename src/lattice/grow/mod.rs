@@ -1,4 +1,4 @@
-//! Growing a sheet row by row on an open front (MATH.md section 5), with the
+//! Growing a sheet row by row on an open front (docs/math.md section 5), with the
 //! validity rules of section 9 reported at the row and column where they fail.
 
 use super::closure::{Closure, Holonomy, closure};
@@ -28,7 +28,7 @@ pub(crate) const EPS_ANGLE: f64 = 1e-6;
 /// instead of exhausting memory (about 150 bytes a cell).
 pub(crate) const MAX_CELLS: usize = 4_000_000;
 
-/// The free parameters of one row (MATH.md 5, 6.2, 7).
+/// The free parameters of one row (docs/math.md 5, 6.2, 7).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RowParams {
     /// The start site j0 whose leg direction is given (open fronts).
@@ -50,7 +50,7 @@ pub struct RowParams {
     pub front: Option<FrontMoves>,
 }
 
-// The growth errors of MATH.md 9 are kinds of the one error enum.
+// The growth errors of docs/math.md 9 are kinds of the one error enum.
 use crate::diagnostic::ErrorKind;
 
 /// Grow a sheet from its seed front (`points` with one `kappa` per edge) and
@@ -98,7 +98,7 @@ pub fn grow(
     Ok(grower.into_lattice())
 }
 
-/// How a loop row was closed (MATH.md 6.2), for the verification report.
+/// How a loop row was closed (docs/math.md 6.2), for the verification report.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClosureRecord {
     pub(crate) row: usize,
@@ -371,7 +371,7 @@ pub(super) fn seed_front(
     Ok(())
 }
 
-/// A seed edge must be spacelike: longer than its |kappa| (MATH.md 9).
+/// A seed edge must be spacelike: longer than its |kappa| (docs/math.md 9).
 fn seed_edge(a: DVec3, b: DVec3, kappa: f64, j: usize) -> Result<(), GrowthError> {
     let t = b - a;
     if kappa.abs() < t.length() {
@@ -391,7 +391,7 @@ fn seed_edge(a: DVec3, b: DVec3, kappa: f64, j: usize) -> Result<(), GrowthError
     ))
 }
 
-/// Degenerate and inverted cells (MATH.md 9).
+/// Degenerate and inverted cells (docs/math.md 9).
 pub(super) fn check_cell(lattice: &Lattice, cell: &Cell) -> Result<(), GrowthError> {
     check_cell_turn(lattice, cell, first_turn(lattice))
 }

@@ -1,10 +1,10 @@
-//! A row grown on an open front (MATH.md 5): the start cell, transfers to
+//! A row grown on an open front (docs/math.md 5): the start cell, transfers to
 //! either side, and the boundary legs.
 
 use super::*;
 
 impl Grower {
-    /// MATH.md 5 on an open front.
+    /// docs/math.md 5 on an open front.
     pub(super) fn grow_open_row(
         &mut self,
         i: usize,

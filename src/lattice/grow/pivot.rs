@@ -1,10 +1,10 @@
 //! The pivot helpers growth is made of: the start cell's pivot, the right
-//! and left transfers (MATH.md 4.2, 4.3), the leg direction at the start
+//! and left transfers (docs/math.md 4.2, 4.3), the leg direction at the start
 //! site and the front-local frame.
 
 use super::*;
 
-/// The start cell's pivot from its direction (MATH.md 4.2).
+/// The start cell's pivot from its direction (docs/math.md 4.2).
 pub(super) fn start_pivot(
     x: &[Point],
     j0: usize,
@@ -185,7 +185,7 @@ pub(super) fn resolve_direction(
 }
 
 /// The front-local frame at a site: `axis` points from UR back to UL (the
-/// cone axis of MATH.md 4.2), `down` is the growth side within the plane of
+/// cone axis of docs/math.md 4.2), `down` is the growth side within the plane of
 /// the front and +z (in 2-D, the clockwise normal), `out` completes it.
 #[derive(Clone, Copy, Debug)]
 pub struct FrontFrame {
