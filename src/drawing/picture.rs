@@ -414,6 +414,7 @@ pub fn preview_captioned(
         height: h,
         title: title.to_string(),
         metadata: Vec::new(),
+        laser: None,
         groups: vec![super::Group::new("preview", items)],
     }
 }

@@ -92,10 +92,11 @@ pub(super) fn step_block(
     pictures: &StepPictures,
     layout: &StepLayout,
     side: &stacking::Side,
+    spots: &super::finding::Spots,
 ) {
     let helix = b.lattice.kind == crate::lattice::Kind::Helix;
     let orders = stacking::orders(&b.lattice, step);
-    let lines = step_text(b, step, side, orders.as_deref());
+    let lines = step_text(b, step, side, orders.as_deref(), spots);
     let text_x = if layout.side {
         MARGIN + layout.size.x + 5.0
     } else {
