@@ -19,7 +19,10 @@ fn strips_of(dir: &Path) -> BTreeMap<String, (usize, String)> {
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            (f[id].to_string(), (f[sheet].parse().unwrap(), f[ty].to_string()))
+            (
+                f[id].to_string(),
+                (f[sheet].parse().unwrap(), f[ty].to_string()),
+            )
         })
         .collect()
 }
@@ -60,13 +63,18 @@ fn every_strip_is_found_by_its_engraving_and_sheet_from_the_guide_text() {
                 for item in items.split(", ").map(str::trim) {
                     if let Some((n, ty)) = item.split_once(" x type ") {
                         // "4 x type D" then ", engraved D" as the next item.
-                        *counted.entry((sheet, ty.to_string())).or_default() += n.parse::<usize>().unwrap();
+                        *counted.entry((sheet, ty.to_string())).or_default() +=
+                            n.parse::<usize>().unwrap();
                     } else if let Some(engraved) = item.strip_prefix("engraved ") {
                         assert!(!engraved.is_empty(), "{name}: {item}");
                     } else {
-                        let (id, ty) = item.split_once(" (").unwrap_or_else(|| panic!("{name}: {item:?}"));
+                        let (id, ty) = item
+                            .split_once(" (")
+                            .unwrap_or_else(|| panic!("{name}: {item:?}"));
                         let ty = ty.trim_end_matches(')');
-                        let (s, t) = strips.get(id).unwrap_or_else(|| panic!("{name}: {id} is not a strip"));
+                        let (s, t) = strips
+                            .get(id)
+                            .unwrap_or_else(|| panic!("{name}: {id} is not a strip"));
                         assert_eq!((*s, t.as_str()), (sheet, ty), "{name}: {id}");
                         *named.entry(id.to_string()).or_default() += 1;
                     }
@@ -75,18 +83,27 @@ fn every_strip_is_found_by_its_engraving_and_sheet_from_the_guide_text() {
         }
         assert!(takes > 0, "{name}: no Take sentence");
         // Every strip once: by its ID, or counted with its type on its sheet.
-        assert!(named.values().all(|&n| n == 1), "{name}: a strip named twice");
+        assert!(
+            named.values().all(|&n| n == 1),
+            "{name}: a strip named twice"
+        );
         let mut rest: BTreeMap<(usize, String), usize> = BTreeMap::new();
         for (id, (s, t)) in &strips {
             if !named.contains_key(id) {
                 *rest.entry((*s, t.clone())).or_default() += 1;
             }
         }
-        assert_eq!(counted, rest, "{name}: the counted strips by sheet and type");
+        assert_eq!(
+            counted, rest,
+            "{name}: the counted strips by sheet and type"
+        );
         // The sheet maps: one per sheet.
         let sheets = strips.values().map(|v| v.0).max().unwrap();
         for k in 1..=sheets {
-            assert!(text.contains(&format!("Sheet map: sheet {k} of {sheets}")), "{name}: map {k}");
+            assert!(
+                text.contains(&format!("Sheet map: sheet {k} of {sheets}")),
+                "{name}: map {k}"
+            );
         }
     }
 }
@@ -118,11 +135,17 @@ fn pp_eggbox() -> karigami::Build {
 #[test]
 fn lightburn_holes_and_layer_settings_read_back_in_lbrnts_and_meerk40t() {
     let b = pp_eggbox();
-    let preset = karigami::STOCK_PRESETS.iter().find(|p| p.key == "pp").unwrap();
+    let preset = karigami::STOCK_PRESETS
+        .iter()
+        .find(|p| p.key == "pp")
+        .unwrap();
     let co2 = preset.co2.unwrap();
     let dir = scratch("lbrn-readers");
     let files = karigami::files(&b);
-    let (_, bytes) = files.iter().find(|f| f.0 == "sheets/sheet-01.lbrn2").unwrap();
+    let (_, bytes) = files
+        .iter()
+        .find(|f| f.0 == "sheets/sheet-01.lbrn2")
+        .unwrap();
     let file = dir.join("sheet-01.lbrn2");
     std::fs::write(&file, bytes).unwrap();
     // Every hole of the sheet, y flipped as LightBurn's y points up.
@@ -155,25 +178,51 @@ fn lightburn_holes_and_layer_settings_read_back_in_lbrnts_and_meerk40t() {
             );
         }
     };
-    let expect = |name: &str| if name.starts_with("labels") { co2.mark } else { co2.cut };
+    let expect = |name: &str| {
+        if name.starts_with("labels") {
+            co2.mark
+        } else {
+            co2.cut
+        }
+    };
     if let Some(lbrnts) = lbrnts() {
         let script = repo().join("tests/tools/lbrn_lbrnts.mjs");
-        let out = run("node", &[script.to_str().unwrap(), lbrnts.to_str().unwrap(), file.to_str().unwrap()])
-            .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let out = run(
+            "node",
+            &[
+                script.to_str().unwrap(),
+                lbrnts.to_str().unwrap(),
+                file.to_str().unwrap(),
+            ],
+        )
+        .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let v: Value = serde_json::from_slice(&out.stdout).unwrap();
         let ellipses = v["ellipses"].as_array().unwrap();
         assert!(ellipses.iter().all(|e| e["rx"] == e["ry"]), "true circles");
         same(
             ellipses
                 .iter()
-                .map(|e| (e["x"].as_f64().unwrap(), e["y"].as_f64().unwrap(), e["rx"].as_f64().unwrap()))
+                .map(|e| {
+                    (
+                        e["x"].as_f64().unwrap(),
+                        e["y"].as_f64().unwrap(),
+                        e["rx"].as_f64().unwrap(),
+                    )
+                })
                 .collect(),
             "lbrnts",
         );
         let settings = v["settings"].as_array().unwrap();
         assert_eq!(settings.len(), 4);
-        for s in settings.iter().filter(|s| !s["name"].as_str().unwrap().starts_with("reference")) {
+        for s in settings
+            .iter()
+            .filter(|s| !s["name"].as_str().unwrap().starts_with("reference"))
+        {
             let e = expect(s["name"].as_str().unwrap());
             assert_eq!(s["speed"].as_f64(), Some(e.speed), "{s}");
             assert_eq!(s["power"].as_f64(), Some(e.power), "{s}");
@@ -181,13 +230,17 @@ fn lightburn_holes_and_layer_settings_read_back_in_lbrnts_and_meerk40t() {
         }
     }
     let script = repo().join("tests/tools/lbrn_meerk40t.py");
-    let Some(out) = run("python3", &[script.to_str().unwrap(), file.to_str().unwrap()]) else {
+    let Some(out) = run(
+        "python3",
+        &[script.to_str().unwrap(), file.to_str().unwrap()],
+    ) else {
         return;
     };
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
-            std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none() && err.contains("ModuleNotFoundError"),
+            std::env::var_os("KARIGAMI_REQUIRE_TOOLS").is_none()
+                && err.contains("ModuleNotFoundError"),
             "meerk40t: {err}"
         );
         eprintln!("note: meerk40t not installed: {err}");
@@ -199,7 +252,13 @@ fn lightburn_holes_and_layer_settings_read_back_in_lbrnts_and_meerk40t() {
             .as_array()
             .unwrap()
             .iter()
-            .map(|e| (e["x"].as_f64().unwrap(), e["y"].as_f64().unwrap(), e["rx"].as_f64().unwrap()))
+            .map(|e| {
+                (
+                    e["x"].as_f64().unwrap(),
+                    e["y"].as_f64().unwrap(),
+                    e["rx"].as_f64().unwrap(),
+                )
+            })
             .collect(),
         "meerk40t",
     );
@@ -209,8 +268,14 @@ fn lightburn_holes_and_layer_settings_read_back_in_lbrnts_and_meerk40t() {
             continue;
         }
         let e = expect(label);
-        assert!((op["speed"].as_f64().unwrap() - e.speed).abs() < 1e-9, "{op}");
-        assert!((op["power"].as_f64().unwrap() - e.power).abs() < 1e-9, "{op}");
+        assert!(
+            (op["speed"].as_f64().unwrap() - e.speed).abs() < 1e-9,
+            "{op}"
+        );
+        assert!(
+            (op["power"].as_f64().unwrap() - e.power).abs() < 1e-9,
+            "{op}"
+        );
     }
 }
 
@@ -259,6 +324,130 @@ fn the_guide_carries_the_safety_note_and_the_lightburn_file() {
         let report = std::fs::read_to_string(dir.join("report.txt")).unwrap();
         let clashes = !report.contains("strip clashes: none");
         let guide = guide_text(dir).unwrap();
-        assert_eq!(guide.contains("pairs of strips press on each other"), clashes, "{name}");
+        assert_eq!(
+            guide.contains("pairs of strips press on each other"),
+            clashes,
+            "{name}"
+        );
+    }
+}
+
+/// A word's box on a page of `pdftotext -bbox` (pt, y down) and its text.
+struct Word {
+    lo: (f64, f64),
+    hi: (f64, f64),
+    text: String,
+}
+
+fn attr(line: &str, name: &str) -> f64 {
+    let key = format!("{name}=\"");
+    line.split(&key)
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// Each page's height and words.
+fn bbox_pages(pdf: &Path) -> Option<Vec<(f64, Vec<Word>)>> {
+    let out = run("pdftotext", &["-bbox", pdf.to_str().unwrap(), "-"])?;
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut pages = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.starts_with("<page ") {
+            pages.push((attr(line, "height"), Vec::new()));
+        } else if line.starts_with("<word ") {
+            let text = line
+                .split('>')
+                .nth(1)
+                .unwrap()
+                .split('<')
+                .next()
+                .unwrap()
+                .to_string();
+            let page = pages.last_mut().unwrap();
+            page.1.push(Word {
+                lo: (attr(line, "xMin"), attr(line, "yMin")),
+                hi: (attr(line, "xMax"), attr(line, "yMax")),
+                text,
+            });
+        }
+    }
+    Some(pages)
+}
+
+/// Issue 34's layout test over every example's guide: no two words (picture
+/// labels included) overlap, no page but the last is under a fifth full,
+/// and a step runs onto a second page only when it says it is longer than
+/// a page.
+#[test]
+fn guide_pages_have_no_overlapping_labels_no_split_steps_and_no_near_empty_pages() {
+    const MM: f64 = 72.0 / 25.4;
+    for recipe in recipes("examples") {
+        let name = recipe.file_stem().unwrap().to_string_lossy().into_owned();
+        let dir = cli_build(&name, &[]);
+        let Some(pages) = bbox_pages(&dir.join("assembly.pdf")) else {
+            return;
+        };
+        let n = pages.len();
+        for (k, (height, words)) in pages.iter().enumerate() {
+            // Words 0.3 pt inside their boxes: neighbours on a line touch.
+            let s = 0.3;
+            for (i, a) in words.iter().enumerate() {
+                for b in &words[i + 1..] {
+                    let apart = a.hi.0 - s <= b.lo.0 + s
+                        || b.hi.0 - s <= a.lo.0 + s
+                        || a.hi.1 - s <= b.lo.1 + s
+                        || b.hi.1 - s <= a.lo.1 + s;
+                    assert!(
+                        apart,
+                        "{name} page {}: {:?} and {:?} overlap",
+                        k + 1,
+                        a.text,
+                        b.text
+                    );
+                }
+            }
+            // The body: from the top margin to the footer (15 mm margins, a
+            // 6 mm footer band).
+            let footer = height - 21.0 * MM;
+            let lowest = words
+                .iter()
+                .filter(|w| w.lo.1 < footer)
+                .map(|w| w.hi.1)
+                .fold(0.0, f64::max);
+            let fill = (lowest - 15.0 * MM) / (footer - 15.0 * MM);
+            assert!(
+                k + 1 == n || fill >= 0.2,
+                "{name} page {}: {:.0} % full",
+                k + 1,
+                100.0 * fill
+            );
+        }
+        // "Step N (continued)" only after a step that said it is long.
+        let text = guide_text(dir).unwrap();
+        let all = {
+            let out = run(
+                "pdftotext",
+                &[dir.join("assembly.pdf").to_str().unwrap(), "-"],
+            )
+            .unwrap();
+            String::from_utf8(out.stdout).unwrap()
+        };
+        for (i, _) in all.match_indices(" (continued)") {
+            let head = all[..i].rsplit('\n').next().unwrap();
+            if let Some(step) = head.strip_prefix("Step ") {
+                let title = format!("Step {step} of ");
+                let block = text.split(&title).nth(1).unwrap();
+                let block = block.split(" Step ").next().unwrap();
+                assert!(
+                    block.contains("longer than a page"),
+                    "{name}: step {step} splits"
+                );
+            }
+        }
     }
 }

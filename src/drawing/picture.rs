@@ -139,7 +139,7 @@ impl Camera {
         })
     }
 
-    fn project(&self, p: DVec3) -> DVec2 {
+    pub(crate) fn project(&self, p: DVec3) -> DVec2 {
         DVec2::new(p.dot(self.right), -p.dot(self.up))
     }
 }

@@ -170,14 +170,13 @@ impl Fabrication {
         self.material.preset.and_then(|p| p.settings(self.machine))
     }
 
-    /// The guide's safety note for this stock on this machine.
-    pub fn safety_note(&self) -> String {
-        let m = &self.material;
-        let Some(p) = m.preset else {
+    /// The guide's safety note for this stock on this machine; `name` is
+    /// the material's name as the page has room for it.
+    pub fn safety_note(&self, name: &str) -> String {
+        let Some(p) = self.material.preset else {
             return format!(
-                "{} has no stock preset: check it is safe to cut on {} before you start (no PVC or vinyl, \
-                 no ABS, no polycarbonate; see docs/fabrication.md), and find its settings on a scrap.",
-                m.name,
+                "Safety: {name} has no stock preset: check it is safe to cut on {} before you start (no PVC \
+                 or vinyl, no ABS, no polycarbonate; see docs/fabrication.md), and find its settings on a scrap.",
                 self.machine.describe()
             );
         };

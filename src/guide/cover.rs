@@ -129,7 +129,8 @@ pub(super) fn cover(
     );
     w.y += 1.0;
     // The safety note for this stock on this machine, before anything is cut.
-    w.paragraph(&fab.safety_note(), BODY, SAFETY);
+    let name = super::fit_text::shortened(&fab.material.name, Font::Regular, BODY, 0.5 * room);
+    w.paragraph(&fab.safety_note(&name), BODY, SAFETY);
     w.y += 2.0;
     w.text("Tools", 4.5, Font::Bold, BLACK);
     for t in [
@@ -170,7 +171,9 @@ pub(super) fn cover(
         BODY,
         GREY,
     );
-    w.new_page();
+    // The bill of materials follows on the same page when there is room:
+    // a cover that runs a few lines over leaves no near-empty page.
+    w.y += 4.0;
 }
 
 /// A fit that leaves part of its target open on purpose (a torus covering

@@ -5,12 +5,12 @@ use super::labels::Placer;
 use super::stacking;
 use super::step_labels::{LABEL_ROOM, Shown, step_labels};
 use super::step_pictures::{
-    STEP_PICTURE, StepPictures, corners, detail_camera, details, step_camera,
+    STEP_PICTURE, StepPictures, corners, detail_camera, details, details_height, step_camera,
 };
 use super::step_text::step_text;
 use super::{NEW, rect};
 use crate::assembly::Step;
-use crate::drawing::flow::{BLACK, FAINT, MARGIN, PageFlow, SMALL, text_item, wrap};
+use crate::drawing::flow::{BLACK, FAINT, GREY, MARGIN, PageFlow, SMALL, text_item, wrap};
 use crate::drawing::picture::{Fit, RodStyle, crossing_rods, pivots_and_vertices, rods};
 use crate::drawing::{Align, Font, Ink, Item};
 use crate::pipeline::Build;
@@ -104,24 +104,49 @@ pub(super) fn step_block(
     };
     let text_w = MARGIN + w.width() - text_x;
     let line_h = SMALL * 1.35;
-    let wrapped: Vec<(String, bool, [u8; 3])> = lines
-        .iter()
-        .flat_map(|(t, bold, c)| {
-            let font = if *bold { Font::Bold } else { Font::Regular };
-            wrap(t, font, SMALL, text_w)
-                .into_iter()
-                .map(move |x| (x, *bold, *c))
-        })
-        .collect();
+    let wrap_all = |lines: &[(String, bool, [u8; 3])]| -> Vec<(String, bool, [u8; 3])> {
+        lines
+            .iter()
+            .flat_map(|(t, bold, c)| {
+                let font = if *bold { Font::Bold } else { Font::Regular };
+                wrap(t, font, SMALL, text_w)
+                    .into_iter()
+                    .map(move |x| (x, *bold, *c))
+            })
+            .collect()
+    };
+    let mut wrapped = wrap_all(&lines);
     let title_h = 6.0;
-    let text_h = title_h + wrapped.len() as f64 * line_h;
     let pic_h = layout.size.y + 2.0 * LABEL_ROOM;
     let room = w.bottom() - MARGIN;
+    let details_h = if layout.detail {
+        details_height(b, step, w.width())
+    } else {
+        0.0
+    };
+    let whole = |wrapped: &[(String, bool, [u8; 3])]| {
+        title_h + pic_h + details_h + wrapped.len() as f64 * line_h
+    };
+    // A step never runs over a page boundary unless it alone is longer
+    // than a page, and then it says so.
+    let too_long = !layout.side && whole(&wrapped) > room;
+    if too_long {
+        let mut more = vec![(
+            "This step is longer than a page: it continues on the next page.".to_string(),
+            false,
+            GREY,
+        )];
+        more.extend(lines.iter().cloned());
+        wrapped = wrap_all(&more);
+    }
+    let text_h = title_h + wrapped.len() as f64 * line_h;
     let beside = layout.side && pic_h.max(text_h) <= room;
     let block = if beside {
         pic_h.max(text_h)
-    } else {
+    } else if too_long {
         title_h + pic_h + (text_h - title_h).min(30.0)
+    } else {
+        whole(&wrapped)
     };
     w.need(block + 3.0);
     w.close_group();
