@@ -97,6 +97,17 @@ pub(crate) fn engraved_text(s: &Strip, types: &[PartType]) -> String {
     }
 }
 
+/// A new strip's label in a step picture: what is engraved on it, with its
+/// type after an engraved ID ("R01-C02-A (E)"), as the step's words name it.
+pub(crate) fn picture_label(s: &Strip, types: &[PartType]) -> String {
+    match s.marking {
+        Marking::Id | Marking::Compact => {
+            format!("{} ({})", engraved_text(s, types), types[s.part_type].code)
+        }
+        _ => engraved_text(s, types),
+    }
+}
+
 /// A step's "Take" line: its strips by sheet and lane, each named by what
 /// is engraved on it with its type: strips engraved with their ID one by
 /// one ("R03-C00-A (type C)"), the others counted ("4 x type D, engraved D").

@@ -107,7 +107,7 @@ pub(super) fn step_labels(
             let other = leg_middle(s ^ 1, true);
             placer.place(&Label {
                 anchor: m,
-                text: super::finding::engraved_text(&strips[s], &b.parts.types),
+                text: super::finding::picture_label(&strips[s], &b.parts.types),
                 colour: NEW,
                 bold: true,
                 toward: m - other,
