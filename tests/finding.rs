@@ -163,7 +163,7 @@ fn lightburn_holes_and_layer_settings_read_back_in_lbrnts_and_meerk40t() {
         .collect();
     // By position to the micrometre, so readers' last digits do not reorder.
     let sort = |v: &mut Vec<(f64, f64, f64)>| {
-        v.sort_by_key(|h| ((h.0 * 1e3).round() as i64, (h.1 * 1e3).round() as i64))
+        v.sort_by_key(|h| ((h.0 * 1e3).round() as i64, (h.1 * 1e3).round() as i64));
     };
     sort(&mut holes);
     assert!(holes.len() > 300);

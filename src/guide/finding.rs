@@ -131,7 +131,7 @@ pub(crate) fn take_line(b: &Build, spots: &Spots, strips: &[usize]) -> String {
                     _ => {
                         *counted
                             .entry((strip.part_type, engraved_text(strip, types)))
-                            .or_default() += 1
+                            .or_default() += 1;
                     }
                 }
             }

@@ -176,65 +176,7 @@ pub(super) fn step_block(
         Vec::new()
     };
     if layout.side {
-        // The whole lattice is small beside the text: the step's cells and
-        // the cells they join are drawn again, zoomed, right of it, and
-        // labelled there.
-        let l = &b.assembled;
-        let mut corner = vec![false; l.vertices.len()];
-        for &c in &step.cells {
-            let cell = &l.cells[c];
-            for v in cell.corner_ids() {
-                corner[v as usize] = true;
-            }
-        }
-        let k0 = step.number - 1;
-        let around: Vec<usize> = (0..l.cells.len())
-            .filter(|&c| {
-                let cell = &l.cells[c];
-                l.step_of(c) < k0 && cell.corner_ids().iter().any(|&v| corner[v as usize])
-            })
-            .collect();
-        let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();
-        let vertices = corners(l, &all);
-        let camera = detail_camera(b, &step.cells).unwrap_or_else(|| step_camera(b));
-        let zoom_at = DVec2::new(MARGIN + layout.zoom_x, top + LABEL_ROOM);
-        let zoom_size = DVec2::new(layout.size.x - layout.zoom_x, layout.size.y);
-        let points = vertices
-            .iter()
-            .map(|&v| l.vertices[v].pos)
-            .chain(all.iter().map(|&c| l.cells[c].pivot));
-        let zfit = Fit::around(points, camera, zoom_at, zoom_size);
-        let zw = (0.6 * zfit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
-        let mut items = vec![Item::art(
-            Ink::line(FAINT, 0.2),
-            rect(MARGIN + layout.zoom_x - 1.5, top, zoom_size.x + 1.5, pic_h),
-        )];
-        items.extend(rods(l, &zfit, &around, |_| {
-            Some(RodStyle {
-                colour: FAINT,
-                width: zw,
-            })
-        }));
-        items.extend(crossing_rods(l, &zfit, &step.cells, |_| {
-            Some(RodStyle {
-                colour: NEW,
-                width: zw * 1.3,
-            })
-        }));
-        items.extend(pivots_and_vertices(l, &zfit, &all, &vertices, zw * 0.8));
-        let mut placer = Placer::new(
-            DVec2::new(MARGIN + layout.zoom_x - 1.0, top),
-            DVec2::new(MARGIN + layout.size.x + 1.0, top + pic_h),
-        );
-        let shown = Shown {
-            cells: &step.cells,
-            joints: step.joints.iter().collect(),
-            first_row: 0,
-            vertices: Some(&vertices),
-        };
-        items.extend(step_labels(b, step, &zfit, &mut placer, &named, &shown));
-        items.extend(placer.items);
-        w.push(items);
+        w.push(side_zoom(b, step, layout, top, pic_h, &named));
     }
     w.group_id = Some(format!("step-{}-labels", step.number));
     w.close_group();
@@ -285,4 +227,75 @@ pub(super) fn step_block(
     w.y += 2.0;
     w.rule();
     w.y += 1.0;
+}
+
+/// Beside the text the whole lattice is small: the step's cells and the
+/// cells they join drawn again, zoomed, right of it, and labelled there.
+fn side_zoom(
+    b: &Build,
+    step: &Step,
+    layout: &StepLayout,
+    top: f64,
+    pic_h: f64,
+    named: &[usize],
+) -> Vec<Item> {
+    // The whole lattice is small beside the text: the step's cells and
+    // the cells they join are drawn again, zoomed, right of it, and
+    // labelled there.
+    let l = &b.assembled;
+    let mut corner = vec![false; l.vertices.len()];
+    for &c in &step.cells {
+        let cell = &l.cells[c];
+        for v in cell.corner_ids() {
+            corner[v as usize] = true;
+        }
+    }
+    let k0 = step.number - 1;
+    let around: Vec<usize> = (0..l.cells.len())
+        .filter(|&c| {
+            let cell = &l.cells[c];
+            l.step_of(c) < k0 && cell.corner_ids().iter().any(|&v| corner[v as usize])
+        })
+        .collect();
+    let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();
+    let vertices = corners(l, &all);
+    let camera = detail_camera(b, &step.cells).unwrap_or_else(|| step_camera(b));
+    let zoom_at = DVec2::new(MARGIN + layout.zoom_x, top + LABEL_ROOM);
+    let zoom_size = DVec2::new(layout.size.x - layout.zoom_x, layout.size.y);
+    let points = vertices
+        .iter()
+        .map(|&v| l.vertices[v].pos)
+        .chain(all.iter().map(|&c| l.cells[c].pivot));
+    let zfit = Fit::around(points, camera, zoom_at, zoom_size);
+    let zw = (0.6 * zfit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
+    let mut items = vec![Item::art(
+        Ink::line(FAINT, 0.2),
+        rect(MARGIN + layout.zoom_x - 1.5, top, zoom_size.x + 1.5, pic_h),
+    )];
+    items.extend(rods(l, &zfit, &around, |_| {
+        Some(RodStyle {
+            colour: FAINT,
+            width: zw,
+        })
+    }));
+    items.extend(crossing_rods(l, &zfit, &step.cells, |_| {
+        Some(RodStyle {
+            colour: NEW,
+            width: zw * 1.3,
+        })
+    }));
+    items.extend(pivots_and_vertices(l, &zfit, &all, &vertices, zw * 0.8));
+    let mut placer = Placer::new(
+        DVec2::new(MARGIN + layout.zoom_x - 1.0, top),
+        DVec2::new(MARGIN + layout.size.x + 1.0, top + pic_h),
+    );
+    let shown = Shown {
+        cells: &step.cells,
+        joints: step.joints.iter().collect(),
+        first_row: 0,
+        vertices: Some(&vertices),
+    };
+    items.extend(step_labels(b, step, &zfit, &mut placer, named, &shown));
+    items.extend(placer.items);
+    items
 }
