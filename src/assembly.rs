@@ -7,7 +7,7 @@
 //! pipeline computes it once (`Build::steps`) for the guide, the viewer, the
 //! report and cutting by step, so this sits just above `lattice`.
 
-use crate::lattice::{Joint, Lattice};
+use crate::lattice::{Joint, Kind, Lattice};
 
 /// One assembly step: the strips of one growth row (one cell for a helix)
 /// and the vertex joints it closes.
@@ -70,4 +70,22 @@ pub fn steps(lattice: &Lattice, joints: &[Joint]) -> Vec<Step> {
         s.total = total;
     }
     steps
+}
+
+/// Whether a lattice is built flat on the table: planar, or a 3-D sheet
+/// whose relief is under a tenth of its size (it is assembled flat and takes
+/// its relief as it opens). The guide and the viewer say "from the table
+/// up" only for these; other 3-D pieces stack from the inside out.
+pub(crate) fn built_flat(lattice: &Lattice) -> bool {
+    if lattice.dim == 2 {
+        return true;
+    }
+    if lattice.kind != Kind::Sheet {
+        return false;
+    }
+    let (lo, hi) = lattice.extent();
+    let size = hi - lo;
+    let mut sorted = size.to_array();
+    sorted.sort_by(f64::total_cmp);
+    sorted[0] < 0.1 * sorted[2]
 }

@@ -237,6 +237,12 @@ error_kinds! {
     UnknownEyelet => EXIT_INVALID,
     /// `[strip] label` names an unknown label style.
     UnknownLabel => EXIT_INVALID,
+    /// `[material] preset` names unknown stock.
+    UnknownMaterial => EXIT_INVALID,
+    /// `[material] thickness` is outside its preset's range.
+    ThicknessOutsidePreset => EXIT_INVALID,
+    /// `[laser] machine` names an unknown laser.
+    UnknownMachine => EXIT_INVALID,
     /// `[sheet]` is `preset = "auto"` and also given a size.
     SheetAutoWithSize => EXIT_INVALID,
     /// `[sheet] preset` names an unknown sheet.

@@ -64,6 +64,7 @@ pub use design::measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
 pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};
+pub use fabrication::{LaserSetting, Machine, MachineSettings, STOCK_PRESETS, StockPreset};
 pub use solve::tune::{Tuned, tune_helix};
 pub use solve::{Optimised, optimise};
 

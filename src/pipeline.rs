@@ -491,7 +491,8 @@ fn job(design: &Design, lattice: &Lattice, parts: &Parts) -> Job {
             .test_piece
             .then(|| Outline::of(crate::parts::test_piece::LENGTH, fab).length),
         // Strip index = rod id; a rod's cell is id / 2.
-        steps: fab.group_by_step.then(|| {
+        steps_if_free: !fab.group_by_step,
+        steps: (fab.group_by_step || fab.group_if_free).then(|| {
             parts
                 .strips
                 .iter()

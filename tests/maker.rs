@@ -592,19 +592,10 @@ fn lightburn_projects_hold_every_hole_and_outline_with_layers_set_up() {
                         _ => None,
                     })
                     .collect();
-                // A part's holes are one path of four-Bezier circles: four
-                // vertices a circle, on it at quarter turns.
-                let mut circles: Vec<(usize, DVec2, f64)> = Vec::new();
-                for (_, verts, prims) in lb.paths.iter().filter(|p| p.0 == hi) {
-                    assert_eq!(verts.len() % 4, 0, "{prims}");
-                    assert_eq!(prims.matches('B').count(), verts.len(), "{prims}");
-                    for q in verts.chunks(4) {
-                        let c = (q[0] + q[2]) / 2.0;
-                        assert!(c.distance((q[1] + q[3]) / 2.0) < 1e-3, "a circle");
-                        circles.push((hi, c, c.distance(q[0])));
-                    }
-                }
-                assert!(lb.circles.iter().all(|c| c.0 != hi), "no holes as ellipses");
+                // Every hole is a LightBurn circle: an Ellipse on the holes' layer.
+                let circles: Vec<(usize, DVec2, f64)> =
+                    lb.circles.iter().filter(|c| c.0 == hi).copied().collect();
+                assert!(lb.paths.iter().all(|p| p.0 != hi), "no holes as paths");
                 assert_eq!(circles.len(), holes.len(), "{name} {file}");
                 for ((c, r), (_, lc, lr)) in holes.iter().zip(&circles) {
                     assert!(
@@ -679,17 +670,13 @@ fn lightburn_projects_are_well_formed_xml() {
         String::from_utf8_lossy(&out.stderr)
     );
     let shapes: usize = String::from_utf8_lossy(&out.stdout).trim().parse().unwrap();
-    // A shape per item, but a run of a part's labels (or holes) is one path.
+    // A shape per item, but a run of a part's labels is one path.
     let mut expected = 0;
     for g in &b.pages[0].groups {
         let mut run = None;
         for i in g.items.iter().filter(|i| i.layer != Layer::Art) {
             let circle = matches!(i.shape, Shape::Circle { .. });
-            let joins = match i.layer {
-                Layer::Labels => !circle,
-                Layer::Holes => circle,
-                _ => false,
-            };
+            let joins = i.layer == Layer::Labels && !circle;
             let this = joins.then_some((i.layer, circle));
             if this.is_none() || this != run {
                 expected += 1;

@@ -4,6 +4,7 @@ mod cli;
 mod cutfiles;
 mod deploy;
 mod errors;
+mod finding;
 mod fuzz;
 mod gallery;
 mod golden;

@@ -261,6 +261,7 @@ fn viewer_page_of_a_10000_cell_sheet_is_under_15_mb() {
         .collect();
     let per_sheet = 90;
     let layout = Layout {
+        by_step: false,
         sheet: fab.sheet.clone(),
         part_width: Outline::of(0.0, fab).width,
         sheets: (0..lengths.len().div_ceil(per_sheet))

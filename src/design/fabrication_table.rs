@@ -6,10 +6,12 @@
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::{
-    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Paper, SHEET_AUTO, SHEET_PRESETS,
-    eyelet_preset, longest_preset, preset_names, sheet_size,
+    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Machine, Paper, SHEET_AUTO,
+    SHEET_PRESETS, STOCK_PRESETS, StockPreset, eyelet_preset, longest_preset, preset_names,
+    sheet_size, stock_preset,
 };
 use std::ops::Range;
+use toml::Spanned;
 
 /// Fabrication settings given on the command line; each replaces the
 /// recipe's value.
@@ -144,6 +146,46 @@ fn from_override(v: f64, what: &str, max: f64) -> Result<f64, Diagnostic> {
     }
 }
 
+/// A `[material] preset` by its key.
+fn stock(key: &Spanned<String>) -> Result<&'static StockPreset, Diagnostic> {
+    stock_preset(key.get_ref()).ok_or_else(|| {
+        let keys: Vec<String> = STOCK_PRESETS.iter().map(|p| format!("\"{}\"", p.key)).collect();
+        Diagnostic::new(
+            ErrorKind::UnknownMaterial,
+            format!("unknown material preset \"{}\"", key.get_ref()),
+        )
+        .at(key.span())
+        .hint(format!(
+            "use one of {}, or leave `preset` out and give the stock's `name` and `thickness` (see docs/fabrication.md, Strip stock)",
+            keys.join(", ")
+        ))
+    })
+}
+
+/// A preset's stock is sold and bends well within its thickness range.
+fn stock_thickness(p: &StockPreset, t: f64, at: &Num) -> Result<(), Diagnostic> {
+    let (lo, hi) = p.thickness;
+    if (lo..=hi).contains(&t) {
+        return Ok(());
+    }
+    Err(Diagnostic::new(
+        ErrorKind::ThicknessOutsidePreset,
+        format!(
+            "material.thickness is {} mm, but {} strips are {} to {} mm thick",
+            shown(t),
+            p.name,
+            shown(lo),
+            shown(hi)
+        ),
+    )
+    .at(at.span())
+    .hint(format!(
+        "give a thickness from {} to {} mm, or leave `preset` out and name the stock yourself",
+        shown(lo),
+        shown(hi)
+    )))
+}
+
 pub(crate) fn fabrication(
     raw: &RawDesign,
     o: &Overrides,
@@ -153,8 +195,18 @@ pub(crate) fn fabrication(
 
     if let Some(m) = &raw.material {
         let m = m.get_ref();
+        let preset = m.preset.as_ref().map(stock).transpose()?;
+        if let Some(p) = preset {
+            f.material.name = p.name.into();
+            f.material.preset = Some(p);
+            f.material.thickness = p.default_thickness;
+        }
         if let Some(n) = &m.name {
             f.material.name = n.get_ref().clone();
+            // A name alone is stock karigami knows nothing about.
+            if preset.is_none() {
+                f.material.preset = None;
+            }
         }
         if let Some(t) = &m.thickness {
             f.material.thickness = length(
@@ -163,6 +215,9 @@ pub(crate) fn fabrication(
                 (MIN_THICKNESS, true),
                 MAX_THICKNESS,
             )?;
+            if let Some(p) = preset {
+                stock_thickness(p, f.material.thickness, t)?;
+            }
         }
         if let Some(w) = &m.width {
             f.material.width = length(w, "material.width", (0.0, false), MAX_STRIP_WIDTH)?;
@@ -248,6 +303,16 @@ pub(crate) fn fabrication(
         }
         if let Some(c) = &l.compensate {
             f.compensate_kerf = *c.get_ref();
+        }
+        if let Some(m) = &l.machine {
+            f.machine = Machine::parse(m.get_ref()).ok_or_else(|| {
+                Diagnostic::new(
+                    ErrorKind::UnknownMachine,
+                    format!("unknown laser machine \"{}\"", m.get_ref()),
+                )
+                .at(m.span())
+                .hint("use \"co2\" (a 40-60 W CO2 laser) or \"diode\" (a 5-10 W diode laser)")
+            })?;
         }
     }
     if let Some(k) = o.kerf {
@@ -411,6 +476,8 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
             ErrorKind::UnknownGrouping,
             "use \"step\" (each assembly step's strips in lanes of their own, steps in order) or \"none\"",
         )?;
+        // Either choice replaces the default (by step where it is free).
+        f.group_if_free = false;
     }
     if let Some(g) = o.group_by_step {
         f.group_by_step = g;

@@ -222,7 +222,7 @@ impl Measures {
         );
         let _ = writeln!(
             out,
-            "  strips: {} distinct of {} (legs equal within {} mm)",
+            "  strip shapes: {} distinct of {} strips (leg pairs in either order, equal within {} mm; the part types below also keep each strip's start end and length)",
             s.distinct_strips,
             s.strips,
             crate::lattice::shape::SAME_STRIP_MM

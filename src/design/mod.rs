@@ -95,7 +95,7 @@ pub fn parse_with(
     let (fabrication, fabrication_spans) = fabrication_table::fabrication(&raw, overrides)?;
     let clash = optimise::parse_clash(raw.clash.as_ref())?;
     let optimise = raw.optimise.as_ref().map(optimise::parse).transpose()?;
-    let simulation = simulation::parse(raw.simulation.as_ref())?;
+    let simulation = simulation::parse(raw.simulation.as_ref(), fabrication.material.preset)?;
     let lattice_span = raw.lattice.span();
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {

@@ -37,6 +37,8 @@ pub(crate) struct RawGuide {
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
+    /// A stock preset ("pp", "petg", ...; docs/fabrication.md).
+    pub(crate) preset: Option<Spanned<String>>,
     pub(crate) name: Option<Spanned<String>>,
     pub(crate) thickness: Option<Num>,
     pub(crate) width: Option<Num>,
@@ -71,6 +73,8 @@ pub(crate) struct RawLaser {
     pub(crate) colours: Option<Spanned<String>>,
     /// Width of the holding tabs in mm (0 or absent: none).
     pub(crate) tabs: Option<Num>,
+    /// The laser the settings are for: "co2" or "diode".
+    pub(crate) machine: Option<Spanned<String>>,
 }
 
 /// `[sheet]`: the bed or stock sheet.

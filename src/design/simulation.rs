@@ -1,8 +1,10 @@
 //! `[simulation]`: the strip material's moduli and allowable strain, the
 //! deployment angle, the joint model and the mesh of the elastic
-//! simulation (docs/physics.md). Every field is optional; defaults are ABS.
+//! simulation (docs/physics.md). Every field is optional; defaults are the
+//! `[material] preset`'s, ABS without one.
 
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
+use crate::fabrication::StockPreset;
 use crate::sim::{Actuation, Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
@@ -85,9 +87,19 @@ fn number(
     )))
 }
 
-/// The settings of a recipe's `[simulation]` table (defaults without one).
-pub(crate) fn parse(raw: Option<&Spanned<RawSimulation>>) -> Result<Settings, Diagnostic> {
+/// The settings of a recipe's `[simulation]` table (defaults without one):
+/// the stock preset's modulus, Poisson's ratio and allowable strain, which
+/// the table's own values replace (ABS without a preset).
+pub(crate) fn parse(
+    raw: Option<&Spanned<RawSimulation>>,
+    stock: Option<&StockPreset>,
+) -> Result<Settings, Diagnostic> {
     let mut s = Settings::default();
+    if let Some(p) = stock {
+        s.material.youngs = p.youngs;
+        s.material.poisson = p.poisson;
+        s.material.eps_allow = p.allowable_strain;
+    }
     let Some(raw) = raw else { return Ok(s) };
     let r = raw.get_ref();
     if let Some(e) = number(

@@ -80,6 +80,7 @@ impl PageFlow {
             height: self.size.1,
             title: format!("{} page {number}", self.title),
             metadata: Vec::new(),
+            laser: None,
             groups: std::mem::take(&mut self.groups),
         });
         self.y = MARGIN;

@@ -408,6 +408,10 @@ pub struct Page {
     pub(crate) title: String,
     /// Key-value provenance written into each file's metadata.
     pub(crate) metadata: Vec<(String, String)>,
+    /// A cut sheet's starting laser settings, for the files that carry them
+    /// (LightBurn's layers); None for other pages, and for stock that has
+    /// none on this machine.
+    pub(crate) laser: Option<crate::fabrication::MachineSettings>,
     /// Everything drawn, group by group in painting order.
     pub groups: Vec<Group>,
 }

@@ -139,7 +139,7 @@ impl Camera {
         })
     }
 
-    fn project(&self, p: DVec3) -> DVec2 {
+    pub(crate) fn project(&self, p: DVec3) -> DVec2 {
         DVec2::new(p.dot(self.right), -p.dot(self.up))
     }
 }
@@ -414,6 +414,7 @@ pub fn preview_captioned(
         height: h,
         title: title.to_string(),
         metadata: Vec::new(),
+        laser: None,
         groups: vec![super::Group::new("preview", items)],
     }
 }

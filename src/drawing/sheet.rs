@@ -290,6 +290,7 @@ pub(crate) fn sheet_page(
                     .join("; "),
             ),
         ],
+        laser: fab.laser_settings(),
         groups,
     }
 }

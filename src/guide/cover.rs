@@ -12,6 +12,9 @@ use crate::pipeline::Build;
 use crate::words::plural;
 use glam::DVec2;
 
+/// The safety note's colour: a dark red that prints legibly in grey.
+const SAFETY: [u8; 3] = [150, 20, 20];
+
 pub(super) fn cover(
     w: &mut PageFlow,
     b: &Build,
@@ -114,10 +117,27 @@ pub(super) fn cover(
             w.text(&line, BODY, Font::Regular, BLACK);
         }
     }
-    w.y += 3.0;
+    // Which sheets each run of steps is cut from (docs/assembly.md).
+    let spots = super::finding::Spots::new(b);
+    w.paragraph(
+        &format!(
+            "Where the strips are: {}. Each sheet has a map after the bill of materials.",
+            super::finding::steps_by_sheet(b, &spots).join("; ")
+        ),
+        BODY,
+        BLACK,
+    );
+    w.y += 1.0;
+    // The safety note for this stock on this machine, before anything is cut.
+    let name = super::fit_text::shortened(&fab.material.name, Font::Regular, BODY, 0.5 * room);
+    w.paragraph(&fab.safety_note(&name), BODY, SAFETY);
+    w.y += 2.0;
     w.text("Tools", 4.5, Font::Bold, BLACK);
     for t in [
-        "A laser cutter, with cut.pdf or the files in sheets/ (SVG or DXF).".to_string(),
+        format!(
+            "A laser cutter ({}), with cut.pdf or the files in sheets/ (LightBurn .lbrn2 with its layers set, SVG or DXF).",
+            fab.machine.describe()
+        ),
         format!(
             "An eyelet setter for {} eyelets and a small hammer or an eyelet press.",
             fab.eyelet.name
@@ -125,7 +145,9 @@ pub(super) fn cover(
         "A flat table, and this guide printed at 100 % (actual size): its gauges are 1:1."
             .to_string(),
     ] {
-        w.text(&format!("-  {t}"), BODY, Font::Regular, BLACK);
+        for line in w.wrap(&format!("-  {t}"), BODY) {
+            w.text(&line, BODY, Font::Regular, BLACK);
+        }
     }
     w.y += 3.0;
     w.paragraph(
@@ -135,6 +157,9 @@ pub(super) fn cover(
     );
     if let Some(bumps) = bumps(b, simulated) {
         w.paragraph(&bumps, BODY, BLACK);
+    }
+    for note in [open_gap(b), clash_warning(b)].into_iter().flatten() {
+        w.paragraph(&note, BODY, BLACK);
     }
     w.paragraph(
         "Strips are picked by part type: strips of one type are the same part. A strip is engraved with its ID \
@@ -146,5 +171,36 @@ pub(super) fn cover(
         BODY,
         GREY,
     );
-    w.new_page();
+    // The bill of materials follows on the same page when there is room:
+    // a cover that runs a few lines over leaves no near-empty page.
+    w.y += 4.0;
+}
+
+/// A fit that leaves part of its target open on purpose (a torus covering
+/// 342 deg of its tube): named with its size, so nobody tries to close it.
+fn open_gap(b: &Build) -> Option<String> {
+    let covered = b.measures.coverage?.degrees?;
+    let gap = 360.0 - covered;
+    (gap >= 0.5).then(|| {
+        format!(
+            "Open on purpose: the strips cover {covered:.0} deg of the tube, so the piece has a {gap:.0} deg gap \
+             between its first and last rows. Leave it open: the lattice does not close across it."
+        )
+    })
+}
+
+/// Strips that press on each other in the deployed shape (report.txt's
+/// strip clashes), said where the maker reads before building.
+fn clash_warning(b: &Build) -> Option<String> {
+    let c = b.measures.clashes.first()?;
+    let name = |r: usize| crate::parts::clash::rod_name(&b.lattice, r);
+    Some(format!(
+        "Warning: {} pairs of strips press on each other in the deployed shape (the closest, {} and {}, come \
+         within {:.1} mm of each other's centre lines; report.txt lists the check). They bend around each \
+         other as the piece opens: open it slowly and check those strips are not forced apart at their eyelets.",
+        b.measures.clashes.len(),
+        name(c.rods[0]),
+        name(c.rods[1]),
+        c.distance
+    ))
 }

@@ -225,8 +225,9 @@ pub(super) fn gauge(w: &mut PageFlow, b: &Build) {
     let about = format!(
         "Folded flat, every strip of the lattice lies along one line and every hole sits at a fixed \
          distance along it. This gauge is that line at full size ({total:.1} mm). Blue ticks are \
-         vertex pivots [row,column], orange ticks scissor pivots (row,column); the ruler beside it is \
-         1:1 from the same 0. Print at 100 % and check the ruler against a real one."
+         vertex pivots [row,column], orange ticks scissor pivots (row,column); holes at one distance \
+         share a tick, labelled with one of their keys and \"+N\" for the N others there. The ruler \
+         beside it is 1:1 from the same 0. Print at 100 % and check the ruler against a real one."
     );
     let check = format!(
         "Fold a finished part of the lattice flat, lay it on the line with vertex {first} on 0, and \

@@ -133,7 +133,11 @@ pub(super) fn materials(w: &mut PageFlow, b: &Build) {
             dots.join(", ")
         ));
     }
-    how.push_str("parts-types.csv lists every strip with its type and sheet position.");
+    how.push_str(
+        "Each step says which sheet and lane its strips were cut on, and the sheet maps show where that is. \
+         parts.csv lists every strip with its type, sheet and position on the sheet; parts-types.csv lists \
+         the types.",
+    );
     w.paragraph(&how, SMALL, GREY);
     if b.parts.types.iter().any(|t| t.strips.len() > 1) {
         w.text("Strips of each type", 4.0, Font::Bold, BLACK);

@@ -5,10 +5,12 @@
 
 mod checklist;
 mod cover;
+pub(crate) mod finding;
 mod fit_text;
 mod gauge;
 mod labels;
 mod materials;
+mod sheet_map;
 pub(crate) mod stacking;
 mod step_labels;
 mod step_page;
@@ -79,11 +81,22 @@ pub fn guide_showing(b: &Build, simulated: Option<&Lattice>) -> Guide {
     let side = stacking::side(&b.lattice);
     cover(&mut w, b, simulated, steps, &side);
     materials(&mut w, b);
+    let spots = finding::Spots::new(b);
+    sheet_map::sheet_maps(&mut w, b, &spots);
     test_piece_block(&mut w, b);
     let layout = StepLayout::new(b, steps, w.width());
     let pictures = StepPictures::new(b, steps, layout.overview());
     for step in steps {
-        step_block(&mut w, b, step, steps.len(), &pictures, &layout, &side);
+        step_block(
+            &mut w,
+            b,
+            step,
+            steps.len(),
+            &pictures,
+            &layout,
+            &side,
+            &spots,
+        );
     }
     // The checklist before the gauge: the gauge's pages are cut up.
     checklist(&mut w, b, steps);

@@ -22,24 +22,13 @@ pub(crate) struct Side {
     pub(crate) last: &'static str,
     /// One sentence for the cover.
     pub(crate) explain: &'static str,
+    /// Where a row goes that stacks after the work: "on top of the work".
+    pub(crate) over: &'static str,
+    /// Where a row goes that stacks before it, said so it is not missed.
+    pub(crate) under: &'static str,
 }
 
-/// Whether a lattice is built flat on the table: planar, or a 3-D sheet
-/// whose relief is under a tenth of its size (it is assembled flat and takes
-/// its relief as it opens).
-pub(crate) fn built_flat(lattice: &Lattice) -> bool {
-    if lattice.dim == 2 {
-        return true;
-    }
-    if lattice.kind != Kind::Sheet {
-        return false;
-    }
-    let (lo, hi) = lattice.extent();
-    let size = hi - lo;
-    let mut sorted = size.to_array();
-    sorted.sort_by(f64::total_cmp);
-    sorted[0] < 0.1 * sorted[2]
-}
+pub(crate) use crate::assembly::built_flat;
 
 pub(crate) fn side(lattice: &Lattice) -> Side {
     if built_flat(lattice) {
@@ -49,6 +38,8 @@ pub(crate) fn side(lattice: &Lattice) -> Side {
             last: "on top",
             explain: "Build on a flat table. At every joint the first strip listed lies on the table and the \
                       last on top; the pictures look down on the work from above.",
+            over: "goes on top of the work",
+            under: "goes UNDER the work: slide its strips under the strips already there",
         }
     } else if lattice.kind == Kind::Sheet {
         Side {
@@ -58,6 +49,8 @@ pub(crate) fn side(lattice: &Lattice) -> Side {
             explain: "The stacking side is the side the surface normal points to, which is the side the pictures \
                       show: keep it towards you. At every joint the first strip listed is farthest from you and \
                       the last nearest.",
+            over: "goes on the pictured side of the work, nearest you",
+            under: "goes BEHIND the work, farthest from you: slide its strips behind the strips already there",
         }
     } else {
         Side {
@@ -67,6 +60,8 @@ pub(crate) fn side(lattice: &Lattice) -> Side {
             explain: "The stacking side is the outside (away from the axis, along the surface normal). At every \
                       joint the first strip listed is innermost and the last outermost: work with the outside \
                       towards you.",
+            over: "goes outside the work: its strips lie outermost at the joints",
+            under: "goes INSIDE the work: slide its strips inside the strips already there, nearer the axis",
         }
     }
 }

@@ -24,8 +24,8 @@ pub(super) struct Shown<'a> {
     pub(super) vertices: Option<&'a [usize]>,
 }
 
-/// The labels of a step's picture: joint keys, the new strips' types (or
-/// IDs where the text names strips), column numbers, and a loop's seam.
+/// The labels of a step's picture: joint keys, what is engraved on each new
+/// strip (its ID where the text names strips by joint), column numbers, and a loop's seam.
 pub(super) fn step_labels(
     b: &Build,
     step: &Step,
@@ -107,7 +107,7 @@ pub(super) fn step_labels(
             let other = leg_middle(s ^ 1, true);
             placer.place(&Label {
                 anchor: m,
-                text: b.parts.types[strips[s].part_type].code.clone(),
+                text: super::finding::picture_label(&strips[s], &b.parts.types),
                 colour: NEW,
                 bold: true,
                 toward: m - other,

@@ -5,12 +5,12 @@ use super::labels::Placer;
 use super::stacking;
 use super::step_labels::{LABEL_ROOM, Shown, step_labels};
 use super::step_pictures::{
-    STEP_PICTURE, StepPictures, corners, detail_camera, details, step_camera,
+    STEP_PICTURE, StepPictures, corners, detail_camera, details, details_height, step_camera,
 };
 use super::step_text::step_text;
 use super::{NEW, rect};
 use crate::assembly::Step;
-use crate::drawing::flow::{BLACK, FAINT, MARGIN, PageFlow, SMALL, text_item, wrap};
+use crate::drawing::flow::{BLACK, FAINT, GREY, MARGIN, PageFlow, SMALL, text_item, wrap};
 use crate::drawing::picture::{Fit, RodStyle, crossing_rods, pivots_and_vertices, rods};
 use crate::drawing::{Align, Font, Ink, Item};
 use crate::pipeline::Build;
@@ -92,10 +92,11 @@ pub(super) fn step_block(
     pictures: &StepPictures,
     layout: &StepLayout,
     side: &stacking::Side,
+    spots: &super::finding::Spots,
 ) {
     let helix = b.lattice.kind == crate::lattice::Kind::Helix;
     let orders = stacking::orders(&b.lattice, step);
-    let lines = step_text(b, step, side, orders.as_deref());
+    let lines = step_text(b, step, side, orders.as_deref(), spots);
     let text_x = if layout.side {
         MARGIN + layout.size.x + 5.0
     } else {
@@ -103,24 +104,49 @@ pub(super) fn step_block(
     };
     let text_w = MARGIN + w.width() - text_x;
     let line_h = SMALL * 1.35;
-    let wrapped: Vec<(String, bool, [u8; 3])> = lines
-        .iter()
-        .flat_map(|(t, bold, c)| {
-            let font = if *bold { Font::Bold } else { Font::Regular };
-            wrap(t, font, SMALL, text_w)
-                .into_iter()
-                .map(move |x| (x, *bold, *c))
-        })
-        .collect();
+    let wrap_all = |lines: &[(String, bool, [u8; 3])]| -> Vec<(String, bool, [u8; 3])> {
+        lines
+            .iter()
+            .flat_map(|(t, bold, c)| {
+                let font = if *bold { Font::Bold } else { Font::Regular };
+                wrap(t, font, SMALL, text_w)
+                    .into_iter()
+                    .map(move |x| (x, *bold, *c))
+            })
+            .collect()
+    };
+    let mut wrapped = wrap_all(&lines);
     let title_h = 6.0;
-    let text_h = title_h + wrapped.len() as f64 * line_h;
     let pic_h = layout.size.y + 2.0 * LABEL_ROOM;
     let room = w.bottom() - MARGIN;
+    let details_h = if layout.detail {
+        details_height(b, step, w.width())
+    } else {
+        0.0
+    };
+    let whole = |wrapped: &[(String, bool, [u8; 3])]| {
+        title_h + pic_h + details_h + wrapped.len() as f64 * line_h
+    };
+    // A step never runs over a page boundary unless it alone is longer
+    // than a page, and then it says so.
+    let too_long = !layout.side && whole(&wrapped) > room;
+    if too_long {
+        let mut more = vec![(
+            "This step is longer than a page: it continues on the next page.".to_string(),
+            false,
+            GREY,
+        )];
+        more.extend(lines.iter().cloned());
+        wrapped = wrap_all(&more);
+    }
+    let text_h = title_h + wrapped.len() as f64 * line_h;
     let beside = layout.side && pic_h.max(text_h) <= room;
     let block = if beside {
         pic_h.max(text_h)
-    } else {
+    } else if too_long {
         title_h + pic_h + (text_h - title_h).min(30.0)
+    } else {
+        whole(&wrapped)
     };
     w.need(block + 3.0);
     w.close_group();
@@ -150,65 +176,7 @@ pub(super) fn step_block(
         Vec::new()
     };
     if layout.side {
-        // The whole lattice is small beside the text: the step's cells and
-        // the cells they join are drawn again, zoomed, right of it, and
-        // labelled there.
-        let l = &b.assembled;
-        let mut corner = vec![false; l.vertices.len()];
-        for &c in &step.cells {
-            let cell = &l.cells[c];
-            for v in cell.corner_ids() {
-                corner[v as usize] = true;
-            }
-        }
-        let k0 = step.number - 1;
-        let around: Vec<usize> = (0..l.cells.len())
-            .filter(|&c| {
-                let cell = &l.cells[c];
-                l.step_of(c) < k0 && cell.corner_ids().iter().any(|&v| corner[v as usize])
-            })
-            .collect();
-        let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();
-        let vertices = corners(l, &all);
-        let camera = detail_camera(b, &step.cells).unwrap_or_else(|| step_camera(b));
-        let zoom_at = DVec2::new(MARGIN + layout.zoom_x, top + LABEL_ROOM);
-        let zoom_size = DVec2::new(layout.size.x - layout.zoom_x, layout.size.y);
-        let points = vertices
-            .iter()
-            .map(|&v| l.vertices[v].pos)
-            .chain(all.iter().map(|&c| l.cells[c].pivot));
-        let zfit = Fit::around(points, camera, zoom_at, zoom_size);
-        let zw = (0.6 * zfit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
-        let mut items = vec![Item::art(
-            Ink::line(FAINT, 0.2),
-            rect(MARGIN + layout.zoom_x - 1.5, top, zoom_size.x + 1.5, pic_h),
-        )];
-        items.extend(rods(l, &zfit, &around, |_| {
-            Some(RodStyle {
-                colour: FAINT,
-                width: zw,
-            })
-        }));
-        items.extend(crossing_rods(l, &zfit, &step.cells, |_| {
-            Some(RodStyle {
-                colour: NEW,
-                width: zw * 1.3,
-            })
-        }));
-        items.extend(pivots_and_vertices(l, &zfit, &all, &vertices, zw * 0.8));
-        let mut placer = Placer::new(
-            DVec2::new(MARGIN + layout.zoom_x - 1.0, top),
-            DVec2::new(MARGIN + layout.size.x + 1.0, top + pic_h),
-        );
-        let shown = Shown {
-            cells: &step.cells,
-            joints: step.joints.iter().collect(),
-            first_row: 0,
-            vertices: Some(&vertices),
-        };
-        items.extend(step_labels(b, step, &zfit, &mut placer, &named, &shown));
-        items.extend(placer.items);
-        w.push(items);
+        w.push(side_zoom(b, step, layout, top, pic_h, &named));
     }
     w.group_id = Some(format!("step-{}-labels", step.number));
     w.close_group();
@@ -259,4 +227,75 @@ pub(super) fn step_block(
     w.y += 2.0;
     w.rule();
     w.y += 1.0;
+}
+
+/// Beside the text the whole lattice is small: the step's cells and the
+/// cells they join drawn again, zoomed, right of it, and labelled there.
+fn side_zoom(
+    b: &Build,
+    step: &Step,
+    layout: &StepLayout,
+    top: f64,
+    pic_h: f64,
+    named: &[usize],
+) -> Vec<Item> {
+    // The whole lattice is small beside the text: the step's cells and
+    // the cells they join are drawn again, zoomed, right of it, and
+    // labelled there.
+    let l = &b.assembled;
+    let mut corner = vec![false; l.vertices.len()];
+    for &c in &step.cells {
+        let cell = &l.cells[c];
+        for v in cell.corner_ids() {
+            corner[v as usize] = true;
+        }
+    }
+    let k0 = step.number - 1;
+    let around: Vec<usize> = (0..l.cells.len())
+        .filter(|&c| {
+            let cell = &l.cells[c];
+            l.step_of(c) < k0 && cell.corner_ids().iter().any(|&v| corner[v as usize])
+        })
+        .collect();
+    let all: Vec<usize> = step.cells.iter().chain(&around).copied().collect();
+    let vertices = corners(l, &all);
+    let camera = detail_camera(b, &step.cells).unwrap_or_else(|| step_camera(b));
+    let zoom_at = DVec2::new(MARGIN + layout.zoom_x, top + LABEL_ROOM);
+    let zoom_size = DVec2::new(layout.size.x - layout.zoom_x, layout.size.y);
+    let points = vertices
+        .iter()
+        .map(|&v| l.vertices[v].pos)
+        .chain(all.iter().map(|&c| l.cells[c].pivot));
+    let zfit = Fit::around(points, camera, zoom_at, zoom_size);
+    let zw = (0.6 * zfit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
+    let mut items = vec![Item::art(
+        Ink::line(FAINT, 0.2),
+        rect(MARGIN + layout.zoom_x - 1.5, top, zoom_size.x + 1.5, pic_h),
+    )];
+    items.extend(rods(l, &zfit, &around, |_| {
+        Some(RodStyle {
+            colour: FAINT,
+            width: zw,
+        })
+    }));
+    items.extend(crossing_rods(l, &zfit, &step.cells, |_| {
+        Some(RodStyle {
+            colour: NEW,
+            width: zw * 1.3,
+        })
+    }));
+    items.extend(pivots_and_vertices(l, &zfit, &all, &vertices, zw * 0.8));
+    let mut placer = Placer::new(
+        DVec2::new(MARGIN + layout.zoom_x - 1.0, top),
+        DVec2::new(MARGIN + layout.size.x + 1.0, top + pic_h),
+    );
+    let shown = Shown {
+        cells: &step.cells,
+        joints: step.joints.iter().collect(),
+        first_row: 0,
+        vertices: Some(&vertices),
+    };
+    items.extend(step_labels(b, step, &zfit, &mut placer, named, &shown));
+    items.extend(placer.items);
+    items
 }

@@ -155,7 +155,8 @@ pub(super) const DETAIL_HEIGHT: f64 = 42.0;
 /// Zoomed pictures of a wide step, `DETAIL_CELLS` cells each: the row above
 /// in grey and this row in colour, labelled like a whole-lattice picture.
 /// Each joint is labelled in the first picture that shows it.
-pub(super) fn details(w: &mut PageFlow, b: &Build, step: &Step, named: &[usize]) {
+/// How many cells each zoomed picture of a step shows.
+fn detail_chunk(b: &Build, step: &Step) -> usize {
     let l = &b.assembled;
     // On a 3-D loop a picture shows at most a quarter of the ring, so that
     // it is seen square on.
@@ -165,30 +166,76 @@ pub(super) fn details(w: &mut PageFlow, b: &Build, step: &Step, named: &[usize])
         DETAIL_CELLS
     };
     let chunks = step.cells.len().div_ceil(most);
-    let per = step.cells.len().div_ceil(chunks.max(1));
-    let mut done = vec![false; step.joints.len()];
-    for cells in step.cells.chunks(per.max(1)) {
-        let cols: Vec<u32> = cells.iter().map(|&c| l.cells[c].col).collect();
-        let above: Vec<usize> = (0..l.cells.len())
-            .filter(|&c| {
-                let cell = &l.cells[c];
-                step.row > 0 && cell.row + 1 == step.row && cols.contains(&cell.col)
-            })
-            .filter(|_| l.kind != crate::lattice::Kind::Helix)
-            .collect();
-        let points = cells.iter().chain(&above).flat_map(|&c| {
+    step.cells.len().div_ceil(chunks.max(1)).max(1)
+}
+
+/// The tallest a zoomed picture grows (mm): long strips in a wide row
+/// (the saddle ring's 558 mm strips) get tall panels, so their labels have
+/// room beside them instead of piling up at one end.
+const MAX_DETAIL_HEIGHT: f64 = 120.0;
+
+/// One zoomed picture of a step: the row above's cells over `cells`, the
+/// points it must show, its camera and its height (mm) at `width`.
+fn panel(
+    b: &Build,
+    step: &Step,
+    cells: &[usize],
+    width: f64,
+) -> (Vec<usize>, Vec<glam::DVec3>, Camera, f64) {
+    let l = &b.assembled;
+    let cols: Vec<u32> = cells.iter().map(|&c| l.cells[c].col).collect();
+    let above: Vec<usize> = (0..l.cells.len())
+        .filter(|&c| {
+            let cell = &l.cells[c];
+            step.row > 0 && cell.row + 1 == step.row && cols.contains(&cell.col)
+        })
+        .filter(|_| l.kind != crate::lattice::Kind::Helix)
+        .collect();
+    let points: Vec<glam::DVec3> = cells
+        .iter()
+        .chain(&above)
+        .flat_map(|&c| {
             let cell = &l.cells[c];
             cell.corner_ids()
                 .map(|v| l.vertex(v).pos)
                 .into_iter()
                 .chain([cell.pivot])
-        });
-        let camera = detail_camera(b, cells).unwrap_or_else(|| step_camera(b));
-        let height = DETAIL_HEIGHT + 2.0 * LABEL_ROOM;
+        })
+        .collect();
+    let camera = detail_camera(b, cells).unwrap_or_else(|| step_camera(b));
+    let (lo, hi) = points.iter().map(|&p| camera.project(p)).fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), q| (lo.min(q), hi.max(q)),
+    );
+    let extent = (hi - lo).max(DVec2::splat(1e-9));
+    let height = (width * extent.y / extent.x).clamp(DETAIL_HEIGHT, MAX_DETAIL_HEIGHT);
+    (above, points, camera, height)
+}
+
+/// How far down the page a step's zoomed pictures reach (mm).
+pub(super) fn details_height(b: &Build, step: &Step, width: f64) -> f64 {
+    step.cells
+        .chunks(detail_chunk(b, step))
+        .map(|cells| panel(b, step, cells, width).3 + 2.0 * LABEL_ROOM + 2.0)
+        .sum()
+}
+
+pub(super) fn details(w: &mut PageFlow, b: &Build, step: &Step, named: &[usize]) {
+    let l = &b.assembled;
+    let per = detail_chunk(b, step);
+    let mut done = vec![false; step.joints.len()];
+    for cells in step.cells.chunks(per) {
+        let (above, points, camera, panel_h) = panel(b, step, cells, w.width());
+        let height = panel_h + 2.0 * LABEL_ROOM;
         w.need(height + 2.0);
         let top = w.y;
         let at = DVec2::new(MARGIN, top + LABEL_ROOM);
-        let fit = Fit::around(points, camera, at, DVec2::new(w.width(), DETAIL_HEIGHT));
+        let fit = Fit::around(
+            points.into_iter(),
+            camera,
+            at,
+            DVec2::new(w.width(), panel_h),
+        );
         let width = (0.6 * fit.scale() * b.design.fabrication.material.width).clamp(0.4, 2.0);
         let mut items = rods(l, &fit, &above, |_| {
             Some(RodStyle {

@@ -19,38 +19,28 @@ pub(super) fn joint_key(l: &crate::lattice::Lattice, vertex: u32) -> String {
     }
 }
 
-/// "2 x type C, 2 x type D": a step's strips counted by part type.
-pub(super) fn take_list(b: &Build, strips: &[usize]) -> String {
-    let mut counts: std::collections::BTreeMap<usize, usize> = Default::default();
-    for &s in strips {
-        *counts.entry(b.parts.strips[s].part_type).or_default() += 1;
-    }
-    counts
-        .iter()
-        .map(|(&t, n)| format!("{n} x type {}", b.parts.types[t].code))
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
 /// The step's words: (text, bold, colour), each wrapped later.
 pub(super) fn step_text(
     b: &Build,
     step: &Step,
     side: &stacking::Side,
     orders: Option<&[stacking::StackOrder]>,
+    spots: &super::finding::Spots,
 ) -> Vec<(String, bool, [u8; 3])> {
     let l = &b.lattice;
     let strips = &b.parts.strips;
     let t = b.design.fabrication.material.thickness;
     let helix = l.kind == crate::lattice::Kind::Helix;
     let what = if helix { "cell" } else { "row" };
-    let mut lines = vec![(format!("Take {}.", take_list(b, &step.strips)), true, BLACK)];
+    let mut lines = vec![(
+        super::finding::take_line(b, spots, &step.strips),
+        true,
+        BLACK,
+    )];
     let place = match stacking::place(l, step) {
         stacking::Place::First => format!("This is the first {what}: lay it out as pictured."),
-        stacking::Place::Over => format!("This {what} goes on top of the work."),
-        stacking::Place::Under => format!(
-            "This {what} goes UNDER the work: slide its strips under the strips already there."
-        ),
+        stacking::Place::Over => format!("This {what} {}.", side.over),
+        stacking::Place::Under => format!("This {what} {}.", side.under),
         stacking::Place::Between => format!(
             "This {what}'s strips go between strips of the work: follow each joint's order."
         ),

@@ -187,6 +187,7 @@ mod tests {
             width: 10.0,
             test_piece: None,
             steps: None,
+            steps_if_free: false,
         };
         let options = sheet_options(&job, &base, None);
         assert_eq!(options.len(), SHEET_PRESETS.len());
@@ -235,6 +236,7 @@ mod tests {
                 width,
                 test_piece: (case % 2 == 0).then_some(90.0),
                 steps,
+                steps_if_free: case % 8 == 5,
             };
             let options = sheet_options(&job, &base, None);
             for (o, spec) in options.iter().zip(presets(&base)) {

@@ -55,6 +55,9 @@ pub struct Layout {
     pub test_piece: Option<f64>,
     /// The sheets, first to last.
     pub sheets: Vec<Sheet>,
+    /// Whether the strips are nested by assembly step (docs/fabrication.md,
+    /// Cutting by assembly step).
+    pub by_step: bool,
 }
 
 impl Layout {
@@ -73,6 +76,7 @@ impl Layout {
             lengths: lengths.to_vec(),
             test_piece,
             sheets,
+            by_step: false,
         }
     }
 
@@ -115,6 +119,9 @@ pub(crate) struct Job {
     pub(crate) width: f64,
     pub(crate) test_piece: Option<f64>,
     pub(crate) steps: Option<Vec<usize>>,
+    /// Group by step only where that takes no more sheets than nesting
+    /// the strips freely (the default); false: by step whatever it costs.
+    pub(crate) steps_if_free: bool,
 }
 
 impl Job {
@@ -131,10 +138,18 @@ impl Job {
         let piece = self
             .test_piece
             .filter(|&l| l <= uw.max(uh) && self.width <= uw.min(uh));
-        match &self.steps {
-            Some(steps) => nest_by_step(&self.lengths, self.width, sheet, piece, steps),
-            None => nest_with(&self.lengths, self.width, sheet, piece),
+        let Some(steps) = &self.steps else {
+            return nest_with(&self.lengths, self.width, sheet, piece);
+        };
+        let mut grouped = nest_by_step(&self.lengths, self.width, sheet, piece, steps);
+        grouped.by_step = true;
+        if self.steps_if_free {
+            let free = nest_with(&self.lengths, self.width, sheet, piece);
+            if free.sheets.len() < grouped.sheets.len() {
+                return free;
+            }
         }
+        grouped
     }
 }
 

@@ -20,7 +20,7 @@ use super::Strip;
 /// One part type: strips that are interchangeable.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartType {
-    /// A, B, ..., Z, AA, AB, ...: in order of each type's first strip.
+    /// A, B, ..., Z, AA, AB, ... (no I, O or Q): in order of each type's first strip.
     pub code: String,
     /// Indices into `Parts::strips`, in strip order.
     pub strips: Vec<usize>,
@@ -35,14 +35,20 @@ pub struct PartType {
     pub dots: Option<usize>,
 }
 
-/// Spreadsheet-style code of the `index`-th type (0-based): A..Z, AA..AZ, BA..
+/// The letters of type codes: the alphabet without I, O and Q, which the
+/// engraving's stroke font makes hard to tell from 1, 0, D and O at 2.5 mm.
+const CODE_LETTERS: &[u8; 23] = b"ABCDEFGHJKLMNPRSTUVWXYZ";
+
+/// Spreadsheet-style code of the `index`-th type (0-based) over
+/// `CODE_LETTERS`: A..Z, AA..AZ, BA.., with no I, O or Q anywhere.
 pub(crate) fn code(index: usize) -> String {
+    let base = CODE_LETTERS.len();
     let mut n = index + 1;
     let mut out = Vec::new();
     while n > 0 {
         n -= 1;
-        out.push(b'A' + (n % 26) as u8);
-        n /= 26;
+        out.push(CODE_LETTERS[n % base]);
+        n /= base;
     }
     out.reverse();
     String::from_utf8(out).expect("ASCII letters")
@@ -176,10 +182,17 @@ mod tests {
     #[test]
     fn codes_run_like_spreadsheet_columns() {
         assert_eq!(code(0), "A");
-        assert_eq!(code(25), "Z");
-        assert_eq!(code(26), "AA");
-        assert_eq!(code(27), "AB");
-        assert_eq!(code(26 + 26 * 26), "AAA");
+        assert_eq!(code(7), "H");
+        assert_eq!(code(8), "J");
+        assert_eq!(code(22), "Z");
+        assert_eq!(code(23), "AA");
+        assert_eq!(code(24), "AB");
+        assert_eq!(code(23 + 23 * 23), "AAA");
+        // No I, O or Q in any code, and every code distinct.
+        let codes: Vec<String> = (0..2000).map(code).collect();
+        assert!(codes.iter().all(|c| !c.contains(['I', 'O', 'Q'])));
+        let set: std::collections::BTreeSet<&String> = codes.iter().collect();
+        assert_eq!(set.len(), codes.len());
     }
 
     #[test]

@@ -251,7 +251,7 @@ pub fn build_json(b: &Build) -> serde_json::Value {
         sheet_advice: b.advice.as_ref().map(SheetOptionJson::of),
         sheet_options: options.iter().map(SheetOptionJson::of).collect(),
         sheet_auto: fab.sheet_auto,
-        group_by_step: fab.group_by_step,
+        group_by_step: b.layout.by_step,
         tabs_mm: fab.tabs,
         warnings: b
             .parts

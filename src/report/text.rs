@@ -173,7 +173,7 @@ pub fn build_text(b: &Build) -> String {
             .collect();
         steps.sort_unstable();
         steps.dedup();
-        let steps = match (fab.group_by_step, steps.first(), steps.last()) {
+        let steps = match (b.layout.by_step, steps.first(), steps.last()) {
             (true, Some(a), Some(z)) if a == z => format!(", step {a}"),
             (true, Some(a), Some(z)) => format!(", steps {a} to {z}"),
             _ => String::new(),

@@ -5,9 +5,10 @@
 //!
 //! The format is LightBurn's XML: a `LightBurnProject` root, one
 //! `CutSetting` per layer (its `index` is also the layer's colour in
-//! LightBurn's palette) and the shapes: paths, a part's holes together (as
-//! four-Bezier circles) and a part's labels together (its ID and arrow
-//! strokes) are `Path` shapes whose `VertList`
+//! LightBurn's palette, and it carries the stock preset's speed, power and
+//! passes) and the shapes: holes are `Ellipse` shapes (LightBurn's own
+//! circles, centred by their `XForm`); paths and a part's labels together
+//! (its ID and arrow strokes) are `Path` shapes whose `VertList`
 //! holds the vertices (with Bezier control points `c0` leaving and `c1`
 //! arriving) and whose `PrimList` joins them with lines (`L a b`) or cubic
 //! Beziers (`B a b`), their coordinates relative to the shape's `XForm`.
@@ -21,9 +22,9 @@
 use super::number::{fixed, num, units};
 use super::repeats::KeyMap;
 use crate::drawing::{
-    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, circle_to_cubics, path_end,
-    text, walk,
+    Item, Layer, Page, Segment, Shape, TEST_PIECE_ID, arc_to_cubics, path_end, text, walk,
 };
+use crate::fabrication::MachineSettings;
 use glam::DVec2;
 use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
@@ -225,10 +226,10 @@ fn add_strokes(data: &mut PathData, shape: &Shape, flip: &dyn Fn(DVec2) -> DVec2
     }
 }
 
-/// A group's items as shapes: each path one `Path`, each run of holes one
-/// `Path` of circles, each run of labels one `Path` of all their strokes (a
-/// strip's ID and arrow: one shape, not one a stroke), other circles
-/// `Ellipse` shapes.
+/// A group's items as shapes: each circle (a hole) one `Ellipse`, as
+/// LightBurn draws circles itself; each path one `Path`; each run of
+/// labels one `Path` of all their strokes (a strip's ID and arrow: one
+/// shape, not one a stroke).
 fn shapes(
     out: &mut String,
     items: &[&Item],
@@ -240,35 +241,14 @@ fn shapes(
     while k < items.len() {
         let item = items[k];
         let cut = index[item.layer as usize];
-        let mut data = PathData::default();
         if let Shape::Circle { center, radius } = item.shape {
-            if item.layer != Layer::Holes {
-                ellipse(out, cut, flip(center), radius);
-                k += 1;
-                continue;
-            }
-            // A part's holes: one path of circles, shared by every copy of
-            // the part (one short line a part, where an Ellipse a hole
-            // was 100 bytes: a third of a sheet's project).
-            while let Some(&Item {
-                layer: Layer::Holes,
-                shape: Shape::Circle { center, radius },
-                ..
-            }) = items.get(k)
-            {
-                let (start, pieces) = circle_to_cubics(*center, *radius);
-                data.move_to(flip(start));
-                let m = pieces.len();
-                for (j, [c1, c2, p]) in pieces.into_iter().enumerate() {
-                    data.cubic_to(flip(c1), flip(c2), flip(p), j + 1 == m);
-                }
-                k += 1;
-            }
-            path_shape(out, cut, &data, shared);
+            ellipse(out, cut, flip(center), radius);
+            k += 1;
             continue;
         }
         // Only labels join: an outline cut in pieces (tabs) keeps a path
         // a piece, as LightBurn's own tab tools leave them.
+        let mut data = PathData::default();
         add_strokes(&mut data, &item.shape, flip);
         k += 1;
         while item.layer == Layer::Labels
@@ -283,6 +263,42 @@ fn shapes(
             path_shape(out, cut, &data, shared);
         }
     }
+}
+
+/// A layer's settings: the stock's starting speed, power and passes for its
+/// operation, or none (power 0) where the stock has none on this machine,
+/// so nothing is cut until the maker sets it (the guide says why).
+fn cut_setting(
+    out: &mut String,
+    layer: Layer,
+    i: usize,
+    priority: usize,
+    laser: Option<MachineSettings>,
+) {
+    let name = ORDER.iter().find(|o| o.0 == layer).expect("a layer").1;
+    let op = laser.map(|s| {
+        if layer == Layer::Labels {
+            s.mark
+        } else {
+            s.cut
+        }
+    });
+    let (speed, power, passes) = op.map_or((100.0, 0.0, 1), |o| (o.speed, o.power, o.passes));
+    let name = if op.is_none() && layer != Layer::Reference {
+        format!("{name} (no preset settings: set power)")
+    } else {
+        name.to_string()
+    };
+    let _ = writeln!(
+        out,
+        "    <CutSetting type=\"Cut\">\n        <index Value=\"{i}\"/>\n        <name Value=\"{}\"/>\n        \
+         <minPower Value=\"{p}\"/>\n        <maxPower Value=\"{p}\"/>\n        <speed Value=\"{}\"/>\n        \
+         <numPasses Value=\"{passes}\"/>\n        <priority Value=\"{priority}\"/>\n        <doOutput Value=\"{}\"/>\n    </CutSetting>",
+        escape(&name),
+        num(speed),
+        (layer != Layer::Reference) as u8,
+        p = num(power),
+    );
 }
 
 /// A cut sheet page as a LightBurn project.
@@ -304,7 +320,7 @@ pub fn write(page: &Page) -> Vec<u8> {
     );
     let mut index = [0usize; 5];
     let mut used: Vec<usize> = Vec::new();
-    for (priority, (layer, name)) in ORDER.iter().enumerate() {
+    for (priority, (layer, _)) in ORDER.iter().enumerate() {
         let mut i = palette_index(colour(*layer));
         // Two layers never share a LightBurn layer: take the next free index.
         while used.contains(&i) {
@@ -312,13 +328,7 @@ pub fn write(page: &Page) -> Vec<u8> {
         }
         used.push(i);
         index[*layer as usize] = i;
-        let output = *layer != Layer::Reference;
-        let _ = writeln!(
-            out,
-            "    <CutSetting type=\"Cut\">\n        <index Value=\"{i}\"/>\n        <name Value=\"{}\"/>\n        <priority Value=\"{priority}\"/>\n        <doOutput Value=\"{}\"/>\n    </CutSetting>",
-            escape(name),
-            output as u8
-        );
+        cut_setting(&mut out, *layer, i, priority, page.laser);
     }
     let mut shared = Shared::default();
     // Holes before outlines within each part, as in the SVG. The test piece

@@ -571,6 +571,7 @@ mod tests {
             height: 80.0,
             title: "t".into(),
             metadata: Vec::new(),
+            laser: None,
             groups,
         };
         let strips = (0..12)
@@ -682,6 +683,7 @@ mod tests {
             height: 450.0,
             title: "strips".into(),
             metadata: Vec::new(),
+            laser: None,
             groups: (0..2000)
                 .map(|i| {
                     let (col, row) = ((i % 40) as f64, (i / 40) as f64);

@@ -279,6 +279,19 @@ struct DeployJson {
     cells: Vec<Full>,
 }
 
+/// How a step's joints are stacked, in the guide's words: from the table up
+/// only for a piece built flat, from the inside out on a loop or helix
+/// (docs/assembly.md, Stacking side).
+fn close_words(lattice: &crate::lattice::Lattice) -> &'static str {
+    if crate::assembly::built_flat(lattice) {
+        "2. Close these vertex joints, strips stacked from the table up, one eyelet each:"
+    } else if lattice.kind == crate::lattice::Kind::Sheet {
+        "2. Close these vertex joints, strips stacked from the far side to the pictured side, one eyelet each:"
+    } else {
+        "2. Close these vertex joints, strips stacked from the inside out, one eyelet each:"
+    }
+}
+
 fn data_json(s: &Scene) -> String {
     let lattice = s.lattice;
     let fab: &Fabrication = &s.design.fabrication;
@@ -323,7 +336,7 @@ fn data_json(s: &Scene) -> String {
         keys: runs(lattice.vertices.iter().map(|v| (v.key.row, v.key.col))),
         say: SayJson {
             pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
-            close: "2. Close these vertex joints, strips stacked from the table up, one eyelet each:",
+            close: close_words(lattice),
             none: "2. No vertex joint closes in this step.",
         },
         steps: steps_json(s),

@@ -328,6 +328,7 @@ mod tests {
             height: 100.0,
             title: "t".into(),
             metadata: Vec::new(),
+            laser: None,
             groups: vec![Group::new("dots", items)],
         }]
     }

@@ -111,6 +111,7 @@ mod tests {
             height: 100.0,
             title: "t".into(),
             metadata: Vec::new(),
+            laser: None,
             groups,
         };
         let a = DVec2::new(10.0, 20.0);

@@ -55,7 +55,11 @@
   // list (vertex and rods written as differences).
   var keyOf = [], keyRuns = D.keys;
   for (var q2 = 0; q2 < keyRuns.length; q2 += 3) {
-    for (var n2 = 0; n2 < keyRuns[q2 + 2]; n2++) keyOf.push("[" + keyRuns[q2] + "," + (keyRuns[q2 + 1] + n2) + "]");
+    // As the guide writes them: [row,column], or [k] on a helix.
+    for (var n2 = 0; n2 < keyRuns[q2 + 2]; n2++) {
+      keyOf.push(D.kind === "helix" ? "[" + (keyRuns[q2 + 1] + n2) + "]"
+        : "[" + keyRuns[q2] + "," + (keyRuns[q2 + 1] + n2) + "]");
+    }
   }
   var jointsOf = D.steps.map(function (st) {
     var out = [], J = st.joints, v = 0;

@@ -1,10 +1,18 @@
 //! Fabrication settings: the strip material, eyelets, laser and sheet, with
 //! the presets makers think in. All lengths in mm.
 
+mod stock;
+
+pub use stock::{LaserSetting, Machine, MachineSettings, STOCK_PRESETS, StockPreset};
+pub(crate) use stock::{default_stock, stock_preset};
+
 /// Flat strip stock.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub(crate) name: String,
+    /// The stock preset it is (`[material] preset`), None for a material
+    /// given by name alone (its laser settings and safety are unknown).
+    pub preset: Option<&'static StockPreset>,
     /// Stock thickness (mm); the simulation's strip section uses it.
     pub thickness: f64,
     /// Strip width w.
@@ -143,10 +151,75 @@ pub struct Fabrication {
     /// `preset = "auto"`: the build nests on the smallest preset that holds
     /// the job (`sheet` is then the preset with the longest side until it does).
     pub(crate) sheet_auto: bool,
-    /// Each assembly step's strips in lanes of their own, steps in order.
+    /// Each assembly step's strips in lanes of their own, steps in order,
+    /// whatever it costs (`group = "step"`).
     pub(crate) group_by_step: bool,
+    /// Grouped by step where that takes no more sheets (the default; off
+    /// with `group = "none"`).
+    pub(crate) group_if_free: bool,
     /// Width (mm) of the uncut bridges left in each outline; 0 for none.
     pub(crate) tabs: f64,
+    /// The laser the cut files' settings and the guide's safety note are for.
+    pub machine: Machine,
+}
+
+impl Fabrication {
+    /// The preset's starting settings on this job's machine: None when the
+    /// stock has no preset, must not be lasered, or the machine cannot cut it.
+    pub fn laser_settings(&self) -> Option<MachineSettings> {
+        self.material.preset.and_then(|p| p.settings(self.machine))
+    }
+
+    /// The guide's safety note for this stock on this machine; `name` is
+    /// the material's name as the page has room for it.
+    pub fn safety_note(&self, name: &str) -> String {
+        let Some(p) = self.material.preset else {
+            return format!(
+                "Safety: {name} has no stock preset: check it is safe to cut on {} before you start (no PVC \
+                 or vinyl, no ABS, no polycarbonate; see docs/fabrication.md), and find its settings on a scrap.",
+                self.machine.describe()
+            );
+        };
+        let settings = match (p.laser_safe, self.laser_settings()) {
+            (false, _) => String::new(),
+            (true, None) => format!(
+                " {} cannot cut it: the cut files carry no settings for it.",
+                capitalised(self.machine.describe())
+            ),
+            (true, Some(s)) => format!(
+                " Starting settings on {}: cut at {} mm/s and {} % power ({}), mark the labels at {} mm/s \
+                 and {} % ({}){}.",
+                self.machine.describe(),
+                s.cut.speed,
+                s.cut.power,
+                passes(s.cut.passes),
+                s.mark.speed,
+                s.mark.power,
+                passes(s.mark.passes),
+                if p.settings_sourced {
+                    ""
+                } else {
+                    "; these are a starting point: try them on the test piece first"
+                }
+            ),
+        };
+        format!("Safety: {}{settings}", p.safety)
+    }
+}
+
+fn passes(n: u32) -> String {
+    if n == 1 {
+        "1 pass".into()
+    } else {
+        format!("{n} passes")
+    }
+}
+
+fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|f| f.to_uppercase().collect::<String>() + c.as_str())
+        .unwrap_or_default()
 }
 
 /// `--sheet auto` / `preset = "auto"`.
@@ -197,7 +270,8 @@ impl Default for Fabrication {
         let (sname, w, h) = SHEET_PRESETS[0];
         Self {
             material: Material {
-                name: "ABS".into(),
+                name: default_stock().name.into(),
+                preset: Some(default_stock()),
                 thickness: 1.0,
                 width: 10.0,
             },
@@ -223,7 +297,9 @@ impl Default for Fabrication {
             colours: ColourPreset::Karigami,
             sheet_auto: false,
             group_by_step: false,
+            group_if_free: true,
             tabs: 0.0,
+            machine: Machine::Co2,
         }
     }
 }
