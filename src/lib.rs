@@ -30,6 +30,7 @@ mod jobs;
 mod lattice;
 mod layout;
 mod legs;
+mod measure;
 mod output;
 mod parts;
 mod pipeline;
@@ -60,7 +61,7 @@ pub use jobs::Jobs;
 // Design: the parsed recipe, its fabrication settings, and the solvers
 // that search for a recipe's values.
 pub use design::fit::{Coverage, Fit};
-pub use design::measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
+pub use measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
 pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};
@@ -105,7 +106,7 @@ pub mod simulation {
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
         Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,
-        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_at,
+        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_at, section,
         placed_lattice, prepare, simulate,
     };
 }

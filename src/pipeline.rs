@@ -4,7 +4,7 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::design::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
+use crate::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::jobs::Jobs;
@@ -158,7 +158,7 @@ pub struct Verified<'a> {
     pub report: &'a Report,
     /// How it deploys.
     pub deployment: &'a Deployment,
-    /// Shape, fit and clash measures (`design::measure`).
+    /// Shape, fit and clash measures (`measure`).
     pub measures: &'a Measures,
     /// The strips, when the lattice is small enough to make them and they
     /// could be made.

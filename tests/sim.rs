@@ -18,7 +18,7 @@ use karigami_rods::solver::System;
 use karigami_rods::solver::solve;
 
 fn abs_section() -> karigami::simulation::Section {
-    Material::ABS.section(10.0, 1.0)
+    karigami::simulation::section(&Material::ABS, 10.0, 1.0)
 }
 
 /// Nodes at s = (j - 1/2) h, j = 0..=n, along x.
@@ -873,7 +873,7 @@ fn eggbox_actuation_study() {
     ] {
         let mut lm = sim::LatticeModel::new(
             &lattice,
-            s.material.section(m.width, m.thickness),
+            karigami::simulation::section(&s.material, m.width, m.thickness),
             sim::Mesh {
                 h_max: s.h_max,
                 arm: m.width / 2.0,

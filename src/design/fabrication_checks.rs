@@ -7,7 +7,7 @@ use super::fabrication_table::{FabricationSpans, MAX_SHEET, MIN_WALL, Overrides}
 use super::raw::RawDesign;
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::Fabrication;
-use crate::parts::test_piece::test_piece;
+use crate::fabrication::test_piece::test_piece;
 
 /// The smallest hole a compensated cut may leave (mm): the cut files print
 /// lengths to 0.1 micrometre, so a hole narrower than this is written as a

@@ -6,11 +6,11 @@ mod errors;
 mod fabrication_checks;
 mod fabrication_table;
 pub mod fit;
-pub(crate) mod measure;
 pub(crate) mod optimise;
 mod raw;
 mod rows;
 pub(crate) mod seed;
+pub(crate) mod settings;
 pub(crate) mod simulation;
 mod spans;
 mod values;
@@ -54,7 +54,7 @@ pub struct Design {
     /// The design optimiser's settings (`[optimise]`), for `karigami tune`.
     pub optimise: Option<optimise::Optimise>,
     /// `[simulation]`: material moduli and deployment for `simulate`.
-    pub simulation: crate::sim::Settings,
+    pub simulation: settings::Settings,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub(crate) recipe_hash: u64,
     spans: Spans,

@@ -5,7 +5,7 @@
 
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::StockPreset;
-use crate::sim::{Actuation, Settings, VertexJoint};
+use super::settings::{Actuation, Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
 

@@ -2,9 +2,14 @@
 //! the presets makers think in. All lengths in mm.
 
 mod stock;
+pub mod test_piece;
 
 pub use stock::{LaserSetting, Machine, MachineSettings, STOCK_PRESETS, StockPreset};
 pub(crate) use stock::{default_stock, stock_preset};
+
+/// Smallest engraved text height (mm) before a label falls back to a shorter
+/// form: nothing karigami prints or engraves is smaller (a maker must read it).
+pub(crate) const MIN_LABEL_HEIGHT: f64 = 2.5;
 
 /// Flat strip stock.
 #[derive(Clone, Debug, PartialEq)]

@@ -17,7 +17,7 @@ mod step_page;
 mod step_pictures;
 mod step_text;
 
-use crate::design::measure::BUMP_DEG;
+use crate::measure::BUMP_DEG;
 use crate::drawing::flow::{MARGIN, PageFlow, SMALL};
 use crate::drawing::{Font, text};
 use crate::drawing::{Page, Shape, Symbol};

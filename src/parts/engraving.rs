@@ -7,9 +7,7 @@ use crate::fabrication::{Fabrication, LabelStyle};
 use crate::font;
 use glam::DVec2;
 
-/// Smallest engraved text height (mm) before a label falls back to a shorter
-/// form: nothing karigami prints or engraves is smaller (a maker must read it).
-pub(crate) const MIN_LABEL_HEIGHT: f64 = 2.5;
+use crate::fabrication::MIN_LABEL_HEIGHT;
 
 /// Group the strips into part types and engrave each with the most specific
 /// marking that fits; a warning says how many fell back to a code.

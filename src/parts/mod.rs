@@ -7,18 +7,17 @@
 //! Where things are: the strips are made here (`parts`); their eyelet holes
 //! are placed and checked in `holes.rs`, their IDs, part-type codes and dot
 //! codes engraved in `engraving.rs`; part types are grouped in `types.rs`,
-//! strip clashes found in `clash.rs`, the test piece drawn in `test_piece.rs`.
+//! strip clashes found in `clash.rs`, the test piece (drawn in `fabrication/test_piece.rs`, which the recipe's checks also read).
 
 pub mod clash;
 mod engraving;
 mod holes;
-pub mod test_piece;
+pub use crate::fabrication::test_piece;
 pub(crate) mod types;
 
 pub use engraving::DOT;
-pub(crate) use engraving::MIN_LABEL_HEIGHT;
-pub(crate) use test_piece::TestPiece;
-pub use test_piece::test_piece;
+pub(crate) use crate::fabrication::test_piece::TestPiece;
+pub use crate::fabrication::test_piece::test_piece;
 pub(crate) use types::PartType;
 
 use crate::fabrication::Fabrication;

@@ -4,7 +4,7 @@
 //! reports are handed on as `serde_json::Value`, whose maps keep their keys
 //! in order.
 
-use crate::design::measure::ShapeJson;
+use crate::measure::ShapeJson;
 use crate::lattice::Invariant;
 use crate::layout::SheetOption;
 use crate::pipeline::{Build, Verified};

@@ -19,105 +19,25 @@ pub(crate) use results::StrainPeak;
 pub use results::kabsch_distance;
 pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
-pub use strips::{Hold, LatticeModel, Mesh, VertexJoint};
+pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
+pub use strips::{Hold, LatticeModel, Mesh};
 
 use crate::lattice::Lattice;
 use crate::lattice::deploy::Deployment;
 use glam::DVec3;
 use std::time::Instant;
 
-/// The strip material. Defaults: ABS (docs/physics.md, "ABS and the
-/// recipe's `[simulation]` table").
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
-    /// Young's modulus (MPa = N/mm^2).
-    pub youngs: f64,
-    /// Poisson's ratio (enters the shear modulus only).
-    pub poisson: f64,
-    /// Largest corner-fibre strain a strip may take (fraction).
-    pub eps_allow: f64,
-}
-
-impl Material {
-    /// ABS: E = 2200 MPa, Poisson's ratio 0.35, allowable strain 1.5 %.
-    pub const ABS: Material = Material {
-        youngs: 2200.0,
-        poisson: 0.35,
-        eps_allow: 0.015,
-    };
-
-    pub(crate) fn shear(&self) -> f64 {
-        self.youngs / (2.0 * (1.0 + self.poisson))
-    }
-
-    /// Stiffness of a w x t rectangular strip.
-    pub fn section(&self, width: f64, thickness: f64) -> Section {
-        let (e, w, t) = (self.youngs, width, thickness);
-        let j = w * t.powi(3) / 3.0 * (1.0 - 0.63 * t / w);
-        Section {
-            b_flat: e * w * t.powi(3) / 12.0,
-            b_edge: e * t * w.powi(3) / 12.0,
-            ea: e * w * t,
-            gj: self.shear() * j,
-            width,
-            thickness,
-        }
-    }
-}
-
-/// The `[simulation]` settings of a recipe.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Settings {
-    /// The strip material.
-    pub material: Material,
-    /// Opening to deploy to (radians), of the held measure; None: the design's.
-    pub theta: Option<f64>,
-    /// What deployment holds: the mean opening of all cells, or cell 0's.
-    pub actuation: Actuation,
-    /// Longest interior edge (mm).
-    pub h_max: f64,
-    /// How rod ends at a shared vertex are joined.
-    pub vertex_joint: VertexJoint,
-    /// Strips strained beyond eps_allow are accepted by `build`.
-    pub accept_overstrain: bool,
-    /// A loop lattice's rotational symmetry: the number of identical
-    /// copies of its cells around the loop (1: none). Under the mean hold,
-    /// every cell then opens as much as its copies (docs/physics.md,
-    /// "Deployment").
-    pub symmetry: u32,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Settings {
-            material: Material::ABS,
-            theta: None,
-            actuation: Actuation::Mean,
-            h_max: 10.0,
-            vertex_joint: VertexJoint::Eyelet,
-            accept_overstrain: false,
-            symmetry: 1,
-        }
-    }
-}
-
-/// The measure a maker holds while the rest of the lattice finds its
-/// equilibrium (docs/physics.md, "Deployment").
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Actuation {
-    /// The mean opening of all cells: every cell may open more or less.
-    Mean,
-    /// The opening of the first cell (R00-C00), the others free.
-    FirstCell,
-}
-
-impl Actuation {
-    /// How reports name the held opening.
-    pub fn describe(self) -> &'static str {
-        match self {
-            Actuation::Mean => "mean opening of all cells",
-            Actuation::FirstCell => "opening of the first cell",
-        }
+/// The stiffness of a `width` x `thickness` rectangular strip of `material`.
+pub fn section(material: &Material, width: f64, thickness: f64) -> Section {
+    let (e, w, t) = (material.youngs, width, thickness);
+    let j = w * t.powi(3) / 3.0 * (1.0 - 0.63 * t / w);
+    Section {
+        b_flat: e * w * t.powi(3) / 12.0,
+        b_edge: e * t * w.powi(3) / 12.0,
+        ea: e * w * t,
+        gj: material.shear() * j,
+        width,
+        thickness,
     }
 }
 
@@ -250,7 +170,7 @@ pub(crate) fn prepare_with(
     thickness: f64,
     settings: &Settings,
 ) -> LatticeModel {
-    let section = settings.material.section(width, thickness);
+    let section = section(&settings.material, width, thickness);
     let mesh = Mesh {
         h_max: settings.h_max,
         arm: width / 2.0,

@@ -4,29 +4,10 @@
 //! vertices, a ball joint). Stack offsets (strip thickness at a joint) are
 //! neglected: all strips at a joint meet at one point.
 
+use super::VertexJoint;
 use super::model::{Edge, Frame, Joint, Model, Node, RodPath, Section, Slot, Stencil, VarKind};
 use crate::lattice::{Joint as LatticeJoint, Lattice, Rod, RodEnd, joints};
 use glam::DVec3;
-
-/// How rod ends at a shared vertex are joined (docs/physics.md, "Eyelets").
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum VertexJoint {
-    /// Centre lines meet and faces stay stacked; each strip turns freely
-    /// about the eyelet's axis.
-    Eyelet,
-    /// Position only (the ideal linkage's spherical joint).
-    Ball,
-}
-
-impl VertexJoint {
-    /// The recipe's name for it (`[simulation] vertex_joint`): `eyelet` or `ball`.
-    pub fn name(self) -> &'static str {
-        match self {
-            VertexJoint::Eyelet => "eyelet",
-            VertexJoint::Ball => "ball",
-        }
-    }
-}
 
 /// Discretisation settings.
 #[derive(Clone, Copy, Debug, PartialEq)]

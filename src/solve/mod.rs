@@ -28,7 +28,7 @@ use evolve::evolve;
 use rewrite::rewrite;
 use slots::slots;
 
-use crate::design::measure::{Measures, measure};
+use crate::measure::{Measures, measure};
 use crate::design::optimise::{Method, Optimise, Pattern, Vary};
 use crate::design::{Design, MIN_WALL};
 use crate::diagnostic::{Diagnostic, ErrorKind};

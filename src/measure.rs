@@ -3,8 +3,8 @@
 //! gallery's tests: curvature, regularity, target fit and coverage, the
 //! bending of intrinsic rows, strip clashes and identical strips.
 
-use super::Design;
-use super::fit::{self, Coverage};
+use crate::design::Design;
+use crate::design::fit::{self, Coverage};
 use crate::lattice::shape::{CurvatureSummary, Shape, survey};
 use crate::lattice::{Kind, Lattice};
 use crate::parts::clash::{Clashes, Scratch, clashes_in};
