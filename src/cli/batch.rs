@@ -160,7 +160,7 @@ impl Batch<'_> {
                     recipe: i,
                     work,
                     alone,
-                } => self.draw(i, work, alone),
+                } => self.draw(i, &work, alone),
             }
         }
     }
@@ -217,7 +217,7 @@ impl Batch<'_> {
     }
 
     /// Recipe `i`'s last stage (`draw`).
-    fn draw(&self, i: usize, work: Work<Build>, alone: bool) {
+    fn draw(&self, i: usize, work: &Work<Build>, alone: bool) {
         let clock = Instant::now();
         // A second thread for the pictures only where no other stage would
         // use the core.
@@ -226,7 +226,7 @@ impl Batch<'_> {
         } else {
             Jobs::ONE
         };
-        let ended = draw(&work, &self.folders[i], self.staged, jobs);
+        let ended = draw(work, &self.folders[i], self.staged, jobs);
         self.end(i, work.seconds + clock.elapsed().as_secs_f64(), ended);
     }
 

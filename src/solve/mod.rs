@@ -239,7 +239,7 @@ impl Problem<'_> {
         if cost < best.0 {
             *best = (cost, x.to_vec());
         }
-        if n % 25 == 0 {
+        if n.is_multiple_of(25) {
             (self.progress.borrow_mut())(&format!(
                 "optimise: {n} designs tried, best cost {:.6}",
                 best.0
