@@ -61,111 +61,18 @@ pub(super) fn build(
     let shown = out.path().display();
     let staged = Staged::new(out, "batch")
         .map_err(|e| Error::io(format!("cannot write {shown}: {e}; {}", out.kept())))?;
-    let outcomes: Vec<Mutex<Option<Outcome>>> = paths.iter().map(|_| Mutex::new(None)).collect();
-    let stages = Stages::new(dearest_first(paths, overrides, jobs));
-    let bar = Mutex::new(Progress::new(paths.len(), v.quiet || json));
-    let what = format!("building {}", plural(paths.len(), "recipe"));
-    // A recipe has ended: its outcome recorded and shown. A write that
-    // failed (a full disk) stops the batch: it cannot commit.
-    let end = |i: usize, seconds: f64, ended: Ended| {
-        let outcome = Outcome {
-            file: paths[i].display().to_string(),
-            folder: folders[i].clone(),
-            seconds,
-            ended,
-        };
-        if outcome.ended.write_failed.is_some() {
-            stages.stop();
-        }
-        let mut bar = bar.lock().unwrap_or_else(|e| e.into_inner());
-        match &outcome.ended.result {
-            Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
-            Err(e) => {
-                bar.print(&e.text);
-                bar.finished(&outcome.folder, "FAILED", outcome.seconds);
-            }
-        }
-        drop(bar);
-        *outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
-        stages.finish(i);
+    let batch = Batch {
+        paths,
+        folders: &folders,
+        out,
+        staged: &staged,
+        overrides,
+        jobs,
+        outcomes: paths.iter().map(|_| Mutex::new(None)).collect(),
+        stages: Stages::new(dearest_first(paths, overrides, jobs)),
+        bar: Mutex::new(Progress::new(paths.len(), v.quiet || json)),
     };
-    // On a terminal the bar shows progress; off one, finished recipes are
-    // lines and a long one still gets a line now and then.
-    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
-    super::progress::heartbeat(&what, v.quiet || json || tty, || {
-        std::thread::scope(|s| {
-            for _ in 0..jobs.min(paths.len()) {
-                s.spawn(|| {
-                    let _stop = StopOnPanic(&stages);
-                    while let Some(task) = stages.take() {
-                        match task {
-                            Task::Start(i) => {
-                                let clock = Instant::now();
-                                match start(&paths[i], &folders[i], out, &staged, overrides) {
-                                    Started::Ended(ended) => {
-                                        end(i, clock.elapsed().as_secs_f64(), ended);
-                                    }
-                                    Started::Simulate(mut work) => {
-                                        work.seconds += clock.elapsed().as_secs_f64();
-                                        stages.simulate(i, work.build.cells(), work);
-                                    }
-                                    Started::Draw(mut work) => {
-                                        work.seconds += clock.elapsed().as_secs_f64();
-                                        stages.draw(i, work.build.lattice.cells.len(), work);
-                                    }
-                                }
-                            }
-                            Task::Simulate(i, work) => {
-                                let clock = Instant::now();
-                                let Work {
-                                    recipe,
-                                    key,
-                                    seconds,
-                                    build,
-                                } = work;
-                                let simulated = simulate(&recipe, build, (out, &folders[i]));
-                                let seconds = seconds + clock.elapsed().as_secs_f64();
-                                match simulated {
-                                    Ok(build) => {
-                                        let cells = build.lattice.cells.len();
-                                        let work = Work {
-                                            recipe,
-                                            key,
-                                            seconds,
-                                            build,
-                                        };
-                                        stages.draw(i, cells, work);
-                                    }
-                                    Err(e) => end(i, seconds, Ended::failed(e)),
-                                }
-                            }
-                            Task::Draw {
-                                recipe: i,
-                                work,
-                                alone,
-                            } => {
-                                let clock = Instant::now();
-                                // A second thread for the pictures only where
-                                // no other stage would use the core.
-                                let ended = draw(
-                                    &work,
-                                    &folders[i],
-                                    &staged,
-                                    if alone { Jobs::new(jobs) } else { Jobs::ONE },
-                                );
-                                end(i, work.seconds + clock.elapsed().as_secs_f64(), ended);
-                            }
-                        }
-                    }
-                });
-            }
-        });
-    });
-    bar.into_inner().unwrap_or_else(|e| e.into_inner()).clear();
-    let outcomes: Vec<Outcome> = outcomes
-        .into_iter()
-        .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
-        .collect();
+    let outcomes = batch.run(v.quiet || json);
     if let Some(why) = outcomes.iter().find_map(|o| o.ended.write_failed.as_ref()) {
         drop(staged);
         return Err(Error::io(format!(
@@ -198,21 +105,179 @@ pub(super) fn build(
         let timed: Vec<Record> = outcomes.iter().map(|o| o.record(true)).collect();
         print_json(&timed);
     } else if !v.quiet {
-        out!("{}", table(&outcomes));
-        if let Some(line) = reused_line(&outcomes) {
-            outln!("{line}");
-        }
-        let kept = outcomes.iter().filter(|o| o.ended.kept).count();
-        if kept > 0 {
-            let what = format!(
-                "the files of {kept} of {}",
-                plural(outcomes.len(), "recipe")
-            );
-            outln!("{}", kept_line(&what));
-        }
-        let built = outcomes.iter().filter(|o| o.ended.result.is_ok()).count();
-        outln!("wrote {} to {shown}", plural(built, "build"));
+        summary(&outcomes, &shown);
     }
+    failures(&outcomes)
+}
+
+/// A running batch: what its jobs share.
+struct Batch<'a> {
+    paths: &'a [PathBuf],
+    folders: &'a [String],
+    out: &'a OutDir,
+    staged: &'a Staged<'a>,
+    overrides: &'a Overrides,
+    jobs: usize,
+    /// Each recipe's outcome, once it has ended.
+    outcomes: Vec<Mutex<Option<Outcome>>>,
+    stages: Stages<Work<Unsimulated>, Work<Build>>,
+    bar: Mutex<Progress>,
+}
+
+impl Batch<'_> {
+    /// Runs every recipe's stages on the jobs (`quiet`: no progress), and
+    /// gives the outcomes of those that ended, in the recipes' order.
+    fn run(self, quiet: bool) -> Vec<Outcome> {
+        let what = format!("building {}", plural(self.paths.len(), "recipe"));
+        // On a terminal the bar shows progress; off one, finished recipes are
+        // lines and a long one still gets a line now and then.
+        let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+        super::progress::heartbeat(&what, quiet || tty, || {
+            std::thread::scope(|s| {
+                for _ in 0..self.jobs.min(self.paths.len()) {
+                    s.spawn(|| self.job());
+                }
+            });
+        });
+        self.bar
+            .into_inner()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
+        self.outcomes
+            .into_iter()
+            .filter_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
+            .collect()
+    }
+
+    /// One job: takes stages of any recipe until none are left.
+    fn job(&self) {
+        let _stop = StopOnPanic(&self.stages);
+        while let Some(task) = self.stages.take() {
+            match task {
+                Task::Start(i) => self.start(i),
+                Task::Simulate(i, work) => self.simulate(i, work),
+                Task::Draw {
+                    recipe: i,
+                    work,
+                    alone,
+                } => self.draw(i, &work, alone),
+            }
+        }
+    }
+
+    /// Recipe `i`'s first stage (`start`): ended there, or queued to
+    /// simulate or to draw.
+    fn start(&self, i: usize) {
+        let clock = Instant::now();
+        match start(
+            &self.paths[i],
+            &self.folders[i],
+            self.out,
+            self.staged,
+            self.overrides,
+        ) {
+            Started::Ended(ended) => {
+                self.end(i, clock.elapsed().as_secs_f64(), ended);
+            }
+            Started::Simulate(mut work) => {
+                work.seconds += clock.elapsed().as_secs_f64();
+                self.stages.simulate(i, work.build.cells(), work);
+            }
+            Started::Draw(mut work) => {
+                work.seconds += clock.elapsed().as_secs_f64();
+                self.stages.draw(i, work.build.lattice.cells.len(), work);
+            }
+        }
+    }
+
+    /// Recipe `i`'s simulation, then queued to draw.
+    fn simulate(&self, i: usize, work: Work<Unsimulated>) {
+        let clock = Instant::now();
+        let Work {
+            recipe,
+            key,
+            seconds,
+            build,
+        } = work;
+        let simulated = simulate(&recipe, build, (self.out, &self.folders[i]));
+        let seconds = seconds + clock.elapsed().as_secs_f64();
+        match simulated {
+            Ok(build) => {
+                let cells = build.lattice.cells.len();
+                let work = Work {
+                    recipe,
+                    key,
+                    seconds,
+                    build,
+                };
+                self.stages.draw(i, cells, work);
+            }
+            Err(e) => self.end(i, seconds, Ended::failed(e)),
+        }
+    }
+
+    /// Recipe `i`'s last stage (`draw`).
+    fn draw(&self, i: usize, work: &Work<Build>, alone: bool) {
+        let clock = Instant::now();
+        // A second thread for the pictures only where no other stage would
+        // use the core.
+        let jobs = if alone {
+            Jobs::new(self.jobs)
+        } else {
+            Jobs::ONE
+        };
+        let ended = draw(work, &self.folders[i], self.staged, jobs);
+        self.end(i, work.seconds + clock.elapsed().as_secs_f64(), ended);
+    }
+
+    /// A recipe has ended: its outcome recorded and shown. A write that
+    /// failed (a full disk) stops the batch: it cannot commit.
+    fn end(&self, i: usize, seconds: f64, ended: Ended) {
+        let outcome = Outcome {
+            file: self.paths[i].display().to_string(),
+            folder: self.folders[i].clone(),
+            seconds,
+            ended,
+        };
+        if outcome.ended.write_failed.is_some() {
+            self.stages.stop();
+        }
+        let mut bar = self.bar.lock().unwrap_or_else(|e| e.into_inner());
+        match &outcome.ended.result {
+            Ok(_) => bar.finished(&outcome.folder, "ok", outcome.seconds),
+            Err(e) => {
+                bar.print(&e.text);
+                bar.finished(&outcome.folder, "FAILED", outcome.seconds);
+            }
+        }
+        drop(bar);
+        *self.outcomes[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(outcome);
+        self.stages.finish(i);
+    }
+}
+
+/// The committed batch in words: the table, what was reused and kept,
+/// and where it went.
+fn summary(outcomes: &[Outcome], shown: &std::path::Display<'_>) {
+    out!("{}", table(outcomes));
+    if let Some(line) = reused_line(outcomes) {
+        outln!("{line}");
+    }
+    let kept = outcomes.iter().filter(|o| o.ended.kept).count();
+    if kept > 0 {
+        let what = format!(
+            "the files of {kept} of {}",
+            plural(outcomes.len(), "recipe")
+        );
+        outln!("{}", kept_line(&what));
+    }
+    let built = outcomes.iter().filter(|o| o.ended.result.is_ok()).count();
+    outln!("wrote {} to {shown}", plural(built, "build"));
+}
+
+/// The batch's error when any recipe failed: an I/O error if one of the
+/// failures was.
+fn failures(outcomes: &[Outcome]) -> Result<(), Error> {
     let failed: Vec<&Outcome> = outcomes
         .iter()
         .filter(|o| o.ended.result.is_err())

@@ -58,160 +58,8 @@ pub(crate) struct FitSpans {
 
 pub(crate) fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, Diagnostic> {
     let raw = f.get_ref();
-    let need = |what: &str, hint: &str| {
-        Diagnostic::new(
-            ErrorKind::FitNeeds,
-            format!("fit surface \"{}\" needs {what}", raw.surface.get_ref()),
-        )
-        .at(f.span())
-        .hint(hint.to_string())
-    };
-    let positive = |n: &super::raw::Num, what: &str| -> Result<f64, Diagnostic> {
-        let v = super::finite(n, what)?;
-        if v > 0.0 {
-            Ok(v)
-        } else {
-            Err(Diagnostic::new(
-                ErrorKind::FitNotPositive,
-                format!("{what} must be positive"),
-            )
-            .at(n.span()))
-        }
-    };
-    let (surface, want) = match raw.surface.get_ref().as_str() {
-        "disk" => {
-            let r = raw
-                .radius
-                .as_ref()
-                .ok_or_else(|| need("`radius`", "give the disk's radius in mm"))?;
-            (
-                Surface::Disk {
-                    radius: positive(r, "fit.radius")?,
-                },
-                (Kind::Sheet, 2),
-            )
-        }
-        "ellipsoid" => {
-            let a = raw
-                .axes
-                .as_ref()
-                .ok_or_else(|| need("`axes`", "give the semi-axes [a, b, c] in mm"))?;
-            let (v, d) = super::coords(a, "fit.axes")?;
-            if d != 3 || v.min_element() <= 0.0 {
-                return Err(Diagnostic::new(
-                    ErrorKind::FitAxes,
-                    "fit.axes must be 3 positive semi-axes [a, b, c]",
-                )
-                .at(a.span()));
-            }
-            (Surface::Ellipsoid { axes: v }, (Kind::Sheet, 3))
-        }
-        "revolution" => {
-            let p = raw.profile.as_ref().ok_or_else(|| {
-                need(
-                    "`profile`",
-                    "give the profile as [[r, z], ...] points, one per row after the seed's",
-                )
-            })?;
-            let pts = p
-                .get_ref()
-                .iter()
-                .map(|c| {
-                    let (v, d) = super::coords(c, "a profile point")?;
-                    if d != 2 || v.x <= 0.0 {
-                        return Err(Diagnostic::new(
-                            ErrorKind::FitProfilePoint,
-                            "a profile point is [r, z] with r > 0",
-                        )
-                        .at(c.span()));
-                    }
-                    Ok(DVec2::new(v.x, v.y))
-                })
-                .collect::<Result<Vec<_>, _>>()?;
-            (Surface::Revolution { profile: pts }, (Kind::Loop, 3))
-        }
-        "torus" => {
-            let r = raw.radius.as_ref().ok_or_else(|| {
-                need(
-                    "`radius`",
-                    "give the radius of the tube's centre circle in mm",
-                )
-            })?;
-            let t = raw
-                .tube
-                .as_ref()
-                .ok_or_else(|| need("`tube`", "give the tube's radius in mm"))?;
-            let (major, minor) = (positive(r, "fit.radius")?, positive(t, "fit.tube")?);
-            if minor >= major {
-                return Err(Diagnostic::new(
-                    ErrorKind::FitTubeTooLarge,
-                    "fit.tube must be smaller than fit.radius",
-                )
-                .at(t.span())
-                .hint("a torus's tube is narrower than its centre circle"));
-            }
-            let step = match &raw.step {
-                Some(s) => super::finite(s, "fit.step")?,
-                None => 18.0,
-            };
-            if !(step > 0.0 && step < 90.0) {
-                let span = raw.step.as_ref().map_or(f.span(), |s| s.span());
-                return Err(Diagnostic::new(
-                    ErrorKind::FitStepOutOfRange,
-                    format!(
-                        "fit.step is {}, but must be more than 0 and less than 90 degrees",
-                        crate::diagnostic::shown(step)
-                    ),
-                )
-                .at(span)
-                .hint("the tube angle each row adds, in degrees"));
-            }
-            let rows = super::count(&raw.rows, "fit.rows", 1, 10_000)?;
-            let profile = (1..=rows)
-                .map(|i| {
-                    let psi = (i as f64 * step).to_radians();
-                    DVec2::new(major + minor * psi.sin(), minor * psi.cos())
-                })
-                .collect();
-            (
-                Surface::Torus {
-                    major,
-                    minor,
-                    profile,
-                },
-                (Kind::Loop, 3),
-            )
-        }
-        other => {
-            return Err(Diagnostic::new(
-                ErrorKind::UnknownFitSurface,
-                format!("unknown fit surface \"{other}\""),
-            )
-            .at(raw.surface.span())
-            .hint("surface must be \"disk\", \"ellipsoid\", \"torus\" or \"revolution\""));
-        }
-    };
-    // A loop seed round the rim of a spheroid climbs it ring by ring.
-    let spheroid_loop = matches!(surface, Surface::Ellipsoid { axes } if (axes.x - axes.y).abs() <= 1e-9 * axes.x)
-        && (kind, dim) == (Kind::Loop, 3);
-    if (kind, dim) != want && !spheroid_loop {
-        return Err(Diagnostic::new(
-            ErrorKind::FitDimension,
-            format!(
-                "fit surface \"{}\" grows a {}-D {}, but the seed is a {dim}-D {}",
-                raw.surface.get_ref(),
-                want.1,
-                want.0.name(),
-                kind.name()
-            ),
-        )
-        .at(raw.surface.span())
-        .hint(format!(
-            "use seed = \"{}\" with {}-coordinate points",
-            want.0.name(),
-            want.1
-        )));
-    }
+    let (surface, want) = target_surface(f)?;
+    let spheroid_loop = check_seed(raw, &surface, want, kind, dim)?;
     let rows = super::count(&raw.rows, "fit.rows", 1, 10_000)?;
     if let Surface::Revolution { profile } = &surface
         && profile.len() != rows
@@ -230,37 +78,10 @@ pub(crate) fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, 
         Some(n) => super::count(n, "fit.samples", 3, 2000)?,
         None => 61,
     };
-    let list = |l: &Option<Spanned<Vec<super::raw::Num>>>,
-                what: &str,
-                open: bool|
-     -> Result<Option<Vec<f64>>, Diagnostic> {
-        let Some(l) = l else { return Ok(None) };
-        if !open {
-            return Err(Diagnostic::new(ErrorKind::FitUnused, format!("fit.{what} is not used by this target"))
-                .at(l.span())
-                .hint("fit.angles is for disk and ellipsoid sheets, fit.steps for an ellipsoid grown from a loop"));
-        }
-        if l.get_ref().len() != rows {
-            return Err(Diagnostic::new(
-                ErrorKind::FitValuesPerRow,
-                format!(
-                    "fit.{what} has {} values but fit.rows is {rows}",
-                    l.get_ref().len()
-                ),
-            )
-            .at(l.span())
-            .hint("give one value per grown row"));
-        }
-        l.get_ref()
-            .iter()
-            .map(|n| super::finite(n, &format!("a value of fit.{what}")))
-            .collect::<Result<Vec<_>, _>>()
-            .map(Some)
-    };
     let open = matches!(surface, Surface::Disk { .. })
         || (matches!(surface, Surface::Ellipsoid { .. }) && kind == Kind::Sheet);
-    let angles = list(&raw.angles, "angles", open)?;
-    let steps = list(&raw.steps, "steps", spheroid_loop)?;
+    let angles = per_row(&raw.angles, "angles", open, rows)?;
+    let steps = per_row(&raw.steps, "steps", spheroid_loop, rows)?;
     if let (Some(st), Some(l)) = (&steps, &raw.steps)
         && st.iter().any(|x| *x <= 0.0)
     {
@@ -283,6 +104,227 @@ pub(crate) fn parse(f: &Spanned<RawFit>, kind: Kind, dim: usize) -> Result<Fit, 
             steps: raw.steps.as_ref().map(|a| a.span()),
         },
     })
+}
+
+/// The seed's kind and dimension a target surface grows from.
+type Want = (Kind, usize);
+
+/// A key the surface needs but the table lacks.
+fn need(f: &Spanned<RawFit>, what: &str, hint: &str) -> Diagnostic {
+    Diagnostic::new(
+        ErrorKind::FitNeeds,
+        format!(
+            "fit surface \"{}\" needs {what}",
+            f.get_ref().surface.get_ref()
+        ),
+    )
+    .at(f.span())
+    .hint(hint.to_string())
+}
+
+fn positive(n: &super::raw::Num, what: &str) -> Result<f64, Diagnostic> {
+    let v = super::finite(n, what)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Diagnostic::new(
+            ErrorKind::FitNotPositive,
+            format!("{what} must be positive"),
+        )
+        .at(n.span()))
+    }
+}
+
+/// The target surface the table names, with the seed it grows from.
+fn target_surface(f: &Spanned<RawFit>) -> Result<(Surface, Want), Diagnostic> {
+    let raw = f.get_ref();
+    Ok(match raw.surface.get_ref().as_str() {
+        "disk" => {
+            let r = raw
+                .radius
+                .as_ref()
+                .ok_or_else(|| need(f, "`radius`", "give the disk's radius in mm"))?;
+            (
+                Surface::Disk {
+                    radius: positive(r, "fit.radius")?,
+                },
+                (Kind::Sheet, 2),
+            )
+        }
+        "ellipsoid" => (ellipsoid(f)?, (Kind::Sheet, 3)),
+        "revolution" => (revolution(f)?, (Kind::Loop, 3)),
+        "torus" => (torus(f)?, (Kind::Loop, 3)),
+        other => {
+            return Err(Diagnostic::new(
+                ErrorKind::UnknownFitSurface,
+                format!("unknown fit surface \"{other}\""),
+            )
+            .at(raw.surface.span())
+            .hint("surface must be \"disk\", \"ellipsoid\", \"torus\" or \"revolution\""));
+        }
+    })
+}
+
+fn ellipsoid(f: &Spanned<RawFit>) -> Result<Surface, Diagnostic> {
+    let a = f
+        .get_ref()
+        .axes
+        .as_ref()
+        .ok_or_else(|| need(f, "`axes`", "give the semi-axes [a, b, c] in mm"))?;
+    let (v, d) = super::coords(a, "fit.axes")?;
+    if d != 3 || v.min_element() <= 0.0 {
+        return Err(Diagnostic::new(
+            ErrorKind::FitAxes,
+            "fit.axes must be 3 positive semi-axes [a, b, c]",
+        )
+        .at(a.span()));
+    }
+    Ok(Surface::Ellipsoid { axes: v })
+}
+
+fn revolution(f: &Spanned<RawFit>) -> Result<Surface, Diagnostic> {
+    let p = f.get_ref().profile.as_ref().ok_or_else(|| {
+        need(
+            f,
+            "`profile`",
+            "give the profile as [[r, z], ...] points, one per row after the seed's",
+        )
+    })?;
+    let pts = p
+        .get_ref()
+        .iter()
+        .map(|c| {
+            let (v, d) = super::coords(c, "a profile point")?;
+            if d != 2 || v.x <= 0.0 {
+                return Err(Diagnostic::new(
+                    ErrorKind::FitProfilePoint,
+                    "a profile point is [r, z] with r > 0",
+                )
+                .at(c.span()));
+            }
+            Ok(DVec2::new(v.x, v.y))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Surface::Revolution { profile: pts })
+}
+
+/// A torus's profile is generated here, one tube point per row, so it
+/// reads `fit.rows` before the checks common to every surface do.
+fn torus(f: &Spanned<RawFit>) -> Result<Surface, Diagnostic> {
+    let raw = f.get_ref();
+    let r = raw.radius.as_ref().ok_or_else(|| {
+        need(
+            f,
+            "`radius`",
+            "give the radius of the tube's centre circle in mm",
+        )
+    })?;
+    let t = raw
+        .tube
+        .as_ref()
+        .ok_or_else(|| need(f, "`tube`", "give the tube's radius in mm"))?;
+    let (major, minor) = (positive(r, "fit.radius")?, positive(t, "fit.tube")?);
+    if minor >= major {
+        return Err(Diagnostic::new(
+            ErrorKind::FitTubeTooLarge,
+            "fit.tube must be smaller than fit.radius",
+        )
+        .at(t.span())
+        .hint("a torus's tube is narrower than its centre circle"));
+    }
+    let step = match &raw.step {
+        Some(s) => super::finite(s, "fit.step")?,
+        None => 18.0,
+    };
+    if !(step > 0.0 && step < 90.0) {
+        let span = raw.step.as_ref().map_or(f.span(), |s| s.span());
+        return Err(Diagnostic::new(
+            ErrorKind::FitStepOutOfRange,
+            format!(
+                "fit.step is {}, but must be more than 0 and less than 90 degrees",
+                crate::diagnostic::shown(step)
+            ),
+        )
+        .at(span)
+        .hint("the tube angle each row adds, in degrees"));
+    }
+    let rows = super::count(&raw.rows, "fit.rows", 1, 10_000)?;
+    let profile = (1..=rows)
+        .map(|i| {
+            let psi = (i as f64 * step).to_radians();
+            DVec2::new(major + minor * psi.sin(), minor * psi.cos())
+        })
+        .collect();
+    Ok(Surface::Torus {
+        major,
+        minor,
+        profile,
+    })
+}
+
+/// Checks the seed is the one the surface grows from, and says whether it
+/// is a spheroid loop: a loop seed round the rim of a spheroid climbs it
+/// ring by ring, so it may fit an ellipsoid too.
+fn check_seed(
+    raw: &RawFit,
+    surface: &Surface,
+    want: Want,
+    kind: Kind,
+    dim: usize,
+) -> Result<bool, Diagnostic> {
+    let spheroid_loop = matches!(surface, Surface::Ellipsoid { axes } if (axes.x - axes.y).abs() <= 1e-9 * axes.x)
+        && (kind, dim) == (Kind::Loop, 3);
+    if (kind, dim) != want && !spheroid_loop {
+        return Err(Diagnostic::new(
+            ErrorKind::FitDimension,
+            format!(
+                "fit surface \"{}\" grows a {}-D {}, but the seed is a {dim}-D {}",
+                raw.surface.get_ref(),
+                want.1,
+                want.0.name(),
+                kind.name()
+            ),
+        )
+        .at(raw.surface.span())
+        .hint(format!(
+            "use seed = \"{}\" with {}-coordinate points",
+            want.0.name(),
+            want.1
+        )));
+    }
+    Ok(spheroid_loop)
+}
+
+/// A list of one value per grown row (`fit.angles`, `fit.steps`), if
+/// given; `used` says whether this target reads it.
+fn per_row(
+    l: &Option<Spanned<Vec<super::raw::Num>>>,
+    what: &str,
+    used: bool,
+    rows: usize,
+) -> Result<Option<Vec<f64>>, Diagnostic> {
+    let Some(l) = l else { return Ok(None) };
+    if !used {
+        return Err(Diagnostic::new(ErrorKind::FitUnused, format!("fit.{what} is not used by this target"))
+            .at(l.span())
+            .hint("fit.angles is for disk and ellipsoid sheets, fit.steps for an ellipsoid grown from a loop"));
+    }
+    if l.get_ref().len() != rows {
+        return Err(Diagnostic::new(
+            ErrorKind::FitValuesPerRow,
+            format!(
+                "fit.{what} has {} values but fit.rows is {rows}",
+                l.get_ref().len()
+            ),
+        )
+        .at(l.span())
+        .hint("give one value per grown row"));
+    }
+    l.get_ref()
+        .iter()
+        .map(|n| super::finite(n, &format!("a value of fit.{what}")))
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
 }
 
 impl Surface {

@@ -170,6 +170,63 @@ pub(crate) fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, 
 
 pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> {
     let r = raw.get_ref();
+    let vary = vary(r)?;
+    let method = method(r)?;
+    let budget = match &r.budget {
+        Some(b) => super::count(b, "optimise.budget", 1, 100_000)?,
+        None => 300,
+    };
+    let seed = match &r.seed {
+        Some(s) => super::count(s, "optimise.seed", 0, i64::MAX)? as u64,
+        None => 1,
+    };
+    let step = match &r.step {
+        Some(s) => {
+            let v = super::finite(s, "optimise.step")?;
+            if v <= 0.0 {
+                return Err(Diagnostic::new(
+                    ErrorKind::NonPositiveStep,
+                    "optimise.step must be positive",
+                )
+                .at(s.span()));
+            }
+            v
+        }
+        None => 3.0,
+    };
+    let weights = weights(r)?;
+    let (defect_deg, pattern, simulated) = target(r)?;
+    let require = require(r)?;
+    if simulated && weights.curvature == 0.0 {
+        let span = r
+            .target
+            .as_ref()
+            .and_then(|t| t.get_ref().shape.as_ref())
+            .map(|s| s.span());
+        return Err(Diagnostic::new(
+            ErrorKind::TargetShapeUnused,
+            "target.shape = \"simulated\" measures the curvature objective, but its weight is 0",
+        )
+        .at_opt(span)
+        .hint("give [optimise.objective] a curvature weight, or drop shape"));
+    }
+    Ok(Optimise {
+        vary,
+        method,
+        budget,
+        seed,
+        step,
+        weights,
+        defect_deg,
+        pattern,
+        simulated,
+        require,
+        span: raw.span(),
+    })
+}
+
+/// `optimise.vary`: each word once, in the order first written.
+fn vary(r: &RawOptimise) -> Result<Vec<Vary>, Diagnostic> {
     let mut vary = Vec::new();
     for v in r.vary.get_ref() {
         let which = match v.get_ref().as_str() {
@@ -194,7 +251,11 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
                 .hint("say what the optimiser may change: [\"angle\"], [\"front\"] or [\"seed\"]"),
         );
     }
-    let method = match &r.method {
+    Ok(vary)
+}
+
+fn method(r: &RawOptimise) -> Result<Method, Diagnostic> {
+    Ok(match &r.method {
         None => Method::NelderMead,
         Some(m) => match m.get_ref().as_str() {
             "nelder-mead" => Method::NelderMead,
@@ -208,30 +269,11 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
                 .hint("method is \"nelder-mead\" (default) or \"evolution\""));
             }
         },
-    };
-    let budget = match &r.budget {
-        Some(b) => super::count(b, "optimise.budget", 1, 100_000)?,
-        None => 300,
-    };
-    let seed = match &r.seed {
-        Some(s) => super::count(s, "optimise.seed", 0, i64::MAX)? as u64,
-        None => 1,
-    };
-    let step = match &r.step {
-        Some(s) => {
-            let v = super::finite(s, "optimise.step")?;
-            if v <= 0.0 {
-                return Err(Diagnostic::new(
-                    ErrorKind::NonPositiveStep,
-                    "optimise.step must be positive",
-                )
-                .at(s.span()));
-            }
-            v
-        }
-        None => 3.0,
-    };
-    let w = r.objective.as_ref().map(|o| o.get_ref());
+    })
+}
+
+/// `[optimise.objective]`: a weight left out is 0, not an objective.
+fn weights(r: &RawOptimise) -> Result<Weights, Diagnostic> {
     let weight = |n: Option<&Num>, what: &str| -> Result<f64, Diagnostic> {
         match n {
             None => Ok(0.0),
@@ -249,7 +291,7 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
             }
         }
     };
-    let weights = match w {
+    Ok(match r.objective.as_ref().map(|o| o.get_ref()) {
         None => Weights::default(),
         Some(w) => Weights {
             surface: weight(w.surface.as_ref(), "objective.surface")?,
@@ -262,7 +304,12 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
             rings: weight(w.rings.as_ref(), "objective.rings")?,
             bending: weight(w.bending.as_ref(), "objective.bending")?,
         },
-    };
+    })
+}
+
+/// `[optimise.target]`: the defect (degrees) the curvature objective aims
+/// at, its pattern, and whether it measures the simulated shape.
+fn target(r: &RawOptimise) -> Result<(f64, Pattern, bool), Diagnostic> {
     let (mut defect_deg, mut pattern, mut simulated) = (0.0, Pattern::Constant, false);
     if let Some(t) = &r.target {
         let t = t.get_ref();
@@ -291,6 +338,11 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
             )?;
         }
     }
+    Ok((defect_deg, pattern, simulated))
+}
+
+/// `[optimise.require]`: the hard constraints, in this fixed order.
+fn require(r: &RawOptimise) -> Result<Vec<Requirement>, Diagnostic> {
     let mut require = Vec::new();
     if let Some(q) = &r.require {
         let q = q.get_ref();
@@ -320,30 +372,5 @@ pub(crate) fn parse(raw: &Spanned<RawOptimise>) -> Result<Optimise, Diagnostic> 
             }
         }
     }
-    if simulated && weights.curvature == 0.0 {
-        let span = r
-            .target
-            .as_ref()
-            .and_then(|t| t.get_ref().shape.as_ref())
-            .map(|s| s.span());
-        return Err(Diagnostic::new(
-            ErrorKind::TargetShapeUnused,
-            "target.shape = \"simulated\" measures the curvature objective, but its weight is 0",
-        )
-        .at_opt(span)
-        .hint("give [optimise.objective] a curvature weight, or drop shape"));
-    }
-    Ok(Optimise {
-        vary,
-        method,
-        budget,
-        seed,
-        step,
-        weights,
-        defect_deg,
-        pattern,
-        simulated,
-        require,
-        span: raw.span(),
-    })
+    Ok(require)
 }

@@ -8,6 +8,7 @@ use super::values::{coords, count, finite};
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::lattice::{Crank, FrontMoves, Kind, MAX_CELLS, PivotMove, RowParams};
 use crate::legs::{Direction, Leg};
+use std::ops::Range;
 use toml::Spanned;
 
 /// One `RowParams` per row: `[lattice.grow]` defaults overridden by the
@@ -35,16 +36,7 @@ pub(super) fn rows(
     let last = width;
     let defaults = lat.grow.as_ref().map(|g| g.get_ref());
     if let Some(g) = &lat.grow {
-        for (field, name) in [(&g.get_ref().row, "row"), (&g.get_ref().repeat, "repeat")] {
-            if let Some(f) = field {
-                return Err(Diagnostic::new(
-                    ErrorKind::RowSettingInGrow,
-                    format!("`{name}` belongs in a [[lattice.rows]] entry, not in [lattice.grow]"),
-                )
-                .at(f.span())
-                .hint("[lattice.grow] takes `rows` (how many) and the default row fields"));
-            }
-        }
+        check_grow(g)?;
         spans.grow = Some(field_spans(g));
     }
     let max_rows = MAX_CELLS / width.max(1);
@@ -52,8 +44,52 @@ pub(super) fn rows(
         Some(n) => Some(count(n, "grow.rows", 1, max_rows as i64)?),
         None => None,
     };
-    // Which entry describes each row.
     let entries = lat.rows.as_deref().unwrap_or(&[]);
+    let mut row_entry = row_entries(entries, total, max_rows, spans)?;
+    let total = total.unwrap_or(row_entry.len());
+    if total == 0 {
+        // [lattice.grow] without `rows` is where the count is missing.
+        let (message, span) = match &lat.grow {
+            Some(g) if entries.is_empty() => (
+                "the design grows no rows: [lattice.grow] does not say how many (`rows`)",
+                g.span(),
+            ),
+            _ => ("the design grows no rows", spans.lattice.clone()),
+        };
+        return Err(Diagnostic::new(ErrorKind::NoRows, message)
+            .at(span)
+            .hint("add [[lattice.rows]] entries, or [lattice.grow] with `rows = N` and a default direction"));
+    }
+    row_entry.resize(total, NO_ENTRY);
+    let rows = resolve_rows(defaults, entries, &row_entry, kind, dim, last, spans)?;
+    spans.row_entry = row_entry;
+    Ok(rows)
+}
+
+/// `[lattice.grow]` holds the defaults of every row, so not the fields
+/// that place one entry.
+fn check_grow(g: &Spanned<RawRow>) -> Result<(), Diagnostic> {
+    for (field, name) in [(&g.get_ref().row, "row"), (&g.get_ref().repeat, "repeat")] {
+        if let Some(f) = field {
+            return Err(Diagnostic::new(
+                ErrorKind::RowSettingInGrow,
+                format!("`{name}` belongs in a [[lattice.rows]] entry, not in [lattice.grow]"),
+            )
+            .at(f.span())
+            .hint("[lattice.grow] takes `rows` (how many) and the default row fields"));
+        }
+    }
+    Ok(())
+}
+
+/// Which entry describes each row (`NO_ENTRY`: the default), up to the
+/// last row an entry reaches; each entry's field spans go into `spans`.
+fn row_entries(
+    entries: &[Spanned<RawRow>],
+    total: Option<usize>,
+    max_rows: usize,
+    spans: &mut Spans,
+) -> Result<Vec<u32>, Diagnostic> {
     let mut row_entry: Vec<u32> = Vec::new();
     for (e, entry) in entries.iter().enumerate() {
         let r = entry.get_ref();
@@ -71,33 +107,7 @@ pub(super) fn rows(
         };
         if index < row_entry.len() {
             let span = r.row.as_ref().map_or(entry.span(), |n| n.span());
-            // A row no entry covers lies before an entry already read: the
-            // entries are out of order, not given twice.
-            let earlier = row_entry[index..]
-                .iter()
-                .find(|&&x| x != NO_ENTRY)
-                .copied()
-                .unwrap_or(NO_ENTRY);
-            let earlier_row = row_entry.iter().position(|&x| x == earlier).unwrap_or(0);
-            return Err(if row_entry[index] == NO_ENTRY {
-                Diagnostic::new(
-                    ErrorKind::RowsOutOfOrder,
-                    format!(
-                        "this entry describes row {index}, but comes after the entry for row {earlier_row}"
-                    ),
-                )
-                .at(span)
-                .hint("list [[lattice.rows]] entries in increasing row order")
-            } else {
-                Diagnostic::new(
-                    ErrorKind::RowGivenTwice,
-                    format!(
-                        "row {index} is already described by an earlier [[lattice.rows]] entry (the one from row {earlier_row})"
-                    ),
-                )
-                .at(span)
-                .hint("describe each row once: remove this entry, or lower the earlier entry's `repeat`")
-            });
+            return Err(described_before(&row_entry, index, span));
         }
         let repeat = match &r.repeat {
             Some(n) => count(n, "repeat", 1, max_rows as i64)?,
@@ -119,23 +129,51 @@ pub(super) fn rows(
         row_entry.resize(index + repeat, e as u32);
         spans.entries.push(field_spans(entry));
     }
-    let total = total.unwrap_or(row_entry.len());
-    if total == 0 {
-        // [lattice.grow] without `rows` is where the count is missing.
-        let (message, span) = match &lat.grow {
-            Some(g) if entries.is_empty() => (
-                "the design grows no rows: [lattice.grow] does not say how many (`rows`)",
-                g.span(),
-            ),
-            _ => ("the design grows no rows", spans.lattice.clone()),
-        };
-        return Err(Diagnostic::new(ErrorKind::NoRows, message)
-            .at(span)
-            .hint("add [[lattice.rows]] entries, or [lattice.grow] with `rows = N` and a default direction"));
-    }
-    row_entry.resize(total, NO_ENTRY);
+    Ok(row_entry)
+}
 
-    // Resolve each distinct (entry or default) once, then copy per row.
+/// The error for an entry (at `span`) for row `index`, which the entries
+/// already read reach past. A row no entry covers lies before an entry
+/// already read: the entries are out of order, not given twice.
+fn described_before(row_entry: &[u32], index: usize, span: Range<usize>) -> Diagnostic {
+    let earlier = row_entry[index..]
+        .iter()
+        .find(|&&x| x != NO_ENTRY)
+        .copied()
+        .unwrap_or(NO_ENTRY);
+    let earlier_row = row_entry.iter().position(|&x| x == earlier).unwrap_or(0);
+    if row_entry[index] == NO_ENTRY {
+        Diagnostic::new(
+            ErrorKind::RowsOutOfOrder,
+            format!(
+                "this entry describes row {index}, but comes after the entry for row {earlier_row}"
+            ),
+        )
+        .at(span)
+        .hint("list [[lattice.rows]] entries in increasing row order")
+    } else {
+        Diagnostic::new(
+            ErrorKind::RowGivenTwice,
+            format!(
+                "row {index} is already described by an earlier [[lattice.rows]] entry (the one from row {earlier_row})"
+            ),
+        )
+        .at(span)
+        .hint("describe each row once: remove this entry, or lower the earlier entry's `repeat`")
+    }
+}
+
+/// Each row's parameters, from its entry or the default. Each distinct
+/// (entry or default) is resolved once, then copied per row.
+fn resolve_rows(
+    defaults: Option<&RawRow>,
+    entries: &[Spanned<RawRow>],
+    row_entry: &[u32],
+    kind: Kind,
+    dim: usize,
+    last: usize,
+    spans: &Spans,
+) -> Result<Vec<RowParams>, Diagnostic> {
     let default_row = defaults
         .map(|g| resolve(None, g, dim, last))
         .transpose()?
@@ -144,7 +182,7 @@ pub(super) fn rows(
         .iter()
         .map(|e| resolve(defaults, e.get_ref(), dim, last))
         .collect::<Result<_, _>>()?;
-    let rows = row_entry
+    row_entry
         .iter()
         .enumerate()
         .map(|(i, &e)| {
@@ -164,9 +202,7 @@ pub(super) fn rows(
                     .hint("give `angle` (degrees) or `direction` in its [[lattice.rows]] entry or in [lattice.grow]")
             })
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    spans.row_entry = row_entry;
-    Ok(rows)
+        .collect::<Result<Vec<_>, _>>()
 }
 
 /// A row's parameters from its own fields, falling back on `defaults`.

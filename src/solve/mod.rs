@@ -239,7 +239,7 @@ impl Problem<'_> {
         if cost < best.0 {
             *best = (cost, x.to_vec());
         }
-        if n % 25 == 0 {
+        if n.is_multiple_of(25) {
             (self.progress.borrow_mut())(&format!(
                 "optimise: {n} designs tried, best cost {:.6}",
                 best.0
@@ -300,36 +300,90 @@ pub fn optimise(
         .hint("add [optimise] with `vary` and objectives (see README)")
     })?;
     let (slots, mut x0, mut unit) = slots(design, source, opt);
-    let (mut frame, mut seed0) = (None, None);
-    if slots.iter().any(|s| matches!(s, Slot::Seed)) {
-        let n = design.points.len() - 1;
-        let centre = design.points[..n].iter().sum::<DVec3>() / n as f64;
-        let f = Frame {
-            centre,
-            dim: design.dim,
-        };
-        let p = f.params(&design.points, &design.kappa);
-        for r in &p.rho {
-            x0.push(*r);
-            unit.push(1.0);
-        }
-        for (t, r) in p.theta.iter().zip(&p.rho) {
-            x0.push(*t);
-            unit.push(1.0 / r.max(1.0));
-        }
-        for h in &p.height {
-            x0.push(*h);
-            unit.push(1.0);
-        }
-        x0.push(p.kappa0);
+    let (frame, seed0) = if slots.iter().any(|s| matches!(s, Slot::Seed)) {
+        let (f, p) = seed_variables(design, &mut x0, &mut unit);
+        (Some(f), Some(p))
+    } else {
+        (None, None)
+    };
+    check_variables(design, source, opt, &slots, &x0)?;
+    let dims = x0.len();
+    let problem = Problem {
+        space: Space {
+            design,
+            opt,
+            slots,
+            x0,
+            unit,
+            frame,
+            seed0,
+        },
+        jobs,
+        evaluations: Cell::new(0),
+        best: RefCell::new((f64::INFINITY, vec![0.0; dims])),
+        progress: RefCell::new(progress),
+    };
+    let start = vec![0.0; dims];
+    let cost_before = problem.evaluate(&start);
+    let iterations = search(&problem, opt, dims);
+    let best = problem.best.borrow().1.clone();
+    let optimised = problem.space.design_at(&best);
+    let text = rewrite(&problem, &optimised, source, &best);
+    let (design_out, cost_after, m) = judge(&text, &design.name, opt)?;
+    let evaluations = problem.evaluations.get();
+    Ok(Optimised {
+        text,
+        design: design_out,
+        cost_before,
+        cost_after,
+        iterations,
+        evaluations,
+        variables: dims,
+        measures: m,
+    })
+}
+
+/// A helix seed's variables (`solve::tune`), appended to `x0` and `unit`:
+/// each point's radius, angle and height, kappa at the start, and each
+/// edge's share of the rest; with the frame they are measured in.
+fn seed_variables(design: &Design, x0: &mut Vec<f64>, unit: &mut Vec<f64>) -> (Frame, Params) {
+    let n = design.points.len() - 1;
+    let centre = design.points[..n].iter().sum::<DVec3>() / n as f64;
+    let f = Frame {
+        centre,
+        dim: design.dim,
+    };
+    let p = f.params(&design.points, &design.kappa);
+    for r in &p.rho {
+        x0.push(*r);
         unit.push(1.0);
-        for s in &p.share {
-            x0.push(*s);
-            unit.push(0.01);
-        }
-        frame = Some(f);
-        seed0 = Some(p);
     }
+    for (t, r) in p.theta.iter().zip(&p.rho) {
+        x0.push(*t);
+        unit.push(1.0 / r.max(1.0));
+    }
+    for h in &p.height {
+        x0.push(*h);
+        unit.push(1.0);
+    }
+    x0.push(p.kappa0);
+    unit.push(1.0);
+    for s in &p.share {
+        x0.push(*s);
+        unit.push(0.01);
+    }
+    (f, p)
+}
+
+/// Refuses a search with no variables, or one that would rewrite a seed
+/// the recipe does not write as points.
+fn check_variables(
+    design: &Design,
+    source: &str,
+    opt: &Optimise,
+    slots: &[Slot],
+    x0: &[f64],
+) -> Result<(), Diagnostic> {
     if x0.is_empty() {
         return Err(Diagnostic::new(
             ErrorKind::NothingToVary,
@@ -354,28 +408,17 @@ pub fn optimise(
         .at(opt.span.clone())
         .hint("write the seed as `points = [[x, y], ...]` on the circle and `kappa = [...]`, one per edge"));
     }
-    let dims = x0.len();
-    let problem = Problem {
-        space: Space {
-            design,
-            opt,
-            slots,
-            x0,
-            unit,
-            frame,
-            seed0,
-        },
-        jobs,
-        evaluations: Cell::new(0),
-        best: RefCell::new((f64::INFINITY, vec![0.0; dims])),
-        progress: RefCell::new(progress),
-    };
-    let start = vec![0.0; dims];
-    let cost_before = problem.evaluate(&start);
+    Ok(())
+}
+
+/// The search `opt.method` names, from the recipe's point (0) while the
+/// budget lasts; gives the iterations used. The best point found is in
+/// `problem.best`.
+fn search(problem: &Problem, opt: &Optimise, dims: usize) -> usize {
     let mut rng = Rng::new(opt.seed ^ 0x6b61_7269_6761_6d69);
     let (mut iterations, mut round) = (0usize, 0usize);
     if opt.method == Method::Evolution {
-        iterations = evolve(&problem, opt, dims, &mut rng);
+        iterations = evolve(problem, opt, dims, &mut rng);
     }
     while opt.method == Method::NelderMead && iterations < opt.budget {
         let from = problem.best.borrow().1.clone();
@@ -396,11 +439,14 @@ pub fn optimise(
             break;
         }
     }
-    let best = problem.best.borrow().1.clone();
-    let optimised = problem.space.design_at(&best);
-    let text = rewrite(&problem, &optimised, source, &best);
-    // Judge what is written: the recipe as it will be read back.
-    let design_out = crate::design::parse(&text, &design.name)?;
+    iterations
+}
+
+/// Judges what is written: the recipe `text` as it will be read back,
+/// grown, measured and costed. Refused, located, when it misses a hard
+/// constraint, naming it and its shortfall.
+fn judge(text: &str, name: &str, opt: &Optimise) -> Result<(Design, f64, Measures), Diagnostic> {
+    let design_out = crate::design::parse(text, name)?;
     let lattice = grown(&design_out).map_err(|_| {
         Diagnostic::new(
             ErrorKind::OptimiseFailed,
@@ -431,17 +477,7 @@ pub fn optimise(
             opt.budget
         )));
     }
-    let evaluations = problem.evaluations.get();
-    Ok(Optimised {
-        text,
-        design: design_out,
-        cost_before,
-        cost_after,
-        iterations,
-        evaluations,
-        variables: dims,
-        measures: m,
-    })
+    Ok((design_out, cost_after, m))
 }
 
 /// A constraint's number as the user can read it: four decimals, or four

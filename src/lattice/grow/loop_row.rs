@@ -13,39 +13,11 @@ impl Grower {
         use ErrorKind as K;
         let x = self.front.clone();
         let dim = self.lattice.dim;
-        let row = Some(i);
         let axis = -(x[1].pos - x[0].pos).normalize();
         let holonomy = Holonomy::new(&x);
         let record = match closure(&holonomy, axis, dim) {
             Closure::Free => {
-                let v2 = if let Some(target) = params.target {
-                    // Place x[i+1][1] towards the target: rod A of cell 0 points at it.
-                    let v1 = (target - x[0].pos).normalize();
-                    let p = pivot_from_v1(x[0], x[1], v1).map_err(|_| {
-                        GrowthError::new(
-                            K::InadmissibleDirection,
-                            Param::Target,
-                            row,
-                            Some(0),
-                            "the target is outside the admissible cone of cell 0 (seen from the cell's upper-left corner)",
-                            "move the target towards the growth side of the front",
-                        )
-                    })?;
-                    (p.pos - x[1].pos).normalize()
-                } else if let Some(direction) = params.direction {
-                    resolve_direction(direction, x[0].pos, x[1].pos, dim).map_err(|(m, h)| {
-                        GrowthError::new(K::BadDirection, Param::Direction, row, Some(0), m, h)
-                    })?
-                } else {
-                    return Err(GrowthError::new(
-                        K::LoopClosureFree,
-                        Param::Direction,
-                        row,
-                        None,
-                        "the front is symmetric (its holonomy is the identity), so every direction closes and the row needs one",
-                        "give this row an `angle`, a `direction`, or a `target` point for its vertex x[i+1][1]",
-                    ));
-                };
+                let v2 = free_direction(&x, i, params, dim)?;
                 let residual = self.build_loop(&x, v2, i)?;
                 ClosureRecord {
                     row: i,
@@ -59,92 +31,8 @@ impl Grower {
                 directions,
                 ill_conditioned,
             } => {
-                // Polish each candidate on the real construction, keep the admissible ones.
-                let mut admissible: Vec<(DVec3, f64)> = Vec::new();
-                let mut last_error = None;
-                for v in directions {
-                    let v = polish(&x, v, dim);
-                    match self.build_loop(&x, v, i) {
-                        Ok(residual) => admissible.push((v, residual)),
-                        Err(e) => last_error = Some(e),
-                    }
-                }
-                admissible
-                    .sort_by(|a, b| angle_between(a.0, axis).total_cmp(&angle_between(b.0, axis)));
-                if admissible.is_empty() {
-                    let why = match last_error {
-                        Some(e) => format!(" (the closing directions fail: {})", e.message),
-                        None => " (the holonomy has no real fixed point: an elliptic planar front)"
-                            .to_string(),
-                    };
-                    return Err(GrowthError::new(
-                        K::NoLoopClosure,
-                        Param::Front,
-                        row,
-                        None,
-                        format!("no admissible leg direction closes this loop row{why}"),
-                        "make the front more symmetric (points evenly round a circle, kappa = 0 closes for every direction)",
-                    ));
-                }
-                let pick = if let Some(direction) = params.direction {
-                    let v = resolve_direction(direction, x[0].pos, x[1].pos, dim).map_err(
-                        |(m, h)| {
-                            GrowthError::new(K::BadDirection, Param::Direction, row, Some(0), m, h)
-                        },
-                    )?;
-                    let (k, off) = admissible
-                        .iter()
-                        .map(|a| angle_between(a.0, v))
-                        .enumerate()
-                        .min_by(|a, b| a.1.total_cmp(&b.1))
-                        .expect("some candidate");
-                    if holonomy.map(v).distance(v) > 1e-9 {
-                        return Err(GrowthError::new(
-                            K::NoLoopClosure,
-                            Param::Direction,
-                            row,
-                            Some(0),
-                            format!(
-                                "this direction does not close the loop: it comes back {:.6} deg off, and the nearest closing direction is {:.6} deg away",
-                                angle_between(holonomy.map(v).normalize(), v).to_degrees(),
-                                off.to_degrees()
-                            ),
-                            "leave `direction` out (the closing direction is found), or give `candidate = 1` or `2`",
-                        ));
-                    }
-                    k
-                } else if let Some(c) = params.candidate {
-                    if c == 0 || c > admissible.len() {
-                        return Err(GrowthError::new(
-                            K::NoLoopClosure,
-                            Param::Candidate,
-                            row,
-                            None,
-                            format!(
-                                "candidate = {c}, but this row has {} admissible closing direction(s)",
-                                admissible.len()
-                            ),
-                            format!(
-                                "use candidate = 1{}",
-                                if admissible.len() > 1 { " or 2" } else { "" }
-                            ),
-                        ));
-                    }
-                    c - 1
-                } else if let Some(target) = params.target {
-                    // The candidate whose new vertex x[i+1][1] lands nearest the target.
-                    let mut best = (0, f64::INFINITY);
-                    for (k, (v, _)) in admissible.iter().enumerate() {
-                        self.build_loop(&x, *v, i)?;
-                        let d = self.next[1].expect("grown").pos.distance(target);
-                        if d < best.1 {
-                            best = (k, d);
-                        }
-                    }
-                    best.0
-                } else {
-                    0
-                };
+                let admissible = self.admissible(&x, directions, axis, dim, i)?;
+                let pick = self.pick(&x, &admissible, &holonomy, dim, i, params)?;
                 let count = admissible.len();
                 let v2 = admissible[pick].0;
                 let residual = self.build_loop(&x, v2, i)?;
@@ -161,7 +49,7 @@ impl Grower {
             return Err(GrowthError::new(
                 K::LoopClosureResidual,
                 Param::Direction,
-                row,
+                Some(i),
                 Some(0),
                 format!(
                     "the loop closes only to {:.2e} (more than {CLOSURE_TOL:.0e})",
@@ -172,6 +60,119 @@ impl Grower {
         }
         self.closures.push(record);
         Ok(())
+    }
+
+    /// The closing directions that build, each polished on the real
+    /// construction first, nearest the cone axis of cell 0 first.
+    fn admissible(
+        &mut self,
+        x: &[Point],
+        directions: Vec<DVec3>,
+        axis: DVec3,
+        dim: usize,
+        i: usize,
+    ) -> Result<Vec<(DVec3, f64)>, GrowthError> {
+        use ErrorKind as K;
+        let mut admissible: Vec<(DVec3, f64)> = Vec::new();
+        let mut last_error = None;
+        for v in directions {
+            let v = polish(x, v, dim);
+            match self.build_loop(x, v, i) {
+                Ok(residual) => admissible.push((v, residual)),
+                Err(e) => last_error = Some(e),
+            }
+        }
+        admissible.sort_by(|a, b| angle_between(a.0, axis).total_cmp(&angle_between(b.0, axis)));
+        if admissible.is_empty() {
+            let why = match last_error {
+                Some(e) => format!(" (the closing directions fail: {})", e.message),
+                None => {
+                    " (the holonomy has no real fixed point: an elliptic planar front)".to_string()
+                }
+            };
+            return Err(GrowthError::new(
+                K::NoLoopClosure,
+                Param::Front,
+                Some(i),
+                None,
+                format!("no admissible leg direction closes this loop row{why}"),
+                "make the front more symmetric (points evenly round a circle, kappa = 0 closes for every direction)",
+            ));
+        }
+        Ok(admissible)
+    }
+
+    /// Which admissible direction the row takes: the one nearest its
+    /// `direction` (which must close), its `candidate` (from 1), the one
+    /// whose new vertex x[i+1][1] lands nearest its `target`, or the first.
+    fn pick(
+        &mut self,
+        x: &[Point],
+        admissible: &[(DVec3, f64)],
+        holonomy: &Holonomy,
+        dim: usize,
+        i: usize,
+        params: &RowParams,
+    ) -> Result<usize, GrowthError> {
+        use ErrorKind as K;
+        let row = Some(i);
+        Ok(if let Some(direction) = params.direction {
+            let v = resolve_direction(direction, x[0].pos, x[1].pos, dim).map_err(|(m, h)| {
+                GrowthError::new(K::BadDirection, Param::Direction, row, Some(0), m, h)
+            })?;
+            let (k, off) = admissible
+                .iter()
+                .map(|a| angle_between(a.0, v))
+                .enumerate()
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .expect("some candidate");
+            if holonomy.map(v).distance(v) > 1e-9 {
+                return Err(GrowthError::new(
+                    K::NoLoopClosure,
+                    Param::Direction,
+                    row,
+                    Some(0),
+                    format!(
+                        "this direction does not close the loop: it comes back {:.6} deg off, and the nearest closing direction is {:.6} deg away",
+                        angle_between(holonomy.map(v).normalize(), v).to_degrees(),
+                        off.to_degrees()
+                    ),
+                    "leave `direction` out (the closing direction is found), or give `candidate = 1` or `2`",
+                ));
+            }
+            k
+        } else if let Some(c) = params.candidate {
+            if c == 0 || c > admissible.len() {
+                return Err(GrowthError::new(
+                    K::NoLoopClosure,
+                    Param::Candidate,
+                    row,
+                    None,
+                    format!(
+                        "candidate = {c}, but this row has {} admissible closing direction(s)",
+                        admissible.len()
+                    ),
+                    format!(
+                        "use candidate = 1{}",
+                        if admissible.len() > 1 { " or 2" } else { "" }
+                    ),
+                ));
+            }
+            c - 1
+        } else if let Some(target) = params.target {
+            // The candidate whose new vertex x[i+1][1] lands nearest the target.
+            let mut best = (0, f64::INFINITY);
+            for (k, (v, _)) in admissible.iter().enumerate() {
+                self.build_loop(x, *v, i)?;
+                let d = self.next[1].expect("grown").pos.distance(target);
+                if d < best.1 {
+                    best = (k, d);
+                }
+            }
+            best.0
+        } else {
+            0
+        })
     }
 
     /// Build a loop row from `v2` at cell 0 by right transfers all the way
@@ -196,6 +197,47 @@ impl Grower {
 
 /// Largest closure residual `|v2' - v2|` a loop row may keep.
 pub(crate) const CLOSURE_TOL: f64 = 1e-9;
+
+/// A free loop row's leg direction v2 at cell 0: the front is symmetric,
+/// so every direction closes and the row's `target` or `direction` says
+/// which it takes.
+fn free_direction(
+    x: &[Point],
+    i: usize,
+    params: &RowParams,
+    dim: usize,
+) -> Result<DVec3, GrowthError> {
+    use ErrorKind as K;
+    let row = Some(i);
+    Ok(if let Some(target) = params.target {
+        // Place x[i+1][1] towards the target: rod A of cell 0 points at it.
+        let v1 = (target - x[0].pos).normalize();
+        let p = pivot_from_v1(x[0], x[1], v1).map_err(|_| {
+            GrowthError::new(
+                K::InadmissibleDirection,
+                Param::Target,
+                row,
+                Some(0),
+                "the target is outside the admissible cone of cell 0 (seen from the cell's upper-left corner)",
+                "move the target towards the growth side of the front",
+            )
+        })?;
+        (p.pos - x[1].pos).normalize()
+    } else if let Some(direction) = params.direction {
+        resolve_direction(direction, x[0].pos, x[1].pos, dim).map_err(|(m, h)| {
+            GrowthError::new(K::BadDirection, Param::Direction, row, Some(0), m, h)
+        })?
+    } else {
+        return Err(GrowthError::new(
+            K::LoopClosureFree,
+            Param::Direction,
+            row,
+            None,
+            "the front is symmetric (its holonomy is the identity), so every direction closes and the row needs one",
+            "give this row an `angle`, a `direction`, or a `target` point for its vertex x[i+1][1]",
+        ));
+    })
+}
 
 /// The loop map computed by the real transfers (no admissibility checks),
 /// for polishing: where `v2` at cell 0 comes back after one round.
