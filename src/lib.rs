@@ -61,11 +61,11 @@ pub use jobs::Jobs;
 // Design: the parsed recipe, its fabrication settings, and the solvers
 // that search for a recipe's values.
 pub use design::fit::{Coverage, Fit};
-pub use measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
 pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};
 pub use fabrication::{LaserSetting, Machine, MachineSettings, STOCK_PRESETS, StockPreset};
+pub use measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
 pub use solve::tune::{Tuned, tune_helix};
 pub use solve::{Optimised, optimise};
 
@@ -106,8 +106,8 @@ pub mod simulation {
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
         Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,
-        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_at, section,
-        placed_lattice, prepare, simulate,
+        Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_at,
+        placed_lattice, prepare, section, simulate,
     };
 }
 

@@ -4,13 +4,13 @@
 
 use crate::assembly::{Step, steps};
 use crate::design::Design;
-use crate::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
 use crate::jobs::Jobs;
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
+use crate::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;

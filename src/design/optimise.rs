@@ -41,7 +41,7 @@ pub struct ClashRule {
 impl Default for ClashRule {
     fn default() -> Self {
         Self {
-            clearance: crate::parts::clash::DEFAULT_CLEARANCE,
+            clearance: crate::fabrication::DEFAULT_CLEARANCE,
             allow: false,
             stacking: crate::lattice::Stacking::Rows,
             span: None,
@@ -142,7 +142,7 @@ pub(crate) fn parse_clash(raw: Option<&Spanned<RawClash>>) -> Result<ClashRule, 
             }
             v
         }
-        None => crate::parts::clash::DEFAULT_CLEARANCE,
+        None => crate::fabrication::DEFAULT_CLEARANCE,
     };
     let stacking = match r
         .stacking

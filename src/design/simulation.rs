@@ -3,9 +3,9 @@
 //! simulation (docs/physics.md). Every field is optional; defaults are the
 //! `[material] preset`'s, ABS without one.
 
+use super::settings::{Actuation, Settings, VertexJoint};
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::StockPreset;
-use super::settings::{Actuation, Settings, VertexJoint};
 use serde::Deserialize;
 use toml::Spanned;
 

@@ -11,6 +11,9 @@ pub(crate) use stock::{default_stock, stock_preset};
 /// form: nothing karigami prints or engraves is smaller (a maker must read it).
 pub(crate) const MIN_LABEL_HEIGHT: f64 = 2.5;
 
+/// Clearance (mm) added to the strip width unless the recipe sets one.
+pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
+
 /// Flat strip stock.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {

@@ -17,12 +17,12 @@ mod step_page;
 mod step_pictures;
 mod step_text;
 
-use crate::measure::BUMP_DEG;
 use crate::drawing::flow::{MARGIN, PageFlow, SMALL};
 use crate::drawing::{Font, text};
 use crate::drawing::{Page, Shape, Symbol};
 use crate::lattice::shape::relief;
 use crate::lattice::{Lattice, VertexKey};
+use crate::measure::BUMP_DEG;
 use crate::pipeline::Build;
 use checklist::checklist;
 use cover::cover;

@@ -7,9 +7,6 @@
 use crate::lattice::{Lattice, RodType};
 use glam::DVec3;
 
-/// Clearance (mm) added to the strip width unless the recipe sets one.
-pub(crate) const DEFAULT_CLEARANCE: f64 = 1.0;
-
 /// Two strips of one stacking layer, sharing no joint, whose centre lines
 /// come closer than the strip width plus the clearance: they overlap.
 #[derive(Clone, Debug, PartialEq)]

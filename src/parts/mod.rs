@@ -15,9 +15,9 @@ mod holes;
 pub use crate::fabrication::test_piece;
 pub(crate) mod types;
 
-pub use engraving::DOT;
 pub(crate) use crate::fabrication::test_piece::TestPiece;
 pub use crate::fabrication::test_piece::test_piece;
+pub use engraving::DOT;
 pub(crate) use types::PartType;
 
 use crate::fabrication::Fabrication;

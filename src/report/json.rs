@@ -4,9 +4,9 @@
 //! reports are handed on as `serde_json::Value`, whose maps keep their keys
 //! in order.
 
-use crate::measure::ShapeJson;
 use crate::lattice::Invariant;
 use crate::layout::SheetOption;
+use crate::measure::ShapeJson;
 use crate::pipeline::{Build, Verified};
 use serde::Serialize;
 

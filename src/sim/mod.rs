@@ -12,6 +12,7 @@ mod opening;
 pub(crate) mod results;
 pub(crate) mod strips;
 
+pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
 pub(crate) use karigami_rods::{model, solver};
 pub(crate) use model::Energies;
 pub use model::Section;
@@ -19,7 +20,6 @@ pub(crate) use results::StrainPeak;
 pub use results::kabsch_distance;
 pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
-pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
 pub use strips::{Hold, LatticeModel, Mesh};
 
 use crate::lattice::Lattice;

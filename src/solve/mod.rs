@@ -28,12 +28,12 @@ use evolve::evolve;
 use rewrite::rewrite;
 use slots::slots;
 
-use crate::measure::{Measures, measure};
 use crate::design::optimise::{Method, Optimise, Pattern, Vary};
 use crate::design::{Design, MIN_WALL};
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::lattice::{FrontMoves, Kind, Lattice};
 use crate::legs::Direction;
+use crate::measure::{Measures, measure};
 use crate::rng::Rng;
 use glam::DVec3;
 use std::cell::{Cell, RefCell};
