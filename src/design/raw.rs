@@ -23,7 +23,7 @@ pub(crate) struct RawDesign {
     pub(crate) guide: Option<Spanned<RawGuide>>,
     pub(crate) clash: Option<Spanned<RawClash>>,
     pub(crate) optimise: Option<Spanned<RawOptimise>>,
-    pub(crate) simulation: Option<Spanned<super::simulation::RawSimulation>>,
+    pub(crate) simulation: Option<Spanned<RawSimulation>>,
 }
 
 /// `[guide]`: the printed assembly guide.
@@ -556,4 +556,28 @@ pub(crate) struct RawRequire {
     /// Shortest leg (mm): at least the eyelet flange plus the walls.
     pub(crate) min_leg: Option<Num>,
     pub(crate) min_dimples: Option<Num>,
+}
+
+/// `[simulation]`: the elastic simulation's material, opening, joints and
+/// mesh (validated in `simulation.rs`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSimulation {
+    /// Young's modulus (MPa).
+    pub(crate) youngs_modulus: Option<Spanned<f64>>,
+    pub(crate) poisson_ratio: Option<Spanned<f64>>,
+    /// Allowable corner-fibre strain, in percent.
+    pub(crate) allowable_strain: Option<Spanned<f64>>,
+    /// Build even when a strip is strained beyond the allowable.
+    pub(crate) accept_overstrain: Option<Spanned<bool>>,
+    /// Opening of the reference cell (degrees).
+    pub(crate) theta: Option<Spanned<f64>>,
+    /// "eyelet" or "ball".
+    pub(crate) vertex_joint: Option<Spanned<String>>,
+    /// "mean" (mean opening of all cells) or "first-cell".
+    pub(crate) actuation: Option<Spanned<String>>,
+    /// Longest rod edge (mm).
+    pub(crate) edge_length: Option<Spanned<f64>>,
+    /// Identical copies of a loop lattice's cells around the loop.
+    pub(crate) symmetry: Option<Spanned<i64>>,
 }

@@ -3,33 +3,11 @@
 //! simulation (docs/physics.md). Every field is optional; defaults are the
 //! `[material] preset`'s, ABS without one.
 
+use super::raw::RawSimulation;
 use super::settings::{Actuation, Settings, VertexJoint};
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::StockPreset;
-use serde::Deserialize;
 use toml::Spanned;
-
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawSimulation {
-    /// Young's modulus (MPa).
-    pub(crate) youngs_modulus: Option<Spanned<f64>>,
-    pub(crate) poisson_ratio: Option<Spanned<f64>>,
-    /// Allowable corner-fibre strain, in percent.
-    pub(crate) allowable_strain: Option<Spanned<f64>>,
-    /// Build even when a strip is strained beyond the allowable.
-    pub(crate) accept_overstrain: Option<Spanned<bool>>,
-    /// Opening of the reference cell (degrees).
-    pub(crate) theta: Option<Spanned<f64>>,
-    /// "eyelet" or "ball".
-    pub(crate) vertex_joint: Option<Spanned<String>>,
-    /// "mean" (mean opening of all cells) or "first-cell".
-    pub(crate) actuation: Option<Spanned<String>>,
-    /// Longest rod edge (mm).
-    pub(crate) edge_length: Option<Spanned<f64>>,
-    /// Identical copies of a loop lattice's cells around the loop.
-    pub(crate) symmetry: Option<Spanned<i64>>,
-}
 
 /// The softest strip stock karigami simulates (MPa): soft rubbers are
 /// about 1 MPa, plastics and wood 1,000 MPa and more. Below it a strip's
