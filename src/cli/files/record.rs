@@ -11,7 +11,7 @@
 
 use super::super::fault;
 use super::bounded::{Links, open_plain};
-use super::staged::{make_folders, stays_inside};
+use super::staged::{RECORDS_HEAD, make_folders, stays_inside};
 use super::{OutDir, Staged};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -21,10 +21,6 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use xxhash_rust::xxh3::{Xxh3, xxh3_64};
-
-/// The line that starts the records in the marker, after the file list
-/// and an empty line (which no file name can be).
-pub(super) const RECORDS_HEAD: &str = "builds (what each build's files are made from, and each file's length and xxh3-64 hash; a rebuild keeps the files that check out):";
 
 /// One build's record: a line of JSON in the marker.
 #[derive(Serialize, Deserialize)]
@@ -220,6 +216,21 @@ pub(super) fn line(
 }
 
 impl Staged<'_> {
+    /// Write the files of one build (`write`) and record what they are made
+    /// from (`inputs`, see `record::inputs`) and what the build reported,
+    /// so that a rebuild can keep them (`keep`).
+    pub(crate) fn write_build(
+        &self,
+        sub: &str,
+        files: &[(String, Vec<u8>)],
+        inputs: Option<u64>,
+        report: &impl serde::Serialize,
+    ) -> io::Result<()> {
+        self.write(sub, files)?;
+        self.add_record(line(sub, inputs, files, report));
+        Ok(())
+    }
+
     /// Keep the earlier build of `folder` if it was made from the same
     /// `inputs` and each of its files still checks out: each is linked into
     /// the new folder and checked there (what is checked is what is

@@ -2,7 +2,6 @@
 //! replaces it whole on commit, with the marker written last.
 
 use super::super::fault;
-use super::record::{RECORDS_HEAD, line};
 use super::{
     Cleared, FORMAT, MARKER, MARKER_HEAD, OutDir, STAGING, clear, hidden, own_entries, remove_any,
 };
@@ -18,6 +17,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{SyncSender, sync_channel};
 use std::thread::JoinHandle;
+
+/// The line that starts the records in the marker, after the file list
+/// and an empty line (which no file name can be).
+pub(super) const RECORDS_HEAD: &str = "builds (what each build's files are made from, and each file's length and xxh3-64 hash; a rebuild keeps the files that check out):";
 
 /// Whether `rel` is a relative path of plain components that stays inside
 /// the folder it is joined to.
@@ -261,21 +264,6 @@ impl<'a> Staged<'a> {
                 .unwrap_or_else(|e| e.into_inner())
                 .push(rel);
         }
-        Ok(())
-    }
-
-    /// Write the files of one build (`write`) and record what they are made
-    /// from (`inputs`, see `record::inputs`) and what the build reported,
-    /// so that a rebuild can keep them (`keep`).
-    pub(crate) fn write_build(
-        &self,
-        sub: &str,
-        files: &[(String, Vec<u8>)],
-        inputs: Option<u64>,
-        report: &impl serde::Serialize,
-    ) -> io::Result<()> {
-        self.write(sub, files)?;
-        self.add_record(line(sub, inputs, files, report));
         Ok(())
     }
 
