@@ -445,3 +445,38 @@ fn build_puts_the_fit_into_report_txt() {
     assert_eq!(batch.status.code(), Some(2));
     assert!(!dir.join("batch").exists());
 }
+
+/// Random bytes, and the suite's meshes with bytes changed, are read or
+/// refused, never a panic.
+#[test]
+fn damaged_targets_are_refused_without_a_panic() {
+    let mut rng = Rng::new(6);
+    let meshes: Vec<(&str, Vec<u8>)> = [
+        "sphere-cap-export.obj",
+        "saddle-export.stl",
+        "paraboloid-export.stl",
+        "height-field.toml",
+    ]
+    .iter()
+    .map(|n| {
+        (
+            *n,
+            std::fs::read(repo().join("fixtures/targets").join(n)).unwrap(),
+        )
+    })
+    .collect();
+    for case in 0..300 {
+        let (name, mut bytes) = meshes[case % meshes.len()].clone();
+        if case % 3 == 0 {
+            bytes = (0..rng.below(400)).map(|_| rng.below(256) as u8).collect();
+        } else {
+            for _ in 0..1 + rng.below(8) {
+                let at = rng.below(bytes.len());
+                // Digits, signs, separators and line breaks do the most harm.
+                bytes[at] = *rng.pick(b"0123456789-.e \n/nai\x00\xff");
+            }
+        }
+        let result = std::panic::catch_unwind(|| targets::read(name, &bytes, None).map(|_| ()));
+        assert!(result.is_ok(), "case {case} ({name}) panicked");
+    }
+}
