@@ -230,6 +230,36 @@ error_kinds! {
     /// `fit.steps` holds a length that is not positive.
     FitStepsNotPositive => EXIT_INVALID,
 
+    // Targets (docs/design.md, "Validation").
+    /// A target file is not one karigami reads: another extension, not
+    /// text where text is needed, or not OBJ or STL inside.
+    TargetFormat => EXIT_INVALID,
+    /// A target has no triangles.
+    TargetEmpty => EXIT_INVALID,
+    /// A target has more triangles or bytes than karigami reads.
+    TargetTooLarge => EXIT_INVALID,
+    /// A corner of a target's triangle is NaN or infinite.
+    TargetNotFinite => EXIT_INVALID,
+    /// A target's triangle has zero area.
+    TargetDegenerate => EXIT_INVALID,
+    /// An edge of a target joins more than two triangles, or two surfaces
+    /// touch at one corner.
+    TargetNonManifold => EXIT_INVALID,
+    /// A target is more than one piece.
+    TargetPieces => EXIT_INVALID,
+    /// A target's size suggests it is not in millimetres.
+    TargetUnits => EXIT_INVALID,
+    /// A target has another topology than the one asked for.
+    TargetTopology => EXIT_INVALID,
+    /// `[target] family` names an unknown family.
+    UnknownTargetFamily => EXIT_INVALID,
+    /// A `[target]` family lacks a parameter it needs.
+    TargetNeeds => EXIT_INVALID,
+    /// A `[target]` table gives a parameter its family does not use.
+    TargetUnused => EXIT_INVALID,
+    /// A `[target]` parameter lies outside its range.
+    TargetParameter => EXIT_INVALID,
+
     // Fabrication settings, from the recipe.
     /// A fabrication length (mm) lies outside its allowed range.
     LengthOutOfRange => EXIT_INVALID,

@@ -38,6 +38,7 @@ mod report;
 mod rng;
 mod sim;
 mod solve;
+mod target;
 mod templates;
 mod words;
 mod write;
@@ -108,6 +109,16 @@ pub mod simulation {
         Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings, SimError,
         Simulation, Stats, VertexJoint, deploy, equilibrium, explore, kabsch_distance, placed_at,
         placed_lattice, prepare, section, simulate,
+    };
+}
+
+/// Target shapes (docs/design.md): meshes and analytic families read and
+/// validated, closest points, the best rigid fit of a point set, and the
+/// share of a target its cells cover.
+pub mod targets {
+    pub use crate::target::{
+        COVERED_WITHIN, Expect, Fit, MAX_TARGET_BYTES, MAX_TRIANGLES, Mesh, Rigid, Target,
+        Topology, kabsch, read, refuse_early,
     };
 }
 

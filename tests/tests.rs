@@ -18,6 +18,7 @@ mod report_once;
 mod safety;
 mod shape;
 mod sim;
+mod targets;
 mod thirdparty;
 mod util;
 mod viewer;

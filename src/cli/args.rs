@@ -68,6 +68,9 @@ pub(super) enum Command {
         /// Print a JSON report on stdout instead of text.
         #[arg(long)]
         json: bool,
+        /// A target shape (.obj, .stl, or .toml with a [target] table): report how well the design and its simulated shape fit it (docs/design.md).
+        #[arg(long, value_name = "FILE")]
+        target: Option<PathBuf>,
         #[command(flatten)]
         fabrication: FabricationFlags,
     },
@@ -90,6 +93,9 @@ pub(super) enum Command {
         /// Print a JSON report on stdout instead of text.
         #[arg(long)]
         json: bool,
+        /// A target shape (.obj, .stl, or .toml with a [target] table): report.txt says how well the design and its simulated shape fit it (one recipe only; docs/design.md).
+        #[arg(long, value_name = "FILE")]
+        target: Option<PathBuf>,
         #[command(flatten)]
         fabrication: FabricationFlags,
     },

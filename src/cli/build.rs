@@ -2,6 +2,7 @@
 //! draw and write the files into --out, replacing it as a whole.
 
 use super::args::Verbosity;
+use super::check::TargetFile;
 use super::error::{Error, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
@@ -28,15 +29,26 @@ struct Built<'a> {
     simulation: Option<&'static str>,
 }
 
+/// How one recipe is built: threads, the report's form, the target whose
+/// fit report.txt gives.
+#[derive(Clone, Copy)]
+pub(super) struct Run<'a> {
+    pub jobs: usize,
+    pub json: bool,
+    pub target: Option<&'a Path>,
+}
+
 pub(super) fn build(
     paths: &[PathBuf],
     out: &Path,
     force: bool,
-    jobs: usize,
-    json: bool,
+    run: Run,
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Error> {
+    let Run { jobs, json, .. } = run;
+    // A bad target is refused before anything is grown or written.
+    let target = run.target.map(TargetFile::read).transpose()?;
     let dir = open_out(out, paths, force, v)?;
     let recipe = match paths.first() {
         Some(p) => Recipe::read(p)?,
@@ -51,7 +63,13 @@ pub(super) fn build(
         ))
     };
     let staged = files::Staged::new(&dir, "single").map_err(fail)?;
-    let key = inputs(&recipe, overrides, "");
+    let hash = target.as_ref().map(|t| t.hash.to_le_bytes());
+    let key = inputs_with(
+        &recipe,
+        overrides,
+        "",
+        hash.as_ref().map_or(&[][..], |h| &h[..]),
+    );
     // The earlier build's files where nothing they are made from changed.
     let (report, kept) = match staged.keep::<Report>(&dir, "", key).map_err(fail)? {
         Some(report) => (report, true),
@@ -73,10 +91,18 @@ pub(super) fn build(
             });
             bar.clear();
             let built = built?;
-            let outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
+            let mut outputs = progress::heartbeat("drawing the files", v.quiet || json, || {
                 karigami::files_on(&built, karigami::Jobs::new(jobs))
             });
-            let report = Report::of(&built);
+            let mut report = Report::of(&built);
+            if let Some(t) = &target {
+                let fit = t.fit_build(&built).text;
+                if let Some((_, bytes)) = outputs.iter_mut().find(|(name, _)| name == "report.txt")
+                {
+                    bytes.extend(format!("\n{fit}").bytes());
+                }
+                report.target_fit = Some(fit);
+            }
             staged
                 .write_build("", &outputs, key, &report)
                 .map_err(fail)?;
@@ -102,6 +128,9 @@ pub(super) fn build(
             out!("{}", report.check_text);
         }
         out!("{}", report.summary);
+        if let Some(fit) = &report.target_fit {
+            out!("{fit}");
+        }
         if let Some(how) = how {
             outln!("simulation: {}", simulation_line(how, out));
         }
@@ -118,15 +147,27 @@ pub(super) fn build(
 /// command line's options, the subfolder. The number of jobs is left out:
 /// the files are the same with any.
 pub(super) fn inputs(recipe: &Recipe, overrides: &Overrides, folder: &str) -> Option<u64> {
+    inputs_with(recipe, overrides, folder, &[])
+}
+
+/// `inputs` with the fingerprint of a `--target` file (none: empty).
+fn inputs_with(recipe: &Recipe, overrides: &Overrides, folder: &str, target: &[u8]) -> Option<u64> {
     let options = format!("{overrides:?}");
-    files::inputs(&[
+    let mut parts: Vec<&[u8]> = vec![
         b"karigami build 1",
         recipe.file.as_bytes(),
         recipe.stem.as_bytes(),
         recipe.source.as_bytes(),
         options.as_bytes(),
         folder.as_bytes(),
-    ])
+    ];
+    // Left out when there is none, so builds without a target keep the
+    // fingerprint they had.
+    if !target.is_empty() {
+        parts.push(b"target");
+        parts.push(target);
+    }
+    files::inputs(&parts)
 }
 
 /// The line saying what was kept from the earlier build (`what`: "every
@@ -152,6 +193,9 @@ pub(super) struct Report {
     pub summary: String,
     /// `karigami::check_text`, for `--verbose`.
     pub check_text: String,
+    /// The fit to `--target`, as report.txt gives it.
+    #[serde(default)]
+    pub target_fit: Option<String>,
     /// Whether this run restored the simulation (not recorded: a rebuild
     /// says "reused" where a fresh build says "solved").
     #[serde(skip)]
@@ -170,6 +214,7 @@ impl Report {
             build: karigami::build_json(b),
             summary: karigami::summary(b),
             check_text: karigami::check_text(&b.verified()),
+            target_fit: None,
             reused: how == Some("reused"),
         }
     }

@@ -5,8 +5,11 @@ use super::error::{Error, ErrorJson, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
 use super::recipe::Recipe;
-use karigami::{ErrorKind, Overrides};
+use glam::DVec3;
+use karigami::targets::{Fit, Target};
+use karigami::{ErrorKind, Lattice, Overrides};
 use serde::Serialize;
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 /// One recipe in `check --json`'s report.
@@ -21,6 +24,9 @@ struct CheckJson {
     check: Option<serde_json::Value>,
     #[serde(skip_serializing_if = "Option::is_none")]
     build: Option<serde_json::Value>,
+    /// The fit to `--target`, where one was given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target: Option<FitJson>,
 }
 
 impl CheckJson {
@@ -31,6 +37,7 @@ impl CheckJson {
             error: None,
             check: None,
             build: None,
+            target: None,
         }
     }
 }
@@ -38,9 +45,12 @@ impl CheckJson {
 pub(super) fn check(
     paths: &[PathBuf],
     json: bool,
+    target: Option<&Path>,
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Error> {
+    // A bad target is refused before any recipe is grown.
+    let target = target.map(TargetFile::read).transpose()?;
     let paths = files::recipes(paths)?;
     let mut reports = Vec::new();
     let mut worst: Option<ErrorKind> = None;
@@ -48,7 +58,7 @@ pub(super) fn check(
     for path in &paths {
         let what = format!("checking {}", path.display());
         let (failed, report) = progress::heartbeat(&what, v.quiet || json, || {
-            check_one(path, json, overrides, v, &mut bar)
+            check_one(path, json, target.as_ref(), overrides, v, &mut bar)
         });
         if let Some(kind) = failed {
             if worst.is_none_or(|w| kind.exit_code() > w.exit_code()) {
@@ -72,6 +82,7 @@ pub(super) fn check(
 fn check_one(
     path: &Path,
     json: bool,
+    target: Option<&TargetFile>,
     overrides: &Overrides,
     v: Verbosity,
     bar: &mut Progress,
@@ -125,19 +136,29 @@ fn check_one(
         }
         // Freeing a large lattice's memory takes a tenth of a second on 4 M
         // cells: done beside the next recipe, or left to the exit.
+        let fit = target.map(|t| t.fit(checked.assembled(), None));
+        if let (Some(fit), false) = (&fit, json || v.quiet) {
+            out!("{}", fit.text);
+        }
         std::thread::spawn(move || drop(checked));
         let mut checked = CheckJson::new(&file, "pass");
         checked.check = check;
+        checked.target = fit.map(|f| f.json);
         return (None, checked);
     }
     match checked.assemble() {
         Ok(built) => {
+            let fit = target.map(|t| t.fit_build(&built));
             if !json && !v.quiet {
                 out!("{}", karigami::summary(&built));
+                if let Some(fit) = &fit {
+                    out!("{}", fit.text);
+                }
                 outln!("result: PASS (geometry verified, every strip can be cut)");
             }
             let mut checked = CheckJson::new(&file, "pass");
             checked.check = check;
+            checked.target = fit.map(|f| f.json);
             checked.build = json.then(|| karigami::build_json(&built));
             (None, checked)
         }
@@ -145,6 +166,142 @@ fn check_one(
             let (failed, mut checked) = fail(recipe.error(&d), bar);
             checked.check = check;
             (failed, checked)
+        }
+    }
+}
+
+/// A `--target` file read and validated (docs/design.md), with a
+/// fingerprint of its bytes for the build's record.
+pub(super) struct TargetFile {
+    pub file: String,
+    pub target: Target,
+    pub hash: u64,
+}
+
+/// The fit of a design and its simulated shape to a target, as text for
+/// the terminal and report.txt and as `check --json`'s `target`.
+pub(super) struct TargetFit {
+    pub text: String,
+    pub json: FitJson,
+}
+
+/// `check --json`'s fit to the target: lengths in mm.
+#[derive(Serialize)]
+pub(super) struct FitJson {
+    file: String,
+    what: String,
+    topology: String,
+    triangles: usize,
+    extent: f64,
+    design: FitFigures,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    simulated: Option<FitFigures>,
+}
+
+#[derive(Serialize)]
+struct FitFigures {
+    points: usize,
+    rms: f64,
+    largest: f64,
+    coverage: Option<f64>,
+}
+
+impl From<&Fit> for FitFigures {
+    fn from(f: &Fit) -> Self {
+        Self {
+            points: f.points,
+            rms: f.rms,
+            largest: f.largest,
+            coverage: f.coverage,
+        }
+    }
+}
+
+impl TargetFile {
+    /// Read a target: refused from its length and first bytes before the
+    /// rest is read, so a huge file costs neither time nor memory.
+    pub(super) fn read(path: &Path) -> Result<Self, Error> {
+        let file = path.display().to_string();
+        let unreadable = |e: std::io::Error| Error::unreadable(&file, &e);
+        let mut f = std::fs::File::open(path).map_err(unreadable)?;
+        let len = f.metadata().map_err(unreadable)?.len();
+        if path.is_dir() {
+            return Err(unreadable(std::io::Error::other(
+                "it is a folder, not a target file",
+            )));
+        }
+        let mut bytes = Vec::new();
+        (&mut f)
+            .take(84)
+            .read_to_end(&mut bytes)
+            .map_err(unreadable)?;
+        karigami::targets::refuse_early(&file, len, &bytes)
+            .map_err(|d| Error::at(&file, "", &d))?;
+        // No more than the length checked, should the file grow meanwhile.
+        f.take(len.saturating_sub(bytes.len() as u64))
+            .read_to_end(&mut bytes)
+            .map_err(unreadable)?;
+        let target = karigami::targets::read(&file, &bytes, None)
+            .map_err(|d| Error::at(&file, std::str::from_utf8(&bytes).unwrap_or(""), &d))?;
+        Ok(Self {
+            file,
+            target,
+            hash: karigami::util::fnv1a(&bytes),
+        })
+    }
+
+    /// The fit of a build's lattice as assembled and, where it was
+    /// simulated, of its simulated joints.
+    pub(super) fn fit_build(&self, built: &karigami::Build) -> TargetFit {
+        let scene = karigami::viewer_scene(built);
+        let joints = scene
+            .simulated
+            .as_ref()
+            .map(|points| &points[..built.lattice.vertices.len().min(points.len())]);
+        self.fit(&built.assembled, joints)
+    }
+
+    /// The fit of a lattice's vertices and, when given, of the simulated
+    /// positions of the same vertices; the cells are the facets.
+    pub(super) fn fit(&self, lattice: &Lattice, simulated: Option<&[DVec3]>) -> TargetFit {
+        let facets: Vec<[u32; 4]> = lattice
+            .cells
+            .iter()
+            .map(|c| [c.ul, c.ur, c.lr, c.ll])
+            .collect();
+        let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
+        let t = &self.target;
+        let design = t.fit(&points, &facets);
+        let simulated = simulated.map(|s| t.fit(s, &facets));
+        let mut text = format!(
+            "target {}: {}, {}, {} triangles, largest extent D {:.1} mm\n",
+            self.file,
+            t.what,
+            t.topology.describe(),
+            t.mesh.triangles.len(),
+            t.extent
+        );
+        text.push_str(&format!(
+            "  fit of the design, {}\n",
+            design.summary("vertices")
+        ));
+        if let Some(s) = &simulated {
+            text.push_str(&format!(
+                "  fit of the simulated shape, {}\n",
+                s.summary("joints")
+            ));
+        }
+        TargetFit {
+            text,
+            json: FitJson {
+                file: self.file.clone(),
+                what: t.what.clone(),
+                topology: t.topology.describe(),
+                triangles: t.mesh.triangles.len(),
+                extent: t.extent,
+                design: (&design).into(),
+                simulated: simulated.as_ref().map(Into::into),
+            },
         }
     }
 }

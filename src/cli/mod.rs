@@ -115,8 +115,15 @@ fn run_command() -> i32 {
         Command::Check {
             designs,
             json,
+            target,
             fabrication,
-        } => check::check(&designs, json, &fabrication.overrides(), v),
+        } => check::check(
+            &designs,
+            json,
+            target.as_deref(),
+            &fabrication.overrides(),
+            v,
+        ),
         Command::Simulate {
             design,
             theta,
@@ -129,17 +136,28 @@ fn run_command() -> i32 {
             force,
             jobs,
             json,
+            target,
             fabrication,
         } => {
             let jobs = jobs_or_cores(jobs);
             let overrides = fabrication.overrides();
             // Several recipes, or a folder, build as a batch.
-            if designs.len() > 1 || designs.iter().any(|p| p.is_dir()) {
+            let batch = designs.len() > 1 || designs.iter().any(|p| p.is_dir());
+            if batch && target.is_some() {
+                Err(Error::usage(
+                    "--target is for one recipe: build each recipe with its own target",
+                ))
+            } else if batch {
                 files::recipes(&designs).and_then(|recipes| {
                     batch::build(&recipes, &out, force, jobs, json, &overrides, v)
                 })
             } else {
-                build::build(&designs, &out, force, jobs, json, &overrides, v)
+                let run = build::Run {
+                    jobs,
+                    json,
+                    target: target.as_deref(),
+                };
+                build::build(&designs, &out, force, run, &overrides, v)
             }
         }
         Command::Tune {
