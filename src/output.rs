@@ -51,8 +51,14 @@ fn sheet_pictures(b: &Build) -> Vec<Vec<u8>> {
 fn sheet_files(b: &Build, pictures: Vec<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     let mut files = vec![("lattice.json".to_string(), lattice_json::write(&b.lattice))];
     for ((i, page), picture) in b.pages.iter().enumerate().zip(pictures) {
-        files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg::write(page)));
-        files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf::write(page)));
+        // --flat: no <use>, no blocks (docs/fabrication.md, File size).
+        let (svg, dxf) = if b.design.fabrication.flat {
+            (svg::write_flat(page), dxf::write_flat(page))
+        } else {
+            (svg::write(page), dxf::write(page))
+        };
+        files.push((format!("sheets/sheet-{:02}.svg", i + 1), svg));
+        files.push((format!("sheets/sheet-{:02}.dxf", i + 1), dxf));
         files.push((
             format!("sheets/sheet-{:02}.lbrn2", i + 1),
             crate::write::lbrn2::write(page),

@@ -451,3 +451,52 @@ fn guide_pages_have_no_overlapping_labels_no_split_steps_and_no_near_empty_pages
         }
     }
 }
+
+/// `--flat`: the SVG has no `<use>` and the DXF no blocks, and both still
+/// hold every hole where the referencing files put it, as ezdxf and
+/// svgelements read them.
+#[test]
+fn flat_files_draw_every_strip_without_references() {
+    use crate::thirdparty::{alike_strips, holes_match, python_check};
+    let b = alike_strips();
+    let dir = scratch("flat-files");
+    for (i, page) in b.pages.iter().enumerate() {
+        let svg = karigami::formats::svg::write_flat(page);
+        let text = String::from_utf8_lossy(&svg);
+        assert!(
+            !text.contains("<use") && !text.contains("<defs"),
+            "sheet {i}"
+        );
+        let dxf = karigami::formats::dxf::write_flat(page);
+        let dxf_text = String::from_utf8_lossy(&dxf);
+        assert!(!dxf_text.contains("\nINSERT\n"), "sheet {i}: no INSERT");
+        // The referencing files do use references here, so this is a change.
+        let shared = karigami::formats::svg::write(page);
+        assert!(String::from_utf8_lossy(&shared).contains("<use"));
+        let path = dir.join(format!("sheet-{i}.svg"));
+        std::fs::write(&path, &svg).unwrap();
+        let Some(m) = python_check("check_svg.py", &path) else {
+            return;
+        };
+        holes_match(page, &m["holes"], false, &format!("flat SVG sheet {i}"));
+        let path = dir.join(format!("sheet-{i}.dxf"));
+        std::fs::write(&path, &dxf).unwrap();
+        let Some(m) = python_check("check_dxf.py", &path) else {
+            return;
+        };
+        assert_eq!(m["errors"], 0, "{m}");
+        assert_eq!(m["inserts"], 0, "{m}");
+        holes_match(page, &m["holes"], true, &format!("flat DXF sheet {i}"));
+    }
+    // The recipe and the command line both ask for it.
+    let text = std::fs::read_to_string(repo().join("examples/eggbox.toml")).unwrap()
+        + "\n[laser]\nflat = true\n";
+    let b = karigami::build(karigami::parse(&text, "eggbox").unwrap()).unwrap();
+    let files = karigami::files(&b);
+    let svg = &files
+        .iter()
+        .find(|f| f.0 == "sheets/sheet-01.svg")
+        .unwrap()
+        .1;
+    assert!(!String::from_utf8_lossy(svg).contains("<use"));
+}

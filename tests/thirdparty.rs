@@ -26,7 +26,7 @@ pub(crate) fn run(tool: &str, args: &[&str]) -> Option<std::process::Output> {
     }
 }
 
-fn python_check(script: &str, file: &Path) -> Option<Value> {
+pub(crate) fn python_check(script: &str, file: &Path) -> Option<Value> {
     let script = repo().join("tests/tools").join(script);
     let out = run(
         "python3",
@@ -259,7 +259,7 @@ fn dxf_passes_ezdxf_audit_in_millimetres() {
 
 /// Every hole a tool read back (`[x, y, r]` mm, any order) against the
 /// page's circles (y flipped for DXF), to 0.001 mm.
-fn holes_match(page: &karigami::Page, read: &Value, flip: bool, what: &str) {
+pub(crate) fn holes_match(page: &karigami::Page, read: &Value, flip: bool, what: &str) {
     use karigami::Shape;
     // Both lists on the files' 0.1 um grid, so that they sort alike.
     let grid = |v: f64| (v * 1e4).round() / 1e4;
@@ -298,7 +298,7 @@ fn holes_match(page: &karigami::Page, read: &Value, flip: bool, what: &str) {
 
 /// The 30 x 30 golden sheet built in-process: strips engraved with their
 /// type, not their ID, so 1800 of them are drawn alike.
-fn alike_strips() -> karigami::Build {
+pub(crate) fn alike_strips() -> karigami::Build {
     let recipe = repo().join("tests/golden/sheet-30x30.toml");
     let text = std::fs::read_to_string(&recipe).unwrap();
     let design = karigami::parse(&text, "sheet-30x30").unwrap();

@@ -186,6 +186,10 @@ pub(super) struct FabricationFlags {
     /// cut sheet holds its strips like a parts tray (0: none).
     #[arg(long, value_name = "MM")]
     tabs: Option<f64>,
+    /// Write the SVG without <use> and the DXF without blocks: every strip
+    /// drawn in full, for importers that skip references.
+    #[arg(long)]
+    flat: bool,
 }
 
 impl FabricationFlags {
@@ -202,6 +206,7 @@ impl FabricationFlags {
             colours: self.colours.clone(),
             group_by_step: self.group_by_step.then_some(true),
             tabs: self.tabs,
+            flat: self.flat.then_some(true),
         }
     }
 }

@@ -39,6 +39,8 @@ pub struct Overrides {
     pub group_by_step: Option<bool>,
     /// `--tabs`: holding tab width in mm (0 for none).
     pub tabs: Option<f64>,
+    /// `--flat`: Some(true) writes the SVG and DXF without references.
+    pub flat: Option<bool>,
 }
 
 /// Where the settings were written, for errors found later (per strip).
@@ -304,6 +306,9 @@ pub(crate) fn fabrication(
         if let Some(c) = &l.compensate {
             f.compensate_kerf = *c.get_ref();
         }
+        if let Some(flat) = &l.flat {
+            f.flat = *flat.get_ref();
+        }
         if let Some(m) = &l.machine {
             f.machine = Machine::parse(m.get_ref()).ok_or_else(|| {
                 Diagnostic::new(
@@ -321,6 +326,9 @@ pub(crate) fn fabrication(
     }
     if let Some(c) = o.compensate_kerf {
         f.compensate_kerf = c;
+    }
+    if let Some(flat) = o.flat {
+        f.flat = flat;
     }
 
     if let Some(s) = &raw.sheet {

@@ -75,6 +75,8 @@ pub(crate) struct RawLaser {
     pub(crate) tabs: Option<Num>,
     /// The laser the settings are for: "co2" or "diode".
     pub(crate) machine: Option<Spanned<String>>,
+    /// SVG without `<use>`, DXF without blocks.
+    pub(crate) flat: Option<Spanned<bool>>,
 }
 
 /// `[sheet]`: the bed or stock sheet.

@@ -169,6 +169,9 @@ pub struct Fabrication {
     pub(crate) tabs: f64,
     /// The laser the cut files' settings and the guide's safety note are for.
     pub machine: Machine,
+    /// The SVG without `<use>` and the DXF without blocks (`--flat`): every
+    /// strip drawn in full, for importers that skip references.
+    pub(crate) flat: bool,
 }
 
 impl Fabrication {
@@ -308,6 +311,7 @@ impl Default for Fabrication {
             group_if_free: true,
             tabs: 0.0,
             machine: Machine::Co2,
+            flat: false,
         }
     }
 }

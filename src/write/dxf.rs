@@ -167,12 +167,21 @@ impl Colours {
 
 /// The page as DXF (R2000) bytes: comments, then one function per section.
 pub fn write(page: &Page) -> Vec<u8> {
+    write_with(page, false)
+}
+
+/// The page as DXF without blocks: every entity on its layer, no INSERT.
+pub fn write_flat(page: &Page) -> Vec<u8> {
+    write_with(page, true)
+}
+
+fn write_with(page: &Page, flat: bool) -> Vec<u8> {
     let mut d = Dxf {
         out: String::new(),
         next_handle: 0x20,
     };
     let colours = Colours::of(page);
-    let mut plan = Blocks::plan(page, &colours);
+    let mut plan = Blocks::plan(page, &colours, flat);
     plan.records = plan.names.iter().map(|_| d.handle()).collect();
     comments(&mut d, page);
     header(&mut d, page);
@@ -407,7 +416,7 @@ struct Blocks {
 }
 
 impl Blocks {
-    fn plan(page: &Page, colours: &Colours) -> Blocks {
+    fn plan(page: &Page, colours: &Colours, flat: bool) -> Blocks {
         // A group's drawing written relative to its anchor with throwaway
         // handles: equal texts are equal drawings.
         let at: Vec<Option<(i64, i64)>> = page
@@ -416,13 +425,14 @@ impl Blocks {
             .map(|g| repeats::anchor(g).map(|(x, y)| (x, units(page.height) - y)))
             .collect();
         // Each keyed group's key and coarse key (`repeats::find_exact`).
+        // Flat: no group has a key, so none becomes a block.
         let (keys, coarse): (Vec<_>, Vec<_>) = (page.groups.iter().zip(&at))
             .map(|(g, at)| match *at {
-                Some(at) => (
+                Some(at) if !flat => (
                     Some(drawing_key(g, page.height, at)),
                     Some(printed_points(g, page.height, at)),
                 ),
-                None => (None, None),
+                _ => (None, None),
             })
             .unzip();
         let (repeats, _) = repeats::find_exact(&keys, &coarse, |g| {

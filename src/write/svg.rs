@@ -188,9 +188,14 @@ fn printed_points(g: &Group, at: (i64, i64)) -> Vec<i64> {
 /// The groups, with each drawing used more than once defined in `<defs>`
 /// (`part-1`, `part-2`...) and placed by a `<use>` in each strip's group.
 /// Returns whether any drawing is shared (the root then declares xlink).
-fn groups(out: &mut String, page: &Page) -> bool {
+fn groups(out: &mut String, page: &Page, flat: bool) -> bool {
     let at: Vec<Option<(i64, i64)>> = page.groups.iter().map(repeats::anchor).collect();
-    let keys = repeats::page_keys(&page.groups, &at);
+    // Flat: no group has a key, so none is shared.
+    let keys = if flat {
+        vec![None; page.groups.len()]
+    } else {
+        repeats::page_keys(&page.groups, &at)
+    };
     let coarse: Vec<Option<Vec<i64>>> = (page.groups.iter().zip(&at))
         .map(|(g, at)| Some(printed_points(g, (*at)?)))
         .collect();
@@ -227,6 +232,15 @@ fn groups(out: &mut String, page: &Page) -> bool {
 /// The page as SVG bytes, written straight into one string (no document
 /// tree: the sheets of a big job have hundreds of thousands of elements).
 pub fn write(page: &Page) -> Vec<u8> {
+    write_with(page, false)
+}
+
+/// The page as SVG bytes without `<use>`: every group drawn in full.
+pub fn write_flat(page: &Page) -> Vec<u8> {
+    write_with(page, true)
+}
+
+fn write_with(page: &Page, flat: bool) -> Vec<u8> {
     let text: String = page
         .metadata
         .iter()
@@ -234,7 +248,7 @@ pub fn write(page: &Page) -> Vec<u8> {
         .collect::<Vec<_>>()
         .join("\n");
     let mut body = String::with_capacity(1024 + 100 * page.groups.len());
-    let xlink = if groups(&mut body, page) {
+    let xlink = if groups(&mut body, page, flat) {
         " xmlns:xlink=\"http://www.w3.org/1999/xlink\""
     } else {
         ""
