@@ -115,11 +115,11 @@ fn check_cases(cases: &[(usize, usize)]) {
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    if let [flag, what] = &args[..] {
-        if flag == "--check-child" {
-            let (c, r) = size(what).expect("CxR");
-            return check_child(c, r);
-        }
+    if let [flag, what] = &args[..]
+        && flag == "--check-child"
+    {
+        let (c, r) = size(what).expect("CxR");
+        return check_child(c, r);
     }
     let mut sizes: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
     let mut checks: Vec<(usize, usize)> = args

@@ -371,7 +371,7 @@ pub(crate) fn parses(name: &str, text: &str) -> Result<(), String> {
         "dxf" => {
             // Pairs of lines: an integer group code, then its value.
             let lines: Vec<&str> = text.lines().collect();
-            if lines.len() % 2 != 0 || lines.last() != Some(&"EOF") {
+            if !lines.len().is_multiple_of(2) || lines.last() != Some(&"EOF") {
                 return Err("not whole code/value pairs ending in EOF".to_string());
             }
             for pair in lines.chunks(2) {
@@ -514,7 +514,7 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
                         }
                         Err(why) => failures.lock().unwrap().push((i, why, text)),
                     }
-                    if cases >= 10_000 && i % 10_000 == 0 {
+                    if cases >= 10_000 && i.is_multiple_of(10_000) {
                         eprintln!("fuzz: case {i} of {cases}");
                     }
                 }

@@ -366,7 +366,7 @@ fn random_intrinsic_loops_close_and_keep_every_invariant() {
                         .map(|f| karigami::Crank {
                             from: f,
                             to: f + quarter,
-                            angle_deg: if (f / quarter) % 2 == 0 {
+                            angle_deg: if (f / quarter).is_multiple_of(2) {
                                 crank
                             } else {
                                 -crank

@@ -82,13 +82,13 @@ fn golden_build(name: &str, recipe: &str) -> Vec<String> {
             failures.push(e);
         }
     }
-    if let Some(text) = guide_text(&out.join("assembly.pdf")) {
-        if let Err(e) = compare(
+    if let Some(text) = guide_text(&out.join("assembly.pdf"))
+        && let Err(e) = compare(
             &format!("tests/golden/{name}/assembly.txt"),
             text.as_bytes(),
-        ) {
-            failures.push(e);
-        }
+        )
+    {
+        failures.push(e);
     }
     failures
 }

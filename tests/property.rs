@@ -152,10 +152,11 @@ fn corrupted_lattices_fail_verification() {
     use karigami::Invariant as I;
     let mut rng = Rng::new(7);
     let (lattice, _) = loop {
-        if let Ok(found) = random_lattice(&mut rng, 3) {
-            if found.0.width >= 2 && found.0.rows() >= 2 {
-                break found;
-            }
+        if let Ok(found) = random_lattice(&mut rng, 3)
+            && found.0.width >= 2
+            && found.0.rows() >= 2
+        {
+            break found;
         }
     };
     // A pivot off its rods.

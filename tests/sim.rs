@@ -1146,7 +1146,11 @@ fn tune_can_aim_at_the_simulated_relief() {
         c.iter()
             .map(|v| {
                 let k = l.vertex(v.vertex).key;
-                let want = if (k.row + k.col) % 2 == 0 { 6.5 } else { -6.5 };
+                let want = if (k.row + k.col).is_multiple_of(2) {
+                    6.5
+                } else {
+                    -6.5
+                };
                 ((v.defect.to_degrees() - want) / 6.5).powi(2)
             })
             .sum::<f64>()

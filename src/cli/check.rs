@@ -60,10 +60,10 @@ pub(super) fn check(
         let (failed, report) = progress::heartbeat(&what, v.quiet || json, || {
             check_one(path, json, target.as_ref(), overrides, v, &mut bar)
         });
-        if let Some(kind) = failed {
-            if worst.is_none_or(|w| kind.exit_code() > w.exit_code()) {
-                worst = Some(kind);
-            }
+        if let Some(kind) = failed
+            && worst.is_none_or(|w| kind.exit_code() > w.exit_code())
+        {
+            worst = Some(kind);
         }
         reports.push(report);
     }

@@ -90,14 +90,14 @@ impl<S, D> Stages<S, D> {
             if s.stopped {
                 return None;
             }
-            if let Some(&(i, cells)) = s.next.front() {
-                if s.held == 0 || s.held + cells <= HELD_CELLS {
-                    s.next.pop_front();
-                    s.held += cells;
-                    s.held_by[i] = cells;
-                    s.running += 1;
-                    return Some(Task::Start(i));
-                }
+            if let Some(&(i, cells)) = s.next.front()
+                && (s.held == 0 || s.held + cells <= HELD_CELLS)
+            {
+                s.next.pop_front();
+                s.held += cells;
+                s.held_by[i] = cells;
+                s.running += 1;
+                return Some(Task::Start(i));
             }
             if let Some((_, i, work)) = dearest(&mut s.simulate) {
                 s.running += 1;

@@ -392,17 +392,17 @@ pub(crate) fn fabrication(
         spans.sheet = None;
     }
 
-    if let Some(g) = &raw.guide {
-        if let Some(p) = &g.get_ref().paper {
-            f.paper = Paper::parse(p.get_ref()).ok_or_else(|| {
-                Diagnostic::new(
-                    ErrorKind::UnknownPaper,
-                    format!("unknown paper \"{}\"", p.get_ref()),
-                )
-                .at(p.span())
-                .hint("use \"a4\" or \"letter\"")
-            })?;
-        }
+    if let Some(g) = &raw.guide
+        && let Some(p) = &g.get_ref().paper
+    {
+        f.paper = Paper::parse(p.get_ref()).ok_or_else(|| {
+            Diagnostic::new(
+                ErrorKind::UnknownPaper,
+                format!("unknown paper \"{}\"", p.get_ref()),
+            )
+            .at(p.span())
+            .hint("use \"a4\" or \"letter\"")
+        })?;
     }
     if let Some(p) = &o.paper {
         f.paper = Paper::parse(p).ok_or_else(|| {

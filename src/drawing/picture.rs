@@ -54,10 +54,10 @@ impl Camera {
                 forward: DVec3::NEG_Z,
             };
         }
-        if lattice.kind == crate::lattice::Kind::Helix {
-            if let Some(camera) = Self::down_the_axis(lattice) {
-                return camera;
-            }
+        if lattice.kind == crate::lattice::Kind::Helix
+            && let Some(camera) = Self::down_the_axis(lattice)
+        {
+            return camera;
         }
         let normal: DVec3 = lattice
             .cells

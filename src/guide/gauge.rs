@@ -113,11 +113,11 @@ fn tile_labels(ticks: &[(f64, Vec<String>, bool)], from: f64, to: f64) -> Vec<La
     {
         let slot = *vertex as usize;
         let at = z.max(last[slot] + PITCH);
-        if at - z > DRIFT {
-            if let Some((_, _, more)) = open[slot].as_mut() {
-                *more += names.len();
-                continue;
-            }
+        if at - z > DRIFT
+            && let Some((_, _, more)) = open[slot].as_mut()
+        {
+            *more += names.len();
+            continue;
         }
         if let Some((i, first_names, more)) = open[slot].take() {
             labels[i].text = label_text(&first_names, more);

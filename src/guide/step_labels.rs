@@ -130,20 +130,20 @@ pub(super) fn step_labels(
             });
         }
     }
-    if l.kind == crate::lattice::Kind::Loop {
-        if let Some(v) = l.vertices.iter().find(|v| {
+    if l.kind == crate::lattice::Kind::Loop
+        && let Some(v) = l.vertices.iter().find(|v| {
             v.key.col == 0
                 && v.key.row == step.row
                 && shown.cells.iter().any(|&c| l.cells[c].col == 0)
-        }) {
-            placer.place(&Label {
-                anchor: fit.map(v.pos),
-                text: "seam".into(),
-                colour: BLACK,
-                bold: true,
-                toward: DVec2::NEG_X,
-            });
-        }
+        })
+    {
+        placer.place(&Label {
+            anchor: fit.map(v.pos),
+            text: "seam".into(),
+            colour: BLACK,
+            bold: true,
+            toward: DVec2::NEG_X,
+        });
     }
     extra
 }

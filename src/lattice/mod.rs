@@ -253,7 +253,7 @@ impl Lattice {
                 let k = cell.row * n + cell.col;
                 // The smallest q >= 2 dividing neither N - 1 nor N + 1.
                 let q = (2..)
-                    .find(|q| (n - 1) % q != 0 && (n + 1) % q != 0)
+                    .find(|q| !(n - 1).is_multiple_of(*q) && !(n + 1).is_multiple_of(*q))
                     .expect("some q divides neither");
                 2 * (k % q) + ab
             }
@@ -264,7 +264,7 @@ impl Lattice {
             // one. Every joint still holds layers 0..3 once each: row i's A
             // and row i-1's B of column j, row i's B and row i-1's A of
             // column j - 1, whose parities differ.
-            Kind::Loop if self.stacking == Stacking::Columns && self.width % 2 == 0 => {
+            Kind::Loop if self.stacking == Stacking::Columns && self.width.is_multiple_of(2) => {
                 2 * (cell.col % 2) + ab
             }
             _ => 2 * (cell.row % 2) + ab,

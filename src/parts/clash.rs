@@ -549,10 +549,12 @@ fn layer_clashes(
             let boxed = Boxed::of(0, li);
             // Long against short here; long against long once (j > i).
             for (j, lj) in lines.iter().enumerate() {
-                if j != i && (!long[j] || j > i) && !boxed.apart(&Boxed::of(0, lj), reach) {
-                    if let Some(c) = pair(li, lj) {
-                        found(c);
-                    }
+                if j != i
+                    && (!long[j] || j > i)
+                    && !boxed.apart(&Boxed::of(0, lj), reach)
+                    && let Some(c) = pair(li, lj)
+                {
+                    found(c);
                 }
             }
         }
@@ -682,7 +684,7 @@ pub(crate) fn closest_points(p0: DVec3, p1: DVec3, q0: DVec3, q1: DVec3) -> (DVe
 /// A rod as the reports name it: its strip id in parts.csv.
 pub(crate) fn rod_name(lattice: &Lattice, rod: usize) -> String {
     let cell = &lattice.cells[rod / 2];
-    let kind = if rod % 2 == 0 {
+    let kind = if rod.is_multiple_of(2) {
         crate::lattice::RodType::A
     } else {
         crate::lattice::RodType::B
@@ -856,7 +858,7 @@ mod tests {
         let line = |r: usize| {
             let cell = &lat.cells[r / 2];
             let [ul, ur, ll, lr] = lat.corners(cell);
-            let (s, e, ends) = if r % 2 == 0 {
+            let (s, e, ends) = if r.is_multiple_of(2) {
                 (ul, lr, [cell.ul, cell.lr])
             } else {
                 (ur, ll, [cell.ur, cell.ll])
@@ -864,7 +866,13 @@ mod tests {
             let dir = (e - s).normalize_or_zero();
             (s - margin * dir, e + margin * dir, ends)
         };
-        let kind = |r: usize| if r % 2 == 0 { RodType::A } else { RodType::B };
+        let kind = |r: usize| {
+            if r.is_multiple_of(2) {
+                RodType::A
+            } else {
+                RodType::B
+            }
+        };
         let layer = |r: usize| lat.layer(&lat.cells[r / 2], kind(r));
         let rods = 2 * lat.cells.len();
         let mut out = Vec::new();

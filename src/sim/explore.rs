@@ -34,10 +34,10 @@ pub fn perturb(m: &mut Model, seed: u64, amplitude: f64) {
         }
     }
     for e in 0..m.edges.len() {
-        if let Frame::Ref { theta, .. } = m.edges[e].frame {
-            if !m.fixed[theta] {
-                m.q[theta] += 0.02 * rng.normal();
-            }
+        if let Frame::Ref { theta, .. } = m.edges[e].frame
+            && !m.fixed[theta]
+        {
+            m.q[theta] += 0.02 * rng.normal();
         }
     }
 }

@@ -74,7 +74,9 @@ pub(crate) fn cost(
                 let key = lattice.vertex(v.vertex).key;
                 let want = match opt.pattern {
                     Pattern::Constant => opt.defect_deg,
-                    Pattern::Checkerboard if (key.row + key.col) % 2 == 0 => opt.defect_deg,
+                    Pattern::Checkerboard if (key.row + key.col).is_multiple_of(2) => {
+                        opt.defect_deg
+                    }
                     Pattern::Checkerboard => -opt.defect_deg,
                 };
                 ((v.defect.to_degrees() - want) / scale).powi(2)

@@ -16,7 +16,7 @@ impl Design {
     pub(crate) fn grow_with(&self, progress: &mut dyn FnMut(&str)) -> Result<Lattice, Diagnostic> {
         let columns = self.clash.stacking == Stacking::Columns;
         let n = self.points.len();
-        if columns && (self.kind != Kind::Loop || n % 2 != 0) {
+        if columns && (self.kind != Kind::Loop || !n.is_multiple_of(2)) {
             return Err(Diagnostic::new(
                 ErrorKind::StackingNeedsEvenLoop,
                 format!(

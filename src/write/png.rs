@@ -287,10 +287,8 @@ fn encode(pixmap: &Pixmap) -> Vec<u8> {
     // Pages are painted on white, so every pixel is opaque: RGB, a quarter
     // less to filter, deflate and store than RGBA.
     let opaque = pixmap.pixels().iter().all(|p| p.alpha() == u8::MAX);
-    if opaque {
-        if let Some((palette, depth, raw)) = indexed(pixmap) {
-            return indexed_png(pixmap, depth, palette, &raw);
-        }
+    if opaque && let Some((palette, depth, raw)) = indexed(pixmap) {
+        return indexed_png(pixmap, depth, palette, &raw);
     }
     let raw: Vec<u8> = if opaque {
         pixmap

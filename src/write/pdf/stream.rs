@@ -230,12 +230,12 @@ impl<'a> Stream<'a> {
             }
         }
         let fill_colour = if is_text { f.or(s) } else { f };
-        if let Some(c) = fill_colour {
-            if self.fill != Some(c) {
-                let (r, g, b) = rgb(c);
-                self.content.set_fill_rgb(r, g, b);
-                self.fill = Some(c);
-            }
+        if let Some(c) = fill_colour
+            && self.fill != Some(c)
+        {
+            let (r, g, b) = rgb(c);
+            self.content.set_fill_rgb(r, g, b);
+            self.fill = Some(c);
         }
         if let Shape::Text {
             at,
@@ -270,10 +270,10 @@ impl<'a> Stream<'a> {
         if f.is_none() && s.is_none() {
             return;
         }
-        if let Shape::Circle { center, radius } = shape {
-            if self.dot(*center, *radius, f.is_some(), s.is_some(), w) {
-                return;
-            }
+        if let Shape::Circle { center, radius } = shape
+            && self.dot(*center, *radius, f.is_some(), s.is_some(), w)
+        {
+            return;
         }
         self.to.path(&mut self.content, shape);
         paint(&mut self.content, f.is_some(), s.is_some());
