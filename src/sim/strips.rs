@@ -402,6 +402,7 @@ fn face_normal(lattice: &Lattice, placed: &Lattice, r: &Rod) -> DVec3 {
 /// An eyelet a rod passes through: its joint and slot, the rod's sign
 /// against the axis, and the rigid arm's length before and after the hole
 /// (none at the rod's start or end).
+#[derive(Clone, Copy)]
 struct Arm {
     joint: usize,
     slot: usize,
