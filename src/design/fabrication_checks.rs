@@ -3,7 +3,7 @@
 //! compensation against the holes. Each points at the setting to change
 //! (or names the flag that set it).
 
-use super::fabrication_table::{FabricationSpans, MAX_SHEET, MIN_WALL, Overrides};
+use super::fabrication_bounds::{FabricationSpans, MAX_SHEET, MIN_WALL, Overrides};
 use super::raw::RawDesign;
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::Fabrication;

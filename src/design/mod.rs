@@ -3,6 +3,7 @@
 //! `Design::grow` grows it and points lattice errors back at the recipe.
 
 mod errors;
+mod fabrication_bounds;
 mod fabrication_checks;
 mod fabrication_table;
 pub mod fit;
@@ -15,7 +16,7 @@ pub(crate) mod simulation;
 mod spans;
 mod values;
 
-pub use fabrication_table::{MIN_WALL, Overrides};
+pub use fabrication_bounds::{MIN_WALL, Overrides};
 
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::fabrication::Fabrication;

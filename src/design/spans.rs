@@ -2,7 +2,7 @@
 //! found later (growth, strips) point at the text that causes them.
 
 use super::Design;
-use super::fabrication_table::FabricationSpans;
+use super::fabrication_bounds::FabricationSpans;
 use super::raw::RawRow;
 use crate::diagnostic::Diagnostic;
 use crate::lattice::{GrowthError, Kind, Param};
