@@ -6,6 +6,8 @@
 
 use crate::lattice::{Lattice, RodType};
 use crate::pages::touched;
+
+pub(crate) mod bent;
 use glam::DVec3;
 use std::sync::atomic::AtomicBool;
 
