@@ -1278,9 +1278,8 @@ fn bent_strips_that_meet_are_refused_though_their_chords_are_apart() {
     let reach = d.fabrication.material.width + d.clash.clearance;
     let checked = karigami::check(d.clone(), &mut |_| {}).expect("grows");
     assert!(checked.measures().clashes.is_empty(), "the design clashes");
-    let e = match checked.assemble() {
-        Err(e) => e,
-        Ok(_) => panic!("the bent strips' clash was not refused"),
+    let Err(e) = checked.assemble() else {
+        panic!("the bent strips' clash was not refused")
     };
     assert_eq!(e.kind, karigami::ErrorKind::StripClash, "{}", e.message);
     assert!(e.message.contains("bent centre lines"), "{}", e.message);

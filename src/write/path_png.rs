@@ -10,8 +10,8 @@ use crate::sim::path::{Path, PathPoint};
 use glam::DVec2;
 
 /// The page (mm) and its resolution.
-const WIDTH: f64 = 160.0;
-const HEIGHT: f64 = 120.0;
+pub(crate) const WIDTH: f64 = 160.0;
+pub(crate) const HEIGHT: f64 = 120.0;
 const PX_PER_MM: f64 = 6.0;
 
 /// Margins of a plot: left for the values, below for the openings.
@@ -66,14 +66,14 @@ pub(crate) fn page(path: &Path, allow: f64, title: &str) -> Page {
             height: 36.0,
             x: x_range,
             y: (0.0, nice(s_top)),
-            label: "largest strain (%)",
+            label: "largest strain (percent)",
             value: &strain,
         },
         Some(100.0 * allow),
     );
     items.push(text(
         DVec2::new(LEFT + (WIDTH - LEFT - RIGHT) / 2.0, HEIGHT - 4.0),
-        "held opening (deg); grey: collapsing, blue: deploying",
+        "held opening (deg), grey: collapsing, blue: deploying",
         3.0,
         Align::Center,
     ));
@@ -87,6 +87,7 @@ pub(crate) fn page(path: &Path, allow: f64, title: &str) -> Page {
 }
 
 /// One plot: where it stands on the page, its ranges and what it shows.
+#[derive(Clone, Copy)]
 struct Panel<'a> {
     top: f64,
     height: f64,

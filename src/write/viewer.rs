@@ -109,8 +109,14 @@ fn path_figure(design: &Design, path: &crate::sim::path::Path) -> String {
         .split_once('\n')
         .map_or(svg.as_str(), |(_, rest)| rest)
         .replace(" xmlns=\"http://www.w3.org/2000/svg\"", "")
-        .replace("height=\"120mm\"", "")
-        .replace("width=\"160mm\"", "style=\"max-width:40em;width:100%\"");
+        .replace(
+            &format!("height=\"{}mm\"", num(super::path_png::HEIGHT)),
+            "",
+        )
+        .replace(
+            &format!("width=\"{}mm\"", num(super::path_png::WIDTH)),
+            "style=\"max-width:40em;width:100%\"",
+        );
     format!(
         "<section id=\"path-plot\" aria-label=\"The deployment path: energy and largest strain against the held opening\">\n{svg}</section>\n"
     )

@@ -300,9 +300,9 @@ mod tests {
         let (a, b) = (lines[2][0], lines[2][8]);
         let mid = (a + b) / 2.0;
         let towards = mid - (lines[0][0] + lines[0][8]) / 2.0;
-        for k in 1..8 {
+        for (k, p) in lines[0].iter_mut().enumerate().take(8).skip(1) {
             let f = (k as f64 / 8.0 * std::f64::consts::PI).sin();
-            lines[0][k] += towards * 0.9 * f;
+            *p += towards * 0.9 * f;
         }
         let found = bent_clashes(&lat, &lines, 10.0, 6.0, 1.0);
         assert!(found.iter().any(|c| c.rods == [0, 2]), "{found:?}");
