@@ -109,6 +109,12 @@ impl Unsimulated {
     /// depends on changed. Strips strained beyond the allowable are an
     /// error unless the recipe accepts them (`simulated`).
     pub fn simulate(self, previous: Option<&[u8]>) -> Result<Build, Diagnostic> {
+        self.simulate_then(previous, true)
+    }
+
+    /// `simulate`, following the deployment path (`sim::path`) when
+    /// `follow`: `check`, which does not show it, leaves it out.
+    fn simulate_then(self, previous: Option<&[u8]>, follow: bool) -> Result<Build, Diagnostic> {
         let mut b = self.0;
         let (simulation, simulation_key) = simulated(
             &b.design,
@@ -123,6 +129,7 @@ impl Unsimulated {
         )?;
         b.path = simulation
             .as_ref()
+            .filter(|_| follow)
             .map(|run| deployment_path(&b.design, run, &mut b.parts.warnings));
         b.simulation = simulation;
         b.simulation_key = simulation_key;
@@ -386,6 +393,13 @@ impl Checked {
     /// with a located error.
     pub fn assemble(self) -> Result<Build, Diagnostic> {
         assemble(self)?.simulate(None)
+    }
+
+    /// `assemble` for `karigami check`: everything its reports show, the
+    /// simulated shape and its clash refusal included, but not the
+    /// deployment path (report.txt's and path.png's; several solves).
+    pub fn assemble_for_check(self) -> Result<Build, Diagnostic> {
+        assemble(self)?.simulate_then(None, false)
     }
 }
 

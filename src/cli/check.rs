@@ -128,7 +128,7 @@ fn check_one(
         checked.check = check;
         return (None, checked);
     }
-    match checked.assemble() {
+    match checked.assemble_for_check() {
         Ok(built) => {
             if !json && !v.quiet {
                 out!("{}", karigami::summary(&built));
