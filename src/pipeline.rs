@@ -718,7 +718,7 @@ fn deployment_path(
     use crate::sim::path::{Path, path};
     let settings = &design.simulation;
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
-    let steps = Path::steps(free, run.theta);
+    let steps = Path::step_count(free, run.theta);
     let walked = path(&run.lm, &run.equilibrium.stats, steps, &settings.material);
     let allow = settings.material.eps_allow;
     if let Some(p) = walked.overstrained(allow) {

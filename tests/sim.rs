@@ -1311,7 +1311,7 @@ fn a_planar_mechanism_deploys_along_a_zero_energy_path() {
     let text = std::fs::read_to_string("examples/mirror-arm.toml").expect("recipe");
     let (_, _, run) = simulated_recipe(&text);
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
-    let steps = sim::path::Path::steps(free, run.theta);
+    let steps = sim::path::Path::step_count(free, run.theta);
     let material = Material::ABS;
     let path = sim::path::path(&run.lm, &run.equilibrium.stats, steps, &material);
     assert_eq!(path.failed, None);
@@ -1342,7 +1342,7 @@ fn the_deployment_path_repeats_and_is_bounded() {
     let text = std::fs::read_to_string("examples/curved-sheet.toml").expect("recipe");
     let (_, _, run) = simulated_recipe(&text);
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
-    let steps = sim::path::Path::steps(free, run.theta);
+    let steps = sim::path::Path::step_count(free, run.theta);
     assert!((sim::path::MIN_STEPS..=sim::path::MAX_STEPS).contains(&steps));
     let a = sim::path::path(&run.lm, &run.equilibrium.stats, steps, &Material::ABS);
     let b = sim::path::path(&run.lm, &run.equilibrium.stats, steps, &Material::ABS);

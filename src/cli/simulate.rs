@@ -102,7 +102,7 @@ pub(super) fn simulate(
     }
     if follow_path {
         let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
-        let steps = sim::path::Path::steps(free, run.theta);
+        let steps = sim::path::Path::step_count(free, run.theta);
         let walked = progress::heartbeat("following the deployment path", v.quiet, || {
             sim::path::path(&run.lm, &run.equilibrium.stats, steps, &settings.material)
         });

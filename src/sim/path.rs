@@ -84,7 +84,7 @@ pub struct Path {
 impl Path {
     /// Steps each way for a model of `free` free variables: one per 2
     /// degrees of the way, within `MIN_STEPS` to `MAX_STEPS` and the budget.
-    pub fn steps(free: usize, design: f64) -> usize {
+    pub fn step_count(free: usize, design: f64) -> usize {
         let way = design * (1.0 - COLLAPSED);
         let wanted = (way / super::STEP).ceil() as usize;
         let afford = BUDGET / free.max(1);
@@ -502,10 +502,10 @@ mod tests {
     fn steps_follow_the_opening_within_the_bounds_and_the_budget() {
         let deg = f64::to_radians;
         // 2 degrees a step over 90 % of the way, within 6 to 12.
-        assert_eq!(Path::steps(100, deg(60.0)), 12);
-        assert_eq!(Path::steps(100, deg(10.0)), MIN_STEPS);
+        assert_eq!(Path::step_count(100, deg(60.0)), 12);
+        assert_eq!(Path::step_count(100, deg(10.0)), MIN_STEPS);
         // A large model: fewer steps, never fewer than MIN_STEPS.
-        assert_eq!(Path::steps(BUDGET / 8, deg(120.0)), 8);
-        assert_eq!(Path::steps(10 * BUDGET, deg(120.0)), MIN_STEPS);
+        assert_eq!(Path::step_count(BUDGET / 8, deg(120.0)), 8);
+        assert_eq!(Path::step_count(10 * BUDGET, deg(120.0)), MIN_STEPS);
     }
 }
