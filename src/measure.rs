@@ -7,6 +7,7 @@ use crate::design::Design;
 use crate::design::fit::{self, Coverage};
 use crate::lattice::shape::{CurvatureSummary, Shape, survey};
 use crate::lattice::{Kind, Lattice};
+use crate::parts::clash::bent::bent_clashes;
 use crate::parts::clash::{Clashes, Scratch, clashes_in};
 use serde::Serialize;
 
@@ -105,6 +106,24 @@ pub(crate) fn strip_clashes(design: &Design, assembled: &Lattice) -> Clashes {
         fab.end_margin,
         design.clash.clearance,
         Scratch::default(),
+    )
+}
+
+/// The strip clashes of a simulated deployed shape, measured on every
+/// strip's bent centre line (`clash::bent`; docs/physics.md, Limits): the
+/// straight search's rule on the strips as the simulation bends them.
+pub(crate) fn simulated_clashes(
+    design: &Design,
+    lattice: &Lattice,
+    lm: &crate::sim::LatticeModel,
+) -> Clashes {
+    let fab = &design.fabrication;
+    bent_clashes(
+        lattice,
+        &lm.centre_lines(),
+        fab.material.width,
+        fab.end_margin,
+        design.clash.clearance,
     )
 }
 

@@ -135,6 +135,16 @@ fn rest_of_files(b: &Build) -> Vec<(String, Vec<u8>)> {
     if let Some(run) = &b.simulation {
         files.extend(deployed_files(b, run));
     }
+    if let Some(path) = &b.path {
+        files.push((
+            "path.png".to_string(),
+            crate::write::path_png::write(
+                path,
+                b.design.simulation.material.eps_allow,
+                &format!("{name}: the deployment path"),
+            ),
+        ));
+    }
     files.push((
         "report.txt".to_string(),
         crate::report::build_text(b).into_bytes(),
@@ -166,6 +176,7 @@ fn scene_with<'a>(b: &'a Build, simulated: Option<&Lattice>) -> viewer::Scene<'a
         &b.deployment,
         &b.steps,
     );
+    scene.path = b.path.as_ref();
     if let Some(placed) = simulated {
         let vertices = placed.vertices.iter().map(|v| v.pos);
         scene.simulated = Some(

@@ -10,7 +10,9 @@ use crate::jobs::Jobs;
 use crate::lattice::deploy::{Deployment, deployment};
 use crate::lattice::{Joint, Kind, Lattice, Report, joints, verify};
 use crate::layout::{Bounds, Job, Layout, SheetOption, pick, sheet_options};
-use crate::measure::{Measures, measure_assembled, measure_with, strip_clashes, whole};
+use crate::measure::{
+    Measures, measure_assembled, measure_with, simulated_clashes, strip_clashes, whole,
+};
 use crate::parts::{Outline, Parts, PartsError, parts};
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -58,6 +60,9 @@ pub struct Build {
     /// The fingerprint of everything the simulation read (`reuse`), and
     /// whether it was restored from an earlier build instead of solved.
     pub(crate) simulation_key: Option<(u64, bool)>,
+    /// The deployment path of the simulated structure (`sim::path`): from
+    /// its equilibrium down to nearly collapsed and back.
+    pub(crate) path: Option<crate::sim::path::Path>,
 }
 
 /// Grow, verify, make the parts and nest them. A design that fails
@@ -101,6 +106,12 @@ impl Unsimulated {
     /// depends on changed. Strips strained beyond the allowable are an
     /// error unless the recipe accepts them (`simulated`).
     pub fn simulate(self, previous: Option<&[u8]>) -> Result<Build, Diagnostic> {
+        self.simulate_then(previous, true)
+    }
+
+    /// `simulate`, following the deployment path (`sim::path`) when
+    /// `follow`: `check`, which does not show it, leaves it out.
+    fn simulate_then(self, previous: Option<&[u8]>, follow: bool) -> Result<Build, Diagnostic> {
         let mut b = self.0;
         let (simulation, simulation_key) = simulated(
             &b.design,
@@ -113,6 +124,10 @@ impl Unsimulated {
             previous,
             &mut b.parts.warnings,
         )?;
+        b.path = simulation
+            .as_ref()
+            .filter(|_| follow)
+            .map(|run| deployment_path(&b.design, run, &mut b.parts.warnings));
         b.simulation = simulation;
         b.simulation_key = simulation_key;
         Ok(b)
@@ -297,6 +312,13 @@ impl Checked {
     pub fn assemble(self) -> Result<Build, Diagnostic> {
         assemble(self)?.simulate(None)
     }
+
+    /// `assemble` for `karigami check`: everything its reports show, the
+    /// simulated shape and its clash refusal included, but not the
+    /// deployment path (report.txt's and path.png's; several solves).
+    pub fn assemble_for_check(self) -> Result<Build, Diagnostic> {
+        assemble(self)?.simulate_then(None, false)
+    }
 }
 
 /// The most cells karigami makes parts for (two strips a cell). Growth and
@@ -463,6 +485,7 @@ fn assemble(checked: Checked) -> Result<Unsimulated, Diagnostic> {
         joints,
         simulation: None,
         simulation_key: None,
+        path: None,
         design,
         assembled,
         measures,
@@ -583,14 +606,52 @@ fn simulated(
             message: format!("{what}; the recipe accepts it ([simulation] accept_overstrain)"),
         });
     }
-    let shape = crate::sim::placed_lattice(lattice, &run.lm);
-    if let Some(message) = contact(design, &shape) {
+    // The clash rule on the strips as the simulation bends them: refused
+    // as a clash of the design's strips is, unless the recipe allows it.
+    if let Some(message) = contact(design, lattice, &run.lm) {
+        if !design.clash.allow {
+            let clashes = simulated_clashes(design, lattice, &run.lm);
+            let c = clashes.first().expect("a clash");
+            let name = |r: usize| crate::parts::clash::rod_name(lattice, r);
+            return Err(Diagnostic::new(ErrorKind::StripClash, message)
+                .at_opt(design.clash.span.clone().or(Some(design.size_span())))
+                .site(format!("strips {} and {}", name(c.rods[0]), name(c.rods[1])))
+                .hint("open the cells there, use narrower, thicker or stiffer strips, or accept the overlap with [clash] allow = true (docs/physics.md, Limits)"));
+        }
         warnings.push(crate::parts::Warning {
             strip: None,
-            message,
+            message: format!("{message} (allowed by [clash])"),
         });
     }
     Ok((Some(run), Some((key, reused))))
+}
+
+/// The deployment path of a simulated build, its step count chosen by the
+/// model's size (`Path::steps`); a strain above the allowable on the way
+/// is a warning (the build's equilibrium is judged by `simulated`).
+fn deployment_path(
+    design: &Design,
+    run: &crate::sim::Simulation,
+    warnings: &mut Vec<crate::parts::Warning>,
+) -> crate::sim::path::Path {
+    use crate::sim::path::{Path, path};
+    let settings = &design.simulation;
+    let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
+    let steps = Path::step_count(free, run.theta);
+    let walked = path(&run.lm, &run.equilibrium.stats, steps, &settings.material);
+    let allow = settings.material.eps_allow;
+    if let Some(p) = walked.overstrained(allow) {
+        warnings.push(crate::parts::Warning {
+            strip: Some(p.rod.clone()),
+            message: format!(
+                "strained {:.2} % on the deployment path at a held opening of {:.1} deg; the allowable is {:.2} % (report.txt, deployment path)",
+                100.0 * p.strain,
+                p.theta.to_degrees(),
+                100.0 * allow
+            ),
+        });
+    }
+    walked
 }
 
 /// A simulation error that is the recipe's to fix, located in it: a
@@ -607,28 +668,45 @@ pub fn recipe_error(design: &Design, e: &crate::sim::SimError) -> Option<Diagnos
     }
 }
 
-/// The clash rule of `check` applied to a simulated deployed `shape`: None
-/// when no two strips of one layer come closer than the strip width plus
-/// the clearance, else what a maker should know. The simulation has no
-/// contact between strips, so where its shape breaks the rule the real
-/// strips press on each other instead.
-pub fn contact(design: &Design, shape: &Lattice) -> Option<String> {
-    let clashes = strip_clashes(design, shape);
+/// The clash rule of `check` applied to the strips of a simulated deployed
+/// shape (`lm` at its equilibrium), each strip's bent centre line measured
+/// (`measure::simulated_clashes`): None when no two strips of one
+/// layer come closer than the strip width plus the clearance, else the
+/// closest pair, how far apart their bent centre lines and their chords
+/// are, and how many pairs clash. The simulation has no contact between
+/// strips: where its shape breaks the rule the real strips press on each
+/// other instead.
+pub fn contact(
+    design: &Design,
+    lattice: &Lattice,
+    lm: &crate::sim::LatticeModel,
+) -> Option<String> {
+    let clashes = simulated_clashes(design, lattice, lm);
     let c = clashes.first()?;
-    let name = |r: usize| crate::parts::clash::rod_name(shape, r);
+    let name = |r: usize| crate::parts::clash::rod_name(lattice, r);
+    // The same two strips as straight chords (first hole to last, with the
+    // end margins), for comparison: the bending is what brings them closer.
+    let lines = lm.centre_lines();
+    let margin = design.fabrication.end_margin;
+    let chord = |r: usize| {
+        let (a, b) = (lines[r][0], *lines[r].last().expect("two points"));
+        let dir = (b - a).normalize_or_zero();
+        (a - margin * dir, b + margin * dir)
+    };
+    let ((a, b), (p, q)) = (chord(c.rods[0]), chord(c.rods[1]));
+    let (x, y) = crate::parts::clash::closest_points(a, b, p, q);
     Some(format!(
-        "in the simulated deployed shape, {} of strips in one layer come closer than the strip width {} mm plus {} mm clearance \
-         (closest: {} and {}, {:.2} mm apart at ({:.1}, {:.1}, {:.1})); the simulation does not model contact, so there \
-         the strips press on each other and the piece may not take the shape shown (docs/physics.md, Limits)",
-        crate::words::plural(clashes.len(), "pair"),
-        design.fabrication.material.width,
-        design.clash.clearance,
+        "in the simulated deployed shape, strips {} and {} lie in the same stacking layer and their bent centre lines come {:.2} mm apart at ({:.1}, {:.1}, {:.1}) ({:.2} mm as straight chords), closer than the strip width {} mm plus {} mm clearance: they overlap ({} in all); the simulation does not model contact, so there the strips press on each other and the piece may not take the shape shown (docs/physics.md, Limits)",
         name(c.rods[0]),
         name(c.rods[1]),
         c.distance,
         c.at.x,
         c.at.y,
-        c.at.z
+        c.at.z,
+        x.distance(y),
+        design.fabrication.material.width,
+        design.clash.clearance,
+        crate::words::plural(clashes.len(), "clashing pair"),
     ))
 }
 

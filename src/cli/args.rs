@@ -44,7 +44,7 @@ pub(super) struct Args {
 #[derive(Subcommand)]
 pub(super) enum Command {
     /// Simulate the deployed shape: strips as elastic rods joined by eyelets.
-    #[command(after_help = format!("Examples:\n  karigami simulate examples/eggbox.toml\n  karigami simulate examples/mirror-arm.toml --theta 40\n  karigami simulate examples/eggbox.toml --explore 12\n\nThe model and its limits: docs/physics.md.\n\n{EXIT_CODES}"))]
+    #[command(after_help = format!("Examples:\n  karigami simulate examples/eggbox.toml\n  karigami simulate examples/mirror-arm.toml --theta 40\n  karigami simulate examples/eggbox.toml --explore 12\n  karigami simulate examples/saddle-ring.toml --path\n\nThe model and its limits: docs/physics.md.\n\n{EXIT_CODES}"))]
     Simulate {
         /// Recipe file (TOML).
         design: PathBuf,
@@ -54,6 +54,9 @@ pub(super) enum Command {
         /// Also solve from N seeded perturbations and list the distinct stable equilibria.
         #[arg(long, value_name = "N")]
         explore: Option<usize>,
+        /// Also follow the deployment path: from the equilibrium down to nearly collapsed and back, with the energy, the largest strain and snap-throughs at every step.
+        #[arg(long)]
+        path: bool,
         /// Starts of --explore solved at once (default: all cores). The report does not depend on it.
         #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,

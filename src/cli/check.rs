@@ -146,7 +146,7 @@ fn check_one(
         checked.target = fit.map(|f| f.json);
         return (None, checked);
     }
-    match checked.assemble() {
+    match checked.assemble_for_check() {
         Ok(built) => {
             let fit = target.map(|t| t.fit_build(&built));
             if !json && !v.quiet {

@@ -128,8 +128,9 @@ fn run_command() -> i32 {
             design,
             theta,
             explore,
+            path,
             jobs,
-        } => simulate::simulate(&design, theta, explore, jobs_or_cores(jobs), v),
+        } => simulate::simulate(&design, theta, explore, path, jobs_or_cores(jobs), v),
         Command::Build {
             designs,
             out,

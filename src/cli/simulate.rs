@@ -1,4 +1,4 @@
-//! `karigami simulate RECIPE [--theta DEG] [--explore N] [--jobs N]`: the deployed
+//! `karigami simulate RECIPE [--theta DEG] [--explore N] [--path] [--jobs N]`: the deployed
 //! shape of the strips as elastic rods joined by eyelets (docs/physics.md).
 
 use super::args::Verbosity;
@@ -31,6 +31,7 @@ pub(super) fn simulate(
     path: &Path,
     theta: Option<f64>,
     explore_n: Option<usize>,
+    follow_path: bool,
     jobs: usize,
     v: Verbosity,
 ) -> Result<(), Error> {
@@ -98,6 +99,16 @@ pub(super) fn simulate(
                 &settings
             )
         );
+    }
+    if follow_path {
+        let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
+        let steps = sim::path::Path::step_count(free, run.theta);
+        let walked = progress::heartbeat("following the deployment path", v.quiet, || {
+            sim::path::path(&run.lm, &run.equilibrium.stats, steps, &settings.material)
+        });
+        if !v.quiet {
+            print!("{}", walked.text(settings.material.eps_allow, true));
+        }
     }
     if let Some(n) = explore_n {
         let material = settings.material;
@@ -219,8 +230,10 @@ pub(super) fn text(
     );
     let _ = writeln!(
         o,
-        "distance from the design (largest joint, after the best rigid fit): {:.4} mm",
-        eq.distance
+        "distance from the design (after the best rigid fit): largest {:.4} mm at {}, rms {:.4} mm",
+        eq.fit.max,
+        run.lm.point_name(lattice, eq.fit.at),
+        eq.fit.rms
     );
     // One measure for both (lattice::shape): the design's defects from each
     // cell's own corners (what the cut strips fix), the simulated ones from
@@ -238,7 +251,7 @@ pub(super) fn text(
     let _ = writeln!(
         o,
         "clashes: {}",
-        karigami::contact(design, &simulated).unwrap_or_else(|| format!(
+        karigami::contact(design, lattice, &run.lm).unwrap_or_else(|| format!(
             "none in the simulated deployed shape (same-layer strips at least {} mm + {} mm clearance apart)",
             sec.width, design.clash.clearance
         ))

@@ -5,6 +5,8 @@
 //! boxes, one layer at a time, so a lattice of n strips costs about n, not n^2.
 
 use crate::lattice::{Lattice, RodType};
+
+pub(crate) mod bent;
 use glam::DVec3;
 
 /// Two strips of one stacking layer, sharing no joint, whose centre lines

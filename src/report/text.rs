@@ -157,8 +157,8 @@ pub fn build_text(b: &Build) -> String {
             "not compensated (set it in the laser software)"
         }
     );
-    if let Some(sim) = &b.simulation {
-        out.push_str(&simulation_text(sim, &b.design.simulation));
+    if let Some(path) = &b.path {
+        out.push_str(&path.text(b.design.simulation.material.eps_allow, false));
     }
     for (i, sheet) in b.layout.sheets.iter().enumerate() {
         let piece = if sheet.test_piece.is_some() {
@@ -236,6 +236,10 @@ fn summary_with(b: &Build, full: bool) -> String {
     if let Some(advice) = sheet_advice(b) {
         let _ = writeln!(out, "{advice}");
     }
+    // The predicted shape, for `check` and report.txt alike.
+    if let Some(sim) = &b.simulation {
+        out.push_str(&simulation_text(sim, &b.lattice, &b.design.simulation));
+    }
     // A terminal gets the first few warnings; report.txt has them all.
     let shown = if full { b.parts.warnings.len() } else { 5 };
     for w in b.parts.warnings.iter().take(shown) {
@@ -297,11 +301,21 @@ fn sheet_advice(b: &Build) -> Option<String> {
 
 /// report.txt's line on the simulated deployed shape (docs/physics.md).
 /// Fixed decimals: the noise of a zero-energy shape prints as 0.
-fn simulation_text(sim: &crate::sim::Simulation, settings: &crate::sim::Settings) -> String {
+fn simulation_text(
+    sim: &crate::sim::Simulation,
+    lattice: &Lattice,
+    settings: &crate::sim::Settings,
+) -> String {
     let e = &sim.equilibrium;
     let allow = settings.material.eps_allow;
     let at = if 100.0 * e.strain.eps >= 0.005 {
         format!(" ({}, strip {})", e.strain.term, e.strain.rod)
+    } else {
+        String::new()
+    };
+    // Where the shape lies farthest, unless that is round-off.
+    let where_ = if e.fit.max >= 0.05 {
+        format!("; largest at {}", sim.lm.point_name(lattice, e.fit.at))
     } else {
         String::new()
     };
@@ -311,10 +325,11 @@ fn simulation_text(sim: &crate::sim::Simulation, settings: &crate::sim::Settings
         "within it"
     };
     format!(
-        "simulated deployed shape (deployed.obj): energy {:.3} N mm; largest strain {:.2} %{at}, allowable {:.2} %: {verdict}; {:.1} mm from the design after the best rigid fit\n",
+        "simulated deployed shape (deployed.obj): energy {:.3} N mm; largest strain {:.2} %{at}, allowable {:.2} %: {verdict}; {:.1} mm from the design after the best rigid fit (rms {:.1} mm{where_})\n",
         e.energy.total(),
         100.0 * e.strain.eps,
         100.0 * allow,
-        e.distance
+        e.fit.max,
+        e.fit.rms,
     )
 }

@@ -9,6 +9,7 @@
 
 pub mod explore;
 mod opening;
+pub mod path;
 pub(crate) mod results;
 pub(crate) mod strips;
 
@@ -17,7 +18,7 @@ pub(crate) use karigami_rods::{model, solver};
 pub(crate) use model::Energies;
 pub use model::Section;
 pub(crate) use results::StrainPeak;
-pub use results::kabsch_distance;
+pub use results::{ShapeDistance, kabsch_distance, shape_distance};
 pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
 pub use strips::{Hold, LatticeModel, Mesh};
@@ -105,6 +106,9 @@ pub struct Equilibrium {
     pub points: Vec<DVec3>,
     /// Largest distance from the start placement after the best rigid fit (mm).
     pub distance: f64,
+    /// The same fit's rms and largest distance, and where the largest is
+    /// (an index of `points`).
+    pub fit: ShapeDistance,
     /// Opening of every cell (radians).
     pub openings: Vec<f64>,
     /// Statistics of the last Newton solve.
@@ -132,11 +136,13 @@ pub struct Simulation {
 pub fn equilibrium(lm: &LatticeModel, stats: Stats, material: &Material) -> Equilibrium {
     let m = &lm.model;
     let points = lm.points();
+    let fit = shape_distance(&points, &lm.start);
     Equilibrium {
+        fit,
         energy: m.energies(),
         strain: results::strain_peak(m, material.youngs, material.shear()),
         reaction: results::largest_reaction(m),
-        distance: kabsch_distance(&points, &lm.start),
+        distance: fit.max,
         openings: (0..lm.delta.len()).map(|c| lm.opening(c)).collect(),
         points,
         stats,
@@ -211,38 +217,64 @@ pub fn deploy(
     if let Some(target) = theta {
         let start = lm.held_opening();
         let n = ((target - start).abs() / STEP).ceil() as usize;
-        // The equilibrium one step back, for the secant predictor.
-        let mut before: Option<Vec<f64>> = None;
-        for k in 1..=n {
-            let phi = start + (target - start) * k as f64 / n as f64;
-            let here = lm.model.q.clone();
-            let frames = lm.model.frames();
-            if let Some(back) = &before {
-                // The steps are equal: start the next solve where the last
-                // step's change, continued, lands (positions and angles;
-                // the frames follow), not at the last equilibrium. Newton
-                // then corrects a small error instead of a whole step.
-                predict(&mut lm.model, back, &here);
-            }
-            lm.set_held_opening(phi);
-            stats = match solve_checked(lm, &sys, opts, &mut total) {
-                Ok(s) => s,
-                // A prediction that overshoots (a fold of the path) is
-                // dropped: the step is solved again from the last
-                // equilibrium, as without a predictor.
-                Err(_) if before.is_some() => {
-                    lm.model.q.clone_from(&here);
-                    lm.model.set_frames(&frames);
-                    lm.set_held_opening(phi);
-                    solve_checked(lm, &sys, opts, &mut total)?
-                }
-                Err(e) => return Err(e),
-            };
-            before = Some(here);
+        walk(lm, &sys, target, n, opts, &mut total, &mut |_, s| {
+            stats = s;
             steps += 1;
-        }
+            true
+        })?;
     }
     Ok((stats, total, steps))
+}
+
+/// Step the held opening from where it is to `target` in `n` equal steps,
+/// solving after each (continuation: each solve starts from the last
+/// equilibrium, from the second step on moved by the last step's change),
+/// and hand each step's equilibrium to `visit`, which says whether to go
+/// on. Newton iterations are added to `total`; the first step that finds
+/// no equilibrium ends the walk with its error.
+pub(crate) fn walk(
+    lm: &mut LatticeModel,
+    sys: &System,
+    target: f64,
+    n: usize,
+    opts: &Options,
+    total: &mut usize,
+    visit: &mut dyn FnMut(&LatticeModel, Stats) -> bool,
+) -> Result<(), SimError> {
+    let start = lm.held_opening();
+    // The equilibrium one step back, for the secant predictor.
+    let mut before: Option<Vec<f64>> = None;
+    for k in 1..=n {
+        let phi = start + (target - start) * k as f64 / n as f64;
+        let here = lm.model.q.clone();
+        let frames = lm.model.frames();
+        if let Some(back) = &before {
+            // The steps are equal: start the next solve where the last
+            // step's change, continued, lands (positions and angles;
+            // the frames follow), not at the last equilibrium. Newton
+            // then corrects a small error instead of a whole step.
+            predict(&mut lm.model, back, &here);
+        }
+        lm.set_held_opening(phi);
+        let stats = match solve_checked(lm, sys, opts, total) {
+            Ok(s) => s,
+            // A prediction that overshoots (a fold of the path) is
+            // dropped: the step is solved again from the last
+            // equilibrium, as without a predictor.
+            Err(_) if before.is_some() => {
+                lm.model.q.clone_from(&here);
+                lm.model.set_frames(&frames);
+                lm.set_held_opening(phi);
+                solve_checked(lm, sys, opts, total)?
+            }
+            Err(e) => return Err(e),
+        };
+        if !visit(lm, stats) {
+            break;
+        }
+        before = Some(here);
+    }
+    Ok(())
 }
 
 /// Move the free variables of `m` from `here` by the change from `back`

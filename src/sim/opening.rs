@@ -25,6 +25,26 @@ impl LatticeModel {
             .collect()
     }
 
+    /// Every strip's centre line now, by rod id: its nodes from the first
+    /// hole to the last (the bent strips, for the clash search on them).
+    pub(crate) fn centre_lines(&self) -> Vec<Vec<DVec3>> {
+        let m = &self.model;
+        m.rods
+            .iter()
+            .map(|path| path.nodes.iter().map(|&n| m.pos(n)).collect())
+            .collect()
+    }
+
+    /// Point `i` of `points` as reports name it: a vertex, or (after the
+    /// vertices) a cell's pivot.
+    pub fn point_name(&self, lattice: &Lattice, i: usize) -> String {
+        let nv = self.vertex.len();
+        match lattice.cells.get(i.wrapping_sub(nv)) {
+            Some(cell) if i >= nv => format!("the pivot of {}", lattice.cell_name(cell)),
+            _ => format!("vertex {}", lattice.vertex_name(i as u32)),
+        }
+    }
+
     /// Opening angle phi of cell c now (docs/math.md 1.3).
     pub fn opening(&self, c: usize) -> f64 {
         let (v, s) = self.delta[c];

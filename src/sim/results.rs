@@ -159,11 +159,38 @@ pub(crate) fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
 
 /// Largest point distance after the best proper rigid fit of `a` onto `b`.
 pub fn kabsch_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
-    kabsch_fit(a, b)
+    shape_distance(a, b).max
+}
+
+/// How far one shape lies from another after the best proper rigid fit:
+/// the root mean square and the largest of the point distances, and the
+/// point of the largest (the first of equal ones).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShapeDistance {
+    /// Root mean square of the point distances (mm).
+    pub rms: f64,
+    /// Largest point distance (mm).
+    pub max: f64,
+    /// Index of the point at the largest distance.
+    pub at: usize,
+}
+
+/// `ShapeDistance` of `a` fitted onto `b`, point by point.
+pub fn shape_distance(a: &[DVec3], b: &[DVec3]) -> ShapeDistance {
+    let d: Vec<f64> = kabsch_fit(a, b)
         .iter()
         .zip(b)
         .map(|(p, q)| p.distance(*q))
-        .fold(0.0, f64::max)
+        .collect();
+    let mut out = ShapeDistance::default();
+    for (i, &x) in d.iter().enumerate() {
+        if x > out.max {
+            (out.max, out.at) = (x, i);
+        }
+    }
+    let n = d.len().max(1) as f64;
+    out.rms = (d.iter().map(|x| x * x).sum::<f64>() / n).sqrt();
+    out
 }
 
 /// One strip of an equilibrium, node by node, for deployed.json/.obj.
@@ -207,4 +234,31 @@ pub(crate) fn deployed_strips(m: &Model) -> Vec<DeployedStrip> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shape_distance_is_rigid_invariant_and_finds_the_farthest_point() {
+        let a: Vec<DVec3> = (0..12)
+            .map(|k| DVec3::new((k % 4) as f64 * 10.0, (k / 4) as f64 * 10.0, 0.0))
+            .collect();
+        // Turned and moved: no distance at all.
+        let turn = DMat3::from_rotation_z(0.3) * DMat3::from_rotation_x(0.2);
+        let b: Vec<DVec3> = a
+            .iter()
+            .map(|p| turn * *p + DVec3::new(5.0, -2.0, 7.0))
+            .collect();
+        let d = shape_distance(&a, &b);
+        assert!(d.max < 1e-9 && d.rms < 1e-9, "{d:?}");
+        // One point lifted 3 mm: it is the farthest, the rms below the largest.
+        let mut c = a.clone();
+        c[5].z += 3.0;
+        let d = shape_distance(&c, &a);
+        assert_eq!(d.at, 5);
+        assert!(d.max > 2.0 && d.max <= 3.0 && d.rms < d.max, "{d:?}");
+        assert_eq!(kabsch_distance(&c, &a), d.max);
+    }
 }

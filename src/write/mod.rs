@@ -8,6 +8,7 @@ mod number;
 pub(crate) mod obj;
 pub(crate) mod part_types_csv;
 pub(crate) mod parts_csv;
+pub(crate) mod path_png;
 pub(crate) mod pdf;
 pub mod png;
 mod repeats;

@@ -37,6 +37,8 @@ pub struct Scene<'a> {
     /// A simulated deployed shape (one position per vertex, then one per
     /// cell pivot, like the designed one), when a simulation exists.
     pub simulated: Option<Vec<DVec3>>,
+    /// The deployment path, drawn below the views as path.png draws it.
+    pub(crate) path: Option<&'a crate::sim::path::Path>,
 }
 
 impl<'a> Scene<'a> {
@@ -59,6 +61,7 @@ impl<'a> Scene<'a> {
             deployment,
             steps,
             simulated: None,
+            path: None,
         }
     }
 }
@@ -69,6 +72,9 @@ pub fn write(scene: &Scene) -> Vec<u8> {
     // Inside <script>, "</" could end the element early; JSON allows "<\/".
     let data = data.replace("</", "<\\/");
     let title = html_escape(&scene.design.name);
+    let path = scene
+        .path
+        .map_or(String::new(), |p| path_figure(scene.design, p));
     // Fill the template's slots in order, never searching inserted text.
     let mut out = String::new();
     let mut rest = PAGE;
@@ -76,6 +82,7 @@ pub fn write(scene: &Scene) -> Vec<u8> {
         ("{{TITLE}}", title.as_str()),
         ("/*{{STYLE}}*/", STYLE),
         ("{{TITLE}}", title.as_str()),
+        ("<!--{{PATH}}-->", path.as_str()),
         ("{{DATA}}", data.as_str()),
         ("/*{{SCRIPT}}*/", SCRIPT),
     ] {
@@ -86,6 +93,33 @@ pub fn write(scene: &Scene) -> Vec<u8> {
     }
     out.push_str(rest);
     out.into_bytes()
+}
+
+/// The deployment path's plot (`path_png`'s page) as inline SVG: no XML
+/// declaration and no namespace, which HTML does not need (the page
+/// names no URL).
+fn path_figure(design: &Design, path: &crate::sim::path::Path) -> String {
+    let page = super::path_png::page(
+        path,
+        design.simulation.material.eps_allow,
+        &format!("{}: the deployment path", design.name),
+    );
+    let svg = String::from_utf8(super::svg::write(&page)).expect("SVG is UTF-8");
+    let svg = svg
+        .split_once('\n')
+        .map_or(svg.as_str(), |(_, rest)| rest)
+        .replace(" xmlns=\"http://www.w3.org/2000/svg\"", "")
+        .replace(
+            &format!("height=\"{}mm\"", num(super::path_png::HEIGHT)),
+            "",
+        )
+        .replace(
+            &format!("width=\"{}mm\"", num(super::path_png::WIDTH)),
+            "style=\"max-width:40em;width:100%\"",
+        );
+    format!(
+        "<section id=\"path-plot\" aria-label=\"The deployment path: energy and largest strain against the held opening\">\n{svg}</section>\n"
+    )
 }
 
 fn html_escape(s: &str) -> String {

@@ -1,0 +1,511 @@
+//! The deployment path (docs/physics.md, "The deployment path"): the
+//! structure followed by continuation in the held opening from its
+//! equilibrium at the design opening down to nearly collapsed (does it
+//! fold flat again?), then back up to the design (what deploying is like),
+//! each step's solve started from the last step's equilibrium. Along the
+//! way: the energy, the largest strain, the lowest eigenvalue, and the
+//! jumps of the state between steps that mark a snap-through.
+
+use super::solver::{Options, Stats, System};
+use super::strips::LatticeModel;
+use super::{Material, results, shape_distance, walk};
+use glam::DVec3;
+
+/// The nearly collapsed end of the path: this share of the design's
+/// opening.
+pub const COLLAPSED: f64 = 0.1;
+
+/// A step's state jump counts as a snap-through when it is at least this
+/// many times the path's median jump, and at least `SNAP_MM`.
+pub const SNAP_RATIO: f64 = 4.0;
+/// The least jump (mm) of a snap-through: smaller ones are the smooth
+/// motion of a small piece.
+pub const SNAP_MM: f64 = 1.0;
+
+/// Steps each way: at least this many, so the curve is a curve.
+pub const MIN_STEPS: usize = 6;
+/// At most this many steps each way.
+pub const MAX_STEPS: usize = 12;
+/// The path's budget: steps each way times the model's free variables,
+/// at most this (docs/physics.md, "The deployment path": about as much CPU
+/// as the build's own solve on the examples).
+pub const BUDGET: usize = 30_000;
+
+/// One step of the path: its equilibrium's figures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathPoint {
+    /// The held opening (radians).
+    pub theta: f64,
+    /// Elastic energy (N mm).
+    pub energy: f64,
+    /// Largest corner-fibre strain (fraction) and the strip.
+    pub strain: f64,
+    /// The strip of the largest strain.
+    pub rod: String,
+    /// Lowest eigenvalue of the scaled Hessian (positive: stable).
+    pub lambda_min: f64,
+    /// Largest joint move from the last step's equilibrium (mm).
+    pub jump: f64,
+    /// Newton iterations of the step's (last) solve.
+    pub iterations: usize,
+    /// The smallest and largest cell opening (radians).
+    pub openings: (f64, f64),
+    /// Every vertex, then every pivot.
+    pub(crate) points: Vec<DVec3>,
+}
+
+/// The path both ways and what it says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Path {
+    /// The design opening the path starts and ends at (radians).
+    pub design: f64,
+    /// The nearly collapsed end (radians).
+    pub low: f64,
+    /// Steps each way, as planned.
+    pub steps: usize,
+    /// Newton iterations the path took, and its budget.
+    pub iterations: usize,
+    /// The most Newton iterations the path may take.
+    pub budget: usize,
+    /// From the design's equilibrium down to `low`, the start first.
+    pub collapse: Vec<PathPoint>,
+    /// From `low` back up to the design, its first point `low`'s.
+    pub deploy: Vec<PathPoint>,
+    /// Where a step found no equilibrium: the opening tried and why.
+    pub failed: Option<(f64, String)>,
+    /// The deployed end against the build's equilibrium: largest distance
+    /// after the best rigid fit (mm); None when the path did not get there.
+    pub end_distance: Option<f64>,
+    /// Largest distance between the collapse and the deploy at the same
+    /// opening (mm): a path that differs going back is bistable there.
+    pub hysteresis: f64,
+}
+
+impl Path {
+    /// Steps each way for a model of `free` free variables: one per 2
+    /// degrees of the way, within `MIN_STEPS` to `MAX_STEPS` and the budget.
+    pub fn step_count(free: usize, design: f64) -> usize {
+        let way = design * (1.0 - COLLAPSED);
+        let wanted = (way / super::STEP).ceil() as usize;
+        let afford = BUDGET / free.max(1);
+        wanted.min(afford).clamp(MIN_STEPS, MAX_STEPS)
+    }
+
+    /// Every point in the order walked: the collapse, then the deploy.
+    pub fn points(&self) -> impl Iterator<Item = &PathPoint> {
+        self.collapse.iter().chain(&self.deploy)
+    }
+
+    /// Steps (of either way) whose state jump marks a snap-through, or
+    /// whose equilibrium is not stable, as (way, index): way 0 the
+    /// collapse, 1 the deploy.
+    pub fn snaps(&self) -> Vec<(usize, usize)> {
+        let mut jumps: Vec<f64> = self
+            .points()
+            .filter(|p| p.jump > 0.0)
+            .map(|p| p.jump)
+            .collect();
+        let median = if jumps.is_empty() {
+            0.0
+        } else {
+            let mid = jumps.len() / 2;
+            *jumps.select_nth_unstable_by(mid, f64::total_cmp).1
+        };
+        let limit = (SNAP_RATIO * median).max(SNAP_MM);
+        let mut out = Vec::new();
+        for (w, way) in [&self.collapse, &self.deploy].into_iter().enumerate() {
+            for (i, p) in way.iter().enumerate() {
+                if p.jump > limit || !(p.lambda_min > 0.0) {
+                    out.push((w, i));
+                }
+            }
+        }
+        out
+    }
+
+    /// The first point strained beyond `allow`, if any.
+    pub fn overstrained(&self, allow: f64) -> Option<&PathPoint> {
+        self.points().find(|p| p.strain > allow)
+    }
+
+    /// The largest strain along the path.
+    pub fn peak_strain(&self) -> Option<&PathPoint> {
+        self.points()
+            .fold(None, |best: Option<&PathPoint>, p| match best {
+                Some(b) if !(p.strain > b.strain) => Some(b),
+                _ => Some(p),
+            })
+    }
+
+    /// Whether the collapse reached the nearly collapsed end with every
+    /// cell closed (none inverted, none left open past twice that end).
+    pub fn folds_flat(&self) -> bool {
+        self.collapse.last().is_some_and(|p| {
+            self.collapse.len() > 1
+                && (p.theta - self.low).abs() < 1e-9
+                && p.openings.0 > 0.0
+                && p.openings.1 <= 2.0 * self.low
+        })
+    }
+}
+
+/// The path of `lm`, at its equilibrium at the design opening (as `simulate`
+/// leaves it), `steps` steps each way (`Path::steps`), within a budget of
+/// Newton iterations: `BUDGET_PER_ITERATION` times the equilibrium's own
+/// (`stats`), at least `MIN_BUDGET`.
+pub fn path(lm: &LatticeModel, stats: &Stats, steps: usize, material: &Material) -> Path {
+    let mut lm = lm.clone();
+    let design = lm.held_opening();
+    let low = COLLAPSED * design;
+    let start = point(&lm, stats, material, None);
+    let sys = System::new(&lm.model);
+    let budget = BUDGET_PER_ITERATION * stats.iterations.max(MIN_BUDGET / BUDGET_PER_ITERATION);
+    let mut left = budget;
+    let mut failed = None;
+    let collapse = walk_recording(
+        &mut lm,
+        &sys,
+        low,
+        steps,
+        material,
+        start,
+        &mut left,
+        &mut failed,
+    );
+    let mut deploy = Vec::new();
+    let mut end_distance = None;
+    if failed.is_none() {
+        let mut first = collapse.last().expect("the start").clone();
+        first.jump = 0.0;
+        deploy = walk_recording(
+            &mut lm,
+            &sys,
+            design,
+            steps,
+            material,
+            first,
+            &mut left,
+            &mut failed,
+        );
+        if failed.is_none() {
+            let end = deploy.last().expect("the design");
+            end_distance = Some(shape_distance(&end.points, &collapse[0].points).max);
+        }
+    }
+    // The collapse's step k and the deploy's step n - k are at one opening
+    // (both ways walked in full).
+    let hysteresis = if end_distance.is_some() {
+        collapse
+            .iter()
+            .zip(deploy.iter().rev())
+            .map(|(a, b)| shape_distance(&a.points, &b.points).max)
+            .fold(0.0, f64::max)
+    } else {
+        0.0
+    };
+    Path {
+        design,
+        low,
+        steps,
+        iterations: budget - left,
+        budget,
+        collapse,
+        deploy,
+        failed,
+        end_distance,
+        hysteresis,
+    }
+}
+
+/// The path's Newton iterations: at most this many times the
+/// equilibrium's, and at least `MIN_BUDGET` (docs/physics.md, "The
+/// deployment path").
+pub const BUDGET_PER_ITERATION: usize = 20;
+/// The least budget of Newton iterations.
+pub const MIN_BUDGET: usize = 500;
+/// Walk to `target` in `n` steps (`walk`: each solve started from the last
+/// equilibrium moved by the last step's change), each step's point
+/// recorded after `first`, Newton iterations taken from `left`. A step
+/// that finds no equilibrium ends the walk, and so does a spent budget
+/// (after the step that spends it), noted in `failed`.
+#[allow(clippy::too_many_arguments)]
+fn walk_recording(
+    lm: &mut LatticeModel,
+    sys: &System,
+    target: f64,
+    n: usize,
+    material: &Material,
+    first: PathPoint,
+    left: &mut usize,
+    failed: &mut Option<(f64, String)>,
+) -> Vec<PathPoint> {
+    let from = lm.held_opening();
+    let at = |k: usize| from + (target - from) * k as f64 / n as f64;
+    let mut out = vec![first];
+    let (mut used, mut spent) = (0, 0);
+    let budget = *left;
+    let outcome = walk(
+        lm,
+        sys,
+        target,
+        n,
+        &Options::default(),
+        &mut used,
+        &mut |lm, stats| {
+            spent += stats.iterations;
+            let p = point(lm, &stats, material, out.last().map(|p| &p.points));
+            out.push(p);
+            spent < budget
+        },
+    );
+    *left = budget.saturating_sub(used);
+    let k = out.len();
+    match outcome {
+        Err(e) => *failed = Some((at(k), e.to_string())),
+        Ok(()) if k <= n => {
+            *failed = Some((
+                at(k),
+                "the path's budget of Newton iterations was spent".into(),
+            ));
+        }
+        Ok(()) => {}
+    }
+    out
+}
+
+/// The figures of `lm`'s equilibrium now; its jump from `last`.
+fn point(
+    lm: &LatticeModel,
+    stats: &Stats,
+    material: &Material,
+    last: Option<&Vec<DVec3>>,
+) -> PathPoint {
+    let m = &lm.model;
+    let strain = results::strain_peak(m, material.youngs, material.shear());
+    let points = lm.points();
+    let jump = last.map_or(0.0, |l| {
+        l.iter()
+            .zip(&points)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max)
+    });
+    let openings = (0..lm.delta.len())
+        .map(|c| lm.opening(c))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    PathPoint {
+        theta: lm.held_opening(),
+        energy: m.energy(),
+        strain: strain.eps,
+        rod: strain.rod,
+        lambda_min: stats.lambda_min,
+        jump,
+        iterations: stats.iterations,
+        openings,
+        points,
+    }
+}
+
+impl Path {
+    /// The path in words: a line per way (energy, the largest strain and
+    /// where, snap-throughs), whether it folds flat again, where the
+    /// deploy ends against the build's equilibrium, and, with `table`, a
+    /// line per step. Strains are judged against `allow` (a fraction).
+    pub fn text(&self, allow: f64, table: bool) -> String {
+        use std::fmt::Write as _;
+        let mut o = String::new();
+        let deg = f64::to_degrees;
+        let _ = writeln!(
+            o,
+            "deployment path (docs/physics.md): from the design opening {:.1} deg down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
+            deg(self.design),
+            deg(self.low),
+            self.steps,
+            self.iterations,
+            self.budget
+        );
+        let snaps = self.snaps();
+        for (w, (name, way)) in [("collapsing", &self.collapse), ("deploying", &self.deploy)]
+            .into_iter()
+            .enumerate()
+        {
+            let (Some(first), Some(last)) = (way.first(), way.last()) else {
+                continue;
+            };
+            let peak = way
+                .iter()
+                .fold(first, |b, p| if p.strain > b.strain { p } else { b });
+            let here: Vec<String> = snaps
+                .iter()
+                .filter(|s| s.0 == w)
+                .map(|&(_, i)| {
+                    let p = &way[i];
+                    format!(
+                        "at {:.1} deg (joints jump {:.1} mm, energy {:.3} -> {:.3} N mm{})",
+                        deg(p.theta),
+                        p.jump,
+                        way[i.saturating_sub(1)].energy,
+                        p.energy,
+                        if p.lambda_min > 0.0 {
+                            ""
+                        } else {
+                            ", not stable"
+                        }
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                o,
+                "  {name}: energy {:.3} to {:.3} N mm, largest strain {:.2} %{} at {:.1} deg ({}); snap-throughs: {}",
+                first.energy,
+                last.energy,
+                100.0 * peak.strain,
+                if peak.rod.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (strip {})", peak.rod)
+                },
+                deg(peak.theta),
+                if peak.strain > allow {
+                    "ABOVE the allowable"
+                } else {
+                    "within the allowable"
+                },
+                if here.is_empty() {
+                    "none".to_string()
+                } else {
+                    here.join("; ")
+                }
+            );
+        }
+        if let Some((theta, why)) = &self.failed {
+            let _ = writeln!(o, "  no equilibrium found at {:.1} deg: {why}", deg(*theta));
+        }
+        let _ = writeln!(
+            o,
+            "  folds flat again: {}",
+            if self.folds_flat() {
+                let p = self.collapse.last().expect("a point");
+                format!(
+                    "yes (every cell between {:.1} and {:.1} deg at {:.1} deg)",
+                    deg(p.openings.0),
+                    deg(p.openings.1),
+                    deg(self.low)
+                )
+            } else if let Some(p) = self
+                .collapse
+                .last()
+                .filter(|p| (p.theta - self.low).abs() < 1e-9)
+            {
+                format!(
+                    "no (cells between {:.1} and {:.1} deg at {:.1} deg)",
+                    deg(p.openings.0),
+                    deg(p.openings.1),
+                    deg(self.low)
+                )
+            } else {
+                "not known (the collapse stopped on the way)".to_string()
+            }
+        );
+        if let Some(d) = self.end_distance {
+            let _ = writeln!(
+                o,
+                "  deployed again, the piece ends {d:.3} mm from the build's equilibrium ({}); collapsing and deploying differ by up to {:.3} mm at one opening",
+                if d <= 1e-3 {
+                    "the same state"
+                } else {
+                    "another state"
+                },
+                self.hysteresis
+            );
+        }
+        if table {
+            let _ = writeln!(
+                o,
+                "  {:>9} {:>9} {:>14} {:>9} {:>11} {:>9} {:>7}",
+                "way", "theta", "energy", "strain", "lambda_min", "jump", "newton"
+            );
+            for (name, way) in [("collapse", &self.collapse), ("deploy", &self.deploy)] {
+                for p in way {
+                    let _ = writeln!(
+                        o,
+                        "  {name:>9} {:>9.2} {:>14.6e} {:>8.3}% {:>11.3e} {:>9.3} {:>7}",
+                        deg(p.theta),
+                        p.energy,
+                        100.0 * p.strain,
+                        p.lambda_min,
+                        p.jump,
+                        p.iterations
+                    );
+                }
+            }
+        }
+        o
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(theta: f64, jump: f64, lambda_min: f64) -> PathPoint {
+        PathPoint {
+            theta,
+            energy: 0.0,
+            strain: 0.0,
+            rod: String::new(),
+            lambda_min,
+            jump,
+            iterations: 1,
+            openings: (theta, theta),
+            points: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_jump_far_above_the_paths_median_or_an_unstable_step_is_a_snap() {
+        let way = |jumps: &[f64]| -> Vec<PathPoint> {
+            jumps
+                .iter()
+                .enumerate()
+                .map(|(k, &j)| at(k as f64, j, 1.0))
+                .collect()
+        };
+        let mut path = Path {
+            design: 1.0,
+            low: 0.1,
+            steps: 4,
+            iterations: 0,
+            budget: 1,
+            collapse: way(&[0.0, 2.0, 2.1, 1.9, 2.0]),
+            deploy: way(&[0.0, 2.0, 9.0, 2.0, 2.0]),
+            failed: None,
+            end_distance: Some(0.0),
+            hysteresis: 0.0,
+        };
+        assert_eq!(path.snaps(), vec![(1, 2)]);
+        // Below 4 times the median: smooth.
+        path.deploy[2].jump = 7.9;
+        assert!(path.snaps().is_empty());
+        // A small piece's jumps under SNAP_MM never count.
+        for p in path.collapse.iter_mut().chain(&mut path.deploy) {
+            p.jump *= 0.01;
+        }
+        path.deploy[2].jump = 0.9;
+        assert!(path.snaps().is_empty());
+        path.collapse[3].lambda_min = -1e-3;
+        assert_eq!(path.snaps(), vec![(0, 3)]);
+    }
+
+    #[test]
+    fn steps_follow_the_opening_within_the_bounds_and_the_budget() {
+        let deg = f64::to_radians;
+        // 2 degrees a step over 90 % of the way, within 6 to 12.
+        assert_eq!(Path::step_count(100, deg(60.0)), 12);
+        assert_eq!(Path::step_count(100, deg(10.0)), MIN_STEPS);
+        // A large model: fewer steps, never fewer than MIN_STEPS.
+        assert_eq!(Path::step_count(BUDGET / 8, deg(120.0)), 8);
+        assert_eq!(Path::step_count(10 * BUDGET, deg(120.0)), MIN_STEPS);
+    }
+}
