@@ -322,6 +322,8 @@ error_kinds! {
     // Simulation and optimisation settings.
     /// A `[simulation]` value lies outside its allowed range.
     SimulationOutOfRange => EXIT_INVALID,
+    /// The simulation's mesh would take more memory than allowed.
+    SimulationTooLarge => EXIT_INVALID,
     /// `[simulation] vertex_joint` is neither eyelet nor ball.
     UnknownVertexJoint => EXIT_INVALID,
     /// `clash.clearance` is negative.

@@ -106,10 +106,10 @@ pub mod simulation {
     pub use crate::design::simulation::{MAX_THETA, MIN_THETA};
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
-        Actuation, Equilibrium, Hold, LatticeModel, Material, Mesh, Section, Settings,
-        ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium, explore,
-        kabsch_distance, path, placed_at, placed_lattice, prepare, section, shape_distance,
-        simulate,
+        Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
+        Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
+        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, section,
+        shape_distance, simulate, within_memory,
     };
     /// The deployment path drawn: path.png's bytes.
     pub use crate::write::path_png::write as path_png;

@@ -571,7 +571,7 @@ fn simulated(
         Ok(run) => run,
         Err(e) => {
             // A recipe's mistake, not the solver's: refused where it is written.
-            if let Some(d) = recipe_error(design, &e) {
+            if let Some(d) = recipe_error(design, lattice, &e) {
                 return Err(d);
             }
             warnings.push(crate::parts::Warning {
@@ -655,17 +655,43 @@ fn deployment_path(
 }
 
 /// A simulation error that is the recipe's to fix, located in it: a
-/// `[simulation] symmetry` the lattice does not have. None for the solver's
-/// failures.
-pub fn recipe_error(design: &Design, e: &crate::sim::SimError) -> Option<Diagnostic> {
+/// `[simulation] symmetry` the lattice does not have, or a mesh too large
+/// for the memory allowed. None for the solver's failures.
+pub fn recipe_error(
+    design: &Design,
+    lattice: &Lattice,
+    e: &crate::sim::SimError,
+) -> Option<Diagnostic> {
     match e {
         crate::sim::SimError::Symmetry { .. } => Some(
             Diagnostic::new(ErrorKind::SimulationOutOfRange, e.to_string())
                 .at_opt(design.symmetry_span())
                 .hint("symmetry is for loop lattices: how many identical copies of its cells the loop has; use a divisor of the cells in a row whose copies are alike, or 1, which a sheet always has (docs/physics.md)"),
         ),
+        crate::sim::SimError::TooLarge { .. } => Some(too_large_to_simulate(design, lattice, e)),
         _ => None,
     }
+}
+
+/// A simulation refused for its memory (`sim::within_memory`), blamed on
+/// `[simulation] edge_length` with the coarsest edge that would fit.
+fn too_large_to_simulate(
+    design: &Design,
+    lattice: &Lattice,
+    e: &crate::sim::SimError,
+) -> Diagnostic {
+    let settings = &design.simulation;
+    let hint = match crate::sim::edge_within(lattice, settings.memory) {
+        Some(h) if h <= 1e6 => format!(
+            "use a coarser mesh, [simulation] edge_length = {} mm or more (now {} mm), fewer or shorter strips, or allow more memory with --memory (docs/physics.md, Limits)",
+            crate::diagnostic::shown((h * 10.0).ceil() / 10.0),
+            crate::diagnostic::shown(settings.h_max)
+        ),
+        _ => "the lattice's strips are too long to simulate in this memory at any mesh; use fewer or shorter strips, or allow more memory with --memory (docs/physics.md, Limits)".to_string(),
+    };
+    Diagnostic::new(ErrorKind::SimulationTooLarge, e.to_string())
+        .at_opt(design.edge_length_span())
+        .hint(hint)
 }
 
 /// The clash rule of `check` applied to the strips of a simulated deployed

@@ -60,6 +60,10 @@ pub(super) enum Command {
         /// Starts of --explore solved at once (default: all cores). The report does not depend on it.
         #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
+        /// The most memory the simulation may take, in MB (default 2048): a
+        /// finer mesh is refused before it is made.
+        #[arg(long, value_name = "MB", value_parser = clap::value_parser!(u64).range(16..=1_048_576))]
+        memory: Option<u64>,
     },
     /// Grow designs and verify collapsibility, compatibility, the collapsed
     /// state and that every strip can be cut. Writes nothing.
@@ -193,6 +197,10 @@ pub(super) struct FabricationFlags {
     /// drawn in full, for importers that skip references.
     #[arg(long)]
     flat: bool,
+    /// The most memory the simulation may take, in MB (default 2048): a
+    /// finer mesh is refused before it is made.
+    #[arg(long, value_name = "MB", value_parser = clap::value_parser!(u64).range(16..=1_048_576))]
+    memory: Option<u64>,
 }
 
 impl FabricationFlags {
@@ -210,6 +218,7 @@ impl FabricationFlags {
             group_by_step: self.group_by_step.then_some(true),
             tabs: self.tabs,
             flat: self.flat.then_some(true),
+            memory: self.memory.map(|mb| mb << 20),
         }
     }
 }

@@ -130,7 +130,15 @@ fn run_command() -> i32 {
             explore,
             path,
             jobs,
-        } => simulate::simulate(&design, theta, explore, path, jobs_or_cores(jobs), v),
+            memory,
+        } => simulate::simulate(
+            &design,
+            theta,
+            explore,
+            path,
+            (jobs_or_cores(jobs), memory),
+            v,
+        ),
         Command::Build {
             designs,
             out,

@@ -32,7 +32,7 @@ pub(super) fn simulate(
     theta: Option<f64>,
     explore_n: Option<usize>,
     follow_path: bool,
-    jobs: usize,
+    (jobs, memory): (usize, Option<u64>),
     v: Verbosity,
 ) -> Result<(), Error> {
     // The flags first: a usage error before the recipe is read or grown.
@@ -68,6 +68,9 @@ pub(super) fn simulate(
     }
     let (design, lattice, deploy) = (&checked.design, &checked.lattice, &checked.deployment);
     let mut settings = design.simulation;
+    if let Some(mb) = memory {
+        settings.memory = mb << 20;
+    }
     if let Some(t) = theta {
         settings.theta = Some(t.to_radians());
     }
@@ -80,7 +83,7 @@ pub(super) fn simulate(
     let run = progress::heartbeat(&what, v.quiet, || {
         sim::simulate(lattice, deploy, w, t, &settings)
     })
-    .map_err(|e| match karigami::recipe_error(design, &e) {
+    .map_err(|e| match karigami::recipe_error(design, lattice, &e) {
         Some(d) => recipe.error(&d),
         None => Error::new(
             ErrorKind::SimulationFailed,

@@ -34,6 +34,8 @@ pub struct Overrides {
     pub tabs: Option<f64>,
     /// `--flat`: Some(true) writes the SVG and DXF without references.
     pub flat: Option<bool>,
+    /// `--memory`: the most memory the simulation may take (bytes).
+    pub memory: Option<u64>,
 }
 
 /// Where the settings were written, for errors found later (per strip).

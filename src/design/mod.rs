@@ -96,7 +96,10 @@ pub fn parse_with(
     let (fabrication, fabrication_spans) = fabrication_table::fabrication(&raw, overrides)?;
     let clash = optimise::parse_clash(raw.clash.as_ref())?;
     let optimise = raw.optimise.as_ref().map(optimise::parse).transpose()?;
-    let simulation = simulation::parse(raw.simulation.as_ref(), fabrication.material.preset)?;
+    let mut simulation = simulation::parse(raw.simulation.as_ref(), fabrication.material.preset)?;
+    if let Some(memory) = overrides.memory {
+        simulation.memory = memory;
+    }
     let lattice_span = raw.lattice.span();
     let lat = raw.lattice.into_inner();
     let kind = match lat.seed.get_ref().as_str() {
@@ -123,6 +126,11 @@ pub fn parse_with(
             .simulation
             .as_ref()
             .and_then(|s| s.get_ref().symmetry.as_ref())
+            .map(|n| n.span()),
+        edge_length: raw
+            .simulation
+            .as_ref()
+            .and_then(|s| s.get_ref().edge_length.as_ref())
             .map(|n| n.span()),
         ..Spans::default()
     };

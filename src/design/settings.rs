@@ -4,6 +4,10 @@
 //! choices: the simulation (`sim`) reads them; the recipe needs nothing of
 //! it.
 
+/// The memory a simulation may take unless the command line says otherwise
+/// (`--memory`): 2 GiB.
+pub const DEFAULT_MEMORY: u64 = 2 << 30;
+
 /// The strip material. Defaults: ABS (docs/physics.md, "ABS and the
 /// recipe's `[simulation]` table").
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,6 +54,9 @@ pub struct Settings {
     /// every cell then opens as much as its copies (docs/physics.md,
     /// "Deployment").
     pub symmetry: u32,
+    /// The most memory the simulation may take (bytes): a mesh estimated
+    /// above it is refused before it is made (`sim::estimate`).
+    pub memory: u64,
 }
 
 impl Default for Settings {
@@ -62,6 +69,7 @@ impl Default for Settings {
             vertex_joint: VertexJoint::Eyelet,
             accept_overstrain: false,
             symmetry: 1,
+            memory: DEFAULT_MEMORY,
         }
     }
 }

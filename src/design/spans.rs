@@ -29,6 +29,8 @@ pub(super) struct Spans {
     pub(super) fit: Range<usize>,
     /// `[simulation] symmetry`, when the recipe sets it.
     pub(super) symmetry: Option<Range<usize>>,
+    /// `[simulation] edge_length`, when the recipe sets it.
+    pub(super) edge_length: Option<Range<usize>>,
 }
 
 pub(super) const NO_ENTRY: u32 = u32::MAX;
@@ -65,6 +67,11 @@ impl Design {
     /// does not have.
     pub(crate) fn symmetry_span(&self) -> Option<Range<usize>> {
         self.spans.symmetry.clone()
+    }
+
+    /// `[simulation] edge_length`, for errors about a mesh too fine.
+    pub(crate) fn edge_length_span(&self) -> Option<Range<usize>> {
+        self.spans.edge_length.clone()
     }
 
     /// The text that sets the lattice's size, for errors about a lattice too

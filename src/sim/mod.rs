@@ -7,6 +7,7 @@
 //! `solver` (Newton), `explore` (multistability), `results` (strains,
 //! reactions, distances).
 
+mod cost;
 pub mod explore;
 mod opening;
 pub mod path;
@@ -14,6 +15,8 @@ pub(crate) mod results;
 pub(crate) mod strips;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
+pub(crate) use cost::edge_within;
+pub use cost::{Cost, DEFAULT_MEMORY, estimate};
 pub(crate) use karigami_rods::{model, solver};
 pub(crate) use model::Energies;
 pub use model::Section;
@@ -70,6 +73,24 @@ pub enum SimError {
         /// The largest opening of the deployment range, `theta_max` (radians).
         max: f64,
     },
+    /// The mesh would take more memory than allowed (`cost::estimate`):
+    /// refused before any of it is made.
+    TooLarge {
+        /// Its estimated rod nodes and bytes.
+        cost: Cost,
+        /// The memory allowed (bytes).
+        limit: u64,
+    },
+}
+
+/// A memory size as `--memory` and the docs give it: MiB below a GiB.
+fn bytes(b: f64) -> String {
+    const MIB: f64 = (1u64 << 20) as f64;
+    if b < 1024.0 * MIB {
+        format!("{:.0} MiB", b / MIB)
+    } else {
+        format!("{:.1} GiB", b / (1024.0 * MIB))
+    }
 }
 
 impl std::fmt::Display for SimError {
@@ -85,9 +106,16 @@ impl std::fmt::Display for SimError {
             ),
             SimError::Theta { theta, max } => write!(
                 f,
-                "theta {:.2} deg is outside the deployment range (0, {:.2}) deg",
-                theta.to_degrees(),
-                max.to_degrees()
+                "theta {} deg is outside the deployment range (0, {}) deg",
+                crate::diagnostic::shown(theta.to_degrees()),
+                crate::diagnostic::shown(max.to_degrees())
+            ),
+            SimError::TooLarge { cost, limit } => write!(
+                f,
+                "the simulation would take about {} of memory ({} rod nodes), more than the {} allowed",
+                bytes(cost.bytes),
+                crate::diagnostic::shown(cost.nodes.round()),
+                bytes(*limit as f64)
             ),
         }
     }
@@ -320,6 +348,19 @@ pub fn simulate(
     simulate_with(lattice, deployment, &derived, width, thickness, settings)
 }
 
+/// Refuse a simulation whose mesh would take more memory than the settings
+/// allow (`cost::estimate`), before any of it is made.
+pub fn within_memory(lattice: &Lattice, settings: &Settings) -> Result<(), SimError> {
+    let cost = estimate(lattice, settings.h_max);
+    if cost.bytes > settings.memory as f64 || !cost.bytes.is_finite() {
+        return Err(SimError::TooLarge {
+            cost,
+            limit: settings.memory,
+        });
+    }
+    Ok(())
+}
+
 /// `simulate` with the placement and the joints the build has already.
 pub(crate) fn simulate_with(
     lattice: &Lattice,
@@ -336,6 +377,7 @@ pub(crate) fn simulate_with(
             return Err(SimError::Theta { theta: t, max });
         }
     }
+    within_memory(lattice, settings)?;
     let mut lm = prepare_with(lattice, derived, width, thickness, settings);
     check_symmetry(lattice, &lm, settings.symmetry)?;
     let (stats, iterations, steps) = deploy(&mut lm, settings.theta, &Options::default())?;
