@@ -55,7 +55,7 @@ impl Grid {
         };
         let front = if closed { width } else { width + 1 };
         let cells = lattice.cells.len();
-        if width == 0 || (closed && width < 3) || cells % width != 0 {
+        if width == 0 || (closed && width < 3) || !cells.is_multiple_of(width) {
             return None;
         }
         let grid = Grid {

@@ -153,6 +153,7 @@ pub(super) fn left_edge_squared(ul: DVec3, ll: DVec3) -> f64 {
 /// The four-map composition around an interior vertex: its slope - 1, its
 /// intercept over the squared left edge `s2` of the cell below-right of the
 /// vertex, and the intercept over its natural magnitude.
+#[derive(Clone, Copy)]
 pub(super) struct Compatibility {
     pub(super) slope: f64,
     pub(super) intercept: Ratio,
