@@ -119,7 +119,7 @@ fn segments(centres: &[Vec<DVec3>], margin: f64) -> Vec<Segment> {
 /// A rod's stacking layer and its two vertices.
 fn rod_info(lattice: &Lattice, r: usize) -> (u32, [u32; 2]) {
     let cell = &lattice.cells[r / 2];
-    if r % 2 == 0 {
+    if r.is_multiple_of(2) {
         (lattice.layer(cell, RodType::A), [cell.ul, cell.lr])
     } else {
         (lattice.layer(cell, RodType::B), [cell.ur, cell.ll])
