@@ -155,6 +155,23 @@ pub(super) fn text(
     s: &Settings,
 ) -> String {
     let mut o = String::new();
+    model_lines(&mut o, file, lattice, verdict, run, s);
+    strain_lines(&mut o, lattice, run, s);
+    shape_lines(&mut o, design, lattice, run);
+    opening_lines(&mut o, run);
+    solver_line(&mut o, run);
+    o
+}
+
+/// The model, its material, the held angle and the energy.
+fn model_lines(
+    o: &mut String,
+    file: &str,
+    lattice: &Lattice,
+    verdict: &str,
+    run: &Simulation,
+    s: &Settings,
+) {
     let eq = &run.equilibrium;
     let m = &run.lm.model;
     let sec = &m.section;
@@ -199,6 +216,12 @@ pub(super) fn text(
         e.twist,
         m.e_scale
     );
+}
+
+/// The largest strains, the largest joint reaction and the distance from
+/// the design.
+fn strain_lines(o: &mut String, lattice: &Lattice, run: &Simulation, s: &Settings) {
+    let eq = &run.equilibrium;
     let st = &eq.strain;
     let verdict = if st.eps > s.material.eps_allow {
         "ABOVE the allowable"
@@ -238,6 +261,11 @@ pub(super) fn text(
         run.lm.point_name(lattice, eq.fit.at),
         eq.fit.rms
     );
+}
+
+/// Curvature and relief, design and simulated, and the clashes.
+fn shape_lines(o: &mut String, design: &Design, lattice: &Lattice, run: &Simulation) {
+    let sec = &run.lm.model.section;
     // One measure for both (lattice::shape): the design's defects from each
     // cell's own corners (what the cut strips fix), the simulated ones from
     // the joints where the strips put them.
@@ -259,6 +287,11 @@ pub(super) fn text(
             sec.width, design.clash.clearance
         ))
     );
+}
+
+/// The cell openings: their range, any inverted, and each when few.
+fn opening_lines(o: &mut String, run: &Simulation) {
+    let eq = &run.equilibrium;
     let (lo, hi) = eq
         .openings
         .iter()
@@ -291,6 +324,11 @@ pub(super) fn text(
             .collect();
         let _ = writeln!(o, "  per cell: {}", list.join(", "));
     }
+}
+
+/// How the solver did.
+fn solver_line(o: &mut String, run: &Simulation) {
+    let eq = &run.equilibrium;
     let st = &eq.stats;
     let _ = writeln!(
         o,
@@ -307,7 +345,6 @@ pub(super) fn text(
             "NOT stable"
         }
     );
-    o
 }
 
 /// Signs of the angle defects at interior vertices (discrete Gaussian

@@ -127,6 +127,29 @@ pub(crate) fn fabrication(
     let mut f = Fabrication::default();
     let mut spans = FabricationSpans::default();
 
+    material_settings(&mut f, &mut spans, raw, o)?;
+    // The default end margin follows the strip width (half of it).
+    f.end_margin = f.material.width / 2.0;
+    eyelet_settings(&mut f, &mut spans, raw, o)?;
+    strip_settings(&mut f, &mut spans, raw, o)?;
+    laser_settings(&mut f, &mut spans, raw, o)?;
+    sheet_settings(&mut f, &mut spans, raw, o)?;
+    paper_settings(&mut f, raw, o)?;
+
+    parts_settings(&mut f, raw, o)?;
+    cutting_settings(&mut f, raw, o)?;
+    super::fabrication_checks::check_settings(&f, raw, o, &spans)?;
+    Ok((f, spans))
+}
+
+/// The material: its preset, name, thickness and strip width, recipe
+/// then command line.
+fn material_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
     if let Some(m) = &raw.material {
         let m = m.get_ref();
         let preset = m.preset.as_ref().map(stock).transpose()?;
@@ -162,9 +185,17 @@ pub(crate) fn fabrication(
         f.material.width = from_override(w, "strip-width", MAX_STRIP_WIDTH)?;
         spans.width = None;
     }
-    // The default end margin follows the strip width (half of it).
-    f.end_margin = f.material.width / 2.0;
+    Ok(())
+}
 
+/// The eyelet: a preset or a custom hole and flange, recipe then
+/// command line.
+fn eyelet_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
     if let Some(e) = &raw.eyelet {
         spans.eyelet = Some(e.span());
         let e = e.get_ref();
@@ -201,7 +232,16 @@ pub(crate) fn fabrication(
         })?;
         spans.eyelet = None;
     }
+    Ok(())
+}
 
+/// The strips' end margin and label style, recipe then command line.
+fn strip_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
     if let Some(s) = &raw.strip {
         let s = s.get_ref();
         if let Some(m) = &s.end_margin {
@@ -228,7 +268,17 @@ pub(crate) fn fabrication(
             .hint("use id, compact or none")
         })?;
     }
+    Ok(())
+}
 
+/// The laser: kerf, its compensation, flat cutting and the machine,
+/// recipe then command line.
+fn laser_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
     if let Some(l) = &raw.laser {
         let l = l.get_ref();
         if let Some(k) = &l.kerf {
@@ -262,7 +312,17 @@ pub(crate) fn fabrication(
     if let Some(flat) = o.flat {
         f.flat = flat;
     }
+    Ok(())
+}
 
+/// The sheet: a preset, "auto" or a size, with its margin and gap,
+/// recipe then command line.
+fn sheet_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
     if let Some(s) = &raw.sheet {
         spans.sheet = Some(s.span());
         let s = s.get_ref();
@@ -323,7 +383,11 @@ pub(crate) fn fabrication(
         (f.sheet.name, f.sheet.width, f.sheet.height) = (n, w, h);
         spans.sheet = None;
     }
+    Ok(())
+}
 
+/// The guide's paper, recipe then command line.
+fn paper_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Result<(), Diagnostic> {
     if let Some(g) = &raw.guide
         && let Some(p) = &g.get_ref().paper
     {
@@ -345,11 +409,7 @@ pub(crate) fn fabrication(
             .hint("use a4 or letter")
         })?;
     }
-
-    parts_settings(&mut f, raw, o)?;
-    cutting_settings(&mut f, raw, o)?;
-    super::fabrication_checks::check_settings(&f, raw, o, &spans)?;
-    Ok((f, spans))
+    Ok(())
 }
 
 /// Part types, the test piece and the colour preset (issue 13), recipe

@@ -22,7 +22,6 @@ pub(super) fn cover(
     steps: &[Step],
     side: &stacking::Side,
 ) {
-    let fab = &b.design.fabrication;
     // A long name wraps (and is cut after three lines) rather than run
     // off the page.
     let room = w.width();
@@ -34,6 +33,39 @@ pub(super) fn cover(
     // The shape the strips take: simulated where the build simulated it
     // (bent strips), else as designed (a true mechanism, or not simulated).
     let shown = simulated.unwrap_or(&b.assembled);
+    cover_picture(w, b, shown, simulated.is_some());
+    cover_facts(w, b, shown, steps, room);
+    sheets_and_tools(w, b, room);
+    w.y += 3.0;
+    w.paragraph(
+        &format!("Stacking side: {}. {}", side.name, side.explain),
+        BODY,
+        BLACK,
+    );
+    if let Some(bumps) = bumps(b, simulated) {
+        w.paragraph(&bumps, BODY, BLACK);
+    }
+    for note in [open_gap(b), clash_warning(b)].into_iter().flatten() {
+        w.paragraph(&note, BODY, BLACK);
+    }
+    w.paragraph(
+        "Strips are picked by part type: strips of one type are the same part. A strip is engraved with its ID \
+         (R03-C05-A: row 3, column 5, rod A) where it fits, else its type code or a dot code (see the bill of \
+         materials). The arrow < points to the strip's upper end, the one joined to the row above. In every \
+         cell rod A runs from its upper left corner to its lower right one and rod B crosses over it. Each step's \
+         picture shows the work so far in grey and the new strips in red, labelled with their types, the joints \
+         to close with their keys, and the columns in grey.",
+        BODY,
+        GREY,
+    );
+    // The bill of materials follows on the same page when there is room:
+    // a cover that runs a few lines over leaves no near-empty page.
+    w.y += 4.0;
+}
+
+/// The deployed shape, drawn across the page, and its caption.
+fn cover_picture(w: &mut PageFlow, b: &Build, shown: &Lattice, simulated: bool) {
+    let fab = &b.design.fabrication;
     let box_size = DVec2::new(w.width(), 120.0);
     let fit = Fit::new(
         shown,
@@ -55,7 +87,7 @@ pub(super) fn cover(
     ));
     w.y += box_size.y + 2.0;
     w.text(
-        if simulated.is_some() {
+        if simulated {
             "Shown: the simulated deployed shape, elastic strips joined by eyelets (deployed.obj)"
         } else {
             "Shown: the deployed shape as designed"
@@ -65,6 +97,11 @@ pub(super) fn cover(
         GREY,
     );
     w.y += 6.0;
+}
+
+/// The facts: size, cells, strips, eyelets and steps.
+fn cover_facts(w: &mut PageFlow, b: &Build, shown: &Lattice, steps: &[Step], room: f64) {
+    let fab = &b.design.fabrication;
     let (lo, hi) = shown.extent();
     let size = hi - lo;
     let dims: Vec<String> = size.to_array()[..b.lattice.dim]
@@ -117,6 +154,11 @@ pub(super) fn cover(
             w.text(&line, BODY, Font::Regular, BLACK);
         }
     }
+}
+
+/// Where the strips are cut, the safety note and the tools.
+fn sheets_and_tools(w: &mut PageFlow, b: &Build, room: f64) {
+    let fab = &b.design.fabrication;
     // Which sheets each run of steps is cut from (docs/assembly.md).
     let spots = super::finding::Spots::new(b);
     w.paragraph(
@@ -149,31 +191,6 @@ pub(super) fn cover(
             w.text(&line, BODY, Font::Regular, BLACK);
         }
     }
-    w.y += 3.0;
-    w.paragraph(
-        &format!("Stacking side: {}. {}", side.name, side.explain),
-        BODY,
-        BLACK,
-    );
-    if let Some(bumps) = bumps(b, simulated) {
-        w.paragraph(&bumps, BODY, BLACK);
-    }
-    for note in [open_gap(b), clash_warning(b)].into_iter().flatten() {
-        w.paragraph(&note, BODY, BLACK);
-    }
-    w.paragraph(
-        "Strips are picked by part type: strips of one type are the same part. A strip is engraved with its ID \
-         (R03-C05-A: row 3, column 5, rod A) where it fits, else its type code or a dot code (see the bill of \
-         materials). The arrow < points to the strip's upper end, the one joined to the row above. In every \
-         cell rod A runs from its upper left corner to its lower right one and rod B crosses over it. Each step's \
-         picture shows the work so far in grey and the new strips in red, labelled with their types, the joints \
-         to close with their keys, and the columns in grey.",
-        BODY,
-        GREY,
-    );
-    // The bill of materials follows on the same page when there is room:
-    // a cover that runs a few lines over leaves no near-empty page.
-    w.y += 4.0;
 }
 
 /// A fit that leaves part of its target open on purpose (a torus covering

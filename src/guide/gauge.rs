@@ -363,10 +363,14 @@ fn tile(
     i: usize,
     n: usize,
 ) -> Vec<Item> {
-    let y0 = top + TILE_HEAD;
-    let y = |z: f64| y0 + z - from;
-    let x_line = x0 + c.line;
-    let x_ruler = x0 + c.ruler;
+    let f = Frame {
+        x0,
+        y0: top + TILE_HEAD,
+        from,
+        to,
+        x_line: x0 + c.line,
+    };
+    let (x_line, y) = (f.x_line, |z: f64| f.y(z));
     let mut items = vec![Item::art(
         Ink::line(BLACK, 0.3),
         Shape::polyline(
@@ -387,6 +391,36 @@ fn tile(
         Align::Left,
         BLACK,
     ));
+    draw_ruler(&f, c, marks, &mut items);
+    draw_ticks(&f, ticks, &mut items);
+    let boxes = draw_labels(&f, labels, &mut items);
+    draw_marks(&f, c, marks, &boxes, &mut items);
+    items
+}
+
+/// Where a tile sits: its left edge, the page y of its first millimetre,
+/// the span it shows and the x of its line.
+struct Frame {
+    x0: f64,
+    y0: f64,
+    from: f64,
+    to: f64,
+    x_line: f64,
+}
+
+impl Frame {
+    /// The page y of the point `z` mm along the line.
+    #[inline]
+    fn y(&self, z: f64) -> f64 {
+        self.y0 + z - self.from
+    }
+}
+
+/// The 1:1 ruler beside the line, with its numbers.
+fn draw_ruler(f: &Frame, c: &Columns, marks: &[(usize, f64, &str)], items: &mut Vec<Item>) {
+    let (x0, from, to) = (f.x0, f.from, f.to);
+    let x_ruler = x0 + c.ruler;
+    let y = |z: f64| f.y(z);
     // The 1:1 ruler: millimetre ticks, numbers every 10 mm.
     items.push(Item::art(
         Ink::line(GREY, 0.2),
@@ -427,6 +461,12 @@ fn tile(
         }
         k += 1;
     }
+}
+
+/// The pivot ticks on the line.
+fn draw_ticks(f: &Frame, ticks: &[(f64, Vec<String>, bool)], items: &mut Vec<Item>) {
+    let (from, to, x_line) = (f.from, f.to, f.x_line);
+    let y = |z: f64| f.y(z);
     // Ticks: vertex pivots to the right, scissor pivots to the left.
     for (z, _, vertex) in ticks
         .iter()
@@ -445,6 +485,12 @@ fn tile(
             ),
         ));
     }
+}
+
+/// The labels; returns their boxes (x from, x to, y from, y to).
+fn draw_labels(f: &Frame, labels: &[Label], items: &mut Vec<Item>) -> Vec<(f64, f64, f64, f64)> {
+    let x_line = f.x_line;
+    let y = |z: f64| f.y(z);
     // Labels, with a leader back to their tick.
     let mut boxes: Vec<(f64, f64, f64, f64)> = Vec::new();
     for l in labels {
@@ -476,6 +522,19 @@ fn tile(
         ));
         items.push(text_item(at, LABEL, &l.text, Font::Regular, align, colour));
     }
+    boxes
+}
+
+/// The registration marks, stopping short of the label boxes.
+fn draw_marks(
+    f: &Frame,
+    c: &Columns,
+    marks: &[(usize, f64, &str)],
+    boxes: &[(f64, f64, f64, f64)],
+    items: &mut Vec<Item>,
+) {
+    let x0 = f.x0;
+    let y = |z: f64| f.y(z);
     // Registration marks: a line across the tile with a cross at each end.
     for &(m, z, which) in marks {
         let yy = y(z);
@@ -512,7 +571,6 @@ fn tile(
             BLACK,
         ));
     }
-    items
 }
 
 fn label_text(names: &[String], more: usize) -> String {

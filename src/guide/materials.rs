@@ -50,7 +50,6 @@ pub fn eyelets_by_grip(b: &Build) -> Vec<(usize, usize, usize)> {
 
 pub(super) fn materials(w: &mut PageFlow, b: &Build) {
     let fab = &b.design.fabrication;
-    let t = fab.material.thickness;
     w.heading("Bill of materials");
     w.running_head = Some("Bill of materials".into());
     w.paragraph(
@@ -64,6 +63,15 @@ pub(super) fn materials(w: &mut PageFlow, b: &Build) {
         SMALL,
         GREY,
     );
+    types_table(w, b);
+    strips_apart(w, b);
+    w.running_head = None;
+    eyelets_table(w, b);
+    ruler(w);
+}
+
+/// The part types, in one table or two side by side.
+fn types_table(w: &mut PageFlow, b: &Build) {
     w.y += 1.0;
     // Two tables side by side when there are many types.
     let halves = if b.parts.types.len() > 16 { 2 } else { 1 };
@@ -111,6 +119,10 @@ pub(super) fn materials(w: &mut PageFlow, b: &Build) {
         }
         w.row(&row_columns, &cells, Font::Regular, BLACK);
     }
+}
+
+/// How to tell strips apart, and the strips of each type.
+fn strips_apart(w: &mut PageFlow, b: &Build) {
     w.y += 2.0;
     let dots: Vec<String> = b
         .parts
@@ -157,7 +169,12 @@ pub(super) fn materials(w: &mut PageFlow, b: &Build) {
             .collect();
         w.paragraph(&lists.join("  "), SMALL, BLACK);
     }
-    w.running_head = None;
+}
+
+/// Eyelets by grip, with how many to buy.
+fn eyelets_table(w: &mut PageFlow, b: &Build) {
+    let fab = &b.design.fabrication;
+    let t = fab.material.thickness;
     w.y += 3.0;
     w.need(50.0);
     w.text("Eyelets, by grip", 4.5, Font::Bold, BLACK);
@@ -208,7 +225,6 @@ pub(super) fn materials(w: &mut PageFlow, b: &Build) {
         Font::Bold,
         BLACK,
     );
-    ruler(w);
 }
 
 /// Before step 1: the test piece on sheet 1 checks scale, kerf and eyelet fit.

@@ -19,6 +19,9 @@ pub(super) fn joint_key(l: &crate::lattice::Lattice, vertex: u32) -> String {
     }
 }
 
+/// A line of a step's words: (text, bold, colour).
+type Line = (String, bool, [u8; 3]);
+
 /// The step's words: (text, bold, colour), each wrapped later.
 pub(super) fn step_text(
     b: &Build,
@@ -26,9 +29,8 @@ pub(super) fn step_text(
     side: &stacking::Side,
     orders: Option<&[stacking::StackOrder]>,
     spots: &super::finding::Spots,
-) -> Vec<(String, bool, [u8; 3])> {
+) -> Vec<Line> {
     let l = &b.lattice;
-    let strips = &b.parts.strips;
     let t = b.design.fabrication.material.thickness;
     let helix = l.kind == crate::lattice::Kind::Helix;
     let what = if helix { "cell" } else { "row" };
@@ -37,6 +39,31 @@ pub(super) fn step_text(
         true,
         BLACK,
     )];
+    place_lines(b, step, side, what, &mut lines);
+    lines.push((pivots_line(b, step, t, helix), false, BLACK));
+    if step.joints.is_empty() {
+        lines.push(("2. No joint closes in this step.".into(), false, BLACK));
+    } else if let Some(orders) = orders {
+        order_lines(l, orders, t, helix, &mut lines);
+    } else {
+        listed_joint_lines(b, step, t, &mut lines);
+    }
+    lines.push((
+        format!(
+            "Eyelets: {} now, {} of {} so far.",
+            step.eyelets,
+            step.total,
+            b.parts.eyelets()
+        ),
+        true,
+        NEW,
+    ));
+    lines
+}
+
+/// Where the step goes: the stacking side, and a bent-facets note.
+fn place_lines(b: &Build, step: &Step, side: &stacking::Side, what: &str, lines: &mut Vec<Line>) {
+    let l = &b.lattice;
     let place = match stacking::place(l, step) {
         stacking::Place::First => format!("This is the first {what}: lay it out as pictured."),
         stacking::Place::Over => format!("This {what} {}.", side.over),
@@ -62,6 +89,12 @@ pub(super) fn step_text(
             GREY,
         ));
     }
+}
+
+/// "1. Pivots (orange): ...", with the rod types by column.
+fn pivots_line(b: &Build, step: &Step, t: f64, helix: bool) -> String {
+    let l = &b.lattice;
+    let strips = &b.parts.strips;
     let mut pivots = format!(
         "1. Pivots (orange): rod A, then rod B over it (as drawn); {}, grip {}, loose enough to turn.",
         plural(step.cells.len(), "eyelet"),
@@ -85,108 +118,107 @@ pub(super) fn step_text(
             code(2 * c + 1)
         ));
     }
-    lines.push((pivots, false, BLACK));
-    if step.joints.is_empty() {
-        lines.push(("2. No joint closes in this step.".into(), false, BLACK));
-    } else if let Some(orders) = orders {
-        // Joint keys by grip, largest first.
-        let by_grip = |joints: &[&Joint]| {
-            let mut by_grip: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
-            for j in joints {
-                by_grip
-                    .entry(j.ends.len())
-                    .or_default()
-                    .push(joint_key(l, j.vertex));
-            }
-            by_grip
-                .into_iter()
-                .rev()
-                .collect::<Vec<(usize, Vec<String>)>>()
-        };
-        // "4 strips, grip 4 mm: [1,0] [3,0]; 2 strips, ...".
-        let grips = |joints: &[&Joint]| {
-            by_grip(joints)
-                .iter()
-                .map(|(k, keys)| {
-                    format!("{k} strips, grip {}: {}", mm(*k as f64 * t), keys.join(" "))
-                })
-                .collect::<Vec<String>>()
-                .join("; ")
-        };
-        let stack = |order: &[stacking::Role]| {
-            order
-                .iter()
-                .map(|r| r.name(helix))
-                .collect::<Vec<String>>()
-                .join(", then ")
-        };
-        if let [(order, joints)] = orders {
-            lines.push((
-                format!(
-                    "2. Joints (blue): stack {} (fewer at an edge); one eyelet each. {}.",
-                    stack(order),
-                    grips(joints)
-                ),
-                false,
-                BLACK,
-            ));
-        } else {
-            lines.push((
-                format!(
-                    "2. Joints (blue), one eyelet each; {} stacking orders (fewer at an edge):",
-                    orders.len()
-                ),
-                false,
-                BLACK,
-            ));
-            for (order, joints) in orders {
-                // "[1,0] [1,2] (4 strips, grip 4 mm): stack ...".
-                let keys: Vec<String> = by_grip(joints)
-                    .iter()
-                    .map(|(k, keys)| {
-                        format!(
-                            "{} ({k} strips, grip {})",
-                            keys.join(" "),
-                            mm(*k as f64 * t)
-                        )
-                    })
-                    .collect();
-                lines.push((
-                    format!("- {}: stack {}.", keys.join("; "), stack(order)),
-                    false,
-                    BLACK,
-                ));
-            }
-        }
-    } else {
+    pivots
+}
+
+/// Joint keys by grip, largest first.
+fn by_grip(l: &crate::lattice::Lattice, joints: &[&Joint]) -> Vec<(usize, Vec<String>)> {
+    let mut by_grip: std::collections::BTreeMap<usize, Vec<String>> = Default::default();
+    for j in joints {
+        by_grip
+            .entry(j.ends.len())
+            .or_default()
+            .push(joint_key(l, j.vertex));
+    }
+    by_grip
+        .into_iter()
+        .rev()
+        .collect::<Vec<(usize, Vec<String>)>>()
+}
+
+/// The joints by stacking order: one line, or one per order.
+fn order_lines(
+    l: &crate::lattice::Lattice,
+    orders: &[stacking::StackOrder],
+    t: f64,
+    helix: bool,
+    lines: &mut Vec<Line>,
+) {
+    // "4 strips, grip 4 mm: [1,0] [3,0]; 2 strips, ...".
+    let grips = |joints: &[&Joint]| {
+        by_grip(l, joints)
+            .iter()
+            .map(|(k, keys)| format!("{k} strips, grip {}: {}", mm(*k as f64 * t), keys.join(" ")))
+            .collect::<Vec<String>>()
+            .join("; ")
+    };
+    let stack = |order: &[stacking::Role]| {
+        order
+            .iter()
+            .map(|r| r.name(helix))
+            .collect::<Vec<String>>()
+            .join(", then ")
+    };
+    if let [(order, joints)] = orders {
         lines.push((
-            "2. Joints (blue), stacked first to last as listed:".into(),
+            format!(
+                "2. Joints (blue): stack {} (fewer at an edge); one eyelet each. {}.",
+                stack(order),
+                grips(joints)
+            ),
             false,
             BLACK,
         ));
-        for j in &step.joints {
-            let stack: Vec<&str> = j.ends.iter().map(|e| strips[e.rod].id.as_str()).collect();
+    } else {
+        lines.push((
+            format!(
+                "2. Joints (blue), one eyelet each; {} stacking orders (fewer at an edge):",
+                orders.len()
+            ),
+            false,
+            BLACK,
+        ));
+        for (order, joints) in orders {
+            // "[1,0] [1,2] (4 strips, grip 4 mm): stack ...".
+            let keys: Vec<String> = by_grip(l, joints)
+                .iter()
+                .map(|(k, keys)| {
+                    format!(
+                        "{} ({k} strips, grip {})",
+                        keys.join(" "),
+                        mm(*k as f64 * t)
+                    )
+                })
+                .collect();
             lines.push((
-                format!(
-                    "{}  {}  (grip {})",
-                    joint_key(l, j.vertex),
-                    stack.join(" / "),
-                    mm(j.ends.len() as f64 * t)
-                ),
+                format!("- {}: stack {}.", keys.join("; "), stack(order)),
                 false,
                 BLACK,
             ));
         }
     }
+}
+
+/// The joints with no stacking orders: each listed with its stack.
+fn listed_joint_lines(b: &Build, step: &Step, t: f64, lines: &mut Vec<Line>) {
+    let l = &b.lattice;
+    let strips = &b.parts.strips;
     lines.push((
-        format!(
-            "Eyelets: {} now, {} of {} so far.",
-            step.eyelets,
-            step.total,
-            b.parts.eyelets()
-        ),
-        true,
-        NEW,
+        "2. Joints (blue), stacked first to last as listed:".into(),
+        false,
+        BLACK,
     ));
-    lines
+    for j in &step.joints {
+        let stack: Vec<&str> = j.ends.iter().map(|e| strips[e.rod].id.as_str()).collect();
+        lines.push((
+            format!(
+                "{}  {}  (grip {})",
+                joint_key(l, j.vertex),
+                stack.join(" / "),
+                mm(j.ends.len() as f64 * t)
+            ),
+            false,
+            BLACK,
+        ));
+    }
 }

@@ -267,6 +267,59 @@ fn layer_clashes(
         offset,
         entries,
     } = scratch;
+    let (lo, hi) = layer_lines(lattice, ids, margin, lines);
+    if lines.len() < 2 {
+        return;
+    }
+    let Some(grid) = Grid::new(lines, lengths, reach, lo, hi) else {
+        return;
+    };
+    // A strip far longer than the rest (a runaway design tried by the
+    // optimiser) would be listed in every grid cell of its whole box, which
+    // can be billions: such strips are measured against every strip
+    // instead. Marked as the grid is filled (`long`).
+    long.clear();
+    long.resize(lines.len(), false);
+    let lines = &lines[..];
+    // Far above the rounding of a projection (1e-16 of the coordinates):
+    // a pair is only skipped when it is surely out of reach.
+    let slack = 1e-9 * (1.0 + grid.lo.abs().max(grid.hi.abs()).max_element());
+    let far = (reach + slack) * (reach + slack);
+    // A pair is measured in the first grid cell both boxes touch only: the
+    // cell where, on every axis, one of the two boxes starts. Each entry of
+    // a grid cell's list carries the axes on which its box starts there
+    // (`entry`), so that test reads no line; the list is sorted into a
+    // bucket per set of axes (stable: line order within a bucket), and only
+    // buckets whose sets cover every axis together are paired, so the
+    // pairs that cannot count (most of them) are never visited.
+    //
+    // Most pairs left have boxes apart by the reach (strips of the rows
+    // above and below): `pair`'s first test, taken here on the list's
+    // boxes, each computed once a grid cell rather than once a pair, so
+    // that only pairs whose boxes meet read their lines.
+    let mut boxes: Vec<Boxed> = Vec::new();
+    let mut visit = |list: &mut [u32]| visit_cell(list, &mut boxes, lines, reach, far, found);
+    let grid_cells = grid.dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
+    match grid_cells {
+        // A dense grid when it is not much larger than the strips (sheets).
+        Some(g) if g <= 4 * lines.len() + 1024 => {
+            dense_grid(&grid, g, lines, long, spans, offset, entries, &mut visit);
+        }
+        // Sparse (a curved surface in a large box): the entries sorted by cell.
+        _ => sparse_grid(&grid, lines, long, &mut visit),
+    }
+    long_pairs(lines, long, reach, far, found);
+}
+
+/// The layer's lines, each widened by `margin` at both ends, into `lines`;
+/// returns their bounding box.
+#[inline]
+fn layer_lines(
+    lattice: &Lattice,
+    ids: &[u32],
+    margin: f64,
+    lines: &mut Vec<Line>,
+) -> (DVec3, DVec3) {
     lines.clear();
     // The lines' bounding box, taken as they are built (one pass over them).
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
@@ -305,247 +358,294 @@ fn layer_clashes(
             end,
         });
     }
-    if lines.len() < 2 {
-        return;
+    (lo, hi)
+}
+
+/// A layer's uniform grid: the box it covers and its cells' size.
+struct Grid {
+    lo: DVec3,
+    hi: DVec3,
+    half: DVec3,
+    inv_h: f64,
+    dims: [usize; 3],
+}
+
+impl Grid {
+    /// The grid of `lines` in their box [lo, hi], widened by half the
+    /// reach; none when that box is not finite.
+    #[inline]
+    fn new(
+        lines: &[Line],
+        lengths: &mut Vec<f64>,
+        reach: f64,
+        lo: DVec3,
+        hi: DVec3,
+    ) -> Option<Grid> {
+        // Grid cells `GRID_STRIPS` strips long, so each strip touches a few: a
+        // strip's length is the median of a sample of the lines spread over
+        // the layer (the grid's size changes how fast the search is, never
+        // what it finds).
+        lengths.clear();
+        let step = (lines.len() / LENGTH_SAMPLES).max(1);
+        lengths.extend(lines.iter().step_by(step).map(|l| l.a.distance(l.b)));
+        let mid = lengths.len() / 2;
+        let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
+        let half = DVec3::splat(reach / 2.0);
+        let (lo, hi) = (lo - half, hi + half);
+        if !(lo.is_finite() && hi.is_finite()) {
+            return None;
+        }
+        // Never more than about 2^20 grid cells along an axis.
+        let h = (GRID_STRIPS * (median + reach))
+            .max(1e-6)
+            .max((hi - lo).max_element() / (1u64 << 20) as f64);
+        // Every point keyed lies in the box [lo, hi], so the quotient is not
+        // negative and truncation is its floor (without a libm call). A product
+        // by 1 / h rather than a quotient (three divisions a key, six keys a
+        // line): the keys may differ from the quotient's by a rounding, but
+        // they still grow with the point, which is all the grid needs.
+        let inv_h = 1.0 / h;
+        let mut grid = Grid {
+            lo,
+            hi,
+            half,
+            inv_h,
+            dims: [0; 3],
+        };
+        grid.dims = grid.key(hi).map(|k| k as usize + 1);
+        Some(grid)
     }
-    // Grid cells `GRID_STRIPS` strips long, so each strip touches a few: a
-    // strip's length is the median of a sample of the lines spread over
-    // the layer (the grid's size changes how fast the search is, never
-    // what it finds).
-    lengths.clear();
-    let step = (lines.len() / LENGTH_SAMPLES).max(1);
-    lengths.extend(lines.iter().step_by(step).map(|l| l.a.distance(l.b)));
-    let mid = lengths.len() / 2;
-    let median = *lengths.select_nth_unstable_by(mid, f64::total_cmp).1;
-    let half = DVec3::splat(reach / 2.0);
-    let (lo, hi) = (lo - half, hi + half);
-    if !(lo.is_finite() && hi.is_finite()) {
-        return;
-    }
-    // Never more than about 2^20 grid cells along an axis.
-    let h = (GRID_STRIPS * (median + reach))
-        .max(1e-6)
-        .max((hi - lo).max_element() / (1u64 << 20) as f64);
-    // Every point keyed lies in the box [lo, hi], so the quotient is not
-    // negative and truncation is its floor (without a libm call). A product
-    // by 1 / h rather than a quotient (three divisions a key, six keys a
-    // line): the keys may differ from the quotient's by a rounding, but
-    // they still grow with the point, which is all the grid needs.
-    let inv_h = 1.0 / h;
-    let key = |p: DVec3| {
-        let q = (p - lo) * inv_h;
+
+    /// The grid cell of a point of the box.
+    #[inline]
+    fn key(&self, p: DVec3) -> [i32; 3] {
+        let q = (p - self.lo) * self.inv_h;
         [q.x as i32, q.y as i32, q.z as i32]
-    };
-    let dims = key(hi).map(|k| k as usize + 1);
-    // Grid cells of the lower and upper corners of a line's box widened by
-    // half the reach: computed where needed rather than stored (a layer of
-    // a 4 M-cell sheet has a million lines).
-    let span = |l: &Line| (key(l.a.min(l.b) - half), key(l.a.max(l.b) + half));
-    // A strip far longer than the rest (a runaway design tried by the
-    // optimiser) would be listed in every grid cell of its whole box, which
-    // can be billions: such strips are measured against every strip
-    // instead. Marked as the grid is filled (`long`).
-    let is_long = |(lo, hi): ([i32; 3], [i32; 3])| {
-        (0..3)
-            .map(|k| i64::from(hi[k] - lo[k]) + 1)
-            .product::<i64>()
-            > 512
-    };
-    long.clear();
-    long.resize(lines.len(), false);
-    let lines = &lines[..];
-    // Far above the rounding of a projection (1e-16 of the coordinates):
-    // a pair is only skipped when it is surely out of reach.
-    let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()).max_element());
-    let far = (reach + slack) * (reach + slack);
-    // The clash of two strips of this layer whose boxes are not apart by
-    // the reach (`Boxed::apart`, taken first), if they clash.
-    let pair = |li: &Line, lj: &Line| -> Option<Clash> {
-        if [li.start, li.end]
-            .iter()
-            .any(|v| [lj.start, lj.end].contains(v))
-            || li.rod / 2 == lj.rod / 2
-        {
-            return None;
+    }
+
+    /// Grid cells of the lower and upper corners of a line's box widened by
+    /// half the reach: computed where needed rather than stored (a layer of
+    /// a 4 M-cell sheet has a million lines).
+    #[inline]
+    fn span(&self, l: &Line) -> ([i32; 3], [i32; 3]) {
+        (
+            self.key(l.a.min(l.b) - self.half),
+            self.key(l.a.max(l.b) + self.half),
+        )
+    }
+}
+
+/// Whether a span covers so many grid cells that its strip is measured
+/// against every strip instead (`long`).
+#[inline]
+fn is_long((lo, hi): ([i32; 3], [i32; 3])) -> bool {
+    (0..3)
+        .map(|k| i64::from(hi[k] - lo[k]) + 1)
+        .product::<i64>()
+        > 512
+}
+
+/// The clash of two strips of this layer whose boxes are not apart by
+/// the reach (`Boxed::apart`, taken first), if they clash.
+#[inline]
+fn pair(li: &Line, lj: &Line, reach: f64, far: f64) -> Option<Clash> {
+    if [li.start, li.end]
+        .iter()
+        .any(|v| [lj.start, lj.end].contains(v))
+        || li.rod / 2 == lj.rod / 2
+    {
+        return None;
+    }
+    // Projections on any unit axis are no farther apart than the
+    // strips: across the first strip, parallel neighbours (most of the
+    // pairs whose boxes meet) are apart by more than the reach. The
+    // axis is the xy normal of its direction, not normalised: the gap
+    // of the projections on it and its length are compared squared (no
+    // square root or division a pair), within the slack, far above
+    // their rounding. A strip along z has no such normal (gap 0).
+    // Only finite figures rule a pair out: at coordinates near 1e150 mm
+    // the squares overflow (inf >= inf) or a projection is NaN, which
+    // min and max would drop; such a pair goes to the exact test.
+    let d = li.b - li.a;
+    let (nx, ny) = (-d.y, d.x);
+    let across = |p: DVec3| p.x * nx + p.y * ny;
+    let (i0, i1, j0, j1) = (across(li.a), across(li.b), across(lj.a), across(lj.b));
+    let gap = (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1));
+    let bound = far * (nx * nx + ny * ny);
+    let finite = bound.is_normal() && [i0, i1, j0, j1].iter().all(|x| x.is_finite());
+    if gap > 0.0 && finite && gap * gap >= bound {
+        return None;
+    }
+    let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
+    let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
+    let d = p.distance(q);
+    (d < reach).then(|| Clash {
+        rods: [li.rod as usize, lj.rod as usize],
+        distance: d,
+        at: (p + q) / 2.0,
+    })
+}
+
+/// The pairs of one grid cell's list (`layer_clashes`).
+#[inline]
+fn visit_cell(
+    list: &mut [u32],
+    boxes: &mut Vec<Boxed>,
+    lines: &[Line],
+    reach: f64,
+    far: f64,
+    found: &mut impl FnMut(Clash),
+) {
+    // An entry holds its axes above its line's index: in numeric order
+    // the list comes bucket by bucket, in line order within each (a
+    // line is listed once in a grid cell).
+    list.sort_unstable();
+    let mut bounds = [0usize; BUCKETS + 1];
+    boxes.clear();
+    boxes.extend(list.iter().map(|&e| {
+        bounds[(e >> INDEX_BITS) as usize + 1] += 1;
+        Boxed::of(e & INDEX, &lines[(e & INDEX) as usize])
+    }));
+    for m in 0..BUCKETS {
+        bounds[m + 1] += bounds[m];
+    }
+    let bucket = |m: usize| &boxes[bounds[m]..bounds[m + 1]];
+    let mut measure = |i: &Boxed, j: &Boxed| {
+        if !i.apart(j, reach) {
+            // The earlier line first, as in the list.
+            let (i, j) = if i.line < j.line { (i, j) } else { (j, i) };
+            if let Some(c) = pair(&lines[i.line as usize], &lines[j.line as usize], reach, far) {
+                found(c);
+            }
         }
-        // Projections on any unit axis are no farther apart than the
-        // strips: across the first strip, parallel neighbours (most of the
-        // pairs whose boxes meet) are apart by more than the reach. The
-        // axis is the xy normal of its direction, not normalised: the gap
-        // of the projections on it and its length are compared squared (no
-        // square root or division a pair), within the slack, far above
-        // their rounding. A strip along z has no such normal (gap 0).
-        // Only finite figures rule a pair out: at coordinates near 1e150 mm
-        // the squares overflow (inf >= inf) or a projection is NaN, which
-        // min and max would drop; such a pair goes to the exact test.
-        let d = li.b - li.a;
-        let (nx, ny) = (-d.y, d.x);
-        let across = |p: DVec3| p.x * nx + p.y * ny;
-        let (i0, i1, j0, j1) = (across(li.a), across(li.b), across(lj.a), across(lj.b));
-        let gap = (j0.min(j1) - i0.max(i1)).max(i0.min(i1) - j0.max(j1));
-        let bound = far * (nx * nx + ny * ny);
-        let finite = bound.is_normal() && [i0, i1, j0, j1].iter().all(|x| x.is_finite());
-        if gap > 0.0 && finite && gap * gap >= bound {
-            return None;
+    };
+    let all = bucket(ALL_AXES as usize);
+    for (n, i) in all.iter().enumerate() {
+        for j in &all[n + 1..] {
+            measure(i, j);
         }
-        let (li, lj) = if li.rod < lj.rod { (li, lj) } else { (lj, li) };
-        let (p, q) = closest_points(li.a, li.b, lj.a, lj.b);
-        let d = p.distance(q);
-        (d < reach).then(|| Clash {
-            rods: [li.rod as usize, lj.rod as usize],
-            distance: d,
-            at: (p + q) / 2.0,
+    }
+    for m in 0..ALL_AXES as usize {
+        let first = bucket(m);
+        if first.is_empty() {
+            continue;
+        }
+        for n in (m + 1..BUCKETS).filter(|&n| m | n == ALL_AXES as usize) {
+            for i in first {
+                for j in bucket(n) {
+                    measure(i, j);
+                }
+            }
+        }
+    }
+}
+
+/// The dense grid: each grid cell's list in `entries`, from `offset`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn dense_grid(
+    grid: &Grid,
+    g: usize,
+    lines: &[Line],
+    long: &mut [bool],
+    spans: &mut Vec<[u32; 3]>,
+    offset: &mut Vec<u32>,
+    entries: &mut Vec<u32>,
+    visit: &mut impl FnMut(&mut [u32]),
+) {
+    let dims = grid.dims;
+    let index = |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
+    // The grid cells of a span: the first of each run along x, and
+    // the run's length.
+    let (row, plane) = (dims[0], dims[0] * dims[1]);
+    let runs = |(lo, hi): ([i32; 3], [i32; 3])| {
+        let first = index(lo);
+        let n = [0, 1, 2].map(|k| (hi[k] - lo[k]) as usize + 1);
+        (0..n[2]).flat_map(move |z| {
+            (0..n[1]).map(move |y| (first + z * plane + y * row, n[0], z == 0, y == 0))
         })
     };
-    // A pair is measured in the first grid cell both boxes touch only: the
-    // cell where, on every axis, one of the two boxes starts. Each entry of
-    // a grid cell's list carries the axes on which its box starts there
-    // (`entry`), so that test reads no line; the list is sorted into a
-    // bucket per set of axes (stable: line order within a bucket), and only
-    // buckets whose sets cover every axis together are paired, so the
-    // pairs that cannot count (most of them) are never visited.
-    //
-    // Most pairs left have boxes apart by the reach (strips of the rows
-    // above and below): `pair`'s first test, taken here on the list's
-    // boxes, each computed once a grid cell rather than once a pair, so
-    // that only pairs whose boxes meet read their lines.
-    let mut boxes: Vec<Boxed> = Vec::new();
-    let mut visit = |list: &mut [u32]| {
-        // An entry holds its axes above its line's index: in numeric order
-        // the list comes bucket by bucket, in line order within each (a
-        // line is listed once in a grid cell).
-        list.sort_unstable();
-        let mut bounds = [0usize; BUCKETS + 1];
-        boxes.clear();
-        boxes.extend(list.iter().map(|&e| {
-            bounds[(e >> INDEX_BITS) as usize + 1] += 1;
-            Boxed::of(e & INDEX, &lines[(e & INDEX) as usize])
-        }));
-        for m in 0..BUCKETS {
-            bounds[m + 1] += bounds[m];
+    // Counted into `offset[c + 1]`, summed, then filled with
+    // `offset[c]` as grid cell c's cursor, which leaves it at the
+    // start of cell c + 1: cell c's list ends there.
+    offset.clear();
+    offset.resize(g + 1, 0);
+    // Each line's span, kept from the count for the fill (12 bytes
+    // a line rather than its keys computed again).
+    spans.clear();
+    spans.reserve(lines.len());
+    for (l, long) in lines.iter().zip(long.iter_mut()) {
+        let (lo, h) = grid.span(l);
+        if is_long((lo, h)) {
+            *long = true;
+            spans.push([0; 3]);
+            continue;
         }
-        let bucket = |m: usize| &boxes[bounds[m]..bounds[m + 1]];
-        let mut measure = |i: &Boxed, j: &Boxed| {
-            if !i.apart(j, reach) {
-                // The earlier line first, as in the list.
-                let (i, j) = if i.line < j.line { (i, j) } else { (j, i) };
-                if let Some(c) = pair(&lines[i.line as usize], &lines[j.line as usize]) {
-                    found(c);
-                }
-            }
-        };
-        let all = bucket(ALL_AXES as usize);
-        for (n, i) in all.iter().enumerate() {
-            for j in &all[n + 1..] {
-                measure(i, j);
+        spans.push(pack(lo, h));
+        for (c, n, _, _) in runs((lo, h)) {
+            for count in &mut offset[c + 1..c + 1 + n] {
+                *count += 1;
             }
         }
-        for m in 0..ALL_AXES as usize {
-            let first = bucket(m);
-            if first.is_empty() {
-                continue;
-            }
-            for n in (m + 1..BUCKETS).filter(|&n| m | n == ALL_AXES as usize) {
-                for i in first {
-                    for j in bucket(n) {
-                        measure(i, j);
-                    }
-                }
-            }
-        }
-    };
-    let grid_cells = dims.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
-    match grid_cells {
-        // A dense grid when it is not much larger than the strips (sheets).
-        Some(g) if g <= 4 * lines.len() + 1024 => {
-            let index =
-                |k: [i32; 3]| k[0] as usize + dims[0] * (k[1] as usize + dims[1] * k[2] as usize);
-            // The grid cells of a span: the first of each run along x, and
-            // the run's length.
-            let (row, plane) = (dims[0], dims[0] * dims[1]);
-            let runs = |(lo, hi): ([i32; 3], [i32; 3])| {
-                let first = index(lo);
-                let n = [0, 1, 2].map(|k| (hi[k] - lo[k]) as usize + 1);
-                (0..n[2]).flat_map(move |z| {
-                    (0..n[1]).map(move |y| (first + z * plane + y * row, n[0], z == 0, y == 0))
-                })
-            };
-            // Counted into `offset[c + 1]`, summed, then filled with
-            // `offset[c]` as grid cell c's cursor, which leaves it at the
-            // start of cell c + 1: cell c's list ends there.
-            offset.clear();
-            offset.resize(g + 1, 0);
-            // Each line's span, kept from the count for the fill (12 bytes
-            // a line rather than its keys computed again).
-            spans.clear();
-            spans.reserve(lines.len());
-            for (l, long) in lines.iter().zip(long.iter_mut()) {
-                let (lo, h) = span(l);
-                if is_long((lo, h)) {
-                    *long = true;
-                    spans.push([0; 3]);
-                    continue;
-                }
-                spans.push(pack(lo, h));
-                for (c, n, _, _) in runs((lo, h)) {
-                    for count in &mut offset[c + 1..c + 1 + n] {
-                        *count += 1;
-                    }
-                }
-            }
-            for c in 0..g {
-                offset[c + 1] += offset[c];
-            }
-            entries.clear();
-            entries.resize(offset[g] as usize, 0);
-            for (i, &span) in spans.iter().enumerate().filter(|&(i, _)| !long[i]) {
-                for (c, n, z0, y0) in runs(unpack(span)) {
-                    // The axes on which the line's box starts in each cell
-                    // (`entry`): z and y for the run, x for its first cell.
-                    let zy = i as u32 | (u32::from(z0) << 2 | u32::from(y0) << 1) << INDEX_BITS;
-                    for (x, cursor) in offset[c..c + n].iter_mut().enumerate() {
-                        entries[*cursor as usize] = zy | u32::from(x == 0) << INDEX_BITS;
-                        *cursor += 1;
-                    }
-                }
-            }
-            let mut begin = 0;
-            for &end in &offset[..g] {
-                let list = &mut entries[begin..end as usize];
-                if list.len() > 1 {
-                    visit(list);
-                }
-                begin = end as usize;
+    }
+    for c in 0..g {
+        offset[c + 1] += offset[c];
+    }
+    entries.clear();
+    entries.resize(offset[g] as usize, 0);
+    for (i, &span) in spans.iter().enumerate().filter(|&(i, _)| !long[i]) {
+        for (c, n, z0, y0) in runs(unpack(span)) {
+            // The axes on which the line's box starts in each cell
+            // (`entry`): z and y for the run, x for its first cell.
+            let zy = i as u32 | (u32::from(z0) << 2 | u32::from(y0) << 1) << INDEX_BITS;
+            for (x, cursor) in offset[c..c + n].iter_mut().enumerate() {
+                entries[*cursor as usize] = zy | u32::from(x == 0) << INDEX_BITS;
+                *cursor += 1;
             }
         }
-        // Sparse (a curved surface in a large box): the entries sorted by cell.
-        _ => {
-            let mut entries: Vec<([i32; 3], u32)> = Vec::new();
-            for (i, l) in lines.iter().enumerate() {
-                let (lo, h) = span(l);
-                if is_long((lo, h)) {
-                    long[i] = true;
-                    continue;
-                }
-                for z in lo[2]..=h[2] {
-                    for y in lo[1]..=h[1] {
-                        for x in lo[0]..=h[0] {
-                            entries.push(([z, y, x], entry(i, lo, [x, y, z])));
-                        }
-                    }
-                }
-            }
-            entries.sort_unstable();
-            let mut list = Vec::new();
-            for run in entries.chunk_by(|a, b| a.0 == b.0) {
-                if run.len() > 1 {
-                    list.clear();
-                    list.extend(run.iter().map(|e| e.1));
-                    visit(&mut list);
+    }
+    let mut begin = 0;
+    for &end in &offset[..g] {
+        let list = &mut entries[begin..end as usize];
+        if list.len() > 1 {
+            visit(list);
+        }
+        begin = end as usize;
+    }
+}
+
+/// The sparse grid: the entries sorted by cell.
+#[inline]
+fn sparse_grid(grid: &Grid, lines: &[Line], long: &mut [bool], visit: &mut impl FnMut(&mut [u32])) {
+    let mut entries: Vec<([i32; 3], u32)> = Vec::new();
+    for (i, l) in lines.iter().enumerate() {
+        let (lo, h) = grid.span(l);
+        if is_long((lo, h)) {
+            long[i] = true;
+            continue;
+        }
+        for z in lo[2]..=h[2] {
+            for y in lo[1]..=h[1] {
+                for x in lo[0]..=h[0] {
+                    entries.push(([z, y, x], entry(i, lo, [x, y, z])));
                 }
             }
         }
     }
+    entries.sort_unstable();
+    let mut list = Vec::new();
+    for run in entries.chunk_by(|a, b| a.0 == b.0) {
+        if run.len() > 1 {
+            list.clear();
+            list.extend(run.iter().map(|e| e.1));
+            visit(&mut list);
+        }
+    }
+}
+
+/// The long strips, measured against every strip.
+#[inline]
+fn long_pairs(lines: &[Line], long: &[bool], reach: f64, far: f64, found: &mut impl FnMut(Clash)) {
     for (i, li) in lines.iter().enumerate() {
         if long[i] {
             let boxed = Boxed::of(0, li);
@@ -554,7 +654,7 @@ fn layer_clashes(
                 if j != i
                     && (!long[j] || j > i)
                     && !boxed.apart(&Boxed::of(0, lj), reach)
-                    && let Some(c) = pair(li, lj)
+                    && let Some(c) = pair(li, lj, reach, far)
                 {
                     found(c);
                 }
