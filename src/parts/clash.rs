@@ -841,8 +841,9 @@ mod tests {
         }
     }
 
-    /// A sheet of `rows` rows of 40 mm cells, legs at `angle` degrees.
-    fn sheet(rows: usize, angle: f64) -> Lattice {
+    /// A sheet of `rows` rows of 40 mm cells, legs at `angle` degrees (the
+    /// bent-strip search's tests use it too).
+    pub(super) fn sheet(rows: usize, angle: f64) -> Lattice {
         let points: Vec<DVec3> = (0..5)
             .map(|j| DVec3::new(40.0 * j as f64, 0.0, 0.0))
             .collect();

@@ -232,25 +232,8 @@ impl Grid {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::sheet;
     use super::*;
-    use crate::lattice::{Kind, RowParams, grow};
-    use crate::legs::{Direction, Leg};
-
-    fn sheet(rows: usize, angle: f64) -> Lattice {
-        let points: Vec<DVec3> = (0..5)
-            .map(|j| DVec3::new(40.0 * j as f64, 0.0, 0.0))
-            .collect();
-        let row = RowParams {
-            direction: Some(Direction::Angles {
-                angle_deg: angle,
-                tilt_deg: 0.0,
-            }),
-            left_leg: Leg::Match,
-            right_leg: Leg::Match,
-            ..RowParams::default()
-        };
-        grow(Kind::Sheet, 2, &points, &[0.0; 4], &vec![row; rows]).unwrap()
-    }
 
     /// Each rod's chord as a polyline of `n` equal segments.
     fn chords(lat: &Lattice, n: usize) -> Vec<Vec<DVec3>> {
