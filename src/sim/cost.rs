@@ -7,9 +7,10 @@
 use crate::lattice::Lattice;
 
 /// Memory a simulation takes for each rod node, measured on the saddle ring
-/// meshed at 10, 5 and 2.5 mm (4,900 to 17,600 nodes: 38, 62 and 109 MB of
-/// peak memory, 5.6 KB a node beyond a 10 MB base) and on a 72-cell sheet of
-/// about a million nodes (7.1 GB, 7 KB a node): 8 KiB leaves room for the
+/// meshed at 10, 5 and 2.5 mm (4,944, 8,976 and 16,896 nodes as `estimate`
+/// counts them: 38, 62 and 109 MB of peak memory, 5.9 KB a node beyond a
+/// 10 MB base), and on a 24-cell sheet of metre-long legs at 0.5 mm
+/// (220,881 nodes: 1.57 GB, 7.1 KB a node): 8 KiB leaves room for the
 /// factor's fill growing faster than the nodes.
 pub(crate) const BYTES_PER_NODE: f64 = 8192.0;
 
