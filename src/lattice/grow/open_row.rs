@@ -45,7 +45,15 @@ impl Grower {
         )?;
         let start = start_pivot(x, j0, v2, i)?;
         self.pivots[j0] = Some(start);
+        self.transfer_chains(i, j0, start)?;
+        self.boundary_legs(i, params)
+    }
 
+    /// The transfers right and left of the start cell `j0` (docs/math.md 5):
+    /// each cell's pivot, and the corner of the next front that it fixes.
+    fn transfer_chains(&mut self, i: usize, j0: usize, start: Point) -> Result<(), GrowthError> {
+        let m = self.lattice.width;
+        let x = &self.front;
         // The two chains of transfers, right and left of j0, depend on
         // nothing of each other: grown in one loop, a step of each at a
         // time, their square roots and divisions overlap (half the time
@@ -100,8 +108,16 @@ impl Grower {
                 self.pivots[j - 1] = Some(cell);
             }
         }
+        Ok(())
+    }
 
-        // The two free boundary legs (4.5).
+    /// The two free boundary legs (docs/math.md 4.5): the next front's end
+    /// corners, at the given lengths or matched to their neighbours.
+    fn boundary_legs(&mut self, i: usize, params: &RowParams) -> Result<(), GrowthError> {
+        use ErrorKind as K;
+        let m = self.lattice.width;
+        let x = &self.front;
+        let row = Some(i);
         let p_first = self.pivots[0].expect("pivot grown");
         let p_last = self.pivots[m - 1].expect("pivot grown");
         let matched_left = self.next[1].map(|q| q.z - p_first.z);
