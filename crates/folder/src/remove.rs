@@ -3,7 +3,7 @@
 //! machine's ext4 an unlink can wait for the journal (3 to 4 ms each while
 //! the disk is busy), and unlinks that wait together share the wait: the
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
-//! (BENCHMARKS.md of 003e36f, "Examples batch, fifth round").
+//! (karigami's BENCHMARKS.md of 003e36f, "Examples batch, fifth round").
 
 use crate::fault;
 use crate::marker::{MARKER, is_folder};

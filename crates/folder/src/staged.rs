@@ -64,11 +64,11 @@ type Written = (File, String);
 /// Written files are flushed to the disk (fsync) on threads of their own:
 /// an fsync waits for the disk (a median 0.6 ms, up to 20 ms, here), and
 /// the examples' batch waited 0.32 s for its 169 in all while the builds
-/// could draw (BENCHMARKS.md of 003e36f, "Examples batch, third round"). Several
-/// flush at once: the file system commits the flushes that wait together
-/// in one journal commit, where one thread waited for a commit a file
-/// (the examples' 163 files: 0.33 to 0.43 s one by one, 0.04 s four at a
-/// time, "Examples batch, fifth round"). `commit` waits for every flush
+/// could draw (karigami's BENCHMARKS.md of 003e36f, "Examples batch, third
+/// round"). Several flush at once: the file system commits the flushes
+/// that wait together in one journal commit, where one thread waited for
+/// a commit a file (the examples' 163 files: 0.33 to 0.43 s one by one,
+/// 0.04 s four at a time, "Examples batch, fifth round"). `commit` waits for every flush
 /// before the marker.
 struct Syncer {
     /// The queue to the flushing threads, and the threads; None when the
