@@ -134,6 +134,31 @@ impl Error {
     }
 }
 
+/// A build folder refused or not written (crates/folder): its sentence as
+/// the crate says it, its kind (and so its exit status) the CLI's.
+impl From<karigami_folder::Error> for Error {
+    fn from(e: karigami_folder::Error) -> Self {
+        use karigami_folder::Error as Folder;
+        let kind = match &e {
+            Folder::Io { .. } => ErrorKind::Io,
+            Folder::NotAFolderName { .. } | Folder::MountPoint { .. } => {
+                ErrorKind::OutNotAFolderName
+            }
+            Folder::UnderAFile { .. } => ErrorKind::OutUnderAFile,
+            Folder::IsALink { .. } => ErrorKind::OutIsALink,
+            Folder::IsAFile { .. } => ErrorKind::OutIsAFile,
+            Folder::HoldsInput { .. } => ErrorKind::OutHoldsInput,
+            Folder::HoldsCurrentFolder { .. } => ErrorKind::OutHoldsCurrentFolder,
+            Folder::NotABuildFolder { .. } => ErrorKind::NotABuildFolder,
+            Folder::OtherFiles { .. } | Folder::Appeared { .. } => {
+                ErrorKind::BuildFolderHasOtherFiles
+            }
+            Folder::Locked { .. } => ErrorKind::OutLocked,
+        };
+        Self::new(kind, e.to_string())
+    }
+}
+
 /// Print a JSON report on stdout. Its keys come out sorted, as they always
 /// have (through `serde_json::Value`), whatever the order of the fields.
 pub(super) fn print_json(report: &impl Serialize) {

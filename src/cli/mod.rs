@@ -45,7 +45,6 @@ mod build;
 mod check;
 mod console;
 mod error;
-mod fault;
 mod files;
 mod interrupt;
 mod new;
@@ -63,6 +62,7 @@ use karigami::ErrorKind;
 
 pub(crate) fn run() -> i32 {
     interrupt::start();
+    files::start();
     let code = run_command();
     console::exit_code(code)
 }

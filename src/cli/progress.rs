@@ -100,9 +100,9 @@ impl Progress {
 const NOTE_EVERY: Duration = Duration::from_secs(5);
 
 /// How long a phase runs off a terminal before its first line: 2 s, or
-/// the tests' `firstnote@MS` (`fault`).
+/// the tests' `firstnote@MS` (`karigami_folder::fault`).
 fn first_note() -> Duration {
-    super::fault::first_note().unwrap_or(Duration::from_secs(2))
+    karigami_folder::fault::first_note().unwrap_or(Duration::from_secs(2))
 }
 
 /// Run `work`, and while it runs longer than a second say so on stderr:

@@ -2,9 +2,9 @@
 //! recipes a folder holds, and names derived from them made safe to use as
 //! a folder name.
 
-use super::bounded::{Links, read_plain};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
+use karigami_folder::{Links, read_plain};
 use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};

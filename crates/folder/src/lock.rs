@@ -1,8 +1,7 @@
 //! The lock file beside an output folder that keeps two runs from writing
 //! it at once.
 
-use crate::cli::error::Error;
-use karigami::ErrorKind;
+use crate::error::{Doing, Error};
 use std::fs::{self, File, OpenOptions};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -11,41 +10,33 @@ use std::path::{Path, PathBuf};
 /// it. The holder removes the file when done, so a run that opened the
 /// file just before it was removed checks that the path still names the
 /// file it locked, and tries again if not.
-pub(super) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), Error> {
+pub(crate) fn take_lock(path: &Path, out: &Path) -> Result<(PathBuf, File), Error> {
     for _ in 0..100 {
         let file = open(path).map_err(|e| {
             let link = fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
             let why = if link {
-                "it is a symbolic link, which karigami does not follow; remove it".to_string()
+                io::Error::other("it is a symbolic link, which karigami does not follow; remove it")
             } else {
-                e.to_string()
+                e
             };
-            Error::io(format!("cannot write {}: {why}", path.display()))
+            Error::io(Doing::Write, path, why)
         })?;
         match try_lock(&file) {
             Ok(true) => {}
             Ok(false) => {
-                return Err(Error::new(
-                    ErrorKind::OutLocked,
-                    format!(
-                        "another karigami run is writing {} right now (it holds {}); wait for it to finish or choose another --out",
-                        out.display(),
-                        path.display()
-                    ),
-                ));
+                return Err(Error::Locked {
+                    out: out.to_path_buf(),
+                    lock: path.to_path_buf(),
+                });
             }
-            Err(e) => {
-                return Err(Error::io(format!("cannot lock {}: {e}", path.display())));
-            }
+            Err(e) => return Err(Error::io(Doing::Lock, path, e)),
         }
         if same_file(&file, path) {
             return Ok((path.to_path_buf(), file));
         }
     }
-    Err(Error::io(format!(
-        "cannot lock {}: it keeps changing",
-        path.display()
-    )))
+    let moving = io::Error::other("it keeps changing");
+    Err(Error::io(Doing::Lock, path, moving))
 }
 
 /// Open (or create) the lock file, never through a link: one planted at

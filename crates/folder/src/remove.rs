@@ -3,10 +3,10 @@
 //! machine's ext4 an unlink can wait for the journal (3 to 4 ms each while
 //! the disk is busy), and unlinks that wait together share the wait: the
 //! examples' 163 files took 0.65 s one by one and 0.09 s eight at a time
-//! (BENCHMARKS.md of 003e36f, "Examples batch, fifth round").
+//! (karigami's BENCHMARKS.md of 003e36f, "Examples batch, fifth round").
 
-use super::super::fault;
-use super::{MARKER, is_folder};
+use crate::fault;
+use crate::marker::{MARKER, is_folder};
 use std::collections::BTreeSet;
 use std::ffi::OsString;
 use std::io;
@@ -20,7 +20,7 @@ const REMOVERS: usize = 8;
 /// opened without following links (so that a folder swapped for a link
 /// meanwhile leads nowhere); `fs::remove_dir_all` then removes what is
 /// left, and its error is the one returned.
-pub(super) fn remove_folder(path: &Path) -> io::Result<()> {
+pub(crate) fn remove_folder(path: &Path) -> io::Result<()> {
     #[cfg(unix)]
     unlink_files(path, None);
     std::fs::remove_dir_all(path)
@@ -32,7 +32,7 @@ pub(super) fn remove_folder(path: &Path) -> io::Result<()> {
 /// once empty.
 /// Whatever else is in it is someone's and stays, and so does every
 /// folder on the way to it: false when anything stayed.
-pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<bool> {
+pub(crate) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<bool> {
     // The marker goes after every file it lists: a run killed meanwhile
     // leaves a folder whose marker still names what is left, which the
     // next run removes, where one without a marker would be kept aside
@@ -65,7 +65,7 @@ pub(super) fn remove_seen(path: &Path, seen: &BTreeSet<OsString>) -> io::Result<
 
 /// Remove from the folder `path` the files (and links) `files` names (as
 /// `remove_seen`), in the folders it names; no folder is removed.
-pub(super) fn remove_files(path: &Path, files: &BTreeSet<OsString>) {
+pub(crate) fn remove_files(path: &Path, files: &BTreeSet<OsString>) {
     #[cfg(unix)]
     unlink_files(path, Some(files));
     #[cfg(not(unix))]

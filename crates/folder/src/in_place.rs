@@ -7,8 +7,9 @@
 //! on the way (what the check did not see stays, an edited file is kept
 //! aside first).
 
-use super::super::fault;
-use super::{MARKER, STAGING, Staged, hidden, is_folder, remove, remove_any};
+use crate::marker::{MARKER, STAGING, is_folder};
+use crate::words::plural;
+use crate::{Staged, fault, hidden, remove, remove_any, warn};
 use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
 use std::fs;
@@ -19,7 +20,7 @@ impl Staged<'_> {
     /// Put the new build's files in the target folder itself: the earlier
     /// build's own files go (not its marker yet), those edited since it was
     /// built are kept aside, the new files come in, the new marker last.
-    pub(super) fn in_place(&mut self) -> io::Result<()> {
+    pub(crate) fn in_place(&mut self) -> io::Result<()> {
         let out = self.out;
         let target = &out.target;
         let (seen, edited) = out.unedited(target);
@@ -38,13 +39,13 @@ impl Staged<'_> {
         }
         remove_any(&self.fresh)?;
         if let Some(aside) = kept {
-            errln!(
+            warn(&format!(
                 "warning: {} of the earlier build of {} changed since karigami wrote them ({}); the rebuild replaced them, and they are kept in {}",
-                karigami::util::plural(edited.len(), "file"),
+                plural(edited.len(), "file"),
                 target.display(),
                 edited.join(", "),
                 aside.display()
-            );
+            ));
         }
         Ok(())
     }
@@ -75,7 +76,7 @@ fn keep_edits(target: &Path, edited: &[String]) -> io::Result<Option<PathBuf>> {
 /// a file never replaces one that is there (something that appeared).
 fn move_into(from: &Path, to: &Path) -> io::Result<()> {
     let mut entries: Vec<(PathBuf, bool)> = Vec::new();
-    super::walk(from, |path, folder| {
+    crate::walk(from, |path, folder| {
         entries.push((
             path.strip_prefix(from).unwrap_or(path).to_path_buf(),
             folder,

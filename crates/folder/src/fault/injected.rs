@@ -1,37 +1,4 @@
-//! Fault injection for the safety tests, inert unless `KARIGAMI_FAULT` is
-//! set. Every file write and every rename or removal of a build commit is a
-//! numbered step; the variable (comma-separated) can
-//! - `abort@K`: abort the process at step K, as a kill would (no cleanup);
-//! - `enospc@K`: fail every write from step K on with "No space left on
-//!   device", as a full disk would;
-//! - `noexchange`: commit without the atomic folder swap, as on systems
-//!   that lack it, to test the fallback and its recovery;
-//! - `exdev`: --out cannot be moved (both the swap and a rename of it
-//!   fail with EXDEV), as an overlay file system's folder from a lower
-//!   layer, to test the commit in place;
-//! - `nosync`: skip fsync, which guards against power loss, not the kills
-//!   and full disks simulated here (hundreds of runs on a busy CI disk);
-//! - `syncfail@K`: fail the K-th flush to the disk (fsync, counted apart
-//!   from the steps) with an I/O error, as a failing disk would;
-//! - `add@REL`, `addlate@REL`, `addgone@REL`: not a fault but a user:
-//!   create REL (a file, a folder if it ends in `/`, a symbolic link to T
-//!   if it is `NAME->T`) inside --out just
-//!   before a commit checks what appeared in it while the build ran
-//!   (`add`), just after that check, before the swap (`addlate`), or in
-//!   the build swapped out, once it was checked again (`addgone`, as a
-//!   program whose current folder is inside --out would), or into --out
-//!   just after the swap, before the second check (`addnew`: a user
-//!   writing into the new build);
-//! - `edit`: not a fault but a user: append a line to the file `tune
-//!   --out` writes, just before it is written (an edit made while tuning
-//!   ran);
-//! - `firstnote@MS`: not a fault but the tests' clock: a phase off a
-//!   terminal prints its first progress line after MS milliseconds instead
-//!   of 2 s, so that a test sees one however fast the machine builds.
-//!
-//! The variable is read only in a binary built with the cargo feature
-//! `fault-injection` (scripts/test turns it on); the released binary is
-//! built without it, and there every hook is inert.
+//! The hooks read `KARIGAMI_FAULT` once a run (see `fault`).
 
 use std::io;
 use std::sync::OnceLock;
@@ -56,13 +23,6 @@ fn plan() -> &'static Plan {
     PLAN.get_or_init(read_plan)
 }
 
-/// Without the feature, no plan: nothing read from the environment.
-#[cfg(not(feature = "fault-injection"))]
-fn read_plan() -> Plan {
-    Plan::default()
-}
-
-#[cfg(feature = "fault-injection")]
 fn read_plan() -> Plan {
     let mut plan = Plan::default();
     let Ok(spec) = std::env::var("KARIGAMI_FAULT") else {
@@ -88,20 +48,26 @@ fn read_plan() -> Plan {
     plan
 }
 
+/// A line of the hooks' own on stderr, for the safety tests' logs.
+fn say(line: std::fmt::Arguments) {
+    use std::io::Write;
+    let _ = writeln!(io::stderr(), "{line}");
+}
+
 static STEP: AtomicUsize = AtomicUsize::new(0);
 static SYNCS: AtomicUsize = AtomicUsize::new(0);
 
 fn next(what: &str) -> usize {
     let k = STEP.fetch_add(1, Ordering::SeqCst) + 1;
     if plan().abort_at == Some(k) {
-        errln!("fault: abort at step {k} ({what})");
+        say(format_args!("fault: abort at step {k} ({what})"));
         std::process::abort();
     }
     k
 }
 
 /// A file is about to be written.
-pub(super) fn write(what: &str) -> io::Result<()> {
+pub(crate) fn write(what: &str) -> io::Result<()> {
     let k = next(what);
     match plan().enospc_from {
         Some(from) if k >= from => Err(io::Error::from_raw_os_error(28)),
@@ -110,13 +76,13 @@ pub(super) fn write(what: &str) -> io::Result<()> {
 }
 
 /// A rename or removal of the commit is about to happen.
-pub(super) fn commit(what: &str) {
+pub(crate) fn commit(what: &str) {
     next(what);
 }
 
 /// When a user adds an entry to a folder being committed.
 #[derive(Clone, Copy)]
-pub(super) enum Moment {
+pub(crate) enum Moment {
     /// Before the commit checks what appeared (`add@REL`).
     BeforeCheck,
     /// After that check, before the swap (`addlate@REL`).
@@ -129,7 +95,7 @@ pub(super) enum Moment {
 }
 
 /// A user adds an entry to the folder `dir` at the moment `at`.
-pub(super) fn add(dir: &std::path::Path, at: Moment) {
+pub(crate) fn add(dir: &std::path::Path, at: Moment) {
     let Some(rel) = &plan().add[at as usize] else {
         return;
     };
@@ -144,7 +110,7 @@ pub(super) fn add(dir: &std::path::Path, at: Moment) {
             .and_then(|()| std::fs::write(&path, "added while the build ran\n"))
     };
     if let Err(e) = made {
-        errln!("fault: cannot add {}: {e}", path.display());
+        say(format_args!("fault: cannot add {}: {e}", path.display()));
     }
 }
 
@@ -159,7 +125,7 @@ fn link(_: &str, _: &std::path::Path) -> io::Result<()> {
 }
 
 /// A user edits the file at `path` (`edit`).
-pub(super) fn edit(path: &std::path::Path) {
+pub fn edit(path: &std::path::Path) {
     if !plan().edit {
         return;
     }
@@ -169,26 +135,26 @@ pub(super) fn edit(path: &std::path::Path) {
         .open(path)
         .and_then(|mut f| f.write_all(b"# edited while tuning ran\n"));
     if let Err(e) = edited {
-        errln!("fault: cannot edit {}: {e}", path.display());
+        say(format_args!("fault: cannot edit {}: {e}", path.display()));
     }
 }
 
 /// When a phase's first progress line is due (`firstnote@MS`), if set.
-pub(super) fn first_note() -> Option<std::time::Duration> {
+pub fn first_note() -> Option<std::time::Duration> {
     plan().first_note_ms.map(std::time::Duration::from_millis)
 }
 
-pub(super) fn no_exchange() -> bool {
+pub(crate) fn no_exchange() -> bool {
     plan().no_exchange
 }
 
 /// Folders cannot be moved (`exdev`).
-pub(super) fn cross_device() -> bool {
+pub(crate) fn cross_device() -> bool {
     plan().cross_device
 }
 
 /// Rename the folder `from` to `to`, or fail with EXDEV (`exdev`).
-pub(super) fn rename_folder(from: &std::path::Path, to: &std::path::Path) -> io::Result<()> {
+pub(crate) fn rename_folder(from: &std::path::Path, to: &std::path::Path) -> io::Result<()> {
     if plan().cross_device {
         return Err(io::Error::from_raw_os_error(18));
     }
@@ -196,7 +162,7 @@ pub(super) fn rename_folder(from: &std::path::Path, to: &std::path::Path) -> io:
 }
 
 /// Flush a file or folder to the disk (unless `nosync`).
-pub(super) fn sync(file: &std::fs::File) -> io::Result<()> {
+pub(crate) fn sync(file: &std::fs::File) -> io::Result<()> {
     if let Some(k) = plan().sync_fail_at
         && SYNCS.fetch_add(1, Ordering::SeqCst) + 1 == k
     {

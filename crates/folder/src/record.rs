@@ -1,6 +1,6 @@
-//! Keeping an earlier build's files (docs/commands.md, "Build folders"): the marker
-//! of a build folder records, for each build in it (the folder itself, or
-//! each subfolder of a batch), a fingerprint of everything its files are
+//! Keeping an earlier build's files (karigami's docs/commands.md, "Build
+//! folders"): the marker of a build folder records, for each build in it
+//! (the folder itself, or each subfolder of a batch), a fingerprint of everything its files are
 //! made from and the length and hash of each file. A rebuild whose inputs
 //! have the same fingerprint, into a folder whose files still have their
 //! recorded lengths and hashes, links those files into the new folder
@@ -9,10 +9,9 @@
 //! Anything that does not check out (other inputs, a file edited, cut
 //! short, deleted or replaced by a link) is made and written as usual.
 
-use super::super::fault;
-use super::bounded::{Links, open_plain};
-use super::staged::{RECORDS_HEAD, make_folders, stays_inside};
-use super::{OutDir, Staged};
+use crate::bounded::{Links, open_plain};
+use crate::staged::{RECORDS_HEAD, make_folders, stays_inside};
+use crate::{OutDir, Staged, fault};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -40,12 +39,12 @@ pub(crate) struct Earlier(Vec<(Record, String)>);
 
 /// Each file a marker's records name (its path in the build folder), with
 /// its length and hash as recorded.
-pub(super) type Recorded<'a> = BTreeMap<String, (u64, &'a str)>;
+pub(crate) type Recorded<'a> = BTreeMap<String, (u64, &'a str)>;
 
 impl Earlier {
     /// The records in a marker's text; lines that do not parse are left out
     /// (their builds are made again).
-    pub(super) fn parse(marker: &str) -> Self {
+    pub(crate) fn parse(marker: &str) -> Self {
         let records = marker
             .split_once(&format!("\n\n{RECORDS_HEAD}\n"))
             .map_or("", |(_, r)| r);
@@ -60,7 +59,7 @@ impl Earlier {
 
 impl Earlier {
     /// Every file the records name, as `Recorded`.
-    pub(super) fn recorded(&self) -> Recorded<'_> {
+    pub(crate) fn recorded(&self) -> Recorded<'_> {
         let mut out = Recorded::new();
         for (record, _) in &self.0 {
             for (name, len, hash) in &record.files {
@@ -74,7 +73,7 @@ impl Earlier {
 
 /// Whether the file at `path` is a regular file (not a link) of `len`
 /// bytes whose hash is `hash`: a build's file as it was written.
-pub(super) fn unchanged(path: &Path, (len, hash): (u64, &str), buf: &mut [u8]) -> bool {
+pub(crate) fn unchanged(path: &Path, (len, hash): (u64, &str), buf: &mut [u8]) -> bool {
     let Ok(file) = open_plain(path, Links::Refuse) else {
         return false;
     };
@@ -155,7 +154,7 @@ fn build_id(path: &Path) -> Option<Vec<u8>> {
 }
 
 /// The piece of a file read at a time.
-pub(super) const BUFFER: usize = 1 << 20;
+pub(crate) const BUFFER: usize = 1 << 20;
 
 /// The xxh3-64 hash of a file's bytes, read a piece at a time into `buf`:
 /// a large file read whole would cost more in fresh memory than in
@@ -178,7 +177,7 @@ fn hash_read(mut file: fs::File, buf: &mut [u8]) -> io::Result<u64> {
 
 /// Start hashing the program on a thread of its own, so that a build's
 /// other work overlaps it (`inputs` then waits for it, if need be).
-pub(crate) fn start_program_hash() {
+pub fn start_program_hash() {
     std::thread::spawn(program);
 }
 
@@ -186,7 +185,7 @@ pub(crate) fn start_program_hash() {
 /// recipe's text, its name, the options...), each with its length so that
 /// no two lists give the same stream. None where the program cannot be
 /// read.
-pub(crate) fn inputs(parts: &[&[u8]]) -> Option<u64> {
+pub fn inputs(parts: &[&[u8]]) -> Option<u64> {
     let mut h = Xxh3::new();
     h.update(&program()?.to_le_bytes());
     for p in parts {
@@ -196,13 +195,14 @@ pub(crate) fn inputs(parts: &[&[u8]]) -> Option<u64> {
     Some(h.digest())
 }
 
-/// The record line of a build just made.
-pub(super) fn line(
+/// The record line of a build just made; an error is a report that does
+/// not serialise (a map with keys that are not text).
+pub(crate) fn line(
     folder: &str,
     inputs: Option<u64>,
     files: &[(String, Vec<u8>)],
     report: &impl Serialize,
-) -> String {
+) -> io::Result<String> {
     let record = Record {
         folder: folder.to_string(),
         inputs: inputs.map_or_else(String::new, hex),
@@ -210,16 +210,16 @@ pub(super) fn line(
             .iter()
             .map(|(name, bytes)| (name.clone(), bytes.len() as u64, hex(xxh3_64(bytes))))
             .collect(),
-        report: serde_json::to_value(report).expect("a report serialises"),
+        report: serde_json::to_value(report)?,
     };
-    serde_json::to_string(&record).expect("a record serialises")
+    Ok(serde_json::to_string(&record)?)
 }
 
 impl Staged<'_> {
     /// Write the files of one build (`write`) and record what they are made
     /// from (`inputs`, see `record::inputs`) and what the build reported,
     /// so that a rebuild can keep them (`keep`).
-    pub(crate) fn write_build(
+    pub fn write_build(
         &self,
         sub: &str,
         files: &[(String, Vec<u8>)],
@@ -227,7 +227,7 @@ impl Staged<'_> {
         report: &impl serde::Serialize,
     ) -> io::Result<()> {
         self.write(sub, files)?;
-        self.add_record(line(sub, inputs, files, report));
+        self.add_record(line(sub, inputs, files, report)?);
         Ok(())
     }
 
@@ -238,7 +238,7 @@ impl Staged<'_> {
     /// report; None when anything does not check out, after undoing what it
     /// linked (the caller then builds). An error is a write that failed (a
     /// full disk), as writing the files would have.
-    pub(crate) fn keep<R: DeserializeOwned>(
+    pub fn keep<R: DeserializeOwned>(
         &self,
         out: &OutDir,
         folder: &str,

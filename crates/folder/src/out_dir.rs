@@ -2,17 +2,16 @@
 //! link, not holding an input, a build folder unless `--force`), locked,
 //! and repaired after interrupted runs.
 
-use super::bounded::{Links, read_plain};
-use super::lock::take_lock;
-use super::record::Earlier;
-use super::{
-    Cleared, MARKER, STAGING, claim, clear, dir_of, hidden, is_folder, leaves_folder, listed,
-    own_entries, read_marker, remove_any,
+use crate::bounded::{Links, read_plain};
+use crate::error::{Doing, Error, Untrusted, counted, left_as_it_was, shortlist};
+use crate::interrupt::{self, Registered};
+use crate::lock::take_lock;
+use crate::marker::{
+    Cleared, MARKER, STAGING, claim, clear, is_folder, leaves_folder, listed, own_entries,
+    read_marker,
 };
-use crate::cli::error::Error;
-use crate::cli::interrupt::{self, Registered};
-use karigami::ErrorKind;
-use karigami::util::plural;
+use crate::record::Earlier;
+use crate::{dir_of, hidden, remove_any};
 use std::collections::BTreeSet;
 use std::ffi::{OsStr, OsString};
 use std::fs::{self, File};
@@ -35,22 +34,22 @@ pub(crate) enum Previous {
 
 /// The checked, locked output folder of one run. Taken before any work, so
 /// that a refusal or a busy folder is reported at once and writes nothing.
-pub(crate) struct OutDir {
-    pub(super) target: PathBuf,
-    pub(super) parent: PathBuf,
-    pub(super) name: std::ffi::OsString,
-    pub previous: Previous,
+pub struct OutDir {
+    pub(crate) target: PathBuf,
+    pub(crate) parent: PathBuf,
+    pub(crate) name: std::ffi::OsString,
+    pub(crate) previous: Previous,
     /// What the lock holder repaired or cleaned, for the user.
     pub notes: Vec<String>,
     /// The records of the earlier build in it (`record`), if any.
-    pub(super) earlier: Option<Earlier>,
+    pub(crate) earlier: Option<Earlier>,
     /// The marker of the earlier build in it, as read when checked.
     marker: Option<String>,
     /// Every entry the folder held when checked under the lock (`entries`):
     /// all that a commit may delete. Whatever else appears in it while
     /// the build runs is someone's, and stops the commit (`appeared`).
     /// Kept byte for byte: two names that print alike are not the same.
-    pub(super) seen: BTreeSet<OsString>,
+    pub(crate) seen: BTreeSet<OsString>,
     lock: (PathBuf, File),
     /// The lock file, removed on an interrupt.
     _interrupt: Registered,
@@ -67,18 +66,12 @@ impl OutDir {
     /// Check `out` (a folder name, not a file, not a link, not holding an
     /// input of this run; a build folder unless `force`), take its lock and
     /// repair what interrupted runs left. Errors are whole sentences.
-    pub(crate) fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, Error> {
+    pub fn open(out: &Path, inputs: &[PathBuf], force: bool) -> Result<Self, Error> {
         // `link/` (or `link/.`) names what the link leads to, not the link:
         // the folder's own name, without them, is what is checked.
         let out = &out.components().collect::<PathBuf>();
-        let shown = out.display();
         let Some(name) = out.file_name().map(OsStr::to_os_string) else {
-            return Err(Error::new(
-                ErrorKind::OutNotAFolderName,
-                format!(
-                    "--out {shown} is not a folder name; give the folder to build into, such as --out my-build"
-                ),
-            ));
+            return Err(Error::NotAFolderName { out: out.clone() });
         };
         let parent = dir_of(out).to_path_buf();
         // The first existing ancestor must be a folder.
@@ -86,19 +79,15 @@ impl OutDir {
             .ancestors()
             .find(|a| !a.as_os_str().is_empty() && fs::symlink_metadata(a).is_ok());
         if let Some(existing) = existing.filter(|e| !e.is_dir()) {
-            return Err(Error::new(
-                ErrorKind::OutUnderAFile,
-                format!(
-                    "cannot create {shown}: {} is a file, not a folder",
-                    existing.display()
-                ),
-            ));
+            return Err(Error::UnderAFile {
+                out: out.clone(),
+                file: existing.to_path_buf(),
+            });
         }
         // A refusal writes nothing: check before creating the lock file
         // (and again under the lock, which is what counts).
         classify(out, inputs, force)?;
-        fs::create_dir_all(&parent)
-            .map_err(|e| Error::io(format!("cannot create {}: {e}", parent.display())))?;
+        fs::create_dir_all(&parent).map_err(|e| Error::io(Doing::Create, &parent, e))?;
         let lock_path = parent.join(hidden(&name, "lock"));
         let lock = take_lock(&lock_path, out)?;
         let _interrupt = interrupt::register(&lock_path);
@@ -114,8 +103,7 @@ impl OutDir {
             lock,
             _interrupt,
         };
-        dir.recover()
-            .map_err(|e| Error::io(format!("cannot tidy up beside {shown}: {e}")))?;
+        dir.recover().map_err(|e| Error::io(Doing::Tidy, out, e))?;
         (dir.previous, dir.seen) = classify(out, inputs, force)?;
         if matches!(dir.previous, Previous::Build | Previous::Added(_)) {
             dir.marker = read_marker(out);
@@ -242,7 +230,7 @@ impl OutDir {
     /// `seen` without the earlier build's files whose content is not what
     /// it recorded (edited since it was built), checked in `old` (where the
     /// earlier build now is): what a commit may delete; and those files.
-    pub(super) fn unedited(&self, old: &Path) -> (BTreeSet<OsString>, Vec<String>) {
+    pub(crate) fn unedited(&self, old: &Path) -> (BTreeSet<OsString>, Vec<String>) {
         let Some(Ok(c)) = self.marker.as_deref().map(|m| claim(old, m)) else {
             return (self.seen.clone(), Vec::new());
         };
@@ -259,7 +247,7 @@ impl OutDir {
 /// which holds nothing of anyone's.
 fn only_folders(dir: &Path) -> io::Result<bool> {
     let mut files = false;
-    super::walk(dir, |_, folder| {
+    crate::walk(dir, |_, folder| {
         files |= !folder;
         Ok(())
     })?;
@@ -306,86 +294,54 @@ fn classify(
     inputs: &[PathBuf],
     force: bool,
 ) -> Result<(Previous, BTreeSet<OsString>), Error> {
-    let refuse = Error::new;
-    let shown = target.display();
+    let out = target.to_path_buf();
+    let unreadable = |e| Error::io(Doing::Read, target, e);
     let meta = match fs::symlink_metadata(target) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
             return Ok((Previous::Nothing, BTreeSet::new()));
         }
-        Err(e) => return Err(Error::io(format!("cannot read {shown}: {e}"))),
+        Err(e) => return Err(unreadable(e)),
         Ok(m) => m,
     };
     if meta.file_type().is_symlink() {
-        let to = fs::read_link(target)
-            .map(|t| t.display().to_string())
-            .unwrap_or_default();
-        let dangling = if target.exists() {
-            ""
-        } else {
-            ", which does not exist"
-        };
-        return Err(refuse(
-            ErrorKind::OutIsALink,
-            format!(
-                "--out {shown} is a symbolic link (to {to}{dangling}); give the real folder as --out"
-            ),
-        ));
+        return Err(Error::IsALink {
+            to: fs::read_link(target).unwrap_or_default(),
+            dangling: !target.exists(),
+            out,
+        });
     }
     if !meta.is_dir() {
-        return Err(refuse(
-            ErrorKind::OutIsAFile,
-            format!(
-                "--out {shown} is a file, not a folder; choose another --out (--force replaces only folders)"
-            ),
-        ));
+        return Err(Error::IsAFile { out });
     }
     if mount_point(target) {
-        return Err(refuse(
-            ErrorKind::OutNotAFolderName,
-            format!(
-                "--out {shown} is a mount point (a file system is mounted there), which a build cannot replace: it writes a new folder beside it and swaps the two; give a folder inside it, such as --out {}",
-                target.join("build").display()
-            ),
-        ));
+        return Err(Error::MountPoint { out });
     }
-    let real =
-        fs::canonicalize(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
+    let real = fs::canonicalize(target).map_err(unreadable)?;
     for input in inputs {
         if fs::canonicalize(input).is_ok_and(|i| i.starts_with(&real)) {
-            return Err(refuse(
-                ErrorKind::OutHoldsInput,
-                format!(
-                    "--out {shown} holds {}, an input of this run, and building would replace the folder with it; choose another --out",
-                    input.display()
-                ),
-            ));
+            let input = input.clone();
+            return Err(Error::HoldsInput { out, input });
         }
     }
     if std::env::current_dir()
         .and_then(fs::canonicalize)
         .is_ok_and(|cwd| cwd.starts_with(&real))
     {
-        return Err(refuse(
-            ErrorKind::OutHoldsCurrentFolder,
-            format!(
-                "--out {shown} is the current folder or holds it; run karigami from outside it or choose another --out"
-            ),
-        ));
+        return Err(Error::HoldsCurrentFolder { out });
     }
-    let seen = entries(target).map_err(|e| Error::io(format!("cannot read {shown}: {e}")))?;
+    let seen = entries(target).map_err(unreadable)?;
     let files = lossy(seen.iter().filter(|e| !is_folder(e)).cloned().collect());
     let marker = read_marker(target);
+    let refused = |why| Error::NotABuildFolder {
+        out: target.to_path_buf(),
+        why,
+        files: files.len(),
+    };
     if let Some(bad) = marker.as_deref().and_then(leaves_folder) {
         if force {
             return Ok((Previous::Foreign(files), seen));
         }
-        return Err(refuse(
-            ErrorKind::NotABuildFolder,
-            format!(
-                "{shown} has a {MARKER} marker that lists {bad}, a path outside the folder, so karigami did not write it; choose another --out, or pass --force to replace it (its {} would be deleted)",
-                plural(files.len(), "file")
-            ),
-        ));
+        return Err(refused(Untrusted::ListsOutside(bad.to_string())));
     }
     if let Some(ours) = marker {
         // Files (and folders) someone added to a build folder are not the
@@ -400,16 +356,7 @@ fn classify(
         if force {
             return Ok((Previous::Added(added), seen));
         }
-        return Err(refuse(
-            ErrorKind::BuildFolderHasOtherFiles,
-            format!(
-                "{shown} is a karigami build folder but holds {} the build did not write: {}; move {} out, or pass --force to replace the folder and delete {}",
-                counted(&added),
-                shortlist(&added),
-                if added.len() == 1 { "it" } else { "them" },
-                if added.len() == 1 { "it" } else { "them" },
-            ),
-        ));
+        return Err(Error::OtherFiles { out, added });
     }
     if seen.is_empty() {
         return Ok((Previous::Nothing, seen));
@@ -420,25 +367,12 @@ fn classify(
     let older = ["lattice.json", "batch.json"]
         .iter()
         .any(|m| target.join(m).is_file());
-    let what = if older {
-        format!(
-            "{shown} has no {MARKER} marker: it may be a build of an older karigami, or a folder of yours"
-        )
-    } else {
-        format!("{shown} exists and is not a karigami build folder (it has no {MARKER} marker)")
-    };
-    Err(refuse(
-        ErrorKind::NotABuildFolder,
-        format!(
-            "{what}; choose another --out, or pass --force to replace it (its {} would be deleted)",
-            plural(files.len(), "file")
-        ),
-    ))
+    Err(refused(Untrusted::NoMarker { older }))
 }
 
 impl OutDir {
     /// A warning for `--force` replacing files that are not the tool's.
-    pub(crate) fn force_warning(&self) -> Option<String> {
+    pub fn force_warning(&self) -> Option<String> {
         let (what, files) = match &self.previous {
             Previous::Foreign(files) => ("is not a karigami build folder", files),
             Previous::Added(files) => ("holds files the build did not write", files),
@@ -452,7 +386,8 @@ impl OutDir {
         ))
     }
 
-    pub(crate) fn path(&self) -> &Path {
+    /// The folder, as checked (without a trailing `/` or `/.`).
+    pub fn path(&self) -> &Path {
         &self.target
     }
 
@@ -461,14 +396,14 @@ impl OutDir {
     /// folder is a build folder and the file a plain file of at most
     /// `limit` bytes. Whatever is read is checked by its reader; a read
     /// that fails is no error (the build just does the work again).
-    pub(crate) fn earlier_file(&self, rel: &str, limit: u64) -> Option<Vec<u8>> {
+    pub fn earlier_file(&self, rel: &str, limit: u64) -> Option<Vec<u8>> {
         let path = self.plain_file(Path::new(rel))?;
         read_plain(&path, limit, Links::Refuse).ok()
     }
 
     /// The path of `rel` inside the earlier build in this folder, if it is
     /// a plain file there (not a link, nor under one).
-    pub(super) fn plain_file(&self, rel: &Path) -> Option<PathBuf> {
+    pub(crate) fn plain_file(&self, rel: &Path) -> Option<PathBuf> {
         if !matches!(self.previous, Previous::Build | Previous::Added(_)) {
             return None;
         }
@@ -486,33 +421,13 @@ impl OutDir {
     }
 
     /// What the folder holds if a build does not commit.
-    pub(crate) fn kept(&self) -> String {
-        match self.previous {
-            Previous::Nothing => format!("nothing was written to {}", self.target.display()),
-            _ => format!("{} was left as it was", self.target.display()),
-        }
+    pub fn kept(&self) -> String {
+        left_as_it_was(&self.target, self.had_anything())
     }
-}
 
-/// The first few of `files`, and how many more.
-fn shortlist(files: &[String]) -> String {
-    const SHOWN: usize = 10;
-    let mut list: Vec<&str> = files.iter().take(SHOWN).map(String::as_str).collect();
-    let more = format!("and {} more", files.len().saturating_sub(SHOWN));
-    if files.len() > SHOWN {
-        list.push(&more);
-    }
-    list.join(", ")
-}
-
-/// How many files, folders or both `entries` (from `entries`: a folder's
-/// ends in `/`) are: "1 file", "2 folders", "3 files and folders".
-fn counted(entries: &[String]) -> String {
-    let folders = entries.iter().filter(|e| e.ends_with('/')).count();
-    match (folders, entries.len() - folders) {
-        (0, files) => plural(files, "file"),
-        (folders, 0) => plural(folders, "folder"),
-        _ => format!("{} files and folders", entries.len()),
+    /// Whether the folder held a build or files when checked (`Doing::Commit`).
+    pub(crate) fn had_anything(&self) -> bool {
+        !matches!(self.previous, Previous::Nothing)
     }
 }
 
@@ -547,9 +462,9 @@ fn lossy(entries: Vec<OsString>) -> Vec<String> {
 /// Every entry under `dir` (relative, sorted; a folder's name ends in
 /// `/`), without following links: files, links, folders, empty or not.
 /// Names are kept as they are: two that print alike stay apart.
-pub(super) fn entries(dir: &Path) -> io::Result<BTreeSet<OsString>> {
+pub(crate) fn entries(dir: &Path) -> io::Result<BTreeSet<OsString>> {
     let mut out = BTreeSet::new();
-    super::walk(dir, |path, folder| {
+    crate::walk(dir, |path, folder| {
         let mut rel = path
             .strip_prefix(dir)
             .unwrap_or(path)
@@ -569,7 +484,7 @@ impl OutDir {
     /// it) holds that it did not when checked (`seen`): entries someone
     /// added while the build ran, outermost first. A folder that is no
     /// longer a folder (a link, a file) is itself an entry that appeared.
-    pub(super) fn appeared(&self, dir: &Path) -> io::Result<Vec<String>> {
+    pub(crate) fn appeared(&self, dir: &Path) -> io::Result<Vec<String>> {
         match fs::symlink_metadata(dir) {
             Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
             Err(e) => return Err(e),
@@ -584,23 +499,10 @@ impl OutDir {
 
     /// The refusal of a commit because the entries `appeared` came into
     /// the folder while the build ran.
-    pub(super) fn changed(&self, appeared: &[String]) -> Error {
-        let shown = self.target.display();
-        let it = if appeared.len() == 1 { "it" } else { "them" };
-        let what = if appeared.iter().any(String::is_empty) {
-            format!("{shown} was replaced by a file or a link while the build ran")
-        } else {
-            format!(
-                "{} appeared in {shown} while the build ran: {}",
-                counted(appeared),
-                shortlist(appeared)
-            )
-        };
-        Error::new(
-            ErrorKind::BuildFolderHasOtherFiles,
-            format!(
-                "{what}; the build was not committed and {shown} was left as it was ({it} too); move {it} out of {shown}, or build into another --out, and build again"
-            ),
-        )
+    pub(crate) fn changed(&self, appeared: &[String]) -> Error {
+        Error::Appeared {
+            out: self.target.clone(),
+            appeared: appeared.to_vec(),
+        }
     }
 }

@@ -9,8 +9,8 @@ use std::io::{self, Read};
 use std::path::Path;
 
 /// Whether the last component of the path may be a symbolic link.
-#[derive(Clone, Copy, PartialEq)]
-pub(super) enum Links {
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Links {
     /// Followed (a recipe given on the command line may be a link).
     Follow,
     /// Refused: the file must be there itself (a build folder's entries).
@@ -21,7 +21,7 @@ pub(super) enum Links {
 /// error says what it is instead (a folder, a FIFO, a device), or that it
 /// is larger than the limit (kinds `IsADirectory`, `InvalidInput`,
 /// `FileTooLarge`).
-pub(super) fn read_plain(path: &Path, limit: u64, links: Links) -> io::Result<Vec<u8>> {
+pub fn read_plain(path: &Path, limit: u64, links: Links) -> io::Result<Vec<u8>> {
     let file = open_plain(path, links)?;
     let mut bytes = Vec::new();
     file.take(limit + 1).read_to_end(&mut bytes)?;
@@ -38,7 +38,7 @@ pub(super) fn read_plain(path: &Path, limit: u64, links: Links) -> io::Result<Ve
 }
 
 /// Open the regular file at `path` for reading (see `read_plain`).
-pub(super) fn open_plain(path: &Path, links: Links) -> io::Result<File> {
+pub fn open_plain(path: &Path, links: Links) -> io::Result<File> {
     let file = open(path, links)?;
     let kind = file.metadata()?.file_type();
     if kind.is_file() {

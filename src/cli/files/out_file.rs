@@ -1,115 +1,17 @@
-//! Writing one file (a recipe, a report) so that it is either as it was
-//! or complete.
+//! The file `tune --out` writes the tuned recipe to: checked before the
+//! work and again just before it is written, whole or not at all
+//! (`karigami_folder::replace_like`).
 
-use super::super::fault;
-use super::{dir_of, hidden};
 use crate::cli::error::Error;
 use karigami::ErrorKind;
 use karigami::util::plural;
-use std::fs::{self, OpenOptions};
+use karigami_folder::{create_like, fault, replace_like};
+use std::fs;
 use std::io::{self, Write};
 use std::path::Path;
 
-/// Write to a temporary file beside the target, then rename it over the
-/// target: the target is either as it was or complete.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    write_whole(path, bytes, true, None)
-}
-
-/// `write_atomic`, or with `replace` false a file that must not exist yet:
-/// the temporary file is linked to its name, which fails if it is taken
-/// (however recently), then unlinked. With `like`, the file written gets
-/// the mode and owner of the file it replaces (`like`'s metadata).
-fn write_whole(
-    path: &Path,
-    bytes: &[u8],
-    replace: bool,
-    like: Option<&fs::Metadata>,
-) -> io::Result<()> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::other("no file name"))?;
-    let tmp = path.with_file_name(hidden(name, &format!("tmp-{}", std::process::id())));
-    remove_stale_temporaries(path, &hidden(name, "tmp-"));
-    let _interrupt = crate::cli::interrupt::register(&tmp);
-    let result = (|| {
-        fault::write(&path.display().to_string())?;
-        let mut f = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
-        if let Some(like) = like {
-            same_identity(&f, like)?;
-        }
-        f.write_all(bytes)?;
-        fault::sync(&f)?;
-        fault::commit("rename over the target");
-        if replace {
-            fs::rename(&tmp, path)?;
-        } else {
-            fs::hard_link(&tmp, path)?;
-            // Written either way: a temporary left is tidied by a later run.
-            let _ = fs::remove_file(&tmp);
-        }
-        // The new name made durable too (a failure here loses nothing).
-        if let Ok(folder) = fs::File::open(dir_of(path)) {
-            let _ = fault::sync(&folder);
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
-}
-
-/// Give the file `f` the owner and mode of `like` (the file it is to
-/// replace): a 0600 recipe tuned in place stays 0600, and stays its
-/// owner's. The owner first: changing it clears a set-user-ID bit.
-#[cfg(unix)]
-fn same_identity(f: &fs::File, like: &fs::Metadata) -> io::Result<()> {
-    use rustix::fs::{Gid, Uid, fchown};
-    use std::os::unix::fs::MetadataExt;
-    let mine = f.metadata()?;
-    if (mine.uid(), mine.gid()) != (like.uid(), like.gid()) {
-        let (uid, gid) = (Uid::from_raw(like.uid()), Gid::from_raw(like.gid()));
-        // Only root may give a file away: anyone else's run writes a file
-        // of theirs, as any edit saved by rename does.
-        match fchown(f, Some(uid), Some(gid)) {
-            Err(e) if e != rustix::io::Errno::PERM => return Err(e.into()),
-            _ => {}
-        }
-    }
-    f.set_permissions(like.permissions())
-}
-
-#[cfg(not(unix))]
-fn same_identity(f: &fs::File, like: &fs::Metadata) -> io::Result<()> {
-    f.set_permissions(like.permissions())
-}
-
-/// Temporary files beside `path` (`prefix` + PID) of runs that were
-/// killed: where the system lists live processes in /proc, those of dead
-/// ones are removed.
-fn remove_stale_temporaries(path: &Path, prefix: &str) {
-    let proc = Path::new("/proc/self");
-    let Ok(entries) = fs::read_dir(dir_of(path)) else {
-        return;
-    };
-    if !proc.exists() {
-        return;
-    }
-    for entry in entries.flatten() {
-        let file = entry.file_name().to_string_lossy().into_owned();
-        let pid = file.strip_prefix(prefix).unwrap_or_default();
-        if !pid.is_empty()
-            && pid.bytes().all(|b| b.is_ascii_digit())
-            && !Path::new("/proc").join(pid).exists()
-        {
-            let _ = fs::remove_file(entry.path());
-        }
-    }
-}
-
 /// The file `tune --out` writes the tuned recipe to: checked before the
-/// work and again just before the write, which is atomic (`write_atomic`).
+/// work and again just before the write, which is atomic (`replace_like`).
 /// A link is always refused (the rename would replace the link, not the
 /// file it leads to), and so is a folder; an existing file other than the
 /// recipe only with `--force`; the recipe itself is written back, unless
@@ -195,7 +97,7 @@ impl<'a> OutFile<'a> {
             return Err(self.edited(bytes));
         }
         let like = fs::symlink_metadata(self.path).ok();
-        write_whole(self.path, bytes, true, like.as_ref()).map_err(|e| {
+        replace_like(self.path, bytes, like.as_ref()).map_err(|e| {
             Error::io(format!(
                 "cannot write {}: {e}; it was left as it was",
                 self.path.display()
@@ -238,7 +140,7 @@ impl OutFile<'_> {
         beside.push(".tuned");
         let beside = Path::new(&beside);
         let like = fs::symlink_metadata(self.path).ok();
-        let put = if write_whole(beside, bytes, false, like.as_ref()).is_ok() {
+        let put = if create_like(beside, bytes, like.as_ref()).is_ok() {
             format!("the tuned recipe is in {}", beside.display())
         } else {
             let mut stdout = io::stdout().lock();

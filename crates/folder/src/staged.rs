@@ -1,13 +1,11 @@
 //! Writing a build folder: into a staging folder beside the target that
 //! replaces it whole on commit, with the marker written last.
 
-use super::super::fault;
-use super::{
-    Cleared, FORMAT, MARKER, MARKER_HEAD, OutDir, STAGING, clear, hidden, own_entries, remove_any,
-};
-use crate::cli::error::Error;
-use crate::cli::interrupt::{self, Registered};
-use karigami::util::plural;
+use crate::error::{Doing, Error};
+use crate::interrupt::{self, Registered};
+use crate::marker::{Cleared, FORMAT, MARKER, MARKER_HEAD, STAGING, clear, own_entries};
+use crate::words::plural;
+use crate::{OutDir, fault, hidden, host, remove_any, warn};
 use std::collections::BTreeSet;
 use std::ffi::OsString;
 use std::fs::{self, File};
@@ -20,11 +18,11 @@ use std::thread::JoinHandle;
 
 /// The line that starts the records in the marker, after the file list
 /// and an empty line (which no file name can be).
-pub(super) const RECORDS_HEAD: &str = "builds (what each build's files are made from, and each file's length and xxh3-64 hash; a rebuild keeps the files that check out):";
+pub(crate) const RECORDS_HEAD: &str = "builds (what each build's files are made from, and each file's length and xxh3-64 hash; a rebuild keeps the files that check out):";
 
 /// Whether `rel` is a relative path of plain components that stays inside
 /// the folder it is joined to.
-pub(super) fn stays_inside(rel: &Path) -> bool {
+pub(crate) fn stays_inside(rel: &Path) -> bool {
     rel.components().all(|c| match c {
         Component::Normal(n) => {
             let n = n.to_string_lossy();
@@ -38,12 +36,12 @@ pub(super) fn stays_inside(rel: &Path) -> bool {
 /// target, which replaces the target whole on `commit`. Dropped without a
 /// commit, the staging folder is removed and the target untouched; killed,
 /// the next run removes it.
-pub(crate) struct Staged<'a> {
-    pub(super) out: &'a OutDir,
-    pub(super) fresh: PathBuf,
+pub struct Staged<'a> {
+    pub(crate) out: &'a OutDir,
+    pub(crate) fresh: PathBuf,
     kind: String,
     /// Every file written (relative paths), for the marker.
-    pub(super) written: std::sync::Mutex<Vec<String>>,
+    pub(crate) written: std::sync::Mutex<Vec<String>>,
     /// Each build's record line (`record`), for the marker.
     records: std::sync::Mutex<Vec<String>>,
     /// Flushes the written files to the disk (`Syncer`).
@@ -66,11 +64,11 @@ type Written = (File, String);
 /// Written files are flushed to the disk (fsync) on threads of their own:
 /// an fsync waits for the disk (a median 0.6 ms, up to 20 ms, here), and
 /// the examples' batch waited 0.32 s for its 169 in all while the builds
-/// could draw (BENCHMARKS.md of 003e36f, "Examples batch, third round"). Several
-/// flush at once: the file system commits the flushes that wait together
-/// in one journal commit, where one thread waited for a commit a file
-/// (the examples' 163 files: 0.33 to 0.43 s one by one, 0.04 s four at a
-/// time, "Examples batch, fifth round"). `commit` waits for every flush
+/// could draw (karigami's BENCHMARKS.md of 003e36f, "Examples batch, third
+/// round"). Several flush at once: the file system commits the flushes
+/// that wait together in one journal commit, where one thread waited for
+/// a commit a file (the examples' 163 files: 0.33 to 0.43 s one by one,
+/// 0.04 s four at a time, "Examples batch, fifth round"). `commit` waits for every flush
 /// before the marker.
 struct Syncer {
     /// The queue to the flushing threads, and the threads; None when the
@@ -174,7 +172,7 @@ fn flush_failed(rel: &str, e: &io::Error) -> io::Error {
 
 impl<'a> Staged<'a> {
     /// `kind` ("single" or "batch") goes into the marker.
-    pub(crate) fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
+    pub fn new(out: &'a OutDir, kind: &str) -> io::Result<Self> {
         let fresh = out
             .parent
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
@@ -218,9 +216,9 @@ impl<'a> Staged<'a> {
         };
         let (files, records) = (sorted(&self.written), sorted(&self.records));
         let text = format!(
-            "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by karigami {}; a build replaces this folder whole\nfiles:\n{}\n{RECORDS_HEAD}\n{}",
+            "{MARKER_HEAD}\nformat {FORMAT}\nkind {}\nwritten by {}; a build replaces this folder whole\nfiles:\n{}\n{RECORDS_HEAD}\n{}",
             self.kind,
-            env!("CARGO_PKG_VERSION"),
+            host().program,
             files.iter().map(|f| format!("{f}\n")).collect::<String>(),
             records.iter().map(|r| format!("{r}\n")).collect::<String>()
         );
@@ -236,7 +234,7 @@ impl<'a> Staged<'a> {
 
     /// Write files (paths relative to `sub` inside the folder). Each path
     /// must be plain relative components, so every write lands inside.
-    pub(crate) fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
+    pub fn write(&self, sub: &str, files: &[(String, Vec<u8>)]) -> io::Result<()> {
         for (name, bytes) in files {
             let rel = Path::new(sub).join(name);
             if !stays_inside(&rel) {
@@ -268,14 +266,14 @@ impl<'a> Staged<'a> {
     }
 
     /// Every file written so far (paths relative to the folder), in order.
-    pub(crate) fn written(&self) -> Vec<String> {
+    pub fn written(&self) -> Vec<String> {
         self.written
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .clone()
     }
 
-    pub(super) fn add_record(&self, line: String) {
+    pub(crate) fn add_record(&self, line: String) {
         self.records
             .lock()
             .unwrap_or_else(|e| e.into_inner())
@@ -285,27 +283,18 @@ impl<'a> Staged<'a> {
     /// Put the staging folder in the target's place, unless something
     /// appeared in the target while the build ran (`OutDir::appeared`):
     /// then nothing is committed, the target is left as it is, and the
-    /// error names what appeared. Errors are whole sentences.
-    pub(crate) fn commit(mut self) -> Result<(), Error> {
+    /// error names what appeared. Warnings go to `Host::warn`.
+    pub fn commit(mut self) -> Result<(), Error> {
         // An interrupt from here on waits for the commit to end: the
         // staging folder may become --out at any moment.
         let _commit = interrupt::commit();
         let out = self.out;
-        let fail = |e: io::Error| {
-            Error::io(format!(
-                "cannot write {}: {e}; {}",
-                out.target.display(),
-                out.kept()
-            ))
-        };
-        sync_folders(&self.fresh, &self.syncer).map_err(fail)?;
-        self.syncer.finish().map_err(fail)?;
-        self.write_marker().map_err(fail)?;
-        if let Some(like) = &self.like {
-            fs::set_permissions(&self.fresh, like.permissions()).map_err(fail)?;
-        }
-        fault::sync(&File::open(&self.fresh).map_err(fail)?).map_err(fail)?;
         let target = &out.target;
+        let fail = |e| {
+            let earlier = out.had_anything();
+            Error::io(Doing::Commit { earlier }, target, e)
+        };
+        self.seal().map_err(fail)?;
         fault::add(target, fault::Moment::BeforeCheck);
         let appeared = out.appeared(target).map_err(fail)?;
         if !appeared.is_empty() {
@@ -322,66 +311,90 @@ impl<'a> Staged<'a> {
                 // Committed in place: nothing was swapped out.
                 return Ok(());
             };
-            // From here on the new build is in place: an error says so.
-            let fail = |e: io::Error| {
-                Error::io(format!(
-                    "cannot finish replacing {}: {e}; the new build is in its place, and the earlier one in {}, which the next build into {0} tidies",
-                    target.display(),
-                    old.display()
-                ))
-            };
-            // Entries that appeared after the check above (at the same
-            // names, or through a handle held inside the folder) are now in
-            // the swapped-out build: it is looked at again, and swapped
-            // back if any are there.
-            fault::add(target, fault::Moment::SwappedIn);
-            let late = out.appeared(&old).map_err(fail)?;
-            if !late.is_empty() {
-                if let Err(e) = self.swap_back(&old) {
-                    // The earlier build kept whole, with what came into it.
-                    keep_aside(&old, &BTreeSet::new(), &[], target);
-                    return Err(Error::io(format!(
-                        "cannot put the earlier build back in {}: {e}; the new build is in its place",
-                        target.display()
-                    )));
-                }
-                // What was written into the new build while it was the
-                // folder is someone's: only the build's own files go.
-                let written = self.written();
-                let own = own_entries(written.iter().map(String::as_str));
-                match clear(&self.fresh, &own, target) {
-                    Ok(Cleared::Gone) => {}
-                    Ok(Cleared::Kept {
-                        aside,
-                        theirs: true,
-                    }) => errln!(
-                        "warning: files were written into {} while the new build was in its place; they are kept in {}",
-                        target.display(),
-                        aside.display()
-                    ),
-                    Ok(Cleared::Kept { aside, .. }) => errln!(
-                        "warning: the new build, not committed, could not be removed whole; what is left of it is in {}",
-                        aside.display()
-                    ),
-                    _ => errln!(
-                        "warning: files may have been written into {} while the new build was in its place; they are in {}, and the next build into {0} keeps them aside",
-                        target.display(),
-                        self.fresh.display()
-                    ),
-                }
-                return Err(out.changed(&late));
-            }
-            fault::add(&old, fault::Moment::SwappedOut);
-            fault::commit("remove the old build");
-            // Only what was checked goes: whatever came in since stays, and
-            // so does an edit made to the earlier build's files.
-            let (seen, edited) = out.unedited(&old);
-            keep_aside(&old, &seen, &edited, target);
+            self.finish(&old)?;
         }
         if let Ok(parent) = File::open(&out.parent) {
             let _ = fault::sync(&parent);
         }
         Ok(())
+    }
+
+    /// Make the staging folder ready to be the target: every file and
+    /// folder flushed, the marker written, the folder's mode and its own
+    /// flush.
+    fn seal(&mut self) -> io::Result<()> {
+        sync_folders(&self.fresh, &self.syncer)?;
+        self.syncer.finish()?;
+        self.write_marker()?;
+        if let Some(like) = &self.like {
+            fs::set_permissions(&self.fresh, like.permissions())?;
+        }
+        fault::sync(&File::open(&self.fresh)?)
+    }
+
+    /// After the swap, the earlier build at `old`: removed but for what is
+    /// someone's, or swapped back if entries came into it late.
+    fn finish(&mut self, old: &Path) -> Result<(), Error> {
+        let out = self.out;
+        let target = &out.target;
+        // From here on the new build is in place: an error says so.
+        let fail = |e| {
+            let old = old.to_path_buf();
+            Error::io(Doing::Finish { old }, target, e)
+        };
+        // Entries that appeared after the check above (at the same
+        // names, or through a handle held inside the folder) are now in
+        // the swapped-out build: it is looked at again, and swapped
+        // back if any are there.
+        fault::add(target, fault::Moment::SwappedIn);
+        let late = out.appeared(old).map_err(fail)?;
+        if !late.is_empty() {
+            return Err(self.undo(old, &late));
+        }
+        fault::add(old, fault::Moment::SwappedOut);
+        fault::commit("remove the old build");
+        // Only what was checked goes: whatever came in since stays, and
+        // so does an edit made to the earlier build's files.
+        let (seen, edited) = out.unedited(old);
+        keep_aside(old, &seen, &edited, target);
+        Ok(())
+    }
+
+    /// Entries (`late`) came into the earlier build as it was swapped out
+    /// (at `old`): it goes back in the target's place, and the new build
+    /// is removed but for what was written into it meanwhile. The error
+    /// to return.
+    fn undo(&mut self, old: &Path, late: &[String]) -> Error {
+        let target = &self.out.target;
+        if let Err(e) = self.swap_back(old) {
+            // The earlier build kept whole, with what came into it.
+            keep_aside(old, &BTreeSet::new(), &[], target);
+            return Error::io(Doing::PutBack, target, e);
+        }
+        // What was written into the new build while it was the
+        // folder is someone's: only the build's own files go.
+        let written = self.written();
+        let own = own_entries(written.iter().map(String::as_str));
+        let shown = target.display();
+        match clear(&self.fresh, &own, target) {
+            Ok(Cleared::Gone) => {}
+            Ok(Cleared::Kept {
+                aside,
+                theirs: true,
+            }) => warn(&format!(
+                "warning: files were written into {shown} while the new build was in its place; they are kept in {}",
+                aside.display()
+            )),
+            Ok(Cleared::Kept { aside, .. }) => warn(&format!(
+                "warning: the new build, not committed, could not be removed whole; what is left of it is in {}",
+                aside.display()
+            )),
+            _ => warn(&format!(
+                "warning: files may have been written into {shown} while the new build was in its place; they are in {}, and the next build into {shown} keeps them aside",
+                self.fresh.display()
+            )),
+        }
+        self.out.changed(late)
     }
 
     /// Swap the staging folder into the target's place (committed from
@@ -461,38 +474,38 @@ fn keep_aside(old: &Path, seen: &BTreeSet<OsString>, edited: &[String], target: 
             } else {
                 ("them", "they are")
             };
-            errln!(
+            warn(&format!(
                 "warning: {} of the earlier build of {shown} changed since karigami wrote {it} ({list}); the rebuild replaced {it}, and {is} kept in {}",
                 plural(n, "file"),
                 aside.display()
-            );
+            ));
         }
         Ok(Cleared::Kept {
             aside,
             theirs: true,
-        }) => errln!(
+        }) => warn(&format!(
             "warning: files appeared in {shown} as the build replaced it; they are kept in {}",
             aside.display()
-        ),
-        Ok(Cleared::Kept { aside, .. }) => errln!(
+        )),
+        Ok(Cleared::Kept { aside, .. }) => warn(&format!(
             "warning: the earlier build of {shown} could not be removed whole; what is left of it is in {}",
             aside.display()
-        ),
-        Ok(Cleared::Left) => errln!(
+        )),
+        Ok(Cleared::Left) => warn(&format!(
             "warning: files appeared in {shown} as the build replaced it; they are in {}, and the next build into {shown} keeps them aside",
             old.display()
-        ),
-        Err(e) => errln!(
+        )),
+        Err(e) => warn(&format!(
             "warning: the earlier build of {shown} could not be removed from {}: {e}; the next build into {shown} tidies it",
             old.display()
-        ),
+        )),
     }
 }
 
 /// Make the folders of `rel` (a relative path, or none) inside `root`,
 /// which must be there: a staging folder removed on an interrupt is not
 /// made again by a writer still at work.
-pub(super) fn make_folders(root: &Path, rel: Option<&Path>) -> io::Result<()> {
+pub(crate) fn make_folders(root: &Path, rel: Option<&Path>) -> io::Result<()> {
     let mut dir = root.to_path_buf();
     for part in rel.into_iter().flat_map(Path::components) {
         dir.push(part);
@@ -533,7 +546,7 @@ fn same_owner(_: &Path, _: &fs::Metadata) -> io::Result<()> {
 /// in a folder made for it (`write`'s `create_dir_all`, or a link `keep`
 /// made). `root` itself is flushed after the marker.
 fn sync_folders(root: &Path, syncer: &Syncer) -> io::Result<()> {
-    super::walk(root, |path, folder| {
+    crate::walk(root, |path, folder| {
         if folder {
             let rel = path.strip_prefix(root).unwrap_or(path);
             syncer.push(File::open(path)?, format!("{}/", rel.display()))?;
@@ -565,7 +578,7 @@ fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
 
 /// Whether a rename failed because the path cannot be moved where it was
 /// to go (EXDEV): an overlay file system's folder from a lower layer.
-pub(super) fn cross_device(e: &io::Error) -> bool {
+pub(crate) fn cross_device(e: &io::Error) -> bool {
     e.raw_os_error() == Some(EXDEV)
 }
 
