@@ -61,7 +61,7 @@ fn a_plotter_cuts_on_its_mat_and_the_mat_is_checked() {
         &Overrides::default(),
     )
     .unwrap();
-    assert_eq!(d.fabrication.sheet.width, 23.5 * 25.4);
+    assert_eq!(d.fabrication.sheet.width, 596.9);
     assert_eq!(d.fabrication.sheet.margin, 3.0);
     let source = recipe("[machine]\npreset = \"cricut\"\n[sheet]\nwidth = 300.0\n");
     let e = parse_with(&source, "chain", &Overrides::default()).unwrap_err();
@@ -293,4 +293,6 @@ fn a_plotter_sheet_has_a_cut_group_and_a_draw_group() {
     };
     assert!(laser.contains("ABS must not be cut on a laser"), "{laser}");
     assert!(laser.contains("A laser cutter"), "{laser}");
+    // The cover prints the mat's size as the docs give it.
+    assert!(page1.contains("1 sheet of 596.9 x 292.1 mm"), "{page1}");
 }

@@ -81,12 +81,10 @@ impl MachinePreset {
 }
 
 /// A mat: its name and the cutting area (mm), width (along the feed) by
-/// height (across the rollers). Both machines keep about 1/4 in clear of
-/// each edge of the 12 in wide sticky area (docs/fabrication.md).
-pub const MATS: &[(&str, f64, f64)] = &[
-    ("12x12in", 11.5 * 25.4, 11.5 * 25.4),
-    ("12x24in", 23.5 * 25.4, 11.5 * 25.4),
-];
+/// height (across the rollers): 11.5 x 11.5 in and 23.5 x 11.5 in, 1/4 in
+/// clear of each edge of the 12 in wide sticky area (docs/fabrication.md).
+/// Written in mm, as printed (11.5 * 25.4 is 292.09999999999997).
+pub const MATS: &[(&str, f64, f64)] = &[("12x12in", 292.1, 292.1), ("12x24in", 596.9, 292.1)];
 
 /// The mat a plotter job uses unless the sheet names another: the one
 /// every machine comes with.
@@ -124,6 +122,13 @@ mod tests {
             let (mw, mh): (f64, f64) = (mw.parse().unwrap(), mh.parse().unwrap());
             assert!(w.max(*h) < 25.4 * mw.max(mh) && w.min(*h) < 25.4 * mw.min(mh));
         }
-        assert!((MATS[1].1 - 596.9).abs() < 1e-9 && (MATS[1].2 - 292.1).abs() < 1e-9);
+        for (_, w, h) in MATS {
+            for side in [w, h] {
+                assert!(
+                    (side / 25.4 * 2.0 - (side / 25.4 * 2.0).round()).abs() < 1e-9,
+                    "{side}: whole half inches"
+                );
+            }
+        }
     }
 }
