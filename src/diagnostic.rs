@@ -273,6 +273,17 @@ error_kinds! {
     ThicknessOutsidePreset => EXIT_INVALID,
     /// `[laser] machine` names an unknown laser.
     UnknownMachine => EXIT_INVALID,
+    /// `[machine] preset` names an unknown machine.
+    UnknownMachinePreset => EXIT_INVALID,
+    /// `[machine] preset` and `[laser] machine` name different machines,
+    /// or `[machine] min_hole` is given for a laser.
+    MachineConflict => EXIT_INVALID,
+    /// On a cutting plotter the sheet is a mat: `[sheet]` names another
+    /// sheet or gives a size.
+    SheetNotAMat => EXIT_INVALID,
+    /// The eyelet holes are smaller than a cutting plotter's blade cuts
+    /// cleanly.
+    HoleTooSmallForBlade => EXIT_INVALID,
     /// `[sheet]` is `preset = "auto"` and also given a size.
     SheetAutoWithSize => EXIT_INVALID,
     /// `[sheet] preset` names an unknown sheet.
@@ -310,6 +321,10 @@ error_kinds! {
     UnknownLabelFlag => EXIT_USAGE,
     /// `--sheet` is neither a preset, `auto`, nor `WxH` in mm.
     UnknownSheetFlag => EXIT_USAGE,
+    /// `--machine` names an unknown machine.
+    UnknownMachinePresetFlag => EXIT_USAGE,
+    /// `--sheet` names a sheet that is not a mat of the cutting plotter.
+    SheetNotAMatFlag => EXIT_USAGE,
     /// `--paper` is neither a4 nor letter.
     UnknownPaperFlag => EXIT_USAGE,
     /// `--colours` names an unknown colour preset.

@@ -66,6 +66,9 @@ pub use design::optimise::{ClashRule, Optimise};
 pub use design::{Design, MIN_WALL, Overrides, parse, parse_with};
 pub use fabrication::{Eyelet, Fabrication, Material, SHEET_PRESETS, SheetSpec};
 pub use fabrication::{LaserSetting, Machine, MachineSettings, STOCK_PRESETS, StockPreset};
+pub use fabrication::{
+    MACHINE_PRESETS, MATS, MachinePreset, PLOTTER_MIN_HOLE, Plotter, PlotterSetup,
+};
 pub use measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
 pub use solve::tune::{Tuned, tune_helix};
 pub use solve::{Optimised, optimise};
@@ -151,6 +154,11 @@ pub mod testing {
     pub use crate::parts::{DOT, clash, test_piece};
     pub use crate::pipeline::SIMULATION_SOURCES;
     pub use crate::sim::explore::perturb;
+
+    /// The kerf the cut files' metadata records (mm).
+    pub fn kerf(f: &crate::Fabrication) -> f64 {
+        f.kerf
+    }
 
     /// The stroke font the engravings and pages use.
     pub mod font {

@@ -52,7 +52,10 @@ fn sheet_files(b: &Build, pictures: Vec<Vec<u8>>) -> Vec<(String, Vec<u8>)> {
     let mut files = vec![("lattice.json".to_string(), lattice_json::write(&b.lattice))];
     for ((i, page), picture) in b.pages.iter().enumerate().zip(pictures) {
         // --flat: no <use>, no blocks (docs/fabrication.md, File size).
-        let (svg, dxf) = if b.design.fabrication.flat {
+        let (svg, dxf) = if b.design.fabrication.plotter.is_some() {
+            // A cutting plotter's SVG: cut and draw groups (docs/fabrication.md).
+            (svg::write_plotter(page), dxf::write_flat(page))
+        } else if b.design.fabrication.flat {
             (svg::write_flat(page), dxf::write_flat(page))
         } else {
             (svg::write(page), dxf::write(page))

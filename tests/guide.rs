@@ -1020,3 +1020,36 @@ fn guide_names_keep_their_letters_and_stay_on_the_page() {
         );
     }
 }
+
+/// No step runs over a page boundary unless it alone is longer than a page,
+/// and then it says so on the page it starts: each of the torus's 19 rows
+/// is longer than a page, the flat sheet's rows all fit.
+#[test]
+fn a_step_longer_than_a_page_says_so_where_it_starts() {
+    const NOTE: &str = "This step is longer than a page: it continues on the next page.";
+    for (name, steps, long) in [("torus", 19, 19), ("flat-sheet", 6, 0)] {
+        let pdf = crate::util::cli_build(name, &[]).join("assembly.pdf");
+        let Some(out) = run("pdftotext", &[pdf.to_str().unwrap(), "-"]) else {
+            return;
+        };
+        let text = String::from_utf8(out.stdout).expect("pdftotext writes UTF-8");
+        let mut titles = 0;
+        let mut notes = 0;
+        // pdftotext ends each page with a form feed.
+        for page in text.split('\u{c}') {
+            let flat = page.split_whitespace().collect::<Vec<_>>().join(" ");
+            let here = (1..=steps)
+                .filter(|k| flat.contains(&format!("Step {k} of {steps} - row")))
+                .count();
+            let said = flat.matches(NOTE).count();
+            // A long step's note is on the page with its title.
+            if long == steps {
+                assert_eq!(said, here, "{name}: {flat}");
+            }
+            titles += here;
+            notes += said;
+        }
+        assert_eq!(titles, steps, "{name}: every step has its title");
+        assert_eq!(notes, long, "{name}");
+    }
+}

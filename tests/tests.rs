@@ -12,6 +12,7 @@ mod goldens;
 mod guide;
 mod layers;
 mod maker;
+mod plotter;
 mod property;
 mod rebuild;
 mod report_once;

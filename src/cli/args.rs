@@ -201,6 +201,10 @@ pub(super) struct FabricationFlags {
     /// finer mesh is refused before it is made.
     #[arg(long, value_name = "MB", value_parser = clap::value_parser!(u64).range(16..=1_048_576))]
     memory: Option<u64>,
+    /// Machine preset: laser-co2 (default), laser-diode, or a cutting plotter,
+    /// cricut or silhouette (the sheet is its mat: --sheet 12x12in or 12x24in).
+    #[arg(long, value_name = "PRESET")]
+    machine: Option<String>,
 }
 
 impl FabricationFlags {
@@ -219,6 +223,7 @@ impl FabricationFlags {
             tabs: self.tabs,
             flat: self.flat.then_some(true),
             memory: self.memory.map(|mb| mb << 20),
+            machine: self.machine.clone(),
         }
     }
 }

@@ -148,6 +148,7 @@ fn table_name(raw: &str) -> Option<&'static str> {
         "RawEyelet" => "[eyelet]",
         "RawStrip" => "[strip]",
         "RawLaser" => "[laser]",
+        "RawMachine" => "[machine]",
         "RawSheet" => "[sheet]",
         "RawGuide" => "[guide]",
         "RawClash" => "[clash]",

@@ -34,6 +34,8 @@ pub struct Overrides {
     pub tabs: Option<f64>,
     /// `--flat`: Some(true) writes the SVG and DXF without references.
     pub flat: Option<bool>,
+    /// `--machine`: a machine preset (laser-co2, laser-diode, cricut, silhouette).
+    pub machine: Option<String>,
     /// `--memory`: the most memory the simulation may take (bytes).
     pub memory: Option<u64>,
 }
@@ -47,6 +49,9 @@ pub(crate) struct FabricationSpans {
     pub(crate) sheet: Option<Range<usize>>,
     /// `laser.kerf`, when the recipe's kerf is the one used.
     pub(crate) kerf: Option<Range<usize>>,
+    /// `machine.min_hole`, else `machine.preset`, when a plotter from the
+    /// recipe is the machine.
+    pub(crate) plotter: Option<Range<usize>>,
 }
 
 /// Thinnest wall of material kept between a hole and a strip edge or tip.

@@ -7,9 +7,9 @@ use super::fabrication_bounds::*;
 use super::raw::{Num, RawDesign};
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
 use crate::fabrication::{
-    ColourPreset, EYELET_PRESETS, Fabrication, LabelStyle, Machine, Paper, SHEET_AUTO,
-    SHEET_PRESETS, STOCK_PRESETS, StockPreset, eyelet_preset, longest_preset, preset_names,
-    sheet_size, stock_preset,
+    ColourPreset, DEFAULT_MAT, EYELET_PRESETS, Fabrication, LabelStyle, MATS, Machine,
+    MachinePreset, PLOTTER_MIN_HOLE, Paper, PlotterSetup, SHEET_AUTO, SHEET_PRESETS, STOCK_PRESETS,
+    StockPreset, eyelet_preset, longest_preset, preset_names, sheet_size, stock_preset,
 };
 use toml::Spanned;
 
@@ -133,7 +133,12 @@ pub(crate) fn fabrication(
     eyelet_settings(&mut f, &mut spans, raw, o)?;
     strip_settings(&mut f, &mut spans, raw, o)?;
     laser_settings(&mut f, &mut spans, raw, o)?;
-    sheet_settings(&mut f, &mut spans, raw, o)?;
+    machine_settings(&mut f, &mut spans, raw, o)?;
+    if f.plotter.is_some() {
+        mat_settings(&mut f, &mut spans, raw, o)?;
+    } else {
+        sheet_settings(&mut f, &mut spans, raw, o)?;
+    }
     paper_settings(&mut f, raw, o)?;
 
     parts_settings(&mut f, raw, o)?;
@@ -360,12 +365,7 @@ fn sheet_settings(
             f.sheet.height = length(h, "sheet.height", (0.0, false), f64::INFINITY)?;
             f.sheet.name = "custom".into();
         }
-        if let Some(m) = &s.margin {
-            f.sheet.margin = non_negative(m, "sheet.margin", MAX_SHEET_MARGIN)?;
-        }
-        if let Some(g) = &s.gap {
-            f.sheet.gap = non_negative(g, "sheet.gap", MAX_SHEET_MARGIN)?;
-        }
+        margin_and_gap(f, s)?;
     }
     if let Some(name) = &o.sheet {
         f.sheet_auto = name == SHEET_AUTO;
@@ -382,6 +382,190 @@ fn sheet_settings(
         };
         (f.sheet.name, f.sheet.width, f.sheet.height) = (n, w, h);
         spans.sheet = None;
+    }
+    Ok(())
+}
+
+fn margin_and_gap(f: &mut Fabrication, s: &super::raw::RawSheet) -> Result<(), Diagnostic> {
+    if let Some(m) = &s.margin {
+        f.sheet.margin = non_negative(m, "sheet.margin", MAX_SHEET_MARGIN)?;
+    }
+    if let Some(g) = &s.gap {
+        f.sheet.gap = non_negative(g, "sheet.gap", MAX_SHEET_MARGIN)?;
+    }
+    Ok(())
+}
+
+/// The machine: `[machine] preset` (a laser, or a cutting plotter and its
+/// smallest hole), then `--machine`. A laser preset must agree with
+/// `[laser] machine`; a plotter cuts with a blade, so its kerf is 0 unless
+/// given, and its SVGs are flat (the plotters' importers are not known to
+/// read `<use>`).
+fn machine_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
+    let laser_machine = raw
+        .laser
+        .as_ref()
+        .and_then(|l| l.get_ref().machine.as_ref());
+    let table = raw.machine.as_ref().map(|m| m.get_ref());
+    let mut min_hole = None;
+    let mut chosen = None;
+    if let Some(m) = table {
+        if let Some(p) = &m.preset {
+            let preset = MachinePreset::parse(p.get_ref()).ok_or_else(|| {
+                Diagnostic::new(
+                    ErrorKind::UnknownMachinePreset,
+                    format!("unknown machine preset \"{}\"", p.get_ref()),
+                )
+                .at(p.span())
+                .hint(format!(
+                    "use one of {} (a laser, or a cutting plotter; see docs/fabrication.md, Cutting plotters)",
+                    MachinePreset::names()
+                ))
+            })?;
+            if let Some(lm) = laser_machine {
+                let agrees = matches!(preset, MachinePreset::Laser(m) if m == f.machine);
+                if !agrees {
+                    return Err(Diagnostic::new(
+                        ErrorKind::MachineConflict,
+                        format!(
+                            "laser.machine is \"{}\", but machine.preset is \"{}\"",
+                            lm.get_ref(),
+                            p.get_ref()
+                        ),
+                    )
+                    .at(lm.span())
+                    .hint("remove laser.machine: machine.preset names the machine"));
+                }
+            }
+            chosen = Some((preset, p.span()));
+        }
+        if let Some(h) = &m.min_hole {
+            min_hole = Some((
+                length(h, "machine.min_hole", (MIN_HOLE, true), MAX_EYELET)?,
+                h.span(),
+            ));
+        }
+    }
+    if let Some(name) = &o.machine {
+        let preset = MachinePreset::parse(name).ok_or_else(|| {
+            Diagnostic::new(
+                ErrorKind::UnknownMachinePresetFlag,
+                format!("unknown machine \"{name}\""),
+            )
+            .hint(format!(
+                "use one of {}",
+                MachinePreset::names().replace('"', "")
+            ))
+        })?;
+        chosen = Some((preset, 0..0));
+    }
+    match chosen {
+        Some((MachinePreset::Plotter(plotter), span)) => {
+            let from_recipe = o.machine.is_none();
+            let (min, min_span) = match min_hole {
+                Some((h, s)) => (h, Some(s)),
+                None => (PLOTTER_MIN_HOLE, from_recipe.then_some(span)),
+            };
+            f.plotter = Some(PlotterSetup {
+                plotter,
+                mat: MATS[DEFAULT_MAT].0,
+                min_hole: min,
+            });
+            spans.plotter = min_span;
+            if spans.kerf.is_none() && o.kerf.is_none() {
+                f.kerf = 0.0;
+            }
+            f.flat = true;
+        }
+        other => {
+            if let Some(MachinePreset::Laser(m)) = other.map(|c| c.0) {
+                f.machine = m;
+            }
+            if let (Some((_, span)), None) = (min_hole, &o.machine) {
+                return Err(Diagnostic::new(
+                    ErrorKind::MachineConflict,
+                    "machine.min_hole is a cutting plotter's, but the machine is a laser",
+                )
+                .at(span)
+                .hint(
+                    "remove machine.min_hole, or set machine.preset = \"cricut\" or \"silhouette\"",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A cutting plotter's sheet: the cutting area of a mat, named by
+/// `[sheet] preset` or `--sheet` (default the 12 x 12 in mat). A plotter
+/// chosen by `--machine` takes the recipe's sheet only when it is a mat;
+/// one chosen by the recipe refuses any other sheet there.
+fn mat_settings(
+    f: &mut Fabrication,
+    spans: &mut FabricationSpans,
+    raw: &RawDesign,
+    o: &Overrides,
+) -> Result<(), Diagnostic> {
+    let mats = preset_names(MATS);
+    let mat = |name: &str| MATS.iter().position(|m| m.0 == name);
+    let mut chosen = DEFAULT_MAT;
+    let strict = o.machine.is_none();
+    if let Some(s) = &raw.sheet {
+        let s = s.get_ref();
+        if let Some(p) = &s.preset {
+            match mat(p.get_ref()) {
+                Some(i) => {
+                    chosen = i;
+                    spans.sheet = Some(p.span());
+                }
+                None if strict => {
+                    return Err(Diagnostic::new(
+                        ErrorKind::SheetNotAMat,
+                        format!(
+                            "sheet.preset is \"{}\", but a cutting plotter cuts on a mat",
+                            p.get_ref()
+                        ),
+                    )
+                    .at(p.span())
+                    .hint(format!(
+                        "use one of {mats} (the mat's cutting area is the sheet), or a laser machine.preset"
+                    )));
+                }
+                None => {}
+            }
+        }
+        if let Some(size) = s.width.as_ref().or(s.height.as_ref()).filter(|_| strict) {
+            return Err(Diagnostic::new(
+                ErrorKind::SheetNotAMat,
+                "sheet.width or sheet.height is given, but a cutting plotter cuts on a mat",
+            )
+            .at(size.span())
+            .hint(format!(
+                "remove sheet.width and sheet.height and name the mat: sheet.preset = one of {mats}"
+            )));
+        }
+        margin_and_gap(f, s)?;
+    }
+    if let Some(name) = &o.sheet {
+        chosen = mat(name).ok_or_else(|| {
+            Diagnostic::new(
+                ErrorKind::SheetNotAMatFlag,
+                format!("--sheet {name}: a cutting plotter cuts on a mat"),
+            )
+            .hint(format!("use one of {}", mats.replace('"', "")))
+        })?;
+        spans.sheet = None;
+    }
+    let (name, w, h) = MATS[chosen];
+    (f.sheet.name, f.sheet.width, f.sheet.height) = (name.into(), w, h);
+    f.sheet_auto = false;
+    if let Some(p) = &mut f.plotter {
+        p.mat = name;
     }
     Ok(())
 }

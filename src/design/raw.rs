@@ -19,6 +19,7 @@ pub(crate) struct RawDesign {
     pub(crate) eyelet: Option<Spanned<RawEyelet>>,
     pub(crate) strip: Option<Spanned<RawStrip>>,
     pub(crate) laser: Option<Spanned<RawLaser>>,
+    pub(crate) machine: Option<Spanned<RawMachine>>,
     pub(crate) sheet: Option<Spanned<RawSheet>>,
     pub(crate) guide: Option<Spanned<RawGuide>>,
     pub(crate) clash: Option<Spanned<RawClash>>,
@@ -77,6 +78,16 @@ pub(crate) struct RawLaser {
     pub(crate) machine: Option<Spanned<String>>,
     /// SVG without `<use>`, DXF without blocks.
     pub(crate) flat: Option<Spanned<bool>>,
+}
+
+/// `[machine]`: the machine the job is cut on.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMachine {
+    /// "laser-co2", "laser-diode", "cricut" or "silhouette".
+    pub(crate) preset: Option<Spanned<String>>,
+    /// A cutting plotter's smallest hole (mm), replacing the preset's.
+    pub(crate) min_hole: Option<Num>,
 }
 
 /// `[sheet]`: the bed or stock sheet.

@@ -251,7 +251,7 @@ pub(crate) fn sheet_page(
             fab.kerf
         )
     };
-    Page {
+    let mut page = Page {
         width: spec.width,
         height: spec.height,
         title,
@@ -292,7 +292,20 @@ pub(crate) fn sheet_page(
         ],
         laser: fab.laser_settings(),
         groups,
+    };
+    // A plotter's SVG groups the layers by tool (docs/fabrication.md,
+    // Cutting plotters); the laser files' metadata stays as it was.
+    if let Some(p) = &fab.plotter {
+        page.metadata.push((
+            "machine".into(),
+            format!(
+                "{} on the {} mat: group \"cut\" (holes, outlines) for the blade, group \"draw\" (labels) for a pen",
+                p.plotter.describe(),
+                p.mat
+            ),
+        ));
     }
+    page
 }
 
 #[cfg(test)]

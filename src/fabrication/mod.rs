@@ -1,9 +1,12 @@
 //! Fabrication settings: the strip material, eyelets, laser and sheet, with
 //! the presets makers think in. All lengths in mm.
 
+mod machine;
 mod stock;
 pub mod test_piece;
 
+pub(crate) use machine::DEFAULT_MAT;
+pub use machine::{MACHINE_PRESETS, MATS, MachinePreset, PLOTTER_MIN_HOLE, Plotter, PlotterSetup};
 pub use stock::{LaserSetting, Machine, MachineSettings, STOCK_PRESETS, StockPreset};
 pub(crate) use stock::{default_stock, stock_preset};
 
@@ -169,6 +172,9 @@ pub struct Fabrication {
     pub(crate) tabs: f64,
     /// The laser the cut files' settings and the guide's safety note are for.
     pub machine: Machine,
+    /// A cutting plotter instead of the laser (`[machine] preset`): the
+    /// sheet is its mat, the labels go on a pen layer.
+    pub plotter: Option<PlotterSetup>,
     /// The SVG without `<use>` and the DXF without blocks (`--flat`): every
     /// strip drawn in full, for importers that skip references.
     pub(crate) flat: bool,
@@ -178,12 +184,18 @@ impl Fabrication {
     /// The preset's starting settings on this job's machine: None when the
     /// stock has no preset, must not be lasered, or the machine cannot cut it.
     pub fn laser_settings(&self) -> Option<MachineSettings> {
+        if self.plotter.is_some() {
+            return None;
+        }
         self.material.preset.and_then(|p| p.settings(self.machine))
     }
 
     /// The guide's safety note for this stock on this machine; `name` is
     /// the material's name as the page has room for it.
     pub fn safety_note(&self, name: &str) -> String {
+        if let Some(p) = &self.plotter {
+            return self.plotter_note(p, name);
+        }
         let Some(p) = self.material.preset else {
             return format!(
                 "Safety: {name} has no stock preset: check it is safe to cut on {} before you start (no PVC \
@@ -216,6 +228,28 @@ impl Fabrication {
         };
         format!("Safety: {}{settings}", p.safety)
     }
+
+    /// The note for a cutting plotter: a blade makes no fumes, so what
+    /// matters is the mat, the blade and the fingers.
+    fn plotter_note(&self, p: &PlotterSetup, name: &str) -> String {
+        let stock = match self.material.preset {
+            Some(s) => s.plotter_safety.to_string(),
+            None => format!(
+                "{name} has no stock preset: a blade makes no fumes, but check the stock is thin enough for the \
+                 blade and cut the test piece first."
+            ),
+        };
+        format!(
+            "Safety: {stock} On {} the sheet is the {} mat ({} x {} mm cutting area): keep fingers clear of the \
+             carriage while it cuts, and lift the strips off the mat with a spatula, not by bending the stock. \
+             Holes under {} mm are refused: the blade tears them.",
+            p.plotter.describe(),
+            p.mat,
+            crate::diagnostic::shown((self.sheet.width * 10.0).round() / 10.0),
+            crate::diagnostic::shown((self.sheet.height * 10.0).round() / 10.0),
+            crate::diagnostic::shown(p.min_hole),
+        )
+    }
 }
 
 fn passes(n: u32) -> String {
@@ -226,7 +260,7 @@ fn passes(n: u32) -> String {
     }
 }
 
-fn capitalised(s: &str) -> String {
+pub(crate) fn capitalised(s: &str) -> String {
     let mut c = s.chars();
     c.next()
         .map(|f| f.to_uppercase().collect::<String>() + c.as_str())
@@ -311,6 +345,7 @@ impl Default for Fabrication {
             group_if_free: true,
             tabs: 0.0,
             machine: Machine::Co2,
+            plotter: None,
             flat: false,
         }
     }

@@ -83,6 +83,9 @@ pub struct StockPreset {
     pub laser_safe: bool,
     /// What to know before cutting it: fumes, fire, what works instead.
     pub safety: &'static str,
+    /// What to know before cutting it on a cutting plotter: the blade and
+    /// the mat (a blade makes no fumes).
+    pub plotter_safety: &'static str,
     /// Starting settings on a CO2 laser, None where it must not be lasered.
     pub co2: Option<MachineSettings>,
     /// Starting settings on a diode laser, None where a diode cannot cut it.
@@ -126,6 +129,9 @@ pub const STOCK_PRESETS: &[StockPreset] = &[
                  fumes contain hydrogen cyanide (makerspace do-not-cut lists; ABS safety data sheets list \
                  hydrogen cyanide among its combustion products). Cut ABS on a cutting plotter or by hand, or \
                  build with a laser-safe stock such as preset \"pp\" or \"petg\".",
+        plotter_safety: "ABS is safe to cut on a cutting plotter: a blade makes no fumes. Cut thin sheet (0.5 mm; thicker ABS \
+                         takes several passes, or a Cricut Maker's knife blade), hold it on a strong-grip mat, and cut \
+                         the test piece first to set the blade depth and the passes.",
         co2: None,
         diode: None,
         settings_sourced: false,
@@ -143,6 +149,9 @@ pub const STOCK_PRESETS: &[StockPreset] = &[
                  on and never leave the laser running unwatched (thin plastic can flame). Solid sheet only: \
                  polypropylene foam is on do-not-cut lists. A diode laser's blue light passes through natural \
                  and clear polypropylene: use a CO2 laser.",
+        plotter_safety: "Polypropylene is safe to cut on a cutting plotter: a blade makes no fumes. It is slippery: use a \
+                         strong-grip mat and thin sheet (0.5 mm), and cut the test piece first to set the blade depth \
+                         and the passes.",
         co2: Some(MachineSettings {
             cut: setting(15.0, 40.0, 1),
             mark: setting(100.0, 12.0, 1),
@@ -162,6 +171,9 @@ pub const STOCK_PRESETS: &[StockPreset] = &[
         safety: "Acetal cuts cleanly on a CO2 laser but gives off formaldehyde: run the extraction to the \
                  outside, keep the lid closed until the fumes clear, and never leave the laser unwatched. A \
                  diode laser does not cut white acetal: use a CO2 laser.",
+        plotter_safety: "Acetal is safe to cut on a cutting plotter: the formaldehyde comes from lasering it, and a blade \
+                         makes no fumes. Use thin sheet (0.5 mm) on a strong-grip mat, and cut the test piece first to \
+                         set the blade depth and the passes.",
         co2: Some(MachineSettings {
             cut: setting(12.0, 45.0, 1),
             mark: setting(100.0, 12.0, 1),
@@ -181,6 +193,8 @@ pub const STOCK_PRESETS: &[StockPreset] = &[
         safety: "PETG cuts on a CO2 laser with a melted edge; keep air assist and extraction on and never \
                  leave the laser running unwatched. A diode laser's blue light passes through clear PETG: \
                  use a CO2 laser.",
+        plotter_safety: "PETG is safe to cut on a cutting plotter: a blade makes no fumes. Use thin sheet (0.5 mm) on a \
+                         strong-grip mat, and cut the test piece first to set the blade depth and the passes.",
         co2: Some(MachineSettings {
             cut: setting(15.0, 40.0, 1),
             mark: setting(100.0, 12.0, 1),
@@ -200,6 +214,8 @@ pub const STOCK_PRESETS: &[StockPreset] = &[
         safety: "Polyester film cuts on a CO2 laser at low power; weigh it flat, keep extraction on and never \
                  leave the laser unwatched. Clear film does not absorb a diode laser's light: use a CO2 laser \
                  or a cutting plotter.",
+        plotter_safety: "Polyester film is safe to cut on a cutting plotter and cuts cleanly: a standard-grip mat and the \
+                         fine-point blade, and cut the test piece first to set the blade depth.",
         co2: Some(MachineSettings {
             cut: setting(30.0, 20.0, 1),
             mark: setting(150.0, 8.0, 1),
@@ -219,6 +235,9 @@ pub const STOCK_PRESETS: &[StockPreset] = &[
         safety: "Card cuts on any laser but burns: use air assist, keep the bed clean of scraps and never \
                  leave the laser unwatched. Card creases instead of bending back: it is for trying a design \
                  out, not for a piece that opens and closes often.",
+        plotter_safety: "Card is safe to cut on a cutting plotter: a standard-grip mat and the fine-point blade. Card creases \
+                         instead of bending back: it is for trying a design out, not for a piece that opens and closes \
+                         often.",
         co2: Some(MachineSettings {
             cut: setting(30.0, 20.0, 1),
             mark: setting(150.0, 8.0, 1),

@@ -66,9 +66,12 @@ pub fn test_piece(fab: &Fabrication) -> Option<TestPiece> {
     let labelled = height >= super::MIN_LABEL_HEIGHT;
     let text = |v: f64| format!("{v:.1}");
     // Diameters: nominal +- whole steps, each leaving a wall on both sides.
+    let smallest = fab.plotter.as_ref().map_or(0.5, |p| p.min_hole - 1e-9);
     let diameters: Vec<f64> = (-2i32..=2)
         .map(|k| d + k as f64 * STEP)
-        .filter(|&x| x >= 0.5 && x <= w - 2.0 * MIN_WALL)
+        // A plotter's blade tears holes under its minimum: no such steps
+        // (3.2 - 0.2 is 3.0000000000000004, so within a nanometre).
+        .filter(|&x| x >= smallest && x <= w - 2.0 * MIN_WALL)
         .collect();
     let widest = diameters.iter().copied().fold(d, f64::max);
     let label_w = if labelled {

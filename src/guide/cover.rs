@@ -175,11 +175,20 @@ fn sheets_and_tools(w: &mut PageFlow, b: &Build, room: f64) {
     w.paragraph(&fab.safety_note(&name), BODY, SAFETY);
     w.y += 2.0;
     w.text("Tools", 4.5, Font::Bold, BLACK);
-    for t in [
-        format!(
+    let machine = match &fab.plotter {
+        // What to click so the labels are drawn, not cut (docs/fabrication.md).
+        Some(p) => format!(
+            "{}, with the SVGs in sheets/ (one a mat): {}. Put a fine pen in the pen clamp for the labels.",
+            crate::fabrication::capitalised(p.plotter.describe()),
+            p.plotter.draw_steps()
+        ),
+        None => format!(
             "A laser cutter ({}), with cut.pdf or the files in sheets/ (LightBurn .lbrn2 with its layers set, SVG or DXF).",
             fab.machine.describe()
         ),
+    };
+    for t in [
+        machine,
         format!(
             "An eyelet setter for {} eyelets and a small hammer or an eyelet press.",
             fab.eyelet.name

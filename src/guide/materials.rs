@@ -241,7 +241,11 @@ pub(super) fn test_piece_block(w: &mut PageFlow, b: &Build) {
     let text = match crate::parts::test_piece(fab) {
         Some(piece) => {
             let diameters: Vec<String> = piece.holes.iter().map(|h| format!("{:.1}", h.1)).collect();
-            let kerf = if fab.compensate_kerf {
+            let kerf = if fab.plotter.is_some() && fab.kerf == 0.0 {
+                "A blade removes no material, so it must measure 100.0 mm tip to tip: if it does not, the SVG \
+                 was scaled on import (import it at its own size, in mm)."
+                    .to_string()
+            } else if fab.compensate_kerf {
                 "It is cut with kerf compensation on, so it must measure 100.0 mm tip to tip: if it does not, \
                  your kerf setting is off by the difference."
                     .to_string()

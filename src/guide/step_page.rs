@@ -115,7 +115,7 @@ pub(super) fn step_block(
             })
             .collect()
     };
-    let mut wrapped = wrap_all(&lines);
+    let wrapped = wrap_all(&lines);
     let title_h = 6.0;
     let pic_h = layout.size.y + 2.0 * LABEL_ROOM;
     let room = w.bottom() - MARGIN;
@@ -128,23 +128,16 @@ pub(super) fn step_block(
         title_h + pic_h + details_h + wrapped.len() as f64 * line_h
     };
     // A step never runs over a page boundary unless it alone is longer
-    // than a page, and then it says so.
+    // than a page, and then it says so under its title, on the page it
+    // starts (after its pictures the note would sit on the next page).
     let too_long = !layout.side && whole(&wrapped) > room;
-    if too_long {
-        let mut more = vec![(
-            "This step is longer than a page: it continues on the next page.".to_string(),
-            false,
-            GREY,
-        )];
-        more.extend(lines.iter().cloned());
-        wrapped = wrap_all(&more);
-    }
+    let note_h = if too_long { line_h } else { 0.0 };
     let text_h = title_h + wrapped.len() as f64 * line_h;
     let beside = layout.side && pic_h.max(text_h) <= room;
     let block = if beside {
         pic_h.max(text_h)
     } else if too_long {
-        title_h + pic_h + (text_h - title_h).min(30.0)
+        title_h + note_h + pic_h + (text_h - title_h).min(30.0)
     } else {
         whole(&wrapped)
     };
@@ -152,7 +145,7 @@ pub(super) fn step_block(
     w.close_group();
     let title_y = w.y;
     // The picture: beside the text, or under the title.
-    let top = if beside { w.y } else { w.y + title_h };
+    let top = if beside { w.y } else { w.y + title_h + note_h };
     // The lattice so far: earlier steps grey, this one in colour on top,
     // with a gap in each strip A where B crosses it; then the dots.
     let at = DVec2::new(MARGIN, top + LABEL_ROOM);
@@ -191,6 +184,16 @@ pub(super) fn step_block(
         Align::Left,
         BLACK,
     ));
+    if too_long {
+        w.items.push(text_item(
+            DVec2::new(text_x, title_y + title_h + SMALL * 0.8),
+            SMALL,
+            "This step is longer than a page: it continues on the next page.",
+            Font::Regular,
+            Align::Left,
+            GREY,
+        ));
+    }
     if beside {
         let mut y = title_y + title_h;
         for (line, bold, colour) in &wrapped {

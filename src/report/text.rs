@@ -266,8 +266,12 @@ fn summary_with(b: &Build, full: bool) -> String {
 /// One line of sheet advice: the smallest preset that holds the job and
 /// its utilisation, against the sheet used.
 fn sheet_advice(b: &Build) -> Option<String> {
-    let best = b.advice.as_ref()?;
     let fab = &b.design.fabrication;
+    // The presets are laser beds: a plotter's sheet is its mat.
+    if fab.plotter.is_some() {
+        return None;
+    }
+    let best = b.advice.as_ref()?;
     let sheets = |n: usize| {
         if n == 1 {
             "1 sheet".to_string()

@@ -240,19 +240,59 @@ pub fn write_flat(page: &Page) -> Vec<u8> {
     write_with(page, true)
 }
 
+/// The page as a cutting plotter's SVG: every strip drawn in full, the cut
+/// layers (holes, outlines) in the group `cut`, the labels in the group
+/// `draw` for the pen, and no reference layer (a plotter cuts whatever it
+/// is sent; the test piece checks the scale). Design Space and Silhouette
+/// Studio both take a group or a colour as one operation.
+pub fn write_plotter(page: &Page) -> Vec<u8> {
+    let mut body = String::with_capacity(1024 + 100 * page.groups.len());
+    body.push_str("\n<g id=\"cut\">");
+    for g in &page.groups {
+        let cut: Vec<Item> = g
+            .items
+            .iter()
+            .filter(|i| i.layer.is_cut())
+            .cloned()
+            .collect();
+        if !cut.is_empty() {
+            group(
+                &mut body,
+                &Group {
+                    items: cut,
+                    ..g.clone()
+                },
+            );
+        }
+    }
+    body.push_str("\n</g>\n<g id=\"draw\">");
+    for i in page.groups.iter().flat_map(|g| &g.items) {
+        if i.layer == crate::drawing::Layer::Labels {
+            item(&mut body, i);
+        }
+    }
+    body.push_str("\n</g>");
+    document(page, &body, "")
+}
+
 fn write_with(page: &Page, flat: bool) -> Vec<u8> {
-    let text: String = page
-        .metadata
-        .iter()
-        .map(|(k, v)| format!("{}: {}", printable(k), printable(v)))
-        .collect::<Vec<_>>()
-        .join("\n");
     let mut body = String::with_capacity(1024 + 100 * page.groups.len());
     let xlink = if groups(&mut body, page, flat) {
         " xmlns:xlink=\"http://www.w3.org/1999/xlink\""
     } else {
         ""
     };
+    document(page, &body, xlink)
+}
+
+/// The root, title and metadata around `body`.
+fn document(page: &Page, body: &str, xlink: &str) -> Vec<u8> {
+    let text: String = page
+        .metadata
+        .iter()
+        .map(|(k, v)| format!("{}: {}", printable(k), printable(v)))
+        .collect::<Vec<_>>()
+        .join("\n");
     let mut out = String::with_capacity(1024 + body.len());
     out.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = write!(
@@ -264,7 +304,7 @@ fn write_with(page: &Page, flat: bool) -> Vec<u8> {
         h = num(page.height),
         hairline = num(HAIRLINE),
     );
-    out.push_str(&body);
+    out.push_str(body);
     out.push_str("\n</svg>\n");
     out.into_bytes()
 }
