@@ -21,13 +21,15 @@ pub use crate::design::settings::DEFAULT_MEMORY;
 /// machine of BENCHMARKS.md: the saddle ring (4,944 nodes) 40 iterations
 /// in 4.26 s, 3.0e-7; a 1,980-cell sheet (35,640 nodes) one iteration and
 /// the stability check in 3.67 s, 2.7e-7; a 20,000-cell sheet (360,000
-/// nodes) one in 67.6 s, 1.6e-7 (docs/physics.md, "Limits").
+/// nodes) one in 67.6 to 84.5 s, 1.6e-7 to 2.0e-7 (docs/physics.md,
+/// "Limits").
 pub(crate) const SECONDS_PER_ITERATION: f64 = 3.1e-7;
 
 /// Newton iterations a solve is reckoned at before it runs: the examples
 /// take 1 (flat sheets) to 69 (the bowl); the stability check at the end
-/// costs about one more.
-pub(crate) const ITERATIONS_PER_SOLVE: f64 = 30.0;
+/// costs about one more. Reckoned low, so that an estimate refuses only
+/// what is surely too long; the deadline stops the rest.
+pub(crate) const ITERATIONS_PER_SOLVE: f64 = 10.0;
 
 /// Newton iterations a continuation step of the opening is reckoned at.
 pub(crate) const ITERATIONS_PER_STEP: f64 = 5.0;
