@@ -118,14 +118,16 @@ impl std::fmt::Display for Stopped {
     }
 }
 
-/// A duration for a message: seconds below two minutes, then minutes,
-/// then hours.
+/// A duration for a message: milliseconds below a second, seconds below
+/// two minutes, then minutes, then hours.
 pub fn duration(seconds: f64) -> String {
     if !seconds.is_finite() {
         "forever".to_string()
+    } else if seconds < 1.0 {
+        format!("{:.0} ms", seconds * 1000.0)
     } else if seconds < 120.0 {
         format!("{seconds:.1} s")
-    } else if seconds < 7200.0 {
+    } else if seconds < 3600.0 {
         format!("{:.0} min", seconds / 60.0)
     } else {
         format!("{:.1} h", seconds / 3600.0)
@@ -160,5 +162,7 @@ mod tests {
         );
         assert_eq!(duration(68000.0), "18.9 h");
         assert_eq!(duration(300.0), "5 min");
+        assert_eq!(duration(3600.0), "1.0 h");
+        assert_eq!(duration(0.0165), "17 ms");
     }
 }

@@ -105,10 +105,8 @@ impl Unsimulated {
     /// simulates: to say long work up front.
     pub fn estimate(&self) -> Option<f64> {
         let settings = &self.0.design.simulation;
-        self.simulates().then(|| {
-            let cost = crate::sim::estimate(&self.0.lattice, settings.h_max);
-            crate::sim::seconds(&cost, crate::sim::steps_to(settings))
-        })
+        self.simulates()
+            .then(|| crate::sim::reckoned(&self.0.lattice, settings).1)
     }
 
     /// The build with its simulated deployed shape, restored from the

@@ -138,7 +138,7 @@ pub(super) fn simulate(
             return Err(recipe.error(&plain(
                 ErrorKind::WorkTooLong,
                 format!(
-                    "--explore {n} would take about {} ({n} starts of about {} each on {jobs} {}), longer than the {} allowed",
+                    "--explore {n} would take about {} ({n} starts of about {} each on {}), longer than the {} allowed",
                     karigami::duration(estimate),
                     karigami::duration(per_start),
                     plural(jobs, "thread"),

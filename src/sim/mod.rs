@@ -422,6 +422,14 @@ pub(crate) fn steps_to(settings: &Settings) -> usize {
         .map_or(0, |_| (std::f64::consts::FRAC_PI_2 / STEP).ceil() as usize)
 }
 
+/// The simulation's estimated size and seconds (`cost::estimate`,
+/// `cost::seconds`).
+pub(crate) fn reckoned(lattice: &Lattice, settings: &Settings) -> (Cost, f64) {
+    let cost = estimate(lattice, settings.h_max);
+    let iterations = cost::iterations(lattice, steps_to(settings));
+    (cost, seconds(&cost, iterations))
+}
+
 /// The simulation's estimated nodes and seconds (`cost::estimate`,
 /// `cost::seconds`), refused when longer than `deadline` allows.
 pub fn within_time(
@@ -429,8 +437,7 @@ pub fn within_time(
     settings: &Settings,
     deadline: &Deadline,
 ) -> Result<(Cost, f64), SimError> {
-    let cost = estimate(lattice, settings.h_max);
-    let seconds = seconds(&cost, steps_to(settings));
+    let (cost, seconds) = reckoned(lattice, settings);
     if !deadline.allows(seconds) {
         return Err(SimError::TooLong {
             cost,
