@@ -6,6 +6,7 @@
 //! ceilings.
 
 use crate::cli::{karigami, recipes, repo, scratch};
+use crate::safety::tree;
 use std::path::Path;
 use std::process::Output;
 use std::time::Instant;
@@ -170,18 +171,18 @@ fn a_stopped_build_leaves_the_old_build_and_no_staging() {
 #[test]
 fn tune_stops_at_its_time_limit_and_writes_nothing() {
     let dir = scratch("limits-tune");
-    let bowl = std::fs::read_to_string(repo().join("examples/bowl.toml")).unwrap();
-    std::fs::write(dir.join("bowl.toml"), &bowl).unwrap();
+    let helix = std::fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    std::fs::write(dir.join("h.toml"), &helix).unwrap();
     let o = karigami(
         &[
             "tune",
-            "bowl.toml",
+            "h.toml",
             "--cells",
             "100000",
             "--iterations",
             "5000000",
             "--out",
-            "bowl.toml",
+            "h.toml",
             "--time-limit",
             "0.5",
         ],
@@ -197,8 +198,8 @@ fn tune_stops_at_its_time_limit_and_writes_nothing() {
         ],
     );
     assert_eq!(
-        std::fs::read_to_string(dir.join("bowl.toml")).unwrap(),
-        bowl
+        std::fs::read_to_string(dir.join("h.toml")).unwrap(),
+        helix
     );
 }
 
