@@ -197,10 +197,7 @@ fn tune_stops_at_its_time_limit_and_writes_nothing() {
             "nothing was written",
         ],
     );
-    assert_eq!(
-        std::fs::read_to_string(dir.join("h.toml")).unwrap(),
-        helix
-    );
+    assert_eq!(std::fs::read_to_string(dir.join("h.toml")).unwrap(), helix);
 }
 
 /// Seconds and KiB of peak memory of one run of the binary in `cwd`.
