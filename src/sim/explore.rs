@@ -52,6 +52,9 @@ pub struct Found {
     pub hits: Vec<u64>,
 }
 
+/// The distinct equilibria found, and the seeds left out with why.
+pub type Explored = (Vec<Found>, Vec<(u64, String)>);
+
 /// What one start ended in: its equilibrium, or why it was left out
 /// (None: not solved, the deadline had passed).
 type Outcome = Option<Result<Equilibrium, String>>;
@@ -70,7 +73,7 @@ pub fn explore(
     jobs: usize,
     finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
     solved: &AtomicUsize,
-) -> (Vec<Found>, Vec<(u64, String)>) {
+) -> Explored {
     let none = Deadline::none();
     explore_until(base, (n, seed), jobs, finish, solved, &none).unwrap_or_default()
 }
@@ -86,7 +89,7 @@ pub fn explore_until(
     finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
     solved: &AtomicUsize,
     deadline: &Deadline,
-) -> Result<(Vec<Found>, Vec<(u64, String)>), Stopped> {
+) -> Result<Explored, Stopped> {
     let sys = System::new(&base.model);
     let scale = base.model.e_scale;
     let mut found: Vec<Found> = Vec::new();
