@@ -163,6 +163,6 @@ mod tests {
         assert_eq!(duration(68000.0), "18.9 h");
         assert_eq!(duration(300.0), "5 min");
         assert_eq!(duration(3600.0), "1.0 h");
-        assert_eq!(duration(0.0165), "17 ms");
+        assert_eq!(duration(0.017), "17 ms");
     }
 }
