@@ -15,6 +15,9 @@ pub(crate) const EXIT_IO: i32 = 3;
 /// docs/commands.md promises, because the folder's state, not the command line, is
 /// what has to change.
 pub(crate) const EXIT_OUT_REFUSED: i32 = 3;
+/// Exit status of a run stopped at its `--time-limit` (docs/commands.md,
+/// "Time limits"): nothing half-done was written.
+pub(crate) const EXIT_TIME: i32 = 4;
 
 /// Write the `ErrorKind` enum once: each kind, whose own name is the name
 /// shown to users, and the exit status it ends a run with.
@@ -339,6 +342,12 @@ error_kinds! {
     SimulationOutOfRange => EXIT_INVALID,
     /// The simulation's mesh would take more memory than allowed.
     SimulationTooLarge => EXIT_INVALID,
+    /// Work estimated from the input (a simulation, `--explore`'s starts,
+    /// tune's designs) would take longer than allowed (docs/commands.md,
+    /// "Time limits"): refused before it starts.
+    WorkTooLong => EXIT_INVALID,
+    /// The run stopped at its `--time-limit`, having written nothing.
+    TimeLimit => EXIT_TIME,
     /// `[simulation] vertex_joint` is neither eyelet nor ball.
     UnknownVertexJoint => EXIT_INVALID,
     /// `clash.clearance` is negative.
@@ -663,7 +672,16 @@ mod tests {
             // The name is the kind's, so no two kinds share one.
             assert_eq!(format!("{k:?}"), name);
             assert!(names.insert(name), "{name} twice");
-            assert!([EXIT_INVALID, EXIT_USAGE, EXIT_IO, EXIT_OUT_REFUSED].contains(&k.exit_code()));
+            assert!(
+                [
+                    EXIT_INVALID,
+                    EXIT_USAGE,
+                    EXIT_IO,
+                    EXIT_OUT_REFUSED,
+                    EXIT_TIME
+                ]
+                .contains(&k.exit_code())
+            );
         }
         assert_eq!(ErrorKind::Io.exit_code(), EXIT_IO);
         assert_eq!(ErrorKind::UnknownSheetFlag.exit_code(), EXIT_USAGE);

@@ -19,6 +19,7 @@
 //! ```
 
 mod assembly;
+mod budget;
 mod design;
 mod diagnostic;
 mod drawing;
@@ -56,7 +57,8 @@ pub use report::{build_check_json, build_json, build_text, check_json, check_tex
 // Diagnostics: every error the library reports, with its kind and place.
 pub use diagnostic::{Diagnostic, ErrorKind};
 
-// How many threads the library may use.
+// How many threads the library may use, and how long it may run.
+pub use budget::{DEFAULT_CEILING, Deadline, SAY_ABOVE, Stopped, duration};
 pub use jobs::Jobs;
 
 // Design: the parsed recipe, its fabrication settings, and the solvers
@@ -70,7 +72,7 @@ pub use fabrication::{
     MACHINE_PRESETS, MATS, MachinePreset, PLOTTER_MIN_HOLE, Plotter, PlotterSetup,
 };
 pub use measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
-pub use solve::tune::{Tuned, tune_helix};
+pub use solve::tune::{Tuned, tune_helix, tune_helix_until};
 pub use solve::{Optimised, optimise};
 
 // Lattice: growth from rows of parameters, the verified invariants, the
@@ -111,8 +113,8 @@ pub mod simulation {
     pub use crate::sim::{
         Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
         Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
-        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, section,
-        shape_distance, simulate, within_memory,
+        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, seconds,
+        section, shape_distance, simulate, simulate_until, within_memory, within_time,
     };
     /// The deployment path drawn: path.png's bytes.
     pub use crate::write::path_png::write as path_png;

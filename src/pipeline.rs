@@ -101,6 +101,14 @@ impl Unsimulated {
         self.0.lattice.cells.len()
     }
 
+    /// The seconds its simulation is reckoned at (`sim::seconds`), when it
+    /// simulates: to say long work up front.
+    pub fn estimate(&self) -> Option<f64> {
+        let settings = &self.0.design.simulation;
+        self.simulates()
+            .then(|| crate::sim::reckoned(&self.0.lattice, settings).1)
+    }
+
     /// The build with its simulated deployed shape, restored from the
     /// `STATE_FILE` of an earlier build (`previous`) when nothing it
     /// depends on changed. Strips strained beyond the allowable are an
@@ -128,10 +136,29 @@ impl Unsimulated {
             .as_ref()
             .filter(|_| follow)
             .map(|run| deployment_path(&b.design, run, &mut b.parts.warnings));
+        in_time(&b.design, "after the simulation")?;
         b.simulation = simulation;
         b.simulation_key = simulation_key;
         Ok(b)
     }
+}
+
+/// A `TimeLimit` error when the design's deadline has passed (checked
+/// between the stages of a build: growth, the simulation, the deployment
+/// path), saying where the run stopped.
+pub(crate) fn in_time(design: &Design, at: &str) -> Result<(), Diagnostic> {
+    if !design.deadline.expired() {
+        return Ok(());
+    }
+    Err(Diagnostic::new(
+        ErrorKind::TimeLimit,
+        format!(
+            "stopped {at}, {:.1} s in: the time limit of {} s has passed",
+            design.deadline.elapsed(),
+            design.deadline.limit().unwrap_or(0.0)
+        ),
+    )
+    .hint("nothing was written; allow more time with --time-limit SECONDS (docs/commands.md, Time limits)"))
 }
 
 /// The first stage of every build, and all of `karigami check`: a design
@@ -206,6 +233,7 @@ pub fn check_on(
     jobs: Jobs,
 ) -> Result<Checked, Diagnostic> {
     let lattice = design.grow_with(progress)?;
+    in_time(&design, "after growing the lattice")?;
     let jobs = if lattice.cells.len() >= PARALLEL_FROM_CELLS {
         jobs
     } else {
@@ -565,7 +593,15 @@ fn simulated(
     let reused = restored.is_some();
     let solved = match restored {
         Some(run) => Ok(run),
-        None => crate::sim::simulate_with(lattice, deployment, derived, w, t, settings),
+        None => crate::sim::simulate_with(
+            lattice,
+            deployment,
+            derived,
+            w,
+            t,
+            settings,
+            &design.deadline,
+        ),
     };
     let run = match solved {
         Ok(run) => run,
@@ -669,6 +705,26 @@ pub fn recipe_error(
                 .hint("symmetry is for loop lattices: how many identical copies of its cells the loop has; use a divisor of the cells in a row whose copies are alike, or 1, which a sheet always has (docs/physics.md)"),
         ),
         crate::sim::SimError::TooLarge { .. } => Some(too_large_to_simulate(design, lattice, e)),
+        crate::sim::SimError::TooLong { limit, .. } => {
+            let steps = crate::sim::steps_to(&design.simulation);
+            let coarser = match crate::sim::edge_within_time(lattice, *limit, steps) {
+                Some(h) if h <= 1e6 => format!(
+                    "a coarser mesh, [simulation] edge_length = {} mm or more (now {} mm), ",
+                    crate::diagnostic::shown((h * 10.0).ceil() / 10.0),
+                    crate::diagnostic::shown(design.simulation.h_max)
+                ),
+                _ => String::new(),
+            };
+            Some(
+                Diagnostic::new(ErrorKind::WorkTooLong, e.to_string())
+                    .at_opt(design.edge_length_span().or(Some(design.size_span())))
+                    .hint(format!("use {coarser}fewer or shorter strips, or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)")),
+            )
+        }
+        crate::sim::SimError::TimeLimit(_) => Some(
+            Diagnostic::new(ErrorKind::TimeLimit, e.to_string())
+                .hint("nothing was written; allow more time with --time-limit SECONDS, or use a coarser [simulation] edge_length (docs/commands.md, Time limits)"),
+        ),
         _ => None,
     }
 }

@@ -166,6 +166,14 @@ const LINES: &[&str] = &[
     "name = \"ボウル\"",
     "[material]\nname = \"ABS\\r\\n0 EOF\"",
     "[material]\nname = \"\\u0000\"",
+    // The shapes of issue 36's heavy inputs: tall and huge sheets, tiny
+    // simulation edges (each refused or bounded, never hours).
+    "rows = 3000",
+    "cells = 200",
+    "rows = 100",
+    "[simulation]\nedge_length = 0.01",
+    "[simulation]\nedge_length = 0.5",
+    "[simulation]\ntheta = 170.0",
 ];
 
 /// A byte range `[start, end)` of a recipe.
@@ -479,6 +487,13 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
         .and_then(|n| n.parse().ok())
         .unwrap_or(0);
     let log = std::env::var_os("KARIGAMI_FUZZ_LOG").is_some();
+    // No case may take longer (issue 36: two cases of the long run took
+    // over 30 s): KARIGAMI_FUZZ_CEILING seconds, `scripts/fuzz` 30 on a
+    // release build, CI a debug build's 120.
+    let ceiling: f64 = std::env::var("KARIGAMI_FUZZ_CEILING")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(120.0);
     let next = AtomicUsize::new(start);
     let tally = Mutex::new([0usize; 3]);
     let failures = Mutex::new(Vec::new());
@@ -500,7 +515,14 @@ fn random_and_mutated_recipes_never_panic_nor_write_non_finite_numbers() {
                     if log {
                         eprintln!("fuzz case {i}:\n{text}\n");
                     }
-                    let result = run_case(&text);
+                    let clock = std::time::Instant::now();
+                    let mut result = run_case(&text);
+                    let seconds = clock.elapsed().as_secs_f64();
+                    if result.is_ok() && seconds > ceiling {
+                        result = Err(format!(
+                            "took {seconds:.1} s, beyond the {ceiling} s a case may take"
+                        ));
+                    }
                     if log {
                         eprintln!("fuzz case {i} done");
                     }

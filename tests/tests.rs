@@ -11,6 +11,7 @@ mod golden;
 mod goldens;
 mod guide;
 mod layers;
+mod limits;
 mod maker;
 mod plotter;
 mod property;

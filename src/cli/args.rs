@@ -17,18 +17,26 @@ fn jobs() -> clap::builder::RangedU64ValueParser<usize> {
 }
 const MAX_JOBS: u64 = 1024;
 
+/// `--time-limit SECONDS` (docs/commands.md, "Time limits"): more than 0,
+/// at most a year.
+pub(super) fn seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(t) if t > 0.0 && t <= 3.2e7 => Ok(t),
+        _ => Err("must be a number of seconds, more than 0 and at most 32000000".into()),
+    }
+}
+
 /// The design `karigami build` uses when given none.
 pub(super) const DEFAULT_TEMPLATE: &str = "sheet";
 
-const EXIT_CODES: &str =
-    "Exit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error.";
+const EXIT_CODES: &str = "Exit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error, 4 stopped at --time-limit.";
 
 #[derive(Parser)]
 #[command(
     name = "karigami",
     version,
     about = "Grow, verify and fabricate scissor lattices from TOML recipes",
-    after_help = "Examples:\n  karigami new my-sheet                 # a starter recipe, my-sheet.toml\n  karigami check my-sheet.toml\n  karigami build my-sheet.toml --out my-sheet\n  karigami build examples/ --out gallery --jobs 2\n\nExit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error."
+    after_help = "Examples:\n  karigami new my-sheet                 # a starter recipe, my-sheet.toml\n  karigami check my-sheet.toml\n  karigami build my-sheet.toml --out my-sheet\n  karigami build examples/ --out gallery --jobs 2\n\nExit status: 0 ok, 1 a design is invalid or fails a check, 2 usage error, 3 file error, 4 stopped at --time-limit."
 )]
 pub(super) struct Args {
     #[command(subcommand)]
@@ -64,6 +72,9 @@ pub(super) enum Command {
         /// finer mesh is refused before it is made.
         #[arg(long, value_name = "MB", value_parser = clap::value_parser!(u64).range(16..=1_048_576))]
         memory: Option<u64>,
+        /// Stop cleanly after this many seconds, writing nothing half-done (exit status 4); work estimated longer is refused up front (default ceiling 3600).
+        #[arg(long, value_name = "SECONDS", value_parser = seconds)]
+        time_limit: Option<f64>,
     },
     /// Grow designs and verify collapsibility, compatibility, the collapsed
     /// state and that every strip can be cut. Writes nothing.
@@ -130,6 +141,9 @@ pub(super) enum Command {
         /// Overwrite an existing --out file (the recipe itself is written back unless edited meanwhile).
         #[arg(long, requires = "out")]
         force: bool,
+        /// Stop cleanly after this many seconds, writing nothing half-done (exit status 4); work estimated longer is refused up front (default ceiling 3600).
+        #[arg(long, value_name = "SECONDS", value_parser = seconds)]
+        time_limit: Option<f64>,
     },
     /// Write a starter recipe from a template.
     #[command(after_help = format!(
@@ -205,6 +219,9 @@ pub(super) struct FabricationFlags {
     /// cricut or silhouette (the sheet is its mat: --sheet 12x12in or 12x24in).
     #[arg(long, value_name = "PRESET")]
     machine: Option<String>,
+    /// Stop cleanly after this many seconds, writing nothing half-done (exit status 4); work estimated longer is refused up front (default ceiling 3600).
+    #[arg(long, value_name = "SECONDS", value_parser = seconds)]
+    time_limit: Option<f64>,
 }
 
 impl FabricationFlags {
@@ -224,8 +241,14 @@ impl FabricationFlags {
             flat: self.flat.then_some(true),
             memory: self.memory.map(|mb| mb << 20),
             machine: self.machine.clone(),
+            deadline: deadline(self.time_limit),
         }
     }
+}
+
+/// The run's deadline from `--time-limit`, started now.
+pub(super) fn deadline(limit: Option<f64>) -> karigami::Deadline {
+    limit.map_or(karigami::Deadline::none(), karigami::Deadline::after)
 }
 
 /// How much to print.

@@ -80,6 +80,26 @@ pub(super) fn build(
             out.kept()
         )));
     }
+    // A recipe stopped at --time-limit stops the batch: nothing half-done
+    // is committed (docs/commands.md, "Time limits").
+    let timed_out = |o: &&Outcome| {
+        o.ended
+            .result
+            .as_ref()
+            .is_err_and(|e| e.kind == ErrorKind::TimeLimit)
+    };
+    if outcomes.iter().any(|o| timed_out(&o)) {
+        drop(staged);
+        let built = outcomes.iter().filter(|o| o.ended.result.is_ok()).count();
+        return Err(Error::new(
+            ErrorKind::TimeLimit,
+            format!(
+                "the batch stopped at its time limit with {built} of {} built; it was not committed and {}",
+                plural(outcomes.len(), "recipe"),
+                out.kept()
+            ),
+        ));
+    }
     // batch.json records every recipe's status; no times, so that it is
     // the same on every run.
     let record: Vec<Record> = outcomes.iter().map(|o| o.record(false)).collect();

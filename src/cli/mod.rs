@@ -131,12 +131,13 @@ fn run_command() -> i32 {
             path,
             jobs,
             memory,
+            time_limit,
         } => simulate::simulate(
             &design,
             theta,
             explore,
             path,
-            (jobs_or_cores(jobs), memory),
+            (jobs_or_cores(jobs), memory, args::deadline(time_limit)),
             v,
         ),
         Command::Build {
@@ -176,12 +177,13 @@ fn run_command() -> i32 {
             iterations,
             jobs,
             force,
+            time_limit,
         } => tune::tune(
             &design,
             cells,
             out.as_deref().map(|o| (o, force)),
             iterations,
-            jobs_or_cores(jobs),
+            (jobs_or_cores(jobs), args::deadline(time_limit)),
             v,
         ),
         Command::New {

@@ -65,7 +65,16 @@ pub(super) fn run_recipe(
     progress: &mut dyn FnMut(&str),
     earlier: (&files::OutDir, &str),
 ) -> Result<Build, Error> {
-    simulate(recipe, unsimulated(recipe, overrides, progress)?, earlier)
+    let unsimulated = unsimulated(recipe, overrides, progress)?;
+    // Long work said up front (docs/commands.md, "Time limits").
+    if let Some(s) = unsimulated.estimate().filter(|s| *s >= karigami::SAY_ABOVE) {
+        progress(&format!(
+            "{}: the simulation is estimated at about {}",
+            recipe.file,
+            karigami::duration(s)
+        ));
+    }
+    simulate(recipe, unsimulated, earlier)
 }
 
 /// `run_recipe`'s first stage: the recipe parsed and built up to its

@@ -8,7 +8,9 @@ use super::recipe::Recipe;
 use karigami::{
     Design, ErrorKind, Lattice, Overrides,
     shape::{self, VertexCurvature},
-    simulation::{self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore},
+    simulation::{
+        self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore_until,
+    },
     util::{plural, shown},
 };
 use std::fmt::Write as _;
@@ -32,7 +34,7 @@ pub(super) fn simulate(
     theta: Option<f64>,
     explore_n: Option<usize>,
     follow_path: bool,
-    (jobs, memory): (usize, Option<u64>),
+    (jobs, memory, deadline): (usize, Option<u64>, karigami::Deadline),
     v: Verbosity,
 ) -> Result<(), Error> {
     // The flags first: a usage error before the recipe is read or grown.
@@ -54,7 +56,10 @@ pub(super) fn simulate(
         ));
     }
     let recipe = Recipe::read(path)?;
-    let design = recipe.parse(&Overrides::default())?;
+    let design = recipe.parse(&Overrides {
+        deadline,
+        ..Overrides::default()
+    })?;
     // The staged pipeline's first stage, as `karigami check` runs it.
     let checked = karigami::check(design, &mut |_| {}).map_err(|d| recipe.error(&d))?;
     if !checked.report.passed() {
@@ -78,18 +83,28 @@ pub(super) fn simulate(
         design.fabrication.material.width,
         design.fabrication.material.thickness,
     );
-    // A large lattice's solve runs for minutes (a 4,800-cell torus 3 min).
-    let what = format!("simulating {}", recipe.file);
-    let run = progress::heartbeat(&what, v.quiet, || {
-        sim::simulate(lattice, deploy, w, t, &settings)
-    })
-    .map_err(|e| match karigami::recipe_error(design, lattice, &e) {
+    let failed = |e: sim::SimError| match karigami::recipe_error(design, lattice, &e) {
         Some(d) => recipe.error(&d),
         None => Error::new(
             ErrorKind::SimulationFailed,
             format!("{}: simulation failed: {e}", recipe.file),
         ),
-    })?;
+    };
+    // Long work is said up front; longer than allowed is refused.
+    let (cost, estimate) = sim::within_time(lattice, &settings, &deadline).map_err(failed)?;
+    say_estimate(
+        &format!("{}: the simulation", recipe.file),
+        &format!("{} rod nodes", shown(cost.nodes.round())),
+        estimate,
+        &deadline,
+        v,
+    );
+    // A large lattice's solve runs for minutes (a 4,800-cell torus 3 min).
+    let what = format!("simulating {}", recipe.file);
+    let run = progress::heartbeat(&what, v.quiet, || {
+        sim::simulate_until(lattice, deploy, w, t, &settings, &deadline)
+    })
+    .map_err(failed)?;
     if !v.quiet {
         out!(
             "{}",
@@ -115,21 +130,49 @@ pub(super) fn simulate(
     }
     if let Some(n) = explore_n {
         let material = settings.material;
+        // Each start reckoned at `START_ITERATIONS` of the solve's own
+        // measured Newton iterations (docs/commands.md, "Time limits").
+        let per_start = run.seconds / (run.iterations + 1) as f64 * START_ITERATIONS;
+        let estimate = per_start * n as f64 / jobs.min(n).max(1) as f64;
+        if !deadline.allows(estimate) {
+            return Err(recipe.error(&plain(
+                ErrorKind::WorkTooLong,
+                format!(
+                    "--explore {n} would take about {} ({n} starts of about {} each on {}), longer than the {} allowed",
+                    karigami::duration(estimate),
+                    karigami::duration(per_start),
+                    plural(jobs, "thread"),
+                    karigami::duration(deadline.ceiling())
+                ),
+                format!(
+                    "use --explore {} or fewer, or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)",
+                    ((deadline.ceiling() / per_start * jobs as f64).floor() as usize).max(1)
+                ),
+            )));
+        }
+        say_estimate("--explore", &format!("{n} starts"), estimate, &deadline, v);
         let solved = AtomicUsize::new(0);
         let line = |seconds| {
             let k = solved.load(Ordering::Relaxed);
             format!("explore: {k} of {n} starts ({seconds} s)")
         };
         let (found, rejected) = progress::heartbeat_saying(line, v.quiet, || {
-            explore(
+            explore_until(
                 &run.lm,
-                n,
-                EXPLORE_SEED,
+                (n, EXPLORE_SEED),
                 jobs,
                 &|lm, stats| sim::equilibrium(lm, stats, &material),
                 &solved,
+                &deadline,
             )
-        });
+        })
+        .map_err(|stopped| {
+            recipe.error(&plain(
+                ErrorKind::TimeLimit,
+                format!("--explore {stopped}"),
+                "nothing of the exploration was reported; allow more time with --time-limit SECONDS, or fewer starts (docs/commands.md, Time limits)".into(),
+            ))
+        })?;
         if !v.quiet {
             out!(
                 "{}",
@@ -138,6 +181,39 @@ pub(super) fn simulate(
         }
     }
     Ok(())
+}
+
+/// Newton iterations an `--explore` start is reckoned at, in the
+/// unperturbed solve's measured time an iteration: the eggbox's starts take
+/// 180 ms against its 17 ms an iteration, a 1,980-cell sheet's 5 to 7 s
+/// against 1.8 s.
+const START_ITERATIONS: f64 = 10.0;
+
+/// An error of the command line's work, not at a place in the recipe.
+fn plain(kind: ErrorKind, message: String, hint: String) -> karigami::Diagnostic {
+    karigami::Diagnostic {
+        kind,
+        message,
+        span: None,
+        site: None,
+        hint: Some(hint),
+    }
+}
+
+/// Say work reckoned at more than `karigami::SAY_ABOVE` seconds before it
+/// starts, with the limit it runs under.
+fn say_estimate(what: &str, size: &str, seconds: f64, deadline: &karigami::Deadline, v: Verbosity) {
+    if v.quiet || seconds < karigami::SAY_ABOVE {
+        return;
+    }
+    let limit = match deadline.limit() {
+        Some(l) => format!("stops at --time-limit {}", shown(l)),
+        None => "no --time-limit".to_string(),
+    };
+    errln!(
+        "{what}: about {} estimated ({size}; {limit})",
+        karigami::duration(seconds)
+    );
 }
 
 fn pct(x: f64) -> String {

@@ -15,7 +15,7 @@ pub(super) fn tune(
     cells: Option<usize>,
     out: Option<(&Path, bool)>,
     iterations: usize,
-    jobs: usize,
+    (jobs, deadline): (usize, karigami::Deadline),
     v: Verbosity,
 ) -> Result<(), Error> {
     let recipe = Recipe::read(path)?;
@@ -24,7 +24,10 @@ pub(super) fn tune(
         .map(|(o, force)| files::OutFile::check(o, (path, &recipe.source), force))
         .transpose()?;
     let out = out.as_ref();
-    let design = recipe.parse(&Overrides::default())?;
+    let design = recipe.parse(&Overrides {
+        deadline,
+        ..Overrides::default()
+    })?;
     if design.optimise.is_some() {
         return optimise::run(&recipe, &design, out, jobs, v);
     }
@@ -40,15 +43,24 @@ pub(super) fn tune(
     let min_leg = design.fabrication.eyelet.flange + 2.0 * karigami::MIN_WALL;
     let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
     let tuned = progress::heartbeat(&what, v.quiet, || {
-        karigami::tune_helix(
+        karigami::tune_helix_until(
             design.dim,
             &design.points,
             &design.kappa,
-            target,
-            min_leg,
-            iterations,
+            (target, min_leg, iterations),
+            &deadline,
         )
-    });
+    })
+    .map_err(|t| {
+        let stopped = deadline.stopped(t.iterations, iterations, "tries");
+        Error::new(
+            ErrorKind::TimeLimit,
+            format!(
+                "{}: the tuner {stopped}, growing {} of {target} cells; nothing was written (allow more time with --time-limit SECONDS, docs/commands.md)",
+                recipe.file, t.cells_after
+            ),
+        )
+    })?;
     let Some(text) = design.with_seed(&recipe.source, &tuned.points, &tuned.kappa) else {
         return Err(Error::usage(format!(
             "{}: write the seed as `points = [...]` and `kappa = [...]` to tune it",

@@ -38,6 +38,8 @@ pub struct Overrides {
     pub machine: Option<String>,
     /// `--memory`: the most memory the simulation may take (bytes).
     pub memory: Option<u64>,
+    /// `--time-limit`: when the run's time is up (`Design::deadline`).
+    pub deadline: crate::budget::Deadline,
 }
 
 /// Where the settings were written, for errors found later (per strip).

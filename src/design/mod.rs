@@ -58,6 +58,9 @@ pub struct Design {
     pub simulation: settings::Settings,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub(crate) recipe_hash: u64,
+    /// When the run's time is up (`--time-limit`, docs/commands.md): the
+    /// simulation and the optimiser stop there.
+    pub deadline: crate::budget::Deadline,
     spans: Spans,
 }
 
@@ -176,6 +179,7 @@ pub fn parse_with(
         optimise,
         simulation,
         recipe_hash: crate::hash::fnv1a(source.as_bytes()),
+        deadline: overrides.deadline,
         spans,
     })
 }

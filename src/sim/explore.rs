@@ -5,6 +5,7 @@ use super::model::{Frame, Model, Node};
 use super::solver::{Options, System, solve};
 use super::strips::LatticeModel;
 use super::{Equilibrium, SimError, kabsch_distance};
+use crate::budget::{Deadline, Stopped};
 use crate::jobs::Jobs;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -51,8 +52,12 @@ pub struct Found {
     pub hits: Vec<u64>,
 }
 
-/// What one start ended in: its equilibrium, or why it was left out.
-type Outcome = Result<Equilibrium, String>;
+/// The distinct equilibria found, and the seeds left out with why.
+pub type Explored = (Vec<Found>, Vec<(u64, String)>);
+
+/// What one start ended in: its equilibrium, or why it was left out
+/// (None: not solved, the deadline had passed).
+type Outcome = Option<Result<Equilibrium, String>>;
 
 /// Solve from `n` seeds (0 = unperturbed) and group the stable results.
 /// Returns the equilibria by increasing energy, and the seeds that failed
@@ -68,14 +73,32 @@ pub fn explore(
     jobs: usize,
     finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
     solved: &AtomicUsize,
-) -> (Vec<Found>, Vec<(u64, String)>) {
+) -> Explored {
+    let none = Deadline::none();
+    explore_until(base, (n, seed), jobs, finish, solved, &none).unwrap_or_default()
+}
+
+/// `explore`, stopped at `deadline`: each start checks it before it is
+/// solved and its Newton solve once an iteration; an expired one ends the
+/// exploration with how many starts were solved (docs/commands.md, "Time
+/// limits"). Without a deadline the result is `explore`'s.
+pub fn explore_until(
+    base: &LatticeModel,
+    (n, seed): (usize, u64),
+    jobs: usize,
+    finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
+    solved: &AtomicUsize,
+    deadline: &Deadline,
+) -> Result<Explored, Stopped> {
     let sys = System::new(&base.model);
     let scale = base.model.e_scale;
     let mut found: Vec<Found> = Vec::new();
     let mut rejected = Vec::new();
+    let mut unsolved = 0;
     let mut group = |k: u64, outcome: Outcome| match outcome {
-        Err(why) => rejected.push((k, why)),
-        Ok(eq) => {
+        None => unsolved += 1,
+        Some(Err(why)) => rejected.push((k, why)),
+        Some(Ok(eq)) => {
             let same = found.iter_mut().find(|f| {
                 let (e1, e2) = (f.equilibrium.energy.total(), eq.energy.total());
                 (e1 - e2).abs() <= 1e-6 * scale.max(e1.abs())
@@ -93,30 +116,38 @@ pub fn explore(
     Jobs::new(jobs).in_order(
         n,
         |k| {
-            let outcome = solve_start(base, &sys, k as u64, seed, finish);
+            if deadline.expired() {
+                return None;
+            }
+            let outcome = solve_start(base, &sys, k as u64, seed, finish, deadline)?;
             solved.fetch_add(1, Ordering::Relaxed);
-            outcome
+            Some(outcome)
         },
         |k, outcome| group(k as u64, outcome),
     );
+    if unsolved > 0 {
+        return Err(deadline.stopped(n - unsolved, n, "starts"));
+    }
     found.sort_by(|a, b| {
         a.equilibrium
             .energy
             .total()
             .total_cmp(&b.equilibrium.energy.total())
     });
-    (found, rejected)
+    Ok((found, rejected))
 }
 
 /// Start `k`: the model perturbed with its seed (start 0 as it is),
-/// solved, and kept if it ends at a stable equilibrium.
+/// solved, and kept if it ends at a stable equilibrium; None when the
+/// deadline passed during its solve.
 fn solve_start(
     base: &LatticeModel,
     sys: &System,
     k: u64,
     seed: u64,
     finish: &(dyn Fn(&LatticeModel, super::solver::Stats) -> Equilibrium + Sync),
-) -> Outcome {
+    deadline: &Deadline,
+) -> Option<Result<Equilibrium, String>> {
     let mut lm = base.clone();
     if k > 0 {
         perturb(
@@ -125,13 +156,20 @@ fn solve_start(
             AMPLITUDES[(k as usize - 1) % AMPLITUDES.len()],
         );
     }
-    let stats = solve(&mut lm.model, sys, &Options::default())
-        .map_err(|e| SimError::Solve(e).to_string())?;
+    let opts = Options {
+        deadline: deadline.at(),
+        ..Options::default()
+    };
+    let stats = match solve(&mut lm.model, sys, &opts) {
+        Ok(stats) => stats,
+        Err(super::SolveError::TimeLimit { .. }) => return None,
+        Err(e) => return Some(Err(SimError::Solve(e).to_string())),
+    };
     if !stats.converged || !(stats.lambda_min > 0.0) {
-        return Err(format!(
+        return Some(Err(format!(
             "ended unstable or unconverged (lambda_min {:.2e})",
             stats.lambda_min
-        ));
+        )));
     }
-    Ok(finish(&lm, stats))
+    Some(Ok(finish(&lm, stats)))
 }

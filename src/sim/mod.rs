@@ -15,8 +15,8 @@ pub(crate) mod results;
 pub(crate) mod strips;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
-pub(crate) use cost::edge_within;
-pub use cost::{Cost, DEFAULT_MEMORY, estimate};
+pub use cost::{Cost, DEFAULT_MEMORY, estimate, seconds};
+pub(crate) use cost::{edge_within, edge_within_time};
 pub(crate) use karigami_rods::{model, solver};
 pub(crate) use model::Energies;
 pub use model::Section;
@@ -26,6 +26,7 @@ pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
 pub use strips::{Hold, LatticeModel, Mesh};
 
+use crate::budget::{Deadline, Stopped, duration};
 use crate::lattice::Lattice;
 use crate::lattice::deploy::Deployment;
 use glam::DVec3;
@@ -81,6 +82,18 @@ pub enum SimError {
         /// The memory allowed (bytes).
         limit: u64,
     },
+    /// The solve is reckoned to take longer than allowed (`cost::seconds`):
+    /// refused before the model is made.
+    TooLong {
+        /// Its estimated rod nodes and bytes.
+        cost: Cost,
+        /// Its estimated seconds.
+        seconds: f64,
+        /// The seconds allowed (`Deadline::ceiling`).
+        limit: f64,
+    },
+    /// The run's deadline passed: how far it got.
+    TimeLimit(Stopped),
 }
 
 /// A memory size as `--memory` and the docs give it: MiB below a GiB.
@@ -117,6 +130,18 @@ impl std::fmt::Display for SimError {
                 crate::diagnostic::shown(cost.nodes.round()),
                 bytes(*limit as f64)
             ),
+            SimError::TooLong {
+                cost,
+                seconds,
+                limit,
+            } => write!(
+                f,
+                "the simulation would take about {} ({} rod nodes), longer than the {} allowed",
+                duration(*seconds),
+                crate::diagnostic::shown(cost.nodes.round()),
+                duration(*limit)
+            ),
+            SimError::TimeLimit(stopped) => write!(f, "the simulation {stopped}"),
         }
     }
 }
@@ -273,6 +298,15 @@ pub(crate) fn walk(
     // The equilibrium one step back, for the secant predictor.
     let mut before: Option<Vec<f64>> = None;
     for k in 1..=n {
+        if opts.deadline.is_some_and(|d| Instant::now() >= d) {
+            return Err(SimError::TimeLimit(Stopped {
+                done: k - 1,
+                of: n,
+                what: "continuation steps".into(),
+                seconds: 0.0,
+                limit: 0.0,
+            }));
+        }
         let phi = start + (target - start) * k as f64 / n as f64;
         let here = lm.model.q.clone();
         let frames = lm.model.frames();
@@ -323,7 +357,16 @@ fn solve_checked(
     opts: &Options,
     total: &mut usize,
 ) -> Result<Stats, SimError> {
-    let s = solver::solve(&mut lm.model, sys, opts).map_err(SimError::Solve)?;
+    let s = solver::solve(&mut lm.model, sys, opts).map_err(|e| match e {
+        SolveError::TimeLimit { iteration } => SimError::TimeLimit(Stopped {
+            done: *total + iteration,
+            of: 0,
+            what: "Newton iterations".into(),
+            seconds: 0.0,
+            limit: 0.0,
+        }),
+        e => SimError::Solve(e),
+    })?;
     *total += s.iterations;
     if !s.converged {
         return Err(SimError::NotConverged {
@@ -345,7 +388,64 @@ pub fn simulate(
         placed: &lattice.placed(),
         joints: &crate::lattice::joints(lattice),
     };
-    simulate_with(lattice, deployment, &derived, width, thickness, settings)
+    let deadline = Deadline::none();
+    simulate_with(
+        lattice, deployment, &derived, width, thickness, settings, &deadline,
+    )
+}
+
+/// `simulate`, refused up front when reckoned longer than `deadline`
+/// allows (`within_time`) and stopped with `SimError::TimeLimit` when it
+/// passes (docs/commands.md, "Time limits").
+pub fn simulate_until(
+    lattice: &Lattice,
+    deployment: &Deployment,
+    width: f64,
+    thickness: f64,
+    settings: &Settings,
+    deadline: &Deadline,
+) -> Result<Simulation, SimError> {
+    let derived = Derived {
+        placed: &lattice.placed(),
+        joints: &crate::lattice::joints(lattice),
+    };
+    simulate_with(
+        lattice, deployment, &derived, width, thickness, settings, deadline,
+    )
+}
+
+/// The continuation steps a simulation to `settings.theta` is reckoned
+/// at before its model tells the design's opening: a quarter turn.
+pub(crate) fn steps_to(settings: &Settings) -> usize {
+    settings
+        .theta
+        .map_or(0, |_| (std::f64::consts::FRAC_PI_2 / STEP).ceil() as usize)
+}
+
+/// The simulation's estimated size and seconds (`cost::estimate`,
+/// `cost::seconds`).
+pub(crate) fn reckoned(lattice: &Lattice, settings: &Settings) -> (Cost, f64) {
+    let cost = estimate(lattice, settings.h_max);
+    let iterations = cost::iterations(lattice, steps_to(settings));
+    (cost, seconds(&cost, iterations))
+}
+
+/// The simulation's estimated nodes and seconds (`cost::estimate`,
+/// `cost::seconds`), refused when longer than `deadline` allows.
+pub fn within_time(
+    lattice: &Lattice,
+    settings: &Settings,
+    deadline: &Deadline,
+) -> Result<(Cost, f64), SimError> {
+    let (cost, seconds) = reckoned(lattice, settings);
+    if !deadline.allows(seconds) {
+        return Err(SimError::TooLong {
+            cost,
+            seconds,
+            limit: deadline.ceiling(),
+        });
+    }
+    Ok((cost, seconds))
 }
 
 /// Refuse a simulation whose mesh would take more memory than the settings
@@ -369,6 +469,7 @@ pub(crate) fn simulate_with(
     width: f64,
     thickness: f64,
     settings: &Settings,
+    deadline: &Deadline,
 ) -> Result<Simulation, SimError> {
     let clock = Instant::now();
     if let Some(t) = settings.theta {
@@ -378,9 +479,22 @@ pub(crate) fn simulate_with(
         }
     }
     within_memory(lattice, settings)?;
+    within_time(lattice, settings, deadline)?;
     let mut lm = prepare_with(lattice, derived, width, thickness, settings);
     check_symmetry(lattice, &lm, settings.symmetry)?;
-    let (stats, iterations, steps) = deploy(&mut lm, settings.theta, &Options::default())?;
+    let opts = Options {
+        deadline: deadline.at(),
+        ..Options::default()
+    };
+    let (stats, iterations, steps) =
+        deploy(&mut lm, settings.theta, &opts).map_err(|e| match e {
+            SimError::TimeLimit(s) => SimError::TimeLimit(Stopped {
+                seconds: deadline.elapsed(),
+                limit: deadline.limit().unwrap_or(0.0),
+                ..s
+            }),
+            e => e,
+        })?;
     let theta = lm.held_opening();
     let equilibrium = equilibrium(&lm, stats, &settings.material);
     Ok(Simulation {

@@ -89,6 +89,8 @@ struct Problem<'a> {
     /// Designs costed at once (`evaluate_all`).
     jobs: usize,
     evaluations: Cell<usize>,
+    /// Designs costed when the deadline passed (`Design::deadline`).
+    stopped: Cell<Option<usize>>,
     best: RefCell<(f64, Vec<f64>)>,
     progress: RefCell<&'a mut dyn FnMut(&str)>,
 }
@@ -208,6 +210,9 @@ impl Space<'_> {
 impl Problem<'_> {
     /// The cost of the design at `x`, counted and kept if it is the best.
     fn evaluate(&self, x: &[f64]) -> f64 {
+        if self.out_of_time() {
+            return UNGROWN;
+        }
         let cost = self.space.cost_at(x);
         self.record(x, cost);
         cost
@@ -218,6 +223,9 @@ impl Problem<'_> {
     /// in their order, so the counts, the best design and the progress
     /// notes are those of one at a time.
     fn evaluate_all(&self, xs: &[Vec<f64>]) -> Vec<f64> {
+        if self.out_of_time() {
+            return vec![UNGROWN; xs.len()];
+        }
         let mut costs = Vec::with_capacity(xs.len());
         let space = &self.space;
         crate::jobs::Jobs::new(self.jobs).in_order(
@@ -229,6 +237,16 @@ impl Problem<'_> {
             },
         );
         costs
+    }
+
+    /// Whether the deadline has passed (noting how many designs were
+    /// costed by then): the search's remaining designs are then not
+    /// costed, and `optimise` reports where it stopped.
+    fn out_of_time(&self) -> bool {
+        if self.stopped.get().is_none() && self.space.design.deadline.expired() {
+            self.stopped.set(Some(self.evaluations.get()));
+        }
+        self.stopped.get().is_some()
     }
 
     /// Count a design costed; keep it if it is the best so far.
@@ -320,12 +338,23 @@ pub fn optimise(
         },
         jobs,
         evaluations: Cell::new(0),
+        stopped: Cell::new(None),
         best: RefCell::new((f64::INFINITY, vec![0.0; dims])),
         progress: RefCell::new(progress),
     };
     let start = vec![0.0; dims];
+    let clock = std::time::Instant::now();
     let cost_before = problem.evaluate(&start);
+    within_time(&problem, opt, dims, clock.elapsed().as_secs_f64())?;
     let iterations = search(&problem, opt, dims);
+    if let Some(done) = problem.stopped.get() {
+        let stopped = design.deadline.stopped(done, designs(opt, dims), "designs");
+        return Err(Diagnostic::new(
+            ErrorKind::TimeLimit,
+            format!("the optimiser {stopped} (the most the budget may try)"),
+        )
+        .hint("nothing was written; allow more time with --time-limit SECONDS, or lower [optimise] budget (docs/commands.md, Time limits)"));
+    }
     let best = problem.best.borrow().1.clone();
     let optimised = problem.space.design_at(&best);
     let text = rewrite(&problem, &optimised, source, &best);
@@ -341,6 +370,72 @@ pub fn optimise(
         variables: dims,
         measures: m,
     })
+}
+
+/// The most designs a search of `opt.budget` may cost: Nelder-Mead about
+/// two an iteration and a simplex a restart, the evolution strategy its
+/// population and mean a generation (`evolve`).
+fn designs(opt: &Optimise, dims: usize) -> usize {
+    let per = match opt.method {
+        Method::NelderMead => 2,
+        Method::Evolution => (4 + (3.0 * (dims as f64).ln()) as usize).max(8) + 5,
+    };
+    opt.budget.saturating_mul(per).saturating_add(dims + 1)
+}
+
+/// Refuse a search reckoned longer than the design's deadline allows:
+/// its most designs at the first design's measured `seconds` each, the
+/// evolution strategy's spread over its jobs (docs/commands.md, "Time
+/// limits"). Long searches that are allowed say their estimate first.
+fn within_time(
+    problem: &Problem,
+    opt: &Optimise,
+    dims: usize,
+    seconds: f64,
+) -> Result<(), Diagnostic> {
+    let deadline = &problem.space.design.deadline;
+    let threads = match opt.method {
+        Method::Evolution => problem.jobs.max(1) as f64,
+        Method::NelderMead => 1.0,
+    };
+    let per = seconds / threads;
+    let estimate = per * designs(opt, dims) as f64;
+    let say = crate::budget::duration;
+    if deadline.allows(estimate) {
+        if estimate >= crate::budget::SAY_ABOVE {
+            (problem.progress.borrow_mut())(&format!(
+                "optimise: up to {} designs of about {} each, about {} estimated",
+                designs(opt, dims),
+                say(seconds),
+                say(estimate)
+            ));
+        }
+        return Ok(());
+    }
+    let per_iteration = (designs(opt, dims) - dims - 1) as f64 / opt.budget as f64;
+    let fits = ((deadline.ceiling() / per - (dims + 1) as f64) / per_iteration).floor();
+    let budget = if fits >= 1.0 {
+        format!(
+            "[optimise] budget = {} or less (now {}), ",
+            fits as usize, opt.budget
+        )
+    } else {
+        String::new()
+    };
+    Err(Diagnostic::new(
+        ErrorKind::WorkTooLong,
+        format!(
+            "the optimiser may cost up to {} designs at about {} each (the recipe's own took that), about {} in all, longer than the {} allowed",
+            designs(opt, dims),
+            say(seconds),
+            say(estimate),
+            say(deadline.ceiling())
+        ),
+    )
+    .at(opt.span.clone())
+    .hint(format!(
+        "use {budget}a cheaper objective (shape = \"design\" measures without simulating), or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)"
+    )))
 }
 
 /// A helix seed's variables (`solve::tune`), appended to `x0` and `unit`:

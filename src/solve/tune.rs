@@ -198,6 +198,21 @@ pub fn tune_helix(
     min_leg: f64,
     max_iterations: usize,
 ) -> Tuned {
+    let none = crate::budget::Deadline::none();
+    let tries = (target, min_leg, max_iterations);
+    tune_helix_until(dim, points, kappa, tries, &none).unwrap_or_else(|t| *t)
+}
+
+/// `tune_helix`, stopped at `deadline` (checked once a try): the best seed
+/// so far as the error, its `iterations` the tries made (docs/commands.md,
+/// "Time limits").
+pub fn tune_helix_until(
+    dim: usize,
+    points: &[DVec3],
+    kappa: &[f64],
+    (target, min_leg, max_iterations): (usize, f64, usize),
+    deadline: &crate::budget::Deadline,
+) -> Result<Tuned, Box<Tuned>> {
     let n = points.len() - 1;
     let centre = points[..n].iter().sum::<DVec3>() / n as f64;
     let frame = Frame { centre, dim };
@@ -214,7 +229,12 @@ pub fn tune_helix(
     let mut step = 0.02;
     let mut iterations = 0;
     let mut polish = 0;
+    let mut stopped = false;
     while iterations < max_iterations {
+        if deadline.expired() {
+            stopped = true;
+            break;
+        }
         if best.1.0 >= target {
             // Reached: more tries to open up the worst cell and follow the
             // start seed's winding.
@@ -260,7 +280,7 @@ pub fn tune_helix(
         .zip(kappa)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
-    Tuned {
+    let tuned = Tuned {
         points: t_points,
         kappa: t_kappa,
         cells_before: before.0,
@@ -268,6 +288,11 @@ pub fn tune_helix(
         iterations,
         max_move,
         max_kappa_change,
+    };
+    if stopped {
+        Err(Box::new(tuned))
+    } else {
+        Ok(tuned)
     }
 }
 

@@ -628,6 +628,8 @@ pub enum SolveError {
     LineSearch { iteration: usize },
     /// A non-finite energy or gradient.
     NotFinite { iteration: usize },
+    /// `Options::deadline` passed before this iteration.
+    TimeLimit { iteration: usize },
 }
 
 impl std::fmt::Display for SolveError {
@@ -640,6 +642,9 @@ impl std::fmt::Display for SolveError {
             SolveError::NotFinite { iteration } => {
                 write!(f, "the energy became non-finite at iteration {iteration}")
             }
+            SolveError::TimeLimit { iteration } => {
+                write!(f, "stopped at the time limit before iteration {iteration}")
+            }
         }
     }
 }
@@ -647,12 +652,16 @@ impl std::fmt::Display for SolveError {
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
     pub max_iterations: usize,
+    /// Stop with `SolveError::TimeLimit` once this passes (checked once an
+    /// iteration).
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
             max_iterations: 300,
+            deadline: None,
         }
     }
 }
@@ -741,6 +750,12 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         iterations = it + 1;
         if !e.is_finite() {
             return Err(SolveError::NotFinite { iteration: it });
+        }
+        if opts
+            .deadline
+            .is_some_and(|d| std::time::Instant::now() >= d)
+        {
+            return Err(SolveError::TimeLimit { iteration: it });
         }
         let Some((step, _)) = newton_step(sys, model, &mut tau_prev, true) else {
             return Err(SolveError::NotFinite { iteration: it });

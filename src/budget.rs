@@ -1,0 +1,168 @@
+//! Bounded work (docs/commands.md, "Time limits"): the `--time-limit` of a
+//! run as a `Deadline` the long loops check, once a Newton iteration, a
+//! start or a design, and the `Stopped` they return on expiry, saying how
+//! far they got. Work estimated above the limit (`Deadline::allows`) is
+//! refused before it starts.
+//!
+//! A command uses it so: the CLI makes one `Deadline::after(limit)` when
+//! it starts (or `Deadline::none()`), hands it down (`Overrides::deadline`
+//! puts it in the `Design`), and each loop asks `expired()` between pieces
+//! of work; an expired one ends the loop with `stopped(done, of, what)`,
+//! which the command reports as `ErrorKind::TimeLimit` (exit status 4)
+//! and writes nothing. Without a limit nothing changes: `expired()` is
+//! always false and the results are those of a run without the check.
+
+use std::time::{Duration, Instant};
+
+/// Work estimated above this is refused unless `--time-limit` allows
+/// more: one hour.
+pub const DEFAULT_CEILING: f64 = 3600.0;
+
+/// Estimates below this are not worth a line up front (seconds).
+pub const SAY_ABOVE: f64 = 10.0;
+
+/// When a run's time is up, if ever.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Deadline {
+    start: Option<Instant>,
+    limit: Option<Duration>,
+}
+
+impl Deadline {
+    /// No limit: `expired` is never true.
+    pub const fn none() -> Self {
+        Deadline {
+            start: None,
+            limit: None,
+        }
+    }
+
+    /// A limit of `seconds` from now (`--time-limit`).
+    pub fn after(seconds: f64) -> Self {
+        Deadline {
+            start: Some(Instant::now()),
+            limit: Some(Duration::from_secs_f64(seconds.clamp(0.0, 1e9))),
+        }
+    }
+
+    /// The instant the time is up, for solvers that take one.
+    pub fn at(&self) -> Option<Instant> {
+        Some(self.start? + self.limit?)
+    }
+
+    /// The limit in seconds, if any.
+    pub fn limit(&self) -> Option<f64> {
+        self.limit.map(|l| l.as_secs_f64())
+    }
+
+    /// Seconds since the limit started (0 without one).
+    pub fn elapsed(&self) -> f64 {
+        self.start.map_or(0.0, |s| s.elapsed().as_secs_f64())
+    }
+
+    /// Whether the time is up.
+    pub fn expired(&self) -> bool {
+        self.at().is_some_and(|at| Instant::now() >= at)
+    }
+
+    /// The most work a run may be estimated to take (seconds): the limit,
+    /// or `DEFAULT_CEILING` without one.
+    pub fn ceiling(&self) -> f64 {
+        self.limit().unwrap_or(DEFAULT_CEILING)
+    }
+
+    /// Whether work estimated at `seconds` may start.
+    pub fn allows(&self, seconds: f64) -> bool {
+        seconds <= self.ceiling()
+    }
+
+    /// How far a loop stopped by this deadline got: `done` of `of` `what`.
+    pub fn stopped(&self, done: usize, of: usize, what: &str) -> Stopped {
+        Stopped {
+            done,
+            of,
+            what: what.to_string(),
+            seconds: self.elapsed(),
+            limit: self.limit().unwrap_or(0.0),
+        }
+    }
+}
+
+/// Work stopped at its deadline: how far it got.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stopped {
+    /// Pieces finished.
+    pub done: usize,
+    /// Pieces asked for (0: not known ahead).
+    pub of: usize,
+    /// What a piece is: "starts", "designs", "Newton iterations".
+    pub what: String,
+    /// Seconds run.
+    pub seconds: f64,
+    /// The limit (seconds).
+    pub limit: f64,
+}
+
+impl std::fmt::Display for Stopped {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let of = if self.of > 0 {
+            format!(" of {}", self.of)
+        } else {
+            String::new()
+        };
+        write!(
+            f,
+            "stopped at {}{of} {} after {:.1} s, the time limit of {} s",
+            self.done, self.what, self.seconds, self.limit
+        )
+    }
+}
+
+/// A duration for a message: milliseconds below a second, seconds below
+/// two minutes, then minutes, then hours.
+pub fn duration(seconds: f64) -> String {
+    if !seconds.is_finite() {
+        "forever".to_string()
+    } else if seconds < 1.0 {
+        format!("{:.0} ms", seconds * 1000.0)
+    } else if seconds < 120.0 {
+        format!("{seconds:.1} s")
+    } else if seconds < 3600.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_limit_never_expires_and_a_zero_limit_at_once() {
+        assert!(!Deadline::none().expired());
+        assert_eq!(Deadline::none().ceiling(), DEFAULT_CEILING);
+        assert!(Deadline::after(0.0).expired());
+        assert!(!Deadline::after(3600.0).expired());
+        assert!(Deadline::after(5.0).allows(5.0) && !Deadline::after(5.0).allows(5.1));
+    }
+
+    #[test]
+    fn stopped_says_how_far() {
+        let s = Stopped {
+            done: 12,
+            of: 60,
+            what: "starts".into(),
+            seconds: 30.04,
+            limit: 30.0,
+        };
+        assert_eq!(
+            s.to_string(),
+            "stopped at 12 of 60 starts after 30.0 s, the time limit of 30 s"
+        );
+        assert_eq!(duration(68000.0), "18.9 h");
+        assert_eq!(duration(300.0), "5 min");
+        assert_eq!(duration(3600.0), "1.0 h");
+        assert_eq!(duration(0.017), "17 ms");
+    }
+}

@@ -1,0 +1,266 @@
+//! Bounded work (issue 36; docs/commands.md, "Time limits"): heavy work
+//! estimated from the input and refused beyond the limit with the
+//! estimate, and `--time-limit` stopping `simulate`, `build`, `check` and
+//! `tune` cleanly, with exit status 4, saying how far they got and writing
+//! nothing half-done. Then the corpus swept against the time and memory
+//! ceilings.
+
+use crate::cli::{karigami, recipes, repo, scratch};
+use crate::safety::tree;
+use std::path::Path;
+use std::process::Output;
+use std::time::Instant;
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// `o` exited with `code` and its stderr holds every one of `words`.
+fn says(o: &Output, code: i32, words: &[&str]) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(code), "{e}");
+    for w in words {
+        assert!(e.contains(w), "{w:?} not in: {e}");
+    }
+}
+
+/// Finding 6: tune with `shape = "simulated"` and `budget = 100000` (about
+/// 19 h) is refused before its search, at `[optimise]`, with the estimate,
+/// the limit and the budget that fits.
+#[test]
+fn a_tune_of_hours_is_refused_with_its_estimate() {
+    let clock = Instant::now();
+    let o = karigami(
+        &["tune", "fixtures/designs/limits/tune-simulated.toml"],
+        &repo(),
+    );
+    says(
+        &o,
+        1,
+        &[
+            "error[WorkTooLong]: the optimiser may cost up to 200017 designs at about",
+            "longer than the 1.0 h allowed",
+            "tune-simulated.toml:",
+            "[optimise] budget = ",
+            "--time-limit",
+        ],
+    );
+    // Refused after one design, not hours.
+    assert!(clock.elapsed().as_secs() < 120, "{:?}", clock.elapsed());
+}
+
+/// Finding 6: `--explore` of more starts than the limit holds is refused
+/// with the estimate and the most starts that fit.
+#[test]
+fn an_exploration_beyond_the_limit_is_refused() {
+    let o = karigami(
+        &[
+            "simulate",
+            "examples/eggbox.toml",
+            "--explore",
+            "10000",
+            "--time-limit",
+            "60",
+            "-j",
+            "1",
+        ],
+        &repo(),
+    );
+    says(
+        &o,
+        1,
+        &[
+            "error[WorkTooLong]: --explore 10000 would take about",
+            "longer than the 60.0 s allowed",
+            "use --explore ",
+        ],
+    );
+}
+
+/// A simulation estimated within the limit that outruns it stops in its
+/// Newton solve: exit 4, how far it got, no report.
+#[test]
+fn simulate_stops_at_its_time_limit() {
+    let o = karigami(
+        &["simulate", "examples/eggbox.toml", "--time-limit", "0.3"],
+        &repo(),
+    );
+    says(
+        &o,
+        4,
+        &[
+            "error[TimeLimit]: the simulation stopped at ",
+            "Newton iterations after 0.",
+            "the time limit of 0.3 s",
+        ],
+    );
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
+/// `explore_until` stops at its deadline with the starts solved so far;
+/// without one it is `explore`.
+#[test]
+fn explore_stops_at_its_deadline() {
+    use karigami::simulation as sim;
+    use std::sync::atomic::AtomicUsize;
+    let text = std::fs::read_to_string(repo().join("examples/mirror-arm.toml")).unwrap();
+    let design = karigami::parse(&text, "mirror-arm").unwrap();
+    let checked = karigami::check(design, &mut |_| {}).unwrap();
+    let (d, l) = (&checked.design, &checked.lattice);
+    let m = &d.fabrication.material;
+    let run = sim::simulate(l, &checked.deployment, m.width, m.thickness, &d.simulation).unwrap();
+    let finish = |lm: &sim::LatticeModel, s| sim::equilibrium(lm, s, &d.simulation.material);
+    let solved = AtomicUsize::new(0);
+    let now = karigami::Deadline::after(0.0);
+    let stopped = sim::explore::explore_until(&run.lm, (40, 2024), 1, &finish, &solved, &now)
+        .expect_err("stops");
+    assert_eq!((stopped.done, stopped.of), (0, 40), "{stopped}");
+    assert!(
+        stopped
+            .to_string()
+            .starts_with("stopped at 0 of 40 starts after 0.0 s")
+    );
+    let never = karigami::Deadline::none();
+    let (found, rejected) =
+        sim::explore::explore_until(&run.lm, (7, 2024), 2, &finish, &solved, &never).unwrap();
+    let (found0, rejected0) = sim::explore::explore(&run.lm, 7, 2024, 1, &finish, &solved);
+    assert_eq!(found.len(), found0.len());
+    assert_eq!(rejected, rejected0);
+}
+
+/// A build stopped at its limit leaves the earlier build as it was and
+/// nothing beside it; `check` stops the same way.
+#[test]
+fn a_stopped_build_leaves_the_old_build_and_no_staging() {
+    let dir = scratch("limits-build");
+    let eggbox = repo().join("examples/eggbox.toml");
+    std::fs::copy(&eggbox, dir.join("eggbox.toml")).unwrap();
+    let chain = std::fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    std::fs::write(dir.join("chain.toml"), chain).unwrap();
+    let first = karigami(&["-q", "build", "chain.toml", "--out", "out"], &dir);
+    assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
+    let before = tree(&dir.join("out"));
+    let o = karigami(
+        &[
+            "build",
+            "eggbox.toml",
+            "--out",
+            "out",
+            "--time-limit",
+            "0.3",
+        ],
+        &dir,
+    );
+    says(&o, 4, &["error[TimeLimit]: ", "the time limit of 0.3 s"]);
+    assert_eq!(tree(&dir.join("out")), before, "--out changed");
+    let beside: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(beside.is_empty(), "left beside --out: {beside:?}");
+    let o = karigami(&["check", "eggbox.toml", "--time-limit", "0.3"], &dir);
+    says(&o, 4, &["error[TimeLimit]: "]);
+}
+
+/// The helix tuner stops at its limit and writes no recipe.
+#[test]
+fn tune_stops_at_its_time_limit_and_writes_nothing() {
+    let dir = scratch("limits-tune");
+    let helix = std::fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    std::fs::write(dir.join("h.toml"), &helix).unwrap();
+    let o = karigami(
+        &[
+            "tune",
+            "h.toml",
+            "--cells",
+            "100000",
+            "--iterations",
+            "5000000",
+            "--out",
+            "h.toml",
+            "--time-limit",
+            "0.5",
+        ],
+        &dir,
+    );
+    says(
+        &o,
+        4,
+        &[
+            "the tuner stopped at ",
+            "of 5000000 tries",
+            "nothing was written",
+        ],
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("h.toml")).unwrap(), helix);
+}
+
+/// Seconds and KiB of peak memory of one run of the binary in `cwd`.
+fn measured(args: &[&str], cwd: &Path) -> (Output, f64, Option<u64>) {
+    let clock = Instant::now();
+    let time = Path::new("/usr/bin/time");
+    let o = if time.exists() {
+        std::process::Command::new(time)
+            .args(["-f", "peak %M KB"])
+            .arg(env!("CARGO_BIN_EXE_karigami"))
+            .args(args)
+            .current_dir(cwd)
+            .output()
+            .unwrap()
+    } else {
+        karigami(args, cwd)
+    };
+    let seconds = clock.elapsed().as_secs_f64();
+    let peak = stderr(&o)
+        .lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("peak ")?.strip_suffix(" KB")?.parse().ok());
+    (o, seconds, peak)
+}
+
+/// The sweep: every recipe of the corpus (examples, templates, the bad
+/// fixtures, the limits' fixtures) through `check` and `simulate` within
+/// the time and memory ceilings; huge inputs are refused, not run. CI runs
+/// the corpus once; `scripts/fuzz` sets `KARIGAMI_SWEEP_CEILING` lower on
+/// a release build.
+#[test]
+fn no_input_of_the_corpus_exceeds_the_time_and_memory_ceilings() {
+    let ceiling: f64 = std::env::var("KARIGAMI_SWEEP_CEILING")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(300.0);
+    // The default memory ceiling (2 GiB) and the run's own overhead.
+    let memory_kb: u64 = 2 * 1024 * 1024 + 256 * 1024;
+    let mut slow = Vec::new();
+    let corpus = [
+        "examples",
+        "templates",
+        "fixtures/designs/bad",
+        "fixtures/designs/limits",
+    ];
+    for folder in corpus {
+        for path in recipes(folder) {
+            let file = path.to_string_lossy().into_owned();
+            for command in ["check", "simulate"] {
+                let limit = ceiling.to_string();
+                let args = ["-q", command, &file, "--time-limit", &limit];
+                let (o, seconds, peak) = measured(&args, &repo());
+                let code = o.status.code();
+                assert!(
+                    matches!(code, Some(0..=4)),
+                    "{command} {file}: {code:?}: {}",
+                    stderr(&o)
+                );
+                if seconds > ceiling + 5.0 || peak.is_some_and(|p| p > memory_kb) {
+                    slow.push(format!("{command} {file}: {seconds:.1} s, {peak:?} KB"));
+                }
+            }
+        }
+    }
+    assert!(slow.is_empty(), "beyond the ceilings: {slow:#?}");
+}
