@@ -108,8 +108,8 @@ pub mod simulation {
     pub use crate::sim::{
         Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
         Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
-        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, section,
-        shape_distance, simulate, within_memory,
+        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, resolve,
+        section, sensitivity, shape_distance, simulate, warm, within_memory,
     };
     /// The deployment path drawn: path.png's bytes.
     pub use crate::write::path_png::write as path_png;

@@ -12,7 +12,9 @@ pub mod explore;
 mod opening;
 pub mod path;
 pub(crate) mod results;
+pub mod sensitivity;
 pub(crate) mod strips;
+pub mod warm;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
 pub(crate) use cost::edge_within;
@@ -25,6 +27,7 @@ pub use results::{ShapeDistance, kabsch_distance, shape_distance};
 pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
 pub use strips::{Hold, LatticeModel, Mesh};
+pub use warm::resolve;
 
 use crate::lattice::Lattice;
 use crate::lattice::deploy::Deployment;

@@ -1,0 +1,93 @@
+//! Warm re-solves for design loops (docs/physics.md, "Sensitivities"): a
+//! slightly changed design of the same topology starts from the last
+//! equilibrium (its free variables and stored frames) instead of the
+//! design placement, and needs a few Newton iterations instead of a
+//! deployment.
+
+use super::model::Model;
+use super::{
+    Derived, Options, SimError, Simulation, System, check_symmetry, equilibrium, prepare_with,
+    solve_checked, within_memory,
+};
+use crate::lattice::Lattice;
+use std::time::Instant;
+
+/// Whether two models have the same variables, nodes, edges and terms in
+/// the same order (the same lattice topology and mesh), so that one's
+/// state means the same in the other.
+pub fn same_topology(a: &Model, b: &Model) -> bool {
+    a.q.len() == b.q.len()
+        && a.fixed == b.fixed
+        && a.kinds == b.kinds
+        && a.nodes.len() == b.nodes.len()
+        && a.edges.len() == b.edges.len()
+        && a.stencils.len() == b.stencils.len()
+        && a.joints.len() == b.joints.len()
+        && a.ties.len() == b.ties.len()
+        && a.edges.iter().zip(&b.edges).all(|(x, y)| (x.a, x.b) == (y.a, y.b))
+}
+
+/// Start `lm` from `previous`'s state: its free variables and frames
+/// (fixed variables, the anchor and the held opening, stay `lm`'s own).
+/// False, and `lm` untouched, when their topologies differ.
+pub fn warm_start(lm: &mut super::LatticeModel, previous: &super::LatticeModel) -> bool {
+    let (m, p) = (&mut lm.model, &previous.model);
+    if !same_topology(m, p) || lm.hold != previous.hold {
+        return false;
+    }
+    for (i, q) in m.q.iter_mut().enumerate() {
+        if !m.fixed[i] {
+            *q = p.q[i];
+        }
+    }
+    m.set_frames(&p.frames());
+    m.apply_ties();
+    true
+}
+
+/// The equilibrium of `lattice` (a small change of the design whose
+/// equilibrium `previous` is) at `settings.theta` or its design opening,
+/// solved once from `previous`'s state. A design of another topology is
+/// simulated from the start (`simulate`). Returns the run and whether it
+/// started warm.
+pub fn resolve(
+    previous: &super::LatticeModel,
+    lattice: &Lattice,
+    deployment: &crate::lattice::deploy::Deployment,
+    (width, thickness): (f64, f64),
+    settings: &super::Settings,
+) -> Result<(Simulation, bool), SimError> {
+    let clock = Instant::now();
+    let derived = Derived {
+        placed: &lattice.placed(),
+        joints: &crate::lattice::joints(lattice),
+    };
+    within_memory(lattice, settings)?;
+    let mut lm = prepare_with(lattice, &derived, width, thickness, settings);
+    if !warm_start(&mut lm, previous) {
+        let run = super::simulate_with(lattice, deployment, &derived, width, thickness, settings)?;
+        return Ok((run, false));
+    }
+    check_symmetry(lattice, &lm, settings.symmetry)?;
+    if let Some(t) = settings.theta {
+        let max = deployment.config.theta_max;
+        if !(t > 0.0 && t < max) {
+            return Err(SimError::Theta { theta: t, max });
+        }
+        lm.set_held_opening(t);
+    }
+    let sys = System::new(&lm.model);
+    let mut iterations = 0;
+    let stats = solve_checked(&mut lm, &sys, &Options::default(), &mut iterations)?;
+    let theta = lm.held_opening();
+    let equilibrium = equilibrium(&lm, stats, &settings.material);
+    let run = Simulation {
+        lm,
+        equilibrium,
+        theta,
+        iterations,
+        steps: 1,
+        seconds: clock.elapsed().as_secs_f64(),
+    };
+    Ok((run, true))
+}
