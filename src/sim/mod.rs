@@ -207,13 +207,32 @@ pub(crate) fn prepare_with(
     thickness: f64,
     settings: &Settings,
 ) -> LatticeModel {
+    prepare_meshed(lattice, derived, (width, thickness), settings, None)
+}
+
+/// `prepare_with`, its legs cut into `counts` edges if given
+/// (`LatticeModel::with_counts`).
+pub(crate) fn prepare_meshed(
+    lattice: &Lattice,
+    derived: &Derived<'_>,
+    (width, thickness): (f64, f64),
+    settings: &Settings,
+    counts: Option<&[Vec<usize>]>,
+) -> LatticeModel {
     let section = section(&settings.material, width, thickness);
     let mesh = Mesh {
         h_max: settings.h_max,
         arm: width / 2.0,
         vertex_joint: settings.vertex_joint,
     };
-    let mut lm = LatticeModel::with_derived(lattice, derived.placed, derived.joints, section, mesh);
+    let mut lm = LatticeModel::with_counts(
+        lattice,
+        derived.placed,
+        derived.joints,
+        section,
+        mesh,
+        counts,
+    );
     if let Ok(classes) = copies(lattice, settings.symmetry) {
         lm.share = classes;
     }
