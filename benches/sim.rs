@@ -10,8 +10,8 @@
 //!
 //! For design loops (issue 33, item 5), a second table: per example, a
 //! warm re-solve (`simulation::resolve`) after the middle seed point moves
-//! 0.1 mm along x (a loop's seed edge's kappa by 0.1 mm, if that does not
-//! grow), and one after the held opening moves 0.1 deg (`warm_start` on
+//! 0.1 mm along x (none where the seed then no longer closes: the saddle
+//! ring's loop), and one after the held opening moves 0.1 deg (`warm_start` on
 //! the equilibrium's model, its system made and the solve, timed), and the adjoint
 //! gradient of the squared distances of the joints to targets 1 mm above them
 //! over every leg length and the opening (`sensitivity::objective_gradient`,
@@ -124,19 +124,6 @@ fn design_loop(name: &str, cold: &Cold) {
     if let Some(p) = changed.points.get_mut(k) {
         p.x += 0.1;
     }
-    let mut what = "";
-    if changed.grow().is_err() {
-        // A loop's seed closes only at its design points: move the middle
-        // seed edge's collapsibility parameter instead
-        changed = cold.design.clone();
-        // (kappa summing to 0 round a loop: one up, the next down).
-        let k = changed.kappa.len() / 2;
-        if k + 1 < changed.kappa.len() {
-            changed.kappa[k] += 0.1;
-            changed.kappa[k + 1] -= 0.1;
-            what = " (kappa +-0.1 mm)";
-        }
-    }
     let seed = match changed.grow() {
         Ok(lattice) => {
             let dep = deployment(&lattice);
@@ -152,7 +139,7 @@ fn design_loop(name: &str, cold: &Cold) {
             let secs = clock.elapsed().as_secs_f64();
             match r {
                 Ok((run, warm)) => format!(
-                    "{:.1} ms, {} it{}{what}",
+                    "{:.1} ms, {} it{}",
                     1e3 * secs,
                     run.iterations,
                     if warm { "" } else { " (cold)" }
