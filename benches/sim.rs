@@ -18,12 +18,12 @@
 //! its system included). Then the eggbox's 60-start explore on one job
 //! (`--no-explore` to skip it).
 
+use karigami::simulation::sensitivity::{Param, objective_gradient};
+use karigami::simulation::warm::warm_start;
 use karigami::{
     deploy::deployment,
     simulation::{self as sim, Actuation, Settings},
 };
-use karigami::simulation::sensitivity::{Param, objective_gradient};
-use karigami::simulation::warm::warm_start;
 use karigami_rods::solver::{Options, System, counts, solve};
 use std::time::Instant;
 
@@ -229,10 +229,10 @@ fn main() {
             colds.push((name, c));
         }
     }
-    if wanted.is_empty() || wanted.iter().any(|w| w == "sheet-10x10") {
-        if let Some(c) = run("sheet-10x10", SHEET_100, actuation) {
-            colds.push(("sheet-10x10".into(), c));
-        }
+    if (wanted.is_empty() || wanted.iter().any(|w| w == "sheet-10x10"))
+        && let Some(c) = run("sheet-10x10", SHEET_100, actuation)
+    {
+        colds.push(("sheet-10x10".into(), c));
     }
     println!();
     println!(

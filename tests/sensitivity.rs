@@ -32,12 +32,18 @@ fn moved(lm: &LatticeModel, p: Param, h: f64) -> Vec<DVec3> {
 
 fn central(lm: &LatticeModel, p: Param, h: f64) -> Vec<DVec3> {
     let (a, b) = (moved(lm, p, h), moved(lm, p, -h));
-    a.iter().zip(&b).map(|(a, b)| (*a - *b) / (2.0 * h)).collect()
+    a.iter()
+        .zip(&b)
+        .map(|(a, b)| (*a - *b) / (2.0 * h))
+        .collect()
 }
 
 /// Largest difference over the largest value.
 fn relative(got: &[DVec3], want: &[DVec3]) -> f64 {
-    let scale = want.iter().map(|v| v.abs().max_element()).fold(0.0, f64::max);
+    let scale = want
+        .iter()
+        .map(|v| v.abs().max_element())
+        .fold(0.0, f64::max);
     let diff = got
         .iter()
         .zip(want)
@@ -75,7 +81,10 @@ fn point_tangents_match_finite_differences_of_re_solves() {
         let want = central(lm, p, h);
         let err = relative(&got, &want);
         assert!(err <= 1e-6, "{p:?}: relative error {err:.2e}");
-        assert!(want.iter().any(|v| v.length() > 1e-3), "{p:?} moves nothing");
+        assert!(
+            want.iter().any(|v| v.length() > 1e-3),
+            "{p:?} moves nothing"
+        );
     }
 }
 
@@ -115,7 +124,10 @@ fn objective_gradient_matches_tangents_and_finite_differences() {
             .sum();
         let fd = (j(&moved(lm, p, h)) - j(&moved(lm, p, -h))) / (2.0 * h);
         let scale = got.abs().max(1e-3 * grad.value);
-        assert!((got - chain).abs() <= 1e-9 * scale, "{p:?}: {got} vs {chain}");
+        assert!(
+            (got - chain).abs() <= 1e-9 * scale,
+            "{p:?}: {got} vs {chain}"
+        );
         assert!((got - fd).abs() <= 1e-6 * scale, "{p:?}: {got} vs fd {fd}");
     }
 }

@@ -14,9 +14,9 @@
 //! chain rule through the growth is the caller's. Derivatives are in the
 //! gauge the anchor (cell 0's pivot) sets.
 
+use super::System;
 use super::model::{Model, Node, Stencil};
 use super::strips::{Hold, LatticeModel, VertexPlace};
-use super::System;
 use glam::DVec3;
 use karigami_rods::adjoint::{AdjointError, Direction, Linearisation};
 
@@ -151,7 +151,11 @@ fn point_jacobians(lm: &LatticeModel) -> Vec<Vec<(usize, DVec3)>> {
 }
 
 /// d points / d p at the equilibrium `lm` is at (`sys` its system).
-pub fn point_tangent(lm: &LatticeModel, sys: &System, p: Param) -> Result<Vec<DVec3>, AdjointError> {
+pub fn point_tangent(
+    lm: &LatticeModel,
+    sys: &System,
+    p: Param,
+) -> Result<Vec<DVec3>, AdjointError> {
     let lin = Linearisation::new(sys, &lm.model)?;
     let dq = lin.tangent(&lm.model, &lm.direction(p));
     lin.release();
@@ -199,11 +203,7 @@ pub fn objective_gradient(
         .iter()
         .map(|leg| leg.iter().map(|&e| by_edge[e]).sum::<f64>() / leg.len() as f64)
         .collect();
-    let opening = lm
-        .opening_vars()
-        .iter()
-        .map(|&(v, s)| s * g.fixed[v])
-        .sum();
+    let opening = lm.opening_vars().iter().map(|&(v, s)| s * g.fixed[v]).sum();
     Ok(DesignGradient {
         value,
         legs,

@@ -5,12 +5,12 @@
 //! deployment.
 
 use super::model::{Model, Stencil};
-use karigami_rods::adjoint::{Direction, Linearisation};
 use super::{
     Derived, Options, SimError, Simulation, System, check_symmetry, equilibrium, prepare_meshed,
     solve_checked, within_memory,
 };
 use crate::lattice::Lattice;
+use karigami_rods::adjoint::{Direction, Linearisation};
 use std::time::Instant;
 
 /// Whether two models have the same variables, nodes, edges and terms in
@@ -25,7 +25,10 @@ pub fn same_topology(a: &Model, b: &Model) -> bool {
         && a.stencils.len() == b.stencils.len()
         && a.joints.len() == b.joints.len()
         && a.ties.len() == b.ties.len()
-        && a.edges.iter().zip(&b.edges).all(|(x, y)| (x.a, x.b) == (y.a, y.b))
+        && a.edges
+            .iter()
+            .zip(&b.edges)
+            .all(|(x, y)| (x.a, x.b) == (y.a, y.b))
 }
 
 /// The parameters' change from `from` to `to`, two models of the same
