@@ -7,12 +7,24 @@
 //! largest strain and distance from the start. Also a 10 x 10-cell flat
 //! sheet (100 cells). `--first-cell` holds the first cell's opening
 //! instead of the mean of all cells.
+//!
+//! For design loops (issue 33, item 5), a second table: per example, a
+//! warm re-solve (`simulation::resolve`) after the middle seed point moves
+//! 0.1 mm along x (none where the seed then no longer closes: the saddle
+//! ring's loop), and one after the held opening moves 0.1 deg (`warm_start` on
+//! the equilibrium's model, its system made and the solve, timed), and the adjoint
+//! gradient of the squared distances of the joints to targets 1 mm above them
+//! over every leg length and the opening (`sensitivity::objective_gradient`,
+//! its system included). Then the eggbox's 60-start explore on one job
+//! (`--no-explore` to skip it).
 
+use karigami::simulation::sensitivity::{Param, objective_gradient};
+use karigami::simulation::warm::warm_start;
 use karigami::{
     deploy::deployment,
     simulation::{self as sim, Actuation, Settings},
 };
-use karigami_rods::solver::counts;
+use karigami_rods::solver::{Options, System, counts, solve};
 use std::time::Instant;
 
 const SHEET_100: &str = r#"
@@ -28,14 +40,27 @@ left_leg = 40.0
 right_leg = "match"
 "#;
 
-fn run(name: &str, text: &str, actuation: Actuation) {
+/// What the design-loop table needs of an example's cold run.
+struct Cold {
+    design: karigami::Design,
+    settings: Settings,
+    run: sim::Simulation,
+}
+
+fn run(name: &str, text: &str, actuation: Actuation) -> Option<Cold> {
     let d = match karigami::parse(text, name) {
         Ok(d) => d,
-        Err(e) => return println!("{name}: does not parse: {}", e.message),
+        Err(e) => {
+            println!("{name}: does not parse: {}", e.message);
+            return None;
+        }
     };
     let lattice = match d.grow() {
         Ok(l) => l,
-        Err(e) => return println!("{name}: does not grow: {}", e.message),
+        Err(e) => {
+            println!("{name}: does not grow: {}", e.message);
+            return None;
+        }
     };
     let dep = deployment(&lattice);
     let settings = Settings {
@@ -76,12 +101,100 @@ fn run(name: &str, text: &str, actuation: Actuation) {
                 eq.strain.rod,
                 eq.distance
             );
+            Some(Cold {
+                settings,
+                design: d.clone(),
+                run,
+            })
         }
-        Err(e) => println!(
-            "| {name} | {} | | | {cpu:.2} | {secs:.2} | failed: {e} | {work} | | | |",
-            lattice.cells.len()
-        ),
+        Err(e) => {
+            println!(
+                "| {name} | {} | | | {cpu:.2} | {secs:.2} | failed: {e} | {work} | | | |",
+                lattice.cells.len()
+            );
+            None
+        }
     }
+}
+
+/// The design-loop figures of one example (module documentation).
+fn design_loop(name: &str, cold: &Cold) {
+    let mut changed = cold.design.clone();
+    let k = changed.points.len() / 2;
+    if let Some(p) = changed.points.get_mut(k) {
+        p.x += 0.1;
+    }
+    let seed = match changed.grow() {
+        Ok(lattice) => {
+            let dep = deployment(&lattice);
+            let m = &changed.fabrication.material;
+            let t0 = (Instant::now(), thread_cpu());
+            let r = sim::resolve(
+                &cold.run.lm,
+                &lattice,
+                &dep,
+                (m.width, m.thickness),
+                &cold.settings,
+            );
+            let secs = took(t0);
+            match r {
+                Ok((run, warm)) => format!(
+                    "{secs}, {} it{}",
+                    run.iterations,
+                    if warm { "" } else { " (cold)" }
+                ),
+                Err(e) => format!("failed: {e}"),
+            }
+        }
+        Err(e) => format!("does not grow: {}", e.message),
+    };
+    let mut lm = cold.run.lm.clone();
+    lm.direction(Param::Opening)
+        .apply(&mut lm.model, 0.1f64.to_radians());
+    let t0 = (Instant::now(), thread_cpu());
+    let sys = System::new(&lm.model);
+    warm_start(&mut lm, &cold.run.lm, &sys);
+    let r = solve(&mut lm.model, &sys, &Options::default());
+    let secs = took(t0);
+    let opening = match r {
+        Ok(s) => format!("{secs}, {} it", s.iterations),
+        Err(e) => format!("failed: {e}"),
+    };
+    let lm = &cold.run.lm;
+    let t0 = (Instant::now(), thread_cpu());
+    let sys = System::new(&lm.model);
+    let g = objective_gradient(lm, &sys, &targets(lm));
+    let secs = took(t0);
+    let adjoint = match g {
+        Ok(g) => format!("{secs} ({} legs)", g.legs.len()),
+        Err(e) => format!("{e}"),
+    };
+    println!("| {name} | {seed} | {opening} | {adjoint} |");
+}
+
+/// Targets for the adjoint's objective: every point 1 mm higher.
+fn targets(lm: &sim::LatticeModel) -> Vec<glam::DVec3> {
+    lm.points().iter().map(|p| *p + glam::DVec3::Z).collect()
+}
+
+/// This thread's CPU time so far in seconds, to the nanosecond (Linux
+/// /proc/thread-self/schedstat, its first field); NaN elsewhere. The
+/// design-loop figures are tens of milliseconds, below `cpu_seconds`'
+/// 10 ms ticks.
+fn thread_cpu() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(f64::NAN, |ns| ns * 1e-9)
+}
+
+/// "C ms CPU, W ms wall" since `(clock, cpu0)`.
+fn took((clock, cpu0): (Instant, f64)) -> String {
+    format!(
+        "{:.1} ms CPU ({:.0} wall)",
+        1e3 * (thread_cpu() - cpu0),
+        1e3 * clock.elapsed().as_secs_f64()
+    )
 }
 
 /// User + system CPU time of this process (Linux /proc; the machine may be
@@ -124,18 +237,59 @@ fn main() {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     names.sort();
+    let mut colds = Vec::new();
     for path in names {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
         if !wanted.is_empty() && !wanted.contains(&name) {
             continue;
         }
-        run(
-            &name,
-            &std::fs::read_to_string(&path).expect("readable"),
-            actuation,
-        );
+        let text = std::fs::read_to_string(&path).expect("readable");
+        if let Some(c) = run(&name, &text, actuation) {
+            colds.push((name, c));
+        }
     }
-    if wanted.is_empty() || wanted.iter().any(|w| w == "sheet-10x10") {
-        run("sheet-10x10", SHEET_100, actuation);
+    if (wanted.is_empty() || wanted.iter().any(|w| w == "sheet-10x10"))
+        && let Some(c) = run("sheet-10x10", SHEET_100, actuation)
+    {
+        colds.push(("sheet-10x10".into(), c));
     }
+    println!();
+    println!(
+        "| example | warm re-solve, seed point +0.1 mm | warm re-solve, opening +0.1 deg | adjoint gradient |"
+    );
+    println!("|---|---|---|---|");
+    for (name, c) in &colds {
+        design_loop(name, c);
+    }
+    if !std::env::args().any(|a| a == "--no-explore") {
+        explore_eggbox();
+    }
+}
+
+/// The eggbox's 60-start explore on one job, as `karigami simulate
+/// examples/eggbox.toml --explore 60 --jobs 1` runs it (its seed, 2024).
+fn explore_eggbox() {
+    let text = std::fs::read_to_string("examples/eggbox.toml").expect("eggbox");
+    let Ok(d) = karigami::parse(&text, "eggbox") else {
+        return;
+    };
+    let Ok(lattice) = d.grow() else { return };
+    let dep = deployment(&lattice);
+    let m = &d.fabrication.material;
+    let Ok(run) = sim::simulate(&lattice, &dep, m.width, m.thickness, &d.simulation) else {
+        return println!("eggbox: does not simulate");
+    };
+    let material = d.simulation.material;
+    let finish = |lm: &sim::LatticeModel, stats| sim::equilibrium(lm, stats, &material);
+    let solved = std::sync::atomic::AtomicUsize::new(0);
+    let (clock, cpu0) = (Instant::now(), cpu_seconds());
+    let (found, rejected) = sim::explore::explore(&run.lm, 60, 2024, 1, &finish, &solved);
+    println!();
+    println!(
+        "eggbox --explore 60 --jobs 1: {:.2} s CPU, {:.2} s wall, {} equilibria, {} starts left out",
+        cpu_seconds() - cpu0,
+        clock.elapsed().as_secs_f64(),
+        found.len(),
+        rejected.len()
+    );
 }

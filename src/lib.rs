@@ -113,8 +113,9 @@ pub mod simulation {
     pub use crate::sim::{
         Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
         Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
-        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, seconds,
-        section, shape_distance, simulate, simulate_until, within_memory, within_time,
+        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, resolve,
+        seconds, section, sensitivity, shape_distance, simulate, simulate_until, warm,
+        within_memory, within_time,
     };
     /// The deployment path drawn: path.png's bytes.
     pub use crate::write::path_png::write as path_png;

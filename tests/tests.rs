@@ -18,6 +18,7 @@ mod property;
 mod rebuild;
 mod report_once;
 mod safety;
+mod sensitivity;
 mod shape;
 mod sim;
 mod targets;

@@ -42,14 +42,17 @@ macro_rules! sources {
 /// written by other code is never restored. `Cargo.lock` stands for the
 /// versions of amd and glam. tests/rebuild.rs checks that the list names
 /// every file of `src/sim/` and `crates/rods/src/`.
-pub const SOURCES: [(&str, &str); 16] = sources![
+pub const SOURCES: [(&str, &str); 19] = sources![
     "src/sim/mod.rs",
     "src/sim/cost.rs",
     "src/sim/explore.rs",
     "src/sim/opening.rs",
     "src/sim/path.rs",
     "src/sim/results.rs",
+    "src/sim/sensitivity.rs",
     "src/sim/strips.rs",
+    "src/sim/warm.rs",
+    "crates/rods/src/adjoint.rs",
     "crates/rods/src/dual.rs",
     "crates/rods/src/frames.rs",
     "crates/rods/src/lib.rs",

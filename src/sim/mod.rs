@@ -12,7 +12,9 @@ pub mod explore;
 mod opening;
 pub mod path;
 pub(crate) mod results;
+pub mod sensitivity;
 pub(crate) mod strips;
+pub mod warm;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
 pub use cost::{Cost, DEFAULT_MEMORY, estimate, seconds};
@@ -25,6 +27,7 @@ pub use results::{ShapeDistance, kabsch_distance, shape_distance};
 pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
 pub use strips::{Hold, LatticeModel, Mesh};
+pub use warm::resolve;
 
 use crate::budget::{Deadline, Stopped, duration};
 use crate::lattice::Lattice;
@@ -229,13 +232,32 @@ pub(crate) fn prepare_with(
     thickness: f64,
     settings: &Settings,
 ) -> LatticeModel {
+    prepare_meshed(lattice, derived, (width, thickness), settings, None)
+}
+
+/// `prepare_with`, its legs cut into `counts` edges if given
+/// (`LatticeModel::with_counts`).
+pub(crate) fn prepare_meshed(
+    lattice: &Lattice,
+    derived: &Derived<'_>,
+    (width, thickness): (f64, f64),
+    settings: &Settings,
+    counts: Option<&[Vec<usize>]>,
+) -> LatticeModel {
     let section = section(&settings.material, width, thickness);
     let mesh = Mesh {
         h_max: settings.h_max,
         arm: width / 2.0,
         vertex_joint: settings.vertex_joint,
     };
-    let mut lm = LatticeModel::with_derived(lattice, derived.placed, derived.joints, section, mesh);
+    let mut lm = LatticeModel::with_counts(
+        lattice,
+        derived.placed,
+        derived.joints,
+        section,
+        mesh,
+        counts,
+    );
     if let Ok(classes) = copies(lattice, settings.symmetry) {
         lm.share = classes;
     }

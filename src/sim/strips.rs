@@ -43,6 +43,9 @@ pub struct LatticeModel {
     pub(crate) share: Vec<usize>,
     /// Opening of every cell in the start placement (radians).
     pub(crate) start_openings: Vec<f64>,
+    /// Per rod: the number of interior edges of each of its legs, in
+    /// order (`with_counts` meshes a changed design alike).
+    pub(crate) leg_counts: Vec<Vec<usize>>,
 }
 
 /// The measure of the deployment that is prescribed (docs/physics.md,
@@ -87,7 +90,23 @@ impl LatticeModel {
         section: Section,
         mesh: Mesh,
     ) -> LatticeModel {
+        Self::with_counts(lattice, placed, vertex_joints, section, mesh, None)
+    }
+
+    /// `with_derived`, each leg cut into as many edges as `counts` gives
+    /// (`leg_counts` of a model of the same topology) instead of by
+    /// `h_max`: a small change of the design keeps its mesh, so a warm
+    /// re-solve starts from the last state (`warm`).
+    pub fn with_counts(
+        lattice: &Lattice,
+        placed: &Lattice,
+        vertex_joints: &[LatticeJoint],
+        section: Section,
+        mesh: Mesh,
+        counts: Option<&[Vec<usize>]>,
+    ) -> LatticeModel {
         let mut b = Builder::new(lattice, placed, section, mesh);
+        b.forced = counts.map(<[Vec<usize>]>::to_vec);
         let (pivot, delta) = b.add_pivots();
         let mut vertex = b.add_vertex_joints(vertex_joints);
         let width_of = |m: u32| m.to_string().len().max(2);
@@ -95,8 +114,9 @@ impl LatticeModel {
             width_of(lattice.cells.iter().map(|c| c.row).max().unwrap_or(0)),
             width_of(lattice.cells.iter().map(|c| c.col).max().unwrap_or(0)),
         );
+        let mut leg_counts = Vec::with_capacity(b.cut.len());
         for r in 0..b.cut.len() {
-            b.add_rod(r, digits);
+            leg_counts.push(b.add_rod(r, digits));
         }
         b.corner_vertices(&mut vertex);
         let mut lm = LatticeModel {
@@ -108,6 +128,7 @@ impl LatticeModel {
             hold: Hold::Nothing,
             share: (0..lattice.cells.len()).collect(),
             start_openings: Vec::new(),
+            leg_counts,
         };
         lm.start = lm.points();
         lm.start_openings = (0..lm.delta.len()).map(|c| lm.opening(c)).collect();
@@ -130,6 +151,8 @@ struct Builder<'a> {
     sigma_at: Vec<[f64; 3]>,
     /// Per rod and hole: the joint and slot it sits in.
     slot_at: Vec<[EndSlot; 3]>,
+    /// Per rod: its legs' edge counts to keep (`with_counts`).
+    forced: Option<Vec<Vec<usize>>>,
 }
 
 impl<'a> Builder<'a> {
@@ -154,6 +177,7 @@ impl<'a> Builder<'a> {
             model,
             sigma_at: vec![[1.0; 3]; rods],
             slot_at: vec![[None; 3]; rods],
+            forced: None,
         }
     }
 
@@ -299,8 +323,8 @@ impl<'a> Builder<'a> {
     }
 
     /// Rod r's chain from its start hole to its end hole, with its energy
-    /// stencils and its engraved name.
-    fn add_rod(&mut self, r: usize, digits: (usize, usize)) {
+    /// stencils and its engraved name; returns its legs' edge counts.
+    fn add_rod(&mut self, r: usize, digits: (usize, usize)) -> Vec<usize> {
         let rod = &self.cut[r];
         let holes = rod.holes();
         let arm_len = |leg: f64| {
@@ -317,6 +341,13 @@ impl<'a> Builder<'a> {
             nodes: Vec::new(),
             s: Vec::new(),
             edges: Vec::new(),
+            forced: self
+                .forced
+                .as_ref()
+                .and_then(|f| f.get(r))
+                .map(|c| c.iter().rev().copied().collect())
+                .unwrap_or_default(),
+            counts: Vec::new(),
         };
         let model = &mut self.model;
         for (hole, &sh) in holes.iter().enumerate() {
@@ -364,6 +395,7 @@ impl<'a> Builder<'a> {
             edges: chain.edges,
             s: chain.s,
         });
+        chain.counts
     }
 
     /// Corner vertices, which no joint holds: the node at the single rod end.
@@ -419,6 +451,10 @@ struct Chain {
     nodes: Vec<usize>,
     s: Vec<f64>,
     edges: Vec<usize>,
+    /// Edge counts still to use, the next last (`with_counts`).
+    forced: Vec<usize>,
+    /// Each leg's edge count so far.
+    counts: Vec<usize>,
 }
 
 impl Chain {
@@ -443,7 +479,11 @@ impl Chain {
     fn interior(&mut self, model: &mut Model, sb: f64, xb: DVec3, end: Node) {
         let sa = *self.s.last().expect("a first node");
         let xa = model.pos(*self.nodes.last().expect("a first node"));
-        let count = ((sb - sa) / self.h_max).ceil().max(1.0) as usize;
+        let count = match self.forced.pop() {
+            Some(k) => k.max(1),
+            None => ((sb - sa) / self.h_max).ceil().max(1.0) as usize,
+        };
+        self.counts.push(count);
         let rest = (sb - sa) / count as f64;
         let n_r = self.normal;
         for k in 1..=count {

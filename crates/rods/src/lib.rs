@@ -7,6 +7,7 @@
 //! profile (the dual-number arithmetic is about 30 times slower
 //! unoptimised), like the picture crates.
 
+pub mod adjoint;
 pub mod dual;
 pub mod frames;
 pub mod model;

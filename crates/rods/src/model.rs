@@ -1056,6 +1056,35 @@ fn stretch_local(
     chain.finish(&energy, g, h, lower)
 }
 
+/// The derivative of a stretch stencil's gradient (over its local
+/// variables `vars`) with respect to its edge's rest length r, exactly:
+/// E = EA (L - r)^2 / (2 r), so d/dr dE/dq = -EA L / r^2 dL/dq
+/// (docs/physics.md, "Sensitivities"). Into `g`; `h` is scratch.
+pub(crate) fn stretch_rest_gradient(
+    m: &Model,
+    edge: usize,
+    vars: &[usize],
+    g: &mut Vec<f64>,
+    h: &mut Vec<f64>,
+) {
+    type D3 = Dual<3, 6>;
+    let n = vars.len();
+    g.clear();
+    g.resize(n, 0.0);
+    h.clear();
+    h.resize(n * n, 0.0);
+    let mut memo = Memo::new();
+    let mut chain = Chain::new(m, vars, &mut memo);
+    let e = &m.edges[edge];
+    let xa = chain.place(0, e.a, -1.0);
+    let ev = chain.place(0, e.b, 1.0) - xa;
+    let len = V3::new(D3::var(ev.x, 0), D3::var(ev.y, 1), D3::var(ev.z, 2)).norm();
+    // Only the gradient of this outer function is used (its Hessian
+    // lands in the scratch `h`).
+    let outer = len * (-m.section.ea * len.v / (e.rest * e.rest));
+    chain.finish(&outer, g, h, false);
+}
+
 /// The rotation vector w taking the frame f0 to f (to second order):
 /// w = (1/2) sum_k f0_k x f_k = -(1/2) sum_k f_k x f0_k.
 #[inline]
@@ -1263,6 +1292,32 @@ impl Model {
     pub fn pos_of_joint(&self, j: usize) -> Option<DVec3> {
         let x = self.joints.get(j)?.x;
         Some(DVec3::new(self.q[x], self.q[x + 1], self.q[x + 2]))
+    }
+
+    /// The variables a node's position depends on (sorted) and its
+    /// Jacobian over them, `jac[k]` the derivative by `vars[k]`.
+    pub fn node_jacobian(&self, node: usize) -> (Vec<usize>, Vec<DVec3>) {
+        type D = Dual<7, 28>;
+        let mut vars = match self.nodes[node] {
+            Node::Free(i) => vec![i, i + 1, i + 2],
+            Node::Hole(j) => self.joint_vars(j, None),
+            Node::Arm { joint, slot, .. } => self.joint_vars(joint, Some(slot)),
+        };
+        vars.sort_unstable();
+        vars.dedup();
+        let get = |i: usize| {
+            let k = vars.iter().position(|&v| v == i).unwrap_or(usize::MAX);
+            if k == usize::MAX {
+                D::cst(self.q[i])
+            } else {
+                D::var(self.q[i], k)
+            }
+        };
+        let p = node_pos::<D>(self, &get, self.nodes[node]);
+        let jac = (0..vars.len())
+            .map(|k| DVec3::new(p.x.g[k], p.y.g[k], p.z.g[k]))
+            .collect();
+        (vars, jac)
     }
 
     /// Where a node of this kind would be now.

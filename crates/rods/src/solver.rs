@@ -220,6 +220,16 @@ impl System {
         self.free_vars.len()
     }
 
+    /// Tied variables over the free ones: (variable, [(free index, coef)]).
+    pub(crate) fn tied(&self) -> &[(usize, Vec<(usize, f64)>)] {
+        &self.tied
+    }
+
+    /// The variables of stencil `s` (`Model::stencil_vars`).
+    pub(crate) fn vars_of(&self, s: usize) -> &[usize] {
+        &self.stencil_vars[s]
+    }
+
     /// Energy, gradient over every variable, and the free Hessian's lower values.
     pub fn assemble(&self, model: &Model) -> (f64, Vec<f64>, Vec<f64>) {
         ASSEMBLIES.fetch_add(1, Relaxed);
