@@ -109,7 +109,7 @@ pub mod simulation {
         Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
         Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
         estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, section,
-        shape_distance, simulate, within_memory,
+        shape_distance, simulate, states, within_memory,
     };
     /// The deployment path drawn: path.png's bytes.
     pub use crate::write::path_png::write as path_png;

@@ -5,13 +5,15 @@
 //! Layers: `dual` (derivatives), `frames`, `model` (variables, energy),
 //! `strips` (a lattice's model; its openings read and set in `opening`),
 //! `solver` (Newton), `explore` (multistability), `results` (strains,
-//! reactions, distances).
+//! reactions, distances), `path` (the deployment path and the state it
+//! chooses), `states` (what tells one equilibrium from another).
 
 mod cost;
 pub mod explore;
 mod opening;
 pub mod path;
 pub(crate) mod results;
+pub mod states;
 pub(crate) mod strips;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
