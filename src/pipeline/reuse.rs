@@ -268,6 +268,7 @@ impl Words {
         self.floats(&[q.theta, q.energy, q.strain, q.lambda_min, q.jump, lo, hi]);
         self.text(&q.rod);
         self.count(q.iterations);
+        self.count(usize::from(q.leapt));
         self.count(q.points.len());
         q.points.iter().for_each(|&v| self.vec(v));
     }
@@ -340,6 +341,11 @@ impl Reader<'_> {
         let f: Vec<f64> = (0..7).map(|_| self.float()).collect::<Option<_>>()?;
         let rod = self.text()?;
         let iterations = self.count()?;
+        let leapt = match self.count()? {
+            0 => false,
+            1 => true,
+            _ => return None,
+        };
         let n = self.items(24)?;
         let points = (0..n).map(|_| self.vec()).collect::<Option<_>>()?;
         Some(PathPoint {
@@ -351,6 +357,7 @@ impl Reader<'_> {
             openings: (f[5], f[6]),
             rod,
             iterations,
+            leapt,
             points,
         })
     }

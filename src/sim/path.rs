@@ -51,6 +51,11 @@ pub struct PathPoint {
     pub iterations: usize,
     /// The smallest and largest cell opening (radians).
     pub openings: (f64, f64),
+    /// Whether the step leapt: no equilibrium near the last one even with
+    /// the step halved (a fold of the path), so the whole step was solved
+    /// from the last equilibrium with the build's own iteration cap and
+    /// landed on another branch, a snap-through.
+    pub leapt: bool,
     /// Every vertex, then every pivot.
     pub(crate) points: Vec<DVec3>,
 }
@@ -116,7 +121,7 @@ impl Path {
         let mut out = Vec::new();
         for (w, way) in [&self.collapse, &self.deploy].into_iter().enumerate() {
             for (i, p) in way.iter().enumerate() {
-                if p.jump > limit || !(p.lambda_min > 0.0) {
+                if p.leapt || p.jump > limit || !(p.lambda_min > 0.0) {
                     out.push((w, i));
                 }
             }
@@ -284,15 +289,18 @@ impl Walker<'_> {
         for k in 1..=n {
             let (here, phi) = (lm.model.q.clone(), lm.held_opening());
             let left = self.left;
-            match self.step(lm, back.as_ref(), at(k), 0) {
-                Ok(stats) => {
-                    let mut p = point(lm, &stats, self.material, out.last().map(|p| &p.points));
-                    p.iterations = left - self.left;
-                    out.push(p);
-                    last = Some(stats);
-                }
-                Err(why) => return (out, Some((at(k), why)), last),
-            }
+            let (stats, leapt) = match self.step(lm, back.as_ref(), at(k), 0) {
+                Ok(stats) => (stats, false),
+                Err(why) => match self.leap(lm, at(k)) {
+                    Some(stats) => (stats, true),
+                    None => return (out, Some((at(k), why)), last),
+                },
+            };
+            let mut p = point(lm, &stats, self.material, out.last().map(|p| &p.points));
+            p.iterations = left - self.left;
+            p.leapt = leapt;
+            out.push(p);
+            last = Some(stats);
             back = Some((here, phi));
             if self.left == 0 && k < n {
                 return (out, Some((at(k + 1), BOUND.to_string())), last);
@@ -351,12 +359,26 @@ impl Walker<'_> {
         self.step(lm, Some(&half), phi, depth + 1)
     }
 
+    /// Past a fold: the held opening set to `phi` and solved from the last
+    /// equilibrium with the build's own cap (`Options::default`, within
+    /// the budget); the equilibrium it lands on, if any.
+    fn leap(&mut self, lm: &mut LatticeModel, phi: f64) -> Option<Stats> {
+        lm.set_held_opening(phi);
+        let cap = Options::default().max_iterations;
+        self.solve_within(lm, cap).ok()
+    }
+
     /// One Newton solve of at most `STEP_ITERATIONS` (and the budget
     /// left), its iterations taken from the budget; a stable equilibrium
     /// or why not.
     fn solve(&mut self, lm: &mut LatticeModel) -> Result<Stats, String> {
+        self.solve_within(lm, STEP_ITERATIONS)
+    }
+
+    /// `solve` with at most `cap` iterations.
+    fn solve_within(&mut self, lm: &mut LatticeModel, cap: usize) -> Result<Stats, String> {
         let opts = Options {
-            max_iterations: STEP_ITERATIONS.min(self.left.max(1)),
+            max_iterations: cap.min(self.left.max(1)),
         };
         let s = super::solver::solve(&mut lm.model, &self.sys, &opts);
         let used = match &s {
@@ -423,6 +445,7 @@ fn point(
         jump,
         iterations: stats.iterations,
         openings,
+        leapt: false,
         points,
     }
 }
@@ -462,11 +485,16 @@ impl Path {
                 .map(|&(_, i)| {
                     let p = &way[i];
                     format!(
-                        "at {:.1} deg (joints jump {:.1} mm, energy {:.3} -> {:.3} N mm{})",
+                        "at {:.1} deg (joints jump {:.1} mm, energy {:.3} -> {:.3} N mm{}{})",
                         deg(p.theta),
                         p.jump,
                         way[i.saturating_sub(1)].energy,
                         p.energy,
+                        if p.leapt {
+                            ", past a fold of the path"
+                        } else {
+                            ""
+                        },
                         if p.lambda_min > 0.0 {
                             ""
                         } else {
@@ -589,6 +617,7 @@ mod tests {
             jump,
             iterations: 1,
             openings: (theta, theta),
+            leapt: false,
             points: Vec::new(),
         }
     }
