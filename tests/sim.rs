@@ -673,7 +673,14 @@ fn examples_converge_under_refinement() {
             r.solved_from_design,
             100.0 * r.solved_from_design / r.size
         );
-        if !(r.like_with_like < 0.01 * r.size) {
+        // The saddle ring's deploy ends on its soft mode, in another state
+        // at each mesh (docs/physics.md, "Mesh refinement"): its states
+        // solved from the design are held to 1 % instead.
+        let compared = match name.as_str() {
+            "saddle-ring" => r.solved_from_design,
+            _ => r.like_with_like,
+        };
+        if !(compared < 0.01 * r.size) {
             worst.push(name);
         }
     }

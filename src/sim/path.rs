@@ -57,7 +57,7 @@ pub struct PathPoint {
     /// landed on another branch, a snap-through.
     pub leapt: bool,
     /// Every vertex, then every pivot.
-    pub(crate) points: Vec<DVec3>,
+    pub points: Vec<DVec3>,
 }
 
 /// The path both ways and what it says.
@@ -91,8 +91,7 @@ impl Path {
     /// Steps each way: one per `PATH_STEP` of the way, within `MIN_STEPS`
     /// to `MAX_STEPS`, whatever the model's size (`free`, its free
     /// variables: a large model's longer steps would cost more).
-    pub fn step_count(free: usize, design: f64) -> usize {
-        let _ = free;
+    pub fn step_count(_free: usize, design: f64) -> usize {
         let way = design * (1.0 - COLLAPSED);
         ((way / PATH_STEP).ceil() as usize).clamp(MIN_STEPS, MAX_STEPS)
     }
@@ -230,7 +229,12 @@ pub fn chosen(run: Simulation, material: &Material) -> (Simulation, Option<Path>
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
     let steps = Path::step_count(free, run.theta);
     let (path, end) = follow(&run.lm, &run.equilibrium.stats, steps, material);
-    let run = match end {
+    // Back at the state solved from the design (within `SAME_MM`): that
+    // solve's numbers, not the round trip's few ulp away from them.
+    let home = path
+        .end_distance
+        .is_some_and(|d| d <= super::states::SAME_MM);
+    let run = match end.filter(|_| !home) {
         Some((lm, stats)) => Simulation {
             equilibrium: super::equilibrium(&lm, stats, material),
             theta: lm.held_opening(),
