@@ -48,8 +48,9 @@ fn opening(path: &Path, allow: f64) -> String {
         "it opens freely, the strips staying straight".to_string()
     } else {
         format!(
-            "the strips bend as it opens, storing {:.0} N mm at the design opening ({:.0} N mm nearly closed)",
-            top.energy, low.energy
+            "the strips bend on the way, storing {} N mm at the design opening and {} N mm nearly closed",
+            nmm(top.energy),
+            nmm(low.energy)
         )
     };
     let strain = if peak > allow {
@@ -131,4 +132,13 @@ fn designed(popped: &[Change]) -> String {
         .map(|c| format!("{} {:+.1} mm (designed {:+.1} mm)", c.vertex, c.to, c.from))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// An energy (N mm) to two decimals below 10, whole above.
+fn nmm(e: f64) -> String {
+    if e.abs() < 10.0 {
+        format!("{e:.2}")
+    } else {
+        format!("{e:.0}")
+    }
 }
