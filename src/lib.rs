@@ -114,7 +114,7 @@ pub mod simulation {
         Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
         Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
         estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, resolve,
-        seconds, section, sensitivity, shape_distance, simulate, simulate_until, warm,
+        seconds, section, sensitivity, shape_distance, simulate, simulate_until, states, warm,
         within_memory, within_time,
     };
     /// The deployment path drawn: path.png's bytes.

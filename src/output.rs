@@ -240,7 +240,7 @@ fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u
         ),
         (
             crate::pipeline::STATE_FILE.to_string(),
-            crate::pipeline::simulation_state(run, summary.fingerprint),
+            crate::pipeline::simulation_state(run, b.path.as_ref(), summary.fingerprint),
         ),
     ]
 }

@@ -118,10 +118,11 @@ impl Unsimulated {
     }
 
     /// `simulate`, following the deployment path (`sim::path`) when
-    /// `follow`: `check`, which does not show it, leaves it out.
+    /// `follow`. `check` follows it too: the state a build reports is the
+    /// one deploying ends in (docs/physics.md, "The chosen equilibrium").
     fn simulate_then(self, previous: Option<&[u8]>, follow: bool) -> Result<Build, Diagnostic> {
         let mut b = self.0;
-        let (simulation, simulation_key) = simulated(
+        let (simulation, path, simulation_key) = simulated(
             &b.design,
             &b.lattice,
             &crate::sim::Derived {
@@ -129,13 +130,10 @@ impl Unsimulated {
                 joints: &b.joints,
             },
             &b.deployment,
-            previous,
+            (previous, follow),
             &mut b.parts.warnings,
         )?;
-        b.path = simulation
-            .as_ref()
-            .filter(|_| follow)
-            .map(|run| deployment_path(&b.design, run, &mut b.parts.warnings));
+        b.path = path;
         in_time(&b.design, "after the simulation")?;
         b.simulation = simulation;
         b.simulation_key = simulation_key;
@@ -342,10 +340,10 @@ impl Checked {
     }
 
     /// `assemble` for `karigami check`: everything its reports show, the
-    /// simulated shape and its clash refusal included, but not the
-    /// deployment path (report.txt's and path.png's; several solves).
+    /// simulated shape and its clash refusal included. The deployment path
+    /// is followed as in a build, since its end is the state reported.
     pub fn assemble_for_check(self) -> Result<Build, Diagnostic> {
-        assemble(self)?.simulate_then(None, false)
+        assemble(self)?.simulate_then(None, true)
     }
 }
 
@@ -553,21 +551,27 @@ fn job(design: &Design, lattice: &Lattice, parts: &Parts) -> Job {
     }
 }
 
-/// A build's simulation, and its fingerprint with whether it was restored.
-type Simulated = (Option<crate::sim::Simulation>, Option<(u64, bool)>);
+/// A build's simulation, its deployment path, and its fingerprint with
+/// whether it was restored.
+type Simulated = (
+    Option<crate::sim::Simulation>,
+    Option<crate::sim::path::Path>,
+    Option<(u64, bool)>,
+);
 
 /// The simulated deployed shape when `sim::wanted`, restored from
 /// `previous` when that holds it (`reuse`), with its fingerprint and
-/// whether it was restored; strips strained beyond the allowable are an
-/// error unless the recipe accepts them.
-/// A solver failure is a warning (the cut files do not depend on it):
-/// no deployed files then.
+/// whether it was restored. With `follow`, the deployment path too, and
+/// the state reported is the one it deploys into (`chosen`). Strips
+/// strained beyond the allowable are an error unless the recipe accepts
+/// them. A solver failure is a warning (the cut files do not depend on
+/// it): no deployed files then.
 fn simulated(
     design: &Design,
     lattice: &Lattice,
     derived: &crate::sim::Derived<'_>,
     deployment: &Deployment,
-    previous: Option<&[u8]>,
+    (previous, follow): (Option<&[u8]>, bool),
     warnings: &mut Vec<crate::parts::Warning>,
 ) -> Result<Simulated, Diagnostic> {
     if !crate::sim::wanted(lattice, deployment) {
@@ -582,7 +586,7 @@ fn simulated(
                 ),
             });
         }
-        return Ok((None, None));
+        return Ok((None, None, None));
     }
     let settings = &design.simulation;
     let m = &design.fabrication.material;
@@ -590,6 +594,9 @@ fn simulated(
     let key = reuse::fingerprint(lattice, derived, w, t, settings);
     let restored =
         previous.and_then(|bytes| reuse::restore(bytes, key, lattice, derived, w, t, settings));
+    // A state restored without its path (written by a build that did not
+    // follow it) serves only a caller that does not want one.
+    let restored = restored.filter(|(_, path)| path.is_some() || !follow);
     let reused = restored.is_some();
     let solved = match restored {
         Some(run) => Ok(run),
@@ -601,9 +608,13 @@ fn simulated(
             t,
             settings,
             &design.deadline,
-        ),
+        )
+        .map(|run| match follow {
+            true => crate::sim::path::chosen(run, &settings.material),
+            false => (run, None),
+        }),
     };
-    let run = match solved {
+    let (run, path) = match solved {
         Ok(run) => run,
         Err(e) => {
             // A recipe's mistake, not the solver's: refused where it is written.
@@ -616,9 +627,12 @@ fn simulated(
                     "the deployed shape could not be simulated ({e}); no deployed.obj or deployed.json, and the preview shows the design (docs/physics.md)"
                 ),
             });
-            return Ok((None, None));
+            return Ok((None, None, None));
         }
     };
+    if let Some(p) = &path {
+        path_warnings(p, &settings.material, warnings);
+    }
     let strain = &run.equilibrium.strain;
     let allow = settings.material.eps_allow;
     if strain.eps > allow {
@@ -659,23 +673,17 @@ fn simulated(
             message: format!("{message} (allowed by [clash])"),
         });
     }
-    Ok((Some(run), Some((key, reused))))
+    Ok((Some(run), path, Some((key, reused))))
 }
 
-/// The deployment path of a simulated build, its step count chosen by the
-/// model's size (`Path::steps`); a strain above the allowable on the way
-/// is a warning (the build's equilibrium is judged by `simulated`).
-fn deployment_path(
-    design: &Design,
-    run: &crate::sim::Simulation,
+/// A strain above the allowable on the deployment path is a warning (the
+/// build's equilibrium is judged by `simulated`).
+fn path_warnings(
+    walked: &crate::sim::path::Path,
+    material: &crate::sim::Material,
     warnings: &mut Vec<crate::parts::Warning>,
-) -> crate::sim::path::Path {
-    use crate::sim::path::{Path, path};
-    let settings = &design.simulation;
-    let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
-    let steps = Path::step_count(free, run.theta);
-    let walked = path(&run.lm, &run.equilibrium.stats, steps, &settings.material);
-    let allow = settings.material.eps_allow;
+) {
+    let allow = material.eps_allow;
     if let Some(p) = walked.overstrained(allow) {
         warnings.push(crate::parts::Warning {
             strip: Some(p.rod.clone()),
@@ -687,7 +695,6 @@ fn deployment_path(
             ),
         });
     }
-    walked
 }
 
 /// A simulation error that is the recipe's to fix, located in it: a

@@ -9,7 +9,9 @@ use karigami::{
     Design, ErrorKind, Lattice, Overrides,
     shape::{self, VertexCurvature},
     simulation::{
-        self as sim, Equilibrium, LatticeModel, Settings, Simulation, explore::explore_until,
+        self as sim, Equilibrium, LatticeModel, Settings, Simulation,
+        explore::explore_until,
+        states::{self, Relief},
     },
     util::{plural, shown},
 };
@@ -105,6 +107,11 @@ pub(super) fn simulate(
         sim::simulate_until(lattice, deploy, w, t, &settings, &deadline)
     })
     .map_err(failed)?;
+    // The state reported is the one deploying ends in (docs/physics.md,
+    // "The chosen equilibrium"): the path is followed on every run.
+    let (run, walked) = progress::heartbeat("following the deployment path", v.quiet, || {
+        sim::path::chosen(run, &settings.material)
+    });
     if !v.quiet {
         out!(
             "{}",
@@ -117,15 +124,12 @@ pub(super) fn simulate(
                 &settings
             )
         );
-    }
-    if follow_path {
-        let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
-        let steps = sim::path::Path::step_count(free, run.theta);
-        let walked = progress::heartbeat("following the deployment path", v.quiet, || {
-            sim::path::path(&run.lm, &run.equilibrium.stats, steps, &settings.material)
-        });
-        if !v.quiet {
-            print!("{}", walked.text(settings.material.eps_allow, true));
+        if let Some(walked) = &walked {
+            print!("{}", walked.text(settings.material.eps_allow, follow_path));
+            print!(
+                "{}",
+                states::known(lattice, &run.lm, &run.equilibrium, walked)
+            );
         }
     }
     if let Some(n) = explore_n {
@@ -470,17 +474,19 @@ fn explore_text(
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "explore: {n} starts (seed {EXPLORE_SEED}; start 0 unperturbed, others moved along the strips' face normals by 1, 3, 10 mm x N(0,1)): {} distinct stable equilibri{}",
+        "explore: {n} starts from the reported equilibrium (seed {EXPLORE_SEED}; start 0 unperturbed, others moved along the strips' face normals by 1, 3, 10 mm x N(0,1)): {} distinct stable equilibri{}",
         found.len(),
         if found.len() == 1 { "um" } else { "a" }
     );
+    // Start 0 is the reported state itself, unperturbed.
+    let reported = found.iter().position(|f| f.hits.contains(&0));
     let lowest: Option<&Equilibrium> = found.first().map(|f| &f.equilibrium);
     for (k, f) in found.iter().enumerate() {
         let eq = &f.equilibrium;
         let to_lowest = lowest.map_or(0.0, |l| sim::kabsch_distance(&eq.points, &l.points));
         let _ = writeln!(
             o,
-            "  {}: energy {:.6e} N mm, {}, lowest eigenvalue {:.3e}, largest strain {} in {}{}, {:.3} mm from the design, {:.3} mm from the lowest",
+            "  {}: energy {:.6e} N mm, {}, lowest eigenvalue {:.3e}, largest strain {} in {}{}, {:.3} mm from the design, {:.3} mm from the lowest{}",
             k + 1,
             eq.energy.total(),
             plural(f.hits.len(), "hit"),
@@ -493,119 +499,57 @@ fn explore_text(
                 ""
             },
             eq.distance,
-            to_lowest
+            to_lowest,
+            if Some(k) == reported {
+                " (the reported one)"
+            } else {
+                ""
+            }
         );
     }
     // Pop-through (the paper's: a bump turned inside out, still a bump),
     // and vertices that change from dome-like to saddle-like or back,
-    // between the lowest equilibrium and each other, measured on each shape.
-    if let Some(lowest) = lowest {
-        let base = Relief::at(lattice, lm, &lowest.points);
-        for (k, f) in found.iter().enumerate().skip(1) {
+    // between the reported equilibrium and each other, measured on each
+    // shape (docs/physics.md, "Multistability").
+    if let Some(r) = reported {
+        let base = Relief::at(lattice, lm, &found[r].equilibrium.points);
+        for (k, f) in found.iter().enumerate().filter(|(k, _)| *k != r) {
             let other = Relief::at(lattice, lm, &f.equilibrium.points);
             let (popped, flipped) = (base.popped(&other, lattice), base.flipped(&other, lattice));
             let _ = writeln!(
                 o,
-                "  {} against 1: {} (dome-like vertices whose height over their neighbours, at least {BUMP_MM} mm, changes side){}",
+                "  {} against {}: energy {:+.3} N mm; {} (dome-like vertices whose height over their neighbours, at least {} mm, changes side): {}",
                 k + 1,
+                r + 1,
+                f.equilibrium.energy.total() - found[r].equilibrium.energy.total(),
                 match popped.len() {
                     1 => "1 bump pops through".to_string(),
                     n => format!("{n} bumps pop through"),
                 },
-                listed(&popped)
+                states::BUMP_MM,
+                states::listed(&popped, "mm")
             );
             let _ = writeln!(
                 o,
-                "  {} against 1: {} sign (defect from beyond +-{} deg to beyond it the other way){}",
+                "  {} against {}: {} sign (defect from beyond +-{} deg to beyond it the other way): {}",
                 k + 1,
+                r + 1,
                 match flipped.len() {
                     1 => "1 vertex changes its curvature's".to_string(),
                     n => format!("{n} vertices change their curvature's"),
                 },
                 shape::CURVED_DEG,
-                listed(&flipped)
+                states::listed(&flipped, "deg")
             );
         }
-    }
-    if let Some(k) = found.iter().position(|f| f.hits.contains(&0)) {
         let _ = writeln!(
             o,
-            "  build uses {}: the one reached from the unperturbed start",
-            k + 1
+            "  build reports {}: the state deploying reaches (start 0)",
+            r + 1
         );
     }
     for (seed, why) in rejected {
         let _ = writeln!(o, "  start {seed}: {why}");
     }
     o
-}
-
-/// The least height (mm) of a bump over its neighbours that counts.
-const BUMP_MM: f64 = 0.5;
-
-/// ": a, b, ..." for up to 8 items, or nothing.
-fn listed(items: &[String]) -> String {
-    if items.is_empty() {
-        return String::new();
-    }
-    let shown: Vec<&str> = items.iter().take(8).map(String::as_str).collect();
-    format!(
-        ": {}{}",
-        shown.join(", "),
-        if items.len() > shown.len() {
-            ", ..."
-        } else {
-            ""
-        }
-    )
-}
-
-/// The relief of one equilibrium: each interior vertex's angle defect and
-/// how far it stands out of the sheet (`Lattice::heights`).
-struct Relief {
-    curvature: Vec<VertexCurvature>,
-    height: Vec<f64>,
-}
-
-impl Relief {
-    fn at(lattice: &Lattice, lm: &LatticeModel, points: &[glam::DVec3]) -> Relief {
-        let l = sim::placed_at(lattice, lm, points);
-        let curvature = l.curvature();
-        let height = l.heights(&curvature);
-        Relief { curvature, height }
-    }
-
-    /// The bumps of `self` turned inside out in `other`: dome-like in both,
-    /// standing at least `BUMP_MM` out to one side in one and to the
-    /// other side in the other, named with their heights.
-    fn popped(&self, other: &Relief, lattice: &Lattice) -> Vec<String> {
-        let c = shape::CURVED_DEG;
-        (0..self.curvature.len())
-            .filter_map(|i| {
-                let (x, y) = (&self.curvature[i], &other.curvature[i]);
-                let (ha, hb) = (self.height[i], other.height[i]);
-                let domes = x.defect.to_degrees() >= c && y.defect.to_degrees() >= c;
-                let turned = ha * hb < 0.0 && ha.abs() >= BUMP_MM && hb.abs() >= BUMP_MM;
-                let key = lattice.vertices[x.vertex as usize].key;
-                (domes && turned)
-                    .then(|| format!("[{}, {}] {ha:+.1} -> {hb:+.1} mm", key.row, key.col))
-            })
-            .collect()
-    }
-
-    /// The interior vertices curved one way in `self` and the other way in
-    /// `other` (beyond `shape::CURVED_DEG` both times), with their defects.
-    fn flipped(&self, other: &Relief, lattice: &Lattice) -> Vec<String> {
-        let c = shape::CURVED_DEG;
-        self.curvature
-            .iter()
-            .zip(&other.curvature)
-            .filter_map(|(x, y)| {
-                let (dx, dy) = (x.defect.to_degrees(), y.defect.to_degrees());
-                let flipped = (dx >= c && dy <= -c) || (dx <= -c && dy >= c);
-                let key = lattice.vertices[x.vertex as usize].key;
-                flipped.then(|| format!("[{}, {}] {dx:+.1} -> {dy:+.1} deg", key.row, key.col))
-            })
-            .collect()
-    }
 }

@@ -5,6 +5,7 @@
 
 mod checklist;
 mod cover;
+mod expect;
 pub(crate) mod finding;
 mod fit_text;
 mod gauge;
@@ -98,6 +99,8 @@ pub fn guide_showing(b: &Build, simulated: Option<&Lattice>) -> Guide {
             &spots,
         );
     }
+    // What opening it is like, before the checklist that asks to open it.
+    expect::expect(&mut w, b);
     // The checklist before the gauge: the gauge's pages are cut up.
     checklist(&mut w, b, steps);
     gauge::gauge(&mut w, b);

@@ -12,12 +12,17 @@
 //! check out (another fingerprint, a file changed or cut short, a model of
 //! another size) is never the user's problem: the build solves.
 //!
+//! The state is the build's chosen equilibrium, the one deploying ends in
+//! (docs/physics.md, "The chosen equilibrium"), and the file keeps the
+//! deployment path that found it, so a rebuild follows no path either.
+//!
 //! Exact reuse and not a warm start: a solve started from an earlier
 //! equilibrium ends a few ulp away from a fresh one, and the files would
 //! then depend on the folder's history instead of on the recipe.
 
 use crate::hash::{Fnv1a, fnv1a};
 use crate::sim::model::Frame;
+use crate::sim::path::{Path, PathPoint};
 use crate::sim::{Derived, Settings, Simulation, Stats, equilibrium, prepare_with};
 use glam::DVec3;
 use std::fmt::Write as _;
@@ -28,7 +33,7 @@ pub const STATE_FILE: &str = "deployed.state";
 
 const HEAD: &str = "karigami simulation state";
 /// Bumped when the layout of the state file changes.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 
 /// Each file (a path from the repository's root) with its text.
 macro_rules! sources {
@@ -42,7 +47,7 @@ macro_rules! sources {
 /// written by other code is never restored. `Cargo.lock` stands for the
 /// versions of amd and glam. tests/rebuild.rs checks that the list names
 /// every file of `src/sim/` and `crates/rods/src/`.
-pub const SOURCES: [(&str, &str); 19] = sources![
+pub const SOURCES: [(&str, &str); 20] = sources![
     "src/sim/mod.rs",
     "src/sim/cost.rs",
     "src/sim/explore.rs",
@@ -50,6 +55,7 @@ pub const SOURCES: [(&str, &str); 19] = sources![
     "src/sim/path.rs",
     "src/sim/results.rs",
     "src/sim/sensitivity.rs",
+    "src/sim/states.rs",
     "src/sim/strips.rs",
     "src/sim/warm.rs",
     "crates/rods/src/adjoint.rs",
@@ -97,7 +103,7 @@ pub(crate) fn fingerprint(
 /// The bytes of `deployed.state`: a text head (what the file is, its
 /// format, the fingerprint, the payload's length and hash) and the payload,
 /// little-endian 8-byte words.
-pub(crate) fn state(run: &Simulation, fingerprint: u64) -> Vec<u8> {
+pub(crate) fn state(run: &Simulation, path: Option<&Path>, fingerprint: u64) -> Vec<u8> {
     let m = &run.lm.model;
     let mut w = Words::default();
     w.count(m.q.len());
@@ -125,6 +131,10 @@ pub(crate) fn state(run: &Simulation, fingerprint: u64) -> Vec<u8> {
     w.count(s.iterations);
     w.count(usize::from(s.converged));
     w.floats(&[s.force, s.moment, s.lambda_min, s.energy]);
+    w.count(usize::from(path.is_some()));
+    if let Some(p) = path {
+        w.path(p);
+    }
     let payload = w.0;
     let mut out = head(fingerprint, &payload).into_bytes();
     out.extend_from_slice(&payload);
@@ -141,7 +151,8 @@ fn head(fingerprint: u64, payload: &[u8]) -> String {
 
 /// The simulation a state file holds, if it was written for `fingerprint`
 /// and is whole: the model prepared as `sim::simulate_with` prepares it,
-/// then put in the stored state. None for anything else (the caller
+/// then put in the stored state, with the deployment path that reached it
+/// when the build followed one. None for anything else (the caller
 /// solves).
 pub(crate) fn restore(
     bytes: &[u8],
@@ -151,7 +162,7 @@ pub(crate) fn restore(
     width: f64,
     thickness: f64,
     settings: &Settings,
-) -> Option<Simulation> {
+) -> Option<(Simulation, Option<Path>)> {
     let clock = Instant::now();
     let split = bytes.windows(2).position(|w| w == b"\n\n")? + 2;
     let payload = &bytes[split..];
@@ -191,6 +202,11 @@ pub(crate) fn restore(
         lambda_min: r.float()?,
         energy: r.float()?,
     };
+    let path = match r.count()? {
+        0 => None,
+        1 => Some(r.path()?),
+        _ => return None,
+    };
     // Only a converged state (every number is finite: `Reader::float`).
     if !r.0.is_empty() || !stats.converged {
         return None;
@@ -202,14 +218,15 @@ pub(crate) fn restore(
         return None;
     }
     // What a fresh solve reports on its model, reported on this one.
-    Some(Simulation {
+    let run = Simulation {
         iterations,
         steps,
         theta: lm.held_opening(),
         equilibrium: equilibrium(&lm, stats, &settings.material),
         seconds: clock.elapsed().as_secs_f64(),
         lm,
-    })
+    };
+    Some((run, path))
 }
 
 #[derive(Default)]
@@ -227,6 +244,36 @@ impl Words {
     }
     fn vec(&mut self, v: DVec3) {
         self.floats(&v.to_array());
+    }
+    fn text(&mut self, t: &str) {
+        self.count(t.len());
+        self.0.extend_from_slice(t.as_bytes());
+    }
+    fn path(&mut self, p: &Path) {
+        self.floats(&[p.design, p.low, p.hysteresis]);
+        self.count(p.steps);
+        self.count(p.iterations);
+        self.count(p.budget);
+        for way in [&p.collapse, &p.deploy] {
+            self.count(way.len());
+            way.iter().for_each(|q| self.point(q));
+        }
+        self.count(usize::from(p.failed.is_some()));
+        if let Some((theta, why)) = &p.failed {
+            self.float(*theta);
+            self.text(why);
+        }
+        self.count(usize::from(p.end_distance.is_some()));
+        self.float(p.end_distance.unwrap_or(0.0));
+    }
+    fn point(&mut self, q: &PathPoint) {
+        let (lo, hi) = q.openings;
+        self.floats(&[q.theta, q.energy, q.strain, q.lambda_min, q.jump, lo, hi]);
+        self.text(&q.rod);
+        self.count(q.iterations);
+        self.count(usize::from(q.leapt));
+        self.count(q.points.len());
+        q.points.iter().for_each(|&v| self.vec(v));
     }
 }
 
@@ -248,5 +295,73 @@ impl Reader<'_> {
     }
     fn vec(&mut self) -> Option<DVec3> {
         Some(DVec3::new(self.float()?, self.float()?, self.float()?))
+    }
+    fn text(&mut self) -> Option<String> {
+        let n = self.count()?;
+        (n <= self.0.len()).then_some(())?;
+        let (t, rest) = self.0.split_at(n);
+        self.0 = rest;
+        String::from_utf8(t.to_vec()).ok()
+    }
+    /// A count of items that each take at least `least` bytes: no larger
+    /// than what is left (a damaged count must not allocate much).
+    fn items(&mut self, least: usize) -> Option<usize> {
+        let n = self.count()?;
+        (n.saturating_mul(least) <= self.0.len()).then_some(n)
+    }
+    fn path(&mut self) -> Option<Path> {
+        let (design, low, hysteresis) = (self.float()?, self.float()?, self.float()?);
+        let (steps, iterations, budget) = (self.count()?, self.count()?, self.count()?);
+        let mut ways = [Vec::new(), Vec::new()];
+        for way in &mut ways {
+            let n = self.items(8)?;
+            for _ in 0..n {
+                way.push(self.point()?);
+            }
+        }
+        let failed = match self.count()? {
+            0 => None,
+            1 => Some((self.float()?, self.text()?)),
+            _ => return None,
+        };
+        let known = self.count()? == 1;
+        let d = self.float()?;
+        let [collapse, deploy] = ways;
+        Some(Path {
+            design,
+            low,
+            steps,
+            iterations,
+            budget,
+            collapse,
+            deploy,
+            failed,
+            end_distance: known.then_some(d),
+            hysteresis,
+        })
+    }
+    fn point(&mut self) -> Option<PathPoint> {
+        let f: Vec<f64> = (0..7).map(|_| self.float()).collect::<Option<_>>()?;
+        let rod = self.text()?;
+        let iterations = self.count()?;
+        let leapt = match self.count()? {
+            0 => false,
+            1 => true,
+            _ => return None,
+        };
+        let n = self.items(24)?;
+        let points = (0..n).map(|_| self.vec()).collect::<Option<_>>()?;
+        Some(PathPoint {
+            theta: f[0],
+            energy: f[1],
+            strain: f[2],
+            lambda_min: f[3],
+            jump: f[4],
+            openings: (f[5], f[6]),
+            rod,
+            iterations,
+            leapt,
+            points,
+        })
     }
 }

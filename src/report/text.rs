@@ -159,6 +159,14 @@ pub fn build_text(b: &Build) -> String {
     );
     if let Some(path) = &b.path {
         out.push_str(&path.text(b.design.simulation.material.eps_allow, false));
+        if let Some(run) = &b.simulation {
+            out.push_str(&crate::sim::states::known(
+                &b.lattice,
+                &run.lm,
+                &run.equilibrium,
+                path,
+            ));
+        }
     }
     for (i, sheet) in b.layout.sheets.iter().enumerate() {
         let piece = if sheet.test_piece.is_some() {

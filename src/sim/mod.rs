@@ -5,7 +5,8 @@
 //! Layers: `dual` (derivatives), `frames`, `model` (variables, energy),
 //! `strips` (a lattice's model; its openings read and set in `opening`),
 //! `solver` (Newton), `explore` (multistability), `results` (strains,
-//! reactions, distances).
+//! reactions, distances), `path` (the deployment path and the state it
+//! chooses), `states` (what tells one equilibrium from another).
 
 mod cost;
 pub mod explore;
@@ -13,6 +14,7 @@ mod opening;
 pub mod path;
 pub(crate) mod results;
 pub mod sensitivity;
+pub mod states;
 pub(crate) mod strips;
 pub mod warm;
 

@@ -8,7 +8,7 @@
 
 use super::solver::{Options, Stats, System};
 use super::strips::LatticeModel;
-use super::{Material, results, shape_distance, walk};
+use super::{Material, Simulation, results, shape_distance};
 use glam::DVec3;
 
 /// The nearly collapsed end of the path: this share of the design's
@@ -25,11 +25,12 @@ pub const SNAP_MM: f64 = 1.0;
 /// Steps each way: at least this many, so the curve is a curve.
 pub const MIN_STEPS: usize = 6;
 /// At most this many steps each way.
-pub const MAX_STEPS: usize = 12;
-/// The path's budget: steps each way times the model's free variables,
-/// at most this (docs/physics.md, "The deployment path": about as much CPU
-/// as the build's own solve on the examples).
-pub const BUDGET: usize = 30_000;
+pub const MAX_STEPS: usize = 24;
+/// The opening a step covers, at most (radians): small enough that the
+/// secant predictor lands near the next equilibrium and Newton takes a few
+/// iterations (docs/physics.md, "The deployment path": fewer, longer steps
+/// cost more iterations in all).
+pub const PATH_STEP: f64 = 4.0 * std::f64::consts::PI / 180.0;
 
 /// One step of the path: its equilibrium's figures.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,12 +47,17 @@ pub struct PathPoint {
     pub lambda_min: f64,
     /// Largest joint move from the last step's equilibrium (mm).
     pub jump: f64,
-    /// Newton iterations of the step's (last) solve.
+    /// Newton iterations of the step, its splits and retries included.
     pub iterations: usize,
     /// The smallest and largest cell opening (radians).
     pub openings: (f64, f64),
+    /// Whether the step leapt: no equilibrium near the last one even with
+    /// the step halved (a fold of the path), so the whole step was solved
+    /// from the last equilibrium with the build's own iteration cap and
+    /// landed on another branch, a snap-through.
+    pub leapt: bool,
     /// Every vertex, then every pivot.
-    pub(crate) points: Vec<DVec3>,
+    pub points: Vec<DVec3>,
 }
 
 /// The path both ways and what it says.
@@ -82,13 +88,12 @@ pub struct Path {
 }
 
 impl Path {
-    /// Steps each way for a model of `free` free variables: one per 2
-    /// degrees of the way, within `MIN_STEPS` to `MAX_STEPS` and the budget.
-    pub fn step_count(free: usize, design: f64) -> usize {
+    /// Steps each way: one per `PATH_STEP` of the way, within `MIN_STEPS`
+    /// to `MAX_STEPS`, whatever the model's size (`free`, its free
+    /// variables: a large model's longer steps would cost more).
+    pub fn step_count(_free: usize, design: f64) -> usize {
         let way = design * (1.0 - COLLAPSED);
-        let wanted = (way / super::STEP).ceil() as usize;
-        let afford = BUDGET / free.max(1);
-        wanted.min(afford).clamp(MIN_STEPS, MAX_STEPS)
+        ((way / PATH_STEP).ceil() as usize).clamp(MIN_STEPS, MAX_STEPS)
     }
 
     /// Every point in the order walked: the collapse, then the deploy.
@@ -115,7 +120,7 @@ impl Path {
         let mut out = Vec::new();
         for (w, way) in [&self.collapse, &self.deploy].into_iter().enumerate() {
             for (i, p) in way.iter().enumerate() {
-                if p.jump > limit || !(p.lambda_min > 0.0) {
+                if p.leapt || p.jump > limit || !(p.lambda_min > 0.0) {
                     out.push((w, i));
                 }
             }
@@ -150,48 +155,45 @@ impl Path {
 }
 
 /// The path of `lm`, at its equilibrium at the design opening (as `simulate`
-/// leaves it), `steps` steps each way (`Path::steps`), within a budget of
-/// Newton iterations: `BUDGET_PER_ITERATION` times the equilibrium's own
-/// (`stats`), at least `MIN_BUDGET`.
+/// leaves it), `steps` steps each way (`Path::step_count`).
 pub fn path(lm: &LatticeModel, stats: &Stats, steps: usize, material: &Material) -> Path {
+    follow(lm, stats, steps, material).0
+}
+
+/// `path`, and the model at the deployed end with its solve's statistics
+/// when the deploy reached the design opening: the state a build reports
+/// (docs/physics.md, "The chosen equilibrium").
+pub fn follow(
+    lm: &LatticeModel,
+    stats: &Stats,
+    steps: usize,
+    material: &Material,
+) -> (Path, Option<(LatticeModel, Stats)>) {
     let mut lm = lm.clone();
     let design = lm.held_opening();
     let low = COLLAPSED * design;
     let start = point(&lm, stats, material, None);
-    let sys = System::new(&lm.model);
-    let budget = BUDGET_PER_ITERATION * stats.iterations.max(MIN_BUDGET / BUDGET_PER_ITERATION);
-    let mut left = budget;
-    let mut failed = None;
-    let collapse = walk_recording(
-        &mut lm,
-        &sys,
-        low,
-        steps,
+    let mut walker = Walker {
+        sys: System::new(&lm.model),
+        left: budget(steps),
         material,
-        start,
-        &mut left,
-        &mut failed,
-    );
+    };
+    let budget = walker.left;
+    let (collapse, mut failed, _) = walker.way(&mut lm, low, steps, start);
     let mut deploy = Vec::new();
-    let mut end_distance = None;
+    let mut end = None;
     if failed.is_none() {
         let mut first = collapse.last().expect("the start").clone();
         first.jump = 0.0;
-        deploy = walk_recording(
-            &mut lm,
-            &sys,
-            design,
-            steps,
-            material,
-            first,
-            &mut left,
-            &mut failed,
-        );
-        if failed.is_none() {
-            let end = deploy.last().expect("the design");
-            end_distance = Some(shape_distance(&end.points, &collapse[0].points).max);
-        }
+        let (way, why, last) = walker.way(&mut lm, design, steps, first);
+        deploy = way;
+        failed = why;
+        end = last.filter(|_| failed.is_none()).map(|s| (lm, s));
     }
+    let end_distance = end
+        .as_ref()
+        .and(deploy.last())
+        .map(|e| shape_distance(&e.points, &collapse[0].points).max);
     // The collapse's step k and the deploy's step n - k are at one opening
     // (both ways walked in full).
     let hysteresis = if end_distance.is_some() {
@@ -203,74 +205,219 @@ pub fn path(lm: &LatticeModel, stats: &Stats, steps: usize, material: &Material)
     } else {
         0.0
     };
-    Path {
+    let path = Path {
         design,
         low,
         steps,
-        iterations: budget - left,
+        iterations: budget - walker.left,
         budget,
         collapse,
         deploy,
         failed,
         end_distance,
         hysteresis,
+    };
+    (path, end)
+}
+
+/// The simulation at the state it reports (docs/physics.md, "The chosen
+/// equilibrium"): the deployment path's deployed end when the path got
+/// there, else the equilibrium solved from the design; with the path
+/// (`Path::step_count` steps each way for the model's size).
+pub fn chosen(run: Simulation, material: &Material) -> (Simulation, Option<Path>) {
+    let clock = std::time::Instant::now();
+    let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
+    let steps = Path::step_count(free, run.theta);
+    let (path, end) = follow(&run.lm, &run.equilibrium.stats, steps, material);
+    // Back at the state solved from the design (within `SAME_MM`): that
+    // solve's numbers, not the round trip's few ulp away from them.
+    let home = path
+        .end_distance
+        .is_some_and(|d| d <= super::states::SAME_MM);
+    let run = match end.filter(|_| !home) {
+        Some((lm, stats)) => Simulation {
+            equilibrium: super::equilibrium(&lm, stats, material),
+            theta: lm.held_opening(),
+            lm,
+            iterations: run.iterations + path.iterations,
+            steps: run.steps + path.collapse.len() + path.deploy.len() - 2,
+            seconds: run.seconds + clock.elapsed().as_secs_f64(),
+        },
+        None => run,
+    };
+    (run, Some(path))
+}
+
+/// Newton iterations of one solve of the path: a step from a nearby
+/// equilibrium takes a few; one that needs more is split instead
+/// (docs/physics.md, "The deployment path").
+pub const STEP_ITERATIONS: usize = 40;
+/// A step that finds no equilibrium is halved, at most this many times
+/// (to 1/16 of a step).
+pub const SPLITS: u32 = 4;
+
+/// The path's bound on Newton iterations: `STEP_ITERATIONS` for every
+/// step both ways, twice over (room for splits on part of the way); a
+/// deterministic bound, not the machine's speed.
+fn budget(steps: usize) -> usize {
+    2 * steps * 2 * STEP_ITERATIONS
+}
+
+/// Why a path stops when its bound is reached.
+const BOUND: &str = "the path's bound on Newton iterations was reached";
+
+/// What walks the path: the Newton system, the iterations left and the
+/// material the strains are judged in.
+struct Walker<'a> {
+    sys: System,
+    left: usize,
+    material: &'a Material,
+}
+
+/// A way walked: its points, why it stopped short (the opening tried and
+/// why), and the last solve's statistics.
+type Way = (Vec<PathPoint>, Option<(f64, String)>, Option<Stats>);
+
+impl Walker<'_> {
+    /// Walk to `target` in `n` steps, each step's point recorded after
+    /// `first`; each solve starts from the last equilibrium moved along
+    /// the last step's change (the secant predictor), and a step that
+    /// finds no equilibrium is split in halves (`SPLITS`). The first step
+    /// that finds none even so, or a spent budget, ends the way.
+    fn way(&mut self, lm: &mut LatticeModel, target: f64, n: usize, first: PathPoint) -> Way {
+        let from = lm.held_opening();
+        let at = |k: usize| from + (target - from) * k as f64 / n as f64;
+        let mut out = vec![first];
+        let mut back: Option<(Vec<f64>, f64)> = None;
+        let mut last = None;
+        for k in 1..=n {
+            let (here, phi) = (lm.model.q.clone(), lm.held_opening());
+            let left = self.left;
+            let (stats, leapt) = match self.step(lm, back.as_ref(), at(k), 0) {
+                Ok(stats) => (stats, false),
+                Err(why) => match self.leap(lm, at(k)) {
+                    Some(stats) => (stats, true),
+                    None => return (out, Some((at(k), why)), last),
+                },
+            };
+            let mut p = point(lm, &stats, self.material, out.last().map(|p| &p.points));
+            p.iterations = left - self.left;
+            p.leapt = leapt;
+            out.push(p);
+            last = Some(stats);
+            back = Some((here, phi));
+            if self.left == 0 && k < n {
+                return (out, Some((at(k + 1), BOUND.to_string())), last);
+            }
+        }
+        (out, None, last)
+    }
+
+    /// Solve at the held opening `phi` from the current equilibrium,
+    /// predicted from `back` (the equilibrium and opening one step back)
+    /// when given; split in two when that fails, `depth` splits deep.
+    fn step(
+        &mut self,
+        lm: &mut LatticeModel,
+        back: Option<&(Vec<f64>, f64)>,
+        phi: f64,
+        depth: u32,
+    ) -> Result<Stats, String> {
+        let (here, from, frames) = (lm.model.q.clone(), lm.held_opening(), lm.model.frames());
+        let restore = |lm: &mut LatticeModel| {
+            lm.model.q.clone_from(&here);
+            lm.model.set_frames(&frames);
+            lm.set_held_opening(from);
+        };
+        if let Some((q, theta)) = back {
+            predict(&mut lm.model, q, *theta, from, phi);
+        }
+        lm.set_held_opening(phi);
+        let mut why = match self.solve(lm) {
+            Ok(s) => return Ok(s),
+            Err(e) => e,
+        };
+        restore(lm);
+        if back.is_some() {
+            // The prediction overshot (a fold of the path): from the last
+            // equilibrium as it is.
+            lm.set_held_opening(phi);
+            match self.solve(lm) {
+                Ok(s) => return Ok(s),
+                Err(e) => why = e,
+            }
+            restore(lm);
+        }
+        if self.left == 0 {
+            return Err(BOUND.to_string());
+        }
+        if depth >= SPLITS {
+            return Err(format!(
+                "{why}, the step halved {SPLITS} times (to {:.2} deg)",
+                (phi - from).abs().to_degrees()
+            ));
+        }
+        let mid = 0.5 * (from + phi);
+        self.step(lm, None, mid, depth + 1)?;
+        let half = (here, from);
+        self.step(lm, Some(&half), phi, depth + 1)
+    }
+
+    /// Past a fold: the held opening set to `phi` and solved from the last
+    /// equilibrium with the build's own cap (`Options::default`, within
+    /// the budget); the equilibrium it lands on, if any.
+    fn leap(&mut self, lm: &mut LatticeModel, phi: f64) -> Option<Stats> {
+        lm.set_held_opening(phi);
+        let cap = Options::default().max_iterations;
+        self.solve_within(lm, cap).ok()
+    }
+
+    /// One Newton solve of at most `STEP_ITERATIONS` (and the budget
+    /// left), its iterations taken from the budget; a stable equilibrium
+    /// or why not.
+    fn solve(&mut self, lm: &mut LatticeModel) -> Result<Stats, String> {
+        self.solve_within(lm, STEP_ITERATIONS)
+    }
+
+    /// `solve` with at most `cap` iterations.
+    fn solve_within(&mut self, lm: &mut LatticeModel, cap: usize) -> Result<Stats, String> {
+        let opts = Options {
+            max_iterations: cap.min(self.left.max(1)),
+            ..Options::default()
+        };
+        let s = super::solver::solve(&mut lm.model, &self.sys, &opts);
+        let used = match &s {
+            Ok(s) => s.iterations,
+            Err(_) => opts.max_iterations,
+        };
+        self.left = self.left.saturating_sub(used);
+        match s {
+            Ok(s) if s.converged => Ok(s),
+            Ok(s) => Err(format!(
+                "Newton did not converge in {} iterations",
+                s.iterations
+            )),
+            Err(e) => Err(e.to_string()),
+        }
     }
 }
 
-/// The path's Newton iterations: at most this many times the
-/// equilibrium's, and at least `MIN_BUDGET` (docs/physics.md, "The
-/// deployment path").
-pub const BUDGET_PER_ITERATION: usize = 20;
-/// The least budget of Newton iterations.
-pub const MIN_BUDGET: usize = 500;
-/// Walk to `target` in `n` steps (`walk`: each solve started from the last
-/// equilibrium moved by the last step's change), each step's point
-/// recorded after `first`, Newton iterations taken from `left`. A step
-/// that finds no equilibrium ends the walk, and so does a spent budget
-/// (after the step that spends it), noted in `failed`.
-#[allow(clippy::too_many_arguments)]
-fn walk_recording(
-    lm: &mut LatticeModel,
-    sys: &System,
-    target: f64,
-    n: usize,
-    material: &Material,
-    first: PathPoint,
-    left: &mut usize,
-    failed: &mut Option<(f64, String)>,
-) -> Vec<PathPoint> {
-    let from = lm.held_opening();
-    let at = |k: usize| from + (target - from) * k as f64 / n as f64;
-    let mut out = vec![first];
-    let (mut used, mut spent) = (0, 0);
-    let budget = *left;
-    let outcome = walk(
-        lm,
-        sys,
-        target,
-        n,
-        &Options::default(),
-        &mut used,
-        &mut |lm, stats| {
-            spent += stats.iterations;
-            let p = point(lm, &stats, material, out.last().map(|p| &p.points));
-            out.push(p);
-            spent < budget
-        },
-    );
-    *left = budget.saturating_sub(used);
-    let k = out.len();
-    match outcome {
-        Err(e) => *failed = Some((at(k), e.to_string())),
-        Ok(()) if k <= n => {
-            *failed = Some((
-                at(k),
-                "the path's budget of Newton iterations was spent".into(),
-            ));
+/// Move the free variables of `m` from the equilibrium `q` at opening
+/// `at` along the secant from `back` (at `before`), to the opening `to`.
+fn predict(m: &mut super::model::Model, back: &[f64], before: f64, at: f64, to: f64) {
+    let r = if (at - before).abs() > 0.0 {
+        (to - at) / (at - before)
+    } else {
+        0.0
+    };
+    let here = m.q.clone();
+    for (i, q) in m.q.iter_mut().enumerate() {
+        if !m.fixed[i] {
+            *q = here[i] + r * (here[i] - back[i]);
         }
-        Ok(()) => {}
     }
-    out
+    m.apply_ties();
+    m.update_frames();
 }
 
 /// The figures of `lm`'s equilibrium now; its jump from `last`.
@@ -303,6 +450,7 @@ fn point(
         jump,
         iterations: stats.iterations,
         openings,
+        leapt: false,
         points,
     }
 }
@@ -342,11 +490,16 @@ impl Path {
                 .map(|&(_, i)| {
                     let p = &way[i];
                     format!(
-                        "at {:.1} deg (joints jump {:.1} mm, energy {:.3} -> {:.3} N mm{})",
+                        "at {:.1} deg (joints jump {:.1} mm, energy {:.3} -> {:.3} N mm{}{})",
                         deg(p.theta),
                         p.jump,
                         way[i.saturating_sub(1)].energy,
                         p.energy,
+                        if p.leapt {
+                            ", past a fold of the path"
+                        } else {
+                            ""
+                        },
                         if p.lambda_min > 0.0 {
                             ""
                         } else {
@@ -380,7 +533,17 @@ impl Path {
             );
         }
         if let Some((theta, why)) = &self.failed {
-            let _ = writeln!(o, "  no equilibrium found at {:.1} deg: {why}", deg(*theta));
+            let last = self.deploy.last().or(self.collapse.last());
+            let _ = writeln!(
+                o,
+                "  no equilibrium found at {:.1} deg: {why}{}",
+                deg(*theta),
+                last.map_or(String::new(), |p| format!(
+                    "; the path stops at {:.1} deg, strained {:.2} % there",
+                    deg(p.theta),
+                    100.0 * p.strain
+                ))
+            );
         }
         let _ = writeln!(
             o,
@@ -459,6 +622,7 @@ mod tests {
             jump,
             iterations: 1,
             openings: (theta, theta),
+            leapt: false,
             points: Vec::new(),
         }
     }
@@ -499,13 +663,13 @@ mod tests {
     }
 
     #[test]
-    fn steps_follow_the_opening_within_the_bounds_and_the_budget() {
+    fn steps_follow_the_opening_within_the_bounds() {
         let deg = f64::to_radians;
         // 2 degrees a step over 90 % of the way, within 6 to 12.
-        assert_eq!(Path::step_count(100, deg(60.0)), 12);
+        // 4 degrees a step over 90 % of the way, within 6 to 24.
+        assert_eq!(Path::step_count(100, deg(60.0)), 14);
         assert_eq!(Path::step_count(100, deg(10.0)), MIN_STEPS);
-        // A large model: fewer steps, never fewer than MIN_STEPS.
-        assert_eq!(Path::step_count(BUDGET / 8, deg(120.0)), 8);
-        assert_eq!(Path::step_count(10 * BUDGET, deg(120.0)), MIN_STEPS);
+        assert_eq!(Path::step_count(100, deg(150.0)), 24);
+        assert_eq!(Path::step_count(100_000, deg(60.0)), 14);
     }
 }
