@@ -15,6 +15,7 @@
 //! (`Design::grow`, which calls the fit search).
 
 mod cost;
+pub(crate) mod design;
 mod evolve;
 pub(crate) mod fit;
 mod grow;
