@@ -82,6 +82,11 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
                 if best.as_ref().is_none_or(|b| miss < b.0) {
                     best = Some((miss, text, found.clone(), sim));
                 }
+                // The best-fitting design that meets the goal: deterministic,
+                // as the candidates come in a fixed order.
+                if miss <= 1.0 {
+                    break;
+                }
             }
             Err(why) => {
                 note(&format!("{} cells: build refuses it: {why}", found.cells));

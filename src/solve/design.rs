@@ -109,6 +109,8 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         );
         found.extend(loops(ask, centre, radius, &mut tried, progress));
     }
+    // Sheets only where no loop grows: a loop round the rim covers more.
+    let seeds = if found.is_empty() { seeds } else { Vec::new() };
     ask.jobs.in_order(
         seeds.len(),
         |k| {
@@ -206,11 +208,8 @@ fn loops(
                 "loop of {n} points round the rim, {rings} rings {:.1} mm apart down the meridian",
                 (1.0 - HOLE) * length / rings as f64
             ));
-            for rows in (rings.saturating_sub(2).max(1)..=rings).rev() {
-                let kappa = vec![0.0; n];
-                let Ok(lattice) =
-                    grow(Kind::Loop, 3, &points, &kappa, &loop_rows(&targets[..rows]))
-                else {
+            for rows in (rings.div_ceil(2).max(1)..=rings).rev() {
+                let Some(lattice) = buildable_loop(ask.base, &points, &targets[..rows]) else {
                     continue;
                 };
                 out.push(Found {
@@ -225,6 +224,24 @@ fn loops(
         }
     }
     out
+}
+
+/// The loop's lattice, when it grows and `build` would take its strips
+/// (`cost::refused`: parts and the clash rule, with columns stacked).
+fn buildable_loop(base: &Design, points: &[DVec3], targets: &[DVec3]) -> Option<Lattice> {
+    let mut d = base.clone();
+    d.kind = Kind::Loop;
+    d.dim = 3;
+    d.points = points.to_vec();
+    d.kappa = vec![0.0; points.len()];
+    d.rows = loop_rows(targets);
+    d.fit = None;
+    d.clash.stacking = crate::lattice::Stacking::Columns;
+    let lattice = d.grow().ok()?;
+    let m = crate::measure::measure(&d, &lattice);
+    super::cost::refused(&d, &lattice, &m)
+        .is_none()
+        .then_some(lattice)
 }
 
 /// Ring steps tried, as shares of the cell edge.
@@ -427,7 +444,11 @@ fn grow_seed(
     let fit = Fit::on_target(ask.target.clone(), rows, SAMPLES);
     let found = super::fit::deepest_rows(&d, &fit, ROW_BUDGET).ok()?;
     let lattice = grow(Kind::Sheet, 3, &d.points, &d.kappa, &found).ok()?;
-    Some((found, lattice))
+    d.rows.clone_from(&found);
+    let m = crate::measure::measure(&d, &lattice);
+    super::cost::refused(&d, &lattice, &m)
+        .is_none()
+        .then_some((found, lattice))
 }
 
 /// A recipe that parses, for the fabrication and simulation settings the
