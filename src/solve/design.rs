@@ -78,8 +78,16 @@ pub fn miss(f: &crate::target::Fit) -> f64 {
 
 /// Search sheets for `ask.target`; `progress` hears about each seed.
 pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Searched, Diagnostic> {
+    let topology = choose(&ask.target, ask.edge)?;
+    let levelled = level_rim(&ask.target);
+    let ask = &DesignAsk {
+        target: levelled,
+        base: ask.base,
+        edge: ask.edge,
+        deadline: ask.deadline,
+        jobs: ask.jobs,
+    };
     let t = &ask.target;
-    let topology = choose(t, ask.edge)?;
     let boundary = inward_boundary(t);
     let ring = resample(&boundary, ask.edge);
     let rows = ((t.extent / ask.edge).ceil() as usize).clamp(2, 60);
@@ -117,7 +125,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
             if ask.deadline.is_some_and(|d| Instant::now() > d) {
                 return None;
             }
-            grow_seed(ask, &seeds[k].0, rows).map(|(rows, lattice)| (rows, lattice))
+            grow_seed(ask, &seeds[k].0, rows)
         },
         |k, result| {
             tried += 1;
@@ -149,6 +157,28 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         tried,
         topology,
     })
+}
+
+/// The target turned so that its rim's own plane is level, when that
+/// plane is within 10 degrees of level already (a mesh's principal axes
+/// are tilted slightly by uneven triangles); else as it is.
+fn level_rim(t: &Arc<Target>) -> Arc<Target> {
+    let ring = inward_boundary(t);
+    if ring.len() < 3 {
+        return t.clone();
+    }
+    let c = ring.iter().sum::<DVec3>() / ring.len() as f64;
+    // Newell's normal of the rim polygon.
+    let mut n = DVec3::ZERO;
+    for k in 0..ring.len() {
+        let (a, b) = (ring[k] - c, ring[(k + 1) % ring.len()] - c);
+        n += a.cross(b);
+    }
+    let n = if n.z < 0.0 { -n } else { n };
+    match n.try_normalize() {
+        Some(u) if u.z > 10f64.to_radians().cos() && u.z < 1.0 - 1e-12 => Arc::new(t.levelled(u)),
+        _ => t.clone(),
+    }
 }
 
 /// A level, circular rim: its centre and radius, when every boundary

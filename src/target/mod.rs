@@ -122,6 +122,17 @@ impl Target {
         Target::new(mesh, self.what.clone(), self.topology)
     }
 
+    /// The target turned about the origin so that `normal` points along
+    /// +z (the shortest such turn): a rim's plane made level.
+    pub fn levelled(&self, normal: DVec3) -> Target {
+        let q = glam::DQuat::from_rotation_arc(normal.normalize(), DVec3::Z);
+        let mesh = Mesh {
+            positions: self.mesh.positions.iter().map(|&p| q * p).collect(),
+            triangles: self.mesh.triangles.clone(),
+        };
+        Target::new(mesh, self.what.clone(), self.topology)
+    }
+
     /// The best rigid fit of `points` to the target (iterated closest
     /// points from a few starts, docs/design.md) and, when `facets` are
     /// given (quads of indices into `points`), the share of the target's
