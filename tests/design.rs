@@ -40,7 +40,7 @@ fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fi
 }
 
 /// A sphere cap 300 mm across: a loop round its rim, whose simulated
-/// joints meet issue 32's goal (golden: 14 points round the rim).
+/// joints meet issue 32's goal (golden: 12 points round the rim).
 #[test]
 fn a_sphere_cap_is_designed_within_the_goal() {
     let t = target("[target]\nfamily = \"sphere-cap\"\nradius = 200.0\nheight = 60.0\n");
@@ -48,8 +48,8 @@ fn a_sphere_cap_is_designed_within_the_goal() {
     assert!(text.contains("seed = \"loop\""), "{text}");
     assert!(designing::miss(&fit) <= 1.0, "{fit:?}");
     assert!(fit.rms <= 0.005 * fit.extent, "{fit:?}");
-    assert_eq!(text.matches("\n    [").count(), 14, "{text}");
-    assert_eq!(cells % 14, 0, "{text}");
+    assert_eq!(text.matches("\n    [").count(), 12, "{text}");
+    assert_eq!(cells % 12, 0, "{text}");
 }
 
 /// Random smooth height fields: whatever the search writes, build takes
