@@ -35,6 +35,12 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
             ask.out.display()
         )));
     }
+    if ask.edge.is_some_and(|e| !(e.is_finite() && e > 0.0)) {
+        return Err(Error::usage("--edge must be a positive length in mm"));
+    }
+    if ask.time_limit.is_some_and(|s| !(s.is_finite() && s >= 0.0)) {
+        return Err(Error::usage("--time-limit must be a number of seconds"));
+    }
     let file = TargetFile::read(ask.target)?;
     let base = karigami::parse_with(designing::STUB, "design", &ask.overrides)
         .map_err(|d| Error::at("the fabrication flags", "", &d))?;
