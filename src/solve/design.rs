@@ -316,7 +316,15 @@ fn meridian(t: &Target, centre: DVec3, from: DVec3) -> Option<Vec<(f64, DVec3)>>
         // A hair inside the rim, where the first line could miss.
         let s = s0 * (1.0 - k as f64 / MERIDIAN as f64);
         let p = DVec3::new(centre.x + s * u.x, centre.y + s * u.y, top);
-        let q = p - t.ray(p, -DVec3::Z, 0.0)? * DVec3::Z;
+        // A coarse mesh's rim is a polygon inside the circle: lines
+        // between it and the circle miss, and are skipped.
+        let Some(h) = t.ray(p, -DVec3::Z, 0.0) else {
+            if out.len() == 1 {
+                continue;
+            }
+            return None;
+        };
+        let q = p - h * DVec3::Z;
         let (walked, last) = *out.last().expect("one point");
         out.push((walked + q.distance(last), q));
     }
