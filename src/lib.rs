@@ -131,6 +131,14 @@ pub mod targets {
     };
 }
 
+/// The search of `karigami design`: a target in, sheets that grow onto it
+/// out (docs/design.md, "Design your own object").
+pub mod designing {
+    pub use crate::solve::design::{
+        DesignAsk, Found, STUB, Searched, default_edge, fit_of, miss, recipe, search,
+    };
+}
+
 /// The starter recipes `karigami new` writes.
 pub mod template {
     pub use crate::templates::{TEMPLATES, Template, find, instantiate, instantiate_as};

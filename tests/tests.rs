@@ -3,6 +3,7 @@
 mod cli;
 mod cutfiles;
 mod deploy;
+mod design;
 mod errors;
 mod finding;
 mod fuzz;

@@ -145,6 +145,31 @@ pub(super) enum Command {
         #[arg(long, value_name = "SECONDS", value_parser = seconds)]
         time_limit: Option<f64>,
     },
+    /// Design a recipe for a target shape: a mesh (.obj, .stl) or a [target] table (docs/design.md).
+    #[command(after_help = format!(
+        "Examples:\n  karigami design fixtures/targets/sphere-cap.toml --out cap.toml\n  karigami design bump.stl --out bump.toml --edge 50 --time-limit 120\n\n{EXIT_CODES}"
+    ))]
+    Design {
+        /// The target: .obj, .stl, or .toml with a [target] table.
+        target: PathBuf,
+        /// Write the recipe here.
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Preferred cell edge in mm (default: six strip widths, and four of the eyelets' shortest leg).
+        #[arg(long, value_name = "MM")]
+        edge: Option<f64>,
+        /// Seeds grown at once (default: all cores). The result does not depend on it.
+        #[arg(long, short, value_name = "N", value_parser = jobs())]
+        jobs: Option<usize>,
+        /// Stop starting new candidates after this many seconds.
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
+        /// Overwrite an existing --out file.
+        #[arg(long)]
+        force: bool,
+        #[command(flatten)]
+        fabrication: FabricationFlags,
+    },
     /// Write a starter recipe from a template.
     #[command(after_help = format!(
         "Examples:\n  karigami new my-sheet                   # writes my-sheet.toml\n  karigami new arm --template chain\n  karigami templates                      # what there is\n\n{EXIT_CODES}"

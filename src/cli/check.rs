@@ -104,6 +104,15 @@ fn check_one(
         Ok(d) => d,
         Err(e) => return fail(e, bar),
     };
+    // No --target: the one the recipe records, if any (`karigami design`).
+    let recorded = match target {
+        Some(_) => None,
+        None => match recorded_target(path, &design, json, bar) {
+            Ok(t) => t,
+            Err(e) => return fail(e, bar),
+        },
+    };
+    let target = target.or(recorded.as_ref());
     // A shown report reads the measures: taken at once, on a second core
     // beside verification where there is one (the report is the same).
     let shown = json || !v.quiet;
@@ -168,6 +177,33 @@ fn check_one(
             (failed, checked)
         }
     }
+}
+
+/// The target a recipe's `[target]` table records, its path read relative
+/// to the recipe's folder; a hash that no longer matches is a warning.
+fn recorded_target(
+    recipe: &Path,
+    design: &karigami::Design,
+    json: bool,
+    bar: &mut Progress,
+) -> Result<Option<TargetFile>, Error> {
+    let Some((file, hash)) = &design.target else {
+        return Ok(None);
+    };
+    let dir = recipe.parent().unwrap_or(Path::new("."));
+    let t = TargetFile::read(&dir.join(file))?;
+    if let Some(h) = hash
+        && *h != format!("{:016x}", t.hash)
+        && !json
+    {
+        bar.print(&format!(
+            "warning: {}: the target {} has changed since the design was made (hash {:016x}, the recipe records {h})\n",
+            recipe.display(),
+            t.file,
+            t.hash
+        ));
+    }
+    Ok(Some(t))
 }
 
 /// A `--target` file read and validated (docs/design.md), with a

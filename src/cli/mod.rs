@@ -44,6 +44,7 @@ mod batch;
 mod build;
 mod check;
 mod console;
+mod design;
 mod error;
 mod files;
 mod interrupt;
@@ -170,6 +171,26 @@ fn run_command() -> i32 {
                 build::build(&designs, &out, force, run, &overrides, v)
             }
         }
+        Command::Design {
+            target,
+            out,
+            edge,
+            jobs,
+            time_limit,
+            force,
+            fabrication,
+        } => design::design(
+            &design::Ask {
+                target: &target,
+                out: &out,
+                force,
+                edge,
+                overrides: fabrication.overrides(),
+                jobs: jobs_or_cores(jobs),
+                time_limit,
+            },
+            v,
+        ),
         Command::Tune {
             design,
             cells,

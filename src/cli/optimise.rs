@@ -31,6 +31,17 @@ pub(super) fn run(
         Ok(d) => d,
         Err(e) => return Err(recipe.error(&e)),
     };
+    // "Met" is build's word too: the whole pipeline, simulation included,
+    // must take the result (issue 32), or tune says why it does not.
+    if let Err(d) = karigami::build(done.design.clone()) {
+        return Err(Error::new(
+            d.kind,
+            format!(
+                "{}: the optimised design meets [optimise.require], but build refuses it: {}",
+                recipe.file, d.message
+            ),
+        ));
+    }
     if !v.quiet {
         errln!(
             "optimised {} in {:.1} s: {} variables, {} iterations or generations, {} designs grown; cost {:.6} -> {:.6}; every hard constraint met",

@@ -31,6 +31,39 @@ pub(crate) enum Surface {
         minor: f64,
         profile: Vec<DVec2>,
     },
+    /// Any target (docs/design.md): a mesh or a family, met by rays and
+    /// closest points through its bounding-volume tree. Made by
+    /// `karigami design`, never written in a recipe.
+    Target(Shared),
+}
+
+/// A target shared by the fits of one search; equal when the same one.
+#[derive(Clone, Debug)]
+pub(crate) struct Shared(pub(crate) std::sync::Arc<crate::target::Target>);
+
+impl PartialEq for Shared {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl Fit {
+    /// A fit that grows `rows` rows of a 3-D sheet onto `target`, each
+    /// row's direction scanned over `samples` angles.
+    pub(crate) fn on_target(
+        target: std::sync::Arc<crate::target::Target>,
+        rows: usize,
+        samples: usize,
+    ) -> Fit {
+        Fit {
+            surface: Surface::Target(Shared(target)),
+            rows,
+            samples,
+            angles: None,
+            steps: None,
+            spans: FitSpans::default(),
+        }
+    }
 }
 
 /// A validated `[lattice.fit]` table: the target surface and how the search
@@ -336,6 +369,7 @@ impl Surface {
             Surface::Torus { major, minor, .. } => {
                 (DVec2::new(p.truncate().length() - major, p.z).length() - minor).abs()
             }
+            Surface::Target(t) => t.0.closest(p).1,
             Surface::Revolution { profile } => {
                 let q = DVec2::new(p.truncate().length(), p.z);
                 profile
@@ -358,13 +392,16 @@ impl Surface {
                 2.0 * profile.iter().map(|p| p.x).fold(0.0, f64::max)
             }
             Surface::Torus { major, minor, .. } => 2.0 * (major + minor),
+            Surface::Target(t) => t.0.extent,
         }
     }
 
     /// Distance along the ray `p + t v` (t > 0) to the surface's boundary:
-    /// the circle, or the ellipsoid.
+    /// the circle, or the ellipsoid, or a target's first crossing.
     pub(crate) fn ray_exit(&self, p: DVec3, v: DVec3) -> Option<f64> {
         let (p, v) = match self {
+            // Beyond a hair of the pivot: a leg of zero length is no leg.
+            Surface::Target(t) => return target_exit(&t.0, p, v),
             Surface::Disk { radius } => (p / *radius, v / *radius),
             Surface::Ellipsoid { axes } => (p / *axes, v / *axes),
             Surface::Revolution { .. } | Surface::Torus { .. } => return None,
@@ -378,6 +415,43 @@ impl Surface {
         Some((-b + disc.sqrt()) / a)
     }
 }
+
+/// Where the ray `p + t v` (v a unit vector) leaves a target patch: on the
+/// first stretch of the ray within `EXIT_BAND` of D of the surface, the
+/// crossing when the ray meets the surface at an angle (a short stretch),
+/// else the stretch's end, where a ray running along the surface passes
+/// its edge (a flat or nearly flat patch). None when it never comes near.
+fn target_exit(t: &crate::target::Target, p: DVec3, v: DVec3) -> Option<f64> {
+    let (d, band) = (t.extent, EXIT_BAND * t.extent);
+    let h = d / 200.0;
+    let near = |s: f64| t.closest(p + s * v).1 <= band;
+    let start = (1..=400).map(|k| k as f64 * h).find(|&s| near(s))?;
+    let mut end = start;
+    while end < 2.0 * d && near(end + h) {
+        end += h;
+    }
+    // The stretch's end to within a thousandth of a step.
+    let (mut a, mut b) = (end, end + h);
+    for _ in 0..10 {
+        let m = 0.5 * (a + b);
+        if near(m) { a = m } else { b = m }
+    }
+    let end = a;
+    if end - start > 4.0 * band / (1.0 - 0.95f64.powi(2)).sqrt() {
+        return Some(end);
+    }
+    // A crossing: the distance's least on the stretch (golden section).
+    let (mut lo, mut hi) = ((start - h).max(0.0), end);
+    let f = |s: f64| t.closest(p + s * v).1;
+    for _ in 0..40 {
+        let (m1, m2) = (lo + 0.382 * (hi - lo), lo + 0.618 * (hi - lo));
+        if f(m1) <= f(m2) { hi = m2 } else { lo = m1 }
+    }
+    Some(0.5 * (lo + hi)).filter(|s| *s > 1e-6 * d)
+}
+
+/// How near a target (a share of D) a ray counts as on it.
+const EXIT_BAND: f64 = 0.002;
 
 fn segment_distance(q: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;

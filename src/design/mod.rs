@@ -56,6 +56,9 @@ pub struct Design {
     pub optimise: Option<optimise::Optimise>,
     /// `[simulation]`: material moduli and deployment for `simulate`.
     pub simulation: settings::Settings,
+    /// `[target]`: the target file the design was made for, relative to
+    /// the recipe, and its FNV-1a content hash (hex), for `check`.
+    pub target: Option<(String, Option<String>)>,
     /// FNV-1a hash of the recipe text, written into the files' metadata.
     pub(crate) recipe_hash: u64,
     /// When the run's time is up (`--time-limit`, docs/commands.md): the
@@ -97,6 +100,13 @@ pub fn parse_with(
         None => default_name.to_string(),
     };
     let (fabrication, fabrication_spans) = fabrication_table::fabrication(&raw, overrides)?;
+    let target = raw.target.as_ref().map(|t| {
+        let t = t.get_ref();
+        (
+            t.file.get_ref().clone(),
+            t.hash.as_ref().map(|h| h.get_ref().clone()),
+        )
+    });
     let clash = optimise::parse_clash(raw.clash.as_ref())?;
     let optimise = raw.optimise.as_ref().map(optimise::parse).transpose()?;
     let mut simulation = simulation::parse(raw.simulation.as_ref(), fabrication.material.preset)?;
@@ -178,6 +188,7 @@ pub fn parse_with(
         clash,
         optimise,
         simulation,
+        target,
         recipe_hash: crate::hash::fnv1a(source.as_bytes()),
         deadline: overrides.deadline,
         spans,

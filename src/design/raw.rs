@@ -25,6 +25,15 @@ pub(crate) struct RawDesign {
     pub(crate) clash: Option<Spanned<RawClash>>,
     pub(crate) optimise: Option<Spanned<RawOptimise>>,
     pub(crate) simulation: Option<Spanned<RawSimulation>>,
+    pub(crate) target: Option<Spanned<RawTargetRecord>>,
+}
+
+/// `[target]`: the target a design was made for (`karigami design`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTargetRecord {
+    pub(crate) file: Spanned<String>,
+    pub(crate) hash: Option<Spanned<String>>,
 }
 
 /// `[guide]`: the printed assembly guide.

@@ -132,7 +132,23 @@ pub(crate) fn cost(
     }
     let checks = constraints(opt, m);
     c += c_over + PENALTY * checks.iter().map(|k| k.3).sum::<f64>();
+    if refused(d, lattice, m).is_some() {
+        c += PENALTY;
+    }
     (c, checks)
+}
+
+/// Why `build` would refuse the grown design before its simulation, by
+/// the functions `build` runs: the strips and eyelets (`parts::parts`: a
+/// strip longer than the sheet, holes too close, legs too short) and the
+/// clash rule (`Measures::clash_error`); None when it would not. A hard
+/// constraint of every search, whatever `[optimise.require]` says.
+pub(crate) fn refused(d: &Design, lattice: &Lattice, m: &Measures) -> Option<String> {
+    let joints = crate::lattice::joints(lattice);
+    if let Err(e) = crate::parts::parts(lattice, &joints, &d.fabrication) {
+        return Some(e.message);
+    }
+    m.clash_error(lattice, d).map(|e| e.message)
 }
 
 /// The angle defects of the design's simulated deployed shape (its own

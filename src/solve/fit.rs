@@ -28,6 +28,36 @@ pub(crate) fn grow(
     grow_recorded(design, fit, progress).map(|(l, _)| l)
 }
 
+/// The rows of the deepest sheet an open fit's search reached on `fit`
+/// within `budget` rows tried (all `fit.rows` of them when it could), each
+/// row's scan of `fit.samples` angles: the rows `karigami design` writes.
+pub(crate) fn deepest_rows(
+    design: &Design,
+    fit: &Fit,
+    budget: usize,
+) -> Result<Vec<RowParams>, GrowthError> {
+    let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
+    let fab = &design.fabrication;
+    let mut quiet = |_: &str| {};
+    let mut search = Search {
+        fit,
+        dim: design.dim,
+        min_leg: fab.eyelet.flange + 2.0 * MIN_WALL,
+        strip: (fab.material.width, fab.end_margin, design.clash.clearance),
+        budget,
+        deepest: (0, None),
+        progress: &mut quiet,
+        chosen: Vec::new(),
+        path: Vec::new(),
+        best: Vec::new(),
+    };
+    search.rows(&mut grower, 0);
+    if search.best.is_empty() {
+        return Err(search.deepest.1.unwrap_or_else(|| no_row(0)));
+    }
+    Ok(search.best)
+}
+
 /// The row angles an open fit's search chose (None for other fits): where
 /// the optimiser starts when the recipe gives no `fit.angles`.
 pub(crate) fn searched_angles(design: &Design, fit: &Fit) -> Option<Vec<f64>> {
@@ -45,7 +75,8 @@ fn grow_recorded(
 ) -> Result<(Lattice, Option<Vec<f64>>), GrowthError> {
     let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
     let open = matches!(fit.surface, Surface::Disk { .. })
-        || matches!(fit.surface, Surface::Ellipsoid { .. }) && design.kind == Kind::Sheet;
+        || matches!(fit.surface, Surface::Ellipsoid { .. } | Surface::Target(_))
+            && design.kind == Kind::Sheet;
     if open {
         // Legs shorter than the eyelet flange (plus a wall) cannot be built.
         let min_leg = design.fabrication.eyelet.flange + 2.0 * MIN_WALL;
@@ -75,6 +106,8 @@ fn grow_recorded(
             deepest: (0, None),
             progress,
             chosen: Vec::new(),
+            path: Vec::new(),
+            best: Vec::new(),
         };
         return if search.rows(&mut grower, 0) {
             Ok((grower.into_lattice(), Some(search.chosen)))
@@ -133,6 +166,9 @@ fn meridian_step(axes: DVec3, x1: DVec3, edge: f64) -> DVec3 {
     DVec3::new(r * theta.cos(), r * theta.sin(), c * t.sin())
 }
 
+/// How far (a share of D) a new vertex may stray from a target.
+const TARGET_STRAY: f64 = 0.01;
+
 /// Rows tried in all, over every backtrack of a fit.
 const SEARCH_BUDGET: usize = 5_000;
 /// The best rows of each scan that are tried in turn when a later row has
@@ -155,6 +191,9 @@ struct Search<'a> {
     progress: &'a mut dyn FnMut(&str),
     /// The leg angle of each row grown so far.
     chosen: Vec<f64>,
+    /// The rows grown so far, and the longest such list met.
+    path: Vec<RowParams>,
+    best: Vec<RowParams>,
 }
 
 impl Search<'_> {
@@ -186,12 +225,17 @@ impl Search<'_> {
             if let Some(Direction::Angles { angle_deg, .. }) = params.direction {
                 self.chosen.push(angle_deg);
             }
+            self.path.push(params.clone());
+            if self.path.len() > self.best.len() {
+                self.best.clone_from(&self.path);
+            }
             (self.progress)(&row_note(self.fit, grower.lattice(), i));
             if self.rows(grower, i + 1) {
                 return true;
             }
             grower.undo_row();
             self.chosen.pop();
+            self.path.pop();
         }
         false
     }
@@ -367,8 +411,16 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
     {
         return f64::INFINITY;
     }
+    // A target's new vertices stay on it: not past a flat patch's edge.
+    if let Surface::Target(t) = surface
+        && new
+            .iter()
+            .any(|v| surface.distance(v.pos) > TARGET_STRAY * t.0.extent)
+    {
+        return f64::INFINITY;
+    }
     match surface {
-        Surface::Ellipsoid { .. } => {
+        Surface::Ellipsoid { .. } | Surface::Target(_) => {
             let d = new
                 .iter()
                 .map(|v| surface.distance(v.pos))

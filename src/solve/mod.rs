@@ -15,6 +15,7 @@
 //! (`Design::grow`, which calls the fit search).
 
 mod cost;
+pub(crate) mod design;
 mod evolve;
 pub(crate) mod fit;
 mod grow;
@@ -552,6 +553,17 @@ fn judge(text: &str, name: &str, opt: &Optimise) -> Result<(Design, f64, Measure
     })?;
     let m = measure(&design_out, &lattice);
     let (cost_after, checks) = cost(&design_out, &lattice, opt, &m);
+    if let Some(why) = cost::refused(&design_out, &lattice, &m) {
+        return Err(Diagnostic::new(
+            ErrorKind::ConstraintNotMet,
+            format!("the best design found is one that build refuses: {why}"),
+        )
+        .at(opt.span.clone())
+        .hint(format!(
+            "vary more of the recipe, raise optimise.budget (now {}), or change the sheet or strips",
+            opt.budget
+        )));
+    }
     if let Some((name, value, bound, _)) = checks.iter().find(|c| c.3 > 0.0) {
         let span = opt
             .require

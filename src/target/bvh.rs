@@ -131,6 +131,89 @@ impl Bvh {
     }
 }
 
+impl Bvh {
+    /// The first `t` in `(tmin, limit)` where the ray `p + t v` meets a
+    /// triangle (Moeller-Trumbore), nearest first; None when it misses.
+    pub(crate) fn ray(
+        &self,
+        positions: &[DVec3],
+        triangles: &[[u32; 3]],
+        p: DVec3,
+        v: DVec3,
+        tmin: f64,
+        limit: f64,
+    ) -> Option<f64> {
+        let mut best = limit;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        let inv = v.recip();
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            if !box_hit(node, p, inv, best) {
+                continue;
+            }
+            if node.count == 0 {
+                stack.push(node.start);
+                stack.push(node.start + 1);
+                continue;
+            }
+            let (s, c) = (node.start as usize, node.count as usize);
+            for &t in &self.order[s..s + c] {
+                let [a, b, c] = triangles[t as usize].map(|i| positions[i as usize]);
+                if let Some(h) = ray_triangle(p, v, a, b, c)
+                    && h > tmin
+                    && h < best
+                {
+                    best = h;
+                }
+            }
+        }
+        (best < limit).then_some(best)
+    }
+}
+
+/// Whether the ray `p + t v` (`inv` = 1 / v) enters the node's box before
+/// `tmax` (the slab test; a zero component gives infinities that compare right).
+fn box_hit(node: &Node, p: DVec3, inv: DVec3, tmax: f64) -> bool {
+    let (mut lo, mut hi) = (0.0f64, tmax);
+    for k in 0..3 {
+        let (a, b) = ((node.lo[k] - p[k]) * inv[k], (node.hi[k] - p[k]) * inv[k]);
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        // NaN (0 * inf, a ray in the slab's plane) keeps the interval.
+        if a > lo {
+            lo = a;
+        }
+        if b < hi {
+            hi = b;
+        }
+    }
+    lo <= hi
+}
+
+/// The ray parameter where `p + t v` crosses triangle abc (Moeller and
+/// Trumbore), None when it misses or runs parallel to it.
+fn ray_triangle(p: DVec3, v: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<f64> {
+    let (e1, e2) = (b - a, c - a);
+    let h = v.cross(e2);
+    let det = e1.dot(h);
+    if det.abs() <= 1e-12 * e1.length() * e2.length() * v.length() {
+        return None;
+    }
+    let s = p - a;
+    let u = s.dot(h) / det;
+    if !(-1e-12..=1.0 + 1e-12).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let w = v.dot(q) / det;
+    if w < -1e-12 || u + w > 1.0 + 1e-12 {
+        return None;
+    }
+    Some(e2.dot(q) / det)
+}
+
 fn node_of(positions: &[DVec3], triangles: &[[u32; 3]], tris: &[u32], start: usize) -> Node {
     let (lo, hi) = tris
         .iter()
@@ -219,6 +302,29 @@ mod property {
 
     fn random_point(rng: &mut Rng, scale: f64) -> DVec3 {
         DVec3::new(rng.signed(), rng.signed(), rng.signed()) * scale
+    }
+
+    /// The tree's first hit is the brute-force nearest crossing.
+    #[test]
+    fn the_tree_finds_the_brute_force_first_ray_hit() {
+        let mut rng = Rng::new(7);
+        let positions: Vec<DVec3> = (0..60).map(|_| random_point(&mut rng, 100.0)).collect();
+        let triangles: Vec<[u32; 3]> = (0..20).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+        let bvh = Bvh::new(&positions, &triangles);
+        for _ in 0..200 {
+            let (p, v) = (random_point(&mut rng, 100.0), random_point(&mut rng, 1.0));
+            let brute = triangles
+                .iter()
+                .filter_map(|t| {
+                    let [a, b, c] = t.map(|i| positions[i as usize]);
+                    ray_triangle(p, v, a, b, c).filter(|&h| h > 0.0)
+                })
+                .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.min(h))));
+            assert_eq!(
+                bvh.ray(&positions, &triangles, p, v, 0.0, f64::INFINITY),
+                brute
+            );
+        }
     }
 
     #[test]

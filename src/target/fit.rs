@@ -231,7 +231,7 @@ fn icp(target: &Target, points: &[DVec3], start: Rigid, iterations: usize) -> (R
 
 /// Principal axes (columns, largest spread first) and centre of weighted
 /// points.
-fn principal(points: impl Iterator<Item = (DVec3, f64)> + Clone) -> (DMat3, DVec3) {
+pub(crate) fn principal(points: impl Iterator<Item = (DVec3, f64)> + Clone) -> (DMat3, DVec3) {
     let total: f64 = points
         .clone()
         .map(|(_, w)| w)

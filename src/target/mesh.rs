@@ -103,6 +103,48 @@ const DEGENERATE: f64 = 1e-10;
 
 impl Mesh {
     /// The sum of the triangles' areas.
+    /// The boundary loops, each as corner indices in the order its
+    /// triangles run, the longest loop (in corners) first, each starting at
+    /// its lowest index: deterministic.
+    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
+        let mut count: FxHashMap<(u32, u32), u32> = FxHashMap::default();
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        let mut next: FxHashMap<u32, u32> = FxHashMap::default();
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if count[&(a.min(b), a.max(b))] == 1 {
+                    next.insert(a, b);
+                }
+            }
+        }
+        let mut starts: Vec<u32> = next.keys().copied().collect();
+        starts.sort_unstable();
+        let mut seen = rustc_hash::FxHashSet::default();
+        let mut loops = Vec::new();
+        for s in starts {
+            let mut chain = Vec::new();
+            let mut v = s;
+            while seen.insert(v) {
+                chain.push(v);
+                match next.get(&v) {
+                    Some(&n) => v = n,
+                    None => break,
+                }
+            }
+            if !chain.is_empty() {
+                loops.push(chain);
+            }
+        }
+        loops.sort_by_key(|l| std::cmp::Reverse(l.len()));
+        loops
+    }
+
     pub(crate) fn area(&self) -> f64 {
         (0..self.triangles.len())
             .map(|t| self.triangle_area(t))

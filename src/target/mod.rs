@@ -87,6 +87,52 @@ impl Target {
             .map_or((p, f64::INFINITY), |(q, d2)| (q, d2.sqrt()))
     }
 
+    /// The first crossing of the ray `p + t v` with the target beyond
+    /// `tmin`, as `t` (v need not be a unit vector).
+    pub fn ray(&self, p: DVec3, v: DVec3, tmin: f64) -> Option<f64> {
+        self.tree.ray(
+            &self.mesh.positions,
+            &self.mesh.triangles,
+            p,
+            v,
+            tmin,
+            f64::INFINITY,
+        )
+    }
+
+    /// The target moved into its own frame: the area centroid at the
+    /// origin, its largest spread along x and its smallest along z (a
+    /// patch then lies across the xy-plane, where a sheet's leg angles are
+    /// measured, docs/recipe.md). The fit measures do not change.
+    pub fn canonical(&self) -> Target {
+        let m = &self.mesh;
+        let (axes, centre) = fit::principal(
+            (0..m.triangles.len())
+                .map(|t| (m.corners(t).iter().sum::<DVec3>() / 3.0, m.triangle_area(t))),
+        );
+        let mut axes = axes;
+        if axes.determinant() < 0.0 {
+            axes.z_axis = -axes.z_axis;
+        }
+        let to = axes.transpose();
+        let mesh = Mesh {
+            positions: m.positions.iter().map(|&p| to * (p - centre)).collect(),
+            triangles: m.triangles.clone(),
+        };
+        Target::new(mesh, self.what.clone(), self.topology)
+    }
+
+    /// The target turned about the origin so that `normal` points along
+    /// +z (the shortest such turn): a rim's plane made level.
+    pub fn levelled(&self, normal: DVec3) -> Target {
+        let q = glam::DQuat::from_rotation_arc(normal.normalize(), DVec3::Z);
+        let mesh = Mesh {
+            positions: self.mesh.positions.iter().map(|&p| q * p).collect(),
+            triangles: self.mesh.triangles.clone(),
+        };
+        Target::new(mesh, self.what.clone(), self.topology)
+    }
+
     /// The best rigid fit of `points` to the target (iterated closest
     /// points from a few starts, docs/design.md) and, when `facets` are
     /// given (quads of indices into `points`), the share of the target's

@@ -44,7 +44,7 @@ pub fn coverage(fit: &Fit, lattice: &Lattice) -> Option<Coverage> {
                 degrees: Some(deg),
             })
         }
-        Surface::Revolution { .. } => None,
+        Surface::Revolution { .. } | Surface::Target(_) => None,
     }
 }
 
