@@ -161,9 +161,6 @@ pub(super) enum Command {
         /// Seeds grown at once (default: all cores). The result does not depend on it.
         #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
-        /// Stop starting new candidates after this many seconds.
-        #[arg(long, value_name = "SECONDS")]
-        time_limit: Option<f64>,
         /// Overwrite an existing --out file.
         #[arg(long)]
         force: bool,
@@ -281,4 +278,16 @@ pub(super) fn deadline(limit: Option<f64>) -> karigami::Deadline {
 pub(super) struct Verbosity {
     pub quiet: bool,
     pub verbose: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// clap checks the schema only when a subcommand is parsed: two flags of
+    /// one name (a command's own and a flattened group's) would panic then.
+    #[test]
+    fn every_subcommand_schema_is_consistent() {
+        super::Args::command().debug_assert();
+    }
 }

@@ -10,7 +10,7 @@ use super::error::Error;
 use karigami::designing::{self, DesignAsk, Found};
 use karigami::{ErrorKind, Overrides};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// What the command was asked.
 pub(super) struct Ask<'a> {
@@ -20,7 +20,6 @@ pub(super) struct Ask<'a> {
     pub edge: Option<f64>,
     pub overrides: Overrides,
     pub jobs: usize,
-    pub time_limit: Option<f64>,
 }
 
 /// Candidates built (each a full build with its simulation) at most.
@@ -28,7 +27,9 @@ const BUILT: usize = 6;
 
 pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     let started = Instant::now();
-    let deadline = ask.time_limit.map(|s| started + Duration::from_secs_f64(s));
+    // `--time-limit` (src/budget.rs): no new candidate is started after it,
+    // and a candidate's build stops at it like any build.
+    let deadline = ask.overrides.deadline.at();
     if ask.out.exists() && !ask.force {
         return Err(Error::usage(format!(
             "{} exists; give --force to replace it",
@@ -37,9 +38,6 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     }
     if ask.edge.is_some_and(|e| !(e.is_finite() && e > 0.0)) {
         return Err(Error::usage("--edge must be a positive length in mm"));
-    }
-    if ask.time_limit.is_some_and(|s| !(s.is_finite() && s >= 0.0)) {
-        return Err(Error::usage("--time-limit must be a number of seconds"));
     }
     let file = TargetFile::read(ask.target)?;
     let base = karigami::parse_with(designing::STUB, "design", &ask.overrides)

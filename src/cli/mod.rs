@@ -176,7 +176,6 @@ fn run_command() -> i32 {
             out,
             edge,
             jobs,
-            time_limit,
             force,
             fabrication,
         } => design::design(
@@ -187,7 +186,6 @@ fn run_command() -> i32 {
                 edge,
                 overrides: fabrication.overrides(),
                 jobs: jobs_or_cores(jobs),
-                time_limit,
             },
             v,
         ),
