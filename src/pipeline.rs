@@ -610,7 +610,7 @@ fn simulated(
             &design.deadline,
         )
         .map(|run| match follow {
-            true => crate::sim::path::chosen(run, &settings.material),
+            true => crate::sim::path::chosen_until(run, &settings.material, &design.deadline),
             false => (run, None),
         }),
     };

@@ -101,6 +101,30 @@ fn simulate_stops_at_its_time_limit() {
     );
 }
 
+/// The deployment path (several seconds on the half ellipsoid) stops at
+/// the time limit too, rather than running on after a solve that fitted.
+#[test]
+fn the_deployment_path_stops_at_the_time_limit() {
+    let clock = Instant::now();
+    let o = karigami(
+        &[
+            "simulate",
+            "examples/half-ellipsoid.toml",
+            "--time-limit",
+            "2",
+        ],
+        &repo(),
+    );
+    let seconds = clock.elapsed().as_secs_f64();
+    says(&o, 4, &["error[TimeLimit]: ", "the time limit of 2 s"]);
+    assert!(seconds < 7.0, "stopped after {seconds:.1} s");
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
 /// `explore_until` stops at its deadline with the starts solved so far;
 /// without one it is `explore`.
 #[test]

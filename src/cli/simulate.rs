@@ -110,8 +110,19 @@ pub(super) fn simulate(
     // The state reported is the one deploying ends in (docs/physics.md,
     // "The chosen equilibrium"): the path is followed on every run.
     let (run, walked) = progress::heartbeat("following the deployment path", v.quiet, || {
-        sim::path::chosen(run, &settings.material)
+        sim::path::chosen_until(run, &settings.material, &deadline)
     });
+    if deadline.expired() {
+        return Err(recipe.error(&plain(
+            ErrorKind::TimeLimit,
+            format!(
+                "stopped on the deployment path, {:.1} s in: the time limit of {} s has passed",
+                deadline.elapsed(),
+                deadline.limit().unwrap_or(0.0)
+            ),
+            "nothing was reported; allow more time with --time-limit SECONDS (docs/commands.md, Time limits)".into(),
+        )));
+    }
     if !v.quiet {
         out!(
             "{}",

@@ -9,6 +9,7 @@
 use super::solver::{Options, Stats, System};
 use super::strips::LatticeModel;
 use super::{Material, Simulation, results, shape_distance};
+use crate::budget::Deadline;
 use glam::DVec3;
 
 /// The nearly collapsed end of the path: this share of the design's
@@ -169,6 +170,18 @@ pub fn follow(
     steps: usize,
     material: &Material,
 ) -> (Path, Option<(LatticeModel, Stats)>) {
+    follow_until(lm, stats, steps, material, &Deadline::none())
+}
+
+/// `follow`, each solve stopped at `deadline` (src/budget.rs): the path then
+/// ends short, and the caller reports the time limit.
+fn follow_until(
+    lm: &LatticeModel,
+    stats: &Stats,
+    steps: usize,
+    material: &Material,
+    deadline: &Deadline,
+) -> (Path, Option<(LatticeModel, Stats)>) {
     let mut lm = lm.clone();
     let design = lm.held_opening();
     let low = COLLAPSED * design;
@@ -177,6 +190,7 @@ pub fn follow(
         sys: System::new(&lm.model),
         left: budget(steps),
         material,
+        deadline: deadline.at(),
     };
     let budget = walker.left;
     let (collapse, mut failed, _) = walker.way(&mut lm, low, steps, start);
@@ -225,10 +239,20 @@ pub fn follow(
 /// there, else the equilibrium solved from the design; with the path
 /// (`Path::step_count` steps each way for the model's size).
 pub fn chosen(run: Simulation, material: &Material) -> (Simulation, Option<Path>) {
+    chosen_until(run, material, &Deadline::none())
+}
+
+/// `chosen`, the path's solves stopped at `deadline`: a caller that gave
+/// one checks it afterwards and reports the time limit, not the short path.
+pub fn chosen_until(
+    run: Simulation,
+    material: &Material,
+    deadline: &Deadline,
+) -> (Simulation, Option<Path>) {
     let clock = std::time::Instant::now();
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
     let steps = Path::step_count(free, run.theta);
-    let (path, end) = follow(&run.lm, &run.equilibrium.stats, steps, material);
+    let (path, end) = follow_until(&run.lm, &run.equilibrium.stats, steps, material, deadline);
     // Back at the state solved from the design (within `SAME_MM`): that
     // solve's numbers, not the round trip's few ulp away from them.
     let home = path
@@ -272,6 +296,8 @@ struct Walker<'a> {
     sys: System,
     left: usize,
     material: &'a Material,
+    /// When the run's `--time-limit` passes: every solve stops there.
+    deadline: Option<std::time::Instant>,
 }
 
 /// A way walked: its points, why it stopped short (the opening tried and
@@ -383,7 +409,7 @@ impl Walker<'_> {
     fn solve_within(&mut self, lm: &mut LatticeModel, cap: usize) -> Result<Stats, String> {
         let opts = Options {
             max_iterations: cap.min(self.left.max(1)),
-            ..Options::default()
+            deadline: self.deadline,
         };
         let s = super::solver::solve(&mut lm.model, &self.sys, &opts);
         let used = match &s {
