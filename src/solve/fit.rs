@@ -13,6 +13,7 @@
 //! * revolution (loop): each row's vertex x[i+1][1] is placed on the next
 //!   profile point, in the meridian plane of x[i][1] (the paper's torus).
 
+use crate::budget::Deadline;
 use crate::design::fit::{Fit, Surface, error};
 use crate::design::{Design, MIN_WALL};
 use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
@@ -50,8 +51,13 @@ pub(crate) fn deepest_rows(
         chosen: Vec::new(),
         path: Vec::new(),
         best: Vec::new(),
+        deadline: &design.deadline,
+        stopped: false,
     };
     search.rows(&mut grower, 0);
+    if search.stopped {
+        return Err(stopped(&design.deadline, search.best.len(), fit.rows));
+    }
     if search.best.is_empty() {
         return Err(search.deepest.1.unwrap_or_else(|| no_row(0)));
     }
@@ -108,9 +114,13 @@ fn grow_recorded(
             chosen: Vec::new(),
             path: Vec::new(),
             best: Vec::new(),
+            deadline: &design.deadline,
+            stopped: false,
         };
         return if search.rows(&mut grower, 0) {
             Ok((grower.into_lattice(), Some(search.chosen)))
+        } else if search.stopped {
+            Err(stopped(&design.deadline, search.best.len(), fit.rows))
         } else {
             Err(search.deepest.1.unwrap_or_else(|| no_row(search.deepest.0)))
         };
@@ -194,6 +204,10 @@ struct Search<'a> {
     /// The rows grown so far, and the longest such list met.
     path: Vec<RowParams>,
     best: Vec<RowParams>,
+    /// The run's `--time-limit` (src/budget.rs), checked before each row
+    /// tried; `stopped` once it has passed.
+    deadline: &'a Deadline,
+    stopped: bool,
 }
 
 impl Search<'_> {
@@ -210,12 +224,21 @@ impl Search<'_> {
             self.dim,
             self.min_leg,
             self.strip,
+            self.deadline,
         );
+        if self.deadline.expired() {
+            self.stopped = true;
+            return false;
+        }
         if i > self.deepest.0 || candidates.is_empty() && i == self.deepest.0 {
             self.deepest = (i, why.filter(|_| candidates.is_empty()));
         }
         for params in candidates.into_iter().take(BRANCHES) {
             if self.budget == 0 {
+                return false;
+            }
+            if self.deadline.expired() {
+                self.stopped = true;
                 return false;
             }
             self.budget -= 1;
@@ -253,6 +276,22 @@ fn row_note(fit: &Fit, lattice: &Lattice, i: usize) -> String {
 
 /// No row `i` was found: none admissible there, or the search ran out of
 /// tries on the way.
+/// The fit's search stopped at the time limit, `rows` of `of` grown.
+fn stopped(deadline: &Deadline, rows: usize, of: usize) -> GrowthError {
+    GrowthError::new(
+        crate::diagnostic::ErrorKind::TimeLimit,
+        crate::lattice::Param::Direction,
+        Some(rows),
+        None,
+        format!(
+            "the fit's row search stopped at {rows} of {of} rows after {:.1} s: the time limit of {} s has passed",
+            deadline.elapsed(),
+            deadline.limit().unwrap_or(0.0)
+        ),
+        "nothing was written; allow more time with --time-limit SECONDS, or fit with fewer samples (docs/commands.md, Time limits)",
+    )
+}
+
 fn no_row(i: usize) -> GrowthError {
     GrowthError::new(
         crate::diagnostic::ErrorKind::InadmissibleDirection,
@@ -287,6 +326,7 @@ fn ranked_rows(
     dim: usize,
     min_leg: f64,
     strip: (f64, f64, f64),
+    deadline: &Deadline,
 ) -> (Vec<RowParams>, Option<GrowthError>) {
     let tilts: Vec<f64> = if dim == 3 {
         let n = tilt_count(samples);
@@ -299,6 +339,11 @@ fn ranked_rows(
     let mut scored: Vec<(f64, RowParams)> = Vec::new();
     let mut last_error = None;
     for &tilt in &tilts {
+        // A 2,000-sample scan takes seconds: the time limit is looked at
+        // once a tilt.
+        if deadline.expired() {
+            break;
+        }
         for k in 1..samples {
             let angle = -89.0 + 178.0 * k as f64 / samples as f64;
             let direction = Some(Direction::Angles {
