@@ -68,6 +68,35 @@ pub(crate) fn run() -> i32 {
     console::exit_code(code)
 }
 
+/// A usage error from clap: its own text, or one JSON document when
+/// `--json` was asked.
+fn usage_error(e: &clap::Error) -> i32 {
+    // A usage error is still one JSON document when --json was asked.
+    if std::env::args_os().any(|a| a == "--json") {
+        let rendered = e.to_string();
+        let message = rendered
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .trim_start_matches("error: ")
+            .to_string();
+        let _ = e.print();
+        let error = Error {
+            kind: ErrorKind::Usage,
+            text: String::new(),
+            json: Some(Box::new(ErrorJson::Plain {
+                class: ErrorKind::Usage.name(),
+                message,
+                file: None,
+                detail: Some(rendered),
+            })),
+        };
+        error.report(true);
+        return error.exit_code();
+    }
+    e.exit()
+}
+
 fn run_command() -> i32 {
     let args = match Args::try_parse() {
         Ok(args) => args,
@@ -76,32 +105,7 @@ fn run_command() -> i32 {
             console::noted(e.print(), console::Stream::Out);
             return e.exit_code();
         }
-        Err(e) => {
-            // A usage error is still one JSON document when --json was asked.
-            if std::env::args_os().any(|a| a == "--json") {
-                let rendered = e.to_string();
-                let message = rendered
-                    .lines()
-                    .next()
-                    .unwrap_or_default()
-                    .trim_start_matches("error: ")
-                    .to_string();
-                let _ = e.print();
-                let error = Error {
-                    kind: ErrorKind::Usage,
-                    text: String::new(),
-                    json: Some(Box::new(ErrorJson::Plain {
-                        class: ErrorKind::Usage.name(),
-                        message,
-                        file: None,
-                        detail: Some(rendered),
-                    })),
-                };
-                error.report(true);
-                return error.exit_code();
-            }
-            e.exit()
-        }
+        Err(e) => return usage_error(&e),
     };
     // Commands with --json print every error as their one JSON document.
     let json = matches!(

@@ -144,56 +144,7 @@ pub(super) fn simulate(
         }
     }
     if let Some(n) = explore_n {
-        let material = settings.material;
-        // Each start reckoned at `START_ITERATIONS` of the solve's own
-        // measured Newton iterations (docs/commands.md, "Time limits").
-        let per_start = run.seconds / (run.iterations + 1) as f64 * START_ITERATIONS;
-        let estimate = per_start * n as f64 / jobs.min(n).max(1) as f64;
-        if !deadline.allows(estimate) {
-            return Err(recipe.error(&plain(
-                ErrorKind::WorkTooLong,
-                format!(
-                    "--explore {n} would take about {} ({n} starts of about {} each on {}), longer than the {} allowed",
-                    karigami::duration(estimate),
-                    karigami::duration(per_start),
-                    plural(jobs, "thread"),
-                    karigami::duration(deadline.ceiling())
-                ),
-                format!(
-                    "use --explore {} or fewer, or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)",
-                    ((deadline.ceiling() / per_start * jobs as f64).floor() as usize).max(1)
-                ),
-            )));
-        }
-        say_estimate("--explore", &format!("{n} starts"), estimate, &deadline, v);
-        let solved = AtomicUsize::new(0);
-        let line = |seconds| {
-            let k = solved.load(Ordering::Relaxed);
-            format!("explore: {k} of {n} starts ({seconds} s)")
-        };
-        let (found, rejected) = progress::heartbeat_saying(line, v.quiet, || {
-            explore_until(
-                &run.lm,
-                (n, EXPLORE_SEED),
-                jobs,
-                &|lm, stats| sim::equilibrium(lm, stats, &material),
-                &solved,
-                &deadline,
-            )
-        })
-        .map_err(|stopped| {
-            recipe.error(&plain(
-                ErrorKind::TimeLimit,
-                format!("--explore {stopped}"),
-                "nothing of the exploration was reported; allow more time with --time-limit SECONDS, or fewer starts (docs/commands.md, Time limits)".into(),
-            ))
-        })?;
-        if !v.quiet {
-            out!(
-                "{}",
-                explore_text(lattice, &run.lm, &found, &rejected, n, &settings)
-            );
-        }
+        explore(&recipe, lattice, &run, &settings, (n, jobs), &deadline, v)?;
     }
     Ok(())
 }
@@ -203,6 +154,70 @@ pub(super) fn simulate(
 /// 180 ms against its 17 ms an iteration, a 1,980-cell sheet's 5 to 7 s
 /// against 1.8 s.
 const START_ITERATIONS: f64 = 10.0;
+
+/// `--explore N`: the other stable states, from N seeded perturbations of
+/// the reported equilibrium, estimated and refused beyond the time limit.
+fn explore(
+    recipe: &Recipe,
+    lattice: &Lattice,
+    run: &Simulation,
+    settings: &Settings,
+    (n, jobs): (usize, usize),
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) -> Result<(), Error> {
+    let material = settings.material;
+    // Each start reckoned at `START_ITERATIONS` of the solve's own
+    // measured Newton iterations (docs/commands.md, "Time limits").
+    let per_start = run.seconds / (run.iterations + 1) as f64 * START_ITERATIONS;
+    let estimate = per_start * n as f64 / jobs.min(n).max(1) as f64;
+    if !deadline.allows(estimate) {
+        return Err(recipe.error(&plain(
+            ErrorKind::WorkTooLong,
+            format!(
+                "--explore {n} would take about {} ({n} starts of about {} each on {}), longer than the {} allowed",
+                karigami::duration(estimate),
+                karigami::duration(per_start),
+                plural(jobs, "thread"),
+                karigami::duration(deadline.ceiling())
+            ),
+            format!(
+                "use --explore {} or fewer, or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)",
+                ((deadline.ceiling() / per_start * jobs as f64).floor() as usize).max(1)
+            ),
+        )));
+    }
+    say_estimate("--explore", &format!("{n} starts"), estimate, deadline, v);
+    let solved = AtomicUsize::new(0);
+    let line = |seconds| {
+        let k = solved.load(Ordering::Relaxed);
+        format!("explore: {k} of {n} starts ({seconds} s)")
+    };
+    let (found, rejected) = progress::heartbeat_saying(line, v.quiet, || {
+        explore_until(
+            &run.lm,
+            (n, EXPLORE_SEED),
+            jobs,
+            &|lm, stats| sim::equilibrium(lm, stats, &material),
+            &solved,
+            deadline,
+        )
+    })
+    .map_err(|stopped| {
+        recipe.error(&plain(
+            ErrorKind::TimeLimit,
+            format!("--explore {stopped}"),
+            "nothing of the exploration was reported; allow more time with --time-limit SECONDS, or fewer starts (docs/commands.md, Time limits)".into(),
+        ))
+    })?;
+    if !v.quiet {
+        out!(
+            "{}",
+            explore_text(lattice, &run.lm, &found, &rejected, n, settings)
+        );
+    }
+    Ok(())
+}
 
 /// An error of the command line's work, not at a place in the recipe.
 fn plain(kind: ErrorKind, message: String, hint: String) -> karigami::Diagnostic {
