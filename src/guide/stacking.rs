@@ -26,6 +26,8 @@ pub(crate) struct Side {
     pub(crate) over: &'static str,
     /// Where a row goes that stacks before it, said so it is not missed.
     pub(crate) under: &'static str,
+    /// Where a pivot's rod B lies against its rod A: "over it", "outside it".
+    pub(crate) beyond: &'static str,
 }
 
 pub(crate) use crate::assembly::built_flat;
@@ -40,6 +42,7 @@ pub(crate) fn side(lattice: &Lattice) -> Side {
                       last on top; the pictures look down on the work from above.",
             over: "goes on top of the work",
             under: "goes UNDER the work: slide its strips under the strips already there",
+            beyond: "over it",
         }
     } else if lattice.kind == Kind::Sheet {
         Side {
@@ -51,6 +54,7 @@ pub(crate) fn side(lattice: &Lattice) -> Side {
                       the last nearest.",
             over: "goes on the pictured side of the work, nearest you",
             under: "goes BEHIND the work, farthest from you: slide its strips behind the strips already there",
+            beyond: "nearer you than it",
         }
     } else {
         Side {
@@ -62,6 +66,7 @@ pub(crate) fn side(lattice: &Lattice) -> Side {
                       towards you.",
             over: "goes outside the work: its strips lie outermost at the joints",
             under: "goes INSIDE the work: slide its strips inside the strips already there, nearer the axis",
+            beyond: "outside it",
         }
     }
 }

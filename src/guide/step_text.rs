@@ -96,7 +96,8 @@ fn pivots_line(b: &Build, step: &Step, t: f64, helix: bool) -> String {
     let l = &b.lattice;
     let strips = &b.parts.strips;
     let mut pivots = format!(
-        "1. Pivots (orange): rod A, then rod B over it (as drawn); {}, grip {}, loose enough to turn.",
+        "1. Pivots (orange): rod A, then rod B {} (as drawn); {}, grip {}, loose enough to turn.",
+        stacking::side(l).beyond,
         plural(step.cells.len(), "eyelet"),
         mm(2.0 * t)
     );

@@ -369,7 +369,7 @@ fn data_json(s: &Scene) -> String {
         strips: strips_json(s),
         keys: runs(lattice.vertices.iter().map(|v| (v.key.row, v.key.col))),
         say: SayJson {
-            pair: "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:",
+            pair: pair_words(lattice),
             close: close_words(lattice),
             none: "2. No vertex joint closes in this step.",
         },
@@ -645,5 +645,15 @@ impl serde_json::ser::Formatter for Lines {
             (_, true) => Ok(()),
             (_, false) => w.write_all(b","),
         }
+    }
+}
+
+/// The pivot step in the viewer's words: "under" only on a piece built flat;
+/// on a 3-D one, B goes on the stacking side of A (docs/assembly.md).
+fn pair_words(lattice: &Lattice) -> &'static str {
+    if crate::assembly::built_flat(lattice) {
+        "1. Pair the two strips of each cell at its scissor pivot, A under B, and set an eyelet:"
+    } else {
+        "1. Pair the two strips of each cell at its scissor pivot, B on the stacking side of A, and set an eyelet:"
     }
 }
