@@ -255,9 +255,7 @@ pub fn chosen_until(
     let (path, end) = follow_until(&run.lm, &run.equilibrium.stats, steps, material, deadline);
     // Back at the state solved from the design (within `SAME_MM`): that
     // solve's numbers, not the round trip's few ulp away from them.
-    let home = path
-        .end_distance
-        .is_some_and(|d| d <= super::states::SAME_MM);
+    let home = path.end_distance.is_some_and(|d| d <= SAME_MM);
     let run = match end.filter(|_| !home) {
         Some((lm, stats)) => Simulation {
             equilibrium: super::equilibrium(&lm, stats, material),
@@ -271,6 +269,10 @@ pub fn chosen_until(
     };
     (run, Some(path))
 }
+
+/// Two states closer than this (mm, largest joint distance after the best
+/// rigid fit) are one.
+pub const SAME_MM: f64 = 1e-3;
 
 /// Newton iterations of one solve of the path: a step from a nearby
 /// equilibrium takes a few; one that needs more is split instead

@@ -14,9 +14,7 @@ use std::fmt::Write as _;
 /// The least height (mm) of a bump over its neighbours that counts.
 pub const BUMP_MM: f64 = 0.5;
 
-/// Two states closer than this (mm, largest joint distance after the best
-/// rigid fit) are one.
-pub const SAME_MM: f64 = 1e-3;
+pub use super::path::SAME_MM;
 
 /// The relief of one state: each interior vertex's angle defect and how
 /// far it stands out of the sheet (`Lattice::heights`).
