@@ -1,0 +1,266 @@
+//! The staged search of `karigami design` (docs/design.md, "Design your own
+//! object"): a target in, the seed and rows of sheets that grow onto it out,
+//! best first. Pure: the caller reads the files, builds the candidates with
+//! the whole pipeline (the same refusals as `build`) and writes the recipe.
+//!
+//! Stages: (1) the topology, from the target's boundary loops; (2) seeds,
+//! stretches of the boundary resampled at the cell edge, each oriented so
+//! its sheet grows into the patch; (3) rows, the fit's row search on the
+//! target (`solve::fit`, docs/math.md 6.1), as deep as it reaches; (4) the
+//! designs ranked by their fit to the target (docs/design.md, "The fit
+//! measures").
+
+use crate::design::Design;
+use crate::diagnostic::{Diagnostic, ErrorKind};
+use crate::jobs::Jobs;
+use crate::lattice::Lattice;
+use crate::target::{Target, Topology};
+use glam::DVec3;
+use std::sync::Arc;
+use std::time::Instant;
+
+mod loops;
+mod sheets;
+
+/// What `karigami design` asks of the search.
+pub struct DesignAsk<'a> {
+    /// The target, in its own frame (`Target::canonical`).
+    pub target: Arc<Target>,
+    /// Fabrication and simulation settings (a stub recipe with the flags).
+    pub base: &'a Design,
+    /// The preferred cell edge (mm).
+    pub edge: f64,
+    /// Stop starting new seeds after this instant.
+    pub deadline: Option<Instant>,
+    /// Threads; the result does not depend on them.
+    pub jobs: Jobs,
+}
+
+/// One design found: its lattice as recipe text, and its fit to the target.
+#[derive(Clone, Debug)]
+pub struct Found {
+    /// The recipe's `[lattice]` (and `[clash]`) tables: seed and rows.
+    pub lattice: String,
+    /// The grown lattice's cells.
+    pub cells: usize,
+    /// The design's fit to the target.
+    pub fit: crate::target::Fit,
+    /// Where the seed lies, for the recipe's comments.
+    pub seed: String,
+}
+
+/// The search's result: designs best first, and how they were found.
+#[derive(Debug)]
+pub struct Searched {
+    /// The designs, best fit first.
+    pub found: Vec<Found>,
+    /// Seeds grown.
+    pub tried: usize,
+    /// The topology chosen, and why.
+    pub topology: String,
+}
+
+/// How far a fit is from issue 32's goal: the largest of rms over 1.5 % of
+/// D, largest over 4 % of D and the uncovered share over 15 %; at most 1
+/// meets it.
+pub fn miss(f: &crate::target::Fit) -> f64 {
+    let cov = f.coverage.unwrap_or(0.0);
+    (f.rms / (0.015 * f.extent))
+        .max(f.largest / (0.04 * f.extent))
+        .max((1.0 - cov) / 0.15)
+}
+
+/// Search sheets for `ask.target`; `progress` hears about each seed.
+pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Searched, Diagnostic> {
+    let topology = choose(&ask.target, ask.edge)?;
+    let levelled = level_rim(&ask.target);
+    let ask = &DesignAsk {
+        target: levelled,
+        base: ask.base,
+        edge: ask.edge,
+        deadline: ask.deadline,
+        jobs: ask.jobs,
+    };
+    let t = &ask.target;
+    let boundary = sheets::inward_boundary(t);
+    let ring = sheets::resample(&boundary, ask.edge);
+    let rows = ((t.extent / ask.edge).ceil() as usize).clamp(2, 60);
+    let seeds = sheets::seeds(&ring);
+    let mut found: Vec<Found> = Vec::new();
+    let mut tried = 0;
+    let mut topology = topology;
+    if let Some((centre, radius)) = loops::circular_rim(&boundary, t.extent) {
+        topology = format!(
+            "loop: the target is an open patch whose boundary is a level circle (radius {radius:.1} mm), so a symmetric loop seeded round it closes every ring and each ring's vertex can be put on the target one edge further in (docs/math.md 6.2, as for the half ellipsoid)"
+        );
+        found.extend(loops::loops(ask, centre, radius, &mut tried, progress));
+    }
+    // Sheets only where no loop grows: a loop round the rim covers more.
+    let seeds = if found.is_empty() { seeds } else { Vec::new() };
+    ask.jobs.in_order(
+        seeds.len(),
+        |k| {
+            if ask.deadline.is_some_and(|d| Instant::now() > d) {
+                return None;
+            }
+            sheets::grow_seed(ask, &seeds[k].0, rows)
+        },
+        |k, result| {
+            tried += 1;
+            let Some((rows, lattice)) = result else {
+                progress(&format!("seed {}/{}: no row grows", k + 1, seeds.len()));
+                return;
+            };
+            let fit = fit_of(t, &lattice);
+            progress(&format!(
+                "seed {}/{}: {} rows, {} cells; design {}",
+                k + 1,
+                seeds.len(),
+                rows.len(),
+                lattice.cells.len(),
+                fit.summary("vertices")
+            ));
+            found.push(Found {
+                lattice: sheets::sheet_toml(&seeds[k].0, &rows),
+                cells: lattice.cells.len(),
+                fit,
+                seed: seeds[k].1.clone(),
+            });
+        },
+    );
+    // A stable sort: of equal fits, the earlier seed.
+    found.sort_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
+    Ok(Searched {
+        found,
+        tried,
+        topology,
+    })
+}
+
+/// The target turned so that its rim's own plane is level, when that
+/// plane is within 10 degrees of level already (a mesh's principal axes
+/// are tilted slightly by uneven triangles); else as it is.
+fn level_rim(t: &Arc<Target>) -> Arc<Target> {
+    let ring = sheets::inward_boundary(t);
+    if ring.len() < 3 {
+        return t.clone();
+    }
+    let c = ring.iter().sum::<DVec3>() / ring.len() as f64;
+    // Newell's normal of the rim polygon.
+    let mut n = DVec3::ZERO;
+    for k in 0..ring.len() {
+        let (a, b) = (ring[k] - c, ring[(k + 1) % ring.len()] - c);
+        n += a.cross(b);
+    }
+    let n = if n.z < 0.0 { -n } else { n };
+    match n.try_normalize() {
+        Some(u) if u.z > 10f64.to_radians().cos() && u.z < 1.0 - 1e-12 => Arc::new(t.levelled(u)),
+        _ => t.clone(),
+    }
+}
+
+/// The fit of a lattice's vertices and cells to the target.
+pub fn fit_of(t: &Target, lattice: &Lattice) -> crate::target::Fit {
+    let facets: Vec<[u32; 4]> = lattice
+        .cells
+        .iter()
+        .map(|c| [c.ul, c.ur, c.lr, c.ll])
+        .collect();
+    let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
+    t.fit(&points, &facets)
+}
+
+/// The topology to grow, with why; a target it cannot grow on is refused
+/// with what would work.
+fn choose(t: &Target, edge: f64) -> Result<String, Diagnostic> {
+    let refuse = |m: String, hint: &str| {
+        Err(Diagnostic::new(ErrorKind::TargetTopology, m).hint(hint.to_string()))
+    };
+    if t.extent < 3.0 * edge {
+        return Err(Diagnostic::new(
+            ErrorKind::TargetParameter,
+            format!(
+                "the target is {:.1} mm across, under three cells of {edge:.1} mm",
+                t.extent
+            ),
+        )
+        .hint(format!(
+            "give a smaller --edge (at most {:.1} mm), or scale the target up",
+            t.extent / 3.0
+        )));
+    }
+    if t.extent > 60.0 * edge {
+        return Err(Diagnostic::new(
+            ErrorKind::TargetParameter,
+            format!(
+                "the target is {:.1} mm across, over 60 cells of {edge:.1} mm",
+                t.extent
+            ),
+        )
+        .hint(format!(
+            "give a larger --edge (at least {:.1} mm)",
+            t.extent / 60.0
+        )));
+    }
+    match t.topology {
+        Topology::Patch => Ok(
+            "sheet: the target is an open patch (one boundary loop), so a sheet grows from a stretch of its boundary across it (docs/math.md 6.1)".into(),
+        ),
+        Topology::Annulus => refuse(
+            "the target is an annulus or tube segment; karigami design grows sheets on open patches so far".into(),
+            "cut the band open along one line from edge to edge, so that it is a patch",
+        ),
+        other => refuse(
+            format!("the target is {}; karigami design grows sheets on open patches", other.describe()),
+            "cut the surface open where the design should end, so that it has one boundary loop",
+        ),
+    }
+}
+
+/// A recipe that parses, for the fabrication and simulation settings the
+/// flags give (`parse_with`); its lattice is replaced by the search's.
+pub const STUB: &str = "[lattice]\nseed = \"sheet\"\npoints = [[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]]\nkappa = 0.0\n[lattice.grow]\nrows = 1\nangle = [45.0, 0.0]\n";
+
+/// The cell edge when none is asked: six strip widths, and at least four
+/// of the shortest leg the eyelets take, so that cells stay open.
+pub fn default_edge(base: &Design) -> f64 {
+    let fab = &base.fabrication;
+    let min_leg = fab.eyelet.flange + 2.0 * crate::design::MIN_WALL;
+    (6.0 * fab.material.width).max(4.0 * min_leg)
+}
+
+/// The recipe of a design found: `notes` as its opening comment, the
+/// target recorded (`[target]`, its path relative to the recipe and its
+/// content hash) when given, the seed and one row table per row with every
+/// number written in full, so that it grows exactly as the search grew it.
+pub fn recipe(found: &Found, name: &str, notes: &[String], target: Option<(&str, u64)>) -> String {
+    let mut s = String::new();
+    for n in notes {
+        s.push_str(&format!("# {n}\n"));
+    }
+    s.push_str(&format!("name = {}\n", toml_string(name)));
+    if let Some((file, hash)) = target {
+        s.push_str(&format!(
+            "\n[target]                # what `check` fits this design to\nfile = {}\nhash = \"{hash:016x}\"\n",
+            toml_string(file)
+        ));
+    }
+    s.push('\n');
+    s.push_str(&found.lattice);
+    s
+}
+
+/// A TOML basic string.
+fn toml_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
