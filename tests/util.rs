@@ -107,7 +107,8 @@ pub(crate) fn example(name: &str) -> &'static Build {
     example_with(name, &Overrides::default())
 }
 
-/// `karigami build <recipe> <flags> --out out` run once per test process in
+/// `karigami build <recipe> <flags> --out out` (with `--jobs 2` unless the
+/// flags give a number) run once per test process in
 /// target/test-scratch/shared/; the output folder, for tests that only read it.
 pub(crate) fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
     static OUTS: Slots<PathBuf> = OnceLock::new();
@@ -131,6 +132,11 @@ pub(crate) fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
         let dir = crate::cli::scratch(&format!("shared/{tag}"));
         let mut args = vec!["build", recipe.to_str().unwrap()];
         args.extend_from_slice(flags);
+        // Two jobs whatever the machine: the batch test compares these
+        // folders with a one-job batch.
+        if !flags.contains(&"--jobs") {
+            args.extend(["--jobs", "2"]);
+        }
         args.extend(["--out", "out"]);
         let o = crate::cli::karigami(&args, &dir);
         assert!(
@@ -140,6 +146,22 @@ pub(crate) fn cli_build(name: &str, flags: &[&str]) -> &'static Path {
             String::from_utf8_lossy(&o.stderr)
         );
         dir.join("out")
+    })
+}
+
+/// The flags that fit the torus example to its torus: the check of every
+/// example and the fit's own test share that one check.
+pub(crate) const TORUS_TARGET: [&str; 2] = ["--target", "fixtures/targets/torus.toml"];
+
+/// `karigami check <recipe> <flags>`, the recipe a path under the
+/// repository, run there once per test process; its output.
+pub(crate) fn cli_check(recipe: &str, flags: &[&str]) -> &'static std::process::Output {
+    static RUNS: Slots<std::process::Output> = OnceLock::new();
+    let key = format!("{recipe} {}", flags.join(" "));
+    slot(&RUNS, key).get_or_init(|| {
+        let mut args = vec!["check", recipe];
+        args.extend_from_slice(flags);
+        crate::cli::karigami(&args, &crate::cli::repo())
     })
 }
 
