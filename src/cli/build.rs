@@ -6,7 +6,7 @@ use super::check::TargetFile;
 use super::error::{Error, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
-use super::recipe::{Recipe, run_recipe, simulation};
+use super::recipe::{self, Recipe, simulation};
 use karigami::Overrides;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -82,12 +82,16 @@ pub(super) fn build(
                     .map_or("the built-in sheet".into(), |p| p.display().to_string())
             );
             let built = progress::heartbeat(&what, v.quiet || json, || {
-                run_recipe(
-                    &recipe,
-                    overrides,
-                    &mut |n| fit_note(n, v, &mut bar),
-                    (&dir, ""),
-                )
+                let mut note = |n: &str| fit_note(n, v, &mut bar);
+                let unsimulated = recipe::unsimulated(&recipe, overrides, &mut note)?;
+                // Long work said up front (docs/commands.md, "Time limits").
+                let said = unsimulated
+                    .estimate()
+                    .and_then(|e| e.said(&overrides.deadline));
+                if let Some(line) = said.filter(|_| !(v.quiet || json)) {
+                    bar.print(&format!("{}: {line}\n", recipe.file));
+                }
+                recipe::simulate(&recipe, unsimulated, (&dir, ""))
             });
             bar.clear();
             let built = built?;

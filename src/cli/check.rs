@@ -155,6 +155,13 @@ fn check_one(
         checked.target = fit.map(|f| f.json);
         return (None, checked);
     }
+    // Long work said up front (docs/commands.md, "Time limits").
+    if let Some(line) = checked.estimate().and_then(|e| e.said(&overrides.deadline))
+        && !json
+        && !v.quiet
+    {
+        bar.print(&format!("{file}: {line}\n"));
+    }
     match checked.assemble_for_check() {
         Ok(built) => {
             let fit = target.map(|t| t.fit_build(&built));

@@ -92,15 +92,12 @@ pub(super) fn simulate(
             format!("{}: simulation failed: {e}", recipe.file),
         ),
     };
-    // Long work is said up front; longer than allowed is refused.
-    let (cost, estimate) = sim::within_time(lattice, &settings, &deadline).map_err(failed)?;
-    say_estimate(
-        &format!("{}: the simulation", recipe.file),
-        &format!("{} rod nodes", shown(cost.nodes.round())),
-        estimate,
-        &deadline,
-        v,
-    );
+    // A mesh too large for the memory, or longer than allowed, is refused
+    // first; long work is said up front (docs/commands.md, "Time limits").
+    sim::within_memory(lattice, &settings).map_err(failed)?;
+    sim::within_time(lattice, &settings, &deadline).map_err(failed)?;
+    let estimate = karigami::simulation_estimate(lattice, &settings);
+    say_estimate(&recipe.file, &estimate, &deadline, v);
     // A large lattice's solve runs for minutes (a 4,800-cell torus 3 min).
     let what = format!("simulating {}", recipe.file);
     let run = progress::heartbeat(&what, v.quiet, || {
@@ -187,7 +184,15 @@ fn explore(
             ),
         )));
     }
-    say_estimate("--explore", &format!("{n} starts"), estimate, deadline, v);
+    let estimate = karigami::Estimate {
+        seconds: estimate,
+        what: format!(
+            "--explore: {n} starts of ~{} on {}",
+            karigami::duration(per_start),
+            plural(jobs.min(n), "thread")
+        ),
+    };
+    say_estimate(&recipe.file, &estimate, deadline, v);
     let solved = AtomicUsize::new(0);
     let line = |seconds| {
         let k = solved.load(Ordering::Relaxed);
@@ -230,20 +235,17 @@ fn plain(kind: ErrorKind, message: String, hint: String) -> karigami::Diagnostic
     }
 }
 
-/// Say work reckoned at more than `karigami::SAY_ABOVE` seconds before it
-/// starts, with the limit it runs under.
-fn say_estimate(what: &str, size: &str, seconds: f64, deadline: &karigami::Deadline, v: Verbosity) {
-    if v.quiet || seconds < karigami::SAY_ABOVE {
-        return;
+/// Say work reckoned at `karigami::SAY_ABOVE` seconds or more before it
+/// starts, with the limit it runs under (`Estimate::said`).
+fn say_estimate(
+    file: &str,
+    estimate: &karigami::Estimate,
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) {
+    if let Some(line) = estimate.said(deadline).filter(|_| !v.quiet) {
+        errln!("{file}: {line}");
     }
-    let limit = match deadline.limit() {
-        Some(l) => format!("stops at --time-limit {}", shown(l)),
-        None => "no --time-limit".to_string(),
-    };
-    errln!(
-        "{what}: about {} estimated ({size}; {limit})",
-        karigami::duration(seconds)
-    );
 }
 
 fn pct(x: f64) -> String {
