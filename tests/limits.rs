@@ -423,6 +423,39 @@ fn long_work_says_its_estimate_first() {
     assert!(o.stderr.is_empty(), "-q said: {}", stderr(&o));
 }
 
+/// `design` reckons its row search and candidate builds from the target's
+/// area in cells before it starts: refused beyond the limit, at the
+/// target, with the edge that fits, writing nothing; said first when long.
+#[test]
+fn a_design_beyond_the_limit_is_refused_and_a_long_one_said() {
+    let dir = scratch("limits-design");
+    let target = repo().join("fixtures/targets/sphere-cap.toml");
+    let target = target.to_string_lossy();
+    let ask = ["design", &target, "--out", "cap.toml", "--time-limit"];
+    let o = karigami(&[&ask[..], &["10"]].concat(), &dir);
+    says(
+        &o,
+        1,
+        &[
+            "error[WorkTooLong]: designing for this target at a cell edge of 60.0 mm may take about ",
+            "(row search of up to 8 seeds, ~",
+            "candidate builds of ~189 cells",
+            "longer than the 10.0 s allowed",
+            "sphere-cap.toml",
+            "give a larger --edge, 119.6 mm or more",
+        ],
+    );
+    assert!(!dir.join("cap.toml").exists());
+    let (line, _) = said_first(&[&ask[..], &["300"]].concat(), &dir, "estimated");
+    let line = line.expect("design says its estimate");
+    assert!(
+        line.starts_with("design: estimated ")
+            && line.ends_with("; it stops at the --time-limit of 5 min"),
+        "{line}"
+    );
+    assert!(!dir.join("cap.toml").exists());
+}
+
 /// Short work says no estimate.
 #[test]
 fn short_work_says_no_estimate() {
