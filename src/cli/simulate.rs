@@ -104,6 +104,11 @@ pub(super) fn simulate(
         sim::simulate_until(lattice, deploy, w, t, &settings, &deadline)
     })
     .map_err(failed)?;
+    // `--explore` refused by the solve's measured cost before the path,
+    // which can take minutes on a large sheet.
+    let explored = explore_n
+        .map(|n| explore_estimate(&recipe, &run, (n, jobs), &deadline))
+        .transpose()?;
     // The state reported is the one deploying ends in (docs/physics.md,
     // "The chosen equilibrium"): the path is followed on every run.
     let (run, walked) = progress::heartbeat("following the deployment path", v.quiet, || {
@@ -140,7 +145,8 @@ pub(super) fn simulate(
             );
         }
     }
-    if let Some(n) = explore_n {
+    if let (Some(n), Some(estimate)) = (explore_n, explored) {
+        say_estimate(&recipe.file, &estimate, &deadline, v);
         explore(&recipe, lattice, &run, &settings, (n, jobs), &deadline, v)?;
     }
     Ok(())
@@ -152,20 +158,16 @@ pub(super) fn simulate(
 /// against 1.8 s.
 const START_ITERATIONS: f64 = 10.0;
 
-/// `--explore N`: the other stable states, from N seeded perturbations of
-/// the reported equilibrium, estimated and refused beyond the time limit.
-fn explore(
+/// `--explore N`'s work reckoned from the solve (`START_ITERATIONS` of its
+/// measured Newton iterations a start, over the threads), refused beyond
+/// the time limit with the most starts that fit (docs/commands.md, "Time
+/// limits").
+fn explore_estimate(
     recipe: &Recipe,
-    lattice: &Lattice,
     run: &Simulation,
-    settings: &Settings,
     (n, jobs): (usize, usize),
     deadline: &karigami::Deadline,
-    v: Verbosity,
-) -> Result<(), Error> {
-    let material = settings.material;
-    // Each start reckoned at `START_ITERATIONS` of the solve's own
-    // measured Newton iterations (docs/commands.md, "Time limits").
+) -> Result<karigami::Estimate, Error> {
     let per_start = run.seconds / (run.iterations + 1) as f64 * START_ITERATIONS;
     let estimate = per_start * n as f64 / jobs.min(n).max(1) as f64;
     if !deadline.allows(estimate) {
@@ -184,15 +186,28 @@ fn explore(
             ),
         )));
     }
-    let estimate = karigami::Estimate {
+    Ok(karigami::Estimate {
         seconds: estimate,
         what: format!(
             "--explore: {n} starts of ~{} on {}",
             karigami::duration(per_start),
             plural(jobs.min(n), "thread")
         ),
-    };
-    say_estimate(&recipe.file, &estimate, deadline, v);
+    })
+}
+
+/// `--explore N`: the other stable states, from N seeded perturbations of
+/// the reported equilibrium (its estimate refused or said before).
+fn explore(
+    recipe: &Recipe,
+    lattice: &Lattice,
+    run: &Simulation,
+    settings: &Settings,
+    (n, jobs): (usize, usize),
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) -> Result<(), Error> {
+    let material = settings.material;
     let solved = AtomicUsize::new(0);
     let line = |seconds| {
         let k = solved.load(Ordering::Relaxed);
