@@ -62,10 +62,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         file.target.topology.describe(),
         target.extent
     ));
-    let estimate = within_time(&file, edge, &ask.overrides.deadline)?;
-    if let Some(line) = estimate.said(&ask.overrides.deadline) {
-        note(&line);
-    }
+    within_time(&file, edge, &ask.overrides.deadline, &note)?;
     let searched =
         designing::search(&search, &mut |s| note(s)).map_err(|d| Error::at(&file.file, "", &d))?;
     let name = ask
@@ -182,12 +179,13 @@ const BUILDS: f64 = 1.0;
 /// (docs/commands.md, "Time limits"): the cells a design of `edge` may
 /// have (the target's area in cells of `edge` squared), times the seeds'
 /// row search and the candidate builds; refused beyond the limit with the
-/// edge that fits.
+/// edge that fits; else said to `note` when long (`Estimate::said`).
 fn within_time(
     file: &TargetFile,
     edge: f64,
     deadline: &karigami::Deadline,
-) -> Result<karigami::Estimate, Error> {
+    note: &dyn Fn(&str),
+) -> Result<(), Error> {
     let cells = (CELLS_PER_SQUARE * file.target.area / (edge * edge))
         .ceil()
         .max(1.0);
@@ -204,7 +202,10 @@ fn within_time(
         ),
     };
     if deadline.allows(seconds) {
-        return Ok(estimate);
+        if let Some(line) = estimate.said(deadline) {
+            note(&line);
+        }
+        return Ok(());
     }
     // The work goes as the cells, as 1 / edge^2; the search grows three
     // cells across the target at least.

@@ -96,8 +96,7 @@ pub(super) fn simulate(
     // first; long work is said up front (docs/commands.md, "Time limits").
     sim::within_memory(lattice, &settings).map_err(failed)?;
     sim::within_time(lattice, &settings, &deadline).map_err(failed)?;
-    let estimate = karigami::simulation_estimate(lattice, &settings);
-    say_estimate(&recipe.file, &estimate, &deadline, v);
+    say_simulation(&recipe.file, lattice, &settings, &deadline, v);
     // A large lattice's solve runs for minutes (a 4,800-cell torus 3 min).
     let what = format!("simulating {}", recipe.file);
     let run = progress::heartbeat(&what, v.quiet, || {
@@ -248,6 +247,18 @@ fn plain(kind: ErrorKind, message: String, hint: String) -> karigami::Diagnostic
         site: None,
         hint: Some(hint),
     }
+}
+
+/// Say a simulation reckoned long before it starts (`say_estimate`).
+fn say_simulation(
+    file: &str,
+    lattice: &Lattice,
+    settings: &Settings,
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) {
+    let estimate = karigami::simulation_estimate(lattice, settings);
+    say_estimate(file, &estimate, deadline, v);
 }
 
 /// Say work reckoned at `karigami::SAY_ABOVE` seconds or more before it
