@@ -11,6 +11,10 @@
 //! which the command reports as `ErrorKind::TimeLimit` (exit status 4)
 //! and writes nothing. Without a limit nothing changes: `expired()` is
 //! always false and the results are those of a run without the check.
+//!
+//! Work allowed but reckoned at `SAY_ABOVE` seconds or more is said before
+//! it starts, one line on stderr (`Estimate::said`), so that a long run is
+//! never a surprise.
 
 use std::time::{Duration, Instant};
 
@@ -19,7 +23,7 @@ use std::time::{Duration, Instant};
 pub const DEFAULT_CEILING: f64 = 3600.0;
 
 /// Estimates below this are not worth a line up front (seconds).
-pub const SAY_ABOVE: f64 = 10.0;
+pub const SAY_ABOVE: f64 = 5.0;
 
 /// When a run's time is up, if ever.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -118,11 +122,45 @@ impl std::fmt::Display for Stopped {
     }
 }
 
-/// A duration for a message: milliseconds below a second, seconds below
+/// Work reckoned from the input before it starts (docs/commands.md,
+/// "Time limits"): its seconds and what they count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Estimate {
+    /// The seconds reckoned.
+    pub seconds: f64,
+    /// What was counted: "simulation: 3,400 rod nodes x ~11 Newton
+    /// iterations".
+    pub what: String,
+}
+
+impl Estimate {
+    /// The line said on stderr before work reckoned at `SAY_ABOVE` seconds
+    /// or more starts, with the limit it runs under; None for shorter work,
+    /// and for work the limit refuses (its refusal says the estimate).
+    pub fn said(&self, deadline: &Deadline) -> Option<String> {
+        if !(self.seconds >= SAY_ABOVE && deadline.allows(self.seconds)) {
+            return None;
+        }
+        let bound = match deadline.limit() {
+            Some(l) => format!("it stops at the --time-limit of {}", duration(l)),
+            None => "give --time-limit SECONDS to bound it".to_string(),
+        };
+        Some(format!(
+            "estimated {} ({}); {bound}",
+            duration(self.seconds),
+            self.what
+        ))
+    }
+}
+
+/// A duration for a message: microseconds below a millisecond,
+/// milliseconds below a second, seconds below
 /// two minutes, then minutes, then hours.
 pub fn duration(seconds: f64) -> String {
     if !seconds.is_finite() {
         "forever".to_string()
+    } else if seconds < 1e-3 {
+        format!("{:.0} us", seconds * 1e6)
     } else if seconds < 1.0 {
         format!("{:.0} ms", seconds * 1000.0)
     } else if seconds < 120.0 {
@@ -132,6 +170,25 @@ pub fn duration(seconds: f64) -> String {
     } else {
         format!("{:.1} h", seconds / 3600.0)
     }
+}
+
+/// A count for an estimate, rounded, its thousands grouped: "188,472".
+pub fn count(n: f64) -> String {
+    if !(n.is_finite() && n.abs() < 1e15) {
+        return format!("{n:e}");
+    }
+    let digits = format!("{:.0}", n.abs());
+    let mut out = String::new();
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    if n < -0.5 {
+        out.insert(0, '-');
+    }
+    out
 }
 
 #[cfg(test)]
@@ -164,5 +221,32 @@ mod tests {
         assert_eq!(duration(300.0), "5 min");
         assert_eq!(duration(3600.0), "1.0 h");
         assert_eq!(duration(0.017), "17 ms");
+        assert_eq!(duration(1.66e-5), "17 us");
+        assert_eq!(count(188_471.6), "188,472");
+        assert_eq!(count(999.0), "999");
+        assert_eq!(count(5_000_000.0), "5,000,000");
+    }
+
+    #[test]
+    fn an_estimate_is_said_from_five_seconds() {
+        let e = |seconds| Estimate {
+            seconds,
+            what: "simulation: 3,400 rod nodes x ~11 Newton iterations".into(),
+        };
+        assert_eq!(e(4.99).said(&Deadline::none()), None);
+        assert_eq!(e(f64::NAN).said(&Deadline::none()), None);
+        assert_eq!(e(40.0).said(&Deadline::after(30.0)), None);
+        assert_eq!(
+            e(40.0).said(&Deadline::none()).as_deref(),
+            Some(
+                "estimated 40.0 s (simulation: 3,400 rod nodes x ~11 Newton iterations); give --time-limit SECONDS to bound it"
+            )
+        );
+        assert_eq!(
+            e(5.0).said(&Deadline::after(60.0)).as_deref(),
+            Some(
+                "estimated 5.0 s (simulation: 3,400 rod nodes x ~11 Newton iterations); it stops at the --time-limit of 60.0 s"
+            )
+        );
     }
 }

@@ -50,7 +50,9 @@ pub use output::files_on;
 pub use output::{files, viewer_scene};
 pub use pipeline::check_on;
 pub use pipeline::{Build, Checked, Verified, build, build_with, check};
-pub use pipeline::{MAX_FABRICATED_CELLS, build_cells, build_cost, contact, recipe_error};
+pub use pipeline::{
+    MAX_FABRICATED_CELLS, build_cells, build_cost, contact, recipe_error, simulation_estimate,
+};
 pub use pipeline::{STATE_FILE, Unsimulated, build_unsimulated};
 pub use report::{build_check_json, build_json, build_text, check_json, check_text, summary};
 
@@ -58,7 +60,7 @@ pub use report::{build_check_json, build_json, build_text, check_json, check_tex
 pub use diagnostic::{Diagnostic, ErrorKind};
 
 // How many threads the library may use, and how long it may run.
-pub use budget::{DEFAULT_CEILING, Deadline, SAY_ABOVE, Stopped, duration};
+pub use budget::{DEFAULT_CEILING, Deadline, Estimate, SAY_ABOVE, Stopped, count, duration};
 pub use jobs::Jobs;
 
 // Design: the parsed recipe, its fabrication settings, and the solvers
@@ -72,7 +74,7 @@ pub use fabrication::{
     MACHINE_PRESETS, MATS, MachinePreset, PLOTTER_MIN_HOLE, Plotter, PlotterSetup,
 };
 pub use measure::{BUMP_DEG, Measures, Turn, measure, measure_assembled};
-pub use solve::tune::{Tuned, tune_helix, tune_helix_until};
+pub use solve::tune::{Tuned, tune_estimate, tune_helix, tune_helix_until, tune_within_time};
 pub use solve::{Optimised, optimise};
 
 // Lattice: growth from rows of parameters, the verified invariants, the

@@ -3,6 +3,7 @@
 //! only writes what that returns.
 
 use crate::assembly::{Step, steps};
+use crate::budget::Estimate;
 use crate::design::Design;
 use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::drawing::{Meta, Page, sheet_page};
@@ -101,12 +102,13 @@ impl Unsimulated {
         self.0.lattice.cells.len()
     }
 
-    /// The seconds its simulation is reckoned at (`sim::seconds`), when it
-    /// simulates: to say long work up front.
-    pub fn estimate(&self) -> Option<f64> {
+    /// Its simulation as reckoned before it runs, when it simulates (and
+    /// fits its memory: else it is refused, not run): to say long work up
+    /// front (`simulation_estimate`).
+    pub fn estimate(&self) -> Option<Estimate> {
         let settings = &self.0.design.simulation;
-        self.simulates()
-            .then(|| crate::sim::reckoned(&self.0.lattice, settings).1)
+        let runs = self.simulates() && crate::sim::within_memory(&self.0.lattice, settings).is_ok();
+        runs.then(|| simulation_estimate(&self.0.lattice, settings))
     }
 
     /// The build with its simulated deployed shape, restored from the
@@ -138,6 +140,23 @@ impl Unsimulated {
         b.simulation = simulation;
         b.simulation_key = simulation_key;
         Ok(b)
+    }
+}
+
+/// The simulation of `lattice` under `settings` as reckoned before it runs
+/// (`sim::reckoned`, which refuses it beyond the limit): its seconds and
+/// what they count, for the line long work says up front (docs/commands.md,
+/// "Time limits").
+pub fn simulation_estimate(lattice: &Lattice, settings: &crate::sim::Settings) -> Estimate {
+    let (cost, seconds) = crate::sim::reckoned(lattice, settings);
+    // `seconds` counts the stability check as one iteration more.
+    let iterations = seconds / crate::sim::seconds(&cost, 0.0);
+    Estimate {
+        seconds,
+        what: format!(
+            "simulation: {} rod nodes x ~{iterations:.0} Newton iterations",
+            crate::budget::count(cost.nodes)
+        ),
     }
 }
 
@@ -337,6 +356,16 @@ impl Checked {
     /// with a located error.
     pub fn assemble(self) -> Result<Build, Diagnostic> {
         assemble(self)?.simulate(None)
+    }
+
+    /// The simulation `assemble_for_check` runs, as reckoned before it
+    /// starts; None when it simulates nothing (`Unsimulated::estimate`).
+    pub fn estimate(&self) -> Option<Estimate> {
+        let settings = &self.design.simulation;
+        let simulates = self.too_large_to_fabricate().is_none()
+            && crate::sim::wanted(&self.lattice, &self.deployment)
+            && crate::sim::within_memory(&self.lattice, settings).is_ok();
+        simulates.then(|| simulation_estimate(&self.lattice, settings))
     }
 
     /// `assemble` for `karigami check`: everything its reports show, the

@@ -2,8 +2,8 @@
 //! estimated from the input and refused beyond the limit with the
 //! estimate, and `--time-limit` stopping `simulate`, `build`, `check` and
 //! `tune` cleanly, with exit status 4, saying how far they got and writing
-//! nothing half-done. Then the corpus swept against the time and memory
-//! ceilings.
+//! nothing half-done; long work allowed says its estimate first. Then the
+//! corpus swept against the time and memory ceilings.
 
 use crate::cli::{karigami, recipes, repo, scratch};
 use crate::safety::tree;
@@ -214,12 +214,75 @@ fn a_stopped_build_leaves_the_old_build_and_no_staging() {
     says(&o, 4, &["error[TimeLimit]: "]);
 }
 
-/// The helix tuner stops at its limit and writes no recipe.
+/// The helix tuner's work is reckoned before it starts (tries times the
+/// cells its start seed grows) and refused beyond the limit, with the
+/// estimate, the limit and the tries that fit; at the recipe's `cells`
+/// when they are the recipe's. Nothing is written.
+#[test]
+fn a_helix_tune_beyond_the_limit_is_refused_up_front() {
+    let dir = scratch("limits-tune-refused");
+    let helix = std::fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    std::fs::write(dir.join("h.toml"), &helix).unwrap();
+    let args = [
+        "tune",
+        "h.toml",
+        "--iterations",
+        "5000000",
+        "--out",
+        "h.toml",
+    ];
+    let flagged = [&args[..], &["--cells", "100000", "--time-limit", "0.5"]].concat();
+    let clock = Instant::now();
+    let o = karigami(&flagged, &dir);
+    says(
+        &o,
+        1,
+        &[
+            "error[WorkTooLong]: the helix tuner may make up to 5,000,000 tries of a seed that grows ",
+            "of 100,000 cells (--cells) at about ",
+            "longer than the 500 ms allowed",
+            "use --iterations ",
+            "or fewer (now 5000000)",
+        ],
+    );
+    assert!(clock.elapsed().as_secs() < 10, "{:?}", clock.elapsed());
+    assert_eq!(std::fs::read_to_string(dir.join("h.toml")).unwrap(), helix);
+    // The recipe's own `cells`, located where it is written.
+    let big = helix.replace("\ncells = 12\n", "\ncells = 100000\n");
+    assert_ne!(big, helix);
+    std::fs::write(dir.join("big.toml"), &big).unwrap();
+    let o = karigami(
+        &[
+            "tune",
+            "big.toml",
+            "--iterations",
+            "5000000",
+            "--time-limit",
+            "0.5",
+        ],
+        &dir,
+    );
+    says(
+        &o,
+        1,
+        &[
+            "error[WorkTooLong]: ",
+            "(the recipe's `cells`)",
+            "big.toml:12:9",
+        ],
+    );
+}
+
+/// A tune reckoned within its limit that outruns it (its seeds growing on
+/// as they are tuned, or a slower build than the estimate's) stops at the
+/// limit, says how far it got and writes no recipe.
 #[test]
 fn tune_stops_at_its_time_limit_and_writes_nothing() {
     let dir = scratch("limits-tune");
     let helix = std::fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
     std::fs::write(dir.join("h.toml"), &helix).unwrap();
+    // Reckoned at about 0.3 s (40,000 tries of the 18 cells the start
+    // seed grows), which the debug build of the tests outruns.
     let o = karigami(
         &[
             "tune",
@@ -227,11 +290,11 @@ fn tune_stops_at_its_time_limit_and_writes_nothing() {
             "--cells",
             "100000",
             "--iterations",
-            "5000000",
+            "40000",
             "--out",
             "h.toml",
             "--time-limit",
-            "0.5",
+            "0.4",
         ],
         &dir,
     );
@@ -240,11 +303,167 @@ fn tune_stops_at_its_time_limit_and_writes_nothing() {
         4,
         &[
             "the tuner stopped at ",
-            "of 5000000 tries",
+            "of 40000 tries",
             "nothing was written",
         ],
     );
     assert_eq!(std::fs::read_to_string(dir.join("h.toml")).unwrap(), helix);
+}
+
+/// The tuner stopped by its deadline returns the seed so far with the
+/// tries made: none, at a deadline already passed.
+#[test]
+fn the_helix_tuner_stops_at_its_deadline() {
+    let text = std::fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
+    let d = karigami::parse(&text, "helix").unwrap();
+    let tries = (12, 8.5, 1000);
+    let now = karigami::Deadline::after(0.0);
+    let stopped =
+        karigami::tune_helix_until(d.dim, &d.points, &d.kappa, tries, &now).expect_err("stops");
+    assert_eq!(stopped.iterations, 0);
+    let never = karigami::Deadline::none();
+    let done = karigami::tune_helix_until(d.dim, &d.points, &d.kappa, tries, &never).unwrap();
+    assert_eq!(done.iterations, 1000);
+}
+
+/// The first line of `karigami ARGS`'s stderr that holds `word`, the run
+/// killed as soon as it is read (the work it announces is not done), and
+/// the seconds it took to come; None when the run ends without one.
+fn said_first(args: &[&str], cwd: &Path, word: &str) -> (Option<String>, f64) {
+    use std::io::BufRead;
+    let clock = Instant::now();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_karigami"))
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let line = err.lines().map_while(Result::ok).find(|l| l.contains(word));
+    let _ = child.kill();
+    child.wait().unwrap();
+    (line, clock.elapsed().as_secs_f64())
+}
+
+/// The saddle ring meshed at 1 mm: a simulation reckoned at about 28 s
+/// (40,752 rod nodes), where check and build reach it in a second.
+fn long_simulation(dir: &Path) {
+    let ring = std::fs::read_to_string(repo().join("examples/saddle-ring.toml")).unwrap();
+    let fine = ring.replacen("[simulation]\n", "[simulation]\nedge_length = 1.0\n", 1);
+    assert_ne!(fine, ring);
+    std::fs::write(dir.join("ring.toml"), fine).unwrap();
+}
+
+/// Work reckoned at 5 s or more says so on stderr before it starts, with
+/// what was counted and the limit; `check`, `build`, `simulate` and the
+/// helix tuner alike (each run killed once it has said it). `-q` says
+/// nothing.
+#[test]
+fn long_work_says_its_estimate_first() {
+    let dir = scratch("limits-said");
+    long_simulation(&dir);
+    let limit = ["--time-limit", "60"];
+    let mut slowest: f64 = 0.0;
+    for command in [
+        &["check", "ring.toml"][..],
+        &["simulate", "ring.toml"],
+        &["build", "ring.toml", "--out", "out"],
+    ] {
+        let args = [command, &limit].concat();
+        let (line, seconds) = said_first(&args, &dir, "estimated");
+        let line = line.unwrap_or_else(|| panic!("{command:?}: no estimate said"));
+        for w in [
+            "ring.toml: estimated ",
+            " s (simulation: 40,752 rod nodes x ~11 Newton iterations); it stops at the --time-limit of 60.0 s",
+        ] {
+            assert!(line.contains(w), "{command:?}: {w:?} not in {line}");
+        }
+        slowest = slowest.max(seconds);
+    }
+    assert!(!dir.join("out").exists(), "a build killed wrote --out");
+    // Without a limit it says how to give one.
+    let (line, _) = said_first(&["simulate", "ring.toml"], &dir, "estimated");
+    assert!(
+        line.is_some_and(|l| l.ends_with("; give --time-limit SECONDS to bound it")),
+        "no estimate said without a limit"
+    );
+    // The helix tuner: 500,000 tries of the bowl's 38 cells, about 7 s.
+    let bowl = std::fs::read_to_string(repo().join("examples/bowl.toml")).unwrap();
+    let helix = &bowl[..bowl.find("\n[optimise]").unwrap()];
+    std::fs::write(dir.join("bowl.toml"), helix).unwrap();
+    let tune = [
+        "tune",
+        "bowl.toml",
+        "--cells",
+        "200",
+        "--iterations",
+        "500000",
+    ];
+    let (line, _) = said_first(&tune, &dir, "estimated");
+    let line = line.expect("the tuner says its estimate");
+    assert!(
+        line.starts_with("bowl.toml: estimated ")
+            && line.contains(
+                "(helix tuner: up to 500,000 tries of ~38 cells (the start seed grows 38 of 200), ~"
+            ),
+        "{line}"
+    );
+    // -q: nothing on stderr by the time the line came, and well after.
+    let mut quiet = std::process::Command::new(env!("CARGO_BIN_EXE_karigami"))
+        .args(["-q", "check", "ring.toml", "--time-limit", "60"])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs_f64(2.0 * slowest + 0.5));
+    let _ = quiet.kill();
+    let o = quiet.wait_with_output().unwrap();
+    assert!(o.stderr.is_empty(), "-q said: {}", stderr(&o));
+}
+
+/// `design` reckons its row search and candidate builds from the target's
+/// area in cells before it starts: refused beyond the limit, at the
+/// target, with the edge that fits, writing nothing; said first when long.
+#[test]
+fn a_design_beyond_the_limit_is_refused_and_a_long_one_said() {
+    let dir = scratch("limits-design");
+    let target = repo().join("fixtures/targets/sphere-cap.toml");
+    let target = target.to_string_lossy();
+    let ask = ["design", &target, "--out", "cap.toml", "--time-limit"];
+    let o = karigami(&[&ask[..], &["10"]].concat(), &dir);
+    says(
+        &o,
+        1,
+        &[
+            "error[WorkTooLong]: designing for this target at a cell edge of 60.0 mm may take about ",
+            "(row search of up to 8 seeds, ~",
+            "candidate builds of ~189 cells",
+            "longer than the 10.0 s allowed",
+            "sphere-cap.toml",
+            "give a larger --edge, 119.6 mm or more",
+        ],
+    );
+    assert!(!dir.join("cap.toml").exists());
+    let (line, _) = said_first(&[&ask[..], &["300"]].concat(), &dir, "estimated");
+    let line = line.expect("design says its estimate");
+    assert!(
+        line.starts_with("design: estimated ")
+            && line.ends_with("; it stops at the --time-limit of 5 min"),
+        "{line}"
+    );
+    assert!(!dir.join("cap.toml").exists());
+}
+
+/// Short work says no estimate.
+#[test]
+fn short_work_says_no_estimate() {
+    for command in ["check", "simulate"] {
+        let o = karigami(&[command, "templates/chain.toml"], &repo());
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("estimated"), "{}", stderr(&o));
+    }
 }
 
 /// Seconds and KiB of peak memory of one run of the binary in `cwd`.

@@ -6,7 +6,7 @@ use super::check::TargetFile;
 use super::error::{Error, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
-use super::recipe::{Recipe, run_recipe, simulation};
+use super::recipe::{self, Recipe, simulation};
 use karigami::Overrides;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -82,12 +82,7 @@ pub(super) fn build(
                     .map_or("the built-in sheet".into(), |p| p.display().to_string())
             );
             let built = progress::heartbeat(&what, v.quiet || json, || {
-                run_recipe(
-                    &recipe,
-                    overrides,
-                    &mut |n| fit_note(n, v, &mut bar),
-                    (&dir, ""),
-                )
+                run_recipe(&recipe, overrides, (&dir, v, json), &mut bar)
             });
             bar.clear();
             let built = built?;
@@ -261,4 +256,24 @@ pub(super) fn open_out(
         errln!("{warning}");
     }
     Ok(dir)
+}
+
+/// Parse, grow, verify, assemble and simulate one recipe, reusing the
+/// simulation of the earlier build in `dir` when nothing it depends on
+/// changed; a simulation reckoned long is said before it starts
+/// (docs/commands.md, "Time limits"), unless quiet or `json`.
+fn run_recipe(
+    recipe: &Recipe,
+    overrides: &Overrides,
+    (dir, v, json): (&files::OutDir, Verbosity, bool),
+    bar: &mut Progress,
+) -> Result<karigami::Build, Error> {
+    let unsimulated = recipe::unsimulated(recipe, overrides, &mut |n| fit_note(n, v, bar))?;
+    let said = unsimulated
+        .estimate()
+        .and_then(|e| e.said(&overrides.deadline));
+    if let Some(line) = said.filter(|_| !(v.quiet || json)) {
+        bar.print(&format!("{}: {line}\n", recipe.file));
+    }
+    recipe::simulate(recipe, unsimulated, (dir, ""))
 }

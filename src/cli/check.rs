@@ -155,6 +155,7 @@ fn check_one(
         checked.target = fit.map(|f| f.json);
         return (None, checked);
     }
+    say_estimate(&file, &checked, overrides, json || v.quiet, bar);
     match checked.assemble_for_check() {
         Ok(built) => {
             let fit = target.map(|t| t.fit_build(&built));
@@ -176,6 +177,22 @@ fn check_one(
             checked.check = check;
             (failed, checked)
         }
+    }
+}
+
+/// Long work said up front (docs/commands.md, "Time limits"): the
+/// simulation `assemble_for_check` runs, when reckoned long; nothing when
+/// `quiet` (`-q`, or `--json`, which prints no progress).
+fn say_estimate(
+    file: &str,
+    checked: &karigami::Checked,
+    overrides: &Overrides,
+    quiet: bool,
+    bar: &mut Progress,
+) {
+    let said = checked.estimate().and_then(|e| e.said(&overrides.deadline));
+    if let Some(line) = said.filter(|_| !quiet) {
+        bar.print(&format!("{file}: {line}\n"));
     }
 }
 

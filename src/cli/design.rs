@@ -62,6 +62,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         file.target.topology.describe(),
         target.extent
     ));
+    within_time(&file, edge, &ask.overrides.deadline, &note)?;
     let searched =
         designing::search(&search, &mut |s| note(s)).map_err(|d| Error::at(&file.file, "", &d))?;
     let name = ask
@@ -152,6 +153,86 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         sim.summary("joints")
     ));
     Ok(())
+}
+
+/// Seconds the search is reckoned at for each cell a design may have, a
+/// seed (`karigami::designing`'s eight seeds of a sheet, the loop's ring
+/// steps fewer and cheaper), and a candidate's build for each cell (its
+/// simulation and deployment path most of it): release build on the
+/// 2-core machine of BENCHMARKS.md, "Bounded work", from the targets of
+/// fixtures/targets/ (the saddle's eight seeds in 17.8 s of CPU, the
+/// sphere cap's two builds of 216 and 168 cells in 35.2 s).
+const SEARCH_SECONDS_PER_CELL: f64 = 0.015;
+const BUILD_SECONDS_PER_CELL: f64 = 0.09;
+
+/// Cells a design has per square of the cell edge on the target: the
+/// loops' rings step 0.5 to 0.9 edges down the meridian (the sphere cap's
+/// 168 and the paraboloid's 160 cells, 2.7 and 3.5 a square).
+const CELLS_PER_SQUARE: f64 = 3.0;
+
+/// Seeds a search grows at most, and candidates reckoned built (of
+/// `BUILT`: the search stops at the first that meets the goal).
+const SEEDS: f64 = 8.0;
+const BUILDS: f64 = 1.0;
+
+/// The design's work reckoned from the target before it starts
+/// (docs/commands.md, "Time limits"): the cells a design of `edge` may
+/// have (the target's area in cells of `edge` squared), times the seeds'
+/// row search and the candidate builds; refused beyond the limit with the
+/// edge that fits; else said to `note` when long (`Estimate::said`).
+fn within_time(
+    file: &TargetFile,
+    edge: f64,
+    deadline: &karigami::Deadline,
+    note: &dyn Fn(&str),
+) -> Result<(), Error> {
+    let cells = (CELLS_PER_SQUARE * file.target.area / (edge * edge))
+        .ceil()
+        .max(1.0);
+    let search = SEEDS * SEARCH_SECONDS_PER_CELL * cells;
+    let builds = BUILDS * BUILD_SECONDS_PER_CELL * cells;
+    let seconds = search + builds;
+    let estimate = karigami::Estimate {
+        seconds,
+        what: format!(
+            "row search of up to {SEEDS} seeds, ~{}, then {BUILDS} to {BUILT} candidate builds of ~{} cells, ~{} each",
+            karigami::duration(search),
+            karigami::count(cells),
+            karigami::duration(builds / BUILDS)
+        ),
+    };
+    if deadline.allows(seconds) {
+        if let Some(line) = estimate.said(deadline) {
+            note(&line);
+        }
+        return Ok(());
+    }
+    // The work goes as the cells, as 1 / edge^2; the search grows three
+    // cells across the target at least.
+    let fits = edge * (seconds / deadline.ceiling()).sqrt();
+    let larger = if fits <= file.target.extent / 3.0 {
+        format!(
+            "give a larger --edge, {:.1} mm or more (fewer, larger cells), or ",
+            (fits * 10.0).ceil() / 10.0
+        )
+    } else {
+        String::new()
+    };
+    let d = karigami::Diagnostic {
+        kind: ErrorKind::WorkTooLong,
+        message: format!(
+            "designing for this target at a cell edge of {edge:.1} mm may take about {} ({}), longer than the {} allowed",
+            karigami::duration(seconds),
+            estimate.what,
+            karigami::duration(deadline.ceiling())
+        ),
+        span: None,
+        site: None,
+        hint: Some(format!(
+            "{larger}allow more time with --time-limit SECONDS (docs/commands.md, Time limits)"
+        )),
+    };
+    Err(Error::at(&file.file, "", &d))
 }
 
 /// Build a candidate recipe with the whole pipeline and fit its simulated

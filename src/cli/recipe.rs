@@ -54,30 +54,7 @@ pub(super) fn stem(path: &Path) -> String {
         .map_or("design".into(), |s| s.to_string_lossy().into_owned())
 }
 
-/// Parse, grow, verify and assemble one recipe (the build and batch paths;
-/// `check` stops after `pipeline::check` to report, then assembles),
-/// reusing the simulation of the earlier build into `earlier` (the output
-/// folder and the recipe's subfolder in it) when nothing it depends on
-/// changed (`karigami::Unsimulated::simulate`).
-pub(super) fn run_recipe(
-    recipe: &Recipe,
-    overrides: &Overrides,
-    progress: &mut dyn FnMut(&str),
-    earlier: (&files::OutDir, &str),
-) -> Result<Build, Error> {
-    let unsimulated = unsimulated(recipe, overrides, progress)?;
-    // Long work said up front (docs/commands.md, "Time limits").
-    if let Some(s) = unsimulated.estimate().filter(|s| *s >= karigami::SAY_ABOVE) {
-        progress(&format!(
-            "{}: the simulation is estimated at about {}",
-            recipe.file,
-            karigami::duration(s)
-        ));
-    }
-    simulate(recipe, unsimulated, earlier)
-}
-
-/// `run_recipe`'s first stage: the recipe parsed and built up to its
+/// A build's first stage: the recipe parsed and built up to its
 /// simulation (`karigami::build_unsimulated`).
 pub(super) fn unsimulated(
     recipe: &Recipe,
@@ -87,8 +64,10 @@ pub(super) fn unsimulated(
     build_unsimulated(recipe.parse(overrides)?, progress).map_err(|d| recipe.error(&d))
 }
 
-/// `run_recipe`'s last stage: the simulation of a build run up to it
-/// (`karigami::build_unsimulated`), reusing the earlier build's.
+/// A build's last stage: the simulation of a build run up to it
+/// (`karigami::build_unsimulated`), reusing the earlier build's in `out`
+/// (the output folder and the recipe's subfolder in it) when nothing it
+/// depends on changed (`karigami::Unsimulated::simulate`).
 pub(super) fn simulate(
     recipe: &Recipe,
     unsimulated: Unsimulated,

@@ -92,21 +92,22 @@ pub(super) fn simulate(
             format!("{}: simulation failed: {e}", recipe.file),
         ),
     };
-    // Long work is said up front; longer than allowed is refused.
-    let (cost, estimate) = sim::within_time(lattice, &settings, &deadline).map_err(failed)?;
-    say_estimate(
-        &format!("{}: the simulation", recipe.file),
-        &format!("{} rod nodes", shown(cost.nodes.round())),
-        estimate,
-        &deadline,
-        v,
-    );
+    // A mesh too large for the memory, or longer than allowed, is refused
+    // first; long work is said up front (docs/commands.md, "Time limits").
+    sim::within_memory(lattice, &settings).map_err(failed)?;
+    sim::within_time(lattice, &settings, &deadline).map_err(failed)?;
+    say_simulation(&recipe.file, lattice, &settings, &deadline, v);
     // A large lattice's solve runs for minutes (a 4,800-cell torus 3 min).
     let what = format!("simulating {}", recipe.file);
     let run = progress::heartbeat(&what, v.quiet, || {
         sim::simulate_until(lattice, deploy, w, t, &settings, &deadline)
     })
     .map_err(failed)?;
+    // `--explore` refused by the solve's measured cost before the path,
+    // which can take minutes on a large sheet.
+    let explored = explore_n
+        .map(|n| explore_estimate(&recipe, &run, (n, jobs), &deadline))
+        .transpose()?;
     // The state reported is the one deploying ends in (docs/physics.md,
     // "The chosen equilibrium"): the path is followed on every run.
     let (run, walked) = progress::heartbeat("following the deployment path", v.quiet, || {
@@ -143,7 +144,8 @@ pub(super) fn simulate(
             );
         }
     }
-    if let Some(n) = explore_n {
+    if let (Some(n), Some(estimate)) = (explore_n, explored) {
+        say_estimate(&recipe.file, &estimate, &deadline, v);
         explore(&recipe, lattice, &run, &settings, (n, jobs), &deadline, v)?;
     }
     Ok(())
@@ -155,20 +157,16 @@ pub(super) fn simulate(
 /// against 1.8 s.
 const START_ITERATIONS: f64 = 10.0;
 
-/// `--explore N`: the other stable states, from N seeded perturbations of
-/// the reported equilibrium, estimated and refused beyond the time limit.
-fn explore(
+/// `--explore N`'s work reckoned from the solve (`START_ITERATIONS` of its
+/// measured Newton iterations a start, over the threads), refused beyond
+/// the time limit with the most starts that fit (docs/commands.md, "Time
+/// limits").
+fn explore_estimate(
     recipe: &Recipe,
-    lattice: &Lattice,
     run: &Simulation,
-    settings: &Settings,
     (n, jobs): (usize, usize),
     deadline: &karigami::Deadline,
-    v: Verbosity,
-) -> Result<(), Error> {
-    let material = settings.material;
-    // Each start reckoned at `START_ITERATIONS` of the solve's own
-    // measured Newton iterations (docs/commands.md, "Time limits").
+) -> Result<karigami::Estimate, Error> {
     let per_start = run.seconds / (run.iterations + 1) as f64 * START_ITERATIONS;
     let estimate = per_start * n as f64 / jobs.min(n).max(1) as f64;
     if !deadline.allows(estimate) {
@@ -187,7 +185,28 @@ fn explore(
             ),
         )));
     }
-    say_estimate("--explore", &format!("{n} starts"), estimate, deadline, v);
+    Ok(karigami::Estimate {
+        seconds: estimate,
+        what: format!(
+            "--explore: {n} starts of ~{} on {}",
+            karigami::duration(per_start),
+            plural(jobs.min(n), "thread")
+        ),
+    })
+}
+
+/// `--explore N`: the other stable states, from N seeded perturbations of
+/// the reported equilibrium (its estimate refused or said before).
+fn explore(
+    recipe: &Recipe,
+    lattice: &Lattice,
+    run: &Simulation,
+    settings: &Settings,
+    (n, jobs): (usize, usize),
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) -> Result<(), Error> {
+    let material = settings.material;
     let solved = AtomicUsize::new(0);
     let line = |seconds| {
         let k = solved.load(Ordering::Relaxed);
@@ -230,20 +249,29 @@ fn plain(kind: ErrorKind, message: String, hint: String) -> karigami::Diagnostic
     }
 }
 
-/// Say work reckoned at more than `karigami::SAY_ABOVE` seconds before it
-/// starts, with the limit it runs under.
-fn say_estimate(what: &str, size: &str, seconds: f64, deadline: &karigami::Deadline, v: Verbosity) {
-    if v.quiet || seconds < karigami::SAY_ABOVE {
-        return;
+/// Say a simulation reckoned long before it starts (`say_estimate`).
+fn say_simulation(
+    file: &str,
+    lattice: &Lattice,
+    settings: &Settings,
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) {
+    let estimate = karigami::simulation_estimate(lattice, settings);
+    say_estimate(file, &estimate, deadline, v);
+}
+
+/// Say work reckoned at `karigami::SAY_ABOVE` seconds or more before it
+/// starts, with the limit it runs under (`Estimate::said`).
+fn say_estimate(
+    file: &str,
+    estimate: &karigami::Estimate,
+    deadline: &karigami::Deadline,
+    v: Verbosity,
+) {
+    if let Some(line) = estimate.said(deadline).filter(|_| !v.quiet) {
+        errln!("{file}: {line}");
     }
-    let limit = match deadline.limit() {
-        Some(l) => format!("stops at --time-limit {}", shown(l)),
-        None => "no --time-limit".to_string(),
-    };
-    errln!(
-        "{what}: about {} estimated ({size}; {limit})",
-        karigami::duration(seconds)
-    );
 }
 
 fn pct(x: f64) -> String {

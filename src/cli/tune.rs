@@ -41,6 +41,13 @@ pub(super) fn tune(
     let target = cells.unwrap_or(design.helix_cells);
     // Legs shorter than the eyelet flange (plus a wall) cannot be built.
     let min_leg = design.fabrication.eyelet.flange + 2.0 * karigami::MIN_WALL;
+    // Refused up front beyond the limit, said up front when long
+    // (docs/commands.md, "Time limits").
+    let estimate = karigami::tune_within_time(&design, (target, iterations), cells.is_some())
+        .map_err(|d| recipe.error(&d))?;
+    if let Some(line) = estimate.said(&deadline).filter(|_| !v.quiet) {
+        errln!("{}: {line}", recipe.file);
+    }
     let what = format!("tuning {} (up to {iterations} tries)", recipe.file);
     let tuned = progress::heartbeat(&what, v.quiet, || {
         karigami::tune_helix_until(

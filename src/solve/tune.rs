@@ -2,8 +2,13 @@
 //! about two turns, so a seeded hill climb moves the seed points (in
 //! cylindrical coordinates about the seed's axis) and redistributes kappa
 //! until the helix grows the cells the recipe asks for. Deterministic: the
-//! same seed always tunes to the same numbers.
+//! same seed always tunes to the same numbers. Its work is reckoned from
+//! the tries and cells asked before it starts (`tune_estimate`), and
+//! refused beyond the time limit (docs/commands.md, "Time limits").
 
+use crate::budget::{Estimate, count, duration};
+use crate::design::Design;
+use crate::diagnostic::{Diagnostic, ErrorKind};
 use crate::lattice::{Lattice, angle_between, grow_helix_partial};
 use crate::rng::Rng;
 use glam::DVec3;
@@ -186,6 +191,78 @@ fn quality(lattice: &Lattice) -> f64 {
         })
         .fold(1.0, f64::min)
         * 0.999
+}
+
+/// Seconds a try of the tuner is reckoned at, whatever it grows (its seed
+/// moved and remade), and for each cell it grows (grown, its legs checked,
+/// its quality and winding read): release build on the 2-core machine of
+/// BENCHMARKS.md, "Bounded work", 3,000 tries of templates/helix.toml's 12
+/// cells in 15.5 ms and of examples/bowl.toml's 32 cells in 34.5 ms of CPU.
+const SECONDS_PER_TRY: f64 = 1.5e-6;
+const SECONDS_PER_TRY_CELL: f64 = 3.2e-7;
+
+/// The tuner's work reckoned before it starts: `tries` tries of a seed
+/// that grows `grown` of the `cells` asked. A try costs what it grows, and
+/// tries start from the start seed, which untuned grows a few turns (the
+/// bowl's 38 cells of 200 asked: 50,000 tries at 16.6 us a try); reckoned
+/// low so that only what is surely too long is refused, the deadline stops
+/// a search whose seeds grow on.
+pub fn tune_estimate(grown: usize, cells: usize, tries: usize) -> Estimate {
+    let per_try = SECONDS_PER_TRY + SECONDS_PER_TRY_CELL * grown.min(cells) as f64;
+    Estimate {
+        seconds: per_try * tries as f64,
+        what: format!(
+            "helix tuner: up to {} tries of ~{} cells (the start seed grows {} of {}), ~{} a try",
+            count(tries as f64),
+            count(grown.min(cells).max(1) as f64),
+            count(grown.min(cells) as f64),
+            count(cells as f64),
+            duration(per_try)
+        ),
+    }
+}
+
+/// Refuse a tune of the design's seed reckoned longer than its deadline
+/// allows (`tune_estimate`, from the cells the start seed grows;
+/// docs/commands.md, "Time limits"), at the recipe's `cells` unless
+/// `--cells` asked for them (`flag`), saying the most tries that fit; else
+/// its estimate, for a long one to be said first.
+pub fn tune_within_time(
+    design: &Design,
+    (cells, tries): (usize, usize),
+    flag: bool,
+) -> Result<Estimate, Diagnostic> {
+    let grown = grow_helix_partial(design.dim, &design.points, &design.kappa, cells)
+        .map_or(0, |(lattice, _)| lattice.cells.len());
+    let estimate = tune_estimate(grown, cells, tries);
+    let deadline = &design.deadline;
+    if deadline.allows(estimate.seconds) {
+        return Ok(estimate);
+    }
+    let per_try = estimate.seconds / tries.max(1) as f64;
+    let fits = (deadline.ceiling() / per_try).floor().max(1.0);
+    let asked = if flag {
+        "--cells"
+    } else {
+        "the recipe's `cells`"
+    };
+    Err(Diagnostic::new(
+        ErrorKind::WorkTooLong,
+        format!(
+            "the helix tuner may make up to {} tries of a seed that grows {} of {} cells ({asked}) at about {} each, about {} in all, longer than the {} allowed",
+            count(tries as f64),
+            count(grown.min(cells) as f64),
+            count(cells as f64),
+            duration(per_try),
+            duration(estimate.seconds),
+            duration(deadline.ceiling())
+        ),
+    )
+    .at_opt((!flag).then(|| design.size_span()))
+    .hint(format!(
+        "use --iterations {} or fewer (now {tries}), fewer cells, or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)",
+        fits as usize
+    )))
 }
 
 /// Tune a helix seed until it grows `target` cells with legs of at least
