@@ -278,13 +278,14 @@ fn the_half_ellipsoid_rings_shrink_with_open_cells() {
 }
 
 #[test]
-fn the_bowl_helix_grows_all_its_cells() {
-    let d = example("bowl");
+fn the_helix_bowl_grows_all_its_cells() {
+    let source = fs::read_to_string("fixtures/designs/helix-bowl.toml").unwrap();
+    let d = karigami::parse(&source, "helix-bowl").unwrap();
     assert_eq!(d.kind, Kind::Helix);
     let lattice = d.grow().unwrap();
     assert_eq!(lattice.cells.len(), 32);
     assert_eq!(lattice.width, 9);
-    assert_valid(&lattice, "bowl");
+    assert_valid(&lattice, "helix-bowl");
     assert!(karigami::testing::seed_defect(&d.points, &d.kappa).abs() < 1e-12);
 }
 

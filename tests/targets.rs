@@ -34,6 +34,11 @@ const SUITE: &[(&str, f64, Topology)] = &[
     ("sphere-cap-export.obj", 480.0, Topology::Patch),
     ("saddle-export.stl", 565.685424949238, Topology::Patch),
     ("paraboloid-export.stl", 400.0, Topology::Patch),
+    // The examples' own targets: the bowl's rim diameter (its rim to its
+    // apex is only hypot(200, 240)); across the band from a rim point to
+    // the other rim's opposite point, hypot(2 x 146.2552, 2 x 126.3165).
+    ("bowl.toml", 400.0, Topology::Patch),
+    ("saddle-band.toml", 386.5045495167683, Topology::Annulus),
 ];
 
 #[test]

@@ -17,6 +17,7 @@ mod maker;
 mod plotter;
 mod property;
 mod rebuild;
+mod redesign;
 mod report_once;
 mod safety;
 mod sensitivity;

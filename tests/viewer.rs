@@ -390,7 +390,8 @@ fn ids(v: &Value) -> BTreeSet<String> {
 
 #[test]
 fn viewer_works_in_headless_chromium() {
-    // A sheet, a loop, a helix, an intrinsic lattice, and a planar true mechanism.
+    // A sheet, two loops (a torus and the bowl), an intrinsic lattice, and a
+    // planar true mechanism.
     let names = ["flat-sheet", "torus", "bowl", "eggbox", "mirror-arm"];
     let shots = shots();
     let mut plan_pages = Vec::new();

@@ -1,6 +1,7 @@
 //! Loops for `karigami design`: a symmetric loop seeded round a level,
 //! circular rim, each ring's vertex put on the target one step further
-//! down its meridian (docs/math.md 6.2).
+//! down its meridian (docs/math.md 6.2): towards the axis on a patch, to
+//! the other rim on an annulus.
 
 use super::{DesignAsk, Found, fit_of};
 use crate::design::Design;
@@ -40,19 +41,47 @@ pub(super) fn loops(
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Found> {
     let t = &ask.target;
-    let n0 = ((std::f64::consts::TAU * radius / ask.edge / 2.0).round() as usize * 2).max(8);
+    let rim = Rim {
+        centre,
+        radius,
+        reach: 1.0 - HOLE,
+        meridian: &|from| meridian(t, centre, from),
+    };
+    rings(ask, &rim, tried, progress)
+}
+
+/// A loop's seed rim, how far down its meridian the rings go (a share of
+/// its arc length) and the meridian from a rim point.
+struct Rim<'a> {
+    centre: DVec3,
+    radius: f64,
+    reach: f64,
+    meridian: &'a dyn Fn(DVec3) -> Option<Vec<(f64, DVec3)>>,
+}
+
+/// The designs of `loops` and `annulus`: for each loop size and ring step,
+/// the rings' target points down the meridian of the seed's point 1, and
+/// each design with its last rings left off, down to half of them.
+fn rings(
+    ask: &DesignAsk<'_>,
+    rim: &Rim<'_>,
+    tried: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> Vec<Found> {
+    let t = &ask.target;
+    let n0 = ((std::f64::consts::TAU * rim.radius / ask.edge / 2.0).round() as usize * 2).max(8);
     let mut out = Vec::new();
     for n in [n0, n0.saturating_sub(2).max(8)] {
         let points: Vec<DVec3> = (0..n)
             .map(|k| {
                 let a = std::f64::consts::TAU * k as f64 / n as f64;
-                centre + radius * DVec3::new(a.cos(), a.sin(), 0.0)
+                rim.centre + rim.radius * DVec3::new(a.cos(), a.sin(), 0.0)
             })
             .collect();
-        let Some(meridian) = meridian(t, centre, points[1]) else {
+        let Some(meridian) = (rim.meridian)(points[1]) else {
             continue;
         };
-        let length = meridian.last().map_or(0.0, |m| m.0);
+        let length = rim.reach * meridian.last().map_or(0.0, |m| m.0);
         for per_edge in RING_STEPS {
             if ask.deadline.is_some_and(|d| Instant::now() > d) {
                 return out;
@@ -60,11 +89,11 @@ pub(super) fn loops(
             *tried += 1;
             let rings = ((length / (per_edge * ask.edge)).round() as usize).clamp(2, MAX_RINGS);
             let targets: Vec<DVec3> = (1..=rings)
-                .map(|i| along(&meridian, (1.0 - HOLE) * length * i as f64 / rings as f64))
+                .map(|i| along(&meridian, length * i as f64 / rings as f64))
                 .collect();
             progress(&format!(
                 "loop of {n} points round the rim, {rings} rings {:.1} mm apart down the meridian",
-                (1.0 - HOLE) * length / rings as f64
+                length / rings as f64
             ));
             for rows in (rings.div_ceil(2).max(1)..=rings).rev() {
                 let Some(lattice) = buildable_loop(ask.base, &points, &targets[..rows]) else {
@@ -82,6 +111,73 @@ pub(super) fn loops(
         }
     }
     out
+}
+
+/// The two rims of an annulus (a band, or a plate with a hole), when both
+/// are level circles (`circular_rim`) about one vertical axis (their
+/// centres within 1 % of the smaller radius of it): the seed rim, the
+/// longer boundary loop, first.
+pub(super) fn level_rims(t: &Target) -> Option<[(DVec3, f64); 2]> {
+    let loops = t.mesh.boundary_loops();
+    let [a, b] = loops.as_slice() else {
+        return None;
+    };
+    let rim = |l: &Vec<u32>| {
+        let ring: Vec<DVec3> = l.iter().map(|&i| t.mesh.positions[i as usize]).collect();
+        circular_rim(&ring, t.extent)
+    };
+    let (a, b) = (rim(a)?, rim(b)?);
+    let off = (a.0 - b.0).truncate().length();
+    (off <= 0.01 * a.1.min(b.1) && a.0.distance(b.0) > 0.0).then_some([a, b])
+}
+
+/// Symmetric loops on an annulus whose rims are level circles
+/// (`level_rims`): seeded round one rim, the rings' vertices at equal
+/// steps along the meridian to the other rim, the last on it (docs/math.md
+/// 6.2; docs/design.md, "Design your own object").
+pub(super) fn annulus(
+    ask: &DesignAsk<'_>,
+    rims: [(DVec3, f64); 2],
+    tried: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> Vec<Found> {
+    let t = &ask.target;
+    let [(centre, radius), (other, other_radius)] = rims;
+    let across = |from: DVec3| {
+        let u = (from - centre).truncate().normalize_or_zero().extend(0.0);
+        band_meridian(t, from, other + other_radius * u, DVec3::Z.cross(u))
+    };
+    let rim = Rim {
+        centre,
+        radius,
+        reach: 1.0,
+        meridian: &across,
+    };
+    rings(ask, &rim, tried, progress)
+}
+
+/// The meridian of a band from the rim point `from` to the point `to` of
+/// the other rim at the same azimuth: the chord between them sampled and
+/// each sample moved to its closest point on the target (on a surface of
+/// revolution the closest point stays in the chord's meridian plane, whose
+/// unit normal is `plane`), as (arc length, point) pairs; None when a
+/// sample leaves that plane.
+fn band_meridian(t: &Target, from: DVec3, to: DVec3, plane: DVec3) -> Option<Vec<(f64, DVec3)>> {
+    let mut out = vec![(0.0, from)];
+    for k in 1..=MERIDIAN {
+        let f = k as f64 / MERIDIAN as f64;
+        let q = if k == MERIDIAN {
+            to
+        } else {
+            t.closest(from.lerp(to, f)).0
+        };
+        if (q - from).dot(plane).abs() > 0.01 * t.extent {
+            return None;
+        }
+        let (walked, last) = *out.last().expect("one point");
+        out.push((walked + q.distance(last), q));
+    }
+    Some(out)
 }
 
 /// The loop's lattice, when it grows and `build` would take its strips
@@ -191,4 +287,37 @@ fn loop_toml(points: &[DVec3], targets: &[DVec3]) -> String {
         ));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn target(name: &str) -> Target {
+        let path = format!("{}/fixtures/targets/{name}", env!("CARGO_MANIFEST_DIR"));
+        crate::target::read(name, &std::fs::read(path).unwrap(), None).unwrap()
+    }
+
+    /// The saddle band's rims are level circles of radius a cosh(130 /
+    /// 200) = 146.26 mm about the z axis, 252.6 mm apart (scripts/make-targets);
+    /// its meridian runs from one to the other, 260 mm of arc; a cap has no
+    /// two rims.
+    #[test]
+    fn a_bands_rims_and_meridian_are_found() {
+        let t = target("saddle-band.toml");
+        let [(a, ra), (b, rb)] = level_rims(&t).expect("two level rims");
+        for r in [ra, rb] {
+            assert!((r - 146.2552).abs() < 0.01 * r, "{r}");
+        }
+        assert!((a.z - b.z).abs() > 250.0 && (a - b).truncate().length() < 1.0);
+        let from = a + ra * DVec3::X;
+        let m = band_meridian(&t, from, b + rb * DVec3::X, DVec3::Y).unwrap();
+        let length = m.last().unwrap().0;
+        assert!((length - 260.0).abs() < 2.6, "{length}");
+        assert!(
+            m.iter()
+                .all(|(_, p)| p.y.abs() < 1e-6 && t.closest(*p).1 < 0.5)
+        );
+        assert!(level_rims(&target("bowl.toml")).is_none());
+    }
 }

@@ -89,14 +89,23 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     let mut found: Vec<Found> = Vec::new();
     let mut tried = 0;
     let mut topology = topology;
-    if let Some((centre, radius)) = loops::circular_rim(&boundary, t.extent) {
+    let patch = t.topology == Topology::Patch;
+    if patch && let Some((centre, radius)) = loops::circular_rim(&boundary, t.extent) {
         topology = format!(
             "loop: the target is an open patch whose boundary is a level circle (radius {radius:.1} mm), so a symmetric loop seeded round it closes every ring and each ring's vertex can be put on the target one edge further in (docs/math.md 6.2, as for the half ellipsoid)"
         );
         found.extend(loops::loops(ask, centre, radius, &mut tried, progress));
     }
-    // Sheets only where no loop grows: a loop round the rim covers more.
-    let seeds = if found.is_empty() { seeds } else { Vec::new() };
+    if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
+        found.extend(loops::annulus(ask, rims, &mut tried, progress));
+    }
+    // Sheets only on a patch where no loop grows: a loop round the rim
+    // covers more.
+    let seeds = if found.is_empty() && patch {
+        seeds
+    } else {
+        Vec::new()
+    };
     ask.jobs.in_order(
         seeds.len(),
         |k| {
@@ -206,9 +215,12 @@ fn choose(t: &Target, edge: f64) -> Result<String, Diagnostic> {
         Topology::Patch => Ok(
             "sheet: the target is an open patch (one boundary loop), so a sheet grows from a stretch of its boundary across it (docs/math.md 6.1)".into(),
         ),
+        Topology::Annulus if loops::level_rims(t).is_some() => Ok(
+            "loop: the target is an annulus whose two rims are level circles about one axis, so a symmetric loop seeded round one rim closes every ring and each ring's vertex can be put on the target one step further along, to the other rim (docs/math.md 6.2)".into(),
+        ),
         Topology::Annulus => refuse(
-            "the target is an annulus or tube segment; karigami design grows sheets on open patches so far".into(),
-            "cut the band open along one line from edge to edge, so that it is a patch",
+            "the target is an annulus or tube segment whose rims are not both level circles about one axis; karigami design grows loops only between such rims".into(),
+            "cut the band open along one line from edge to edge, so that it is a patch, or make both rims level circles",
         ),
         other => refuse(
             format!("the target is {}; karigami design grows sheets on open patches", other.describe()),
