@@ -86,6 +86,31 @@ pub(super) fn moves(front: &[DVec3], laid: &[DVec3]) -> Option<FrontMoves> {
 mod tests {
     use super::*;
 
+    /// A front 10 mm above a flat target is laid onto it: every vertex on
+    /// the target, every edge its old length, the first vertex kept.
+    #[test]
+    fn a_front_above_a_plate_is_laid_on_it() {
+        let t = crate::target::read(
+            "t.toml",
+            b"[target]\nfamily = \"disk\"\nradius = 200.0\n",
+            None,
+        )
+        .unwrap();
+        let front: Vec<DVec3> = (0..5)
+            .map(|j| DVec3::new(-120.0 + 50.0 * j as f64, 10.0 * (j % 2) as f64, 10.0))
+            .collect();
+        let laid = laid(&t, &front);
+        assert_eq!(laid[0], front[0]);
+        for j in 1..front.len() {
+            assert!(laid[j].z.abs() < 1e-9, "{}", laid[j]);
+            let (a, b) = (
+                front[j].distance(front[j - 1]),
+                laid[j].distance(laid[j - 1]),
+            );
+            assert!((a - b).abs() < 1e-9, "{a} {b}");
+        }
+    }
+
     /// The moves rebuild the front as laid, to rounding: the recipe's
     /// angles grow the front the search chose.
     #[test]
