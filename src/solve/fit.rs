@@ -16,9 +16,11 @@
 use crate::budget::Deadline;
 use crate::design::fit::{Fit, Surface, error};
 use crate::design::{Design, MIN_WALL};
-use crate::lattice::{Grower, GrowthError, Kind, Lattice, RowParams};
+use crate::lattice::{FrontMoves, Grower, GrowthError, Kind, Lattice, RowParams};
 use crate::legs::{Direction, Leg};
 use glam::DVec3;
+
+mod refront;
 
 /// Grow the fitted lattice; `progress` hears about each row.
 pub(crate) fn grow(
@@ -32,10 +34,13 @@ pub(crate) fn grow(
 /// The rows of the deepest sheet an open fit's search reached on `fit`
 /// within `budget` rows tried (all `fit.rows` of them when it could), each
 /// row's scan of `fit.samples` angles: the rows `karigami design` writes.
+/// With `refront`, each row after the first grows on its front laid back
+/// onto the target (`refront`, docs/math.md 7).
 pub(crate) fn deepest_rows(
     design: &Design,
     fit: &Fit,
     budget: usize,
+    refront: bool,
 ) -> Result<Vec<RowParams>, GrowthError> {
     let mut grower = Grower::new(design.kind, design.dim, &design.points, &design.kappa)?;
     let fab = &design.fabrication;
@@ -53,6 +58,7 @@ pub(crate) fn deepest_rows(
         best: Vec::new(),
         deadline: &design.deadline,
         stopped: false,
+        refront,
     };
     search.rows(&mut grower, 0);
     if search.stopped {
@@ -90,6 +96,7 @@ fn grow_recorded(
             for (i, &a) in angles.iter().enumerate() {
                 let params = row_on_boundary(
                     &mut grower,
+                    None,
                     &fit.surface,
                     Some(Direction::Angles {
                         angle_deg: a,
@@ -116,6 +123,7 @@ fn grow_recorded(
             best: Vec::new(),
             deadline: &design.deadline,
             stopped: false,
+            refront: false,
         };
         return if search.rows(&mut grower, 0) {
             Ok((grower.into_lattice(), Some(search.chosen)))
@@ -179,6 +187,11 @@ fn meridian_step(axes: DVec3, x1: DVec3, edge: f64) -> DVec3 {
 /// How far (a share of D) a new vertex may stray from a target.
 const TARGET_STRAY: f64 = 0.01;
 
+/// The same on a laid front: the row's error does not add up, as each
+/// front is laid back on the target, and what a row strays the strips
+/// take up by bending where the rows join (docs/design.md, "Rows").
+const LAID_STRAY: f64 = 0.02;
+
 /// Rows tried in all, over every backtrack of a fit.
 const SEARCH_BUDGET: usize = 5_000;
 /// The best rows of each scan that are tried in turn when a later row has
@@ -208,6 +221,8 @@ struct Search<'a> {
     /// tried; `stopped` once it has passed.
     deadline: &'a Deadline,
     stopped: bool,
+    /// Lay each front back onto a target before its row (`refront`).
+    refront: bool,
 }
 
 impl Search<'_> {
@@ -217,11 +232,18 @@ impl Search<'_> {
         if i == self.fit.rows {
             return true;
         }
+        let front = match &self.fit.surface {
+            Surface::Target(t) if self.refront && i > 0 => {
+                let front: Vec<DVec3> = grower.front().iter().map(|p| p.pos).collect();
+                refront::moves(&front, &refront::laid(&t.0, &front))
+            }
+            _ => None,
+        };
         let (candidates, why) = ranked_rows(
             grower,
+            front.as_ref(),
             &self.fit.surface,
-            self.fit.samples,
-            self.dim,
+            (self.fit.samples, self.dim),
             self.min_leg,
             self.strip,
             self.deadline,
@@ -319,11 +341,12 @@ fn tilt_count(samples: usize) -> usize {
 /// Scan the start direction of an open row; for each, put the end vertices
 /// on the boundary (circle or ellipsoid) and score the row. The candidates
 /// best first, and the last growth error met (for a row with none).
+/// `scan` is the angles scanned and the dimension.
 fn ranked_rows(
     grower: &mut Grower,
+    front: Option<&FrontMoves>,
     surface: &Surface,
-    samples: usize,
-    dim: usize,
+    (samples, dim): (usize, usize),
     min_leg: f64,
     strip: (f64, f64, f64),
     deadline: &Deadline,
@@ -350,7 +373,7 @@ fn ranked_rows(
                 angle_deg: angle,
                 tilt_deg: tilt,
             });
-            let params = match row_on_boundary(grower, surface, direction) {
+            let params = match row_on_boundary(grower, front, surface, direction) {
                 Ok(p) => p,
                 Err(e) => {
                     last_error = e.or(last_error);
@@ -361,7 +384,12 @@ fn ranked_rows(
                 last_error = Some(e);
                 continue;
             }
-            let score = row_score(grower.lattice(), surface, min_leg);
+            let stray = if front.is_some() {
+                LAID_STRAY
+            } else {
+                TARGET_STRAY
+            };
+            let score = row_score(grower.lattice(), surface, min_leg, stray);
             // A disk's rows whose strips overlap others of their layer come
             // last (on a curved patch the distance to the surface decides).
             let lattice = grower.lattice();
@@ -389,6 +417,7 @@ fn ranked_rows(
 /// surface's boundary (circle or ellipsoid); the growth error met, if any.
 fn row_on_boundary(
     grower: &mut Grower,
+    front: Option<&FrontMoves>,
     surface: &Surface,
     direction: Option<Direction>,
 ) -> Result<RowParams, Option<GrowthError>> {
@@ -397,6 +426,7 @@ fn row_on_boundary(
         direction,
         left_leg: Leg::Length(1.0),
         right_leg: Leg::Length(1.0),
+        front: front.cloned(),
         ..RowParams::default()
     };
     grower.grow_row(&probe).map_err(Some)?;
@@ -413,13 +443,23 @@ fn row_on_boundary(
         surface.ray_exit(last.pivot, v1),
     );
     grower.undo_row();
-    let (Some(l2), Some(l3)) = legs else {
+    // A ray that never comes near a curved target (it leaves along the
+    // surface, curving away) ends where the other lower leg does: the
+    // next row's end kappa 0, the end vertex wherever the cell puts it,
+    // for the stray rule to judge.
+    let leg = |l: Option<f64>| match (l, surface) {
+        (Some(l), _) => Some(Leg::Length(l)),
+        (None, Surface::Target(_)) => Some(Leg::Match),
+        (None, _) => None,
+    };
+    let (Some(left_leg), Some(right_leg)) = (leg(legs.0), leg(legs.1)) else {
         return Err(None);
     };
     Ok(RowParams {
         direction,
-        left_leg: Leg::Length(l2),
-        right_leg: Leg::Length(l3),
+        left_leg,
+        right_leg,
+        front: front.cloned(),
         ..RowParams::default()
     })
 }
@@ -427,7 +467,7 @@ fn row_on_boundary(
 /// Lower is better: distance of the new vertices to the surface (3-D), then
 /// the worst cell's shape: uneven legs (min/max leg ratio) or a cell near
 /// flat-open or collapsed (sine of phi), so rows stay open and buildable.
-fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
+fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64, stray: f64) -> f64 {
     let w = lattice.width;
     let cells = &lattice.cells[lattice.cells.len() - w..];
     let n = w + 1;
@@ -448,6 +488,10 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
         return f64::INFINITY;
     }
     let balance = 1.0 - worst;
+    // A target's rows march on across it (docs/design.md, "Rows").
+    if matches!(surface, Surface::Target(_)) && !marches(lattice) {
+        return f64::INFINITY;
+    }
     // A disk's vertices stay inside (or on) its circle.
     if let Surface::Disk { radius } = surface
         && new
@@ -460,7 +504,7 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
     if let Surface::Target(t) = surface
         && new
             .iter()
-            .any(|v| surface.distance(v.pos) > TARGET_STRAY * t.0.extent)
+            .any(|v| surface.distance(v.pos) > stray * t.0.extent)
     {
         return f64::INFINITY;
     }
@@ -474,6 +518,52 @@ fn row_score(lattice: &Lattice, surface: &Surface, min_leg: f64) -> f64 {
         }
         _ => balance,
     }
+}
+
+/// The least cosine between a column's new step and its step before: a
+/// target's sheet that turns back by more than this folds over the rows
+/// it has grown (their strips clash), though each new vertex lies on the
+/// target.
+const MARCH: f64 = 0.5;
+
+/// The shortest step a target's row may take, a share of its front's mean
+/// edge: shorter steps keep the new vertices nearer a curved target, and
+/// a search left to them piles thin rows on one another (measured on the
+/// saddle: steps shrinking to a few mm by the fifth row, strips clashing).
+const STEP: f64 = 0.5;
+
+/// Whether every column of the last row steps on at least `STEP` of an
+/// edge from the front it grew on, and within `MARCH` of the way it
+/// stepped in the row before.
+fn marches(lattice: &Lattice) -> bool {
+    let n = lattice.width + 1;
+    let rows = lattice.rows();
+    let v = &lattice.vertices;
+    let grown = |i: usize| v[i * n..(i + 1) * n].iter().map(|p| p.pos);
+    // The front row i grew on: rebuilt, or the vertices of front i.
+    let top = |i: usize| -> Vec<DVec3> {
+        match lattice.fronts.get(i) {
+            Some(f) if !f.is_empty() => f.clone(),
+            _ => grown(i).collect(),
+        }
+    };
+    let (new, mid) = (grown(rows).collect::<Vec<_>>(), top(rows - 1));
+    let edge = mid.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>() / (n - 1) as f64;
+    let long = new
+        .iter()
+        .zip(&mid)
+        .all(|(a, b)| a.distance(*b) >= STEP * edge);
+    if !long || rows < 2 {
+        return long;
+    }
+    let before: Vec<DVec3> = grown(rows - 1).collect();
+    new.iter()
+        .zip(&mid)
+        .zip(before.iter().zip(&top(rows - 2)))
+        .all(|((new, mid), (was, old))| {
+            let (a, b) = (*new - *mid, *was - *old);
+            a.dot(b) >= MARCH * a.length() * b.length()
+        })
 }
 
 #[cfg(test)]

@@ -85,7 +85,27 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     let boundary = sheets::inward_boundary(t);
     let ring = sheets::resample(&boundary, ask.edge);
     let rows = ((t.extent / ask.edge).ceil() as usize).clamp(2, 60);
-    let seeds = sheets::seeds(&ring);
+    // A side from corner to corner first (a rectangle's rows run straight
+    // across it), then stretches of the boundary.
+    let seeds: Vec<(Vec<DVec3>, String)> = sheets::sides(&boundary, t.extent, ask.edge)
+        .into_iter()
+        .enumerate()
+        .map(|(k, side)| {
+            let note = format!(
+                "{} cells along side {} of the boundary (from corner to corner, longest first)",
+                side.len() - 1,
+                k + 1
+            );
+            (side, note)
+        })
+        .collect();
+    // Stretches of the boundary only where it has no sides (a round rim
+    // that is not level): a stretch round a corner folds at it.
+    let seeds = if seeds.is_empty() {
+        sheets::seeds(&ring)
+    } else {
+        seeds
+    };
     let mut found: Vec<Found> = Vec::new();
     let mut tried = 0;
     let mut topology = topology;
@@ -106,19 +126,26 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     } else {
         Vec::new()
     };
+    // Each seed twice: rows grown as they come (extrinsic), and rows on
+    // fronts laid back onto the target (intrinsic, docs/math.md 7).
     ask.jobs.in_order(
-        seeds.len(),
+        2 * seeds.len(),
         |k| {
             if ask.deadline.is_some_and(|d| Instant::now() > d) {
                 return None;
             }
-            sheets::grow_seed(ask, &seeds[k].0, rows)
+            Some(sheets::grow_seed(ask, &seeds[k / 2].0, rows, k % 2 == 1))
         },
         |k, result| {
+            let (k, laid) = (k / 2, k % 2 == 1);
             tried += 1;
-            let Some((rows, lattice)) = result else {
-                progress(&format!("seed {}/{}: no row grows", k + 1, seeds.len()));
-                return;
+            let (rows, lattice) = match result {
+                Some(Ok(grown)) => grown,
+                Some(Err(why)) => {
+                    progress(&format!("seed {}/{}: {why}", k + 1, seeds.len()));
+                    return;
+                }
+                None => return,
             };
             let fit = fit_of(t, &lattice);
             progress(&format!(
@@ -133,17 +160,33 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
                 lattice: sheets::sheet_toml(&seeds[k].0, &rows),
                 cells: lattice.cells.len(),
                 fit,
-                seed: seeds[k].1.clone(),
+                seed: if laid {
+                    format!(
+                        "{}; each row on its front laid back onto the target",
+                        seeds[k].1
+                    )
+                } else {
+                    seeds[k].1.clone()
+                },
             });
         },
     );
-    // A stable sort: of equal fits, the earlier seed.
+    // A stable sort: of equal fits, the earlier seed; a target's symmetry
+    // grows the same design from several sides, built once.
     found.sort_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
+    found.dedup_by(|a, b| {
+        a.cells == b.cells && same(a.fit.rms, b.fit.rms) && same(a.fit.largest, b.fit.largest)
+    });
     Ok(Searched {
         found,
         tried,
         topology,
     })
+}
+
+/// Equal to a millionth: the same design turned by a symmetry of the target.
+fn same(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-6 * a.abs().max(b.abs())
 }
 
 /// The target turned so that its rim's own plane is level, when that

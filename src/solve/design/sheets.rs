@@ -65,12 +65,14 @@ pub(super) fn resample(ring: &[DVec3], edge: f64) -> Vec<DVec3> {
 }
 
 /// The rows the fit's search reaches from one seed (with kappa 0) on the
-/// target, and their lattice; None when no row grows.
+/// target, and their lattice; why not when no row grows or `build`'s
+/// checks refuse the rows reached.
 pub(super) fn grow_seed(
     ask: &DesignAsk<'_>,
     points: &[DVec3],
     rows: usize,
-) -> Option<(Vec<RowParams>, Lattice)> {
+    refront: bool,
+) -> Result<(Vec<RowParams>, Lattice), String> {
     let mut d = ask.base.clone();
     d.kind = Kind::Sheet;
     d.dim = 3;
@@ -78,13 +80,16 @@ pub(super) fn grow_seed(
     d.kappa = vec![0.0; points.len() - 1];
     d.rows.clear();
     let fit = Fit::on_target(ask.target.clone(), rows, SAMPLES);
-    let found = crate::solve::fit::deepest_rows(&d, &fit, ROW_BUDGET).ok()?;
-    let lattice = grow(Kind::Sheet, 3, &d.points, &d.kappa, &found).ok()?;
+    let found = crate::solve::fit::deepest_rows(&d, &fit, ROW_BUDGET, refront)
+        .map_err(|e| format!("no row grows: {}", e.message))?;
+    let lattice = grow(Kind::Sheet, 3, &d.points, &d.kappa, &found)
+        .map_err(|e| format!("no row grows: {}", e.message))?;
     d.rows.clone_from(&found);
     let m = crate::measure::measure(&d, &lattice);
-    crate::solve::cost::refused(&d, &lattice, &m)
-        .is_none()
-        .then_some((found, lattice))
+    match crate::solve::cost::refused(&d, &lattice, &m) {
+        None => Ok((found, lattice)),
+        Some(why) => Err(format!("{} rows, refused: {why}", found.len())),
+    }
 }
 
 /// A sheet's `[lattice]`: its seed points and one row table per row,
@@ -109,8 +114,146 @@ pub(super) fn sheet_toml(points: &[DVec3], rows: &[RowParams]) -> String {
                 s.push_str(&format!("{key} = {l:?}\n"));
             }
         }
+        if let Some(f) = &r.front {
+            s.push_str(&front_toml(f));
+        }
     }
     s
+}
+
+/// A row's `front = { ... }`: the bend, twist and pivot a laid front takes
+/// (docs/recipe.md, rebuilt fronts), every angle in full.
+fn front_toml(f: &crate::lattice::FrontMoves) -> String {
+    let list = |v: &Option<Vec<f64>>| {
+        let v = v.as_deref().unwrap_or(&[]);
+        v.iter()
+            .map(|a| format!("{a:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut s = format!(
+        "front = {{ bend = [{}], twist = [{}]",
+        list(&f.bend),
+        list(&f.twist)
+    );
+    let pivots: Vec<String> = f
+        .pivots
+        .iter()
+        .map(|p| {
+            let a = p.axis.unwrap_or(DVec3::Z);
+            format!(
+                "{{ at = {}, angle = {:?}, axis = [{:?}, {:?}, {:?}] }}",
+                p.at, p.angle_deg, a.x, a.y, a.z
+            )
+        })
+        .collect();
+    if !pivots.is_empty() {
+        s.push_str(&format!(", pivot = [{}]", pivots.join(", ")));
+    }
+    s.push_str(" }\n");
+    s
+}
+
+/// How sharply (degrees, in plan) the boundary must turn within
+/// `CORNER_SPAN` of D for a corner.
+const CORNER_TURN: f64 = 45.0;
+
+const CORNER_SPAN: f64 = 0.04;
+
+/// The sides of the target's boundary `ring` (clockwise, docs/design.md
+/// "Seed"): the stretches between its corners, each from corner to corner
+/// resampled at about `edge` apart, longest first; none when the boundary
+/// has fewer than three corners (a round rim).
+pub(super) fn sides(ring: &[DVec3], extent: f64, edge: f64) -> Vec<Vec<DVec3>> {
+    let n = ring.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    let len: Vec<f64> = (0..n)
+        .map(|k| ring[k].distance(ring[(k + 1) % n]))
+        .collect();
+    let span = CORNER_SPAN * extent;
+    // The plan point `s` of arc length from vertex k, either way round.
+    let walk = |k: usize, forward: bool| {
+        let (mut at, mut left) = (k, span);
+        for _ in 0..n {
+            let (next, l) = if forward {
+                ((at + 1) % n, len[at])
+            } else {
+                ((at + n - 1) % n, len[(at + n - 1) % n])
+            };
+            if l >= left {
+                return ring[at].lerp(ring[next], left / l).truncate();
+            }
+            left -= l;
+            at = next;
+        }
+        ring[at].truncate()
+    };
+    let turn: Vec<f64> = (0..n)
+        .map(|k| {
+            let (a, b) = (
+                ring[k].truncate() - walk(k, false),
+                walk(k, true) - ring[k].truncate(),
+            );
+            a.angle_to(b).abs().to_degrees()
+        })
+        .collect();
+    // A corner: a turn past CORNER_TURN, the sharpest within the span.
+    let mut corners: Vec<usize> = (0..n)
+        .filter(|&k| turn[k] >= CORNER_TURN)
+        .filter(|&k| {
+            let (mut back, mut ahead, mut j) = (0.0, 0.0, k);
+            let mut sharpest = true;
+            while back < span && sharpest {
+                j = (j + n - 1) % n;
+                back += len[j];
+                sharpest = turn[j] < turn[k] || turn[j] == turn[k] && j > k;
+            }
+            j = k;
+            while ahead < span && sharpest {
+                ahead += len[j];
+                j = (j + 1) % n;
+                sharpest = turn[j] < turn[k] || turn[j] == turn[k] && j > k;
+            }
+            sharpest
+        })
+        .collect();
+    corners.dedup();
+    if corners.len() < 3 {
+        return Vec::new();
+    }
+    let mut out: Vec<Vec<DVec3>> = (0..corners.len())
+        .map(|c| {
+            let (a, b) = (corners[c], corners[(c + 1) % corners.len()]);
+            let count = (b + n - a) % n;
+            let side: Vec<DVec3> = (0..=count).map(|j| ring[(a + j) % n]).collect();
+            along_open(&side, edge)
+        })
+        .collect();
+    let length = |s: &Vec<DVec3>| s.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+    // A stable sort: of equal sides, the first round the boundary.
+    out.sort_by(|a, b| length(b).total_cmp(&length(a)));
+    out
+}
+
+/// Points along an open polyline from its first point to its last, at
+/// equal arc lengths near `edge` apart.
+fn along_open(line: &[DVec3], edge: f64) -> Vec<DVec3> {
+    let len: Vec<f64> = line.windows(2).map(|w| w[0].distance(w[1])).collect();
+    let total: f64 = len.iter().sum();
+    let count = ((total / edge).round() as usize).max(2);
+    let (mut out, mut k, mut walked) = (Vec::with_capacity(count + 1), 0, 0.0);
+    for j in 0..=count {
+        let want = total * j as f64 / count as f64;
+        while k + 1 < len.len() && walked + len[k] < want {
+            walked += len[k];
+            k += 1;
+        }
+        let u = ((want - walked) / len[k].max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        out.push(line[k].lerp(line[k + 1], u));
+    }
+    out
 }
 
 /// The seeds a sheet may grow from: stretches of the resampled boundary
@@ -134,4 +277,44 @@ pub(super) fn seeds(ring: &[DVec3]) -> Vec<(Vec<DVec3>, String)> {
             )
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rectangle's boundary, finely sampled, has four sides from corner
+    /// to corner, the longest first; a circle has none.
+    #[test]
+    fn a_rectangle_has_four_sides_and_a_circle_none() {
+        let corners = [
+            DVec3::new(-200.0, 150.0, 0.0),
+            DVec3::new(200.0, 150.0, 0.0),
+            DVec3::new(200.0, -150.0, 0.0),
+            DVec3::new(-200.0, -150.0, 0.0),
+        ];
+        let ring: Vec<DVec3> = (0..4)
+            .flat_map(|k| {
+                let (a, b) = (corners[k], corners[(k + 1) % 4]);
+                (0..20).map(move |j| a.lerp(b, j as f64 / 20.0))
+            })
+            .collect();
+        let sides = sides(&ring, 500.0, 60.0);
+        assert_eq!(sides.len(), 4);
+        let ends: Vec<(DVec3, DVec3)> = sides.iter().map(|s| (s[0], s[s.len() - 1])).collect();
+        assert!(ends[0].0.distance(corners[0]) < 1e-9 && ends[0].1.distance(corners[1]) < 1e-9);
+        assert_eq!(sides[0].len(), 8, "400 mm at about 60 mm: 7 cells");
+        assert_eq!(sides[2].len(), 6, "300 mm: 5 cells");
+        for s in &sides {
+            let l: Vec<f64> = s.windows(2).map(|w| w[0].distance(w[1])).collect();
+            assert!(l.iter().all(|x| (x - l[0]).abs() < 1e-9), "{l:?}");
+        }
+        let circle: Vec<DVec3> = (0..80)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 80.0;
+                DVec3::new(200.0 * a.cos(), 200.0 * a.sin(), 0.0)
+            })
+            .collect();
+        assert!(super::sides(&circle, 400.0, 60.0).is_empty());
+    }
 }
