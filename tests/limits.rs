@@ -388,8 +388,8 @@ fn long_work_says_its_estimate_first() {
         line.is_some_and(|l| l.ends_with("; give --time-limit SECONDS to bound it")),
         "no estimate said without a limit"
     );
-    // The helix tuner: 500,000 tries of the bowl's 38 cells, about 7 s.
-    let bowl = std::fs::read_to_string(repo().join("examples/bowl.toml")).unwrap();
+    // The helix tuner: 500,000 tries of the helix bowl's 38 cells, about 7 s.
+    let bowl = std::fs::read_to_string(repo().join("fixtures/designs/helix-bowl.toml")).unwrap();
     let helix = &bowl[..bowl.find("\n[optimise]").unwrap()];
     std::fs::write(dir.join("bowl.toml"), helix).unwrap();
     let tune = [

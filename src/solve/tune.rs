@@ -197,7 +197,7 @@ fn quality(lattice: &Lattice) -> f64 {
 /// moved and remade), and for each cell it grows (grown, its legs checked,
 /// its quality and winding read): release build on the 2-core machine of
 /// BENCHMARKS.md, "Bounded work", 3,000 tries of templates/helix.toml's 12
-/// cells in 15.5 ms and of examples/bowl.toml's 32 cells in 34.5 ms of CPU.
+/// cells in 15.5 ms and of fixtures/designs/helix-bowl.toml's 32 cells in 34.5 ms of CPU.
 const SECONDS_PER_TRY: f64 = 1.5e-6;
 const SECONDS_PER_TRY_CELL: f64 = 3.2e-7;
 
@@ -384,7 +384,7 @@ mod tests {
         let points: Vec<DVec3> = (0..=n)
             .map(|k| {
                 let a = std::f64::consts::TAU * k as f64 / n as f64;
-                // examples/bowl.toml's start seed.
+                // fixtures/designs/helix-bowl.toml's start seed.
                 let r = 150.0 * 0.9f64.powf(k as f64 / n as f64);
                 DVec3::new(r * a.cos(), r * a.sin(), -80.0 * k as f64 / n as f64)
             })
