@@ -72,7 +72,7 @@ pub fn instantiate_as(template: &Template, name: &str, file: &str) -> String {
     let mut renamed = false;
     for line in template.text.split_inclusive('\n') {
         if !renamed && line.starts_with("name = ") {
-            out.push_str(&format!("name = {}\n", toml_string(name)));
+            out.push_str(&format!("name = {}\n", crate::words::toml_string(name)));
             renamed = true;
         } else if line.starts_with('#') && line.contains("karigami ") {
             // Whole words only: `helix.toml` but not `my-helix.toml`.
@@ -94,21 +94,6 @@ pub fn instantiate_as(template: &Template, name: &str, file: &str) -> String {
             out.push_str(line);
         }
     }
-    out
-}
-
-/// A TOML basic string.
-fn toml_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
     out
 }
 

@@ -1,4 +1,5 @@
-//! English for messages and pages, written once.
+//! English for messages and pages, and the quoted strings of the recipes
+//! karigami writes, written once.
 
 /// "1 cell", "3 cells": a count with its noun (regular plurals only).
 pub fn plural(n: usize, what: &str) -> String {
@@ -7,6 +8,21 @@ pub fn plural(n: usize, what: &str) -> String {
     } else {
         format!("{n} {what}s")
     }
+}
+
+/// A TOML basic string (the recipes `new` and `design` write).
+pub(crate) fn toml_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 #[cfg(test)]

@@ -317,11 +317,7 @@ impl TargetFile {
     /// The fit of a lattice's vertices and, when given, of the simulated
     /// positions of the same vertices; the cells are the facets.
     pub(super) fn fit(&self, lattice: &Lattice, simulated: Option<&[DVec3]>) -> TargetFit {
-        let facets: Vec<[u32; 4]> = lattice
-            .cells
-            .iter()
-            .map(|c| [c.ul, c.ur, c.lr, c.ll])
-            .collect();
+        let facets = lattice.facets();
         let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
         let t = &self.target;
         let design = t.fit(&points, &facets);

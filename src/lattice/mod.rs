@@ -147,6 +147,15 @@ pub enum Stacking {
 }
 
 impl Lattice {
+    /// Each cell as a quadrilateral facet of vertex indices (upper left,
+    /// upper right, lower right, lower left), for fits to a target.
+    pub fn facets(&self) -> Vec<[u32; 4]> {
+        self.cells
+            .iter()
+            .map(|c| [c.ul, c.ur, c.lr, c.ll])
+            .collect()
+    }
+
     /// The sizes of a ring of per-vertex sums (vertex v in slot v mod
     /// size) for passes over the cells in order, and the size that holds
     /// every vertex: growth numbers a cell's corners within about two

@@ -213,13 +213,8 @@ fn level_rim(t: &Arc<Target>) -> Arc<Target> {
 
 /// The fit of a lattice's vertices and cells to the target.
 pub fn fit_of(t: &Target, lattice: &Lattice) -> crate::target::Fit {
-    let facets: Vec<[u32; 4]> = lattice
-        .cells
-        .iter()
-        .map(|c| [c.ul, c.ur, c.lr, c.ll])
-        .collect();
     let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
-    t.fit(&points, &facets)
+    t.fit(&points, &lattice.facets())
 }
 
 /// The topology to grow, with why; a target it cannot grow on is refused
@@ -293,29 +288,14 @@ pub fn recipe(found: &Found, name: &str, notes: &[String], target: Option<(&str,
     for n in notes {
         s.push_str(&format!("# {n}\n"));
     }
-    s.push_str(&format!("name = {}\n", toml_string(name)));
+    s.push_str(&format!("name = {}\n", crate::words::toml_string(name)));
     if let Some((file, hash)) = target {
         s.push_str(&format!(
             "\n[target]                # what `check` fits this design to\nfile = {}\nhash = \"{hash:016x}\"\n",
-            toml_string(file)
+            crate::words::toml_string(file)
         ));
     }
     s.push('\n');
     s.push_str(&found.lattice);
     s
-}
-
-/// A TOML basic string.
-fn toml_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if c.is_control() => out.push_str(&format!("\\u{:04X}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
 }
