@@ -97,6 +97,13 @@ impl Unsimulated {
         crate::sim::wanted(&self.0.lattice, &self.0.deployment)
     }
 
+    /// The build so far: every field but the simulation's, which is None
+    /// (as for a planar mechanism), for what reads only the lattice, the
+    /// parts, the layout and the pages.
+    pub fn build(&self) -> &Build {
+        &self.0
+    }
+
     /// The lattice's cells.
     pub fn cells(&self) -> usize {
         self.0.lattice.cells.len()

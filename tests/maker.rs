@@ -10,9 +10,11 @@ use karigami::{
 };
 use std::collections::BTreeMap;
 
-/// The example's build, shared with the other tests (tests/util.rs).
+/// The example's build up to its simulation, shared with the other tests
+/// (tests/util.rs): cut files, sheets and layouts do not read the
+/// simulated shape.
 fn build_example(path: &std::path::Path, o: &Overrides) -> &'static Build {
-    crate::util::example_with(path.to_str().unwrap(), o)
+    crate::util::unsimulated_with(path.to_str().unwrap(), o)
 }
 
 /// A path's points (arcs by their end points).
@@ -1199,8 +1201,8 @@ fn sheets_cut_by_step_with_tabs_are_the_same_on_every_run() {
         ..Overrides::default()
     };
     let path = crate::cli::repo().join("fixtures/designs/helix-bowl.toml");
-    let fresh = crate::util::build_example(path.to_str().unwrap(), &o);
-    let (a, b) = (build_example(&path, &o), &fresh);
+    let fresh = crate::util::unsimulated(path.to_str().unwrap(), &o);
+    let (a, b) = (build_example(&path, &o), fresh.build());
     // The helix bowl (the gallery's bowl before its redesign) grouped by
     // step needs the 600 x 400 sheet.
     assert_eq!(a.design.fabrication.sheet.name, "600x400");

@@ -906,11 +906,11 @@ fn long_phases_say_so_and_budgets_are_bounded() {
         return;
     }
     let dir = scratch("progress");
-    let torus = repo().join("examples/torus.toml");
-    // The first line after 50 ms instead of 2 s: the torus builds in about
-    // 2 s unoptimised, too close to the default to show a line for sure.
+    let disk = repo().join("examples/disk.toml");
+    // The first line after 50 ms instead of 2 s: the disk builds in a few
+    // seconds unoptimised, too close to the default to show a line for sure.
     let o = Command::new(env!("CARGO_BIN_EXE_karigami"))
-        .args(["build", torus.to_str().unwrap(), "--out", "o"])
+        .args(["build", disk.to_str().unwrap(), "--out", "o"])
         .current_dir(&dir)
         .env("KARIGAMI_FAULT", "nosync,firstnote@50")
         .output()
@@ -924,7 +924,7 @@ fn long_phases_say_so_and_budgets_are_bounded() {
         "no progress line: {stderr}"
     );
     let quiet = run(
-        &["build", torus.to_str().unwrap(), "--out", "o", "-q"],
+        &["build", disk.to_str().unwrap(), "--out", "o", "-q"],
         &dir,
         None,
     );

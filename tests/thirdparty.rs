@@ -296,13 +296,11 @@ pub(crate) fn holes_match(page: &karigami::Page, read: &Value, flip: bool, what:
     }
 }
 
-/// The 30 x 30 golden sheet built in-process: strips engraved with their
-/// type, not their ID, so 1800 of them are drawn alike.
-pub(crate) fn alike_strips() -> karigami::Build {
-    let recipe = repo().join("tests/golden/sheet-30x30.toml");
-    let text = std::fs::read_to_string(&recipe).unwrap();
-    let design = karigami::parse(&text, "sheet-30x30").unwrap();
-    karigami::build(design).unwrap()
+/// The 30 x 30 golden sheet built in-process up to its simulation (its
+/// sheets are what these tests read), once for all of them: strips
+/// engraved with their type, not their ID, so 1800 of them are drawn alike.
+pub(crate) fn alike_strips() -> &'static karigami::Build {
+    crate::util::unsimulated_with("tests/golden/sheet-30x30.toml", &Default::default())
 }
 
 /// Repeated strips are blocks placed by INSERTs, and `<use>` of one

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use karigami::{Build, Overrides, build, parse_with};
+use karigami::{Build, Overrides, Unsimulated, build, build_unsimulated, parse_with};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -96,10 +96,43 @@ pub(crate) fn build_example(name: &str, o: &Overrides) -> Build {
 }
 
 /// An example recipe built in-process with `o`, once per test process.
+/// A gallery example's simulation is restored from its shared CLI build
+/// (`cli_build`, which the batch test makes for every example anyway) when
+/// nothing the simulation reads differs, as a rebuild restores it
+/// (docs/outputs.md); else it is solved here.
 pub(crate) fn example_with(name: &str, o: &Overrides) -> &'static Build {
     static BUILDS: Slots<Build> = OnceLock::new();
     let path = example_path(name);
-    slot(&BUILDS, format!("{} {o:?}", path.display())).get_or_init(|| build_example(name, o))
+    slot(&BUILDS, format!("{} {o:?}", path.display())).get_or_init(|| {
+        let gallery = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples");
+        // None for a lattice that is not simulated (a planar mechanism).
+        let state = (path.parent() == Some(gallery.as_path()))
+            .then(|| std::fs::read(cli_build(name, &[]).join(karigami::STATE_FILE)).ok())
+            .flatten();
+        unsimulated(name, o)
+            .simulate(state.as_deref())
+            .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()))
+    })
+}
+
+/// A recipe grown, verified, cut and laid out with `o`, without its
+/// simulation, once per test process: for tests that read only the
+/// lattice, parts, layout and pages.
+pub(crate) fn unsimulated_with(name: &str, o: &Overrides) -> &'static Build {
+    static BUILDS: Slots<Unsimulated> = OnceLock::new();
+    let path = example_path(name);
+    slot(&BUILDS, format!("{} {o:?}", path.display()))
+        .get_or_init(|| unsimulated(name, o))
+        .build()
+}
+
+/// A fresh build of a recipe up to its simulation (`unsimulated_with`).
+pub(crate) fn unsimulated(name: &str, o: &Overrides) -> Unsimulated {
+    let path = example_path(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let stem = path.file_stem().unwrap().to_string_lossy();
+    build_unsimulated(parse_with(&text, &stem, o).unwrap(), &mut |_| {})
+        .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()))
 }
 
 /// An example recipe built in-process with its own settings, once per test process.
