@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
-use karigami::{Build, Overrides, Unsimulated, build, build_unsimulated, parse_with};
+use karigami::{Build, Overrides, Unsimulated, build_unsimulated, parse_with};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -88,18 +88,23 @@ fn example_path(name: &str) -> PathBuf {
 /// A fresh in-process build of an example recipe, for tests that compare two
 /// builds or change one.
 pub(crate) fn build_example(name: &str, o: &Overrides) -> Build {
-    let path = example_path(name);
-    let text = std::fs::read_to_string(&path).unwrap();
-    let stem = path.file_stem().unwrap().to_string_lossy();
-    build(parse_with(&text, &stem, o).unwrap())
-        .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()))
+    simulated(name, o, None)
+}
+
+/// `unsimulated(name, o)` simulated, restored from `state` when nothing
+/// the simulation reads differs (as `build` does with no state).
+fn simulated(name: &str, o: &Overrides, state: Option<&[u8]>) -> Build {
+    unsimulated(name, o)
+        .simulate(state)
+        .unwrap_or_else(|e| panic!("{}: {e:?}", example_path(name).display()))
 }
 
 /// An example recipe built in-process with `o`, once per test process.
 /// A gallery example's simulation is restored from its shared CLI build
-/// (`cli_build`, which the batch test makes for every example anyway) when
-/// nothing the simulation reads differs, as a rebuild restores it
-/// (docs/outputs.md); else it is solved here.
+/// (`cli_build`, which the cut-file and guide tests read for every
+/// example anyway) when nothing the simulation reads differs, as a rebuild
+/// restores it (docs/commands.md, "Rebuilds reuse the simulation"); else
+/// it is solved here.
 pub(crate) fn example_with(name: &str, o: &Overrides) -> &'static Build {
     static BUILDS: Slots<Build> = OnceLock::new();
     let path = example_path(name);
@@ -109,9 +114,7 @@ pub(crate) fn example_with(name: &str, o: &Overrides) -> &'static Build {
         let state = (path.parent() == Some(gallery.as_path()))
             .then(|| std::fs::read(cli_build(name, &[]).join(karigami::STATE_FILE)).ok())
             .flatten();
-        unsimulated(name, o)
-            .simulate(state.as_deref())
-            .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()))
+        simulated(name, o, state.as_deref())
     })
 }
 
