@@ -98,7 +98,7 @@ fn an_exploration_beyond_the_limit_is_refused() {
 #[test]
 fn simulate_stops_at_its_time_limit() {
     let args = ["simulate", "examples/eggbox.toml", "--time-limit", "0.3"];
-    // Reckoned at about 6 s, the eggbox is refused up front...
+    // Reckoned at about 5 s, the eggbox is refused up front...
     says(&karigami(&args, &repo()), 1, &["error[WorkTooLong]: "]);
     // ...and reckoned low, it starts and stops at the limit.
     let Some(o) = reckoned_low(&args, &repo()) else {
@@ -370,7 +370,7 @@ fn said_first(args: &[&str], cwd: &Path, word: &str) -> (Option<String>, f64) {
     (line, clock.elapsed().as_secs_f64())
 }
 
-/// The torus example: a simulation reckoned at about 40 s (5,664 rod
+/// The torus example: a simulation reckoned at about 34 s (5,664 rod
 /// nodes, its deployment path of 24 steps each way most of it; measured
 /// 51 to 86 s), where check and build reach it in a second or two.
 fn long_simulation(dir: &Path) {

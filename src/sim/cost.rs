@@ -51,16 +51,17 @@ pub(crate) const ITERATIONS_PER_STEP: f64 = 5.0;
 /// Newton iterations a step of the deployment path is reckoned at, its
 /// splits included, when it covers at most `PATH_STEP`: measured 5.2
 /// (curved-sheet) to 20.6 (the helix bowl), 12 to 14.6 on most examples,
-/// planar sheets as bent ones (BENCHMARKS.md, "Bounded work"). Each
-/// solve's stability check costs about one more.
-pub(crate) const ITERATIONS_PER_PATH_STEP: f64 = 12.0;
+/// planar sheets as bent ones, 10.3 to 13 on sheets of 400 to 3,000
+/// cells (BENCHMARKS.md, "Bounded work"); reckoned low. Each solve's
+/// stability check costs about one more.
+pub(crate) const ITERATIONS_PER_PATH_STEP: f64 = 10.0;
 
 /// Newton iterations a path step is reckoned at when `MAX_STEPS` makes it
 /// longer than `PATH_STEP`: `ITERATIONS_PER_PATH_STEP` times the square
 /// of its length over `PATH_STEP` (the secant predictor's error grows so).
-/// Measured: the eggbox's 5.2 deg steps 15.9 iterations (reckoned 20),
-/// the torus's 5.6 deg steps 39.8 (reckoned 23; its path folds, and the
-/// steps that find no equilibrium are halved four times).
+/// Measured: the eggbox's 5.2 deg steps 15.9 iterations (reckoned 16.8),
+/// the torus's 5.6 deg steps 39.8 (reckoned 19.3; its path folds, and
+/// the steps that find no equilibrium are halved four times).
 fn path_step_iterations(opening: f64, steps: usize) -> f64 {
     let step = opening * (1.0 - COLLAPSED) / steps.max(1) as f64;
     ITERATIONS_PER_PATH_STEP * (step / PATH_STEP).powi(2).max(1.0)
