@@ -146,10 +146,21 @@ impl Estimate {
             None => "give --time-limit SECONDS to bound it".to_string(),
         };
         Some(format!(
-            "estimated {} ({}); {bound}",
+            "{SAID}{} ({}); {bound}",
             duration(self.seconds),
             self.what
         ))
+    }
+}
+
+/// How a line `Estimate::said` gives starts.
+const SAID: &str = "estimated ";
+
+impl Estimate {
+    /// Whether `line` is one `said` gave, for a caller that hears it among
+    /// progress notes (the optimiser's) and says it as its own line.
+    pub fn is_said(line: &str) -> bool {
+        line.starts_with(SAID)
     }
 }
 

@@ -155,14 +155,14 @@ impl Unsimulated {
 /// what they count, for the line long work says up front (docs/commands.md,
 /// "Time limits").
 pub fn simulation_estimate(lattice: &Lattice, settings: &crate::sim::Settings) -> Estimate {
-    let (cost, seconds) = crate::sim::reckoned(lattice, settings);
-    // `seconds` counts the stability check as one iteration more.
-    let iterations = seconds / crate::sim::seconds(&cost, 0.0);
+    let (cost, work, seconds) = crate::sim::reckoned(lattice, settings);
     Estimate {
         seconds,
         what: format!(
-            "simulation: {} rod nodes x ~{iterations:.0} Newton iterations",
-            crate::budget::count(cost.nodes)
+            "simulation: {} rod nodes x ~{:.0} Newton iterations, the deployment path's {} steps each way included",
+            crate::budget::count(cost.nodes),
+            work.iterations,
+            work.path_steps
         ),
     }
 }
@@ -749,8 +749,7 @@ pub fn recipe_error(
         ),
         crate::sim::SimError::TooLarge { .. } => Some(too_large_to_simulate(design, lattice, e)),
         crate::sim::SimError::TooLong { limit, .. } => {
-            let steps = crate::sim::steps_to(&design.simulation);
-            let coarser = match crate::sim::edge_within_time(lattice, *limit, steps) {
+            let coarser = match crate::sim::edge_within_time(lattice, *limit, &design.simulation) {
                 Some(h) if h <= 1e6 => format!(
                     "a coarser mesh, [simulation] edge_length = {} mm or more (now {} mm), ",
                     crate::diagnostic::shown((h * 10.0).ceil() / 10.0),

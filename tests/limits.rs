@@ -24,6 +24,22 @@ fn says(o: &Output, code: i32, words: &[&str]) {
     }
 }
 
+/// `karigami ARGS` in `cwd` with the simulation's estimate reckoned a
+/// hundred times low (`KARIGAMI_FAULT_RECKON`, a hook of the
+/// `fault-injection` feature): a simulation the limit would refuse up
+/// front starts, and its stop at the limit is seen in a fraction of a
+/// second. None when the binary has no hooks.
+fn reckoned_low(args: &[&str], cwd: &Path) -> Option<Output> {
+    crate::safety::faults().then(|| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_karigami"))
+            .args(args)
+            .current_dir(cwd)
+            .env("KARIGAMI_FAULT_RECKON", "0.01")
+            .output()
+            .expect("runs karigami")
+    })
+}
+
 /// Finding 6: tune with `shape = "simulated"` and `budget = 100000` (about
 /// 19 h) is refused before its search, at `[optimise]`, with the estimate,
 /// the limit and the budget that fits.
@@ -81,10 +97,13 @@ fn an_exploration_beyond_the_limit_is_refused() {
 /// Newton solve: exit 4, how far it got, no report.
 #[test]
 fn simulate_stops_at_its_time_limit() {
-    let o = karigami(
-        &["simulate", "examples/eggbox.toml", "--time-limit", "0.3"],
-        &repo(),
-    );
+    let args = ["simulate", "examples/eggbox.toml", "--time-limit", "0.3"];
+    // Reckoned at about 5 s, the eggbox is refused up front...
+    says(&karigami(&args, &repo()), 1, &["error[WorkTooLong]: "]);
+    // ...and reckoned low, it starts and stops at the limit.
+    let Some(o) = reckoned_low(&args, &repo()) else {
+        return;
+    };
     // The eggbox's solve takes about 0.3 s: it stops in the solve, or in
     // the deployment path after it, by the machine's speed.
     says(&o, 4, &["error[TimeLimit]: ", "the time limit of 0.3 s"]);
@@ -101,12 +120,13 @@ fn simulate_stops_at_its_time_limit() {
     );
 }
 
-/// The deployment path (several seconds on the half ellipsoid) stops at
-/// the time limit too, rather than running on after a solve that fitted.
+/// The deployment path (about 10 s on the half ellipsoid, reckoned low
+/// here) stops at the time limit too, rather than running on after a
+/// solve that fitted.
 #[test]
 fn the_deployment_path_stops_at_the_time_limit() {
     let clock = Instant::now();
-    let o = karigami(
+    let Some(o) = reckoned_low(
         &[
             "simulate",
             "examples/half-ellipsoid.toml",
@@ -114,7 +134,9 @@ fn the_deployment_path_stops_at_the_time_limit() {
             "2",
         ],
         &repo(),
-    );
+    ) else {
+        return;
+    };
     let seconds = clock.elapsed().as_secs_f64();
     says(&o, 4, &["error[TimeLimit]: ", "the time limit of 2 s"]);
     assert!(seconds < 7.0, "stopped after {seconds:.1} s");
@@ -191,7 +213,7 @@ fn a_stopped_build_leaves_the_old_build_and_no_staging() {
     let first = karigami(&["-q", "build", "chain.toml", "--out", "out"], &dir);
     assert_eq!(first.status.code(), Some(0), "{}", stderr(&first));
     let before = tree(&dir.join("out"));
-    let o = karigami(
+    let Some(o) = reckoned_low(
         &[
             "build",
             "eggbox.toml",
@@ -201,7 +223,9 @@ fn a_stopped_build_leaves_the_old_build_and_no_staging() {
             "0.3",
         ],
         &dir,
-    );
+    ) else {
+        return;
+    };
     says(&o, 4, &["error[TimeLimit]: ", "the time limit of 0.3 s"]);
     assert_eq!(tree(&dir.join("out")), before, "--out changed");
     let beside: Vec<String> = std::fs::read_dir(&dir)
@@ -210,8 +234,8 @@ fn a_stopped_build_leaves_the_old_build_and_no_staging() {
         .filter(|n| n.starts_with('.'))
         .collect();
     assert!(beside.is_empty(), "left beside --out: {beside:?}");
-    let o = karigami(&["check", "eggbox.toml", "--time-limit", "0.3"], &dir);
-    says(&o, 4, &["error[TimeLimit]: "]);
+    let o = reckoned_low(&["check", "eggbox.toml", "--time-limit", "0.3"], &dir);
+    says(&o.expect("hooks"), 4, &["error[TimeLimit]: "]);
 }
 
 /// The helix tuner's work is reckoned before it starts (tries times the
@@ -346,13 +370,11 @@ fn said_first(args: &[&str], cwd: &Path, word: &str) -> (Option<String>, f64) {
     (line, clock.elapsed().as_secs_f64())
 }
 
-/// The saddle ring meshed at 1 mm: a simulation reckoned at about 28 s
-/// (40,752 rod nodes), where check and build reach it in a second.
+/// The torus example: a simulation reckoned at about 34 s (5,664 rod
+/// nodes, its deployment path of 24 steps each way most of it; measured
+/// 51 to 86 s), where check and build reach it in a second or two.
 fn long_simulation(dir: &Path) {
-    let ring = std::fs::read_to_string(repo().join("examples/saddle-ring.toml")).unwrap();
-    let fine = ring.replacen("[simulation]\n", "[simulation]\nedge_length = 1.0\n", 1);
-    assert_ne!(fine, ring);
-    std::fs::write(dir.join("ring.toml"), fine).unwrap();
+    std::fs::copy(repo().join("examples/torus.toml"), dir.join("torus.toml")).unwrap();
 }
 
 /// Work reckoned at 5 s or more says so on stderr before it starts, with
@@ -366,16 +388,17 @@ fn long_work_says_its_estimate_first() {
     let limit = ["--time-limit", "60"];
     let mut slowest: f64 = 0.0;
     for command in [
-        &["check", "ring.toml"][..],
-        &["simulate", "ring.toml"],
-        &["build", "ring.toml", "--out", "out"],
+        &["check", "torus.toml"][..],
+        &["simulate", "torus.toml"],
+        &["build", "torus.toml", "--out", "out"],
     ] {
         let args = [command, &limit].concat();
         let (line, seconds) = said_first(&args, &dir, "estimated");
         let line = line.unwrap_or_else(|| panic!("{command:?}: no estimate said"));
         for w in [
-            "ring.toml: estimated ",
-            " s (simulation: 40,752 rod nodes x ~11 Newton iterations); it stops at the --time-limit of 60.0 s",
+            "torus.toml: estimated ",
+            " s (simulation: 5,664 rod nodes x ~",
+            " Newton iterations, the deployment path's 24 steps each way included); it stops at the --time-limit of 60.0 s",
         ] {
             assert!(line.contains(w), "{command:?}: {w:?} not in {line}");
         }
@@ -383,7 +406,7 @@ fn long_work_says_its_estimate_first() {
     }
     assert!(!dir.join("out").exists(), "a build killed wrote --out");
     // Without a limit it says how to give one.
-    let (line, _) = said_first(&["simulate", "ring.toml"], &dir, "estimated");
+    let (line, _) = said_first(&["simulate", "torus.toml"], &dir, "estimated");
     assert!(
         line.is_some_and(|l| l.ends_with("; give --time-limit SECONDS to bound it")),
         "no estimate said without a limit"
@@ -411,7 +434,7 @@ fn long_work_says_its_estimate_first() {
     );
     // -q: nothing on stderr by the time the line came, and well after.
     let mut quiet = std::process::Command::new(env!("CARGO_BIN_EXE_karigami"))
-        .args(["-q", "check", "ring.toml", "--time-limit", "60"])
+        .args(["-q", "check", "torus.toml", "--time-limit", "60"])
         .current_dir(&dir)
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
@@ -464,6 +487,53 @@ fn short_work_says_no_estimate() {
         assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
         assert!(!stderr(&o).contains("estimated"), "{}", stderr(&o));
     }
+}
+
+/// A batch says a long recipe's estimate as that recipe's simulation
+/// starts, in the words a single build uses, and `-q` silences it; the
+/// optimiser (`tune` with `[optimise]`) says its estimate in the same one
+/// line.
+#[test]
+fn a_batch_and_the_optimiser_say_their_estimates_first() {
+    let dir = scratch("limits-said-batch");
+    long_simulation(&dir);
+    let chain = std::fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    std::fs::write(dir.join("chain.toml"), chain).unwrap();
+    let batch = ["build", "chain.toml", "torus.toml", "--out", "out"];
+    let (line, seconds) = said_first(&batch, &dir, "estimated");
+    let line = line.expect("the batch says the torus's estimate");
+    assert!(
+        line.starts_with("torus.toml: estimated ")
+            && line.contains("(simulation: 5,664 rod nodes x ~")
+            && line.ends_with("; give --time-limit SECONDS to bound it"),
+        "{line}"
+    );
+    let mut quiet = std::process::Command::new(env!("CARGO_BIN_EXE_karigami"))
+        .args(["-q"].iter().chain(&batch))
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs_f64(2.0 * seconds + 0.5));
+    let _ = quiet.kill();
+    let o = quiet.wait_with_output().unwrap();
+    assert!(o.stderr.is_empty(), "-q said: {}", stderr(&o));
+    // The optimiser of hours, allowed a year: said after its first design.
+    let tune = [
+        "tune",
+        "fixtures/designs/limits/tune-simulated.toml",
+        "--time-limit",
+        "32000000",
+    ];
+    let (line, _) = said_first(&tune, &repo(), "estimated");
+    let line = line.expect("the optimiser says its estimate");
+    assert!(
+        line.starts_with("fixtures/designs/limits/tune-simulated.toml: estimated ")
+            && line.contains(" (optimiser: up to 200,017 designs of ~")
+            && line.contains("; it stops at the --time-limit of "),
+        "{line}"
+    );
 }
 
 /// Seconds and KiB of peak memory of one run of the binary in `cwd`.

@@ -71,6 +71,7 @@ pub(super) fn build(
         outcomes: paths.iter().map(|_| Mutex::new(None)).collect(),
         stages: Stages::new(dearest_first(paths, overrides, jobs)),
         bar: Mutex::new(Progress::new(paths.len(), v.quiet || json)),
+        quiet: v.quiet || json,
     };
     let outcomes = batch.run(v.quiet || json);
     if let Some(why) = outcomes.iter().find_map(|o| o.ended.write_failed.as_ref()) {
@@ -142,6 +143,8 @@ struct Batch<'a> {
     outcomes: Vec<Mutex<Option<Outcome>>>,
     stages: Stages<Work<Unsimulated>, Work<Build>>,
     bar: Mutex<Progress>,
+    /// Nothing said on stderr but errors (`-q`, `--json`).
+    quiet: bool,
 }
 
 impl Batch<'_> {
@@ -210,7 +213,8 @@ impl Batch<'_> {
         }
     }
 
-    /// Recipe `i`'s simulation, then queued to draw.
+    /// Recipe `i`'s simulation, then queued to draw; said first when
+    /// reckoned long, as a single build says it (`Estimate::said`).
     fn simulate(&self, i: usize, work: Work<Unsimulated>) {
         let clock = Instant::now();
         let Work {
@@ -219,6 +223,13 @@ impl Batch<'_> {
             seconds,
             build,
         } = work;
+        let said = build
+            .estimate()
+            .and_then(|e| e.said(&self.overrides.deadline));
+        if let Some(line) = said.filter(|_| !self.quiet) {
+            let mut bar = self.bar.lock().unwrap_or_else(|e| e.into_inner());
+            bar.print(&format!("{}: {line}\n", recipe.file));
+        }
         let simulated = simulate(&recipe, build, (self.out, &self.folders[i]));
         let seconds = seconds + clock.elapsed().as_secs_f64();
         match simulated {

@@ -20,7 +20,12 @@ pub(super) fn run(
     let mut bar = Progress::new(1, v.quiet);
     let started = Instant::now();
     let result = karigami::optimise(design, &recipe.source, jobs, &mut |note| {
-        if v.verbose {
+        // The one estimate line, as every long command says it.
+        if karigami::Estimate::is_said(note) {
+            if !v.quiet {
+                bar.print(&format!("{}: {note}\n", recipe.file));
+            }
+        } else if v.verbose {
             errln!("{note}");
         } else {
             bar.note(note);

@@ -19,6 +19,7 @@ pub(crate) mod strips;
 pub mod warm;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
+pub(crate) use cost::Work;
 pub use cost::{Cost, DEFAULT_MEMORY, estimate, seconds};
 pub(crate) use cost::{edge_within, edge_within_time};
 pub(crate) use karigami_rods::{model, solver};
@@ -446,12 +447,31 @@ pub(crate) fn steps_to(settings: &Settings) -> usize {
         .map_or(0, |_| (std::f64::consts::FRAC_PI_2 / STEP).ceil() as usize)
 }
 
-/// The simulation's estimated size and seconds (`cost::estimate`,
-/// `cost::seconds`).
-pub(crate) fn reckoned(lattice: &Lattice, settings: &Settings) -> (Cost, f64) {
+/// The simulation's estimated size, work and seconds, its deployment path
+/// included (`cost::estimate`, `cost::work`, `cost::seconds`).
+pub(crate) fn reckoned(lattice: &Lattice, settings: &Settings) -> (Cost, Work, f64) {
     let cost = estimate(lattice, settings.h_max);
-    let iterations = cost::iterations(lattice, steps_to(settings));
-    (cost, seconds(&cost, iterations))
+    let work = cost::work(lattice, settings);
+    (cost, work, reckoned_low(seconds(&cost, work.iterations)))
+}
+
+/// The tests' hook (the `fault-injection` feature, which the released
+/// binary is built without): `KARIGAMI_FAULT_RECKON=F` scales a
+/// simulation's reckoned seconds by F, so that a test can run one that is
+/// allowed past its `--time-limit` in a fraction of a second and see it
+/// stop (tests/limits.rs).
+#[cfg(feature = "fault-injection")]
+fn reckoned_low(seconds: f64) -> f64 {
+    std::env::var("KARIGAMI_FAULT_RECKON")
+        .ok()
+        .and_then(|f| f.parse::<f64>().ok())
+        .map_or(seconds, |f| seconds * f)
+}
+
+/// Without the `fault-injection` feature: the seconds as reckoned.
+#[cfg(not(feature = "fault-injection"))]
+fn reckoned_low(seconds: f64) -> f64 {
+    seconds
 }
 
 /// The simulation's estimated nodes and seconds (`cost::estimate`,
@@ -461,7 +481,7 @@ pub fn within_time(
     settings: &Settings,
     deadline: &Deadline,
 ) -> Result<(Cost, f64), SimError> {
-    let (cost, seconds) = reckoned(lattice, settings);
+    let (cost, _, seconds) = reckoned(lattice, settings);
     if !deadline.allows(seconds) {
         return Err(SimError::TooLong {
             cost,

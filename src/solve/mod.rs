@@ -303,7 +303,8 @@ fn map_front(f: &mut FrontMoves, mut g: impl FnMut(f64) -> f64) {
 
 /// Optimise a design as its `[optimise]` table says. `source` is the
 /// recipe text (rewritten with the result); `progress` hears every 25
-/// designs tried. Refuses with a located error when the best design found
+/// designs tried, and first the estimate when the search is long
+/// (`Estimate::said`, told by `Estimate::is_said`). Refuses with a located error when the best design found
 /// misses a hard constraint, naming it and its shortfall.
 pub fn optimise(
     design: &Design,
@@ -403,13 +404,17 @@ fn within_time(
     let estimate = per * designs(opt, dims) as f64;
     let say = crate::budget::duration;
     if deadline.allows(estimate) {
-        if estimate >= crate::budget::SAY_ABOVE {
-            (problem.progress.borrow_mut())(&format!(
-                "optimise: up to {} designs of about {} each, about {} estimated",
-                designs(opt, dims),
-                say(seconds),
-                say(estimate)
-            ));
+        let said = crate::budget::Estimate {
+            seconds: estimate,
+            what: format!(
+                "optimiser: up to {} designs of ~{} each",
+                crate::budget::count(designs(opt, dims) as f64),
+                say(seconds)
+            ),
+        }
+        .said(deadline);
+        if let Some(line) = said {
+            (problem.progress.borrow_mut())(&line);
         }
         return Ok(());
     }
