@@ -235,12 +235,27 @@ fn edge_for(lattice: &Lattice, nodes: f64) -> Option<f64> {
 mod tests {
     use super::*;
 
-    /// The chain template's lattice and settings, grown as `check` grows
-    /// them.
-    fn chain() -> crate::pipeline::Checked {
-        let text = crate::templates::find("chain").expect("the chain").text;
+    /// The chain template (a plain sheet, grown without a search), its
+    /// lattice and deployment: built here from the layers below `sim`.
+    struct Chain {
+        design: crate::design::Design,
+        lattice: Lattice,
+        deployment: crate::lattice::deploy::Deployment,
+    }
+
+    fn chain() -> Chain {
+        let text = include_str!("../../templates/chain.toml");
         let design = crate::design::parse(text, "chain").expect("parses");
-        crate::pipeline::check(design, &mut |_| {}).expect("grows")
+        let d = &design;
+        let mut lattice =
+            crate::lattice::grow(d.kind, d.dim, &d.points, &d.kappa, &d.rows).expect("grows");
+        lattice.stacking = d.clash.stacking;
+        let deployment = crate::lattice::deploy::deployment(&lattice);
+        Chain {
+            design,
+            lattice,
+            deployment,
+        }
     }
 
     /// The estimate counts the deployment path as the simulation follows
