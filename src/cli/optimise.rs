@@ -37,8 +37,14 @@ pub(super) fn run(
         Err(e) => return Err(recipe.error(&e)),
     };
     // "Met" is build's word too: the whole pipeline, simulation included,
-    // must take the result (issue 32), or tune says why it does not.
-    if let Err(d) = karigami::build(done.design.clone()) {
+    // must take the result (docs/commands.md, `karigami tune`), or tune says why it
+    // does not; within the run's --time-limit, as the search was.
+    let mut best = done.design.clone();
+    best.deadline = design.deadline;
+    if let Err(d) = karigami::build(best) {
+        if d.kind == karigami::ErrorKind::TimeLimit {
+            return Err(recipe.error(&d));
+        }
         return Err(Error::new(
             d.kind,
             format!(

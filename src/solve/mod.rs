@@ -401,15 +401,17 @@ fn within_time(
         Method::NelderMead => 1.0,
     };
     let per = seconds / threads;
-    let estimate = per * designs(opt, dims) as f64;
+    let build = final_build_seconds(problem.space.design);
+    let estimate = per * designs(opt, dims) as f64 + build;
     let say = crate::budget::duration;
     if deadline.allows(estimate) {
         let said = crate::budget::Estimate {
             seconds: estimate,
             what: format!(
-                "optimiser: up to {} designs of ~{} each",
+                "optimiser: up to {} designs of ~{} each, then ~{} to build the best",
                 crate::budget::count(designs(opt, dims) as f64),
-                say(seconds)
+                say(seconds),
+                say(build)
             ),
         }
         .said(deadline);
@@ -419,7 +421,7 @@ fn within_time(
         return Ok(());
     }
     let per_iteration = (designs(opt, dims) - dims - 1) as f64 / opt.budget as f64;
-    let fits = ((deadline.ceiling() / per - (dims + 1) as f64) / per_iteration).floor();
+    let fits = (((deadline.ceiling() - build) / per - (dims + 1) as f64) / per_iteration).floor();
     let budget = if fits >= 1.0 {
         format!(
             "[optimise] budget = {} or less (now {}), ",
@@ -431,9 +433,10 @@ fn within_time(
     Err(Diagnostic::new(
         ErrorKind::WorkTooLong,
         format!(
-            "the optimiser may cost up to {} designs at about {} each (the recipe's own took that), about {} in all, longer than the {} allowed",
+            "the optimiser may cost up to {} designs at about {} each (the recipe's own took that) and about {} to build the best, about {} in all, longer than the {} allowed",
             designs(opt, dims),
             say(seconds),
+            say(build),
             say(estimate),
             say(deadline.ceiling())
         ),
@@ -442,6 +445,21 @@ fn within_time(
     .hint(format!(
         "use {budget}a cheaper objective (shape = \"design\" measures without simulating), or allow more time with --time-limit SECONDS (docs/commands.md, Time limits)"
     )))
+}
+
+/// The build `tune` makes of the best design, to be sure `build` takes
+/// it: reckoned as the start design's simulation (`sim::reckoned`, the
+/// deployment path included), which the best resembles; 0 when the start
+/// does not grow or needs no simulation.
+fn final_build_seconds(design: &Design) -> f64 {
+    let Ok(lattice) = grown(design) else {
+        return 0.0;
+    };
+    let deployment = crate::lattice::deploy::deployment(&lattice);
+    if !crate::sim::wanted(&lattice, &deployment) {
+        return 0.0;
+    }
+    crate::sim::reckoned(&lattice, &design.simulation).2
 }
 
 /// A helix seed's variables (`solve::tune`), appended to `x0` and `unit`:
