@@ -631,3 +631,37 @@ fn no_input_of_the_corpus_exceeds_the_time_and_memory_ceilings() {
     }
     assert!(slow.is_empty(), "beyond the ceilings: {slow:#?}");
 }
+
+/// Finding 1: a simulation whose mesh would pass the memory ceiling is
+/// refused before it is made, with the edge length that fits, never a
+/// panic or an abort: the 20,000-cell sheet at the default 2 GiB and at
+/// `--memory 64`, and the sheet template stretched to a kilometre
+/// (`to = [240.0, 1e6]`, once an out-of-memory panic).
+#[test]
+fn finding_1_a_mesh_beyond_the_memory_ceiling_is_refused_before_it_is_made() {
+    let huge = ["simulate", "fixtures/designs/limits/huge-sheet.toml"];
+    let words = [
+        "error[SimulationTooLarge]: ",
+        "huge-sheet.toml",
+        "edge_length = ",
+    ];
+    says(&karigami(&huge, &repo()), 1, &words);
+    let small = [&huge[..], &["--memory", "64"]].concat();
+    says(
+        &karigami(&small, &repo()),
+        1,
+        &[&words[..], &["64 MiB"]].concat(),
+    );
+    let dir = crate::cli::scratch("limits-memory");
+    let sheet = std::fs::read_to_string(repo().join("templates/sheet.toml")).unwrap();
+    assert!(sheet.contains("to = [240.0, 0.0]"));
+    std::fs::write(
+        dir.join("km.toml"),
+        sheet.replace("to = [240.0, 0.0]", "to = [240.0, 1e6]"),
+    )
+    .unwrap();
+    let o = karigami(&["simulate", "km.toml"], &dir);
+    let e = stderr(&o);
+    assert!(!e.contains("panicked") && o.status.code() == Some(1), "{e}");
+    assert!(e.contains("km.toml"), "{e}");
+}
