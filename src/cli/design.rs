@@ -35,6 +35,8 @@ const BUILT: usize = 6;
 /// design and the fit of its simulated shape.
 struct Chosen {
     miss: f64,
+    /// Candidates tried with a build, this one among them.
+    built: usize,
     found: Found,
     sim: karigami::targets::Fit,
 }
@@ -145,11 +147,13 @@ fn choose(
     let deadline = ask.overrides.deadline.at();
     let mut refusals = Vec::new();
     let mut best: Option<Chosen> = None;
+    let mut built = 0;
     for found in searched.found.iter().take(BUILT) {
         if deadline.is_some_and(|d| Instant::now() > d) && best.is_some() {
             break;
         }
         let text = designing::recipe(found, name, &[], None, tables);
+        built += 1;
         match built_fit(&text, name, &ask.overrides, target) {
             Ok(sim) => {
                 let miss = designing::miss(&sim);
@@ -161,6 +165,7 @@ fn choose(
                 if best.as_ref().is_none_or(|b| miss < b.miss) {
                     best = Some(Chosen {
                         miss,
+                        built: 0,
                         found: found.clone(),
                         sim,
                     });
@@ -175,7 +180,7 @@ fn choose(
             }
         }
     }
-    best.ok_or(refusals)
+    best.map(|b| Chosen { built, ..b }).ok_or(refusals)
 }
 
 /// No candidate builds: why each was refused.
@@ -267,7 +272,7 @@ impl Made<'_> {
             format!(
                 "Found by: {} seeds grown on the target, the best {} built with their simulation, in {:.1} s.",
                 self.searched.tried,
-                self.searched.found.len().min(BUILT),
+                chosen.built,
                 self.seconds
             ),
             format!("Seed: {}.", chosen.found.seed),
