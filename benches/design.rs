@@ -46,7 +46,7 @@ fn run(name: &str) {
     };
     let mut best: Option<(f64, String)> = None;
     for found in searched.found.iter().take(6) {
-        let text = designing::recipe(found, "bench", &[], None);
+        let text = designing::recipe(found, "bench", &[], None, "");
         let Ok(built) = karigami::build(karigami::parse(&text, "bench").expect("parses")) else {
             continue;
         };

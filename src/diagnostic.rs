@@ -262,6 +262,12 @@ error_kinds! {
     TargetUnused => EXIT_INVALID,
     /// A `[target]` parameter lies outside its range.
     TargetParameter => EXIT_INVALID,
+    /// A target bends tighter than the strips do at their allowable strain
+    /// (docs/design.md, "Curvature the strips reach").
+    TargetTooCurved => EXIT_INVALID,
+    /// The best design `karigami design` found misses the goal
+    /// (docs/design.md, "The goal"): refused, not written.
+    GoalMissed => EXIT_INVALID,
 
     // Fabrication settings, from the recipe.
     /// A fabrication length (mm) lies outside its allowed range.

@@ -128,8 +128,8 @@ pub mod simulation {
 /// share of a target its cells cover.
 pub mod targets {
     pub use crate::target::{
-        COVERED_WITHIN, Expect, Fit, MAX_TARGET_BYTES, MAX_TRIANGLES, Mesh, Rigid, Target,
-        Topology, kabsch, read, refuse_early,
+        Bend, COVERED_WITHIN, Expect, Fit, MAX_TARGET_BYTES, MAX_TRIANGLES, Mesh, Rigid, Target,
+        Topology, kabsch, read, recorded_path, refuse_early,
     };
 }
 
@@ -137,7 +137,8 @@ pub mod targets {
 /// out (docs/design.md, "Design your own object").
 pub mod designing {
     pub use crate::solve::design::{
-        DesignAsk, Found, STUB, Searched, default_edge, fit_of, miss, recipe, search,
+        DesignAsk, Found, STUB, Searched, default_edge, fit_of, goal, least_edge, miss, recipe,
+        search,
     };
 }
 

@@ -2,6 +2,8 @@
 //! simulated shape of what it writes fits the target, and whatever it
 //! writes, `build` takes.
 
+use crate::cli::{karigami, repo, scratch};
+use crate::goldens::compare;
 use karigami::designing::{self, DesignAsk};
 use karigami::targets::Target;
 use std::sync::Arc;
@@ -24,7 +26,7 @@ fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fi
     };
     let searched = designing::search(&ask, &mut |_| {}).unwrap();
     for found in searched.found.iter().take(6) {
-        let text = designing::recipe(found, "t", &[], None);
+        let text = designing::recipe(found, "t", &[], None, "");
         let Ok(built) = karigami::build(karigami::parse(&text, "t").unwrap()) else {
             continue;
         };
@@ -79,4 +81,108 @@ fn designs_for_random_height_fields_build() {
             karigami::build(karigami::parse(&text, "t").unwrap()).expect("builds");
         }
     }
+}
+
+/// A target that bends tighter than the strips reach at their allowable
+/// strain (fixtures/targets/too-curved.toml, a half pipe of radius 25 mm
+/// against 33.3 mm for 1 mm ABS at 1.5 %) is refused before the search,
+/// with both radii and what would reach it (golden), writing nothing.
+#[test]
+fn a_target_tighter_than_the_strips_bend_is_refused_before_the_search() {
+    let dir = scratch("design-too-curved");
+    let out = dir.join("vault.toml");
+    let target = "fixtures/targets/too-curved.toml";
+    let o = karigami(
+        &["-q", "design", target, "--out", out.to_str().unwrap()],
+        &repo(),
+    );
+    let mut actual = o.stderr.clone();
+    actual.extend(format!("exit status: {}\n", o.status.code().unwrap_or(-1)).bytes());
+    compare("tests/golden/design/too-curved.stderr", &actual).unwrap();
+    assert!(!out.exists());
+}
+
+/// A recipe that records a target (as `karigami design` writes it): `check`
+/// and `build` fit it without --target while its bytes hash as recorded,
+/// and say in one line, exit 0, when it is missing or changed; --target
+/// still overrides it; a rebuild with the target changed writes again.
+#[test]
+fn the_recorded_target_is_fitted_without_target_or_said_missing() {
+    let dir = scratch("design-recorded");
+    let chain = std::fs::read_to_string(repo().join("templates/chain.toml")).unwrap();
+    let disk = std::fs::read(repo().join("fixtures/targets/disk.toml")).unwrap();
+    std::fs::write(dir.join("disk.toml"), &disk).unwrap();
+    let hash = format!("{:016x}", karigami::util::fnv1a(&disk));
+    let recipe = |file: &str, hash: &str| {
+        let text = chain.replace(
+            "name = \"chain\"\n",
+            &format!("name = \"chain\"\n\n[target]\nfile = \"{file}\"\nhash = \"{hash}\"\n"),
+        );
+        std::fs::write(dir.join("chain.toml"), text).unwrap();
+    };
+    let check = |extra: &[&str]| {
+        let o = karigami(&[&["check", "chain.toml"], extra].concat(), &dir);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8(o.stdout).unwrap()
+    };
+    recipe("disk.toml", &hash);
+    let fitted = check(&[]);
+    assert!(
+        fitted.contains("target disk.toml: disk, an open patch")
+            && fitted.contains("fit of the design, "),
+        "{fitted}"
+    );
+    let o = karigami(&["-q", "build", "chain.toml", "--out", "out"], &dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let report = || std::fs::read_to_string(dir.join("out/report.txt")).unwrap();
+    assert!(report().contains("target disk.toml: disk"), "{}", report());
+    // The same recipe, its target edited: built again, the fit not given.
+    std::fs::write(dir.join("disk.toml"), [&disk[..], b"# edited\n"].concat()).unwrap();
+    let o = karigami(&["-q", "build", "chain.toml", "--out", "out"], &dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        report().contains("target disk.toml (recorded by the recipe): changed since"),
+        "{}",
+        report()
+    );
+    std::fs::write(dir.join("disk.toml"), &disk).unwrap();
+    recipe("disk.toml", "0123456789abcdef");
+    let changed = check(&[]);
+    assert!(
+        changed.contains(
+            "target disk.toml (recorded by the recipe): changed since the design was made"
+        ) && !changed.contains("fit of the design"),
+        "{changed}"
+    );
+    let other = check(&["--target", "../../../fixtures/targets/sphere-cap.toml"]);
+    assert!(other.contains("sphere-cap, an open patch"), "{other}");
+    recipe("gone.toml", &hash);
+    assert!(check(&[]).contains("target gone.toml (recorded by the recipe): not found"));
+    let o = karigami(&["-q", "build", "chain.toml", "--out", "out"], &dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        report().contains("target gone.toml (recorded by the recipe): not found"),
+        "{}",
+        report()
+    );
 }

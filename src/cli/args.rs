@@ -161,6 +161,12 @@ pub(super) enum Command {
         /// Seeds grown at once (default: all cores). The result does not depend on it.
         #[arg(long, short, value_name = "N", value_parser = jobs())]
         jobs: Option<usize>,
+        /// Strip thickness in mm (default: the material's, 1.0 mm of ABS); written into the recipe's [material] table.
+        #[arg(long, value_name = "MM")]
+        thickness: Option<f64>,
+        /// Write the best design even when its simulated shape misses the goal, the miss stated at the top of the recipe (docs/design.md, "The goal"); without it such a design is refused.
+        #[arg(long)]
+        keep_miss: bool,
         /// Overwrite an existing --out file.
         #[arg(long)]
         force: bool,
@@ -247,6 +253,41 @@ pub(super) struct FabricationFlags {
 }
 
 impl FabricationFlags {
+    /// The flags given, as a command line writes them (for the record
+    /// `karigami design` keeps in its recipe).
+    pub(super) fn given(&self) -> Vec<String> {
+        let text = [
+            ("--sheet", self.sheet.clone()),
+            ("--eyelet", self.eyelet.clone()),
+            ("--strip-width", self.strip_width.map(|x| x.to_string())),
+            ("--kerf", self.kerf.map(|x| x.to_string())),
+            ("--label", self.label.clone()),
+            ("--paper", self.paper.clone()),
+            ("--colours", self.colours.clone()),
+            ("--tabs", self.tabs.map(|x| x.to_string())),
+            ("--memory", self.memory.map(|x| x.to_string())),
+            ("--machine", self.machine.clone()),
+            ("--time-limit", self.time_limit.map(|x| x.to_string())),
+        ];
+        let switches = [
+            ("--compensate-kerf", self.compensate_kerf),
+            ("--no-test-piece", self.no_test_piece),
+            ("--group-by-step", self.group_by_step),
+            ("--flat", self.flat),
+        ];
+        let mut out: Vec<String> = text
+            .into_iter()
+            .filter_map(|(flag, v)| v.map(|v| format!("{flag} {v}")))
+            .collect();
+        out.extend(
+            switches
+                .into_iter()
+                .filter(|s| s.1)
+                .map(|s| s.0.to_string()),
+        );
+        out
+    }
+
     pub(super) fn overrides(&self) -> Overrides {
         Overrides {
             sheet: self.sheet.clone(),

@@ -2,7 +2,7 @@
 //! draw and write the files into --out, replacing it as a whole.
 
 use super::args::Verbosity;
-use super::check::TargetFile;
+use super::check::{Recorded, TargetFile};
 use super::error::{Error, print_json};
 use super::files;
 use super::progress::{self, Progress, fit_note};
@@ -63,13 +63,21 @@ pub(super) fn build(
         ))
     };
     let staged = files::Staged::new(&dir, "single").map_err(fail)?;
-    let hash = target.as_ref().map(|t| t.hash.to_le_bytes());
+    // No --target: the one the recipe records (`karigami design`), found
+    // or said missing; a recipe that does not parse fails in the build.
+    let recorded = match (&target, paths.first()) {
+        (None, Some(p)) => recipe
+            .parse(overrides)
+            .map_or(Recorded::None, |d| Recorded::of(p, d.target.as_ref())),
+        _ => Recorded::None,
+    };
     let key = inputs_with(
         &recipe,
         overrides,
         "",
-        hash.as_ref().map_or(&[][..], |h| &h[..]),
+        &target_key(target.as_ref(), &recorded),
     );
+    let target = target.as_ref().or(recorded.target());
     // The earlier build's files where nothing they are made from changed.
     let (report, kept) = match staged.keep::<Report>(&dir, "", key).map_err(fail)? {
         Some(report) => (report, true),
@@ -90,8 +98,8 @@ pub(super) fn build(
                 karigami::files_on(&built, karigami::Jobs::new(jobs))
             });
             let mut report = Report::of(&built);
-            if let Some(t) = &target {
-                let fit = t.fit_build(&built).text;
+            let fit = target.map(|t| t.fit_build(&built).text);
+            if let Some(fit) = fit.or(recorded.note().map(str::to_string)) {
                 if let Some((_, bytes)) = outputs.iter_mut().find(|(name, _)| name == "report.txt")
                 {
                     bytes.extend(format!("\n{fit}").bytes());
@@ -143,6 +151,18 @@ pub(super) fn build(
 /// the files are the same with any.
 pub(super) fn inputs(recipe: &Recipe, overrides: &Overrides, folder: &str) -> Option<u64> {
     inputs_with(recipe, overrides, folder, &[])
+}
+
+/// What of the target report.txt reads, for the build's fingerprint: a
+/// `--target` file's hash; the recorded target's path and hash, or the
+/// line saying why it is not fitted; nothing without either.
+fn target_key(given: Option<&TargetFile>, recorded: &Recorded) -> Vec<u8> {
+    match (given, recorded) {
+        (Some(t), _) => t.hash.to_le_bytes().to_vec(),
+        (None, Recorded::Target(t)) => format!("recorded {} {:016x}", t.file, t.hash).into_bytes(),
+        (None, Recorded::Note(line)) => line.clone().into_bytes(),
+        (None, Recorded::None) => Vec::new(),
+    }
 }
 
 /// `inputs` with the fingerprint of a `--target` file (none: empty).

@@ -24,9 +24,12 @@ struct CheckJson {
     check: Option<serde_json::Value>,
     #[serde(skip_serializing_if = "Option::is_none")]
     build: Option<serde_json::Value>,
-    /// The fit to `--target`, where one was given.
+    /// The fit to `--target`, or to the target the recipe records.
     #[serde(skip_serializing_if = "Option::is_none")]
     target: Option<FitJson>,
+    /// Why the recorded target's fit is not reported: missing, changed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    target_note: Option<String>,
 }
 
 impl CheckJson {
@@ -38,6 +41,7 @@ impl CheckJson {
             check: None,
             build: None,
             target: None,
+            target_note: None,
         }
     }
 }
@@ -106,13 +110,11 @@ fn check_one(
     };
     // No --target: the one the recipe records, if any (`karigami design`).
     let recorded = match target {
-        Some(_) => None,
-        None => match recorded_target(path, &design, json, bar) {
-            Ok(t) => t,
-            Err(e) => return fail(e, bar),
-        },
+        Some(_) => Recorded::None,
+        None => Recorded::of(path, design.target.as_ref()),
     };
-    let target = target.or(recorded.as_ref());
+    let target = target.or(recorded.target());
+    let target_note = recorded.note().map(str::to_string);
     // A shown report reads the measures: taken at once, on a second core
     // beside verification where there is one (the report is the same).
     let shown = json || !v.quiet;
@@ -146,13 +148,18 @@ fn check_one(
         // Freeing a large lattice's memory takes a tenth of a second on 4 M
         // cells: done beside the next recipe, or left to the exit.
         let fit = target.map(|t| t.fit(checked.assembled(), None));
-        if let (Some(fit), false) = (&fit, json || v.quiet) {
-            out!("{}", fit.text);
+        if !(json || v.quiet) {
+            out!(
+                "{}",
+                fit.as_ref()
+                    .map_or(target_note.as_deref().unwrap_or(""), |f| &f.text)
+            );
         }
         std::thread::spawn(move || drop(checked));
         let mut checked = CheckJson::new(&file, "pass");
         checked.check = check;
         checked.target = fit.map(|f| f.json);
+        checked.target_note = target_note.map(|n| n.trim_end().to_string());
         return (None, checked);
     }
     say_estimate(&file, &checked, overrides, json || v.quiet, bar);
@@ -161,14 +168,14 @@ fn check_one(
             let fit = target.map(|t| t.fit_build(&built));
             if !json && !v.quiet {
                 out!("{}", karigami::summary(&built));
-                if let Some(fit) = &fit {
-                    out!("{}", fit.text);
-                }
+                let said = fit.as_ref().map(|f| f.text.as_str());
+                out!("{}", said.or(target_note.as_deref()).unwrap_or(""));
                 outln!("result: PASS (geometry verified, every strip can be cut)");
             }
             let mut checked = CheckJson::new(&file, "pass");
             checked.check = check;
             checked.target = fit.map(|f| f.json);
+            checked.target_note = target_note.map(|n| n.trim_end().to_string());
             checked.build = json.then(|| karigami::build_json(&built));
             (None, checked)
         }
@@ -196,31 +203,56 @@ fn say_estimate(
     }
 }
 
-/// The target a recipe's `[target]` table records, its path read relative
-/// to the recipe's folder; a hash that no longer matches is a warning.
-fn recorded_target(
-    recipe: &Path,
-    design: &karigami::Design,
-    json: bool,
-    bar: &mut Progress,
-) -> Result<Option<TargetFile>, Error> {
-    let Some((file, hash)) = &design.target else {
-        return Ok(None);
-    };
-    let dir = recipe.parent().unwrap_or(Path::new("."));
-    let t = TargetFile::read(&dir.join(file))?;
-    if let Some(h) = hash
-        && *h != format!("{:016x}", t.hash)
-        && !json
-    {
-        bar.print(&format!(
-            "warning: {}: the target {} has changed since the design was made (hash {:016x}, the recipe records {h})\n",
-            recipe.display(),
-            t.file,
-            t.hash
-        ));
+/// The target a recipe's `[target]` table records (`karigami design`,
+/// docs/design.md "The recipe's record"), its path read relative to the
+/// recipe's folder: the file when it is there and its bytes hash as
+/// recorded, else one line saying why its fit is not reported.
+pub(super) enum Recorded {
+    None,
+    Target(TargetFile),
+    Note(String),
+}
+
+impl Recorded {
+    pub(super) fn of(recipe: &Path, target: Option<&(String, Option<String>)>) -> Self {
+        let Some((file, hash)) = target else {
+            return Self::None;
+        };
+        let path = recipe.parent().unwrap_or(Path::new(".")).join(file);
+        let shown = path.display();
+        let note = |why: String| {
+            Self::Note(format!(
+                "target {shown} (recorded by the recipe): {why}, so its fit is not reported; --target FILE fits any\n"
+            ))
+        };
+        if !path.is_file() {
+            return note("not found".into());
+        }
+        match TargetFile::read(&path) {
+            Ok(t) => match hash {
+                Some(h) if *h != format!("{:016x}", t.hash) => note(format!(
+                    "changed since the design was made (hash {:016x}, the recipe records {h})",
+                    t.hash
+                )),
+                _ => Self::Target(t),
+            },
+            Err(e) => note(format!("cannot be read ({})", e.message())),
+        }
     }
-    Ok(Some(t))
+
+    pub(super) fn target(&self) -> Option<&TargetFile> {
+        match self {
+            Self::Target(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    pub(super) fn note(&self) -> Option<&str> {
+        match self {
+            Self::Note(n) => Some(n),
+            _ => None,
+        }
+    }
 }
 
 /// A `--target` file read and validated (docs/design.md), with a

@@ -9,7 +9,7 @@ use super::check::TargetFile;
 use super::error::Error;
 use karigami::designing::{self, DesignAsk, Found};
 use karigami::{ErrorKind, Overrides};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 /// What the command was asked.
@@ -18,39 +18,56 @@ pub(super) struct Ask<'a> {
     pub out: &'a Path,
     pub force: bool,
     pub edge: Option<f64>,
+    /// `--thickness`: written into the recipe's `[material]` table.
+    pub thickness: Option<f64>,
+    /// `--keep-miss`: write a design that misses the goal, saying so.
+    pub keep_miss: bool,
     pub overrides: Overrides,
+    /// The fabrication flags as given, for the recipe's record.
+    pub flags: Vec<String>,
     pub jobs: usize,
 }
 
 /// Candidates built (each a full build with its simulation) at most.
 const BUILT: usize = 6;
 
+/// The design chosen of those built: how far it is from the goal, the
+/// design and the fit of its simulated shape.
+struct Chosen {
+    miss: f64,
+    /// Candidates tried with a build, this one among them.
+    built: usize,
+    found: Found,
+    sim: karigami::targets::Fit,
+}
+
 pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     let started = Instant::now();
-    // `--time-limit` (src/budget.rs): no new candidate is started after it,
-    // and a candidate's build stops at it like any build.
-    let deadline = ask.overrides.deadline.at();
     if ask.out.exists() && !ask.force {
         return Err(Error::usage(format!(
             "{} exists; give --force to replace it",
             ask.out.display()
         )));
     }
-    if ask.edge.is_some_and(|e| !(e.is_finite() && e > 0.0)) {
-        return Err(Error::usage("--edge must be a positive length in mm"));
+    for (flag, x) in [("--edge", ask.edge), ("--thickness", ask.thickness)] {
+        if x.is_some_and(|e| !(e.is_finite() && e > 0.0)) {
+            return Err(Error::usage(format!(
+                "{flag} must be a positive length in mm"
+            )));
+        }
     }
     let file = TargetFile::read(ask.target)?;
-    let base = karigami::parse_with(designing::STUB, "design", &ask.overrides)
-        .map_err(|d| Error::at("the fabrication flags", "", &d))?;
+    let tables = ask
+        .thickness
+        .map_or(String::new(), |t| format!("[material]\nthickness = {t}\n"));
+    let base = karigami::parse_with(
+        &format!("{}{tables}", designing::STUB),
+        "design",
+        &ask.overrides,
+    )
+    .map_err(|d| Error::at("the fabrication flags", "", &d))?;
     let edge = ask.edge.unwrap_or_else(|| designing::default_edge(&base));
     let target = std::sync::Arc::new(file.target.canonical());
-    let search = DesignAsk {
-        target: target.clone(),
-        base: &base,
-        edge,
-        deadline,
-        jobs: karigami::Jobs::new(ask.jobs),
-    };
     let note = |s: &str| {
         if !v.quiet {
             errln!("design: {s}");
@@ -63,20 +80,81 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         target.extent
     ));
     within_time(&file, edge, &ask.overrides.deadline, &note)?;
+    let search = DesignAsk {
+        target: target.clone(),
+        base: &base,
+        edge,
+        deadline: ask.overrides.deadline.at(),
+        jobs: karigami::Jobs::new(ask.jobs),
+    };
     let searched =
         designing::search(&search, &mut |s| note(s)).map_err(|d| Error::at(&file.file, "", &d))?;
     let name = ask
         .out
         .file_stem()
         .map_or("design".into(), |s| s.to_string_lossy().into_owned());
+    let chosen = choose(ask, &searched, (&name, &tables), &target, &note)
+        .map_err(|why| no_design(&file, &searched, &why))?;
+    let remedy = (chosen.miss > 1.0)
+        .then(|| designing::goal::remedy(&chosen.found.fit, &chosen.sim, edge, &base));
+    if let (Some(remedy), false) = (&remedy, ask.keep_miss) {
+        return Err(missed(&file, &chosen, remedy));
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let made = Made {
+        ask,
+        file: &file,
+        searched: &searched,
+        edge,
+        seconds,
+    };
+    let notes = made.notes(&chosen, remedy.as_deref());
+    let record = karigami::targets::recorded_path(ask.target, ask.out);
+    let text = designing::recipe(
+        &chosen.found,
+        &name,
+        &notes,
+        Some((&record, file.hash)),
+        &tables,
+    );
+    std::fs::write(ask.out, &text)
+        .map_err(|e| Error::io(format!("{}: cannot write it: {e}", ask.out.display())))?;
+    note(&format!(
+        "wrote {} in {seconds:.1} s: {} cells; simulated {}{}",
+        ask.out.display(),
+        chosen.found.cells,
+        chosen.sim.summary("joints"),
+        if remedy.is_some() {
+            "; it MISSES the goal (--keep-miss)"
+        } else {
+            ""
+        }
+    ));
+    Ok(())
+}
+
+/// Build the best candidates with the whole pipeline, in the search's
+/// order, and choose: the first whose simulated shape meets the goal,
+/// else the one nearest it; `Err` with why each was refused when none
+/// builds. Deterministic: the candidates come in a fixed order.
+fn choose(
+    ask: &Ask<'_>,
+    searched: &designing::Searched,
+    (name, tables): (&str, &str),
+    target: &karigami::targets::Target,
+    note: &dyn Fn(&str),
+) -> Result<Chosen, Vec<String>> {
+    let deadline = ask.overrides.deadline.at();
     let mut refusals = Vec::new();
-    let mut best: Option<(f64, String, Found, karigami::targets::Fit)> = None;
+    let mut best: Option<Chosen> = None;
+    let mut built = 0;
     for found in searched.found.iter().take(BUILT) {
         if deadline.is_some_and(|d| Instant::now() > d) && best.is_some() {
             break;
         }
-        let text = designing::recipe(found, &name, &[], None);
-        match built_fit(&text, &name, &ask.overrides, &target) {
+        let text = designing::recipe(found, name, &[], None, tables);
+        built += 1;
+        match built_fit(&text, name, &ask.overrides, target) {
             Ok(sim) => {
                 let miss = designing::miss(&sim);
                 note(&format!(
@@ -84,11 +162,14 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
                     found.cells,
                     sim.summary("joints")
                 ));
-                if best.as_ref().is_none_or(|b| miss < b.0) {
-                    best = Some((miss, text, found.clone(), sim));
+                if best.as_ref().is_none_or(|b| miss < b.miss) {
+                    best = Some(Chosen {
+                        miss,
+                        built: 0,
+                        found: found.clone(),
+                        sim,
+                    });
                 }
-                // The best-fitting design that meets the goal: deterministic,
-                // as the candidates come in a fixed order.
                 if miss <= 1.0 {
                     break;
                 }
@@ -99,60 +180,133 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
             }
         }
     }
-    let Some((miss, _, found, sim)) = best else {
-        return Err(Error::new(
-            ErrorKind::TargetTopology,
-            format!(
-                "{}: no design found that builds ({} seeds grown{}{})",
-                file.file,
-                searched.tried,
-                if refusals.is_empty() {
-                    ""
-                } else {
-                    "; build refused: "
-                },
-                refusals.join("; ")
-            ),
-        ));
-    };
-    let seconds = started.elapsed().as_secs_f64();
-    let record = record_path(ask.target, ask.out);
-    let notes = vec![
+    best.map(|b| Chosen { built, ..b }).ok_or(refusals)
+}
+
+/// No candidate builds: why each was refused.
+fn no_design(file: &TargetFile, searched: &designing::Searched, refusals: &[String]) -> Error {
+    Error::new(
+        ErrorKind::TargetTopology,
         format!(
-            "Designed by `karigami design {}` (docs/design.md).",
-            file.file
-        ),
-        format!(
-            "Target: {}, {}; D {:.1} mm.",
-            file.target.what,
-            file.target.topology.describe(),
-            target.extent
-        ),
-        format!("Topology: {}.", searched.topology),
-        format!(
-            "Found by: {} seeds grown on the target (cell edge {edge:.1} mm), the best {} built with their simulation; {seconds:.1} s.",
+            "{}: no design found that builds ({} seeds grown{}{})",
+            file.file,
             searched.tried,
-            searched.found.len().min(BUILT)
+            if refusals.is_empty() {
+                ""
+            } else {
+                "; build refused: "
+            },
+            refusals.join("; ")
         ),
-        format!("Seed: {}.", found.seed),
-        format!("Fit of the design: {}.", found.fit.summary("vertices")),
-        format!("Fit of the simulated shape: {}.", sim.summary("joints")),
-        if miss <= 1.0 {
-            "The simulated shape meets issue 32's goal (rms <= 1.5 % D, largest <= 4 % D, 85 % covered).".into()
+    )
+}
+
+/// The refusal of a best design that misses the goal: each measure missed
+/// with its value and limit, what to try, and `--keep-miss`.
+fn missed(file: &TargetFile, chosen: &Chosen, remedy: &str) -> Error {
+    let d = karigami::Diagnostic {
+        kind: ErrorKind::GoalMissed,
+        message: format!(
+            "the best design found, {} cells, misses the goal in its simulated shape (docs/design.md, \"The goal\"): {}",
+            chosen.found.cells,
+            designing::goal::misses(&chosen.sim).join("; ")
+        ),
+        span: None,
+        site: None,
+        hint: Some(format!(
+            "{remedy}; or give --keep-miss to write it anyway, the miss stated at the top of the recipe"
+        )),
+    };
+    Error::at(&file.file, "", &d)
+}
+
+/// How a recipe was made, for its opening comment (docs/design.md,
+/// "Design your own object").
+struct Made<'a> {
+    ask: &'a Ask<'a>,
+    file: &'a TargetFile,
+    searched: &'a designing::Searched,
+    edge: f64,
+    seconds: f64,
+}
+
+impl Made<'_> {
+    /// The options that shaped the result, as a command line gives them.
+    fn options(&self) -> Vec<String> {
+        let mut options = Vec::new();
+        if let Some(e) = self.ask.edge {
+            options.push(format!("--edge {e}"));
+        }
+        if let Some(t) = self.ask.thickness {
+            options.push(format!("--thickness {t}"));
+        }
+        options.extend(self.ask.flags.iter().cloned());
+        options
+    }
+
+    fn notes(&self, chosen: &Chosen, remedy: Option<&str>) -> Vec<String> {
+        let (t, file) = (&self.file.target, &self.file.file);
+        let options = self.options();
+        let mut notes = Vec::new();
+        if let Some(remedy) = remedy {
+            notes.push(format!(
+                "MISSES THE GOAL (docs/design.md, \"The goal\": {}): {}. Written only because --keep-miss was given; {remedy}.",
+                designing::goal::WORDS,
+                designing::goal::misses(&chosen.sim).join("; ")
+            ));
+        }
+        notes.extend([
+            format!(
+                "Designed by `karigami design {file}{}{}` (docs/design.md, \"Design your own object\").",
+                if options.is_empty() { "" } else { " " },
+                options.join(" ")
+            ),
+            format!(
+                "Target: {file} (recorded in [target] below with its content hash): {}, {}; D {:.1} mm.",
+                t.what,
+                t.topology.describe(),
+                t.extent
+            ),
+            self.settings(),
+            format!("Topology: {}.", self.searched.topology),
+            format!(
+                "Found by: {} seeds grown on the target, the best {} built with their simulation, in {:.1} s.",
+                self.searched.tried,
+                chosen.built,
+                self.seconds
+            ),
+            format!("Seed: {}.", chosen.found.seed),
+            format!("Fit of the design: {}.", chosen.found.fit.summary("vertices")),
+            format!("Fit of the simulated shape: {}.", chosen.sim.summary("joints")),
+        ]);
+        if remedy.is_none() {
+            notes.push(format!(
+                "The simulated shape meets the goal (docs/design.md, \"The goal\": {}).",
+                designing::goal::WORDS
+            ));
+        }
+        notes
+    }
+
+    /// The cell edge and what it came from; the fabrication flags, which
+    /// `build` needs again (the recipe's tables carry only the thickness).
+    fn settings(&self) -> String {
+        let edge = match self.ask.edge {
+            Some(_) => "--edge".to_string(),
+            None => {
+                "the default: six strip widths, at least four of the eyelets' shortest leg".into()
+            }
+        };
+        let flags = if self.ask.flags.is_empty() {
+            String::new()
         } else {
-            "The simulated shape misses issue 32's goal (rms <= 1.5 % D, largest <= 4 % D, 85 % covered): try a smaller --edge.".into()
-        },
-    ];
-    let text = designing::recipe(&found, &name, &notes, Some((&record, file.hash)));
-    std::fs::write(ask.out, &text)
-        .map_err(|e| Error::io(format!("{}: cannot write it: {e}", ask.out.display())))?;
-    note(&format!(
-        "wrote {} in {seconds:.1} s: {} cells; simulated {}",
-        ask.out.display(),
-        found.cells,
-        sim.summary("joints")
-    ));
-    Ok(())
+            format!(
+                "; designed with {}: give `build` the same (this recipe does not carry them)",
+                self.ask.flags.join(" ")
+            )
+        };
+        format!("Cell edge: {:.1} mm ({edge}){flags}.", self.edge)
+    }
 }
 
 /// Seconds the search is reckoned at for each cell a design may have, a
@@ -257,35 +411,4 @@ fn built_fit(
         v.pos = p;
     }
     Ok(designing::fit_of(target, &lattice))
-}
-
-/// The target's path as the recipe records it: relative to the recipe's
-/// folder when both resolve, else as given.
-fn record_path(target: &Path, out: &Path) -> String {
-    let abs = |p: &Path| std::path::absolute(p).ok();
-    let dir = out.parent().map(|p| {
-        if p.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            p
-        }
-    });
-    match (abs(target), dir.and_then(abs)) {
-        (Some(t), Some(d)) => relative(&t, &d).display().to_string(),
-        _ => target.display().to_string(),
-    }
-}
-
-/// `to` relative to the folder `from` (both absolute).
-fn relative(to: &Path, from: &Path) -> PathBuf {
-    let (a, b): (Vec<_>, Vec<_>) = (to.components().collect(), from.components().collect());
-    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
-    let mut out = PathBuf::new();
-    for _ in common..b.len() {
-        out.push("..");
-    }
-    for c in &a[common..] {
-        out.push(c);
-    }
-    out
 }

@@ -117,6 +117,16 @@ impl Error {
         self
     }
 
+    /// The message alone, without its kind, place or hint.
+    pub(super) fn message(&self) -> String {
+        match self.json.as_deref() {
+            Some(ErrorJson::Recipe { message, .. } | ErrorJson::Plain { message, .. }) => {
+                message.clone()
+            }
+            None => self.text.lines().next().unwrap_or("").to_string(),
+        }
+    }
+
     pub(super) fn exit_code(&self) -> i32 {
         self.kind.exit_code()
     }

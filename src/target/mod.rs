@@ -9,16 +9,20 @@
 
 mod bvh;
 mod coverage;
+mod curvature;
 mod extent;
 mod families;
 mod fit;
 mod mesh;
 mod read;
+mod record;
 mod surfaces;
 
+pub use curvature::Bend;
 pub use fit::{Fit, Rigid, kabsch};
 pub use mesh::{Mesh, Topology};
 pub use read::{MAX_TARGET_BYTES, MAX_TRIANGLES, refuse_early};
+pub use record::recorded_path;
 
 use crate::diagnostic::Diagnostic;
 use glam::DVec3;

@@ -19,8 +19,15 @@ use glam::DVec3;
 use std::sync::Arc;
 use std::time::Instant;
 
+pub mod goal;
 mod loops;
+mod material;
 mod sheets;
+
+pub use goal::miss;
+
+/// Cells across the target at most (docs/design.md, stage 1).
+pub(crate) const MAX_CELLS_ACROSS: f64 = 60.0;
 
 /// What `karigami design` asks of the search.
 pub struct DesignAsk<'a> {
@@ -60,19 +67,10 @@ pub struct Searched {
     pub topology: String,
 }
 
-/// How far a fit is from issue 32's goal: the largest of rms over 1.5 % of
-/// D, largest over 4 % of D and the uncovered share over 15 %; at most 1
-/// meets it.
-pub fn miss(f: &crate::target::Fit) -> f64 {
-    let cov = f.coverage.unwrap_or(0.0);
-    (f.rms / (0.015 * f.extent))
-        .max(f.largest / (0.04 * f.extent))
-        .max((1.0 - cov) / 0.15)
-}
-
 /// Search sheets for `ask.target`; `progress` hears about each seed.
 pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Searched, Diagnostic> {
     let topology = choose(&ask.target, ask.edge)?;
+    material::within_reach(&ask.target, ask.base, ask.edge)?;
     let levelled = level_rim(&ask.target);
     let ask = &DesignAsk {
         target: levelled,
@@ -236,7 +234,7 @@ fn choose(t: &Target, edge: f64) -> Result<String, Diagnostic> {
             t.extent / 3.0
         )));
     }
-    if t.extent > 60.0 * edge {
+    if t.extent > MAX_CELLS_ACROSS * edge {
         return Err(Diagnostic::new(
             ErrorKind::TargetParameter,
             format!(
@@ -246,7 +244,7 @@ fn choose(t: &Target, edge: f64) -> Result<String, Diagnostic> {
         )
         .hint(format!(
             "give a larger --edge (at least {:.1} mm)",
-            t.extent / 60.0
+            t.extent / MAX_CELLS_ACROSS
         )));
     }
     match t.topology {
@@ -274,16 +272,28 @@ pub const STUB: &str = "[lattice]\nseed = \"sheet\"\npoints = [[0.0, 0.0, 0.0], 
 /// The cell edge when none is asked: six strip widths, and at least four
 /// of the shortest leg the eyelets take, so that cells stay open.
 pub fn default_edge(base: &Design) -> f64 {
-    let fab = &base.fabrication;
-    let min_leg = fab.eyelet.flange + 2.0 * crate::design::MIN_WALL;
-    (6.0 * fab.material.width).max(4.0 * min_leg)
+    (6.0 * base.fabrication.material.width).max(least_edge(base))
+}
+
+/// The smallest cell edge the design's remedies suggest: four of the
+/// shortest leg the eyelets take (a hole's flange and a wall each side).
+pub fn least_edge(base: &Design) -> f64 {
+    4.0 * (base.fabrication.eyelet.flange + 2.0 * crate::design::MIN_WALL)
 }
 
 /// The recipe of a design found: `notes` as its opening comment, the
-/// target recorded (`[target]`, its path relative to the recipe and its
-/// content hash) when given, the seed and one row table per row with every
-/// number written in full, so that it grows exactly as the search grew it.
-pub fn recipe(found: &Found, name: &str, notes: &[String], target: Option<(&str, u64)>) -> String {
+/// target recorded (`[target]`, its path and its content hash) when given,
+/// `tables` (the settings the design was made with that the recipe
+/// carries: `[material] thickness`), the seed and one row table per row
+/// with every number written in full, so that it grows exactly as the
+/// search grew it.
+pub fn recipe(
+    found: &Found,
+    name: &str,
+    notes: &[String],
+    target: Option<(&str, u64)>,
+    tables: &str,
+) -> String {
     let mut s = String::new();
     for n in notes {
         s.push_str(&format!("# {n}\n"));
@@ -291,9 +301,13 @@ pub fn recipe(found: &Found, name: &str, notes: &[String], target: Option<(&str,
     s.push_str(&format!("name = {}\n", crate::words::toml_string(name)));
     if let Some((file, hash)) = target {
         s.push_str(&format!(
-            "\n[target]                # what `check` fits this design to\nfile = {}\nhash = \"{hash:016x}\"\n",
+            "\n[target]                # what `check` and `build` fit this design to\nfile = {}\nhash = \"{hash:016x}\"\n",
             crate::words::toml_string(file)
         ));
+    }
+    if !tables.is_empty() {
+        s.push('\n');
+        s.push_str(tables);
     }
     s.push('\n');
     s.push_str(&found.lattice);
