@@ -106,7 +106,6 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         file: &file,
         searched: &searched,
         edge,
-        seconds,
     };
     let notes = made.notes(&chosen, remedy.as_deref());
     let record = karigami::targets::recorded_path(ask.target, ask.out);
@@ -227,7 +226,6 @@ struct Made<'a> {
     file: &'a TargetFile,
     searched: &'a designing::Searched,
     edge: f64,
-    seconds: f64,
 }
 
 impl Made<'_> {
@@ -270,10 +268,9 @@ impl Made<'_> {
             self.settings(),
             format!("Topology: {}.", self.searched.topology),
             format!(
-                "Found by: {} seeds grown on the target, the best {} built with their simulation, in {:.1} s.",
+                "Found by: {} seeds grown on the target; of the best, {} built and simulated, this one kept.",
                 self.searched.tried,
-                chosen.built,
-                self.seconds
+                chosen.built
             ),
             format!("Seed: {}.", chosen.found.seed),
             format!("Fit of the design: {}.", chosen.found.fit.summary("vertices")),
