@@ -8,6 +8,8 @@ use super::VertexJoint;
 use super::model::{Edge, Frame, Joint, Model, Node, RodPath, Section, Slot, Stencil, VarKind};
 use crate::lattice::{Joint as LatticeJoint, Lattice, Rod, RodEnd, joints};
 use glam::DVec3;
+use karigami_rods::solver::System;
+use std::sync::Arc;
 
 /// Discretisation settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -46,6 +48,38 @@ pub struct LatticeModel {
     /// Per rod: the number of interior edges of each of its legs, in
     /// order (`with_counts` meshes a changed design alike).
     pub(crate) leg_counts: Vec<Vec<usize>>,
+    /// The solver's system this model was last solved with, kept by
+    /// `resolve` and `keep_system` (not by `deploy`: a build's path solves
+    /// on a system of its own, and two at once would pass the memory that
+    /// `cost::BYTES_PER_NODE` allows).
+    pub(crate) system: KeptSystem,
+}
+
+/// A solver's system kept with its model: a warm re-solve of a changed
+/// design that it still fits (`System::fits`) skips the ordering and
+/// symbolic analysis (docs/physics.md, "Sensitivities").
+#[derive(Clone, Default)]
+pub(crate) struct KeptSystem(Option<Arc<System>>);
+
+impl KeptSystem {
+    pub(crate) fn new(sys: Arc<System>) -> KeptSystem {
+        KeptSystem(Some(sys))
+    }
+
+    /// The kept system if it fits `model`, else a new one.
+    pub(crate) fn for_model(&self, model: &Model) -> Arc<System> {
+        match &self.0 {
+            Some(sys) if sys.fits(model) => Arc::clone(sys),
+            _ => Arc::new(System::new(model)),
+        }
+    }
+}
+
+impl std::fmt::Debug for KeptSystem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let n = self.0.as_ref().map(|s| s.n());
+        f.debug_tuple("KeptSystem").field(&n).finish()
+    }
 }
 
 /// The measure of the deployment that is prescribed (docs/physics.md,
@@ -72,6 +106,21 @@ pub(crate) enum VertexPlace {
 type EndSlot = Option<(usize, usize)>;
 
 impl LatticeModel {
+    /// The solver's system for this model: the one it was last solved
+    /// with if that still fits it (`System::fits`), else a new one. A
+    /// design loop's warm re-solves and adjoints share it.
+    pub fn system(&self) -> Arc<System> {
+        self.system.for_model(&self.model)
+    }
+
+    /// `system`, kept with the model from now on: a design loop's first
+    /// step, after a cold simulation, keeps it for the re-solves after it.
+    pub fn keep_system(&mut self) -> Arc<System> {
+        let sys = self.system();
+        self.system = KeptSystem::new(Arc::clone(&sys));
+        sys
+    }
+
     /// Build the model of `lattice` in its design state (bent-facet
     /// lattices: their rigid-fit placement, shared vertices halfway).
     pub fn new(lattice: &Lattice, section: Section, mesh: Mesh) -> LatticeModel {
@@ -129,6 +178,7 @@ impl LatticeModel {
             share: (0..lattice.cells.len()).collect(),
             start_openings: Vec::new(),
             leg_counts,
+            system: KeptSystem::default(),
         };
         lm.start = lm.points();
         lm.start_openings = (0..lm.delta.len()).map(|c| lm.opening(c)).collect();

@@ -120,7 +120,8 @@ pub fn resolve(
         }
         lm.set_held_opening(t);
     }
-    let sys = System::new(&lm.model);
+    let sys = previous.system.for_model(&lm.model);
+    lm.system = super::strips::KeptSystem::new(sys.clone());
     if !warm_start(&mut lm, previous, &sys) {
         // A warm re-solve is one step of a caller's loop, which checks its
         // own deadline between steps (src/budget.rs).

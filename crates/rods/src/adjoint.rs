@@ -80,14 +80,23 @@ impl std::fmt::Display for AdjointError {
 pub struct Linearisation<'a> {
     sys: &'a System,
     factor: Factor,
+    /// The model whose factor the system kept (`System::keep_factor`), to
+    /// keep it again on release.
+    kept: Option<Model>,
 }
 
 impl<'a> Linearisation<'a> {
-    /// Factor the Hessian of `model` as it is (an equilibrium).
+    /// Factor the Hessian of `model` as it is (an equilibrium), or take
+    /// the factor the solver's last `finish` left of that same state.
     pub fn new(sys: &'a System, model: &Model) -> Result<Self, AdjointError> {
+        if let Some((factor, kept)) = sys.take_factor(model) {
+            let kept = Some(kept);
+            return Ok(Linearisation { sys, factor, kept });
+        }
         let (_, _, h) = sys.assemble(model);
         let factor = sys.factor(&h, 0.0).ok_or(AdjointError::Indefinite)?;
-        Ok(Linearisation { sys, factor })
+        let kept = None;
+        Ok(Linearisation { sys, factor, kept })
     }
 
     /// dq*/dt along `dir` over every variable: free ones by the solve,
@@ -172,7 +181,10 @@ impl<'a> Linearisation<'a> {
 
     /// Hand the factor's buffer back to the system.
     pub fn release(self) {
-        self.sys.release(self.factor);
+        match self.kept {
+            Some(model) => self.sys.keep_factor(self.factor, model),
+            None => self.sys.release(self.factor),
+        }
     }
 }
 

@@ -134,7 +134,7 @@ impl Stencil {
     }
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     pub section: Section,
     pub q: Vec<f64>,

@@ -78,8 +78,10 @@ pub struct System {
     /// into it).
     perm: Vec<usize>,
     numeric: Numeric,
-    /// A factor's buffer kept for the next factorisation.
-    spare: std::sync::Mutex<Option<Factor>>,
+    /// A factor's buffer kept for the next factorisation, and the model
+    /// whose unshifted Hessian it is the factor of, if it is one
+    /// (`keep_factor`).
+    spare: std::sync::Mutex<Spare>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -189,13 +191,7 @@ impl System {
             })
             .collect();
         let diag_pos = (0..n).map(|c| slot(c, c)).collect();
-        let dm: Vec<f64> = free_vars
-            .iter()
-            .map(|&v| match model.kinds[v] {
-                VarKind::Length => 1.0,
-                VarKind::Angle => (model.section.width / 2.0).powi(2),
-            })
-            .collect();
+        let dm: Vec<f64> = free_vars.iter().map(|&v| metric(model, v)).collect();
         let pattern = Pattern { col_ptr, row_idx };
         let (upper, upper_pos, perm, chol) = factor_structure(&pattern);
         let numeric = Numeric::new(&upper, &upper_pos, &perm, &dm, &chol);
@@ -210,7 +206,7 @@ impl System {
             pattern,
             perm,
             numeric,
-            spare: std::sync::Mutex::new(None),
+            spare: std::sync::Mutex::new((None, None)),
             diag_pos,
             dm,
         }
@@ -218,6 +214,28 @@ impl System {
 
     pub fn n(&self) -> usize {
         self.free_vars.len()
+    }
+
+    /// Whether `System::new(model)` would be this system: the same free
+    /// and fixed variables, ties (their free terms and coefficients),
+    /// stencils' variables and metric. A changed design of the same
+    /// topology keeps its system (warm re-solves, docs/physics.md,
+    /// "Sensitivities"), saving the ordering and symbolic analysis.
+    pub fn fits(&self, model: &Model) -> bool {
+        let free = |v: usize| self.free_index[v];
+        model.q.len() == self.free_index.len()
+            && (model.fixed.iter().enumerate()).all(|(v, &f)| f == (free(v) == usize::MAX))
+            && model.ties.len() == self.tied.len()
+            && model.ties.iter().zip(&self.tied).all(|(t, (var, terms))| {
+                let mut mine = terms.iter();
+                let same = (t.terms.iter().filter(|&&(u, _)| free(u) != usize::MAX))
+                    .all(|&(u, c)| mine.next() == Some(&(free(u), c)));
+                t.var == *var && same && mine.next().is_none()
+            })
+            && model.stencils.len() == self.stencil_vars.len()
+            && (model.stencils.iter().zip(&self.stencil_vars))
+                .all(|(st, vars)| model.stencil_vars(st) == *vars)
+            && (self.free_vars.iter().zip(&self.dm)).all(|(&v, &d)| d == metric(model, v))
     }
 
     /// Tied variables over the free ones: (variable, [(free index, coef)]).
@@ -302,7 +320,7 @@ impl System {
             .spare
             .lock()
             .ok()
-            .and_then(|mut s| s.take())
+            .and_then(|mut s| std::mem::take(&mut *s).0)
             .unwrap_or(Factor {
                 l: Vec::new(),
                 inv: Vec::new(),
@@ -324,7 +342,31 @@ impl System {
     /// factor is megabytes: a fresh one each time costs page faults).
     pub fn release(&self, f: Factor) {
         if let Ok(mut s) = self.spare.lock() {
-            *s = Some(f);
+            *s = (Some(f), None);
+        }
+    }
+
+    /// Hand back `f`, the factor of `model`'s Hessian unshifted, so that a
+    /// linearisation at that same state (`take_factor`: a warm re-solve's
+    /// tangent, an adjoint after a solve) needs no assembly and
+    /// factorisation of its own until the buffer is used again.
+    pub(crate) fn keep_factor(&self, f: Factor, model: Model) {
+        if let Ok(mut s) = self.spare.lock() {
+            *s = (Some(f), Some(model));
+        }
+    }
+
+    /// The factor of `model`'s unshifted Hessian if the spare buffer holds
+    /// it (`keep_factor` with an equal model: every variable, frame, rest
+    /// length and term the same, so the same Hessian), with that model.
+    pub(crate) fn take_factor(&self, model: &Model) -> Option<(Factor, Model)> {
+        let mut s = self.spare.lock().ok()?;
+        match &*s {
+            (Some(_), Some(kept)) if kept == model => match std::mem::take(&mut *s) {
+                (Some(f), Some(kept)) => Some((f, kept)),
+                _ => None,
+            },
+            _ => None,
         }
     }
 
@@ -345,6 +387,13 @@ impl System {
     /// y = H v from the lower triangle.
     pub fn mul(&self, h: &[f64], v: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; v.len()];
+        self.mul_into(h, v, &mut y);
+        y
+    }
+
+    /// `mul` into `y` (of v's length), overwritten.
+    fn mul_into(&self, h: &[f64], v: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
         let (cp, ri) = (&self.pattern.col_ptr, &self.pattern.row_idx);
         for c in 0..v.len() {
             // Each column's rows are sorted, the diagonal first (`new`).
@@ -356,7 +405,6 @@ impl System {
                 y[c] += h[p] * v[r];
             }
         }
-        y
     }
 
     /// The lowest generalised eigenpair of (H, Dm) by inverse iteration with
@@ -366,9 +414,17 @@ impl System {
         let mut rng = crate::rng::Rng::new(seed);
         let mut v: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
         let mut lambda = 0.0;
+        // The buffers of `solve` and `mul`, reused by every step: the same
+        // operations as solve(Dm v) and mul(v), without their allocations.
+        let (mut work, mut y, mut hv) = (self.numeric.work(), vec![0.0; n], vec![0.0; n]);
         for it in 0..60 {
-            let rhs: Vec<f64> = v.iter().zip(&self.dm).map(|(a, b)| a * b).collect();
-            let y = self.solve(llt, &rhs);
+            for (w, &old) in work.iter_mut().zip(&self.perm) {
+                *w = v[old] * self.dm[old];
+            }
+            self.numeric.solve_in_place(llt, &mut work);
+            for (&w, &old) in work.iter().zip(&self.perm) {
+                y[old] = w;
+            }
             let norm = y
                 .iter()
                 .zip(&self.dm)
@@ -378,8 +434,10 @@ impl System {
             if !(norm > 0.0) {
                 break;
             }
-            v = y.iter().map(|a| a / norm).collect();
-            let hv = self.mul(h, &v);
+            for (vi, &yi) in v.iter_mut().zip(&y) {
+                *vi = yi / norm;
+            }
+            self.mul_into(h, &v, &mut hv);
             let l = v.iter().zip(&hv).map(|(a, b)| a * b).sum::<f64>();
             if it > 5 && (l - lambda).abs() <= 1e-10 * l.abs().max(1e-300) {
                 lambda = l;
@@ -388,6 +446,17 @@ impl System {
             lambda = l;
         }
         (lambda, v)
+    }
+}
+
+/// A factor's buffer and the model it is the unshifted factor of, if any.
+type Spare = (Option<Factor>, Option<Model>);
+
+/// Variable v's diagonal metric: 1 for lengths, (w/2)^2 for angles.
+fn metric(model: &Model, v: usize) -> f64 {
+    match model.kinds[v] {
+        VarKind::Length => 1.0,
+        VarKind::Angle => (model.section.width / 2.0).powi(2),
     }
 }
 
@@ -456,25 +525,31 @@ impl Numeric {
         let mut reach_ptr = vec![0usize];
         let mut reach = Vec::with_capacity(l_row.len() - n);
         let mut visited = vec![usize::MAX; n];
-        let mut path = Vec::new();
-        let mut row: Vec<u32> = Vec::new();
+        // The paths of one row one after another, and where each starts:
+        // emitted last found first, each in its own order.
+        let mut paths: Vec<u32> = Vec::new();
+        let mut starts: Vec<usize> = Vec::new();
         for k in 0..n {
             visited[k] = k;
-            row.clear();
+            paths.clear();
+            starts.clear();
             for &i in &a_row[a_ptr[k]..a_ptr[k + 1]] {
                 let mut i = i as usize;
                 if i >= k {
                     continue;
                 }
-                path.clear();
+                starts.push(paths.len());
                 while visited[i] != k {
-                    path.push(i as u32);
+                    paths.push(i as u32);
                     visited[i] = k;
                     i = parent[i];
                 }
-                row.splice(0..0, path.iter().copied());
             }
-            reach.extend_from_slice(&row);
+            let mut end = paths.len();
+            for &start in starts.iter().rev() {
+                reach.extend_from_slice(&paths[start..end]);
+                end = start;
+            }
             reach_ptr.push(reach.len());
         }
         Numeric {
@@ -604,15 +679,16 @@ fn factor_structure(pattern: &Pattern) -> (Pattern, Vec<usize>, Vec<usize>, Patt
         count[c + 1] += count[c];
     }
     let col_ptr = count;
-    // Within a column in the order met (a stable sort by column): the
-    // numeric factor sums a column's entries in this order, which fixes
-    // its rounding, and with it the solver's path.
-    let mut order: Vec<usize> = (0..at.len()).collect();
-    order.sort_by_key(|&k| at[k].1);
+    // Within a column in the order met (a counting sort by column, which
+    // is stable): the numeric factor sums a column's entries in this
+    // order, which fixes its rounding, and with it the solver's path.
+    let mut next = col_ptr[..n].to_vec();
     let mut row_idx = vec![0usize; at.len()];
     let mut upper_pos = vec![0usize; at.len()];
-    for (slot, &k) in order.iter().enumerate() {
-        row_idx[slot] = at[k].0;
+    for (k, &(row, col)) in at.iter().enumerate() {
+        let slot = next[col];
+        next[col] += 1;
+        row_idx[slot] = row;
         upper_pos[k] = slot;
     }
     let upper = Pattern { col_ptr, row_idx };
@@ -846,7 +922,7 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
     let lambda_min = match sys.factor(&h, 0.0) {
         Some(llt) if sys.n() > 0 => {
             let lambda = sys.lowest_mode(&h, &llt, 7).0;
-            sys.release(llt);
+            sys.keep_factor(llt, model.clone());
             lambda
         }
         Some(_) => f64::INFINITY,
@@ -877,8 +953,10 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Section;
     use crate::rng::Rng;
     use crate::sparse::tests_support::random_lower;
+    use glam::DVec3;
 
     /// The dense Cholesky of the symmetric matrix in the factor's order,
     /// column by column: L, or the row of the first pivot that is not
@@ -902,6 +980,55 @@ mod tests {
             l[k][k] = d.sqrt();
         }
         Ok(l)
+    }
+
+    /// A bent strip of 8 nodes, its first node fixed.
+    fn bent_strip() -> Model {
+        let section = Section {
+            b_flat: 50.0,
+            b_edge: 5000.0,
+            ea: 2000.0,
+            gj: 40.0,
+            width: 8.0,
+            thickness: 1.0,
+        };
+        let points: Vec<DVec3> = (0..8)
+            .map(|i| DVec3::new(10.0 * i as f64, 0.0, 0.3 * (i * i) as f64))
+            .collect();
+        let mut m = Model::strip(section, &points, DVec3::Y);
+        for v in 0..3 {
+            m.fixed[v] = true;
+        }
+        m
+    }
+
+    /// A system fits the model it was made for and models that differ in
+    /// values only, not one with another variable fixed or another width;
+    /// a factor `finish` keeps is handed out for an equal model only, and
+    /// is the factor a fresh assembly gives.
+    #[test]
+    fn a_system_is_kept_for_models_it_fits_and_its_factor_for_equal_ones() {
+        let m = bent_strip();
+        let sys = System::new(&m);
+        let mut moved = m.clone();
+        moved.q[5] += 0.25;
+        assert!(sys.fits(&m) && sys.fits(&moved));
+        let mut refixed = m.clone();
+        refixed.fixed[4] = true;
+        let mut wider = m.clone();
+        wider.section.width += 1.0;
+        assert!(!sys.fits(&refixed) && !sys.fits(&wider));
+
+        let (_, _, h) = sys.assemble(&m);
+        // Shifted: the strip turns freely about its fixed node. The
+        // buffer is handed out as kept, whatever it holds.
+        let fresh = sys.factor(&h, sys.diagonal_scale(&h)).expect("shifted");
+        let want = (fresh.l.clone(), fresh.inv.clone());
+        sys.keep_factor(fresh, m.clone());
+        assert!(sys.take_factor(&moved).is_none());
+        let (kept, of) = sys.take_factor(&m).expect("the kept factor");
+        assert_eq!((kept.l, kept.inv), want);
+        assert!(of == m && sys.take_factor(&m).is_none());
     }
 
     /// `Numeric` factors H + tau Dm exactly when it is positive definite,

@@ -72,29 +72,50 @@ pub fn amd_order(lower: &Pattern) -> (Vec<usize>, Vec<usize>) {
 pub fn factor_pattern(upper: &Pattern) -> Pattern {
     let n = upper.n();
     let parent = elimination_tree(upper);
-    // Row k of the factor: the columns reached from A's column k up the tree.
+    // Row k of the factor: the columns reached from A's column k up the
+    // tree, walked twice: to count each column's rows, then to place them
+    // (met in increasing k, after the diagonal).
     let mut mark = vec![usize::MAX; n];
-    let mut rows_of: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
-    for k in 0..n {
+    let mut count = vec![1usize; n];
+    row_reaches(upper, &parent, &mut mark, |j, _| count[j] += 1);
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    col_ptr.push(0);
+    for c in &count {
+        col_ptr.push(col_ptr[col_ptr.len() - 1] + c);
+    }
+    let mut row_idx = vec![0usize; col_ptr[n]];
+    let mut next: Vec<usize> = col_ptr[..n].to_vec();
+    for (j, slot) in next.iter_mut().enumerate() {
+        row_idx[*slot] = j;
+        *slot += 1;
+    }
+    mark.fill(usize::MAX);
+    row_reaches(upper, &parent, &mut mark, |j, k| {
+        row_idx[next[j]] = k;
+        next[j] += 1;
+    });
+    Pattern { col_ptr, row_idx }
+}
+
+/// Each (j, k) with L[k][j] != 0, j < k, in increasing k: the walks from
+/// A's column k up the elimination tree (`mark` all usize::MAX).
+fn row_reaches(
+    upper: &Pattern,
+    parent: &[usize],
+    mark: &mut [usize],
+    mut visit: impl FnMut(usize, usize),
+) {
+    for k in 0..upper.n() {
         mark[k] = k;
         for &i in upper.column(k) {
             let mut j = i;
             while j < k && mark[j] != k {
-                rows_of[j].push(k);
+                visit(j, k);
                 mark[j] = k;
                 j = parent[j];
             }
         }
     }
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    col_ptr.push(0);
-    let mut row_idx = Vec::with_capacity(rows_of.iter().map(Vec::len).sum());
-    for rows in &rows_of {
-        // Rows k were met in increasing order, after the diagonal.
-        row_idx.extend_from_slice(rows);
-        col_ptr.push(row_idx.len());
-    }
-    Pattern { col_ptr, row_idx }
 }
 
 /// Each column's parent in the elimination tree (usize::MAX at a root), by
