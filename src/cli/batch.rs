@@ -3,7 +3,8 @@
 //! The files written do not depend on the number of jobs or their order.
 
 use super::args::Verbosity;
-use super::build::{Report, inputs, kept_line, open_out};
+use super::build::{Report, add_fit, inputs_with, kept_line, open_out, recorded_of, target_key};
+use super::check::Recorded;
 use super::error::{Error, ErrorJson, json_text, print_json};
 use super::files::{OutDir, Staged, safe_component};
 use super::progress::Progress;
@@ -220,6 +221,7 @@ impl Batch<'_> {
         let Work {
             recipe,
             key,
+            recorded,
             seconds,
             build,
         } = work;
@@ -238,6 +240,7 @@ impl Batch<'_> {
                 let work = Work {
                     recipe,
                     key,
+                    recorded,
                     seconds,
                     build,
                 };
@@ -426,8 +429,10 @@ fn dearest_first(paths: &[PathBuf], overrides: &Overrides, jobs: usize) -> Vec<(
 /// A started recipe's work, carried from stage to stage.
 struct Work<T> {
     recipe: Recipe,
-    /// The fingerprint of its inputs (`build::inputs`).
+    /// The fingerprint of its inputs (`build::inputs_with`).
     key: Option<u64>,
+    /// The target the recipe records, if any.
+    recorded: Recorded,
     /// Seconds spent on it so far, over its stages.
     seconds: f64,
     build: T,
@@ -492,7 +497,10 @@ fn start(
         Ok(recipe) => recipe,
         Err(e) => return Started::Ended(Ended::failed(e)),
     };
-    let key = inputs(&recipe, overrides, folder);
+    // The target the recipe records, fitted in its report.txt as a single
+    // build fits it (docs/commands.md, "Batch builds").
+    let recorded = recorded_of(&recipe, path, overrides);
+    let key = inputs_with(&recipe, overrides, folder, &target_key(None, &recorded));
     match staged.keep(out, folder, key) {
         Err(e) => return Started::Ended(Ended::write_failed(folder, &e)),
         Ok(Some(report)) => {
@@ -506,6 +514,7 @@ fn start(
             return Started::Simulate(Work {
                 recipe,
                 key,
+                recorded,
                 seconds: 0.0,
                 build: b,
             });
@@ -517,6 +526,7 @@ fn start(
         Ok(build) => Started::Draw(Work {
             recipe,
             key,
+            recorded,
             seconds: 0.0,
             build,
         }),
@@ -527,8 +537,10 @@ fn start(
 /// The last stage of one recipe: its files made (on `jobs` threads,
 /// `karigami::files_on`) and written.
 fn draw(work: &Work<Build>, folder: &str, staged: &Staged, jobs: Jobs) -> Ended {
-    let report = Report::of(&work.build);
-    let files = karigami::files_on(&work.build, jobs);
+    let mut report = Report::of(&work.build);
+    let mut files = karigami::files_on(&work.build, jobs);
+    let target = work.recorded.target();
+    add_fit(&work.build, target, &work.recorded, &mut files, &mut report);
     match staged.write_build(folder, &files, work.key, &report) {
         Ok(()) => Ended::ok(report, false),
         Err(e) => Ended::write_failed(folder, &e),

@@ -66,9 +66,7 @@ pub(super) fn build(
     // No --target: the one the recipe records (`karigami design`), found
     // or said missing; a recipe that does not parse fails in the build.
     let recorded = match (&target, paths.first()) {
-        (None, Some(p)) => recipe
-            .parse(overrides)
-            .map_or(Recorded::None, |d| Recorded::of(p, d.target.as_ref())),
+        (None, Some(p)) => recorded_of(&recipe, p, overrides),
         _ => Recorded::None,
     };
     let key = inputs_with(
@@ -98,14 +96,7 @@ pub(super) fn build(
                 karigami::files_on(&built, karigami::Jobs::new(jobs))
             });
             let mut report = Report::of(&built);
-            let fit = target.map(|t| t.fit_build(&built).text);
-            if let Some(fit) = fit.or(recorded.note().map(str::to_string)) {
-                if let Some((_, bytes)) = outputs.iter_mut().find(|(name, _)| name == "report.txt")
-                {
-                    bytes.extend(format!("\n{fit}").bytes());
-                }
-                report.target_fit = Some(fit);
-            }
+            add_fit(&built, target, &recorded, &mut outputs, &mut report);
             staged
                 .write_build("", &outputs, key, &report)
                 .map_err(fail)?;
@@ -145,18 +136,38 @@ pub(super) fn build(
     Ok(())
 }
 
-/// The fingerprint of what a recipe's files are made from (besides the
-/// program, which `files::inputs` adds): the recipe's text and name, the
-/// command line's options, the subfolder. The number of jobs is left out:
-/// the files are the same with any.
-pub(super) fn inputs(recipe: &Recipe, overrides: &Overrides, folder: &str) -> Option<u64> {
-    inputs_with(recipe, overrides, folder, &[])
+/// The fit to `target` (or the line saying why the recorded one is not
+/// fitted) added to report.txt and to the run's report: one build and a
+/// batch's recipe alike.
+pub(super) fn add_fit(
+    built: &karigami::Build,
+    target: Option<&TargetFile>,
+    recorded: &Recorded,
+    outputs: &mut [(String, Vec<u8>)],
+    report: &mut Report,
+) {
+    let fit = target.map(|t| t.fit_build(built).text);
+    if let Some(fit) = fit.or(recorded.note().map(str::to_string)) {
+        if let Some((_, bytes)) = outputs.iter_mut().find(|(name, _)| name == "report.txt") {
+            bytes.extend(format!("\n{fit}").bytes());
+        }
+        report.target_fit = Some(fit);
+    }
+}
+
+/// The target a recipe records (`karigami design`), found or said
+/// missing, when no --target is given; none for a recipe that does not
+/// parse (it fails in the build).
+pub(super) fn recorded_of(recipe: &Recipe, path: &Path, overrides: &Overrides) -> Recorded {
+    recipe
+        .parse(overrides)
+        .map_or(Recorded::None, |d| Recorded::of(path, d.target.as_ref()))
 }
 
 /// What of the target report.txt reads, for the build's fingerprint: a
 /// `--target` file's hash; the recorded target's path and hash, or the
 /// line saying why it is not fitted; nothing without either.
-fn target_key(given: Option<&TargetFile>, recorded: &Recorded) -> Vec<u8> {
+pub(super) fn target_key(given: Option<&TargetFile>, recorded: &Recorded) -> Vec<u8> {
     match (given, recorded) {
         (Some(t), _) => t.hash.to_le_bytes().to_vec(),
         (None, Recorded::Target(t)) => format!("recorded {} {:016x}", t.file, t.hash).into_bytes(),
@@ -165,8 +176,17 @@ fn target_key(given: Option<&TargetFile>, recorded: &Recorded) -> Vec<u8> {
     }
 }
 
-/// `inputs` with the fingerprint of a `--target` file (none: empty).
-fn inputs_with(recipe: &Recipe, overrides: &Overrides, folder: &str, target: &[u8]) -> Option<u64> {
+/// The fingerprint of what a recipe's files are made from (besides the
+/// program, which `files::inputs` adds): the recipe's text and name, the
+/// command line's options, the subfolder and the target's (`target_key`;
+/// empty without one). The number of jobs is left out: the files are the
+/// same with any.
+pub(super) fn inputs_with(
+    recipe: &Recipe,
+    overrides: &Overrides,
+    folder: &str,
+    target: &[u8],
+) -> Option<u64> {
     let options = format!("{overrides:?}");
     let mut parts: Vec<&[u8]> = vec![
         b"karigami build 1",

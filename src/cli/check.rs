@@ -219,7 +219,9 @@ impl Recorded {
             return Self::None;
         };
         let path = recipe.parent().unwrap_or(Path::new(".")).join(file);
-        let shown = path.display();
+        // Named as the recipe records it, so that the report reads the
+        // same whatever folder the build was run from.
+        let shown = file;
         let note = |why: String| {
             Self::Note(format!(
                 "target {shown} (recorded by the recipe): {why}, so its fit is not reported; --target FILE fits any\n"
@@ -234,7 +236,10 @@ impl Recorded {
                     "changed since the design was made (hash {:016x}, the recipe records {h})",
                     t.hash
                 )),
-                _ => Self::Target(t),
+                _ => Self::Target(TargetFile {
+                    file: file.clone(),
+                    ..t
+                }),
             },
             Err(e) => note(format!("cannot be read ({})", e.message())),
         }
