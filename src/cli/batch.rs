@@ -498,7 +498,7 @@ fn start(
         Err(e) => return Started::Ended(Ended::failed(e)),
     };
     // The target the recipe records, fitted in its report.txt as a single
-    // build fits it (docs/commands.md, "Batch builds").
+    // build fits it (docs/design.md, "The recipe's record").
     let recorded = recorded_of(&recipe, path, overrides);
     let key = inputs_with(&recipe, overrides, folder, &target_key(None, &recorded));
     match staged.keep(out, folder, key) {
