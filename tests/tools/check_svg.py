@@ -11,12 +11,18 @@ from svgelements import SVG, Circle
 
 svg = SVG.parse(sys.argv[1], ppi=96)
 mm = 25.4 / 96
-circles = [c for c in svg.elements() if isinstance(c, Circle)]
+# svgelements carries each circle's placement (its <use> and group
+# transforms) into its implicit centre and radii. They equal the centre and
+# half-extent of its bounding box to 1e-12 px, at a hundredth of the cost
+# (bbox() traces the arc: 11 s for a 30 x 30-cell sheet's 5,405 holes).
+circles = [(c.implicit_center, c.implicit_rx, c.implicit_ry)
+           for c in svg.elements() if isinstance(c, Circle)]
+# An ellipse is not a hole: its radii would differ.
+assert all(abs(rx - ry) < 1e-9 * max(1.0, rx) for _, rx, ry in circles), "an elliptic hole"
 # Centres in user units (mm by the viewBox), free of svgelements' rounded
 # px-per-mm constant (its 3000 mm sheet reads 3000.0016 mm wide).
 user = svg.viewbox.width / svg.width
-holes = sorted([round(x * user, 6) for x in ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2, (b[2] - b[0]) / 2)]
-               for b in (c.bbox() for c in circles))
-diameters = sorted({round((c.bbox()[2] - c.bbox()[0]) * mm, 6) for c in svg.elements() if isinstance(c, Circle)})
+holes = sorted([round(v * user, 6) for v in (c[0], c[1], rx)] for c, rx, _ in circles)
+diameters = sorted({round(2 * rx * mm, 6) for _, rx, _ in circles})
 print(json.dumps({"width_mm": svg.width * mm, "height_mm": svg.height * mm, "hole_diameters_mm": diameters,
                   "holes": holes}))
