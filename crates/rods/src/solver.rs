@@ -361,13 +361,11 @@ impl System {
     /// length and term the same, so the same Hessian), with that model.
     pub(crate) fn take_factor(&self, model: &Model) -> Option<(Factor, Model)> {
         let mut s = self.spare.lock().ok()?;
-        match &*s {
-            (Some(_), Some(kept)) if kept == model => match std::mem::take(&mut *s) {
-                (Some(f), Some(kept)) => Some((f, kept)),
-                _ => None,
-            },
-            _ => None,
+        if !matches!(&*s, (Some(_), Some(kept)) if kept == model) {
+            return None;
         }
+        let (f, kept) = std::mem::take(&mut *s);
+        Some((f?, kept?))
     }
 
     /// Solve (H + tau Dm) x = rhs with a factor of it.
