@@ -375,11 +375,33 @@ impl Checked {
         simulates.then(|| simulation_estimate(&self.lattice, settings))
     }
 
+    /// Whether `previous`, an earlier build's `STATE_FILE`, holds this
+    /// lattice's simulation whole, so that `assemble_for_check` restores it
+    /// rather than solving: long work is said only when it will run.
+    pub fn restores(&self, previous: &[u8]) -> bool {
+        let m = &self.design.fabrication.material;
+        let derived = crate::sim::Derived {
+            placed: self.assembled(),
+            joints: self.joints(),
+        };
+        let key = reuse::fingerprint(
+            &self.lattice,
+            &derived,
+            m.width,
+            m.thickness,
+            &self.design.simulation,
+        );
+        reuse::written_for(previous, key)
+    }
+
     /// `assemble` for `karigami check`: everything its reports show, the
     /// simulated shape and its clash refusal included. The deployment path
     /// is followed as in a build, since its end is the state reported.
-    pub fn assemble_for_check(self) -> Result<Build, Diagnostic> {
-        assemble(self)?.simulate_then(None, true)
+    /// The simulation is restored from an earlier build's `STATE_FILE`
+    /// (`previous`) when nothing it depends on changed, as a rebuild
+    /// restores it (`Unsimulated::simulate`).
+    pub fn assemble_for_check(self, previous: Option<&[u8]>) -> Result<Build, Diagnostic> {
+        assemble(self)?.simulate_then(previous, true)
     }
 }
 

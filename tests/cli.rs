@@ -58,13 +58,12 @@ fn check_passes_on_every_example_and_template() {
         "templates/ holds recipes"
     );
     crate::util::each_in_parallel(&files, 2, |rel| {
-        // The torus's check is the fit test's too (targets.rs).
-        let flags: &[&str] = if rel == "examples/torus.toml" {
-            &crate::util::TORUS_TARGET
-        } else {
-            &[]
+        // A gallery example reuses its shared build's simulation; the
+        // torus's check is the fit test's too (targets.rs).
+        let out = match rel.strip_prefix("examples/") {
+            Some(name) => crate::util::gallery_check(name.trim_end_matches(".toml")),
+            None => crate::util::cli_check(rel, &[]),
         };
-        let out = crate::util::cli_check(rel, flags);
         let stdout = text(&out.stdout);
         assert!(
             out.status.success(),
@@ -73,7 +72,46 @@ fn check_passes_on_every_example_and_template() {
             text(&out.stderr)
         );
         assert!(stdout.contains("result: PASS"), "{rel}: {stdout}");
+        assert!(!stdout.contains("simulation: solved"), "{rel}: {stdout}");
     });
+}
+
+/// `check --reuse` restores the simulated shape a build solved, and its
+/// report is the one a check that solves prints, but for the line that
+/// says so; what the build did not solve is solved anew, and a folder that is
+/// not a build is refused before anything is grown.
+#[test]
+fn check_reuses_what_a_build_solved() {
+    let sheet = "examples/curved-sheet.toml";
+    let built = crate::util::cli_build("curved-sheet", &[])
+        .to_str()
+        .unwrap();
+    let solved = karigami(&["check", sheet], &repo());
+    let reused = karigami(&["check", sheet, "--reuse", built], &repo());
+    assert!(reused.status.success(), "{}", text(&reused.stderr));
+    let line =
+        format!("simulation: reused from the build in {built} (nothing it depends on changed)\n");
+    let reused = text(&reused.stdout);
+    assert!(reused.contains(&line), "{reused}");
+    assert_eq!(reused.replacen(&line, "", 1), text(&solved.stdout));
+
+    // Narrower strips bend otherwise: the state is not theirs.
+    let args = ["check", sheet, "--strip-width", "9", "--reuse", built];
+    let other = karigami(&args, &repo());
+    let other = text(&other.stdout);
+    assert!(
+        other.contains(&format!(
+            "simulation: solved (the build in {built} holds none of this recipe as it is now)"
+        )),
+        "{other}"
+    );
+
+    let out = karigami(&["check", sheet, "--reuse", "examples"], &repo());
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        text(&out.stderr),
+        "error: cannot reuse examples: it is not a karigami build folder (no .karigami-build in it); give the --out folder of `karigami build`\n"
+    );
 }
 
 #[test]

@@ -371,7 +371,7 @@ fn ten_million_triangles_are_refused_from_the_header() {
 /// shape; the torus example is grown onto its torus.
 #[test]
 fn check_reports_the_fit_of_the_torus_example_to_its_torus() {
-    let o = crate::util::cli_check("examples/torus.toml", &crate::util::TORUS_TARGET);
+    let o = crate::util::gallery_check("torus");
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(
         o.status.success(),

@@ -244,6 +244,20 @@ fn shared_build(name: &str, flags: &[&str]) -> &'static Path {
 /// example and the fit's own test share that one check.
 pub(crate) const TORUS_TARGET: [&str; 2] = ["--target", "fixtures/targets/torus.toml"];
 
+/// `karigami check examples/<name>.toml`, once per test process, reusing
+/// the simulation of the shared build (`cli_build`): each gallery shape is
+/// solved once in the suite, and the build's own tests cover that solve
+/// (a check that reuses nothing is `check_reuses_what_a_build_solved`'s).
+/// The torus is fitted to its torus too (`TORUS_TARGET`).
+pub(crate) fn gallery_check(name: &str) -> &'static std::process::Output {
+    let built = cli_build(name, &[]).to_str().unwrap().to_string();
+    let mut flags = vec!["--reuse", built.as_str()];
+    if name == "torus" {
+        flags.extend(TORUS_TARGET);
+    }
+    cli_check(&format!("examples/{name}.toml"), &flags)
+}
+
 /// `karigami check <recipe> <flags>`, the recipe a path under the
 /// repository, run there once per test process; its output.
 pub(crate) fn cli_check(recipe: &str, flags: &[&str]) -> &'static std::process::Output {

@@ -89,6 +89,9 @@ pub(super) enum Command {
         /// A target shape (.obj, .stl, or .toml with a [target] table): report how well the design and its simulated shape fit it (docs/design.md).
         #[arg(long, value_name = "FILE")]
         target: Option<PathBuf>,
+        /// A build folder of these recipes (`build --out DIR`): each one's simulated shape is restored from it when nothing the simulation depends on changed, else solved (docs/commands.md).
+        #[arg(long, value_name = "DIR")]
+        reuse: Option<PathBuf>,
         #[command(flatten)]
         fabrication: FabricationFlags,
     },

@@ -30,6 +30,10 @@ struct CheckJson {
     /// Why the recorded target's fit is not reported: missing, changed.
     #[serde(skip_serializing_if = "Option::is_none")]
     target_note: Option<String>,
+    /// "solved" or "reused" (from `--reuse`'s build), as in `build --json`;
+    /// absent when nothing was simulated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    simulation: Option<&'static str>,
 }
 
 impl CheckJson {
@@ -42,19 +46,35 @@ impl CheckJson {
             build: None,
             target: None,
             target_note: None,
+            simulation: None,
         }
     }
 }
 
+/// What `check` was asked beside its recipes.
+pub(super) struct Asked<'a> {
+    /// A JSON report on stdout instead of text.
+    pub json: bool,
+    /// `--target`: the shape to report the fit to.
+    pub target: Option<&'a Path>,
+    /// `--reuse`: a build folder whose simulation states are restored.
+    pub reuse: Option<&'a Path>,
+}
+
 pub(super) fn check(
     paths: &[PathBuf],
-    json: bool,
-    target: Option<&Path>,
+    asked: Asked,
     overrides: &Overrides,
     v: Verbosity,
 ) -> Result<(), Error> {
-    // A bad target is refused before any recipe is grown.
-    let target = target.map(TargetFile::read).transpose()?;
+    let json = asked.json;
+    // A bad target or build folder is refused before any recipe is grown.
+    let target = asked.target.map(TargetFile::read).transpose()?;
+    let reuse = asked.reuse.map(files::EarlierBuild::open).transpose()?;
+    let given = Given {
+        target: target.as_ref(),
+        reuse: reuse.as_ref(),
+    };
     let paths = files::recipes(paths)?;
     let mut reports = Vec::new();
     let mut worst: Option<ErrorKind> = None;
@@ -62,7 +82,7 @@ pub(super) fn check(
     for path in &paths {
         let what = format!("checking {}", path.display());
         let (failed, report) = progress::heartbeat(&what, v.quiet || json, || {
-            check_one(path, json, target.as_ref(), overrides, v, &mut bar)
+            check_one(path, json, &given, overrides, v, &mut bar)
         });
         if let Some(kind) = failed
             && worst.is_none_or(|w| kind.exit_code() > w.exit_code())
@@ -81,12 +101,18 @@ pub(super) fn check(
     }
 }
 
+/// The files `check` read for every recipe: `--target` and `--reuse`.
+struct Given<'a> {
+    target: Option<&'a TargetFile>,
+    reuse: Option<&'a files::EarlierBuild>,
+}
+
 /// Check one recipe: print its report (text unless `json`), return what
 /// failed, if anything, and the JSON report.
 fn check_one(
     path: &Path,
     json: bool,
-    target: Option<&TargetFile>,
+    given: &Given,
     overrides: &Overrides,
     v: Verbosity,
     bar: &mut Progress,
@@ -109,6 +135,7 @@ fn check_one(
         Err(e) => return fail(e, bar),
     };
     // No --target: the one the recipe records, if any (`karigami design`).
+    let target = given.target;
     let recorded = match target {
         Some(_) => Recorded::None,
         None => Recorded::of(path, design.target.as_ref()),
@@ -162,12 +189,20 @@ fn check_one(
         checked.target_note = target_note.map(|n| n.trim_end().to_string());
         return (None, checked);
     }
-    say_estimate(&file, &checked, overrides, json || v.quiet, bar);
-    match checked.assemble_for_check() {
+    let state = given
+        .reuse
+        .and_then(|r| r.state(&super::recipe::stem(path), super::recipe::STATE_LIMIT));
+    if !state.as_deref().is_some_and(|s| checked.restores(s)) {
+        say_estimate(&file, &checked, overrides, json || v.quiet, bar);
+    }
+    match checked.assemble_for_check(state.as_deref()) {
         Ok(built) => {
             let fit = target.map(|t| t.fit_build(&built));
             if !json && !v.quiet {
                 out!("{}", karigami::summary(&built));
+                if let Some(r) = given.reuse {
+                    out!("{}", reuse_line(&built, r));
+                }
                 let said = fit.as_ref().map(|f| f.text.as_str());
                 out!("{}", said.or(target_note.as_deref()).unwrap_or(""));
                 outln!("result: PASS (geometry verified, every strip can be cut)");
@@ -177,6 +212,7 @@ fn check_one(
             checked.target = fit.map(|f| f.json);
             checked.target_note = target_note.map(|n| n.trim_end().to_string());
             checked.build = json.then(|| karigami::build_json(&built));
+            checked.simulation = super::recipe::simulation(&built);
             (None, checked)
         }
         Err(d) => {
@@ -184,6 +220,21 @@ fn check_one(
             checked.check = check;
             (failed, checked)
         }
+    }
+}
+
+/// Where `--reuse` found the simulated shape, as a line of the report;
+/// nothing for a build that simulates nothing.
+fn reuse_line(built: &karigami::Build, reuse: &files::EarlierBuild) -> String {
+    let dir = reuse.path().display();
+    match super::recipe::simulation(built) {
+        Some("reused") => {
+            format!("simulation: reused from the build in {dir} (nothing it depends on changed)\n")
+        }
+        Some(_) => format!(
+            "simulation: solved (the build in {dir} holds none of this recipe as it is now)\n"
+        ),
+        None => String::new(),
     }
 }
 

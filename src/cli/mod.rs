@@ -121,11 +121,15 @@ fn run_command() -> i32 {
             designs,
             json,
             target,
+            reuse,
             fabrication,
         } => check::check(
             &designs,
-            json,
-            target.as_deref(),
+            check::Asked {
+                json,
+                target: target.as_deref(),
+                reuse: reuse.as_deref(),
+            },
             &fabrication.overrides(),
             v,
         ),

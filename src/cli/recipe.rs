@@ -92,4 +92,4 @@ pub(super) fn simulation(b: &Build) -> Option<&'static str> {
 /// The largest simulation state read back: the saddle ring's 120 cells
 /// write about 0.3 MB, so a 2,000-cell lattice (the most `build`
 /// simulates) about 5 MB; anything far beyond is not ours.
-const STATE_LIMIT: u64 = 64 << 20;
+pub(super) const STATE_LIMIT: u64 = 64 << 20;

@@ -149,6 +149,19 @@ fn head(fingerprint: u64, payload: &[u8]) -> String {
     )
 }
 
+/// Whether a state file was written for `fingerprint` and is whole (its
+/// head names the fingerprint and its payload's length and hash).
+pub(crate) fn written_for(bytes: &[u8], fingerprint: u64) -> bool {
+    payload_for(bytes, fingerprint).is_some()
+}
+
+/// The payload of a state file written for `fingerprint` and whole.
+fn payload_for(bytes: &[u8], fingerprint: u64) -> Option<&[u8]> {
+    let split = bytes.windows(2).position(|w| w == b"\n\n")? + 2;
+    let payload = &bytes[split..];
+    (bytes[..split] == *head(fingerprint, payload).as_bytes()).then_some(payload)
+}
+
 /// The simulation a state file holds, if it was written for `fingerprint`
 /// and is whole: the model prepared as `sim::simulate_with` prepares it,
 /// then put in the stored state, with the deployment path that reached it
@@ -164,11 +177,7 @@ pub(crate) fn restore(
     settings: &Settings,
 ) -> Option<(Simulation, Option<Path>)> {
     let clock = Instant::now();
-    let split = bytes.windows(2).position(|w| w == b"\n\n")? + 2;
-    let payload = &bytes[split..];
-    if bytes[..split] != *head(fingerprint, payload).as_bytes() {
-        return None;
-    }
+    let payload = payload_for(bytes, fingerprint)?;
     let mut lm = prepare_with(lattice, derived, width, thickness, settings);
     let mut r = Reader(payload);
     let m = &mut lm.model;

@@ -3,9 +3,11 @@
 //! (crates/folder: staged, locked, repaired, docs/build-folders.md), told
 //! here who writes them and where their warnings go.
 
+mod earlier;
 mod input;
 mod out_file;
 
+pub(super) use earlier::EarlierBuild;
 pub(super) use input::{read, recipes, safe_component};
 pub(super) use karigami_folder::{
     OutDir, Staged, dir_of, inputs, start_program_hash, write_atomic,
