@@ -52,6 +52,7 @@ impl CheckJson {
 }
 
 /// What `check` was asked beside its recipes.
+#[derive(Clone, Copy)]
 pub(super) struct Asked<'a> {
     /// A JSON report on stdout instead of text.
     pub json: bool,
