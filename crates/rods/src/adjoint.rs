@@ -87,7 +87,8 @@ pub struct Linearisation<'a> {
 
 impl<'a> Linearisation<'a> {
     /// Factor the Hessian of `model` as it is (an equilibrium), or take
-    /// the factor the solver's last `finish` left of that same state.
+    /// the factor the solver's last `finish` (or the last linearisation)
+    /// left of that same state.
     pub fn new(sys: &'a System, model: &Model) -> Result<Self, AdjointError> {
         if let Some((factor, kept)) = sys.take_factor(model) {
             let kept = Some(kept);
@@ -95,7 +96,10 @@ impl<'a> Linearisation<'a> {
         }
         let (_, _, h) = sys.assemble(model);
         let factor = sys.factor(&h, 0.0).ok_or(AdjointError::Indefinite)?;
-        let kept = None;
+        // Kept on release, as `finish` keeps its own: the next
+        // linearisation of this state (an adjoint, then a warm re-solve's
+        // tangent from it) takes it instead of factoring again.
+        let kept = Some(model.clone());
         Ok(Linearisation { sys, factor, kept })
     }
 
