@@ -94,8 +94,10 @@ impl<'a> Linearisation<'a> {
             let kept = Some(kept);
             return Ok(Linearisation { sys, factor, kept });
         }
-        let (_, _, h) = sys.assemble(model);
-        let factor = sys.factor(&h, 0.0).ok_or(AdjointError::Indefinite)?;
+        let (_, g, h) = sys.assemble(model);
+        let factor = sys.factor(&h, 0.0);
+        sys.recycle(g, h);
+        let factor = factor.ok_or(AdjointError::Indefinite)?;
         // Kept on release, as `finish` keeps its own: the next
         // linearisation of this state (an adjoint, then a warm re-solve's
         // tangent from it) takes it instead of factoring again.

@@ -82,6 +82,10 @@ pub struct System {
     /// whose unshifted Hessian it is the factor of, if it is one
     /// (`keep_factor`).
     spare: std::sync::Mutex<Spare>,
+    /// A gradient's and a Hessian's buffers handed back (`recycle`) for
+    /// the next assembly: the Hessian's values are megabytes, and fresh
+    /// ones each time cost page faults.
+    buffers: std::sync::Mutex<(Vec<f64>, Vec<f64>)>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -207,6 +211,7 @@ impl System {
             perm,
             numeric,
             spare: std::sync::Mutex::new((None, None)),
+            buffers: std::sync::Mutex::new((Vec::new(), Vec::new())),
             diag_pos,
             dm,
         }
@@ -251,8 +256,15 @@ impl System {
     /// Energy, gradient over every variable, and the free Hessian's lower values.
     pub fn assemble(&self, model: &Model) -> (f64, Vec<f64>, Vec<f64>) {
         ASSEMBLIES.fetch_add(1, Relaxed);
-        let mut g = vec![0.0; model.q.len()];
-        let mut h = vec![0.0; self.pattern.row_idx.len()];
+        let (mut g, mut h) = self
+            .buffers
+            .lock()
+            .map(|mut b| std::mem::take(&mut *b))
+            .unwrap_or_default();
+        g.clear();
+        g.resize(model.q.len(), 0.0);
+        h.clear();
+        h.resize(self.pattern.row_idx.len(), 0.0);
         let mut e = 0.0;
         let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
         let mut memo = Memo::new();
@@ -289,6 +301,13 @@ impl System {
             }
         }
         (e, g, h)
+    }
+
+    /// Hand an assembly's gradient and Hessian back for the next one.
+    pub fn recycle(&self, g: Vec<f64>, h: Vec<f64>) {
+        if let Ok(mut b) = self.buffers.lock() {
+            *b = (g, h);
+        }
     }
 
     /// The gradient over the free variables (tied variables' parts moved
@@ -758,12 +777,7 @@ struct Step {
     tau: f64,
 }
 
-fn newton_step(
-    sys: &System,
-    model: &Model,
-    tau_prev: &mut f64,
-    curvature: bool,
-) -> Option<(Step, Vec<f64>)> {
+fn newton_step(sys: &System, model: &Model, tau_prev: &mut f64, curvature: bool) -> Option<Step> {
     let (_, g, h) = sys.assemble(model);
     if g.iter().any(|v| !v.is_finite()) {
         return None;
@@ -803,7 +817,8 @@ fn newton_step(
         dec = dec.max(1e-6 * model.e_scale);
     }
     sys.release(llt);
-    Some((Step { d, dec, tau }, g))
+    sys.recycle(g, h);
+    Some(Step { d, dec, tau })
 }
 
 fn apply(sys: &System, model: &mut Model, d: &[f64], scale: f64) {
@@ -841,7 +856,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         {
             return Err(SolveError::TimeLimit { iteration: it });
         }
-        let Some((step, _)) = newton_step(sys, model, &mut tau_prev, true) else {
+        let Some(step) = newton_step(sys, model, &mut tau_prev, true) else {
             return Err(SolveError::NotFinite { iteration: it });
         };
         let small = step_size(sys, model, &step.d) < 1e-8;
@@ -868,7 +883,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         // (ii) the watchdog: one more step from there.
         model.update_frames();
         let mut tau2 = tau_prev;
-        if let Some((step2, _)) = newton_step(sys, model, &mut tau2, false) {
+        if let Some(step2) = newton_step(sys, model, &mut tau2, false) {
             apply(sys, model, &step2.d, 1.0);
             let e2 = model.energy();
             if e2 <= e - 1e-4 * step.dec {
@@ -938,6 +953,7 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
             }
         }
     };
+    sys.recycle(g, h);
     Stats {
         iterations,
         converged,
