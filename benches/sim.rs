@@ -151,10 +151,13 @@ fn design_step(cold: &Cold) -> [((f64, f64), String); 3] {
     let t0 = (Instant::now(), thread_cpu());
     let sys = lm.system();
     let g = objective_gradient(lm, &sys, &targets(lm));
-    let adjoint = (took(t0), match g {
-        Ok(g) => format!(" ({} legs)", g.legs.len()),
-        Err(e) => format!(" {e}"),
-    });
+    let adjoint = (
+        took(t0),
+        match g {
+            Ok(g) => format!(" ({} legs)", g.legs.len()),
+            Err(e) => format!(" {e}"),
+        },
+    );
     let mut changed = cold.design.clone();
     let k = changed.points.len() / 2;
     if let Some(p) = changed.points.get_mut(k) {
@@ -185,7 +188,10 @@ fn design_step(cold: &Cold) -> [((f64, f64), String); 3] {
                 Err(e) => ((f64::NAN, f64::NAN), format!(" failed: {e}")),
             }
         }
-        Err(e) => ((f64::NAN, f64::NAN), format!("does not grow: {}", e.message)),
+        Err(e) => (
+            (f64::NAN, f64::NAN),
+            format!("does not grow: {}", e.message),
+        ),
     };
     let mut lm = kept.clone();
     lm.direction(Param::Opening)
