@@ -16,7 +16,9 @@
 //! system kept untimed (`keep_system`), as a design loop's steps reuse it, and the adjoint gradient of the squared
 //! distances of the joints to targets 1 mm above them over every leg length
 //! and the opening (`sensitivity::objective_gradient`, on that system, taken
-//! first, right after the cold solve, as a design loop does). Then the eggbox's 60-start explore on one job
+//! first, right after the cold solve, as a design loop does), each the
+//! mean of 5 repetitions (`--repeat N`; the thread's CPU clock ticks
+//! coarsely). Then the eggbox's 60-start explore on one job
 //! (`--no-explore` to skip it).
 
 use karigami::simulation::sensitivity::{Param, objective_gradient};
@@ -118,8 +120,28 @@ fn run(name: &str, text: &str, actuation: Actuation) -> Option<Cold> {
     }
 }
 
-/// The design-loop figures of one example (module documentation).
-fn design_loop(name: &str, cold: &Cold) {
+/// The design-loop figures of one example (module documentation), each
+/// the mean over `reps` repetitions from the same kept system.
+fn design_loop(name: &str, cold: &Cold, reps: usize) {
+    let mut times = [Mean::default(), Mean::default(), Mean::default()];
+    let mut said = [String::new(), String::new(), String::new()];
+    for _ in 0..reps.max(1) {
+        let figures = design_step(cold);
+        for ((t, s), (secs, what)) in times.iter_mut().zip(&mut said).zip(figures) {
+            t.add(secs);
+            *s = what;
+        }
+    }
+    let [a, b, c] = [0, 1, 2].map(|i| {
+        let t = &times[i];
+        format!("{}{}", t.shown(), said[i])
+    });
+    println!("| {name} | {b} | {c} | {a} |");
+}
+
+/// One repetition of `design_loop`: ((CPU s, wall s), what it did) of the
+/// adjoint, the seed-point re-solve and the opening re-solve.
+fn design_step(cold: &Cold) -> [((f64, f64), String); 3] {
     // The loop's first step keeps the cold run's system (untimed; a
     // design loop makes it once) for the steps after it.
     let mut kept = cold.run.lm.clone();
@@ -129,11 +151,13 @@ fn design_loop(name: &str, cold: &Cold) {
     let t0 = (Instant::now(), thread_cpu());
     let sys = lm.system();
     let g = objective_gradient(lm, &sys, &targets(lm));
-    let secs = took(t0);
-    let adjoint = match g {
-        Ok(g) => format!("{secs} ({} legs)", g.legs.len()),
-        Err(e) => format!("{e}"),
-    };
+    let adjoint = (
+        took(t0),
+        match g {
+            Ok(g) => format!(" ({} legs)", g.legs.len()),
+            Err(e) => format!(" {e}"),
+        },
+    );
     let mut changed = cold.design.clone();
     let k = changed.points.len() / 2;
     if let Some(p) = changed.points.get_mut(k) {
@@ -153,15 +177,21 @@ fn design_loop(name: &str, cold: &Cold) {
             );
             let secs = took(t0);
             match r {
-                Ok((run, warm)) => format!(
-                    "{secs}, {} it{}",
-                    run.iterations,
-                    if warm { "" } else { " (cold)" }
+                Ok((run, warm)) => (
+                    secs,
+                    format!(
+                        ", {} it{}",
+                        run.iterations,
+                        if warm { "" } else { " (cold)" }
+                    ),
                 ),
-                Err(e) => format!("failed: {e}"),
+                Err(e) => ((f64::NAN, f64::NAN), format!(" failed: {e}")),
             }
         }
-        Err(e) => format!("does not grow: {}", e.message),
+        Err(e) => (
+            (f64::NAN, f64::NAN),
+            format!("does not grow: {}", e.message),
+        ),
     };
     let mut lm = kept.clone();
     lm.direction(Param::Opening)
@@ -173,10 +203,39 @@ fn design_loop(name: &str, cold: &Cold) {
     let r = solve(&mut lm.model, &sys, &Options::default());
     let secs = took(t0);
     let opening = match r {
-        Ok(s) => format!("{secs}, {} it", s.iterations),
-        Err(e) => format!("failed: {e}"),
+        Ok(s) => (secs, format!(", {} it", s.iterations)),
+        Err(e) => ((f64::NAN, f64::NAN), format!(" failed: {e}")),
     };
-    println!("| {name} | {seed} | {opening} | {adjoint} |");
+    [adjoint, seed, opening]
+}
+
+/// A mean of (CPU, wall) seconds.
+#[derive(Default)]
+struct Mean {
+    cpu: f64,
+    wall: f64,
+    n: usize,
+}
+
+impl Mean {
+    fn add(&mut self, (cpu, wall): (f64, f64)) {
+        self.cpu += cpu;
+        self.wall += wall;
+        self.n += 1;
+    }
+
+    /// "C ms CPU (W wall)", or nothing when not measured.
+    fn shown(&self) -> String {
+        let n = self.n.max(1) as f64;
+        if !self.cpu.is_finite() {
+            return String::new();
+        }
+        format!(
+            "{:.1} ms CPU ({:.0} wall)",
+            1e3 * self.cpu / n,
+            1e3 * self.wall / n
+        )
+    }
 }
 
 /// Targets for the adjoint's objective: every point 1 mm higher.
@@ -195,13 +254,9 @@ fn thread_cpu() -> f64 {
         .map_or(f64::NAN, |ns| ns * 1e-9)
 }
 
-/// "C ms CPU, W ms wall" since `(clock, cpu0)`.
-fn took((clock, cpu0): (Instant, f64)) -> String {
-    format!(
-        "{:.1} ms CPU ({:.0} wall)",
-        1e3 * (thread_cpu() - cpu0),
-        1e3 * clock.elapsed().as_secs_f64()
-    )
+/// (CPU s, wall s) since `(clock, cpu0)`.
+fn took((clock, cpu0): (Instant, f64)) -> (f64, f64) {
+    (thread_cpu() - cpu0, clock.elapsed().as_secs_f64())
 }
 
 /// User + system CPU time of this process (Linux /proc; the machine may be
@@ -226,7 +281,7 @@ fn cpu_seconds() -> f64 {
 fn main() {
     let wanted: Vec<String> = std::env::args()
         .skip(1)
-        .filter(|a| !a.starts_with('-'))
+        .filter(|a| !a.starts_with('-') && a.parse::<usize>().is_err())
         .collect();
     let actuation = if std::env::args().any(|a| a == "--first-cell") {
         Actuation::FirstCell
@@ -265,8 +320,13 @@ fn main() {
         "| example | warm re-solve, seed point +0.1 mm | warm re-solve, opening +0.1 deg | adjoint gradient |"
     );
     println!("|---|---|---|---|");
+    let reps = std::env::args()
+        .skip_while(|a| a != "--repeat")
+        .nth(1)
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(5);
     for (name, c) in &colds {
-        design_loop(name, c);
+        design_loop(name, c, reps);
     }
     if !std::env::args().any(|a| a == "--no-explore") {
         explore_eggbox();

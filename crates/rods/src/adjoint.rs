@@ -87,15 +87,21 @@ pub struct Linearisation<'a> {
 
 impl<'a> Linearisation<'a> {
     /// Factor the Hessian of `model` as it is (an equilibrium), or take
-    /// the factor the solver's last `finish` left of that same state.
+    /// the factor the solver's last `finish` (or the last linearisation)
+    /// left of that same state.
     pub fn new(sys: &'a System, model: &Model) -> Result<Self, AdjointError> {
         if let Some((factor, kept)) = sys.take_factor(model) {
             let kept = Some(kept);
             return Ok(Linearisation { sys, factor, kept });
         }
-        let (_, _, h) = sys.assemble(model);
-        let factor = sys.factor(&h, 0.0).ok_or(AdjointError::Indefinite)?;
-        let kept = None;
+        let (_, g, h) = sys.assemble(model);
+        let factor = sys.factor(&h, 0.0);
+        sys.recycle(g, h);
+        let factor = factor.ok_or(AdjointError::Indefinite)?;
+        // Kept on release, as `finish` keeps its own: the next
+        // linearisation of this state (an adjoint, then a warm re-solve's
+        // tangent from it) takes it instead of factoring again.
+        let kept = Some(model.clone());
         Ok(Linearisation { sys, factor, kept })
     }
 

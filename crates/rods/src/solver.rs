@@ -82,6 +82,10 @@ pub struct System {
     /// whose unshifted Hessian it is the factor of, if it is one
     /// (`keep_factor`).
     spare: std::sync::Mutex<Spare>,
+    /// A gradient's and a Hessian's buffers handed back (`recycle`) for
+    /// the next assembly: the Hessian's values are megabytes, and fresh
+    /// ones each time cost page faults.
+    buffers: std::sync::Mutex<(Vec<f64>, Vec<f64>)>,
     diag_pos: Vec<usize>,
     /// Diagonal metric: 1 for lengths, (w/2)^2 for angles.
     pub dm: Vec<f64>,
@@ -207,6 +211,7 @@ impl System {
             perm,
             numeric,
             spare: std::sync::Mutex::new((None, None)),
+            buffers: std::sync::Mutex::new((Vec::new(), Vec::new())),
             diag_pos,
             dm,
         }
@@ -251,8 +256,15 @@ impl System {
     /// Energy, gradient over every variable, and the free Hessian's lower values.
     pub fn assemble(&self, model: &Model) -> (f64, Vec<f64>, Vec<f64>) {
         ASSEMBLIES.fetch_add(1, Relaxed);
-        let mut g = vec![0.0; model.q.len()];
-        let mut h = vec![0.0; self.pattern.row_idx.len()];
+        let (mut g, mut h) = self
+            .buffers
+            .lock()
+            .map(|mut b| std::mem::take(&mut *b))
+            .unwrap_or_default();
+        g.clear();
+        g.resize(model.q.len(), 0.0);
+        h.clear();
+        h.resize(self.pattern.row_idx.len(), 0.0);
         let mut e = 0.0;
         let (mut gs, mut hs) = (Vec::with_capacity(32), Vec::with_capacity(32 * 32));
         let mut memo = Memo::new();
@@ -289,6 +301,13 @@ impl System {
             }
         }
         (e, g, h)
+    }
+
+    /// Hand an assembly's gradient and Hessian back for the next one.
+    pub fn recycle(&self, g: Vec<f64>, h: Vec<f64>) {
+        if let Ok(mut b) = self.buffers.lock() {
+            *b = (g, h);
+        }
     }
 
     /// The gradient over the free variables (tied variables' parts moved
@@ -445,6 +464,111 @@ impl System {
         }
         (lambda, v)
     }
+}
+
+impl System {
+    /// The lowest generalised eigenvalue of (H, Dm) by Lanczos on
+    /// (H + tau Dm)^-1 Dm with a factor of H + tau Dm (positive definite),
+    /// in the Dm inner product (docs/physics.md, "Solver"): its largest
+    /// Ritz value theta is 1 / (lambda + tau). The three-term recurrence
+    /// only (no reorthogonalisation: a lost orthogonality repeats a
+    /// converged Ritz value, it does not change the largest), until theta
+    /// changes by at most 1e-12 of itself, at most 60 steps.
+    pub fn lowest_eigenvalue(&self, llt: &Factor, tau: f64, seed: u64) -> f64 {
+        let n = self.n();
+        let mut rng = crate::rng::Rng::new(seed);
+        let mut q: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
+        let dm_norm = |x: &[f64]| {
+            x.iter()
+                .zip(&self.dm)
+                .map(|(a, b)| a * a * b)
+                .sum::<f64>()
+                .sqrt()
+        };
+        let norm = dm_norm(&q);
+        if !(norm > 0.0) {
+            return f64::NAN;
+        }
+        q.iter_mut().for_each(|x| *x /= norm);
+        let mut q_prev = vec![0.0; n];
+        let mut w = vec![0.0; n];
+        let mut work = self.numeric.work();
+        let (mut alpha, mut beta) = (Vec::new(), Vec::new());
+        let mut theta = 0.0;
+        for step in 0..60 {
+            // w = (H + tau Dm)^-1 Dm q.
+            for (x, &old) in work.iter_mut().zip(&self.perm) {
+                *x = q[old] * self.dm[old];
+            }
+            self.numeric.solve_in_place(llt, &mut work);
+            for (&x, &old) in work.iter().zip(&self.perm) {
+                w[old] = x;
+            }
+            let a: f64 = (w.iter().zip(&q).zip(&self.dm))
+                .map(|((x, y), d)| x * y * d)
+                .sum();
+            let b_prev = beta.last().copied().unwrap_or(0.0);
+            for ((x, &y), &z) in w.iter_mut().zip(&q).zip(&q_prev) {
+                *x -= a * y + b_prev * z;
+            }
+            alpha.push(a);
+            let next = largest_ritz_value(&alpha, &beta);
+            let settled = step > 2 && (next - theta).abs() <= 1e-12 * next.abs();
+            theta = next;
+            let b = dm_norm(&w);
+            // An invariant subspace (b = 0): theta is exact.
+            if settled || !(b > 1e-300 * theta.abs()) {
+                break;
+            }
+            beta.push(b);
+            std::mem::swap(&mut q_prev, &mut q);
+            for (y, &x) in q.iter_mut().zip(&w) {
+                *y = x / b;
+            }
+        }
+        1.0 / theta - tau
+    }
+}
+
+/// The largest eigenvalue of the symmetric tridiagonal matrix with
+/// diagonal `a` and off-diagonal `b` (one shorter), by bisection on the
+/// Sturm sequence's count of eigenvalues below a point, to the last bits.
+fn largest_ritz_value(a: &[f64], b: &[f64]) -> f64 {
+    let k = a.len();
+    // Gershgorin's bounds.
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..k {
+        let r = b.get(i).map_or(0.0, |x| x.abs()) + i.checked_sub(1).map_or(0.0, |j| b[j].abs());
+        lo = lo.min(a[i] - r);
+        hi = hi.max(a[i] + r);
+    }
+    // How many eigenvalues are below x (the LDL^T pivots' signs).
+    let below = |x: f64| {
+        let (mut count, mut d) = (0, 1.0);
+        for i in 0..k {
+            let off = if i > 0 { b[i - 1] * b[i - 1] / d } else { 0.0 };
+            d = a[i] - x - off;
+            if d == 0.0 {
+                d = -1e-300;
+            }
+            if d < 0.0 {
+                count += 1;
+            }
+        }
+        count
+    };
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if !(mid > lo && mid < hi) {
+            break;
+        }
+        if below(mid) < k {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// A factor's buffer and the model it is the unshifted factor of, if any.
@@ -758,12 +882,7 @@ struct Step {
     tau: f64,
 }
 
-fn newton_step(
-    sys: &System,
-    model: &Model,
-    tau_prev: &mut f64,
-    curvature: bool,
-) -> Option<(Step, Vec<f64>)> {
+fn newton_step(sys: &System, model: &Model, tau_prev: &mut f64, curvature: bool) -> Option<Step> {
     let (_, g, h) = sys.assemble(model);
     if g.iter().any(|v| !v.is_finite()) {
         return None;
@@ -803,7 +922,8 @@ fn newton_step(
         dec = dec.max(1e-6 * model.e_scale);
     }
     sys.release(llt);
-    Some((Step { d, dec, tau }, g))
+    sys.recycle(g, h);
+    Some(Step { d, dec, tau })
 }
 
 fn apply(sys: &System, model: &mut Model, d: &[f64], scale: f64) {
@@ -841,7 +961,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         {
             return Err(SolveError::TimeLimit { iteration: it });
         }
-        let Some((step, _)) = newton_step(sys, model, &mut tau_prev, true) else {
+        let Some(step) = newton_step(sys, model, &mut tau_prev, true) else {
             return Err(SolveError::NotFinite { iteration: it });
         };
         let small = step_size(sys, model, &step.d) < 1e-8;
@@ -868,7 +988,7 @@ pub fn solve(model: &mut Model, sys: &System, opts: &Options) -> Result<Stats, S
         // (ii) the watchdog: one more step from there.
         model.update_frames();
         let mut tau2 = tau_prev;
-        if let Some((step2, _)) = newton_step(sys, model, &mut tau2, false) {
+        if let Some(step2) = newton_step(sys, model, &mut tau2, false) {
             apply(sys, model, &step2.d, 1.0);
             let e2 = model.energy();
             if e2 <= e - 1e-4 * step.dec {
@@ -919,7 +1039,7 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
     }
     let lambda_min = match sys.factor(&h, 0.0) {
         Some(llt) if sys.n() > 0 => {
-            let lambda = sys.lowest_mode(&h, &llt, 7).0;
+            let lambda = sys.lowest_eigenvalue(&llt, 0.0, 7);
             sys.keep_factor(llt, model.clone());
             lambda
         }
@@ -929,7 +1049,9 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
             let mut tau = 1e-8 * sys.diagonal_scale(&h);
             loop {
                 if let Some(llt) = sys.factor(&h, tau) {
-                    break sys.lowest_mode(&h, &llt, 7).0;
+                    let lambda = sys.lowest_eigenvalue(&llt, tau, 7);
+                    sys.release(llt);
+                    break lambda;
                 }
                 tau *= 10.0;
                 if !tau.is_finite() {
@@ -938,6 +1060,7 @@ pub fn finish(model: &Model, sys: &System, iterations: usize, converged: bool) -
             }
         }
     };
+    sys.recycle(g, h);
     Stats {
         iterations,
         converged,
@@ -1027,6 +1150,90 @@ mod tests {
         let (kept, of) = sys.take_factor(&m).expect("the kept factor");
         assert_eq!((kept.l, kept.inv), want);
         assert!(of == m && sys.take_factor(&m).is_none());
+    }
+
+    /// The eigenvalues of a dense symmetric matrix, by cyclic Jacobi.
+    fn dense_eigenvalues(mut a: Vec<Vec<f64>>) -> Vec<f64> {
+        let n = a.len();
+        for _ in 0..100 {
+            let off: f64 = (0..n)
+                .flat_map(|i| (0..n).filter(move |&j| j != i).map(move |j| (i, j)))
+                .map(|(i, j)| a[i][j] * a[i][j])
+                .sum();
+            if off < 1e-30 {
+                break;
+            }
+            for p in 0..n {
+                for q in p + 1..n {
+                    if a[p][q].abs() < 1e-300 {
+                        continue;
+                    }
+                    let th = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                    let t = th.signum() / (th.abs() + (th * th + 1.0).sqrt());
+                    let t = if th == 0.0 { 1.0 } else { t };
+                    let (c, s) = (1.0 / (t * t + 1.0).sqrt(), t / (t * t + 1.0).sqrt());
+                    for k in 0..n {
+                        let (akp, akq) = (a[k][p], a[k][q]);
+                        a[k][p] = c * akp - s * akq;
+                        a[k][q] = s * akp + c * akq;
+                    }
+                    for k in 0..n {
+                        let (apk, aqk) = (a[p][k], a[q][k]);
+                        a[p][k] = c * apk - s * aqk;
+                        a[q][k] = s * apk + c * aqk;
+                    }
+                }
+            }
+        }
+        (0..n).map(|i| a[i][i]).collect()
+    }
+
+    /// The Lanczos estimate of the lowest eigenvalue of (H, Dm) agrees
+    /// with a dense one, from factors of H + tau Dm with several shifts,
+    /// on a bent strip's Hessian (away from equilibrium, so indefinite)
+    /// and on it moved by multiples of Dm.
+    #[test]
+    fn lowest_eigenvalue_agrees_with_a_dense_one() {
+        let m = bent_strip();
+        let sys = System::new(&m);
+        let (_, _, h) = sys.assemble(&m);
+        let n = sys.n();
+        let scale = sys.diagonal_scale(&h);
+        let dense = |add: f64| {
+            let (cp, ri) = (&sys.pattern.col_ptr, &sys.pattern.row_idx);
+            let mut a = vec![vec![0.0; n]; n];
+            for c in 0..n {
+                for p in cp[c]..cp[c + 1] {
+                    let v = h[p] / (sys.dm[ri[p]] * sys.dm[c]).sqrt();
+                    a[ri[p]][c] = v;
+                    a[c][ri[p]] = v;
+                }
+                a[c][c] += add;
+            }
+            dense_eigenvalues(a)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        };
+        let low = dense(0.0);
+        assert!(low < 0.0, "the strip's Hessian is indefinite: {low}");
+        let mut cases = 0;
+        for add in [0.0, -low + 1e-3 * scale, -low + 0.3 * scale] {
+            let mut hh = h.clone();
+            for (k, &p) in sys.diag_pos.iter().enumerate() {
+                hh[p] += add * sys.dm[k];
+            }
+            let want = dense(add);
+            for tau in [1e-6, 1e-3, 0.1, 1.0].map(|t| t * scale - want.min(0.0)) {
+                let llt = sys.factor(&hh, tau).expect("positive definite");
+                let got = sys.lowest_eigenvalue(&llt, tau, 7);
+                assert!(
+                    (got - want).abs() <= 1e-9 * scale,
+                    "add {add}, tau {tau}: {got} against {want}"
+                );
+                cases += 1;
+            }
+        }
+        assert_eq!(cases, 12);
     }
 
     /// `Numeric` factors H + tau Dm exactly when it is positive definite,
