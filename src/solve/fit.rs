@@ -338,6 +338,21 @@ fn tilt_count(samples: usize) -> usize {
     samples.div_ceil(4).clamp(3, MAX_TILTS)
 }
 
+/// The tilts a 3-D row's scan tries: `tilt_count(samples)` spread evenly
+/// over -60..60 degrees, and 0 among them in order when an even count
+/// steps over it, so that a flat patch's rows can grow flat.
+fn scan_tilts(samples: usize) -> Vec<f64> {
+    let n = tilt_count(samples);
+    let mut tilts: Vec<f64> = (0..n)
+        .map(|k| -60.0 + 120.0 * k as f64 / (n - 1) as f64)
+        .collect();
+    if !tilts.contains(&0.0) {
+        let at = tilts.partition_point(|&t| t < 0.0);
+        tilts.insert(at, 0.0);
+    }
+    tilts
+}
+
 /// Scan the start direction of an open row; for each, put the end vertices
 /// on the boundary (circle or ellipsoid) and score the row. The candidates
 /// best first, and the last growth error met (for a row with none).
@@ -352,10 +367,7 @@ fn ranked_rows(
     deadline: &Deadline,
 ) -> (Vec<RowParams>, Option<GrowthError>) {
     let tilts: Vec<f64> = if dim == 3 {
-        let n = tilt_count(samples);
-        (0..n)
-            .map(|k| -60.0 + 120.0 * k as f64 / (n - 1) as f64)
-            .collect()
+        scan_tilts(samples)
     } else {
         vec![0.0]
     };
@@ -578,5 +590,19 @@ mod tests {
         assert_eq!(tilt_count(61), 16);
         assert_eq!(tilt_count(64), 16);
         assert_eq!(tilt_count(2000), MAX_TILTS);
+    }
+
+    /// Every count's scan holds tilt 0 (an even count's spread steps over
+    /// it) and each of its spread tilts, in increasing order.
+    #[test]
+    fn every_tilt_scan_tries_tilt_zero() {
+        for samples in [3, 9, 13, 31, 61, 2000] {
+            let n = tilt_count(samples);
+            let tilts = scan_tilts(samples);
+            assert!(tilts.contains(&0.0), "{samples}: {tilts:?}");
+            assert_eq!(tilts.len(), if n % 2 == 0 { n + 1 } else { n });
+            assert!(tilts.windows(2).all(|w| w[0] < w[1]), "{tilts:?}");
+            assert_eq!((tilts[0], tilts[tilts.len() - 1]), (-60.0, 60.0));
+        }
     }
 }
