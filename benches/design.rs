@@ -9,7 +9,7 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 10] = [
+const TARGETS: [&str; 11] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
@@ -17,6 +17,7 @@ const TARGETS: [&str; 10] = [
     "saddle.toml",
     "cylinder.toml",
     "height-field.toml",
+    "plate.toml",
     "sphere-cap-export.obj",
     "paraboloid-export.stl",
     "saddle-export.stl",

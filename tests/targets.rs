@@ -31,6 +31,8 @@ const SUITE: &[(&str, f64, Topology)] = &[
     ("revolution.toml", 496.5883607174055, Topology::Patch),
     // The diagonal of 420 x 360 (the corners stand 0.17 mm high).
     ("height-field.toml", 553.1726674375732, Topology::Patch),
+    // The flat plate's diagonal: hypot(400, 300).
+    ("plate.toml", 500.0, Topology::Patch),
     ("sphere-cap-export.obj", 480.0, Topology::Patch),
     ("saddle-export.stl", 565.685424949238, Topology::Patch),
     ("paraboloid-export.stl", 400.0, Topology::Patch),

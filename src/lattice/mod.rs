@@ -17,6 +17,7 @@ mod rods;
 pub mod shape;
 mod verify;
 
+pub(crate) use construct::{Point, pivot_from_v2};
 pub use front::{Crank, FrontMoves, PivotMove};
 pub use grow::{
     ClosureRecord, FrontFrame, Grower, GrowthError, RowParams, front_frame, grow, grow_sheet,

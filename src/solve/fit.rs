@@ -21,6 +21,7 @@ use crate::legs::{Direction, Leg};
 use glam::DVec3;
 
 mod refront;
+mod steer;
 
 /// Grow the fitted lattice; `progress` hears about each row.
 pub(crate) fn grow(
@@ -234,8 +235,16 @@ impl Search<'_> {
         }
         let front = match &self.fit.surface {
             Surface::Target(t) if self.refront && i > 0 => {
-                let front: Vec<DVec3> = grower.front().iter().map(|p| p.pos).collect();
-                refront::moves(&front, &refront::laid(&t.0, &front))
+                let old = grower.front();
+                let pos: Vec<DVec3> = old.iter().map(|p| p.pos).collect();
+                let laid = refront::laid(&t.0, &pos);
+                refront::moves(&pos, &laid).map(|moves| Rebuild {
+                    target: &t.0,
+                    old,
+                    pos,
+                    laid,
+                    moves,
+                })
             }
             _ => None,
         };
@@ -338,13 +347,49 @@ fn tilt_count(samples: usize) -> usize {
     samples.div_ceil(4).clamp(3, MAX_TILTS)
 }
 
+/// The tilts a 3-D row's scan tries: `tilt_count(samples)` spread evenly
+/// over -60..60 degrees, and 0 among them in order when an even count
+/// steps over it, so that a flat patch's rows can grow flat.
+fn scan_tilts(samples: usize) -> Vec<f64> {
+    let n = tilt_count(samples);
+    let mut tilts: Vec<f64> = (0..n)
+        .map(|k| -60.0 + 120.0 * k as f64 / (n - 1) as f64)
+        .collect();
+    if !tilts.contains(&0.0) {
+        let at = tilts.partition_point(|&t| t < 0.0);
+        tilts.insert(at, 0.0);
+    }
+    tilts
+}
+
+/// A row's front laid back onto the target (`refront`): the old front,
+/// its positions, the laid ones and the moves that rebuild it so.
+struct Rebuild<'a> {
+    target: &'a crate::target::Target,
+    old: Vec<crate::lattice::Point>,
+    pos: Vec<DVec3>,
+    laid: Vec<DVec3>,
+    moves: FrontMoves,
+}
+
+impl Rebuild<'_> {
+    /// The moves for a row grown in `direction`: the laid front steered
+    /// so that the row's new vertices land on the target (`steer`), or as
+    /// laid when it cannot be.
+    fn moves(&self, direction: Direction) -> FrontMoves {
+        steer::steered(self.target, &self.old, &self.laid, direction)
+            .and_then(|(x, _)| refront::moves(&self.pos, &x))
+            .unwrap_or_else(|| self.moves.clone())
+    }
+}
+
 /// Scan the start direction of an open row; for each, put the end vertices
 /// on the boundary (circle or ellipsoid) and score the row. The candidates
 /// best first, and the last growth error met (for a row with none).
 /// `scan` is the angles scanned and the dimension.
 fn ranked_rows(
     grower: &mut Grower,
-    front: Option<&FrontMoves>,
+    rebuild: Option<&Rebuild<'_>>,
     surface: &Surface,
     (samples, dim): (usize, usize),
     min_leg: f64,
@@ -352,10 +397,7 @@ fn ranked_rows(
     deadline: &Deadline,
 ) -> (Vec<RowParams>, Option<GrowthError>) {
     let tilts: Vec<f64> = if dim == 3 {
-        let n = tilt_count(samples);
-        (0..n)
-            .map(|k| -60.0 + 120.0 * k as f64 / (n - 1) as f64)
-            .collect()
+        scan_tilts(samples)
     } else {
         vec![0.0]
     };
@@ -369,48 +411,56 @@ fn ranked_rows(
         }
         for k in 1..samples {
             let angle = -89.0 + 178.0 * k as f64 / samples as f64;
-            let direction = Some(Direction::Angles {
+            let towards = Direction::Angles {
                 angle_deg: angle,
                 tilt_deg: tilt,
-            });
-            let params = match row_on_boundary(grower, front, surface, direction) {
-                Ok(p) => p,
-                Err(e) => {
-                    last_error = e.or(last_error);
-                    continue;
-                }
             };
-            if let Err(e) = grower.grow_row(&params) {
-                last_error = Some(e);
-                continue;
-            }
-            let stray = if front.is_some() {
-                LAID_STRAY
-            } else {
-                TARGET_STRAY
-            };
-            let score = row_score(grower.lattice(), surface, min_leg, stray);
-            // A disk's rows whose strips overlap others of their layer come
-            // last (on a curved patch the distance to the surface decides).
-            let lattice = grower.lattice();
-            let first_new = 2 * (lattice.cells.len() - lattice.width);
-            let clashes = if score.is_finite() && matches!(surface, Surface::Disk { .. }) {
-                crate::parts::clash::count_clashes(lattice, strip.0, strip.1, strip.2, |c| {
-                    c.rods[1] >= first_new
-                })
-            } else {
-                0
-            };
-            grower.undo_row();
-            let score = score + clashes as f64;
-            if score.is_finite() {
-                scored.push((score, params));
+            let moves = rebuild.map(|r| r.moves(towards));
+            match scored_row(grower, moves.as_ref(), surface, towards, min_leg, strip) {
+                Ok(Some(row)) => scored.push(row),
+                Ok(None) => {}
+                Err(e) => last_error = e.or(last_error),
             }
         }
     }
     // A stable sort keeps scan order among equal scores: deterministic.
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
     (scored.into_iter().map(|s| s.1).collect(), last_error)
+}
+
+/// The row grown in `direction` on `front` (rebuilt, or as it is) with
+/// its end vertices where `row_on_boundary` puts them, and its score;
+/// None when the score refuses it, the growth error when it does not grow.
+fn scored_row(
+    grower: &mut Grower,
+    front: Option<&FrontMoves>,
+    surface: &Surface,
+    towards: Direction,
+    min_leg: f64,
+    strip: (f64, f64, f64),
+) -> Result<Option<(f64, RowParams)>, Option<GrowthError>> {
+    let params = row_on_boundary(grower, front, surface, Some(towards))?;
+    grower.grow_row(&params).map_err(Some)?;
+    let stray = if front.is_some() {
+        LAID_STRAY
+    } else {
+        TARGET_STRAY
+    };
+    let score = row_score(grower.lattice(), surface, min_leg, stray);
+    // A disk's rows whose strips overlap others of their layer come
+    // last (on a curved patch the distance to the surface decides).
+    let lattice = grower.lattice();
+    let first_new = 2 * (lattice.cells.len() - lattice.width);
+    let clashes = if score.is_finite() && matches!(surface, Surface::Disk { .. }) {
+        crate::parts::clash::count_clashes(lattice, strip.0, strip.1, strip.2, |c| {
+            c.rods[1] >= first_new
+        })
+    } else {
+        0
+    };
+    grower.undo_row();
+    let score = score + clashes as f64;
+    Ok(score.is_finite().then_some((score, params)))
 }
 
 /// The row with leg direction `direction` whose two end vertices lie on the
@@ -578,5 +628,19 @@ mod tests {
         assert_eq!(tilt_count(61), 16);
         assert_eq!(tilt_count(64), 16);
         assert_eq!(tilt_count(2000), MAX_TILTS);
+    }
+
+    /// Every count's scan holds tilt 0 (an even count's spread steps over
+    /// it) and each of its spread tilts, in increasing order.
+    #[test]
+    fn every_tilt_scan_tries_tilt_zero() {
+        for samples in [3, 9, 13, 31, 61, 2000] {
+            let n = tilt_count(samples);
+            let tilts = scan_tilts(samples);
+            assert!(tilts.contains(&0.0), "{samples}: {tilts:?}");
+            assert_eq!(tilts.len(), if n.is_multiple_of(2) { n + 1 } else { n });
+            assert!(tilts.windows(2).all(|w| w[0] < w[1]), "{tilts:?}");
+            assert_eq!((tilts[0], tilts[tilts.len() - 1]), (-60.0, 60.0));
+        }
     }
 }

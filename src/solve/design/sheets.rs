@@ -82,14 +82,23 @@ pub(super) fn grow_seed(
     let fit = Fit::on_target(ask.target.clone(), rows, SAMPLES);
     let found = crate::solve::fit::deepest_rows(&d, &fit, ROW_BUDGET, refront)
         .map_err(|e| format!("no row grows: {}", e.message))?;
-    let lattice = grow(Kind::Sheet, 3, &d.points, &d.kappa, &found)
-        .map_err(|e| format!("no row grows: {}", e.message))?;
-    d.rows.clone_from(&found);
-    let m = crate::measure::measure(&d, &lattice);
-    match crate::solve::cost::refused(&d, &lattice, &m) {
-        None => Ok((found, lattice)),
-        Some(why) => Err(format!("{} rows, refused: {why}", found.len())),
+    // The deepest sheet first, then with its last rows left off: a row
+    // that clashes or cannot be cut loses that row, not the seed.
+    let mut first_refusal = None;
+    for rows in (1..=found.len()).rev() {
+        let lattice = grow(Kind::Sheet, 3, &d.points, &d.kappa, &found[..rows])
+            .map_err(|e| format!("no row grows: {}", e.message))?;
+        d.rows = found[..rows].to_vec();
+        let m = crate::measure::measure(&d, &lattice);
+        match crate::solve::cost::refused(&d, &lattice, &m) {
+            None => return Ok((d.rows, lattice)),
+            Some(why) => {
+                first_refusal
+                    .get_or_insert_with(|| format!("{} rows, refused: {why}", found.len()));
+            }
+        }
     }
+    Err(first_refusal.unwrap_or_else(|| "no row grows".into()))
 }
 
 /// A sheet's `[lattice]`: its seed points and one row table per row,
