@@ -228,11 +228,11 @@ fn check_one(
 /// nothing for a build that simulates nothing.
 fn reuse_line(built: &karigami::Build, reuse: &files::EarlierBuild) -> String {
     let dir = reuse.path().display();
-    match super::recipe::simulation(built) {
-        Some("reused") => {
+    match built.simulation_reused() {
+        Some(true) => {
             format!("simulation: reused from the build in {dir} (nothing it depends on changed)\n")
         }
-        Some(_) => format!(
+        Some(false) => format!(
             "simulation: solved (the build in {dir} holds none of this recipe as it is now)\n"
         ),
         None => String::new(),

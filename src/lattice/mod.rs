@@ -22,7 +22,7 @@ pub use front::{Crank, FrontMoves, PivotMove};
 pub use grow::{
     ClosureRecord, FrontFrame, Grower, GrowthError, RowParams, front_frame, grow, grow_sheet,
 };
-pub(crate) use grow::{MAX_CELLS, Param};
+pub(crate) use grow::{MAX_CELLS, Param, resolve_direction};
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
 pub use joints::{Joint, JointEnd, joints};
 pub(crate) use joints::{RodEnd, vertex_eyelet_count, vertex_eyelets};

@@ -435,19 +435,8 @@ impl System {
         // operations as solve(Dm v) and mul(v), without their allocations.
         let (mut work, mut y, mut hv) = (self.numeric.work(), vec![0.0; n], vec![0.0; n]);
         for it in 0..60 {
-            for (w, &old) in work.iter_mut().zip(&self.perm) {
-                *w = v[old] * self.dm[old];
-            }
-            self.numeric.solve_in_place(llt, &mut work);
-            for (&w, &old) in work.iter().zip(&self.perm) {
-                y[old] = w;
-            }
-            let norm = y
-                .iter()
-                .zip(&self.dm)
-                .map(|(a, b)| a * a * b)
-                .sum::<f64>()
-                .sqrt();
+            self.solve_dm_into(llt, &v, &mut work, &mut y);
+            let norm = self.dm_norm(&y);
             if !(norm > 0.0) {
                 break;
             }
@@ -464,6 +453,28 @@ impl System {
         }
         (lambda, v)
     }
+
+    /// out = (H + tau Dm)^-1 Dm v with a factor `llt` of H + tau Dm:
+    /// `solve(Dm v)` in the caller's buffers (`work` is the factor's
+    /// order), so an iteration allocates nothing.
+    fn solve_dm_into(&self, llt: &Factor, v: &[f64], work: &mut [f64], out: &mut [f64]) {
+        for (w, &old) in work.iter_mut().zip(&self.perm) {
+            *w = v[old] * self.dm[old];
+        }
+        self.numeric.solve_in_place(llt, work);
+        for (&w, &old) in work.iter().zip(&self.perm) {
+            out[old] = w;
+        }
+    }
+
+    /// The length of `x` in the Dm inner product.
+    fn dm_norm(&self, x: &[f64]) -> f64 {
+        x.iter()
+            .zip(&self.dm)
+            .map(|(a, b)| a * a * b)
+            .sum::<f64>()
+            .sqrt()
+    }
 }
 
 impl System {
@@ -478,14 +489,7 @@ impl System {
         let n = self.n();
         let mut rng = crate::rng::Rng::new(seed);
         let mut q: Vec<f64> = (0..n).map(|_| rng.normal()).collect();
-        let dm_norm = |x: &[f64]| {
-            x.iter()
-                .zip(&self.dm)
-                .map(|(a, b)| a * a * b)
-                .sum::<f64>()
-                .sqrt()
-        };
-        let norm = dm_norm(&q);
+        let norm = self.dm_norm(&q);
         if !(norm > 0.0) {
             return f64::NAN;
         }
@@ -496,14 +500,7 @@ impl System {
         let (mut alpha, mut beta) = (Vec::new(), Vec::new());
         let mut theta = 0.0;
         for step in 0..60 {
-            // w = (H + tau Dm)^-1 Dm q.
-            for (x, &old) in work.iter_mut().zip(&self.perm) {
-                *x = q[old] * self.dm[old];
-            }
-            self.numeric.solve_in_place(llt, &mut work);
-            for (&x, &old) in work.iter().zip(&self.perm) {
-                w[old] = x;
-            }
+            self.solve_dm_into(llt, &q, &mut work, &mut w);
             let a: f64 = (w.iter().zip(&q).zip(&self.dm))
                 .map(|((x, y), d)| x * y * d)
                 .sum();
@@ -515,7 +512,7 @@ impl System {
             let next = largest_ritz_value(&alpha, &beta);
             let settled = step > 2 && (next - theta).abs() <= 1e-12 * next.abs();
             theta = next;
-            let b = dm_norm(&w);
+            let b = self.dm_norm(&w);
             // An invariant subspace (b = 0): theta is exact.
             if settled || !(b > 1e-300 * theta.abs()) {
                 break;

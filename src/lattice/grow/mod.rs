@@ -19,6 +19,7 @@ mod pivot;
 pub use errors::GrowthError;
 pub(crate) use errors::Param;
 use errors::*;
+pub(crate) use pivot::resolve_direction;
 use pivot::*;
 pub use pivot::{FrontFrame, front_frame};
 

@@ -144,7 +144,7 @@ pub(super) fn left_step(x: &[Point], j: usize, p: Point) -> Result<(Point, Point
 }
 
 /// The unit leg direction `v2` at the start site, from what the design gave.
-pub(super) fn resolve_direction(
+pub(crate) fn resolve_direction(
     direction: Direction,
     ul: DVec3,
     ur: DVec3,

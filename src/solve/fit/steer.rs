@@ -5,7 +5,7 @@
 //! by column, that number puts the row's next new vertex on the target,
 //! where a front laid nearest the old one leaves the row to stray.
 
-use crate::lattice::{Point, front_frame, pivot_from_v2};
+use crate::lattice::{Point, pivot_from_v2, resolve_direction};
 use crate::legs::Direction;
 use crate::target::Target;
 use glam::DVec3;
@@ -37,23 +37,13 @@ pub(super) fn steered(
     if n < 3 || laid.len() != n {
         return None;
     }
-    let Direction::Angles {
-        angle_deg,
-        tilt_deg,
-    } = direction
-    else {
-        return None;
-    };
     let at = |x: &[DVec3], j: usize| Point {
         pos: x[j],
         z: old[j].z,
     };
     let mut x = laid[..2].to_vec();
-    // The start cell's leg direction, as the grower resolves it
-    // (lattice::grow, `resolve_direction`).
-    let frame = front_frame(x[0], x[1])?;
-    let (a, b) = (angle_deg.to_radians(), tilt_deg.to_radians());
-    let mut v2 = a.cos() * frame.axis + a.sin() * (b.cos() * frame.down + b.sin() * frame.out);
+    // The start cell's leg direction, as the grower resolves it.
+    let mut v2 = resolve_direction(direction, x[0], x[1], 3).ok()?;
     for j in 0..n - 2 {
         let edge = old[j + 2].pos.distance(old[j + 1].pos);
         let next = pivot_from_v2(at(&x, j), at(&x, j + 1), v2)
