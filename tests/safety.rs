@@ -1110,6 +1110,82 @@ fn tune_out_refuses_an_existing_file_and_any_link() {
     assert_eq!(hidden(&dir), Vec::<String>::new());
 }
 
+/// `design --out` as `tune --out`, before any work: an existing file
+/// needs --force, a link and a folder are refused, and so is the target
+/// itself, even with --force; nothing changes. A file that appears at
+/// --out while it designs stays, and the recipe goes beside it as
+/// X.designed, so the work is not lost.
+#[test]
+fn design_out_refuses_before_the_work_and_keeps_what_appears_meanwhile() {
+    let dir = scratch("design-out");
+    fs::copy(
+        repo().join("fixtures/targets/disk.toml"),
+        dir.join("disk.toml"),
+    )
+    .unwrap();
+    fs::write(dir.join("existing.toml"), "mine").unwrap();
+    fs::create_dir_all(dir.join("folder")).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("existing.toml", dir.join("link")).unwrap();
+    let before = tree(&dir);
+    let mut cases = vec![
+        (
+            "existing.toml",
+            false,
+            2,
+            "existing.toml exists; choose another --out, or pass --force to overwrite it\n",
+        ),
+        ("folder", true, 2, "--out folder is a folder"),
+        (
+            "disk.toml",
+            true,
+            2,
+            "--out disk.toml is the target being designed for",
+        ),
+        ("./disk.toml", false, 2, "is the target being designed for"),
+    ];
+    #[cfg(unix)]
+    cases.push((
+        "link",
+        true,
+        3,
+        "--out link is a symbolic link (to existing.toml)",
+    ));
+    for (out, force, code, message) in cases {
+        let mut args = vec!["design", "disk.toml", "--out", out, "--edge", "120"];
+        if force {
+            args.push("--force");
+        }
+        says(&run(&args, &dir, None), code, message);
+        assert!(tree(&dir) == before, "{args:?} changed a file");
+    }
+    if !faults() {
+        return;
+    }
+    let args = [
+        "-q",
+        "design",
+        "disk.toml",
+        "--out",
+        "new.toml",
+        "--edge",
+        "120",
+    ];
+    let o = run(&args, &dir, Some("edit"));
+    says(
+        &o,
+        2,
+        "new.toml exists; choose another --out, or pass --force to overwrite it (found at the write, after designing ran); the designed recipe is in new.toml.designed",
+    );
+    assert_eq!(
+        fs::read_to_string(dir.join("new.toml")).unwrap(),
+        "# edited while tuning ran\n"
+    );
+    let designed = fs::read_to_string(dir.join("new.toml.designed")).unwrap();
+    assert!(designed.contains("[lattice]\nseed = "), "{designed}");
+    assert_eq!(hidden(&dir), Vec::<String>::new());
+}
+
 /// What appears in --out while a build runs (a file deep in it, an empty
 /// folder, a link) is never deleted, single or batch: added before the
 /// commit's check, the build refuses (exit 3, naming it) and leaves the

@@ -7,6 +7,7 @@
 use super::args::Verbosity;
 use super::check::TargetFile;
 use super::error::Error;
+use super::files::OutFile;
 use karigami::designing::{self, DesignAsk, Found};
 use karigami::{ErrorKind, Overrides};
 use std::path::Path;
@@ -43,12 +44,8 @@ struct Chosen {
 
 pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     let started = Instant::now();
-    if ask.out.exists() && !ask.force {
-        return Err(Error::usage(format!(
-            "{} exists; give --force to replace it",
-            ask.out.display()
-        )));
-    }
+    // A refusal before the work, not after minutes of designing.
+    let out = OutFile::check_design(ask.out, ask.target, ask.force)?;
     for (flag, x) in [("--edge", ask.edge), ("--thickness", ask.thickness)] {
         if x.is_some_and(|e| !(e.is_finite() && e > 0.0)) {
             return Err(Error::usage(format!(
@@ -57,15 +54,24 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         }
     }
     let file = TargetFile::read(ask.target)?;
-    let tables = ask
-        .thickness
-        .map_or(String::new(), |t| format!("[material]\nthickness = {t}\n"));
-    let base = karigami::parse_with(
-        &format!("{}{tables}", designing::STUB),
-        "design",
-        &ask.overrides,
-    )
-    .map_err(|d| Error::at("the fabrication flags", "", &d))?;
+    // The flags are checked as flags (their own messages), then written
+    // as the recipe's tables, so that the recipe builds as designed with
+    // no flags; the candidates are built from those tables.
+    let stub = format!(
+        "{}{}",
+        designing::STUB,
+        Overrides::default().as_tables(ask.thickness)
+    );
+    karigami::parse_with(&stub, "design", &ask.overrides)
+        .map_err(|d| Error::at("the fabrication flags", "", &d))?;
+    let tables = ask.overrides.as_tables(ask.thickness);
+    let limits = Overrides {
+        memory: ask.overrides.memory,
+        deadline: ask.overrides.deadline,
+        ..Overrides::default()
+    };
+    let base = karigami::parse_with(&format!("{}{tables}", designing::STUB), "design", &limits)
+        .map_err(|d| Error::at("the fabrication flags", "", &d))?;
     let edge = ask.edge.unwrap_or_else(|| designing::default_edge(&base));
     let target = std::sync::Arc::new(file.target.canonical());
     let note = |s: &str| {
@@ -93,7 +99,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         .out
         .file_stem()
         .map_or("design".into(), |s| s.to_string_lossy().into_owned());
-    let chosen = choose(ask, &searched, (&name, &tables), &target, &note)
+    let chosen = choose(ask, &searched, (&name, &tables, &limits), &target, &note)
         .map_err(|why| no_design(&file, &searched, &why))?;
     let remedy = (chosen.miss > 1.0)
         .then(|| designing::goal::remedy(&chosen.found.fit, &chosen.sim, edge, &base));
@@ -116,8 +122,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         Some((&record, file.hash)),
         &tables,
     );
-    std::fs::write(ask.out, &text)
-        .map_err(|e| Error::io(format!("{}: cannot write it: {e}", ask.out.display())))?;
+    out.write(text.as_bytes())?;
     note(&format!(
         "wrote {} in {seconds:.1} s: {} cells; simulated {}{}",
         ask.out.display(),
@@ -133,13 +138,14 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
 }
 
 /// Build the best candidates with the whole pipeline, in the search's
-/// order, and choose: the first whose simulated shape meets the goal,
+/// order (the fabrication settings in `tables`, only the run's `limits`
+/// from the command line), and choose: the first whose simulated shape meets the goal,
 /// else the one nearest it; `Err` with why each was refused when none
 /// builds. Deterministic: the candidates come in a fixed order.
 fn choose(
     ask: &Ask<'_>,
     searched: &designing::Searched,
-    (name, tables): (&str, &str),
+    (name, tables, limits): (&str, &str, &Overrides),
     target: &karigami::targets::Target,
     note: &dyn Fn(&str),
 ) -> Result<Chosen, Vec<String>> {
@@ -153,7 +159,7 @@ fn choose(
         }
         let text = designing::recipe(found, name, &[], None, tables);
         built += 1;
-        match built_fit(&text, name, &ask.overrides, target) {
+        match built_fit(&text, name, limits, target) {
             Ok(sim) => {
                 let miss = designing::miss(&sim);
                 note(&format!(
@@ -286,7 +292,7 @@ impl Made<'_> {
     }
 
     /// The cell edge and what it came from; the fabrication flags, which
-    /// `build` needs again (the recipe's tables carry only the thickness).
+    /// the recipe's tables carry (`Overrides::as_tables`).
     fn settings(&self) -> String {
         let edge = match self.ask.edge {
             Some(_) => "--edge".to_string(),
@@ -294,14 +300,27 @@ impl Made<'_> {
                 "the default: six strip widths, at least four of the eyelets' shortest leg".into()
             }
         };
-        let flags = if self.ask.flags.is_empty() {
-            String::new()
-        } else {
-            format!(
-                "; designed with {}: give `build` the same (this recipe does not carry them)",
-                self.ask.flags.join(" ")
-            )
-        };
+        // The run's limits are not the recipe's: they are not carried.
+        let (limits, carried): (Vec<&String>, Vec<&String>) = self
+            .ask
+            .flags
+            .iter()
+            .partition(|f| f.starts_with("--memory ") || f.starts_with("--time-limit "));
+        let mut flags = String::new();
+        if !carried.is_empty() {
+            let carried: Vec<&str> = carried.iter().map(|f| f.as_str()).collect();
+            flags.push_str(&format!(
+                "; designed with {}, which the tables below carry",
+                carried.join(" ")
+            ));
+        }
+        if !limits.is_empty() {
+            let limits: Vec<&str> = limits.iter().map(|f| f.as_str()).collect();
+            flags.push_str(&format!(
+                "; run with {} (a run's limits, not the recipe's)",
+                limits.join(" ")
+            ));
+        }
         format!("Cell edge: {:.1} mm ({edge}){flags}.", self.edge)
     }
 }

@@ -665,6 +665,7 @@ fn cutting_settings(f: &mut Fabrication, raw: &RawDesign, o: &Overrides) -> Resu
     }
     if let Some(g) = o.group_by_step {
         f.group_by_step = g;
+        f.group_if_free = false;
     }
     let tab_limit = f.material.width;
     if let Some(t) = raw.laser.as_ref().and_then(|l| l.get_ref().tabs.as_ref()) {

@@ -6,6 +6,7 @@ mod errors;
 mod fabrication_bounds;
 mod fabrication_checks;
 mod fabrication_table;
+mod fabrication_tables;
 pub mod fit;
 pub(crate) mod optimise;
 mod raw;

@@ -1,6 +1,6 @@
-//! The file `tune --out` writes the tuned recipe to: checked before the
-//! work and again just before it is written, whole or not at all
-//! (`karigami_folder::replace_like`).
+//! The file `tune --out` and `design --out` write a recipe to: checked
+//! before the work and again just before it is written, whole or not at
+//! all (`karigami_folder::replace_like`).
 
 use crate::cli::error::Error;
 use karigami::ErrorKind;
@@ -10,18 +10,48 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::Path;
 
-/// The file `tune --out` writes the tuned recipe to: checked before the
-/// work and again just before the write, which is atomic (`replace_like`).
-/// A link is always refused (the rename would replace the link, not the
-/// file it leads to), and so is a folder; an existing file other than the
-/// recipe only with `--force`; the recipe itself is written back, unless
-/// it was edited meanwhile.
+/// The file `tune --out` or `design --out` writes a recipe to: checked
+/// before the work and again just before the write, which is atomic
+/// (`replace_like`). A link is always refused (the rename would replace
+/// the link, not the file it leads to), and so is a folder; an existing
+/// file other than the recipe only with `--force`; the recipe being tuned
+/// is written back, unless it was edited meanwhile; the target being
+/// designed for, never. What the work made is never lost: refused at the
+/// write, it goes beside the file (`X.toml.tuned`, `X.toml.designed`) or
+/// to stdout.
 pub(crate) struct OutFile<'a> {
     path: &'a Path,
     force: bool,
+    /// The command writing, for its words.
+    by: Writer,
     /// The recipe's text as it was read, if `path` named the recipe being
     /// tuned (the same file).
     recipe: Option<&'a str>,
+}
+
+/// The command that writes an `OutFile`.
+#[derive(Clone, Copy, PartialEq)]
+pub(crate) enum Writer {
+    Tune,
+    Design,
+}
+
+impl Writer {
+    /// What the work made, as a past participle: "tuned".
+    fn made(self) -> &'static str {
+        match self {
+            Self::Tune => "tuned",
+            Self::Design => "designed",
+        }
+    }
+
+    /// The work, as a gerund: "tuning".
+    fn working(self) -> &'static str {
+        match self {
+            Self::Tune => "tuning",
+            Self::Design => "designing",
+        }
+    }
 }
 
 impl<'a> OutFile<'a> {
@@ -35,11 +65,30 @@ impl<'a> OutFile<'a> {
         let mut out = Self {
             path,
             force,
+            by: Writer::Tune,
             recipe: None,
         };
         out.recipe = fs::symlink_metadata(path)
             .is_ok_and(|m| same_file(&m, path, recipe))
             .then_some(text);
+        out.refusal()?;
+        Ok(out)
+    }
+
+    /// Check `path` before designing for `target`, which it must not name.
+    pub(crate) fn check_design(path: &'a Path, target: &Path, force: bool) -> Result<Self, Error> {
+        let out = Self {
+            path,
+            force,
+            by: Writer::Design,
+            recipe: None,
+        };
+        if fs::symlink_metadata(path).is_ok_and(|m| same_file(&m, path, target)) {
+            return Err(Error::usage(format!(
+                "--out {} is the target being designed for; give the recipe another name, such as --out design.toml",
+                path.display()
+            )));
+        }
         out.refusal()?;
         Ok(out)
     }
@@ -78,23 +127,33 @@ impl<'a> OutFile<'a> {
             return Err(refused);
         }
         if self.recipe.is_none() && !self.force {
+            let back = match self.by {
+                Writer::Tune => " (`tune X.toml --out X.toml` writes the recipe back)",
+                Writer::Design => "",
+            };
             return Err(Error::usage(format!(
-                "{shown} exists; choose another --out, or pass --force to overwrite it (`tune X.toml --out X.toml` writes the recipe back)"
+                "{shown} exists; choose another --out, or pass --force to overwrite it{back}"
             )));
         }
         Ok(())
     }
 
     /// Write `bytes` to the file, after checking it again: what appeared
-    /// there while tuning is not overwritten unasked either, nor an edit
-    /// made to the recipe meanwhile (`edited`).
+    /// there while the work ran is not overwritten unasked either, nor an
+    /// edit made to the recipe meanwhile; either way `bytes` go beside it.
     pub(crate) fn write(&self, bytes: &[u8]) -> Result<(), Error> {
-        self.refusal()?;
         fault::edit(self.path);
+        if let Err(refused) = self.refusal() {
+            return Err(self.kept_beside(bytes, &refused));
+        }
         if let Some(text) = self.recipe
             && fs::read(self.path).ok().as_deref() != Some(text.as_bytes())
         {
-            return Err(self.edited(bytes));
+            let shown = self.path.display();
+            let why = format!(
+                "{shown} changed while tuning ran, so it was not overwritten (the change is kept)"
+            );
+            return Err(self.kept_beside(bytes, &Error::io(why)));
         }
         let like = fs::symlink_metadata(self.path).ok();
         replace_like(self.path, bytes, like.as_ref()).map_err(|e| {
@@ -115,13 +174,19 @@ impl OutFile<'_> {
         use std::os::unix::fs::MetadataExt;
         let others = meta.nlink().checked_sub(1).filter(|n| *n > 0)?;
         Some(Error::usage(format!(
-            "{} has {} (it is the same file under {}); writing would give the tuned text to this name only: give another --out, or tune a copy",
+            "{} has {} (it is the same file under {}); writing would give the {} text to this name only: give another --out{}",
             self.path.display(),
             plural(others as usize, "other hard link"),
             if others == 1 {
                 "another name"
             } else {
                 "other names"
+            },
+            self.by.made(),
+            if self.by == Writer::Tune {
+                ", or tune a copy"
+            } else {
+                ""
             }
         )))
     }
@@ -131,26 +196,30 @@ impl OutFile<'_> {
         None
     }
 
-    /// The recipe written back was edited (or removed) while tuning ran:
-    /// the edit is the user's and stays; the tuned text goes beside it,
-    /// as `X.toml.tuned` if that name is free, else to stdout.
-    fn edited(&self, bytes: &[u8]) -> Error {
-        let shown = self.path.display();
+    /// `refused` at the write, after the work: the file there is the
+    /// user's and stays; the text made goes beside it, as `X.toml.tuned`
+    /// (or `.designed`) if that name is free, else to stdout.
+    fn kept_beside(&self, bytes: &[u8], refused: &Error) -> Error {
+        let made = self.by.made();
         let mut beside = self.path.as_os_str().to_owned();
-        beside.push(".tuned");
+        beside.push(format!(".{made}"));
         let beside = Path::new(&beside);
-        let like = fs::symlink_metadata(self.path).ok();
+        let like = fs::symlink_metadata(self.path).ok().filter(|m| m.is_file());
         let put = if create_like(beside, bytes, like.as_ref()).is_ok() {
-            format!("the tuned recipe is in {}", beside.display())
+            format!("the {made} recipe is in {}", beside.display())
         } else {
             let mut stdout = io::stdout().lock();
             let printed = stdout.write_all(bytes).and_then(|()| stdout.flush());
             crate::cli::console::noted(printed, crate::cli::console::Stream::Out);
-            "the tuned recipe was printed on stdout".to_string()
+            format!("the {made} recipe was printed on stdout")
         };
-        Error::io(format!(
-            "{shown} changed while tuning ran, so it was not overwritten (the change is kept); {put}"
-        ))
+        let why = refused.message();
+        let when = if self.recipe.is_some() {
+            String::new()
+        } else {
+            format!(" (found at the write, after {} ran)", self.by.working())
+        };
+        Error::new(refused.kind, format!("{why}{when}; {put}"))
     }
 }
 

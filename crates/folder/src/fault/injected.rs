@@ -124,7 +124,7 @@ fn link(_: &str, _: &std::path::Path) -> io::Result<()> {
     Err(io::Error::other("no symbolic links here"))
 }
 
-/// A user edits the file at `path` (`edit`).
+/// A user edits the file at `path`, or makes it if it is not there (`edit`).
 pub fn edit(path: &std::path::Path) {
     if !plan().edit {
         return;
@@ -132,6 +132,7 @@ pub fn edit(path: &std::path::Path) {
     use std::io::Write;
     let edited = std::fs::OpenOptions::new()
         .append(true)
+        .create(true)
         .open(path)
         .and_then(|mut f| f.write_all(b"# edited while tuning ran\n"));
     if let Err(e) = edited {
