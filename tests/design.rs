@@ -186,3 +186,94 @@ fn the_recorded_target_is_fitted_without_target_or_said_missing() {
         report()
     );
 }
+
+/// Each smooth family of issue 32 that the search reaches, at a small
+/// size (about 300 mm across, 60-75 mm cells, so the suite stays fast):
+/// the simulated joints meet the goal (docs/design.md, "The goal").
+fn meets_the_goal(text: &str, edge: f64) -> (String, usize) {
+    let (recipe, cells, fit) = design(&target(text), edge).expect("a design that builds");
+    assert!(designing::miss(&fit) <= 1.0, "{text}: {fit:?}");
+    (recipe, cells)
+}
+
+/// A flatter spheroid cap than the suite's, the other way up (its rim
+/// round: an elliptic rim grows sheets, which miss, docs/design.md).
+#[test]
+fn a_spheroid_cap_is_designed_within_the_goal() {
+    let (recipe, _) = meets_the_goal(
+        "[target]\nfamily = \"spheroid-cap\"\naxes = [150.0, 150.0, 60.0]\nturn = [180.0, 0.0, 0.0]\n",
+        60.0,
+    );
+    assert!(recipe.contains("seed = \"loop\""), "{recipe}");
+}
+
+#[test]
+fn a_paraboloid_is_designed_within_the_goal() {
+    meets_the_goal(
+        "[target]\nfamily = \"paraboloid\"\nradius = 150.0\ndepth = 70.0\n",
+        60.0,
+    );
+}
+
+#[test]
+fn a_flat_plate_is_designed_within_the_goal() {
+    let zeros = vec!["[0.0, 0.0, 0.0]"; 3].join(", ");
+    let (recipe, _) = meets_the_goal(
+        &format!(
+            "[target]\nfamily = \"height-field\"\nwidth = 240.0\nlength = 200.0\nheights = [{zeros}]\n"
+        ),
+        70.0,
+    );
+    assert!(recipe.contains("seed = \"sheet\""), "{recipe}");
+}
+
+/// A paraboloid 300 mm across as a modeller exports it: an OBJ of uneven
+/// rings and triangles, turned off level by 30 degrees and moved far from
+/// the origin. The search takes it into its own frame and meets the goal.
+#[test]
+fn an_exported_mesh_turned_and_moved_is_designed_within_the_goal() {
+    let mut rng = crate::util::Rng::new(7);
+    let (rings, around) = (7, 28);
+    let turn = glam::DQuat::from_axis_angle(glam::DVec3::new(1.0, 2.0, 0.5).normalize(), 0.52);
+    let at = glam::DVec3::new(640.0, -310.0, 95.0);
+    let mut obj = String::from("# uneven paraboloid r 150 depth 70, turned and moved\n");
+    let mut vertex = |p: glam::DVec3| {
+        let q = turn * p + at;
+        obj.push_str(&format!("v {:.6} {:.6} {:.6}\n", q.x, q.y, q.z));
+    };
+    vertex(glam::DVec3::ZERO);
+    for k in 1..=rings {
+        let f = k as f64 / rings as f64;
+        let r = 150.0
+            * if k == rings {
+                1.0
+            } else {
+                f + rng.range(-0.03, 0.03)
+            };
+        let offset = rng.range(0.0, 1.0);
+        for j in 0..around {
+            let a = std::f64::consts::TAU * (j as f64 + offset) / around as f64;
+            vertex(glam::DVec3::new(
+                r * a.cos(),
+                r * a.sin(),
+                70.0 * (r / 150.0).powi(2),
+            ));
+        }
+    }
+    let id = |k: usize, j: usize| 2 + (k - 1) * around + j % around;
+    for j in 0..around {
+        obj.push_str(&format!("f 1 {} {}\n", id(1, j), id(1, j + 1)));
+    }
+    for k in 1..rings {
+        for j in 0..around {
+            let (a, b, c, d) = (id(k, j), id(k, j + 1), id(k + 1, j), id(k + 1, j + 1));
+            obj.push_str(&format!("f {a} {c} {d}\nf {a} {d} {b}\n"));
+        }
+    }
+    let t = karigami::targets::read("export.obj", obj.as_bytes(), None).unwrap();
+    let (recipe, fit) = design(&t, 60.0)
+        .map(|(r, _, f)| (r, f))
+        .expect("a design that builds");
+    assert!(designing::miss(&fit) <= 1.0, "{fit:?}\n{recipe}");
+    assert!((fit.extent - 300.0).abs() < 3.0, "{fit:?}");
+}
