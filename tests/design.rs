@@ -217,7 +217,7 @@ fn a_paraboloid_is_designed_within_the_goal() {
 
 #[test]
 fn a_flat_plate_is_designed_within_the_goal() {
-    let zeros = vec!["[0.0, 0.0, 0.0]"; 3].join(", ");
+    let zeros = ["[0.0, 0.0, 0.0]"; 3].join(", ");
     let (recipe, _) = meets_the_goal(
         &format!(
             "[target]\nfamily = \"height-field\"\nwidth = 240.0\nlength = 200.0\nheights = [{zeros}]\n"
