@@ -114,6 +114,31 @@ fn check_reuses_what_a_build_solved() {
     );
 }
 
+/// A batch names a recipe's subfolder by its file name made safe
+/// (`curved:sheet.toml` in `curved_sheet/`): `check --reuse` finds its
+/// state there, as a build of the same batch does.
+#[test]
+fn check_reuses_a_batch_member_whose_name_was_made_safe() {
+    let dir = scratch("reuse-safe-name");
+    fs::create_dir_all(dir.join("in")).unwrap();
+    fs::copy(
+        repo().join("examples/curved-sheet.toml"),
+        dir.join("in/curved:sheet.toml"),
+    )
+    .unwrap();
+    let built = karigami(&["-q", "build", "in", "--out", "out"], &dir);
+    assert!(built.status.success(), "{}", text(&built.stderr));
+    assert!(dir.join("out/curved_sheet").is_dir());
+    let o = karigami(&["check", "in/curved:sheet.toml", "--reuse", "out"], &dir);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout)
+            .contains("simulation: reused from the build in out (nothing it depends on changed)\n"),
+        "{}",
+        text(&o.stdout)
+    );
+}
+
 #[test]
 fn check_fails_on_bad_fixtures_with_exit_1_and_the_place() {
     for f in bad_fixtures() {

@@ -192,7 +192,8 @@ fn check_one(
     }
     let state = given
         .reuse
-        .and_then(|r| r.state(&super::recipe::stem(path), super::recipe::STATE_LIMIT));
+        // The batch's subfolder is named as the recipe's stem made safe.
+        .and_then(|r| r.state(&recipe.stem, super::recipe::STATE_LIMIT));
     if !state.as_deref().is_some_and(|s| checked.restores(s)) {
         say_estimate(&file, &checked, overrides, json || v.quiet, bar);
     }
