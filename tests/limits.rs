@@ -168,31 +168,55 @@ fn the_fit_search_stops_at_the_time_limit() {
     assert!(seconds < 3.0, "stopped after {seconds:.1} s of CPU");
 }
 
-/// A run of the binary in `cwd` and its CPU seconds (user + system, by
-/// /usr/bin/time; its wall seconds where that is missing).
-fn cpu_seconds(args: &[&str], cwd: &Path) -> (Output, f64) {
+/// A run of the binary in `cwd`, as /usr/bin/time measures it.
+struct Timed {
+    output: Output,
+    /// Wall seconds.
+    wall: f64,
+    /// User + system seconds, and the peak resident KiB, where
+    /// /usr/bin/time is there to say them.
+    cpu: Option<f64>,
+    peak: Option<u64>,
+}
+
+fn timed(args: &[&str], cwd: &Path) -> Timed {
+    let clock = Instant::now();
     let time = Path::new("/usr/bin/time");
-    if !time.exists() {
-        let clock = Instant::now();
-        let o = karigami(args, cwd);
-        return (o, clock.elapsed().as_secs_f64());
+    let output = if time.exists() {
+        std::process::Command::new(time)
+            .args(["-f", "timed %U %S %M"])
+            .arg(env!("CARGO_BIN_EXE_karigami"))
+            .args(args)
+            .current_dir(cwd)
+            .output()
+            .unwrap()
+    } else {
+        karigami(args, cwd)
+    };
+    let wall = clock.elapsed().as_secs_f64();
+    let line: Option<Vec<String>> = stderr(&output).lines().rev().find_map(|l| {
+        Some(
+            l.strip_prefix("timed ")?
+                .split(' ')
+                .map(str::to_string)
+                .collect(),
+        )
+    });
+    let field = |k: usize| line.as_ref().and_then(|f| f.get(k)?.parse::<f64>().ok());
+    Timed {
+        cpu: field(0).zip(field(1)).map(|(u, s)| u + s),
+        peak: field(2).map(|kb| kb as u64),
+        output,
+        wall,
     }
-    let o = std::process::Command::new(time)
-        .args(["-f", "cpu %U %S"])
-        .arg(env!("CARGO_BIN_EXE_karigami"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .unwrap();
-    let seconds = stderr(&o)
-        .lines()
-        .rev()
-        .find_map(|l| {
-            let mut n = l.strip_prefix("cpu ")?.split(' ');
-            Some(n.next()?.parse::<f64>().ok()? + n.next()?.parse::<f64>().ok()?)
-        })
-        .expect("/usr/bin/time's line");
-    (o, seconds)
+}
+
+/// A run of the binary in `cwd` and its CPU seconds (its wall seconds
+/// where /usr/bin/time is missing).
+fn cpu_seconds(args: &[&str], cwd: &Path) -> (Output, f64) {
+    let t = timed(args, cwd);
+    let seconds = t.cpu.unwrap_or(t.wall);
+    (t.output, seconds)
 }
 
 /// `explore_until` stops at its deadline with the starts solved so far;
@@ -563,25 +587,8 @@ fn a_batch_and_the_optimiser_say_their_estimates_first() {
 
 /// Seconds and KiB of peak memory of one run of the binary in `cwd`.
 fn measured(args: &[&str], cwd: &Path) -> (Output, f64, Option<u64>) {
-    let clock = Instant::now();
-    let time = Path::new("/usr/bin/time");
-    let o = if time.exists() {
-        std::process::Command::new(time)
-            .args(["-f", "peak %M KB"])
-            .arg(env!("CARGO_BIN_EXE_karigami"))
-            .args(args)
-            .current_dir(cwd)
-            .output()
-            .unwrap()
-    } else {
-        karigami(args, cwd)
-    };
-    let seconds = clock.elapsed().as_secs_f64();
-    let peak = stderr(&o)
-        .lines()
-        .rev()
-        .find_map(|l| l.strip_prefix("peak ")?.strip_suffix(" KB")?.parse().ok());
-    (o, seconds, peak)
+    let t = timed(args, cwd);
+    (t.output, t.wall, t.peak)
 }
 
 /// The sweep: every recipe of the corpus (examples, templates, the bad
