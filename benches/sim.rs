@@ -209,6 +209,64 @@ fn design_step(cold: &Cold) -> [((f64, f64), String); 3] {
     [adjoint, seed, opening]
 }
 
+/// One Newton iteration's parts at the cold run's equilibrium, each the
+/// mean of `reps` (`--floor`): an energy (what each line-search trial
+/// costs), an assembly of the gradient and Hessian, a numeric
+/// factorisation of the unshifted Hessian and one solve with it, on the
+/// cold run's system; with the nodes, free variables and the entries of
+/// the Hessian's lower triangle and of its factor.
+fn floor(name: &str, cold: &Cold, reps: usize) {
+    let lm = &cold.run.lm;
+    let sys = lm.system();
+    let model = &lm.model;
+    let mut times = [
+        Mean::default(),
+        Mean::default(),
+        Mean::default(),
+        Mean::default(),
+    ];
+    // Each part `reps` times in a row: the thread's CPU clock is read
+    // from the scheduler's accounts, which lag by up to a tick.
+    let reps = reps.max(1);
+    let t0 = (Instant::now(), thread_cpu());
+    for _ in 0..reps {
+        std::hint::black_box(model.energy());
+    }
+    times[0].add_many(took(t0), reps);
+    let t0 = (Instant::now(), thread_cpu());
+    for _ in 0..reps {
+        let (_, g, h) = sys.assemble(model);
+        sys.recycle(g, h);
+    }
+    times[1].add_many(took(t0), reps);
+    let (_, g, h) = sys.assemble(model);
+    let t0 = (Instant::now(), thread_cpu());
+    for _ in 0..reps {
+        if let Some(f) = sys.factor(&h, 0.0) {
+            sys.release(f);
+        }
+    }
+    times[2].add_many(took(t0), reps);
+    let Some(f) = sys.factor(&h, 0.0) else {
+        return println!("| {name} | the Hessian at its equilibrium does not factor |");
+    };
+    let gf = sys.free_gradient(&g);
+    let t0 = (Instant::now(), thread_cpu());
+    for _ in 0..reps {
+        std::hint::black_box(sys.solve(&f, &gf));
+    }
+    times[3].add_many(took(t0), reps);
+    sys.release(f);
+    sys.recycle(g, h);
+    let (h_entries, l_entries) = sys.entries();
+    let [e, a, f, s] = times.map(|t| t.shown());
+    println!(
+        "| {name} | {} | {} | {h_entries} | {l_entries} | {e} | {a} | {f} | {s} |",
+        model.nodes.len(),
+        sys.n()
+    );
+}
+
 /// A mean of (CPU, wall) seconds.
 #[derive(Default)]
 struct Mean {
@@ -219,9 +277,14 @@ struct Mean {
 
 impl Mean {
     fn add(&mut self, (cpu, wall): (f64, f64)) {
+        self.add_many((cpu, wall), 1);
+    }
+
+    /// The seconds of `n` repetitions timed together.
+    fn add_many(&mut self, (cpu, wall): (f64, f64), n: usize) {
         self.cpu += cpu;
         self.wall += wall;
-        self.n += 1;
+        self.n += n;
     }
 
     /// "C ms CPU (W wall)", or nothing when not measured.
@@ -231,7 +294,7 @@ impl Mean {
             return String::new();
         }
         format!(
-            "{:.1} ms CPU ({:.0} wall)",
+            "{:.2} ms CPU ({:.0} wall)",
             1e3 * self.cpu / n,
             1e3 * self.wall / n
         )
@@ -327,6 +390,16 @@ fn main() {
         .unwrap_or(5);
     for (name, c) in &colds {
         design_loop(name, c, reps);
+    }
+    if std::env::args().any(|a| a == "--floor") {
+        println!();
+        println!(
+            "| example | nodes | free variables | H entries (lower) | factor entries | energy | assembly | factorisation | solve |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for (name, c) in &colds {
+            floor(name, c, reps);
+        }
     }
     if !std::env::args().any(|a| a == "--no-explore") {
         explore_eggbox();

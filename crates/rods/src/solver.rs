@@ -221,6 +221,12 @@ impl System {
         self.free_vars.len()
     }
 
+    /// The entries of the Hessian's lower triangle and of its Cholesky
+    /// factor (the fill the ordering leaves): for benchmarks.
+    pub fn entries(&self) -> (usize, usize) {
+        (self.pattern.row_idx.len(), self.numeric.len_val())
+    }
+
     /// Whether `System::new(model)` would be this system: the same free
     /// and fixed variables, ties (their free terms and coefficients),
     /// stencils' variables and metric. A changed design of the same
