@@ -4,6 +4,7 @@ mod cli;
 mod cutfiles;
 mod deploy;
 mod design;
+mod design_sheets;
 mod errors;
 mod finding;
 mod fuzz;
