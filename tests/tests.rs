@@ -4,7 +4,6 @@ mod cli;
 mod cutfiles;
 mod deploy;
 mod design;
-mod design_sheets;
 mod errors;
 mod finding;
 mod fuzz;
