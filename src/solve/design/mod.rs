@@ -124,18 +124,22 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     } else {
         Vec::new()
     };
-    // Each seed twice: rows grown as they come (extrinsic), and rows on
-    // fronts laid back onto the target (intrinsic, docs/math.md 7).
+    // Each seed with each scan (`sheets::SCANS`) twice: rows grown as they
+    // come (extrinsic), and rows on fronts laid back onto the target
+    // (intrinsic, docs/math.md 7).
+    let scans = sheets::SCANS.len();
     ask.jobs.in_order(
-        2 * seeds.len(),
+        2 * scans * seeds.len(),
         |k| {
             if ask.deadline.is_some_and(|d| Instant::now() > d) {
                 return None;
             }
-            Some(sheets::grow_seed(ask, &seeds[k / 2].0, rows, k % 2 == 1))
+            let (seed, samples) = (&seeds[k / (2 * scans)].0, sheets::SCANS[k / 2 % scans]);
+            Some(sheets::grow_seed(ask, seed, (rows, samples), k % 2 == 1))
         },
         |k, result| {
-            let (k, laid) = (k / 2, k % 2 == 1);
+            let (samples, laid) = (sheets::SCANS[k / 2 % scans], k % 2 == 1);
+            let k = k / (2 * scans);
             tried += 1;
             let (rows, lattice) = match result {
                 Some(Ok(grown)) => grown,
@@ -158,14 +162,15 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
                 lattice: sheets::sheet_toml(&seeds[k].0, &rows),
                 cells: lattice.cells.len(),
                 fit,
-                seed: if laid {
-                    format!(
-                        "{}; each row on its front laid back onto the target",
-                        seeds[k].1
-                    )
-                } else {
-                    seeds[k].1.clone()
-                },
+                seed: format!(
+                    "{}; rows scanned over {samples} leg angles{}",
+                    seeds[k].1,
+                    if laid {
+                        ", each on its front laid back onto the target"
+                    } else {
+                        ""
+                    }
+                ),
             });
         },
     );

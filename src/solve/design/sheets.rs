@@ -7,8 +7,15 @@ use crate::lattice::{Kind, Lattice, RowParams, grow};
 use crate::target::Target;
 use glam::DVec3;
 
-/// Leg angles a row's scan tries (and a tilt for every four, docs/recipe.md).
-const SAMPLES: usize = 31;
+/// Leg angles a row's scan tries (and a tilt for every four, docs/recipe.md),
+/// one search of each seed per count. Which branch a row's search takes
+/// turns on small differences in its scores, and whether the sheet it
+/// reaches holds its shape only the simulation tells (docs/design.md,
+/// "What it reaches": on the saddle the 31-angle scan's sheets fold
+/// shut in their last rows, the 29-angle scan's 35 cells meet the goal),
+/// so each seed is searched with two scans whose angles interleave, and
+/// `design` builds the best of them all.
+pub(super) const SCANS: [usize; 2] = [31, 29];
 
 /// Rows tried per seed over every backtrack of its search.
 const ROW_BUDGET: usize = 40;
@@ -65,12 +72,12 @@ pub(super) fn resample(ring: &[DVec3], edge: f64) -> Vec<DVec3> {
 }
 
 /// The rows the fit's search reaches from one seed (with kappa 0) on the
-/// target, and their lattice; why not when no row grows or `build`'s
-/// checks refuse the rows reached.
+/// target, each row's scan of `samples` leg angles, and their lattice; why
+/// not when no row grows or `build`'s checks refuse the rows reached.
 pub(super) fn grow_seed(
     ask: &DesignAsk<'_>,
     points: &[DVec3],
-    rows: usize,
+    (rows, samples): (usize, usize),
     refront: bool,
 ) -> Result<(Vec<RowParams>, Lattice), String> {
     let mut d = ask.base.clone();
@@ -79,7 +86,7 @@ pub(super) fn grow_seed(
     d.points = points.to_vec();
     d.kappa = vec![0.0; points.len() - 1];
     d.rows.clear();
-    let fit = Fit::on_target(ask.target.clone(), rows, SAMPLES);
+    let fit = Fit::on_target(ask.target.clone(), rows, samples);
     let found = crate::solve::fit::deepest_rows(&d, &fit, ROW_BUDGET, refront)
         .map_err(|e| format!("no row grows: {}", e.message))?;
     // The deepest sheet first, then with its last rows left off: a row
