@@ -457,11 +457,11 @@ pub(crate) fn reckoned(lattice: &Lattice, settings: &Settings) -> (Cost, Work, f
 
 /// The tests' hook (the `fault-injection` feature, which the released
 /// binary is built without): `KARIGAMI_FAULT_RECKON=F` scales a
-/// simulation's reckoned seconds by F, so that a test can run one that is
-/// allowed past its `--time-limit` in a fraction of a second and see it
-/// stop (tests/limits.rs).
+/// simulation's or the helix tuner's reckoned seconds by F, so that a test
+/// can run one that is allowed past its `--time-limit` in a fraction of a
+/// second and see it stop (tests/limits.rs).
 #[cfg(feature = "fault-injection")]
-fn reckoned_low(seconds: f64) -> f64 {
+pub(crate) fn reckoned_low(seconds: f64) -> f64 {
     std::env::var("KARIGAMI_FAULT_RECKON")
         .ok()
         .and_then(|f| f.parse::<f64>().ok())
@@ -470,7 +470,7 @@ fn reckoned_low(seconds: f64) -> f64 {
 
 /// Without the `fault-injection` feature: the seconds as reckoned.
 #[cfg(not(feature = "fault-injection"))]
-fn reckoned_low(seconds: f64) -> f64 {
+pub(crate) fn reckoned_low(seconds: f64) -> f64 {
     seconds
 }
 
