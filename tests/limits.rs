@@ -531,6 +531,33 @@ fn a_design_beyond_the_limit_is_refused_and_a_long_one_said() {
     assert!(!dir.join("cap.toml").exists());
 }
 
+/// A design reckoned within its limit that outruns it (here reckoned a
+/// hundred times low, `reckoned_low`) stops: its search at its share of
+/// the limit, keeping the rest for the builds, and a design none of whose
+/// candidates could be built in time is a time-limit stop (exit 4) that
+/// says how far it got and writes nothing, not a design that builds none.
+#[test]
+fn a_design_that_outruns_its_limit_stops_and_writes_nothing() {
+    let dir = scratch("limits-design-stop");
+    let target = repo().join("fixtures/targets/sphere-cap.toml");
+    let target = target.to_string_lossy();
+    let args = ["design", &target, "--out", "cap.toml", "--time-limit", "1"];
+    let Some(o) = reckoned_low(&args, &dir) else {
+        return;
+    };
+    says(
+        &o,
+        4,
+        &[
+            "sphere-cap.toml: stopped after ",
+            " seed search",
+            " found",
+            "nothing was written",
+        ],
+    );
+    assert!(!dir.join("cap.toml").exists());
+}
+
 /// Short work says no estimate.
 #[test]
 fn short_work_says_no_estimate() {

@@ -87,12 +87,17 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         file.target.topology.describe(),
         target.extent
     ));
-    within_time(&file, edge, &ask.overrides.deadline, &note)?;
+    let build = within_time(&file, edge, &ask.overrides.deadline, &note)?;
+    // The search leaves one candidate's reckoned build (at most half the
+    // limit) for the builds: a search cut short still has its best built.
+    let limit = ask.overrides.deadline.ceiling();
+    let mut searching = base.clone();
+    searching.deadline = ask.overrides.deadline.less(build.min(0.5 * limit));
     let search = DesignAsk {
         target: target.clone(),
-        base: &base,
+        base: &searching,
         edge,
-        deadline: ask.overrides.deadline.at(),
+        deadline: searching.deadline.at(),
         jobs: karigami::Jobs::new(ask.jobs),
     };
     let searched =
@@ -104,16 +109,31 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     // Fitted to the target as read, as `check` fits the recipe: the same
     // numbers (the fit's starts depend on the frame to a few hundredths
     // of a mm).
-    let chosen = choose(
+    let chosen = match choose(
         ask,
         &searched,
         (&name, &tables, &limits),
         &file.target,
         &note,
-    )
-    .map_err(|why| no_design(&file, &searched, &why))?;
-    let remedy = (chosen.miss > 1.0)
-        .then(|| designing::goal::remedy(&chosen.design, &chosen.sim, edge, &base));
+    ) {
+        Ok(chosen) => chosen,
+        // The search cut short by its share of the limit found none.
+        Err(Unbuilt::Refused(_)) if searched.found.is_empty() && searching.deadline.expired() => {
+            return Err(out_of_time(&file, &searched, &ask.overrides.deadline));
+        }
+        Err(Unbuilt::Refused(why)) => return Err(no_design(&file, &searched, &why)),
+        Err(Unbuilt::OutOfTime) => {
+            return Err(out_of_time(&file, &searched, &ask.overrides.deadline));
+        }
+    };
+    let remedy = (chosen.miss > 1.0).then(|| {
+        designing::goal::remedy(
+            &chosen.design,
+            &chosen.sim,
+            (edge, designing::goal::boundary_band(&file.target, edge)),
+            &base,
+        )
+    });
     if let (Some(remedy), false) = (&remedy, ask.keep_miss) {
         return Err(missed(&file, &chosen, remedy));
     }
@@ -159,14 +179,17 @@ fn choose(
     (name, tables, limits): (&str, &str, &Overrides),
     target: &karigami::targets::Target,
     note: &dyn Fn(&str),
-) -> Result<Chosen, Vec<String>> {
-    let deadline = ask.overrides.deadline.at();
+) -> Result<Chosen, Unbuilt> {
+    let deadline = ask.overrides.deadline;
     let mut refusals = Vec::new();
     let mut best: Option<Chosen> = None;
     let mut built = 0;
     for found in searched.found.iter().take(BUILT) {
-        if deadline.is_some_and(|d| Instant::now() > d) && best.is_some() {
-            break;
+        if deadline.expired() {
+            match best {
+                Some(_) => break,
+                None => return Err(Unbuilt::OutOfTime),
+            }
         }
         let text = designing::recipe(found, name, &[], None, tables);
         built += 1;
@@ -191,13 +214,56 @@ fn choose(
                     break;
                 }
             }
+            // A build stopped by the limit is not a refusal of the design.
+            Err(_) if deadline.expired() && best.is_none() => return Err(Unbuilt::OutOfTime),
             Err(why) => {
                 note(&format!("{} cells: build refuses it: {why}", found.cells));
                 refusals.push(why);
             }
         }
     }
-    best.map(|b| Chosen { built, ..b }).ok_or(refusals)
+    best.map(|b| Chosen { built, ..b })
+        .ok_or(Unbuilt::Refused(refusals))
+}
+
+/// Why no design was chosen: every candidate built was refused (why each
+/// was), or the time limit passed before one built.
+enum Unbuilt {
+    Refused(Vec<String>),
+    OutOfTime,
+}
+
+/// The time limit passed before a candidate was built, or the search's
+/// share of it before it found one: how far the search got, as a
+/// `TimeLimit` stop (exit 4) that writes nothing.
+fn out_of_time(
+    file: &TargetFile,
+    searched: &designing::Searched,
+    whole: &karigami::Deadline,
+) -> Error {
+    let limit = whole.limit().unwrap_or(0.0);
+    let passed = if whole.expired() {
+        format!("the time limit of {limit} s has passed")
+    } else {
+        format!(
+            "the search's share of the time limit of {limit} s has passed (the rest was kept for building candidates)"
+        )
+    };
+    let built = if searched.found.is_empty() {
+        ""
+    } else {
+        ", before one was built"
+    };
+    Error::new(
+        ErrorKind::TimeLimit,
+        format!(
+            "{}: stopped after {} and {} found{built}, {:.1} s in: {passed}; nothing was written (allow more time with --time-limit SECONDS, or give a larger --edge; docs/commands.md, Time limits)",
+            file.file,
+            karigami::util::plural(searched.tried, "seed search"),
+            karigami::util::plural(searched.found.len(), "design"),
+            whole.elapsed(),
+        ),
+    )
 }
 
 /// No candidate builds: why each was refused.
@@ -361,18 +427,19 @@ const BUILDS: f64 = 1.0;
 /// (docs/commands.md, "Time limits"): the cells a design of `edge` may
 /// have (the target's area in cells of `edge` squared), times the seeds'
 /// row search and the candidate builds; refused beyond the limit with the
-/// edge that fits; else said to `note` when long (`Estimate::said`).
+/// edge that fits; else said to `note` when long (`Estimate::said`), and
+/// a candidate's build reckoned (seconds).
 fn within_time(
     file: &TargetFile,
     edge: f64,
     deadline: &karigami::Deadline,
     note: &dyn Fn(&str),
-) -> Result<(), Error> {
+) -> Result<f64, Error> {
     let cells = (CELLS_PER_SQUARE * file.target.area / (edge * edge))
         .ceil()
         .max(1.0);
-    let search = SEEDS * SEARCH_SECONDS_PER_CELL * cells;
-    let builds = BUILDS * BUILD_SECONDS_PER_CELL * cells;
+    let search = karigami::util::reckoned_low(SEEDS * SEARCH_SECONDS_PER_CELL * cells);
+    let builds = karigami::util::reckoned_low(BUILDS * BUILD_SECONDS_PER_CELL * cells);
     let seconds = search + builds;
     let estimate = karigami::Estimate {
         seconds,
@@ -387,7 +454,7 @@ fn within_time(
         if let Some(line) = estimate.said(deadline) {
             note(&line);
         }
-        return Ok(());
+        return Ok(builds / BUILDS);
     }
     // The work goes as the cells, as 1 / edge^2; the search grows three
     // cells across the target at least.
