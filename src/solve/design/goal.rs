@@ -75,19 +75,22 @@ pub fn misses(f: &Fit) -> Vec<String> {
 /// (bending stiffness goes as the thickness cubed) or more joints help.
 ///
 /// `band` is the share a band along the boundary leaves uncovered at this
-/// edge (`boundary_band`): when the design itself leaves more than twice
-/// that uncovered, its rows stopped before they crossed the target, and
-/// no edge would help.
+/// edge (`boundary_band`; none on a closed target): when the design
+/// itself leaves more than twice that uncovered, its rows stopped before
+/// they crossed the target, and no edge would help.
 pub fn remedy(
     design: &Fit,
     sim: &Fit,
-    (edge, band): (f64, f64),
+    (edge, band): (f64, Option<f64>),
     base: &crate::design::Design,
 ) -> String {
     let (distance, uncovered) = ratios(sim);
     let least = super::least_edge(base);
     let short = 1.0 - design.coverage.unwrap_or(0.0);
-    if short > 1.0 - COVERED && short > 2.0 * band {
+    if let Some(band) = band
+        && short > 1.0 - COVERED
+        && short > 2.0 * band
+    {
         return rows_stop(design, band);
     }
     if miss(design) <= 1.0 {
@@ -151,19 +154,21 @@ pub fn remedy(
 /// The share of a target's area that cells `edge` across leave uncovered
 /// along its boundary: a band half a cell wide round every boundary loop,
 /// less the 3 % of D that coverage allows (docs/design.md, "The fit
-/// measures").
-pub fn boundary_band(t: &Target, edge: f64) -> f64 {
+/// measures"); None for a closed target, which has no boundary.
+pub fn boundary_band(t: &Target, edge: f64) -> Option<f64> {
     let width = (edge / 2.0 - COVERED_WITHIN * t.extent).max(0.0);
-    let length: f64 = t
-        .mesh
-        .boundary_loops()
+    let loops = t.mesh.boundary_loops();
+    if loops.is_empty() {
+        return None;
+    }
+    let length: f64 = loops
         .iter()
         .map(|l| {
             let at = |k: usize| t.mesh.positions[l[k % l.len()] as usize];
             (0..l.len()).map(|k| at(k).distance(at(k + 1))).sum::<f64>()
         })
         .sum();
-    (length * width / t.mesh.area().max(f64::MIN_POSITIVE)).min(1.0)
+    Some((length * width / t.mesh.area().max(f64::MIN_POSITIVE)).min(1.0))
 }
 
 /// The hint for a design whose rows stop short: what it covers, what a
@@ -223,23 +228,23 @@ mod tests {
         let least = super::super::least_edge(&base);
         let off = fit(1.0, 2.0, 0.7);
         let far = fit(30.0, 19.0, 1.0);
-        let hint = remedy(&off, &far, (4.0 * least, 0.2), &base);
+        let hint = remedy(&off, &far, (4.0 * least, Some(0.2)), &base);
         assert!(
             hint.starts_with(&format!("try --edge {:.0} (now", 2.0 * least)),
             "{hint}"
         );
-        let bare = remedy(&off, &off, (4.0 * least, 0.2), &base);
+        let bare = remedy(&off, &off, (4.0 * least, Some(0.2)), &base);
         assert!(
             bare.starts_with(&format!("try --edge {:.0} ", 2.0 * least)),
             "{bare}"
         );
-        let scaled = remedy(&off, &far, (1.5 * least, 0.2), &base);
+        let scaled = remedy(&off, &far, (1.5 * least, Some(0.2)), &base);
         assert!(
             scaled.contains(&format!("is under the {least:.1} mm"))
                 && scaled.contains("a target 1.3 times as large"),
             "{scaled}"
         );
-        let strips = remedy(&fit(1.0, 2.0, 1.0), &far, (4.0 * least, 0.2), &base);
+        let strips = remedy(&fit(1.0, 2.0, 1.0), &far, (4.0 * least, Some(0.2)), &base);
         assert!(
             strips.contains("the design itself meets the goal")
                 && strips.contains("--thickness 0.5 (now 1 mm")
@@ -259,7 +264,7 @@ mod tests {
         let base = crate::design::parse(super::super::STUB, "t").unwrap();
         let least = super::super::least_edge(&base);
         let short = fit(1.0, 2.0, 0.39);
-        let hint = remedy(&short, &short, (4.0 * least, 0.18), &base);
+        let hint = remedy(&short, &short, (4.0 * least, Some(0.18)), &base);
         assert!(
             hint.starts_with("the design itself covers only 39.0 % of the target: its rows stop")
                 && hint.contains("would leave about 18 % uncovered")
@@ -267,7 +272,7 @@ mod tests {
             "{hint}"
         );
         let band = fit(1.0, 2.0, 0.75);
-        let hint = remedy(&band, &band, (4.0 * least, 0.2), &base);
+        let hint = remedy(&band, &band, (4.0 * least, Some(0.2)), &base);
         assert!(hint.starts_with("try --edge "), "{hint}");
     }
 
@@ -284,11 +289,8 @@ mod tests {
         .unwrap();
         let want = 1200.0 * (30.0 - 0.03 * t.extent) / 90_000.0;
         assert!((t.extent - 424.264).abs() < 0.01, "{}", t.extent);
-        assert!(
-            (boundary_band(&t, 60.0) - want).abs() < 1e-9,
-            "{}",
-            boundary_band(&t, 60.0)
-        );
-        assert_eq!(boundary_band(&t, 20.0), 0.0);
+        let band = boundary_band(&t, 60.0).expect("a boundary");
+        assert!((band - want).abs() < 1e-9, "{band}");
+        assert_eq!(boundary_band(&t, 20.0), Some(0.0));
     }
 }
