@@ -9,7 +9,7 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 14] = [
+const TARGETS: [&str; 15] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
@@ -23,6 +23,7 @@ const TARGETS: [&str; 14] = [
     "saddle-export.stl",
     "sphere.toml",
     "egg-export.stl",
+    "closed-revolution.toml",
     "torus-band.toml",
 ];
 

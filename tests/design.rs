@@ -124,6 +124,23 @@ fn a_torus_is_refused_with_the_band_that_would_work() {
     assert!(!out.exists());
 }
 
+/// A closed ellipsoid of three unequal axes is round about none of them:
+/// refused with how far from round and what would work (golden).
+#[test]
+fn a_closed_surface_not_of_revolution_is_refused() {
+    let dir = scratch("design-triaxial");
+    std::fs::write(
+        dir.join("triaxial.toml"),
+        "[target]\nfamily = \"spheroid-cap\"\naxes = [200.0, 150.0, 120.0]\nheight = 240.0\n",
+    )
+    .unwrap();
+    let o = karigami(&["-q", "design", "triaxial.toml", "--out", "t.toml"], &dir);
+    let mut actual = o.stderr.clone();
+    actual.extend(format!("exit status: {}\n", o.status.code().unwrap_or(-1)).bytes());
+    compare("tests/golden/design/triaxial.stderr", &actual).unwrap();
+    assert!(!dir.join("t.toml").exists());
+}
+
 /// A whole sphere 200 mm across (a cap as high as twice its radius), at a
 /// 50 mm edge: the search's best design is a loop from pole to pole that
 /// meets the goal on the whole closed sphere, its open polar caps counted

@@ -332,7 +332,7 @@ fn closed_topology(t: &Target) -> Result<String, Diagnostic> {
         }
         closed::Revolved::NotRound { spread } => (
             format!(
-                "the target is a closed surface, but not one of revolution: about each of its principal axes its distance from its centre varies by {spread:.1} mm ({:.1} % of D) with the azimuth, over the {limit} % a loop's rings need, and a loop's rings close round level circles only",
+                "the target is a closed surface, but not one of revolution: about each of its principal axes its distance from its centre varies with the azimuth by {spread:.1} mm ({:.1} % of D) or more, over the {limit} % a loop needs, whose rings are level circles about one axis",
                 share(spread)
             ),
             "make it round about one axis (a sphere, a spheroid, an egg), or cut it open into a patch with one boundary loop, which karigami design grows sheets on",
