@@ -36,7 +36,7 @@ pub(super) enum Revolved {
     /// Star-shaped about its centre but round about none of its principal
     /// axes: the least `spread` (mm) found.
     NotRound { spread: f64 },
-    /// A ray from the centroid leaves it more than once (or misses it): not
+    /// A ray from the centroid misses it or crosses it more than once: not
     /// star-shaped about its centre, so its meridian is not one curve of
     /// rays.
     NotStar,
@@ -266,5 +266,17 @@ mod tests {
             panic!("a triaxial ellipsoid found round");
         };
         assert!(spread > 20.0, "{spread}");
+    }
+
+    /// A closed cup (walls 20 mm thick, its profile meeting the axis at the
+    /// bottom and at the floor of its hollow) is round, but rays from its
+    /// centroid, in the hollow, leave through the mouth: not star-shaped.
+    #[test]
+    fn a_closed_cup_is_not_star_shaped() {
+        let t = sphere(
+            "[target]\nfamily = \"revolution\"\nprofile = [[0.0, 0.0], [200.0, 0.0], [200.0, 200.0], [180.0, 200.0], [180.0, 20.0], [0.0, 20.0]]\n",
+        );
+        assert_eq!(t.topology, crate::target::Topology::Closed { genus: 0 });
+        assert!(matches!(revolved(&t.canonical()), Revolved::NotStar));
     }
 }

@@ -338,7 +338,7 @@ fn closed_topology(t: &Target) -> Result<String, Diagnostic> {
             "make it round about one axis (a sphere, a spheroid, an egg), or cut it open into a patch with one boundary loop, which karigami design grows sheets on",
         ),
         closed::Revolved::NotStar => (
-            "the target is a closed surface, but not star-shaped about its centre (a ray from its centroid leaves it more than once), so karigami design cannot trace its meridians from pole to pole".to_string(),
+            "the target is a closed surface, but not star-shaped about its centre (a ray from its centroid misses it or crosses it more than once), so karigami design cannot trace its meridians from pole to pole".to_string(),
             "cut it open into a patch with one boundary loop, or into a band whose rims are level circles about one axis",
         ),
     };
