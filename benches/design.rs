@@ -9,7 +9,7 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 11] = [
+const TARGETS: [&str; 15] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
@@ -21,6 +21,10 @@ const TARGETS: [&str; 11] = [
     "sphere-cap-export.obj",
     "paraboloid-export.stl",
     "saddle-export.stl",
+    "sphere.toml",
+    "egg-export.stl",
+    "closed-revolution.toml",
+    "torus-band.toml",
 ];
 
 fn run(name: &str) {

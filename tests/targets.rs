@@ -43,6 +43,12 @@ const SUITE: &[(&str, f64, Topology)] = &[
     ("saddle-band.toml", 386.5045495167683, Topology::Annulus),
     // Refused by `design` for its curvature: the length and the diameter.
     ("too-curved.toml", 304.138126514911, Topology::Patch),
+    // Closed: pole to pole (the egg's width is under its length), and the
+    // torus band across its outer equator, 2 (160 + 70).
+    ("sphere.toml", 400.0, Topology::Closed { genus: 0 }),
+    ("sphere-export.obj", 360.0, Topology::Closed { genus: 0 }),
+    ("egg-export.stl", 400.0, Topology::Closed { genus: 0 }),
+    ("torus-band.toml", 460.0, Topology::Annulus),
 ];
 
 #[test]

@@ -255,8 +255,8 @@ fn family(name: &str, t: &RawTarget) -> Result<Family, Diagnostic> {
                 "height",
                 0.0,
                 2.0 * radius,
-                false,
-                "the cap's height in mm; a height of twice the radius is the whole sphere, which is closed",
+                true,
+                "the cap's height in mm; twice the radius is the whole sphere, a closed surface",
             )?;
             Family::SphereCap { radius, height }
         }
@@ -329,8 +329,8 @@ fn spheroid(t: &RawTarget) -> Result<Family, Diagnostic> {
             "height",
             0.0,
             2.0 * axes.z,
-            false,
-            "the cap's height along z in mm; twice the z semi-axis is the whole spheroid, which is closed",
+            true,
+            "the cap's height along z in mm; twice the z semi-axis is the whole spheroid, a closed surface",
         )?,
         None => axes.z,
     };

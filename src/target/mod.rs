@@ -173,6 +173,15 @@ mod tests {
                 radius: 150.0,
                 height: 250.0,
             },
+            // The whole sphere and spheroid: closed.
+            Family::SphereCap {
+                radius: 150.0,
+                height: 300.0,
+            },
+            Family::SpheroidCap {
+                axes: DVec3::new(120.0, 120.0, 200.0),
+                height: 400.0,
+            },
             Family::SpheroidCap {
                 axes: DVec3::new(200.0, 150.0, 120.0),
                 height: 120.0,
@@ -281,6 +290,8 @@ mod tests {
                 Patch,
                 Patch,
                 Patch,
+                Closed { genus: 0 },
+                Closed { genus: 0 },
                 Patch,
                 Patch,
                 Patch,

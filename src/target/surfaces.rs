@@ -159,10 +159,16 @@ impl Family {
             ..Closing::default()
         };
         match self {
-            Family::Disk { .. }
-            | Family::SphereCap { .. }
-            | Family::SpheroidCap { .. }
-            | Family::Paraboloid { .. } => cap,
+            // A cap as high as the whole sphere closes at its bottom pole.
+            Family::SphereCap { radius, height } => Closing {
+                pole_v1: *height >= 2.0 * radius,
+                ..cap
+            },
+            Family::SpheroidCap { axes, height } => Closing {
+                pole_v1: *height >= 2.0 * axes.z,
+                ..cap
+            },
+            Family::Disk { .. } | Family::Paraboloid { .. } => cap,
             Family::Saddle { .. } | Family::HeightField { .. } => Closing::default(),
             Family::Cylinder { angle, .. } => Closing {
                 wrap_v: *angle >= 360.0,

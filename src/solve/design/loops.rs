@@ -59,54 +59,108 @@ struct Rim<'a> {
     meridian: &'a dyn Fn(DVec3) -> Option<Vec<(f64, DVec3)>>,
 }
 
-/// The designs of `loops` and `annulus`: for each loop size and ring step,
-/// the rings' target points down the meridian of the seed's point 1, and
-/// each design with its last rings left off, down to half of them.
+/// The designs of `loops` and `annulus`: for each loop size, the rings'
+/// target points down the meridian of the seed's point 1.
 fn rings(
     ask: &DesignAsk<'_>,
     rim: &Rim<'_>,
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Found> {
-    let t = &ask.target;
     let n0 = ((std::f64::consts::TAU * rim.radius / ask.edge / 2.0).round() as usize * 2).max(8);
     let mut out = Vec::new();
     for n in [n0, n0.saturating_sub(2).max(8)] {
-        let points: Vec<DVec3> = (0..n)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / n as f64;
-                rim.centre + rim.radius * DVec3::new(a.cos(), a.sin(), 0.0)
-            })
-            .collect();
+        let points = level_loop(rim.centre, rim.radius, n);
         let Some(meridian) = (rim.meridian)(points[1]) else {
             continue;
         };
         let length = rim.reach * meridian.last().map_or(0.0, |m| m.0);
-        for per_edge in RING_STEPS {
-            if ask.deadline.is_some_and(|d| Instant::now() > d) {
-                return out;
-            }
-            *tried += 1;
-            let rings = ((length / (per_edge * ask.edge)).round() as usize).clamp(2, MAX_RINGS);
-            let targets: Vec<DVec3> = (1..=rings)
-                .map(|i| along(&meridian, length * i as f64 / rings as f64))
-                .collect();
-            progress(&format!(
-                "loop of {n} points round the rim, {rings} rings {:.1} mm apart down the meridian",
-                length / rings as f64
-            ));
-            for rows in (rings.div_ceil(2).max(1)..=rings).rev() {
-                let Some(lattice) = buildable_loop(ask.base, &points, &targets[..rows]) else {
-                    continue;
-                };
-                out.push(Found {
-                    lattice: loop_toml(&points, &targets[..rows]),
-                    cells: lattice.cells.len(),
-                    fit: fit_of(t, &lattice),
-                    seed: format!(
-                        "a loop of {n} points round the rim, {rows} of {rings} rings at equal steps down the meridian"
-                    ),
-                });
+        let seed = Seed {
+            points: &points,
+            meridian: &meridian,
+            span: (0.0, length),
+            what: "round the rim",
+            closed: false,
+        };
+        out.extend(grow_rings(ask, &seed, tried, progress));
+    }
+    out
+}
+
+/// `n` points round the level circle of `radius` about `centre`, the
+/// first on +x.
+pub(super) fn level_loop(centre: DVec3, radius: f64, n: usize) -> Vec<DVec3> {
+    (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            centre + radius * DVec3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect()
+}
+
+/// A loop's seed points, the meridian through its point 1 as (arc length,
+/// point) pairs, the stretch of it (arc lengths) its rings span, where
+/// the seed lies, for the recipe's comment, and whether the target is
+/// closed (`grow_rings`).
+pub(super) struct Seed<'a> {
+    pub points: &'a [DVec3],
+    pub meridian: &'a [(f64, DVec3)],
+    pub span: (f64, f64),
+    pub what: &'a str,
+    pub closed: bool,
+}
+
+/// Rings a loop on a closed target leaves off at most: each leaves a
+/// band of the far cap uncovered, and it is measured on the whole target.
+const CLOSED_CUT: usize = 2;
+
+/// For each ring step, the rings' vertices x[i][1] at equal steps of arc
+/// length along the seed's span of its meridian, the last at its end; each
+/// design with its last rings left off, down to half of them; on a closed
+/// target only the most rings that build, `CLOSED_CUT` left off at most.
+pub(super) fn grow_rings(
+    ask: &DesignAsk<'_>,
+    seed: &Seed<'_>,
+    tried: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> Vec<Found> {
+    let (t, points, n) = (&ask.target, seed.points, seed.points.len());
+    let (from, length) = (seed.span.0, seed.span.1 - seed.span.0);
+    let mut out = Vec::new();
+    for per_edge in RING_STEPS {
+        if ask.deadline.is_some_and(|d| Instant::now() > d) {
+            return out;
+        }
+        *tried += 1;
+        let rings = ((length / (per_edge * ask.edge)).round() as usize).clamp(2, MAX_RINGS);
+        let targets: Vec<DVec3> = (1..=rings)
+            .map(|i| along(seed.meridian, from + length * i as f64 / rings as f64))
+            .collect();
+        progress(&format!(
+            "loop of {n} points {}, {rings} rings {:.1} mm apart down the meridian",
+            seed.what,
+            length / rings as f64
+        ));
+        let least = if seed.closed {
+            rings.saturating_sub(CLOSED_CUT).max(1)
+        } else {
+            rings.div_ceil(2).max(1)
+        };
+        for rows in (least..=rings).rev() {
+            let Some(lattice) = buildable_loop(ask.base, points, &targets[..rows]) else {
+                continue;
+            };
+            out.push(Found {
+                lattice: loop_toml(points, &targets[..rows]),
+                cells: lattice.cells.len(),
+                fit: fit_of(t, &lattice),
+                seed: format!(
+                    "a loop of {n} points {}, {rows} of {rings} rings at equal steps down the meridian",
+                    seed.what
+                ),
+            });
+            if seed.closed {
+                break;
             }
         }
     }
@@ -259,7 +313,7 @@ fn meridian(t: &Target, centre: DVec3, from: DVec3) -> Option<Vec<(f64, DVec3)>>
 }
 
 /// The meridian's point at arc length `s` (straight between samples).
-fn along(meridian: &[(f64, DVec3)], s: f64) -> DVec3 {
+pub(super) fn along(meridian: &[(f64, DVec3)], s: f64) -> DVec3 {
     let k = meridian
         .partition_point(|m| m.0 < s)
         .clamp(1, meridian.len() - 1);

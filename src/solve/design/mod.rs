@@ -19,6 +19,7 @@ use glam::DVec3;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod closed;
 pub mod goal;
 mod loops;
 mod material;
@@ -71,6 +72,11 @@ pub struct Searched {
 pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Searched, Diagnostic> {
     let topology = choose(&ask.target, ask.edge)?;
     material::within_reach(&ask.target, ask.base, ask.edge)?;
+    if matches!(ask.target.topology, Topology::Closed { .. })
+        && let closed::Revolved::About { axis, .. } = closed::revolved(&ask.target)
+    {
+        return Ok(closed_loops(ask, axis, topology, progress));
+    }
     let levelled = level_rim(&ask.target);
     let ask = &DesignAsk {
         target: levelled,
@@ -174,17 +180,51 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
             });
         },
     );
-    // A stable sort: of equal fits, the earlier seed; a target's symmetry
-    // grows the same design from several sides, built once.
-    found.sort_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
-    found.dedup_by(|a, b| {
-        a.cells == b.cells && same(a.fit.rms, b.fit.rms) && same(a.fit.largest, b.fit.largest)
-    });
+    ranked(&mut found);
     Ok(Searched {
         found,
         tried,
         topology,
     })
+}
+
+/// The loops of a closed target of revolution (`closed::loops`), the
+/// target turned so that its `axis` is z; best first.
+fn closed_loops(
+    ask: &DesignAsk<'_>,
+    axis: DVec3,
+    topology: String,
+    progress: &mut dyn FnMut(&str),
+) -> Searched {
+    let turned = if axis == DVec3::Z {
+        ask.target.clone()
+    } else {
+        Arc::new(ask.target.levelled(axis))
+    };
+    let ask = &DesignAsk {
+        target: turned,
+        base: ask.base,
+        edge: ask.edge,
+        deadline: ask.deadline,
+        jobs: ask.jobs,
+    };
+    let mut tried = 0;
+    let mut found = closed::loops(ask, &mut tried, progress);
+    ranked(&mut found);
+    Searched {
+        found,
+        tried,
+        topology,
+    }
+}
+
+/// Best fit first (a stable sort: of equal fits, the earlier seed); a
+/// target's symmetry grows the same design from several sides, kept once.
+fn ranked(found: &mut Vec<Found>) {
+    found.sort_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
+    found.dedup_by(|a, b| {
+        a.cells == b.cells && same(a.fit.rms, b.fit.rms) && same(a.fit.largest, b.fit.largest)
+    });
 }
 
 /// Equal to a millionth: the same design turned by a symmetry of the target.
@@ -263,11 +303,46 @@ fn choose(t: &Target, edge: f64) -> Result<String, Diagnostic> {
             "the target is an annulus or tube segment whose rims are not both level circles about one axis; karigami design grows loops only between such rims".into(),
             "cut the band open along one line from edge to edge, so that it is a patch, or make both rims level circles",
         ),
+        Topology::Closed { genus: 0 } => closed_topology(t),
+        Topology::Closed { genus: 1 } => refuse(
+            format!(
+                "the target is {}: karigami design grows a loop from a rim or from a pole of a surface of revolution, and a torus has neither; a loop wound round its tube leaves its last ring unjoined to its seed, and the paper's (examples/torus.toml) simulates to 1.80 % of D rms with 70.8 % of the torus covered, short of the goal (docs/design.md, \"Measured fits of the examples\")",
+                t.topology.describe()
+            ),
+            "cut it into a band whose two rims are level circles about its axis, such as its outer band within 45 degrees of the tube's outer equator (fixtures/targets/torus-band.toml), which karigami design grows as a loop from rim to rim; or into a patch with one boundary loop (docs/design.md, \"Closed targets\")",
+        ),
         other => refuse(
-            format!("the target is {}; karigami design grows sheets on open patches", other.describe()),
+            format!("the target is {}; karigami design grows sheets on open patches, loops on bands and closed surfaces of revolution", other.describe()),
             "cut the surface open where the design should end, so that it has one boundary loop",
         ),
     }
+}
+
+/// A closed target of genus 0: a loop from pole to pole when it is a
+/// surface of revolution (`closed::revolved`); refused with why otherwise.
+fn closed_topology(t: &Target) -> Result<String, Diagnostic> {
+    let share = |mm: f64| 100.0 * mm / t.extent;
+    let limit = 100.0 * closed::ROUND;
+    let (m, hint) = match closed::revolved(t) {
+        closed::Revolved::About { spread, .. } => {
+            return Ok(format!(
+                "loop: the target is a closed surface of revolution (its distance from its centre the same at every azimuth about one principal axis within {spread:.1} mm, {:.2} % of D), so a symmetric loop seeded round a small level circle near one pole closes every ring and each ring's vertex can be put on the target one step further along its meridian, to a small circle near the other pole; the caps left open at the poles count against the coverage (docs/math.md 6.2)",
+                share(spread)
+            ));
+        }
+        closed::Revolved::NotRound { spread } => (
+            format!(
+                "the target is a closed surface, but not one of revolution: about each of its principal axes its distance from its centre varies with the azimuth by {spread:.1} mm ({:.1} % of D) or more, over the {limit} % a loop needs, whose rings are level circles about one axis",
+                share(spread)
+            ),
+            "make it round about one axis (a sphere, a spheroid, an egg), or cut it open into a patch with one boundary loop, which karigami design grows sheets on",
+        ),
+        closed::Revolved::NotStar => (
+            "the target is a closed surface, but not star-shaped about its centre (a ray from its centroid misses it or crosses it more than once), so karigami design cannot trace its meridians from pole to pole".to_string(),
+            "cut it open into a patch with one boundary loop, or into a band whose rims are level circles about one axis",
+        ),
+    };
+    Err(Diagnostic::new(ErrorKind::TargetTopology, m).hint(hint.to_string()))
 }
 
 /// A recipe that parses, for the fabrication and simulation settings the
