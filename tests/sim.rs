@@ -718,7 +718,7 @@ fn refinement(path: &str) -> Refined {
     let solve_at = |h: f64| {
         let settings = Settings {
             h_max: h,
-            ..d.simulation
+            ..d.simulation.clone()
         };
         let run = sim::simulate(&lattice, &deploy, m.width, m.thickness, &settings)
             .unwrap_or_else(|e| panic!("{path} at {h} mm: {e}"));

@@ -74,7 +74,7 @@ pub(super) fn simulate(
         ));
     }
     let (design, lattice, deploy) = (&checked.design, &checked.lattice, &checked.deployment);
-    let mut settings = design.simulation;
+    let mut settings = design.simulation.clone();
     if let Some(mb) = memory {
         settings.memory = mb << 20;
     }

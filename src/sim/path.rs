@@ -252,6 +252,9 @@ pub fn chosen_until(
     let clock = std::time::Instant::now();
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
     let steps = Path::step_count(free, run.theta);
+    if !run.lm.pins.is_empty() {
+        return pinned(run, steps, material, deadline);
+    }
     let (path, end) = follow_until(&run.lm, &run.equilibrium.stats, steps, material, deadline);
     // Back at the state solved from the design (within `SAME_MM`): that
     // solve's numbers, not the round trip's few ulp away from them.
@@ -268,6 +271,28 @@ pub fn chosen_until(
         None => run,
     };
     (run, Some(path))
+}
+
+/// A lattice held at its supports: the path of the lattice standing free
+/// (its pins released, `LatticeModel::released`), which a maker deploys
+/// before pinning its feet, and the state solved from the design with the
+/// pins held, whatever the path's end (docs/physics.md, "Supports"). No
+/// path when the free lattice finds no equilibrium at the design opening.
+fn pinned(
+    run: Simulation,
+    steps: usize,
+    material: &Material,
+    deadline: &Deadline,
+) -> (Simulation, Option<Path>) {
+    let mut free = run.lm.released();
+    let opts = Options {
+        deadline: deadline.at(),
+        ..Options::default()
+    };
+    let path = super::deploy(&mut free, None, &opts)
+        .ok()
+        .map(|(stats, _, _)| follow_until(&free, &stats, steps, material, deadline).0);
+    (run, path)
 }
 
 /// Two states closer than this (mm, largest joint distance after the best
