@@ -18,13 +18,14 @@ pub(super) fn supports(w: &mut PageFlow, b: &Build) {
     let places: Vec<String> = pins
         .iter()
         .map(|p| {
-            let d = p.at - first;
+            // Whole millimetres, never "-0".
+            let d = ((p.at - first).round() + glam::DVec3::ZERO).to_array();
             format!(
-                "{} at ({:.0}, {:.0}, {:.0}) mm, {:.1} N",
+                "{} at ({}, {}, {}) mm, {:.1} N",
                 name(p.vertex),
-                d.x,
-                d.y,
-                d.z,
+                d[0],
+                d[1],
+                d[2],
                 p.force.length()
             )
         })
@@ -32,7 +33,8 @@ pub(super) fn supports(w: &mut PageFlow, b: &Build) {
     let text = format!(
         "This design keeps its shape only when its feet are held: open it fully, then pin these {} vertices to the table \
          or a base (a screw, a peg or a clamp through each eyelet), each where the design has it. The farthest two, {} and {}, \
-         are {span:.0} mm apart: the base must give that span. Left free, the strips relax and the shape flattens.",
+         are {span:.0} mm apart: the base must give that span. The simulation holds them there; left free, the lattice \
+         may settle into another shape (a vault's relaxes flat).",
         pins.len(),
         name(a),
         name(z),
