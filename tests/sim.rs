@@ -1596,3 +1596,73 @@ fn a_vault_held_at_its_feet_keeps_its_shape_and_free_it_flattens() {
     assert!(f.fit.rms > 15.0 && f.fit.max > 25.0, "free: {:?}", f.fit);
     assert!(h.strain.eps < d.simulation.material.eps_allow);
 }
+
+/// The vault's build says which vertices are pinned and what they hold:
+/// report.txt's supports line, deployed.json's `supports` and
+/// `support_span`, and the guide's "Pin it to the base".
+#[test]
+fn a_vault_build_names_its_supports_in_the_report_the_json_and_the_guide() {
+    let text = std::fs::read_to_string("fixtures/designs/vault.toml").expect("recipe");
+    let built = karigami::build(karigami::parse(&text, "vault").expect("parses")).expect("builds");
+    let report = karigami::build_text(&built);
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("supports: "))
+        .unwrap_or_else(|| panic!("no supports line:\n{report}"));
+    assert!(line.starts_with("supports: 12 vertices pinned"), "{line}");
+    assert!(
+        line.contains("[0, 0] ") && line.contains("[5, 4] "),
+        "{line}"
+    );
+    let files = karigami::files(&built);
+    let json = &files
+        .iter()
+        .find(|(n, _)| n == "deployed.json")
+        .expect("deployed.json")
+        .1;
+    let doc: serde_json::Value = serde_json::from_slice(json).expect("json");
+    let supports = doc["supports"].as_array().expect("supports");
+    assert_eq!(supports.len(), 12);
+    assert_eq!(supports[0]["name"], "[0, 0]");
+    let v3 = |x: &serde_json::Value| {
+        let a: Vec<f64> = x
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        DVec3::new(a[0], a[1], a[2])
+    };
+    let at: Vec<DVec3> = supports.iter().map(|s| v3(&s["pos"])).collect();
+    let span = at
+        .iter()
+        .flat_map(|a| at.iter().map(move |b| a.distance(*b)))
+        .fold(0.0, f64::max);
+    assert!((doc["support_span"].as_f64().unwrap() - span).abs() < 1e-9);
+    assert!(
+        line.contains(&format!("{span:.1} mm between the farthest two")),
+        "{line}"
+    );
+    // No load: the reactions balance (tests above), here as written.
+    let forces: Vec<DVec3> = supports.iter().map(|s| v3(&s["reaction"])).collect();
+    let largest = forces.iter().map(|f| f.length()).fold(0.0, f64::max);
+    assert!(largest > 0.1, "{largest} N");
+    assert!(forces.iter().sum::<DVec3>().length() < 1e-6 * largest);
+    let guide = karigami::guide(&built);
+    let words: Vec<String> = guide
+        .pages
+        .iter()
+        .flat_map(|p| &p.groups)
+        .flat_map(|g| &g.items)
+        .filter_map(|i| match &i.shape {
+            karigami::Shape::Text { text, .. } => Some(text.clone()),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        words.iter().any(|w| w == "Pin it to the base"),
+        "no heading"
+    );
+    let all = words.join(" ");
+    assert!(all.contains("pin these 12 vertices"), "{all}");
+}
