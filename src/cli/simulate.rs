@@ -388,6 +388,22 @@ fn strain_lines(o: &mut String, lattice: &Lattice, run: &Simulation, s: &Setting
         f,
         run.lm.joint_name(lattice, *j)
     );
+    if let Some((a, b, span)) = karigami::simulation::supports::span(&eq.supports) {
+        let name = |v: u32| run.lm.point_name(lattice, v as usize);
+        let each: Vec<String> = eq
+            .supports
+            .iter()
+            .map(|r| format!("{} {:.4} N", name(r.vertex), r.force.length()))
+            .collect();
+        let _ = writeln!(
+            o,
+            "supports ([simulation] supports): {} vertices held at their design positions, {span:.1} mm between the farthest two ({} and {}); reactions: {}",
+            eq.supports.len(),
+            name(a),
+            name(b),
+            each.join(", ")
+        );
+    }
     let _ = writeln!(
         o,
         "distance from the design (after the best rigid fit): largest {:.4} mm at {}, rms {:.4} mm",
