@@ -231,6 +231,32 @@ pub(crate) fn farthest(points: &[DVec3]) -> Option<(usize, usize)> {
 mod tests {
     use super::*;
 
+    const SHEET: &str = "[lattice]\nseed = \"sheet\"\npoints = [[0.0, 0.0], [20.0, 0.0], [40.0, 0.0]]\nkappa = 0.0\n[lattice.grow]\nrows = 2\nangle = 45.0\n";
+
+    #[test]
+    fn an_empty_list_is_no_supports_and_names_are_row_then_column() {
+        let free = crate::design::parse(&format!("{SHEET}[simulation]\nsupports = []\n"), "t")
+            .expect("parses");
+        assert!(free.simulation.supports.is_empty());
+        let held = crate::design::parse(
+            &format!("{SHEET}[simulation]\nsupports = [[0, 0], [0, 2], [2, 1]]\n"),
+            "t",
+        )
+        .expect("parses");
+        assert_eq!(held.simulation.supports, vec![[0, 0], [0, 2], [2, 1]]);
+        let lattice = held.grow().expect("grows");
+        let found = supported(&lattice, &held.simulation.supports);
+        for (k, v) in found.iter().enumerate() {
+            let v = v.expect("a vertex of the lattice");
+            let key = lattice.vertices[v as usize].key;
+            assert_eq!([key.row, key.col], held.simulation.supports[k]);
+            assert_eq!(
+                lattice.vertex_name(v),
+                name(held.simulation.supports[k], lattice.kind)
+            );
+        }
+    }
+
     #[test]
     fn points_on_a_line_are_found_and_a_point_off_it_is_not() {
         let on = [

@@ -164,6 +164,28 @@ pub fn with_feet(found: &Found, lattice: &Lattice, edge: f64) -> Option<Found> {
 mod tests {
     use super::*;
 
+    /// The small vault's feet (fixtures/designs/vault.toml, which `design`
+    /// wrote): the first and last vertex of each of its six rows, the two
+    /// sides along its length; its seed row, across the arc, is not one.
+    #[test]
+    fn a_vaults_feet_are_its_two_lowest_sides() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/designs/vault.toml");
+        let text = std::fs::read_to_string(path).expect("recipe");
+        let d = crate::design::parse(&text, "vault").expect("parses");
+        let lattice = d.grow().expect("grows");
+        let keys = feet(&lattice, 60.0).expect("feet");
+        let want: Vec<[u32; 2]> = (0..6).flat_map(|r| [[r, 0], [r, 4]]).collect();
+        assert_eq!(keys, want);
+        assert_eq!(d.simulation.supports, want);
+        // Turned upside down its feet are the same vertices: the side
+        // pairs are judged both ways up.
+        let mut turned = lattice.clone();
+        for v in &mut turned.vertices {
+            v.pos = -v.pos;
+        }
+        assert_eq!(feet(&turned, 60.0), Some(want));
+    }
+
     #[test]
     fn a_flat_copy_flattens_and_the_design_itself_does_not() {
         // A shallow vault across x, and the same points pressed flat.
