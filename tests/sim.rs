@@ -1614,6 +1614,12 @@ fn a_vault_build_names_its_supports_in_the_report_the_json_and_the_guide() {
         line.contains("[0, 0] ") && line.contains("[5, 4] "),
         "{line}"
     );
+    // The state reported is the held one; the path is walked free.
+    assert!(
+        report.contains("equilibrium reported (docs/physics.md, \"Supports\"): the state solved from the design with its 12 supports held"),
+        "{report}"
+    );
+    assert!(report.contains("deployment path (docs/physics.md) of the lattice standing free"));
     let files = karigami::files(&built);
     let json = &files
         .iter()

@@ -137,7 +137,11 @@ pub(super) fn simulate(
             )
         );
         if let Some(walked) = &walked {
-            print!("{}", walked.text(settings.material.eps_allow, follow_path));
+            let free = !run.equilibrium.supports.is_empty();
+            print!(
+                "{}",
+                walked.text_of(settings.material.eps_allow, follow_path, free)
+            );
             print!(
                 "{}",
                 states::known(lattice, &run.lm, &run.equilibrium, walked)

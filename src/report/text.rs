@@ -158,7 +158,11 @@ pub fn build_text(b: &Build) -> String {
         }
     );
     if let Some(path) = &b.path {
-        out.push_str(&path.text(b.design.simulation.material.eps_allow, false));
+        let free = b
+            .simulation
+            .as_ref()
+            .is_some_and(|run| !run.equilibrium.supports.is_empty());
+        out.push_str(&path.text_of(b.design.simulation.material.eps_allow, false, free));
         if let Some(run) = &b.simulation {
             out.push_str(&crate::sim::states::known(
                 &b.lattice,
@@ -359,7 +363,7 @@ fn supports_text(supports: &[crate::sim::Reaction], lattice: &Lattice) -> String
         .map(|r| format!("{} {:.3}", lattice.vertex_name(r.vertex), r.force.length()))
         .collect();
     format!(
-        "supports: {} vertices pinned to the base at their design positions, {span:.1} mm between the farthest two ({} and {}); the deployment path is the lattice's standing free, before it is pinned; reaction at each (N): {}\n",
+        "supports: {} vertices pinned to the base at their design positions, {span:.1} mm between the farthest two ({} and {}); reaction at each (N): {}\n",
         supports.len(),
         lattice.vertex_name(a),
         lattice.vertex_name(b),

@@ -273,7 +273,7 @@ pub(crate) fn prepare_meshed(
     }
     if !lm.pivot.is_empty() {
         // Supports fix the rigid motion themselves (`supports.rs`).
-        lm.hold(lattice, &settings.supports);
+        lm.pin_supports(lattice, &settings.supports);
         match settings.actuation {
             Actuation::Mean => {
                 let phi = lm.mean_opening();

@@ -514,12 +514,26 @@ impl Path {
     /// deploy ends against the build's equilibrium, and, with `table`, a
     /// line per step. Strains are judged against `allow` (a fraction).
     pub fn text(&self, allow: f64, table: bool) -> String {
+        self.text_of(allow, table, false)
+    }
+
+    /// `text` for the path of a lattice held at supports, which is walked
+    /// standing free (`free`: docs/physics.md, "Supports"), or not.
+    pub fn text_of(&self, allow: f64, table: bool, free: bool) -> String {
         use std::fmt::Write as _;
         let mut o = String::new();
         let deg = f64::to_degrees;
+        let (whose, start) = if free {
+            (
+                " of the lattice standing free, its supports released (\"Supports\")",
+                "its free equilibrium at the design opening",
+            )
+        } else {
+            ("", "the build's equilibrium")
+        };
         let _ = writeln!(
             o,
-            "deployment path (docs/physics.md): from the design opening {:.1} deg down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
+            "deployment path (docs/physics.md){whose}: from the design opening {:.1} deg down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
             deg(self.design),
             deg(self.low),
             self.steps,
@@ -627,7 +641,7 @@ impl Path {
         if let Some(d) = self.end_distance {
             let _ = writeln!(
                 o,
-                "  deployed again, the piece ends {d:.3} mm from the build's equilibrium ({}); collapsing and deploying differ by up to {:.3} mm at one opening",
+                "  deployed again, the piece ends {d:.3} mm from {start} ({}); collapsing and deploying differ by up to {:.3} mm at one opening",
                 if d <= 1e-3 {
                     "the same state"
                 } else {

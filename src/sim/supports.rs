@@ -40,7 +40,7 @@ impl LatticeModel {
     /// the lattice lacks, or a vertex no rod reaches, is not held: the
     /// recipe's supports are checked against the lattice before
     /// (`Design::check_supports`).
-    pub(crate) fn hold(&mut self, lattice: &Lattice, keys: &[[u32; 2]]) {
+    pub(crate) fn pin_supports(&mut self, lattice: &Lattice, keys: &[[u32; 2]]) {
         let found = crate::design::supports::supported(lattice, keys);
         for v in found.into_iter().flatten() {
             let x = match self.vertex[v as usize] {
