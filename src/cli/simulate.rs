@@ -618,8 +618,13 @@ fn explore_text(
         }
         let _ = writeln!(
             o,
-            "  build reports {}: the state deploying reaches (start 0)",
-            r + 1
+            "  build reports {}: {} (start 0)",
+            r + 1,
+            if lm.supports().is_empty() {
+                "the state deploying reaches"
+            } else {
+                "the state solved from the design with its supports held"
+            }
         );
     }
     for (seed, why) in rejected {
