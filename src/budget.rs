@@ -64,6 +64,17 @@ impl Deadline {
         self.start.map_or(0.0, |s| s.elapsed().as_secs_f64())
     }
 
+    /// The same start with `seconds` less time (none left at most), for
+    /// work that must leave some of the limit to what follows it.
+    pub fn less(&self, seconds: f64) -> Self {
+        Deadline {
+            start: self.start,
+            limit: self
+                .limit
+                .map(|l| l.saturating_sub(Duration::from_secs_f64(seconds.clamp(0.0, 1e9)))),
+        }
+    }
+
     /// Whether the time is up.
     pub fn expired(&self) -> bool {
         self.at().is_some_and(|at| Instant::now() >= at)
@@ -120,6 +131,25 @@ impl std::fmt::Display for Stopped {
             self.done, self.what, self.seconds, self.limit
         )
     }
+}
+
+/// The tests' hook (the `fault-injection` feature, which the released
+/// binary is built without): `KARIGAMI_FAULT_RECKON=F` scales a
+/// simulation's, the helix tuner's or `design`'s reckoned seconds by F, so that a test
+/// can run one that is allowed past its `--time-limit` in a fraction of a
+/// second and see it stop (tests/limits.rs).
+#[cfg(feature = "fault-injection")]
+pub fn reckoned_low(seconds: f64) -> f64 {
+    std::env::var("KARIGAMI_FAULT_RECKON")
+        .ok()
+        .and_then(|f| f.parse::<f64>().ok())
+        .map_or(seconds, |f| seconds * f)
+}
+
+/// Without the `fault-injection` feature: the seconds as reckoned.
+#[cfg(not(feature = "fault-injection"))]
+pub fn reckoned_low(seconds: f64) -> f64 {
+    seconds
 }
 
 /// Work reckoned from the input before it starts (docs/commands.md,

@@ -150,6 +150,7 @@ pub mod template {
 /// Small helpers the binary shares with the library; not part of its face.
 #[doc(hidden)]
 pub mod util {
+    pub use crate::budget::reckoned_low;
     pub use crate::diagnostic::shown;
     pub use crate::hash::fnv1a;
     pub use crate::words::plural;

@@ -354,29 +354,32 @@ fn tune_stops_at_its_time_limit_and_writes_nothing() {
     let dir = scratch("limits-tune");
     let helix = std::fs::read_to_string(repo().join("templates/helix.toml")).unwrap();
     std::fs::write(dir.join("h.toml"), &helix).unwrap();
-    // Reckoned at about 0.3 s (40,000 tries of the 18 cells the start
-    // seed grows), which the debug build of the tests outruns.
-    let o = karigami(
+    // 4,000,000 tries of the 18 cells the start seed grows are reckoned at
+    // about 29 s, a hundred times low here (`reckoned_low`): allowed, and
+    // far past the limit on any machine.
+    let Some(o) = reckoned_low(
         &[
             "tune",
             "h.toml",
             "--cells",
             "100000",
             "--iterations",
-            "40000",
+            "4000000",
             "--out",
             "h.toml",
             "--time-limit",
             "0.4",
         ],
         &dir,
-    );
+    ) else {
+        return;
+    };
     says(
         &o,
         4,
         &[
             "the tuner stopped at ",
-            "of 40000 tries",
+            "of 4000000 tries",
             "nothing was written",
         ],
     );
@@ -524,6 +527,33 @@ fn a_design_beyond_the_limit_is_refused_and_a_long_one_said() {
         line.starts_with("design: estimated ")
             && line.ends_with("; it stops at the --time-limit of 5 min"),
         "{line}"
+    );
+    assert!(!dir.join("cap.toml").exists());
+}
+
+/// A design reckoned within its limit that outruns it (here reckoned a
+/// hundred times low, `reckoned_low`) stops: its search at its share of
+/// the limit, keeping the rest for the builds, and a design none of whose
+/// candidates could be built in time is a time-limit stop (exit 4) that
+/// says how far it got and writes nothing, not a design that builds none.
+#[test]
+fn a_design_that_outruns_its_limit_stops_and_writes_nothing() {
+    let dir = scratch("limits-design-stop");
+    let target = repo().join("fixtures/targets/sphere-cap.toml");
+    let target = target.to_string_lossy();
+    let args = ["design", &target, "--out", "cap.toml", "--time-limit", "1"];
+    let Some(o) = reckoned_low(&args, &dir) else {
+        return;
+    };
+    says(
+        &o,
+        4,
+        &[
+            "sphere-cap.toml: stopped after ",
+            " seed search",
+            " found",
+            "nothing was written",
+        ],
     );
     assert!(!dir.join("cap.toml").exists());
 }

@@ -460,26 +460,11 @@ pub(crate) fn steps_to(settings: &Settings) -> usize {
 pub(crate) fn reckoned(lattice: &Lattice, settings: &Settings) -> (Cost, Work, f64) {
     let cost = estimate(lattice, settings.h_max);
     let work = cost::work(lattice, settings);
-    (cost, work, reckoned_low(seconds(&cost, work.iterations)))
-}
-
-/// The tests' hook (the `fault-injection` feature, which the released
-/// binary is built without): `KARIGAMI_FAULT_RECKON=F` scales a
-/// simulation's reckoned seconds by F, so that a test can run one that is
-/// allowed past its `--time-limit` in a fraction of a second and see it
-/// stop (tests/limits.rs).
-#[cfg(feature = "fault-injection")]
-fn reckoned_low(seconds: f64) -> f64 {
-    std::env::var("KARIGAMI_FAULT_RECKON")
-        .ok()
-        .and_then(|f| f.parse::<f64>().ok())
-        .map_or(seconds, |f| seconds * f)
-}
-
-/// Without the `fault-injection` feature: the seconds as reckoned.
-#[cfg(not(feature = "fault-injection"))]
-fn reckoned_low(seconds: f64) -> f64 {
-    seconds
+    (
+        cost,
+        work,
+        crate::budget::reckoned_low(seconds(&cost, work.iterations)),
+    )
 }
 
 /// The simulation's estimated nodes and seconds (`cost::estimate`,

@@ -210,7 +210,7 @@ const SECONDS_PER_TRY_CELL: f64 = 3.2e-7;
 pub fn tune_estimate(grown: usize, cells: usize, tries: usize) -> Estimate {
     let per_try = SECONDS_PER_TRY + SECONDS_PER_TRY_CELL * grown.min(cells) as f64;
     Estimate {
-        seconds: per_try * tries as f64,
+        seconds: crate::budget::reckoned_low(per_try * tries as f64),
         what: format!(
             "helix tuner: up to {} tries of ~{} cells (the start seed grows {} of {}), ~{} a try",
             count(tries as f64),

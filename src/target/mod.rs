@@ -92,6 +92,15 @@ impl Target {
             .map_or((p, f64::INFINITY), |(q, d2)| (q, d2.sqrt()))
     }
 
+    /// Whether the target comes within `r` of `p`: the closest-point search
+    /// bounded by `r`, so that a point far from the target is answered at
+    /// the tree's top boxes.
+    pub fn near(&self, p: DVec3, r: f64) -> bool {
+        self.tree
+            .closest(&self.mesh.positions, &self.mesh.triangles, p, r * r)
+            .is_some()
+    }
+
     /// The first crossing of the ray `p + t v` with the target beyond
     /// `tmin`, as `t` (v need not be a unit vector).
     pub fn ray(&self, p: DVec3, v: DVec3, tmin: f64) -> Option<f64> {
@@ -200,6 +209,27 @@ mod tests {
                 ],
             },
         ]
+    }
+
+    /// `near` answers as the closest point's distance does, for points
+    /// about each family near it and far from it, at radii from a
+    /// thousandth of D to D.
+    #[test]
+    fn near_is_the_closest_distance_within_the_radius() {
+        let mut rng = Rng::new(33);
+        for family in families() {
+            let mesh = family.mesh(DVec3::ONE, DVec3::ZERO).unwrap();
+            let (mesh, topology, _) =
+                mesh::validated(&mesh, None, &|t| format!("triangle {t}")).unwrap();
+            let t = Target::new(mesh, family.name().into(), topology);
+            for _ in 0..300 {
+                let p = DVec3::new(rng.signed(), rng.signed(), rng.signed()) * t.extent;
+                let d = t.closest(p).1;
+                let r = t.extent * 10f64.powf(-3.0 * rng.uniform());
+                assert_eq!(t.near(p, r), d <= r, "{}: {p} at {d} of {r}", family.name());
+                assert!(t.near(p, d * (1.0 + 1e-9)) && !t.near(p, d * (1.0 - 1e-9)));
+            }
+        }
     }
 
     /// Every family's triangles lie within 0.1 % of D of its surface: points

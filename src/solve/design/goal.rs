@@ -2,7 +2,7 @@
 //! goal"), how far a fit is from it, and what to try when the best design
 //! misses it: `karigami design` refuses a miss rather than write it.
 
-use crate::target::Fit;
+use crate::target::{COVERED_WITHIN, Fit, Target};
 
 /// The largest rms distance, as a share of D.
 pub const RMS: f64 = 0.015;
@@ -73,9 +73,23 @@ pub fn misses(f: &Fit) -> Vec<String> {
 /// does the same. When the design itself meets the goal, the edge is not
 /// what misses: its strips settle away from it, and thinner strips
 /// (bending stiffness goes as the thickness cubed) or more joints help.
-pub fn remedy(design: &Fit, sim: &Fit, edge: f64, base: &crate::design::Design) -> String {
+///
+/// `band` is the share a band along the boundary leaves uncovered at this
+/// edge (`boundary_band`): when the design itself leaves more than twice
+/// that uncovered, its rows stopped before they crossed the target, and
+/// no edge would help.
+pub fn remedy(
+    design: &Fit,
+    sim: &Fit,
+    (edge, band): (f64, f64),
+    base: &crate::design::Design,
+) -> String {
     let (distance, uncovered) = ratios(sim);
     let least = super::least_edge(base);
+    let short = 1.0 - design.coverage.unwrap_or(0.0);
+    if short > 1.0 - COVERED && short > 2.0 * band {
+        return rows_stop(design, band);
+    }
     if miss(design) <= 1.0 {
         let t = base.fabrication.material.thickness;
         let thinnest = base
@@ -134,6 +148,35 @@ pub fn remedy(design: &Fit, sim: &Fit, edge: f64, base: &crate::design::Design) 
     }
 }
 
+/// The share of a target's area that cells `edge` across leave uncovered
+/// along its boundary: a band half a cell wide round every boundary loop,
+/// less the 3 % of D that coverage allows (docs/design.md, "The fit
+/// measures").
+pub fn boundary_band(t: &Target, edge: f64) -> f64 {
+    let width = (edge / 2.0 - COVERED_WITHIN * t.extent).max(0.0);
+    let length: f64 = t
+        .mesh
+        .boundary_loops()
+        .iter()
+        .map(|l| {
+            let at = |k: usize| t.mesh.positions[l[k % l.len()] as usize];
+            (0..l.len()).map(|k| at(k).distance(at(k + 1))).sum::<f64>()
+        })
+        .sum();
+    (length * width / t.mesh.area().max(f64::MIN_POSITIVE)).min(1.0)
+}
+
+/// The hint for a design whose rows stop short: what it covers, what a
+/// boundary band would leave, and where the shapes whose rows do cross
+/// them are listed.
+fn rows_stop(design: &Fit, band: f64) -> String {
+    format!(
+        "the design itself covers only {:.1} % of the target: its rows stop before they cross it, where a band along the boundary at this edge would leave about {:.0} % uncovered, so neither a smaller edge nor other strips would reach the goal: the row search finds no rows that cross this shape (docs/design.md, \"What it reaches\", lists the shapes it crosses: caps and bowls with a round, level rim, saddles, plates and vaults)",
+        100.0 * design.coverage.unwrap_or(0.0),
+        100.0 * band
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -180,23 +223,23 @@ mod tests {
         let least = super::super::least_edge(&base);
         let off = fit(1.0, 2.0, 0.7);
         let far = fit(30.0, 19.0, 1.0);
-        let hint = remedy(&off, &far, 4.0 * least, &base);
+        let hint = remedy(&off, &far, (4.0 * least, 0.2), &base);
         assert!(
             hint.starts_with(&format!("try --edge {:.0} (now", 2.0 * least)),
             "{hint}"
         );
-        let bare = remedy(&off, &off, 4.0 * least, &base);
+        let bare = remedy(&off, &off, (4.0 * least, 0.2), &base);
         assert!(
             bare.starts_with(&format!("try --edge {:.0} ", 2.0 * least)),
             "{bare}"
         );
-        let scaled = remedy(&off, &far, 1.5 * least, &base);
+        let scaled = remedy(&off, &far, (1.5 * least, 0.2), &base);
         assert!(
             scaled.contains(&format!("is under the {least:.1} mm"))
                 && scaled.contains("a target 1.3 times as large"),
             "{scaled}"
         );
-        let strips = remedy(&fit(1.0, 2.0, 1.0), &far, 4.0 * least, &base);
+        let strips = remedy(&fit(1.0, 2.0, 1.0), &far, (4.0 * least, 0.2), &base);
         assert!(
             strips.contains("the design itself meets the goal")
                 && strips.contains("--thickness 0.5 (now 1 mm")
@@ -206,5 +249,46 @@ mod tests {
                 )),
             "{strips}"
         );
+    }
+
+    /// A design that itself covers 39 % where a boundary band would leave
+    /// 18 % uncovered stopped short: no edge is offered. Left 25 %
+    /// uncovered of a 20 % band, the edge.
+    #[test]
+    fn rows_that_stop_short_are_said_so_not_given_an_edge() {
+        let base = crate::design::parse(super::super::STUB, "t").unwrap();
+        let least = super::super::least_edge(&base);
+        let short = fit(1.0, 2.0, 0.39);
+        let hint = remedy(&short, &short, (4.0 * least, 0.18), &base);
+        assert!(
+            hint.starts_with("the design itself covers only 39.0 % of the target: its rows stop")
+                && hint.contains("would leave about 18 % uncovered")
+                && !hint.contains("--edge"),
+            "{hint}"
+        );
+        let band = fit(1.0, 2.0, 0.75);
+        let hint = remedy(&band, &band, (4.0 * least, 0.2), &base);
+        assert!(hint.starts_with("try --edge "), "{hint}");
+    }
+
+    /// The band round a flat square 300 mm across at a 60 mm edge: half a
+    /// cell (30 mm) less 3 % of D (the diagonal, 424.3 mm) round 1200 mm
+    /// of boundary, over its 90,000 mm^2.
+    #[test]
+    fn the_boundary_band_is_half_a_cell_less_the_allowance() {
+        let t = crate::target::read(
+            "t.toml",
+            b"[target]\nfamily = \"height-field\"\nwidth = 300.0\nlength = 300.0\nheights = [[0.0, 0.0], [0.0, 0.0]]\n",
+            None,
+        )
+        .unwrap();
+        let want = 1200.0 * (30.0 - 0.03 * t.extent) / 90_000.0;
+        assert!((t.extent - 424.264).abs() < 0.01, "{}", t.extent);
+        assert!(
+            (boundary_band(&t, 60.0) - want).abs() < 1e-9,
+            "{}",
+            boundary_band(&t, 60.0)
+        );
+        assert_eq!(boundary_band(&t, 20.0), 0.0);
     }
 }
