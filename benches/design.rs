@@ -2,7 +2,7 @@
 //! target of fixtures/targets/ (default: every patch), what `karigami
 //! design` does at the default cell edge: the search, then the best
 //! candidates built with their simulation until one meets issue 32's
-//! goal. Prints D, the simulated joints' rms and largest distance and
+//! goal, a sheet that flattens free built again held at its feet. Prints D, the simulated joints' rms and largest distance and
 //! coverage after the best rigid fit, cells, strips, sheets and time.
 
 use karigami::designing::{self, DesignAsk};
@@ -50,34 +50,25 @@ fn run(name: &str) {
         Err(e) => return println!("{name}: refused: {}", e.message),
     };
     let mut best: Option<(f64, String)> = None;
+    let edge = designing::default_edge(&base);
     for found in searched.found.iter().take(6) {
         let text = designing::recipe(found, "bench", &[], None, "");
-        let Ok(built) = karigami::build(karigami::parse(&text, "bench").expect("parses")) else {
+        let Some(mut got) = measured(&text, &target) else {
             continue;
         };
-        let Some(sim) = karigami::viewer_scene(&built).simulated else {
-            continue;
-        };
-        let mut lattice = built.lattice.clone();
-        for (v, p) in lattice.vertices.iter_mut().zip(sim) {
-            v.pos = p;
+        // As `karigami design` does: a sheet that flattens free is built
+        // again held at its feet (docs/design.md, "Supports").
+        if got.miss > 1.0 && designing::flattens(&got.design, &got.simulated) {
+            let pinned = designing::with_feet(found, &got.lattice, edge)
+                .and_then(|f| measured(&designing::recipe(&f, "bench", &[], None, ""), &target));
+            if let Some(p) = pinned.filter(|p| p.miss < got.miss) {
+                got = p;
+            }
         }
-        let f = designing::fit_of(&target, &lattice);
-        let miss = designing::miss(&f);
-        let line = format!(
-            "D {:.1} mm, rms {:.2} % D, largest {:.2} % D, coverage {:.1} %, {} cells, {} strips, {} sheets",
-            f.extent,
-            100.0 * f.rms / f.extent,
-            100.0 * f.largest / f.extent,
-            100.0 * f.coverage.unwrap_or(0.0),
-            built.lattice.cells.len(),
-            built.parts.strips.len(),
-            built.layout.sheets.len()
-        );
-        if best.as_ref().is_none_or(|b| miss < b.0) {
-            best = Some((miss, line));
+        if best.as_ref().is_none_or(|b| got.miss < b.0) {
+            best = Some((got.miss, got.line));
         }
-        if miss <= 1.0 {
+        if got.miss <= 1.0 {
             break;
         }
     }
@@ -96,6 +87,52 @@ fn run(name: &str) {
             searched.tried
         ),
     }
+}
+
+/// A candidate built: how far from the goal, its line, its vertices as
+/// designed and simulated, and its lattice.
+struct Measured {
+    miss: f64,
+    line: String,
+    design: Vec<glam::DVec3>,
+    simulated: Vec<glam::DVec3>,
+    lattice: karigami::Lattice,
+}
+
+/// Build a candidate and fit its simulated joints to the target; None
+/// when the build refuses it or simulates nothing.
+fn measured(text: &str, target: &karigami::targets::Target) -> Option<Measured> {
+    let built = karigami::build(karigami::parse(text, "bench").expect("parses")).ok()?;
+    let sim = karigami::viewer_scene(&built).simulated?;
+    let n = built.lattice.vertices.len();
+    let design = built.lattice.vertices.iter().map(|v| v.pos).collect();
+    let mut lattice = built.lattice.clone();
+    for (v, p) in lattice.vertices.iter_mut().zip(&sim) {
+        v.pos = *p;
+    }
+    let f = designing::fit_of(target, &lattice);
+    let line = format!(
+        "D {:.1} mm, rms {:.2} % D, largest {:.2} % D, coverage {:.1} %, {} cells, {} strips, {} sheets{}",
+        f.extent,
+        100.0 * f.rms / f.extent,
+        100.0 * f.largest / f.extent,
+        100.0 * f.coverage.unwrap_or(0.0),
+        built.lattice.cells.len(),
+        built.parts.strips.len(),
+        built.layout.sheets.len(),
+        if built.design.simulation.supports.is_empty() {
+            String::new()
+        } else {
+            format!(", held at {} feet", built.design.simulation.supports.len())
+        }
+    );
+    Some(Measured {
+        miss: designing::miss(&f),
+        line,
+        design,
+        simulated: sim[..n.min(sim.len())].to_vec(),
+        lattice: built.lattice.clone(),
+    })
 }
 
 fn main() {

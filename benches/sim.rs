@@ -69,7 +69,7 @@ fn run(name: &str, text: &str, actuation: Actuation) -> Option<Cold> {
     let settings = Settings {
         theta: None,
         actuation,
-        ..d.simulation
+        ..d.simulation.clone()
     };
     let m = &d.fabrication.material;
     let clock = Instant::now();

@@ -356,6 +356,16 @@ error_kinds! {
     TimeLimit => EXIT_TIME,
     /// `[simulation] vertex_joint` is neither eyelet nor ball.
     UnknownVertexJoint => EXIT_INVALID,
+    /// A `[simulation] supports` entry is not a vertex name the lattice
+    /// can have (`[row, column]`, `[index]` on a helix).
+    SupportNotAVertexName => EXIT_INVALID,
+    /// A `[simulation] supports` entry names no vertex of the grown lattice.
+    UnknownSupport => EXIT_INVALID,
+    /// A vertex is named twice in `[simulation] supports`.
+    DuplicateSupport => EXIT_INVALID,
+    /// `[simulation] supports` names one or two vertices, or only vertices
+    /// on one line: the pins do not fix the lattice's rigid motion.
+    SupportsTooFew => EXIT_INVALID,
     /// `clash.clearance` is negative.
     NegativeClearance => EXIT_INVALID,
     /// `[clash] stacking` is not one of the known words ("rows", "columns").

@@ -113,11 +113,11 @@ pub mod simulation {
     pub use crate::design::simulation::{MAX_THETA, MIN_THETA};
     pub use crate::sim::results::StrainPeak;
     pub use crate::sim::{
-        Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Section,
-        Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy, equilibrium,
-        estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare, resolve,
-        seconds, section, sensitivity, shape_distance, simulate, simulate_until, states, warm,
-        within_memory, within_time,
+        Actuation, Cost, DEFAULT_MEMORY, Equilibrium, Hold, LatticeModel, Material, Mesh, Reaction,
+        Section, Settings, ShapeDistance, SimError, Simulation, Stats, VertexJoint, deploy,
+        equilibrium, estimate, explore, kabsch_distance, path, placed_at, placed_lattice, prepare,
+        resolve, seconds, section, sensitivity, shape_distance, simulate, simulate_until, states,
+        supports, warm, within_memory, within_time,
     };
     /// The deployment path drawn: path.png's bytes.
     pub use crate::write::path_png::write as path_png;
@@ -137,8 +137,8 @@ pub mod targets {
 /// out (docs/design.md, "Design your own object").
 pub mod designing {
     pub use crate::solve::design::{
-        DesignAsk, Found, STUB, Searched, default_edge, fit_of, goal, least_edge, miss, recipe,
-        search,
+        DesignAsk, Found, STUB, Searched, default_edge, fit_of, flattens, goal, least_edge, miss,
+        recipe, search, with_feet,
     };
 }
 

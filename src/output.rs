@@ -223,6 +223,12 @@ fn deployed_files(b: &Build, run: &crate::sim::Simulation) -> Vec<(String, Vec<u
             .enumerate()
             .map(|(c, cell)| (b.lattice.cell_name(cell), eq.points[nv + c]))
             .collect(),
+        supports: eq
+            .supports
+            .iter()
+            .map(|r| (b.lattice.vertex_name(r.vertex), r.at, r.force))
+            .collect(),
+        support_span: crate::sim::supports::span(&eq.supports).map(|s| s.2),
     };
     vec![
         (

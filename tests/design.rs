@@ -4,7 +4,7 @@
 
 use crate::cli::{karigami, repo, scratch};
 use crate::goldens::compare;
-use karigami::designing::{self, DesignAsk};
+use karigami::designing::{self, DesignAsk, Found};
 use karigami::targets::Target;
 use std::sync::Arc;
 
@@ -401,4 +401,63 @@ fn an_exported_mesh_turned_and_moved_is_designed_within_the_goal() {
         .and_then(|d| d.parse::<f64>().ok())
         .expect("D");
     assert!((extent - 300.0).abs() < 3.0, "{checked}");
+}
+
+/// The simulated joints of a recipe's build, fitted to `target`, with the
+/// build's design vertices and lattice.
+fn simulated_fit(
+    text: &str,
+    target: &Target,
+) -> (
+    karigami::targets::Fit,
+    Vec<glam::DVec3>,
+    Vec<glam::DVec3>,
+    karigami::Lattice,
+) {
+    let built = karigami::build(karigami::parse(text, "vault").unwrap()).expect("builds");
+    let n = built.lattice.vertices.len();
+    let sim = karigami::viewer_scene(&built).simulated.expect("simulated");
+    let design: Vec<glam::DVec3> = built.lattice.vertices.iter().map(|v| v.pos).collect();
+    let mut lattice = built.lattice.clone();
+    for (v, p) in lattice.vertices.iter_mut().zip(&sim) {
+        v.pos = *p;
+    }
+    let fit = designing::fit_of(target, &lattice);
+    (fit, design, sim[..n].to_vec(), built.lattice.clone())
+}
+
+/// The choice `karigami design` makes for a vault (src/cli/design.rs,
+/// docs/design.md "Supports"), on fixtures/designs/vault.toml's sheet as
+/// the search found it: free, its simulated sheet flattens and misses the
+/// goal; held at the feet `with_feet` gives it, it meets the goal.
+#[test]
+fn a_vault_that_flattens_free_meets_the_goal_held_at_its_feet() {
+    let recipe = std::fs::read_to_string("fixtures/designs/vault.toml").unwrap();
+    let start = recipe.find("[lattice]").unwrap();
+    let end = recipe.find("\n# Supports:").unwrap();
+    let file = std::fs::read_to_string("fixtures/designs/vault-target.toml").unwrap();
+    let t = target(&file).canonical();
+    let lattice = karigami::parse(&recipe, "vault").unwrap().grow().unwrap();
+    let found = Found {
+        lattice: recipe[start..=end].to_string(),
+        cells: lattice.cells.len(),
+        fit: designing::fit_of(&t, &lattice),
+        seed: "the vault's seed".into(),
+    };
+    let free = designing::recipe(&found, "vault", &[], None, "");
+    assert!(!free.contains("supports"), "{free}");
+    let (fit, design, simulated, built) = simulated_fit(&free, &t);
+    assert!(designing::miss(&fit) > 1.0, "free: {fit:?}");
+    assert!(designing::flattens(&design, &simulated));
+    let held = designing::with_feet(&found, &built, 60.0).expect("feet");
+    assert!(
+        held.lattice
+            .contains("\n[simulation]\nsupports = [[0, 0], [0, 4], [1, 0]"),
+        "{}",
+        held.lattice
+    );
+    let (fit, design, simulated, _) =
+        simulated_fit(&designing::recipe(&held, "vault", &[], None, ""), &t);
+    assert!(designing::miss(&fit) <= 1.0, "held: {fit:?}");
+    assert!(!designing::flattens(&design, &simulated));
 }

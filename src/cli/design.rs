@@ -113,7 +113,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         ask,
         &searched,
         (&name, &tables, &limits),
-        &file.target,
+        (&file.target, edge),
         &note,
     ) {
         Ok(chosen) => chosen,
@@ -172,12 +172,15 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
 /// order (the fabrication settings in `tables`, only the run's `limits`
 /// from the command line), and choose: the first whose simulated shape meets the goal,
 /// else the one nearest it; `Err` with why each was refused when none
-/// builds. Deterministic: the candidates come in a fixed order.
+/// builds. A candidate that misses because its simulated shape flattens
+/// is built again held at its feet (`designing::with_feet`), and kept so
+/// when that comes nearer. Deterministic: the candidates come in a fixed
+/// order.
 fn choose(
     ask: &Ask<'_>,
     searched: &designing::Searched,
     (name, tables, limits): (&str, &str, &Overrides),
-    target: &karigami::targets::Target,
+    (target, edge): (&karigami::targets::Target, f64),
     note: &dyn Fn(&str),
 ) -> Result<Chosen, Unbuilt> {
     let deadline = ask.overrides.deadline;
@@ -194,7 +197,13 @@ fn choose(
         let text = designing::recipe(found, name, &[], None, tables);
         built += 1;
         match built_fit(&text, name, limits, target) {
-            Ok((design, sim)) => {
+            Ok(free) => {
+                let build = |text: &str| built_fit(text, name, limits, target);
+                let (found, got) = match on_feet(found, &free, edge, (name, tables), &build, note) {
+                    Some(pinned) => pinned,
+                    None => (found.clone(), free),
+                };
+                let (found, design, sim) = (&found, got.design, got.fit);
                 let miss = designing::miss(&sim);
                 note(&format!(
                     "built {} cells: simulated {}",
@@ -264,6 +273,42 @@ fn out_of_time(
             whole.elapsed(),
         ),
     )
+}
+
+/// A candidate whose free simulated shape misses the goal because it
+/// flattens (`designing::flattens`), built again held at its feet: that
+/// design and its build when it comes nearer the goal.
+fn on_feet(
+    found: &Found,
+    free: &Built,
+    edge: f64,
+    (name, tables): (&str, &str),
+    build: &dyn Fn(&str) -> Result<Built, String>,
+    note: &dyn Fn(&str),
+) -> Option<(Found, Built)> {
+    if designing::miss(&free.fit) <= 1.0 || !designing::flattens(&free.designed, &free.simulated) {
+        return None;
+    }
+    let pinned = designing::with_feet(found, &free.lattice, edge)?;
+    note(&format!(
+        "{} cells: the free sheet flattens (simulated {}); built again held at its feet",
+        found.cells,
+        free.fit.summary("joints")
+    ));
+    match build(&designing::recipe(&pinned, name, &[], None, tables)) {
+        Ok(p) if designing::miss(&p.fit) < designing::miss(&free.fit) => Some((pinned, p)),
+        Ok(p) => {
+            note(&format!(
+                "held at its feet it comes no nearer: simulated {}",
+                p.fit.summary("joints")
+            ));
+            None
+        }
+        Err(why) => {
+            note(&format!("held at its feet, build refuses it: {why}"));
+            None
+        }
+    }
 }
 
 /// No candidate builds: why each was refused.
@@ -484,6 +529,17 @@ fn within_time(
     Err(Error::at(&file.file, "", &d))
 }
 
+/// A candidate built: the fit to the target of its lattice as assembled
+/// and of its simulated joints, its lattice, and its vertices as designed
+/// and as simulated.
+struct Built {
+    design: karigami::targets::Fit,
+    fit: karigami::targets::Fit,
+    lattice: karigami::Lattice,
+    designed: Vec<glam::DVec3>,
+    simulated: Vec<glam::DVec3>,
+}
+
 /// Build a candidate recipe with the whole pipeline and fit to the target
 /// its lattice as assembled (rows grown on rebuilt fronts placed onto the
 /// rows they hang from) and its simulated joints; why the build refuses
@@ -495,7 +551,7 @@ fn built_fit(
     name: &str,
     overrides: &Overrides,
     target: &karigami::targets::Target,
-) -> Result<(karigami::targets::Fit, karigami::targets::Fit), String> {
+) -> Result<Built, String> {
     let design = karigami::parse_with(text, name, overrides).map_err(|d| d.message.clone())?;
     let built = karigami::build(design).map_err(|d| d.message.clone())?;
     let scene = karigami::viewer_scene(&built);
@@ -505,12 +561,16 @@ fn built_fit(
         .as_ref()
         .map(|p| p[..n.min(p.len())].to_vec())
         .ok_or("the build has no simulated shape")?;
+    let designed: Vec<glam::DVec3> = built.lattice.vertices.iter().map(|v| v.pos).collect();
     let mut lattice = built.lattice.clone();
-    for (v, p) in lattice.vertices.iter_mut().zip(points) {
-        v.pos = p;
+    for (v, p) in lattice.vertices.iter_mut().zip(&points) {
+        v.pos = *p;
     }
-    Ok((
-        designing::fit_of(target, &built.assembled),
-        designing::fit_of(target, &lattice),
-    ))
+    Ok(Built {
+        design: designing::fit_of(target, &built.assembled),
+        fit: designing::fit_of(target, &lattice),
+        lattice: built.lattice.clone(),
+        designed,
+        simulated: points,
+    })
 }

@@ -74,7 +74,7 @@ pub(super) fn simulate(
         ));
     }
     let (design, lattice, deploy) = (&checked.design, &checked.lattice, &checked.deployment);
-    let mut settings = design.simulation;
+    let mut settings = design.simulation.clone();
     if let Some(mb) = memory {
         settings.memory = mb << 20;
     }
@@ -137,7 +137,11 @@ pub(super) fn simulate(
             )
         );
         if let Some(walked) = &walked {
-            print!("{}", walked.text(settings.material.eps_allow, follow_path));
+            let free = !run.equilibrium.supports.is_empty();
+            print!(
+                "{}",
+                walked.text_of(settings.material.eps_allow, follow_path, free)
+            );
             print!(
                 "{}",
                 states::known(lattice, &run.lm, &run.equilibrium, walked)
@@ -388,6 +392,22 @@ fn strain_lines(o: &mut String, lattice: &Lattice, run: &Simulation, s: &Setting
         f,
         run.lm.joint_name(lattice, *j)
     );
+    if let Some((a, b, span)) = karigami::simulation::supports::span(&eq.supports) {
+        let name = |v: u32| run.lm.point_name(lattice, v as usize);
+        let each: Vec<String> = eq
+            .supports
+            .iter()
+            .map(|r| format!("{} {:.4} N", name(r.vertex), r.force.length()))
+            .collect();
+        let _ = writeln!(
+            o,
+            "supports ([simulation] supports): {} vertices held at their design positions, {span:.1} mm between the farthest two ({} and {}); reactions: {}",
+            eq.supports.len(),
+            name(a),
+            name(b),
+            each.join(", ")
+        );
+    }
     let _ = writeln!(
         o,
         "distance from the design (after the best rigid fit): largest {:.4} mm at {}, rms {:.4} mm",
@@ -598,8 +618,13 @@ fn explore_text(
         }
         let _ = writeln!(
             o,
-            "  build reports {}: the state deploying reaches (start 0)",
-            r + 1
+            "  build reports {}: {} (start 0)",
+            r + 1,
+            if lm.supports().is_empty() {
+                "the state deploying reaches"
+            } else {
+                "the state solved from the design with its supports held"
+            }
         );
     }
     for (seed, why) in rejected {

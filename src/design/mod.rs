@@ -15,6 +15,7 @@ pub(crate) mod seed;
 pub(crate) mod settings;
 pub(crate) mod simulation;
 mod spans;
+pub(crate) mod supports;
 mod values;
 
 pub use fabrication_bounds::{MIN_WALL, Overrides};
@@ -154,6 +155,7 @@ pub fn parse_with(
         points.len() - 1
     };
     let kappa = seed_kappa(&lat, edges, &mut spans)?;
+    (simulation.supports, spans.supports) = supports::parse(raw.simulation.as_ref(), kind)?;
     let (mut rows, mut helix_cells, mut fit) = (Vec::new(), 0, None);
     if kind == Kind::Helix {
         helix_cells = helix_cell_count(&lat, &spans)?;

@@ -9,6 +9,8 @@ use toml::Spanned;
 
 pub(crate) type Num = Spanned<f64>;
 pub(crate) type Coords = Spanned<Vec<Num>>;
+/// A vertex name as written: `[row, column]` (`[index]` on a helix).
+pub(crate) type VertexName = Spanned<Vec<Spanned<i64>>>;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -602,4 +604,7 @@ pub(crate) struct RawSimulation {
     pub(crate) edge_length: Option<Spanned<f64>>,
     /// Identical copies of a loop lattice's cells around the loop.
     pub(crate) symmetry: Option<Spanned<i64>>,
+    /// Vertices held at their design positions, each named as messages
+    /// name it: `[row, column]` (`[index]` on a helix).
+    pub(crate) supports: Option<Spanned<Vec<VertexName>>>,
 }

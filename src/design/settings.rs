@@ -35,7 +35,7 @@ impl Material {
 }
 
 /// The `[simulation]` settings of a recipe.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
     /// The strip material.
     pub material: Material,
@@ -57,6 +57,12 @@ pub struct Settings {
     /// The most memory the simulation may take (bytes): a mesh estimated
     /// above it is refused before it is made (`sim::estimate`).
     pub memory: u64,
+    /// Vertices held at their design positions (`[simulation] supports`),
+    /// each as its key `[row, column]` (row 0 on a helix): pins to a
+    /// table or base. Empty: the lattice stands free, cell 0's pivot
+    /// anchored. Checked against the grown lattice by `Design::grow`: at
+    /// least three, not all on one line.
+    pub supports: Vec<[u32; 2]>,
 }
 
 impl Default for Settings {
@@ -70,6 +76,7 @@ impl Default for Settings {
             accept_overstrain: false,
             symmetry: 1,
             memory: DEFAULT_MEMORY,
+            supports: Vec::new(),
         }
     }
 }

@@ -31,6 +31,8 @@ pub(super) struct Spans {
     pub(super) symmetry: Option<Range<usize>>,
     /// `[simulation] edge_length`, when the recipe sets it.
     pub(super) edge_length: Option<Range<usize>>,
+    /// `[simulation] supports`: the list and each entry.
+    pub(super) supports: super::supports::SupportSpans,
 }
 
 pub(super) const NO_ENTRY: u32 = u32::MAX;

@@ -17,6 +17,7 @@ mod step_labels;
 mod step_page;
 mod step_pictures;
 mod step_text;
+mod supports;
 
 use crate::drawing::flow::{MARGIN, PageFlow, SMALL};
 use crate::drawing::{Font, text};
@@ -101,6 +102,7 @@ pub fn guide_showing(b: &Build, simulated: Option<&Lattice>) -> Guide {
     }
     // What opening it is like, before the checklist that asks to open it.
     expect::expect(&mut w, b);
+    supports::supports(&mut w, b);
     // The checklist before the gauge: the gauge's pages are cut up.
     checklist(&mut w, b, steps);
     gauge::gauge(&mut w, b);

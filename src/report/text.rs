@@ -158,7 +158,11 @@ pub fn build_text(b: &Build) -> String {
         }
     );
     if let Some(path) = &b.path {
-        out.push_str(&path.text(b.design.simulation.material.eps_allow, false));
+        let free = b
+            .simulation
+            .as_ref()
+            .is_some_and(|run| !run.equilibrium.supports.is_empty());
+        out.push_str(&path.text_of(b.design.simulation.material.eps_allow, false, free));
         if let Some(run) = &b.simulation {
             out.push_str(&crate::sim::states::known(
                 &b.lattice,
@@ -247,6 +251,7 @@ fn summary_with(b: &Build, full: bool) -> String {
     // The predicted shape, for `check` and report.txt alike.
     if let Some(sim) = &b.simulation {
         out.push_str(&simulation_text(sim, &b.lattice, &b.design.simulation));
+        out.push_str(&supports_text(&sim.equilibrium.supports, &b.lattice));
     }
     // A terminal gets the first few warnings; report.txt has them all.
     let shown = if full { b.parts.warnings.len() } else { 5 };
@@ -343,5 +348,25 @@ fn simulation_text(
         100.0 * allow,
         e.fit.max,
         e.fit.rms,
+    )
+}
+
+/// The supports (`[simulation] supports`, docs/physics.md "Supports"): the
+/// vertices pinned, the span between the farthest two and the reaction
+/// at each; nothing for a lattice that stands free.
+fn supports_text(supports: &[crate::sim::Reaction], lattice: &Lattice) -> String {
+    let Some((a, b, span)) = crate::sim::supports::span(supports) else {
+        return String::new();
+    };
+    let reactions: Vec<String> = supports
+        .iter()
+        .map(|r| format!("{} {:.3}", lattice.vertex_name(r.vertex), r.force.length()))
+        .collect();
+    format!(
+        "supports: {} vertices pinned to the base at their design positions, {span:.1} mm between the farthest two ({} and {}); reaction at each (N): {}\n",
+        supports.len(),
+        lattice.vertex_name(a),
+        lattice.vertex_name(b),
+        reactions.join(", ")
     )
 }

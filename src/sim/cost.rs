@@ -283,7 +283,7 @@ mod tests {
         );
         assert!(path.iterations as f64 > 0.5 * taken, "{path:?}");
         // `--theta`: the path from the opening asked, after the steps there.
-        let mut wider = *settings;
+        let mut wider = settings.clone();
         wider.theta = Some(100f64.to_radians());
         let there = work(lattice, &wider);
         assert_eq!(there.path_steps, Path::step_count(0, 100f64.to_radians()));

@@ -16,6 +16,7 @@ pub(crate) mod results;
 pub mod sensitivity;
 pub mod states;
 pub(crate) mod strips;
+pub mod supports;
 pub mod warm;
 
 pub use crate::design::settings::{Actuation, Material, Settings, VertexJoint};
@@ -30,6 +31,7 @@ pub use results::{ShapeDistance, kabsch_distance, shape_distance};
 pub use solver::Stats;
 pub(crate) use solver::{Options, SolveError, System};
 pub use strips::{Hold, LatticeModel, Mesh};
+pub use supports::Reaction;
 pub use warm::resolve;
 
 use crate::budget::{Deadline, Stopped, duration};
@@ -172,6 +174,9 @@ pub struct Equilibrium {
     pub openings: Vec<f64>,
     /// Statistics of the last Newton solve.
     pub stats: Stats,
+    /// The reaction at every support (`[simulation] supports`), in the
+    /// recipe's order; empty for a lattice that stands free.
+    pub supports: Vec<Reaction>,
 }
 
 /// A simulation run: the model at equilibrium and its report.
@@ -205,10 +210,12 @@ pub fn equilibrium(lm: &LatticeModel, stats: Stats, material: &Material) -> Equi
         openings: (0..lm.delta.len()).map(|c| lm.opening(c)).collect(),
         points,
         stats,
+        supports: lm.reactions(),
     }
 }
 
-/// The lattice's model, anchored at cell 0's pivot, with the held opening
+/// The lattice's model, anchored at cell 0's pivot (or held at its
+/// supports, `Settings::supports`), with the held opening
 /// (`Settings::actuation`) prescribed at the design value.
 pub fn prepare(lattice: &Lattice, width: f64, thickness: f64, settings: &Settings) -> LatticeModel {
     let derived = Derived {
@@ -265,7 +272,8 @@ pub(crate) fn prepare_meshed(
         lm.share = classes;
     }
     if !lm.pivot.is_empty() {
-        lm.anchor(0);
+        // Supports fix the rigid motion themselves (`supports.rs`).
+        lm.pin_supports(lattice, &settings.supports);
         match settings.actuation {
             Actuation::Mean => {
                 let phi = lm.mean_opening();

@@ -252,6 +252,9 @@ pub fn chosen_until(
     let clock = std::time::Instant::now();
     let free = run.lm.model.fixed.iter().filter(|f| !**f).count();
     let steps = Path::step_count(free, run.theta);
+    if !run.lm.pins.is_empty() {
+        return pinned(run, steps, material, deadline);
+    }
     let (path, end) = follow_until(&run.lm, &run.equilibrium.stats, steps, material, deadline);
     // Back at the state solved from the design (within `SAME_MM`): that
     // solve's numbers, not the round trip's few ulp away from them.
@@ -268,6 +271,28 @@ pub fn chosen_until(
         None => run,
     };
     (run, Some(path))
+}
+
+/// A lattice held at its supports: the path of the lattice standing free
+/// (its pins released, `LatticeModel::released`), which a maker deploys
+/// before pinning its feet, and the state solved from the design with the
+/// pins held, whatever the path's end (docs/physics.md, "Supports"). No
+/// path when the free lattice finds no equilibrium at the design opening.
+fn pinned(
+    run: Simulation,
+    steps: usize,
+    material: &Material,
+    deadline: &Deadline,
+) -> (Simulation, Option<Path>) {
+    let mut free = run.lm.released();
+    let opts = Options {
+        deadline: deadline.at(),
+        ..Options::default()
+    };
+    let path = super::deploy(&mut free, None, &opts)
+        .ok()
+        .map(|(stats, _, _)| follow_until(&free, &stats, steps, material, deadline).0);
+    (run, path)
 }
 
 /// Two states closer than this (mm, largest joint distance after the best
@@ -489,12 +514,26 @@ impl Path {
     /// deploy ends against the build's equilibrium, and, with `table`, a
     /// line per step. Strains are judged against `allow` (a fraction).
     pub fn text(&self, allow: f64, table: bool) -> String {
+        self.text_of(allow, table, false)
+    }
+
+    /// `text` for the path of a lattice held at supports, which is walked
+    /// standing free (`free`: docs/physics.md, "Supports"), or not.
+    pub fn text_of(&self, allow: f64, table: bool, free: bool) -> String {
         use std::fmt::Write as _;
         let mut o = String::new();
         let deg = f64::to_degrees;
+        let (whose, start) = if free {
+            (
+                " of the lattice standing free, its supports released (\"Supports\")",
+                "its free equilibrium at the design opening",
+            )
+        } else {
+            ("", "the build's equilibrium")
+        };
         let _ = writeln!(
             o,
-            "deployment path (docs/physics.md): from the design opening {:.1} deg down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
+            "deployment path (docs/physics.md){whose}: from the design opening {:.1} deg down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
             deg(self.design),
             deg(self.low),
             self.steps,
@@ -602,7 +641,7 @@ impl Path {
         if let Some(d) = self.end_distance {
             let _ = writeln!(
                 o,
-                "  deployed again, the piece ends {d:.3} mm from the build's equilibrium ({}); collapsing and deploying differ by up to {:.3} mm at one opening",
+                "  deployed again, the piece ends {d:.3} mm from {start} ({}); collapsing and deploying differ by up to {:.3} mm at one opening",
                 if d <= 1e-3 {
                     "the same state"
                 } else {

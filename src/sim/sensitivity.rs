@@ -12,7 +12,8 @@
 //! through the grown lattice: a seed point or a row's legs change the leg
 //! lengths `lattice.rods()` gives, and its opening the held opening; the
 //! chain rule through the growth is the caller's. Derivatives are in the
-//! gauge the anchor (cell 0's pivot) sets.
+//! gauge the anchor (cell 0's pivot) sets, or with the supports
+//! (`supports.rs`) held where they are: a pin does not follow the design.
 
 use super::System;
 use super::model::{Model, Node, Stencil};

@@ -120,6 +120,9 @@ pub fn against_design(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium) ->
 /// (report.txt, `simulate`): the state reached from the design when
 /// deploying ends elsewhere, with its energy and its popped bumps.
 pub fn known(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium, path: &Path) -> String {
+    if !eq.supports.is_empty() {
+        return held(lattice, lm, eq, path);
+    }
     let mut o = String::new();
     let deployed = path.end_distance.is_some();
     let _ = writeln!(
@@ -159,5 +162,34 @@ pub fn known(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium, path: &Path
         apart,
         listed(&mine.popped(&theirs, lattice), "mm")
     );
+    o
+}
+
+/// `known` for a lattice held at supports: the state reported is solved
+/// from the design with the pins held; the path, walked standing free,
+/// starts from the free equilibrium (docs/physics.md, "Supports").
+fn held(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium, path: &Path) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "equilibrium reported (docs/physics.md, \"Supports\"): the state solved from the design with its {} supports held, energy {:.3} N mm",
+        eq.supports.len(),
+        eq.energy.total()
+    );
+    let mine = Relief::at(lattice, lm, &eq.points);
+    let design = Relief::of(lattice);
+    let _ = writeln!(
+        o,
+        "  bumps standing the other way from the design's: {}",
+        listed(&design.popped(&mine, lattice), "mm")
+    );
+    if let Some(free) = path.collapse.first() {
+        let _ = writeln!(
+            o,
+            "  standing free (its supports released, where the deployment path starts): energy {:.3} N mm, {:.3} mm away after the best rigid fit",
+            free.energy,
+            shape_distance(&free.points, &eq.points).max
+        );
+    }
     o
 }

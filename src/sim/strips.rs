@@ -53,6 +53,9 @@ pub struct LatticeModel {
     /// on a system of its own, and two at once would pass the memory that
     /// `cost::BYTES_PER_NODE` allows).
     pub(crate) system: KeptSystem,
+    /// The vertices held at their start positions (`[simulation]
+    /// supports`, `supports.rs`), each with its three position variables.
+    pub(crate) pins: Vec<super::supports::Pin>,
 }
 
 /// A solver's system kept with its model: a warm re-solve of a changed
@@ -179,6 +182,7 @@ impl LatticeModel {
             start_openings: Vec::new(),
             leg_counts,
             system: KeptSystem::default(),
+            pins: Vec::new(),
         };
         lm.start = lm.points();
         lm.start_openings = (0..lm.delta.len()).map(|c| lm.opening(c)).collect();

@@ -33,6 +33,7 @@ impl Design {
             _ => grow(self.kind, self.dim, &self.points, &self.kappa, &self.rows),
         };
         let mut lattice = result.map_err(|e| self.locate(e))?;
+        self.check_supports(&lattice)?;
         lattice.stacking = self.clash.stacking;
         Ok(lattice)
     }

@@ -19,6 +19,7 @@ mod record;
 mod surfaces;
 
 pub use curvature::Bend;
+pub(crate) use fit::principal;
 pub use fit::{Fit, Rigid, kabsch};
 pub use mesh::{Mesh, Topology};
 pub use read::{MAX_TARGET_BYTES, MAX_TRIANGLES, refuse_early};

@@ -28,6 +28,11 @@ pub(crate) struct Summary<'a> {
     /// Vertex names and positions, then pivot names and positions.
     pub(crate) vertices: Vec<(String, DVec3)>,
     pub(crate) pivots: Vec<(String, DVec3)>,
+    /// The supports (`[simulation] supports`): each vertex's name, where
+    /// it is held and the force on the lattice there (N).
+    pub(crate) supports: Vec<(String, DVec3, DVec3)>,
+    /// The distance between the farthest two supports (mm).
+    pub(crate) support_span: Option<f64>,
 }
 
 fn finite(x: f64) -> f64 {
@@ -42,6 +47,14 @@ fn v3(p: DVec3) -> [f64; 3] {
 struct PointJson {
     name: String,
     pos: [f64; 3],
+}
+
+#[derive(Serialize)]
+struct SupportJson {
+    name: String,
+    pos: [f64; 3],
+    /// The force the support exerts on the lattice (N).
+    reaction: [f64; 3],
 }
 
 #[derive(Serialize)]
@@ -79,6 +92,10 @@ struct DeployedJson<'a> {
     fingerprint: String,
     vertices: Vec<PointJson>,
     pivots: Vec<PointJson>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    supports: Vec<SupportJson>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    support_span: Option<f64>,
     strips: Vec<StripJson<'a>>,
 }
 
@@ -112,6 +129,16 @@ pub(crate) fn json(summary: &Summary, strips: &[DeployedStrip]) -> Vec<u8> {
         fingerprint: format!("{:016x}", summary.fingerprint),
         vertices: points(&summary.vertices),
         pivots: points(&summary.pivots),
+        supports: summary
+            .supports
+            .iter()
+            .map(|(n, p, f)| SupportJson {
+                name: n.clone(),
+                pos: v3(*p),
+                reaction: v3(*f),
+            })
+            .collect(),
+        support_span: summary.support_span.map(finite),
         strips: strips
             .iter()
             .map(|s| StripJson {

@@ -20,11 +20,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod closed;
+mod feet;
 pub mod goal;
 mod loops;
 mod material;
 mod sheets;
 
+pub use feet::{flattens, with_feet};
 pub use goal::miss;
 
 /// Cells across the target at most (docs/design.md, stage 1).
