@@ -135,13 +135,7 @@ pub fn known(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium, path: &Path
         },
         eq.energy.total()
     );
-    let mine = Relief::at(lattice, lm, &eq.points);
-    let design = Relief::of(lattice);
-    let _ = writeln!(
-        o,
-        "  bumps standing the other way from the design's: {}",
-        listed(&design.popped(&mine, lattice), "mm")
-    );
+    let mine = popped_from_design(&mut o, lattice, lm, &eq.points);
     let Some(start) = path.collapse.first().filter(|_| deployed) else {
         return o;
     };
@@ -165,6 +159,24 @@ pub fn known(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium, path: &Path
     o
 }
 
+/// The line of the bumps of `points` standing the other way from the
+/// design's, written to `o`; their relief, to compare other states with.
+fn popped_from_design(
+    o: &mut String,
+    lattice: &Lattice,
+    lm: &LatticeModel,
+    points: &[DVec3],
+) -> Relief {
+    let mine = Relief::at(lattice, lm, points);
+    let design = Relief::of(lattice);
+    let _ = writeln!(
+        o,
+        "  bumps standing the other way from the design's: {}",
+        listed(&design.popped(&mine, lattice), "mm")
+    );
+    mine
+}
+
 /// `known` for a lattice held at supports: the state reported is solved
 /// from the design with the pins held; the path, walked standing free,
 /// starts from the free equilibrium (docs/physics.md, "Supports").
@@ -176,13 +188,7 @@ fn held(lattice: &Lattice, lm: &LatticeModel, eq: &Equilibrium, path: &Path) -> 
         eq.supports.len(),
         eq.energy.total()
     );
-    let mine = Relief::at(lattice, lm, &eq.points);
-    let design = Relief::of(lattice);
-    let _ = writeln!(
-        o,
-        "  bumps standing the other way from the design's: {}",
-        listed(&design.popped(&mine, lattice), "mm")
-    );
+    popped_from_design(&mut o, lattice, lm, &eq.points);
     if let Some(free) = path.collapse.first() {
         let _ = writeln!(
             o,
