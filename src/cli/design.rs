@@ -87,7 +87,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         file.target.topology.describe(),
         target.extent
     ));
-    let build = within_time(&file, edge, &ask.overrides.deadline, &note)?;
+    let build = within_time((&file, &target), edge, &ask.overrides.deadline, &note)?;
     // The search leaves one candidate's reckoned build (at most half the
     // limit) for the builds: a search cut short still has its best built.
     let limit = ask.overrides.deadline.ceiling();
@@ -458,11 +458,6 @@ impl Made<'_> {
 const SEARCH_SECONDS_PER_CELL: f64 = 0.015;
 const BUILD_SECONDS_PER_CELL: f64 = 0.09;
 
-/// Cells a design has per square of the cell edge on the target: the
-/// loops' rings step 0.5 to 0.9 edges down the meridian (the sphere cap's
-/// 168 and the paraboloid's 160 cells, 2.7 and 3.5 a square).
-const CELLS_PER_SQUARE: f64 = 3.0;
-
 /// Seeds a search grows at most, and candidates reckoned built (of
 /// `BUILT`: the search stops at the first that meets the goal).
 const SEEDS: f64 = 8.0;
@@ -470,17 +465,19 @@ const BUILDS: f64 = 1.0;
 
 /// The design's work reckoned from the target before it starts
 /// (docs/commands.md, "Time limits"): the cells a design of `edge` may
-/// have (the target's area in cells of `edge` squared), times the seeds'
+/// have (the target's area in squares of `edge`, times the cells a square
+/// its topology grows, `designing::cells_per_square`), times the seeds'
 /// row search and the candidate builds; refused beyond the limit with the
 /// edge that fits; else said to `note` when long (`Estimate::said`), and
 /// a candidate's build reckoned (seconds).
 fn within_time(
-    file: &TargetFile,
+    (file, target): (&TargetFile, &std::sync::Arc<karigami::targets::Target>),
     edge: f64,
     deadline: &karigami::Deadline,
     note: &dyn Fn(&str),
 ) -> Result<f64, Error> {
-    let cells = (CELLS_PER_SQUARE * file.target.area / (edge * edge))
+    let per_square = designing::cells_per_square(target);
+    let cells = (per_square * file.target.area / (edge * edge))
         .ceil()
         .max(1.0);
     let search = karigami::util::reckoned_low(SEEDS * SEARCH_SECONDS_PER_CELL * cells);

@@ -256,6 +256,33 @@ fn level_rim(t: &Arc<Target>) -> Arc<Target> {
     }
 }
 
+/// Cells reckoned a square of the cell edge on the target, for the
+/// estimate of `karigami design` (src/cli/design.rs): a loop round a
+/// level, round rim or between two (rings 0.5 to 0.9 edges apart: the
+/// sphere cap's 168 and the paraboloid's 160 cells, 2.7 and 3.5 a square),
+/// a closed target's loop (pole to pole: sphere.toml's 288 cells, 2.1 a
+/// square, whose search costs half a cap's a cell, so reckoned at 1), and
+/// a sheet (rows about an edge apart: the saddle's 35, the plate's 42,
+/// the bump's 30 cells, 0.7 to 1.3 a square, reckoned at the least). The
+/// same tests of topology as `search`.
+pub fn cells_per_square(t: &Arc<Target>) -> f64 {
+    const LOOPS: f64 = 3.0;
+    const CLOSED: f64 = 1.0;
+    const SHEETS: f64 = 0.7;
+    match t.topology {
+        Topology::Closed { .. } => CLOSED,
+        Topology::Patch => {
+            let levelled = level_rim(t);
+            let boundary = sheets::inward_boundary(&levelled);
+            match loops::circular_rim(&boundary, levelled.extent) {
+                Some(_) => LOOPS,
+                None => SHEETS,
+            }
+        }
+        _ => LOOPS,
+    }
+}
+
 /// The fit of a lattice's vertices and cells to the target.
 pub fn fit_of(t: &Target, lattice: &Lattice) -> crate::target::Fit {
     let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
@@ -394,4 +421,33 @@ pub fn recipe(
     s.push('\n');
     s.push_str(&found.lattice);
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn target(text: &str) -> Arc<Target> {
+        let t = crate::target::read("t.toml", text.as_bytes(), None).unwrap();
+        Arc::new(t.canonical())
+    }
+
+    /// The estimate's cells a square follow the topology the search takes:
+    /// a cap with a round rim grows a loop, a rectangle a sheet, a whole
+    /// sphere a closed loop, an annulus a loop between its rims.
+    #[test]
+    fn the_cells_reckoned_a_square_follow_the_topology() {
+        let cap = target("[target]\nfamily = \"sphere-cap\"\nradius = 200.0\nheight = 60.0\n");
+        let plate = target(
+            "[target]\nfamily = \"height-field\"\nwidth = 300.0\nlength = 200.0\nheights = [[0.0, 0.0], [0.0, 0.0]]\n",
+        );
+        let sphere = target("[target]\nfamily = \"sphere-cap\"\nradius = 150.0\nheight = 300.0\n");
+        let band = target(
+            "[target]\nfamily = \"revolution\"\nprofile = [[120.0, 0.0], [100.0, 100.0], [120.0, 200.0]]\n",
+        );
+        assert_eq!(cells_per_square(&cap), 3.0);
+        assert_eq!(cells_per_square(&plate), 0.7);
+        assert_eq!(cells_per_square(&sphere), 1.0);
+        assert_eq!(cells_per_square(&band), 3.0);
+    }
 }
