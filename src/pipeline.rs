@@ -643,6 +643,13 @@ fn simulated(
                     lattice.cells.len()
                 ),
             });
+        } else if !design.simulation.supports.is_empty() {
+            warnings.push(crate::parts::Warning {
+                strip: None,
+                message: "[simulation] supports are not used: this lattice is a planar true mechanism, which is not \
+                     simulated (its design is its deployed shape, docs/physics.md); it needs no pins to keep it"
+                    .into(),
+            });
         }
         return Ok((None, None, None));
     }

@@ -1597,6 +1597,22 @@ fn a_vault_held_at_its_feet_keeps_its_shape_and_free_it_flattens() {
     assert!(h.strain.eps < d.simulation.material.eps_allow);
 }
 
+/// Supports on a planar true mechanism, which is not simulated, are said
+/// to be unused in the build's warnings, not dropped in silence.
+#[test]
+fn supports_on_a_lattice_that_is_not_simulated_are_said_unused() {
+    let text = std::fs::read_to_string("templates/sheet.toml").expect("recipe")
+        + "\n[simulation]\nsupports = [[5, 6], [0, 0], [2, 3]]\n";
+    let built = karigami::build(karigami::parse(&text, "sheet").expect("parses")).expect("builds");
+    let report = karigami::build_text(&built);
+    assert!(
+        report.contains(
+            "[simulation] supports are not used: this lattice is a planar true mechanism"
+        ),
+        "{report}"
+    );
+}
+
 /// The vault's build says which vertices are pinned and what they hold:
 /// report.txt's supports line, deployed.json's `supports` and
 /// `support_span`, and the guide's "Pin it to the base".

@@ -31,10 +31,11 @@ pub(super) fn supports(w: &mut PageFlow, b: &Build) {
         })
         .collect();
     let text = format!(
-        "This design keeps its shape only when its feet are held: open it fully, then pin these {} vertices to the table \
-         or a base (a screw, a peg or a clamp through each eyelet), each where the design has it. The farthest two, {} and {}, \
-         are {span:.0} mm apart: the base must give that span. The simulation holds them there; left free, the lattice \
-         may settle into another shape (a vault's relaxes flat).",
+        "This design keeps its shape only when its feet are held: open it to its design opening, then pin these {} vertices \
+         to the table or a base, each where the design has it. The pins push and pull (some hold their foot down, others \
+         keep it from spreading), so fix each both ways: a screw or a clamp through the eyelet, not a peg it rests on. \
+         The farthest two, {} and {}, are {span:.0} mm apart: the base must give that span. The simulation holds them \
+         there; left free, the lattice may settle into another shape (a vault's relaxes flat).",
         pins.len(),
         name(a),
         name(z),

@@ -176,8 +176,9 @@ pub fn boundary_band(t: &Target, edge: f64) -> Option<f64> {
 /// them are listed.
 fn rows_stop(design: &Fit, band: f64) -> String {
     format!(
-        "the design itself covers only {:.1} % of the target: its rows stop before they cross it, where a band along the boundary at this edge would leave about {:.0} % uncovered, so neither a smaller edge nor other strips would reach the goal: the row search finds no rows that cross this shape (docs/design.md, \"What it reaches\", lists the shapes it crosses: caps and bowls with a round, level rim, saddles, plates and vaults)",
+        "the design itself covers only {:.1} % of the target: its rows stop before they cross it, leaving {:.1} % uncovered where the band along the boundary a lattice of this edge leaves is about {:.0} %, so the shortfall is not the edge's and neither a smaller edge nor other strips would reach the goal: the row search finds no rows that cross this shape (docs/design.md, \"What it reaches\", lists the shapes it crosses: caps and bowls with a round, level rim, saddles, plates and vaults)",
         100.0 * design.coverage.unwrap_or(0.0),
+        100.0 * (1.0 - design.coverage.unwrap_or(0.0)),
         100.0 * band
     )
 }
@@ -267,7 +268,8 @@ mod tests {
         let hint = remedy(&short, &short, (4.0 * least, Some(0.18)), &base);
         assert!(
             hint.starts_with("the design itself covers only 39.0 % of the target: its rows stop")
-                && hint.contains("would leave about 18 % uncovered")
+                && hint.contains("leaving 61.0 % uncovered where the band")
+                && hint.contains("leaves is about 18 %")
                 && !hint.contains("--edge"),
             "{hint}"
         );
