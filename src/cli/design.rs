@@ -87,6 +87,8 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         file.target.topology.describe(),
         target.extent
     ));
+    // A target refused for its shape is refused before its work is said.
+    designing::admissible(&target, &base, edge).map_err(|d| Error::at(&file.file, "", &d))?;
     let build = within_time((&file, &target), edge, &ask.overrides.deadline, &note)?;
     // The search leaves one candidate's reckoned build (at most half the
     // limit) for the builds: a search cut short still has its best built.

@@ -70,10 +70,19 @@ pub struct Searched {
     pub topology: String,
 }
 
+/// The topology `search` grows on `t` (in its own frame) and why, or the
+/// refusal of a target it cannot grow on or whose curvature the strips
+/// do not reach: what `search` refuses first, for the caller to refuse
+/// before it reckons the work.
+pub fn admissible(t: &Target, base: &Design, edge: f64) -> Result<String, Diagnostic> {
+    let topology = choose(t, edge)?;
+    material::within_reach(t, base, edge)?;
+    Ok(topology)
+}
+
 /// Search sheets for `ask.target`; `progress` hears about each seed.
 pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Searched, Diagnostic> {
-    let topology = choose(&ask.target, ask.edge)?;
-    material::within_reach(&ask.target, ask.base, ask.edge)?;
+    let topology = admissible(&ask.target, ask.base, ask.edge)?;
     if matches!(ask.target.topology, Topology::Closed { .. })
         && let closed::Revolved::About { axis, .. } = closed::revolved(&ask.target)
     {
