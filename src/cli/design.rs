@@ -111,6 +111,12 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     // Fitted to the target as read, as `check` fits the recipe: the same
     // numbers (the fit's starts depend on the frame to a few hundredths
     // of a mm).
+    // A search cut short by its share of the limit that found none is out
+    // of time, as is a run the limit stops before a candidate is built.
+    let stopped = || out_of_time(&file, &searched, &ask.overrides.deadline);
+    if searched.found.is_empty() && searching.deadline.expired() {
+        return Err(stopped());
+    }
     let chosen = match choose(
         ask,
         &searched,
@@ -119,14 +125,8 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         &note,
     ) {
         Ok(chosen) => chosen,
-        // The search cut short by its share of the limit found none.
-        Err(Unbuilt::Refused(_)) if searched.found.is_empty() && searching.deadline.expired() => {
-            return Err(out_of_time(&file, &searched, &ask.overrides.deadline));
-        }
         Err(Unbuilt::Refused(why)) => return Err(no_design(&file, &searched, &why)),
-        Err(Unbuilt::OutOfTime) => {
-            return Err(out_of_time(&file, &searched, &ask.overrides.deadline));
-        }
+        Err(Unbuilt::OutOfTime) => return Err(stopped()),
     };
     let remedy = (chosen.miss > 1.0).then(|| {
         designing::goal::remedy(
@@ -288,7 +288,8 @@ fn on_feet(
     build: &dyn Fn(&str) -> Result<Built, String>,
     note: &dyn Fn(&str),
 ) -> Option<(Found, Built)> {
-    if designing::miss(&free.fit) <= 1.0 || !designing::flattens(&free.designed, &free.simulated) {
+    let designed: Vec<glam::DVec3> = free.lattice.vertices.iter().map(|v| v.pos).collect();
+    if designing::miss(&free.fit) <= 1.0 || !designing::flattens(&designed, &free.simulated) {
         return None;
     }
     let pinned = designing::with_feet(found, &free.lattice, edge)?;
@@ -529,13 +530,12 @@ fn within_time(
 }
 
 /// A candidate built: the fit to the target of its lattice as assembled
-/// and of its simulated joints, its lattice, and its vertices as designed
-/// and as simulated.
+/// and of its simulated joints, its lattice as grown, and its vertices as
+/// simulated.
 struct Built {
     design: karigami::targets::Fit,
     fit: karigami::targets::Fit,
     lattice: karigami::Lattice,
-    designed: Vec<glam::DVec3>,
     simulated: Vec<glam::DVec3>,
 }
 
@@ -560,16 +560,14 @@ fn built_fit(
         .as_ref()
         .map(|p| p[..n.min(p.len())].to_vec())
         .ok_or("the build has no simulated shape")?;
-    let designed: Vec<glam::DVec3> = built.lattice.vertices.iter().map(|v| v.pos).collect();
-    let mut lattice = built.lattice.clone();
-    for (v, p) in lattice.vertices.iter_mut().zip(&points) {
+    let mut simulated = built.lattice.clone();
+    for (v, p) in simulated.vertices.iter_mut().zip(&points) {
         v.pos = *p;
     }
     Ok(Built {
         design: designing::fit_of(target, &built.assembled),
-        fit: designing::fit_of(target, &lattice),
-        lattice: built.lattice.clone(),
-        designed,
+        fit: designing::fit_of(target, &simulated),
+        lattice: built.lattice,
         simulated: points,
     })
 }

@@ -177,18 +177,10 @@ pub(crate) fn supported(lattice: &Lattice, keys: &[[u32; 2]]) -> Vec<Option<u32>
 
 /// The lattice's rows and columns, for the hint of an unknown support.
 fn extent(lattice: &Lattice) -> String {
-    let rows = lattice
+    let (rows, cols) = lattice
         .vertices
         .iter()
-        .map(|v| v.key.row)
-        .max()
-        .unwrap_or(0);
-    let cols = lattice
-        .vertices
-        .iter()
-        .map(|v| v.key.col)
-        .max()
-        .unwrap_or(0);
+        .fold((0, 0), |(r, c), v| (r.max(v.key.row), c.max(v.key.col)));
     match lattice.kind {
         Kind::Helix => format!("[0] to [{cols}]"),
         _ => format!("rows 0 to {rows}, columns 0 to at most {cols}"),

@@ -2,9 +2,9 @@
 //! are, joint reactions, distance from the design after the best rigid
 //! fit, and a discrete curvature measure of the deployed shape.
 
-use super::model::{Model, bend_measures};
+use super::model::{Model, Stencil, bend_measures};
 use glam::{DMat3, DVec3};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 /// The largest corner-fibre strain of the strips, and where.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -100,30 +100,47 @@ pub(crate) fn strain_peak(m: &Model, e: f64, g: f64) -> StrainPeak {
     peak
 }
 
-/// The largest force any joint exerts on one of its rods (N), with the
-/// joint and the rod: F = -dE_rod/dX_J.
-pub(crate) fn largest_reaction(m: &Model) -> (f64, usize, String) {
-    let mut forces: BTreeMap<(usize, usize), DVec3> = BTreeMap::new();
-    // Position variable -> (joint, axis).
-    let mut owner = std::collections::HashMap::new();
-    for (j, jt) in m.joints.iter().enumerate() {
-        for a in 0..3 {
-            owner.insert(jt.x + a, (j, a));
-        }
+/// Each stencil's energy gradient on the position variables `owner` maps
+/// (variable -> its owner and axis), handed to `each` with the stencil:
+/// the forces at joints and at supports are sums of these.
+pub(crate) fn owned_gradients<T: Copy>(
+    m: &Model,
+    owner: &HashMap<usize, (T, usize)>,
+    mut each: impl FnMut(&Stencil, T, usize, f64),
+) {
+    if owner.is_empty() {
+        return;
     }
     for st in &m.stencils {
-        let Some(rod) = st.rod() else { continue };
         let vars = m.stencil_vars(st);
         if !vars.iter().any(|v| owner.contains_key(v)) {
             continue;
         }
         let (_, g, _) = m.stencil_derivatives(st, &vars);
         for (k, v) in vars.iter().enumerate() {
-            if let Some(&(j, a)) = owner.get(v) {
-                forces.entry((j, rod)).or_default()[a] -= g[k];
+            if let Some(&(o, a)) = owner.get(v) {
+                each(st, o, a, g[k]);
             }
         }
     }
+}
+
+/// The largest force any joint exerts on one of its rods (N), with the
+/// joint and the rod: F = -dE_rod/dX_J.
+pub(crate) fn largest_reaction(m: &Model) -> (f64, usize, String) {
+    let mut forces: BTreeMap<(usize, usize), DVec3> = BTreeMap::new();
+    // Position variable -> (joint, axis).
+    let mut owner = HashMap::new();
+    for (j, jt) in m.joints.iter().enumerate() {
+        for a in 0..3 {
+            owner.insert(jt.x + a, (j, a));
+        }
+    }
+    owned_gradients(m, &owner, |st, j, a, g| {
+        if let Some(rod) = st.rod() {
+            forces.entry((j, rod)).or_default()[a] -= g;
+        }
+    });
     // The first of equal reactions (to `TIE`), as for the strain.
     forces
         .into_iter()

@@ -103,20 +103,7 @@ impl LatticeModel {
             }
         }
         let mut force = vec![DVec3::ZERO; self.pins.len()];
-        if !owner.is_empty() {
-            for st in &m.stencils {
-                let vars = m.stencil_vars(st);
-                if !vars.iter().any(|v| owner.contains_key(v)) {
-                    continue;
-                }
-                let (_, g, _) = m.stencil_derivatives(st, &vars);
-                for (i, v) in vars.iter().enumerate() {
-                    if let Some(&(k, a)) = owner.get(v) {
-                        force[k][a] += g[i];
-                    }
-                }
-            }
-        }
+        super::results::owned_gradients(m, &owner, |_, k, a, g| force[k][a] += g);
         self.pins
             .iter()
             .zip(force)
