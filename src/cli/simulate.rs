@@ -137,10 +137,13 @@ pub(super) fn simulate(
             )
         );
         if let Some(walked) = &walked {
-            let free = !run.equilibrium.supports.is_empty();
+            let how = sim::path::Walked {
+                held: settings.actuation,
+                free: !run.equilibrium.supports.is_empty(),
+            };
             print!(
                 "{}",
-                walked.text_of(settings.material.eps_allow, follow_path, free)
+                walked.text(settings.material.eps_allow, follow_path, how)
             );
             print!(
                 "{}",

@@ -162,7 +162,11 @@ pub fn build_text(b: &Build) -> String {
             .simulation
             .as_ref()
             .is_some_and(|run| !run.equilibrium.supports.is_empty());
-        out.push_str(&path.text_of(b.design.simulation.material.eps_allow, false, free));
+        let walked = crate::sim::path::Walked {
+            held: b.design.simulation.actuation,
+            free,
+        };
+        out.push_str(&path.text(b.design.simulation.material.eps_allow, false, walked));
         if let Some(run) = &b.simulation {
             out.push_str(&crate::sim::states::known(
                 &b.lattice,

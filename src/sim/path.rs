@@ -508,22 +508,26 @@ fn point(
     }
 }
 
+/// How the path's report says what it walks.
+#[derive(Clone, Copy, Debug)]
+pub struct Walked {
+    /// The opening held (the design's own is the path's top).
+    pub held: crate::design::settings::Actuation,
+    /// Whether the lattice is held at supports, which the path walks
+    /// released (docs/physics.md, "Supports").
+    pub free: bool,
+}
+
 impl Path {
     /// The path in words: a line per way (energy, the largest strain and
     /// where, snap-throughs), whether it folds flat again, where the
     /// deploy ends against the build's equilibrium, and, with `table`, a
     /// line per step. Strains are judged against `allow` (a fraction).
-    pub fn text(&self, allow: f64, table: bool) -> String {
-        self.text_of(allow, table, false)
-    }
-
-    /// `text` for the path of a lattice held at supports, which is walked
-    /// standing free (`free`: docs/physics.md, "Supports"), or not.
-    pub fn text_of(&self, allow: f64, table: bool, free: bool) -> String {
+    pub fn text(&self, allow: f64, table: bool, walked: Walked) -> String {
         use std::fmt::Write as _;
         let mut o = String::new();
         let deg = f64::to_degrees;
-        let (whose, start) = if free {
+        let (whose, start) = if walked.free {
             (
                 " of the lattice standing free, its supports released (\"Supports\")",
                 "its free equilibrium at the design opening",
@@ -533,7 +537,8 @@ impl Path {
         };
         let _ = writeln!(
             o,
-            "deployment path (docs/physics.md){whose}: from the design opening {:.1} deg down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
+            "deployment path (docs/physics.md){whose}: from the design's {}, {:.1} deg, down to {:.1} deg and back, {} steps each way; {} of its {} Newton iterations",
+            walked.held.describe(),
             deg(self.design),
             deg(self.low),
             self.steps,
