@@ -9,7 +9,7 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 15] = [
+const TARGETS: [&str; 17] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
@@ -21,6 +21,8 @@ const TARGETS: [&str; 15] = [
     "sphere-cap-export.obj",
     "paraboloid-export.stl",
     "saddle-export.stl",
+    "vault-export.obj",
+    "plate-export.stl",
     "sphere.toml",
     "egg-export.stl",
     "closed-revolution.toml",
