@@ -236,9 +236,8 @@ fn mean_defect(l: &Lattice) -> f64 {
     c.iter().map(|v| v.defect.to_degrees()).sum::<f64>() / c.len() as f64
 }
 
-/// A saddle ring whose rebuilt fronts carry its curvature
-/// (fixtures/designs/saddle-pringle.toml; docs/lattices.md, "Designed
-/// examples"): a flat loop whose every front is laid again on a hyperbolic
+/// The saddle ring, whose rebuilt fronts carry its curvature
+/// (examples/saddle-ring.toml; docs/lattices.md, "Designed examples"): a flat loop whose every front is laid again on a hyperbolic
 /// paraboloid, four sub-units alike, keeping its edge lengths. It meets the
 /// saddle ring's musts on the cut geometry and on the simulated shape:
 /// every interior vertex negative, ring-mean K within 1.6 x from ring to
@@ -246,10 +245,10 @@ fn mean_defect(l: &Lattice) -> f64 {
 /// The fronts carry the curvature: the same rows grown on their fronts as
 /// grown (none rebuilt) make a cone, every defect 0 to rounding.
 #[test]
-fn the_pringle_rings_fronts_carry_negative_curvature() {
-    let path = crate::cli::repo().join("fixtures/designs/saddle-pringle.toml");
+fn the_saddle_rings_fronts_carry_negative_curvature() {
+    let path = crate::cli::repo().join("examples/saddle-ring.toml");
     let text = std::fs::read_to_string(&path).expect("recipe");
-    let d = karigami::parse(&text, "saddle-pringle").expect("parses");
+    let d = karigami::parse(&text, "saddle-ring").expect("parses");
     let designed = d.grow().expect("grows");
     assert!(!designed.extrinsic(), "grown on rebuilt fronts");
     // Every front is rebuilt from four sub-units alike: its turning (bend)
@@ -287,7 +286,7 @@ fn the_pringle_rings_fronts_carry_negative_curvature() {
         .map(|v| v.defect.to_degrees().abs())
         .fold(0.0, f64::max);
     println!(
-        "pringle: mean defect {:.3} deg rebuilt, {:.1e} deg plain (largest {flat:.1e})",
+        "saddle ring: mean defect {:.3} deg rebuilt, {:.1e} deg plain (largest {flat:.1e})",
         mean_defect(&designed),
         mean_defect(&plain)
     );
@@ -305,7 +304,7 @@ fn the_pringle_rings_fronts_carry_negative_curvature() {
     for (what, l) in [("design", &designed), ("simulated", &simulated)] {
         let (k, negative) = ring_k(l);
         println!(
-            "pringle {what}: mean defect {:.2} deg, ring-mean K {k:?}, ratio {:.2}, legs max/median {:.2}, smallest opening {:.1} deg",
+            "saddle ring {what}: mean defect {:.2} deg, ring-mean K {k:?}, ratio {:.2}, legs max/median {:.2}, smallest opening {:.1} deg",
             mean_defect(l),
             k_ratio(&k),
             leg_ratio(l),
