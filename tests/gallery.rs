@@ -336,7 +336,8 @@ fn random_helices_keep_every_invariant_as_far_as_they_grow() {
 #[test]
 fn random_intrinsic_loops_close_and_keep_every_invariant() {
     // Symmetric rings whose later fronts are rebuilt from cranked sub-units
-    // (as in the saddle ring), with random sizes and angles.
+    // (as in the cranked ring, fixtures/designs/cranked-ring.toml), with
+    // random sizes and angles.
     let mut rng = Rng::new(23);
     let mut grown = 0;
     for _ in 0..40 {

@@ -229,3 +229,90 @@ fn the_designed_saddle_band_is_negatively_curved_evenly() {
     }
     meets_the_goal(&fit(&simulated(b), "saddle-band.toml"), "band simulated");
 }
+
+/// The mean angle defect of a lattice's interior vertices (degrees).
+fn mean_defect(l: &Lattice) -> f64 {
+    let c = l.curvature();
+    c.iter().map(|v| v.defect.to_degrees()).sum::<f64>() / c.len() as f64
+}
+
+/// The saddle ring, whose rebuilt fronts carry its curvature
+/// (examples/saddle-ring.toml; docs/lattices.md, "Designed examples"): a flat loop whose every front is laid again on a hyperbolic
+/// paraboloid, four sub-units alike, keeping its edge lengths. It meets the
+/// saddle ring's musts on the cut geometry and on the simulated shape:
+/// every interior vertex negative, ring-mean K within 1.6 x from ring to
+/// ring, the longest leg at most 3 x the median, no opening under 20 deg.
+/// The fronts carry the curvature: the same rows grown on their fronts as
+/// grown (none rebuilt) make a cone, every defect 0 to rounding.
+#[test]
+fn the_saddle_rings_fronts_carry_negative_curvature() {
+    let path = crate::cli::repo().join("examples/saddle-ring.toml");
+    let text = std::fs::read_to_string(&path).expect("recipe");
+    let d = karigami::parse(&text, "saddle-ring").expect("parses");
+    let designed = d.grow().expect("grows");
+    assert!(!designed.extrinsic(), "grown on rebuilt fronts");
+    // Every front is rebuilt from four sub-units alike: its turning (bend)
+    // at vertex j is the turning at 2 - j and at j + N/2 (mirrors through
+    // vertices 1 and 1 + N/4 and the half turn), vertex 0 having none.
+    let n = d.points.len();
+    for (i, row) in d.rows.iter().enumerate() {
+        let bend = row
+            .front
+            .as_ref()
+            .expect("rebuilt")
+            .bend
+            .as_ref()
+            .expect("bent");
+        let at = |j: usize| bend[j - 1];
+        for j in 1..n {
+            for other in [(2 + n - j) % n, (j + n / 2) % n] {
+                if other != 0 {
+                    assert!(
+                        (at(j) - at(other)).abs() < 1e-6,
+                        "row {i}: vertex {j} against {other}"
+                    );
+                }
+            }
+        }
+    }
+    let mut plain = d.clone();
+    for row in &mut plain.rows {
+        row.front = None;
+    }
+    let plain = plain.grow().expect("grows on plain fronts");
+    let flat = plain
+        .curvature()
+        .iter()
+        .map(|v| v.defect.to_degrees().abs())
+        .fold(0.0, f64::max);
+    println!(
+        "saddle ring: mean defect {:.3} deg rebuilt, {:.1e} deg plain (largest {flat:.1e})",
+        mean_defect(&designed),
+        mean_defect(&plain)
+    );
+    assert!(flat < 1e-9, "plain fronts curve: {flat} deg");
+    assert!(mean_defect(&designed) <= -0.3, "{}", mean_defect(&designed));
+    let deploy = karigami::deploy::deployment(&designed);
+    let m = &d.fabrication.material;
+    let run =
+        karigami::simulation::simulate(&designed, &deploy, m.width, m.thickness, &d.simulation)
+            .expect("simulates");
+    // The state solved from the design, which is the one `build` reports
+    // (its deployment path comes back to it).
+    assert!(run.equilibrium.stats.lambda_min > 0.0, "stable");
+    let simulated = karigami::simulation::placed_lattice(&designed, &run.lm);
+    for (what, l) in [("design", &designed), ("simulated", &simulated)] {
+        let (k, negative) = ring_k(l);
+        println!(
+            "saddle ring {what}: mean defect {:.2} deg, ring-mean K {k:?}, ratio {:.2}, legs max/median {:.2}, smallest opening {:.1} deg",
+            mean_defect(l),
+            k_ratio(&k),
+            leg_ratio(l),
+            min_opening(l)
+        );
+        assert!(negative, "{what}: every interior vertex negative");
+        assert!(k_ratio(&k) <= 1.6, "{what}: {k:?}");
+        assert!(leg_ratio(l) <= 3.0, "{what}");
+        assert!(min_opening(l) >= 20.0, "{what}");
+    }
+}

@@ -273,8 +273,9 @@ fn an_infeasible_target_is_refused_naming_the_constraint_and_its_shortfall() {
 }
 
 #[test]
-fn saddle_ring_is_negatively_curved_nearly_constantly() {
-    let (d, lattice, m) = example("saddle-ring");
+fn cranked_ring_is_negatively_curved_nearly_constantly() {
+    // The gallery's saddle ring before issue 32 (docs/lattices.md).
+    let (d, lattice, m) = example("fixtures/designs/cranked-ring.toml");
     assert!(!lattice.extrinsic(), "grown on rebuilt fronts");
     assert_eq!(d.kind, karigami::Kind::Loop);
     let c = m.curvature.unwrap();
