@@ -36,6 +36,7 @@ mod output;
 mod parts;
 mod pipeline;
 mod report;
+mod rigid;
 mod rng;
 mod sim;
 mod solve;
@@ -82,7 +83,7 @@ pub use solve::{Optimised, optimise};
 pub use lattice::{
     Cell, Check as VerifyCheck, ClosureRecord, Crank, FrontMoves, Grower, GrowthError, Invariant,
     Joint, JointEnd, Kind, Lattice, PivotMove, Report as VerifyReport, Rod, RodType, RowParams,
-    Stacking, TOLERANCE, Vertex, VertexKey, grow, grow_helix, grow_sheet, joints, verify,
+    Saddle, Stacking, TOLERANCE, Vertex, VertexKey, grow, grow_helix, grow_sheet, joints, verify,
 };
 pub use lattice::{deploy, shape};
 pub use legs::{Direction, Leg};

@@ -251,26 +251,37 @@ fn the_saddle_rings_fronts_carry_negative_curvature() {
     let d = karigami::parse(&text, "saddle-ring").expect("parses");
     let designed = d.grow().expect("grows");
     assert!(!designed.extrinsic(), "grown on rebuilt fronts");
-    // Every front is rebuilt from four sub-units alike: its turning (bend)
-    // at vertex j is the turning at 2 - j and at j + N/2 (mirrors through
-    // vertices 1 and 1 + N/4 and the half turn), vertex 0 having none.
+    // Every front is laid on a saddle, four sub-units alike: each ring's
+    // vertices keep their distances under the mirrors through vertices 1
+    // and 1 + N/4 (j -> 2 - j) and the half turn (j -> j + N/2).
     let n = d.points.len();
     for (i, row) in d.rows.iter().enumerate() {
-        let bend = row
-            .front
-            .as_ref()
-            .expect("rebuilt")
-            .bend
-            .as_ref()
-            .expect("bent");
-        let at = |j: usize| bend[j - 1];
-        for j in 1..n {
-            for other in [(2 + n - j) % n, (j + n / 2) % n] {
-                if other != 0 {
-                    assert!(
-                        (at(j) - at(other)).abs() < 1e-6,
-                        "row {i}: vertex {j} against {other}"
+        let front = row.front.as_ref().expect("rebuilt");
+        assert!(front.saddle.is_some(), "row {i}: laid on a saddle");
+    }
+    let rings = designed.vertices.iter().map(|v| v.key.row).max().unwrap() + 1;
+    for r in 0..rings {
+        let ring: Vec<glam::DVec3> = (0..n as u32)
+            .map(|c| {
+                designed
+                    .vertices
+                    .iter()
+                    .find(|v| v.key.row == r && v.key.col == c)
+                    .expect("vertex")
+                    .pos
+            })
+            .collect();
+        for map in [
+            |j: usize, n: usize| (2 + n - j) % n,
+            |j: usize, n: usize| (j + n / 2) % n,
+        ] {
+            for j in 0..n {
+                for k in 0..n {
+                    let (a, b) = (
+                        ring[j].distance(ring[k]),
+                        ring[map(j, n)].distance(ring[map(k, n)]),
                     );
+                    assert!((a - b).abs() < 1e-6, "ring {r}: {j}-{k} {a} against {b}");
                 }
             }
         }
@@ -315,4 +326,35 @@ fn the_saddle_rings_fronts_carry_negative_curvature() {
         assert!(leg_ratio(l) <= 3.0, "{what}");
         assert!(min_opening(l) >= 20.0, "{what}");
     }
+}
+
+/// A saddle front the recipe gets wrong is refused with what to change:
+/// three amplitudes where one or two go, one not finite, and a saddle too
+/// steep for the front to be laid on keeping its edges.
+#[test]
+fn a_saddle_front_given_wrong_is_refused() {
+    let recipe = |saddle: &str| {
+        format!(
+            "[lattice]\nseed = \"loop\"\nkappa = 0.0\n\n[lattice.circle]\ncenter = [0.0, 0.0, 0.0]\nradius = 60.0\npoints = 12\n\n[[lattice.rows]]\nangle = [44.0, 23.0]\nfront = {{ saddle = {saddle} }}\n"
+        )
+    };
+    let e = karigami::parse(&recipe("[0.001, 0.0, 0.0]"), "s").expect_err("three");
+    assert!(
+        e.message
+            .contains("front.saddle needs one or two finite amplitudes"),
+        "{}",
+        e.message
+    );
+    assert!(e.span.is_some(), "located");
+    let e = karigami::parse(&recipe("nan"), "s").expect_err("nan");
+    assert!(
+        e.message.contains("not a finite number") && e.span.is_some(),
+        "{}",
+        e.message
+    );
+    let steep = karigami::parse(&recipe("1.0"), "s").expect("parses");
+    let e = steep.grow().expect_err("too steep to lay");
+    assert!(e.message.contains("front.saddle"), "{}", e.message);
+    let fine = karigami::parse(&recipe("[0.003, -1e-5]"), "s").expect("parses");
+    assert!(!fine.grow().expect("grows").extrinsic());
 }

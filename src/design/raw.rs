@@ -236,6 +236,9 @@ pub(crate) struct RawFront {
     /// Crank every odd vertex about its two neighbours, alternately by
     /// +angle and -angle: identical up-down sub-units along the front.
     pub(crate) zigzag: Option<Num>,
+    /// Lay the whole front on the saddle z' = r^2 (c cos 2t + d cos 6t):
+    /// `c`, or `[c, d]` (1/mm).
+    pub(crate) saddle: Option<Spanned<RawAngles>>,
 }
 
 impl RawFront {
@@ -247,6 +250,7 @@ impl RawFront {
             && self.pivot.is_none()
             && self.crank.is_none()
             && self.zigzag.is_none()
+            && self.saddle.is_none()
     }
 }
 

@@ -6,7 +6,7 @@ use super::raw::{RawFront, RawLattice, RawLeg, RawRow};
 use super::spans::{NO_ENTRY, Spans, field_spans};
 use super::values::{coords, count, finite};
 use crate::diagnostic::{Diagnostic, ErrorKind, shown};
-use crate::lattice::{Crank, FrontMoves, Kind, MAX_CELLS, PivotMove, RowParams};
+use crate::lattice::{Crank, FrontMoves, Kind, MAX_CELLS, PivotMove, RowParams, Saddle};
 use crate::legs::{Direction, Leg};
 use std::ops::Range;
 use toml::Spanned;
@@ -340,6 +340,21 @@ fn resolve(
     })
 }
 
+/// `front.saddle = c` or `[c, d]`: the amplitudes (1/mm) of the saddle
+/// the front is laid on (docs/recipe.md, "Rebuilt fronts").
+fn saddle(a: &Spanned<raw::RawAngles>) -> Result<Saddle, Diagnostic> {
+    match a.get_ref().0[..] {
+        [c] if c.is_finite() => Ok(Saddle { c, d: 0.0 }),
+        [c, d] if c.is_finite() && d.is_finite() => Ok(Saddle { c, d }),
+        _ => Err(Diagnostic::new(
+            ErrorKind::FrontAnglesNotFinite,
+            "front.saddle needs one or two finite amplitudes",
+        )
+        .at(a.span())
+        .hint("give `saddle = c` or `saddle = [c, d]` (1/mm): the front laid on z' = r^2 (c cos 2t + d cos 6t)")),
+    }
+}
+
 /// The generators of a rebuilt front (docs/math.md 7), from `front = { ... }`.
 /// `last` is the index of the front's last vertex (N, i.e. vertex 0 again, on a loop).
 fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnostic> {
@@ -350,7 +365,7 @@ fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnos
             "front = { } rebuilds the front with no move",
         )
         .at(f.span())
-        .hint("give turn, bend, twist, pivot, crank or zigzag, or leave `front` out"));
+        .hint("give turn, bend, twist, saddle, pivot, crank or zigzag, or leave `front` out"));
     }
     let angles = |a: &Option<Spanned<raw::RawAngles>>,
                   what: &str|
@@ -373,6 +388,7 @@ fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnos
         turn: angles(&raw.turn, "turn")?,
         bend: angles(&raw.bend, "bend")?,
         twist: angles(&raw.twist, "twist")?,
+        saddle: raw.saddle.as_ref().map(saddle).transpose()?,
         ..FrontMoves::default()
     };
     for p in raw.pivot.iter().flatten() {

@@ -2,6 +2,7 @@
 //! with the same edge lengths (and so the same kappa and z) as the current
 //! one, from generators a designer writes in the recipe.
 
+use super::saddle::{Saddle, lay};
 use glam::{DQuat, DVec3};
 
 /// Rotate the front beyond vertex `at` rigidly about an axis through it.
@@ -37,8 +38,11 @@ pub struct FrontMoves {
     /// ...and the torsion angle that turns the bending plane (degrees), in a
     /// frame transported along the front.
     pub twist: Option<Vec<f64>>,
-    /// Rigid rotations of the front beyond a vertex, applied after `turn` or
-    /// `bend`/`twist`, in order.
+    /// 3-D loops: the front laid on a saddle in its own frame (in place of
+    /// `turn`, `bend` and `twist`; src/lattice/saddle.rs).
+    pub saddle: Option<Saddle>,
+    /// Rigid rotations of the front beyond a vertex, applied after `turn`,
+    /// `bend`/`twist` or `saddle`, in order.
     pub pivots: Vec<PivotMove>,
     /// Crankshaft rotations of the vertices between two others, applied last,
     /// in order.
@@ -52,7 +56,7 @@ pub(crate) struct FrontError {
     pub(crate) hint: String,
 }
 
-fn refuse(message: String, hint: &str) -> FrontError {
+pub(crate) fn refuse(message: String, hint: &str) -> FrontError {
     FrontError {
         message,
         hint: hint.to_string(),
@@ -87,7 +91,9 @@ pub(crate) fn rebuild(
     // ends have none; a closed front keeps its closing vertex 0 fixed).
     let interior = edges - 1;
     let mut out = front.to_vec();
-    if moves.turn.is_some() || moves.bend.is_some() || moves.twist.is_some() {
+    if let Some(s) = moves.saddle {
+        out = saddled(front, closed, dim, moves, s)?;
+    } else if moves.turn.is_some() || moves.bend.is_some() || moves.twist.is_some() {
         let mut dirs = vec![edge(0).normalize()];
         if dim == 2 {
             if moves.bend.is_some() || moves.twist.is_some() {
@@ -200,6 +206,31 @@ pub(crate) fn rebuild(
         }
     }
     Ok(out)
+}
+
+/// The front laid on the saddle `s`: a 3-D loop's, and the only move
+/// that rebuilds it whole.
+fn saddled(
+    front: &[DVec3],
+    closed: bool,
+    dim: usize,
+    moves: &FrontMoves,
+    s: Saddle,
+) -> Result<Vec<DVec3>, FrontError> {
+    if moves.turn.is_some() || moves.bend.is_some() || moves.twist.is_some() {
+        return Err(refuse(
+            "front.saddle lays the whole front, so it cannot be given with turn, bend or twist"
+                .into(),
+            "give either `saddle` or the turning angles (pivots and cranks may follow a saddle)",
+        ));
+    }
+    if !closed || dim != 3 {
+        return Err(refuse(
+            "front.saddle is for the closed fronts of 3-D loops".into(),
+            "use bend and twist on an open front",
+        ));
+    }
+    lay(front, s)
 }
 
 fn check_closed(gap: f64, front: &[DVec3]) -> Result<(), FrontError> {

@@ -14,6 +14,7 @@ mod helix;
 mod joints;
 mod placed;
 mod rods;
+mod saddle;
 pub mod shape;
 mod verify;
 
@@ -28,6 +29,7 @@ pub use joints::{Joint, JointEnd, joints};
 pub(crate) use joints::{RodEnd, vertex_eyelet_count, vertex_eyelets};
 pub(crate) use placed::horn_rotation;
 pub use rods::{Rod, RodType};
+pub use saddle::Saddle;
 pub use verify::{Check, DRIFT_PER_LEG, Invariant, Report, TOLERANCE, verify};
 
 use glam::DVec3;

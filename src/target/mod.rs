@@ -18,9 +18,10 @@ mod read;
 mod record;
 mod surfaces;
 
+pub use crate::rigid::{Rigid, kabsch};
 pub use curvature::Bend;
+pub use fit::Fit;
 pub(crate) use fit::principal;
-pub use fit::{Fit, Rigid, kabsch};
 pub use mesh::{Mesh, Topology};
 pub use read::{MAX_TARGET_BYTES, MAX_TRIANGLES, refuse_early};
 pub use record::recorded_path;
