@@ -81,7 +81,7 @@ impl Saddle {
 
 /// `front` (closed) laid on `saddle`, keeping every edge length, then
 /// placed by the best rigid fit onto `front` and moved so that vertex 0
-/// stays where it grew (as the pivot-at-0 form of the same front did).
+/// stays where it grew (every rebuilt loop front keeps its closing vertex).
 pub(crate) fn lay(front: &[DVec3], saddle: Saddle) -> Result<Vec<DVec3>, FrontError> {
     let (_, laid) = on_saddle(front, saddle)?;
     let fit = kabsch(&laid, front);
