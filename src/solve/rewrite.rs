@@ -101,6 +101,11 @@ pub(super) fn front_text(f: &FrontMoves) -> String {
     if let Some(t) = &f.twist {
         parts.push(format!("twist = {}", list(t)));
     }
+    // Not varied by `tune`, but kept, to the last digit (it lays the whole
+    // front: rounded, it would not grow the lattice that was tuned).
+    if let Some(s) = f.saddle {
+        parts.push(format!("saddle = [{:?}, {:?}]", s.c, s.d));
+    }
     if !f.pivots.is_empty() {
         let p: Vec<String> = f
             .pivots
@@ -133,4 +138,36 @@ pub(super) fn front_text(f: &FrontMoves) -> String {
         parts.push(format!("crank = [{}]", c.join(", ")));
     }
     format!("{{ {} }}", parts.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lattice::Saddle;
+
+    /// A saddle front rewritten by `tune` keeps its amplitudes exactly,
+    /// beside the angles it varies.
+    #[test]
+    fn a_saddle_front_is_written_back_whole() {
+        let f = FrontMoves {
+            saddle: Some(Saddle {
+                c: 0.003435384253332836,
+                d: -8.349061163664547e-6,
+            }),
+            pivots: vec![crate::lattice::PivotMove {
+                at: 0,
+                axis: None,
+                angle_deg: 2.5,
+            }],
+            ..FrontMoves::default()
+        };
+        let text = front_text(&f);
+        assert!(
+            text.contains("saddle = [0.003435384253332836, -8.349061163664547e-6]"),
+            "{text}"
+        );
+        let parsed: toml::Value = toml::from_str(&format!("front = {text}")).expect(&text);
+        let amplitudes = parsed["front"]["saddle"].as_array().expect("saddle");
+        assert_eq!(amplitudes[1].as_float(), Some(-8.349061163664547e-6));
+    }
 }
