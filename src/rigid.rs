@@ -63,6 +63,17 @@ pub fn kabsch(from: &[DVec3], to: &[DVec3]) -> Rigid {
             }
         }
     }
+    let q = horn_rotation(s);
+    Rigid {
+        rotation: q,
+        translation: cb - q * ca,
+    }
+}
+
+/// Horn's rotation (a unit quaternion; NaN when `s` is) maximising
+/// sum q.Rp, from the cross-covariance `s[i][j] = sum p_i q_j` of centred
+/// points: the eigenvector of the largest eigenvalue of a 4 x 4 matrix.
+pub(crate) fn horn_rotation(s: [[f64; 3]; 3]) -> DQuat {
     let [[xx, xy, xz], [yx, yy, yz], [zx, zy, zz]] = s;
     let m = [
         [xx + yy + zz, yz - zy, zx - xz, xy - yx],
@@ -72,12 +83,7 @@ pub fn kabsch(from: &[DVec3], to: &[DVec3]) -> Rigid {
     ];
     let (values, vectors) = jacobi(m);
     let k = (0..4).fold(0, |k, i| if values[i] > values[k] { i } else { k });
-    let q =
-        DQuat::from_xyzw(vectors[1][k], vectors[2][k], vectors[3][k], vectors[0][k]).normalize();
-    Rigid {
-        rotation: q,
-        translation: cb - q * ca,
-    }
+    DQuat::from_xyzw(vectors[1][k], vectors[2][k], vectors[3][k], vectors[0][k]).normalize()
 }
 
 /// Eigenvalues and eigenvectors (columns) of a symmetric matrix, by cyclic

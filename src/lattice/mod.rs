@@ -27,7 +27,6 @@ pub(crate) use grow::{MAX_CELLS, Param, resolve_direction};
 pub use helix::{grow_helix, grow_helix_partial, seed_defect};
 pub use joints::{Joint, JointEnd, joints};
 pub(crate) use joints::{RodEnd, vertex_eyelet_count, vertex_eyelets};
-pub(crate) use placed::horn_rotation;
 pub use rods::{Rod, RodType};
 pub use saddle::Saddle;
 pub use verify::{Check, DRIFT_PER_LEG, Invariant, Report, TOLERANCE, verify};

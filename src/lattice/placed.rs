@@ -98,76 +98,13 @@ fn rigid_fit(pairs: &[(DVec3, DVec3)], prefer: DQuat) -> (DQuat, DVec3) {
             *x += 0.05 * spread.max(1e-12) * pull.col(b)[a];
         }
     }
-    let rotation = horn_rotation(s);
+    let rotation = crate::rigid::horn_rotation(s);
     let rotation = if rotation.is_finite() {
         rotation
     } else {
         DQuat::IDENTITY
     };
     (rotation, cq - rotation * cp)
-}
-
-/// Horn's rotation (unit quaternion, possibly NaN when `s` is degenerate)
-/// maximising sum q.Rp, from the cross-covariance `s[i][j] = sum p_i q_j`.
-pub(crate) fn horn_rotation(s: [[f64; 3]; 3]) -> DQuat {
-    let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = s;
-    let k = [
-        [sxx + syy + szz, syz - szy, szx - sxz, sxy - syx],
-        [syz - szy, sxx - syy - szz, sxy + syx, szx + sxz],
-        [szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy],
-        [sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz],
-    ];
-    let [w, x, y, z] = largest_eigenvector(k);
-    DQuat::from_xyzw(x, y, z, w).normalize()
-}
-
-/// The eigenvector of the largest eigenvalue of a symmetric 4 x 4 matrix
-/// (cyclic Jacobi rotations).
-fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
-    let mut v = [[0.0; 4]; 4];
-    for (i, row) in v.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
-    for _ in 0..50 {
-        let off: f64 = (0..4)
-            .flat_map(|i| (0..4).filter(move |&j| j != i).map(move |j| (i, j)))
-            .map(|(i, j)| a[i][j] * a[i][j])
-            .sum();
-        if off < 1e-30 {
-            break;
-        }
-        for p in 0..3 {
-            for q in p + 1..4 {
-                if a[p][q].abs() < 1e-300 {
-                    continue;
-                }
-                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                for row in &mut a {
-                    let (akp, akq) = (row[p], row[q]);
-                    row[p] = c * akp - s * akq;
-                    row[q] = s * akp + c * akq;
-                }
-                let (row_p, row_q) = (a[p], a[q]);
-                for k in 0..4 {
-                    a[p][k] = c * row_p[k] - s * row_q[k];
-                    a[q][k] = s * row_p[k] + c * row_q[k];
-                }
-                for row in &mut v {
-                    let (vp, vq) = (row[p], row[q]);
-                    row[p] = c * vp - s * vq;
-                    row[q] = s * vp + c * vq;
-                }
-            }
-        }
-    }
-    let best = (0..4)
-        .max_by(|&i, &j| a[i][i].total_cmp(&a[j][j]))
-        .unwrap_or(0);
-    [v[0][best], v[1][best], v[2][best], v[3][best]]
 }
 
 #[cfg(test)]

@@ -169,7 +169,7 @@ pub(crate) fn kabsch_fit(a: &[DVec3], b: &[DVec3]) -> Vec<DVec3> {
             }
         }
     }
-    let rot = crate::lattice::horn_rotation(s);
+    let rot = crate::rigid::horn_rotation(s);
     let m = DMat3::from_quat(rot);
     a.iter().map(|p| cb + m * (*p - ca)).collect()
 }
