@@ -9,12 +9,13 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 17] = [
+const TARGETS: [&str; 18] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
     "paraboloid.toml",
     "saddle.toml",
+    "saddle-ring.toml",
     "cylinder.toml",
     "height-field.toml",
     "plate.toml",

@@ -43,6 +43,7 @@ const SUITE: &[(&str, f64, Topology)] = &[
     // the other rim's opposite point, hypot(2 x 146.2552, 2 x 126.3165).
     ("bowl.toml", 400.0, Topology::Patch),
     ("saddle-band.toml", 386.5045495167683, Topology::Annulus),
+    ("saddle-ring.toml", 480.0, Topology::Annulus),
     // Refused by `design` for its curvature: the length and the diameter.
     ("too-curved.toml", 304.138126514911, Topology::Patch),
     // Closed: pole to pole (the egg's width is under its length), and the
@@ -83,6 +84,7 @@ fn the_suite_covers_every_family_once() {
         "spheroid-cap",
         "paraboloid",
         "saddle",
+        "saddle-ring",
         "cylinder",
         "torus",
         "revolution",

@@ -29,6 +29,7 @@ pub use joints::{Joint, JointEnd, joints};
 pub(crate) use joints::{RodEnd, vertex_eyelet_count, vertex_eyelets};
 pub use rods::{Rod, RodType};
 pub use saddle::Saddle;
+pub(crate) use saddle::lay as lay_on_saddle;
 pub use verify::{Check, DRIFT_PER_LEG, Invariant, Report, TOLERANCE, verify};
 
 use glam::DVec3;

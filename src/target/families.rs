@@ -46,6 +46,7 @@ struct RawTarget {
     tube: Option<Num>,
     profile: Option<Rows>,
     heights: Option<Rows>,
+    hole: Option<Num>,
 }
 
 /// The families and the parameters each takes (docs/design.md).
@@ -55,6 +56,7 @@ const FAMILIES: &[(&str, &[&str])] = &[
     ("spheroid-cap", &["axes", "height"]),
     ("paraboloid", &["radius", "depth"]),
     ("saddle", &["width", "length", "height"]),
+    ("saddle-ring", &["radius", "hole", "height"]),
     ("cylinder", &["radius", "length", "angle"]),
     ("torus", &["radius", "tube"]),
     ("revolution", &["profile"]),
@@ -160,6 +162,7 @@ fn given(t: &RawTarget) -> Vec<(&'static str, Range<usize>)> {
         ("tube", n(&t.tube)),
         ("profile", r(&t.profile)),
         ("heights", r(&t.heights)),
+        ("hole", n(&t.hole)),
     ]
     .into_iter()
     .filter_map(|(k, s)| s.map(|s| (k, s)))
@@ -270,6 +273,24 @@ fn family(name: &str, t: &RawTarget) -> Result<Family, Diagnostic> {
             length: positive(&t.length, "length")?,
             height: positive(&t.height, "height")?,
         },
+        "saddle-ring" => {
+            let radius = positive(&t.radius, "radius")?;
+            let hole = within(
+                t.hole.as_ref().expect("given"),
+                "hole",
+                0.0,
+                radius,
+                false,
+                "the inner rim's radius in plan, in mm, more than 0 and less than the radius",
+            )?;
+            // Height may be negative: the band's high points then lie on y.
+            let height = finite(t.height.as_ref().expect("given"), "height")?;
+            Family::SaddleRing {
+                radius,
+                hole,
+                height,
+            }
+        }
         "cylinder" => Family::Cylinder {
             radius: positive(&t.radius, "radius")?,
             length: positive(&t.length, "length")?,

@@ -39,6 +39,13 @@ pub(crate) enum Family {
         length: f64,
         height: f64,
     },
+    /// The hyperbolic paraboloid z = height (r / radius)^2 cos 2t between
+    /// the circles of radius `hole` and `radius` in plan: a pringle band.
+    SaddleRing {
+        radius: f64,
+        hole: f64,
+        height: f64,
+    },
     Cylinder {
         radius: f64,
         length: f64,
@@ -78,6 +85,7 @@ impl Family {
             Family::SpheroidCap { .. } => "spheroid-cap",
             Family::Paraboloid { .. } => "paraboloid",
             Family::Saddle { .. } => "saddle",
+            Family::SaddleRing { .. } => "saddle-ring",
             Family::Cylinder { .. } => "cylinder",
             Family::Torus { .. } => "torus",
             Family::Revolution { .. } => "revolution",
@@ -112,6 +120,15 @@ impl Family {
             } => {
                 let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
                 DVec3::new(0.5 * width * x, 0.5 * length * y, height * (x * x - y * y))
+            }
+            Family::SaddleRing {
+                radius,
+                hole,
+                height,
+            } => {
+                let rho = hole + (radius - hole) * v;
+                let z = height * (rho / radius).powi(2) * (2.0 * TAU * u).cos();
+                around(rho, z)
             }
             Family::Cylinder {
                 radius,
@@ -174,6 +191,10 @@ impl Family {
                 wrap_v: *angle >= 360.0,
                 ..Closing::default()
             },
+            Family::SaddleRing { .. } => Closing {
+                wrap_u: true,
+                ..Closing::default()
+            },
             Family::Torus { .. } => Closing {
                 wrap_u: true,
                 wrap_v: true,
@@ -203,6 +224,7 @@ impl Family {
                 width.max(*length)
             }
             Family::Cylinder { length, .. } => *length,
+            Family::SaddleRing { radius, .. } => 2.0 * radius,
             Family::Torus { radius, tube } => 2.0 * (radius + tube),
             Family::Revolution { profile } => 2.0 * profile.iter().map(|p| p.x).fold(0.0, f64::max),
         }
@@ -237,6 +259,17 @@ impl Family {
             } => {
                 let rho = width.min(*length).powi(2) / (8.0 * height.abs().max(f64::MIN_POSITIVE));
                 (rho, width + 2.0 * height.abs(), length + 2.0 * height.abs())
+            }
+            Family::SaddleRing {
+                radius,
+                hole,
+                height,
+            } => {
+                // z = k (x^2 - y^2), k = height / radius^2: its tightest
+                // radius of curvature, 1 / (2 k), is at the centre.
+                let rho = radius * radius / (2.0 * height.abs().max(f64::MIN_POSITIVE));
+                let wave = 8.0 * height.abs();
+                (rho, TAU * radius + wave, radius - hole + 2.0 * height.abs())
             }
             Family::Cylinder {
                 radius,

@@ -25,6 +25,7 @@ pub mod goal;
 mod loops;
 mod material;
 mod sheets;
+mod waved;
 
 pub use feet::{flattens, with_feet};
 pub use goal::miss;
@@ -133,6 +134,8 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     }
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
         found.extend(loops::annulus(ask, rims, &mut tried, progress));
+    } else if let Some(band) = waved::band(t).filter(|_| !patch) {
+        found.extend(waved::loops(ask, band, &mut tried, progress));
     }
     // Sheets only on a patch where no loop grows: a loop round the rim
     // covers more.
@@ -337,9 +340,12 @@ fn choose(t: &Target, edge: f64) -> Result<String, Diagnostic> {
         Topology::Annulus if loops::level_rims(t).is_some() => Ok(
             "loop: the target is an annulus whose two rims are level circles about one axis, so a symmetric loop seeded round one rim closes every ring and each ring's vertex can be put on the target one step further along, to the other rim (docs/math.md 6.2)".into(),
         ),
+        Topology::Annulus if waved::band(t).is_some() => Ok(
+            "loop: the target is an annulus whose two rims are circles in plan about one vertical axis but not level (a ring cut from a saddle), so a symmetric loop is seeded on its longer rim and every front is laid on the saddle fitted to the target at its radius, the fronts carrying the band's curvature (docs/math.md 7; docs/design.md, \"Saddle rings\")".into(),
+        ),
         Topology::Annulus => refuse(
-            "the target is an annulus or tube segment whose rims are not both level circles about one axis; karigami design grows loops only between such rims".into(),
-            "cut the band open along one line from edge to edge, so that it is a patch, or make both rims level circles",
+            "the target is an annulus or tube segment whose rims are neither both level circles about one axis nor both circles in plan about one vertical axis; karigami design grows loops only between such rims".into(),
+            "cut the band open along one line from edge to edge, so that it is a patch, or make both rims circles about one axis",
         ),
         Topology::Closed { genus: 0 } => closed_topology(t),
         Topology::Closed { genus: 1 } => refuse(
