@@ -19,6 +19,7 @@ mod property;
 mod rebuild;
 mod redesign;
 mod report_once;
+mod saddle_tune;
 mod safety;
 mod sensitivity;
 mod shape;

@@ -8,7 +8,8 @@
 //!
 //! Numbers that share a magnitude in one front (a zig-zag of +-60 deg,
 //! sub-units cranked +-12 deg) are one variable with their signs kept,
-//! so a pattern of identical sub-units stays one.
+//! so a pattern of identical sub-units stays one. A saddle front's
+//! amplitudes c and d are two more (`slots::SADDLE_UNIT`).
 //!
 //! The other searches live beside it: `fit` (rows chosen to approximate a
 //! target surface), `tune` (the helix seed's hill climb), and `grow`
@@ -32,7 +33,7 @@ use slots::slots;
 use crate::design::optimise::{Method, Optimise, Pattern, Vary};
 use crate::design::{Design, MIN_WALL};
 use crate::diagnostic::{Diagnostic, ErrorKind};
-use crate::lattice::{FrontMoves, Kind, Lattice};
+use crate::lattice::{FrontMoves, Kind, Lattice, Saddle};
 use crate::legs::Direction;
 use crate::measure::{Measures, measure};
 use crate::rng::Rng;
@@ -49,11 +50,13 @@ enum Slot {
         rows: Vec<usize>,
         span: Range<usize>,
     },
-    /// A row table's `front`: its distinct magnitudes are the variables.
+    /// A row table's `front`: its distinct magnitudes are the variables,
+    /// then its saddle's amplitudes c and d, when it has one.
     Front {
         rows: Vec<usize>,
         span: Range<usize>,
         magnitudes: Vec<f64>,
+        saddle: bool,
     },
     /// A helix seed in cylindrical coordinates (see `solve::tune`).
     Seed,
@@ -138,9 +141,17 @@ impl Space<'_> {
                     k += if d.dim == 3 { 2 } else { 1 };
                 }
                 Slot::Front {
-                    rows, magnitudes, ..
+                    rows,
+                    magnitudes,
+                    saddle,
+                    ..
                 } => {
                     let new = &v[k..k + magnitudes.len()];
+                    k += magnitudes.len();
+                    let amplitudes = saddle.then(|| Saddle {
+                        c: v[k],
+                        d: v[k + 1],
+                    });
                     for &r in rows {
                         if let Some(f) = d.rows[r].front.as_mut() {
                             map_front(f, |a| {
@@ -150,9 +161,12 @@ impl Space<'_> {
                                     .expect("a magnitude of this front");
                                 a.signum() * new[i]
                             });
+                            if amplitudes.is_some() {
+                                f.saddle = amplitudes;
+                            }
                         }
                     }
-                    k += magnitudes.len();
+                    k += if *saddle { 2 } else { 0 };
                 }
                 Slot::Fit { angles, rows } => {
                     let values = v[k..k + rows].to_vec();

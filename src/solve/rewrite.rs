@@ -101,8 +101,8 @@ pub(super) fn front_text(f: &FrontMoves) -> String {
     if let Some(t) = &f.twist {
         parts.push(format!("twist = {}", list(t)));
     }
-    // Not varied by `tune`, but kept, to the last digit (it lays the whole
-    // front: rounded, it would not grow the lattice that was tuned).
+    // Written to the last digit, not to `fmt`'s six decimals: it lays the
+    // whole front, and rounded it would not grow the lattice that was tuned.
     if let Some(s) = f.saddle {
         parts.push(format!("saddle = [{:?}, {:?}]", s.c, s.d));
     }
@@ -146,7 +146,7 @@ mod tests {
     use crate::lattice::Saddle;
 
     /// A saddle front rewritten by `tune` keeps its amplitudes exactly,
-    /// beside the angles it varies.
+    /// beside its angles.
     #[test]
     fn a_saddle_front_is_written_back_whole() {
         let f = FrontMoves {

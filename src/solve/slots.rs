@@ -3,6 +3,13 @@
 
 use super::*;
 
+/// One unit of a saddle amplitude (1/mm), as one degree is of an angle:
+/// the search's steps are in units (`optimise.step`, 3 by default). It
+/// lifts a front of radius 60 mm (examples/saddle-ring.toml's seed) by
+/// r^2 x 1e-4 = 0.36 mm at its rim, about what one degree of a row's leg
+/// angle moves the end of that recipe's shortest leg (21.8 mm: 0.38 mm).
+pub(super) const SADDLE_UNIT: f64 = 1e-4;
+
 /// Build the variables of `design` as its `[optimise]` table frees them.
 pub(super) fn slots(
     design: &Design,
@@ -70,10 +77,15 @@ pub(super) fn slots(
                 });
                 x0.extend(&magnitudes);
                 unit.extend(std::iter::repeat_n(1.0, magnitudes.len()));
+                if let Some(s) = f.saddle {
+                    x0.extend([s.c, s.d]);
+                    unit.extend([SADDLE_UNIT; 2]);
+                }
                 slots.push(Slot::Front {
                     rows: vec![i],
                     span,
                     magnitudes,
+                    saddle: f.saddle.is_some(),
                 });
             }
         }
@@ -139,4 +151,83 @@ pub(super) fn default_steps(design: &Design) -> Option<Vec<f64>> {
             })
             .collect(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two rows from one entry (`repeat = 2`: one written front) and a row
+    /// of its own whose saddle a pivot follows.
+    const RECIPE: &str = r#"
+name = "saddle-slots"
+[lattice]
+seed = "loop"
+kappa = 0.0
+[lattice.circle]
+center = [0.0, 0.0, 0.0]
+radius = 60.0
+points = 12
+[[lattice.rows]]
+repeat = 2
+angle = [44.0, 23.57]
+front = { saddle = [0.0005, 0.0] }
+[[lattice.rows]]
+angle = [44.0, 23.57]
+front = { saddle = [0.0015, -0.0002], pivot = [{ at = 3, angle = 2.0 }] }
+[optimise]
+vary = ["front"]
+"#;
+
+    /// A saddle's amplitudes are variables of one `SADDLE_UNIT` each, after
+    /// its front's angles; rows written by one entry share them, and the
+    /// design at a point carries them to every such row.
+    #[test]
+    fn a_saddle_front_varies_its_amplitudes() {
+        let design = crate::design::parse(RECIPE, "saddle-slots").expect("parses");
+        let opt = design.optimise.as_ref().expect("[optimise]");
+        let (slots, x0, unit) = slots(&design, RECIPE, opt);
+        let fronts: Vec<(Vec<usize>, usize, bool)> = slots
+            .iter()
+            .map(|s| match s {
+                Slot::Front {
+                    rows,
+                    magnitudes,
+                    saddle,
+                    ..
+                } => (rows.clone(), magnitudes.len(), *saddle),
+                other => panic!("only fronts vary: {other:?}"),
+            })
+            .collect();
+        assert_eq!(fronts, vec![(vec![0, 1], 0, true), (vec![2], 1, true)]);
+        assert_eq!(x0, vec![0.0005, 0.0, 2.0, 0.0015, -0.0002]);
+        assert_eq!(
+            unit,
+            vec![SADDLE_UNIT, SADDLE_UNIT, 1.0, SADDLE_UNIT, SADDLE_UNIT]
+        );
+        let space = Space {
+            design: &design,
+            opt,
+            slots,
+            x0,
+            unit,
+            frame: None,
+            seed0: None,
+        };
+        let d = space.design_at(&[1.0, -2.0, 0.5, 3.0, 0.0]);
+        let front = |r: usize| d.rows[r].front.clone().expect("a front");
+        for r in [0, 1] {
+            let s = front(r).saddle.expect("a saddle");
+            assert!((s.c - 0.0006).abs() < 1e-15, "row {r}: {s:?}");
+            assert!((s.d + 0.0002).abs() < 1e-15, "row {r}: {s:?}");
+        }
+        let f = front(2);
+        let s = f.saddle.expect("a saddle");
+        assert!((s.c - 0.0018).abs() < 1e-15, "{s:?}");
+        assert!((s.d + 0.0002).abs() < 1e-15, "{s:?}");
+        assert_eq!(f.pivots[0].angle_deg, 2.5);
+        // At the recipe's point, the recipe's design.
+        let d = space.design_at(&[0.0; 5]);
+        assert_eq!(d.rows[2].front, design.rows[2].front);
+    }
 }
