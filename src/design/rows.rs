@@ -212,7 +212,7 @@ fn resolve_rows(
 fn described(row_entry: &[u32], e: u32) -> Described {
     let mut rows = (0..row_entry.len()).filter(|&i| row_entry[i] == e);
     let first = rows.next();
-    let words = match (e == NO_ENTRY, first, rows.last()) {
+    let words = match (e == NO_ENTRY, first, rows.next_back()) {
         (true, ..) => "the default rows ([lattice.grow])".to_string(),
         (false, Some(a), Some(b)) => format!("rows {a} to {b}"),
         (false, Some(a), None) => format!("row {a}"),
