@@ -205,6 +205,8 @@ error_kinds! {
     EmptyFront => EXIT_INVALID,
     /// A front move's angles are not finite.
     FrontAnglesNotFinite => EXIT_INVALID,
+    /// A front's saddle is not one or two finite amplitudes (`c` or `[c, d]`).
+    FrontSaddleAmplitudes => EXIT_INVALID,
 
     // Fitted lattices ([lattice.fit]).
     /// A fit surface lacks a value it needs.

@@ -238,7 +238,7 @@ pub(crate) struct RawFront {
     pub(crate) zigzag: Option<Num>,
     /// Lay the whole front on the saddle z' = r^2 (c cos 2t + d cos 6t):
     /// `c`, or `[c, d]` (1/mm).
-    pub(crate) saddle: Option<Spanned<RawAngles>>,
+    pub(crate) saddle: Option<Spanned<RawAmplitudes>>,
 }
 
 impl RawFront {
@@ -276,28 +276,49 @@ pub(crate) struct RawAngles(pub Vec<f64>);
 
 impl<'de> Deserialize<'de> for RawAngles {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = RawAngles;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("an angle in degrees, or an array of angles")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawAngles, E> {
-                Ok(RawAngles(vec![v]))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawAngles, E> {
-                Ok(RawAngles(vec![v as f64]))
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawAngles, A::Error> {
-                let mut out = Vec::new();
-                while let Some(a) = seq.next_element::<f64>()? {
-                    out.push(a);
-                }
-                Ok(RawAngles(out))
-            }
-        }
-        d.deserialize_any(V)
+        number_or_array(d, "an angle in degrees, or an array of angles").map(RawAngles)
     }
+}
+
+/// A saddle's amplitudes (1/mm): `c`, or `[c, d]`; how many is checked
+/// where the row is known (`design::rows`).
+#[derive(Debug)]
+pub(crate) struct RawAmplitudes(pub Vec<f64>);
+
+impl<'de> Deserialize<'de> for RawAmplitudes {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        number_or_array(d, "an amplitude in 1/mm (c), or an array of two ([c, d])")
+            .map(RawAmplitudes)
+    }
+}
+
+/// One number, as a list of one, or an array of numbers; `expecting`
+/// says what in the recipe's words when it is neither.
+fn number_or_array<'de, D: Deserializer<'de>>(
+    d: D,
+    expecting: &'static str,
+) -> Result<Vec<f64>, D::Error> {
+    struct V(&'static str);
+    impl<'de> Visitor<'de> for V {
+        type Value = Vec<f64>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str(self.0)
+        }
+        fn visit_f64<E: de::Error>(self, v: f64) -> Result<Vec<f64>, E> {
+            Ok(vec![v])
+        }
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<Vec<f64>, E> {
+            Ok(vec![v as f64])
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<f64>, A::Error> {
+            let mut out = Vec::new();
+            while let Some(a) = seq.next_element::<f64>()? {
+                out.push(a);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_any(V(expecting))
 }
 
 /// `kappa = 0.5` (every seed edge) or `kappa = [..]` (one per edge).

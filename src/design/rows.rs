@@ -175,12 +175,14 @@ fn resolve_rows(
     spans: &Spans,
 ) -> Result<Vec<RowParams>, Diagnostic> {
     let default_row = defaults
-        .map(|g| resolve(None, g, dim, last))
+        .map(|g| resolve(None, g, dim, last, &described(row_entry, NO_ENTRY)))
         .transpose()?
         .unwrap_or_default();
-    let resolved: Vec<RowParams> = entries
-        .iter()
-        .map(|e| resolve(defaults, e.get_ref(), dim, last))
+    let resolved: Vec<RowParams> = (0..entries.len())
+        .map(|e| {
+            let rows = described(row_entry, e as u32);
+            resolve(defaults, entries[e].get_ref(), dim, last, &rows)
+        })
         .collect::<Result<_, _>>()?;
     row_entry
         .iter()
@@ -205,13 +207,37 @@ fn resolve_rows(
         .collect::<Result<Vec<_>, _>>()
 }
 
-/// A row's parameters from its own fields, falling back on `defaults`.
-/// A missing direction is reported per row by the caller.
+/// The rows entry `e` (`NO_ENTRY`: [lattice.grow]) describes, for
+/// messages: "row 3", "rows 3 to 5", or the default rows.
+fn described(row_entry: &[u32], e: u32) -> Described {
+    let mut rows = (0..row_entry.len()).filter(|&i| row_entry[i] == e);
+    let first = rows.next();
+    let words = match (e == NO_ENTRY, first, rows.next_back()) {
+        (true, ..) => "the default rows ([lattice.grow])".to_string(),
+        (false, Some(a), Some(b)) => format!("rows {a} to {b}"),
+        (false, Some(a), None) => format!("row {a}"),
+        // Not reached: every entry describes at least one row.
+        (false, None, _) => "a [[lattice.rows]] entry".to_string(),
+    };
+    Described { words, first }
+}
+
+/// The rows one entry (or [lattice.grow]) describes: in words for a
+/// message, and the first of them for the lattice site.
+struct Described {
+    words: String,
+    first: Option<usize>,
+}
+
+/// A row's parameters from its own fields, falling back on `defaults`;
+/// `rows` are the rows they describe. A missing direction is reported
+/// per row by the caller.
 fn resolve(
     defaults: Option<&RawRow>,
     row: &RawRow,
     dim: usize,
     last: usize,
+    rows: &Described,
 ) -> Result<RowParams, Diagnostic> {
     if let (Some(_), Some(a)) = (&row.direction, &row.angle) {
         return Err(Diagnostic::new(
@@ -326,7 +352,7 @@ fn resolve(
         None => None,
     };
     let front = match own(|r| r.front.is_some()).and_then(|r| r.front.as_ref()) {
-        Some(f) => Some(front_moves(f, last)?),
+        Some(f) => Some(front_moves(f, last, rows)?),
         None => None,
     };
     Ok(RowParams {
@@ -341,23 +367,46 @@ fn resolve(
 }
 
 /// `front.saddle = c` or `[c, d]`: the amplitudes (1/mm) of the saddle
-/// the front is laid on (docs/recipe.md, "Rebuilt fronts").
-fn saddle(a: &Spanned<raw::RawAngles>) -> Result<Saddle, Diagnostic> {
-    match a.get_ref().0[..] {
-        [c] if c.is_finite() => Ok(Saddle { c, d: 0.0 }),
-        [c, d] if c.is_finite() && d.is_finite() => Ok(Saddle { c, d }),
-        _ => Err(Diagnostic::new(
-            ErrorKind::FrontAnglesNotFinite,
-            "front.saddle needs one or two finite amplitudes",
-        )
-        .at(a.span())
-        .hint("give `saddle = c` or `saddle = [c, d]` (1/mm): the front laid on z' = r^2 (c cos 2t + d cos 6t)")),
-    }
+/// the front is laid on (docs/recipe.md, "Rebuilt fronts"), for `rows`.
+fn saddle(a: &Spanned<raw::RawAmplitudes>, rows: &Described) -> Result<Saddle, Diagnostic> {
+    let given = &a.get_ref().0;
+    let wrong = match given[..] {
+        [c] if c.is_finite() => return Ok(Saddle { c, d: 0.0 }),
+        [c, d] if c.is_finite() && d.is_finite() => return Ok(Saddle { c, d }),
+        [] => "no amplitude".to_string(),
+        [_] | [_, _] => {
+            let bad = given
+                .iter()
+                .find(|v| !v.is_finite())
+                .copied()
+                .unwrap_or(f64::NAN);
+            format!("the amplitude {}", shown(bad))
+        }
+        _ => format!("{} amplitudes", given.len()),
+    };
+    let d = Diagnostic::new(
+        ErrorKind::FrontSaddleAmplitudes,
+        format!(
+            "front.saddle of {} has {wrong}, but takes one or two finite amplitudes (c, d in 1/mm)",
+            rows.words
+        ),
+    )
+    .at(a.span())
+    .hint("give `saddle = c` or `saddle = [c, d]` (1/mm): the front laid on z' = r^2 (c cos 2t + d cos 6t)");
+    Err(match rows.first {
+        Some(r) => d.site(format!("row {r}")),
+        None => d,
+    })
 }
 
 /// The generators of a rebuilt front (docs/math.md 7), from `front = { ... }`.
 /// `last` is the index of the front's last vertex (N, i.e. vertex 0 again, on a loop).
-fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnostic> {
+/// `rows` are the rows the moves are given for.
+fn front_moves(
+    f: &Spanned<RawFront>,
+    last: usize,
+    rows: &Described,
+) -> Result<FrontMoves, Diagnostic> {
     let raw = f.get_ref();
     if raw.is_empty() {
         return Err(Diagnostic::new(
@@ -388,7 +437,7 @@ fn front_moves(f: &Spanned<RawFront>, last: usize) -> Result<FrontMoves, Diagnos
         turn: angles(&raw.turn, "turn")?,
         bend: angles(&raw.bend, "bend")?,
         twist: angles(&raw.twist, "twist")?,
-        saddle: raw.saddle.as_ref().map(saddle).transpose()?,
+        saddle: raw.saddle.as_ref().map(|a| saddle(a, rows)).transpose()?,
         ..FrontMoves::default()
     };
     for p in raw.pivot.iter().flatten() {
