@@ -5,7 +5,7 @@
 //!
 //! ```toml
 //! [optimise]
-//! vary = ["angle", "front"]   # row angles, front-move angles, or "seed" (helix, disk)
+//! vary = ["angle", "front"]   # row angles, front-move angles and saddle amplitudes, or "seed" (helix, disk)
 //! method = "nelder-mead"      # or "evolution" (a seeded population search)
 //! budget = 400                # Nelder-Mead iterations, or generations
 //! seed = 1                    # how the start simplex is laid out
@@ -237,7 +237,7 @@ fn vary(r: &RawOptimise) -> Result<Vec<Vary>, Diagnostic> {
             other => {
                 return Err(Diagnostic::new(ErrorKind::UnknownVary, format!("optimise.vary has \"{other}\""))
                     .at(v.span())
-                    .hint("vary \"angle\" (row leg angles), \"front\" (front-move angles), \"seed\" (a helix's seed, or a disk's seed on its circle) or \"fit\" (a fit's row angles or ring steps)"));
+                    .hint("vary \"angle\" (row leg angles), \"front\" (front-move angles and saddle amplitudes), \"seed\" (a helix's seed, or a disk's seed on its circle) or \"fit\" (a fit's row angles or ring steps)"));
             }
         };
         if !vary.contains(&which) {
