@@ -340,11 +340,13 @@ fn a_saddle_front_given_wrong_is_refused() {
     };
     let e = karigami::parse(&recipe("[0.001, 0.0, 0.0]"), "s").expect_err("three");
     assert!(
-        e.message
-            .contains("front.saddle needs one or two finite amplitudes"),
+        e.message.contains(
+            "front.saddle of row 0 has 3 amplitudes, but takes one or two finite amplitudes"
+        ),
         "{}",
         e.message
     );
+    assert_eq!(e.kind, karigami::ErrorKind::FrontSaddleAmplitudes);
     assert!(e.span.is_some(), "located");
     let e = karigami::parse(&recipe("nan"), "s").expect_err("nan");
     assert!(
