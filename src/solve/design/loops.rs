@@ -235,19 +235,31 @@ fn band_meridian(t: &Target, from: DVec3, to: DVec3, plane: DVec3) -> Option<Vec
 }
 
 /// The loop's lattice, when it grows and `build` would take its strips
-/// (`cost::refused`: parts and the clash rule, with columns stacked).
+/// (`buildable`, with columns stacked).
 fn buildable_loop(base: &Design, points: &[DVec3], targets: &[DVec3]) -> Option<Lattice> {
+    buildable(&symmetric_loop(base, points, loop_rows(targets)))
+}
+
+/// A symmetric loop on `points` (kappa 0, columns in alternate layers)
+/// with `rows`, the rest of `base` kept.
+pub(super) fn symmetric_loop(base: &Design, points: &[DVec3], rows: Vec<RowParams>) -> Design {
     let mut d = base.clone();
     d.kind = Kind::Loop;
     d.dim = 3;
     d.points = points.to_vec();
     d.kappa = vec![0.0; points.len()];
-    d.rows = loop_rows(targets);
+    d.rows = rows;
     d.fit = None;
     d.clash.stacking = crate::lattice::Stacking::Columns;
+    d
+}
+
+/// The design's lattice, when it grows and `build` would take its strips
+/// (`cost::refused`: parts and the clash rule).
+pub(super) fn buildable(d: &Design) -> Option<Lattice> {
     let lattice = d.grow().ok()?;
-    let m = crate::measure::measure(&d, &lattice);
-    crate::solve::cost::refused(&d, &lattice, &m)
+    let m = crate::measure::measure(d, &lattice);
+    crate::solve::cost::refused(d, &lattice, &m)
         .is_none()
         .then_some(lattice)
 }
@@ -327,6 +339,19 @@ pub(super) fn along(meridian: &[(f64, DVec3)], s: f64) -> DVec3 {
 /// A symmetric loop's recipe tables: columns in alternate layers (an even
 /// loop; docs/assembly.md), the seed and each ring's target point.
 fn loop_toml(points: &[DVec3], targets: &[DVec3]) -> String {
+    let mut s = seed_toml(points);
+    for p in targets {
+        s.push_str(&format!(
+            "\n[[lattice.rows]]\ntarget = [{:?}, {:?}, {:?}]\n",
+            p.x, p.y, p.z
+        ));
+    }
+    s
+}
+
+/// A symmetric loop's `[clash]` and `[lattice]` tables: columns in
+/// alternate layers, kappa 0 and the seed's points at full precision.
+pub(super) fn seed_toml(points: &[DVec3]) -> String {
     let mut s = String::from(
         "[clash]\nstacking = \"columns\"    # neighbouring columns in alternate layers\n\n[lattice]\nseed = \"loop\"\nkappa = 0.0\npoints = [\n",
     );
@@ -334,12 +359,6 @@ fn loop_toml(points: &[DVec3], targets: &[DVec3]) -> String {
         s.push_str(&format!("    [{:?}, {:?}, {:?}],\n", p.x, p.y, p.z));
     }
     s.push_str("]\n");
-    for p in targets {
-        s.push_str(&format!(
-            "\n[[lattice.rows]]\ntarget = [{:?}, {:?}, {:?}]\n",
-            p.x, p.y, p.z
-        ));
-    }
     s
 }
 

@@ -9,7 +9,7 @@
 
 use super::{DesignAsk, Found, fit_of};
 use crate::design::Design;
-use crate::lattice::{FrontMoves, Kind, Lattice, RowParams, Saddle};
+use crate::lattice::{FrontMoves, Lattice, RowParams, Saddle};
 use crate::target::Target;
 use glam::DVec3;
 use std::f64::consts::TAU;
@@ -303,12 +303,7 @@ const MAX_RINGS: usize = 40;
 
 /// The loop's design: seed and rings.
 fn design(base: &Design, points: &[DVec3], rows: &[Ring]) -> Design {
-    let mut d = base.clone();
-    d.kind = Kind::Loop;
-    d.dim = 3;
-    d.points = points.to_vec();
-    d.kappa = vec![0.0; points.len()];
-    d.rows = rows
+    let rows = rows
         .iter()
         .map(|r| RowParams {
             target: Some(r.target),
@@ -323,9 +318,7 @@ fn design(base: &Design, points: &[DVec3], rows: &[Ring]) -> Design {
             ..RowParams::default()
         })
         .collect();
-    d.fit = None;
-    d.clash.stacking = crate::lattice::Stacking::Columns;
-    d
+    super::loops::symmetric_loop(base, points, rows)
 }
 
 /// The loop grown, when it grows.
@@ -333,27 +326,15 @@ fn grown(base: &Design, points: &[DVec3], rows: &[Ring]) -> Option<Lattice> {
     design(base, points, rows).grow().ok()
 }
 
-/// The loop, when it grows and `build` would take its strips
-/// (`cost::refused`: parts and the clash rule).
+/// The loop, when it grows and `build` would take its strips.
 fn buildable(base: &Design, points: &[DVec3], rows: &[Ring]) -> Option<Lattice> {
-    let d = design(base, points, rows);
-    let lattice = d.grow().ok()?;
-    let m = crate::measure::measure(&d, &lattice);
-    crate::solve::cost::refused(&d, &lattice, &m)
-        .is_none()
-        .then_some(lattice)
+    super::loops::buildable(&design(base, points, rows))
 }
 
-/// The recipe's tables: columns in alternate layers, the seed, and each
-/// ring's target point and saddle, at full precision.
+/// The recipe's tables: the seed (`loops::seed_toml`), and each ring's
+/// target point and saddle, at full precision.
 fn toml(points: &[DVec3], rows: &[Ring]) -> String {
-    let mut s = String::from(
-        "[clash]\nstacking = \"columns\"    # neighbouring columns in alternate layers\n\n[lattice]\nseed = \"loop\"\nkappa = 0.0\npoints = [\n",
-    );
-    for p in points {
-        s.push_str(&format!("    [{:?}, {:?}, {:?}],\n", p.x, p.y, p.z));
-    }
-    s.push_str("]\n");
+    let mut s = super::loops::seed_toml(points);
     for r in rows {
         let p = r.target;
         s.push_str(&format!(
