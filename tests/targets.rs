@@ -317,6 +317,7 @@ const BAD: &[(&str, &str)] = &[
     ("nan-radius.toml", "NotFinite"),
     ("nan.obj", "TargetNotFinite"),
     ("non-manifold.obj", "TargetNonManifold"),
+    ("ring-hole-too-wide.toml", "TargetParameter"),
     ("thin-torus.toml", "TargetTooLarge"),
     ("tiny.obj", "TargetUnits"),
     ("truncated.stl", "TargetFormat"),
