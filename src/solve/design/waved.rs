@@ -28,8 +28,9 @@ pub(super) struct Band {
 
 /// The band, when the target's two boundary loops are circles in plan
 /// (every corner within 1 % of the radius) about one vertical axis (the
-/// centres within 1 % of the smaller radius), the longer rim first; None
-/// for any other annulus.
+/// centres within 1 % of the smaller radius), the longer rim first and at
+/// least 5 % wider, so that the rings have somewhere to step; None for any
+/// other annulus.
 pub(super) fn band(t: &Target) -> Option<Band> {
     let loops = t.mesh.boundary_loops();
     let [a, b] = loops.as_slice() else {
@@ -117,10 +118,10 @@ fn saddle_at(t: &Target, b: &Band, radius: f64) -> Option<Saddle> {
 /// (the saddle's t = 0 runs through vertex 1), laid on the saddle fitted
 /// to the seed rim, the circle sized so that the laid points' mean radius
 /// in plan is the rim's, and then moved so that their centroid stands on
-/// the axis at the rim's mean height. Its edges are equal and it is four sub-units
-/// alike, so every ring grown on it, and on fronts laid in turn, closes
-/// for every direction (docs/math.md 6.2); row 0's front is laid on the
-/// same saddle, which leaves it where it is. With that saddle; None when
+/// the axis at the rim's mean height. Its edges are equal and it is four
+/// sub-units alike, so every ring grown on it, and on fronts laid in turn,
+/// closes for every direction (docs/math.md 6.2); row 0's front is laid on
+/// the same saddle, which leaves it where it is. With that saddle; None when
 /// the rim's heights cannot be read or the laying fails.
 fn seed(t: &Target, b: &Band, n: usize) -> Option<(Vec<DVec3>, Saddle)> {
     let rim = b.radius * (1.0 - RIM_INSIDE);
