@@ -403,6 +403,29 @@ mod tests {
         }
     }
 
+    /// A negative height puts the high points a quarter turn round: the
+    /// fitted saddle about them is the same, c = |height| / radius^2.
+    #[test]
+    fn a_negative_height_turns_the_high_azimuth_a_quarter_turn() {
+        let up = target(
+            "[target]\nfamily = \"saddle-ring\"\nradius = 200.0\nhole = 80.0\nheight = 40.0\n",
+        );
+        let down = target(
+            "[target]\nfamily = \"saddle-ring\"\nradius = 200.0\nhole = 80.0\nheight = -40.0\n",
+        );
+        let (a, b) = (band(&up).unwrap(), band(&down).unwrap());
+        let turn = (a.phase - b.phase).rem_euclid(std::f64::consts::PI);
+        assert!(
+            (turn - std::f64::consts::FRAC_PI_2).abs() < 1e-3,
+            "{a:?} {b:?}"
+        );
+        let k = 40.0 / 200.0f64.powi(2);
+        for (t, band) in [(&up, a), (&down, b)] {
+            let s = saddle_at(t, &band, 150.0).unwrap();
+            assert!((s.c - k).abs() < 0.01 * k, "{s:?}");
+        }
+    }
+
     /// A level band (the suite's saddle band) is also a waved band's
     /// shape in plan; a cap has one rim, and a band whose rims are not
     /// about one axis none.
