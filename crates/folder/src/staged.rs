@@ -177,6 +177,9 @@ impl<'a> Staged<'a> {
             .parent
             .join(hidden(&out.name, &format!("new-{}", std::process::id())));
         remove_any(&fresh)?;
+        // Registered before it exists (the name is this process's own):
+        // a signal between creating and registering it left it behind.
+        let interrupt = Some(interrupt::register(&fresh));
         fs::create_dir(&fresh)?;
         // The folder it replaces keeps its owner, group and set-group-ID
         // bit (what is written into it then takes that group) from the
@@ -188,7 +191,6 @@ impl<'a> Staged<'a> {
         if let Some(like) = &like {
             same_owner(&fresh, like)?;
         }
-        let interrupt = Some(interrupt::register(&fresh));
         File::create(fresh.join(STAGING))?;
         Ok(Self {
             out,
