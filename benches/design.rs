@@ -47,6 +47,7 @@ fn run(name: &str) {
         edge: designing::default_edge(&base),
         deadline: None,
         jobs: karigami::Jobs::new(2),
+        polish: designing::POLISH_WORK,
     };
     let searched = match designing::search(&ask, &mut |_| {}) {
         Ok(s) => s,

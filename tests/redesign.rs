@@ -237,13 +237,16 @@ fn mean_defect(l: &Lattice) -> f64 {
 }
 
 /// The saddle ring, whose rebuilt fronts carry its curvature
-/// (examples/saddle-ring.toml; docs/lattices.md, "Designed examples"): a flat loop whose every front is laid again on a hyperbolic
-/// paraboloid, four sub-units alike, keeping its edge lengths. It meets the
+/// (examples/saddle-ring.toml; docs/lattices.md, "Designed examples"),
+/// as `karigami design` writes it for fixtures/targets/saddle-ring.toml
+/// at a 90 mm edge: a loop whose every front is laid again on a
+/// hyperbolic paraboloid, four sub-units alike, keeping its edge lengths,
+/// its rings polished (docs/design.md, "Polished rings"). It meets the
 /// saddle ring's musts on the cut geometry and on the simulated shape:
 /// every interior vertex negative, ring-mean K within 1.6 x from ring to
 /// ring, the longest leg at most 3 x the median, no opening under 20 deg.
 /// The fronts carry the curvature: the same rows grown on their fronts as
-/// grown (none rebuilt) make a cone, every defect 0 to rounding.
+/// grown (none laid) are not negatively curved on average.
 #[test]
 fn the_saddle_rings_fronts_carry_negative_curvature() {
     let path = crate::cli::repo().join("examples/saddle-ring.toml");
@@ -291,18 +294,10 @@ fn the_saddle_rings_fronts_carry_negative_curvature() {
         row.front = None;
     }
     let plain = plain.grow().expect("grows on plain fronts");
-    let flat = plain
-        .curvature()
-        .iter()
-        .map(|v| v.defect.to_degrees().abs())
-        .fold(0.0, f64::max);
-    println!(
-        "saddle ring: mean defect {:.3} deg rebuilt, {:.1e} deg plain (largest {flat:.1e})",
-        mean_defect(&designed),
-        mean_defect(&plain)
-    );
-    assert!(flat < 1e-9, "plain fronts curve: {flat} deg");
-    assert!(mean_defect(&designed) <= -0.3, "{}", mean_defect(&designed));
+    let (laid, plain) = (mean_defect(&designed), mean_defect(&plain));
+    println!("saddle ring: mean defect {laid:.3} deg rebuilt, {plain:.3} deg plain");
+    assert!(plain > 0.0, "plain fronts curve negatively: {plain} deg");
+    assert!(laid <= -0.25, "{laid}");
     let deploy = karigami::deploy::deployment(&designed);
     let m = &d.fabrication.material;
     let run =

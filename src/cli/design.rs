@@ -101,6 +101,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         edge,
         deadline: searching.deadline.at(),
         jobs: karigami::Jobs::new(ask.jobs),
+        polish: designing::POLISH_WORK,
     };
     let searched =
         designing::search(&search, &mut |s| note(s)).map_err(|d| Error::at(&file.file, "", &d))?;

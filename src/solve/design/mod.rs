@@ -24,11 +24,13 @@ mod feet;
 pub mod goal;
 mod loops;
 mod material;
+mod polish;
 mod sheets;
 mod waved;
 
 pub use feet::{flattens, with_feet};
 pub use goal::miss;
+pub use polish::POLISH_WORK;
 
 /// Cells across the target at most (docs/design.md, stage 1).
 pub(crate) const MAX_CELLS_ACROSS: f64 = 60.0;
@@ -45,6 +47,10 @@ pub struct DesignAsk<'a> {
     pub deadline: Option<Instant>,
     /// Threads; the result does not depend on them.
     pub jobs: Jobs,
+    /// Cells costed at most in polishing a waved band's rings (`polish`;
+    /// `POLISH_WORK` by default, 0 for none): each design costed counts
+    /// its cells, grown and simulated.
+    pub polish: usize,
 }
 
 /// One design found: its lattice as recipe text, and its fit to the target.
@@ -96,6 +102,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         edge: ask.edge,
         deadline: ask.deadline,
         jobs: ask.jobs,
+        polish: ask.polish,
     };
     let t = &ask.target;
     let boundary = sheets::inward_boundary(t);
@@ -123,6 +130,9 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         seeds
     };
     let mut found: Vec<Found> = Vec::new();
+    // Built before the rest, whatever their fit: rings polished to carry
+    // the target's curvature (`polish`).
+    let mut first: Vec<Found> = Vec::new();
     let mut tried = 0;
     let mut topology = topology;
     let patch = t.topology == Topology::Patch;
@@ -135,7 +145,9 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
         found.extend(loops::annulus(ask, rims, &mut tried, progress));
     } else if let Some(band) = waved::band(t).filter(|_| !patch) {
-        found.extend(waved::loops(ask, band, &mut tried, progress));
+        let (polished, grown) = waved::loops(ask, band, &mut tried, progress);
+        first.extend(polished);
+        found.extend(grown);
     }
     // Sheets only on a patch where no loop grows: a loop round the rim
     // covers more.
@@ -195,8 +207,9 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         },
     );
     ranked(&mut found);
+    first.append(&mut found);
     Ok(Searched {
-        found,
+        found: first,
         tried,
         topology,
     })
@@ -221,6 +234,7 @@ fn closed_loops(
         edge: ask.edge,
         deadline: ask.deadline,
         jobs: ask.jobs,
+        polish: ask.polish,
     };
     let mut tried = 0;
     let mut found = closed::loops(ask, &mut tried, progress);
