@@ -139,7 +139,7 @@ pub mod targets {
 pub mod designing {
     pub use crate::solve::design::{
         DesignAsk, Found, POLISH_WORK, STUB, Searched, admissible, cells_per_square, default_edge,
-        fit_of, flattens, goal, least_edge, miss, recipe, search, with_feet,
+        fit_of, flattens, goal, least_edge, miss, polishes, recipe, search, with_feet,
     };
 }
 

@@ -462,6 +462,12 @@ impl Made<'_> {
 const SEARCH_SECONDS_PER_CELL: f64 = 0.015;
 const BUILD_SECONDS_PER_CELL: f64 = 0.09;
 
+/// Seconds a polish of a waved band's rings is reckoned at for each cell
+/// it costs (`designing::POLISH_WORK` of them): the example saddle ring's
+/// 1,155 designs of 36 cells in about 90 s (docs/design.md, "Polished
+/// rings").
+const POLISH_SECONDS_PER_CELL: f64 = 0.0022;
+
 /// Seeds a search grows at most, and candidates reckoned built (of
 /// `BUILT`: the search stops at the first that meets the goal).
 const SEEDS: f64 = 8.0;
@@ -471,9 +477,11 @@ const BUILDS: f64 = 1.0;
 /// (docs/commands.md, "Time limits"): the cells a design of `edge` may
 /// have (the target's area in squares of `edge`, times the cells a square
 /// its topology grows, `designing::cells_per_square`), times the seeds'
-/// row search and the candidate builds; refused beyond the limit with the
-/// edge that fits; else said to `note` when long (`Estimate::said`), and
-/// a candidate's build reckoned (seconds).
+/// row search and the candidate builds, and a waved band's polish
+/// (`POLISH_SECONDS_PER_CELL`); refused when the search and builds alone
+/// pass the limit (a polish stops at it), with the edge that fits; else
+/// said to `note` when long (`Estimate::said`), and a candidate's build
+/// reckoned (seconds).
 fn within_time(
     (file, target): (&TargetFile, &std::sync::Arc<karigami::targets::Target>),
     edge: f64,
@@ -486,17 +494,31 @@ fn within_time(
         .max(1.0);
     let search = karigami::util::reckoned_low(SEEDS * SEARCH_SECONDS_PER_CELL * cells);
     let builds = karigami::util::reckoned_low(BUILDS * BUILD_SECONDS_PER_CELL * cells);
-    let seconds = search + builds;
+    let polish = if designing::polishes(target) {
+        POLISH_SECONDS_PER_CELL * designing::POLISH_WORK as f64
+    } else {
+        0.0
+    };
+    let seconds = search + polish + builds;
+    let polishing = if polish > 0.0 {
+        format!(
+            ", a polish of the rings, up to ~{} (it stops at the limit)",
+            karigami::duration(polish)
+        )
+    } else {
+        String::new()
+    };
     let estimate = karigami::Estimate {
         seconds,
         what: format!(
-            "row search of up to {SEEDS} seeds, ~{}, then {BUILDS} to {BUILT} candidate builds of ~{} cells, ~{} each",
+            "row search of up to {SEEDS} seeds, ~{}{polishing}, then {BUILDS} to {BUILT} candidate builds of ~{} cells, ~{} each",
             karigami::duration(search),
             karigami::count(cells),
             karigami::duration(builds / BUILDS)
         ),
     };
-    if deadline.allows(seconds) {
+    // A polish stops at the limit: only the rest must fit it.
+    if deadline.allows(search + builds) {
         if let Some(line) = estimate.said(deadline) {
             note(&line);
         }
@@ -504,7 +526,7 @@ fn within_time(
     }
     // The work goes as the cells, as 1 / edge^2; the search grows three
     // cells across the target at least.
-    let fits = edge * (seconds / deadline.ceiling()).sqrt();
+    let fits = edge * ((search + builds) / deadline.ceiling()).sqrt();
     let larger = if fits <= file.target.extent / 3.0 {
         format!(
             "give a larger --edge, {:.1} mm or more (fewer, larger cells), or ",

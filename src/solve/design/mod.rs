@@ -309,6 +309,16 @@ pub fn cells_per_square(t: &Arc<Target>) -> f64 {
     }
 }
 
+/// Whether `search` polishes rings on this target (canonical, as
+/// `search` takes it): an annulus that is a waved band, not level rims
+/// (`polish`), for the estimate of `karigami design`.
+pub fn polishes(t: &Arc<Target>) -> bool {
+    let levelled = level_rim(t);
+    t.topology == Topology::Annulus
+        && loops::level_rims(&levelled).is_none()
+        && waved::band(&levelled).is_some()
+}
+
 /// The fit of a lattice's vertices and cells to the target.
 pub fn fit_of(t: &Target, lattice: &Lattice) -> crate::target::Fit {
     let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
