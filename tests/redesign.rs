@@ -355,3 +355,20 @@ fn a_saddle_front_given_wrong_is_refused() {
     let fine = karigami::parse(&recipe("[0.003, -1e-5]"), "s").expect("parses");
     assert!(!fine.grow().expect("grows").extrinsic());
 }
+
+/// A front's turn, bend or twist given no angle is refused naming the row
+/// it is given for, with line and column.
+#[test]
+fn a_front_with_no_angle_names_its_row() {
+    let recipe = "[lattice]\nseed = \"loop\"\nkappa = 0.0\n\n[lattice.circle]\ncenter = [0.0, 0.0, 0.0]\nradius = 60.0\npoints = 12\n\n[[lattice.rows]]\nangle = [44.0, 23.0]\n\n[[lattice.rows]]\nangle = [44.0, 23.0]\nfront = { bend = [] }\n";
+    let e = karigami::parse(recipe, "s").expect_err("no angle");
+    assert_eq!(e.kind, karigami::ErrorKind::FrontAnglesNotFinite);
+    assert!(
+        e.message
+            .contains("front.bend of row 1 needs finite angles"),
+        "{}",
+        e.message
+    );
+    assert_eq!(e.site.as_deref(), Some("row 1"));
+    assert!(e.span.is_some(), "located");
+}

@@ -424,12 +424,18 @@ fn front_moves(
             Some(a) if a.get_ref().0.iter().all(|v| v.is_finite()) && !a.get_ref().0.is_empty() => {
                 Ok(Some(a.get_ref().0.clone()))
             }
-            Some(a) => Err(Diagnostic::new(
-                ErrorKind::FrontAnglesNotFinite,
-                format!("front.{what} needs finite angles"),
-            )
-            .at(a.span())
-            .hint("give an angle in degrees, or one per interior front vertex")),
+            Some(a) => {
+                let d = Diagnostic::new(
+                    ErrorKind::FrontAnglesNotFinite,
+                    format!("front.{what} of {} needs finite angles", rows.words),
+                )
+                .at(a.span())
+                .hint("give an angle in degrees, or one per interior front vertex");
+                Err(match rows.first {
+                    Some(r) => d.site(format!("row {r}")),
+                    None => d,
+                })
+            }
         }
     };
     let index = |n: &Spanned<i64>, what: &str| count(n, what, 0, last as i64);
