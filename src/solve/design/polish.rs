@@ -5,7 +5,7 @@
 //! ring larger than a saddle's own small defect, so some vertices come out
 //! positive. A Nelder-Mead search then moves each ring's aim (along the
 //! high azimuth and up) and its front's saddle amplitudes, against a cost
-//! of the distances to the target, defects above zero, defects away from
+//! of the distances to the target, defects above -0.1 deg, defects away from
 //! the rings' mean, ring-mean K uneven from ring to ring and narrow
 //! openings, for the design and for its simulated equilibrium. Each
 //! equilibrium is solved warm from the best one so far (`sim::resolve`).
@@ -65,7 +65,7 @@ pub(super) fn polish(
     points: &[DVec3],
     rows: &[Ring],
 ) -> Option<Polished> {
-    if ask.polish == 0 {
+    if ask.polish == 0 || ask.deadline.is_some_and(|d| Instant::now() > d) {
         return None;
     }
     let start = Shaped::of(ask, points, rows, None)?;
@@ -91,11 +91,14 @@ pub(super) fn polish(
         x
     }));
     crate::solve::simplex::minimise(simplex, 1e-6, MOVES, &mut |x| search.cost(x));
-    let (x, _, best) = search.best.take()?;
+    let (x, _, _) = search.best.take()?;
+    // Solved again from the start, as `build` will: a warm solve follows
+    // its own chain of states, which may have left the design's.
+    let rows = moved(band, rows, &x);
+    let best = Shaped::of(ask, points, &rows, None)?;
     let worst = |s: &Shaped| s.design.largest.max(s.simulated.largest);
-    let better = worst(&best) < worst(&start);
-    better.then(|| Polished {
-        rows: moved(band, rows, &x),
+    (worst(&best) < worst(&start)).then(|| Polished {
+        rows,
         design: best.design,
         simulated: best.simulated,
         evaluations: search.evaluations,
