@@ -97,7 +97,7 @@ pub(super) fn polish(
     let rows = moved(band, rows, &x);
     let best = Shaped::of(ask, points, &rows, None)?;
     let worst = |s: &Shaped| s.design.largest.max(s.simulated.largest);
-    (worst(&best) < worst(&start)).then(|| Polished {
+    (worst(&best) < worst(&start)).then_some(Polished {
         rows,
         design: best.design,
         simulated: best.simulated,
