@@ -1,10 +1,13 @@
 //! English for messages and pages, and the quoted strings of the recipes
 //! karigami writes, written once.
 
-/// "1 cell", "3 cells": a count with its noun (regular plurals only).
+/// "1 cell", "3 cells", "2 seed searches": a count with its noun
+/// (regular plurals only: -es after s, x, ch and sh).
 pub fn plural(n: usize, what: &str) -> String {
     if n == 1 {
         format!("1 {what}")
+    } else if ["s", "x", "ch", "sh"].iter().any(|e| what.ends_with(e)) {
+        format!("{n} {what}es")
     } else {
         format!("{n} {what}s")
     }
@@ -32,5 +35,6 @@ mod tests {
         assert_eq!(super::plural(1, "strip"), "1 strip");
         assert_eq!(super::plural(0, "file"), "0 files");
         assert_eq!(super::plural(12, "recipe"), "12 recipes");
+        assert_eq!(super::plural(2, "seed search"), "2 seed searches");
     }
 }

@@ -462,12 +462,6 @@ impl Made<'_> {
 const SEARCH_SECONDS_PER_CELL: f64 = 0.015;
 const BUILD_SECONDS_PER_CELL: f64 = 0.09;
 
-/// Seconds a polish of a waved band's rings is reckoned at for each cell
-/// it costs (`designing::POLISH_WORK` of them): the example saddle ring's
-/// 1,155 designs of 36 cells in about 90 s (docs/design.md, "Polished
-/// rings").
-const POLISH_SECONDS_PER_CELL: f64 = 0.0022;
-
 /// Seeds a search grows at most, and candidates reckoned built (of
 /// `BUILT`: the search stops at the first that meets the goal).
 const SEEDS: f64 = 8.0;
@@ -478,8 +472,8 @@ const BUILDS: f64 = 1.0;
 /// have (the target's area in squares of `edge`, times the cells a square
 /// its topology grows, `designing::cells_per_square`), times the seeds'
 /// row search and the candidate builds, and a waved band's polish
-/// (`POLISH_SECONDS_PER_CELL`); refused when the search and builds alone
-/// pass the limit (a polish stops at it), with the edge that fits; else
+/// (`designing::POLISH_SECONDS_PER_CELL`); refused when the search and builds alone
+/// pass the limit (a polish is left out then), with the edge that fits; else
 /// said to `note` when long (`Estimate::said`), and a candidate's build
 /// reckoned (seconds).
 fn within_time(
@@ -495,14 +489,14 @@ fn within_time(
     let search = karigami::util::reckoned_low(SEEDS * SEARCH_SECONDS_PER_CELL * cells);
     let builds = karigami::util::reckoned_low(BUILDS * BUILD_SECONDS_PER_CELL * cells);
     let polish = if designing::polishes(target) {
-        POLISH_SECONDS_PER_CELL * designing::POLISH_WORK as f64
+        designing::POLISH_SECONDS_PER_CELL * designing::POLISH_WORK as f64
     } else {
         0.0
     };
     let seconds = search + polish + builds;
     let polishing = if polish > 0.0 {
         format!(
-            ", a polish of the rings, up to ~{} (it stops at the limit)",
+            ", a polish of the rings, ~{} (none when the limit leaves less)",
             karigami::duration(polish)
         )
     } else {
@@ -517,7 +511,8 @@ fn within_time(
             karigami::duration(builds / BUILDS)
         ),
     };
-    // A polish stops at the limit: only the rest must fit it.
+    // A polish is left out when the limit leaves it too little time:
+    // only the rest must fit it.
     if deadline.allows(search + builds) {
         if let Some(line) = estimate.said(deadline) {
             note(&line);

@@ -30,7 +30,7 @@ mod waved;
 
 pub use feet::{flattens, with_feet};
 pub use goal::miss;
-pub use polish::POLISH_WORK;
+pub use polish::{POLISH_SECONDS_PER_CELL, POLISH_WORK};
 
 /// Cells across the target at most (docs/design.md, stage 1).
 pub(crate) const MAX_CELLS_ACROSS: f64 = 60.0;
@@ -130,8 +130,8 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         seeds
     };
     let mut found: Vec<Found> = Vec::new();
-    // Built before the rest, whatever their fit: rings polished to carry
-    // the target's curvature (`polish`).
+    // Built before the rest, whatever their fit: rings polished so that
+    // every vertex carries the target's negative curvature (`polish`).
     let mut first: Vec<Found> = Vec::new();
     let mut tried = 0;
     let mut topology = topology;

@@ -5,10 +5,11 @@
 //! ring larger than a saddle's own small defect, so some vertices come out
 //! positive. A Nelder-Mead search then moves each ring's aim (along the
 //! high azimuth and up) and its front's saddle amplitudes, against a cost
-//! of the distances to the target, defects above -0.1 deg, defects away from
-//! the rings' mean, ring-mean K uneven from ring to ring and narrow
-//! openings, for the design and for its simulated equilibrium. Each
-//! equilibrium is solved warm from the best one so far (`sim::resolve`).
+//! of the distances to the target, defects above -0.1 deg, ring-mean K
+//! uneven from ring to ring and narrow openings, for the design and for
+//! its simulated equilibrium, and the design's defects away from the
+//! grown ring's mean. Each equilibrium is solved warm from the best one so
+//! far (`sim::resolve`).
 
 use super::DesignAsk;
 use super::waved::{Band, Ring, design};
@@ -16,12 +17,13 @@ use crate::design::Design;
 use crate::lattice::{Lattice, Saddle};
 use crate::sim::{LatticeModel, placed_lattice, resolve, simulate};
 use glam::DVec3;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// The curvature measures of one shape: interior vertices' angle defects
-/// (degrees), largest and mean, and ring-mean K's largest over smallest.
+/// (degrees), largest and mean, and ring-mean K's largest over smallest
+/// (infinite when a ring's mean K is 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Signs {
+pub(super) struct Defects {
     pub largest: f64,
     pub mean: f64,
     pub k_ratio: f64,
@@ -32,14 +34,26 @@ pub(super) struct Signs {
 #[derive(Clone, Debug)]
 pub(super) struct Polished {
     pub rows: Vec<Ring>,
-    pub design: Signs,
-    pub simulated: Signs,
+    pub design: Defects,
+    pub simulated: Defects,
     pub evaluations: usize,
 }
 
+impl Polished {
+    /// Every interior vertex negative, in the design and simulated.
+    pub(super) fn negative(&self) -> bool {
+        self.design.largest < 0.0 && self.simulated.largest < 0.0
+    }
+}
+
 /// Cells costed at most by default (`DesignAsk::polish`): a ring of 36
-/// cells is costed 1,200 times, about 90 s with the release build.
+/// cells is costed 1,200 times.
 pub const POLISH_WORK: usize = 43_200;
+
+/// Seconds reckoned for each cell costed: the example saddle ring's 1,155
+/// designs of 36 cells in about 90 s with the release build (docs/design.md,
+/// "Polished rings"); POLISH_WORK of them, about 95 s.
+pub const POLISH_SECONDS_PER_CELL: f64 = 0.0022;
 
 /// Moves of the search at most, and its first step in each variable's
 /// unit (mm for the aim; `SADDLE_UNIT` and a tenth of it for c and d).
@@ -53,25 +67,49 @@ const MARGIN: f64 = 0.1;
 const ABOVE: f64 = 50.0;
 const EVEN: f64 = 10.0;
 const K_RATIO: f64 = 1.4;
+const K_WEIGHT: f64 = 5.0;
 const OPENING: f64 = 25.0;
 
+/// The simulated fit aimed at, inside the goal's (85 % covered, largest
+/// 4 % of D) by a margin, and the weight of the shortfall in coverage.
+const COVERED: f64 = 0.9;
+const LARGEST: f64 = 0.03;
+const COVER_WEIGHT: f64 = 20.0;
+
 /// `rows` polished, when the rings' mean defect is negative (a saddle:
-/// there is a sign to carry) and the polish lowers the largest defect of
-/// the design and the simulated shape together; None otherwise. Bounded
-/// by `MOVES`, the ask's `polish` work and its deadline.
+/// there is a sign to carry) and the polish lowers the larger of the
+/// design's and the simulated shape's largest defect; None otherwise, and
+/// when the time left before the ask's deadline is less than the polish
+/// is reckoned at (so that a time limit gives the whole polish or none).
+/// Bounded by `MOVES` and the ask's `polish` work; `progress` hears every
+/// `SAY_EVERY` designs.
 pub(super) fn polish(
     ask: &DesignAsk<'_>,
-    band: &Band,
-    points: &[DVec3],
-    rows: &[Ring],
+    (band, points, rows): (&Band, &[DVec3], &[Ring]),
+    progress: &mut dyn FnMut(&str),
 ) -> Option<Polished> {
-    if ask.polish == 0 || ask.deadline.is_some_and(|d| Instant::now() > d) {
+    let reckoned = Duration::from_secs_f64(POLISH_SECONDS_PER_CELL * ask.polish as f64);
+    let short = ask
+        .deadline
+        .is_some_and(|d| d.saturating_duration_since(Instant::now()) < reckoned);
+    if short {
+        progress(&format!(
+            "rings left unpolished: the time limit leaves less than the polish's ~{:.0} s",
+            reckoned.as_secs_f64()
+        ));
+    }
+    if ask.polish == 0 || short {
         return None;
     }
     let start = Shaped::of(ask, points, rows, None)?;
-    if start.design.mean >= 0.0 {
+    if !(start.design.mean < 0.0) {
         return None;
     }
+    progress(&format!(
+        "polishing the rings of the best loop ({} points, {} rings) so that every vertex carries the saddle's curvature",
+        points.len(),
+        rows.len()
+    ));
     let want = start.design.mean;
     let mut search = Search {
         ask,
@@ -82,6 +120,7 @@ pub(super) fn polish(
         cells: start.lattice.cells.len(),
         best: None,
         evaluations: 0,
+        progress,
     };
     let dims = 4 * rows.len();
     let mut simplex = vec![vec![0.0; dims]];
@@ -132,10 +171,15 @@ struct Search<'a> {
     cells: usize,
     best: Option<(Vec<f64>, f64, Shaped)>,
     evaluations: usize,
+    progress: &'a mut dyn FnMut(&str),
 }
 
-/// Costed as far from anything as a design can be.
+/// Costed as far from anything as a design can be: a design that does not
+/// grow or simulate, or any once the work is spent or the deadline passed.
 const UNGROWN: f64 = 1e9;
+
+/// Designs between two progress lines.
+const SAY_EVERY: usize = 100;
 
 impl Search<'_> {
     fn cost(&mut self, x: &[f64]) -> f64 {
@@ -144,6 +188,13 @@ impl Search<'_> {
             return UNGROWN;
         }
         self.evaluations += 1;
+        if self.evaluations.is_multiple_of(SAY_EVERY) {
+            let best = self.best.as_ref().map_or(f64::NAN, |b| b.1);
+            (self.progress)(&format!(
+                "polishing: {} designs costed, the best at {best:.3}",
+                self.evaluations
+            ));
+        }
         let rows = moved(self.band, self.rows, x);
         let warm = self.best.as_ref().map(|b| &b.2.model);
         let Some(shaped) = Shaped::of(self.ask, self.points, &rows, warm) else {
@@ -153,6 +204,9 @@ impl Search<'_> {
             return UNGROWN;
         }
         let c = shaped.cost(self.want);
+        if !c.is_finite() {
+            return UNGROWN;
+        }
         if self.best.as_ref().is_none_or(|b| c < b.1) {
             self.best = Some((x.to_vec(), c, shaped));
         }
@@ -163,8 +217,8 @@ impl Search<'_> {
 /// A design grown and simulated, with what the cost reads of both.
 struct Shaped {
     lattice: Lattice,
-    design: Signs,
-    simulated: Signs,
+    design: Defects,
+    simulated: Defects,
     /// Interior vertices' defects (degrees), design then simulated.
     defects: [Vec<f64>; 2],
     /// Smallest opening (degrees), of either shape.
@@ -210,7 +264,7 @@ impl Shaped {
 
     /// Distances in % of D; defects above -MARGIN, and away from `want`,
     /// in degrees squared; K's ratio beyond K_RATIO; openings under
-    /// OPENING degrees; the goal's own limits on the simulated fit.
+    /// OPENING degrees; the simulated fit short of COVERED and LARGEST.
     fn cost(&self, want: f64) -> f64 {
         let mean = |v: &[f64], f: &dyn Fn(f64) -> f64| {
             v.iter().map(|d| f(*d)).sum::<f64>() / v.len() as f64
@@ -218,13 +272,13 @@ impl Shaped {
         let mut c = 100.0 * (self.design_rms + self.fit.rms / self.fit.extent);
         for (defects, signs) in self.defects.iter().zip([self.design, self.simulated]) {
             c += ABOVE * mean(defects, &|d| (d + MARGIN).max(0.0).powi(2));
-            c += 5.0 * (signs.k_ratio - K_RATIO).max(0.0);
+            c += K_WEIGHT * (signs.k_ratio - K_RATIO).max(0.0);
         }
         c += EVEN * mean(&self.defects[0], &|d| (d - want).powi(2));
         c += (OPENING - self.opening).max(0.0);
         let covered = self.fit.coverage.unwrap_or(0.0);
-        c + 20.0 * (0.9 - covered).max(0.0)
-            + (100.0 * self.fit.largest / self.fit.extent - 3.0).max(0.0)
+        c + COVER_WEIGHT * (COVERED - covered).max(0.0)
+            + 100.0 * (self.fit.largest / self.fit.extent - LARGEST).max(0.0)
     }
 }
 
@@ -251,7 +305,7 @@ fn equilibrium(d: &Design, lattice: &Lattice, warm: Option<&LatticeModel>) -> Op
 }
 
 /// Interior vertices' defects (degrees) and their measures.
-fn signs(l: &Lattice) -> (Vec<f64>, Signs) {
+fn signs(l: &Lattice) -> (Vec<f64>, Defects) {
     let c = l.curvature();
     let defects: Vec<f64> = c.iter().map(|v| v.defect.to_degrees()).collect();
     let rows = c
@@ -270,11 +324,15 @@ fn signs(l: &Lattice) -> (Vec<f64>, Signs) {
         .filter(|s| s.1 > 0)
         .map(|s| (s.0 / s.1 as f64).abs())
         .collect();
-    let signs = Signs {
+    let least = k.iter().copied().fold(f64::INFINITY, f64::min);
+    let signs = Defects {
         largest: defects.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         mean: defects.iter().sum::<f64>() / defects.len().max(1) as f64,
-        k_ratio: k.iter().copied().fold(0.0, f64::max)
-            / k.iter().copied().fold(f64::INFINITY, f64::min),
+        k_ratio: if least > 0.0 {
+            k.iter().copied().fold(0.0, f64::max) / least
+        } else {
+            f64::INFINITY
+        },
     };
     (defects, signs)
 }

@@ -212,34 +212,33 @@ pub(super) fn loops(
             }
         }
     }
-    let polished = best
-        .and_then(|(_, points, rows)| polished(ask, &b, &points, &rows, progress))
-        .into_iter()
-        .collect();
-    (polished, out)
+    let mut first = Vec::new();
+    match best.and_then(|(_, points, rows)| polished(ask, &b, &points, &rows, progress)) {
+        Some((found, true)) => first.push(found),
+        Some((found, false)) => out.push(found),
+        None => {}
+    }
+    (first, out)
 }
 
 /// The best loop's rings polished (`polish`), when polishing helps and
-/// `build` would take its strips.
+/// `build` would take its strips; and whether every interior vertex is
+/// negative, design and simulated (then it is built first, whatever its
+/// fit; else ranked by its fit with the rest).
 fn polished(
     ask: &DesignAsk<'_>,
     b: &Band,
     points: &[DVec3],
     rows: &[Ring],
     progress: &mut dyn FnMut(&str),
-) -> Option<Found> {
-    progress(&format!(
-        "polishing the rings of the best loop ({} points, {} rings) so that every vertex carries the saddle's curvature",
-        points.len(),
-        rows.len()
-    ));
-    let p = super::polish::polish(ask, b, points, rows)?;
+) -> Option<(Found, bool)> {
+    let p = super::polish::polish(ask, (b, points, rows), progress)?;
     let lattice = buildable(ask.base, points, &p.rows)?;
     progress(&format!(
         "polished in {} designs: largest angle defect {:+.2} deg designed, {:+.2} deg simulated",
         p.evaluations, p.design.largest, p.simulated.largest
     ));
-    Some(Found {
+    let found = Found {
         lattice: toml(points, &p.rows),
         cells: lattice.cells.len(),
         fit: fit_of(&ask.target, &lattice),
@@ -253,7 +252,8 @@ fn polished(
             p.design.k_ratio,
             p.simulated.k_ratio
         ),
-    })
+    };
+    Some((found, p.negative()))
 }
 
 /// A ring's target for x[i+1][1] and its front's saddle.
