@@ -88,17 +88,7 @@ pub(super) fn polish(
     (band, points, rows): (&Band, &[DVec3], &[Ring]),
     progress: &mut dyn FnMut(&str),
 ) -> Option<Polished> {
-    let reckoned = Duration::from_secs_f64(POLISH_SECONDS_PER_CELL * ask.polish as f64);
-    let short = ask
-        .deadline
-        .is_some_and(|d| d.saturating_duration_since(Instant::now()) < reckoned);
-    if short {
-        progress(&format!(
-            "rings left unpolished: the time limit leaves less than the polish's ~{:.0} s",
-            reckoned.as_secs_f64()
-        ));
-    }
-    if ask.polish == 0 || short {
+    if !allowed(ask, progress) {
         return None;
     }
     let start = Shaped::of(ask, points, rows, None)?;
@@ -142,6 +132,25 @@ pub(super) fn polish(
         simulated: best.simulated,
         evaluations: search.evaluations,
     })
+}
+
+/// Whether the ask allows a polish: some work, and as long as it is
+/// reckoned at before the deadline (said to `progress` when not).
+fn allowed(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> bool {
+    if ask.polish == 0 {
+        return false;
+    }
+    let reckoned = Duration::from_secs_f64(POLISH_SECONDS_PER_CELL * ask.polish as f64);
+    let short = ask
+        .deadline
+        .is_some_and(|d| d.saturating_duration_since(Instant::now()) < reckoned);
+    if short {
+        progress(&format!(
+            "rings left unpolished: the time limit leaves less than the polish's ~{:.0} s",
+            reckoned.as_secs_f64()
+        ));
+    }
+    !short
 }
 
 /// The rings moved by `x`: per ring, its aim along the high azimuth and
