@@ -472,10 +472,10 @@ const BUILDS: f64 = 1.0;
 /// have (the target's area in squares of `edge`, times the cells a square
 /// its topology grows, `designing::cells_per_square`), times the seeds'
 /// row search and the candidate builds, and a waved band's polish
-/// (`designing::POLISH_SECONDS_PER_CELL`); refused when the search and builds alone
-/// pass the limit (a polish is left out then), with the edge that fits; else
-/// said to `note` when long (`Estimate::said`), and a candidate's build
-/// reckoned (seconds).
+/// (`designing::POLISH_SECONDS_PER_CELL`); refused when the search and
+/// builds alone pass the limit (a polish is left out then), with the edge
+/// that fits; else said to `note` when long (`Estimate::said`), and a
+/// candidate's build reckoned (seconds).
 fn within_time(
     (file, target): (&TargetFile, &std::sync::Arc<karigami::targets::Target>),
     edge: f64,

@@ -144,7 +144,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     }
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
         found.extend(loops::annulus(ask, rims, &mut tried, progress));
-    } else if let Some(band) = waved::band(t).filter(|_| !patch) {
+    } else if let Some(band) = waved_band(t) {
         let (polished, grown) = waved::loops(ask, band, &mut tried, progress);
         first.extend(polished);
         found.extend(grown);
@@ -309,14 +309,18 @@ pub fn cells_per_square(t: &Arc<Target>) -> f64 {
     }
 }
 
+/// The waved band `search` grows on `t` (levelled): two rims, not both
+/// level circles, round in plan about one vertical axis (`waved`).
+fn waved_band(t: &Target) -> Option<waved::Band> {
+    let banded = t.topology != Topology::Patch && loops::level_rims(t).is_none();
+    banded.then(|| waved::band(t)).flatten()
+}
+
 /// Whether `search` polishes rings on this target (canonical, as
-/// `search` takes it): an annulus that is a waved band, not level rims
-/// (`polish`), for the estimate of `karigami design`.
+/// `search` takes it): a waved band (`polish`), for the estimate of
+/// `karigami design`.
 pub fn polishes(t: &Arc<Target>) -> bool {
-    let levelled = level_rim(t);
-    t.topology == Topology::Annulus
-        && loops::level_rims(&levelled).is_none()
-        && waved::band(&levelled).is_some()
+    waved_band(&level_rim(t)).is_some()
 }
 
 /// The fit of a lattice's vertices and cells to the target.

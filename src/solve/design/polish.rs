@@ -107,7 +107,7 @@ pub(super) fn polish(
         points,
         rows,
         want,
-        cells: start.lattice.cells.len(),
+        cells: start.cells,
         best: None,
         evaluations: 0,
         progress,
@@ -183,9 +183,10 @@ struct Search<'a> {
     progress: &'a mut dyn FnMut(&str),
 }
 
-/// Costed as far from anything as a design can be: a design that does not
-/// grow or simulate, or any once the work is spent or the deadline passed.
-const UNGROWN: f64 = 1e9;
+/// The optimiser's cost of a design that does not grow (`solve`'s), here
+/// also of one that does not simulate, and of any once the work is spent
+/// or the deadline passed.
+use crate::solve::UNGROWN;
 
 /// Designs between two progress lines.
 const SAY_EVERY: usize = 100;
@@ -209,7 +210,7 @@ impl Search<'_> {
         let Some(shaped) = Shaped::of(self.ask, self.points, &rows, warm) else {
             return UNGROWN;
         };
-        if shaped.lattice.cells.len() != self.cells {
+        if shaped.cells != self.cells {
             return UNGROWN;
         }
         let c = shaped.cost(self.want);
@@ -225,7 +226,8 @@ impl Search<'_> {
 
 /// A design grown and simulated, with what the cost reads of both.
 struct Shaped {
-    lattice: Lattice,
+    /// The grown lattice's cells.
+    cells: usize,
     design: Defects,
     simulated: Defects,
     /// Interior vertices' defects (degrees), design then simulated.
@@ -266,7 +268,7 @@ impl Shaped {
             design: design_signs,
             simulated: sim_signs,
             defects: [design_defects, sim_defects],
-            lattice,
+            cells: lattice.cells.len(),
             model,
         })
     }
