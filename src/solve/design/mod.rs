@@ -19,6 +19,7 @@ use glam::DVec3;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod bump;
 mod closed;
 mod feet;
 pub mod goal;
@@ -134,6 +135,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     // every vertex carries the target's negative curvature (`polish`).
     let mut first: Vec<Found> = Vec::new();
     let mut tried = 0;
+    let mut bumps = Vec::new();
     let mut topology = topology;
     let patch = t.topology == Topology::Patch;
     if patch && let Some((centre, radius)) = loops::circular_rim(&boundary, t.extent) {
@@ -141,6 +143,13 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
             "loop: the target is an open patch whose boundary is a level circle (radius {radius:.1} mm), so a symmetric loop seeded round it closes every ring and each ring's vertex can be put on the target one edge further in (docs/math.md 6.2, as for the half ellipsoid)"
         );
         found.extend(loops::loops(ask, centre, radius, &mut tried, progress));
+    } else if patch && let Some(round) = bump::round_bump(t, &boundary) {
+        // Sheets are grown too: on a low bump they may cover more.
+        topology = format!(
+            "{topology}; and loops, since its surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so a loop seeded round a level circle about that axis climbs it as on a cap (docs/design.md, \"Round bumps\")",
+            round.inscribed
+        );
+        bumps = bump::loops(ask, round, &mut tried, progress);
     }
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
         found.extend(loops::annulus(ask, rims, &mut tried, progress));
@@ -156,6 +165,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     } else {
         Vec::new()
     };
+    found.append(&mut bumps);
     // Each seed with each scan (`sheets::SCANS`) twice: rows grown as they
     // come (extrinsic), and rows on fronts laid back onto the target
     // (intrinsic, docs/math.md 7).
