@@ -9,7 +9,7 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 18] = [
+const TARGETS: [&str; 19] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
@@ -18,6 +18,7 @@ const TARGETS: [&str; 18] = [
     "saddle-ring.toml",
     "cylinder.toml",
     "height-field.toml",
+    "bump-export.obj",
     "plate.toml",
     "sphere-cap-export.obj",
     "paraboloid-export.stl",

@@ -38,6 +38,9 @@ const SUITE: &[(&str, f64, Topology)] = &[
     ("paraboloid-export.stl", 400.0, Topology::Patch),
     ("vault-export.obj", 553.8104569330253, Topology::Patch),
     ("plate-export.stl", 500.0, Topology::Patch),
+    // The bump's sheet corner to corner, hypot(360, 360): the corners
+    // stand alike, 0.44 mm high.
+    ("bump-export.obj", 509.1168824543142, Topology::Patch),
     // The examples' own targets: the bowl's rim diameter (its rim to its
     // apex is only hypot(200, 240)); across the band from a rim point to
     // the other rim's opposite point, hypot(2 x 146.2552, 2 x 126.3165).
