@@ -29,7 +29,9 @@ fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fi
     };
     let searched = designing::search(&ask, &mut |_| {}).unwrap();
     for found in searched.found.iter().take(6) {
-        let text = designing::recipe(found, "t", &[], None, "");
+        // The seed's comment line, as the CLI writes it.
+        let seed = [format!("Seed: {}.", found.seed)];
+        let text = designing::recipe(found, "t", &seed, None, "");
         let Ok(built) = karigami::build(karigami::parse(&text, "t").unwrap()) else {
             continue;
         };
@@ -332,6 +334,10 @@ fn a_bump_on_a_sheet_is_designed_within_the_goal() {
         60.0,
     );
     assert!(recipe.contains("seed = \"loop\""), "{recipe}");
+    assert!(
+        recipe.contains("# Seed: a loop of ") && recipe.contains("about the bump's axis"),
+        "{recipe}"
+    );
 }
 
 /// A saddle (negative curvature) 300 x 300 mm, rising 40 mm at the middles

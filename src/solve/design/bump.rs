@@ -139,7 +139,8 @@ pub(super) fn loops(
         }
         let z = h.iter().sum::<f64>() / h.len() as f64;
         let centre = bump.axis.extend(z);
-        let grown = loops::loops(ask, centre, radius, tried, progress);
+        let what = format!("round the level circle of radius {radius:.1} mm about the bump's axis");
+        let grown = loops::loops(ask, (centre, radius), &what, tried, progress);
         let best = grown
             .iter()
             .min_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));

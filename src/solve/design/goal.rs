@@ -176,7 +176,7 @@ pub fn boundary_band(t: &Target, edge: f64) -> Option<f64> {
 /// them are listed.
 fn rows_stop(design: &Fit, band: f64) -> String {
     format!(
-        "the design itself covers only {:.1} % of the target: its rows stop before they cross it, leaving {:.1} % uncovered where the band along the boundary a lattice of this edge leaves is about {:.0} %, so the shortfall is not the edge's and neither a smaller edge nor other strips would reach the goal: the row search finds no rows that cross this shape (docs/design.md, \"What it reaches\", lists the shapes it crosses: caps and bowls with a round, level rim, saddles, plates and vaults)",
+        "the design itself covers only {:.1} % of the target: its rows stop before they cross it, leaving {:.1} % uncovered where the band along the boundary a lattice of this edge leaves is about {:.0} %, so the shortfall is not the edge's and neither a smaller edge nor other strips would reach the goal: the row search finds no rows that cross this shape (docs/design.md, \"What it reaches\", lists the shapes it crosses: caps and bowls with a round, level rim, saddles, plates and vaults, and bumps round about a vertical axis on a sheet about as wide as long)",
         100.0 * design.coverage.unwrap_or(0.0),
         100.0 * (1.0 - design.coverage.unwrap_or(0.0)),
         100.0 * band

@@ -32,11 +32,11 @@ pub(super) fn circular_rim(ring: &[DVec3], extent: f64) -> Option<(DVec3, f64)> 
 /// x[i][1] at equal steps of arc length down the target's meridian, the
 /// last short of the axis by `HOLE` of it. Each count, and the same less
 /// its last one or two rings (the likeliest to clash at the pole), is a
-/// design.
+/// design. `what` says where the circle lies, for the recipe's comment.
 pub(super) fn loops(
     ask: &DesignAsk<'_>,
-    centre: DVec3,
-    radius: f64,
+    (centre, radius): (DVec3, f64),
+    what: &str,
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Found> {
@@ -46,17 +46,19 @@ pub(super) fn loops(
         radius,
         reach: 1.0 - HOLE,
         meridian: &|from| meridian(t, centre, from),
+        what,
     };
     rings(ask, &rim, tried, progress)
 }
 
 /// A loop's seed rim, how far down its meridian the rings go (a share of
-/// its arc length) and the meridian from a rim point.
+/// its arc length), the meridian from a rim point and where the rim lies.
 struct Rim<'a> {
     centre: DVec3,
     radius: f64,
     reach: f64,
     meridian: &'a dyn Fn(DVec3) -> Option<Vec<(f64, DVec3)>>,
+    what: &'a str,
 }
 
 /// The designs of `loops` and `annulus`: for each loop size, the rings'
@@ -79,7 +81,7 @@ fn rings(
             points: &points,
             meridian: &meridian,
             span: (0.0, length),
-            what: "round the rim",
+            what: rim.what,
             closed: false,
         };
         out.extend(grow_rings(ask, &seed, tried, progress));
@@ -206,6 +208,7 @@ pub(super) fn annulus(
         radius,
         reach: 1.0,
         meridian: &across,
+        what: "round the rim",
     };
     rings(ask, &rim, tried, progress)
 }

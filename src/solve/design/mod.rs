@@ -142,7 +142,13 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         topology = format!(
             "loop: the target is an open patch whose boundary is a level circle (radius {radius:.1} mm), so a symmetric loop seeded round it closes every ring and each ring's vertex can be put on the target one edge further in (docs/math.md 6.2, as for the half ellipsoid)"
         );
-        found.extend(loops::loops(ask, centre, radius, &mut tried, progress));
+        found.extend(loops::loops(
+            ask,
+            (centre, radius),
+            "round the rim",
+            &mut tried,
+            progress,
+        ));
     } else if patch && let Some(round) = bump::round_bump(t, &boundary) {
         // Sheets are grown too: on a low bump they may cover more.
         topology = format!(
