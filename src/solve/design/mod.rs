@@ -305,20 +305,26 @@ fn level_rim(t: &Arc<Target>) -> Arc<Target> {
 /// a closed target's loop (pole to pole: sphere.toml's 288 cells, 2.1 a
 /// square, whose search costs half a cap's a cell, so reckoned at 1), and
 /// a sheet (rows about an edge apart: the saddle's 35, the plate's 42,
-/// the bump's 30 cells, 0.7 to 1.3 a square, reckoned at the least). The
-/// same tests of topology as `search`.
+/// the bump's 30 cells, 0.7 to 1.3 a square, reckoned at the least), and
+/// loops round a bump's axis on a sheet as well as its sheets (the
+/// height field's 100 cells, 2.4 a square; the 360 mm square sheet's
+/// 100, 2.8). The same tests of topology as `search`.
 pub fn cells_per_square(t: &Arc<Target>) -> f64 {
     const LOOPS: f64 = 3.0;
     const CLOSED: f64 = 1.0;
     const SHEETS: f64 = 0.7;
+    const BUMP: f64 = 2.4;
     match t.topology {
         Topology::Closed { .. } => CLOSED,
         Topology::Patch => {
             let levelled = level_rim(t);
             let boundary = sheets::inward_boundary(&levelled);
-            match loops::circular_rim(&boundary, levelled.extent) {
-                Some(_) => LOOPS,
-                None => SHEETS,
+            if loops::circular_rim(&boundary, levelled.extent).is_some() {
+                LOOPS
+            } else if bump::round_bump(&levelled, &boundary).is_some() {
+                BUMP
+            } else {
+                SHEETS
             }
         }
         _ => LOOPS,
@@ -493,7 +499,8 @@ mod tests {
 
     /// The estimate's cells a square follow the topology the search takes:
     /// a cap with a round rim grows a loop, a rectangle a sheet, a whole
-    /// sphere a closed loop, an annulus a loop between its rims.
+    /// sphere a closed loop, an annulus a loop between its rims, a bump on
+    /// a sheet loops round its axis.
     #[test]
     fn the_cells_reckoned_a_square_follow_the_topology() {
         let cap = target("[target]\nfamily = \"sphere-cap\"\nradius = 200.0\nheight = 60.0\n");
@@ -508,5 +515,7 @@ mod tests {
         assert_eq!(cells_per_square(&plate), 0.7);
         assert_eq!(cells_per_square(&sphere), 1.0);
         assert_eq!(cells_per_square(&band), 3.0);
+        let bump = target(&std::fs::read_to_string("fixtures/targets/height-field.toml").unwrap());
+        assert_eq!(cells_per_square(&bump), 2.4);
     }
 }
