@@ -10,7 +10,7 @@
 //! its joints there lie as far outside as the circle reaches, which the
 //! goal's largest distance bounds (docs/design.md, "Round bumps").
 
-use super::{DesignAsk, Found, loops, miss};
+use super::{DesignAsk, Found, Plumb, loops, miss};
 use crate::target::Target;
 use glam::{DVec2, DVec3};
 
@@ -104,18 +104,11 @@ fn nearest_boundary(ring: &[DVec3], axis: DVec2) -> f64 {
 /// The target's heights round the circle of radius `r` about `axis`,
 /// where vertical lines meet it.
 fn circle_heights(t: &Target, axis: DVec2, r: f64) -> Vec<f64> {
-    let top = t
-        .mesh
-        .positions
-        .iter()
-        .map(|p| p.z)
-        .fold(f64::NEG_INFINITY, f64::max)
-        + 1.0;
+    let plumb = Plumb::new(t);
     (0..AZIMUTHS)
         .filter_map(|k| {
             let a = std::f64::consts::TAU * k as f64 / AZIMUTHS as f64;
-            let p = (axis + r * DVec2::from_angle(a)).extend(top);
-            t.ray(p, -DVec3::Z, 0.0).map(|h| top - h)
+            plumb.height(axis + r * DVec2::from_angle(a))
         })
         .collect()
 }

@@ -3,7 +3,7 @@
 //! down its meridian (docs/math.md 6.2): towards the axis on a patch, to
 //! the other rim on an annulus.
 
-use super::{DesignAsk, Found, fit_of};
+use super::{DesignAsk, Found, Plumb, fit_of};
 use crate::design::Design;
 use crate::lattice::{Kind, Lattice, RowParams};
 use crate::target::Target;
@@ -294,13 +294,7 @@ fn loop_rows(targets: &[DVec3]) -> Vec<RowParams> {
 /// `centre` along z, sampled where vertical lines meet it: (arc length,
 /// point) pairs; None when a line misses the target.
 fn meridian(t: &Target, centre: DVec3, from: DVec3) -> Option<Vec<(f64, DVec3)>> {
-    let top = t
-        .mesh
-        .positions
-        .iter()
-        .map(|p| p.z)
-        .fold(f64::NEG_INFINITY, f64::max)
-        + 1.0;
+    let plumb = Plumb::new(t);
     let d = (from - centre).truncate();
     let s0 = d.length();
     if !(s0 > 0.0) {
@@ -311,16 +305,16 @@ fn meridian(t: &Target, centre: DVec3, from: DVec3) -> Option<Vec<(f64, DVec3)>>
     for k in 1..=MERIDIAN {
         // A hair inside the rim, where the first line could miss.
         let s = s0 * (1.0 - k as f64 / MERIDIAN as f64);
-        let p = DVec3::new(centre.x + s * u.x, centre.y + s * u.y, top);
+        let p = centre.truncate() + s * u;
         // A coarse mesh's rim is a polygon inside the circle: lines
         // between it and the circle miss, and are skipped.
-        let Some(h) = t.ray(p, -DVec3::Z, 0.0) else {
+        let Some(z) = plumb.height(p) else {
             if out.len() == 1 {
                 continue;
             }
             return None;
         };
-        let q = p - h * DVec3::Z;
+        let q = p.extend(z);
         let (walked, last) = *out.last().expect("one point");
         out.push((walked + q.distance(last), q));
     }

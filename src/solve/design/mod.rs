@@ -345,6 +345,32 @@ pub fn polishes(t: &Arc<Target>) -> bool {
     waved_band(&level_rim(t)).is_some()
 }
 
+/// Vertical lines dropped onto a target from above its highest point:
+/// the heights `design` reads round circles and down meridians.
+struct Plumb<'a> {
+    t: &'a Target,
+    top: f64,
+}
+
+impl<'a> Plumb<'a> {
+    fn new(t: &'a Target) -> Self {
+        let top = t
+            .mesh
+            .positions
+            .iter()
+            .map(|p| p.z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        Plumb { t, top: top + 1.0 }
+    }
+
+    /// The height where the vertical line through plan point `p` first
+    /// meets the target from above; None where it misses.
+    fn height(&self, p: glam::DVec2) -> Option<f64> {
+        let from = p.extend(self.top);
+        self.t.ray(from, -DVec3::Z, 0.0).map(|h| self.top - h)
+    }
+}
+
 /// The fit of a lattice's vertices and cells to the target.
 pub fn fit_of(t: &Target, lattice: &Lattice) -> crate::target::Fit {
     let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();

@@ -7,7 +7,7 @@
 //! curvature, and each ring's tilt is chosen so that its new vertices lie
 //! nearest the target.
 
-use super::{DesignAsk, Found, fit_of};
+use super::{DesignAsk, Found, Plumb, fit_of};
 use crate::design::Design;
 use crate::lattice::{FrontMoves, Lattice, RowParams, Saddle};
 use crate::target::Target;
@@ -77,18 +77,11 @@ const AZIMUTHS: usize = 72;
 /// The target's heights above the circle of `radius` about `axis`, at
 /// `AZIMUTHS` azimuths from `phase`; None where a vertical line misses it.
 fn heights(t: &Target, axis: DVec3, radius: f64, phase: f64) -> Option<Vec<f64>> {
-    let top = t
-        .mesh
-        .positions
-        .iter()
-        .map(|p| p.z)
-        .fold(f64::NEG_INFINITY, f64::max)
-        + 1.0;
+    let plumb = Plumb::new(t);
     (0..AZIMUTHS)
         .map(|k| {
             let a = phase + TAU * k as f64 / AZIMUTHS as f64;
-            let p = DVec3::new(axis.x + radius * a.cos(), axis.y + radius * a.sin(), top);
-            t.ray(p, -DVec3::Z, 0.0).map(|h| top - h)
+            plumb.height(axis.truncate() + radius * glam::DVec2::from_angle(a))
         })
         .collect()
 }
