@@ -129,13 +129,19 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         Err(Unbuilt::Refused(why)) => return Err(no_design(&file, &searched, &why)),
         Err(Unbuilt::OutOfTime) => return Err(stopped()),
     };
+    // A sheet too long for loops round its bump: no edge would help.
     let remedy = (chosen.miss > 1.0).then(|| {
-        designing::goal::remedy(
-            &chosen.design,
-            &chosen.sim,
-            (edge, designing::goal::boundary_band(&file.target, edge)),
-            &base,
-        )
+        searched
+            .bump
+            .and_then(|b| b.remedy(&chosen.sim))
+            .unwrap_or_else(|| {
+                designing::goal::remedy(
+                    &chosen.design,
+                    &chosen.sim,
+                    (edge, designing::goal::boundary_band(&file.target, edge)),
+                    &base,
+                )
+            })
     });
     if let (Some(remedy), false) = (&remedy, ask.keep_miss) {
         return Err(missed(&file, &chosen, remedy));

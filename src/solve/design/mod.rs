@@ -20,6 +20,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod bump;
+pub use bump::BumpCover;
 mod closed;
 mod feet;
 pub mod goal;
@@ -76,6 +77,9 @@ pub struct Searched {
     pub tried: usize,
     /// The topology chosen, and why.
     pub topology: String,
+    /// How much loops round a bump on a sheet can cover, when the target
+    /// is one (`bump`).
+    pub bump: Option<BumpCover>,
 }
 
 /// The topology `search` grows on `t` (in its own frame) and why, or the
@@ -136,6 +140,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     let mut first: Vec<Found> = Vec::new();
     let mut tried = 0;
     let mut bumps = Vec::new();
+    let mut cover = None;
     let mut topology = topology;
     let patch = t.topology == Topology::Patch;
     if patch && let Some((centre, radius)) = loops::circular_rim(&boundary, t.extent) {
@@ -155,6 +160,13 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
             "{topology}; and loops, since its surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so a loop seeded round a level circle about that axis climbs it as on a cap (docs/design.md, \"Round bumps\")",
             round.inscribed
         );
+        let reach = bump::cover(t, round);
+        progress(&format!(
+            "a round bump: loops round its axis reach at most {:.1} % of the target's area (a disk of radius {:.1} mm)",
+            100.0 * reach.covers,
+            reach.radius
+        ));
+        cover = Some(reach);
         bumps = bump::loops(ask, round, &mut tried, progress);
     }
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
@@ -228,6 +240,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         found: first,
         tried,
         topology,
+        bump: cover,
     })
 }
 
@@ -259,6 +272,7 @@ fn closed_loops(
         found,
         tried,
         topology,
+        bump: None,
     }
 }
 
