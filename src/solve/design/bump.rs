@@ -18,8 +18,9 @@ use glam::{DVec2, DVec3};
 /// Azimuths sampled round a circle about the axis.
 const AZIMUTHS: usize = 64;
 
-/// Circles sampled between the axis and the boundary's nearest point.
-const CIRCLES: usize = 8;
+/// Circles sampled from near the axis to near the boundary's nearest
+/// point.
+const CIRCLES: usize = 9;
 
 /// How far (a share of D) heights round one circle may spread about
 /// their mean for the surface to count as round about the axis.
@@ -56,11 +57,11 @@ pub(super) fn round_bump(t: &Target, ring: &[DVec3]) -> Option<Bump> {
     if !(inscribed > 0.0) {
         return None;
     }
-    let mut heights = Vec::with_capacity(CIRCLES + 1);
-    for k in 0..=CIRCLES {
+    let mut heights = Vec::with_capacity(CIRCLES);
+    for k in 0..CIRCLES {
         // Near the axis and a hair inside the boundary; a line through
         // a mesh's vertex or edge may miss it, so a few misses are let be.
-        let r = inscribed * (0.02 + 0.97 * k as f64 / CIRCLES as f64);
+        let r = inscribed * (0.02 + 0.97 * k as f64 / (CIRCLES - 1) as f64);
         let h = circle_heights(t, axis, r);
         if h.len() < AZIMUTHS * 9 / 10 {
             return None;
@@ -71,7 +72,7 @@ pub(super) fn round_bump(t: &Target, ring: &[DVec3]) -> Option<Bump> {
         }
         heights.push(mean);
     }
-    let rise = (heights[0] - heights[CIRCLES]).abs();
+    let rise = (heights[0] - heights[CIRCLES - 1]).abs();
     (rise >= RISE * t.extent).then_some(Bump { axis, inscribed })
 }
 

@@ -157,7 +157,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     } else if patch && let Some(round) = bump::round_bump(t, &boundary) {
         // Sheets are grown too: on a low bump they may cover more.
         topology = format!(
-            "{topology}; and loops, since its surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so a loop seeded round a level circle about that axis climbs it as on a cap (docs/design.md, \"Round bumps\")",
+            "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis climb it as on a cap (docs/design.md, \"Round bumps\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
             round.inscribed
         );
         let reach = bump::cover(t, round);
