@@ -129,11 +129,12 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         Err(Unbuilt::Refused(why)) => return Err(no_design(&file, &searched, &why)),
         Err(Unbuilt::OutOfTime) => return Err(stopped()),
     };
-    // A sheet too long for loops round its bump: no edge would help.
+    // Loops round a bump: the edge or the sheet's shape that would reach
+    // the goal's coverage.
     let remedy = (chosen.miss > 1.0).then(|| {
         searched
             .bump
-            .and_then(|b| b.remedy(&chosen.sim))
+            .and_then(|b| b.remedy(&chosen.sim, (edge, designing::least_edge(&base))))
             .unwrap_or_else(|| {
                 designing::goal::remedy(
                     &chosen.design,

@@ -10,7 +10,7 @@
 //! its joints there lie as far outside as the circle reaches, which the
 //! goal's largest distance bounds (docs/design.md, "Round bumps").
 
-use super::goal::COVERED;
+use super::goal::{COVERED, ratios};
 use super::{DesignAsk, Found, Plumb, loops, miss};
 use crate::target::{COVERED_WITHIN, Fit, Target};
 use glam::{DVec2, DVec3};
@@ -175,20 +175,35 @@ pub struct BumpCover {
 }
 
 impl BumpCover {
-    /// What to try when a design misses the goal's coverage on this
-    /// target (its simulated fit `sim`) and loops cannot reach it; None
-    /// when they might, where the edge's remedy stands.
-    pub fn remedy(&self, sim: &Fit) -> Option<String> {
-        let short = sim.coverage.is_some_and(|c| c < COVERED);
-        (short && self.covers < COVERED + SHORT_OF_DISK).then(|| {
+    /// What to try when a design grown at `edge` misses the goal's
+    /// coverage on this target (its simulated fit `sim`): a squarer sheet
+    /// when loops cannot reach it, else the edge at which what the cells
+    /// leave short of the disk, going about as the edge, is within the
+    /// goal (measured: docs/design.md, "Round bumps"). None when the
+    /// distances miss too, or the edge would be under the eyelets'
+    /// `least`: the goal's remedy says what then.
+    pub fn remedy(&self, sim: &Fit, (edge, least): (f64, f64)) -> Option<String> {
+        let covered = sim.coverage.filter(|&c| c < COVERED)?;
+        if self.covers < COVERED + SHORT_OF_DISK {
+            return Some(self.too_long());
+        }
+        let wanted = (edge * (self.covers - COVERED) / (self.covers - covered)).floor();
+        (ratios(sim).0 <= 1.0 && wanted >= least).then(|| {
             format!(
-                "a loop round the bump's axis covers less of this target than the disk its widest seed circle reaches with the 3 % of D that counts as covered (about {:.0} % of its area, radius {:.0} mm; a loop's cells cover 3 to 6 % less), so no edge would meet the goal, and no sheet found climbs the bump: the sheet is longer than wide, or the bump off its middle; a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm, is covered (docs/design.md, \"Round bumps\")",
-                100.0 * self.covers,
-                self.radius,
-                self.side,
-                self.side
+                "try --edge {wanted:.0} (now {edge:.1} mm): a loop round the bump's axis reaches up to about {:.0} % of this target, and the share its cells leave short of that goes about as the edge (docs/design.md, \"Round bumps\")",
+                100.0 * self.covers
             )
         })
+    }
+
+    fn too_long(&self) -> String {
+        format!(
+            "a loop round the bump's axis covers less of this target than the disk its widest seed circle reaches with the 3 % of D that counts as covered (about {:.0} % of its area, radius {:.0} mm; a loop's cells cover 3 to 6 % less), so no edge would meet the goal, and no sheet found climbs the bump: the sheet is longer than wide, or the bump off its middle; a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm, is covered (docs/design.md, \"Round bumps\")",
+            100.0 * self.covers,
+            self.radius,
+            self.side,
+            self.side
+        )
     }
 }
 
@@ -249,7 +264,7 @@ mod tests {
     /// (3.5 % past the long sides, 3 % counted covered): 89.2 % of the
     /// Gaussian's surface on the 420 x 360 sheet (integrated apart, on a
     /// 1000 x 1000 grid; the height field's triangles and the test by
-    /// their centres stray about 1 %), so the edge's remedy stands. On a
+    /// their centres stray about 1 %), so a smaller edge is offered. On a
     /// 480 x 320 sheet the disk of 160 mm + 6.5 % covers 73.0 %, and a
     /// coverage miss is told to take a sheet about as wide as long.
     #[test]
@@ -273,7 +288,11 @@ mod tests {
             (c.covers - 0.892).abs() < 0.015 && (c.side - 360.0).abs() < 2.0,
             "{c:?}"
         );
-        assert_eq!(c.remedy(&fit(0.80)), None);
+        // 60 (0.903 - 0.85) / (0.903 - 0.825) = 40.8 mm; from 80 %
+        // covered, 30.9 mm, under the eyelets' 34 mm.
+        let hint = c.remedy(&fit(0.825), (60.0, 34.0)).expect("an edge");
+        assert!(hint.starts_with("try --edge 40 (now 60.0 mm)"), "{hint}");
+        assert_eq!(c.remedy(&fit(0.80), (60.0, 34.0)), None);
         let rows: Vec<String> = (0..11)
             .map(|j| {
                 let y = -160.0 + 32.0 * j as f64;
@@ -296,12 +315,12 @@ mod tests {
         let c = cover(&t, round_bump(&t, &boundary(&t)).expect("a round bump"));
         eprintln!("{c:?}");
         assert!((c.covers - 0.730).abs() < 0.015, "{c:?}");
-        let hint = c.remedy(&fit(0.80)).expect("a remedy");
+        let hint = c.remedy(&fit(0.80), (60.0, 34.0)).expect("a remedy");
         assert!(
             hint.contains("(about 73 % of its area, radius 197 mm;")
                 && hint.contains("320 x 320 mm"),
             "{hint}"
         );
-        assert_eq!(c.remedy(&fit(0.90)), None);
+        assert_eq!(c.remedy(&fit(0.90), (60.0, 34.0)), None);
     }
 }

@@ -25,7 +25,7 @@ pub fn miss(f: &Fit) -> f64 {
 
 /// The distances' ratio to their limits (the larger of rms and largest)
 /// and the uncovered share's to its limit.
-fn ratios(f: &Fit) -> (f64, f64) {
+pub(super) fn ratios(f: &Fit) -> (f64, f64) {
     let cov = f.coverage.unwrap_or(0.0);
     let distance = (f.rms / (RMS * f.extent)).max(f.largest / (LARGEST * f.extent));
     (distance, (1.0 - cov) / (1.0 - COVERED))
