@@ -115,10 +115,32 @@ fn circle_heights(t: &Target, axis: DVec2, r: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The search on a round bump: why loops are grown (the recipe's
+/// topology line), how much of the target they can cover, said to
+/// `progress`, and the loops (`loops`).
+pub(super) fn grow(
+    ask: &DesignAsk<'_>,
+    bump: Bump,
+    tried: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> (String, BumpCover, Vec<Found>) {
+    let why = format!(
+        "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis climb it as on a cap (docs/design.md, \"Round bumps\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
+        bump.inscribed
+    );
+    let reach = cover(&ask.target, bump);
+    progress(&format!(
+        "a round bump: loops round its axis reach at most {:.1} % of the target's area (a disk of radius {:.1} mm)",
+        100.0 * reach.covers,
+        reach.radius
+    ));
+    (why, reach, loops(ask, bump, tried, progress))
+}
+
 /// Loops seeded round level circles about the bump's axis, from the
 /// boundary's nearest point to `REACH` past it, each at the mean height
 /// the target has round it (`loops::loops` grows their rings).
-pub(super) fn loops(
+fn loops(
     ask: &DesignAsk<'_>,
     bump: Bump,
     tried: &mut usize,
@@ -208,7 +230,7 @@ impl BumpCover {
 }
 
 /// The cover of loops round `bump` on `t`.
-pub(super) fn cover(t: &Target, bump: Bump) -> BumpCover {
+fn cover(t: &Target, bump: Bump) -> BumpCover {
     let widest = REACH.iter().copied().fold(0.0, f64::max);
     let radius = bump.inscribed + (widest + COVERED_WITHIN) * t.extent;
     let (mut inside, mut all) = (0.0, 0.0);

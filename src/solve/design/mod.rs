@@ -156,18 +156,8 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         ));
     } else if patch && let Some(round) = bump::round_bump(t, &boundary) {
         // Sheets are grown too: on a low bump they may cover more.
-        topology = format!(
-            "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis climb it as on a cap (docs/design.md, \"Round bumps\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
-            round.inscribed
-        );
-        let reach = bump::cover(t, round);
-        progress(&format!(
-            "a round bump: loops round its axis reach at most {:.1} % of the target's area (a disk of radius {:.1} mm)",
-            100.0 * reach.covers,
-            reach.radius
-        ));
-        cover = Some(reach);
-        bumps = bump::loops(ask, round, &mut tried, progress);
+        let (why, reach, grown) = bump::grow(ask, round, &mut tried, progress);
+        (topology, cover, bumps) = (why, Some(reach), grown);
     }
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
         found.extend(loops::annulus(ask, rims, &mut tried, progress));
