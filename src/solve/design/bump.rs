@@ -182,10 +182,11 @@ fn loops(
 const SHORT_OF_DISK: f64 = 0.025;
 
 /// How much of a sheet loops round its bump can cover: the share of its
-/// area that lies, in plan, within the widest seed circle and the `COVERED_WITHIN` of
-/// D about it that counts as covered. Where that is under the goal's 85 %
-/// (and `SHORT_OF_DISK`) the sheet is too long, or the bump too far off
-/// its middle, for a loop (docs/design.md, "Round bumps").
+/// area that lies, in plan, within the widest seed circle and the
+/// `COVERED_WITHIN` of D about it that counts as covered. Where that is
+/// under the goal's 85 % and `SHORT_OF_DISK` the sheet is too long, or
+/// the bump too far off its middle, for a loop (docs/design.md, "Round
+/// bumps").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BumpCover {
     /// The share of the target's area (0 to 1).
