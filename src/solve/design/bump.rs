@@ -202,21 +202,28 @@ impl BumpCover {
     /// coverage on this target (its simulated fit `sim`): a squarer sheet
     /// when loops cannot reach it, else the edge at which what the cells
     /// leave short of the disk, going about as the edge, is within the
-    /// goal (measured: docs/design.md, "Round bumps"). None when the
-    /// distances miss too, or the edge would be under the eyelets'
-    /// `least`: the goal's remedy says what then.
+    /// goal (measured: docs/design.md, "Round bumps"), with the squarer
+    /// sheet should it miss; the squarer sheet alone when that edge would
+    /// be under the eyelets' `least`. None when the distances miss too:
+    /// the goal's remedy says what then.
     pub fn remedy(&self, sim: &Fit, (edge, least): (f64, f64)) -> Option<String> {
         let covered = sim.coverage.filter(|&c| c < COVERED)?;
         if self.covers < COVERED + SHORT_OF_DISK {
             return Some(self.too_long());
         }
+        if ratios(sim).0 > 1.0 {
+            return None;
+        }
         let wanted = (edge * (self.covers - COVERED) / (self.covers - covered)).floor();
-        (ratios(sim).0 <= 1.0 && wanted >= least).then(|| {
-            format!(
-                "try --edge {wanted:.0} (now {edge:.1} mm): a loop round the bump's axis reaches up to about {:.0} % of this target, and the share its cells leave short of that goes about as the edge (docs/design.md, \"Round bumps\")",
-                100.0 * self.covers
-            )
-        })
+        if wanted < least {
+            return Some(self.too_long());
+        }
+        Some(format!(
+            "try --edge {wanted:.0} (now {edge:.1} mm): a loop round the bump's axis reaches up to about {:.0} % of this target, and the share its cells leave short of that goes about as the edge; should that still miss, take a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm (docs/design.md, \"Round bumps\")",
+            100.0 * self.covers,
+            self.side,
+            self.side
+        ))
     }
 
     fn too_long(&self) -> String {
@@ -312,10 +319,18 @@ mod tests {
             "{c:?}"
         );
         // 60 (0.903 - 0.85) / (0.903 - 0.825) = 40.8 mm; from 80 %
-        // covered, 30.9 mm, under the eyelets' 34 mm.
+        // covered, 30.9 mm, under the eyelets' 34 mm: the square alone.
         let hint = c.remedy(&fit(0.825), (60.0, 34.0)).expect("an edge");
-        assert!(hint.starts_with("try --edge 40 (now 60.0 mm)"), "{hint}");
-        assert_eq!(c.remedy(&fit(0.80), (60.0, 34.0)), None);
+        assert!(
+            hint.starts_with("try --edge 40 (now 60.0 mm)")
+                && hint.contains("such as 360 x 360 mm"),
+            "{hint}"
+        );
+        let hint = c.remedy(&fit(0.80), (60.0, 34.0)).expect("a square");
+        assert!(
+            hint.starts_with("a loop round the bump's axis covers less"),
+            "{hint}"
+        );
         let rows: Vec<String> = (0..11)
             .map(|j| {
                 let y = -160.0 + 32.0 * j as f64;
