@@ -351,7 +351,6 @@ mod tests {
             rows.join(", ")
         ));
         let c = cover(&t, round_bump(&t, &boundary(&t)).expect("a round bump"));
-        eprintln!("{c:?}");
         assert!((c.covers - 0.730).abs() < 0.015, "{c:?}");
         let hint = c.remedy(&fit(0.80), (60.0, 34.0)).expect("a remedy");
         assert!(
