@@ -271,7 +271,7 @@ pub(super) fn buildable(d: &Design) -> Option<Lattice> {
 const RING_STEPS: [f64; 3] = [0.5, 0.7, 0.9];
 
 /// The share of the meridian left open at the axis.
-const HOLE: f64 = 0.1;
+pub(super) const HOLE: f64 = 0.1;
 
 /// Rings a loop grows at most.
 const MAX_RINGS: usize = 40;
@@ -293,7 +293,7 @@ fn loop_rows(targets: &[DVec3]) -> Vec<RowParams> {
 /// The target's meridian from the rim point `from` to the axis through
 /// `centre` along z, sampled where vertical lines meet it: (arc length,
 /// point) pairs; None when a line misses the target.
-fn meridian(t: &Target, centre: DVec3, from: DVec3) -> Option<Vec<(f64, DVec3)>> {
+pub(super) fn meridian(t: &Target, centre: DVec3, from: DVec3) -> Option<Vec<(f64, DVec3)>> {
     let plumb = Plumb::new(t);
     let d = (from - centre).truncate();
     let s0 = d.length();

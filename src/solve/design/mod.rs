@@ -24,6 +24,7 @@ pub use bump::BumpCover;
 mod closed;
 mod feet;
 pub mod goal;
+mod level;
 mod loops;
 mod material;
 mod polish;
@@ -143,7 +144,8 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     let mut cover = None;
     let mut topology = topology;
     let patch = t.topology == Topology::Patch;
-    if patch && let Some((centre, radius)) = loops::circular_rim(&boundary, t.extent) {
+    let round_rim = loops::circular_rim(&boundary, t.extent).filter(|_| patch);
+    if let Some((centre, radius)) = round_rim {
         topology = format!(
             "loop: the target is an open patch whose boundary is a level circle (radius {radius:.1} mm), so a symmetric loop seeded round it closes every ring and each ring's vertex can be put on the target one edge further in (docs/math.md 6.2, as for the half ellipsoid)"
         );
@@ -158,6 +160,15 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         // Sheets are grown too: on a low bump they may cover more.
         let (why, reach, grown) = bump::grow(ask, round, &mut tried, progress);
         (topology, cover, bumps) = (why, Some(reach), grown);
+    }
+    // A level rim of any other shape: loops at equal chords round it,
+    // grown beside the sheets (which may cover a plate's corners better).
+    if let Some(z) = level::level(&boundary, t.extent).filter(|_| patch && round_rim.is_none()) {
+        let grown = level::loops(ask, &boundary, z, &mut tried, progress);
+        if !grown.is_empty() {
+            topology = level::topology(&topology, cover.is_some());
+        }
+        bumps.extend(grown);
     }
     if let Some(rims) = loops::level_rims(t).filter(|_| !patch) {
         found.extend(loops::annulus(ask, rims, &mut tried, progress));

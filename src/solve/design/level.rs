@@ -1,0 +1,296 @@
+//! Loops round a level rim that is not a circle: an oval cap's rim, or
+//! the rectangle of a sheet with a bump on it. Points at equal chords
+//! round any level closed polygon, with kappa 0, close every ring for
+//! every direction, as points evenly round a circle do (docs/design.md,
+//! "Level rims"), so each ring's vertex x[i+1][1] is put on the target
+//! one step further down its meridian, as on a round rim.
+
+use super::loops::{HOLE, Seed, grow_rings, meridian};
+use super::{DesignAsk, Found};
+use glam::{DVec2, DVec3};
+
+/// A level rim: every boundary corner within this share of D of the
+/// corners' mean height, where the seed is laid (a bump's sheet rises a
+/// little at the middle of its sides: height-field.toml 0.6 %).
+const LEVEL: f64 = 0.01;
+
+/// The rim's mean height, when the boundary (at least 8 corners) is level.
+pub(super) fn level(boundary: &[DVec3], extent: f64) -> Option<f64> {
+    let z = boundary.iter().map(|p| p.z).sum::<f64>() / boundary.len().max(1) as f64;
+    let level = boundary.iter().all(|p| (p.z - z).abs() <= LEVEL * extent);
+    (level && boundary.len() >= 8).then_some(z)
+}
+
+/// Loops of an even number of points at equal chords round the level
+/// `boundary` (near one cell edge apart, and two fewer), their rings
+/// stepping down the meridian from the seed's point 1 towards the rim's
+/// centroid in plan (`loops::grow_rings`).
+pub(super) fn loops(
+    ask: &DesignAsk<'_>,
+    boundary: &[DVec3],
+    z: f64,
+    tried: &mut usize,
+    progress: &mut dyn FnMut(&str),
+) -> Vec<Found> {
+    // Counterclockwise seen from +z, as `loops::level_loop`'s circles.
+    let mut plan: Vec<DVec2> = boundary.iter().map(|p| p.truncate()).collect();
+    if signed_area(&plan) < 0.0 {
+        plan.reverse();
+    }
+    let centre = centroid(&plan).extend(z);
+    let perimeter = Polyline::new(&plan).length();
+    let n0 = ((perimeter / ask.edge / 2.0).round() as usize * 2).max(8);
+    let mut out = Vec::new();
+    for n in [n0, n0.saturating_sub(2).max(8)] {
+        let Some(points) = equal_chords(&plan, n) else {
+            continue;
+        };
+        let points: Vec<DVec3> = points.iter().map(|p| p.extend(z)).collect();
+        let Some(meridian) = meridian(&ask.target, centre, points[1]) else {
+            continue;
+        };
+        let length = (1.0 - HOLE) * meridian.last().map_or(0.0, |m| m.0);
+        let seed = Seed {
+            points: &points,
+            meridian: &meridian,
+            span: (0.0, length),
+            what: "at equal chords round the level rim",
+            closed: false,
+        };
+        out.extend(grow_rings(ask, &seed, tried, progress));
+    }
+    out
+}
+
+/// The recipe's `# Topology:` line when loops round a level rim grew:
+/// after a round bump's (`bump`) it is said as well; else it replaces
+/// the sheets' line.
+pub(super) fn topology(before: &str, bump: bool) -> String {
+    const LOOPS: &str = "loops of points at equal chords round its level boundary close every ring as points evenly round a circle do, so their rings step down the target from the rim as on a cap (docs/design.md, \"Level rims\")";
+    if bump {
+        format!("{before}; and {LOOPS}")
+    } else {
+        format!(
+            "loop or sheet (the seed below says which): the target is an open patch whose boundary is level but not a circle: {LOOPS}, and sheets grow from stretches of its boundary across it (docs/math.md 6.1)"
+        )
+    }
+}
+
+/// Twice the signed area of a closed polygon (positive counterclockwise).
+fn signed_area(p: &[DVec2]) -> f64 {
+    (0..p.len())
+        .map(|k| p[k].perp_dot(p[(k + 1) % p.len()]))
+        .sum()
+}
+
+/// The centroid of a closed polygon's area.
+fn centroid(p: &[DVec2]) -> DVec2 {
+    let (mut c, mut a) = (DVec2::ZERO, 0.0);
+    for k in 0..p.len() {
+        let (u, v) = (p[k], p[(k + 1) % p.len()]);
+        let w = u.perp_dot(v);
+        c += (u + v) * w;
+        a += w;
+    }
+    if a.abs() > 0.0 {
+        c / (3.0 * a)
+    } else {
+        p.iter().sum::<DVec2>() / p.len().max(1) as f64
+    }
+}
+
+/// A closed polyline walked by arc length.
+struct Polyline<'a> {
+    corners: &'a [DVec2],
+    /// Arc length at each corner, and the whole length last.
+    at: Vec<f64>,
+}
+
+impl<'a> Polyline<'a> {
+    fn new(corners: &'a [DVec2]) -> Self {
+        let n = corners.len();
+        let mut at = Vec::with_capacity(n + 1);
+        at.push(0.0);
+        for k in 0..n {
+            let walked = at[k] + corners[k].distance(corners[(k + 1) % n]);
+            at.push(walked);
+        }
+        Polyline { corners, at }
+    }
+
+    fn length(&self) -> f64 {
+        *self.at.last().expect("a corner")
+    }
+
+    /// The point at arc length `s` (taken round the loop).
+    fn point(&self, s: f64) -> DVec2 {
+        let n = self.corners.len();
+        let s = s.rem_euclid(self.length());
+        let k = (self.at.partition_point(|&a| a <= s) - 1).min(n - 1);
+        let span = self.at[k + 1] - self.at[k];
+        let u = if span > 0.0 {
+            (s - self.at[k]) / span
+        } else {
+            0.0
+        };
+        self.corners[k].lerp(self.corners[(k + 1) % n], u)
+    }
+
+    /// The first arc length past `from` whose point lies `chord` from
+    /// `from`'s, found by steps of an eighth of the chord, then halving.
+    fn next(&self, from: f64, chord: f64) -> Option<f64> {
+        let p = self.point(from);
+        let step = chord / 8.0;
+        let mut lo = from;
+        loop {
+            let hi = lo + step;
+            if hi > from + self.length() {
+                return None;
+            }
+            if self.point(hi).distance(p) >= chord {
+                let mut lo = lo;
+                let mut hi = hi;
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if self.point(mid).distance(p) >= chord {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                return Some(hi);
+            }
+            lo = hi;
+        }
+    }
+
+    /// Where `n` chords of length `chord` from arc length `start` end.
+    fn walk(&self, start: f64, chord: f64, n: usize) -> Option<Vec<f64>> {
+        let mut s = vec![start];
+        for _ in 0..n {
+            s.push(self.next(*s.last().expect("a start"), chord)?);
+        }
+        Some(s)
+    }
+}
+
+/// `n` points round the closed polygon `ring` with equal chords, the
+/// first at the corner farthest from its centroid (an oval's end): the
+/// chord is halved until `n` of them come back to the first point.
+pub(super) fn equal_chords(ring: &[DVec2], n: usize) -> Option<Vec<DVec2>> {
+    let line = Polyline::new(ring);
+    let total = line.length();
+    if ring.len() < 3 || n < 3 || !(total > 0.0) {
+        return None;
+    }
+    let c = centroid(ring);
+    let first = (0..ring.len())
+        .max_by(|&a, &b| ring[a].distance(c).total_cmp(&ring[b].distance(c)))
+        .expect("corners");
+    let start = line.at[first];
+    let end = start + total;
+    // A chord no longer than its arc: n arcs of total / n reach the end.
+    let (mut lo, mut hi) = (0.0, total / n as f64);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        match line.walk(start, mid, n) {
+            Some(s) if s[n] <= end => lo = mid,
+            _ => hi = mid,
+        }
+    }
+    let s = line.walk(start, lo, n - 1)?;
+    let points: Vec<DVec2> = s.iter().map(|&s| line.point(s)).collect();
+    // The last chord, back to the first point, as long as the others.
+    let last = points[n - 1].distance(points[0]);
+    ((last - lo).abs() <= 1e-9 * lo).then_some(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points at equal chords round an ellipse and round a rectangle: n of
+    /// them, every chord the same to 1e-9 of it, each on the polygon.
+    #[test]
+    fn points_at_equal_chords_round_an_oval_and_a_rectangle() {
+        let oval: Vec<DVec2> = (0..400)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 400.0;
+                DVec2::new(200.0 * a.cos(), 150.0 * a.sin())
+            })
+            .collect();
+        let rectangle = [
+            DVec2::new(-240.0, -160.0),
+            DVec2::new(240.0, -160.0),
+            DVec2::new(240.0, 160.0),
+            DVec2::new(-240.0, 160.0),
+        ];
+        for (ring, n) in [(&oval[..], 20), (&oval[..], 9), (&rectangle[..], 26)] {
+            let p = equal_chords(ring, n).expect("points");
+            assert_eq!(p.len(), n);
+            let chords: Vec<f64> = (0..n).map(|k| p[k].distance(p[(k + 1) % n])).collect();
+            let c = chords[0];
+            assert!(
+                chords.iter().all(|d| (d - c).abs() <= 1e-9 * c),
+                "{chords:?}"
+            );
+            let line = Polyline::new(ring);
+            // Near the arc's share: a chord is a little shorter than its arc.
+            assert!(c <= line.length() / n as f64 && c > 0.95 * line.length() / n as f64);
+        }
+        // The first point at an end of the oval's long axis.
+        let p = equal_chords(&oval, 20).unwrap();
+        assert!(
+            (p[0].x.abs() - 200.0).abs() < 1e-9 && p[0].y.abs() < 1e-9,
+            "{:?}",
+            p[0]
+        );
+    }
+
+    /// docs/design.md, "Level rims": kappa 0 and every chord the same make
+    /// each cell's reflections a turn about the rim plane's normal by the
+    /// turning at a corner, 2 pi round the loop, so a loop at equal chords
+    /// round any oval closes for every direction, as points evenly round a
+    /// circle do; and its rings, grown towards targets down an ellipsoid,
+    /// close so too. Over random ovals and point counts.
+    #[test]
+    fn loops_at_equal_chords_round_an_oval_close_for_every_direction() {
+        let mut rng = crate::rng::Rng::new(7);
+        for _ in 0..40 {
+            let (a, b) = (150.0 + 100.0 * rng.uniform(), 80.0 + 70.0 * rng.uniform());
+            let c = 60.0 + 80.0 * rng.uniform();
+            let n = 2 * (8 + (rng.uniform() * 8.0) as usize);
+            let oval: Vec<DVec2> = (0..240)
+                .map(|k| {
+                    let t = std::f64::consts::TAU * k as f64 / 240.0;
+                    DVec2::new(a * t.cos(), b * t.sin())
+                })
+                .collect();
+            let points: Vec<DVec3> = equal_chords(&oval, n)
+                .expect("points")
+                .iter()
+                .map(|p| p.extend(0.0))
+                .collect();
+            let mut g =
+                crate::lattice::Grower::new(crate::lattice::Kind::Loop, 3, &points, &vec![0.0; n])
+                    .unwrap();
+            // Two rings, each vertex 1 aimed 0.15 and 0.3 of the way in,
+            // on the ellipsoid below the rim.
+            for f in [0.85, 0.7] {
+                let p = points[1] * f;
+                let z = -c
+                    * (1.0 - (p.x / a).powi(2) - (p.y / b).powi(2))
+                        .max(0.0)
+                        .sqrt();
+                let row = crate::lattice::RowParams {
+                    target: Some(DVec3::new(p.x, p.y, z)),
+                    ..Default::default()
+                };
+                g.grow_row(&row)
+                    .unwrap_or_else(|e| panic!("{a} {b} {c} {n}: {}", e.message));
+            }
+            assert_eq!(g.closures.len(), 2);
+            assert!(g.closures.iter().all(|r| r.free), "{a} {b} {n}");
+        }
+    }
+}
