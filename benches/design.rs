@@ -9,10 +9,11 @@ use karigami::designing::{self, DesignAsk};
 use std::sync::Arc;
 use std::time::Instant;
 
-const TARGETS: [&str; 19] = [
+const TARGETS: [&str; 20] = [
     "disk.toml",
     "sphere-cap.toml",
     "spheroid-cap.toml",
+    "oval-cap.toml",
     "paraboloid.toml",
     "saddle.toml",
     "saddle-ring.toml",

@@ -21,6 +21,7 @@ const SUITE: &[(&str, f64, Topology)] = &[
     // Base radius sqrt(h (2r - h)) = 240 for r 300, h 120.
     ("sphere-cap.toml", 480.0, Topology::Patch),
     ("spheroid-cap.toml", 400.0, Topology::Patch),
+    ("oval-cap.toml", 400.0, Topology::Patch),
     ("paraboloid.toml", 400.0, Topology::Patch),
     // Corner to corner of the 400 x 400 square, where the height is 0.
     ("saddle.toml", 565.685424949238, Topology::Patch),
