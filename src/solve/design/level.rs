@@ -21,6 +21,20 @@ pub(super) fn level(boundary: &[DVec3], extent: f64) -> Option<f64> {
     (level && boundary.len() >= 8).then_some(z)
 }
 
+/// A cap on a level rim: the rim's height, when the boundary is level
+/// and the target stands more than 3 % of D off it (a plate does not;
+/// `cells_per_square` counts a cap's loops).
+pub(super) fn cap(t: &crate::target::Target, boundary: &[DVec3]) -> Option<f64> {
+    let z = level(boundary, t.extent)?;
+    let off = t
+        .mesh
+        .positions
+        .iter()
+        .map(|p| (p.z - z).abs())
+        .fold(0.0, f64::max);
+    (off > 0.03 * t.extent).then_some(z)
+}
+
 /// Loops of an even number of points at equal chords round the level
 /// `boundary` (near one cell edge apart, and two fewer), their rings
 /// stepping down the meridian from the seed's point 1 towards the rim's

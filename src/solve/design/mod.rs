@@ -338,6 +338,8 @@ pub fn cells_per_square(t: &Arc<Target>) -> f64 {
                 LOOPS
             } else if bump::round_bump(&levelled, &boundary).is_some() {
                 BUMP
+            } else if level::cap(&levelled, &boundary).is_some() {
+                LOOPS
             } else {
                 SHEETS
             }
@@ -558,5 +560,7 @@ mod tests {
         assert_eq!(cells_per_square(&band), 3.0);
         let bump = target(&std::fs::read_to_string("fixtures/targets/height-field.toml").unwrap());
         assert_eq!(cells_per_square(&bump), 2.4);
+        let oval = target(&std::fs::read_to_string("fixtures/targets/oval-cap.toml").unwrap());
+        assert_eq!(cells_per_square(&oval), 3.0);
     }
 }
