@@ -1,5 +1,6 @@
-//! Loops round a level rim that is not a circle: an oval cap's rim, or
-//! the rectangle of a sheet with a bump on it. Points at equal chords
+//! Loops round a level rim that is not a circle, such as an oval cap's
+//! (a bump's rectangular sheet is tried too, but its corner cells fold:
+//! docs/design.md, "Level rims"). Points at equal chords
 //! round any level closed polygon, with kappa 0, close every ring for
 //! every direction, as points evenly round a circle do (docs/design.md,
 //! "Level rims"), so each ring's vertex x[i+1][1] is put on the target
