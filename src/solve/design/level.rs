@@ -6,7 +6,7 @@
 //! "Level rims"), so each ring's vertex x[i+1][1] is put on the target
 //! one step further down its meridian, as on a round rim.
 
-use super::loops::{HOLE, Seed, grow_rings, meridian};
+use super::loops::{HOLE, Seed, counts, grow_rings, meridian};
 use super::{DesignAsk, Found};
 use glam::{DVec2, DVec3};
 
@@ -53,10 +53,8 @@ pub(super) fn loops(
         plan.reverse();
     }
     let centre = centroid(&plan).extend(z);
-    let perimeter = Polyline::new(&plan).length();
-    let n0 = ((perimeter / ask.edge / 2.0).round() as usize * 2).max(8);
     let mut out = Vec::new();
-    for n in [n0, n0.saturating_sub(2).max(8)] {
+    for n in counts(Polyline::new(&plan).length(), ask.edge) {
         let Some(points) = equal_chords(&plan, n) else {
             continue;
         };
@@ -224,16 +222,22 @@ pub(super) fn equal_chords(ring: &[DVec2], n: usize) -> Option<Vec<DVec2>> {
 mod tests {
     use super::*;
 
+    /// `n` corners round the ellipse of semi-axes `a` and `b`.
+    fn oval(a: f64, b: f64, n: usize) -> Vec<DVec2> {
+        (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                DVec2::new(a * t.cos(), b * t.sin())
+            })
+            .collect()
+    }
+
     /// Points at equal chords round an ellipse and round a rectangle: n of
-    /// them, every chord the same to 1e-9 of it, each on the polygon.
+    /// them, every chord the same to 1e-9 of it; on the rectangle each
+    /// lies on a side.
     #[test]
     fn points_at_equal_chords_round_an_oval_and_a_rectangle() {
-        let oval: Vec<DVec2> = (0..400)
-            .map(|k| {
-                let a = std::f64::consts::TAU * k as f64 / 400.0;
-                DVec2::new(200.0 * a.cos(), 150.0 * a.sin())
-            })
-            .collect();
+        let oval = oval(200.0, 150.0, 400);
         let rectangle = [
             DVec2::new(-240.0, -160.0),
             DVec2::new(240.0, -160.0),
@@ -253,6 +257,11 @@ mod tests {
             // Near the arc's share: a chord is a little shorter than its arc.
             assert!(c <= line.length() / n as f64 && c > 0.95 * line.length() / n as f64);
         }
+        let on_a_side = |p: &DVec2| {
+            (p.x.abs() - 240.0).abs() < 1e-9 && p.y.abs() <= 160.0 + 1e-9
+                || (p.y.abs() - 160.0).abs() < 1e-9 && p.x.abs() <= 240.0 + 1e-9
+        };
+        assert!(equal_chords(&rectangle, 26).unwrap().iter().all(on_a_side));
         // The first point at an end of the oval's long axis.
         let p = equal_chords(&oval, 20).unwrap();
         assert!(
@@ -275,13 +284,7 @@ mod tests {
             let (a, b) = (150.0 + 100.0 * rng.uniform(), 80.0 + 70.0 * rng.uniform());
             let c = 60.0 + 80.0 * rng.uniform();
             let n = 2 * (8 + (rng.uniform() * 8.0) as usize);
-            let oval: Vec<DVec2> = (0..240)
-                .map(|k| {
-                    let t = std::f64::consts::TAU * k as f64 / 240.0;
-                    DVec2::new(a * t.cos(), b * t.sin())
-                })
-                .collect();
-            let points: Vec<DVec3> = equal_chords(&oval, n)
+            let points: Vec<DVec3> = equal_chords(&oval(a, b, 240), n)
                 .expect("points")
                 .iter()
                 .map(|p| p.extend(0.0))

@@ -69,9 +69,8 @@ fn rings(
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Found> {
-    let n0 = ((std::f64::consts::TAU * rim.radius / ask.edge / 2.0).round() as usize * 2).max(8);
     let mut out = Vec::new();
-    for n in [n0, n0.saturating_sub(2).max(8)] {
+    for n in counts(std::f64::consts::TAU * rim.radius, ask.edge) {
         let points = level_loop(rim.centre, rim.radius, n);
         let Some(meridian) = (rim.meridian)(points[1]) else {
             continue;
@@ -87,6 +86,13 @@ fn rings(
         out.extend(grow_rings(ask, &seed, tried, progress));
     }
     out
+}
+
+/// The point counts of a loop round a rim `length` long: an even count
+/// near one `edge` apart, and two fewer, 8 at least.
+pub(super) fn counts(length: f64, edge: f64) -> [usize; 2] {
+    let n0 = ((length / edge / 2.0).round() as usize * 2).max(8);
+    [n0, n0.saturating_sub(2).max(8)]
 }
 
 /// `n` points round the level circle of `radius` about `centre`, the
