@@ -134,6 +134,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
     let remedy = (chosen.miss > 1.0).then(|| {
         searched
             .bump
+            .as_ref()
             .and_then(|b| b.remedy(&chosen.sim, (edge, designing::least_edge(&base))))
             .unwrap_or_else(|| {
                 designing::goal::remedy(

@@ -11,7 +11,7 @@
 //! goal's largest distance bounds (docs/design.md, "Round bumps").
 
 use super::goal::{COVERED, ratios};
-use super::{DesignAsk, Found, Plumb, loops, miss};
+use super::{DesignAsk, Found, Plumb, loops, miss, rounded};
 use crate::target::{COVERED_WITHIN, Fit, Target};
 use glam::{DVec2, DVec3};
 
@@ -117,24 +117,30 @@ fn circle_heights(t: &Target, axis: DVec2, r: f64) -> Vec<f64> {
 
 /// The search on a round bump: why loops are grown (the recipe's
 /// topology line), how much of the target they can cover, said to
-/// `progress`, and the loops (`loops`).
+/// `progress`, and the loops: round circles about its axis (`loops`)
+/// and round boxes inscribed in the sheet (`rounded`).
 pub(super) fn grow(
     ask: &DesignAsk<'_>,
-    bump: Bump,
+    (bump, boundary): (Bump, &[DVec3]),
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> (String, BumpCover, Vec<Found>) {
     let why = format!(
-        "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis climb it as on a cap (docs/design.md, \"Round bumps\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
+        "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis, and round boxes inscribed in the sheet, climb it as on a cap (docs/design.md, \"Round bumps\" and \"Rounded boxes\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
         bump.inscribed
     );
-    let reach = cover(&ask.target, bump);
+    let boxes = rounded::boxes(&ask.target, boundary);
+    let reach = cover(&ask.target, bump, boxes.as_ref());
     progress(&format!(
-        "a round bump: loops round its axis reach at most {:.1} % of the target's area (a disk of radius {:.1} mm)",
+        "a round bump: loops reach at most {:.1} % of the target's area ({})",
         100.0 * reach.covers,
-        reach.radius
+        reach.curve
     ));
-    (why, reach, loops(ask, bump, tried, progress))
+    let mut found = loops(ask, bump, tried, progress);
+    if let Some((frame, boxes)) = &boxes {
+        found.extend(rounded::loops(ask, (frame, boxes), tried, progress));
+    }
+    (why, reach, found)
 }
 
 /// Loops seeded round level circles about the bump's axis, from the
@@ -182,17 +188,18 @@ fn loops(
 const SHORT_OF_DISK: f64 = 0.025;
 
 /// How much of a sheet loops round its bump can cover: the share of its
-/// area that lies, in plan, within the widest seed circle and the
-/// `COVERED_WITHIN` of D about it that counts as covered. Where that is
-/// under the goal's 85 % and `SHORT_OF_DISK` the sheet is too long, or
-/// the bump too far off its middle, for a loop (docs/design.md, "Round
+/// area that lies, in plan, within the widest seed (a circle about the
+/// axis or a rounded box) and the `COVERED_WITHIN` of D about it that
+/// counts as covered. Where that is under the goal's 85 % and
+/// `SHORT_OF_DISK`, no loop can cover the sheet (docs/design.md, "Round
 /// bumps").
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BumpCover {
     /// The share of the target's area (0 to 1).
     pub covers: f64,
-    /// The plan radius of that disk about the axis (mm).
-    pub radius: f64,
+    /// The seed that reaches it, for the refusal: "the disk of radius
+    /// 242 mm about its axis".
+    pub curve: String,
     /// The side of the square about the axis inside the boundary (mm).
     pub side: f64,
 }
@@ -201,11 +208,11 @@ impl BumpCover {
     /// What to try when a design grown at `edge` misses the goal's
     /// coverage on this target (its simulated fit `sim`): a squarer sheet
     /// when loops cannot reach it, else the edge at which what the cells
-    /// leave short of the disk, going about as the edge, is within the
-    /// goal (measured: docs/design.md, "Round bumps"), with the squarer
-    /// sheet should it miss; the squarer sheet alone when that edge would
-    /// be under the eyelets' `least`. None when the distances miss too:
-    /// the goal's remedy says what then.
+    /// leave short of their seed's reach, going about as the edge, is
+    /// within the goal (measured: docs/design.md, "Round bumps"), with
+    /// the squarer sheet should it miss; the squarer sheet alone when
+    /// that edge would be under the eyelets' `least`. None when the
+    /// distances miss too: the goal's remedy says what then.
     pub fn remedy(&self, sim: &Fit, (edge, least): (f64, f64)) -> Option<String> {
         let covered = sim.coverage.filter(|&c| c < COVERED)?;
         if self.covers < COVERED + SHORT_OF_DISK {
@@ -219,8 +226,9 @@ impl BumpCover {
             return Some(self.too_long());
         }
         Some(format!(
-            "try --edge {wanted:.0} (now {edge:.1} mm): a loop round the bump's axis reaches up to about {:.0} % of this target, and the share its cells leave short of that goes about as the edge; should that still miss, take a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm (docs/design.md, \"Round bumps\")",
+            "try --edge {wanted:.0} (now {edge:.1} mm): a loop round the bump reaches up to about {:.0} % of this target ({}), and the share its cells leave short of that goes about as the edge; should that still miss, take a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm (docs/design.md, \"Round bumps\")",
             100.0 * self.covers,
+            self.curve,
             self.side,
             self.side
         ))
@@ -228,17 +236,22 @@ impl BumpCover {
 
     fn too_long(&self) -> String {
         format!(
-            "a loop round the bump's axis covers less of this target than the disk its widest seed circle reaches with the 3 % of D that counts as covered (about {:.0} % of its area, radius {:.0} mm; a loop's cells cover 3 to 6 % less), so no edge would meet the goal, and no sheet found climbs the bump: the sheet is longer than wide, or the bump off its middle; a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm, is covered (docs/design.md, \"Round bumps\")",
+            "a loop round the bump covers less of this target than its widest seed reaches with the 3 % of D that counts as covered (about {:.0} % of its area: {}; a loop's cells cover 3 to 6 % less), so no edge would meet the goal, and no sheet found climbs the bump; a sheet about as wide as long with the bump at its middle, such as {:.0} x {:.0} mm, is covered (docs/design.md, \"Round bumps\")",
             100.0 * self.covers,
-            self.radius,
+            self.curve,
             self.side,
             self.side
         )
     }
 }
 
-/// The cover of loops round `bump` on `t`.
-fn cover(t: &Target, bump: Bump) -> BumpCover {
+/// The cover of loops round `bump` on `t`, and round the rounded
+/// `boxes` when any lies over the sheet.
+fn cover(
+    t: &Target,
+    bump: Bump,
+    boxes: Option<&(rounded::Frame, Vec<rounded::Rounded>)>,
+) -> BumpCover {
     let widest = REACH.iter().copied().fold(0.0, f64::max);
     let radius = bump.inscribed + (widest + COVERED_WITHIN) * t.extent;
     let (mut inside, mut all) = (0.0, 0.0);
@@ -250,11 +263,30 @@ fn cover(t: &Target, bump: Bump) -> BumpCover {
             inside += a;
         }
     }
-    BumpCover {
+    let mut best = BumpCover {
         covers: if all > 0.0 { inside / all } else { 0.0 },
-        radius,
+        curve: format!("the disk of radius {radius:.0} mm about its axis"),
         side: 2.0 * bump.inscribed,
+    };
+    let Some((frame, boxes)) = boxes.filter(|b| !b.1.is_empty()) else {
+        best.curve
+            .push_str(", no rounded box inscribed in the sheet's least box lying over the sheet");
+        return best;
+    };
+    {
+        for b in boxes {
+            let covers = rounded::share(t, &b.ring);
+            if covers > best.covers {
+                best.covers = covers;
+                best.curve = format!(
+                    "the rounded box of exponent {} inscribed in the sheet's least box, {}",
+                    b.exponent,
+                    rounded::sides(frame)
+                );
+            }
+        }
     }
+    best
 }
 
 #[cfg(test)]
@@ -312,8 +344,13 @@ mod tests {
             env!("CARGO_MANIFEST_DIR")
         );
         let t = target(&std::fs::read_to_string(path).unwrap());
-        let c = cover(&t, round_bump(&t, &boundary(&t)).unwrap());
-        assert!((c.radius - (180.0 + 0.065 * t.extent)).abs() < 1.0, "{c:?}");
+        let c = cover(&t, round_bump(&t, &boundary(&t)).unwrap(), None);
+        let radius = 180.0 + 0.065 * t.extent;
+        assert!(
+            c.curve
+                .starts_with(&format!("the disk of radius {radius:.0} mm about its axis")),
+            "{c:?}"
+        );
         assert!(
             (c.covers - 0.892).abs() < 0.015 && (c.side - 360.0).abs() < 2.0,
             "{c:?}"
@@ -328,7 +365,7 @@ mod tests {
         );
         let hint = c.remedy(&fit(0.80), (60.0, 34.0)).expect("a square");
         assert!(
-            hint.starts_with("a loop round the bump's axis covers less"),
+            hint.starts_with("a loop round the bump covers less"),
             "{hint}"
         );
         let rows: Vec<String> = (0..11)
@@ -350,14 +387,30 @@ mod tests {
             "[target]\nfamily = \"height-field\"\nwidth = 480.0\nlength = 320.0\nheights = [{}]\n",
             rows.join(", ")
         ));
-        let c = cover(&t, round_bump(&t, &boundary(&t)).expect("a round bump"));
+        let ring = boundary(&t);
+        let bump = round_bump(&t, &ring).expect("a round bump");
+        let c = cover(&t, bump, None);
         assert!((c.covers - 0.730).abs() < 0.015, "{c:?}");
         let hint = c.remedy(&fit(0.80), (60.0, 34.0)).expect("a remedy");
         assert!(
-            hint.contains("(about 73 % of its area, radius 197 mm;")
-                && hint.contains("320 x 320 mm"),
+            hint.contains(
+                "(about 73 % of its area: the disk of radius 197 mm about its axis, no rounded box"
+            ) && hint.contains("320 x 320 mm"),
             "{hint}"
         );
         assert_eq!(c.remedy(&fit(0.90), (60.0, 34.0)), None);
+        // The rounded boxes inscribed in the sheet reach its corners: the
+        // widest (exponent 4, 92.7 % of the box's area) with its band
+        // covers nearly all, so an edge is offered.
+        let boxes = rounded::boxes(&t, &ring).expect("a box");
+        assert_eq!(boxes.1.len(), 3);
+        let c = cover(&t, bump, Some(&boxes));
+        assert!(c.covers > 0.97, "{c:?}");
+        let hint = c.remedy(&fit(0.80), (60.0, 34.0)).expect("an edge");
+        assert!(
+            hint.starts_with("try --edge ")
+                && hint.contains("(the rounded box of exponent 4 inscribed in the sheet's least box, 480 x 320 mm)"),
+            "{hint}"
+        );
     }
 }

@@ -39,11 +39,13 @@ pub(super) fn cap(t: &crate::target::Target, boundary: &[DVec3]) -> Option<f64> 
 /// Loops of an even number of points at equal chords round the level
 /// `boundary` (near one cell edge apart, and two fewer), their rings
 /// stepping down the meridian from the seed's point 1 towards the rim's
-/// centroid in plan (`loops::grow_rings`).
+/// centroid in plan (`loops::grow_rings`); `what` says where the seed
+/// lies, for the recipe's comment.
 pub(super) fn loops(
     ask: &DesignAsk<'_>,
     boundary: &[DVec3],
     z: f64,
+    what: &str,
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Found> {
@@ -67,7 +69,7 @@ pub(super) fn loops(
             points: &points,
             meridian: &meridian,
             span: (0.0, length),
-            what: "at equal chords round the level rim",
+            what,
             closed: false,
         };
         out.extend(grow_rings(ask, &seed, tried, progress));

@@ -28,6 +28,7 @@ mod level;
 mod loops;
 mod material;
 mod polish;
+mod rounded;
 mod sheets;
 mod waved;
 
@@ -158,13 +159,14 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         ));
     } else if patch && let Some(round) = bump::round_bump(t, &boundary) {
         // Sheets are grown too: on a low bump they may cover more.
-        let (why, reach, grown) = bump::grow(ask, round, &mut tried, progress);
+        let (why, reach, grown) = bump::grow(ask, (round, &boundary), &mut tried, progress);
         (topology, cover, bumps) = (why, Some(reach), grown);
     }
     // A level rim of any other shape: loops at equal chords round it,
     // grown beside the sheets (which may cover a plate's corners better).
     if let Some(z) = level::level(&boundary, t.extent).filter(|_| patch && round_rim.is_none()) {
-        let grown = level::loops(ask, &boundary, z, &mut tried, progress);
+        let what = "at equal chords round the level rim";
+        let grown = level::loops(ask, &boundary, z, what, &mut tried, progress);
         if !grown.is_empty() {
             topology = level::topology(&topology, cover.is_some());
         }
