@@ -37,14 +37,15 @@ pub(super) fn cap(t: &crate::target::Target, boundary: &[DVec3]) -> Option<f64> 
 }
 
 /// Loops of an even number of points at equal chords round the level
-/// `boundary` (near one cell edge apart, and two fewer), their rings
-/// stepping down the meridian from the seed's point 1 towards the rim's
-/// centroid in plan (`loops::grow_rings`); `what` says where the seed
-/// lies, for the recipe's comment.
+/// `boundary` at height `z` (near one cell edge apart, and two fewer),
+/// their rings stepping down the meridian from the seed's point 1
+/// towards the plan point `towards`, or the rim's centroid
+/// (`loops::grow_rings`); `what` says where the seed lies, for the
+/// recipe's comment.
 pub(super) fn loops(
     ask: &DesignAsk<'_>,
-    boundary: &[DVec3],
-    z: f64,
+    (boundary, z): (&[DVec3], f64),
+    towards: Option<DVec2>,
     what: &str,
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
@@ -54,7 +55,7 @@ pub(super) fn loops(
     if signed_area(&plan) < 0.0 {
         plan.reverse();
     }
-    let centre = centroid(&plan).extend(z);
+    let centre = towards.unwrap_or_else(|| centroid(&plan)).extend(z);
     let mut out = Vec::new();
     for n in counts(Polyline::new(&plan).length(), ask.edge) {
         let Some(points) = equal_chords(&plan, n) else {

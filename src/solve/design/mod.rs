@@ -166,7 +166,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     // grown beside the sheets (which may cover a plate's corners better).
     if let Some(z) = level::level(&boundary, t.extent).filter(|_| patch && round_rim.is_none()) {
         let what = "at equal chords round the level rim";
-        let grown = level::loops(ask, &boundary, z, what, &mut tried, progress);
+        let grown = level::loops(ask, (&boundary, z), None, what, &mut tried, progress);
         if !grown.is_empty() {
             topology = level::topology(&topology, cover.is_some());
         }

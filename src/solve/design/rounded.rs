@@ -137,10 +137,12 @@ pub(super) fn sides(frame: &Frame) -> String {
 }
 
 /// Loops at equal chords round each rounded box, their rings stepping
-/// down the meridian towards its centre (`level::loops`).
+/// down the meridian towards the bump's `axis` (`level::loops`): a bump
+/// off the box's middle is climbed where it stands.
 pub(super) fn loops(
     ask: &DesignAsk<'_>,
     (frame, boxes): (&Frame, &[Rounded]),
+    axis: DVec2,
     tried: &mut usize,
     progress: &mut dyn FnMut(&str),
 ) -> Vec<Found> {
@@ -152,7 +154,7 @@ pub(super) fn loops(
             sides(frame)
         );
         let rim: Vec<DVec3> = b.ring.iter().map(|p| p.extend(b.z)).collect();
-        let grown = level::loops(ask, &rim, b.z, &what, tried, progress);
+        let grown = level::loops(ask, (&rim, b.z), Some(axis), &what, tried, progress);
         let best = grown
             .iter()
             .min_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
