@@ -183,21 +183,30 @@ fn loops(
         let centre = bump.axis.extend(z);
         let what = format!("round the level circle of radius {radius:.1} mm about the bump's axis");
         let grown = loops::loops(ask, (centre, radius), &what, tried, progress);
-        let best = grown
-            .iter()
-            .min_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
-        progress(&format!(
-            "a round bump, loops round the level circle of radius {radius:.1} mm about its axis: {} designs{}",
-            grown.len(),
-            best.map_or(String::new(), |f| format!(
-                ", the best {} cells: {}",
-                f.cells,
-                f.fit.summary("vertices")
-            ))
+        progress(&grown_line(
+            &format!("the level circle of radius {radius:.1} mm about its axis"),
+            &grown,
         ));
         out.extend(grown);
     }
     out
+}
+
+/// The progress line once one seed's loops have grown round `what`: how
+/// many designs, and the best by fit.
+pub(super) fn grown_line(what: &str, grown: &[Found]) -> String {
+    let best = grown
+        .iter()
+        .min_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
+    format!(
+        "a round bump, loops round {what}: {} designs{}",
+        grown.len(),
+        best.map_or(String::new(), |f| format!(
+            ", the best {} cells: {}",
+            f.cells,
+            f.fit.summary("vertices")
+        ))
+    )
 }
 
 /// How far short of the disk its widest seed circle reaches a loop's

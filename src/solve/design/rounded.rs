@@ -5,7 +5,7 @@
 //! points at equal chords at one height close every ring as a level
 //! rim's do (`level::loops`; docs/design.md, "Rounded boxes").
 
-use super::{DesignAsk, Found, Plumb, level, miss};
+use super::{DesignAsk, Found, Plumb, level};
 use crate::target::{COVERED_WITHIN, Target};
 use glam::{DVec2, DVec3};
 
@@ -155,19 +155,8 @@ pub(super) fn loops(
         );
         let rim: Vec<DVec3> = b.ring.iter().map(|p| p.extend(b.z)).collect();
         let grown = level::loops(ask, (&rim, b.z), Some(axis), &what, tried, progress);
-        let best = grown
-            .iter()
-            .min_by(|a, b| miss(&a.fit).total_cmp(&miss(&b.fit)));
-        progress(&format!(
-            "a round bump, loops round the rounded box of exponent {}: {} designs{}",
-            b.exponent,
-            grown.len(),
-            best.map_or(String::new(), |f| format!(
-                ", the best {} cells: {}",
-                f.cells,
-                f.fit.summary("vertices")
-            ))
-        ));
+        let exponent = format!("the rounded box of exponent {}", b.exponent);
+        progress(&super::bump::grown_line(&exponent, &grown));
         out.extend(grown);
     }
     out
