@@ -370,16 +370,16 @@ fn a_bump_on_a_sheet_is_designed_within_the_goal() {
     );
 }
 
-/// A bump on a sheet 1.5 times as long as wide (300 x 200 mm, 45 mm high,
-/// sigma 50 mm): a circle about its axis covers only the disk between the
-/// long sides, and a loop round the rounded box inscribed in the sheet
-/// reaches its ends (docs/design.md, "Rounded boxes"; the CLI's design of
-/// this 11 x 7 grid simulates to rms 0.81 %, largest 1.35 % of D, 92.2 %
-/// covered; a circle's loops reached at most 66 to 73 % on the longer
-/// sheets measured there).
+/// A bump on a sheet 1.33 times as long as wide (300 x 225 mm, 45 mm
+/// high, sigma 55 mm): a circle about its axis covers only the disk
+/// between the long sides, and a loop round the rounded box inscribed in
+/// the sheet reaches its ends (docs/design.md, "Rounded boxes"; the CLI's
+/// design of this 11 x 8 grid simulates to rms 0.44 %, largest 1.00 % of
+/// D, 91.2 % covered, and `scripts/bump-regions` finds the bump's top 89 %
+/// covered: at 300 x 200 mm the pooled goal passes but the top is 75 %).
 #[test]
 fn a_bump_on_a_long_sheet_is_designed_within_the_goal() {
-    let (recipe, _) = meets_the_goal(&gaussian(300.0, 200.0, 45.0, 50.0, [11, 7]), 60.0);
+    let (recipe, _) = meets_the_goal(&gaussian(300.0, 225.0, 45.0, 55.0, [11, 8]), 60.0);
     assert!(recipe.contains("seed = \"loop\""), "{recipe}");
     assert!(
         recipe.contains("round the rounded box (a superellipse of exponent"),
