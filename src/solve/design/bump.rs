@@ -131,7 +131,7 @@ fn circle_heights(t: &Target, axis: DVec2, r: f64) -> Vec<f64> {
 /// The search on a round bump: why loops are grown (the recipe's
 /// topology line), how much of the target they can cover, said to
 /// `progress`, and the loops: round circles about its axis (`loops`)
-/// and round boxes inscribed in the sheet (`rounded`).
+/// and round the rounded boxes inscribed in the sheet (`rounded`).
 pub(super) fn grow(
     ask: &DesignAsk<'_>,
     (bump, boundary): (Bump, &[DVec3]),
@@ -139,7 +139,7 @@ pub(super) fn grow(
     progress: &mut dyn FnMut(&str),
 ) -> (String, BumpCover, Vec<Found>) {
     let why = format!(
-        "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis, and round boxes inscribed in the sheet, climb it as on a cap (docs/design.md, \"Round bumps\" and \"Rounded boxes\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
+        "loop or sheet (the seed below says which): the target is an open patch whose surface is round about a vertical axis (a bump, {:.1} mm from the boundary's nearest point), so loops seeded round level circles about that axis, and round rounded boxes inscribed in the sheet, climb it as on a cap (docs/design.md, \"Round bumps\" and \"Rounded boxes\"), and sheets grow from stretches of its boundary across it (docs/math.md 6.1)",
         bump.inscribed
     );
     let boxes = rounded::boxes(&ask.target, boundary);
