@@ -456,7 +456,8 @@ fn target_exit(t: &crate::target::Target, p: DVec3, v: DVec3) -> Option<f64> {
 /// How near a target (a share of D) a ray counts as on it.
 const EXIT_BAND: f64 = 0.002;
 
-fn segment_distance(q: DVec2, a: DVec2, b: DVec2) -> f64 {
+/// The plan distance from `q` to the segment from `a` to `b`.
+pub(crate) fn segment_distance(q: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let t = ((q - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
     q.distance(a + t * ab)

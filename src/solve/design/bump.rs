@@ -105,15 +105,8 @@ fn raised_centroid(t: &Target, base: f64) -> Option<DVec2> {
 
 /// The plan distance from `axis` to the nearest edge of `ring`.
 fn nearest_boundary(ring: &[DVec3], axis: DVec2) -> f64 {
-    (0..ring.len())
-        .map(|k| {
-            let (a, b) = (ring[k].truncate(), ring[(k + 1) % ring.len()].truncate());
-            let ab = b - a;
-            let u =
-                ((axis - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-            axis.distance(a + u * ab)
-        })
-        .fold(f64::INFINITY, f64::min)
+    let plan: Vec<DVec2> = ring.iter().map(|p| p.truncate()).collect();
+    rounded::distance(&plan, axis)
 }
 
 /// The target's heights round the circle of radius `r` about `axis`,
@@ -307,17 +300,8 @@ fn cover(
 ) -> BumpCover {
     let widest = REACH.iter().copied().fold(0.0, f64::max);
     let radius = bump.inscribed + (widest + COVERED_WITHIN) * t.extent;
-    let (mut inside, mut all) = (0.0, 0.0);
-    for k in 0..t.mesh.triangles.len() {
-        let c = t.mesh.corners(k).iter().sum::<DVec3>() / 3.0;
-        let a = t.mesh.triangle_area(k);
-        all += a;
-        if c.truncate().distance(bump.axis) <= radius {
-            inside += a;
-        }
-    }
     let mut best = BumpCover {
-        covers: if all > 0.0 { inside / all } else { 0.0 },
+        covers: rounded::area_share(t, |c| c.distance(bump.axis) <= radius),
         curve: format!("the disk of radius {radius:.0} mm about its axis"),
         side: 2.0 * bump.inscribed,
         off: None,
@@ -350,6 +334,33 @@ mod tests {
         crate::target::read("t.toml", text.as_bytes(), None)
             .unwrap()
             .canonical()
+    }
+
+    /// A height field: a Gaussian `(height, sigma)` about `axis` on a
+    /// `(width, length)` sheet, on a grid of `[columns, rows]`.
+    fn gaussian(
+        (width, length): (f64, f64),
+        [columns, rows]: [usize; 2],
+        (height, sigma): (f64, f64),
+        axis: DVec2,
+    ) -> Target {
+        let rows: Vec<String> = (0..rows)
+            .map(|j| {
+                let y = -length / 2.0 + length * j as f64 / (rows - 1) as f64;
+                let row: Vec<String> = (0..columns)
+                    .map(|i| {
+                        let x = -width / 2.0 + width * i as f64 / (columns - 1) as f64;
+                        let r2 = DVec2::new(x, y).distance_squared(axis);
+                        format!("{:.3}", height * (-r2 / (2.0 * sigma * sigma)).exp())
+                    })
+                    .collect();
+                format!("[{}]", row.join(", "))
+            })
+            .collect();
+        target(&format!(
+            "[target]\nfamily = \"height-field\"\nwidth = {width:.1}\nlength = {length:.1}\nheights = [{}]\n",
+            rows.join(", ")
+        ))
     }
 
     fn boundary(t: &Target) -> Vec<DVec3> {
@@ -421,25 +432,7 @@ mod tests {
             hint.starts_with("a loop round the bump covers less"),
             "{hint}"
         );
-        let rows: Vec<String> = (0..11)
-            .map(|j| {
-                let y = -160.0 + 32.0 * j as f64;
-                let row: Vec<String> = (0..17)
-                    .map(|i| {
-                        let x = -240.0 + 30.0 * i as f64;
-                        format!(
-                            "{:.3}",
-                            60.0 * (-(x * x + y * y) / (2.0 * 70.0 * 70.0)).exp()
-                        )
-                    })
-                    .collect();
-                format!("[{}]", row.join(", "))
-            })
-            .collect();
-        let t = target(&format!(
-            "[target]\nfamily = \"height-field\"\nwidth = 480.0\nlength = 320.0\nheights = [{}]\n",
-            rows.join(", ")
-        ));
+        let t = gaussian((480.0, 320.0), [17, 11], (60.0, 70.0), DVec2::ZERO);
         let ring = boundary(&t);
         let bump = round_bump(&t, &ring).expect("a round bump");
         let c = cover(&t, bump, None);
@@ -474,25 +467,14 @@ mod tests {
     /// leaves that to the goal's remedy.
     #[test]
     fn a_bump_off_the_middle_is_told_to_move() {
-        let rows: Vec<String> = (0..13)
-            .map(|j| {
-                let y = -180.0 + 30.0 * j as f64;
-                let row: Vec<String> = (0..15)
-                    .map(|i| {
-                        let x = -210.0 + 30.0 * i as f64;
-                        let r2 = (x - 60.0).powi(2) + (y + 40.0).powi(2);
-                        format!("{:.3}", 70.0 * (-r2 / (2.0 * 80.0 * 80.0)).exp())
-                    })
-                    .collect();
-                format!("[{}]", row.join(", "))
-            })
-            .collect();
         // Levelled as `search` levels it: the bump off the middle turns the
         // canonical frame's principal axes.
-        let t = target(&format!(
-            "[target]\nfamily = \"height-field\"\nwidth = 420.0\nlength = 360.0\nheights = [{}]\n",
-            rows.join(", ")
-        ));
+        let t = gaussian(
+            (420.0, 360.0),
+            [15, 13],
+            (70.0, 80.0),
+            DVec2::new(60.0, -40.0),
+        );
         let t = (*super::super::level_rim(&std::sync::Arc::new(t))).clone();
         let missed = Fit {
             motion: crate::target::Rigid::IDENTITY,

@@ -6,6 +6,7 @@
 //! rim's do (`level::loops`; docs/design.md, "Rounded boxes").
 
 use super::{DesignAsk, Found, Plumb, level};
+use crate::design::fit::segment_distance;
 use crate::target::{COVERED_WITHIN, Target};
 use glam::{DVec2, DVec3};
 
@@ -167,16 +168,22 @@ pub(super) fn loops(
 /// of D of it.
 pub(super) fn share(t: &Target, ring: &[DVec2]) -> f64 {
     let band = COVERED_WITHIN * t.extent;
-    let (mut inside, mut all) = (0.0, 0.0);
+    area_share(t, |c| encloses(ring, c) || distance(ring, c) <= band)
+}
+
+/// The share of the target's area whose triangles' centres, in plan,
+/// `inside` takes.
+pub(super) fn area_share(t: &Target, inside: impl Fn(DVec2) -> bool) -> f64 {
+    let (mut within, mut all) = (0.0, 0.0);
     for k in 0..t.mesh.triangles.len() {
         let c = (t.mesh.corners(k).iter().sum::<DVec3>() / 3.0).truncate();
         let a = t.mesh.triangle_area(k);
         all += a;
-        if encloses(ring, c) || distance(ring, c) <= band {
-            inside += a;
+        if inside(c) {
+            within += a;
         }
     }
-    if all > 0.0 { inside / all } else { 0.0 }
+    if all > 0.0 { within / all } else { 0.0 }
 }
 
 /// Whether the closed polygon `ring` encloses `p` (crossings of a ray
@@ -193,14 +200,9 @@ fn encloses(ring: &[DVec2], p: DVec2) -> bool {
 }
 
 /// The plan distance from `p` to the closed polygon `ring`.
-fn distance(ring: &[DVec2], p: DVec2) -> f64 {
+pub(super) fn distance(ring: &[DVec2], p: DVec2) -> f64 {
     (0..ring.len())
-        .map(|k| {
-            let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-            let ab = b - a;
-            let f = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-            p.distance(a + f * ab)
-        })
+        .map(|k| segment_distance(p, ring[k], ring[(k + 1) % ring.len()]))
         .fold(f64::INFINITY, f64::min)
 }
 
