@@ -12,9 +12,12 @@ fn target(text: &str) -> Target {
     karigami::targets::read("t.toml", text.as_bytes(), None).unwrap()
 }
 
-/// The best design of the search that `build` takes, with the fit of its
-/// simulated joints, or None when none builds (as `karigami design` does).
-fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fit)> {
+/// The design `karigami design` keeps: of the search's best that `build`
+/// takes, the first whose simulated joints meet the goal as the search
+/// judges them (`Searched::judge`: on a bump its top too), else the
+/// nearest; with the fit of its simulated joints and how far it is from
+/// the goal; None when none builds.
+fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fit, f64)> {
     let base = karigami::parse(designing::STUB, "t").unwrap();
     let canonical = Arc::new(t.canonical());
     // Rings unpolished: a polish costs a minute and more in this build
@@ -28,6 +31,7 @@ fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fi
         polish: 0,
     };
     let searched = designing::search(&ask, &mut |_| {}).unwrap();
+    let mut best: Option<(String, usize, karigami::targets::Fit, f64)> = None;
     for found in searched.found.iter().take(6) {
         // The seed's comment line, as the CLI writes it.
         let seed = [format!("Seed: {}.", found.seed)];
@@ -41,9 +45,17 @@ fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fi
         for (v, p) in lattice.vertices.iter_mut().zip(sim) {
             v.pos = p;
         }
-        return Some((text, found.cells, designing::fit_of(&canonical, &lattice)));
+        let fit = designing::fit_of(&canonical, &lattice);
+        let points: Vec<_> = lattice.vertices.iter().map(|v| v.pos).collect();
+        let (miss, _) = searched.judge(&canonical, &fit, (&points, &lattice.facets()));
+        if best.as_ref().is_none_or(|b| miss < b.3) {
+            best = Some((text, found.cells, fit, miss));
+        }
+        if miss <= 1.0 {
+            break;
+        }
     }
-    None
+    best
 }
 
 /// A sphere cap 300 mm across: a loop round its rim, whose simulated
@@ -51,7 +63,7 @@ fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fi
 #[test]
 fn a_sphere_cap_is_designed_within_the_goal() {
     let t = target("[target]\nfamily = \"sphere-cap\"\nradius = 200.0\nheight = 60.0\n");
-    let (text, cells, fit) = design(&t, 60.0).expect("a design that builds");
+    let (text, cells, fit, _) = design(&t, 60.0).expect("a design that builds");
     assert!(text.contains("seed = \"loop\""), "{text}");
     assert!(designing::miss(&fit) <= 1.0, "{fit:?}");
     assert!(fit.rms <= 0.005 * fit.extent, "{fit:?}");
@@ -82,7 +94,7 @@ fn designs_for_random_height_fields_build() {
             "[target]\nfamily = \"height-field\"\nwidth = 300.0\nlength = 300.0\nheights = [{}]\n",
             heights.join(", ")
         ));
-        if let Some((text, _, _)) = design(&t, 75.0) {
+        if let Some((text, ..)) = design(&t, 75.0) {
             karigami::build(karigami::parse(&text, "t").unwrap()).expect("builds");
         }
     }
@@ -267,8 +279,8 @@ fn the_recorded_target_is_fitted_without_target_or_said_missing() {
 /// size (about 300 mm across, 60-75 mm cells, so the suite stays fast):
 /// the simulated joints meet the goal (docs/design.md, "The goal").
 fn meets_the_goal(text: &str, edge: f64) -> (String, usize) {
-    let (recipe, cells, fit) = design(&target(text), edge).expect("a design that builds");
-    assert!(designing::miss(&fit) <= 1.0, "{text}: {fit:?}");
+    let (recipe, cells, fit, miss) = design(&target(text), edge).expect("a design that builds");
+    assert!(miss <= 1.0, "{text}: {fit:?}, {miss}");
     (recipe, cells)
 }
 

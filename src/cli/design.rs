@@ -42,6 +42,33 @@ struct Chosen {
     found: Found,
     design: karigami::targets::Fit,
     sim: karigami::targets::Fit,
+    /// On a bump: the share of its top the simulated cells cover.
+    top: Option<f64>,
+}
+
+impl Chosen {
+    /// Each measure of the simulated shape that misses the goal, with its
+    /// value and limit.
+    fn misses(&self) -> String {
+        let mut misses = designing::goal::misses(&self.sim);
+        if let Some(top) = self.top.filter(|&t| t < designing::goal::TOP_COVERED) {
+            misses.push(format!(
+                "the bump's top {:.1} % covered, under {} %",
+                100.0 * top,
+                100.0 * designing::goal::TOP_COVERED
+            ));
+        }
+        misses.join("; ")
+    }
+
+    /// The simulated shape's fit in one line, with the bump's top.
+    fn sim_summary(&self) -> String {
+        let mut line = self.sim.summary("joints");
+        if let Some(top) = self.top {
+            line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
+        }
+        line
+    }
 }
 
 pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
@@ -135,7 +162,10 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         searched
             .bump
             .as_ref()
-            .and_then(|b| b.remedy(&chosen.sim, (edge, designing::least_edge(&base))))
+            .and_then(|b| {
+                let top = chosen.top.unwrap_or(1.0);
+                b.remedy(&chosen.sim, top, (edge, designing::least_edge(&base)))
+            })
             .unwrap_or_else(|| {
                 designing::goal::remedy(
                     &chosen.design,
@@ -169,7 +199,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         "wrote {} in {seconds:.1} s: {} cells; simulated {}{}",
         ask.out.display(),
         chosen.found.cells,
-        chosen.sim.summary("joints"),
+        chosen.sim_summary(),
         if remedy.is_some() {
             "; it MISSES the goal (--keep-miss)"
         } else {
@@ -214,21 +244,24 @@ fn choose(
                     Some(pinned) => pinned,
                     None => (found.clone(), free),
                 };
+                let facets = got.lattice.facets();
+                let (miss, top) = searched.judge(target, &got.fit, (&got.simulated, &facets));
                 let (found, design, sim) = (&found, got.design, got.fit);
-                let miss = designing::miss(&sim);
+                let chosen = Chosen {
+                    miss,
+                    built: 0,
+                    found: found.clone(),
+                    design,
+                    sim,
+                    top,
+                };
                 note(&format!(
                     "built {} cells: simulated {}",
                     found.cells,
-                    sim.summary("joints")
+                    chosen.sim_summary()
                 ));
                 if best.as_ref().is_none_or(|b| miss < b.miss) {
-                    best = Some(Chosen {
-                        miss,
-                        built: 0,
-                        found: found.clone(),
-                        design,
-                        sim,
-                    });
+                    best = Some(chosen);
                 }
                 if miss <= 1.0 {
                     break;
@@ -349,7 +382,7 @@ fn missed(file: &TargetFile, chosen: &Chosen, remedy: &str) -> Error {
         message: format!(
             "the best design found, {} cells, misses the goal in its simulated shape (docs/design.md, \"The goal\"): {}",
             chosen.found.cells,
-            designing::goal::misses(&chosen.sim).join("; ")
+            chosen.misses()
         ),
         span: None,
         site: None,
@@ -391,7 +424,7 @@ impl Made<'_> {
             notes.push(format!(
                 "MISSES THE GOAL (docs/design.md, \"The goal\": {}): {}. Written only because --keep-miss was given; {remedy}.",
                 designing::goal::WORDS,
-                designing::goal::misses(&chosen.sim).join("; ")
+                chosen.misses()
             ));
         }
         notes.extend([
@@ -415,11 +448,19 @@ impl Made<'_> {
             ),
             format!("Seed: {}.", chosen.found.seed),
             format!("Fit of the design: {}.", chosen.design.summary("vertices")),
-            format!("Fit of the simulated shape: {}.", chosen.sim.summary("joints")),
+            format!("Fit of the simulated shape: {}.", chosen.sim_summary()),
         ]);
         if remedy.is_none() {
+            let top = if chosen.top.is_some() {
+                format!(
+                    "; on a bump, >= {} % of its top covered",
+                    100.0 * designing::goal::TOP_COVERED
+                )
+            } else {
+                String::new()
+            };
             notes.push(format!(
-                "The simulated shape meets the goal (docs/design.md, \"The goal\": {}).",
+                "The simulated shape meets the goal (docs/design.md, \"The goal\": {}{top}).",
                 designing::goal::WORDS
             ));
         }

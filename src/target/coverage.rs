@@ -15,6 +15,17 @@ const MAX_SPLIT: usize = 64;
 /// indices into `points`, in order round each (non-planar ones split along
 /// the first diagonal).
 pub(crate) fn covered(target: &Target, points: &[DVec3], facets: &[[u32; 4]], within: f64) -> f64 {
+    covered_part(target, (points, facets), within, None)
+}
+
+/// The share of the target's triangles marked in `part` (all when None)
+/// within `within` (mm) of the facets, by area, as `covered` counts it.
+pub(crate) fn covered_part(
+    target: &Target,
+    (points, facets): (&[DVec3], &[[u32; 4]]),
+    within: f64,
+    part: Option<&[bool]>,
+) -> f64 {
     let triangles: Vec<[u32; 3]> = facets
         .iter()
         .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
@@ -29,6 +40,9 @@ pub(crate) fn covered(target: &Target, points: &[DVec3], facets: &[[u32; 4]], wi
     let spacing = target.area / SAMPLES;
     let (mut near, mut total) = (0.0, 0.0);
     for t in 0..mesh.triangles.len() {
+        if part.is_some_and(|p| !p.get(t).copied().unwrap_or(false)) {
+            continue;
+        }
         let area = mesh.triangle_area(t);
         let k = ((area / spacing).sqrt().ceil() as usize).clamp(1, MAX_SPLIT);
         let weight = area / (k * k) as f64;

@@ -155,6 +155,21 @@ impl Target {
     pub fn fit(&self, points: &[DVec3], facets: &[[u32; 4]]) -> Fit {
         fit::fit(self, points, facets)
     }
+
+    /// The share of the area of the triangles marked in `part` (one flag
+    /// a triangle) within `COVERED_WITHIN` of D of the facets, after the
+    /// motion of `fit`: how well one region is covered where the whole
+    /// target's share can hide a bare one (docs/design.md, "The goal").
+    pub fn covered_part(
+        &self,
+        fit: &Fit,
+        (points, facets): (&[DVec3], &[[u32; 4]]),
+        part: &[bool],
+    ) -> f64 {
+        let moved: Vec<DVec3> = points.iter().map(|&p| fit.motion.apply(p)).collect();
+        let within = COVERED_WITHIN * self.extent;
+        coverage::covered_part(self, (&moved, facets), within, Some(part))
+    }
 }
 
 #[cfg(test)]

@@ -84,6 +84,23 @@ pub struct Searched {
     pub bump: Option<BumpCover>,
 }
 
+impl Searched {
+    /// How far a candidate's simulated shape is from the goal (`miss`),
+    /// with the bump's top judged apart on a bump (`goal::TOP_COVERED`),
+    /// and that top's covered share: `sim` is the fit to `t` of the
+    /// simulated `cells` (points and facets).
+    pub fn judge(
+        &self,
+        t: &Target,
+        sim: &crate::target::Fit,
+        cells: (&[DVec3], &[[u32; 4]]),
+    ) -> (f64, Option<f64>) {
+        let top = self.bump.as_ref().map(|b| b.top_covered(t, sim, cells));
+        let miss = miss(sim).max(top.map_or(0.0, goal::top_miss));
+        (miss, top)
+    }
+}
+
 /// The topology `search` grows on `t` (in its own frame) and why, or the
 /// refusal of a target it cannot grow on or whose curvature the strips
 /// do not reach: what `search` refuses first, for the caller to refuse
