@@ -138,7 +138,7 @@ pub mod targets {
 /// out (docs/design.md, "Design your own object").
 pub mod designing {
     pub use crate::solve::design::{
-        BumpCover, DesignAsk, Found, POLISH_SECONDS_PER_CELL, POLISH_WORK, STUB, Searched,
+        BumpCover, DesignAsk, Found, OvalRim, POLISH_SECONDS_PER_CELL, POLISH_WORK, STUB, Searched,
         admissible, cells_per_square, default_edge, fit_of, flattens, goal, least_edge, miss,
         polishes, recipe, search, with_feet,
     };

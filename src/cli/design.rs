@@ -157,7 +157,8 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
         Err(Unbuilt::OutOfTime) => return Err(stopped()),
     };
     // Loops round a bump: the edge or the sheet's shape that would reach
-    // the goal's coverage.
+    // the goal's coverage; round a long oval rim, a rounder or shallower
+    // cap.
     let remedy = (chosen.miss > 1.0).then(|| {
         searched
             .bump
@@ -166,6 +167,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
                 let top = chosen.top.unwrap_or(1.0);
                 b.remedy(&chosen.sim, top, (edge, designing::least_edge(&base)))
             })
+            .or_else(|| searched.oval.and_then(|o| o.remedy()))
             .unwrap_or_else(|| {
                 designing::goal::remedy(
                     &chosen.design,

@@ -21,6 +21,7 @@ use std::time::Instant;
 
 mod bump;
 pub use bump::BumpCover;
+pub use level::OvalRim;
 mod closed;
 mod feet;
 pub mod goal;
@@ -82,6 +83,9 @@ pub struct Searched {
     /// How much loops round a bump on a sheet can cover, when the target
     /// is one (`bump`).
     pub bump: Option<BumpCover>,
+    /// The rim of a cap whose level rim is not a circle, when loops were
+    /// grown round it (`level::OvalRim`).
+    pub oval: Option<OvalRim>,
 }
 
 impl Searched {
@@ -160,6 +164,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     let mut tried = 0;
     let mut bumps = Vec::new();
     let mut cover = None;
+    let mut oval = None;
     let mut topology = topology;
     let patch = t.topology == Topology::Patch;
     let round_rim = loops::circular_rim(&boundary, t.extent).filter(|_| patch);
@@ -186,6 +191,9 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         let grown = level::loops(ask, (&boundary, z), None, what, &mut tried, progress);
         if !grown.is_empty() {
             topology = level::topology(&topology, cover.is_some());
+            if cover.is_none() && level::cap(t, &boundary).is_some() {
+                oval = OvalRim::of(t, &boundary, z);
+            }
         }
         bumps.extend(grown);
     }
@@ -261,6 +269,7 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
         tried,
         topology,
         bump: cover,
+        oval,
     })
 }
 
@@ -293,6 +302,7 @@ fn closed_loops(
         tried,
         topology,
         bump: None,
+        oval: None,
     }
 }
 
