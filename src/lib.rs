@@ -139,8 +139,8 @@ pub mod targets {
 pub mod designing {
     pub use crate::solve::design::{
         BumpCover, DesignAsk, Found, OvalRim, POLISH_SECONDS_PER_CELL, POLISH_WORK, STUB, Searched,
-        admissible, cells_per_square, default_edge, fit_of, flattens, goal, least_edge, miss,
-        polishes, recipe, search, with_feet,
+        admissible, bump_top, cells_per_square, default_edge, fit_of, flattens, goal, least_edge,
+        miss, polishes, recipe, search, with_feet,
     };
 }
 

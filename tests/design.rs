@@ -71,11 +71,14 @@ fn a_sphere_cap_is_designed_within_the_goal() {
     assert_eq!(cells % 12, 0, "{text}");
 }
 
-/// Random smooth height fields: whatever the search writes, build takes
-/// (the search builds each candidate; here they are built again from the
-/// recipe text alone), and none panics.
+/// Random smooth height fields (paraboloids of random curvatures, bowls,
+/// saddles and troughs, 300 mm square): every candidate the search ranks
+/// among its best builds, as the search's hard constraints promise (the
+/// CLI builds up to six), and the one kept, written with its comment lines
+/// as the CLI writes it, builds again to the same cells. None panics.
 #[test]
 fn designs_for_random_height_fields_build() {
+    // Two fields here; eight more (seed 7) passed too, in 43 s.
     let mut rng = crate::util::Rng::new(32);
     for _ in 0..2 {
         let (a, b) = (rng.range(-40.0, 40.0), rng.range(-40.0, 40.0));
@@ -90,12 +93,28 @@ fn designs_for_random_height_fields_build() {
                 format!("[{}]", row.join(", "))
             })
             .collect();
-        let t = target(&format!(
+        let text = format!(
             "[target]\nfamily = \"height-field\"\nwidth = 300.0\nlength = 300.0\nheights = [{}]\n",
             heights.join(", ")
-        ));
-        if let Some((text, ..)) = design(&t, 75.0) {
-            karigami::build(karigami::parse(&text, "t").unwrap()).expect("builds");
+        );
+        let t = target(&text);
+        let base = karigami::parse(designing::STUB, "t").unwrap();
+        let ask = DesignAsk {
+            target: Arc::new(t.canonical()),
+            base: &base,
+            edge: 75.0,
+            deadline: None,
+            jobs: karigami::Jobs::new(2),
+            polish: 0,
+        };
+        let searched = designing::search(&ask, &mut |_| {}).unwrap();
+        assert!(!searched.found.is_empty(), "{text}: no design");
+        for found in searched.found.iter().take(6) {
+            let notes = [format!("Seed: {}.", found.seed)];
+            let recipe = designing::recipe(found, "t", &notes, None, "");
+            let built = karigami::build(karigami::parse(&recipe, "t").unwrap())
+                .unwrap_or_else(|e| panic!("{text}: build refuses {}: {}", found.seed, e.message));
+            assert_eq!(built.lattice.cells.len(), found.cells, "{recipe}");
         }
     }
 }
@@ -388,7 +407,8 @@ fn a_bump_on_a_sheet_is_designed_within_the_goal() {
 /// the sheet reaches its ends (docs/design.md, "Rounded boxes"; the CLI's
 /// design of this 11 x 8 grid simulates to rms 0.44 %, largest 1.00 % of
 /// D, 91.2 % covered, and `scripts/bump-regions` finds the bump's top 89 %
-/// covered: at 300 x 200 mm the pooled goal passes but the top is 75 %).
+/// covered; at 300 x 200 mm the pooled goal passed with the top 43 %
+/// covered before the top was judged apart).
 #[test]
 fn a_bump_on_a_long_sheet_is_designed_within_the_goal() {
     let (recipe, _) = meets_the_goal(&gaussian(300.0, 225.0, 45.0, 55.0, [11, 8]), 60.0);

@@ -347,15 +347,19 @@ struct FitFigures {
     rms: f64,
     largest: f64,
     coverage: Option<f64>,
+    /// On a bump: the share of its top covered.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    top: Option<f64>,
 }
 
-impl From<&Fit> for FitFigures {
-    fn from(f: &Fit) -> Self {
+impl FitFigures {
+    fn of(f: &Fit, top: Option<f64>) -> Self {
         Self {
             points: f.points,
             rms: f.rms,
             largest: f.largest,
             coverage: f.coverage,
+            top,
         }
     }
 }
@@ -411,7 +415,25 @@ impl TargetFile {
         let points: Vec<DVec3> = lattice.vertices.iter().map(|v| v.pos).collect();
         let t = &self.target;
         let design = t.fit(&points, &facets);
-        let simulated = simulated.map(|s| t.fit(s, &facets));
+        let simulated = simulated.map(|s| (t.fit(s, &facets), s));
+        // A bump's top is judged apart (docs/design.md, "The goal").
+        let top = karigami::designing::bump_top(t);
+        let top_of = |fit: &Fit, points: &[DVec3]| {
+            top.as_ref()
+                .map(|top| t.covered_part(fit, (points, &facets), top))
+        };
+        let design_top = top_of(&design, &points);
+        let simulated = simulated.map(|(fit, s)| {
+            let top = top_of(&fit, s);
+            (fit, top)
+        });
+        let line = |fit: &Fit, top: Option<f64>, what: &str| {
+            let mut line = fit.summary(what);
+            if let Some(top) = top {
+                line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
+            }
+            line
+        };
         let mut text = format!(
             "target {}: {}, {}, {} triangles, largest extent D {:.1} mm\n",
             self.file,
@@ -422,12 +444,12 @@ impl TargetFile {
         );
         text.push_str(&format!(
             "  fit of the design, {}\n",
-            design.summary("vertices")
+            line(&design, design_top, "vertices")
         ));
-        if let Some(s) = &simulated {
+        if let Some((s, top)) = &simulated {
             text.push_str(&format!(
                 "  fit of the simulated shape, {}\n",
-                s.summary("joints")
+                line(s, *top, "joints")
             ));
         }
         TargetFit {
@@ -438,8 +460,8 @@ impl TargetFile {
                 topology: t.topology.describe(),
                 triangles: t.mesh.triangles.len(),
                 extent: t.extent,
-                design: (&design).into(),
-                simulated: simulated.as_ref().map(Into::into),
+                design: FitFigures::of(&design, design_top),
+                simulated: simulated.as_ref().map(|(s, top)| FitFigures::of(s, *top)),
             },
         }
     }

@@ -167,7 +167,7 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
                 let top = chosen.top.unwrap_or(1.0);
                 b.remedy(&chosen.sim, top, (edge, designing::least_edge(&base)))
             })
-            .or_else(|| searched.oval.and_then(|o| o.remedy()))
+            .or_else(|| searched.oval.and_then(|o| o.remedy(&chosen.found.seed)))
             .unwrap_or_else(|| {
                 designing::goal::remedy(
                     &chosen.design,

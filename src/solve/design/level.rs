@@ -119,26 +119,37 @@ impl OvalRim {
         })
     }
 
-    /// What to try when a design on this rim misses the goal: on a rim
-    /// more than `LONG` times as long as wide, a rounder or a shallower
-    /// cap (thinner strips and a smaller edge, the goal's own hints,
-    /// measured no better); None on a rounder rim.
-    pub fn remedy(&self) -> Option<String> {
+    /// What to try when the design `seed` on this rim misses the goal:
+    /// when it is a loop round the rim (`SEEDED`) on a rim more than
+    /// `LONG` times as long as wide, a rounder rim, or a shallower cap
+    /// when this one is deeper than `SHALLOW` of its half width (thinner
+    /// strips and a smaller edge, the goal's own hints, measured no
+    /// better); None otherwise, for the goal's own hints.
+    pub fn remedy(&self, seed: &str) -> Option<String> {
         let ratio = self.long / self.short;
-        if ratio <= LONG {
+        if ratio <= LONG || !seed.contains(SEEDED) {
             return None;
         }
+        let shallow = SHALLOW * self.short / 2.0;
+        let shallower = if self.depth > shallow {
+            format!(", or a cap on this rim at most about {shallow:.0} mm deep,")
+        } else {
+            String::new()
+        };
         Some(format!(
-            "the cap's rim is {:.0} x {:.0} mm, {ratio:.1} times as long as wide, and the cap stands {:.0} mm deep: a loop's rings step in from the rim at one pace, so they meet along its long sides while its ends are still open, and the strips settle away from the cap there; thinner strips and a smaller edge measured no better on such a cap (docs/design.md, \"Level rims\"); a rim at most about {LONG} times as long as wide, such as {:.0} x {:.0} mm, or a cap on this rim at most about {:.0} mm deep, is designed within the goal",
+            "the cap's rim is {:.0} x {:.0} mm, {ratio:.1} times as long as wide, and the cap stands {:.0} mm deep: a loop's rings step in from the rim at one pace, so they meet along its long sides while its ends are still open, and the strips settle away from the cap there; thinner strips and a smaller edge measured no better on such a cap (docs/design.md, \"Level rims\"); a rim at most about {LONG} times as long as wide, such as {:.0} x {:.0} mm{shallower} is designed within the goal",
             self.long,
             self.short,
             self.depth,
             self.long,
             self.long / LONG,
-            SHALLOW * self.short / 2.0
         ))
     }
 }
+
+/// The seed's words for loops round a level rim, in the recipe's
+/// `# Seed:` line.
+pub(super) const SEEDED: &str = "at equal chords round the level rim";
 
 /// The recipe's `# Topology:` line when loops round a level rim grew:
 /// after a round bump's (`bump`) it is said as well; else it replaces
@@ -380,8 +391,9 @@ mod tests {
     /// An oval cap's rim, read from its target: 200 x 100 mm semi-axes
     /// give a 400 x 200 mm box, 80 mm deep. Twice as long as wide, a miss
     /// is told to take a rim 1.6 times as long as wide or a cap 40 mm deep
-    /// (both measured within the goal); a rim 1.33 times is left to the
-    /// goal's own hints.
+    /// (both measured within the goal), a shallow one only the rounder
+    /// rim; a rim 1.33 times, or a sheet's design, is left to the goal's
+    /// own hints.
     #[test]
     fn a_long_oval_caps_rim_and_what_to_try() {
         let rim = |axes: &str| {
@@ -400,7 +412,8 @@ mod tests {
                 && (long.depth - 80.0).abs() < 1.0,
             "{long:?}"
         );
-        let hint = long.remedy().expect("a rounder or shallower cap");
+        let seed = format!("a loop of 16 points {SEEDED}, 3 of 4 rings");
+        let hint = long.remedy(&seed).expect("a rounder or shallower cap");
         assert!(
             hint.starts_with("the cap's rim is 400 x 200 mm, 2.0 times as long as wide")
                 && hint.contains(
@@ -408,6 +421,14 @@ mod tests {
                 ),
             "{hint}"
         );
-        assert_eq!(rim("200.0, 150.0, 100.0").remedy(), None);
+        assert_eq!(long.remedy("5 cells along side 1 of the boundary"), None);
+        assert_eq!(rim("200.0, 150.0, 100.0").remedy(&seed), None);
+        // Shallow already: only the rounder rim.
+        let shallow = rim("250.0, 80.0, 30.0");
+        let hint = shallow.remedy(&seed).expect("a rounder rim");
+        assert!(
+            hint.contains("such as 500 x 312 mm is designed") && !hint.contains("deep,"),
+            "{hint}"
+        );
     }
 }

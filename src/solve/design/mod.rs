@@ -105,6 +105,24 @@ impl Searched {
     }
 }
 
+/// The bump's top of `t` (one flag a triangle, in `t`'s own order), when
+/// `search` finds `t` a round bump on a sheet, for `check` and a build's
+/// report to judge it as the goal does (docs/design.md, "The goal").
+pub fn bump_top(t: &Target) -> Option<Vec<bool>> {
+    if t.topology != Topology::Patch {
+        return None;
+    }
+    // As `search` sees it: in its own frame, its rim made level (both keep
+    // the triangles' order).
+    let levelled = level_rim(&Arc::new(t.canonical()));
+    let boundary = sheets::inward_boundary(&levelled);
+    if loops::circular_rim(&boundary, levelled.extent).is_some() {
+        return None;
+    }
+    let bump = bump::round_bump(&levelled, &boundary)?;
+    Some(bump::top(&levelled, bump))
+}
+
 /// The topology `search` grows on `t` (in its own frame) and why, or the
 /// refusal of a target it cannot grow on or whose curvature the strips
 /// do not reach: what `search` refuses first, for the caller to refuse
@@ -187,8 +205,14 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     // A level rim of any other shape: loops at equal chords round it,
     // grown beside the sheets (which may cover a plate's corners better).
     if let Some(z) = level::level(&boundary, t.extent).filter(|_| patch && round_rim.is_none()) {
-        let what = "at equal chords round the level rim";
-        let grown = level::loops(ask, (&boundary, z), None, what, &mut tried, progress);
+        let grown = level::loops(
+            ask,
+            (&boundary, z),
+            None,
+            level::SEEDED,
+            &mut tried,
+            progress,
+        );
         if !grown.is_empty() {
             topology = level::topology(&topology, cover.is_some());
             if cover.is_none() && level::cap(t, &boundary).is_some() {
