@@ -164,7 +164,9 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
             .bump
             .as_ref()
             .and_then(|b| {
-                let top = chosen.top.unwrap_or(1.0);
+                // The top's hints speak of a loop's rings; a sheet's miss
+                // is left to the coverage's and the goal's.
+                let top = chosen.top.filter(|_| chosen.found.is_loop()).unwrap_or(1.0);
                 b.remedy(&chosen.sim, top, (edge, designing::least_edge(&base)))
             })
             .or_else(|| searched.oval.and_then(|o| o.remedy(&chosen.found.seed)))

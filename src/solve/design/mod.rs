@@ -71,6 +71,14 @@ pub struct Found {
     pub seed: String,
 }
 
+impl Found {
+    /// Whether the design is a loop (its `[lattice]` seeds one), whose
+    /// rings the bump's and the oval rim's hints speak of.
+    pub fn is_loop(&self) -> bool {
+        self.lattice.contains("seed = \"loop\"")
+    }
+}
+
 /// The search's result: designs best first, and how they were found.
 #[derive(Debug)]
 pub struct Searched {
@@ -591,6 +599,28 @@ mod tests {
     fn target(text: &str) -> Arc<Target> {
         let t = crate::target::read("t.toml", text.as_bytes(), None).unwrap();
         Arc::new(t.canonical())
+    }
+
+    /// A loop's tables say so, a sheet's do not.
+    #[test]
+    fn a_found_loop_is_told_from_a_sheet() {
+        let fit = crate::target::Fit {
+            motion: crate::target::Rigid::IDENTITY,
+            rms: 0.0,
+            largest: 0.0,
+            extent: 1.0,
+            coverage: None,
+            points: 0,
+        };
+        let ring = loops::level_loop(DVec3::ZERO, 100.0, 8);
+        let found = |lattice: String| Found {
+            lattice,
+            cells: 0,
+            fit: fit.clone(),
+            seed: String::new(),
+        };
+        assert!(found(loops::seed_toml(&ring)).is_loop());
+        assert!(!found("[lattice]\nseed = \"sheet\"\n".into()).is_loop());
     }
 
     /// The estimate's cells a square follow the topology the search takes:
