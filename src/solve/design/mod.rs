@@ -616,7 +616,7 @@ mod tests {
         let found = |lattice: String| Found {
             lattice,
             cells: 0,
-            fit: fit.clone(),
+            fit,
             seed: String::new(),
         };
         assert!(found(loops::seed_toml(&ring)).is_loop());
