@@ -27,13 +27,16 @@ pub(super) fn level(boundary: &[DVec3], extent: f64) -> Option<f64> {
 /// `cells_per_square` counts a cap's loops).
 pub(super) fn cap(t: &crate::target::Target, boundary: &[DVec3]) -> Option<f64> {
     let z = level(boundary, t.extent)?;
-    let off = t
-        .mesh
+    (depth(t, z) > 0.03 * t.extent).then_some(z)
+}
+
+/// How far the target stands off the plane z = `z` at most.
+fn depth(t: &crate::target::Target, z: f64) -> f64 {
+    t.mesh
         .positions
         .iter()
         .map(|p| (p.z - z).abs())
-        .fold(0.0, f64::max);
-    (off > 0.03 * t.extent).then_some(z)
+        .fold(0.0, f64::max)
 }
 
 /// Loops of an even number of points at equal chords round the level
@@ -106,16 +109,10 @@ impl OvalRim {
     pub(super) fn of(t: &crate::target::Target, boundary: &[DVec3], z: f64) -> Option<OvalRim> {
         let plan: Vec<DVec2> = boundary.iter().map(|p| p.truncate()).collect();
         let frame = super::rounded::least_box(&plan)?;
-        let depth = t
-            .mesh
-            .positions
-            .iter()
-            .map(|p| (p.z - z).abs())
-            .fold(0.0, f64::max);
         Some(OvalRim {
             long: 2.0 * frame.half.max_element(),
             short: 2.0 * frame.half.min_element(),
-            depth,
+            depth: depth(t, z),
         })
     }
 
