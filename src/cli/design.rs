@@ -42,8 +42,10 @@ struct Chosen {
     found: Found,
     design: karigami::targets::Fit,
     sim: karigami::targets::Fit,
-    /// On a bump: the share of its top the simulated cells cover.
+    /// On a bump: the share of its top the simulated cells cover...
     top: Option<f64>,
+    /// ...and the design's, as `check` says them.
+    design_top: Option<f64>,
 }
 
 impl Chosen {
@@ -63,12 +65,21 @@ impl Chosen {
 
     /// The simulated shape's fit in one line, with the bump's top.
     fn sim_summary(&self) -> String {
-        let mut line = self.sim.summary("joints");
-        if let Some(top) = self.top {
-            line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
-        }
-        line
+        with_top(self.sim.summary("joints"), self.top)
     }
+
+    /// The design's fit in one line, with the bump's top.
+    fn design_summary(&self) -> String {
+        with_top(self.design.summary("vertices"), self.design_top)
+    }
+}
+
+/// A fit's line with, on a bump, the share of its top covered.
+fn with_top(mut line: String, top: Option<f64>) -> String {
+    if let Some(top) = top {
+        line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
+    }
+    line
 }
 
 pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
@@ -250,6 +261,11 @@ fn choose(
                 };
                 let facets = got.lattice.facets();
                 let (miss, top) = searched.judge(target, &got.fit, (&got.simulated, &facets));
+                let design_top = searched.bump.as_ref().map(|b| {
+                    let points: Vec<glam::DVec3> =
+                        got.assembled.vertices.iter().map(|v| v.pos).collect();
+                    b.top_covered(target, &got.design, (&points, &got.assembled.facets()))
+                });
                 let (found, design, sim) = (&found, got.design, got.fit);
                 let chosen = Chosen {
                     miss,
@@ -258,6 +274,7 @@ fn choose(
                     design,
                     sim,
                     top,
+                    design_top,
                 };
                 note(&format!(
                     "built {} cells: simulated {}",
@@ -451,7 +468,7 @@ impl Made<'_> {
                 chosen.built
             ),
             format!("Seed: {}.", chosen.found.seed),
-            format!("Fit of the design: {}.", chosen.design.summary("vertices")),
+            format!("Fit of the design: {}.", chosen.design_summary()),
             format!("Fit of the simulated shape: {}.", chosen.sim_summary()),
         ]);
         if remedy.is_none() {
@@ -607,6 +624,8 @@ struct Built {
     design: karigami::targets::Fit,
     fit: karigami::targets::Fit,
     lattice: karigami::Lattice,
+    /// The lattice as assembled, which `design` fits.
+    assembled: karigami::Lattice,
     simulated: Vec<glam::DVec3>,
 }
 
@@ -639,6 +658,7 @@ fn built_fit(
         design: designing::fit_of(target, &built.assembled),
         fit: designing::fit_of(target, &simulated),
         lattice: built.lattice,
+        assembled: built.assembled,
         simulated: points,
     })
 }
