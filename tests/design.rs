@@ -4,7 +4,7 @@
 
 use crate::cli::{karigami, repo, scratch};
 use crate::goldens::compare;
-use karigami::designing::{self, DesignAsk, Found};
+use karigami::designing::{self, DesignAsk, Found, Searched};
 use karigami::targets::Target;
 use std::sync::Arc;
 
@@ -17,20 +17,27 @@ fn target(text: &str) -> Target {
 /// judges them (`Searched::judge`: on a bump its top too), else the
 /// nearest; with the fit of its simulated joints and how far it is from
 /// the goal; None when none builds.
-fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fit, f64)> {
+/// The search on `t` in its own frame (as the CLI turns it) at `edge`,
+/// with `(jobs, polish)`: that frame's target and what it found.
+fn search(t: &Target, edge: f64, (jobs, polish): (usize, usize)) -> (Arc<Target>, Searched) {
     let base = karigami::parse(designing::STUB, "t").unwrap();
     let canonical = Arc::new(t.canonical());
-    // Rings unpolished: a polish costs a minute and more in this build
-    // (`a_saddle_rings_polish_lowers_its_largest_defect` runs one).
     let ask = DesignAsk {
         target: canonical.clone(),
         base: &base,
         edge,
         deadline: None,
-        jobs: karigami::Jobs::new(2),
-        polish: 0,
+        jobs: karigami::Jobs::new(jobs),
+        polish,
     };
     let searched = designing::search(&ask, &mut |_| {}).unwrap();
+    (canonical, searched)
+}
+
+fn design(t: &Target, edge: f64) -> Option<(String, usize, karigami::targets::Fit, f64)> {
+    // Rings unpolished: a polish costs a minute and more in this build
+    // (`a_saddle_rings_polish_lowers_its_largest_defect` runs one).
+    let (canonical, searched) = search(t, edge, (2, 0));
     let mut best: Option<(String, usize, karigami::targets::Fit, f64)> = None;
     for found in searched.found.iter().take(6) {
         // The seed's comment line, as the CLI writes it.
@@ -97,17 +104,7 @@ fn designs_for_random_height_fields_build() {
             "[target]\nfamily = \"height-field\"\nwidth = 300.0\nlength = 300.0\nheights = [{}]\n",
             heights.join(", ")
         );
-        let t = target(&text);
-        let base = karigami::parse(designing::STUB, "t").unwrap();
-        let ask = DesignAsk {
-            target: Arc::new(t.canonical()),
-            base: &base,
-            edge: 75.0,
-            deadline: None,
-            jobs: karigami::Jobs::new(2),
-            polish: 0,
-        };
-        let searched = designing::search(&ask, &mut |_| {}).unwrap();
+        let (_, searched) = search(&target(&text), 75.0, (2, 0));
         assert!(!searched.found.is_empty(), "{text}: no design");
         for found in searched.found.iter().take(6) {
             let notes = [format!("Seed: {}.", found.seed)];
@@ -186,16 +183,7 @@ fn a_closed_surface_not_of_revolution_is_refused() {
 #[test]
 fn a_closed_sphere_is_designed_pole_to_pole() {
     let t = target("[target]\nfamily = \"sphere-cap\"\nradius = 100.0\nheight = 200.0\n");
-    let base = karigami::parse(designing::STUB, "t").unwrap();
-    let ask = DesignAsk {
-        target: Arc::new(t.canonical()),
-        base: &base,
-        edge: 50.0,
-        deadline: None,
-        jobs: karigami::Jobs::new(1),
-        polish: 0,
-    };
-    let searched = designing::search(&ask, &mut |_| {}).unwrap();
+    let (_, searched) = search(&t, 50.0, (1, 0));
     assert!(
         searched
             .topology
@@ -499,17 +487,7 @@ fn largest_defect(recipe: &str) -> f64 {
 fn a_saddle_rings_polish_lowers_its_largest_defect() {
     let bytes = std::fs::read(repo().join("fixtures/targets/saddle-ring.toml")).unwrap();
     let t = karigami::targets::read("saddle-ring.toml", &bytes, None).unwrap();
-    let base = karigami::parse(designing::STUB, "t").unwrap();
-    let canonical = Arc::new(t.canonical());
-    let ask = DesignAsk {
-        target: canonical.clone(),
-        base: &base,
-        edge: 90.0,
-        deadline: None,
-        jobs: karigami::Jobs::new(2),
-        polish: 36 * 150,
-    };
-    let searched = designing::search(&ask, &mut |_| {}).unwrap();
+    let (canonical, searched) = search(&t, 90.0, (2, 36 * 150));
     let is_polished = |f: &&Found| f.seed.contains("polished over 150 designs");
     let polished = searched.found.iter().find(is_polished).expect("polished");
     // The best grown, the one the polish starts from.
