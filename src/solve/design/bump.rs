@@ -457,6 +457,28 @@ mod tests {
         super::super::sheets::inward_boundary(t)
     }
 
+    /// A fit of 10 points to a target of `extent` with the distances
+    /// and the coverage given.
+    fn fitted(extent: f64, (rms, largest): (f64, f64), coverage: f64) -> Fit {
+        Fit {
+            motion: crate::target::Rigid::IDENTITY,
+            rms,
+            largest,
+            extent,
+            coverage: Some(coverage),
+            points: 10,
+        }
+    }
+
+    /// The suite's bump, fixtures/targets/height-field.toml.
+    fn suites_bump() -> Target {
+        let path = format!(
+            "{}/fixtures/targets/height-field.toml",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        target(&std::fs::read_to_string(path).unwrap())
+    }
+
     /// The suite's bump (scripts/make-targets: a Gaussian 70 mm high on a
     /// 420 x 360 mm sheet) stands at the middle, 180 mm from the long
     /// sides; a plate and a saddle are no bumps.
@@ -485,19 +507,8 @@ mod tests {
     /// coverage miss is told to take a sheet about as wide as long.
     #[test]
     fn a_sheet_too_long_for_its_bumps_loops_is_told_so() {
-        let fit = |coverage| Fit {
-            motion: crate::target::Rigid::IDENTITY,
-            rms: 1.0,
-            largest: 2.0,
-            extent: 500.0,
-            coverage: Some(coverage),
-            points: 10,
-        };
-        let path = format!(
-            "{}/fixtures/targets/height-field.toml",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let t = target(&std::fs::read_to_string(path).unwrap());
+        let fit = |coverage| fitted(500.0, (1.0, 2.0), coverage);
+        let t = suites_bump();
         let c = cover(&t, round_bump(&t, &boundary(&t)).unwrap(), None);
         let radius = 180.0 + 0.065 * t.extent;
         assert!(
@@ -566,14 +577,7 @@ mod tests {
             DVec2::new(60.0, -40.0),
         );
         let t = (*super::super::level_rim(&std::sync::Arc::new(t))).clone();
-        let missed = Fit {
-            motion: crate::target::Rigid::IDENTITY,
-            rms: 0.02 * t.extent,
-            largest: 0.05 * t.extent,
-            extent: t.extent,
-            coverage: Some(0.81),
-            points: 10,
-        };
+        let missed = fitted(t.extent, (0.02 * t.extent, 0.05 * t.extent), 0.81);
         let ring = boundary(&t);
         let bump = round_bump(&t, &ring).expect("a round bump");
         let c = cover(&t, bump, rounded::boxes(&t, &ring).as_ref());
@@ -584,11 +588,7 @@ mod tests {
             hint.starts_with("the bump stands 7") && hint.contains("nearer its middle"),
             "{hint}"
         );
-        let path = format!(
-            "{}/fixtures/targets/height-field.toml",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let t = target(&std::fs::read_to_string(path).unwrap());
+        let t = suites_bump();
         let ring = boundary(&t);
         let bump = round_bump(&t, &ring).unwrap();
         let c = cover(&t, bump, rounded::boxes(&t, &ring).as_ref());
@@ -628,14 +628,7 @@ mod tests {
         let disk = std::f64::consts::PI * (80.0f64 * (2.0 * 2f64.ln()).sqrt()).powi(2);
         assert!((plan - disk).abs() < 0.08 * disk, "{plan} against {disk}");
         assert!((radius - 94.2).abs() < 8.0, "{radius}");
-        let fit = Fit {
-            motion: crate::target::Rigid::IDENTITY,
-            rms: 1.0,
-            largest: 2.0,
-            extent: t.extent,
-            coverage: Some(0.87),
-            points: 10,
-        };
+        let fit = fitted(t.extent, (1.0, 2.0), 0.87);
         let hint = c.remedy(&fit, 0.44, (60.0, 34.0)).expect("a remedy");
         assert!(
             hint.starts_with("the bump's top (where it stands over half its height) is only 44 % covered, under 65 %")
