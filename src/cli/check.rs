@@ -328,6 +328,16 @@ pub(super) struct TargetFit {
     pub json: FitJson,
 }
 
+/// A fit's line (`Fit::summary`) with, on a bump, the share of its top
+/// covered: `check`, the report and `design`'s recipe say it alike.
+pub(super) fn fit_line(fit: &Fit, top: Option<f64>, what: &str) -> String {
+    let mut line = fit.summary(what);
+    if let Some(top) = top {
+        line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
+    }
+    line
+}
+
 /// `check --json`'s fit to the target: lengths in mm.
 #[derive(Serialize)]
 pub(super) struct FitJson {
@@ -427,13 +437,6 @@ impl TargetFile {
             let top = top_of(&fit, s);
             (fit, top)
         });
-        let line = |fit: &Fit, top: Option<f64>, what: &str| {
-            let mut line = fit.summary(what);
-            if let Some(top) = top {
-                line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
-            }
-            line
-        };
         let mut text = format!(
             "target {}: {}, {}, {} triangles, largest extent D {:.1} mm\n",
             self.file,
@@ -444,12 +447,12 @@ impl TargetFile {
         );
         text.push_str(&format!(
             "  fit of the design, {}\n",
-            line(&design, design_top, "vertices")
+            fit_line(&design, design_top, "vertices")
         ));
         if let Some((s, top)) = &simulated {
             text.push_str(&format!(
                 "  fit of the simulated shape, {}\n",
-                line(s, *top, "joints")
+                fit_line(s, *top, "joints")
             ));
         }
         TargetFit {

@@ -65,21 +65,13 @@ impl Chosen {
 
     /// The simulated shape's fit in one line, with the bump's top.
     fn sim_summary(&self) -> String {
-        with_top(self.sim.summary("joints"), self.top)
+        super::check::fit_line(&self.sim, self.top, "joints")
     }
 
     /// The design's fit in one line, with the bump's top.
     fn design_summary(&self) -> String {
-        with_top(self.design.summary("vertices"), self.design_top)
+        super::check::fit_line(&self.design, self.design_top, "vertices")
     }
-}
-
-/// A fit's line with, on a bump, the share of its top covered.
-fn with_top(mut line: String, top: Option<f64>) -> String {
-    if let Some(top) = top {
-        line.push_str(&format!("; the bump's top {:.1} % covered", 100.0 * top));
-    }
-    line
 }
 
 pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
@@ -175,12 +167,17 @@ pub(super) fn design(ask: &Ask<'_>, v: Verbosity) -> Result<(), Error> {
             .bump
             .as_ref()
             .and_then(|b| {
-                // The top's hints speak of a loop's rings; a sheet's miss
-                // is left to the coverage's and the goal's.
+                // The top's and the oval's hints speak of a loop's rings;
+                // a sheet's miss is left to the coverage's and the goal's.
                 let top = chosen.top.filter(|_| chosen.found.is_loop()).unwrap_or(1.0);
                 b.remedy(&chosen.sim, top, (edge, designing::least_edge(&base)))
             })
-            .or_else(|| searched.oval.and_then(|o| o.remedy(&chosen.found.seed)))
+            .or_else(|| {
+                searched
+                    .oval
+                    .filter(|_| chosen.found.is_loop())
+                    .and_then(|o| o.remedy())
+            })
             .unwrap_or_else(|| {
                 designing::goal::remedy(
                     &chosen.design,

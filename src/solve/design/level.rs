@@ -116,15 +116,16 @@ impl OvalRim {
         })
     }
 
-    /// What to try when the design `seed` on this rim misses the goal:
-    /// when it is a loop round the rim (`SEEDED`) on a rim more than
-    /// `LONG` times as long as wide, a rounder rim, or a shallower cap
-    /// when this one is deeper than `SHALLOW` of its half width (thinner
-    /// strips and a smaller edge, the goal's own hints, measured no
-    /// better); None otherwise, for the goal's own hints.
-    pub fn remedy(&self, seed: &str) -> Option<String> {
+    /// What to try when a loop round this rim misses the goal: on a rim
+    /// more than `LONG` times as long as wide, a rounder rim, or a
+    /// shallower cap when this one is deeper than `SHALLOW` of its half
+    /// width (thinner strips and a smaller edge, the goal's own hints,
+    /// measured no better); None on a rounder rim, for the goal's own
+    /// hints. The caller asks only of a loop (a sheet's rows stop for
+    /// their own reasons).
+    pub fn remedy(&self) -> Option<String> {
         let ratio = self.long / self.short;
-        if ratio <= LONG || !seed.contains(SEEDED) {
+        if ratio <= LONG {
             return None;
         }
         let shallow = SHALLOW * self.short / 2.0;
@@ -143,10 +144,6 @@ impl OvalRim {
         ))
     }
 }
-
-/// The seed's words for loops round a level rim, in the recipe's
-/// `# Seed:` line.
-pub(super) const SEEDED: &str = "at equal chords round the level rim";
 
 /// The recipe's `# Topology:` line when loops round a level rim grew:
 /// after a round bump's (`bump`) it is said as well; else it replaces
@@ -389,8 +386,7 @@ mod tests {
     /// give a 400 x 200 mm box, 80 mm deep. Twice as long as wide, a miss
     /// is told to take a rim 1.6 times as long as wide or a cap 40 mm deep
     /// (both measured within the goal), a shallow one only the rounder
-    /// rim; a rim 1.33 times, or a sheet's design, is left to the goal's
-    /// own hints.
+    /// rim; a rim 1.33 times is left to the goal's own hints.
     #[test]
     fn a_long_oval_caps_rim_and_what_to_try() {
         let rim = |axes: &str| {
@@ -409,8 +405,7 @@ mod tests {
                 && (long.depth - 80.0).abs() < 1.0,
             "{long:?}"
         );
-        let seed = format!("a loop of 16 points {SEEDED}, 3 of 4 rings");
-        let hint = long.remedy(&seed).expect("a rounder or shallower cap");
+        let hint = long.remedy().expect("a rounder or shallower cap");
         assert!(
             hint.starts_with("the cap's rim is 400 x 200 mm, 2.0 times as long as wide")
                 && hint.contains(
@@ -418,11 +413,10 @@ mod tests {
                 ),
             "{hint}"
         );
-        assert_eq!(long.remedy("5 cells along side 1 of the boundary"), None);
-        assert_eq!(rim("200.0, 150.0, 100.0").remedy(&seed), None);
+        assert_eq!(rim("200.0, 150.0, 100.0").remedy(), None);
         // Shallow already: only the rounder rim.
         let shallow = rim("250.0, 80.0, 30.0");
-        let hint = shallow.remedy(&seed).expect("a rounder rim");
+        let hint = shallow.remedy().expect("a rounder rim");
         assert!(
             hint.contains("such as 500 x 312 mm is designed") && !hint.contains("deep,"),
             "{hint}"

@@ -213,14 +213,8 @@ pub fn search(ask: &DesignAsk<'_>, progress: &mut dyn FnMut(&str)) -> Result<Sea
     // A level rim of any other shape: loops at equal chords round it,
     // grown beside the sheets (which may cover a plate's corners better).
     if let Some(z) = level::level(&boundary, t.extent).filter(|_| patch && round_rim.is_none()) {
-        let grown = level::loops(
-            ask,
-            (&boundary, z),
-            None,
-            level::SEEDED,
-            &mut tried,
-            progress,
-        );
+        let what = "at equal chords round the level rim";
+        let grown = level::loops(ask, (&boundary, z), None, what, &mut tried, progress);
         if !grown.is_empty() {
             topology = level::topology(&topology, cover.is_some());
             if cover.is_none() && level::cap(t, &boundary).is_some() {
